@@ -1,0 +1,1 @@
+//! See `companion-methods.md`.

@@ -1,0 +1,21 @@
+//! # ncgear
+//!
+//! Design of the non-circular gears of the rotary transplanting (planting-arm) mechanism of
+//! high-speed rice transplanters, and companion gear-train analyses.
+//!
+//! The design chain, one module per stage (spec: `design-chain.md`):
+//!
+//! `trajectory` → `inverse` (l1, l3, ψ3, i31) → `compat` (half-closure origin τ, E_c) →
+//! `segmented` (Fourier hypothesis, mirror/weight iteration) → `fourier` (least-squares fit) →
+//! `refine` (direct tip-deviation fit) → `pitch` / `mechanism` (pitch curves, assembly, forward
+//! model, round trip) → `design` (the whole chain and its report).
+//!
+//! Units: files speak mm and degrees; the library works in mm and radians. Every public quantity
+//! carries its unit in its name or its doc comment.
+#![warn(missing_docs)]
+#![warn(clippy::print_stdout, clippy::print_stderr)]
+
+pub mod analysis;
+pub mod periodic;
+pub mod pitch;
+pub mod plot;

@@ -1,0 +1,382 @@
+//! Periodic functions sampled on a grid: periodic cubic splines, spectral (FFT) differentiation and
+//! integration, and monotone periodic inversion.
+//!
+//! Everything in the design chain is periodic in an angle (carrier angle, polar angle of a pitch
+//! curve), so this module is the shared numerical vocabulary of the crate. Angles are in radians.
+//!
+//! Reference: design-chain spec §3.1 (periodic C² interpolation), §3.3 (spectral i31),
+//! §14 (Φ⁻¹ robustness: Newton with a bisection safeguard).
+
+use realfft::RealFftPlanner;
+use realfft::num_complex::Complex;
+use std::f64::consts::TAU;
+
+/// A periodic C² cubic spline `y(x)` with `y(x + period) = y(x)`, through knots `x_0 < … < x_{n−1}`
+/// (`x_{n−1} < x_0 + period`).
+///
+/// The second derivatives at the knots solve the cyclic tridiagonal system
+/// `h_{i−1} M_{i−1} + 2(h_{i−1}+h_i) M_i + h_i M_{i+1} = 6[(y_{i+1}−y_i)/h_i − (y_i−y_{i−1})/h_{i−1}]`
+/// (Sherman–Morrison on the cyclic part). Interpolation error is `O(h⁴)` on smooth data.
+///
+/// ```
+/// use ncgear::periodic::PeriodicSpline;
+/// use std::f64::consts::TAU;
+/// let n = 64;
+/// let x: Vec<f64> = (0..n).map(|k| TAU * k as f64 / n as f64).collect();
+/// let y: Vec<f64> = x.iter().map(|t| t.sin()).collect();
+/// let s = PeriodicSpline::new(x, y, TAU).unwrap();
+/// assert!((s.value(1.0) - 1.0f64.sin()).abs() < 1e-6);
+/// assert!((s.value(1.0 + TAU) - 1.0f64.sin()).abs() < 1e-6);
+/// ```
+#[derive(Debug, Clone)]
+pub struct PeriodicSpline {
+    x: Vec<f64>,
+    y: Vec<f64>,
+    m: Vec<f64>,
+    period: f64,
+    uniform: bool,
+}
+
+/// Why a periodic spline could not be built.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[non_exhaustive]
+pub enum SplineError {
+    /// Fewer than 4 knots, or `x` and `y` of different lengths.
+    #[error("a periodic spline needs at least 4 knots with one value each (got {knots} knots, {values} values)")]
+    TooFewKnots {
+        /// Number of knots.
+        knots: usize,
+        /// Number of values.
+        values: usize,
+    },
+    /// Knots not strictly increasing within one period, or not finite.
+    #[error("spline knots must be finite and strictly increasing within one period (knot {index})")]
+    BadKnots {
+        /// Index of the first offending knot.
+        index: usize,
+    },
+    /// A value is NaN or infinite.
+    #[error("spline value {index} is not finite")]
+    NonFinite {
+        /// Index of the offending value.
+        index: usize,
+    },
+}
+
+impl PeriodicSpline {
+    /// Builds the interpolating periodic spline. `period` is in the unit of `x`.
+    pub fn new(x: Vec<f64>, y: Vec<f64>, period: f64) -> Result<Self, SplineError> {
+        let n = x.len();
+        if n < 4 || y.len() != n {
+            return Err(SplineError::TooFewKnots { knots: n, values: y.len() });
+        }
+        if let Some(i) = y.iter().position(|v| !v.is_finite()) {
+            return Err(SplineError::NonFinite { index: i });
+        }
+        for i in 0..n {
+            let next = if i + 1 < n { x[i + 1] } else { x[0] + period };
+            if !x[i].is_finite() || !(next > x[i]) {
+                return Err(SplineError::BadKnots { index: i });
+            }
+        }
+        let h: Vec<f64> = (0..n)
+            .map(|i| if i + 1 < n { x[i + 1] - x[i] } else { x[0] + period - x[i] })
+            .collect();
+        let h_mean = period / n as f64;
+        let uniform = h.iter().all(|hi| (hi - h_mean).abs() <= 1e-12 * h_mean);
+        // Cyclic tridiagonal: a_i M_{i-1} + b_i M_i + c_i M_{i+1} = d_i.
+        let mut a = vec![0.0; n];
+        let mut b = vec![0.0; n];
+        let mut c = vec![0.0; n];
+        let mut d = vec![0.0; n];
+        for i in 0..n {
+            let hm = h[(i + n - 1) % n];
+            let hp = h[i];
+            a[i] = hm;
+            b[i] = 2.0 * (hm + hp);
+            c[i] = hp;
+            d[i] = 6.0 * ((y[(i + 1) % n] - y[i]) / hp - (y[i] - y[(i + n - 1) % n]) / hm);
+        }
+        let m = solve_cyclic_tridiagonal(&a, &b, &c, &d);
+        Ok(Self { x, y, m, period, uniform })
+    }
+
+    /// Uniform knots `x_k = x0 + k·period/n`.
+    pub fn uniform(x0: f64, y: Vec<f64>, period: f64) -> Result<Self, SplineError> {
+        let n = y.len();
+        let x = (0..n).map(|k| x0 + period * k as f64 / n as f64).collect();
+        Self::new(x, y, period)
+    }
+
+    /// The period, in the unit of `x`.
+    #[must_use]
+    pub fn period(&self) -> f64 {
+        self.period
+    }
+
+    /// The knots.
+    #[must_use]
+    pub fn knots(&self) -> &[f64] {
+        &self.x
+    }
+
+    /// The values at the knots.
+    #[must_use]
+    pub fn values(&self) -> &[f64] {
+        &self.y
+    }
+
+    fn locate(&self, x: f64) -> (usize, f64, f64) {
+        let n = self.x.len();
+        let mut u = (x - self.x[0]).rem_euclid(self.period);
+        if !u.is_finite() {
+            u = 0.0;
+        }
+        let i = if self.uniform {
+            let h = self.period / n as f64;
+            ((u / h) as usize).min(n - 1)
+        } else {
+            let target = self.x[0] + u;
+            match self.x.binary_search_by(|v| v.total_cmp(&target)) {
+                Ok(i) => i,
+                Err(i) => i.saturating_sub(1),
+            }
+        };
+        let xi = self.x[i] - self.x[0];
+        let h = if i + 1 < n { self.x[i + 1] - self.x[i] } else { self.x[0] + self.period - self.x[i] };
+        (i, u - xi, h)
+    }
+
+    /// Value, first and second derivative at `x` (any real `x`: wrapped into the period).
+    #[must_use]
+    pub fn eval3(&self, x: f64) -> [f64; 3] {
+        let n = self.x.len();
+        let (i, t, h) = self.locate(x);
+        let j = (i + 1) % n;
+        let (yi, yj, mi, mj) = (self.y[i], self.y[j], self.m[i], self.m[j]);
+        let s = h - t;
+        let v = (mi * s * s * s + mj * t * t * t) / (6.0 * h)
+            + (yi / h - mi * h / 6.0) * s
+            + (yj / h - mj * h / 6.0) * t;
+        let d1 = (-mi * s * s + mj * t * t) / (2.0 * h) + (yj - yi) / h - (mj - mi) * h / 6.0;
+        let d2 = (mi * s + mj * t) / h;
+        [v, d1, d2]
+    }
+
+    /// Value at `x`.
+    #[must_use]
+    pub fn value(&self, x: f64) -> f64 {
+        self.eval3(x)[0]
+    }
+
+    /// First derivative at `x`.
+    #[must_use]
+    pub fn derivative(&self, x: f64) -> f64 {
+        self.eval3(x)[1]
+    }
+}
+
+/// Solves a cyclic tridiagonal system `a_i x_{i−1} + b_i x_i + c_i x_{i+1} = d_i` (indices mod n)
+/// by Sherman–Morrison. Requires diagonal dominance (true for spline systems).
+fn solve_cyclic_tridiagonal(a: &[f64], b: &[f64], c: &[f64], d: &[f64]) -> Vec<f64> {
+    let n = b.len();
+    let gamma = -b[0];
+    let mut bb = b.to_vec();
+    bb[0] = b[0] - gamma;
+    bb[n - 1] = b[n - 1] - a[0] * c[n - 1] / gamma;
+    let x = solve_tridiagonal(a, &bb, c, d);
+    let mut u = vec![0.0; n];
+    u[0] = gamma;
+    u[n - 1] = c[n - 1];
+    let z = solve_tridiagonal(a, &bb, c, &u);
+    let fact = (x[0] + a[0] * x[n - 1] / gamma) / (1.0 + z[0] + a[0] * z[n - 1] / gamma);
+    x.iter().zip(&z).map(|(xi, zi)| xi - fact * zi).collect()
+}
+
+/// Thomas algorithm; `a[0]` and `c[n−1]` are ignored.
+fn solve_tridiagonal(a: &[f64], b: &[f64], c: &[f64], d: &[f64]) -> Vec<f64> {
+    let n = b.len();
+    let mut cp = vec![0.0; n];
+    let mut dp = vec![0.0; n];
+    cp[0] = c[0] / b[0];
+    dp[0] = d[0] / b[0];
+    for i in 1..n {
+        let den = b[i] - a[i] * cp[i - 1];
+        cp[i] = c[i] / den;
+        dp[i] = (d[i] - a[i] * dp[i - 1]) / den;
+    }
+    let mut x = vec![0.0; n];
+    x[n - 1] = dp[n - 1];
+    for i in (0..n - 1).rev() {
+        x[i] = dp[i] - cp[i] * x[i + 1];
+    }
+    x
+}
+
+/// Real-to-complex FFT of a periodic sample vector, normalised so that
+/// `y_n = Σ_k c_k e^{i k 2πn/N}` over `k = −N/2..N/2` with `c_{−k} = conj(c_k)`; returns `c_0..c_{N/2}`.
+#[must_use]
+pub fn fft_coefficients(y: &[f64]) -> Vec<Complex<f64>> {
+    let n = y.len();
+    let mut planner = RealFftPlanner::<f64>::new();
+    let fft = planner.plan_fft_forward(n);
+    let mut input = y.to_vec();
+    let mut out = fft.make_output_vec();
+    // Lengths match by construction, so the FFT cannot fail.
+    fft.process(&mut input, &mut out).expect("FFT buffer lengths are consistent");
+    let scale = 1.0 / n as f64;
+    out.iter().map(|c| c * scale).collect()
+}
+
+/// Inverse of [`fft_coefficients`] for an even or odd length `n`.
+#[must_use]
+pub fn fft_synthesis(coeffs: &[Complex<f64>], n: usize) -> Vec<f64> {
+    let mut planner = RealFftPlanner::<f64>::new();
+    let ifft = planner.plan_fft_inverse(n);
+    let mut input = coeffs.to_vec();
+    // The DC and (even n) Nyquist bins must be real for a real signal.
+    input[0].im = 0.0;
+    if n % 2 == 0 {
+        let last = input.len() - 1;
+        input[last].im = 0.0;
+    }
+    let mut out = ifft.make_output_vec();
+    ifft.process(&mut input, &mut out).expect("FFT buffer lengths are consistent");
+    out
+}
+
+/// Spectral derivative of uniformly sampled periodic data `y_n = y(2πn/N)` (period 2π).
+///
+/// Exact for trigonometric polynomials of degree < N/2 (the Nyquist term is dropped).
+#[must_use]
+pub fn spectral_derivative(y: &[f64]) -> Vec<f64> {
+    let n = y.len();
+    let mut c = fft_coefficients(y);
+    let last = c.len() - 1;
+    for (k, ck) in c.iter_mut().enumerate() {
+        *ck *= Complex::new(0.0, k as f64);
+    }
+    if n % 2 == 0 {
+        c[last] = Complex::new(0.0, 0.0);
+    }
+    fft_synthesis(&c, n)
+}
+
+/// Spectral antiderivative of uniformly sampled periodic data over period 2π:
+/// returns `(mean, F)` with `F(x) = ∫_0^x (y − mean)`, sampled on the same grid (`F_0 = 0`).
+#[must_use]
+pub fn spectral_integral(y: &[f64]) -> (f64, Vec<f64>) {
+    let n = y.len();
+    let mut c = fft_coefficients(y);
+    let mean = c[0].re;
+    c[0] = Complex::new(0.0, 0.0);
+    let last = c.len() - 1;
+    for (k, ck) in c.iter_mut().enumerate().skip(1) {
+        *ck /= Complex::new(0.0, k as f64);
+    }
+    if n % 2 == 0 {
+        c[last] = Complex::new(0.0, 0.0);
+    }
+    let f = fft_synthesis(&c, n);
+    let f0 = f[0];
+    (mean, f.into_iter().map(|v| v - f0).collect())
+}
+
+/// Uniform grid `x_k = 2πk/n`, `k = 0..n`, in radians.
+#[must_use]
+pub fn uniform_angles(n: usize) -> Vec<f64> {
+    (0..n).map(|k| TAU * k as f64 / n as f64).collect()
+}
+
+/// Solves `f(x) = y` for a strictly increasing `f` on `[lo, hi]` with `f(lo) ≤ y ≤ f(hi)`:
+/// Newton steps with a bisection safeguard, to `tol` in `x`.
+///
+/// `f` returns `(value, derivative)`. Always converges for strictly increasing `f`
+/// (spec §14, "Φ⁻¹ robustness"). Returns the best bracketed estimate after `max_iter` steps.
+#[must_use]
+pub fn invert_increasing(
+    f: impl Fn(f64) -> (f64, f64),
+    y: f64,
+    mut lo: f64,
+    mut hi: f64,
+    guess: f64,
+    tol: f64,
+) -> f64 {
+    let mut x = guess.clamp(lo, hi);
+    for _ in 0..100 {
+        let (fx, dfx) = f(x);
+        let r = fx - y;
+        if r > 0.0 {
+            hi = x;
+        } else {
+            lo = x;
+        }
+        let mut next = if dfx > 0.0 && dfx.is_finite() { x - r / dfx } else { f64::NAN };
+        if !(next > lo && next < hi) {
+            next = 0.5 * (lo + hi);
+        }
+        if (next - x).abs() <= tol || (hi - lo) <= tol {
+            return next;
+        }
+        x = next;
+    }
+    x
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn spline_converges_fourth_order() {
+        let f = |t: f64| (t.sin() + 0.3 * (2.0 * t).cos()).exp();
+        let err = |n: usize| {
+            let s = PeriodicSpline::uniform(0.0, uniform_angles(n).iter().map(|&t| f(t)).collect(), TAU)
+                .unwrap();
+            (0..1000)
+                .map(|k| {
+                    let t = TAU * (k as f64 + 0.37) / 1000.0;
+                    (s.value(t) - f(t)).abs()
+                })
+                .fold(0.0, f64::max)
+        };
+        let (e1, e2) = (err(64), err(128));
+        let order = (e1 / e2).log2();
+        assert!(order > 3.7 && order < 4.5, "order {order}, errors {e1} {e2}");
+    }
+
+    #[test]
+    fn nonuniform_spline_matches_function() {
+        let x: Vec<f64> = (0..200).map(|k| TAU * (k as f64 + 0.3 * (k as f64).sin()) / 200.0).collect();
+        let y: Vec<f64> = x.iter().map(|t| t.cos()).collect();
+        let s = PeriodicSpline::new(x, y, TAU).unwrap();
+        for k in 0..50 {
+            let t = -3.0 + 0.31 * k as f64;
+            assert!((s.value(t) - t.cos()).abs() < 1e-7);
+            assert!((s.derivative(t) + t.sin()).abs() < 1e-4);
+        }
+    }
+
+    #[test]
+    fn spectral_calculus_is_exact_on_trig_polynomials() {
+        let n = 64;
+        let t = uniform_angles(n);
+        let y: Vec<f64> = t.iter().map(|&x| 2.0 + (3.0 * x).sin() - 0.5 * (5.0 * x + 1.0).cos()).collect();
+        let dy = spectral_derivative(&y);
+        let (mean, iy) = spectral_integral(&y);
+        assert!((mean - 2.0).abs() < 1e-14);
+        for (k, &x) in t.iter().enumerate() {
+            let d = 3.0 * (3.0 * x).cos() + 2.5 * (5.0 * x + 1.0).sin();
+            assert!((dy[k] - d).abs() < 1e-12);
+            let i = (1.0 - (3.0 * x).cos()) / 3.0 - 0.1 * ((5.0 * x + 1.0).sin() - 1.0f64.sin());
+            assert!((iy[k] - i).abs() < 1e-13);
+        }
+    }
+
+    #[test]
+    fn newton_bisection_inverts() {
+        let f = |x: f64| (x + 0.5 * x.sin(), 1.0 + 0.5 * x.cos());
+        let x = invert_increasing(f, 2.0, 0.0, 4.0, 0.0, 1e-14);
+        assert!((f(x).0 - 2.0).abs() < 1e-13);
+    }
+}

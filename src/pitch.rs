@@ -1,0 +1,254 @@
+//! Closed polar pitch curves `r(θ)` of non-circular gears.
+//!
+//! A [`PitchCurve`] is closed and strictly positive by construction: it holds `n ≥ 8` radii sampled
+//! uniformly in the body polar angle `θ_k = 2πk/n` (CCW, radians, about the gear's rotation centre)
+//! and interpolates them with a periodic C² cubic spline. Radii are in mm.
+//!
+//! Reference: design-chain spec §5 (polar derivatives, convexity `Δ = r² + 2r_θ² − r r_θθ`,
+//! radius of curvature `ρc = (r² + r_θ²)^{3/2}/Δ`, pressure-angle deviation `atan(r_θ/r)`), §9.
+
+use crate::periodic::{PeriodicSpline, uniform_angles};
+use std::f64::consts::TAU;
+
+/// A closed, positive polar pitch curve `r(θ)` in mm, θ in radians CCW in the body frame.
+#[derive(Debug, Clone)]
+pub struct PitchCurve {
+    spline: PeriodicSpline,
+}
+
+/// Why a pitch curve is invalid.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[non_exhaustive]
+pub enum PitchError {
+    /// Fewer than 8 samples.
+    #[error("a pitch curve needs at least 8 radius samples (got {0})")]
+    TooFewSamples(usize),
+    /// A radius is not finite or not strictly positive.
+    #[error("pitch radius sample {index} is {value} mm; radii must be finite and > 0")]
+    NonPositive {
+        /// Sample index.
+        index: usize,
+        /// Offending value in mm.
+        value: f64,
+    },
+}
+
+/// Local differential geometry of a polar curve at one angle.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PolarGeometry {
+    /// Radius `r`, mm.
+    pub r_mm: f64,
+    /// `dr/dθ`, mm/rad.
+    pub dr_mm: f64,
+    /// `d²r/dθ²`, mm/rad².
+    pub ddr_mm: f64,
+}
+
+impl PolarGeometry {
+    /// Convexity indicator `Δ = r² + 2 r_θ² − r r_θθ` (mm²); convex where `Δ > 0` (spec §5).
+    #[must_use]
+    pub fn convexity_mm2(&self) -> f64 {
+        self.r_mm * self.r_mm + 2.0 * self.dr_mm * self.dr_mm - self.r_mm * self.ddr_mm
+    }
+
+    /// Signed radius of curvature `ρc = (r² + r_θ²)^{3/2} / Δ` in mm (negative = concave).
+    #[must_use]
+    pub fn radius_of_curvature_mm(&self) -> f64 {
+        let ds = self.r_mm.hypot(self.dr_mm);
+        ds * ds * ds / self.convexity_mm2()
+    }
+
+    /// Arc-length speed `ds/dθ = √(r² + r_θ²)`, mm/rad.
+    #[must_use]
+    pub fn speed_mm(&self) -> f64 {
+        self.r_mm.hypot(self.dr_mm)
+    }
+
+    /// Deviation of the tangent from the normal to the radius, `π/2 − μ = atan(r_θ / r)`, rad.
+    #[must_use]
+    pub fn pressure_deviation_rad(&self) -> f64 {
+        (self.dr_mm / self.r_mm).atan()
+    }
+}
+
+impl PitchCurve {
+    /// Builds a pitch curve from radii (mm) at uniform angles `θ_k = 2πk/n`.
+    pub fn from_uniform_radii(radii_mm: Vec<f64>) -> Result<Self, PitchError> {
+        let n = radii_mm.len();
+        if n < 8 {
+            return Err(PitchError::TooFewSamples(n));
+        }
+        if let Some((index, &value)) =
+            radii_mm.iter().enumerate().find(|(_, r)| !(r.is_finite() && **r > 0.0))
+        {
+            return Err(PitchError::NonPositive { index, value });
+        }
+        let spline = PeriodicSpline::uniform(0.0, radii_mm, TAU)
+            .map_err(|_| PitchError::TooFewSamples(n))?;
+        Ok(Self { spline })
+    }
+
+    /// Samples `r(θ)` (mm) at `n` uniform angles.
+    pub fn from_fn(n: usize, r: impl Fn(f64) -> f64) -> Result<Self, PitchError> {
+        Self::from_uniform_radii(uniform_angles(n).into_iter().map(r).collect())
+    }
+
+    /// The stored radii (mm) at `θ_k = 2πk/n`.
+    #[must_use]
+    pub fn radii_mm(&self) -> &[f64] {
+        self.spline.values()
+    }
+
+    /// Number of stored samples.
+    #[must_use]
+    pub fn len(&self) -> usize {
+        self.spline.values().len()
+    }
+
+    /// Always false: a pitch curve has at least 8 samples.
+    #[must_use]
+    pub fn is_empty(&self) -> bool {
+        false
+    }
+
+    /// Radius at body angle `theta_rad` (any real angle), mm.
+    #[must_use]
+    pub fn radius_mm(&self, theta_rad: f64) -> f64 {
+        self.spline.value(theta_rad)
+    }
+
+    /// `r`, `r_θ`, `r_θθ` at `theta_rad`.
+    #[must_use]
+    pub fn geometry(&self, theta_rad: f64) -> PolarGeometry {
+        let [r, d1, d2] = self.spline.eval3(theta_rad);
+        PolarGeometry { r_mm: r, dr_mm: d1, ddr_mm: d2 }
+    }
+
+    /// Cartesian point of the curve in the body frame, mm.
+    #[must_use]
+    pub fn point_mm(&self, theta_rad: f64) -> [f64; 2] {
+        let r = self.radius_mm(theta_rad);
+        [r * theta_rad.cos(), r * theta_rad.sin()]
+    }
+
+    /// Perimeter `L = ∮ √(r² + r_θ²) dθ` in mm, to within `accuracy_mm`.
+    ///
+    /// Composite Gauss–Legendre (5 points) per knot interval, doubled until two successive
+    /// estimates agree to `accuracy_mm` (the integrand is smooth within each spline piece).
+    #[must_use]
+    pub fn perimeter_mm(&self, accuracy_mm: f64) -> f64 {
+        self.arc_length_between_mm(0.0, TAU, accuracy_mm)
+    }
+
+    /// Arc length between body angles `from_rad ≤ to_rad`, mm, to within `accuracy_mm`.
+    #[must_use]
+    pub fn arc_length_between_mm(&self, from_rad: f64, to_rad: f64, accuracy_mm: f64) -> f64 {
+        const X: [f64; 5] = [
+            -0.906_179_845_938_664,
+            -0.538_469_310_105_683,
+            0.0,
+            0.538_469_310_105_683,
+            0.906_179_845_938_664,
+        ];
+        const W: [f64; 5] = [
+            0.236_926_885_056_189,
+            0.478_628_670_499_366,
+            0.568_888_888_888_889,
+            0.478_628_670_499_366,
+            0.236_926_885_056_189,
+        ];
+        let integrate = |pieces: usize| {
+            let h = (to_rad - from_rad) / pieces as f64;
+            let mut sum = 0.0;
+            for p in 0..pieces {
+                let mid = from_rad + (p as f64 + 0.5) * h;
+                for (x, w) in X.iter().zip(W) {
+                    sum += w * self.geometry(mid + 0.5 * h * x).speed_mm();
+                }
+            }
+            0.5 * h * sum
+        };
+        let mut pieces = self.len().max(8);
+        let mut prev = integrate(pieces);
+        for _ in 0..8 {
+            pieces *= 2;
+            let next = integrate(pieces);
+            if (next - prev).abs() <= accuracy_mm.max(1e-15 * next.abs()) {
+                return next;
+            }
+            prev = next;
+        }
+        prev
+    }
+
+    /// Minimum of the convexity indicator `Δ` (mm²) and minimum signed radius of curvature (mm)
+    /// over `n_check` uniform angles.
+    #[must_use]
+    pub fn curvature_extremes(&self, n_check: usize) -> CurvatureSummary {
+        let mut s = CurvatureSummary {
+            min_convexity_mm2: f64::INFINITY,
+            min_radius_of_curvature_mm: f64::INFINITY,
+            max_pressure_deviation_rad: 0.0,
+            concave_fraction: 0.0,
+        };
+        let mut concave = 0usize;
+        for th in uniform_angles(n_check) {
+            let g = self.geometry(th);
+            let d = g.convexity_mm2();
+            s.min_convexity_mm2 = s.min_convexity_mm2.min(d);
+            if d > 0.0 {
+                s.min_radius_of_curvature_mm = s.min_radius_of_curvature_mm.min(g.radius_of_curvature_mm());
+            } else {
+                concave += 1;
+            }
+            s.max_pressure_deviation_rad = s.max_pressure_deviation_rad.max(g.pressure_deviation_rad().abs());
+        }
+        s.concave_fraction = concave as f64 / n_check as f64;
+        s
+    }
+
+    /// Polar samples `(θ in degrees, r in mm)` at `n` uniform angles, for files.
+    #[must_use]
+    pub fn polar_table_deg(&self, n: usize) -> Vec<[f64; 2]> {
+        uniform_angles(n).into_iter().map(|t| [t.to_degrees(), self.radius_mm(t)]).collect()
+    }
+}
+
+/// Curvature statistics of a pitch curve (see [`PitchCurve::curvature_extremes`]).
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+pub struct CurvatureSummary {
+    /// Minimum of `Δ`, mm²; negative means a concave stretch.
+    pub min_convexity_mm2: f64,
+    /// Minimum radius of curvature over the convex part, mm.
+    pub min_radius_of_curvature_mm: f64,
+    /// Maximum `|atan(r_θ/r)|`, rad.
+    pub max_pressure_deviation_rad: f64,
+    /// Fraction of the checked angles where the curve is concave.
+    pub concave_fraction: f64,
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn focus_ellipse(a: f64, e: f64) -> impl Fn(f64) -> f64 {
+        move |t: f64| a * (1.0 - e * e) / (1.0 - e * t.cos())
+    }
+
+    #[test]
+    fn ellipse_perimeter_and_curvature_match_golden() {
+        // Spec §11 G1: A = 22.5, e = 0.15 → L = 140.57306651 mm, min ρc = A(1−e²) = 21.99375 mm.
+        let c = PitchCurve::from_fn(4096, focus_ellipse(22.5, 0.15)).unwrap();
+        assert!((c.perimeter_mm(1e-10) - 140.573_066_51).abs() < 1e-6);
+        let s = c.curvature_extremes(4096);
+        assert!((s.min_radius_of_curvature_mm - 21.993_75).abs() < 1e-5);
+        assert!((s.max_pressure_deviation_rad.to_degrees() - 8.626_926_558_678_639).abs() < 1e-4);
+        assert!(s.min_convexity_mm2 > 0.0);
+    }
+
+    #[test]
+    fn rejects_nonpositive_radius() {
+        let err = PitchCurve::from_uniform_radii(vec![1.0, 2.0, 0.0, 1.0, 1.0, 1.0, 1.0, 1.0]).unwrap_err();
+        assert_eq!(err, PitchError::NonPositive { index: 2, value: 0.0 });
+    }
+}

@@ -1,0 +1,179 @@
+//! Line plots (SVG or PNG) via plotters with an embedded font, so plots work on a bare machine.
+//!
+//! Every module that plots calls [`line_chart`]; the font (DejaVu Sans, `assets/fonts/`) is
+//! registered once per process.
+
+use plotters::prelude::*;
+use std::path::Path;
+use std::sync::Once;
+
+static FONT: Once = Once::new();
+
+fn register_font() {
+    FONT.call_once(|| {
+        // The embedded font is a valid TTF, so registration cannot fail.
+        let _ = plotters::style::register_font(
+            "sans-serif",
+            FontStyle::Normal,
+            include_bytes!("../assets/fonts/DejaVuSans.ttf"),
+        );
+    });
+}
+
+/// One named line of a chart.
+#[derive(Debug, Clone)]
+pub struct Series {
+    /// Legend label.
+    pub name: String,
+    /// `(x, y)` points in data units.
+    pub points: Vec<(f64, f64)>,
+    /// Draw markers instead of a line.
+    pub markers: bool,
+}
+
+impl Series {
+    /// A line series.
+    #[must_use]
+    pub fn line(name: impl Into<String>, points: Vec<(f64, f64)>) -> Self {
+        Self { name: name.into(), points, markers: false }
+    }
+    /// A marker (scatter) series.
+    #[must_use]
+    pub fn markers(name: impl Into<String>, points: Vec<(f64, f64)>) -> Self {
+        Self { name: name.into(), points, markers: true }
+    }
+}
+
+/// Axis labels and title of a chart.
+#[derive(Debug, Clone, Default)]
+pub struct ChartLabels {
+    /// Chart caption.
+    pub title: String,
+    /// x-axis label (with unit).
+    pub x: String,
+    /// y-axis label (with unit).
+    pub y: String,
+    /// Draw x and y with the same scale (for trajectories and orbits in mm).
+    pub equal_aspect: bool,
+}
+
+/// Why a plot could not be written.
+#[derive(Debug, thiserror::Error)]
+#[error("cannot draw plot {path}: {message}")]
+pub struct PlotError {
+    /// Output path.
+    pub path: String,
+    /// What went wrong.
+    pub message: String,
+}
+
+const PALETTE: [RGBColor; 8] = [
+    RGBColor(31, 119, 180),
+    RGBColor(214, 39, 40),
+    RGBColor(44, 160, 44),
+    RGBColor(255, 127, 14),
+    RGBColor(148, 103, 189),
+    RGBColor(140, 86, 75),
+    RGBColor(227, 119, 194),
+    RGBColor(127, 127, 127),
+];
+
+/// Writes a line chart to `path`; the format follows the extension (`.png` → PNG, else SVG).
+/// Size in pixels. Non-finite points are skipped.
+pub fn line_chart(
+    path: &Path,
+    labels: &ChartLabels,
+    series: &[Series],
+    size_px: (u32, u32),
+) -> Result<(), PlotError> {
+    register_font();
+    let err = |e: String| PlotError { path: path.display().to_string(), message: e };
+    let is_png = path.extension().is_some_and(|e| e.eq_ignore_ascii_case("png"));
+    if is_png {
+        let root = BitMapBackend::new(path, size_px).into_drawing_area();
+        draw(root, labels, series).map_err(err)
+    } else {
+        let root = SVGBackend::new(path, size_px).into_drawing_area();
+        draw(root, labels, series).map_err(err)
+    }
+}
+
+fn bounds(series: &[Series], equal: bool) -> ((f64, f64), (f64, f64)) {
+    let mut xr = (f64::INFINITY, f64::NEG_INFINITY);
+    let mut yr = (f64::INFINITY, f64::NEG_INFINITY);
+    for (x, y) in series.iter().flat_map(|s| s.points.iter()) {
+        if x.is_finite() && y.is_finite() {
+            xr = (xr.0.min(*x), xr.1.max(*x));
+            yr = (yr.0.min(*y), yr.1.max(*y));
+        }
+    }
+    if !xr.0.is_finite() {
+        return ((0.0, 1.0), (0.0, 1.0));
+    }
+    let pad = |r: (f64, f64)| {
+        let w = (r.1 - r.0).max(1e-12 * (1.0 + r.0.abs()));
+        (r.0 - 0.05 * w, r.1 + 0.05 * w)
+    };
+    let (mut xr, mut yr) = (pad(xr), pad(yr));
+    if equal {
+        let (cx, cy) = (0.5 * (xr.0 + xr.1), 0.5 * (yr.0 + yr.1));
+        let half = 0.5 * (xr.1 - xr.0).max(yr.1 - yr.0);
+        xr = (cx - half, cx + half);
+        yr = (cy - half, cy + half);
+    }
+    (xr, yr)
+}
+
+fn draw<DB: DrawingBackend>(
+    root: DrawingArea<DB, plotters::coord::Shift>,
+    labels: &ChartLabels,
+    series: &[Series],
+) -> Result<(), String>
+where
+    DB::ErrorType: 'static,
+{
+    let e = |x: DrawingAreaErrorKind<DB::ErrorType>| x.to_string();
+    root.fill(&WHITE).map_err(e)?;
+    let (xr, yr) = bounds(series, labels.equal_aspect);
+    let mut chart = ChartBuilder::on(&root)
+        .caption(&labels.title, ("sans-serif", 20))
+        .margin(12)
+        .x_label_area_size(40)
+        .y_label_area_size(60)
+        .build_cartesian_2d(xr.0..xr.1, yr.0..yr.1)
+        .map_err(e)?;
+    chart
+        .configure_mesh()
+        .x_desc(&labels.x)
+        .y_desc(&labels.y)
+        .label_style(("sans-serif", 13))
+        .draw()
+        .map_err(e)?;
+    for (k, s) in series.iter().enumerate() {
+        let color = PALETTE[k % PALETTE.len()];
+        let pts: Vec<(f64, f64)> =
+            s.points.iter().copied().filter(|(x, y)| x.is_finite() && y.is_finite()).collect();
+        let anno = if s.markers {
+            chart
+                .draw_series(pts.iter().map(|p| Circle::new(*p, 2, color.filled())))
+                .map_err(e)?
+        } else {
+            chart.draw_series(LineSeries::new(pts, color.stroke_width(2))).map_err(e)?
+        };
+        if !s.name.is_empty() {
+            anno.label(s.name.clone())
+                .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 18, y)], color.stroke_width(2)));
+        }
+    }
+    if series.iter().any(|s| !s.name.is_empty()) {
+        chart
+            .configure_series_labels()
+            .background_style(WHITE.mix(0.85))
+            .border_style(BLACK)
+            .label_font(("sans-serif", 13))
+            .draw()
+            .map_err(e)?;
+    }
+    root.present().map_err(e)?;
+    Ok(())
+}
