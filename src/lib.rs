@@ -16,6 +16,16 @@
 #![warn(clippy::print_stdout, clippy::print_stderr)]
 
 pub mod analysis;
+pub mod assembly;
+pub mod compat;
+pub mod design;
+pub mod fourier;
+pub mod inverse;
+pub mod mechanism;
+pub mod outputs;
 pub mod periodic;
 pub mod pitch;
 pub mod plot;
+pub mod refine;
+pub mod segmented;
+pub mod trajectory;

@@ -214,6 +214,27 @@ impl PitchCurve {
     }
 }
 
+/// Centre distance `a` (mm) at which a driver curve `r(θ)` has a closed conjugate with the same
+/// number of teeth: the root of `(1/2π)∫ r/(a − r) dθ = 1` (spec §5, §11 G2), solved by bisection to
+/// `tol_mm` on the curve's uniform samples (trapezoid = spectrally accurate for periodic data).
+#[must_use]
+pub fn conjugate_center_distance(curve: &PitchCurve, tol_mm: f64) -> f64 {
+    let r = curve.radii_mm();
+    let rmax = r.iter().copied().fold(0.0, f64::max);
+    let f = |a: f64| r.iter().map(|ri| ri / (a - ri)).sum::<f64>() / r.len() as f64 - 1.0;
+    // f decreases in a; f → +∞ as a → rmax⁺ and f(2·rmax) ≤ 0.
+    let (mut lo, mut hi) = (rmax, 2.0 * rmax);
+    while hi - lo > tol_mm.max(1e-15 * rmax) {
+        let mid = 0.5 * (lo + hi);
+        if f(mid) > 0.0 {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    0.5 * (lo + hi)
+}
+
 /// Curvature statistics of a pitch curve (see [`PitchCurve::curvature_extremes`]).
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
 pub struct CurvatureSummary {

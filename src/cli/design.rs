@@ -1,11 +1,150 @@
-//! `ncgear design`.
-use super::{CliResult, runtime_error};
+//! `ncgear design TRAJ --out DIR`.
+use super::{CliResult, input_error, print_json, runtime_error};
+use ncgear::design::{DesignError, DesignOptions, RefineMode, design};
+use ncgear::segmented::Route;
+use ncgear::trajectory::Trajectory;
+use std::path::PathBuf;
 
 /// Arguments of `ncgear design`.
 #[derive(Debug, clap::Args)]
-pub struct Args {}
+pub struct Args {
+    /// Trajectory file: CSV (x,y in mm, optional header, `#` comments) or JSON
+    /// (`{"units": "mm", "points": [[x, y], ...]}`), points in travel order.
+    pub trajectory: PathBuf,
+    /// Output directory (design.json, sun/intermediate/planet.csv, design.svg, ratio.svg, traced.csv).
+    #[arg(long, default_value = "out")]
+    pub out: PathBuf,
+    /// Carrier axis O as `X,Y` in mm.
+    #[arg(long, value_parser = parse_pair, default_value = "0,0", allow_hyphen_values = true)]
+    pub center: [f64; 2],
+    /// Fixed Fourier order K (default: adaptive 4…40 until --tol-mm is met).
+    #[arg(long)]
+    pub order: Option<usize>,
+    /// Target max tip deviation, mm.
+    #[arg(long, default_value_t = DesignOptions::default().tol_tip_mm)]
+    pub tol_mm: f64,
+    /// Direct least-squares refinement: auto (when the patent route misses --tol-mm), on, off.
+    #[arg(long, value_enum, default_value = "auto")]
+    pub refine: RefineArg,
+    /// Fourier order of the refinement when --order is not given.
+    #[arg(long, default_value_t = DesignOptions::default().refine_order)]
+    pub refine_order: usize,
+    /// Hypothesis harmonic `A,PHI_DEG` of F′₀ = 1 + Σ A_n sin(2n·u + φ_n); repeat for n = 1, 2, …
+    #[arg(long = "harmonic", value_parser = parse_pair, allow_hyphen_values = true)]
+    pub harmonics: Vec<[f64; 2]>,
+    /// Patent route: ac (front exact) or bd (back exact).
+    #[arg(long, value_enum, default_value = "ac")]
+    pub route: RouteArg,
+    /// Mirror weight w1 of the patent iteration.
+    #[arg(long, default_value_t = 0.5)]
+    pub w1: f64,
+    /// Iteration cap of the patent iteration.
+    #[arg(long, default_value_t = 20)]
+    pub k_max: usize,
+    /// Uniform carrier-angle grid N for ψ3 (FFT size).
+    #[arg(long, default_value_t = 1024)]
+    pub grid: usize,
+    /// Dense samples of the trajectory interpolant.
+    #[arg(long, default_value_t = 20_000)]
+    pub dense: usize,
+    /// Samples per pitch curve in the outputs (≥ 720).
+    #[arg(long, default_value_t = DesignOptions::default().curve_samples)]
+    pub samples: usize,
+    /// Admissible sun ratio range `MIN,MAX`.
+    #[arg(long, value_parser = parse_pair, default_value = "0.3,3.3")]
+    pub ratio_bounds: [f64; 2],
+    /// Penalise concave pitch arcs in the refinement.
+    #[arg(long)]
+    pub convexity: bool,
+    /// Print the report (design.json) to stdout instead of the summary.
+    #[arg(long)]
+    pub json: bool,
+}
+
+/// `--refine` values.
+#[derive(Debug, Clone, Copy, clap::ValueEnum)]
+pub enum RefineArg {
+    /// When the patent route misses the tolerance.
+    Auto,
+    /// Always.
+    On,
+    /// Never.
+    Off,
+}
+
+/// `--route` values.
+#[derive(Debug, Clone, Copy, clap::ValueEnum)]
+pub enum RouteArg {
+    /// Front half exact.
+    Ac,
+    /// Back half exact.
+    Bd,
+}
+
+/// Parses `X,Y`.
+pub fn parse_pair(s: &str) -> Result<[f64; 2], String> {
+    let v: Vec<&str> = s.split(',').map(str::trim).collect();
+    let num = |t: &str| t.parse::<f64>().ok().filter(|x| x.is_finite());
+    match v.as_slice() {
+        [a, b] => match (num(a), num(b)) {
+            (Some(x), Some(y)) => Ok([x, y]),
+            _ => Err(format!("`{s}`: expected two finite numbers `X,Y`")),
+        },
+        _ => Err(format!("`{s}`: expected two numbers separated by a comma, e.g. `0,0`")),
+    }
+}
 
 /// Runs `ncgear design`.
-pub fn run(_args: Args) -> CliResult {
-    Err(runtime_error(miette::miette!("`ncgear design` is not built yet")))
+pub fn run(args: Args) -> CliResult {
+    let traj = Trajectory::read(&args.trajectory).map_err(|e| input_error(miette::miette!("{e}")))?;
+    let mut opts = DesignOptions { center_mm: args.center, order: args.order, tol_tip_mm: args.tol_mm, ..DesignOptions::default() };
+    opts.refine = match args.refine {
+        RefineArg::Auto => RefineMode::Auto,
+        RefineArg::On => RefineMode::On,
+        RefineArg::Off => RefineMode::Off,
+    };
+    opts.refine_order = args.refine_order;
+    opts.segmented.hypothesis = args.harmonics.iter().map(|h| (h[0], h[1].to_radians())).collect();
+    opts.segmented.route = match args.route {
+        RouteArg::Ac => Route::Ac,
+        RouteArg::Bd => Route::Bd,
+    };
+    opts.segmented.w1 = args.w1;
+    opts.segmented.k_max = args.k_max;
+    opts.inverse.grid = args.grid;
+    opts.inverse.dense_samples = args.dense;
+    opts.curve_samples = args.samples;
+    opts.refine_options.ratio_bounds = args.ratio_bounds;
+    opts.refine_options.convexity_penalty = args.convexity;
+    let file = args.trajectory.display().to_string();
+    let d = design(&traj, &opts).map_err(|e| match e {
+        DesignError::Internal(_) => runtime_error(miette::miette!("{file}: {e}")),
+        _ => input_error(miette::miette!("{file}: {e}")),
+    })?;
+    let written = ncgear::outputs::write_design(&d, &args.out).map_err(|e| runtime_error(miette::miette!("{e}")))?;
+    if args.json {
+        return print_json(&d.report);
+    }
+    let r = &d.report;
+    println!("{file}: {} points, carrier {}", r.trajectory.points, if r.carrier.direction > 0 { "CCW" } else { "CW" });
+    println!("  l1 = {:.6} mm, l3 = {:.6} mm, a = {:.6} mm, needle angle {:.4}°", r.l1, r.l3, r.center_distance, r.needle_angle_deg);
+    println!(
+        "  compatibility: E_c·l3 = {:.4} mm at τ = {:.3}°",
+        r.compatibility.tip_equivalent_mm, r.compatibility.tau_deg
+    );
+    println!("  patent route: K = {}, max deviation {:.4} mm", r.patent_route.order, r.patent_route.max_deviation_mm);
+    if let Some(f) = &r.refinement {
+        println!("  refinement:   K = {}, max deviation {:.4} mm ({})", f.order, f.max_deviation_mm, f.note);
+    }
+    println!(
+        "  round trip from the output curves ({}): max deviation {:.4} mm, Hausdorff {:.4} mm",
+        r.chosen, r.roundtrip.max_deviation_mm, r.roundtrip.hausdorff_mm
+    );
+    let failed: Vec<&str> = r.checks.iter().filter(|c| !c.pass).map(|c| c.id.as_str()).collect();
+    println!("  checks C1–C12: {}", if failed.is_empty() { "all pass".to_string() } else { format!("FAILED {}", failed.join(", ")) });
+    for w in &r.warnings {
+        println!("  warning: {w}");
+    }
+    println!("  {:.1} ms; wrote {}", r.timings_ms.total, written.iter().map(|p| p.display().to_string()).collect::<Vec<_>>().join(", "));
+    Ok(())
 }

@@ -1,4 +1,5 @@
 //! The single integration-test crate (links once): one module per area.
+mod design;
 mod dynamics;
 mod orbit;
 mod teeth;

@@ -1,0 +1,203 @@
+//! The assembled train as a CAD pipeline sees it: three polar pitch tables, two assembly angles,
+//! the needle angle and the carrier — exactly the content of `design.json` — and its kinematics
+//! rebuilt **from those tables only** (the round trip, spec §2 and check C12).
+//!
+//! Conventions (world frame = the trajectory's; angles CCW, rad inside, degrees in files): at
+//! carrier angle φH the intermediate centre is `D = O + a·e(φH)`, the planet centre
+//! `A = O + 2a·e(φH)`; the sun (body frame = world frame) touches the intermediate at its body
+//! angle φH; the intermediate touches the sun at its body angle `φH + π − θ2` and the planet at
+//! `φH − θ2`; the planet touches the intermediate at `φH + π − θ3`; the tip is
+//! `A + l3·e(θ3 + γ)`. For a clockwise carrier (`direction = −1`) φH decreases in time; the tables
+//! and angles are the mirror images of a CCW design, and the rebuild mirrors them back.
+//!
+//! Rebuild (CCW frame): with `i_s(θ) = r_s/(a − r_s)` and `g(θ) = ρ2/(a − ρ2)` integrated
+//! spectrally on the tables' grids,
+//!
+//! ```text
+//! θ2(φ) = θ2(0) + φ + ∫_0^φ i_s,     c2(φ) = φ − θ2(φ)          (intermediate's planet-side contact)
+//! c3(φ) = c3(0) − ∫_{c2(0)}^{c2(φ)} g,    θ3(φ) = φ + π − c3(φ)   (planet rolls on the intermediate)
+//! ```
+
+use crate::periodic::{PeriodicSpline, spectral_integral};
+use crate::pitch::PitchCurve;
+use std::f64::consts::{PI, TAU};
+
+/// The assembled gear train, world frame, mm and rad.
+#[derive(Debug, Clone)]
+pub struct Assembly {
+    /// Carrier axis O, mm.
+    pub center_mm: [f64; 2],
+    /// +1 for a CCW carrier, −1 for CW.
+    pub direction: i8,
+    /// Centre distance `a`, mm.
+    pub a_mm: f64,
+    /// Needle length `l3`, mm.
+    pub l3_mm: f64,
+    /// Needle angle γ relative to the planet's body +x axis, rad.
+    pub needle_angle_rad: f64,
+    /// Sun pitch curve (body frame = world frame).
+    pub sun: PitchCurve,
+    /// Intermediate pitch curve, body frame.
+    pub intermediate: PitchCurve,
+    /// Intermediate orientation θ2 at φH = 0, rad.
+    pub intermediate_angle_at_zero_rad: f64,
+    /// Planet pitch curve, body frame.
+    pub planet: PitchCurve,
+    /// Planet orientation θ3 at φH = 0, rad.
+    pub planet_angle_at_zero_rad: f64,
+}
+
+/// Kinematics rebuilt from an [`Assembly`] (CCW frame internally).
+#[derive(Debug, Clone)]
+pub struct Rebuilt {
+    asm: Assembly,
+    sign: f64,
+    sun: PitchCurve,
+    mid: PitchCurve,
+    planet: PitchCurve,
+    theta2_0: f64,
+    theta3_0: f64,
+    gamma: f64,
+    /// `∫ i_s`: (mean, periodic part).
+    sun_int: (f64, PeriodicSpline),
+    /// `∫ g`: (mean, periodic part).
+    mid_int: (f64, PeriodicSpline),
+}
+
+/// Pose of the train at one carrier angle (world frame, mm and rad).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Pose {
+    /// Carrier angle φH, rad.
+    pub phi_h_rad: f64,
+    /// Intermediate centre D, mm.
+    pub intermediate_center_mm: [f64; 2],
+    /// Planet centre A, mm.
+    pub planet_center_mm: [f64; 2],
+    /// Intermediate orientation θ2, rad.
+    pub intermediate_angle_rad: f64,
+    /// Planet orientation θ3, rad.
+    pub planet_angle_rad: f64,
+    /// Needle tip B, mm.
+    pub tip_mm: [f64; 2],
+    /// `r_sun + ρ2 − a` at the sun–intermediate contact, mm (0 for conjugate curves).
+    pub sun_mesh_error_mm: f64,
+    /// `r_planet + ρ2 − a` at the intermediate–planet contact, mm.
+    pub planet_mesh_error_mm: f64,
+}
+
+fn mirrored(c: &PitchCurve) -> PitchCurve {
+    let r = c.radii_mm();
+    let n = r.len();
+    PitchCurve::from_uniform_radii((0..n).map(|k| r[(n - k) % n]).collect()).expect("mirror of a valid curve")
+}
+
+fn integral_of(curve: &PitchCurve, a: f64) -> (f64, PeriodicSpline) {
+    let y: Vec<f64> = curve.radii_mm().iter().map(|r| r / (a - r)).collect();
+    let (mean, f) = spectral_integral(&y);
+    (mean, PeriodicSpline::uniform(0.0, f, TAU).expect("≥ 8 samples"))
+}
+
+impl Assembly {
+    /// Rebuilds the kinematics from the tables (spectral integration on the tables' grids).
+    #[must_use]
+    pub fn rebuild(&self) -> Rebuilt {
+        let ccw = self.direction >= 0;
+        let (sun, mid, planet) = if ccw {
+            (self.sun.clone(), self.intermediate.clone(), self.planet.clone())
+        } else {
+            (mirrored(&self.sun), mirrored(&self.intermediate), mirrored(&self.planet))
+        };
+        let sign = if ccw { 1.0 } else { -1.0 };
+        let sun_int = integral_of(&sun, self.a_mm);
+        let mid_int = integral_of(&mid, self.a_mm);
+        Rebuilt {
+            asm: self.clone(),
+            sign,
+            sun,
+            mid,
+            planet,
+            theta2_0: sign * self.intermediate_angle_at_zero_rad,
+            theta3_0: sign * self.planet_angle_at_zero_rad,
+            gamma: sign * self.needle_angle_rad,
+            sun_int,
+            mid_int,
+        }
+    }
+}
+
+impl Rebuilt {
+    /// Mean of `r/(a − r)` over the sun and the intermediate tables; both 1 for closed, conjugate
+    /// curves (checks C1/C2 from the outputs).
+    #[must_use]
+    pub fn ratio_means(&self) -> [f64; 2] {
+        [self.sun_int.0, self.mid_int.0]
+    }
+
+    fn sun_phi(&self, x: f64) -> f64 {
+        self.sun_int.0 * x + self.sun_int.1.value(x)
+    }
+
+    fn mid_g(&self, x: f64) -> f64 {
+        self.mid_int.0 * x + self.mid_int.1.value(x)
+    }
+
+    /// Pose at world carrier angle φH (rad).
+    #[must_use]
+    pub fn pose(&self, phi_h: f64) -> Pose {
+        let a = self.asm.a_mm;
+        let phi = self.sign * phi_h; // CCW-frame carrier angle
+        let theta2 = self.theta2_0 + phi + self.sun_phi(phi) - self.sun_phi(0.0);
+        let c2 = phi - theta2;
+        let c2_0 = -self.theta2_0;
+        let c3_0 = PI - self.theta3_0;
+        let c3 = c3_0 - (self.mid_g(c2) - self.mid_g(c2_0));
+        let theta3 = phi + PI - c3;
+        let b = theta3 + self.gamma;
+        let l1 = 2.0 * a;
+        let o = self.asm.center_mm;
+        let s = self.sign;
+        let world = |p: [f64; 2]| [o[0] + p[0], o[1] + s * p[1]];
+        let sun_err = self.sun.radius_mm(phi) + self.mid.radius_mm(phi + PI - theta2) - a;
+        let planet_err = self.planet.radius_mm(c3) + self.mid.radius_mm(c2) - a;
+        Pose {
+            phi_h_rad: phi_h,
+            intermediate_center_mm: world([a * phi.cos(), a * phi.sin()]),
+            planet_center_mm: world([l1 * phi.cos(), l1 * phi.sin()]),
+            intermediate_angle_rad: s * theta2,
+            planet_angle_rad: s * theta3,
+            tip_mm: world([l1 * phi.cos() + self.asm.l3_mm * b.cos(), l1 * phi.sin() + self.asm.l3_mm * b.sin()]),
+            sun_mesh_error_mm: sun_err,
+            planet_mesh_error_mm: planet_err,
+        }
+    }
+
+    /// Tip positions (mm, world) at `n` uniform carrier angles over one turn, in travel order.
+    #[must_use]
+    pub fn traced(&self, n: usize) -> Vec<[f64; 2]> {
+        (0..n).map(|k| self.pose(self.sign * TAU * k as f64 / n as f64).tip_mm).collect()
+    }
+}
+
+/// Hausdorff distance (mm) between two closed polylines.
+#[must_use]
+pub fn hausdorff_mm(p: &[[f64; 2]], q: &[[f64; 2]]) -> f64 {
+    directed(p, q).max(directed(q, p))
+}
+
+fn directed(p: &[[f64; 2]], q: &[[f64; 2]]) -> f64 {
+    let n = q.len();
+    p.iter()
+        .map(|x| {
+            (0..n)
+                .map(|k| seg_dist(*x, q[k], q[(k + 1) % n]))
+                .fold(f64::INFINITY, f64::min)
+        })
+        .fold(0.0, f64::max)
+}
+
+fn seg_dist(x: [f64; 2], a: [f64; 2], b: [f64; 2]) -> f64 {
+    let (dx, dy) = (b[0] - a[0], b[1] - a[1]);
+    let l2 = dx * dx + dy * dy;
+    let t = if l2 > 0.0 { (((x[0] - a[0]) * dx + (x[1] - a[1]) * dy) / l2).clamp(0.0, 1.0) } else { 0.0 };
+    (x[0] - a[0] - t * dx).hypot(x[1] - a[1] - t * dy)
+}

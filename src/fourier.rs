@@ -1,0 +1,244 @@
+//! The sun ratio as a closed Fourier series (spec §8.1).
+//!
+//! ```text
+//! i21(θ) = 1 + Σ_{k=1}^{K} ( a_k cos kθ + b_k sin kθ )          (dimensionless, θ in rad)
+//! Φ(θ)   = ∫_0^θ i21 = θ + Σ ( a_k sin kθ + b_k (1 − cos kθ) ) / k
+//! ```
+//!
+//! The constant term is fixed to 1, so the closure `Φ(2π) = 2π` (equal tooth counts, spec §5) holds
+//! exactly for every coefficient vector (check C1).
+//!
+//! ```
+//! use ncgear::fourier::SunRatio;
+//! let i21 = SunRatio::new(vec![0.1], vec![0.0]).unwrap();
+//! assert!((i21.value(0.0) - 1.1).abs() < 1e-15);
+//! assert!((i21.integral(std::f64::consts::TAU) - std::f64::consts::TAU).abs() < 1e-12);
+//! ```
+
+use crate::periodic::{fft_coefficients, invert_increasing};
+use std::f64::consts::{PI, TAU};
+
+/// A positive 2π-periodic sun ratio `i21(θ)` with mean exactly 1, as a truncated Fourier series.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SunRatio {
+    a: Vec<f64>,
+    b: Vec<f64>,
+    /// Bound on |Φ(θ) − θ| (rad), used to bracket Φ⁻¹.
+    drift_bound: f64,
+}
+
+/// Why a set of Fourier coefficients is not a usable sun ratio.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[non_exhaustive]
+pub enum RatioError {
+    /// `a` and `b` differ in length.
+    #[error("cosine and sine coefficient lists differ in length ({a} vs {b})")]
+    LengthMismatch {
+        /// Number of cosine coefficients.
+        a: usize,
+        /// Number of sine coefficients.
+        b: usize,
+    },
+    /// A coefficient is NaN or infinite.
+    #[error("Fourier coefficient {index} is not finite")]
+    NotFinite {
+        /// Harmonic number (1-based).
+        index: usize,
+    },
+    /// The ratio is not strictly positive somewhere.
+    #[error("the sun ratio reaches {min_ratio:.4} ≤ 0 at {at_deg:.2}°; gear ratios must stay positive")]
+    NotPositive {
+        /// Smallest sampled ratio.
+        min_ratio: f64,
+        /// Where, degrees.
+        at_deg: f64,
+    },
+}
+
+impl SunRatio {
+    /// Builds `i21 = 1 + Σ a_k cos kθ + b_k sin kθ` (`a[k−1]`, `b[k−1]` are harmonic k) and checks
+    /// that it is strictly positive (sampled at 64·K + 256 points).
+    pub fn new(a: Vec<f64>, b: Vec<f64>) -> Result<Self, RatioError> {
+        if a.len() != b.len() {
+            return Err(RatioError::LengthMismatch { a: a.len(), b: b.len() });
+        }
+        if let Some(i) = a.iter().zip(&b).position(|(x, y)| !(x.is_finite() && y.is_finite())) {
+            return Err(RatioError::NotFinite { index: i + 1 });
+        }
+        let s = Self::new_unchecked(a, b);
+        let (min_ratio, at) = s.sampled_extreme(64 * s.order() + 256, false);
+        if min_ratio <= 0.0 {
+            return Err(RatioError::NotPositive { min_ratio, at_deg: at.to_degrees() });
+        }
+        Ok(s)
+    }
+
+    /// Builds a series without the positivity check (for optimisers that penalise bounds
+    /// themselves). Lengths must match; non-finite values are replaced by 0.
+    #[must_use]
+    pub fn new_unchecked(mut a: Vec<f64>, mut b: Vec<f64>) -> Self {
+        let k = a.len().min(b.len());
+        a.truncate(k);
+        b.truncate(k);
+        for v in a.iter_mut().chain(b.iter_mut()) {
+            if !v.is_finite() {
+                *v = 0.0;
+            }
+        }
+        let drift_bound = a
+            .iter()
+            .zip(&b)
+            .enumerate()
+            .map(|(k, (x, y))| (x.abs() + 2.0 * y.abs()) / (k + 1) as f64)
+            .sum::<f64>()
+            + 1e-9;
+        Self { a, b, drift_bound }
+    }
+
+    /// Least-squares fit of order `K` to uniform samples `y_n = i(2πn/N)` (spec §8.1): the truncated
+    /// DFT with the mean forced to 1 (exact closure). Requires `N ≥ 2K + 1`.
+    pub fn fit_uniform(samples: &[f64], order: usize) -> Result<Self, RatioError> {
+        let c = fft_coefficients(samples);
+        let k_max = order.min(c.len().saturating_sub(1)).min((samples.len().saturating_sub(1)) / 2);
+        let a = (1..=k_max).map(|k| 2.0 * c[k].re).collect();
+        let b = (1..=k_max).map(|k| -2.0 * c[k].im).collect();
+        Self::new(a, b)
+    }
+
+    /// Fourier order K.
+    #[must_use]
+    pub fn order(&self) -> usize {
+        self.a.len()
+    }
+
+    /// Cosine coefficients `a_1..a_K`.
+    #[must_use]
+    pub fn cos_coefficients(&self) -> &[f64] {
+        &self.a
+    }
+
+    /// Sine coefficients `b_1..b_K`.
+    #[must_use]
+    pub fn sin_coefficients(&self) -> &[f64] {
+        &self.b
+    }
+
+    /// `(i21, di21/dθ, d²i21/dθ²)` at `θ` (rad).
+    #[must_use]
+    pub fn eval3(&self, theta: f64) -> [f64; 3] {
+        let (s1, c1) = theta.sin_cos();
+        let (mut s, mut c) = (s1, c1);
+        let mut out = [1.0, 0.0, 0.0];
+        for (k, (a, b)) in self.a.iter().zip(&self.b).enumerate() {
+            let kf = (k + 1) as f64;
+            out[0] += a * c + b * s;
+            out[1] += kf * (b * c - a * s);
+            out[2] -= kf * kf * (a * c + b * s);
+            let (sn, cn) = (s * c1 + c * s1, c * c1 - s * s1);
+            s = sn;
+            c = cn;
+        }
+        out
+    }
+
+    /// `i21(θ)`.
+    #[must_use]
+    pub fn value(&self, theta: f64) -> f64 {
+        self.eval3(theta)[0]
+    }
+
+    /// `Φ(θ) = ∫_0^θ i21` (rad), for any real θ (not wrapped: `Φ(θ + 2π) = Φ(θ) + 2π`).
+    #[must_use]
+    pub fn integral(&self, theta: f64) -> f64 {
+        self.integral_and_value(theta).0
+    }
+
+    /// `(Φ(θ), i21(θ))`.
+    #[must_use]
+    pub fn integral_and_value(&self, theta: f64) -> (f64, f64) {
+        let (s1, c1) = theta.sin_cos();
+        let (mut s, mut c) = (s1, c1);
+        let (mut phi, mut i) = (theta, 1.0);
+        for (k, (a, b)) in self.a.iter().zip(&self.b).enumerate() {
+            let kf = (k + 1) as f64;
+            phi += (a * s + b * (1.0 - c)) / kf;
+            i += a * c + b * s;
+            let (sn, cn) = (s * c1 + c * s1, c * c1 - s * s1);
+            s = sn;
+            c = cn;
+        }
+        (phi, i)
+    }
+
+    /// `Φ⁻¹(y)` (rad): Newton with bisection safeguard to `tol_rad` (spec §14, "Φ⁻¹ robustness").
+    #[must_use]
+    pub fn inverse_integral(&self, y: f64, tol_rad: f64) -> f64 {
+        let m = self.drift_bound;
+        invert_increasing(|x| self.integral_and_value(x), y, y - m, y + m, y, tol_rad)
+    }
+
+    /// Planet contact map `S(t) = Φ⁻¹(Φ(t) + π)` (spec §6.2), rad.
+    #[must_use]
+    pub fn half_turn_map(&self, t: f64, tol_rad: f64) -> f64 {
+        self.inverse_integral(self.integral(t) + PI, tol_rad)
+    }
+
+    /// Smallest (or, with `max = true`, largest) sampled ratio on `n` uniform angles, and where (rad).
+    #[must_use]
+    pub fn sampled_extreme(&self, n: usize, max: bool) -> (f64, f64) {
+        let mut best = (if max { f64::NEG_INFINITY } else { f64::INFINITY }, 0.0);
+        for j in 0..n {
+            let th = TAU * j as f64 / n as f64;
+            let v = self.value(th);
+            if (max && v > best.0) || (!max && v < best.0) || v.is_nan() {
+                best = (v, th);
+            }
+        }
+        best
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn fit_recovers_a_trig_polynomial_and_closes() {
+        let f = |t: f64| 1.0 + 0.2 * (2.0 * t).cos() - 0.1 * (3.0 * t + 0.4).sin();
+        let y: Vec<f64> = (0..64).map(|n| f(TAU * n as f64 / 64.0)).collect();
+        let r = SunRatio::fit_uniform(&y, 8).unwrap();
+        for j in 0..50 {
+            let t = 0.37 * j as f64;
+            assert!((r.value(t) - f(t)).abs() < 1e-13);
+        }
+        assert!((r.integral(TAU) - TAU).abs() < 1e-13);
+        // Φ⁻¹ ∘ Φ = id and S∘S = shift by 2π (spec §6.2).
+        for j in 0..20 {
+            let t = -3.0 + 0.41 * j as f64;
+            assert!((r.inverse_integral(r.integral(t), 1e-14) - t).abs() < 1e-12);
+            let s = r.half_turn_map(r.half_turn_map(t, 1e-14), 1e-14);
+            assert!((s - t - TAU).abs() < 1e-11);
+        }
+    }
+
+    #[test]
+    fn derivatives_match_finite_differences() {
+        let r = SunRatio::new(vec![0.1, -0.05, 0.02], vec![0.03, 0.04, -0.01]).unwrap();
+        let h = 1e-5;
+        for j in 0..10 {
+            let t = 0.6 * j as f64;
+            let [_, d1, d2] = r.eval3(t);
+            assert!((d1 - (r.value(t + h) - r.value(t - h)) / (2.0 * h)).abs() < 1e-8);
+            let fd2 = (r.eval3(t + h)[1] - r.eval3(t - h)[1]) / (2.0 * h);
+            assert!((d2 - fd2).abs() < 1e-7);
+        }
+    }
+
+    #[test]
+    fn non_positive_ratio_is_rejected() {
+        assert!(matches!(
+            SunRatio::new(vec![1.2], vec![0.0]),
+            Err(RatioError::NotPositive { .. })
+        ));
+    }
+}

@@ -1,0 +1,401 @@
+//! Step 1: static trajectory → arm lengths `l1`, `l3`, the carrier angle of every trajectory point
+//! and the needle's relative rotation `ψ3(t)` (spec §3).
+//!
+//! Closed-form two-circle inversion (§3.3): with `ρ(s) = |P(s)|`, `θ(s) = atan2 P(s)`,
+//!
+//! ```text
+//! q(s)  = (l1² + ρ² − l3²) / (2 l1 ρ),    δ(s) = arccos q(s) ∈ [0, π]
+//! φH(s) = unwrap( θ(s) + σ(s)·δ(s) ),     σ = +1 from s_max to s_min (travel order), −1 after
+//! β(s)  = atan2( P(s) − l1·e(φH(s)) ),     ψ3(t) = t − (β − β0),   t = φH − φH0
+//! ```
+//!
+//! `l1 = (ρmax − ρmin)/2`, `l3 = (ρmax + ρmin)/2` (winding number 0, §3.2). The reference instant
+//! `t = 0` is the ρmax instant, where the needle is collinear with OA (`β0 = φH0`).
+//! `ψ3` is resampled on a uniform grid of `N` carrier angles by solving `φH(s) = φH0 + t_n` on the
+//! interpolant itself (no second interpolation), so its error is the spline's, O(h⁴) (§3.5).
+
+use crate::periodic::{PeriodicSpline, spectral_derivative};
+use crate::trajectory::{ClosedSpline, Trajectory};
+use std::f64::consts::{PI, TAU};
+
+/// Accuracy knobs of the inversion (spec §13).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct InverseOptions {
+    /// Dense samples of the interpolant used to locate extremes and check monotonicity (`n_s`).
+    pub dense_samples: usize,
+    /// Uniform carrier-angle grid size `N` for ψ3 (FFT size).
+    pub grid: usize,
+    /// Tolerance on the spline parameter when solving for extremes and carrier angles, in units
+    /// of the trajectory length.
+    pub tol_relative: f64,
+}
+
+impl Default for InverseOptions {
+    fn default() -> Self {
+        Self { dense_samples: 20_000, grid: 1024, tol_relative: 1e-14 }
+    }
+}
+
+/// Why no mechanism with constant `l1`, `l3` can trace a trajectory. Angles are carrier angles in
+/// degrees in the file's frame.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[non_exhaustive]
+pub enum InverseError {
+    /// The carrier axis is inside the loop.
+    #[error("the carrier axis O lies inside the loop (winding number {winding}); a transplanter needs O outside the loop (l3 > l1): check --center")]
+    AxisInsideLoop {
+        /// Winding number of the loop about O.
+        winding: i64,
+    },
+    /// The largest distance from O is reached at several separate places.
+    #[error("the largest distance from O ({rho_max_mm:.4} mm) is reached at {count} separate places (points near {at:?} mm); the needle tip of a constant-length arm reaches its farthest point exactly once per turn")]
+    SeveralMaxima {
+        /// ρmax, mm.
+        rho_max_mm: f64,
+        /// Number of separate maxima.
+        count: usize,
+        /// Their positions, mm (file frame).
+        at: Vec<[f64; 2]>,
+    },
+    /// Some point is too close to the carrier axis.
+    #[error("the trajectory comes within {rho_min_mm:.3} mm of the carrier axis, below 5 % of l3 ({limit_mm:.3} mm); the inversion is ill-conditioned there (spec §14): move --center or the trajectory")]
+    TooCloseToAxis {
+        /// ρmin, mm.
+        rho_min_mm: f64,
+        /// Limit, mm.
+        limit_mm: f64,
+    },
+    /// The carrier angle is not monotone along the trajectory.
+    #[error("no arm with constant l1 = {l1_mm:.3} mm and l3 = {l3_mm:.3} mm can trace this path: the carrier angle would have to run backwards on {} stretch(es), carrier angles (deg) {stretches_deg:?} (monotonicity criterion, spec §3.3); smooth or redraw those parts", stretches_deg.len())]
+    NotMonotone {
+        /// l1, mm.
+        l1_mm: f64,
+        /// l3, mm.
+        l3_mm: f64,
+        /// Offending stretches `[from, to]`, carrier degrees.
+        stretches_deg: Vec<[f64; 2]>,
+    },
+    /// The needle would have to turn against the gears.
+    #[error("the needle would have to turn faster than the carrier (i31 ≤ 0) on carrier angles (deg) {stretches_deg:?}; gear ratios are positive, so no gear train can do this: flatten the needle swing there")]
+    NeedleReverses {
+        /// Offending stretches `[from, to]`, carrier degrees.
+        stretches_deg: Vec<[f64; 2]>,
+    },
+}
+
+/// The needle's relative rotation `ψ3(t)` (rad) as a function of the carrier angle `t` (rad)
+/// measured from the reference instant: stored as the periodic part `p(t) = ψ3(t) − t`.
+#[derive(Debug, Clone)]
+pub struct NeedleLaw {
+    p: PeriodicSpline,
+    samples: Vec<f64>,
+}
+
+impl NeedleLaw {
+    /// From uniform samples `p_n = ψ3(2πn/N) − 2πn/N` (rad).
+    #[must_use]
+    pub fn from_samples(samples: Vec<f64>) -> Self {
+        let p = PeriodicSpline::uniform(0.0, samples.clone(), TAU).expect("grid has ≥ 8 samples");
+        Self { p, samples }
+    }
+
+    /// From a function `ψ3(t)` sampled at `n` uniform angles.
+    #[must_use]
+    pub fn from_fn(n: usize, psi3: impl Fn(f64) -> f64) -> Self {
+        let s = (0..n).map(|k| TAU * k as f64 / n as f64).map(|t| psi3(t) - t).collect();
+        Self::from_samples(s)
+    }
+
+    /// `ψ3(t)`, rad, any real t (`ψ3(t + 2π) = ψ3(t) + 2π`).
+    #[must_use]
+    pub fn psi3(&self, t: f64) -> f64 {
+        t + self.p.value(t)
+    }
+
+    /// `i31(t) = dψ3/dt = 1 − i3H` (spec §4).
+    #[must_use]
+    pub fn i31(&self, t: f64) -> f64 {
+        1.0 + self.p.derivative(t)
+    }
+
+    /// The uniform samples of `p = ψ3 − t` (rad).
+    #[must_use]
+    pub fn samples(&self) -> &[f64] {
+        &self.samples
+    }
+
+    /// `i31` on the sample grid, spectrally (spec §3.3).
+    #[must_use]
+    pub fn i31_samples(&self) -> Vec<f64> {
+        spectral_derivative(&self.samples).into_iter().map(|d| 1.0 + d).collect()
+    }
+}
+
+/// Result of step 1, in the solved frame: relative to the carrier axis, mirrored when the carrier
+/// turns clockwise (spec §1: solve CCW, mirror back).
+#[derive(Debug, Clone)]
+pub struct Inversion {
+    /// Carrier arm length `l1 = |OA|`, mm.
+    pub l1_mm: f64,
+    /// Needle length `l3 = |AB|`, mm.
+    pub l3_mm: f64,
+    /// Largest distance of the tip from O, mm.
+    pub rho_max_mm: f64,
+    /// Smallest distance of the tip from O, mm.
+    pub rho_min_mm: f64,
+    /// +1 when the carrier turns CCW in the file frame, −1 when CW (solved mirrored).
+    pub direction: i8,
+    /// Carrier angle at the ρmax instant (reference instant `t = 0`), rad, solved frame.
+    pub phi_h0_rad: f64,
+    /// Needle rotation relative to the carrier.
+    pub law: NeedleLaw,
+    /// The trajectory points relative to O in the solved frame, mm.
+    pub points: Vec<[f64; 2]>,
+    /// Whether the other carrier sense (with the arm's elbow flipped) also traces the path.
+    pub other_sense_traceable: bool,
+}
+
+impl Inversion {
+    /// Target needle direction `β(φH) = φH0 − p(φH − φH0)` (rad, solved frame).
+    #[must_use]
+    pub fn beta(&self, phi_h: f64) -> f64 {
+        let t = phi_h - self.phi_h0_rad;
+        self.phi_h0_rad + t - self.law.psi3(t)
+    }
+
+    /// Target tip position at carrier angle `φH` (rad), mm, solved frame:
+    /// `B = l1·e(φH) + l3·e(β(φH))`.
+    #[must_use]
+    pub fn tip(&self, phi_h: f64) -> [f64; 2] {
+        let b = self.beta(phi_h);
+        [self.l1_mm * phi_h.cos() + self.l3_mm * b.cos(), self.l1_mm * phi_h.sin() + self.l3_mm * b.sin()]
+    }
+
+    /// Converts a solved-frame angle (rad) to file-frame degrees in [0, 360).
+    #[must_use]
+    pub fn file_angle_deg(&self, angle_rad: f64) -> f64 {
+        (f64::from(self.direction) * angle_rad).to_degrees().rem_euclid(360.0)
+    }
+}
+
+/// Runs step 1 on a trajectory with carrier axis `center` (mm).
+pub fn invert(traj: &Trajectory, center: [f64; 2], opts: &InverseOptions) -> Result<Inversion, InverseError> {
+    let pts = traj.relative_to(center, false);
+    let winding = winding_number(&pts);
+    if winding != 0 {
+        return Err(InverseError::AxisInsideLoop { winding });
+    }
+    // Both senses are tried: the "elbow-flipped" arm (A reflected across OB) of a CW mechanism can
+    // trace the same path CCW. When both are valid, the law that the train can realise best
+    // (smaller compatibility residual, spec §6.4) wins and the other is flagged.
+    let ccw = solve_frame(&pts, opts, 1, center);
+    let mirrored = traj.relative_to(center, true);
+    let cw = solve_frame(&mirrored, opts, -1, center);
+    match (ccw, cw) {
+        (Ok(Solved::Done(mut a)), Ok(Solved::Done(mut b))) => {
+            let ea = crate::compat::analyse(&a.law, 256, 1e-10).residual_rad;
+            let eb = crate::compat::analyse(&b.law, 256, 1e-10).residual_rad;
+            a.other_sense_traceable = true;
+            b.other_sense_traceable = true;
+            Ok(if eb < ea { *b } else { *a })
+        }
+        (Ok(Solved::Done(a)), _) => Ok(*a),
+        (_, Ok(Solved::Done(b))) => Ok(*b),
+        (Err(e), _) => Err(e),
+        (Ok(Solved::WrongSense(_)), Err(e)) => Err(e),
+        (Ok(Solved::WrongSense(e)), Ok(Solved::WrongSense(_))) => Err(e),
+    }
+}
+
+enum Solved {
+    Done(Box<Inversion>),
+    /// The carrier angle does not advance by +2π in this frame; carries the diagnosis.
+    WrongSense(InverseError),
+}
+
+/// Winding number of a closed polyline about the origin.
+fn winding_number(pts: &[[f64; 2]]) -> i64 {
+    let n = pts.len();
+    let mut total = 0.0;
+    for k in 0..n {
+        let a = pts[k][1].atan2(pts[k][0]);
+        let b = pts[(k + 1) % n][1].atan2(pts[(k + 1) % n][0]);
+        total += wrap(b - a);
+    }
+    (total / TAU).round() as i64
+}
+
+/// Wraps an angle to (−π, π].
+fn wrap(x: f64) -> f64 {
+    let y = x.rem_euclid(TAU);
+    if y > PI { y - TAU } else { y }
+}
+
+/// Root of a continuous `g` on `[lo, hi]` with a sign change, by bisection to `tol`.
+fn bisect(g: impl Fn(f64) -> f64, mut lo: f64, mut hi: f64, tol: f64) -> f64 {
+    let mut glo = g(lo);
+    for _ in 0..200 {
+        if hi - lo <= tol {
+            break;
+        }
+        let mid = 0.5 * (lo + hi);
+        let gm = g(mid);
+        if (gm > 0.0) == (glo > 0.0) {
+            lo = mid;
+            glo = gm;
+        } else {
+            hi = mid;
+        }
+    }
+    0.5 * (lo + hi)
+}
+
+/// Runs of indices where `bad(j)` holds, as `[first, last]` pairs.
+fn runs(n: usize, bad: impl Fn(usize) -> bool) -> Vec<[usize; 2]> {
+    let mut out = Vec::new();
+    let mut start = None;
+    for j in 0..n {
+        match (bad(j), start) {
+            (true, None) => start = Some(j),
+            (false, Some(s)) => {
+                out.push([s, j - 1]);
+                start = None;
+            }
+            _ => {}
+        }
+    }
+    if let Some(s) = start {
+        out.push([s, n - 1]);
+    }
+    out
+}
+
+fn solve_frame(pts: &[[f64; 2]], opts: &InverseOptions, direction: i8, center: [f64; 2]) -> Result<Solved, InverseError> {
+    let spline = ClosedSpline::through(pts);
+    let len = spline.period();
+    let ns = opts.dense_samples.max(4 * pts.len());
+    let ds = len / ns as f64;
+    let rho = |s: f64| {
+        let p = spline.point(s);
+        p[0].hypot(p[1])
+    };
+    let dense: Vec<f64> = (0..ns).map(|j| rho(j as f64 * ds)).collect();
+    let (jmax, _) = dense.iter().enumerate().fold((0, f64::MIN), |b, (j, &r)| if r > b.1 { (j, r) } else { b });
+    let (jmin, _) = dense.iter().enumerate().fold((0, f64::MAX), |b, (j, &r)| if r < b.1 { (j, r) } else { b });
+    // Several separate global maxima (spec §3.2).
+    let rmax_dense = dense[jmax];
+    let sep = ns / 20;
+    let mut maxima = vec![jmax];
+    for j in 0..ns {
+        let (prev, next) = (dense[(j + ns - 1) % ns], dense[(j + 1) % ns]);
+        let cyc = |a: usize, b: usize| {
+            let d = a.abs_diff(b);
+            d.min(ns - d)
+        };
+        if dense[j] >= prev && dense[j] > next && dense[j] >= rmax_dense * (1.0 - 1e-4) && maxima.iter().all(|&m| cyc(m, j) > sep) {
+            maxima.push(j);
+        }
+    }
+    if maxima.len() > 1 {
+        let sy = f64::from(direction);
+        return Err(InverseError::SeveralMaxima {
+            rho_max_mm: rmax_dense,
+            count: maxima.len(),
+            at: maxima
+                .iter()
+                .map(|&j| {
+                    let p = spline.point(j as f64 * ds);
+                    [p[0] + center[0], sy * p[1] + center[1]]
+                })
+                .collect(),
+        });
+    }
+    // Refine the extremes: d(ρ²)/ds = 2 P·P′ = 0 (Brent/bisection on the same interpolant, §3.5a).
+    let pdot = |s: f64| {
+        let [p, d, _] = spline.eval(s);
+        p[0] * d[0] + p[1] * d[1]
+    };
+    let tol = opts.tol_relative * len;
+    let s_max = bisect(pdot, (jmax as f64 - 1.0) * ds, (jmax as f64 + 1.0) * ds, tol);
+    let s_min = bisect(pdot, (jmin as f64 - 1.0) * ds, (jmin as f64 + 1.0) * ds, tol);
+    let (rho_max, rho_min) = (rho(s_max).max(rmax_dense), rho(s_min).min(dense[jmin]));
+    let l1 = 0.5 * (rho_max - rho_min);
+    let l3 = 0.5 * (rho_max + rho_min);
+    if rho_min < 0.05 * l3 {
+        return Err(InverseError::TooCloseToAxis { rho_min_mm: rho_min, limit_mm: 0.05 * l3 });
+    }
+    // Parameter measured from s_max in travel order; σ = +1 until s_min.
+    let s_min_rel = (s_min - s_max).rem_euclid(len);
+    let raw_phi = |u: f64| {
+        let p = spline.point(s_max + u);
+        let r = p[0].hypot(p[1]);
+        let q = ((l1 * l1 + r * r - l3 * l3) / (2.0 * l1 * r)).clamp(-1.0, 1.0);
+        let sigma = if u <= s_min_rel { 1.0 } else { -1.0 };
+        p[1].atan2(p[0]) + sigma * q.acos()
+    };
+    let mut phi = Vec::with_capacity(ns + 1);
+    phi.push(raw_phi(0.0));
+    for j in 1..=ns {
+        let u = if j == ns { len } else { j as f64 * ds };
+        let prev = phi[j - 1];
+        phi.push(prev + wrap(raw_phi(u) - prev));
+    }
+    let total = phi[ns] - phi[0];
+    let phi0 = phi[0];
+    let to_deg = |a: f64| (f64::from(direction) * a).to_degrees().rem_euclid(360.0);
+    let bad = runs(ns, |j| phi[j + 1] <= phi[j]);
+    let not_monotone = InverseError::NotMonotone {
+        l1_mm: l1,
+        l3_mm: l3,
+        stretches_deg: bad.iter().map(|r| [to_deg(phi[r[0]]), to_deg(phi[r[1] + 1])]).collect(),
+    };
+    if (total - TAU).abs() > 1e-6 {
+        return Ok(Solved::WrongSense(not_monotone));
+    }
+    if !bad.is_empty() {
+        return Err(not_monotone);
+    }
+    // Needle direction and ψ3 on the dense samples: ψ3 must increase (i31 > 0).
+    let beta_at = |u: f64, ph: f64| {
+        let p = spline.point(s_max + u);
+        (p[1] - l1 * ph.sin()).atan2(p[0] - l1 * ph.cos())
+    };
+    let mut beta = Vec::with_capacity(ns + 1);
+    beta.push(beta_at(0.0, phi0));
+    for j in 1..=ns {
+        let u = if j == ns { len } else { j as f64 * ds };
+        let prev = beta[j - 1];
+        beta.push(prev + wrap(beta_at(u, phi[j]) - prev));
+    }
+    let psi = |j: usize| (phi[j] - phi0) - (beta[j] - beta[0]);
+    let bad = runs(ns, |j| psi(j + 1) <= psi(j));
+    if !bad.is_empty() {
+        return Err(InverseError::NeedleReverses {
+            stretches_deg: bad.iter().map(|r| [to_deg(phi[r[0]]), to_deg(phi[r[1] + 1])]).collect(),
+        });
+    }
+    // Uniform resampling: solve φH(u) = φH0 + t_n on the interpolant.
+    let n = opts.grid.max(16);
+    let mut samples = Vec::with_capacity(n);
+    for k in 0..n {
+        let t = TAU * k as f64 / n as f64;
+        let target = phi0 + t;
+        let j = phi.partition_point(|&v| v <= target).clamp(1, ns) - 1;
+        let (u_lo, u_hi) = (j as f64 * ds, ((j + 1) as f64 * ds).min(len));
+        let unwrap_near = |u: f64| phi[j] + wrap(raw_phi(u) - phi[j]);
+        let u = if k == 0 { 0.0 } else { bisect(|u| unwrap_near(u) - target, u_lo, u_hi, tol) };
+        let b = beta[j] + wrap(beta_at(u, target) - beta[j]);
+        samples.push(-(b - beta[0]));
+    }
+    Ok(Solved::Done(Box::new(Inversion {
+        l1_mm: l1,
+        l3_mm: l3,
+        rho_max_mm: rho_max,
+        rho_min_mm: rho_min,
+        direction,
+        phi_h0_rad: phi0.rem_euclid(TAU),
+        law: NeedleLaw::from_samples(samples),
+        points: pts.to_vec(),
+        other_sense_traceable: false,
+    })))
+}

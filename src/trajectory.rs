@@ -1,0 +1,362 @@
+//! Static needle-tip trajectories: reading, validating, and the periodic interpolant (spec §3.1).
+//!
+//! A [`Trajectory`] is a closed polyline of at least [`MIN_POINTS`] finite points in travel order,
+//! in mm, with no repeated end point and no duplicate consecutive points. Files:
+//!
+//! - CSV: optional header line, two columns `x, y` in mm separated by a comma, semicolon or
+//!   whitespace; `#` starts a comment; blank lines are skipped.
+//! - JSON: `{"units": "mm", "points": [[x, y], ...]}`.
+//!
+//! ```
+//! use ncgear::trajectory::Trajectory;
+//! let text: String = (0..36)
+//!     .map(|k| {
+//!         let t = (k as f64).to_radians() * 10.0;
+//!         format!("{},{}\n", 100.0 + 20.0 * t.cos(), 20.0 * t.sin())
+//!     })
+//!     .collect();
+//! let traj = Trajectory::parse_csv(&text, "inline.csv").unwrap();
+//! assert_eq!(traj.len(), 36);
+//! ```
+
+use crate::periodic::PeriodicSpline;
+use std::fmt;
+use std::path::Path;
+
+/// Fewest points accepted in a trajectory file.
+pub const MIN_POINTS: usize = 20;
+
+/// Where a point came from in its file, for diagnostics.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Origin {
+    /// 1-based line of a CSV file.
+    Line(usize),
+    /// 0-based index in the JSON `points` array.
+    Index(usize),
+}
+
+impl fmt::Display for Origin {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Origin::Line(l) => write!(f, "line {l}"),
+            Origin::Index(i) => write!(f, "points[{i}]"),
+        }
+    }
+}
+
+/// Why a trajectory file cannot be used. Every variant names the file and, where it applies, the
+/// line or field, what was expected and how to fix it.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[non_exhaustive]
+pub enum TrajectoryError {
+    /// The file cannot be read.
+    #[error("{file}: cannot read the trajectory file: {message}")]
+    Unreadable {
+        /// File name.
+        file: String,
+        /// OS message.
+        message: String,
+    },
+    /// A CSV line is not two numbers.
+    #[error("{file}: {origin}: expected two numbers `x, y` in mm, found `{found}`; fix or comment the line out with #")]
+    BadLine {
+        /// File name.
+        file: String,
+        /// Where.
+        origin: Origin,
+        /// The offending text.
+        found: String,
+    },
+    /// The JSON does not follow the schema.
+    #[error("{file}: {message}; expected {{\"units\": \"mm\", \"points\": [[x, y], ...]}}")]
+    BadJson {
+        /// File name.
+        file: String,
+        /// Parser message.
+        message: String,
+    },
+    /// A coordinate is NaN or infinite.
+    #[error("{file}: {origin}: coordinate is not a finite number; every point needs finite x and y in mm")]
+    NotFinite {
+        /// File name.
+        file: String,
+        /// Where.
+        origin: Origin,
+    },
+    /// Too few points.
+    #[error("{file}: {count} points, at least {min} are needed (360, one per carrier degree, is typical)")]
+    TooFewPoints {
+        /// File name.
+        file: String,
+        /// Points found.
+        count: usize,
+        /// Minimum.
+        min: usize,
+    },
+    /// Two consecutive points coincide.
+    #[error("{file}: {origin} repeats the previous point ({x}, {y}) mm; remove the duplicate")]
+    DuplicatePoint {
+        /// File name.
+        file: String,
+        /// Where.
+        origin: Origin,
+        /// x, mm.
+        x: f64,
+        /// y, mm.
+        y: f64,
+    },
+    /// The closing gap is far larger than the point spacing.
+    #[error("{file}: the curve is open: the gap from the last point back to the first is {gap_mm:.3} mm, while consecutive points are at most {spacing_mm:.3} mm apart; give the whole closed loop in travel order")]
+    Open {
+        /// File name.
+        file: String,
+        /// Closing gap, mm.
+        gap_mm: f64,
+        /// Largest spacing between consecutive points, mm.
+        spacing_mm: f64,
+    },
+}
+
+/// A closed needle-tip trajectory in travel order, mm.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Trajectory {
+    points: Vec<[f64; 2]>,
+}
+
+impl Trajectory {
+    /// Validates points (mm, travel order). `origins[k]` says where point k came from; `file` names
+    /// the source in messages. A last point equal to the first is dropped.
+    pub fn new(points: Vec<[f64; 2]>, origins: &[Origin], file: &str) -> Result<Self, TrajectoryError> {
+        let origin = |k: usize| origins.get(k).copied().unwrap_or(Origin::Index(k));
+        let file_s = file.to_string();
+        if let Some(k) = points.iter().position(|p| !(p[0].is_finite() && p[1].is_finite())) {
+            return Err(TrajectoryError::NotFinite { file: file_s, origin: origin(k) });
+        }
+        let mut points = points;
+        while points.len() > 1 && points[0] == points[points.len() - 1] {
+            points.pop();
+        }
+        if points.len() < MIN_POINTS {
+            return Err(TrajectoryError::TooFewPoints { file: file_s, count: points.len(), min: MIN_POINTS });
+        }
+        let mut max_step: f64 = 0.0;
+        for k in 1..points.len() {
+            let d = dist(points[k], points[k - 1]);
+            if d == 0.0 {
+                let [x, y] = points[k];
+                return Err(TrajectoryError::DuplicatePoint { file: file_s, origin: origin(k), x, y });
+            }
+            max_step = max_step.max(d);
+        }
+        let gap = dist(points[0], points[points.len() - 1]);
+        if gap > 4.0 * max_step {
+            return Err(TrajectoryError::Open { file: file_s, gap_mm: gap, spacing_mm: max_step });
+        }
+        Ok(Self { points })
+    }
+
+    /// Reads a CSV or JSON trajectory file (JSON when the extension is `.json` or the content
+    /// starts with `{`).
+    pub fn read(path: &Path) -> Result<Self, TrajectoryError> {
+        let file = path.display().to_string();
+        let bytes = std::fs::read(path)
+            .map_err(|e| TrajectoryError::Unreadable { file: file.clone(), message: e.to_string() })?;
+        let text = String::from_utf8(bytes).map_err(|e| TrajectoryError::Unreadable {
+            file: file.clone(),
+            message: format!("not UTF-8 text ({e})"),
+        })?;
+        let is_json = path.extension().is_some_and(|e| e.eq_ignore_ascii_case("json"))
+            || text.trim_start().starts_with('{');
+        if is_json { Self::parse_json(&text, &file) } else { Self::parse_csv(&text, &file) }
+    }
+
+    /// Parses CSV text (see the module docs); `file` names the source in messages.
+    pub fn parse_csv(text: &str, file: &str) -> Result<Self, TrajectoryError> {
+        let mut points = Vec::new();
+        let mut origins = Vec::new();
+        let mut header_seen = false;
+        for (i, raw) in text.lines().enumerate() {
+            let line = raw.split('#').next().unwrap_or("").trim();
+            if line.is_empty() {
+                continue;
+            }
+            let fields: Vec<&str> =
+                line.split(|c: char| c == ',' || c == ';' || c.is_whitespace()).filter(|s| !s.is_empty()).collect();
+            let parsed: Option<Vec<f64>> = fields.iter().map(|s| s.parse::<f64>().ok()).collect();
+            match parsed {
+                Some(v) if v.len() == 2 => {
+                    points.push([v[0], v[1]]);
+                    origins.push(Origin::Line(i + 1));
+                }
+                // One header line is allowed before the first data line.
+                None if !header_seen && points.is_empty() => header_seen = true,
+                _ => {
+                    return Err(TrajectoryError::BadLine {
+                        file: file.to_string(),
+                        origin: Origin::Line(i + 1),
+                        found: line.chars().take(60).collect(),
+                    });
+                }
+            }
+        }
+        if points.is_empty() {
+            return Err(TrajectoryError::TooFewPoints { file: file.to_string(), count: 0, min: MIN_POINTS });
+        }
+        Self::new(points, &origins, file)
+    }
+
+    /// Parses JSON text `{"units": "mm", "points": [[x, y], ...]}`.
+    pub fn parse_json(text: &str, file: &str) -> Result<Self, TrajectoryError> {
+        #[derive(serde::Deserialize)]
+        #[serde(deny_unknown_fields)]
+        struct Doc {
+            units: Option<String>,
+            points: Vec<[f64; 2]>,
+        }
+        let bad = |message: String| TrajectoryError::BadJson { file: file.to_string(), message };
+        let doc: Doc = serde_json::from_str(text).map_err(|e| bad(e.to_string()))?;
+        if let Some(u) = doc.units.as_deref() {
+            if u != "mm" {
+                return Err(bad(format!("field `units` is \"{u}\", only \"mm\" is supported")));
+            }
+        }
+        let origins: Vec<Origin> = (0..doc.points.len()).map(Origin::Index).collect();
+        Self::new(doc.points, &origins, file)
+    }
+
+    /// Points in mm, travel order, no repeated end point.
+    #[must_use]
+    pub fn points(&self) -> &[[f64; 2]] {
+        &self.points
+    }
+
+    /// Number of points.
+    #[must_use]
+    pub fn len(&self) -> usize {
+        self.points.len()
+    }
+
+    /// Always false (a trajectory has at least [`MIN_POINTS`] points).
+    #[must_use]
+    pub fn is_empty(&self) -> bool {
+        self.points.is_empty()
+    }
+
+    /// The same loop relative to `center` (mm), mirrored `y → −y` when `mirror` is set.
+    #[must_use]
+    pub fn relative_to(&self, center: [f64; 2], mirror: bool) -> Vec<[f64; 2]> {
+        let sy = if mirror { -1.0 } else { 1.0 };
+        self.points.iter().map(|p| [p[0] - center[0], sy * (p[1] - center[1])]).collect()
+    }
+
+    /// Chord-length periodic cubic spline through the points (spec §3.1).
+    #[must_use]
+    pub fn spline(points: &[[f64; 2]]) -> ClosedSpline {
+        ClosedSpline::through(points)
+    }
+}
+
+fn dist(p: [f64; 2], q: [f64; 2]) -> f64 {
+    (p[0] - q[0]).hypot(p[1] - q[1])
+}
+
+/// A periodic C² chord-length cubic spline `P(s) = (x(s), y(s))`, `s ∈ [0, L)` in mm of chord length.
+#[derive(Debug, Clone)]
+pub struct ClosedSpline {
+    x: PeriodicSpline,
+    y: PeriodicSpline,
+}
+
+impl ClosedSpline {
+    /// Interpolates closed points (no repeated end point, distinct consecutive points).
+    #[must_use]
+    pub fn through(points: &[[f64; 2]]) -> Self {
+        let n = points.len();
+        let mut s = Vec::with_capacity(n);
+        let mut acc = 0.0;
+        for k in 0..n {
+            s.push(acc);
+            acc += dist(points[k], points[(k + 1) % n]);
+        }
+        let xs = points.iter().map(|p| p[0]).collect();
+        let ys = points.iter().map(|p| p[1]).collect();
+        // Knots are strictly increasing (distinct consecutive points) and n ≥ 3.
+        let x = PeriodicSpline::new(s.clone(), xs, acc).expect("validated trajectory");
+        let y = PeriodicSpline::new(s, ys, acc).expect("validated trajectory");
+        Self { x, y }
+    }
+
+    /// Parameter period `L` (mm).
+    #[must_use]
+    pub fn period(&self) -> f64 {
+        self.x.period()
+    }
+
+    /// `(P, P′, P″)` at `s`.
+    #[must_use]
+    pub fn eval(&self, s: f64) -> [[f64; 2]; 3] {
+        let x = self.x.eval3(s);
+        let y = self.y.eval3(s);
+        [[x[0], y[0]], [x[1], y[1]], [x[2], y[2]]]
+    }
+
+    /// `P(s)` in mm.
+    #[must_use]
+    pub fn point(&self, s: f64) -> [f64; 2] {
+        [self.x.value(s), self.y.value(s)]
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn circle_csv(n: usize) -> String {
+        (0..n)
+            .map(|k| {
+                let t = std::f64::consts::TAU * k as f64 / n as f64;
+                format!("{:.9} {:.9}\n", 150.0 + 40.0 * t.cos(), 40.0 * t.sin())
+            })
+            .collect()
+    }
+
+    #[test]
+    fn csv_with_header_comments_and_repeated_end() {
+        let mut text = String::from("# tip path\nx_mm,y_mm\n");
+        text.push_str(&circle_csv(40));
+        let first = text.lines().nth(2).unwrap().to_string();
+        text.push_str(&first);
+        let t = Trajectory::parse_csv(&text, "a.csv").unwrap();
+        assert_eq!(t.len(), 40);
+    }
+
+    #[test]
+    fn errors_name_line_and_kind() {
+        let mut text = circle_csv(40);
+        text.push_str("1.0 abc\n");
+        match Trajectory::parse_csv(&text, "b.csv") {
+            Err(TrajectoryError::BadLine { origin: Origin::Line(41), .. }) => {}
+            other => panic!("{other:?}"),
+        }
+        let dup = circle_csv(40).replacen('\n', &format!("\n{}", circle_csv(40).lines().next().unwrap()), 1);
+        let dup = format!("{}\n", dup.trim_end());
+        assert!(matches!(
+            Trajectory::parse_csv(&dup, "c.csv"),
+            Err(TrajectoryError::DuplicatePoint { origin: Origin::Line(2), .. })
+        ));
+        let open: String = circle_csv(40).lines().take(30).map(|l| format!("{l}\n")).collect();
+        assert!(matches!(Trajectory::parse_csv(&open, "d.csv"), Err(TrajectoryError::Open { .. })));
+        assert!(matches!(
+            Trajectory::parse_csv("1 2\n3 4\n", "e.csv"),
+            Err(TrajectoryError::TooFewPoints { count: 2, .. })
+        ));
+        assert!(matches!(
+            Trajectory::parse_csv(&circle_csv(40).replacen("150", "NaN", 1), "f.csv"),
+            Err(TrajectoryError::NotFinite { origin: Origin::Line(1), .. })
+        ));
+        assert!(matches!(
+            Trajectory::parse_json(r#"{"units":"in","points":[]}"#, "g.json"),
+            Err(TrajectoryError::BadJson { .. })
+        ));
+    }
+}
