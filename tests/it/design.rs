@@ -315,3 +315,45 @@ fn untraceable_inputs_are_diagnosed() {
         other => panic!("expected a diagnosis, got {other:?}"),
     }
 }
+
+mod properties {
+    use super::*;
+    use proptest::prelude::*;
+
+    proptest! {
+        #![proptest_config(ProptestConfig { cases: 32, failure_persistence: None, ..ProptestConfig::default() })]
+
+        /// Random exactly traceable mechanisms: random closed Fourier suns (K ≤ 5), random lengths,
+        /// both carrier senses, 180–3000 points, shifted start, offset centre → Hausdorff ≤ 0.05 mm.
+        #[test]
+        fn round_trip_of_random_traceable_mechanisms(
+            seed in 0u64..1_000_000,
+            k in 1usize..=5,
+            amp in 0.05f64..0.25,
+            n in 180usize..=3000,
+            start_frac in 0.0f64..1.0,
+            cw in any::<bool>(),
+            cx in -500.0f64..500.0,
+            cy in -500.0f64..500.0,
+            a in 35.0f64..55.0,
+            l3_over_l1 in 1.6f64..2.4,
+            phase in 0.0f64..TAU,
+            gamma in -PI..PI,
+        ) {
+            let ratio = random_sun(seed, k, amp);
+            let m = Mechanism { a_mm: a, l3_mm: 2.0 * a * l3_over_l1, ratio, sun_phase_rad: phase, needle_angle_rad: gamma };
+            let start = (start_frac * n as f64) as usize;
+            let pts: Vec<[f64; 2]> = points_of(&m, n, start)
+                .into_iter()
+                .map(|p| [cx + p[0], cy + if cw { -p[1] } else { p[1] }])
+                .collect();
+            let traj = traj_from(pts);
+            let d = design(&traj, &DesignOptions { center_mm: [cx, cy], ..DesignOptions::default() });
+            let d = d.map_err(|e| TestCaseError::fail(format!("{e}")))?;
+            let r = &d.report;
+            prop_assert!((r.l1 - 2.0 * a).abs() < 1e-3, "l1 {}", r.l1);
+            prop_assert!(r.roundtrip.hausdorff_mm <= 0.05, "Hausdorff {} mm", r.roundtrip.hausdorff_mm);
+            prop_assert!(r.roundtrip.max_deviation_mm <= 0.05 + 1e-9, "sync {} mm", r.roundtrip.max_deviation_mm);
+        }
+    }
+}
