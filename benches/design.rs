@@ -1,0 +1,37 @@
+//! Benchmarks of the design chain (divan). Run: `cargo bench --bench design`.
+//! The accuracy-vs-time table of the README comes from `cargo run --release --example accuracy_design`.
+use ncgear::design::{DesignOptions, RefineMode, design};
+use ncgear::trajectory::Trajectory;
+
+fn main() {
+    divan::main();
+}
+
+fn load(name: &str) -> Trajectory {
+    let p = format!("{}/assets/trajectories/{name}", env!("CARGO_MANIFEST_DIR"));
+    Trajectory::read(std::path::Path::new(&p)).expect("bundled example")
+}
+
+/// The full chain on the 360-point G1 trajectory with default options (adaptive K).
+#[divan::bench(sample_count = 20)]
+fn full_chain_g1_360(b: divan::Bencher) {
+    let t = load("g1_ellipse.csv");
+    let opts = DesignOptions::default();
+    b.bench(|| design(divan::black_box(&t), &opts).expect("G1"));
+}
+
+/// The full chain at fixed order K (patent route only).
+#[divan::bench(args = [4, 8, 16, 32], sample_count = 10)]
+fn patent_route_order(b: divan::Bencher, k: usize) {
+    let t = load("g1_ellipse.csv");
+    let opts = DesignOptions { order: Some(k), refine: RefineMode::Off, ..DesignOptions::default() };
+    b.bench(|| design(divan::black_box(&t), &opts).expect("G1"));
+}
+
+/// Designer-style target: the patent route misses, so the LM refinement runs (K = 12).
+#[divan::bench(sample_count = 10)]
+fn designer_with_refinement(b: divan::Bencher) {
+    let t = load("designer_kidney.csv");
+    let opts = DesignOptions::default();
+    b.bench(|| design(divan::black_box(&t), &opts).expect("designer"));
+}

@@ -1,0 +1,123 @@
+//! What accuracy costs in time for the design chain: every knob of spec §13 that trades the two,
+//! measured against references (closed forms of the G1 mechanism, the best achievable deviation of
+//! the designer-style target). Prints a Markdown table (the one in the README) and writes
+//! `assets/accuracy/design.csv`.
+//!
+//! Run: `cargo run --release --example accuracy_design`
+use ncgear::design::{DesignOptions, RefineMode, design};
+use ncgear::fourier::SunRatio;
+use ncgear::inverse::{InverseOptions, invert};
+use ncgear::mechanism::Mechanism;
+use ncgear::refine::RefineOptions;
+use ncgear::trajectory::{Origin, Trajectory};
+use std::f64::consts::TAU;
+use std::fmt::Write as _;
+use std::time::Instant;
+
+fn g1() -> Mechanism {
+    let e: f64 = 0.15;
+    Mechanism {
+        a_mm: 45.0,
+        l3_mm: 170.0,
+        ratio: SunRatio::new((1..=30).map(|k| 2.0 * e.powi(k)).collect(), vec![0.0; 30]).expect("G1"),
+        sun_phase_rad: 0.0,
+        needle_angle_rad: (-70f64).to_radians(),
+    }
+}
+
+fn traj(points: Vec<[f64; 2]>) -> Trajectory {
+    let o: Vec<Origin> = (0..points.len()).map(Origin::Index).collect();
+    Trajectory::new(points, &o, "generated").expect("valid")
+}
+
+fn g1_traj(m: usize) -> Trajectory {
+    let g = g1();
+    traj((0..m).map(|k| g.tip(TAU * k as f64 / m as f64)).collect())
+}
+
+fn designer() -> Trajectory {
+    let g = g1();
+    traj((0..360)
+        .map(|k| {
+            let t = (k as f64).to_radians();
+            let beta = (-70f64).to_radians() + t - (g.psi3(t) + 0.03 * (3.0 * t + 0.5).sin());
+            [90.0 * t.cos() + 170.0 * beta.cos(), 90.0 * t.sin() + 170.0 * beta.sin()]
+        })
+        .collect())
+}
+
+/// Median wall time (ms) of `reps` runs, and the last result.
+fn timed<T>(reps: usize, mut f: impl FnMut() -> T) -> (f64, T) {
+    let mut times = Vec::new();
+    let mut last = None;
+    for _ in 0..reps {
+        let t = Instant::now();
+        last = Some(f());
+        times.push(t.elapsed().as_secs_f64() * 1e3);
+    }
+    times.sort_by(f64::total_cmp);
+    (times[reps / 2], last.expect("reps ≥ 1"))
+}
+
+fn main() {
+    let g = g1();
+    let mut rows: Vec<(String, String, String, f64, f64)> = Vec::new();
+    // 1. Trajectory points M: ψ3 error of step 1 against the closed form, and l1 error.
+    for m in [72, 180, 360, 720, 1440] {
+        let t = g1_traj(m);
+        let (ms, inv) = timed(5, || invert(&t, [0.0, 0.0], &InverseOptions::default()).expect("G1"));
+        let t0 = inv.phi_h0_rad;
+        let err = (0..720)
+            .map(|j| {
+                let x = TAU * j as f64 / 720.0;
+                (inv.law.psi3(x) - (g.psi3(x + t0) - g.psi3(t0))).abs()
+            })
+            .fold(0.0, f64::max);
+        rows.push(("trajectory points M (step 1)".into(), m.to_string(), "max |ψ3 error| × l3, mm".into(), err * 170.0, ms));
+    }
+    // 2. FFT grid N: the whole chain's round trip at K = 16 (patent route).
+    let t360 = g1_traj(360);
+    for n in [128, 256, 512, 1024, 2048, 4096] {
+        let opts = DesignOptions { order: Some(16), refine: RefineMode::Off, inverse: InverseOptions { grid: n, ..InverseOptions::default() }, ..DesignOptions::default() };
+        let (ms, d) = timed(3, || design(&t360, &opts).expect("G1"));
+        rows.push(("ψ3 grid N (full chain, K = 16)".into(), n.to_string(), "round-trip max deviation, mm".into(), d.report.roundtrip.max_deviation_mm, ms));
+    }
+    // 3. Fourier order K, patent route, G1 360 points.
+    for k in [4, 6, 8, 12, 16, 24, 32, 40] {
+        let opts = DesignOptions { order: Some(k), refine: RefineMode::Off, ..DesignOptions::default() };
+        let (ms, d) = timed(3, || design(&t360, &opts).expect("G1"));
+        rows.push(("Fourier order K (patent route, G1)".into(), k.to_string(), "round-trip max deviation, mm".into(), d.report.roundtrip.max_deviation_mm, ms));
+    }
+    // 4. Refinement on G1 (compatible) at low order.
+    for k in [4, 8] {
+        let opts = DesignOptions { order: Some(k), refine: RefineMode::On, ..DesignOptions::default() };
+        let (ms, d) = timed(3, || design(&t360, &opts).expect("G1"));
+        rows.push(("LM refinement (G1, compatible)".into(), format!("K = {k}"), "round-trip max deviation, mm".into(), d.report.roundtrip.max_deviation_mm, ms));
+    }
+    // 5. Designer-style target: patent route vs refinement order and iteration budget.
+    let dz = designer();
+    {
+        let opts = DesignOptions { order: Some(12), refine: RefineMode::Off, ..DesignOptions::default() };
+        let (ms, d) = timed(3, || design(&dz, &opts).expect("designer"));
+        rows.push(("designer target, patent route".into(), "K = 12".into(), "excess over best 3.82 mm, mm".into(), d.report.roundtrip.max_deviation_mm - 3.82, ms));
+    }
+    for (k, patience) in [(4, 60), (8, 60), (12, 5), (12, 15), (12, 60), (16, 60)] {
+        let opts = DesignOptions {
+            order: Some(k),
+            refine: RefineMode::On,
+            refine_options: RefineOptions { patience, ..RefineOptions::default() },
+            ..DesignOptions::default()
+        };
+        let (ms, d) = timed(3, || design(&dz, &opts).expect("designer"));
+        rows.push(("designer target, LM refinement".into(), format!("K = {k}, patience {patience}"), "excess over best 3.82 mm, mm".into(), d.report.roundtrip.max_deviation_mm - 3.82, ms));
+    }
+    let mut md = String::from("| knob | value | error measure | error | time (ms) |\n|---|---|---|---|---|\n");
+    let mut csv = String::from("knob,value,measure,error,time_ms\n");
+    for (knob, v, what, err, ms) in &rows {
+        let _ = writeln!(md, "| {knob} | {v} | {what} | {err:.2e} | {ms:.1} |");
+        let _ = writeln!(csv, "{knob},{v},{what},{err:e},{ms:.3}");
+    }
+    print!("{md}");
+    let _ = std::fs::create_dir_all("assets/accuracy");
+    let _ = std::fs::write("assets/accuracy/design.csv", csv);
+}
