@@ -12,8 +12,8 @@
 //! ```no_run
 //! use ncgear::{design::{design, DesignOptions}, trajectory::Trajectory};
 //! let traj = Trajectory::read(std::path::Path::new("assets/trajectories/g1_ellipse.csv")).unwrap();
-//! let report = design(&traj, &DesignOptions::default()).unwrap();
-//! assert!(report.roundtrip.max_deviation_mm < 0.1);
+//! let d = design(&traj, &DesignOptions::default()).unwrap();
+//! assert!(d.report.roundtrip.max_deviation_mm < 0.1);
 //! ```
 
 use crate::assembly::{Assembly, hausdorff_mm};

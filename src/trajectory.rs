@@ -338,7 +338,7 @@ mod tests {
             Err(TrajectoryError::BadLine { origin: Origin::Line(41), .. }) => {}
             other => panic!("{other:?}"),
         }
-        let dup = circle_csv(40).replacen('\n', &format!("\n{}", circle_csv(40).lines().next().unwrap()), 1);
+        let dup = circle_csv(40).replacen('\n', &format!("\n{}\n", circle_csv(40).lines().next().unwrap()), 1);
         let dup = format!("{}\n", dup.trim_end());
         assert!(matches!(
             Trajectory::parse_csv(&dup, "c.csv"),
@@ -351,7 +351,7 @@ mod tests {
             Err(TrajectoryError::TooFewPoints { count: 2, .. })
         ));
         assert!(matches!(
-            Trajectory::parse_csv(&circle_csv(40).replacen("150", "NaN", 1), "f.csv"),
+            Trajectory::parse_csv(&format!("NaN 1\n{}", circle_csv(40)), "f.csv"),
             Err(TrajectoryError::NotFinite { origin: Origin::Line(1), .. })
         ));
         assert!(matches!(
