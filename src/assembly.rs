@@ -19,7 +19,8 @@
 //! ```
 
 use crate::periodic::{PeriodicSpline, spectral_integral};
-use crate::pitch::PitchCurve;
+use crate::mechanism::Mechanism;
+use crate::pitch::{PitchCurve, PitchError};
 use std::f64::consts::{PI, TAU};
 
 /// The assembled gear train, world frame, mm and rad.
@@ -98,6 +99,25 @@ fn integral_of(curve: &PitchCurve, a: f64) -> (f64, PeriodicSpline) {
 }
 
 impl Assembly {
+    /// Assembles a designed mechanism (solved CCW frame, relative to O) in the world frame:
+    /// tables of `n` samples, mirrored when `direction = −1`.
+    pub fn from_mechanism(m: &Mechanism, center_mm: [f64; 2], direction: i8, n: usize) -> Result<Self, PitchError> {
+        let sign = if direction >= 0 { 1.0 } else { -1.0 };
+        let world = |c: PitchCurve| if direction >= 0 { Ok(c) } else { Ok(mirrored(&c)) };
+        Ok(Self {
+            center_mm,
+            direction: if direction >= 0 { 1 } else { -1 },
+            a_mm: m.a_mm,
+            l3_mm: m.l3_mm,
+            needle_angle_rad: sign * m.needle_angle_rad,
+            sun: world(m.sun_curve(n)?)?,
+            intermediate: world(m.intermediate_curve(n)?)?,
+            intermediate_angle_at_zero_rad: sign * m.intermediate_orientation(0.0),
+            planet: world(m.planet_curve(n)?)?,
+            planet_angle_at_zero_rad: sign * m.planet_orientation(0.0),
+        })
+    }
+
     /// Rebuilds the kinematics from the tables (spectral integration on the tables' grids).
     #[must_use]
     pub fn rebuild(&self) -> Rebuilt {
@@ -184,12 +204,18 @@ pub fn hausdorff_mm(p: &[[f64; 2]], q: &[[f64; 2]]) -> f64 {
     directed(p, q).max(directed(q, p))
 }
 
-/// `max_{x∈p} dist(x, polyline q)`, with the segments of `q` bucketed on a uniform grid so each
-/// query only visits nearby cells (exact: rings are searched until no closer segment can exist).
+/// `max_{x∈p} dist(x, polyline q)`.
 fn directed(p: &[[f64; 2]], q: &[[f64; 2]]) -> f64 {
+    distances_to_polyline(p, q).into_iter().fold(0.0, f64::max)
+}
+
+/// Distance (mm) from each point of `p` to the closed polyline `q`, with the segments of `q` bucketed on a uniform grid so each
+/// query only visits nearby cells (exact: rings are searched until no closer segment can exist).
+#[must_use]
+pub fn distances_to_polyline(p: &[[f64; 2]], q: &[[f64; 2]]) -> Vec<f64> {
     let n = q.len();
     if n == 0 || p.is_empty() {
-        return 0.0;
+        return vec![0.0; p.len()];
     }
     let (mut x0, mut y0, mut x1, mut y1) = (f64::MAX, f64::MAX, f64::MIN, f64::MIN);
     for v in q.iter().chain(p) {
@@ -236,7 +262,7 @@ fn directed(p: &[[f64; 2]], q: &[[f64; 2]]) -> f64 {
             }
             best
         })
-        .fold(0.0, f64::max)
+        .collect()
 }
 
 fn seg_dist(x: [f64; 2], a: [f64; 2], b: [f64; 2]) -> f64 {

@@ -179,6 +179,8 @@ pub struct DesignReport {
     pub fourier: FourierSummary,
     /// Checks C1–C12.
     pub checks: Vec<Check>,
+    /// The target trajectory as read (world frame, mm, travel order).
+    pub target_points: Vec<[f64; 2]>,
     /// Human-readable warnings.
     pub warnings: Vec<String>,
     /// Wall-clock time per stage, ms.
@@ -533,6 +535,7 @@ pub fn design(traj: &Trajectory, opts: &DesignOptions) -> Result<Design, DesignE
             i21_range: [imin, imax],
         },
         checks,
+        target_points: traj.points().to_vec(),
         warnings,
         timings_ms: timings,
     };
@@ -575,32 +578,8 @@ fn finish(
 ) -> Result<Finished, DesignError> {
     let n = opts.curve_samples;
     let sign = f64::from(inv.direction);
-    // Solved-frame curves; world tables are mirrored for a CW carrier.
-    let world = |c: PitchCurve| -> Result<PitchCurve, PitchError> {
-        if inv.direction >= 0 {
-            Ok(c)
-        } else {
-            let r = c.radii_mm();
-            PitchCurve::from_uniform_radii((0..r.len()).map(|k| r[(r.len() - k) % r.len()]).collect())
-        }
-    };
-    let sun = world(mech.sun_curve(n)?)?;
-    let mid = world(mech.intermediate_curve(n)?)?;
-    let planet = world(mech.planet_curve(n)?)?;
-    let theta2_0 = mech.intermediate_orientation(0.0);
-    let theta3_0 = mech.planet_orientation(0.0);
-    let assembly = Assembly {
-        center_mm: opts.center_mm,
-        direction: inv.direction,
-        a_mm: mech.a_mm,
-        l3_mm: mech.l3_mm,
-        needle_angle_rad: sign * mech.needle_angle_rad,
-        sun: sun.clone(),
-        intermediate: mid.clone(),
-        intermediate_angle_at_zero_rad: sign * theta2_0,
-        planet: planet.clone(),
-        planet_angle_at_zero_rad: sign * theta3_0,
-    };
+    let assembly = Assembly::from_mechanism(&mech, opts.center_mm, inv.direction, n)?;
+    let (sun, mid, planet) = (assembly.sun.clone(), assembly.intermediate.clone(), assembly.planet.clone());
     // Round trip from the tables only (C12), with mesh errors (C3, C4).
     let rebuilt = assembly.rebuild();
     let m = opts.check_samples;

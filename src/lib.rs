@@ -16,6 +16,7 @@
 #![warn(clippy::print_stdout, clippy::print_stderr)]
 
 pub mod analysis;
+pub mod animate;
 pub mod assembly;
 pub mod compat;
 pub mod design;
@@ -28,4 +29,5 @@ pub mod pitch;
 pub mod plot;
 pub mod refine;
 pub mod segmented;
+pub mod simulate;
 pub mod trajectory;

@@ -228,3 +228,128 @@ pub fn ratio_plot(design: &Design, path: &Path) -> Result<(), OutputError> {
     )?;
     Ok(())
 }
+
+/// Everything `ncgear simulate` reports besides the files.
+#[derive(Debug, Clone, serde::Serialize)]
+pub struct SimulationReport {
+    /// Agronomic features.
+    pub features: crate::simulate::Features,
+    /// Max / mean distance of the traced path from the target, mm (absent without a target).
+    pub deviation_max_mm: Option<f64>,
+    /// Mean distance from the target, mm.
+    pub deviation_mean_mm: Option<f64>,
+    /// Largest distance between arm 2's path and arm 1's path, mm (0: same static trajectory).
+    pub arm2_vs_arm1_mm: f64,
+    /// Carrier speed, rpm.
+    pub rpm: f64,
+    /// Forward speed, mm/s.
+    pub forward_speed_mm_s: f64,
+    /// Files written.
+    pub files: Vec<String>,
+}
+
+fn both(path: &Path, labels: &ChartLabels, series: &[Series], size: (u32, u32), written: &mut Vec<PathBuf>) -> Result<(), OutputError> {
+    for ext in ["png", "svg"] {
+        let p = path.with_extension(ext);
+        line_chart(&p, labels, series, size)?;
+        written.push(p);
+    }
+    Ok(())
+}
+
+/// Writes the simulation outputs into `dir`: traced.csv, dynamic.csv, animation.svg, frames.svg and
+/// plots (PNG and SVG) of the deviation, the ratios, the pitch curves, curvature/pressure angle and
+/// the dynamic trajectory. Returns the report.
+pub fn write_simulation(
+    sim: &crate::simulate::Simulation,
+    target: &[[f64; 2]],
+    feat_opts: &crate::simulate::FeatureOptions,
+    anim: &crate::animate::AnimationOptions,
+    dir: &Path,
+) -> Result<SimulationReport, crate::simulate::SimulateError> {
+    use crate::simulate::{SimulateError, deviation_along, features};
+    let io = |e: OutputError| SimulateError::BadOption { option: "out", message: e.to_string() };
+    std::fs::create_dir_all(dir).map_err(|e| io(OutputError::Io { path: dir.display().to_string(), message: e.to_string() }))?;
+    let features = features(sim, feat_opts)?;
+    let n = feat_opts.samples.max(360);
+    let turn = sim.turn(n);
+    let arm1: Vec<[f64; 2]> = turn.iter().map(|t| t.arm1.tip_mm).collect();
+    let arm2: Vec<[f64; 2]> = turn.iter().map(|t| t.arm2.tip_mm).collect();
+    let dev = if target.len() >= 3 { deviation_along(&arm1, target) } else { Vec::new() };
+    let arm2_vs_arm1 = crate::assembly::hausdorff_mm(&arm2, &arm1);
+    let mut written: Vec<PathBuf> = Vec::new();
+    let mut csv = String::from("carrier_deg,arm1_x_mm,arm1_y_mm,arm2_x_mm,arm2_y_mm,needle1_deg,deviation_mm\n");
+    for (k, t) in turn.iter().enumerate() {
+        let _ = writeln!(
+            csv,
+            "{:.6},{:.9},{:.9},{:.9},{:.9},{:.6},{}",
+            t.arm1.phi_h_rad.to_degrees(),
+            t.arm1.tip_mm[0],
+            t.arm1.tip_mm[1],
+            t.arm2.tip_mm[0],
+            t.arm2.tip_mm[1],
+            crate::simulate::Simulation::needle_angle(&t.arm1).to_degrees(),
+            dev.get(k).map_or(String::new(), |d| format!("{d:.9}"))
+        );
+    }
+    let p = dir.join("traced.csv");
+    write(&p, &csv).map_err(io)?;
+    written.push(p);
+    let dynamic = sim.dynamic(feat_opts.rpm, feat_opts.forward_mm_s, 3, 720);
+    let mut csv = String::from("turn_fraction,arm1_x_mm,arm1_y_mm,arm2_x_mm,arm2_y_mm\n");
+    for (k, (p1, p2)) in dynamic[0].iter().zip(&dynamic[1]).enumerate() {
+        let _ = writeln!(csv, "{:.6},{:.9},{:.9},{:.9},{:.9}", k as f64 / 720.0, p1[0], p1[1], p2[0], p2[1]);
+    }
+    let p = dir.join("dynamic.csv");
+    write(&p, &csv).map_err(io)?;
+    written.push(p);
+    let p = dir.join("animation.svg");
+    write(&p, &crate::animate::animated_svg(sim, target, anim)).map_err(io)?;
+    written.push(p);
+    let p = dir.join("frames.svg");
+    write(&p, &crate::animate::frame_sheet(sim, target, 4, 3, 360)).map_err(io)?;
+    written.push(p);
+    // Plots.
+    let deg = |k: usize| 360.0 * k as f64 / n as f64;
+    let pts = |v: &[f64]| v.iter().enumerate().map(|(k, y)| (deg(k), *y)).collect::<Vec<_>>();
+    (|| -> Result<(), OutputError> {
+        if !dev.is_empty() {
+            both(&dir.join("deviation"), &ChartLabels { title: "Distance of the traced path from the target".into(), x: "carrier turn (deg)".into(), y: "deviation (mm)".into(), equal_aspect: false }, &[Series::line("arm 1", pts(&dev))], (900, 450), &mut written)?;
+        }
+        // Ratios from the kinematics (central differences of the continuous pose angles):
+        // i21 = dθ2/dφ − 1, i3H = dθ3/dφ, i31 = 1 − i3H (φ in the direction of motion).
+        let hf = 1e-4;
+        let rate = |k: usize, f: &dyn Fn(&crate::assembly::Pose) -> f64| {
+            let x = k as f64 / n as f64;
+            let (p, m) = (sim.pose(sim.angle_at(x + hf)).arm1, sim.pose(sim.angle_at(x - hf)).arm1);
+            (f(&p) - f(&m)) / (sim.angle_at(x + hf) - sim.angle_at(x - hf))
+        };
+        let i21: Vec<f64> = (0..n).map(|k| rate(k, &|p| p.intermediate_angle_rad) - 1.0).collect();
+        let i3h: Vec<f64> = (0..n).map(|k| rate(k, &|p| p.planet_angle_rad)).collect();
+        let i31: Vec<f64> = i3h.iter().map(|v| 1.0 - v).collect();
+        both(&dir.join("ratios"), &ChartLabels { title: "Ratios along the carrier turn".into(), x: "carrier turn (deg)".into(), y: "ratio (-)".into(), equal_aspect: false }, &[Series::line("i21", pts(&i21)), Series::line("i31", pts(&i31)), Series::line("i3H", pts(&i3h))], (900, 450), &mut written)?;
+        let asm = &sim.assembly;
+        let curve_xy = |c: &PitchCurve| (0..=720).map(|k| { let t = TAU * k as f64 / 720.0; let r = c.radius_mm(t); (r * t.cos(), r * t.sin()) }).collect::<Vec<_>>();
+        both(&dir.join("pitch"), &ChartLabels { title: "Pitch curves (body frames)".into(), x: "x (mm)".into(), y: "y (mm)".into(), equal_aspect: true }, &[Series::line("sun", curve_xy(&asm.sun)), Series::line("intermediate", curve_xy(&asm.intermediate)), Series::line("planet", curve_xy(&asm.planet))], (700, 700), &mut written)?;
+        let along = |c: &PitchCurve, f: &dyn Fn(crate::pitch::PolarGeometry) -> f64| (0..=720).map(|k| { let t = TAU * k as f64 / 720.0; (t.to_degrees(), f(c.geometry(t))) }).collect::<Vec<_>>();
+        let rho = |g: crate::pitch::PolarGeometry| g.radius_of_curvature_mm();
+        let mu = |g: crate::pitch::PolarGeometry| g.pressure_deviation_rad().to_degrees();
+        both(&dir.join("curvature"), &ChartLabels { title: "Radius of curvature along the pitch curves".into(), x: "body polar angle (deg)".into(), y: "radius of curvature (mm)".into(), equal_aspect: false }, &[Series::line("sun", along(&asm.sun, &rho)), Series::line("intermediate", along(&asm.intermediate, &rho))], (900, 450), &mut written)?;
+        both(&dir.join("pressure_angle"), &ChartLabels { title: "Pressure-angle deviation atan(r'/r) along the pitch curves".into(), x: "body polar angle (deg)".into(), y: "deviation (deg)".into(), equal_aspect: false }, &[Series::line("sun", along(&asm.sun, &mu)), Series::line("intermediate", along(&asm.intermediate, &mu))], (900, 450), &mut written)?;
+        let xy = |v: &[[f64; 2]]| v.iter().map(|p| (p[0], p[1])).collect::<Vec<_>>();
+        both(&dir.join("dynamic"), &ChartLabels { title: format!("Dynamic trajectory at {:.0} rpm, {:.2} m/s", feat_opts.rpm, feat_opts.forward_mm_s / 1000.0), x: "x (mm)".into(), y: "y (mm)".into(), equal_aspect: true }, &[Series::line("arm 1", xy(&dynamic[0])), Series::line("arm 2", xy(&dynamic[1]))], (1100, 600), &mut written)?;
+        Ok(())
+    })()
+    .map_err(io)?;
+    let stats = (!dev.is_empty()).then(|| (dev.iter().fold(0.0, |a: f64, b| a.max(*b)), dev.iter().sum::<f64>() / dev.len() as f64));
+    Ok(SimulationReport {
+        features,
+        deviation_max_mm: stats.map(|s| s.0),
+        deviation_mean_mm: stats.map(|s| s.1),
+        arm2_vs_arm1_mm: arm2_vs_arm1,
+        rpm: feat_opts.rpm,
+        forward_speed_mm_s: feat_opts.forward_mm_s,
+        files: written.iter().map(|p| p.display().to_string()).collect(),
+    })
+}
+

@@ -3,5 +3,6 @@ mod cli_design;
 mod design;
 mod dynamics;
 mod orbit;
+mod simulate;
 mod teeth;
 mod tolerance;
