@@ -52,6 +52,9 @@ pub struct DesignOptions {
     pub center_mm: [f64; 2],
     /// Step-1 accuracy knobs.
     pub inverse: InverseOptions,
+    /// Smooth a measured/noisy trajectory to this many Fourier harmonics before step 1
+    /// (deviations are still measured against the points as read).
+    pub smoothing: Option<usize>,
     /// Patent-route knobs.
     pub segmented: SegmentedOptions,
     /// Fixed Fourier order K; `None` = adaptive to `tol_tip_mm`.
@@ -80,6 +83,7 @@ impl Default for DesignOptions {
         Self {
             center_mm: [0.0, 0.0],
             inverse: InverseOptions::default(),
+            smoothing: None,
             segmented: SegmentedOptions::default(),
             order: None,
             tol_tip_mm: 0.05,
@@ -371,7 +375,12 @@ pub fn design(traj: &Trajectory, opts: &DesignOptions) -> Result<Design, DesignE
     let mut warnings = Vec::new();
 
     let t0 = Instant::now();
-    let inv = inverse::invert(traj, opts.center_mm, &opts.inverse)?;
+    let smoothed = opts.smoothing.map(|h| traj.smoothed(h));
+    let mut inv_opts = opts.inverse;
+    if let Some(h) = opts.smoothing {
+        inv_opts.law_harmonics = inv_opts.law_harmonics.or(Some(h / 2));
+    }
+    let inv = inverse::invert(smoothed.as_ref().unwrap_or(traj), opts.center_mm, &inv_opts)?;
     timings.inverse = ms(t0);
     if inv.other_sense_traceable {
         warnings.push(format!(
@@ -413,8 +422,22 @@ pub fn design(traj: &Trajectory, opts: &DesignOptions) -> Result<Design, DesignE
     };
     let mut scan = Vec::new();
     let mut patent: Option<(Mechanism, f64, usize)> = None;
+    let mut out_of_bounds: Option<(Mechanism, usize)> = None;
     for &k in &orders {
-        let Ok(ratio) = SunRatio::fit_uniform(&seg.samples, k) else { continue };
+        let ratio = match SunRatio::fit_uniform(&seg.samples, k) {
+            Ok(r) => r,
+            Err(_) => SunRatio::new_unchecked(vec![0.0; k], vec![0.0; k]),
+        };
+        let (lo, hi) = (ratio.sampled_extreme(4096, false).0, ratio.sampled_extreme(4096, true).0);
+        let [blo, bhi] = opts.refine_options.ratio_bounds;
+        if lo < blo || hi > bhi {
+            // Outside the admissible ratios (spec §14): not a candidate, but kept as the
+            // refinement's last-resort start.
+            if out_of_bounds.is_none() {
+                out_of_bounds = Some((mk(ratio, tau).0, k));
+            }
+            continue;
+        }
         let (m, dev) = mk(ratio, tau);
         scan.push([k as f64, dev]);
         let better = patent.as_ref().is_none_or(|p| dev < p.1);
@@ -425,8 +448,13 @@ pub fn design(traj: &Trajectory, opts: &DesignOptions) -> Result<Design, DesignE
             break;
         }
     }
-    let Some((patent_m, patent_dev, patent_k)) = patent else {
-        return Err(DesignError::Internal("no Fourier order produced a positive ratio".into()));
+    let (patent_m, patent_dev, patent_k) = match (patent, out_of_bounds) {
+        (Some(p), _) => p,
+        (None, Some((m, k))) => {
+            warnings.push("no Fourier order of the patent route stays within the ratio bounds; the refinement (with its bound penalty) decides".into());
+            (m, f64::INFINITY, k)
+        }
+        (None, None) => return Err(DesignError::Internal("no Fourier order was tried (grid too small)".into())),
     };
     timings.patent = ms(t0);
     let patent_summary = RouteSummary {
@@ -547,6 +575,11 @@ fn validate(opts: &DesignOptions) -> Result<(), DesignError> {
     if let Some(k) = opts.order {
         if !(1..=64).contains(&k) {
             return bad("order", k.to_string(), "an integer in 1..=64 (40 is the recommended cap, spec §8.2)");
+        }
+    }
+    if let Some(h) = opts.smoothing {
+        if !(4..=512).contains(&h) {
+            return bad("smooth", h.to_string(), "a number of harmonics in 4..=512 (about 1/10 of the points for noisy data)");
         }
     }
     if !(opts.tol_tip_mm.is_finite() && opts.tol_tip_mm > 0.0) {

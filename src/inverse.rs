@@ -28,11 +28,14 @@ pub struct InverseOptions {
     /// Tolerance on the spline parameter when solving for extremes and carrier angles, in units
     /// of the trajectory length.
     pub tol_relative: f64,
+    /// Low-pass the needle law `ψ3 − t` to this many harmonics (for measured, noisy data: the
+    /// inversion amplifies noise near the extremes, spec §3.5); `None` keeps it as computed.
+    pub law_harmonics: Option<usize>,
 }
 
 impl Default for InverseOptions {
     fn default() -> Self {
-        Self { dense_samples: 20_000, grid: 1024, tol_relative: 1e-14 }
+        Self { dense_samples: 20_000, grid: 1024, tol_relative: 1e-14, law_harmonics: None }
     }
 }
 
@@ -66,7 +69,7 @@ pub enum InverseError {
         limit_mm: f64,
     },
     /// The carrier angle is not monotone along the trajectory.
-    #[error("no arm with constant l1 = {l1_mm:.3} mm and l3 = {l3_mm:.3} mm can trace this path: the carrier angle would have to run backwards on {} stretch(es), carrier angles (deg) {stretches_deg:?} (monotonicity criterion, spec §3.3); smooth or redraw those parts", stretches_deg.len())]
+    #[error("no arm with constant l1 = {l1_mm:.3} mm and l3 = {l3_mm:.3} mm can trace this path: the carrier angle would have to run backwards on {} stretch(es), carrier angles (deg) {stretches_deg:?} (monotonicity criterion, spec §3.3); redraw those parts, or for measured data smooth it (`--smooth 24`)", stretches_deg.len())]
     NotMonotone {
         /// l1, mm.
         l1_mm: f64,
@@ -211,6 +214,17 @@ enum Solved {
     Done(Box<Inversion>),
     /// The carrier angle does not advance by +2π in this frame; carries the diagnosis.
     WrongSense(InverseError),
+}
+
+/// Keeps the first `k` harmonics of uniform periodic samples.
+fn low_pass(y: &[f64], k: usize) -> Vec<f64> {
+    let mut c = crate::periodic::fft_coefficients(y);
+    for (j, v) in c.iter_mut().enumerate() {
+        if j > k {
+            *v = realfft::num_complex::Complex::new(0.0, 0.0);
+        }
+    }
+    crate::periodic::fft_synthesis(&c, y.len())
 }
 
 /// Winding number of a closed polyline about the origin.
@@ -394,7 +408,10 @@ fn solve_frame(pts: &[[f64; 2]], opts: &InverseOptions, direction: i8, center: [
         rho_min_mm: rho_min,
         direction,
         phi_h0_rad: phi0.rem_euclid(TAU),
-        law: NeedleLaw::from_samples(samples),
+        law: NeedleLaw::from_samples(match opts.law_harmonics {
+            Some(k) => low_pass(&samples, k),
+            None => samples,
+        }),
         points: pts.to_vec(),
         other_sense_traceable: false,
     })))

@@ -249,6 +249,51 @@ impl Trajectory {
         self.points.iter().map(|p| [p[0] - center[0], sy * (p[1] - center[1])]).collect()
     }
 
+    /// Smooths a measured or noisy loop (spec §3.1, §14): the polyline is resampled at `4·harmonics`
+    /// (at least as many as it has points) uniform chord-length positions and `x(s)`, `y(s)` are
+    /// truncated to their first `harmonics` Fourier harmonics. The result has the same number of
+    /// points as the input, in the same travel order, starting at the same place.
+    #[must_use]
+    pub fn smoothed(&self, harmonics: usize) -> Self {
+        let pts = &self.points;
+        let n = pts.len();
+        let m = (4 * harmonics).max(n).max(8);
+        let mut cum = Vec::with_capacity(n + 1);
+        cum.push(0.0);
+        for k in 0..n {
+            let d = dist(pts[k], pts[(k + 1) % n]);
+            cum.push(cum[k] + d);
+        }
+        let len = cum[n];
+        let at = |s: f64| {
+            let j = cum.partition_point(|&c| c <= s).clamp(1, n) - 1;
+            let f = ((s - cum[j]) / (cum[j + 1] - cum[j])).clamp(0.0, 1.0);
+            let (a, b) = (pts[j], pts[(j + 1) % n]);
+            [a[0] + f * (b[0] - a[0]), a[1] + f * (b[1] - a[1])]
+        };
+        let samples: Vec<[f64; 2]> = (0..m).map(|k| at(len * k as f64 / m as f64)).collect();
+        let filt = |c: usize| {
+            let mut co = crate::periodic::fft_coefficients(&samples.iter().map(|p| p[c]).collect::<Vec<_>>());
+            for (k, v) in co.iter_mut().enumerate() {
+                if k > harmonics {
+                    *v = realfft::num_complex::Complex::new(0.0, 0.0);
+                }
+            }
+            co
+        };
+        let (cx, cy) = (filt(0), filt(1));
+        // Evaluate the truncated series at the original points' chord positions.
+        let eval = |co: &[realfft::num_complex::Complex<f64>], s: f64| {
+            let w = std::f64::consts::TAU * s / len;
+            co.iter().enumerate().take(harmonics + 1).map(|(k, c)| {
+                let f = if k == 0 { 1.0 } else { 2.0 };
+                f * (c.re * (k as f64 * w).cos() - c.im * (k as f64 * w).sin())
+            }).sum::<f64>()
+        };
+        let points = (0..n).map(|k| [eval(&cx, cum[k]), eval(&cy, cum[k])]).collect();
+        Self { points }
+    }
+
     /// Chord-length periodic cubic spline through the points (spec §3.1).
     #[must_use]
     pub fn spline(points: &[[f64; 2]]) -> ClosedSpline {

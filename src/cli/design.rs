@@ -56,6 +56,9 @@ pub struct Args {
     /// Penalise concave pitch arcs in the refinement.
     #[arg(long)]
     pub convexity: bool,
+    /// Smooth a measured or noisy trajectory to this many Fourier harmonics before the inversion.
+    #[arg(long)]
+    pub smooth: Option<usize>,
     /// Print the report (design.json) to stdout instead of the summary.
     #[arg(long)]
     pub json: bool,
@@ -104,6 +107,7 @@ pub fn run(args: Args) -> CliResult {
         RefineArg::Off => RefineMode::Off,
     };
     opts.refine_order = args.refine_order;
+    opts.smoothing = args.smooth;
     opts.segmented.hypothesis = args.harmonics.iter().map(|h| (h[0], h[1].to_radians())).collect();
     opts.segmented.route = match args.route {
         RouteArg::Ac => Route::Ac,

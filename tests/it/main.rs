@@ -2,6 +2,7 @@
 mod cli_design;
 mod design;
 mod dynamics;
+mod hard_cases;
 mod orbit;
 mod simulate;
 mod teeth;

@@ -1,0 +1,160 @@
+//! Hard cases of the design chain (spec §14): noisy measured trajectories, points near the carrier
+//! axis, cusps, extreme ratios, and parsers fed arbitrary bytes. Each asserts a bounded result or a
+//! clear typed error, never a panic or a silent NaN.
+use ncgear::design::{DesignError, DesignOptions, design};
+use ncgear::fourier::SunRatio;
+use ncgear::inverse::{InverseError, InverseOptions, invert};
+use ncgear::mechanism::Mechanism;
+use ncgear::simulate::DesignFile;
+use ncgear::trajectory::{Origin, Trajectory};
+use proptest::prelude::*;
+use rand::SeedableRng;
+use rand_distr::{Distribution, Normal};
+use std::f64::consts::TAU;
+
+fn g1() -> Mechanism {
+    let e: f64 = 0.15;
+    Mechanism {
+        a_mm: 45.0,
+        l3_mm: 170.0,
+        ratio: SunRatio::new((1..=30).map(|k| 2.0 * e.powi(k)).collect(), vec![0.0; 30]).unwrap(),
+        sun_phase_rad: 0.0,
+        needle_angle_rad: (-70f64).to_radians(),
+    }
+}
+
+fn traj(points: Vec<[f64; 2]>) -> Result<Trajectory, ncgear::trajectory::TrajectoryError> {
+    let o: Vec<Origin> = (0..points.len()).map(Origin::Index).collect();
+    Trajectory::new(points, &o, "generated")
+}
+
+fn dist_to(p: [f64; 2], q: &[[f64; 2]]) -> f64 {
+    q.iter().map(|x| (x[0] - p[0]).hypot(x[1] - p[1])).fold(f64::INFINITY, f64::min)
+}
+
+#[test]
+fn noisy_measured_trajectory_with_smoothing_stays_close_to_the_clean_path() {
+    let m = g1();
+    let clean: Vec<[f64; 2]> = (0..3600).map(|k| m.tip(TAU * k as f64 / 3600.0)).collect();
+    for (seed, sigma) in [(1u64, 0.05), (2, 0.1), (3, 0.2)] {
+        let mut rng = rand::rngs::ChaCha8Rng::seed_from_u64(seed);
+        let noise = Normal::new(0.0, sigma).unwrap();
+        let noisy: Vec<[f64; 2]> = (0..360)
+            .map(|k| {
+                let p = m.tip((k as f64).to_radians());
+                [p[0] + noise.sample(&mut rng), p[1] + noise.sample(&mut rng)]
+            })
+            .collect();
+        let t = traj(noisy).unwrap();
+        // Raw noisy data: the inversion refuses it and says where (near the extremes of |OB|,
+        // carrier angles ≈ 318° and ≈ 76°, spec §3.5), never a panic.
+        match invert(&t, [0.0, 0.0], &InverseOptions::default()) {
+            Err(InverseError::NotMonotone { stretches_deg, .. }) => {
+                assert!(stretches_deg.iter().all(|s| s.iter().all(|a| (a - 318.0).abs() < 25.0 || (a - 76.0).abs() < 25.0)), "{stretches_deg:?}");
+            }
+            Err(e) => panic!("unexpected error {e}"),
+            Ok(_) => {}
+        }
+        // With smoothing the chain runs and stays within a bounded distance of the clean path.
+        let d = design(&t, &DesignOptions { smoothing: Some(24), ..DesignOptions::default() }).unwrap();
+        let worst = d.traced_mm.iter().map(|p| dist_to(*p, &clean)).fold(0.0, f64::max);
+        eprintln!("σ = {sigma}: traced path within {worst:.3} mm of the clean loop; l1 = {:.4}, l3 = {:.4}", d.report.l1, d.report.l3);
+        assert!(worst.is_finite() && worst < 2.0, "σ = {sigma}: {worst} mm from the clean path");
+        assert!((d.report.l1 - 90.0).abs() < 0.5 && (d.report.l3 - 170.0).abs() < 0.5, "{} {}", d.report.l1, d.report.l3);
+    }
+}
+
+#[test]
+fn points_near_the_carrier_axis_are_refused() {
+    // A mechanism with l3 barely above l1: ρmin = l3 − l1 = 4 mm < 5 % of l3.
+    let mut m = g1();
+    m.l3_mm = 94.0;
+    let t = traj((0..360).map(|k| m.tip((k as f64).to_radians())).collect()).unwrap();
+    match invert(&t, [0.0, 0.0], &InverseOptions::default()) {
+        Err(InverseError::TooCloseToAxis { rho_min_mm, limit_mm }) => {
+            assert!((rho_min_mm - 4.0).abs() < 1e-3 && (limit_mm - 0.05 * 94.0).abs() < 1e-3, "{rho_min_mm} {limit_mm}");
+        }
+        other => panic!("expected TooCloseToAxis, got {other:?}"),
+    }
+}
+
+#[test]
+fn cusped_trajectory_is_designed_without_nan() {
+    // Strong sun ratio (e = 0.35) and l3 close to the cusp condition l3·|dβ/dφH| = l1: the tip
+    // nearly stops at the extremes. The chain must stay finite and trace it.
+    let e: f64 = 0.35;
+    let m = Mechanism {
+        a_mm: 45.0,
+        l3_mm: 120.0,
+        ratio: SunRatio::new((1..=40).map(|k| 2.0 * e.powi(k)).collect(), vec![0.0; 40]).unwrap(),
+        sun_phase_rad: 0.3,
+        needle_angle_rad: 0.4,
+    };
+    let t = traj((0..720).map(|k| m.tip(TAU * k as f64 / 720.0)).collect()).unwrap();
+    let d = design(&t, &DesignOptions::default()).unwrap();
+    let r = &d.report;
+    assert!(r.roundtrip.max_deviation_mm.is_finite() && r.roundtrip.hausdorff_mm < 0.05, "{:?}", r.roundtrip);
+    assert!(r.fourier.a.iter().chain(&r.fourier.b).all(|v| v.is_finite()));
+}
+
+#[test]
+fn ratios_beyond_the_bounds_are_a_clear_error() {
+    // e = 0.35 needs i21 ∈ [0.48, 2.08]; bounds [0.6, 1.7] cannot hold it.
+    let e: f64 = 0.35;
+    let m = Mechanism {
+        a_mm: 45.0,
+        l3_mm: 170.0,
+        ratio: SunRatio::new((1..=40).map(|k| 2.0 * e.powi(k)).collect(), vec![0.0; 40]).unwrap(),
+        sun_phase_rad: 0.0,
+        needle_angle_rad: -1.2,
+    };
+    let t = traj((0..360).map(|k| m.tip((k as f64).to_radians())).collect()).unwrap();
+    let mut opts = DesignOptions::default();
+    opts.refine_options.ratio_bounds = [0.6, 1.7];
+    match design(&t, &opts) {
+        Err(DesignError::RatioOutOfBounds { min, max, .. }) => assert!(min < 0.6 || max > 1.7),
+        other => panic!("expected RatioOutOfBounds, got {:?}", other.map(|d| d.report.fourier.i21_range)),
+    }
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 48, failure_persistence: None, ..ProptestConfig::default() })]
+
+    /// Arbitrary bytes into every design-chain parser: a typed error or a value, never a panic.
+    #[test]
+    fn parsers_never_panic_on_arbitrary_bytes(bytes in proptest::collection::vec(any::<u8>(), 0..2000)) {
+        let text = String::from_utf8_lossy(&bytes);
+        let _ = Trajectory::parse_csv(&text, "fuzz.csv");
+        let _ = Trajectory::parse_json(&text, "fuzz.json");
+        let _ = DesignFile::parse(&text, "fuzz.json");
+    }
+
+    /// Mutated valid inputs: random numeric lines, NaN/inf tokens, separators, truncation.
+    #[test]
+    fn mutated_trajectories_give_a_result_or_a_typed_error(
+        n in 0usize..400,
+        cut in 0usize..100,
+        token in prop::sample::select(vec!["nan", "inf", "-inf", "1e308", "", "x", ";", "1,2,3", "  ", "#"]),
+        at in 0usize..400,
+        scale in -1e3f64..1e3,
+    ) {
+        let m = g1();
+        let mut lines: Vec<String> = (0..n).map(|k| {
+            let p = m.tip(TAU * k as f64 / n.max(1) as f64);
+            format!("{},{}", p[0] * scale / 100.0, p[1])
+        }).collect();
+        if !lines.is_empty() {
+            let i = at % lines.len();
+            lines[i] = token.to_string();
+        }
+        let mut text = lines.join("\n");
+        text.truncate(text.len().saturating_sub(cut));
+        if let Ok(t) = Trajectory::parse_csv(&text, "m.csv") {
+            // Whatever parses must either design or fail with a typed error — and never yield NaN.
+            if let Ok(d) = design(&t, &DesignOptions { check_samples: 256, curve_samples: 720, ..DesignOptions::default() }) {
+                prop_assert!(d.report.roundtrip.max_deviation_mm.is_finite());
+                prop_assert!(d.report.l1.is_finite() && d.report.l3.is_finite());
+            }
+        }
+    }
+}
