@@ -24,7 +24,11 @@ fn full_chain_g1_360(b: divan::Bencher) {
 #[divan::bench(args = [4, 8, 16, 32], sample_count = 10)]
 fn patent_route_order(b: divan::Bencher, k: usize) {
     let t = load("g1_ellipse.csv");
-    let opts = DesignOptions { order: Some(k), refine: RefineMode::Off, ..DesignOptions::default() };
+    let opts = DesignOptions {
+        order: Some(k),
+        refine: RefineMode::Off,
+        ..DesignOptions::default()
+    };
     b.bench(|| design(divan::black_box(&t), &opts).expect("G1"));
 }
 

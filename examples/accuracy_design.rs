@@ -19,7 +19,8 @@ fn g1() -> Mechanism {
     Mechanism {
         a_mm: 45.0,
         l3_mm: 170.0,
-        ratio: SunRatio::new((1..=30).map(|k| 2.0 * e.powi(k)).collect(), vec![0.0; 30]).expect("G1"),
+        ratio: SunRatio::new((1..=30).map(|k| 2.0 * e.powi(k)).collect(), vec![0.0; 30])
+            .expect("G1"),
         sun_phase_rad: 0.0,
         needle_angle_rad: (-70f64).to_radians(),
     }
@@ -37,13 +38,18 @@ fn g1_traj(m: usize) -> Trajectory {
 
 fn designer() -> Trajectory {
     let g = g1();
-    traj((0..360)
-        .map(|k| {
-            let t = (k as f64).to_radians();
-            let beta = (-70f64).to_radians() + t - (g.psi3(t) + 0.03 * (3.0 * t + 0.5).sin());
-            [90.0 * t.cos() + 170.0 * beta.cos(), 90.0 * t.sin() + 170.0 * beta.sin()]
-        })
-        .collect())
+    traj(
+        (0..360)
+            .map(|k| {
+                let t = (k as f64).to_radians();
+                let beta = (-70f64).to_radians() + t - (g.psi3(t) + 0.03 * (3.0 * t + 0.5).sin());
+                [
+                    90.0 * t.cos() + 170.0 * beta.cos(),
+                    90.0 * t.sin() + 170.0 * beta.sin(),
+                ]
+            })
+            .collect(),
+    )
 }
 
 /// Median wall time (ms) of `reps` runs, and the last result.
@@ -65,7 +71,9 @@ fn main() {
     // 1. Trajectory points M: ψ3 error of step 1 against the closed form, and l1 error.
     for m in [72, 180, 360, 720, 1440] {
         let t = g1_traj(m);
-        let (ms, inv) = timed(5, || invert(&t, [0.0, 0.0], &InverseOptions::default()).expect("G1"));
+        let (ms, inv) = timed(5, || {
+            invert(&t, [0.0, 0.0], &InverseOptions::default()).expect("G1")
+        });
         let t0 = inv.phi_h0_rad;
         let err = (0..720)
             .map(|j| {
@@ -73,45 +81,106 @@ fn main() {
                 (inv.law.psi3(x) - (g.psi3(x + t0) - g.psi3(t0))).abs()
             })
             .fold(0.0, f64::max);
-        rows.push(("trajectory points M (step 1)".into(), m.to_string(), "max |ψ3 error| × l3, mm".into(), err * 170.0, ms));
+        rows.push((
+            "trajectory points M (step 1)".into(),
+            m.to_string(),
+            "max |ψ3 error| × l3, mm".into(),
+            err * 170.0,
+            ms,
+        ));
     }
     // 2. FFT grid N: the whole chain's round trip at K = 16 (patent route).
     let t360 = g1_traj(360);
     for n in [128, 256, 512, 1024, 2048, 4096] {
-        let opts = DesignOptions { order: Some(16), refine: RefineMode::Off, inverse: InverseOptions { grid: n, ..InverseOptions::default() }, ..DesignOptions::default() };
+        let opts = DesignOptions {
+            order: Some(16),
+            refine: RefineMode::Off,
+            inverse: InverseOptions {
+                grid: n,
+                ..InverseOptions::default()
+            },
+            ..DesignOptions::default()
+        };
         let (ms, d) = timed(3, || design(&t360, &opts).expect("G1"));
-        rows.push(("ψ3 grid N (full chain, K = 16)".into(), n.to_string(), "round-trip max deviation, mm".into(), d.report.roundtrip.max_deviation_mm, ms));
+        rows.push((
+            "ψ3 grid N (full chain, K = 16)".into(),
+            n.to_string(),
+            "round-trip max deviation, mm".into(),
+            d.report.roundtrip.max_deviation_mm,
+            ms,
+        ));
     }
     // 3. Fourier order K, patent route, G1 360 points.
     for k in [4, 6, 8, 12, 16, 24, 32, 40] {
-        let opts = DesignOptions { order: Some(k), refine: RefineMode::Off, ..DesignOptions::default() };
+        let opts = DesignOptions {
+            order: Some(k),
+            refine: RefineMode::Off,
+            ..DesignOptions::default()
+        };
         let (ms, d) = timed(3, || design(&t360, &opts).expect("G1"));
-        rows.push(("Fourier order K (patent route, G1)".into(), k.to_string(), "round-trip max deviation, mm".into(), d.report.roundtrip.max_deviation_mm, ms));
+        rows.push((
+            "Fourier order K (patent route, G1)".into(),
+            k.to_string(),
+            "round-trip max deviation, mm".into(),
+            d.report.roundtrip.max_deviation_mm,
+            ms,
+        ));
     }
     // 4. Refinement on G1 (compatible) at low order.
     for k in [4, 8] {
-        let opts = DesignOptions { order: Some(k), refine: RefineMode::On, ..DesignOptions::default() };
+        let opts = DesignOptions {
+            order: Some(k),
+            refine: RefineMode::On,
+            ..DesignOptions::default()
+        };
         let (ms, d) = timed(3, || design(&t360, &opts).expect("G1"));
-        rows.push(("LM refinement (G1, compatible)".into(), format!("K = {k}"), "round-trip max deviation, mm".into(), d.report.roundtrip.max_deviation_mm, ms));
+        rows.push((
+            "LM refinement (G1, compatible)".into(),
+            format!("K = {k}"),
+            "round-trip max deviation, mm".into(),
+            d.report.roundtrip.max_deviation_mm,
+            ms,
+        ));
     }
     // 5. Designer-style target: patent route vs refinement order and iteration budget.
     let dz = designer();
     {
-        let opts = DesignOptions { order: Some(12), refine: RefineMode::Off, ..DesignOptions::default() };
+        let opts = DesignOptions {
+            order: Some(12),
+            refine: RefineMode::Off,
+            ..DesignOptions::default()
+        };
         let (ms, d) = timed(3, || design(&dz, &opts).expect("designer"));
-        rows.push(("designer target, patent route".into(), "K = 12".into(), "excess over best 3.82 mm, mm".into(), d.report.roundtrip.max_deviation_mm - 3.82, ms));
+        rows.push((
+            "designer target, patent route".into(),
+            "K = 12".into(),
+            "excess over best 3.82 mm, mm".into(),
+            d.report.roundtrip.max_deviation_mm - 3.82,
+            ms,
+        ));
     }
     for (k, patience) in [(4, 60), (8, 60), (12, 5), (12, 15), (12, 60), (16, 60)] {
         let opts = DesignOptions {
             order: Some(k),
             refine: RefineMode::On,
-            refine_options: RefineOptions { patience, ..RefineOptions::default() },
+            refine_options: RefineOptions {
+                patience,
+                ..RefineOptions::default()
+            },
             ..DesignOptions::default()
         };
         let (ms, d) = timed(3, || design(&dz, &opts).expect("designer"));
-        rows.push(("designer target, LM refinement".into(), format!("K = {k}, patience {patience}"), "excess over best 3.82 mm, mm".into(), d.report.roundtrip.max_deviation_mm - 3.82, ms));
+        rows.push((
+            "designer target, LM refinement".into(),
+            format!("K = {k}, patience {patience}"),
+            "excess over best 3.82 mm, mm".into(),
+            d.report.roundtrip.max_deviation_mm - 3.82,
+            ms,
+        ));
     }
-    let mut md = String::from("| knob | value | error measure | error | time (ms) |\n|---|---|---|---|---|\n");
+    let mut md = String::from(
+        "| knob | value | error measure | error | time (ms) |\n|---|---|---|---|---|\n",
+    );
     let mut csv = String::from("knob,value,measure,error,time_ms\n");
     for (knob, v, what, err, ms) in &rows {
         let _ = writeln!(md, "| {knob} | {v} | {what} | {err:.2e} | {ms:.1} |");

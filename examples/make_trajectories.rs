@@ -19,7 +19,8 @@ fn g1() -> Mechanism {
     Mechanism {
         a_mm: 45.0,
         l3_mm: 170.0,
-        ratio: SunRatio::new((1..=30).map(|k| 2.0 * e.powi(k)).collect(), vec![0.0; 30]).expect("G1 ratio"),
+        ratio: SunRatio::new((1..=30).map(|k| 2.0 * e.powi(k)).collect(), vec![0.0; 30])
+            .expect("G1 ratio"),
         sun_phase_rad: 0.0,
         needle_angle_rad: (-70f64).to_radians(),
     }
@@ -29,28 +30,50 @@ fn main() -> std::io::Result<()> {
     let dir = std::path::Path::new("assets/trajectories");
     std::fs::create_dir_all(dir)?;
     let m = g1();
-    let mut s = String::from("x_mm,y_mm (static needle-tip trajectory, carrier angle k deg, CCW)\n");
+    let mut s =
+        String::from("x_mm,y_mm (static needle-tip trajectory, carrier angle k deg, CCW)\n");
     for k in 0..360 {
         let p = m.tip((k as f64).to_radians());
         let _ = writeln!(s, "{:.18e},{:.18e}", p[0], p[1]);
     }
     std::fs::write(dir.join("g1_ellipse.csv"), s)?;
 
-    let mut s = String::from("# designer-style kidney: G1 with psi3 += 0.03 sin(3t + 0.5); mm\nx_mm,y_mm\n");
+    let mut s = String::from(
+        "# designer-style kidney: G1 with psi3 += 0.03 sin(3t + 0.5); mm\nx_mm,y_mm\n",
+    );
     for k in 0..360 {
         let t = (k as f64).to_radians();
         let beta = (-70f64).to_radians() + t - (m.psi3(t) + 0.03 * (3.0 * t + 0.5).sin());
-        let _ = writeln!(s, "{:.12},{:.12}", 90.0 * t.cos() + 170.0 * beta.cos(), 90.0 * t.sin() + 170.0 * beta.sin());
+        let _ = writeln!(
+            s,
+            "{:.12},{:.12}",
+            90.0 * t.cos() + 170.0 * beta.cos(),
+            90.0 * t.sin() + 170.0 * beta.sin()
+        );
     }
     std::fs::write(dir.join("designer_kidney.csv"), s)?;
 
     // G4-type asymmetric sun, mirrored (clockwise carrier), offset centre.
     let ratio = SunRatio::new(
-        vec![0.25 * 0.3f64.cos(), 0.08 * 1.1f64.sin(), 0.05 * (-0.4f64).cos()],
-        vec![-0.25 * 0.3f64.sin(), 0.08 * 1.1f64.cos(), -0.05 * (-0.4f64).sin()],
+        vec![
+            0.25 * 0.3f64.cos(),
+            0.08 * 1.1f64.sin(),
+            0.05 * (-0.4f64).cos(),
+        ],
+        vec![
+            -0.25 * 0.3f64.sin(),
+            0.08 * 1.1f64.cos(),
+            -0.05 * (-0.4f64).sin(),
+        ],
     )
     .expect("G4 ratio");
-    let m4 = Mechanism { a_mm: 42.0, l3_mm: 165.0, ratio, sun_phase_rad: 0.4, needle_angle_rad: -1.2 };
+    let m4 = Mechanism {
+        a_mm: 42.0,
+        l3_mm: 165.0,
+        ratio,
+        sun_phase_rad: 0.4,
+        needle_angle_rad: -1.2,
+    };
     let c = [250.0, 400.0];
     let pts: Vec<String> = (0..720)
         .map(|k| {
@@ -58,6 +81,12 @@ fn main() -> std::io::Result<()> {
             format!("[{:.12}, {:.12}]", c[0] + p[0], c[1] - p[1])
         })
         .collect();
-    std::fs::write(dir.join("asymmetric_cw.json"), format!("{{\"units\": \"mm\", \"points\": [\n{}\n]}}\n", pts.join(",\n")))?;
+    std::fs::write(
+        dir.join("asymmetric_cw.json"),
+        format!(
+            "{{\"units\": \"mm\", \"points\": [\n{}\n]}}\n",
+            pts.join(",\n")
+        ),
+    )?;
     Ok(())
 }

@@ -21,7 +21,11 @@ pub struct AnimationOptions {
 
 impl Default for AnimationOptions {
     fn default() -> Self {
-        Self { frames: 360, seconds: 6.0, outline_points: 720 }
+        Self {
+            frames: 360,
+            seconds: 6.0,
+            outline_points: 720,
+        }
     }
 }
 
@@ -30,7 +34,13 @@ fn body_path(curve: &PitchCurve, n: usize) -> String {
     for k in 0..n {
         let th = TAU * k as f64 / n as f64;
         let r = curve.radius_mm(th);
-        let _ = write!(d, "{}{:.3},{:.3} ", if k == 0 { "M" } else { "L" }, r * th.cos(), r * th.sin());
+        let _ = write!(
+            d,
+            "{}{:.3},{:.3} ",
+            if k == 0 { "M" } else { "L" },
+            r * th.cos(),
+            r * th.sin()
+        );
     }
     d.push('Z');
     d
@@ -39,7 +49,13 @@ fn body_path(curve: &PitchCurve, n: usize) -> String {
 fn polyline(pts: &[[f64; 2]], close: bool) -> String {
     let mut d = String::new();
     for (k, p) in pts.iter().enumerate() {
-        let _ = write!(d, "{}{:.3},{:.3} ", if k == 0 { "M" } else { "L" }, p[0], p[1]);
+        let _ = write!(
+            d,
+            "{}{:.3},{:.3} ",
+            if k == 0 { "M" } else { "L" },
+            p[0],
+            p[1]
+        );
     }
     if close {
         d.push('Z');
@@ -82,14 +98,26 @@ fn header(s: &mut String, b: [f64; 4], scale: f64) {
         b[0],
         -b[3]
     );
-    let _ = writeln!(s, r##"<rect x="{:.3}" y="{:.3}" width="{w:.3}" height="{h:.3}" fill="#ffffff"/>"##, b[0], -b[3]);
+    let _ = writeln!(
+        s,
+        r##"<rect x="{:.3}" y="{:.3}" width="{w:.3}" height="{h:.3}" fill="#ffffff"/>"##,
+        b[0], -b[3]
+    );
 }
 
 fn defs(s: &mut String, sim: &Simulation, n: usize) {
     let asm = &sim.assembly;
     let _ = writeln!(s, "<defs>");
-    let _ = writeln!(s, r##"<path id="sun" d="{}" fill="#dbe9f6" stroke="#1f77b4" stroke-width="0.5"/>"##, body_path(&asm.sun, n));
-    let _ = writeln!(s, r##"<path id="intermediate" d="{}" fill="#dff2df" stroke="#2ca02c" stroke-width="0.5"/>"##, body_path(&asm.intermediate, n));
+    let _ = writeln!(
+        s,
+        r##"<path id="sun" d="{}" fill="#dbe9f6" stroke="#1f77b4" stroke-width="0.5"/>"##,
+        body_path(&asm.sun, n)
+    );
+    let _ = writeln!(
+        s,
+        r##"<path id="intermediate" d="{}" fill="#dff2df" stroke="#2ca02c" stroke-width="0.5"/>"##,
+        body_path(&asm.intermediate, n)
+    );
     // The planet carries the needle (A → B at the needle angle γ) and marks the tip.
     let g = asm.needle_angle_rad;
     let (bx, by) = (asm.l3_mm * g.cos(), asm.l3_mm * g.sin());
@@ -103,9 +131,17 @@ fn defs(s: &mut String, sim: &Simulation, n: usize) {
 
 fn static_layers(s: &mut String, target: &[[f64; 2]], traced: &[[f64; 2]]) {
     if !target.is_empty() {
-        let _ = writeln!(s, r##"<path id="target" d="{}" fill="none" stroke="#888888" stroke-width="1.2"/>"##, polyline(target, true));
+        let _ = writeln!(
+            s,
+            r##"<path id="target" d="{}" fill="none" stroke="#888888" stroke-width="1.2"/>"##,
+            polyline(target, true)
+        );
     }
-    let _ = writeln!(s, r##"<path id="traced" d="{}" fill="none" stroke="#d62728" stroke-width="0.4" stroke-dasharray="2 1"/>"##, polyline(traced, true));
+    let _ = writeln!(
+        s,
+        r##"<path id="traced" d="{}" fill="none" stroke="#d62728" stroke-width="0.4" stroke-dasharray="2 1"/>"##,
+        polyline(traced, true)
+    );
 }
 
 /// The animated SVG: carrier, sun, both intermediates and planets, needles, target and traced
@@ -113,7 +149,9 @@ fn static_layers(s: &mut String, target: &[[f64; 2]], traced: &[[f64; 2]]) {
 #[must_use]
 pub fn animated_svg(sim: &Simulation, target: &[[f64; 2]], opts: &AnimationOptions) -> String {
     let n = opts.frames.max(8);
-    let turn: Vec<_> = (0..=n).map(|k| sim.pose(sim.angle_at(k as f64 / n as f64))).collect();
+    let turn: Vec<_> = (0..=n)
+        .map(|k| sim.pose(sim.angle_at(k as f64 / n as f64)))
+        .collect();
     let traced: Vec<[f64; 2]> = turn[..n].iter().map(|t| t.arm1.tip_mm).collect();
     let b = extent(sim, target, 90);
     let mut s = String::new();
@@ -124,11 +162,23 @@ pub fn animated_svg(sim: &Simulation, target: &[[f64; 2]], opts: &AnimationOptio
     let o = sim.assembly.center_mm;
     let dur = format!("{:.3}s", opts.seconds);
     let anim = |kind: &str, values: String| {
-        format!(r#"<animateTransform attributeName="transform" type="{kind}" values="{values}" dur="{dur}" repeatCount="indefinite" calcMode="linear"/>"#)
+        format!(
+            r#"<animateTransform attributeName="transform" type="{kind}" values="{values}" dur="{dur}" repeatCount="indefinite" calcMode="linear"/>"#
+        )
     };
     // Carrier: a bar through O along the two arms.
     let a2 = 2.0 * sim.assembly.a_mm;
-    let phis: Vec<String> = turn.iter().map(|t| format!("{:.4} {:.3} {:.3}", t.arm1.phi_h_rad.to_degrees(), o[0], o[1])).collect();
+    let phis: Vec<String> = turn
+        .iter()
+        .map(|t| {
+            format!(
+                "{:.4} {:.3} {:.3}",
+                t.arm1.phi_h_rad.to_degrees(),
+                o[0],
+                o[1]
+            )
+        })
+        .collect();
     let _ = writeln!(
         s,
         r##"<g id="carrier">{}<path d="M{:.3},{:.3} L{:.3},{:.3}" stroke="#444444" stroke-width="3" stroke-linecap="round" opacity="0.6"/></g>"##,
@@ -138,15 +188,37 @@ pub fn animated_svg(sim: &Simulation, target: &[[f64; 2]], opts: &AnimationOptio
         o[0] + a2,
         o[1]
     );
-    let _ = writeln!(s, r##"<use xlink:href="#sun" href="#sun" transform="translate({:.3},{:.3})"/>"##, o[0], o[1]);
+    let _ = writeln!(
+        s,
+        r##"<use xlink:href="#sun" href="#sun" transform="translate({:.3},{:.3})"/>"##,
+        o[0], o[1]
+    );
     for arm in 0..2 {
         let pose = |t: &crate::simulate::TwoArms| if arm == 0 { t.arm1 } else { t.arm2 };
         for (id, centre, angle) in [
-            ("intermediate", turn.iter().map(|t| pose(t).intermediate_center_mm).collect::<Vec<_>>(), turn.iter().map(|t| pose(t).intermediate_angle_rad).collect::<Vec<_>>()),
-            ("planet", turn.iter().map(|t| pose(t).planet_center_mm).collect(), turn.iter().map(|t| pose(t).planet_angle_rad).collect()),
+            (
+                "intermediate",
+                turn.iter()
+                    .map(|t| pose(t).intermediate_center_mm)
+                    .collect::<Vec<_>>(),
+                turn.iter()
+                    .map(|t| pose(t).intermediate_angle_rad)
+                    .collect::<Vec<_>>(),
+            ),
+            (
+                "planet",
+                turn.iter().map(|t| pose(t).planet_center_mm).collect(),
+                turn.iter().map(|t| pose(t).planet_angle_rad).collect(),
+            ),
         ] {
-            let tr: Vec<String> = centre.iter().map(|c| format!("{:.3},{:.3}", c[0], c[1])).collect();
-            let rot: Vec<String> = angle.iter().map(|a| format!("{:.4}", a.to_degrees())).collect();
+            let tr: Vec<String> = centre
+                .iter()
+                .map(|c| format!("{:.3},{:.3}", c[0], c[1]))
+                .collect();
+            let rot: Vec<String> = angle
+                .iter()
+                .map(|a| format!("{:.4}", a.to_degrees()))
+                .collect();
             let _ = writeln!(
                 s,
                 r##"<g id="{id}{}">{}<g>{}<use xlink:href="#{id}" href="#{id}"/></g></g>"##,
@@ -156,7 +228,11 @@ pub fn animated_svg(sim: &Simulation, target: &[[f64; 2]], opts: &AnimationOptio
             );
         }
     }
-    let _ = writeln!(s, r##"<circle cx="{:.3}" cy="{:.3}" r="1.5" fill="#000000"/>"##, o[0], o[1]);
+    let _ = writeln!(
+        s,
+        r##"<circle cx="{:.3}" cy="{:.3}" r="1.5" fill="#000000"/>"##,
+        o[0], o[1]
+    );
     let _ = writeln!(s, "</g>");
     s.push_str("</svg>\n");
     s
@@ -164,7 +240,13 @@ pub fn animated_svg(sim: &Simulation, target: &[[f64; 2]], opts: &AnimationOptio
 
 /// A static sheet of `cols × rows` frames at equal carrier-angle steps, each with both arms.
 #[must_use]
-pub fn frame_sheet(sim: &Simulation, target: &[[f64; 2]], cols: usize, rows: usize, outline_points: usize) -> String {
+pub fn frame_sheet(
+    sim: &Simulation,
+    target: &[[f64; 2]],
+    cols: usize,
+    rows: usize,
+    outline_points: usize,
+) -> String {
     let frames = (cols * rows).max(1);
     let traced: Vec<[f64; 2]> = sim.turn(720).iter().map(|t| t.arm1.tip_mm).collect();
     let b = extent(sim, target, 90);
@@ -183,11 +265,32 @@ pub fn frame_sheet(sim: &Simulation, target: &[[f64; 2]], cols: usize, rows: usi
         let _ = writeln!(s, r#"<g transform="translate({dx:.3},{dy:.3})">"#);
         static_layers(&mut s, target, &traced);
         let o = sim.assembly.center_mm;
-        let _ = writeln!(s, r##"<use xlink:href="#sun" href="#sun" transform="translate({:.3},{:.3})"/>"##, o[0], o[1]);
+        let _ = writeln!(
+            s,
+            r##"<use xlink:href="#sun" href="#sun" transform="translate({:.3},{:.3})"/>"##,
+            o[0], o[1]
+        );
         for p in [t.arm1, t.arm2] {
-            let _ = writeln!(s, r##"<path d="M{:.3},{:.3} L{:.3},{:.3}" stroke="#444444" stroke-width="3" opacity="0.6"/>"##, o[0], o[1], p.planet_center_mm[0], p.planet_center_mm[1]);
-            for (id, c, a) in [("intermediate", p.intermediate_center_mm, p.intermediate_angle_rad), ("planet", p.planet_center_mm, p.planet_angle_rad)] {
-                let _ = writeln!(s, r##"<use xlink:href="#{id}" href="#{id}" transform="translate({:.3},{:.3}) rotate({:.4})"/>"##, c[0], c[1], a.to_degrees());
+            let _ = writeln!(
+                s,
+                r##"<path d="M{:.3},{:.3} L{:.3},{:.3}" stroke="#444444" stroke-width="3" opacity="0.6"/>"##,
+                o[0], o[1], p.planet_center_mm[0], p.planet_center_mm[1]
+            );
+            for (id, c, a) in [
+                (
+                    "intermediate",
+                    p.intermediate_center_mm,
+                    p.intermediate_angle_rad,
+                ),
+                ("planet", p.planet_center_mm, p.planet_angle_rad),
+            ] {
+                let _ = writeln!(
+                    s,
+                    r##"<use xlink:href="#{id}" href="#{id}" transform="translate({:.3},{:.3}) rotate({:.4})"/>"##,
+                    c[0],
+                    c[1],
+                    a.to_degrees()
+                );
             }
         }
         let _ = writeln!(

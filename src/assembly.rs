@@ -18,8 +18,8 @@
 //! c3(φ) = c3(0) − ∫_{c2(0)}^{c2(φ)} g,    θ3(φ) = φ + π − c3(φ)   (planet rolls on the intermediate)
 //! ```
 
-use crate::periodic::{PeriodicSpline, spectral_integral};
 use crate::mechanism::Mechanism;
+use crate::periodic::{PeriodicSpline, spectral_integral};
 use crate::pitch::{PitchCurve, PitchError};
 use std::f64::consts::{PI, TAU};
 
@@ -89,21 +89,36 @@ pub struct Pose {
 fn mirrored(c: &PitchCurve) -> PitchCurve {
     let r = c.radii_mm();
     let n = r.len();
-    PitchCurve::from_uniform_radii((0..n).map(|k| r[(n - k) % n]).collect()).expect("mirror of a valid curve")
+    PitchCurve::from_uniform_radii((0..n).map(|k| r[(n - k) % n]).collect())
+        .expect("mirror of a valid curve")
 }
 
 fn integral_of(curve: &PitchCurve, a: f64) -> (f64, PeriodicSpline) {
     let y: Vec<f64> = curve.radii_mm().iter().map(|r| r / (a - r)).collect();
     let (mean, f) = spectral_integral(&y);
-    (mean, PeriodicSpline::uniform(0.0, f, TAU).expect("≥ 8 samples"))
+    (
+        mean,
+        PeriodicSpline::uniform(0.0, f, TAU).expect("≥ 8 samples"),
+    )
 }
 
 impl Assembly {
     /// Assembles a designed mechanism (solved CCW frame, relative to O) in the world frame:
     /// tables of `n` samples, mirrored when `direction = −1`.
-    pub fn from_mechanism(m: &Mechanism, center_mm: [f64; 2], direction: i8, n: usize) -> Result<Self, PitchError> {
+    pub fn from_mechanism(
+        m: &Mechanism,
+        center_mm: [f64; 2],
+        direction: i8,
+        n: usize,
+    ) -> Result<Self, PitchError> {
         let sign = if direction >= 0 { 1.0 } else { -1.0 };
-        let world = |c: PitchCurve| if direction >= 0 { Ok(c) } else { Ok(mirrored(&c)) };
+        let world = |c: PitchCurve| {
+            if direction >= 0 {
+                Ok(c)
+            } else {
+                Ok(mirrored(&c))
+            }
+        };
         Ok(Self {
             center_mm,
             direction: if direction >= 0 { 1 } else { -1 },
@@ -123,9 +138,17 @@ impl Assembly {
     pub fn rebuild(&self) -> Rebuilt {
         let ccw = self.direction >= 0;
         let (sun, mid, planet) = if ccw {
-            (self.sun.clone(), self.intermediate.clone(), self.planet.clone())
+            (
+                self.sun.clone(),
+                self.intermediate.clone(),
+                self.planet.clone(),
+            )
         } else {
-            (mirrored(&self.sun), mirrored(&self.intermediate), mirrored(&self.planet))
+            (
+                mirrored(&self.sun),
+                mirrored(&self.intermediate),
+                mirrored(&self.planet),
+            )
         };
         let sign = if ccw { 1.0 } else { -1.0 };
         let sun_int = integral_of(&sun, self.a_mm);
@@ -185,7 +208,10 @@ impl Rebuilt {
             planet_center_mm: world([l1 * phi.cos(), l1 * phi.sin()]),
             intermediate_angle_rad: s * theta2,
             planet_angle_rad: s * theta3,
-            tip_mm: world([l1 * phi.cos() + self.asm.l3_mm * b.cos(), l1 * phi.sin() + self.asm.l3_mm * b.sin()]),
+            tip_mm: world([
+                l1 * phi.cos() + self.asm.l3_mm * b.cos(),
+                l1 * phi.sin() + self.asm.l3_mm * b.sin(),
+            ]),
             sun_mesh_error_mm: sun_err,
             planet_mesh_error_mm: planet_err,
         }
@@ -194,7 +220,9 @@ impl Rebuilt {
     /// Tip positions (mm, world) at `n` uniform carrier angles over one turn, in travel order.
     #[must_use]
     pub fn traced(&self, n: usize) -> Vec<[f64; 2]> {
-        (0..n).map(|k| self.pose(self.sign * TAU * k as f64 / n as f64).tip_mm).collect()
+        (0..n)
+            .map(|k| self.pose(self.sign * TAU * k as f64 / n as f64).tip_mm)
+            .collect()
     }
 }
 
@@ -268,7 +296,11 @@ pub fn distances_to_polyline(p: &[[f64; 2]], q: &[[f64; 2]]) -> Vec<f64> {
 fn seg_dist(x: [f64; 2], a: [f64; 2], b: [f64; 2]) -> f64 {
     let (dx, dy) = (b[0] - a[0], b[1] - a[1]);
     let l2 = dx * dx + dy * dy;
-    let t = if l2 > 0.0 { (((x[0] - a[0]) * dx + (x[1] - a[1]) * dy) / l2).clamp(0.0, 1.0) } else { 0.0 };
+    let t = if l2 > 0.0 {
+        (((x[0] - a[0]) * dx + (x[1] - a[1]) * dy) / l2).clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
     (x[0] - a[0] - t * dx).hypot(x[1] - a[1] - t * dy)
 }
 
@@ -279,10 +311,12 @@ mod tests {
     #[test]
     fn hausdorff_of_concentric_circles_is_the_radius_gap() {
         let circle = |r: f64, n: usize, shift: f64| -> Vec<[f64; 2]> {
-            (0..n).map(|k| {
-                let t = TAU * (k as f64 + shift) / n as f64;
-                [r * t.cos(), r * t.sin()]
-            }).collect()
+            (0..n)
+                .map(|k| {
+                    let t = TAU * (k as f64 + shift) / n as f64;
+                    [r * t.cos(), r * t.sin()]
+                })
+                .collect()
         };
         let a = circle(50.0, 4000, 0.0);
         let b = circle(50.3, 3000, 0.5);
@@ -290,7 +324,14 @@ mod tests {
         // Chord sag of the polylines is < 50·(2π/3000)²/8 ≈ 3e-4 mm.
         assert!((h - 0.3).abs() < 5e-4, "{h}");
         // Brute force agrees.
-        let brute = a.iter().map(|x| (0..b.len()).map(|k| seg_dist(*x, b[k], b[(k + 1) % b.len()])).fold(f64::INFINITY, f64::min)).fold(0.0, f64::max);
+        let brute = a
+            .iter()
+            .map(|x| {
+                (0..b.len())
+                    .map(|k| seg_dist(*x, b[k], b[(k + 1) % b.len()]))
+                    .fold(f64::INFINITY, f64::min)
+            })
+            .fold(0.0, f64::max);
         assert!((directed(&a, &b) - brute).abs() < 1e-12);
     }
 }

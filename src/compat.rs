@@ -61,7 +61,10 @@ pub fn analyse(law: &NeedleLaw, n: usize, tol_rad: f64) -> Compatibility {
             }
         }
     }
-    let residuals: Vec<f64> = origins.iter().map(|&tau| residual(law, tau, n / 2)).collect();
+    let residuals: Vec<f64> = origins
+        .iter()
+        .map(|&tau| residual(law, tau, n / 2))
+        .collect();
     let best = residuals
         .iter()
         .enumerate()

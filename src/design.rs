@@ -120,7 +120,9 @@ pub enum DesignError {
         expected: &'static str,
     },
     /// The best ratio found leaves the admissible bounds.
-    #[error("the sun ratio i21 would span [{min:.3}, {max:.3}], outside the bounds [{lo}, {hi}] (spec §14): the trajectory asks for a needle swing the gears cannot give; relax --ratio-bounds or reduce the swing")]
+    #[error(
+        "the sun ratio i21 would span [{min:.3}, {max:.3}], outside the bounds [{lo}, {hi}] (spec §14): the trajectory asks for a needle swing the gears cannot give; relax --ratio-bounds or reduce the swing"
+    )]
     RatioOutOfBounds {
         /// Smallest ratio.
         min: f64,
@@ -410,15 +412,27 @@ pub fn design(traj: &Trajectory, opts: &DesignOptions) -> Result<Design, DesignE
     }
     let beta = |p: f64| inv.beta(p);
     let mk = |ratio: SunRatio, tau_s: f64| {
-        let mut m = Mechanism { a_mm: a, l3_mm: l3, ratio, sun_phase_rad: inv.phi_h0_rad + tau_s, needle_angle_rad: 0.0 };
-        let phis: Vec<f64> = (0..opts.check_samples).map(|k| TAU * k as f64 / opts.check_samples as f64).collect();
+        let mut m = Mechanism {
+            a_mm: a,
+            l3_mm: l3,
+            ratio,
+            sun_phase_rad: inv.phi_h0_rad + tau_s,
+            needle_angle_rad: 0.0,
+        };
+        let phis: Vec<f64> = (0..opts.check_samples)
+            .map(|k| TAU * k as f64 / opts.check_samples as f64)
+            .collect();
         m.fit_needle_angle(&phis, beta);
         let dev = m.synchronous_deviation_mm(opts.check_samples, beta);
         (m, dev)
     };
     let orders: Vec<usize> = match opts.order {
         Some(k) => vec![k],
-        None => ADAPTIVE_ORDERS.iter().copied().filter(|&k| 4 * k <= n).collect(),
+        None => ADAPTIVE_ORDERS
+            .iter()
+            .copied()
+            .filter(|&k| 4 * k <= n)
+            .collect(),
     };
     let mut scan = Vec::new();
     let mut patent: Option<(Mechanism, f64, usize)> = None;
@@ -428,7 +442,10 @@ pub fn design(traj: &Trajectory, opts: &DesignOptions) -> Result<Design, DesignE
             Ok(r) => r,
             Err(_) => SunRatio::new_unchecked(vec![0.0; k], vec![0.0; k]),
         };
-        let (lo, hi) = (ratio.sampled_extreme(4096, false).0, ratio.sampled_extreme(4096, true).0);
+        let (lo, hi) = (
+            ratio.sampled_extreme(4096, false).0,
+            ratio.sampled_extreme(4096, true).0,
+        );
         let [blo, bhi] = opts.refine_options.ratio_bounds;
         if lo < blo || hi > bhi {
             // Outside the admissible ratios (spec §14): not a candidate, but kept as the
@@ -454,7 +471,11 @@ pub fn design(traj: &Trajectory, opts: &DesignOptions) -> Result<Design, DesignE
             warnings.push("no Fourier order of the patent route stays within the ratio bounds; the refinement (with its bound penalty) decides".into());
             (m, f64::INFINITY, k)
         }
-        (None, None) => return Err(DesignError::Internal("no Fourier order was tried (grid too small)".into())),
+        (None, None) => {
+            return Err(DesignError::Internal(
+                "no Fourier order was tried (grid too small)".into(),
+            ));
+        }
     };
     timings.patent = ms(t0);
     let patent_summary = RouteSummary {
@@ -463,8 +484,21 @@ pub fn design(traj: &Trajectory, opts: &DesignOptions) -> Result<Design, DesignE
         j0: Some(seg.j0),
         j1: Some(seg.j1),
         iterations: seg.iterations,
-        note: format!("route {:?}, w1 = {}, {}", opts.segmented.route, opts.segmented.w1, if seg.converged { "junctions closed" } else { "junctions not closed" }),
-        order_scan: if opts.order.is_none() { scan } else { Vec::new() },
+        note: format!(
+            "route {:?}, w1 = {}, {}",
+            opts.segmented.route,
+            opts.segmented.w1,
+            if seg.converged {
+                "junctions closed"
+            } else {
+                "junctions not closed"
+            }
+        ),
+        order_scan: if opts.order.is_none() {
+            scan
+        } else {
+            Vec::new()
+        },
     };
 
     // Refinement (§8.3).
@@ -482,12 +516,17 @@ pub fn design(traj: &Trajectory, opts: &DesignOptions) -> Result<Design, DesignE
         // C = π + γ for the start.
         let c0 = PI + m0.needle_angle_rad;
         let r = refine::refine(law, l3, a, &start, tau, c0, &opts.refine_options);
-        match SunRatio::new(r.ratio.cos_coefficients().to_vec(), r.ratio.sin_coefficients().to_vec()) {
+        match SunRatio::new(
+            r.ratio.cos_coefficients().to_vec(),
+            r.ratio.sin_coefficients().to_vec(),
+        ) {
             Ok(ratio) => {
                 let (m, dev) = mk(ratio, r.tau_rad);
                 refined = Some((m, dev, k, r.evaluations, r.termination));
             }
-            Err(e) => warnings.push(format!("refinement left the admissible ratios ({e}); kept the patent route")),
+            Err(e) => warnings.push(format!(
+                "refinement left the admissible ratios ({e}); kept the patent route"
+            )),
         }
     }
     timings.refine = ms(t0);
@@ -504,7 +543,9 @@ pub fn design(traj: &Trajectory, opts: &DesignOptions) -> Result<Design, DesignE
         Some((m, dev, ..)) if dev < patent_dev => (m, "refined"),
         _ => (patent_m, "patent"),
     };
-    let best_dev = refine_summary.as_ref().map_or(patent_dev, |r| r.max_deviation_mm.min(patent_dev));
+    let best_dev = refine_summary
+        .as_ref()
+        .map_or(patent_dev, |r| r.max_deviation_mm.min(patent_dev));
     if best_dev > opts.tol_tip_mm {
         warnings.push(format!(
             "the best design deviates {best_dev:.3} mm from the target (tolerance {} mm); the target is not exactly traceable by this train (E_c·l3 = {:.3} mm)",
@@ -519,22 +560,36 @@ pub fn design(traj: &Trajectory, opts: &DesignOptions) -> Result<Design, DesignE
     let (imin, _) = mech.ratio.sampled_extreme(4096, false);
     let (imax, _) = mech.ratio.sampled_extreme(4096, true);
     if imin < lo || imax > hi {
-        return Err(DesignError::RatioOutOfBounds { min: imin, max: imax, lo, hi });
+        return Err(DesignError::RatioOutOfBounds {
+            min: imin,
+            max: imax,
+            lo,
+            hi,
+        });
     }
     let out = finish(traj, &inv, &compat, mech, opts, &mut warnings)?;
     timings.outputs = ms(t0);
     timings.total = ms(t_all);
     let (mechanism, assembly, traced, checks, roundtrip, gears) = out;
     let i31 = law.i31_samples();
-    let swing = law.samples().iter().fold([f64::MAX, f64::MIN], |m, v| [m[0].min(*v), m[1].max(*v)]);
+    let swing = law
+        .samples()
+        .iter()
+        .fold([f64::MAX, f64::MIN], |m, v| [m[0].min(*v), m[1].max(*v)]);
     let sign = f64::from(inv.direction);
     let report = DesignReport {
-        units: Units { length: "mm".into(), angle: "deg".into() },
+        units: Units {
+            length: "mm".into(),
+            angle: "deg".into(),
+        },
         l1: inv.l1_mm,
         l3,
         center_distance: a,
         needle_angle_deg: sign * mechanism.needle_angle_rad.to_degrees(),
-        carrier: Carrier { center: opts.center_mm, direction: inv.direction },
+        carrier: Carrier {
+            center: opts.center_mm,
+            direction: inv.direction,
+        },
         gears,
         roundtrip,
         trajectory: TrajectorySummary {
@@ -543,7 +598,9 @@ pub fn design(traj: &Trajectory, opts: &DesignOptions) -> Result<Design, DesignE
             rho_min_mm: inv.rho_min_mm,
             reference_carrier_angle_deg: inv.file_angle_deg(inv.phi_h0_rad),
             needle_swing_deg: 0.5 * (swing[1] - swing[0]).to_degrees(),
-            i31_range: i31.iter().fold([f64::MAX, f64::MIN], |m, v| [m[0].min(*v), m[1].max(*v)]),
+            i31_range: i31
+                .iter()
+                .fold([f64::MAX, f64::MIN], |m, v| [m[0].min(*v), m[1].max(*v)]),
         },
         compatibility: CompatSummary {
             tau_deg: compat.tau_rad.to_degrees(),
@@ -567,29 +624,61 @@ pub fn design(traj: &Trajectory, opts: &DesignOptions) -> Result<Design, DesignE
         warnings,
         timings_ms: timings,
     };
-    Ok(Design { report, mechanism, assembly, inversion: inv, traced_mm: traced })
+    Ok(Design {
+        report,
+        mechanism,
+        assembly,
+        inversion: inv,
+        traced_mm: traced,
+    })
 }
 
 fn validate(opts: &DesignOptions) -> Result<(), DesignError> {
-    let bad = |option, value: String, expected| Err(DesignError::BadOption { option, value, expected });
+    let bad = |option, value: String, expected| {
+        Err(DesignError::BadOption {
+            option,
+            value,
+            expected,
+        })
+    };
     if let Some(k) = opts.order {
         if !(1..=64).contains(&k) {
-            return bad("order", k.to_string(), "an integer in 1..=64 (40 is the recommended cap, spec §8.2)");
+            return bad(
+                "order",
+                k.to_string(),
+                "an integer in 1..=64 (40 is the recommended cap, spec §8.2)",
+            );
         }
     }
     if let Some(h) = opts.smoothing {
         if !(4..=512).contains(&h) {
-            return bad("smooth", h.to_string(), "a number of harmonics in 4..=512 (about 1/10 of the points for noisy data)");
+            return bad(
+                "smooth",
+                h.to_string(),
+                "a number of harmonics in 4..=512 (about 1/10 of the points for noisy data)",
+            );
         }
     }
     if !(opts.tol_tip_mm.is_finite() && opts.tol_tip_mm > 0.0) {
-        return bad("tol-mm", opts.tol_tip_mm.to_string(), "a positive length in mm");
+        return bad(
+            "tol-mm",
+            opts.tol_tip_mm.to_string(),
+            "a positive length in mm",
+        );
     }
     if opts.inverse.grid < 64 || opts.inverse.grid > 1 << 16 {
-        return bad("grid", opts.inverse.grid.to_string(), "a grid size in 64..=65536");
+        return bad(
+            "grid",
+            opts.inverse.grid.to_string(),
+            "a grid size in 64..=65536",
+        );
     }
     if opts.curve_samples < 720 {
-        return bad("samples", opts.curve_samples.to_string(), "at least 720 samples per pitch curve");
+        return bad(
+            "samples",
+            opts.curve_samples.to_string(),
+            "at least 720 samples per pitch curve",
+        );
     }
     let [lo, hi] = opts.refine_options.ratio_bounds;
     if !(lo > 0.0 && hi > lo && hi.is_finite()) {
@@ -598,7 +687,14 @@ fn validate(opts: &DesignOptions) -> Result<(), DesignError> {
     Ok(())
 }
 
-type Finished = (Mechanism, Assembly, Vec<[f64; 2]>, Vec<Check>, RoundTrip, Gears);
+type Finished = (
+    Mechanism,
+    Assembly,
+    Vec<[f64; 2]>,
+    Vec<Check>,
+    RoundTrip,
+    Gears,
+);
 
 /// Pitch curves, assembly, checks C1–C12 and the round trip from the output tables.
 fn finish(
@@ -612,7 +708,11 @@ fn finish(
     let n = opts.curve_samples;
     let sign = f64::from(inv.direction);
     let assembly = Assembly::from_mechanism(&mech, opts.center_mm, inv.direction, n)?;
-    let (sun, mid, planet) = (assembly.sun.clone(), assembly.intermediate.clone(), assembly.planet.clone());
+    let (sun, mid, planet) = (
+        assembly.sun.clone(),
+        assembly.intermediate.clone(),
+        assembly.planet.clone(),
+    );
     // Round trip from the tables only (C12), with mesh errors (C3, C4).
     let rebuilt = assembly.rebuild();
     let m = opts.check_samples;
@@ -623,36 +723,61 @@ fn finish(
         let phi_solved = TAU * k as f64 / m as f64;
         let pose = rebuilt.pose(sign * phi_solved);
         let target = inv.tip(phi_solved);
-        let tw = [opts.center_mm[0] + target[0], opts.center_mm[1] + sign * target[1]];
+        let tw = [
+            opts.center_mm[0] + target[0],
+            opts.center_mm[1] + sign * target[1],
+        ];
         sync = sync.max((pose.tip_mm[0] - tw[0]).hypot(pose.tip_mm[1] - tw[1]));
         mesh[0] = mesh[0].max(pose.sun_mesh_error_mm.abs());
         mesh[1] = mesh[1].max(pose.planet_mesh_error_mm.abs());
         traced.push(pose.tip_mm);
     }
     let spline = ClosedSpline::through(traj.points());
-    let dense: Vec<[f64; 2]> =
-        (0..2 * m).map(|k| spline.point(spline.period() * k as f64 / (2 * m) as f64)).collect();
+    let dense: Vec<[f64; 2]> = (0..2 * m)
+        .map(|k| spline.point(spline.period() * k as f64 / (2 * m) as f64))
+        .collect();
     let haus = hausdorff_mm(&traced, &dense);
-    let roundtrip = RoundTrip { max_deviation_mm: sync, hausdorff_mm: haus, max_mesh_error_mm: mesh[0].max(mesh[1]), samples: m };
+    let roundtrip = RoundTrip {
+        max_deviation_mm: sync,
+        hausdorff_mm: haus,
+        max_mesh_error_mm: mesh[0].max(mesh[1]),
+        samples: m,
+    };
 
     // Geometry checks.
     let acc = 1e-9 * mech.a_mm;
-    let (ls, lm, lp) = (sun.perimeter_mm(acc), mid.perimeter_mm(acc), planet.perimeter_mm(acc));
+    let (ls, lm, lp) = (
+        sun.perimeter_mm(acc),
+        mid.perimeter_mm(acc),
+        planet.perimeter_mm(acc),
+    );
     let cs = sun.curvature_extremes(8 * n);
     let cm = mid.curvature_extremes(8 * n);
     let means = rebuilt.ratio_means();
     let (imin, _) = mech.ratio.sampled_extreme(4096, false);
     let (imax, _) = mech.ratio.sampled_extreme(4096, true);
-    let i31_min = (0..4096).map(|k| {
-        let t = TAU * k as f64 / 4096.0;
-        mech.ratio.value(t) / mech.ratio.value(mech.half_turn_map(t))
-    }).fold(f64::INFINITY, f64::min);
+    let i31_min = (0..4096)
+        .map(|k| {
+            let t = TAU * k as f64 / 4096.0;
+            mech.ratio.value(t) / mech.ratio.value(mech.half_turn_map(t))
+        })
+        .fold(f64::INFINITY, f64::min);
     let min_conv = cs.min_convexity_mm2.min(cm.min_convexity_mm2);
-    let min_rho = cs.min_radius_of_curvature_mm.min(cm.min_radius_of_curvature_mm);
-    let max_dev_mu = cs.max_pressure_deviation_rad.max(cm.max_pressure_deviation_rad);
+    let min_rho = cs
+        .min_radius_of_curvature_mm
+        .min(cm.min_radius_of_curvature_mm);
+    let max_dev_mu = cs
+        .max_pressure_deviation_rad
+        .max(cm.max_pressure_deviation_rad);
     let alpha = opts.pressure_angle_rad;
     let [lo, hi] = opts.refine_options.ratio_bounds;
-    let check = |id: &str, name: String, value: f64, limit: f64, pass: bool| Check { id: id.into(), name, value, limit, pass };
+    let check = |id: &str, name: String, value: f64, limit: f64, pass: bool| Check {
+        id: id.into(),
+        name,
+        value,
+        limit,
+        pass,
+    };
     let checks = vec![
         check("C1", "closure of the ratio |Φ(2π) − 2π|, rad".into(), (mech.ratio.integral(TAU) - TAU).abs(), 1e-12, (mech.ratio.integral(TAU) - TAU).abs() <= 1e-12),
         check("C2", "closure of the output tables: max |mean r/(a−r) − 1|·2π·a, mm".into(), (means[0] - 1.0).abs().max((means[1] - 1.0).abs()) * TAU * mech.a_mm, 1e-6, (means[0] - 1.0).abs().max((means[1] - 1.0).abs()) * TAU * mech.a_mm <= 1e-6),
@@ -672,7 +797,10 @@ fn finish(
     }
     for c in &checks {
         if !c.pass {
-            warnings.push(format!("check {} failed: {} = {:.4e} (limit {:.4e})", c.id, c.name, c.value, c.limit));
+            warnings.push(format!(
+                "check {} failed: {} = {:.4e} (limit {:.4e})",
+                c.id, c.name, c.value, c.limit
+            ));
         }
     }
     let table = |c: &PitchCurve| c.polar_table_deg(n);
@@ -684,8 +812,18 @@ fn finish(
     };
     let gears = Gears {
         sun: gear(&sun, None, ls, cs.min_radius_of_curvature_mm),
-        intermediate: gear(&mid, Some(assembly.intermediate_angle_at_zero_rad), lm, cm.min_radius_of_curvature_mm),
-        planet: gear(&planet, Some(assembly.planet_angle_at_zero_rad), lp, cs.min_radius_of_curvature_mm),
+        intermediate: gear(
+            &mid,
+            Some(assembly.intermediate_angle_at_zero_rad),
+            lm,
+            cm.min_radius_of_curvature_mm,
+        ),
+        planet: gear(
+            &planet,
+            Some(assembly.planet_angle_at_zero_rad),
+            lp,
+            cs.min_radius_of_curvature_mm,
+        ),
     };
     Ok((mech, assembly, traced, checks, roundtrip, gears))
 }

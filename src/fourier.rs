@@ -46,7 +46,9 @@ pub enum RatioError {
         index: usize,
     },
     /// The ratio is not strictly positive somewhere.
-    #[error("the sun ratio reaches {min_ratio:.4} ≤ 0 at {at_deg:.2}°; gear ratios must stay positive")]
+    #[error(
+        "the sun ratio reaches {min_ratio:.4} ≤ 0 at {at_deg:.2}°; gear ratios must stay positive"
+    )]
     NotPositive {
         /// Smallest sampled ratio.
         min_ratio: f64,
@@ -60,15 +62,25 @@ impl SunRatio {
     /// that it is strictly positive (sampled at 64·K + 256 points).
     pub fn new(a: Vec<f64>, b: Vec<f64>) -> Result<Self, RatioError> {
         if a.len() != b.len() {
-            return Err(RatioError::LengthMismatch { a: a.len(), b: b.len() });
+            return Err(RatioError::LengthMismatch {
+                a: a.len(),
+                b: b.len(),
+            });
         }
-        if let Some(i) = a.iter().zip(&b).position(|(x, y)| !(x.is_finite() && y.is_finite())) {
+        if let Some(i) = a
+            .iter()
+            .zip(&b)
+            .position(|(x, y)| !(x.is_finite() && y.is_finite()))
+        {
             return Err(RatioError::NotFinite { index: i + 1 });
         }
         let s = Self::new_unchecked(a, b);
         let (min_ratio, at) = s.sampled_extreme(64 * s.order() + 256, false);
         if min_ratio <= 0.0 {
-            return Err(RatioError::NotPositive { min_ratio, at_deg: at.to_degrees() });
+            return Err(RatioError::NotPositive {
+                min_ratio,
+                at_deg: at.to_degrees(),
+            });
         }
         Ok(s)
     }
@@ -99,7 +111,9 @@ impl SunRatio {
     /// DFT with the mean forced to 1 (exact closure). Requires `N ≥ 2K + 1`.
     pub fn fit_uniform(samples: &[f64], order: usize) -> Result<Self, RatioError> {
         let c = fft_coefficients(samples);
-        let k_max = order.min(c.len().saturating_sub(1)).min((samples.len().saturating_sub(1)) / 2);
+        let k_max = order
+            .min(c.len().saturating_sub(1))
+            .min((samples.len().saturating_sub(1)) / 2);
         let a = (1..=k_max).map(|k| 2.0 * c[k].re).collect();
         let b = (1..=k_max).map(|k| -2.0 * c[k].im).collect();
         Self::new(a, b)
@@ -186,7 +200,14 @@ impl SunRatio {
     /// Smallest (or, with `max = true`, largest) sampled ratio on `n` uniform angles, and where (rad).
     #[must_use]
     pub fn sampled_extreme(&self, n: usize, max: bool) -> (f64, f64) {
-        let mut best = (if max { f64::NEG_INFINITY } else { f64::INFINITY }, 0.0);
+        let mut best = (
+            if max {
+                f64::NEG_INFINITY
+            } else {
+                f64::INFINITY
+            },
+            0.0,
+        );
         for j in 0..n {
             let th = TAU * j as f64 / n as f64;
             let v = self.value(th);

@@ -35,7 +35,12 @@ pub struct InverseOptions {
 
 impl Default for InverseOptions {
     fn default() -> Self {
-        Self { dense_samples: 20_000, grid: 1024, tol_relative: 1e-14, law_harmonics: None }
+        Self {
+            dense_samples: 20_000,
+            grid: 1024,
+            tol_relative: 1e-14,
+            law_harmonics: None,
+        }
     }
 }
 
@@ -45,13 +50,17 @@ impl Default for InverseOptions {
 #[non_exhaustive]
 pub enum InverseError {
     /// The carrier axis is inside the loop.
-    #[error("the carrier axis O lies inside the loop (winding number {winding}); a transplanter needs O outside the loop (l3 > l1): check --center")]
+    #[error(
+        "the carrier axis O lies inside the loop (winding number {winding}); a transplanter needs O outside the loop (l3 > l1): check --center"
+    )]
     AxisInsideLoop {
         /// Winding number of the loop about O.
         winding: i64,
     },
     /// The largest distance from O is reached at several separate places.
-    #[error("the largest distance from O ({rho_max_mm:.4} mm) is reached at {count} separate places (points near {at:?} mm); the needle tip of a constant-length arm reaches its farthest point exactly once per turn")]
+    #[error(
+        "the largest distance from O ({rho_max_mm:.4} mm) is reached at {count} separate places (points near {at:?} mm); the needle tip of a constant-length arm reaches its farthest point exactly once per turn"
+    )]
     SeveralMaxima {
         /// ρmax, mm.
         rho_max_mm: f64,
@@ -61,7 +70,9 @@ pub enum InverseError {
         at: Vec<[f64; 2]>,
     },
     /// Some point is too close to the carrier axis.
-    #[error("the trajectory comes within {rho_min_mm:.3} mm of the carrier axis, below 5 % of l3 ({limit_mm:.3} mm); the inversion is ill-conditioned there (spec §14): move --center or the trajectory")]
+    #[error(
+        "the trajectory comes within {rho_min_mm:.3} mm of the carrier axis, below 5 % of l3 ({limit_mm:.3} mm); the inversion is ill-conditioned there (spec §14): move --center or the trajectory"
+    )]
     TooCloseToAxis {
         /// ρmin, mm.
         rho_min_mm: f64,
@@ -79,7 +90,9 @@ pub enum InverseError {
         stretches_deg: Vec<[f64; 2]>,
     },
     /// The needle would have to turn against the gears.
-    #[error("the needle would have to turn faster than the carrier (i31 ≤ 0) on carrier angles (deg) {stretches_deg:?}; gear ratios are positive, so no gear train can do this: flatten the needle swing there")]
+    #[error(
+        "the needle would have to turn faster than the carrier (i31 ≤ 0) on carrier angles (deg) {stretches_deg:?}; gear ratios are positive, so no gear train can do this: flatten the needle swing there"
+    )]
     NeedleReverses {
         /// Offending stretches `[from, to]`, carrier degrees.
         stretches_deg: Vec<[f64; 2]>,
@@ -105,7 +118,10 @@ impl NeedleLaw {
     /// From a function `ψ3(t)` sampled at `n` uniform angles.
     #[must_use]
     pub fn from_fn(n: usize, psi3: impl Fn(f64) -> f64) -> Self {
-        let s = (0..n).map(|k| TAU * k as f64 / n as f64).map(|t| psi3(t) - t).collect();
+        let s = (0..n)
+            .map(|k| TAU * k as f64 / n as f64)
+            .map(|t| psi3(t) - t)
+            .collect();
         Self::from_samples(s)
     }
 
@@ -130,7 +146,10 @@ impl NeedleLaw {
     /// `i31` on the sample grid, spectrally (spec §3.3).
     #[must_use]
     pub fn i31_samples(&self) -> Vec<f64> {
-        spectral_derivative(&self.samples).into_iter().map(|d| 1.0 + d).collect()
+        spectral_derivative(&self.samples)
+            .into_iter()
+            .map(|d| 1.0 + d)
+            .collect()
     }
 }
 
@@ -171,18 +190,27 @@ impl Inversion {
     #[must_use]
     pub fn tip(&self, phi_h: f64) -> [f64; 2] {
         let b = self.beta(phi_h);
-        [self.l1_mm * phi_h.cos() + self.l3_mm * b.cos(), self.l1_mm * phi_h.sin() + self.l3_mm * b.sin()]
+        [
+            self.l1_mm * phi_h.cos() + self.l3_mm * b.cos(),
+            self.l1_mm * phi_h.sin() + self.l3_mm * b.sin(),
+        ]
     }
 
     /// Converts a solved-frame angle (rad) to file-frame degrees in [0, 360).
     #[must_use]
     pub fn file_angle_deg(&self, angle_rad: f64) -> f64 {
-        (f64::from(self.direction) * angle_rad).to_degrees().rem_euclid(360.0)
+        (f64::from(self.direction) * angle_rad)
+            .to_degrees()
+            .rem_euclid(360.0)
     }
 }
 
 /// Runs step 1 on a trajectory with carrier axis `center` (mm).
-pub fn invert(traj: &Trajectory, center: [f64; 2], opts: &InverseOptions) -> Result<Inversion, InverseError> {
+pub fn invert(
+    traj: &Trajectory,
+    center: [f64; 2],
+    opts: &InverseOptions,
+) -> Result<Inversion, InverseError> {
     let pts = traj.relative_to(center, false);
     let winding = winding_number(&pts);
     if winding != 0 {
@@ -284,7 +312,12 @@ fn runs(n: usize, bad: impl Fn(usize) -> bool) -> Vec<[usize; 2]> {
     out
 }
 
-fn solve_frame(pts: &[[f64; 2]], opts: &InverseOptions, direction: i8, center: [f64; 2]) -> Result<Solved, InverseError> {
+fn solve_frame(
+    pts: &[[f64; 2]],
+    opts: &InverseOptions,
+    direction: i8,
+    center: [f64; 2],
+) -> Result<Solved, InverseError> {
     let spline = ClosedSpline::through(pts);
     let len = spline.period();
     let ns = opts.dense_samples.max(4 * pts.len());
@@ -294,8 +327,14 @@ fn solve_frame(pts: &[[f64; 2]], opts: &InverseOptions, direction: i8, center: [
         p[0].hypot(p[1])
     };
     let dense: Vec<f64> = (0..ns).map(|j| rho(j as f64 * ds)).collect();
-    let (jmax, _) = dense.iter().enumerate().fold((0, f64::MIN), |b, (j, &r)| if r > b.1 { (j, r) } else { b });
-    let (jmin, _) = dense.iter().enumerate().fold((0, f64::MAX), |b, (j, &r)| if r < b.1 { (j, r) } else { b });
+    let (jmax, _) = dense
+        .iter()
+        .enumerate()
+        .fold((0, f64::MIN), |b, (j, &r)| if r > b.1 { (j, r) } else { b });
+    let (jmin, _) = dense
+        .iter()
+        .enumerate()
+        .fold((0, f64::MAX), |b, (j, &r)| if r < b.1 { (j, r) } else { b });
     // Several separate global maxima (spec §3.2).
     let rmax_dense = dense[jmax];
     let sep = ns / 20;
@@ -306,7 +345,11 @@ fn solve_frame(pts: &[[f64; 2]], opts: &InverseOptions, direction: i8, center: [
             let d = a.abs_diff(b);
             d.min(ns - d)
         };
-        if dense[j] >= prev && dense[j] > next && dense[j] >= rmax_dense * (1.0 - 1e-4) && maxima.iter().all(|&m| cyc(m, j) > sep) {
+        if dense[j] >= prev
+            && dense[j] > next
+            && dense[j] >= rmax_dense * (1.0 - 1e-4)
+            && maxima.iter().all(|&m| cyc(m, j) > sep)
+        {
             maxima.push(j);
         }
     }
@@ -330,13 +373,26 @@ fn solve_frame(pts: &[[f64; 2]], opts: &InverseOptions, direction: i8, center: [
         p[0] * d[0] + p[1] * d[1]
     };
     let tol = opts.tol_relative * len;
-    let s_max = bisect(pdot, (jmax as f64 - 1.0) * ds, (jmax as f64 + 1.0) * ds, tol);
-    let s_min = bisect(pdot, (jmin as f64 - 1.0) * ds, (jmin as f64 + 1.0) * ds, tol);
+    let s_max = bisect(
+        pdot,
+        (jmax as f64 - 1.0) * ds,
+        (jmax as f64 + 1.0) * ds,
+        tol,
+    );
+    let s_min = bisect(
+        pdot,
+        (jmin as f64 - 1.0) * ds,
+        (jmin as f64 + 1.0) * ds,
+        tol,
+    );
     let (rho_max, rho_min) = (rho(s_max).max(rmax_dense), rho(s_min).min(dense[jmin]));
     let l1 = 0.5 * (rho_max - rho_min);
     let l3 = 0.5 * (rho_max + rho_min);
     if rho_min < 0.05 * l3 {
-        return Err(InverseError::TooCloseToAxis { rho_min_mm: rho_min, limit_mm: 0.05 * l3 });
+        return Err(InverseError::TooCloseToAxis {
+            rho_min_mm: rho_min,
+            limit_mm: 0.05 * l3,
+        });
     }
     // Parameter measured from s_max in travel order; σ = +1 until s_min.
     let s_min_rel = (s_min - s_max).rem_euclid(len);
@@ -361,7 +417,10 @@ fn solve_frame(pts: &[[f64; 2]], opts: &InverseOptions, direction: i8, center: [
     let not_monotone = InverseError::NotMonotone {
         l1_mm: l1,
         l3_mm: l3,
-        stretches_deg: bad.iter().map(|r| [to_deg(phi[r[0]]), to_deg(phi[r[1] + 1])]).collect(),
+        stretches_deg: bad
+            .iter()
+            .map(|r| [to_deg(phi[r[0]]), to_deg(phi[r[1] + 1])])
+            .collect(),
     };
     if (total - TAU).abs() > 1e-6 {
         return Ok(Solved::WrongSense(not_monotone));
@@ -385,7 +444,10 @@ fn solve_frame(pts: &[[f64; 2]], opts: &InverseOptions, direction: i8, center: [
     let bad = runs(ns, |j| psi(j + 1) <= psi(j));
     if !bad.is_empty() {
         return Err(InverseError::NeedleReverses {
-            stretches_deg: bad.iter().map(|r| [to_deg(phi[r[0]]), to_deg(phi[r[1] + 1])]).collect(),
+            stretches_deg: bad
+                .iter()
+                .map(|r| [to_deg(phi[r[0]]), to_deg(phi[r[1] + 1])])
+                .collect(),
         });
     }
     // Uniform resampling: solve φH(u) = φH0 + t_n on the interpolant.
@@ -397,7 +459,11 @@ fn solve_frame(pts: &[[f64; 2]], opts: &InverseOptions, direction: i8, center: [
         let j = phi.partition_point(|&v| v <= target).clamp(1, ns) - 1;
         let (u_lo, u_hi) = (j as f64 * ds, ((j + 1) as f64 * ds).min(len));
         let unwrap_near = |u: f64| phi[j] + wrap(raw_phi(u) - phi[j]);
-        let u = if k == 0 { 0.0 } else { bisect(|u| unwrap_near(u) - target, u_lo, u_hi, tol) };
+        let u = if k == 0 {
+            0.0
+        } else {
+            bisect(|u| unwrap_near(u) - target, u_lo, u_hi, tol)
+        };
         let b = beta[j] + wrap(beta_at(u, target) - beta[j]);
         samples.push(-(b - beta[0]));
     }

@@ -54,11 +54,18 @@ impl ContactGeometry {
     #[must_use]
     pub fn new(a: f64, [i, di, ddi]: [f64; 3]) -> Self {
         let s = 1.0 + i;
-        let sun = [a * i / s, a * di / (s * s), a * (ddi * s - 2.0 * di * di) / (s * s * s)];
+        let sun = [
+            a * i / s,
+            a * di / (s * s),
+            a * (ddi * s - 2.0 * di * di) / (s * s * s),
+        ];
         let r2 = a / s;
         let r2t = a * di / (i * s * s);
         let r2tt = -(a / i) * (ddi * i * s - di * di * s - 2.0 * i * di * di) / (i * i * s * s * s);
-        Self { sun, intermediate: [r2, r2t, r2tt] }
+        Self {
+            sun,
+            intermediate: [r2, r2t, r2tt],
+        }
     }
 
     /// Convexity `Δ = r² + 2r′² − r r″` (mm²) of the sun and the intermediate.
@@ -111,7 +118,10 @@ impl Mechanism {
     pub fn tip(&self, phi_h: f64) -> [f64; 2] {
         let b = self.needle_direction(phi_h);
         let l1 = self.l1_mm();
-        [l1 * phi_h.cos() + self.l3_mm * b.cos(), l1 * phi_h.sin() + self.l3_mm * b.sin()]
+        [
+            l1 * phi_h.cos() + self.l3_mm * b.cos(),
+            l1 * phi_h.sin() + self.l3_mm * b.sin(),
+        ]
     }
 
     /// Sun pitch radius against the design polar angle: `r1 = a·i/(1 + i)`, mm.
@@ -201,12 +211,20 @@ mod tests {
             let t = (30.0 * j as f64).to_radians();
             assert!((m.psi3(t).to_degrees() - g).abs() < 1e-6, "t = {}", 30 * j);
             let closed = 2.0 * (k2 * (t / 2.0).sin()).atan2((t / 2.0).cos());
-            assert!((m.psi3(t) - closed.rem_euclid(TAU) - if j == 12 { TAU } else { 0.0 }).abs() < 1e-12);
+            assert!(
+                (m.psi3(t) - closed.rem_euclid(TAU) - if j == 12 { TAU } else { 0.0 }).abs()
+                    < 1e-12
+            );
         }
         // The sun and intermediate of G1 are the same ellipse (spec §11): ρ2(θ) = r1(θ).
         let sun = m.planet_curve(720).unwrap();
         let mid = m.intermediate_curve(720).unwrap();
-        let dev = sun.radii_mm().iter().zip(mid.radii_mm()).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max);
+        let dev = sun
+            .radii_mm()
+            .iter()
+            .zip(mid.radii_mm())
+            .map(|(a, b)| (a - b).abs())
+            .fold(0.0, f64::max);
         assert!(dev < 1e-11, "{dev}");
     }
 

@@ -38,7 +38,13 @@ pub struct RefineOptions {
 
 impl Default for RefineOptions {
     fn default() -> Self {
-        Self { samples: 360, ratio_bounds: [0.3, 3.3], convexity_penalty: false, smoothness: 1e-4, patience: 60 }
+        Self {
+            samples: 360,
+            ratio_bounds: [0.3, 3.3],
+            convexity_penalty: false,
+            smoothness: 1e-4,
+            patience: 60,
+        }
     }
 }
 
@@ -71,10 +77,15 @@ struct Problem<'a> {
 impl Problem<'_> {
     fn residuals_at(&self, q: &DVector<f64>) -> DVector<f64> {
         let k = self.order;
-        let ratio = SunRatio::new_unchecked(q.as_slice()[..k].to_vec(), q.as_slice()[k..2 * k].to_vec());
+        let ratio =
+            SunRatio::new_unchecked(q.as_slice()[..k].to_vec(), q.as_slice()[k..2 * k].to_vec());
         let (tau, c) = (q[2 * k], q[2 * k + 1]);
         let j = self.xs.len();
-        let nconv = if self.opts.convexity_penalty { 2 * j } else { 0 };
+        let nconv = if self.opts.convexity_penalty {
+            2 * j
+        } else {
+            0
+        };
         let mut r = DVector::zeros(2 * j + nconv + 2 * k);
         let wb = 10.0 * self.l3;
         let [lo, hi] = self.opts.ratio_bounds;
@@ -136,7 +147,15 @@ impl LeastSquaresProblem<f64, Dyn, Dyn> for Problem<'_> {
 
 /// Refines a starting ratio (τ-frame, origin `tau0` rad, offset `c0` rad) against the target law.
 #[must_use]
-pub fn refine(law: &NeedleLaw, l3_mm: f64, a_mm: f64, start: &SunRatio, tau0: f64, c0: f64, opts: &RefineOptions) -> Refined {
+pub fn refine(
+    law: &NeedleLaw,
+    l3_mm: f64,
+    a_mm: f64,
+    start: &SunRatio,
+    tau0: f64,
+    c0: f64,
+    opts: &RefineOptions,
+) -> Refined {
     let order = start.order();
     let j = opts.samples.max(4 * order).max(16);
     let xs: Vec<f64> = (0..j).map(|i| TAU * i as f64 / j as f64).collect();
@@ -145,11 +164,25 @@ pub fn refine(law: &NeedleLaw, l3_mm: f64, a_mm: f64, start: &SunRatio, tau0: f6
     q.extend_from_slice(start.sin_coefficients());
     q.push(tau0);
     q.push(c0);
-    let problem = Problem { law, l3: l3_mm, a_mm, order, xs, targets, opts: *opts, q: DVector::from_vec(q) };
+    let problem = Problem {
+        law,
+        l3: l3_mm,
+        a_mm,
+        order,
+        xs,
+        targets,
+        opts: *opts,
+        q: DVector::from_vec(q),
+    };
     let _ = problem.law;
-    let (done, report) = LevenbergMarquardt::new().with_patience(opts.patience).minimize(problem);
+    let (done, report) = LevenbergMarquardt::new()
+        .with_patience(opts.patience)
+        .minimize(problem);
     let q = done.q;
-    let ratio = SunRatio::new_unchecked(q.as_slice()[..order].to_vec(), q.as_slice()[order..2 * order].to_vec());
+    let ratio = SunRatio::new_unchecked(
+        q.as_slice()[..order].to_vec(),
+        q.as_slice()[order..2 * order].to_vec(),
+    );
     Refined {
         ratio,
         tau_rad: q[2 * order],

@@ -45,7 +45,13 @@ pub struct SegmentedOptions {
 
 impl Default for SegmentedOptions {
     fn default() -> Self {
-        Self { hypothesis: Vec::new(), w1: 0.5, tol_j: 1e-6, k_max: 20, route: Route::Ac }
+        Self {
+            hypothesis: Vec::new(),
+            w1: 0.5,
+            tol_j: 1e-6,
+            k_max: 20,
+            route: Route::Ac,
+        }
     }
 }
 
@@ -54,7 +60,9 @@ impl Default for SegmentedOptions {
 #[non_exhaustive]
 pub enum SegmentedError {
     /// `Σ|A_n| ≥ 1` would let the ratio reach zero.
-    #[error("the Fourier hypothesis amplitudes sum to {0:.4} ≥ 1; F′ must stay positive (Σ|A_n| < 1)")]
+    #[error(
+        "the Fourier hypothesis amplitudes sum to {0:.4} ≥ 1; F′ must stay positive (Σ|A_n| < 1)"
+    )]
     HypothesisTooLarge(f64),
     /// The mirror weight is outside (0, 1].
     #[error("mirror weight w1 = {0} must be in (0, 1]")]
@@ -78,7 +86,12 @@ pub struct Segmented {
 }
 
 /// Runs the segmented design for origin τ (rad) on a grid of `n` (even) samples per turn.
-pub fn design(law: &NeedleLaw, tau: f64, n: usize, opts: &SegmentedOptions) -> Result<Segmented, SegmentedError> {
+pub fn design(
+    law: &NeedleLaw,
+    tau: f64,
+    n: usize,
+    opts: &SegmentedOptions,
+) -> Result<Segmented, SegmentedError> {
     let amp: f64 = opts.hypothesis.iter().map(|h| h.0.abs()).sum();
     if amp >= 1.0 {
         return Err(SegmentedError::HypothesisTooLarge(amp));
@@ -110,7 +123,12 @@ pub fn design(law: &NeedleLaw, tau: f64, n: usize, opts: &SegmentedOptions) -> R
     let mut f: Vec<f64> = (0..=m)
         .map(|j| {
             let u = j as f64 * du;
-            1.0 + opts.hypothesis.iter().enumerate().map(|(k, (a, ph))| a * (2.0 * (k + 1) as f64 * u + ph).sin()).sum::<f64>()
+            1.0 + opts
+                .hypothesis
+                .iter()
+                .enumerate()
+                .map(|(k, (a, ph))| a * (2.0 * (k + 1) as f64 * u + ph).sin())
+                .sum::<f64>()
         })
         .collect();
     let interp = |f: &[f64], x: f64| {
@@ -126,8 +144,16 @@ pub fn design(law: &NeedleLaw, tau: f64, n: usize, opts: &SegmentedOptions) -> R
         f.iter_mut().for_each(|v| *v *= scale);
         let g: Vec<f64> = (0..=m).map(|j| interp(&f, w[j]) * dw[j]).collect();
         let j0 = (f[0] - g[m]).abs().max((f[m] - g[0]).abs());
-        let slope = |v: &[f64], at_end: bool| if at_end { (v[m] - v[m - 1]) / du } else { (v[1] - v[0]) / du };
-        let j1 = (slope(&f, false) - slope(&g, true)).abs().max((slope(&f, true) - slope(&g, false)).abs());
+        let slope = |v: &[f64], at_end: bool| {
+            if at_end {
+                (v[m] - v[m - 1]) / du
+            } else {
+                (v[1] - v[0]) / du
+            }
+        };
+        let j1 = (slope(&f, false) - slope(&g, true))
+            .abs()
+            .max((slope(&f, true) - slope(&g, false)).abs());
         if best.as_ref().is_none_or(|b| j0 < b.0) {
             best = Some((j0, j1, f.clone(), g.clone(), k));
         }
@@ -138,6 +164,14 @@ pub fn design(law: &NeedleLaw, tau: f64, n: usize, opts: &SegmentedOptions) -> R
         f = (0..=m).map(|j| w1 * g[m - j] + (1.0 - w1) * f[j]).collect();
     }
     let (j0, j1, f, g, iterations) = best.expect("at least one iterate");
-    let samples = (0..n).map(|i| if i < m { f[i] } else { g[i - m] }).collect();
-    Ok(Segmented { samples, j0, j1, iterations, converged: j0 <= opts.tol_j })
+    let samples = (0..n)
+        .map(|i| if i < m { f[i] } else { g[i - m] })
+        .collect();
+    Ok(Segmented {
+        samples,
+        j0,
+        j1,
+        iterations,
+        converged: j0 <= opts.tol_j,
+    })
 }

@@ -46,7 +46,9 @@ pub enum SimulateError {
         message: String,
     },
     /// JSON syntax or schema error.
-    #[error("{file}: {message}; a design file is what `ncgear design` writes (design.json, see the README)")]
+    #[error(
+        "{file}: {message}; a design file is what `ncgear design` writes (design.json, see the README)"
+    )]
     BadJson {
         /// File.
         file: String,
@@ -125,54 +127,99 @@ impl DesignFile {
     /// Reads and validates a design file.
     pub fn read(path: &Path) -> Result<(Self, Assembly), SimulateError> {
         let file = path.display().to_string();
-        let text = std::fs::read_to_string(path).map_err(|e| SimulateError::Unreadable { file: file.clone(), message: e.to_string() })?;
+        let text = std::fs::read_to_string(path).map_err(|e| SimulateError::Unreadable {
+            file: file.clone(),
+            message: e.to_string(),
+        })?;
         Self::parse(&text, &file)
     }
 
     /// Parses and validates design-file text; `file` names it in messages.
     pub fn parse(text: &str, file: &str) -> Result<(Self, Assembly), SimulateError> {
-        let d: DesignFile = serde_json::from_str(text).map_err(|e| SimulateError::BadJson { file: file.into(), message: e.to_string() })?;
+        let d: DesignFile = serde_json::from_str(text).map_err(|e| SimulateError::BadJson {
+            file: file.into(),
+            message: e.to_string(),
+        })?;
         let asm = d.assembly(file)?;
         Ok((d, asm))
     }
 
     /// Builds the [`Assembly`], checking every field.
     pub fn assembly(&self, file: &str) -> Result<Assembly, SimulateError> {
-        let bad = |field: &str, message: String| SimulateError::BadField { file: file.into(), field: field.into(), message };
-        let pos = |v: f64, field: &str| if v.is_finite() && v > 0.0 { Ok(v) } else { Err(bad(field, format!("{v} must be a positive length in mm"))) };
+        let bad = |field: &str, message: String| SimulateError::BadField {
+            file: file.into(),
+            field: field.into(),
+            message,
+        };
+        let pos = |v: f64, field: &str| {
+            if v.is_finite() && v > 0.0 {
+                Ok(v)
+            } else {
+                Err(bad(field, format!("{v} must be a positive length in mm")))
+            }
+        };
         let a = pos(self.center_distance, "center_distance")?;
         let l3 = pos(self.l3, "l3")?;
         if !self.needle_angle_deg.is_finite() {
-            return Err(bad("needle_angle_deg", "must be a finite angle in degrees".into()));
+            return Err(bad(
+                "needle_angle_deg",
+                "must be a finite angle in degrees".into(),
+            ));
         }
         if !(self.carrier.direction == 1 || self.carrier.direction == -1) {
-            return Err(bad("carrier.direction", format!("{} must be 1 (CCW) or -1 (CW)", self.carrier.direction)));
+            return Err(bad(
+                "carrier.direction",
+                format!("{} must be 1 (CCW) or -1 (CW)", self.carrier.direction),
+            ));
         }
         if !self.carrier.center.iter().all(|v| v.is_finite()) {
-            return Err(bad("carrier.center", "must be two finite numbers [x, y] in mm".into()));
+            return Err(bad(
+                "carrier.center",
+                "must be two finite numbers [x, y] in mm".into(),
+            ));
         }
         let curve = |g: &GearFile, name: &str| -> Result<PitchCurve, SimulateError> {
             let field = format!("gears.{name}.pitch");
             let n = g.pitch.len();
             if n < 8 {
-                return Err(bad(&field, format!("{n} samples; at least 8 (720 recommended) uniform [theta_deg, r_mm] pairs are needed")));
+                return Err(bad(
+                    &field,
+                    format!(
+                        "{n} samples; at least 8 (720 recommended) uniform [theta_deg, r_mm] pairs are needed"
+                    ),
+                ));
             }
             for (k, p) in g.pitch.iter().enumerate() {
                 let expect = 360.0 * k as f64 / n as f64;
                 if (p[0] - expect).abs() > 1e-6 * 360.0 {
-                    return Err(bad(&format!("{field}[{k}]"), format!("theta_deg = {} but a uniform table from 0 needs {expect}", p[0])));
+                    return Err(bad(
+                        &format!("{field}[{k}]"),
+                        format!(
+                            "theta_deg = {} but a uniform table from 0 needs {expect}",
+                            p[0]
+                        ),
+                    ));
                 }
                 if !(p[1].is_finite() && p[1] > 0.0 && p[1] < a) {
-                    return Err(bad(&format!("{field}[{k}]"), format!("r_mm = {} must be in (0, center_distance = {a})", p[1])));
+                    return Err(bad(
+                        &format!("{field}[{k}]"),
+                        format!("r_mm = {} must be in (0, center_distance = {a})", p[1]),
+                    ));
                 }
             }
-            PitchCurve::from_uniform_radii(g.pitch.iter().map(|p| p[1]).collect()).map_err(|e| bad(&field, e.to_string()))
+            PitchCurve::from_uniform_radii(g.pitch.iter().map(|p| p[1]).collect())
+                .map_err(|e| bad(&field, e.to_string()))
         };
         let angle = |g: &GearFile, name: &str| {
             g.angle_at_zero_deg
                 .filter(|v| v.is_finite())
                 .map(f64::to_radians)
-                .ok_or_else(|| bad(&format!("gears.{name}.angle_at_zero_deg"), "missing or not a finite angle in degrees".into()))
+                .ok_or_else(|| {
+                    bad(
+                        &format!("gears.{name}.angle_at_zero_deg"),
+                        "missing or not a finite angle in degrees".into(),
+                    )
+                })
         };
         Ok(Assembly {
             center_mm: self.carrier.center,
@@ -210,13 +257,19 @@ impl Simulation {
     /// Sets up the kinematics of an assembly.
     #[must_use]
     pub fn new(assembly: Assembly) -> Self {
-        Self { rebuilt: assembly.rebuild(), assembly }
+        Self {
+            rebuilt: assembly.rebuild(),
+            assembly,
+        }
     }
 
     /// Both arms at carrier angle φH (rad, world; the carrier advances by `direction·dφ`).
     #[must_use]
     pub fn pose(&self, phi_h: f64) -> TwoArms {
-        TwoArms { arm1: self.rebuilt.pose(phi_h), arm2: self.rebuilt.pose(phi_h + PI) }
+        TwoArms {
+            arm1: self.rebuilt.pose(phi_h),
+            arm2: self.rebuilt.pose(phi_h + PI),
+        }
     }
 
     /// Carrier angle (rad) after a fraction `f` of a turn in the direction of motion.
@@ -228,7 +281,9 @@ impl Simulation {
     /// Both arms at `n` instants over one turn (in time order).
     #[must_use]
     pub fn turn(&self, n: usize) -> Vec<TwoArms> {
-        (0..n).map(|k| self.pose(self.angle_at(k as f64 / n as f64))).collect()
+        (0..n)
+            .map(|k| self.pose(self.angle_at(k as f64 / n as f64)))
+            .collect()
     }
 
     /// Needle direction (rad) of a pose: from A to B.
@@ -241,7 +296,13 @@ impl Simulation {
     /// `x_dyn = x_static − v·t`, `t = turn fraction · 60/rpm` (s); `forward_mm_s` > 0 moves the
     /// machine towards +x (the path shifts towards −x).
     #[must_use]
-    pub fn dynamic(&self, rpm: f64, forward_mm_s: f64, turns: usize, n: usize) -> [Vec<[f64; 2]>; 2] {
+    pub fn dynamic(
+        &self,
+        rpm: f64,
+        forward_mm_s: f64,
+        turns: usize,
+        n: usize,
+    ) -> [Vec<[f64; 2]>; 2] {
         let period = 60.0 / rpm;
         let mut out = [Vec::new(), Vec::new()];
         for k in 0..=turns * n {
@@ -274,7 +335,14 @@ pub struct FeatureOptions {
 
 impl Default for FeatureOptions {
     fn default() -> Self {
-        Self { rpm: 300.0, forward_mm_s: 1000.0, planting_depth_mm: 30.0, take_level_mm: None, plant_level_mm: None, samples: 3600 }
+        Self {
+            rpm: 300.0,
+            forward_mm_s: 1000.0,
+            planting_depth_mm: 30.0,
+            take_level_mm: None,
+            plant_level_mm: None,
+            samples: 3600,
+        }
     }
 }
 
@@ -323,15 +391,29 @@ fn seg_seg(p1: [f64; 2], p2: [f64; 2], q1: [f64; 2], q2: [f64; 2]) -> f64 {
     let pd = |x: [f64; 2], a: [f64; 2], b: [f64; 2]| {
         let (dx, dy) = (b[0] - a[0], b[1] - a[1]);
         let l2 = dx * dx + dy * dy;
-        let t = if l2 > 0.0 { (((x[0] - a[0]) * dx + (x[1] - a[1]) * dy) / l2).clamp(0.0, 1.0) } else { 0.0 };
+        let t = if l2 > 0.0 {
+            (((x[0] - a[0]) * dx + (x[1] - a[1]) * dy) / l2).clamp(0.0, 1.0)
+        } else {
+            0.0
+        };
         (x[0] - a[0] - t * dx).hypot(x[1] - a[1] - t * dy)
     };
-    let cross = |o: [f64; 2], a: [f64; 2], b: [f64; 2]| (a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0]);
-    let (d1, d2, d3, d4) = (cross(q1, q2, p1), cross(q1, q2, p2), cross(p1, p2, q1), cross(p1, p2, q2));
+    let cross = |o: [f64; 2], a: [f64; 2], b: [f64; 2]| {
+        (a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0])
+    };
+    let (d1, d2, d3, d4) = (
+        cross(q1, q2, p1),
+        cross(q1, q2, p2),
+        cross(p1, p2, q1),
+        cross(p1, p2, q2),
+    );
     if d1 * d2 < 0.0 && d3 * d4 < 0.0 {
         return 0.0;
     }
-    pd(p1, q1, q2).min(pd(p2, q1, q2)).min(pd(q1, p1, p2)).min(pd(q2, p1, p2))
+    pd(p1, q1, q2)
+        .min(pd(p2, q1, q2))
+        .min(pd(q1, p1, p2))
+        .min(pd(q2, p1, p2))
 }
 
 /// Horizontal extent of the points below level `y`, or 0.
@@ -346,13 +428,22 @@ fn width_below(pts: &[[f64; 2]], y: f64) -> f64 {
 /// Computes the agronomic features.
 pub fn features(sim: &Simulation, opts: &FeatureOptions) -> Result<Features, SimulateError> {
     if !(opts.rpm.is_finite() && opts.rpm > 0.0) {
-        return Err(SimulateError::BadOption { option: "rpm", message: format!("{} must be a positive carrier speed in rpm", opts.rpm) });
+        return Err(SimulateError::BadOption {
+            option: "rpm",
+            message: format!("{} must be a positive carrier speed in rpm", opts.rpm),
+        });
     }
     if !(opts.forward_mm_s.is_finite() && opts.forward_mm_s >= 0.0) {
-        return Err(SimulateError::BadOption { option: "forward speed", message: "must be ≥ 0".into() });
+        return Err(SimulateError::BadOption {
+            option: "forward speed",
+            message: "must be ≥ 0".into(),
+        });
     }
     if !(opts.planting_depth_mm.is_finite() && opts.planting_depth_mm > 0.0) {
-        return Err(SimulateError::BadOption { option: "depth", message: "must be a positive depth in mm".into() });
+        return Err(SimulateError::BadOption {
+            option: "depth",
+            message: "must be a positive depth in mm".into(),
+        });
     }
     let n = opts.samples.max(360);
     let turn = sim.turn(n);
@@ -372,17 +463,29 @@ pub fn features(sim: &Simulation, opts: &FeatureOptions) -> Result<Features, Sim
         }
     }
     let o = sim.assembly.center_mm;
-    let rho: Vec<f64> = tips.iter().map(|p| (p[0] - o[0]).hypot(p[1] - o[1])).collect();
-    let level_crossing = |level: Option<f64>, from: usize, default: usize| -> Result<usize, SimulateError> {
-        let Some(y) = level else { return Ok(default) };
-        if !(y > ymin && y < ymax) {
-            return Err(SimulateError::BadOption { option: "level", message: format!("level {y} mm is outside the trajectory's height [{ymin:.3}, {ymax:.3}] mm") });
-        }
-        (0..n)
-            .map(|k| (from + k) % n)
-            .find(|&j| tips[j][1] >= y && tips[(j + 1) % n][1] < y)
-            .ok_or(SimulateError::BadOption { option: "level", message: format!("the tip never crosses y = {y} mm downwards") })
-    };
+    let rho: Vec<f64> = tips
+        .iter()
+        .map(|p| (p[0] - o[0]).hypot(p[1] - o[1]))
+        .collect();
+    let level_crossing =
+        |level: Option<f64>, from: usize, default: usize| -> Result<usize, SimulateError> {
+            let Some(y) = level else { return Ok(default) };
+            if !(y > ymin && y < ymax) {
+                return Err(SimulateError::BadOption {
+                    option: "level",
+                    message: format!(
+                        "level {y} mm is outside the trajectory's height [{ymin:.3}, {ymax:.3}] mm"
+                    ),
+                });
+            }
+            (0..n)
+                .map(|k| (from + k) % n)
+                .find(|&j| tips[j][1] >= y && tips[(j + 1) % n][1] < y)
+                .ok_or(SimulateError::BadOption {
+                    option: "level",
+                    message: format!("the tip never crosses y = {y} mm downwards"),
+                })
+        };
     let j_take = level_crossing(opts.take_level_mm, jlo, jhi)?;
     let j_plant = level_crossing(opts.plant_level_mm, jhi, jlo)?;
     let omega = TAU * opts.rpm / 60.0; // rad/s
@@ -410,14 +513,24 @@ pub fn features(sim: &Simulation, opts: &FeatureOptions) -> Result<Features, Sim
         .collect();
     let clearance = turn
         .iter()
-        .map(|p| seg_seg(p.arm1.planet_center_mm, p.arm1.tip_mm, p.arm2.planet_center_mm, p.arm2.tip_mm))
+        .map(|p| {
+            seg_seg(
+                p.arm1.planet_center_mm,
+                p.arm1.tip_mm,
+                p.arm2.planet_center_mm,
+                p.arm2.tip_mm,
+            )
+        })
         .fold(f64::INFINITY, f64::min);
     let deg = |x: f64| x.to_degrees();
     let carrier_deg = |j: usize| deg(sim.angle_at(j as f64 / n as f64)).rem_euclid(360.0);
     Ok(Features {
         height_mm: ymax - ymin,
         bbox_mm: [xmin, xmax, ymin, ymax],
-        rho_range_mm: [rho.iter().fold(f64::MIN, |a, b| a.max(*b)), rho.iter().fold(f64::MAX, |a, b| a.min(*b))],
+        rho_range_mm: [
+            rho.iter().fold(f64::MIN, |a, b| a.max(*b)),
+            rho.iter().fold(f64::MAX, |a, b| a.min(*b)),
+        ],
         take_carrier_deg: carrier_deg(j_take),
         needle_angle_take_deg: deg(Simulation::needle_angle(&turn[j_take].arm1)),
         plant_carrier_deg: carrier_deg(j_plant),

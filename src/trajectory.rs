@@ -58,7 +58,9 @@ pub enum TrajectoryError {
         message: String,
     },
     /// A CSV line is not two numbers.
-    #[error("{file}: {origin}: expected two numbers `x, y` in mm, found `{found}`; fix or comment the line out with #")]
+    #[error(
+        "{file}: {origin}: expected two numbers `x, y` in mm, found `{found}`; fix or comment the line out with #"
+    )]
     BadLine {
         /// File name.
         file: String,
@@ -76,7 +78,9 @@ pub enum TrajectoryError {
         message: String,
     },
     /// A coordinate is NaN or infinite.
-    #[error("{file}: {origin}: coordinate is not a finite number; every point needs finite x and y in mm")]
+    #[error(
+        "{file}: {origin}: coordinate is not a finite number; every point needs finite x and y in mm"
+    )]
     NotFinite {
         /// File name.
         file: String,
@@ -84,7 +88,9 @@ pub enum TrajectoryError {
         origin: Origin,
     },
     /// Too few points.
-    #[error("{file}: {count} points, at least {min} are needed (360, one per carrier degree, is typical)")]
+    #[error(
+        "{file}: {count} points, at least {min} are needed (360, one per carrier degree, is typical)"
+    )]
     TooFewPoints {
         /// File name.
         file: String,
@@ -106,7 +112,9 @@ pub enum TrajectoryError {
         y: f64,
     },
     /// The closing gap is far larger than the point spacing.
-    #[error("{file}: the curve is open: the gap from the last point back to the first is {gap_mm:.3} mm, while consecutive points are at most {spacing_mm:.3} mm apart; give the whole closed loop in travel order")]
+    #[error(
+        "{file}: the curve is open: the gap from the last point back to the first is {gap_mm:.3} mm, while consecutive points are at most {spacing_mm:.3} mm apart; give the whole closed loop in travel order"
+    )]
     Open {
         /// File name.
         file: String,
@@ -126,31 +134,54 @@ pub struct Trajectory {
 impl Trajectory {
     /// Validates points (mm, travel order). `origins[k]` says where point k came from; `file` names
     /// the source in messages. A last point equal to the first is dropped.
-    pub fn new(points: Vec<[f64; 2]>, origins: &[Origin], file: &str) -> Result<Self, TrajectoryError> {
+    pub fn new(
+        points: Vec<[f64; 2]>,
+        origins: &[Origin],
+        file: &str,
+    ) -> Result<Self, TrajectoryError> {
         let origin = |k: usize| origins.get(k).copied().unwrap_or(Origin::Index(k));
         let file_s = file.to_string();
-        if let Some(k) = points.iter().position(|p| !(p[0].is_finite() && p[1].is_finite())) {
-            return Err(TrajectoryError::NotFinite { file: file_s, origin: origin(k) });
+        if let Some(k) = points
+            .iter()
+            .position(|p| !(p[0].is_finite() && p[1].is_finite()))
+        {
+            return Err(TrajectoryError::NotFinite {
+                file: file_s,
+                origin: origin(k),
+            });
         }
         let mut points = points;
         while points.len() > 1 && points[0] == points[points.len() - 1] {
             points.pop();
         }
         if points.len() < MIN_POINTS {
-            return Err(TrajectoryError::TooFewPoints { file: file_s, count: points.len(), min: MIN_POINTS });
+            return Err(TrajectoryError::TooFewPoints {
+                file: file_s,
+                count: points.len(),
+                min: MIN_POINTS,
+            });
         }
         let mut max_step: f64 = 0.0;
         for k in 1..points.len() {
             let d = dist(points[k], points[k - 1]);
             if d == 0.0 {
                 let [x, y] = points[k];
-                return Err(TrajectoryError::DuplicatePoint { file: file_s, origin: origin(k), x, y });
+                return Err(TrajectoryError::DuplicatePoint {
+                    file: file_s,
+                    origin: origin(k),
+                    x,
+                    y,
+                });
             }
             max_step = max_step.max(d);
         }
         let gap = dist(points[0], points[points.len() - 1]);
         if gap > 4.0 * max_step {
-            return Err(TrajectoryError::Open { file: file_s, gap_mm: gap, spacing_mm: max_step });
+            return Err(TrajectoryError::Open {
+                file: file_s,
+                gap_mm: gap,
+                spacing_mm: max_step,
+            });
         }
         Ok(Self { points })
     }
@@ -159,15 +190,23 @@ impl Trajectory {
     /// starts with `{`).
     pub fn read(path: &Path) -> Result<Self, TrajectoryError> {
         let file = path.display().to_string();
-        let bytes = std::fs::read(path)
-            .map_err(|e| TrajectoryError::Unreadable { file: file.clone(), message: e.to_string() })?;
+        let bytes = std::fs::read(path).map_err(|e| TrajectoryError::Unreadable {
+            file: file.clone(),
+            message: e.to_string(),
+        })?;
         let text = String::from_utf8(bytes).map_err(|e| TrajectoryError::Unreadable {
             file: file.clone(),
             message: format!("not UTF-8 text ({e})"),
         })?;
-        let is_json = path.extension().is_some_and(|e| e.eq_ignore_ascii_case("json"))
+        let is_json = path
+            .extension()
+            .is_some_and(|e| e.eq_ignore_ascii_case("json"))
             || text.trim_start().starts_with('{');
-        if is_json { Self::parse_json(&text, &file) } else { Self::parse_csv(&text, &file) }
+        if is_json {
+            Self::parse_json(&text, &file)
+        } else {
+            Self::parse_csv(&text, &file)
+        }
     }
 
     /// Parses CSV text (see the module docs); `file` names the source in messages.
@@ -180,8 +219,10 @@ impl Trajectory {
             if line.is_empty() {
                 continue;
             }
-            let fields: Vec<&str> =
-                line.split(|c: char| c == ',' || c == ';' || c.is_whitespace()).filter(|s| !s.is_empty()).collect();
+            let fields: Vec<&str> = line
+                .split(|c: char| c == ',' || c == ';' || c.is_whitespace())
+                .filter(|s| !s.is_empty())
+                .collect();
             let parsed: Option<Vec<f64>> = fields.iter().map(|s| s.parse::<f64>().ok()).collect();
             match parsed {
                 Some(v) if v.len() == 2 => {
@@ -200,7 +241,11 @@ impl Trajectory {
             }
         }
         if points.is_empty() {
-            return Err(TrajectoryError::TooFewPoints { file: file.to_string(), count: 0, min: MIN_POINTS });
+            return Err(TrajectoryError::TooFewPoints {
+                file: file.to_string(),
+                count: 0,
+                min: MIN_POINTS,
+            });
         }
         Self::new(points, &origins, file)
     }
@@ -213,11 +258,16 @@ impl Trajectory {
             units: Option<String>,
             points: Vec<[f64; 2]>,
         }
-        let bad = |message: String| TrajectoryError::BadJson { file: file.to_string(), message };
+        let bad = |message: String| TrajectoryError::BadJson {
+            file: file.to_string(),
+            message,
+        };
         let doc: Doc = serde_json::from_str(text).map_err(|e| bad(e.to_string()))?;
         if let Some(u) = doc.units.as_deref() {
             if u != "mm" {
-                return Err(bad(format!("field `units` is \"{u}\", only \"mm\" is supported")));
+                return Err(bad(format!(
+                    "field `units` is \"{u}\", only \"mm\" is supported"
+                )));
             }
         }
         let origins: Vec<Origin> = (0..doc.points.len()).map(Origin::Index).collect();
@@ -246,7 +296,10 @@ impl Trajectory {
     #[must_use]
     pub fn relative_to(&self, center: [f64; 2], mirror: bool) -> Vec<[f64; 2]> {
         let sy = if mirror { -1.0 } else { 1.0 };
-        self.points.iter().map(|p| [p[0] - center[0], sy * (p[1] - center[1])]).collect()
+        self.points
+            .iter()
+            .map(|p| [p[0] - center[0], sy * (p[1] - center[1])])
+            .collect()
     }
 
     /// Smooths a measured or noisy loop (spec §3.1, §14): the polyline is resampled at `4·harmonics`
@@ -273,7 +326,9 @@ impl Trajectory {
         };
         let samples: Vec<[f64; 2]> = (0..m).map(|k| at(len * k as f64 / m as f64)).collect();
         let filt = |c: usize| {
-            let mut co = crate::periodic::fft_coefficients(&samples.iter().map(|p| p[c]).collect::<Vec<_>>());
+            let mut co = crate::periodic::fft_coefficients(
+                &samples.iter().map(|p| p[c]).collect::<Vec<_>>(),
+            );
             for (k, v) in co.iter_mut().enumerate() {
                 if k > harmonics {
                     *v = realfft::num_complex::Complex::new(0.0, 0.0);
@@ -285,12 +340,18 @@ impl Trajectory {
         // Evaluate the truncated series at the original points' chord positions.
         let eval = |co: &[realfft::num_complex::Complex<f64>], s: f64| {
             let w = std::f64::consts::TAU * s / len;
-            co.iter().enumerate().take(harmonics + 1).map(|(k, c)| {
-                let f = if k == 0 { 1.0 } else { 2.0 };
-                f * (c.re * (k as f64 * w).cos() - c.im * (k as f64 * w).sin())
-            }).sum::<f64>()
+            co.iter()
+                .enumerate()
+                .take(harmonics + 1)
+                .map(|(k, c)| {
+                    let f = if k == 0 { 1.0 } else { 2.0 };
+                    f * (c.re * (k as f64 * w).cos() - c.im * (k as f64 * w).sin())
+                })
+                .sum::<f64>()
         };
-        let points = (0..n).map(|k| [eval(&cx, cum[k]), eval(&cy, cum[k])]).collect();
+        let points = (0..n)
+            .map(|k| [eval(&cx, cum[k]), eval(&cy, cum[k])])
+            .collect();
         Self { points }
     }
 
@@ -380,24 +441,44 @@ mod tests {
         let mut text = circle_csv(40);
         text.push_str("1.0 abc\n");
         match Trajectory::parse_csv(&text, "b.csv") {
-            Err(TrajectoryError::BadLine { origin: Origin::Line(41), .. }) => {}
+            Err(TrajectoryError::BadLine {
+                origin: Origin::Line(41),
+                ..
+            }) => {}
             other => panic!("{other:?}"),
         }
-        let dup = circle_csv(40).replacen('\n', &format!("\n{}\n", circle_csv(40).lines().next().unwrap()), 1);
+        let dup = circle_csv(40).replacen(
+            '\n',
+            &format!("\n{}\n", circle_csv(40).lines().next().unwrap()),
+            1,
+        );
         let dup = format!("{}\n", dup.trim_end());
         assert!(matches!(
             Trajectory::parse_csv(&dup, "c.csv"),
-            Err(TrajectoryError::DuplicatePoint { origin: Origin::Line(2), .. })
+            Err(TrajectoryError::DuplicatePoint {
+                origin: Origin::Line(2),
+                ..
+            })
         ));
-        let open: String = circle_csv(40).lines().take(30).map(|l| format!("{l}\n")).collect();
-        assert!(matches!(Trajectory::parse_csv(&open, "d.csv"), Err(TrajectoryError::Open { .. })));
+        let open: String = circle_csv(40)
+            .lines()
+            .take(30)
+            .map(|l| format!("{l}\n"))
+            .collect();
+        assert!(matches!(
+            Trajectory::parse_csv(&open, "d.csv"),
+            Err(TrajectoryError::Open { .. })
+        ));
         assert!(matches!(
             Trajectory::parse_csv("1 2\n3 4\n", "e.csv"),
             Err(TrajectoryError::TooFewPoints { count: 2, .. })
         ));
         assert!(matches!(
             Trajectory::parse_csv(&format!("NaN 1\n{}", circle_csv(40)), "f.csv"),
-            Err(TrajectoryError::NotFinite { origin: Origin::Line(1), .. })
+            Err(TrajectoryError::NotFinite {
+                origin: Origin::Line(1),
+                ..
+            })
         ));
         assert!(matches!(
             Trajectory::parse_json(r#"{"units":"in","points":[]}"#, "g.json"),

@@ -93,14 +93,22 @@ pub fn parse_pair(s: &str) -> Result<[f64; 2], String> {
             (Some(x), Some(y)) => Ok([x, y]),
             _ => Err(format!("`{s}`: expected two finite numbers `X,Y`")),
         },
-        _ => Err(format!("`{s}`: expected two numbers separated by a comma, e.g. `0,0`")),
+        _ => Err(format!(
+            "`{s}`: expected two numbers separated by a comma, e.g. `0,0`"
+        )),
     }
 }
 
 /// Runs `ncgear design`.
 pub fn run(args: Args) -> CliResult {
-    let traj = Trajectory::read(&args.trajectory).map_err(|e| input_error(miette::miette!("{e}")))?;
-    let mut opts = DesignOptions { center_mm: args.center, order: args.order, tol_tip_mm: args.tol_mm, ..DesignOptions::default() };
+    let traj =
+        Trajectory::read(&args.trajectory).map_err(|e| input_error(miette::miette!("{e}")))?;
+    let mut opts = DesignOptions {
+        center_mm: args.center,
+        order: args.order,
+        tol_tip_mm: args.tol_mm,
+        ..DesignOptions::default()
+    };
     opts.refine = match args.refine {
         RefineArg::Auto => RefineMode::Auto,
         RefineArg::On => RefineMode::On,
@@ -108,7 +116,11 @@ pub fn run(args: Args) -> CliResult {
     };
     opts.refine_order = args.refine_order;
     opts.smoothing = args.smooth;
-    opts.segmented.hypothesis = args.harmonics.iter().map(|h| (h[0], h[1].to_radians())).collect();
+    opts.segmented.hypothesis = args
+        .harmonics
+        .iter()
+        .map(|h| (h[0], h[1].to_radians()))
+        .collect();
     opts.segmented.route = match args.route {
         RouteArg::Ac => Route::Ac,
         RouteArg::Bd => Route::Bd,
@@ -125,30 +137,64 @@ pub fn run(args: Args) -> CliResult {
         DesignError::Internal(_) => runtime_error(miette::miette!("{file}: {e}")),
         _ => input_error(miette::miette!("{file}: {e}")),
     })?;
-    let written = ncgear::outputs::write_design(&d, &args.out).map_err(|e| runtime_error(miette::miette!("{e}")))?;
+    let written = ncgear::outputs::write_design(&d, &args.out)
+        .map_err(|e| runtime_error(miette::miette!("{e}")))?;
     if args.json {
         return print_json(&d.report);
     }
     let r = &d.report;
-    println!("{file}: {} points, carrier {}", r.trajectory.points, if r.carrier.direction > 0 { "CCW" } else { "CW" });
-    println!("  l1 = {:.6} mm, l3 = {:.6} mm, a = {:.6} mm, needle angle {:.4}°", r.l1, r.l3, r.center_distance, r.needle_angle_deg);
+    println!(
+        "{file}: {} points, carrier {}",
+        r.trajectory.points,
+        if r.carrier.direction > 0 { "CCW" } else { "CW" }
+    );
+    println!(
+        "  l1 = {:.6} mm, l3 = {:.6} mm, a = {:.6} mm, needle angle {:.4}°",
+        r.l1, r.l3, r.center_distance, r.needle_angle_deg
+    );
     println!(
         "  compatibility: E_c·l3 = {:.4} mm at τ = {:.3}°",
         r.compatibility.tip_equivalent_mm, r.compatibility.tau_deg
     );
-    println!("  patent route: K = {}, max deviation {:.4} mm", r.patent_route.order, r.patent_route.max_deviation_mm);
+    println!(
+        "  patent route: K = {}, max deviation {:.4} mm",
+        r.patent_route.order, r.patent_route.max_deviation_mm
+    );
     if let Some(f) = &r.refinement {
-        println!("  refinement:   K = {}, max deviation {:.4} mm ({})", f.order, f.max_deviation_mm, f.note);
+        println!(
+            "  refinement:   K = {}, max deviation {:.4} mm ({})",
+            f.order, f.max_deviation_mm, f.note
+        );
     }
     println!(
         "  round trip from the output curves ({}): max deviation {:.4} mm, Hausdorff {:.4} mm",
         r.chosen, r.roundtrip.max_deviation_mm, r.roundtrip.hausdorff_mm
     );
-    let failed: Vec<&str> = r.checks.iter().filter(|c| !c.pass).map(|c| c.id.as_str()).collect();
-    println!("  checks C1–C12: {}", if failed.is_empty() { "all pass".to_string() } else { format!("FAILED {}", failed.join(", ")) });
+    let failed: Vec<&str> = r
+        .checks
+        .iter()
+        .filter(|c| !c.pass)
+        .map(|c| c.id.as_str())
+        .collect();
+    println!(
+        "  checks C1–C12: {}",
+        if failed.is_empty() {
+            "all pass".to_string()
+        } else {
+            format!("FAILED {}", failed.join(", "))
+        }
+    );
     for w in &r.warnings {
         println!("  warning: {w}");
     }
-    println!("  {:.1} ms; wrote {}", r.timings_ms.total, written.iter().map(|p| p.display().to_string()).collect::<Vec<_>>().join(", "));
+    println!(
+        "  {:.1} ms; wrote {}",
+        r.timings_ms.total,
+        written
+            .iter()
+            .map(|p| p.display().to_string())
+            .collect::<Vec<_>>()
+            .join(", ")
+    );
     Ok(())
 }

@@ -53,17 +53,26 @@ fn input(e: SimulateError) -> super::Failure {
 pub fn run(args: Args) -> CliResult {
     let (file, asm) = DesignFile::read(&args.design).map_err(input)?;
     let target = match &args.target {
-        Some(p) => Trajectory::read(p).map_err(|e| input_error(miette::miette!("{e}")))?.points().to_vec(),
+        Some(p) => Trajectory::read(p)
+            .map_err(|e| input_error(miette::miette!("{e}")))?
+            .points()
+            .to_vec(),
         None => file.target_points.clone(),
     };
     let forward_mm_s = match (args.speed, args.spacing) {
         (Some(v), _) => v * 1000.0,
         (None, Some(s)) if s > 0.0 => FeatureOptions::forward_for_spacing(s, args.rpm),
-        (None, Some(s)) => return Err(input_error(miette::miette!("--spacing {s}: must be a positive plant spacing in mm"))),
+        (None, Some(s)) => {
+            return Err(input_error(miette::miette!(
+                "--spacing {s}: must be a positive plant spacing in mm"
+            )));
+        }
         (None, None) => FeatureOptions::default().forward_mm_s,
     };
     if !(args.duration > 0.0 && args.frames >= 8) {
-        return Err(input_error(miette::miette!("--duration must be > 0 s and --frames ≥ 8")));
+        return Err(input_error(miette::miette!(
+            "--duration must be > 0 s and --frames ≥ 8"
+        )));
     }
     let opts = FeatureOptions {
         rpm: args.rpm,
@@ -73,28 +82,60 @@ pub fn run(args: Args) -> CliResult {
         plant_level_mm: args.plant_level,
         ..FeatureOptions::default()
     };
-    let anim = AnimationOptions { frames: args.frames, seconds: args.duration, ..AnimationOptions::default() };
+    let anim = AnimationOptions {
+        frames: args.frames,
+        seconds: args.duration,
+        ..AnimationOptions::default()
+    };
     let sim = Simulation::new(asm);
-    let report = ncgear::outputs::write_simulation(&sim, &target, &opts, &anim, &args.out).map_err(|e| match e {
-        SimulateError::BadOption { option: "out", .. } => runtime_error(miette::miette!("{e}")),
-        _ => input(e),
-    })?;
-    let json = serde_json::to_string_pretty(&report).map_err(|e| runtime_error(miette::miette!("{e}")))?;
-    std::fs::write(args.out.join("simulate.json"), &json).map_err(|e| runtime_error(miette::miette!("cannot write simulate.json: {e}")))?;
+    let report = ncgear::outputs::write_simulation(&sim, &target, &opts, &anim, &args.out)
+        .map_err(|e| match e {
+            SimulateError::BadOption { option: "out", .. } => runtime_error(miette::miette!("{e}")),
+            _ => input(e),
+        })?;
+    let json =
+        serde_json::to_string_pretty(&report).map_err(|e| runtime_error(miette::miette!("{e}")))?;
+    std::fs::write(args.out.join("simulate.json"), &json)
+        .map_err(|e| runtime_error(miette::miette!("cannot write simulate.json: {e}")))?;
     if args.json {
         return print_json(&report);
     }
     let f = &report.features;
-    println!("{}: simulated both arms over one turn", args.design.display());
+    println!(
+        "{}: simulated both arms over one turn",
+        args.design.display()
+    );
     if let (Some(mx), Some(mean)) = (report.deviation_max_mm, report.deviation_mean_mm) {
         println!("  distance from the target: max {mx:.4} mm, mean {mean:.4} mm");
     }
-    println!("  arm 2 vs arm 1 static path: {:.2e} mm", report.arm2_vs_arm1_mm);
-    println!("  height {:.2} mm, ρ ∈ [{:.3}, {:.3}] mm", f.height_mm, f.rho_range_mm[1], f.rho_range_mm[0]);
-    println!("  needle angle: taking {:.2}°, planting {:.2}°", f.needle_angle_take_deg, f.needle_angle_plant_deg);
-    println!("  hole width at {} mm depth: {:.2} mm (static loop width {:.2} mm)", args.depth, f.hole_width_mm, f.static_width_at_depth_mm);
-    println!("  tip speed: max {:.0} mm/s, at planting {:.0} mm/s; plant spacing {:.1} mm", f.max_tip_speed_mm_s, f.tip_speed_at_plant_mm_s, f.plant_spacing_mm);
-    println!("  min clearance between the needles: {:.2} mm", f.min_arm_clearance_mm);
-    println!("  wrote {} files into {}", report.files.len() + 1, args.out.display());
+    println!(
+        "  arm 2 vs arm 1 static path: {:.2e} mm",
+        report.arm2_vs_arm1_mm
+    );
+    println!(
+        "  height {:.2} mm, ρ ∈ [{:.3}, {:.3}] mm",
+        f.height_mm, f.rho_range_mm[1], f.rho_range_mm[0]
+    );
+    println!(
+        "  needle angle: taking {:.2}°, planting {:.2}°",
+        f.needle_angle_take_deg, f.needle_angle_plant_deg
+    );
+    println!(
+        "  hole width at {} mm depth: {:.2} mm (static loop width {:.2} mm)",
+        args.depth, f.hole_width_mm, f.static_width_at_depth_mm
+    );
+    println!(
+        "  tip speed: max {:.0} mm/s, at planting {:.0} mm/s; plant spacing {:.1} mm",
+        f.max_tip_speed_mm_s, f.tip_speed_at_plant_mm_s, f.plant_spacing_mm
+    );
+    println!(
+        "  min clearance between the needles: {:.2} mm",
+        f.min_arm_clearance_mm
+    );
+    println!(
+        "  wrote {} files into {}",
+        report.files.len() + 1,
+        args.out.display()
+    );
     Ok(())
 }

@@ -28,7 +28,12 @@ fn radius(table: &[[f64; 2]], theta: f64) -> f64 {
 }
 
 fn pitch(v: &serde_json::Value) -> Vec<[f64; 2]> {
-    v["pitch"].as_array().unwrap().iter().map(|p| [p[0].as_f64().unwrap(), p[1].as_f64().unwrap()]).collect()
+    v["pitch"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|p| [p[0].as_f64().unwrap(), p[1].as_f64().unwrap()])
+        .collect()
 }
 
 /// Integrates the train from design.json alone, using only the documented conventions, and
@@ -37,12 +42,25 @@ fn tip_from_json(d: &serde_json::Value, n: usize) -> Vec<[f64; 2]> {
     let a = d["center_distance"].as_f64().unwrap();
     let l3 = d["l3"].as_f64().unwrap();
     let gamma = d["needle_angle_deg"].as_f64().unwrap().to_radians();
-    let c = [d["carrier"]["center"][0].as_f64().unwrap(), d["carrier"]["center"][1].as_f64().unwrap()];
+    let c = [
+        d["carrier"]["center"][0].as_f64().unwrap(),
+        d["carrier"]["center"][1].as_f64().unwrap(),
+    ];
     let dir = d["carrier"]["direction"].as_f64().unwrap();
     let g = &d["gears"];
-    let (sun, mid, planet) = (pitch(&g["sun"]), pitch(&g["intermediate"]), pitch(&g["planet"]));
-    let th2_0 = g["intermediate"]["angle_at_zero_deg"].as_f64().unwrap().to_radians();
-    let th3_0 = g["planet"]["angle_at_zero_deg"].as_f64().unwrap().to_radians();
+    let (sun, mid, planet) = (
+        pitch(&g["sun"]),
+        pitch(&g["intermediate"]),
+        pitch(&g["planet"]),
+    );
+    let th2_0 = g["intermediate"]["angle_at_zero_deg"]
+        .as_f64()
+        .unwrap()
+        .to_radians();
+    let th3_0 = g["planet"]["angle_at_zero_deg"]
+        .as_f64()
+        .unwrap()
+        .to_radians();
     // Relative rotations about the moving centres, rolling without slip at the contacts:
     // dθ2/dφ = 1 + r_sun/ρ2 (sun–intermediate), dθ3/dφ = 1 − (ρ2/r_planet)(dθ2/dφ − 1).
     let rhs = |phi: f64, y: [f64; 2]| {
@@ -61,11 +79,20 @@ fn tip_from_json(d: &serde_json::Value, n: usize) -> Vec<[f64; 2]> {
     for k in 0..steps {
         if k % 20 == 0 {
             let b = y[1] + gamma;
-            out.push([c[0] + 2.0 * a * phi.cos() + l3 * b.cos(), c[1] + 2.0 * a * phi.sin() + l3 * b.sin()]);
+            out.push([
+                c[0] + 2.0 * a * phi.cos() + l3 * b.cos(),
+                c[1] + 2.0 * a * phi.sin() + l3 * b.sin(),
+            ]);
         }
         let k1 = rhs(phi, y);
-        let k2 = rhs(phi + h / 2.0, [y[0] + h / 2.0 * k1[0], y[1] + h / 2.0 * k1[1]]);
-        let k3 = rhs(phi + h / 2.0, [y[0] + h / 2.0 * k2[0], y[1] + h / 2.0 * k2[1]]);
+        let k2 = rhs(
+            phi + h / 2.0,
+            [y[0] + h / 2.0 * k1[0], y[1] + h / 2.0 * k1[1]],
+        );
+        let k3 = rhs(
+            phi + h / 2.0,
+            [y[0] + h / 2.0 * k2[0], y[1] + h / 2.0 * k2[1]],
+        );
         let k4 = rhs(phi + h, [y[0] + h * k3[0], y[1] + h * k3[1]]);
         for i in 0..2 {
             y[i] += h / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i]);
@@ -79,7 +106,12 @@ fn read_points(path: &str) -> Vec<[f64; 2]> {
     let text = std::fs::read_to_string(path).unwrap();
     if path.ends_with(".json") {
         let v: serde_json::Value = serde_json::from_str(&text).unwrap();
-        return v["points"].as_array().unwrap().iter().map(|p| [p[0].as_f64().unwrap(), p[1].as_f64().unwrap()]).collect();
+        return v["points"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|p| [p[0].as_f64().unwrap(), p[1].as_f64().unwrap()])
+            .collect();
     }
     text.lines()
         .filter_map(|l| {
@@ -95,22 +127,37 @@ fn min_dist(p: [f64; 2], pts: &[[f64; 2]]) -> f64 {
         .map(|k| {
             let (a, b) = (pts[k], pts[(k + 1) % n]);
             let (dx, dy) = (b[0] - a[0], b[1] - a[1]);
-            let t = (((p[0] - a[0]) * dx + (p[1] - a[1]) * dy) / (dx * dx + dy * dy)).clamp(0.0, 1.0);
+            let t =
+                (((p[0] - a[0]) * dx + (p[1] - a[1]) * dy) / (dx * dx + dy * dy)).clamp(0.0, 1.0);
             (p[0] - a[0] - t * dx).hypot(p[1] - a[1] - t * dy)
         })
         .fold(f64::INFINITY, f64::min)
 }
 
 fn run_design(file: &str, extra: &[&str], dir: &Path) -> serde_json::Value {
-    let out = ncgear().arg("design").arg(asset(file)).arg("--out").arg(dir).args(extra).output().unwrap();
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let out = ncgear()
+        .arg("design")
+        .arg(asset(file))
+        .arg("--out")
+        .arg(dir)
+        .args(extra)
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
     let text = std::fs::read_to_string(dir.join("design.json")).unwrap();
     serde_json::from_str(&text).unwrap()
 }
 
 #[test]
 fn design_json_conventions_reproduce_the_target_independently() {
-    for (file, extra) in [("g1_ellipse.csv", vec![]), ("asymmetric_cw.json", vec!["--center", "250,400"])] {
+    for (file, extra) in [
+        ("g1_ellipse.csv", vec![]),
+        ("asymmetric_cw.json", vec!["--center", "250,400"]),
+    ] {
         let dir = out_dir(&format!("cli_{file}"));
         let d = run_design(file, &extra, &dir);
         for key in ["l1", "l3", "center_distance", "needle_angle_deg"] {
@@ -123,14 +170,27 @@ fn design_json_conventions_reproduce_the_target_independently() {
         // Tip from the JSON alone, compared with the target file.
         let target = read_points(&asset(file));
         let traced = tip_from_json(&d, 720);
-        let worst = traced.iter().map(|p| min_dist(*p, &target)).fold(0.0, f64::max);
-        assert!(worst <= claimed + 0.01, "{file}: independent integration deviates {worst} mm (report: {claimed})");
+        let worst = traced
+            .iter()
+            .map(|p| min_dist(*p, &target))
+            .fold(0.0, f64::max);
+        assert!(
+            worst <= claimed + 0.01,
+            "{file}: independent integration deviates {worst} mm (report: {claimed})"
+        );
         // Synchronous at φH = 0 for the CCW G1 file (point k at carrier angle k°).
         if file == "g1_ellipse.csv" {
             let p0 = traced[0];
             assert!((p0[0] - target[0][0]).hypot(p0[1] - target[0][1]) < 0.05);
         }
-        for f in ["sun.csv", "intermediate.csv", "planet.csv", "design.svg", "design.png", "ratio.svg"] {
+        for f in [
+            "sun.csv",
+            "intermediate.csv",
+            "planet.csv",
+            "design.svg",
+            "design.png",
+            "ratio.svg",
+        ] {
             let meta = std::fs::metadata(dir.join(f)).unwrap();
             assert!(meta.len() > 1000, "{f}");
         }
@@ -142,7 +202,18 @@ fn design_json_conventions_reproduce_the_target_independently() {
 #[test]
 fn json_flag_prints_the_report() {
     let dir = out_dir("cli_json");
-    let out = ncgear().args(["design", &asset("g1_ellipse.csv"), "--json", "--order", "8", "--out"]).arg(&dir).output().unwrap();
+    let out = ncgear()
+        .args([
+            "design",
+            &asset("g1_ellipse.csv"),
+            "--json",
+            "--order",
+            "8",
+            "--out",
+        ])
+        .arg(&dir)
+        .output()
+        .unwrap();
     assert!(out.status.success());
     let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
     assert_eq!(v["fourier"]["order"].as_u64(), Some(8));
@@ -158,7 +229,12 @@ fn expect_input_error(args: &[&str], contents: Option<(&str, &str)>, needles: &[
         std::fs::write(&p, text).unwrap();
         cmd.arg(p);
     }
-    let out = cmd.args(args).arg("--out").arg(dir.join("o")).output().unwrap();
+    let out = cmd
+        .args(args)
+        .arg("--out")
+        .arg(dir.join("o"))
+        .output()
+        .unwrap();
     let err = String::from_utf8_lossy(&out.stderr);
     assert_eq!(out.status.code(), Some(2), "{err}");
     for n in needles {
@@ -169,16 +245,46 @@ fn expect_input_error(args: &[&str], contents: Option<(&str, &str)>, needles: &[
 
 #[test]
 fn bad_inputs_exit_2_with_a_clear_message() {
-    expect_input_error(&["/nonexistent/path.csv"], None, &["/nonexistent/path.csv", "cannot read"]);
+    expect_input_error(
+        &["/nonexistent/path.csv"],
+        None,
+        &["/nonexistent/path.csv", "cannot read"],
+    );
     expect_input_error(&[], Some(("empty.csv", "")), &["empty.csv", "at least 20"]);
     let g1 = std::fs::read_to_string(asset("g1_ellipse.csv")).unwrap();
     let broken = g1.replacen("\n", "\n1.0;oops\n", 3);
-    expect_input_error(&[], Some(("broken.csv", &broken)), &["broken.csv", "line 2", "oops"]);
-    let nan: String = g1.lines().enumerate().map(|(i, l)| if i == 5 { "NaN,-159.7\n".to_string() } else { format!("{l}\n") }).collect();
-    expect_input_error(&[], Some(("nan.csv", &nan)), &["nan.csv", "line 6", "finite"]);
+    expect_input_error(
+        &[],
+        Some(("broken.csv", &broken)),
+        &["broken.csv", "line 2", "oops"],
+    );
+    let nan: String = g1
+        .lines()
+        .enumerate()
+        .map(|(i, l)| {
+            if i == 5 {
+                "NaN,-159.7\n".to_string()
+            } else {
+                format!("{l}\n")
+            }
+        })
+        .collect();
+    expect_input_error(
+        &[],
+        Some(("nan.csv", &nan)),
+        &["nan.csv", "line 6", "finite"],
+    );
     let open: String = g1.lines().take(200).map(|l| format!("{l}\n")).collect();
     expect_input_error(&[], Some(("open.csv", &open)), &["open.csv", "open"]);
-    expect_input_error(&["--center", "60,-140"], Some(("inside.csv", &g1)), &["inside.csv", "winding"]);
-    expect_input_error(&[], Some(("bad.json", r#"{"units": "mm", "pts": []}"#)), &["bad.json", "pts"]);
+    expect_input_error(
+        &["--center", "60,-140"],
+        Some(("inside.csv", &g1)),
+        &["inside.csv", "winding"],
+    );
+    expect_input_error(
+        &[],
+        Some(("bad.json", r#"{"units": "mm", "pts": []}"#)),
+        &["bad.json", "pts"],
+    );
     expect_input_error(&["--order", "0"], Some(("g1.csv", &g1)), &["order"]);
 }

@@ -14,7 +14,9 @@ const G1_PSI3_DEG: [f64; 13] = [
     0.0, 52.252904, 93.164303, 122.703222, 144.987948, 163.343889, 180.0, 196.656111, 215.012052,
     237.296778, 266.835697, 307.747096, 360.0,
 ];
-const G1_I31: [f64; 7] = [1.83044983, 1.58144121, 1.15294002, 0.8414804, 0.66250796, 0.57325348, 0.5463138];
+const G1_I31: [f64; 7] = [
+    1.83044983, 1.58144121, 1.15294002, 0.8414804, 0.66250796, 0.57325348, 0.5463138,
+];
 
 /// G1 ratio `(1−e²)/(1 − 2e cos θ + e²) = 1 + 2Σ eᵏ cos kθ` (e = 0.15; 30 terms = machine precision).
 fn g1_ratio() -> SunRatio {
@@ -24,7 +26,13 @@ fn g1_ratio() -> SunRatio {
 
 /// The G1 mechanism of spec §11: a = 45, l3 = 170, β_init = −70°, far vertex faces D at φH = 0.
 fn g1_mechanism() -> Mechanism {
-    Mechanism { a_mm: 45.0, l3_mm: 170.0, ratio: g1_ratio(), sun_phase_rad: 0.0, needle_angle_rad: (-70f64).to_radians() }
+    Mechanism {
+        a_mm: 45.0,
+        l3_mm: 170.0,
+        ratio: g1_ratio(),
+        sun_phase_rad: 0.0,
+        needle_angle_rad: (-70f64).to_radians(),
+    }
 }
 
 fn g1_closed_psi3(t: f64) -> f64 {
@@ -40,7 +48,9 @@ fn g1_trajectory() -> Trajectory {
 }
 
 fn points_of(m: &Mechanism, n: usize, start: usize) -> Vec<[f64; 2]> {
-    (0..n).map(|k| m.tip(TAU * ((k + start) % n) as f64 / n as f64)).collect()
+    (0..n)
+        .map(|k| m.tip(TAU * ((k + start) % n) as f64 / n as f64))
+        .collect()
 }
 
 fn traj_from(points: Vec<[f64; 2]>) -> Trajectory {
@@ -81,7 +91,11 @@ fn g1_step1_from_360_points_matches_golden_numbers() {
     assert!((inv.rho_max_mm - 260.0).abs() < 1e-5 && (inv.rho_min_mm - 80.0).abs() < 1e-5);
     assert_eq!(inv.direction, 1);
     let t0 = inv.phi_h0_rad;
-    assert!((t0.to_degrees() - 318.1331).abs() < 1e-3, "lmax at {}", t0.to_degrees());
+    assert!(
+        (t0.to_degrees() - 318.1331).abs() < 1e-3,
+        "lmax at {}",
+        t0.to_degrees()
+    );
     // ψ3 from the file equals the G1 law re-based at the ρmax instant (error O(h⁴), spec §3.5).
     let mut worst: f64 = 0.0;
     for j in 0..72 {
@@ -111,11 +125,18 @@ fn g1_compatibility_origins_and_residual() {
     let mut origins: Vec<f64> = c.origins_rad.iter().map(|t| t.to_degrees()).collect();
     origins.sort_by(f64::total_cmp);
     assert_eq!(origins.len(), 2, "{origins:?}");
-    assert!((origins[0] - 41.867).abs() < 2e-3 && (origins[1] - 221.867).abs() < 2e-3, "{origins:?}");
+    assert!(
+        (origins[0] - 41.867).abs() < 2e-3 && (origins[1] - 221.867).abs() < 2e-3,
+        "{origins:?}"
+    );
     // Golden 2.6e-7 (implementation dependent); E_c is bounded by about twice the O(h⁴) ψ3 error
     // of step 1 at M = 360 (4.4e-6 rad, spec §3.5).
     assert!(c.residual_rad < 1e-5, "E_c = {:e}", c.residual_rad);
-    assert!((c.endpoint_product - 1.0).abs() < 1e-5, "{}", c.endpoint_product);
+    assert!(
+        (c.endpoint_product - 1.0).abs() < 1e-5,
+        "{}",
+        c.endpoint_product
+    );
 }
 
 #[test]
@@ -135,7 +156,10 @@ fn odd_harmonic_rule_of_compatibility() {
 #[test]
 fn g2_eccentric_circle_center_distance_and_law() {
     let (r, e) = (22.5_f64, 3.0_f64);
-    let sun = PitchCurve::from_fn(4096, |t| e * t.cos() + (r * r - e * e * t.sin().powi(2)).sqrt()).unwrap();
+    let sun = PitchCurve::from_fn(4096, |t| {
+        e * t.cos() + (r * r - e * e * t.sin().powi(2)).sqrt()
+    })
+    .unwrap();
     let a = conjugate_center_distance(&sun, 1e-12);
     assert!((a - 45.198899603).abs() < 1e-8, "a = {a}");
     let ratio_samples: Vec<f64> = sun.radii_mm().iter().map(|ri| ri / (a - ri)).collect();
@@ -143,15 +167,32 @@ fn g2_eccentric_circle_center_distance_and_law() {
     let (lo, _) = ratio.sampled_extreme(7200, false);
     let (hi, _) = ratio.sampled_extreme(7200, true);
     assert!((lo - 0.75878735).abs() < 1e-7 && (hi - 1.29448855).abs() < 1e-7);
-    let m = Mechanism { a_mm: a, l3_mm: 170.0, ratio, sun_phase_rad: 0.0, needle_angle_rad: 0.0 };
-    let golden = [0.0, 49.078251, 88.964691, 119.097941, 142.545037, 162.138930, 180.0];
+    let m = Mechanism {
+        a_mm: a,
+        l3_mm: 170.0,
+        ratio,
+        sun_phase_rad: 0.0,
+        needle_angle_rad: 0.0,
+    };
+    let golden = [
+        0.0, 49.078251, 88.964691, 119.097941, 142.545037, 162.138930, 180.0,
+    ];
     for (j, g) in golden.iter().enumerate() {
-        assert!((m.psi3((30.0 * j as f64).to_radians()).to_degrees() - g).abs() < 1e-6, "t = {}", 30 * j);
+        assert!(
+            (m.psi3((30.0 * j as f64).to_radians()).to_degrees() - g).abs() < 1e-6,
+            "t = {}",
+            30 * j
+        );
     }
     let mid = m.intermediate_curve(3600).unwrap();
     let rr = mid.radii_mm();
-    let (mn, mx) = rr.iter().fold((f64::MAX, f64::MIN), |(a, b), v| (a.min(*v), b.max(*v)));
-    assert!((mn - 19.698900).abs() < 1e-5 && (mx - 25.698900).abs() < 1e-5, "{mn} {mx}");
+    let (mn, mx) = rr
+        .iter()
+        .fold((f64::MAX, f64::MIN), |(a, b), v| (a.min(*v), b.max(*v)));
+    assert!(
+        (mn - 19.698900).abs() < 1e-5 && (mx - 25.698900).abs() < 1e-5,
+        "{mn} {mx}"
+    );
     assert!((mid.perimeter_mm(1e-9) - 141.3716694).abs() < 1e-6);
 }
 
@@ -177,18 +218,35 @@ fn g3_pi_periodic_ratio_translates_the_needle() {
 
 #[test]
 fn g4_asymmetric_sun_is_compatible_with_known_origins() {
-    let raw = SunRatio::new(vec![0.25 * 0.3f64.cos(), 0.08 * 1.1f64.sin(), 0.05 * (-0.4f64).cos()], vec![
-        -0.25 * 0.3f64.sin(),
-        0.08 * 1.1f64.cos(),
-        -0.05 * (-0.4f64).sin(),
-    ])
+    let raw = SunRatio::new(
+        vec![
+            0.25 * 0.3f64.cos(),
+            0.08 * 1.1f64.sin(),
+            0.05 * (-0.4f64).cos(),
+        ],
+        vec![
+            -0.25 * 0.3f64.sin(),
+            0.08 * 1.1f64.cos(),
+            -0.05 * (-0.4f64).sin(),
+        ],
+    )
     .unwrap();
-    let m = Mechanism { a_mm: 45.0, l3_mm: 170.0, ratio: raw, sun_phase_rad: 0.0, needle_angle_rad: 0.0 };
+    let m = Mechanism {
+        a_mm: 45.0,
+        l3_mm: 170.0,
+        ratio: raw,
+        sun_phase_rad: 0.0,
+        needle_angle_rad: 0.0,
+    };
     let law = NeedleLaw::from_fn(1024, |t| m.psi3(t));
     let c = compat::analyse(&law, 1024, 1e-13);
     let mut o: Vec<f64> = c.origins_rad.iter().map(|t| t.to_degrees()).collect();
     o.sort_by(f64::total_cmp);
-    assert!(o.iter().any(|v| (v - 166.251).abs() < 2e-3) && o.iter().any(|v| (v - 346.251).abs() < 2e-3), "{o:?}");
+    assert!(
+        o.iter().any(|v| (v - 166.251).abs() < 2e-3)
+            && o.iter().any(|v| (v - 346.251).abs() < 2e-3),
+        "{o:?}"
+    );
     assert!(c.residual_rad < 1e-6, "{}", c.residual_rad);
 }
 
@@ -200,14 +258,21 @@ fn g1_end_to_end_patent_route_orders_within_golden_bounds() {
         let opts = DesignOptions {
             order: Some(k),
             refine: RefineMode::Off,
-            segmented: SegmentedOptions { hypothesis: vec![(0.1, 0.3)], ..SegmentedOptions::default() },
+            segmented: SegmentedOptions {
+                hypothesis: vec![(0.1, 0.3)],
+                ..SegmentedOptions::default()
+            },
             ..DesignOptions::default()
         };
         let d = design(&traj, &opts).unwrap();
         let dev = d.report.patent_route.max_deviation_mm;
         assert!(dev <= 2.0 * bound, "K = {k}: {dev} mm");
         let rt = &d.report.roundtrip;
-        assert!((rt.max_deviation_mm - dev).abs() < 1e-3, "round trip {} vs model {dev}", rt.max_deviation_mm);
+        assert!(
+            (rt.max_deviation_mm - dev).abs() < 1e-3,
+            "round trip {} vs model {dev}",
+            rt.max_deviation_mm
+        );
         assert!(d.report.patent_route.j0.unwrap() < 1e-6);
     }
 }
@@ -216,22 +281,38 @@ fn g1_end_to_end_patent_route_orders_within_golden_bounds() {
 fn g1_default_design_meets_tolerance_and_checks() {
     let d = design(&g1_trajectory(), &DesignOptions::default()).unwrap();
     let r = &d.report;
-    assert!(r.roundtrip.max_deviation_mm < 0.1, "{}", r.roundtrip.max_deviation_mm);
-    assert!(r.roundtrip.hausdorff_mm < 0.05, "{}", r.roundtrip.hausdorff_mm);
+    assert!(
+        r.roundtrip.max_deviation_mm < 0.1,
+        "{}",
+        r.roundtrip.max_deviation_mm
+    );
+    assert!(
+        r.roundtrip.hausdorff_mm < 0.05,
+        "{}",
+        r.roundtrip.hausdorff_mm
+    );
     for c in &r.checks {
         assert!(c.pass, "{c:?}");
     }
     assert_eq!(r.carrier.direction, 1);
     assert!(r.gears.sun.pitch.len() >= 720);
     // Equal perimeters (C5) and close to the ellipse's 140.573 mm.
-    assert!((r.gears.sun.perimeter_mm - 140.573).abs() < 0.1, "{}", r.gears.sun.perimeter_mm);
+    assert!(
+        (r.gears.sun.perimeter_mm - 140.573).abs() < 0.1,
+        "{}",
+        r.gears.sun.perimeter_mm
+    );
 }
 
 fn random_sun(seed: u64, k: usize, amp: f64) -> SunRatio {
     // Deterministic pseudo-random coefficients decaying like 1/k².
-    let mut s = seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+    let mut s = seed
+        .wrapping_mul(6364136223846793005)
+        .wrapping_add(1442695040888963407);
     let mut next = || {
-        s = s.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+        s = s
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
         ((s >> 11) as f64 / (1u64 << 53) as f64) * 2.0 - 1.0
     };
     let a: Vec<f64> = (1..=k).map(|j| amp * next() / (j * j) as f64).collect();
@@ -242,22 +323,50 @@ fn random_sun(seed: u64, k: usize, amp: f64) -> SunRatio {
 #[test]
 fn round_trip_on_exactly_traceable_random_mechanisms() {
     // Random closed Fourier suns, both senses, 180–3000 points, shifted start, offset centre.
-    let cases = [(1u64, 180usize, 0usize, false, [0.0, 0.0]), (2, 360, 77, true, [12.5, -40.0]), (3, 720, 5, false, [-300.0, 80.0]), (4, 3000, 1234, true, [0.0, 0.0]), (5, 500, 250, false, [3.0, 4.0])];
+    let cases = [
+        (1u64, 180usize, 0usize, false, [0.0, 0.0]),
+        (2, 360, 77, true, [12.5, -40.0]),
+        (3, 720, 5, false, [-300.0, 80.0]),
+        (4, 3000, 1234, true, [0.0, 0.0]),
+        (5, 500, 250, false, [3.0, 4.0]),
+    ];
     for (seed, n, start, cw, center) in cases {
         let ratio = random_sun(seed, 4, 0.22);
-        let m = Mechanism { a_mm: 40.0 + seed as f64, l3_mm: 160.0 + 3.0 * seed as f64, ratio, sun_phase_rad: 0.7 * seed as f64, needle_angle_rad: -1.0 + 0.2 * seed as f64 };
+        let m = Mechanism {
+            a_mm: 40.0 + seed as f64,
+            l3_mm: 160.0 + 3.0 * seed as f64,
+            ratio,
+            sun_phase_rad: 0.7 * seed as f64,
+            needle_angle_rad: -1.0 + 0.2 * seed as f64,
+        };
         let pts: Vec<[f64; 2]> = points_of(&m, n, start)
             .into_iter()
             .map(|p| [center[0] + p[0], center[1] + if cw { -p[1] } else { p[1] }])
             .collect();
         let traj = traj_from(pts);
-        let opts = DesignOptions { center_mm: center, ..DesignOptions::default() };
+        let opts = DesignOptions {
+            center_mm: center,
+            ..DesignOptions::default()
+        };
         let d = design(&traj, &opts).unwrap_or_else(|e| panic!("seed {seed}: {e}"));
         let r = &d.report;
         assert_eq!(r.carrier.direction, if cw { -1 } else { 1 }, "seed {seed}");
-        assert!((r.l1 - 2.0 * m.a_mm).abs() < 1e-3 && (r.l3 - m.l3_mm).abs() < 1e-3, "seed {seed}: {} {}", r.l1, r.l3);
-        assert!(r.roundtrip.hausdorff_mm <= 0.05, "seed {seed} (n = {n}): Hausdorff {} mm", r.roundtrip.hausdorff_mm);
-        assert!(r.roundtrip.max_deviation_mm <= 0.1, "seed {seed}: {}", r.roundtrip.max_deviation_mm);
+        assert!(
+            (r.l1 - 2.0 * m.a_mm).abs() < 1e-3 && (r.l3 - m.l3_mm).abs() < 1e-3,
+            "seed {seed}: {} {}",
+            r.l1,
+            r.l3
+        );
+        assert!(
+            r.roundtrip.hausdorff_mm <= 0.05,
+            "seed {seed} (n = {n}): Hausdorff {} mm",
+            r.roundtrip.hausdorff_mm
+        );
+        assert!(
+            r.roundtrip.max_deviation_mm <= 0.1,
+            "seed {seed}: {}",
+            r.roundtrip.max_deviation_mm
+        );
     }
 }
 
@@ -268,7 +377,10 @@ fn designer_trajectory(eps: f64) -> Trajectory {
         .map(|k| {
             let t = (k as f64).to_radians();
             let beta = (-70f64).to_radians() + t - (m.psi3(t) + eps * (3.0 * t + 0.5).sin());
-            [90.0 * t.cos() + 170.0 * beta.cos(), 90.0 * t.sin() + 170.0 * beta.sin()]
+            [
+                90.0 * t.cos() + 170.0 * beta.cos(),
+                90.0 * t.sin() + 170.0 * beta.sin(),
+            ]
         })
         .collect();
     traj_from(pts)
@@ -279,13 +391,25 @@ fn designer_style_target_patent_route_versus_refinement() {
     let d = design(&designer_trajectory(0.03), &DesignOptions::default()).unwrap();
     let r = &d.report;
     let patent = r.patent_route.max_deviation_mm;
-    let refined = r.refinement.as_ref().expect("refinement runs when the patent route misses").max_deviation_mm;
-    assert!((r.compatibility.tip_equivalent_mm - 8.3).abs() < 1.0, "E_c·l3 = {}", r.compatibility.tip_equivalent_mm);
+    let refined = r
+        .refinement
+        .as_ref()
+        .expect("refinement runs when the patent route misses")
+        .max_deviation_mm;
+    assert!(
+        (r.compatibility.tip_equivalent_mm - 8.3).abs() < 1.0,
+        "E_c·l3 = {}",
+        r.compatibility.tip_equivalent_mm
+    );
     // Best achievable 3.82 mm (spec §6.4): within 1.5×.
     assert!(refined <= 1.5 * 3.82, "refined {refined} mm");
     assert!(refined < patent, "refined {refined} vs patent {patent}");
     assert_eq!(r.chosen, "refined");
-    assert!((r.roundtrip.max_deviation_mm - refined).abs() < 0.01, "{} vs {refined}", r.roundtrip.max_deviation_mm);
+    assert!(
+        (r.roundtrip.max_deviation_mm - refined).abs() < 0.01,
+        "{} vs {refined}",
+        r.roundtrip.max_deviation_mm
+    );
 }
 
 #[test]
@@ -293,22 +417,40 @@ fn untraceable_inputs_are_diagnosed() {
     let g1 = g1_trajectory();
     // Carrier axis inside the loop.
     let inside = [60.0, -140.0];
-    assert!(matches!(invert(&g1, inside, &InverseOptions::default()), Err(InverseError::AxisInsideLoop { .. })));
+    assert!(matches!(
+        invert(&g1, inside, &InverseOptions::default()),
+        Err(InverseError::AxisInsideLoop { .. })
+    ));
     // Two equal farthest points (symmetric ellipse).
-    let two = traj_from((0..200).map(|k| {
-        let t = TAU * k as f64 / 200.0;
-        [150.0 * t.cos(), 200.0 + 20.0 * t.sin()]
-    }).collect());
-    assert!(matches!(invert(&two, [0.0, 0.0], &InverseOptions::default()), Err(InverseError::SeveralMaxima { count: 2, .. })));
+    let two = traj_from(
+        (0..200)
+            .map(|k| {
+                let t = TAU * k as f64 / 200.0;
+                [150.0 * t.cos(), 200.0 + 20.0 * t.sin()]
+            })
+            .collect(),
+    );
+    assert!(matches!(
+        invert(&two, [0.0, 0.0], &InverseOptions::default()),
+        Err(InverseError::SeveralMaxima { count: 2, .. })
+    ));
     // Needle swing too fast: G1 with a large 5th harmonic on ψ3 makes i31 negative.
     let m = g1_mechanism();
-    let wild = traj_from((0..720).map(|k| {
-        let t = TAU * k as f64 / 720.0;
-        let beta = (-70f64).to_radians() + t - (m.psi3(t) + 0.4 * (5.0 * t).sin());
-        [90.0 * t.cos() + 170.0 * beta.cos(), 90.0 * t.sin() + 170.0 * beta.sin()]
-    }).collect());
+    let wild = traj_from(
+        (0..720)
+            .map(|k| {
+                let t = TAU * k as f64 / 720.0;
+                let beta = (-70f64).to_radians() + t - (m.psi3(t) + 0.4 * (5.0 * t).sin());
+                [
+                    90.0 * t.cos() + 170.0 * beta.cos(),
+                    90.0 * t.sin() + 170.0 * beta.sin(),
+                ]
+            })
+            .collect(),
+    );
     match invert(&wild, [0.0, 0.0], &InverseOptions::default()) {
-        Err(InverseError::NeedleReverses { stretches_deg }) | Err(InverseError::NotMonotone { stretches_deg, .. }) => {
+        Err(InverseError::NeedleReverses { stretches_deg })
+        | Err(InverseError::NotMonotone { stretches_deg, .. }) => {
             assert!(!stretches_deg.is_empty());
         }
         Err(InverseError::SeveralMaxima { .. }) => {}

@@ -29,7 +29,9 @@ fn traj(points: Vec<[f64; 2]>) -> Result<Trajectory, ncgear::trajectory::Traject
 }
 
 fn dist_to(p: [f64; 2], q: &[[f64; 2]]) -> f64 {
-    q.iter().map(|x| (x[0] - p[0]).hypot(x[1] - p[1])).fold(f64::INFINITY, f64::min)
+    q.iter()
+        .map(|x| (x[0] - p[0]).hypot(x[1] - p[1]))
+        .fold(f64::INFINITY, f64::min)
 }
 
 #[test]
@@ -50,17 +52,44 @@ fn noisy_measured_trajectory_with_smoothing_stays_close_to_the_clean_path() {
         // carrier angles ≈ 318° and ≈ 76°, spec §3.5), never a panic.
         match invert(&t, [0.0, 0.0], &InverseOptions::default()) {
             Err(InverseError::NotMonotone { stretches_deg, .. }) => {
-                assert!(stretches_deg.iter().all(|s| s.iter().all(|a| (a - 318.0).abs() < 25.0 || (a - 76.0).abs() < 25.0)), "{stretches_deg:?}");
+                assert!(
+                    stretches_deg.iter().all(|s| s
+                        .iter()
+                        .all(|a| (a - 318.0).abs() < 25.0 || (a - 76.0).abs() < 25.0)),
+                    "{stretches_deg:?}"
+                );
             }
             Err(e) => panic!("unexpected error {e}"),
             Ok(_) => {}
         }
         // With smoothing the chain runs and stays within a bounded distance of the clean path.
-        let d = design(&t, &DesignOptions { smoothing: Some(24), ..DesignOptions::default() }).unwrap();
-        let worst = d.traced_mm.iter().map(|p| dist_to(*p, &clean)).fold(0.0, f64::max);
-        eprintln!("σ = {sigma}: traced path within {worst:.3} mm of the clean loop; l1 = {:.4}, l3 = {:.4}", d.report.l1, d.report.l3);
-        assert!(worst.is_finite() && worst < 2.0, "σ = {sigma}: {worst} mm from the clean path");
-        assert!((d.report.l1 - 90.0).abs() < 0.5 && (d.report.l3 - 170.0).abs() < 0.5, "{} {}", d.report.l1, d.report.l3);
+        let d = design(
+            &t,
+            &DesignOptions {
+                smoothing: Some(24),
+                ..DesignOptions::default()
+            },
+        )
+        .unwrap();
+        let worst = d
+            .traced_mm
+            .iter()
+            .map(|p| dist_to(*p, &clean))
+            .fold(0.0, f64::max);
+        eprintln!(
+            "σ = {sigma}: traced path within {worst:.3} mm of the clean loop; l1 = {:.4}, l3 = {:.4}",
+            d.report.l1, d.report.l3
+        );
+        assert!(
+            worst.is_finite() && worst < 2.0,
+            "σ = {sigma}: {worst} mm from the clean path"
+        );
+        assert!(
+            (d.report.l1 - 90.0).abs() < 0.5 && (d.report.l3 - 170.0).abs() < 0.5,
+            "{} {}",
+            d.report.l1,
+            d.report.l3
+        );
     }
 }
 
@@ -71,8 +100,14 @@ fn points_near_the_carrier_axis_are_refused() {
     m.l3_mm = 94.0;
     let t = traj((0..360).map(|k| m.tip((k as f64).to_radians())).collect()).unwrap();
     match invert(&t, [0.0, 0.0], &InverseOptions::default()) {
-        Err(InverseError::TooCloseToAxis { rho_min_mm, limit_mm }) => {
-            assert!((rho_min_mm - 4.0).abs() < 1e-3 && (limit_mm - 0.05 * 94.0).abs() < 1e-3, "{rho_min_mm} {limit_mm}");
+        Err(InverseError::TooCloseToAxis {
+            rho_min_mm,
+            limit_mm,
+        }) => {
+            assert!(
+                (rho_min_mm - 4.0).abs() < 1e-3 && (limit_mm - 0.05 * 94.0).abs() < 1e-3,
+                "{rho_min_mm} {limit_mm}"
+            );
         }
         other => panic!("expected TooCloseToAxis, got {other:?}"),
     }
@@ -93,8 +128,18 @@ fn cusped_trajectory_is_designed_without_nan() {
     let t = traj((0..720).map(|k| m.tip(TAU * k as f64 / 720.0)).collect()).unwrap();
     let d = design(&t, &DesignOptions::default()).unwrap();
     let r = &d.report;
-    assert!(r.roundtrip.max_deviation_mm.is_finite() && r.roundtrip.hausdorff_mm < 0.05, "{:?}", r.roundtrip);
-    assert!(r.fourier.a.iter().chain(&r.fourier.b).all(|v| v.is_finite()));
+    assert!(
+        r.roundtrip.max_deviation_mm.is_finite() && r.roundtrip.hausdorff_mm < 0.05,
+        "{:?}",
+        r.roundtrip
+    );
+    assert!(
+        r.fourier
+            .a
+            .iter()
+            .chain(&r.fourier.b)
+            .all(|v| v.is_finite())
+    );
 }
 
 #[test]
@@ -113,7 +158,10 @@ fn ratios_beyond_the_bounds_are_a_clear_error() {
     opts.refine_options.ratio_bounds = [0.6, 1.7];
     match design(&t, &opts) {
         Err(DesignError::RatioOutOfBounds { min, max, .. }) => assert!(min < 0.6 || max > 1.7),
-        other => panic!("expected RatioOutOfBounds, got {:?}", other.map(|d| d.report.fourier.i21_range)),
+        other => panic!(
+            "expected RatioOutOfBounds, got {:?}",
+            other.map(|d| d.report.fourier.i21_range)
+        ),
     }
 }
 

@@ -2,7 +2,7 @@
 use ncgear::assembly::Assembly;
 use ncgear::fourier::SunRatio;
 use ncgear::mechanism::Mechanism;
-use ncgear::simulate::{DesignFile, FeatureOptions, Simulation, SimulateError, features};
+use ncgear::simulate::{DesignFile, FeatureOptions, SimulateError, Simulation, features};
 use std::f64::consts::{PI, TAU};
 use std::process::Command;
 
@@ -49,27 +49,56 @@ fn g1_tables_trace_the_golden_trajectory_and_arm_2_follows_half_a_turn_later() {
         // Arm 2's centres are opposite arm 1's.
         assert!((t.arm2.planet_center_mm[0] + t.arm1.planet_center_mm[0]).abs() < 1e-9);
     }
-    assert!(worst < 1e-6, "max deviation from G1_trajectory_360.csv: {worst:e} mm");
+    assert!(
+        worst < 1e-6,
+        "max deviation from G1_trajectory_360.csv: {worst:e} mm"
+    );
 }
 
 #[test]
 fn g1_features_against_independent_values() {
     let sim = g1_sim();
-    let opts = FeatureOptions { samples: 36_000, rpm: 300.0, forward_mm_s: 1000.0, ..FeatureOptions::default() };
+    let opts = FeatureOptions {
+        samples: 36_000,
+        rpm: 300.0,
+        forward_mm_s: 1000.0,
+        ..FeatureOptions::default()
+    };
     let f = features(&sim, &opts).unwrap();
     // Extreme tip distances are l1 + l3 = 260 and l3 − l1 = 80 (spec §11).
-    assert!((f.rho_range_mm[0] - 260.0).abs() < 1e-4 && (f.rho_range_mm[1] - 80.0).abs() < 1e-4, "{:?}", f.rho_range_mm);
+    assert!(
+        (f.rho_range_mm[0] - 260.0).abs() < 1e-4 && (f.rho_range_mm[1] - 80.0).abs() < 1e-4,
+        "{:?}",
+        f.rho_range_mm
+    );
     // Height and bounding box from the golden file's own points (1° resolution) and the spec's bbox.
     let pts = g1_points();
-    let (ymin, ymax) = pts.iter().fold((f64::MAX, f64::MIN), |(a, b), p| (a.min(p[1]), b.max(p[1])));
-    assert!(f.height_mm >= ymax - ymin - 1e-9 && f.height_mm - (ymax - ymin) < 0.05, "{} vs {}", f.height_mm, ymax - ymin);
+    let (ymin, ymax) = pts
+        .iter()
+        .fold((f64::MAX, f64::MIN), |(a, b), p| (a.min(p[1]), b.max(p[1])));
+    assert!(
+        f.height_mm >= ymax - ymin - 1e-9 && f.height_mm - (ymax - ymin) < 0.05,
+        "{} vs {}",
+        f.height_mm,
+        ymax - ymin
+    );
     assert!((f.bbox_mm[0] + 62.2).abs() < 0.05 && (f.bbox_mm[1] - 194.1).abs() < 0.05);
     assert!((f.bbox_mm[2] + 198.3).abs() < 0.05 && (f.bbox_mm[3] + 75.7).abs() < 0.05);
     // Needle angle at the lowest point, from the file: direction from A = l1·e(k°) to the point.
-    let (k_low, p_low) = pts.iter().enumerate().min_by(|a, b| a.1[1].total_cmp(&b.1[1])).unwrap();
+    let (k_low, p_low) = pts
+        .iter()
+        .enumerate()
+        .min_by(|a, b| a.1[1].total_cmp(&b.1[1]))
+        .unwrap();
     let phi = (k_low as f64).to_radians();
-    let needle = (p_low[1] - 90.0 * phi.sin()).atan2(p_low[0] - 90.0 * phi.cos()).to_degrees();
-    assert!((f.needle_angle_plant_deg - needle).abs() < 1.0, "{} vs {needle}", f.needle_angle_plant_deg);
+    let needle = (p_low[1] - 90.0 * phi.sin())
+        .atan2(p_low[0] - 90.0 * phi.cos())
+        .to_degrees();
+    assert!(
+        (f.needle_angle_plant_deg - needle).abs() < 1.0,
+        "{} vs {needle}",
+        f.needle_angle_plant_deg
+    );
     assert!((f.plant_carrier_deg - k_low as f64).abs() < 1.0);
     // Max tip speed by central differences on the file at 300 rpm (ω = 10π rad/s).
     let n = pts.len();
@@ -79,20 +108,41 @@ fn g1_features_against_independent_values() {
             (b[0] - a[0]).hypot(b[1] - a[1]) / (2.0 * TAU / n as f64) * 10.0 * PI
         })
         .fold(0.0, f64::max);
-    assert!((f.max_tip_speed_mm_s / vmax - 1.0).abs() < 0.005, "{} vs {vmax}", f.max_tip_speed_mm_s);
+    assert!(
+        (f.max_tip_speed_mm_s / vmax - 1.0).abs() < 0.005,
+        "{} vs {vmax}",
+        f.max_tip_speed_mm_s
+    );
     // Needles come closest when arm 1's tip is at ρmin on the line towards A2: 2·l1 − l3 = 10 mm.
-    assert!((f.min_arm_clearance_mm - 10.0).abs() < 1e-3, "{}", f.min_arm_clearance_mm);
+    assert!(
+        (f.min_arm_clearance_mm - 10.0).abs() < 1e-3,
+        "{}",
+        f.min_arm_clearance_mm
+    );
     // Two plants per turn: spacing = v·T/2 = 1000 mm/s · 0.2 s / 2.
     assert!((f.plant_spacing_mm - 100.0).abs() < 1e-9);
     assert!((FeatureOptions::forward_for_spacing(100.0, 300.0) - 1000.0).abs() < 1e-9);
     // Hole width: the dynamic stroke is narrower than the static loop at the same depth when the
     // machine moves forward (the loop is swept backwards under the soil).
     assert!(f.hole_width_mm > 0.0 && f.hole_width_mm < f.static_width_at_depth_mm);
-    let still = features(&sim, &FeatureOptions { forward_mm_s: 0.0, ..opts }).unwrap();
+    let still = features(
+        &sim,
+        &FeatureOptions {
+            forward_mm_s: 0.0,
+            ..opts
+        },
+    )
+    .unwrap();
     assert!((still.hole_width_mm - still.static_width_at_depth_mm).abs() < 1e-6);
     // Levels outside the path are refused.
     assert!(matches!(
-        features(&sim, &FeatureOptions { plant_level_mm: Some(10.0), ..opts }),
+        features(
+            &sim,
+            &FeatureOptions {
+                plant_level_mm: Some(10.0),
+                ..opts
+            }
+        ),
         Err(SimulateError::BadOption { .. })
     ));
 }
@@ -105,29 +155,73 @@ fn ncgear() -> Command {
 fn simulate_cli_writes_animation_and_refuses_bad_design_files() {
     let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join("sim_cli");
     let _ = std::fs::remove_dir_all(&dir);
-    let traj = format!("{}/assets/trajectories/g1_ellipse.csv", env!("CARGO_MANIFEST_DIR"));
-    let st = ncgear().args(["design", &traj, "--out"]).arg(dir.join("d")).output().unwrap();
+    let traj = format!(
+        "{}/assets/trajectories/g1_ellipse.csv",
+        env!("CARGO_MANIFEST_DIR")
+    );
+    let st = ncgear()
+        .args(["design", &traj, "--out"])
+        .arg(dir.join("d"))
+        .output()
+        .unwrap();
     assert!(st.status.success());
-    let out = ncgear().arg("simulate").arg(dir.join("d/design.json")).arg("--out").arg(dir.join("s")).arg("--json").output().unwrap();
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let out = ncgear()
+        .arg("simulate")
+        .arg(dir.join("d/design.json"))
+        .arg("--out")
+        .arg(dir.join("s"))
+        .arg("--json")
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
     let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
     assert!(v["deviation_max_mm"].as_f64().unwrap() < 0.05);
     assert!(v["arm2_vs_arm1_mm"].as_f64().unwrap() < 1e-6);
     let svg = std::fs::read_to_string(dir.join("s/animation.svg")).unwrap();
-    assert!(svg.matches("<animateTransform").count() >= 9, "carrier + 2 × (2 translate + 2 rotate)");
+    assert!(
+        svg.matches("<animateTransform").count() >= 9,
+        "carrier + 2 × (2 translate + 2 rotate)"
+    );
     assert!(svg.contains("repeatCount=\"indefinite\"") && !svg.contains("<script"));
-    for f in ["traced.csv", "dynamic.csv", "frames.svg", "ratios.png", "pitch.svg", "curvature.png", "pressure_angle.svg", "deviation.png", "dynamic.png", "simulate.json"] {
-        assert!(std::fs::metadata(dir.join("s").join(f)).unwrap().len() > 500, "{f}");
+    for f in [
+        "traced.csv",
+        "dynamic.csv",
+        "frames.svg",
+        "ratios.png",
+        "pitch.svg",
+        "curvature.png",
+        "pressure_angle.svg",
+        "deviation.png",
+        "dynamic.png",
+        "simulate.json",
+    ] {
+        assert!(
+            std::fs::metadata(dir.join("s").join(f)).unwrap().len() > 500,
+            "{f}"
+        );
     }
     // A corrupted design file: radius beyond the centre distance, and a missing field.
     let text = std::fs::read_to_string(dir.join("d/design.json")).unwrap();
     let mut v: serde_json::Value = serde_json::from_str(&text).unwrap();
     v["gears"]["sun"]["pitch"][5][1] = serde_json::json!(99.0);
     std::fs::write(dir.join("bad1.json"), v.to_string()).unwrap();
-    let out = ncgear().arg("simulate").arg(dir.join("bad1.json")).arg("--out").arg(dir.join("x")).output().unwrap();
+    let out = ncgear()
+        .arg("simulate")
+        .arg(dir.join("bad1.json"))
+        .arg("--out")
+        .arg(dir.join("x"))
+        .output()
+        .unwrap();
     let err = String::from_utf8_lossy(&out.stderr);
     assert_eq!(out.status.code(), Some(2), "{err}");
-    assert!(err.contains("gears.sun.pitch[5]") && err.contains("bad1.json"), "{err}");
+    assert!(
+        err.contains("gears.sun.pitch[5]") && err.contains("bad1.json"),
+        "{err}"
+    );
     let mut v: serde_json::Value = serde_json::from_str(&text).unwrap();
     v.as_object_mut().unwrap().remove("needle_angle_deg");
     let err = DesignFile::parse(&v.to_string(), "bad2.json").unwrap_err();
