@@ -1,5 +1,7 @@
 //! Companion analyses from the same field (spec `companion-methods.md`).
 
 pub mod dynamics;
+pub mod montecarlo;
 pub mod orbit;
+pub mod peak;
 pub mod tolerance;

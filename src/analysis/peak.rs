@@ -1,0 +1,374 @@
+//! Certified peak of a sum of sinusoids over its common period (companion spec C.2–C.3).
+//!
+//! `f(t) = Σ_k A_k sin(ω_k t + φ_k)` (ω ≥ 0, rad/s; ω = 0 terms are the constant `A sin φ`).
+//! When all non-zero ω_k are rational multiples of a base, `f` has the period `T = 2π/ω_g` with
+//! `ω_g = gcd(ω_k)` computed exactly on rationals. The peak `max_t |f|` over one period is found by
+//! sampling with step `h ≤ T_min/20` (`T_min = 2π/ω_max`) and refining the best local maxima with a
+//! golden-section (Brent-type) search on `|f|`; the sampling loss before refinement is bounded by
+//! `M2·h²/8`, `M2 = Σ|A_k|ω_k²`. For rationally independent frequencies the supremum is `Σ|A_k|`
+//! for any phases (Kronecker), which is reported instead.
+
+use std::f64::consts::TAU;
+
+/// `A·sin(ω t + φ)`: amplitude (any unit, may be negative), ω in rad/s, φ in rad.
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct Sinusoid {
+    /// Amplitude.
+    pub amplitude: f64,
+    /// Angular frequency, rad/s (≥ 0).
+    pub omega_rad_s: f64,
+    /// Phase, rad.
+    pub phase_rad: f64,
+}
+
+/// Accuracy knobs of the certified peak.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PeakOptions {
+    /// Grid points per shortest period `T_min` (≥ 20 certifies the bracket).
+    pub samples_per_min_period: usize,
+    /// Local maxima refined.
+    pub refine_top: usize,
+    /// Refinement tolerance on t, relative to `T_min`.
+    pub tol_relative: f64,
+    /// Largest denominator accepted when reading frequencies as rationals.
+    pub max_denominator: u64,
+}
+
+impl Default for PeakOptions {
+    fn default() -> Self {
+        Self {
+            samples_per_min_period: 20,
+            refine_top: 8,
+            tol_relative: 1e-12,
+            max_denominator: 1_000_000,
+        }
+    }
+}
+
+/// A certified peak.
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+pub struct Peak {
+    /// `max_t |f(t)|` over the common period.
+    pub value: f64,
+    /// Where (s), in `[0, T)`.
+    pub time_s: f64,
+    /// Common period T, s (infinite when the frequencies are incommensurate).
+    pub period_s: f64,
+    /// Grid points used.
+    pub grid_points: usize,
+    /// Bound on the grid's under-estimate before refinement, `M2 h²/8`.
+    pub grid_loss_bound: f64,
+    /// False when the frequencies are rationally independent (value = Σ|A| supremum).
+    pub commensurate: bool,
+}
+
+/// Rational approximation `p/q` of `x ≥ 0` with `|x − p/q| ≤ 1e-9·max(x, 1)`, `q ≤ max_den`.
+fn rational(x: f64, max_den: u64) -> Option<(u128, u128)> {
+    if !(x.is_finite() && x >= 0.0) {
+        return None;
+    }
+    let (mut h0, mut h1, mut k0, mut k1) = (0u128, 1u128, 1u128, 0u128);
+    let mut y = x;
+    for _ in 0..64 {
+        let a = y.floor();
+        if a > 1e15 {
+            return None;
+        }
+        let a = a as u128;
+        let (h2, k2) = (a * h1 + h0, a * k1 + k0);
+        if k2 > u128::from(max_den) {
+            return None;
+        }
+        (h0, h1, k0, k1) = (h1, h2, k1, k2);
+        if (x - h1 as f64 / k1 as f64).abs() <= 1e-9 * x.max(1.0) {
+            return Some((h1, k1));
+        }
+        let frac = y - y.floor();
+        if frac < 1e-15 {
+            break;
+        }
+        y = 1.0 / frac;
+    }
+    ((x - h1 as f64 / k1 as f64).abs() <= 1e-9 * x.max(1.0)).then_some((h1, k1))
+}
+
+fn gcd(a: u128, b: u128) -> u128 {
+    if b == 0 { a } else { gcd(b, a % b) }
+}
+
+/// Base frequency `ω_g = gcd(ω_k)` (rad/s) of the non-zero frequencies, exact on rationals;
+/// `None` if some frequency is not a rational with denominator ≤ `max_den` relative to the others.
+#[must_use]
+pub fn base_frequency(omegas: &[f64], max_den: u64) -> Option<f64> {
+    let nz: Vec<f64> = omegas.iter().copied().filter(|w| *w > 0.0).collect();
+    if nz.is_empty() {
+        return None;
+    }
+    // Normalise by the smallest frequency so that irrational common factors (e.g. π) cancel.
+    let w0 = nz.iter().copied().fold(f64::INFINITY, f64::min);
+    let mut fr = Vec::new();
+    for w in &nz {
+        fr.push(rational(w / w0, max_den)?);
+    }
+    let lcm_q = fr.iter().fold(1u128, |l, (_, q)| l / gcd(l, *q) * q);
+    if lcm_q > 1u128 << 60 {
+        return None;
+    }
+    let g = fr.iter().fold(0u128, |g, (p, q)| gcd(g, p * (lcm_q / q)));
+    (g > 0).then(|| w0 * g as f64 / lcm_q as f64)
+}
+
+/// A reusable sampling grid for one set of frequencies (sin/cos tables precomputed), so that
+/// many phase/amplitude combinations can be evaluated fast (one table pass per evaluation).
+#[derive(Debug, Clone)]
+pub struct PeakGrid {
+    omegas: Vec<f64>,
+    period: f64,
+    h: f64,
+    sin: Vec<Vec<f64>>,
+    cos: Vec<Vec<f64>>,
+    opts: PeakOptions,
+    commensurate: bool,
+}
+
+impl PeakGrid {
+    /// Precomputes the grid for the frequencies `omegas` (rad/s).
+    #[must_use]
+    pub fn new(omegas: &[f64], opts: PeakOptions) -> Self {
+        let wmax = omegas.iter().copied().fold(0.0, f64::max);
+        let base = base_frequency(omegas, opts.max_denominator);
+        let commensurate = base.is_some() || wmax == 0.0;
+        let (period, n) = match base {
+            Some(g) => {
+                let period = TAU / g;
+                let tmin = TAU / wmax;
+                let n =
+                    ((period / tmin) * opts.samples_per_min_period.max(4) as f64).ceil() as usize;
+                (period, n.max(8))
+            }
+            None => (1.0, 1),
+        };
+        let h = period / n as f64;
+        let (sin, cos) = if commensurate && wmax > 0.0 {
+            omegas
+                .iter()
+                .map(|w| {
+                    (0..n)
+                        .map(|j| (w * j as f64 * h).sin_cos())
+                        .unzip::<f64, f64, Vec<f64>, Vec<f64>>()
+                })
+                .unzip()
+        } else {
+            (Vec::new(), Vec::new())
+        };
+        Self {
+            omegas: omegas.to_vec(),
+            period,
+            h,
+            sin,
+            cos,
+            opts,
+            commensurate,
+        }
+    }
+
+    /// Number of grid points.
+    #[must_use]
+    pub fn len(&self) -> usize {
+        self.sin.first().map_or(0, Vec::len)
+    }
+
+    /// True when there is no time grid (all frequencies zero or incommensurate).
+    #[must_use]
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+
+    fn eval(&self, amps: &[f64], phases: &[f64], t: f64) -> f64 {
+        amps.iter()
+            .zip(phases)
+            .zip(&self.omegas)
+            .map(|((a, p), w)| a * (w * t + p).sin())
+            .sum()
+    }
+
+    /// Certified `max_t |Σ A_k sin(ω_k t + φ_k)|` for amplitudes and phases matching the grid's
+    /// frequencies.
+    #[must_use]
+    pub fn peak(&self, amps: &[f64], phases: &[f64]) -> Peak {
+        let wmax = self.omegas.iter().copied().fold(0.0, f64::max);
+        let m2: f64 = amps
+            .iter()
+            .zip(&self.omegas)
+            .map(|(a, w)| a.abs() * w * w)
+            .sum();
+        if wmax == 0.0 {
+            let v = self.eval(amps, phases, 0.0).abs();
+            return Peak {
+                value: v,
+                time_s: 0.0,
+                period_s: f64::INFINITY,
+                grid_points: 1,
+                grid_loss_bound: 0.0,
+                commensurate: true,
+            };
+        }
+        if !self.commensurate {
+            let v = amps.iter().map(|a| a.abs()).sum();
+            return Peak {
+                value: v,
+                time_s: f64::NAN,
+                period_s: f64::INFINITY,
+                grid_points: 0,
+                grid_loss_bound: 0.0,
+                commensurate: false,
+            };
+        }
+        let n = self.len();
+        let (cs, sn): (Vec<f64>, Vec<f64>) = amps
+            .iter()
+            .zip(phases)
+            .map(|(a, p)| (a * p.cos(), a * p.sin()))
+            .unzip();
+        let mut f = vec![0.0; n];
+        for k in 0..amps.len() {
+            let (s, c) = (&self.sin[k], &self.cos[k]);
+            let (ck, sk) = (cs[k], sn[k]);
+            for j in 0..n {
+                f[j] += ck * s[j] + sk * c[j];
+            }
+        }
+        // Local maxima of |f| on the cyclic grid, best first.
+        let mut cand: Vec<usize> = (0..n)
+            .filter(|&j| {
+                let v = f[j].abs();
+                v >= f[(j + n - 1) % n].abs() && v >= f[(j + 1) % n].abs()
+            })
+            .collect();
+        cand.sort_by(|&a, &b| f[b].abs().total_cmp(&f[a].abs()));
+        // Refine the best `refine_top` local maxima, then every other local maximum whose grid
+        // value could still hide a higher peak (within the sampling loss bound M2·h²/8): this
+        // makes the result certified, not a heuristic.
+        let loss = m2 * self.h * self.h / 8.0;
+        let tol = self.opts.tol_relative * TAU / wmax;
+        let mut best = (f64::NEG_INFINITY, 0.0);
+        for (rank, &j) in cand.iter().enumerate() {
+            if rank >= self.opts.refine_top.max(1) && f[j].abs() + loss < best.0 {
+                break;
+            }
+            let (t, v) = golden_max(
+                |t| self.eval(amps, phases, t).abs(),
+                (j as f64 - 1.0) * self.h,
+                (j as f64 + 1.0) * self.h,
+                tol,
+            );
+            if v > best.0 {
+                best = (v, t.rem_euclid(self.period));
+            }
+        }
+        Peak {
+            value: best.0,
+            time_s: best.1,
+            period_s: self.period,
+            grid_points: n,
+            grid_loss_bound: m2 * self.h * self.h / 8.0,
+            commensurate: true,
+        }
+    }
+}
+
+/// Maximises a unimodal `g` on `[a, b]` by golden-section search to `tol`; returns `(t, g(t))`.
+fn golden_max(g: impl Fn(f64) -> f64, mut a: f64, mut b: f64, tol: f64) -> (f64, f64) {
+    let r = 0.5 * (5f64.sqrt() - 1.0);
+    let mut x1 = b - r * (b - a);
+    let mut x2 = a + r * (b - a);
+    let (mut g1, mut g2) = (g(x1), g(x2));
+    while b - a > tol {
+        if g1 < g2 {
+            a = x1;
+            x1 = x2;
+            g1 = g2;
+            x2 = a + r * (b - a);
+            g2 = g(x2);
+        } else {
+            b = x2;
+            x2 = x1;
+            g2 = g1;
+            x1 = b - r * (b - a);
+            g1 = g(x1);
+        }
+    }
+    let t = 0.5 * (a + b);
+    let v = g(t).max(g1).max(g2);
+    (t, v)
+}
+
+/// Certified peak of a list of sinusoids (builds a one-off grid).
+#[must_use]
+pub fn certified_peak(terms: &[Sinusoid], opts: PeakOptions) -> Peak {
+    let omegas: Vec<f64> = terms.iter().map(|s| s.omega_rad_s).collect();
+    let amps: Vec<f64> = terms.iter().map(|s| s.amplitude).collect();
+    let phases: Vec<f64> = terms.iter().map(|s| s.phase_rad).collect();
+    PeakGrid::new(&omegas, opts).peak(&amps, &phases)
+}
+
+/// Peak found on a fixed time grid `t = 0, dt, …, < t_end` with no refinement (what a naive
+/// evaluation does; it under-estimates, companion spec C.4).
+#[must_use]
+pub fn fixed_grid_peak(terms: &[Sinusoid], dt_s: f64, t_end_s: f64) -> f64 {
+    let n = (t_end_s / dt_s).floor() as usize + 1;
+    (0..n)
+        .map(|j| {
+            let t = j as f64 * dt_s;
+            terms
+                .iter()
+                .map(|s| s.amplitude * (s.omega_rad_s * t + s.phase_rad).sin())
+                .sum::<f64>()
+                .abs()
+        })
+        .fold(0.0, f64::max)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn base_frequency_is_the_exact_gcd() {
+        assert!((base_frequency(&[75.0, 525.0, 275.0], 1_000_000).unwrap() - 25.0).abs() < 1e-9);
+        assert!(
+            (base_frequency(&[75.0, 525.0, 275.0, 63.0], 1_000_000).unwrap() - 1.0).abs() < 1e-9
+        );
+        assert!((base_frequency(&[0.5, 0.75], 1000).unwrap() - 0.25).abs() < 1e-12);
+        assert!(base_frequency(&[1.0, std::f64::consts::SQRT_2], 1_000_000).is_none());
+    }
+
+    #[test]
+    fn single_sinusoid_peak_is_its_amplitude_and_refinement_beats_the_grid() {
+        let p = certified_peak(
+            &[Sinusoid {
+                amplitude: -3.0,
+                omega_rad_s: 7.0,
+                phase_rad: 0.3,
+            }],
+            PeakOptions::default(),
+        );
+        assert!((p.value - 3.0).abs() < 1e-12);
+        // Two terms: closed-form maximum of sin t + (1/3) sin 3t is at t = π/4: √2/2 + √2/6.
+        let terms = [
+            Sinusoid {
+                amplitude: 1.0,
+                omega_rad_s: 1.0,
+                phase_rad: 0.0,
+            },
+            Sinusoid {
+                amplitude: 1.0 / 3.0,
+                omega_rad_s: 3.0,
+                phase_rad: 0.0,
+            },
+        ];
+        let p = certified_peak(&terms, PeakOptions::default());
+        let exact = 2f64.sqrt() / 2.0 + 2f64.sqrt() / 6.0;
+        assert!((p.value - exact).abs() < 1e-12, "{}", p.value);
+    }
+}
