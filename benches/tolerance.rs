@@ -1,0 +1,30 @@
+//! Monte Carlo of the paper's four-term example (50 000 random assemblies, certified peaks) at
+//! several grid densities. Run: `cargo bench --bench tolerance`. Compare with
+//! `python3 benches/python/mc_numpy.py` (the same loop, vectorised numpy).
+use ncgear::analysis::montecarlo::McOptions;
+use ncgear::analysis::peak::PeakOptions;
+use ncgear::analysis::tolerance::{Analysis, ErrorFile};
+
+fn main() {
+    divan::main();
+}
+
+fn paper() -> ErrorFile {
+    let text = include_str!("../assets/tolerance/paper_3k.toml");
+    ErrorFile::parse(text, "paper_3k.toml", false).expect("bundled example")
+}
+
+/// 50 000 samples; `args` = grid points per shortest period (20 = the default).
+#[divan::bench(args = [20, 40, 80], sample_count = 3)]
+fn monte_carlo_50k(b: divan::Bencher, per_period: usize) {
+    let a = Analysis::new(&paper(), PeakOptions { samples_per_min_period: per_period, ..PeakOptions::default() });
+    let opts = McOptions { samples: 50_000, seed: 1, bins: 60 };
+    b.bench(|| a.monte_carlo(&opts, &|_| {}).expect("finite"));
+}
+
+/// One certified peak of the four-term sum.
+#[divan::bench]
+fn certified_peak_one(b: divan::Bencher) {
+    let a = Analysis::new(&paper(), PeakOptions::default());
+    b.bench(|| a.peak(divan::black_box(&[1.0, 2.0, 3.0]), None));
+}
