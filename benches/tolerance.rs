@@ -17,8 +17,18 @@ fn paper() -> ErrorFile {
 /// 50 000 samples; `args` = grid points per shortest period (20 = the default).
 #[divan::bench(args = [20, 40, 80], sample_count = 3)]
 fn monte_carlo_50k(b: divan::Bencher, per_period: usize) {
-    let a = Analysis::new(&paper(), PeakOptions { samples_per_min_period: per_period, ..PeakOptions::default() });
-    let opts = McOptions { samples: 50_000, seed: 1, bins: 60 };
+    let a = Analysis::new(
+        &paper(),
+        PeakOptions {
+            samples_per_min_period: per_period,
+            ..PeakOptions::default()
+        },
+    );
+    let opts = McOptions {
+        samples: 50_000,
+        seed: 1,
+        bins: 60,
+    };
     b.bench(|| a.monte_carlo(&opts, &|_| {}).expect("finite"));
 }
 

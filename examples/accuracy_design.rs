@@ -5,7 +5,6 @@
 //!
 //! Run: `cargo run --release --example accuracy_design`
 use ncgear::design::{DesignOptions, RefineMode, design};
-use ncgear::fourier::SunRatio;
 use ncgear::inverse::{InverseOptions, invert};
 use ncgear::mechanism::Mechanism;
 use ncgear::refine::RefineOptions;
@@ -15,15 +14,7 @@ use std::fmt::Write as _;
 use std::time::Instant;
 
 fn g1() -> Mechanism {
-    let e: f64 = 0.15;
-    Mechanism {
-        a_mm: 45.0,
-        l3_mm: 170.0,
-        ratio: SunRatio::new((1..=30).map(|k| 2.0 * e.powi(k)).collect(), vec![0.0; 30])
-            .expect("G1"),
-        sun_phase_rad: 0.0,
-        needle_angle_rad: (-70f64).to_radians(),
-    }
+    ncgear::golden::g1_mechanism()
 }
 
 fn traj(points: Vec<[f64; 2]>) -> Trajectory {

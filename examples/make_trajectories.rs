@@ -9,21 +9,12 @@
 //!   (250, 400) mm, 720 points, JSON format — exactly traceable.
 //!
 //! Run: `cargo run --release --example make_trajectories`
-use ncgear::fourier::SunRatio;
 use ncgear::mechanism::Mechanism;
 use std::f64::consts::TAU;
 use std::fmt::Write as _;
 
 fn g1() -> Mechanism {
-    let e: f64 = 0.15;
-    Mechanism {
-        a_mm: 45.0,
-        l3_mm: 170.0,
-        ratio: SunRatio::new((1..=30).map(|k| 2.0 * e.powi(k)).collect(), vec![0.0; 30])
-            .expect("G1 ratio"),
-        sun_phase_rad: 0.0,
-        needle_angle_rad: (-70f64).to_radians(),
-    }
+    ncgear::golden::g1_mechanism()
 }
 
 fn main() -> std::io::Result<()> {
@@ -54,19 +45,7 @@ fn main() -> std::io::Result<()> {
     std::fs::write(dir.join("designer_kidney.csv"), s)?;
 
     // G4-type asymmetric sun, mirrored (clockwise carrier), offset centre.
-    let ratio = SunRatio::new(
-        vec![
-            0.25 * 0.3f64.cos(),
-            0.08 * 1.1f64.sin(),
-            0.05 * (-0.4f64).cos(),
-        ],
-        vec![
-            -0.25 * 0.3f64.sin(),
-            0.08 * 1.1f64.cos(),
-            -0.05 * (-0.4f64).sin(),
-        ],
-    )
-    .expect("G4 ratio");
+    let ratio = ncgear::golden::g4_ratio();
     let m4 = Mechanism {
         a_mm: 42.0,
         l3_mm: 165.0,

@@ -293,7 +293,9 @@ pub fn distances_to_polyline(p: &[[f64; 2]], q: &[[f64; 2]]) -> Vec<f64> {
         .collect()
 }
 
-fn seg_dist(x: [f64; 2], a: [f64; 2], b: [f64; 2]) -> f64 {
+/// Distance from `x` to the segment `ab`, mm.
+#[must_use]
+pub fn seg_dist(x: [f64; 2], a: [f64; 2], b: [f64; 2]) -> f64 {
     let (dx, dy) = (b[0] - a[0], b[1] - a[1]);
     let l2 = dx * dx + dy * dy;
     let t = if l2 > 0.0 {

@@ -11,6 +11,7 @@
 //! and the origin with the smallest `E_c` is chosen (spec §15 item 5).
 
 use crate::inverse::NeedleLaw;
+use crate::periodic::bisect_root;
 use std::f64::consts::{PI, TAU};
 
 /// Compatibility of a target with the train.
@@ -46,18 +47,8 @@ pub fn analyse(law: &NeedleLaw, n: usize, tol_rad: f64) -> Compatibility {
             if a == 0.0 {
                 origins.push(grid[k]);
             } else if a * b < 0.0 {
-                let (mut lo, mut hi, mut flo) = (grid[k], grid[k] + TAU / n as f64, a);
-                while hi - lo > tol_rad {
-                    let mid = 0.5 * (lo + hi);
-                    let fm = d(mid);
-                    if (fm > 0.0) == (flo > 0.0) {
-                        lo = mid;
-                        flo = fm;
-                    } else {
-                        hi = mid;
-                    }
-                }
-                origins.push((0.5 * (lo + hi)).rem_euclid(TAU));
+                let root = bisect_root(d, grid[k], grid[k] + TAU / n as f64, tol_rad);
+                origins.push(root.rem_euclid(TAU));
             }
         }
     }

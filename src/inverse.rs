@@ -14,7 +14,7 @@
 //! `ψ3` is resampled on a uniform grid of `N` carrier angles by solving `φH(s) = φH0 + t_n` on the
 //! interpolant itself (no second interpolation), so its error is the spline's, O(h⁴) (§3.5).
 
-use crate::periodic::{PeriodicSpline, spectral_derivative};
+use crate::periodic::{PeriodicSpline, bisect_root, spectral_derivative};
 use crate::trajectory::{ClosedSpline, Trajectory};
 use std::f64::consts::{PI, TAU};
 
@@ -273,25 +273,6 @@ fn wrap(x: f64) -> f64 {
     if y > PI { y - TAU } else { y }
 }
 
-/// Root of a continuous `g` on `[lo, hi]` with a sign change, by bisection to `tol`.
-fn bisect(g: impl Fn(f64) -> f64, mut lo: f64, mut hi: f64, tol: f64) -> f64 {
-    let mut glo = g(lo);
-    for _ in 0..200 {
-        if hi - lo <= tol {
-            break;
-        }
-        let mid = 0.5 * (lo + hi);
-        let gm = g(mid);
-        if (gm > 0.0) == (glo > 0.0) {
-            lo = mid;
-            glo = gm;
-        } else {
-            hi = mid;
-        }
-    }
-    0.5 * (lo + hi)
-}
-
 /// Runs of indices where `bad(j)` holds, as `[first, last]` pairs.
 fn runs(n: usize, bad: impl Fn(usize) -> bool) -> Vec<[usize; 2]> {
     let mut out = Vec::new();
@@ -373,13 +354,13 @@ fn solve_frame(
         p[0] * d[0] + p[1] * d[1]
     };
     let tol = opts.tol_relative * len;
-    let s_max = bisect(
+    let s_max = bisect_root(
         pdot,
         (jmax as f64 - 1.0) * ds,
         (jmax as f64 + 1.0) * ds,
         tol,
     );
-    let s_min = bisect(
+    let s_min = bisect_root(
         pdot,
         (jmin as f64 - 1.0) * ds,
         (jmin as f64 + 1.0) * ds,
@@ -462,7 +443,7 @@ fn solve_frame(
         let u = if k == 0 {
             0.0
         } else {
-            bisect(|u| unwrap_near(u) - target, u_lo, u_hi, tol)
+            bisect_root(|u| unwrap_near(u) - target, u_lo, u_hi, tol)
         };
         let b = beta[j] + wrap(beta_at(u, target) - beta[j]);
         samples.push(-(b - beta[0]));

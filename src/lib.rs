@@ -21,6 +21,7 @@ pub mod assembly;
 pub mod compat;
 pub mod design;
 pub mod fourier;
+pub mod golden;
 pub mod inverse;
 pub mod mechanism;
 pub mod outputs;

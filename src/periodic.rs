@@ -311,6 +311,26 @@ pub fn uniform_angles(n: usize) -> Vec<f64> {
     (0..n).map(|k| TAU * k as f64 / n as f64).collect()
 }
 
+/// Root of a continuous `g` on `[lo, hi]` with a sign change, by bisection to `tol`.
+#[must_use]
+pub fn bisect_root(g: impl Fn(f64) -> f64, mut lo: f64, mut hi: f64, tol: f64) -> f64 {
+    let mut glo = g(lo);
+    for _ in 0..200 {
+        if hi - lo <= tol {
+            break;
+        }
+        let mid = 0.5 * (lo + hi);
+        let gm = g(mid);
+        if (gm > 0.0) == (glo > 0.0) {
+            lo = mid;
+            glo = gm;
+        } else {
+            hi = mid;
+        }
+    }
+    0.5 * (lo + hi)
+}
+
 /// Solves `f(x) = y` for a strictly increasing `f` on `[lo, hi]` with `f(lo) ≤ y ≤ f(hi)`:
 /// Newton steps with a bisection safeguard, to `tol` in `x`.
 ///

@@ -280,7 +280,11 @@ impl PeakGrid {
         // sign, max(|f_j|, |f_j+1|) + M2·h²/8. Intervals are refined best bound first until the
         // best refined value exceeds every remaining bound: the result is certified.
         let h = self.h;
-        let m4: f64 = amps.iter().zip(&self.omegas).map(|(a, w)| a.abs() * w.powi(4)).sum();
+        let m4: f64 = amps
+            .iter()
+            .zip(&self.omegas)
+            .map(|(a, w)| a.abs() * w.powi(4))
+            .sum();
         let herm = m4 * h.powi(4) / 384.0;
         let loss = m2 * h * h / 8.0;
         let mut bounds: Vec<(f64, usize)> = (0..n)
@@ -292,7 +296,10 @@ impl PeakGrid {
                 }
                 let sg = y0.signum();
                 let (y0, y1, m0, m1) = (sg * y0, sg * y1, sg * d[j] * h, sg * d[k] * h);
-                let (c2, c3) = (-3.0 * y0 - 2.0 * m0 + 3.0 * y1 - m1, 2.0 * y0 + m0 - 2.0 * y1 + m1);
+                let (c2, c3) = (
+                    -3.0 * y0 - 2.0 * m0 + 3.0 * y1 - m1,
+                    2.0 * y0 + m0 - 2.0 * y1 + m1,
+                );
                 let p = |s: f64| y0 + s * (m0 + s * (c2 + s * c3));
                 let mut mx = y0.max(y1);
                 // p′(s) = m0 + 2c2 s + 3c3 s² = 0 in (0, 1).
@@ -301,7 +308,14 @@ impl PeakGrid {
                     [if qb != 0.0 { -qc / qb } else { -1.0 }, -1.0]
                 } else {
                     let disc = qb * qb - 4.0 * qa * qc;
-                    if disc < 0.0 { [-1.0, -1.0] } else { [(-qb + disc.sqrt()) / (2.0 * qa), (-qb - disc.sqrt()) / (2.0 * qa)] }
+                    if disc < 0.0 {
+                        [-1.0, -1.0]
+                    } else {
+                        [
+                            (-qb + disc.sqrt()) / (2.0 * qa),
+                            (-qb - disc.sqrt()) / (2.0 * qa),
+                        ]
+                    }
                 };
                 for r in roots {
                     if r > 0.0 && r < 1.0 {
@@ -321,7 +335,18 @@ impl PeakGrid {
             // The interval's maximum is at an end point or at a stationary point inside.
             let (t, v) = self.refine(amps, phases, j, tol);
             let ends = f[j].abs().max(f[(j + 1) % n].abs());
-            let (t, v) = if ends > v { (if f[j].abs() >= f[(j + 1) % n].abs() { j as f64 * h } else { (j + 1) as f64 * h }, ends) } else { (t, v) };
+            let (t, v) = if ends > v {
+                (
+                    if f[j].abs() >= f[(j + 1) % n].abs() {
+                        j as f64 * h
+                    } else {
+                        (j + 1) as f64 * h
+                    },
+                    ends,
+                )
+            } else {
+                (t, v)
+            };
             if v > best.0 {
                 best = (v, t.rem_euclid(self.period));
             }
@@ -396,9 +421,7 @@ mod tests {
     #[test]
     fn base_frequency_is_the_exact_gcd() {
         assert!((base_frequency(&[75.0, 525.0, 275.0], 10_000).unwrap() - 25.0).abs() < 1e-9);
-        assert!(
-            (base_frequency(&[75.0, 525.0, 275.0, 63.0], 10_000).unwrap() - 1.0).abs() < 1e-9
-        );
+        assert!((base_frequency(&[75.0, 525.0, 275.0, 63.0], 10_000).unwrap() - 1.0).abs() < 1e-9);
         assert!((base_frequency(&[0.5, 0.75], 1000).unwrap() - 0.25).abs() < 1e-12);
         assert!(base_frequency(&[1.0, std::f64::consts::SQRT_2], 10_000).is_none());
     }

@@ -18,21 +18,9 @@ const G1_I31: [f64; 7] = [
     1.83044983, 1.58144121, 1.15294002, 0.8414804, 0.66250796, 0.57325348, 0.5463138,
 ];
 
-/// G1 ratio `(1−e²)/(1 − 2e cos θ + e²) = 1 + 2Σ eᵏ cos kθ` (e = 0.15; 30 terms = machine precision).
-fn g1_ratio() -> SunRatio {
-    let e: f64 = 0.15;
-    SunRatio::new((1..=30).map(|k| 2.0 * e.powi(k)).collect(), vec![0.0; 30]).unwrap()
-}
-
 /// The G1 mechanism of spec §11: a = 45, l3 = 170, β_init = −70°, far vertex faces D at φH = 0.
 fn g1_mechanism() -> Mechanism {
-    Mechanism {
-        a_mm: 45.0,
-        l3_mm: 170.0,
-        ratio: g1_ratio(),
-        sun_phase_rad: 0.0,
-        needle_angle_rad: (-70f64).to_radians(),
-    }
+    ncgear::golden::g1_mechanism()
 }
 
 fn g1_closed_psi3(t: f64) -> f64 {
@@ -218,19 +206,7 @@ fn g3_pi_periodic_ratio_translates_the_needle() {
 
 #[test]
 fn g4_asymmetric_sun_is_compatible_with_known_origins() {
-    let raw = SunRatio::new(
-        vec![
-            0.25 * 0.3f64.cos(),
-            0.08 * 1.1f64.sin(),
-            0.05 * (-0.4f64).cos(),
-        ],
-        vec![
-            -0.25 * 0.3f64.sin(),
-            0.08 * 1.1f64.cos(),
-            -0.05 * (-0.4f64).sin(),
-        ],
-    )
-    .unwrap();
+    let raw = ncgear::golden::g4_ratio();
     let m = Mechanism {
         a_mm: 45.0,
         l3_mm: 170.0,

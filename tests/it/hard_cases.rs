@@ -13,14 +13,7 @@ use rand_distr::{Distribution, Normal};
 use std::f64::consts::TAU;
 
 fn g1() -> Mechanism {
-    let e: f64 = 0.15;
-    Mechanism {
-        a_mm: 45.0,
-        l3_mm: 170.0,
-        ratio: SunRatio::new((1..=30).map(|k| 2.0 * e.powi(k)).collect(), vec![0.0; 30]).unwrap(),
-        sun_phase_rad: 0.0,
-        needle_angle_rad: (-70f64).to_radians(),
-    }
+    ncgear::golden::g1_mechanism()
 }
 
 fn traj(points: Vec<[f64; 2]>) -> Result<Trajectory, ncgear::trajectory::TrajectoryError> {
