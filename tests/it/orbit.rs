@@ -307,3 +307,465 @@ fn model_rejects_bad_parameters() {
     let e = PlanetSet::equally_spaced(1.7, Hand::Ccw, 0.0, 1.0, &[1.0; 3], &[0.0; 3]).unwrap_err();
     assert!(e.to_string().contains("pressure_angle"), "{e}");
 }
+
+// ---------------------------------------------------------------------------------------------
+// Measurement (A.7–A.8) on synthetic records.
+
+use ncgear::analysis::orbit::OrbitError;
+use ncgear::analysis::orbit::measure::{
+    Comparison, Extractor, Frame, Method, Record, full_spectrum,
+};
+use ncgear::analysis::orbit::model::Line;
+use rand::SeedableRng;
+use rand::rngs::ChaCha8Rng;
+use rand_distr::{Distribution, Normal};
+
+/// A synthetic record description (carrier frame unless `carrier_rad_s` ≠ 0).
+struct Synth {
+    orbit: Orbit,
+    periods: f64,
+    samples: usize,
+    sigma_um: f64,
+    /// Extra circular lines `Z e^{iωt}` in the analysis frame: (signed ω rad/s, Z µm).
+    lines: Vec<(f64, C64)>,
+    dc_um: (f64, f64),
+    drift_um_s: (f64, f64),
+    carrier_rad_s: f64,
+    jitter: f64,
+    t0_s: f64,
+    seed: u64,
+}
+
+impl Synth {
+    fn base(seed: u64) -> Self {
+        let o = set([10.0, 6.0, 8.0], [0.0, 0.7, 2.1]).solve().orbit;
+        let orbit = Orbit {
+            omega_p_rad_s: TAU * 3.37,
+            ..o
+        };
+        Self {
+            orbit,
+            periods: 26.185,
+            samples: 15540,
+            sigma_um: 2.0,
+            lines: vec![
+                (TAU * 4.91, C64::new(3.0, 4.0)),         // sun runout (5 µm)
+                (TAU * 3.37 * 12.0, C64::new(2.0, 0.0)),  // mesh line
+                (-TAU * 3.37 * 12.0, C64::new(0.0, 1.5)), // mesh line, backward
+            ],
+            dc_um: (30.0, -12.0),
+            drift_um_s: (4.0, -2.5),
+            carrier_rad_s: 0.0,
+            jitter: 0.0,
+            t0_s: 0.0,
+            seed,
+        }
+    }
+
+    fn duration(&self) -> f64 {
+        self.periods * TAU / self.orbit.omega_p_rad_s.abs()
+    }
+
+    fn nuisance(&self) -> Vec<Line> {
+        self.lines
+            .iter()
+            .map(|(w, _)| Line::new(format!("{w:.3}"), *w, LineKind::Nuisance))
+            .collect()
+    }
+
+    fn record(&self) -> Record {
+        let mut rng = ChaCha8Rng::seed_from_u64(self.seed);
+        let noise = Normal::new(0.0, self.sigma_um).unwrap();
+        let dt = self.duration() / self.samples as f64;
+        let (mut t, mut x, mut y, mut c) = (vec![], vec![], vec![], vec![]);
+        for k in 0..self.samples {
+            let u: f64 = Normal::new(0.0, 1.0).unwrap().sample(&mut rng);
+            let tk = self.t0_s + dt * (k as f64 + self.jitter * u.clamp(-0.45, 0.45));
+            let (ox, oy) = self.orbit.position_um(tk);
+            let mut z = C64::new(ox, oy);
+            for (w, a) in &self.lines {
+                z += a * C64::from_polar(1.0, w * tk);
+            }
+            let th = self.carrier_rad_s * tk;
+            z *= C64::from_polar(1.0, th); // housing frame when ω_c ≠ 0
+            t.push(tk);
+            x.push(z.re + self.dc_um.0 + self.drift_um_s.0 * tk + noise.sample(&mut rng));
+            y.push(z.im + self.dc_um.1 + self.drift_um_s.1 * tk + noise.sample(&mut rng));
+            c.push(th);
+        }
+        let carrier = (self.carrier_rad_s != 0.0).then_some(c);
+        Record::new(t, x, y, carrier).unwrap()
+    }
+
+    /// CRLB (A.8 step 5): std(A) ≈ σ√(2/N), std(φ) ≈ σ√(2/N)/A.
+    fn crlb_amp(&self) -> f64 {
+        self.sigma_um * (2.0 / self.samples as f64).sqrt()
+    }
+}
+
+/// Errors of A_x, φ_x, A_y, φ_y.
+fn errors(got: &Orbit, want: &Orbit) -> [f64; 4] {
+    let (g, w) = (got.sin_pair(), want.sin_pair());
+    [
+        g.a_x_um - w.a_x_um,
+        ncgear_wrap(g.phi_x_rad - w.phi_x_rad),
+        g.a_y_um - w.a_y_um,
+        ncgear_wrap(g.phi_y_rad - w.phi_y_rad),
+    ]
+}
+
+fn ncgear_wrap(a: f64) -> f64 {
+    let w = a.rem_euclid(TAU);
+    if w > PI { w - TAU } else { w }
+}
+
+fn assert_within_crlb(s: &Synth, got: &Orbit, factor: f64) {
+    let w = s.orbit.sin_pair();
+    let e = errors(got, &s.orbit);
+    let ca = s.crlb_amp();
+    let lim = [
+        factor * ca,
+        factor * ca / w.a_x_um,
+        factor * ca,
+        factor * ca / w.a_y_um,
+    ];
+    for k in 0..4 {
+        assert!(
+            e[k].abs() <= lim[k],
+            "error[{k}] = {:.3e} > {:.3e} ({factor}×CRLB); all errors {e:?}",
+            e[k],
+            lim[k]
+        );
+    }
+}
+
+#[test]
+fn ls_extraction_within_4x_crlb_non_integer_drift_noise_nuisance() {
+    for seed in [1u64, 2, 3] {
+        let s = Synth::base(seed);
+        let rec = s.record();
+        let ex = Extractor::builder(s.orbit.omega_p_rad_s)
+            .nuisance(s.nuisance())
+            .build()
+            .unwrap();
+        let m = ex.extract(&rec).unwrap();
+        assert_within_crlb(&s, &m.orbit, 4.0);
+        assert!(m.warnings.is_empty(), "{:?}", m.warnings);
+        // The reported 1-σ matches the CRLB (white noise).
+        let u = m.uncertainty.unwrap();
+        let r = u.a_x_um / s.crlb_amp();
+        assert!((0.8..1.25).contains(&r), "σ(A_x)/CRLB = {r}");
+        let r = u.phi_y_rad / (s.crlb_amp() / s.orbit.sin_pair().a_y_um);
+        assert!((0.8..1.25).contains(&r), "σ(φ_y)/CRLB = {r}");
+        // Residual RMS ≈ noise σ.
+        let (rx, ry) = m.residual_rms_um.unwrap();
+        assert!(
+            (rx / 2.0 - 1.0).abs() < 0.05 && (ry / 2.0 - 1.0).abs() < 0.05,
+            "{rx} {ry}"
+        );
+        // Comparison with the model: ellipse within a few CRLB.
+        let c = Comparison::new(&m.orbit, &s.orbit);
+        assert!(
+            c.d_r_long_um.abs() < 6.0 * s.crlb_amp() && c.d_r_short_um.abs() < 6.0 * s.crlb_amp(),
+            "{c:?}"
+        );
+    }
+}
+
+#[test]
+fn ls_handles_nearby_nuisance_line_and_jittered_time() {
+    // A strong nuisance line 4 bins from the planet line, non-uniform sampling, record not
+    // starting at t = 0.
+    let mut s = Synth::base(7);
+    let bin = TAU / s.duration();
+    s.lines
+        .push((s.orbit.omega_p_rad_s + 2.5 * bin, C64::new(-6.0, 6.0)));
+    s.lines
+        .push((-(s.orbit.omega_p_rad_s - 5.0 * bin), C64::new(4.0, 1.0)));
+    s.jitter = 0.3;
+    s.t0_s = 0.8;
+    let rec = s.record();
+    assert!(!rec.is_uniform(1e-6));
+    let m = Extractor::builder(s.orbit.omega_p_rad_s)
+        .nuisance(s.nuisance())
+        .build()
+        .unwrap()
+        .extract(&rec)
+        .unwrap();
+    assert_within_crlb(&s, &m.orbit, 4.0);
+    assert_eq!(m.warnings.len(), 1, "{:?}", m.warnings); // 2.5 bins < 3 bins
+    // Without the nuisance lines in the model the estimate is biased far beyond the CRLB.
+    let naive = Extractor::builder(s.orbit.omega_p_rad_s)
+        .build()
+        .unwrap()
+        .extract(&rec)
+        .unwrap();
+    let e = errors(&naive.orbit, &s.orbit);
+    assert!(e[0].abs().max(e[2].abs()) > 10.0 * s.crlb_amp(), "{e:?}");
+}
+
+#[test]
+fn plain_fft_phase_error_contrast() {
+    let s = Synth::base(11);
+    let rec = s.record();
+    let run = |m: Method| {
+        Extractor::builder(s.orbit.omega_p_rad_s)
+            .method(m)
+            .nuisance(s.nuisance())
+            .build()
+            .unwrap()
+            .extract(&rec)
+            .unwrap()
+    };
+    let fft = errors(&run(Method::PlainFft).orbit, &s.orbit);
+    let hann = errors(&run(Method::HannDtft).orbit, &s.orbit);
+    let sync = errors(&run(Method::Synchronous).orbit, &s.orbit);
+    let ls = errors(&run(Method::LeastSquares).orbit, &s.orbit);
+    // Plain FFT bin on 26.185 periods: phase off by ≈ π·0.185 = 0.58 rad (spec A.8 table).
+    assert!(
+        fft[1].abs() > 0.5 && fft[3].abs() > 0.5,
+        "plain FFT phase errors {fft:?}"
+    );
+    assert!((fft[1].abs() - 0.185 * PI).abs() < 0.05, "{fft:?}");
+    // Hann-DTFT at the exact frequency and synchronous resampling are much better …
+    for e in [hann, sync] {
+        assert!(e[1].abs() < 0.05 && e[3].abs() < 0.05, "{e:?}");
+    }
+    // … and least squares is within 4× CRLB.
+    assert!(
+        ls[1].abs() < 4.0 * s.crlb_amp() / s.orbit.sin_pair().a_x_um,
+        "{ls:?}"
+    );
+    eprintln!(
+        "phase errors x/y [rad]: plain FFT {:.4}/{:.4}, Hann-DTFT {:.4}/{:.4}, synchronous {:.4}/{:.4}, LS {:.5}/{:.5}",
+        fft[1], fft[3], hann[1], hann[3], sync[1], sync[3], ls[1], ls[3]
+    );
+}
+
+#[test]
+fn colliding_lines_are_refused() {
+    let s = Synth::base(5);
+    let rec = s.record();
+    let bin = TAU / s.duration();
+    // A nuisance line 1e-7 bin from the planet line: condition number > 1e6, refused.
+    let mut lines = s.nuisance();
+    lines.push(Line::new(
+        "runout (zs = zp)",
+        -(s.orbit.omega_p_rad_s + 1e-7 * bin),
+        LineKind::Nuisance,
+    ));
+    let err = Extractor::builder(s.orbit.omega_p_rad_s)
+        .nuisance(lines)
+        .build()
+        .unwrap()
+        .extract(&rec)
+        .unwrap_err();
+    match &err {
+        OrbitError::Collision {
+            condition,
+            limit,
+            detail,
+        } => {
+            assert!(*condition > *limit && *limit == 1e6, "{err}");
+            assert!(
+                detail.contains("runout (zs = zp)") && detail.contains("planet Z+"),
+                "{detail}"
+            );
+        }
+        other => panic!("expected a collision, got {other}"),
+    }
+    // Exactly on the line (zs = zp): refused as well.
+    let mut lines = s.nuisance();
+    lines.push(Line::new(
+        "runout",
+        -s.orbit.omega_p_rad_s,
+        LineKind::Nuisance,
+    ));
+    assert!(matches!(
+        Extractor::builder(s.orbit.omega_p_rad_s)
+            .nuisance(lines)
+            .build()
+            .unwrap()
+            .extract(&rec),
+        Err(OrbitError::Collision { .. })
+    ));
+    // 0.001 bin away: condition ≈ 1e3 < 1e6, so analysed — but warned, and the reported
+    // uncertainty is inflated by orders of magnitude over the CRLB (the estimate is useless).
+    let mut lines = s.nuisance();
+    lines.push(Line::new(
+        "near",
+        -(s.orbit.omega_p_rad_s + 0.001 * bin),
+        LineKind::Nuisance,
+    ));
+    let m = Extractor::builder(s.orbit.omega_p_rad_s)
+        .nuisance(lines)
+        .build()
+        .unwrap()
+        .extract(&rec)
+        .unwrap();
+    assert!(
+        m.warnings
+            .iter()
+            .any(|w| w.contains("near") && w.contains("0.001 bins")),
+        "{:?}",
+        m.warnings
+    );
+    assert!(m.uncertainty.unwrap().a_x_um > 100.0 * s.crlb_amp());
+    // 2 bins away: analysed, but warned (< 3 bins).
+    let mut lines = s.nuisance();
+    lines.push(Line::new(
+        "close",
+        s.orbit.omega_p_rad_s + 2.0 * bin,
+        LineKind::Nuisance,
+    ));
+    let m = Extractor::builder(s.orbit.omega_p_rad_s)
+        .nuisance(lines)
+        .build()
+        .unwrap()
+        .extract(&rec)
+        .unwrap();
+    assert!(
+        m.warnings
+            .iter()
+            .any(|w| w.contains("close") && w.contains("2.000 bins")),
+        "{:?}",
+        m.warnings
+    );
+    assert!(m.condition_number.unwrap() < 1e6);
+}
+
+#[test]
+fn housing_frame_derotation_and_full_spectrum() {
+    let mut s = Synth::base(21);
+    s.carrier_rad_s = TAU * 1.13;
+    s.lines.truncate(1); // runout line, given in the carrier frame
+    let rec = s.record();
+    // (a) de-rotate with the recorded carrier angle.
+    let m = Extractor::builder(s.orbit.omega_p_rad_s)
+        .frame(Frame::HousingDerotate)
+        .nuisance(s.nuisance())
+        .build()
+        .unwrap()
+        .extract(&rec)
+        .unwrap();
+    assert_within_crlb(&s, &m.orbit, 4.0);
+    // (b) full spectrum at the signed frequencies ω_c ± ω_p; nuisance shifted to the housing frame.
+    let wc = s.carrier_rad_s;
+    let housing: Vec<Line> = s
+        .lines
+        .iter()
+        .map(|(w, _)| Line::new("runout", w + wc, LineKind::Nuisance))
+        .collect();
+    let m = Extractor::builder(s.orbit.omega_p_rad_s)
+        .frame(Frame::HousingFullSpectrum { carrier_rad_s: wc })
+        .nuisance(housing)
+        .build()
+        .unwrap()
+        .extract(&rec)
+        .unwrap();
+    assert_within_crlb(&s, &m.orbit, 4.0);
+    // Reading the housing record as if it were the carrier frame is wrong by far.
+    let wrong = Extractor::builder(s.orbit.omega_p_rad_s)
+        .build()
+        .unwrap()
+        .extract(&rec)
+        .unwrap();
+    assert!((wrong.orbit.z_plus_um - s.orbit.z_plus_um).norm() > 3.0);
+}
+
+#[test]
+fn least_squares_is_thread_count_independent() {
+    let s = Synth::base(3);
+    let rec = s.record();
+    let ex = Extractor::builder(s.orbit.omega_p_rad_s)
+        .nuisance(s.nuisance())
+        .build()
+        .unwrap();
+    let one = rayon::ThreadPoolBuilder::new()
+        .num_threads(1)
+        .build()
+        .unwrap()
+        .install(|| ex.extract(&rec).unwrap());
+    let many = rayon::ThreadPoolBuilder::new()
+        .num_threads(3)
+        .build()
+        .unwrap()
+        .install(|| ex.extract(&rec).unwrap());
+    assert_eq!(one.orbit, many.orbit);
+}
+
+#[test]
+fn full_spectrum_shows_forward_and_backward_lines() {
+    // An integer number of periods so the lines sit on bins.
+    let mut s = Synth::base(4);
+    s.periods = 40.0;
+    s.samples = 4000;
+    s.sigma_um = 0.0;
+    s.lines.clear();
+    s.drift_um_s = (0.0, 0.0);
+    let spec = full_spectrum(&s.record(), false);
+    let at = |f: f64| {
+        spec.iter()
+            .min_by(|a, b| (a.0 - f).abs().total_cmp(&(b.0 - f).abs()))
+            .unwrap()
+            .1
+    };
+    // Hann window on a bin: the amplitude-corrected peak equals |Z±|.
+    assert!(
+        (at(3.37) - s.orbit.z_plus_um.norm()).abs() < 1e-6,
+        "{}",
+        at(3.37)
+    );
+    assert!(
+        (at(-3.37) - s.orbit.z_minus_um.norm()).abs() < 1e-6,
+        "{}",
+        at(-3.37)
+    );
+}
+
+fn temp_csv(name: &str, text: &str) -> std::path::PathBuf {
+    let p = std::env::temp_dir().join(format!("ncgear_orbit_{}_{name}.csv", std::process::id()));
+    std::fs::write(&p, text).unwrap();
+    p
+}
+
+#[test]
+fn csv_errors_name_file_line_and_column() {
+    let mut text = String::from("t_s,x_um,y_um\n");
+    for k in 0..20 {
+        text.push_str(&format!("{},{},{}\n", 0.01 * k as f64, k, -k));
+    }
+    let ok = temp_csv("ok", &text);
+    assert_eq!(Record::from_csv_path(&ok).unwrap().len(), 20);
+    let bad = temp_csv("bad", &text.replace("0.05,5,-5", "0.05,5,abc"));
+    let e = Record::from_csv_path(&bad).unwrap_err().to_string();
+    assert!(
+        e.contains(&bad.display().to_string())
+            && e.contains(":7:")
+            && e.contains("`y_um`")
+            && e.contains("\"abc\""),
+        "{e}"
+    );
+    let unk = temp_csv("unk", &text.replace("t_s,x_um,y_um", "t_s,x_um,y_um,z_um"));
+    let e = Record::from_csv_path(&unk).unwrap_err().to_string();
+    assert!(
+        e.contains(":1:") && e.contains("`z_um`") && e.contains("unknown column"),
+        "{e}"
+    );
+    let miss = temp_csv("miss", &text.replace("t_s,x_um,y_um", "t_s,x_um,q"));
+    assert!(
+        Record::from_csv_path(&miss)
+            .unwrap_err()
+            .to_string()
+            .contains("`q`")
+    );
+    let order = temp_csv("order", &text.replace("0.05,5,-5", "0.03,5,-5"));
+    let e = Record::from_csv_path(&order).unwrap_err().to_string();
+    assert!(
+        e.contains(":7:") && e.contains("`t_s`") && e.contains("not after"),
+        "{e}"
+    );
+    for p in [ok, bad, unk, miss, order] {
+        let _ = std::fs::remove_file(p);
+    }
+}
