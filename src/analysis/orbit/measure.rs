@@ -465,6 +465,24 @@ impl Extractor {
         self.omega_p_rad_s
     }
 
+    /// Sensor frame.
+    #[must_use]
+    pub fn frame(&self) -> Frame {
+        self.frame
+    }
+
+    /// Whether a linear drift is removed (else only the mean).
+    #[must_use]
+    pub fn drift(&self) -> bool {
+        self.drift
+    }
+
+    /// Estimator.
+    #[must_use]
+    pub fn method(&self) -> Method {
+        self.method
+    }
+
     /// Planet lines `(ω₊, ω₋)` of the analysis frame, signed rad/s.
     fn target_omegas(&self) -> (f64, f64) {
         let wc = match self.frame {
@@ -474,8 +492,12 @@ impl Extractor {
         (wc + self.omega_p_rad_s, wc - self.omega_p_rad_s)
     }
 
-    /// The analysis-frame signal (de-rotated when asked).
-    fn frame_signal(&self, rec: &Record) -> Result<(Vec<f64>, Vec<f64>), OrbitError> {
+    /// The detrended (mean, and drift if configured, removed in the sensor frame) signal in the
+    /// analysis frame (de-rotated for [`Frame::HousingDerotate`]), µm — e.g. for plotting the raw orbit.
+    ///
+    /// # Errors
+    /// [`OrbitError::Record`] when de-rotation is asked without a carrier angle.
+    pub fn analysis_signal(&self, rec: &Record) -> Result<(Vec<f64>, Vec<f64>), OrbitError> {
         match self.frame {
             Frame::HousingDerotate => {
                 let c = rec.carrier_angle_rad().ok_or_else(|| {
@@ -487,7 +509,7 @@ impl Extractor {
                 let (x, y) = detrend(rec.t_s(), &rec.x_um, &rec.y_um, self.drift);
                 Ok(rotate(&x, &y, c, -1.0))
             }
-            _ => Ok((rec.x_um.clone(), rec.y_um.clone())),
+            _ => Ok(detrend(rec.t_s(), &rec.x_um, &rec.y_um, self.drift)),
         }
     }
 
@@ -585,14 +607,13 @@ impl Extractor {
                 self.least_squares(rec.t_s(), rec.x_um(), rec.y_um(), &mut m)?;
             }
             other => {
-                let (x, y) = self.frame_signal(rec)?;
+                let (x, y) = self.analysis_signal(rec)?;
                 if !rec.is_uniform(1e-6) {
                     return Err(OrbitError::Record(format!(
                         "{other:?} needs uniformly sampled data (steps within 1e-6)"
                     )));
                 }
-                let (xd, yd) = detrend(rec.t_s(), &x, &y, self.drift);
-                let z: Vec<C64> = xd.iter().zip(&yd).map(|(a, b)| C64::new(*a, *b)).collect();
+                let z: Vec<C64> = x.iter().zip(&y).map(|(a, b)| C64::new(*a, *b)).collect();
                 let (zp, zm) = match other {
                     Method::HannDtft => {
                         (hann_dtft(rec.t_s(), &z, wp), hann_dtft(rec.t_s(), &z, wm))

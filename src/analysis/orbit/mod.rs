@@ -31,7 +31,7 @@ pub const ZERO_COMPONENT_REL: f64 = 1e-12;
 
 /// Errors of the orbit analyses. Every message names the offending key, file position or
 /// quantity and what was expected.
-#[derive(Debug, thiserror::Error)]
+#[derive(Debug, thiserror::Error, miette::Diagnostic)]
 #[non_exhaustive]
 pub enum OrbitError {
     /// A parameter is out of range; `key` is its path (e.g. `planet[1].eccentricity_um`).
