@@ -55,7 +55,6 @@ enum Sub {
         #[arg(
             long,
             value_delimiter = ',',
-            num_args = 4,
             allow_negative_numbers = true
         )]
         sin_pair: Option<Vec<f64>>,
@@ -63,7 +62,6 @@ enum Sub {
         #[arg(
             long,
             value_delimiter = ',',
-            num_args = 2,
             allow_negative_numbers = true
         )]
         te: Option<Vec<f64>>,
@@ -497,6 +495,12 @@ fn identify_cmd(
     o: &MeasureOpts,
     json: bool,
 ) -> CliResult {
+    if sin_pair.is_some_and(|v| v.len() != 4) {
+        return Err(input_error(miette::miette!("--sin-pair expects 4 comma-separated numbers: A_sx_um,phi_sx_deg,A_sy_um,phi_sy_deg")));
+    }
+    if te.is_some_and(|v| v.len() != 2) {
+        return Err(input_error(miette::miette!("--te expects 2 comma-separated numbers: amplitude_um,phase_deg")));
+    }
     let s = setup(o)?;
     let Some((_, set)) = &s.model else {
         return Err(input_error(miette::miette!(
