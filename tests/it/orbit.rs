@@ -769,3 +769,68 @@ fn csv_errors_name_file_line_and_column() {
         let _ = std::fs::remove_file(p);
     }
 }
+
+// ---------------------------------------------------------------------------------------------
+// Files under assets/orbit (the README quick start).
+
+use ncgear::analysis::orbit::model::ModelParams;
+
+fn asset(name: &str) -> std::path::PathBuf {
+    std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/orbit").join(name)
+}
+
+#[test]
+fn asset_model_files_load_and_give_table_a10() {
+    let p = ModelParams::from_path(&asset("model.toml")).unwrap();
+    let set = p.planet_set().unwrap();
+    let g = p.gear_speeds().unwrap().unwrap();
+    assert!(rel(set.omega_p_rad_s(), g.planet_rad_s) < 1e-15);
+    let el = set.solve().orbit.ellipse();
+    assert!((el.r_long_um - 17.049996).abs() < 5e-7 && (el.r_short_um - 1.347374).abs() < 5e-7);
+    let j = ModelParams::from_path(&asset("model.json")).unwrap().planet_set().unwrap();
+    assert_eq!(j.planets().len(), 4);
+    assert!(j.solve().load_independent);
+}
+
+#[test]
+fn model_file_errors_name_the_key() {
+    let dir = std::env::temp_dir();
+    let p = dir.join(format!("ncgear_orbit_{}_unknown.toml", std::process::id()));
+    let text = std::fs::read_to_string(asset("model.toml")).unwrap();
+    std::fs::write(&p, text.replace("eccentricity_um = 6.0", "eccentricity_um = 6.0\nrunout_um = 1.0")).unwrap();
+    let e = ModelParams::from_path(&p).unwrap_err().to_string();
+    assert!(e.contains("runout_um") && e.contains(&p.display().to_string()), "{e}");
+    std::fs::write(&p, text.replace("eccentricity_um = 6.0", "eccentricity_um = -6.0")).unwrap();
+    let e = ModelParams::from_path(&p).unwrap().planet_set().unwrap_err().to_string();
+    assert!(e.contains("planet[1].eccentricity_um"), "{e}");
+    std::fs::write(&p, text.replace("sun_speed_rpm = 300.0", "sun_speed_rpm = 300.0\n[x]")).unwrap();
+    assert!(ModelParams::from_path(&p).is_err());
+    let _ = std::fs::remove_file(p);
+}
+
+#[test]
+fn asset_signals_match_the_model_within_4x_crlb() {
+    // signals.csv: housing frame, σ = 1 µm, 4000 samples (make_signals.py).
+    let p = ModelParams::from_path(&asset("model.toml")).unwrap();
+    let set = p.planet_set().unwrap();
+    let g = p.gear_speeds().unwrap().unwrap();
+    let rec = Record::from_csv_path(&asset("signals.csv")).unwrap();
+    let crlb = (2.0 / rec.len() as f64).sqrt();
+    let model = set.solve().orbit;
+    for frame in [Frame::HousingDerotate, Frame::HousingFullSpectrum { carrier_rad_s: g.carrier_rad_s }] {
+        let housing = matches!(frame, Frame::HousingFullSpectrum { .. });
+        let m = Extractor::builder(set.omega_p_rad_s())
+            .frame(frame)
+            .nuisance(g.expected_lines(housing, 2))
+            .build()
+            .unwrap()
+            .extract(&rec)
+            .unwrap();
+        let e = errors(&m.orbit, &model);
+        let s = model.sin_pair();
+        let lim = [4.0 * crlb, 4.0 * crlb / s.a_x_um, 4.0 * crlb, 4.0 * crlb / s.a_y_um];
+        for k in 0..4 {
+            assert!(e[k].abs() <= lim[k], "{frame:?}: {e:?} vs {lim:?}");
+        }
+    }
+}
