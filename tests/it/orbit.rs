@@ -450,6 +450,16 @@ fn ls_extraction_within_4x_crlb_non_integer_drift_noise_nuisance() {
             .unwrap();
         let m = ex.extract(&rec).unwrap();
         assert_within_crlb(&s, &m.orbit, 4.0);
+        let e = errors(&m.orbit, &s.orbit);
+        let w = s.orbit.sin_pair();
+        eprintln!(
+            "seed {seed}: errors / CRLB: A_x {:+.2}, φ_x {:+.2}, A_y {:+.2}, φ_y {:+.2} (CRLB A = {:.4} µm)",
+            e[0] / s.crlb_amp(),
+            e[1] / (s.crlb_amp() / w.a_x_um),
+            e[2] / s.crlb_amp(),
+            e[3] / (s.crlb_amp() / w.a_y_um),
+            s.crlb_amp()
+        );
         assert!(m.warnings.is_empty(), "{:?}", m.warnings);
         // The reported 1-σ matches the CRLB (white noise).
         let u = m.uncertainty.unwrap();
