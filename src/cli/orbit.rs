@@ -52,18 +52,10 @@ enum Sub {
         #[arg(long, conflicts_with = "sin_pair")]
         signals: Option<PathBuf>,
         /// Measured orbit as A_sx_um,phi_sx_deg,A_sy_um,phi_sy_deg (carrier frame).
-        #[arg(
-            long,
-            value_delimiter = ',',
-            allow_negative_numbers = true
-        )]
+        #[arg(long, value_delimiter = ',', allow_negative_numbers = true)]
         sin_pair: Option<Vec<f64>>,
         /// Transmission-error (common-mode displacement) channel at ω_p: amplitude µm, phase deg.
-        #[arg(
-            long,
-            value_delimiter = ',',
-            allow_negative_numbers = true
-        )]
+        #[arg(long, value_delimiter = ',', allow_negative_numbers = true)]
         te: Option<Vec<f64>>,
         #[command(flatten)]
         opts: MeasureOpts,
@@ -100,6 +92,10 @@ struct MeasureOpts {
     /// Remove only the mean, not a linear drift.
     #[arg(long)]
     no_drift: bool,
+    /// Treat ω_p as approximate: estimate it from the record (interpolated Hann spectrum within
+    /// ±10 %, then least-squares refinement) and extract there.
+    #[arg(long)]
+    estimate_frequency: bool,
     /// Refuse the least-squares fit above this condition number.
     #[arg(long, default_value_t = 1e6)]
     max_condition: f64,
@@ -287,6 +283,7 @@ fn axis_points(o: &Orbit) -> Vec<(f64, f64)> {
 
 struct Setup {
     extractor: Extractor,
+    estimate: bool,
     model: Option<(ModelParams, PlanetSet)>,
 }
 
@@ -355,11 +352,26 @@ fn setup(o: &MeasureOpts) -> Result<Setup, super::Failure> {
         .max_condition(o.max_condition)
         .build()
         .map_err(input_error)?;
-    Ok(Setup { extractor, model })
+    Ok(Setup {
+        extractor,
+        estimate: o.estimate_frequency,
+        model,
+    })
 }
 
-fn run_measure(path: &Path, s: &Setup) -> Result<(Record, Measurement), super::Failure> {
+fn run_measure(path: &Path, s: &mut Setup) -> Result<(Record, Measurement), super::Failure> {
     let rec = Record::from_csv_path(path).map_err(input_error)?;
+    if s.estimate {
+        let w = s.extractor.omega_p_rad_s();
+        let est = s
+            .extractor
+            .estimate_frequency(&rec, 0.1, 1e-10 * w.abs())
+            .map_err(input_error)?;
+        s.extractor = s
+            .extractor
+            .with_omega_p(est.refined_rad_s)
+            .map_err(input_error)?;
+    }
     let m = s.extractor.extract(&rec).map_err(|e| match e {
         OrbitError::Collision { .. } | OrbitError::Record(_) => input_error(located(path, e)),
         other => runtime_error(other),
@@ -381,6 +393,8 @@ fn measurement_json(m: &Measurement, s: &Setup) -> Value {
         "residual_rms_um": m.residual_rms_um.map(|(x, y)| json!({"x": x, "y": y})),
         "lines": m.lines,
         "warnings": m.warnings,
+        "omega_p_rad_s": s.extractor.omega_p_rad_s(),
+        "frequency_estimated": s.estimate,
         "record_length_s": m.record_length_s,
         "samples": m.samples,
         "comparison_with_model": cmp,
@@ -388,8 +402,8 @@ fn measurement_json(m: &Measurement, s: &Setup) -> Value {
 }
 
 fn measure(path: &Path, o: &MeasureOpts, json: bool, plot_dir: Option<&Path>) -> CliResult {
-    let s = setup(o)?;
-    let (rec, m) = run_measure(path, &s)?;
+    let mut s = setup(o)?;
+    let (rec, m) = run_measure(path, &mut s)?;
     if let Some(dir) = plot_dir {
         plots(dir, &rec, &m, &s)?;
     }
@@ -496,19 +510,31 @@ fn identify_cmd(
     json: bool,
 ) -> CliResult {
     if sin_pair.is_some_and(|v| v.len() != 4) {
-        return Err(input_error(miette::miette!("--sin-pair expects 4 comma-separated numbers: A_sx_um,phi_sx_deg,A_sy_um,phi_sy_deg")));
+        return Err(input_error(miette::miette!(
+            "--sin-pair expects 4 comma-separated numbers: A_sx_um,phi_sx_deg,A_sy_um,phi_sy_deg"
+        )));
     }
     if te.is_some_and(|v| v.len() != 2) {
-        return Err(input_error(miette::miette!("--te expects 2 comma-separated numbers: amplitude_um,phase_deg")));
+        return Err(input_error(miette::miette!(
+            "--te expects 2 comma-separated numbers: amplitude_um,phase_deg"
+        )));
     }
-    let s = setup(o)?;
-    let Some((_, set)) = &s.model else {
+    let mut s = setup(o)?;
+    let Some((_, set)) = s.model.clone() else {
         return Err(input_error(miette::miette!(
             "identify needs --model PARAMS (planet positions, α, sense, ω_p)"
         )));
     };
     let orbit = match (signals, sin_pair) {
-        (Some(path), _) => run_measure(path, &s)?.1.orbit,
+        (Some(path), _) => {
+            // With --estimate-frequency the phasors were taken at the estimated ω_p; the model's
+            // map is linear in them, so identify them against the nominal ω_p.
+            let o = run_measure(path, &mut s)?.1.orbit;
+            Orbit {
+                omega_p_rad_s: set.omega_p_rad_s(),
+                ..o
+            }
+        }
         (None, Some(v)) => {
             let sp = ncgear::analysis::orbit::SinPair {
                 a_x_um: v[0],

@@ -786,7 +786,9 @@ fn csv_errors_name_file_line_and_column() {
 use ncgear::analysis::orbit::model::ModelParams;
 
 fn asset(name: &str) -> std::path::PathBuf {
-    std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/orbit").join(name)
+    std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("assets/orbit")
+        .join(name)
 }
 
 #[test]
@@ -797,7 +799,10 @@ fn asset_model_files_load_and_give_table_a10() {
     assert!(rel(set.omega_p_rad_s(), g.planet_rad_s) < 1e-15);
     let el = set.solve().orbit.ellipse();
     assert!((el.r_long_um - 17.049996).abs() < 5e-7 && (el.r_short_um - 1.347374).abs() < 5e-7);
-    let j = ModelParams::from_path(&asset("model.json")).unwrap().planet_set().unwrap();
+    let j = ModelParams::from_path(&asset("model.json"))
+        .unwrap()
+        .planet_set()
+        .unwrap();
     assert_eq!(j.planets().len(), 4);
     assert!(j.solve().load_independent);
 }
@@ -807,13 +812,35 @@ fn model_file_errors_name_the_key() {
     let dir = std::env::temp_dir();
     let p = dir.join(format!("ncgear_orbit_{}_unknown.toml", std::process::id()));
     let text = std::fs::read_to_string(asset("model.toml")).unwrap();
-    std::fs::write(&p, text.replace("eccentricity_um = 6.0", "eccentricity_um = 6.0\nrunout_um = 1.0")).unwrap();
+    std::fs::write(
+        &p,
+        text.replace(
+            "eccentricity_um = 6.0",
+            "eccentricity_um = 6.0\nrunout_um = 1.0",
+        ),
+    )
+    .unwrap();
     let e = ModelParams::from_path(&p).unwrap_err().to_string();
-    assert!(e.contains("runout_um") && e.contains(&p.display().to_string()), "{e}");
-    std::fs::write(&p, text.replace("eccentricity_um = 6.0", "eccentricity_um = -6.0")).unwrap();
-    let e = ModelParams::from_path(&p).unwrap().planet_set().unwrap_err().to_string();
+    assert!(
+        e.contains("runout_um") && e.contains(&p.display().to_string()),
+        "{e}"
+    );
+    std::fs::write(
+        &p,
+        text.replace("eccentricity_um = 6.0", "eccentricity_um = -6.0"),
+    )
+    .unwrap();
+    let e = ModelParams::from_path(&p)
+        .unwrap()
+        .planet_set()
+        .unwrap_err()
+        .to_string();
     assert!(e.contains("planet[1].eccentricity_um"), "{e}");
-    std::fs::write(&p, text.replace("sun_speed_rpm = 300.0", "sun_speed_rpm = 300.0\n[x]")).unwrap();
+    std::fs::write(
+        &p,
+        text.replace("sun_speed_rpm = 300.0", "sun_speed_rpm = 300.0\n[x]"),
+    )
+    .unwrap();
     assert!(ModelParams::from_path(&p).is_err());
     let _ = std::fs::remove_file(p);
 }
@@ -827,7 +854,12 @@ fn asset_signals_match_the_model_within_4x_crlb() {
     let rec = Record::from_csv_path(&asset("signals.csv")).unwrap();
     let crlb = (2.0 / rec.len() as f64).sqrt();
     let model = set.solve().orbit;
-    for frame in [Frame::HousingDerotate, Frame::HousingFullSpectrum { carrier_rad_s: g.carrier_rad_s }] {
+    for frame in [
+        Frame::HousingDerotate,
+        Frame::HousingFullSpectrum {
+            carrier_rad_s: g.carrier_rad_s,
+        },
+    ] {
         let housing = matches!(frame, Frame::HousingFullSpectrum { .. });
         let m = Extractor::builder(set.omega_p_rad_s())
             .frame(frame)
@@ -838,9 +870,57 @@ fn asset_signals_match_the_model_within_4x_crlb() {
             .unwrap();
         let e = errors(&m.orbit, &model);
         let s = model.sin_pair();
-        let lim = [4.0 * crlb, 4.0 * crlb / s.a_x_um, 4.0 * crlb, 4.0 * crlb / s.a_y_um];
+        let lim = [
+            4.0 * crlb,
+            4.0 * crlb / s.a_x_um,
+            4.0 * crlb,
+            4.0 * crlb / s.a_y_um,
+        ];
         for k in 0..4 {
             assert!(e[k].abs() <= lim[k], "{frame:?}: {e:?} vs {lim:?}");
         }
     }
+}
+
+#[test]
+fn planet_frequency_estimated_from_an_approximate_value() {
+    let s = Synth::base(13);
+    let rec = s.record();
+    let wp = s.orbit.omega_p_rad_s;
+    // Configured 2 % low (≈ 0.5 bin off).
+    let ex = Extractor::builder(wp * 0.98)
+        .nuisance(s.nuisance())
+        .build()
+        .unwrap();
+    let est = ex.estimate_frequency(&rec, 0.1, 1e-9).unwrap();
+    let bin = TAU / s.duration();
+    assert!((est.interpolated_rad_s - wp).abs() < 0.1 * bin, "{est:?}");
+    // CRB of a frequency, σ_ω ≈ √12·σ/(A·T·√N) per channel; the refined value is well within.
+    let sigma_w = 12f64.sqrt() * s.sigma_um
+        / (s.orbit.sin_pair().a_y_um * s.duration() * (s.samples as f64).sqrt());
+    assert!(
+        (est.refined_rad_s - wp).abs() < 4.0 * sigma_w,
+        "{} vs {wp} (σ_ω {sigma_w:.2e})",
+        est.refined_rad_s
+    );
+    // The extraction at the estimated frequency: amplitudes within 4× CRLB; phases (at t = 0, the
+    // record start) within 4× the unknown-frequency bound, which is 2× the known-frequency one.
+    let m = ex
+        .with_omega_p(est.refined_rad_s)
+        .unwrap()
+        .extract(&rec)
+        .unwrap();
+    let e = errors(&m.orbit, &s.orbit);
+    let w = s.orbit.sin_pair();
+    assert!(
+        e[0].abs() < 4.0 * s.crlb_amp() && e[2].abs() < 4.0 * s.crlb_amp(),
+        "{e:?}"
+    );
+    assert!(
+        e[1].abs() < 8.0 * s.crlb_amp() / w.a_x_um && e[3].abs() < 8.0 * s.crlb_amp() / w.a_y_um,
+        "{e:?}"
+    );
+    // Extracting at the wrong (configured) frequency instead is badly biased.
+    let bad = errors(&ex.extract(&rec).unwrap().orbit, &s.orbit);
+    assert!(bad[3].abs() > 0.5, "{bad:?}");
 }
