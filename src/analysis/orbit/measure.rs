@@ -404,10 +404,10 @@ impl ExtractorBuilder {
                 "frequency must be finite",
             ));
         }
-        if !(e.max_condition > 1.0) {
+        if e.max_condition.is_nan() || e.max_condition <= 1.0 {
             return Err(invalid("max_condition", "must exceed 1"));
         }
-        if !(e.min_separation_bins >= 0.0) {
+        if e.min_separation_bins.is_nan() || e.min_separation_bins < 0.0 {
             return Err(invalid("min_separation_bins", "must be ≥ 0"));
         }
         Ok(e)
@@ -718,7 +718,7 @@ impl Extractor {
             f64::INFINITY
         };
         m.condition_number = Some(cond);
-        if !(cond <= self.max_condition) {
+        if cond.is_nan() || cond > self.max_condition {
             let detail = closest_pair(&freqs, TAU / m.record_length_s);
             return Err(OrbitError::Collision {
                 condition: cond,
@@ -812,6 +812,10 @@ impl Extractor {
         let polar_sigma = |re: f64, im: f64, o: usize| -> (f64, f64) {
             let a = re.hypot(im);
             let (c00, c01, c11) = (cov[o][o], cov[o][o + 1], cov[o + 1][o + 1]);
+            if a == 0.0 {
+                // Zero amplitude: the phase is undefined.
+                return (c00.max(c11).max(0.0).sqrt(), f64::INFINITY);
+            }
             let va = (re * re * c00 + 2.0 * re * im * c01 + im * im * c11) / (a * a);
             let vp = (im * im * c00 - 2.0 * re * im * c01 + re * re * c11) / (a * a * a * a);
             (va.max(0.0).sqrt(), vp.max(0.0).sqrt())

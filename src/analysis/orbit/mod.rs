@@ -261,14 +261,21 @@ impl Orbit {
     }
 
     /// Residual of the implicit ellipse equation,
-    /// `x²/A_x² − 2xy cosΔ/(A_x A_y) + y²/A_y² − sin²Δ`, at the point `(x, y)` µm (dimensionless).
+    /// `x²/A_x² − 2xy cosΔ/(A_x A_y) + y²/A_y² − sin²Δ`, at the point `(x, y)` µm (dimensionless);
+    /// `None` when A_x or A_y is zero (the implicit form is undefined for a degenerate orbit).
     #[must_use]
-    pub fn implicit_residual(&self, x_um: f64, y_um: f64) -> f64 {
+    pub fn implicit_residual(&self, x_um: f64, y_um: f64) -> Option<f64> {
         let s = self.sin_pair();
+        if s.a_x_um == 0.0 || s.a_y_um == 0.0 {
+            return None;
+        }
         let d = s.phi_y_rad - s.phi_x_rad;
-        x_um * x_um / (s.a_x_um * s.a_x_um) - 2.0 * x_um * y_um * d.cos() / (s.a_x_um * s.a_y_um)
-            + y_um * y_um / (s.a_y_um * s.a_y_um)
-            - d.sin().powi(2)
+        Some(
+            x_um * x_um / (s.a_x_um * s.a_x_um)
+                - 2.0 * x_um * y_um * d.cos() / (s.a_x_um * s.a_y_um)
+                + y_um * y_um / (s.a_y_um * s.a_y_um)
+                - d.sin().powi(2),
+        )
     }
 }
 
