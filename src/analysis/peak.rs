@@ -263,31 +263,30 @@ impl PeakGrid {
             .zip(phases)
             .map(|(a, p)| (a * p.cos(), a * p.sin()))
             .unzip();
-        // f and f′ on the grid (f′ from the same tables: d/dt sin(ωt+φ) = ω cos(ωt+φ)).
+        // f on the grid; f′ from the same tables (d/dt sin(ωt+φ) = ω cos(ωt+φ)) where needed.
         let mut f = vec![0.0; n];
-        let mut d = vec![0.0; n];
         for k in 0..amps.len() {
             let (s, c) = (&self.sin[k], &self.cos[k]);
             let (ck, sk) = (cs[k], sn[k]);
-            let w = self.omegas[k];
             for j in 0..n {
                 f[j] += ck * s[j] + sk * c[j];
-                d[j] += w * (ck * c[j] - sk * s[j]);
             }
         }
-        // Each grid interval gets an upper bound of |f| on it: the maximum of the cubic Hermite
-        // interpolant of (f, f′) plus its error bound M4·h⁴/384 (M4 = Σ|A|ω⁴); where f changes
-        // sign, max(|f_j|, |f_j+1|) + M2·h²/8. Intervals are refined best bound first until the
-        // best refined value exceeds every remaining bound: the result is certified.
+        let deriv = |j: usize| -> f64 {
+            (0..amps.len()).map(|k| self.omegas[k] * (cs[k] * self.cos[k][j] - sn[k] * self.sin[k][j])).sum()
+        };
+        // Every grid interval has an upper bound of |f| on it: max(|f_j|, |f_j+1|) + M2·h²/8
+        // (coarse), or the maximum of the cubic Hermite interpolant of (f, f′) plus its error bound
+        // M4·h⁴/384 (fine, M4 = Σ|A|ω⁴). Only intervals whose coarse bound reaches the best grid
+        // value get the fine bound; they are refined best bound first until the best refined
+        // value exceeds every remaining bound, so the result is certified.
         let h = self.h;
-        let m4: f64 = amps
-            .iter()
-            .zip(&self.omegas)
-            .map(|(a, w)| a.abs() * w.powi(4))
-            .sum();
+        let m4: f64 = amps.iter().zip(&self.omegas).map(|(a, w)| a.abs() * w.powi(4)).sum();
         let herm = m4 * h.powi(4) / 384.0;
         let loss = m2 * h * h / 8.0;
+        let gmax = f.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
         let mut bounds: Vec<(f64, usize)> = (0..n)
+            .filter(|&j| f[j].abs().max(f[(j + 1) % n].abs()) + loss >= gmax)
             .map(|j| {
                 let k = (j + 1) % n;
                 let (y0, y1) = (f[j], f[k]);
@@ -295,11 +294,8 @@ impl PeakGrid {
                     return (y0.abs().max(y1.abs()) + loss, j);
                 }
                 let sg = y0.signum();
-                let (y0, y1, m0, m1) = (sg * y0, sg * y1, sg * d[j] * h, sg * d[k] * h);
-                let (c2, c3) = (
-                    -3.0 * y0 - 2.0 * m0 + 3.0 * y1 - m1,
-                    2.0 * y0 + m0 - 2.0 * y1 + m1,
-                );
+                let (y0, y1, m0, m1) = (sg * y0, sg * y1, sg * deriv(j) * h, sg * deriv(k) * h);
+                let (c2, c3) = (-3.0 * y0 - 2.0 * m0 + 3.0 * y1 - m1, 2.0 * y0 + m0 - 2.0 * y1 + m1);
                 let p = |s: f64| y0 + s * (m0 + s * (c2 + s * c3));
                 let mut mx = y0.max(y1);
                 // p′(s) = m0 + 2c2 s + 3c3 s² = 0 in (0, 1).
@@ -308,21 +304,14 @@ impl PeakGrid {
                     [if qb != 0.0 { -qc / qb } else { -1.0 }, -1.0]
                 } else {
                     let disc = qb * qb - 4.0 * qa * qc;
-                    if disc < 0.0 {
-                        [-1.0, -1.0]
-                    } else {
-                        [
-                            (-qb + disc.sqrt()) / (2.0 * qa),
-                            (-qb - disc.sqrt()) / (2.0 * qa),
-                        ]
-                    }
+                    if disc < 0.0 { [-1.0, -1.0] } else { [(-qb + disc.sqrt()) / (2.0 * qa), (-qb - disc.sqrt()) / (2.0 * qa)] }
                 };
                 for r in roots {
                     if r > 0.0 && r < 1.0 {
                         mx = mx.max(p(r));
                     }
                 }
-                (mx + herm, j)
+                (mx.min(y0.max(y1) + loss) + herm, j)
             })
             .collect();
         bounds.sort_by(|a, b| b.0.total_cmp(&a.0));
