@@ -1,1 +1,129 @@
-//! Integration tests: dynamics.
+//! Integration tests: dynamics (spec companion-methods.md part B, numbers of B.9).
+use ncgear::analysis::dynamics::model::FrictionTerm;
+use ncgear::analysis::dynamics::tvms::{PairGeometry, RectangularTvms};
+use ncgear::analysis::dynamics::*;
+
+const ASSETS: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/assets/dynamics");
+
+fn asset(name: &str) -> Scene {
+    Scene::from_path(std::path::Path::new(&format!("{ASSETS}/{name}"))).unwrap()
+}
+
+fn rel(a: f64, b: f64) -> f64 {
+    (a - b).abs() / b.abs()
+}
+
+/// The SDOF physical model of B.9-4 (6000 rpm, rectangular TVMS, b = 50 µm, er = 10 µm, T1 = 50 N·m).
+const SDOF_6000: &str = r#"
+[scene]
+name = "sdof6000"
+model = "spur_pair"
+[gears]
+z1 = 25
+z2 = 40
+module_mm = 3.0
+pressure_angle_deg = 20.0
+face_width_mm = 20.0
+[operating]
+n1_rpm = 6000.0
+input_torque_Nm = 50.0
+[effects]
+mesh_stiffness = { kind = "rectangular", kmax = 4.5e8, kmin = 2.5e8, zeta = 0.05 }
+static_te = { er_um = 10.0 }
+backlash = { half_gap_um = 50.0 }
+"#;
+
+#[test]
+fn tvms_mean_harmonics_and_patent_double_count() {
+    let g = PairGeometry::new(25, 40, 3.0, 20.0, 1.0).unwrap();
+    assert!(
+        (g.contact_ratio - 1.6626).abs() < 5e-5,
+        "{}",
+        g.contact_ratio
+    );
+    assert!((g.n1a_m * 1e3 - 5.2379).abs() < 1e-4);
+    assert!((g.n1p_m * 1e3 - 12.8258).abs() < 1e-4);
+    assert!((g.n1e_m * 1e3 - 19.9625).abs() < 1e-4);
+    let r = RectangularTvms {
+        kmax: 4.5e8,
+        kmin: 2.5e8,
+        eps: g.contact_ratio,
+    };
+    assert!(rel(r.mean(), 3.8252e8) < 1e-4, "{}", r.mean());
+    // the patent's kd = k0 + A0/2 double-counts: 4.1504e8 ≠ mean
+    assert!(rel(r.patent_kd(), 4.1504e8) < 1e-4, "{}", r.patent_kd());
+    assert!(rel(r.patent_kd(), r.mean()) > 0.08);
+    // the spec's harmonics were computed with ε rounded to 1.6626
+    let r = RectangularTvms { eps: 1.6626, ..r };
+    let kn = [
+        1.1107e8, -5.4302e7, -1.6263e6, 2.8343e7, -2.1195e7, -1.6251e6, 1.6502e7, -1.2899e7,
+        -1.6231e6,
+    ];
+    for (n, &k) in kn.iter().enumerate() {
+        let got = r.harmonic(n as u32 + 1);
+        assert!(
+            (got - k).abs() < 2e-4 * k.abs().max(1e7),
+            "k{}: {got} vs {k}",
+            n + 1
+        );
+    }
+    // the per-pair split sums to the rectangle exactly; the numeric mean equals the formula
+    let m = 10_000;
+    let mut mean = 0.0;
+    for i in 0..m {
+        let s = (i as f64 + 0.5) / m as f64;
+        assert_eq!(r.pair(s) + r.pair(s + 1.0), r.at_phase(s));
+        mean += r.at_phase(s) / m as f64;
+    }
+    assert!(rel(mean, r.mean()) < 1e-4);
+    // Fourier series with 9 terms: Gibbs overshoot ≈ 8.6 % of (kmax − kmin)
+    let over = (0..20_000)
+        .map(|i| r.fourier(i as f64 / 20_000.0, 9))
+        .fold(f64::MIN, f64::max)
+        - r.kmax;
+    assert!(
+        (over / (r.kmax - r.kmin) - 0.086).abs() < 0.01,
+        "{}",
+        over / (r.kmax - r.kmin)
+    );
+}
+
+fn eig_of(text: &str) -> Vec<f64> {
+    let s = Scene::from_str(text, false, "inline").unwrap();
+    let (m, _) = s.build("inline").unwrap();
+    natural_frequencies_hz(&m).unwrap()
+}
+
+fn with_effects(effects: &str, dofs: &str) -> String {
+    format!(
+        "[scene]\nname = \"e\"\nmodel = \"spur_pair\"\ndofs = \"{dofs}\"\n[gears]\nz1 = 25\nz2 = 40\nmodule_mm = 3.0\npressure_angle_deg = 20.0\nface_width_mm = 20.0\n[operating]\nn1_rpm = 6000.0\ninput_torque_Nm = 50.0\n[effects]\nmesh_stiffness = {{ kind = \"constant\", k = 3.8252e8, zeta = 0.05 }}\n{effects}\n"
+    )
+}
+
+const TORSION: &str = "shafts = { kt = [3e4, 3e4], eta = [0.5, 0.5, 0.5, 0.5], j_kgm2 = [0.01, 0.05], mb_kg = [0.5, 0.5, 0.5, 0.5] }";
+const SHAFTS: &str = "shafts = { kt = [3e4, 3e4], ks = [5e7, 5e7], eta = [0.5, 0.5, 0.5, 0.5], j_kgm2 = [0.01, 0.05], mb_kg = [0.5, 0.5, 0.5, 0.5] }";
+
+#[test]
+fn natural_frequencies_16_4_and_pair() {
+    let f16 = eig_of(&with_effects(
+        &format!("{SHAFTS}\nbearings = {{ law = \"linear\", kb = 2e8 }}"),
+        "full",
+    ));
+    assert_eq!(f16.len(), 16);
+    let want16 = [
+        0.0, 153.99, 648.73, 793.34, 902.91, 1261.03, 1267.47, 3183.10, 3183.10, 3183.10, 3183.10,
+        3385.89, 3388.59, 3400.67, 3410.93, 7420.43,
+    ];
+    assert!(f16[0] < 1e-3 * want16[1], "{f16:?}");
+    for (g, w) in f16.iter().zip(want16).skip(1) {
+        assert!(rel(*g, w) < 1e-3, "16-DOF: {g} vs {w}; all {f16:?}");
+    }
+    let f4 = eig_of(&with_effects(TORSION, "auto"));
+    assert_eq!(f4.len(), 4);
+    for (g, w) in f4[1..].iter().zip([174.94, 810.36, 5958.84]) {
+        assert!(rel(*g, w) < 1e-3, "4-DOF: {g} vs {w}; all {f4:?}");
+    }
+    let f1 = eig_of(&with_effects("", "auto"));
+    assert_eq!(f1.len(), 1);
+    assert!(rel(f1[0], 5857.29) < 1e-3, "{f1:?}");
+}
