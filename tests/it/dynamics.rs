@@ -127,3 +127,95 @@ fn natural_frequencies_16_4_and_pair() {
     assert_eq!(f1.len(), 1);
     assert!(rel(f1[0], 5857.29) < 1e-3, "{f1:?}");
 }
+
+fn opts(rtol: f64, max_periods: u32, record: u32, spm: u32) -> RunOptions {
+    RunOptions {
+        method: Method::Dopri5 {
+            rtol,
+            atol: rtol * 1e-6,
+            breakpoints: true,
+            events: true,
+        },
+        poincare_tol: 1e-9,
+        max_periods,
+        record_mesh_periods: record,
+        samples_per_mesh: spm,
+    }
+}
+
+#[test]
+fn dte_harmonics_at_6000_rpm() {
+    let s = Scene::from_str(SDOF_6000, false, "sdof").unwrap();
+    let (m, d) = s.build("sdof").unwrap();
+    assert_eq!(m.dof_names(), ["u"]);
+    assert!((d.omega_e / d.omega_n - 0.4268).abs() < 1e-4);
+    let y0 = static_state(&m, 1e-9);
+    // quasi-static at t = 0 (v = 0, double contact): k(δ − b) = F0 + c_m ė(0), ė(0) = er ωe
+    let dte0 = m.mesh.dte(0.0, &y0[..1]);
+    let want = 50e-6 + (d.f0_n + d.c_m * 10e-6 * d.omega_e) / 4.5e8;
+    assert!((dte0 - want).abs() < 1e-14, "{dte0} vs {want}");
+    let run = simulate(&m, &y0, &opts(1e-9, 400, 200, 64), &|_| {}).unwrap();
+    assert!(run.steady, "poincaré change {}", run.poincare_change);
+    let h = run.dte_harmonics(6);
+    let want = [53.707, 1.1979, 1.4177, 0.4346, 0.1110, 0.0540, 0.0173];
+    for (k, (g, w)) in h.iter().map(|x| x * 1e6).zip(want).enumerate() {
+        assert!(
+            (g - w).abs() < 1e-3 * w.max(0.1),
+            "harmonic {k}: {g} µm vs {w} µm; all {h:?}"
+        );
+    }
+    assert!(h[2] > h[1], "superharmonic resonance: 2× > 1×");
+    assert!(run.dte_non_harmonic() < 1e-10, "{}", run.dte_non_harmonic());
+}
+
+fn backlash_scene() -> Scene {
+    let mut s = asset("backlash_oscillator.toml");
+    let d = s.derived("b").unwrap();
+    // Fm = F0/(k b) = 0.1 exactly
+    s.operating.input_torque_Nm = 0.1 * 3.8252e8 * 50e-6 * d.geometry.rb_m[0];
+    s
+}
+
+fn amp_at(points: &[SweepPoint], om: f64) -> f64 {
+    points
+        .iter()
+        .find(|p| (p.omega_ratio - om).abs() < 1e-9)
+        .unwrap()
+        .dte_half_pp_m
+        / 50e-6
+}
+
+#[test]
+fn backlash_oscillator_jump_and_coexistence() {
+    let s = backlash_scene();
+    let d = s.derived("b").unwrap();
+    assert!((d.c_m / (2.0 * (d.k_mean_n_per_m * d.m_e_kg).sqrt()) - 0.05).abs() < 1e-12);
+    let o = opts(1e-8, 300, 20, 128);
+    // closed-form contact loss of the linear branch
+    let up = sdof_contact_loss_ratio(0.05, 0.1, 0.05, 1e-12).unwrap();
+    assert!((up - 0.82063).abs() < 1e-5, "{up}");
+    // sweep up: linear FRF below the jump, jump between 0.82 and 0.84
+    let upw = sweep(&s, "b", &[0.5, 0.8, 0.82, 0.84], &o, None, &|_| {}).unwrap();
+    let frf = |w: f64| 0.05 * w * w / ((1.0 - w * w).powi(2) + (0.1 * w).powi(2)).sqrt();
+    assert!(
+        (amp_at(&upw, 0.5) - 0.0166).abs() < 2e-4
+            && rel(upw[0].dte_first_harmonic_m / 50e-6, frf(0.5)) < 1e-5,
+        "{upw:?}"
+    );
+    assert!(
+        rel(amp_at(&upw, 0.8), 0.0868) < 0.02
+            && rel(upw[1].dte_first_harmonic_m / 50e-6, frf(0.8)) < 1e-5,
+        "{upw:?}"
+    );
+    assert!(rel(amp_at(&upw, 0.82), 0.0996) < 0.02, "{upw:?}");
+    assert!(rel(amp_at(&upw, 0.84), 0.2613) < 0.02, "{upw:?}");
+    // sweep down from the impacting branch: stays on it to 0.72, drops by 0.70
+    let down = sweep(&s, "b", &[0.84, 0.80, 0.76, 0.72, 0.70], &o, None, &|_| {}).unwrap();
+    assert!(rel(amp_at(&down, 0.76), 0.3119) < 0.02, "{down:?}");
+    assert!(rel(amp_at(&down, 0.72), 0.3345) < 0.02, "{down:?}");
+    assert!(rel(amp_at(&down, 0.70), 0.0476) < 0.02, "{down:?}");
+    // coexistence at 0.76: from rest (static state) the non-impacting branch
+    let rest = sweep(&s, "b", &[0.76], &o, None, &|_| {}).unwrap();
+    assert!(rel(amp_at(&rest, 0.76), 0.0673) < 0.02, "{rest:?}");
+    assert!(rest[0].contact_loss_fraction == 0.0 && down[2].contact_loss_fraction > 0.0);
+}

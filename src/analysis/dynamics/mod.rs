@@ -605,6 +605,8 @@ pub struct SweepPoint {
     pub dte_half_pp_m: f64,
     /// Mean DTE, m.
     pub dte_mean_m: f64,
+    /// Amplitude of the DTE at the mesh frequency, m.
+    pub dte_first_harmonic_m: f64,
     /// Fraction of samples with |δ| ≤ b (contact loss), 0 without backlash.
     pub contact_loss_fraction: f64,
     /// Poincaré criterion met.
@@ -640,6 +642,7 @@ pub fn sweep(
         let y = state.clone().unwrap_or_else(|| static_state(&model, 1e-6));
         let run = simulate(&model, &y, opts, &|_| {})?;
         let b = model.mesh.backlash.map_or(0.0, |b| b.b);
+        let h = run.dte_harmonics(1);
         let loss = if b > 0.0 {
             run.dte_m.iter().filter(|d| d.abs() <= b).count() as f64 / run.dte_m.len() as f64
         } else {
@@ -649,7 +652,8 @@ pub fn sweep(
             n1_rpm: s.operating.n1_rpm,
             omega_ratio: om,
             dte_half_pp_m: run.dte_half_pp(),
-            dte_mean_m: run.dte_harmonics(0)[0],
+            dte_mean_m: h[0],
+            dte_first_harmonic_m: h[1],
             contact_loss_fraction: loss,
             steady: run.steady,
         });
@@ -657,4 +661,21 @@ pub fn sweep(
         progress(i as u64 + 1);
     }
     Ok(out)
+}
+
+/// Contact-loss (jump-up) frequency ratio of the dimensionless backlash oscillator (B.7, B.9-3):
+/// the smallest Ω where the linear branch amplitude `Fe Ω²/sqrt((1−Ω²)² + (2ζΩ)²)` reaches the
+/// mean load `Fm`, found by bisection to `tol`. `None` if it never does below Ω = 1.
+#[must_use]
+pub fn sdof_contact_loss_ratio(zeta: f64, fm: f64, fe: f64, tol: f64) -> Option<f64> {
+    let g = |w: f64| fe * w * w / ((1.0 - w * w).powi(2) + (2.0 * zeta * w).powi(2)).sqrt() - fm;
+    let (mut a, mut b) = (1e-6, 1.0);
+    if !(tol > 0.0) || g(b) < 0.0 {
+        return None;
+    }
+    while b - a > tol {
+        let c = 0.5 * (a + b);
+        if g(c) < 0.0 { a = c } else { b = c }
+    }
+    Some(0.5 * (a + b))
 }
