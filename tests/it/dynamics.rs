@@ -2,6 +2,7 @@
 use ncgear::analysis::dynamics::model::FrictionTerm;
 use ncgear::analysis::dynamics::tvms::{PairGeometry, RectangularTvms};
 use ncgear::analysis::dynamics::*;
+use ncgear::analysis::dynamics::{model, ode};
 
 const ASSETS: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/assets/dynamics");
 
@@ -218,4 +219,284 @@ fn backlash_oscillator_jump_and_coexistence() {
     let rest = sweep(&s, "b", &[0.76], &o, None, &|_| {}).unwrap();
     assert!(rel(amp_at(&rest, 0.76), 0.0673) < 0.02, "{rest:?}");
     assert!(rest[0].contact_loss_fraction == 0.0 && down[2].contact_loss_fraction > 0.0);
+}
+
+#[test]
+fn energy_balance_over_100_mesh_periods() {
+    let s = Scene::from_str(SDOF_6000, false, "sdof").unwrap();
+    let (m, _) = s.build("sdof").unwrap();
+    let y0 = static_state(&m, 1e-9);
+    let rtol = 1e-8;
+    let (de, src, jumps) = energy_audit(&m, &y0, 100.0 * m.mesh.t0, rtol, 1e-16).unwrap();
+    // the parametric jumps ΔE = Δk Φ at the switching instants are a real part of the balance
+    assert!(jumps.abs() > 1e-3 * de.abs().max(src.abs()), "{jumps}");
+    let scale = src.abs().max(jumps.abs()).max(de.abs());
+    let err = (de - src - jumps).abs() / scale;
+    assert!(
+        err <= 10.0 * rtol,
+        "ΔE = {de}, ∫sources = {src}, jumps = {jumps}, rel err {err}"
+    );
+    // without the jumps the balance fails (Oh, Grosh & Barber 2005)
+    assert!((de - src).abs() / scale > 1e3 * rtol);
+}
+
+#[test]
+fn hertz_bearing_numbers() {
+    use ncgear::analysis::dynamics::model::HertzBearing;
+    let omega = 1500.0 * std::f64::consts::PI / 30.0;
+    let ratio = 18.5 / (18.5 + 31.5);
+    let b = HertzBearing {
+        label: "b".into(),
+        idx: [None, None],
+        kc: 7.055e9,
+        nb: 9,
+        gamma0: 5e-6,
+        p: 1.5,
+        omega_cage: omega * ratio,
+    };
+    let cage_hz = b.omega_cage / (2.0 * std::f64::consts::PI);
+    assert!((cage_hz - 9.250).abs() < 5e-4, "{cage_hz}");
+    assert!((9.0 * cage_hz - 83.25).abs() < 5e-3);
+    // static radial load 1000 N along y at t = 0 (balls at 2π(j−1)/9): Newton on Fy(y) = 1000
+    let fy = |y: f64| b.force(0.0, 0.0, y).1;
+    let mut x = 20e-6;
+    for _ in 0..50 {
+        let k = (fy(x + 1e-10) - fy(x - 1e-10)) / 2e-10;
+        x -= (fy(x) - 1000.0) / k;
+    }
+    assert!((x * 1e6 - 22.80).abs() < 0.005, "{}", x * 1e6);
+    let kt = (fy(x + 1e-10) - fy(x - 1e-10)) / 2e-10;
+    assert!(rel(kt, 8.90e7) < 2e-3, "{kt}");
+    // at fixed displacement the force ripple has order Nb per cage revolution
+    let tc = 2.0 * std::f64::consts::PI / b.omega_cage;
+    let n = 900;
+    let fx: Vec<f64> = (0..n)
+        .map(|i| b.force(tc * i as f64 / n as f64, x, 0.0).0)
+        .collect();
+    let h = harmonics(&fx, n, 20);
+    let (kmax, _) = h
+        .iter()
+        .enumerate()
+        .skip(1)
+        .fold((0, 0.0), |a, (k, &v)| if v > a.1 { (k, v) } else { a });
+    assert_eq!(kmax, 9, "{h:?}");
+    assert!(
+        h.iter()
+            .enumerate()
+            .skip(1)
+            .filter(|(k, _)| k % 9 != 0)
+            .all(|(_, v)| *v < 1e-6 * h[9])
+    );
+}
+
+#[test]
+fn free_vibration_peaks_match_eigenvalues_4dof() {
+    // undamped linear torsional chain, released from a displaced state
+    let text = with_effects(TORSION, "auto")
+        .replace("zeta = 0.05", "zeta = 0.0")
+        .replace("input_torque_Nm = 50.0", "input_torque_Nm = 0.0");
+    let s = Scene::from_str(&text, false, "f").unwrap();
+    let (m, _) = s.build("f").unwrap();
+    assert!(m.is_linear());
+    let f = natural_frequencies_hz(&m).unwrap();
+    let n = m.n();
+    let mut y = vec![0.0; 2 * n];
+    y[m.index_of("theta1").unwrap()] = 1e-4;
+    y[m.index_of("theta_p").unwrap()] = -2e-4;
+    let dt = 1.0 / 40_000.0;
+    let ns = 1 << 16;
+    let mut q1 = Vec::with_capacity(ns);
+    let solver = ode::Dopri5::new(1e-10, 1e-16).unwrap();
+    let i1 = m.index_of("theta1").unwrap();
+    let mut buf = vec![0.0; 2 * n];
+    let mut k = 0usize;
+    q1.push(y[i1]);
+    k += 1;
+    solver
+        .integrate(&m, 0.0, dt * (ns - 1) as f64, &mut y, &[], &[], &mut |d| {
+            while k < ns && dt * k as f64 <= d.t_end() + 1e-15 {
+                d.eval(dt * k as f64, &mut buf);
+                q1.push(buf[i1]);
+                k += 1;
+            }
+        })
+        .unwrap();
+    // Hann window + parabolic interpolation of the log spectrum
+    let w: Vec<f64> = q1
+        .iter()
+        .enumerate()
+        .map(|(i, v)| v * (0.5 - 0.5 * (2.0 * std::f64::consts::PI * i as f64 / ns as f64).cos()))
+        .collect();
+    let c = ncgear::periodic::fft_coefficients(&w);
+    let mag: Vec<f64> = c.iter().map(|z| z.norm().max(1e-300).ln()).collect();
+    let df = 1.0 / (dt * ns as f64);
+    for &fe in &f[1..] {
+        let b = (fe / df).round() as usize;
+        let j = (b - 3..=b + 3)
+            .max_by(|&a, &bb| mag[a].total_cmp(&mag[bb]))
+            .unwrap();
+        let (a, bb, cc) = (mag[j - 1], mag[j], mag[j + 1]);
+        let p = 0.5 * (a - cc) / (a - 2.0 * bb + cc);
+        let fp = (j as f64 + p) * df;
+        assert!(rel(fp, fe) < 1e-3, "peak {fp} Hz vs eigen {fe} Hz");
+    }
+}
+
+#[test]
+fn dof_pruning_and_run_log() {
+    let (m16, _) = asset("full16.toml").build("full16").unwrap();
+    assert_eq!(m16.n(), 16);
+    assert_eq!(m16.dof_names()[0], "theta_p");
+    let names: Vec<String> = m16.terms.iter().map(|t| t.name()).collect();
+    assert!(
+        names.iter().any(|n| n.starts_with("friction"))
+            && names.iter().any(|n| n.contains("tip_relief")),
+        "{names:?}"
+    );
+    let (m4, _) = asset("torsional4.toml").build("t4").unwrap();
+    assert_eq!(m4.dof_names(), ["theta_p", "theta1", "theta2", "theta_q"]);
+    assert!(m4.is_linear());
+    // bearings on the gears, no shafts, friction → 6-DOF lateral–torsional
+    let six = with_effects(
+        "bearings = { law = \"linear\", kb = 2e8 }\nfriction = { mu = 0.05, direction = \"pitch_switch\" }",
+        "auto",
+    );
+    let (m6, _) = Scene::from_str(&six, false, "six")
+        .unwrap()
+        .build("six")
+        .unwrap();
+    assert_eq!(m6.dof_names(), ["x1", "y1", "theta1", "x2", "y2", "theta2"]);
+    // nothing forces x → pruned
+    let four = with_effects("bearings = { law = \"linear\", kb = 2e8 }", "auto");
+    let (m4l, _) = Scene::from_str(&four, false, "four")
+        .unwrap()
+        .build("four")
+        .unwrap();
+    assert_eq!(m4l.dof_names(), ["y1", "theta1", "y2", "theta2"]);
+    // effects off unless named: the plain SDOF has only mesh + load and no breakpoints
+    let (m1, _) = Scene::from_str(&with_effects("", "auto"), false, "one")
+        .unwrap()
+        .build("one")
+        .unwrap();
+    assert_eq!(m1.terms.len(), 2);
+    assert!(m1.breakpoints(0.0, 1.0).is_empty());
+    let (mr, _) = Scene::from_str(SDOF_6000, false, "r")
+        .unwrap()
+        .build("r")
+        .unwrap();
+    let bp = mr.breakpoints(0.0, 10.0 * mr.mesh.t0);
+    assert_eq!(bp.len(), 19); // j t0 (j = 1..9) and j t0 + (ε−1) t0 (j = 0..9)
+    // linear fast path: the FRF equals the time-domain steady state (SDOF with STE)
+    let (ml, _) = Scene::from_str(
+        &with_effects("static_te = { er_um = 10.0 }", "auto"),
+        false,
+        "l",
+    )
+    .unwrap()
+    .build("l")
+    .unwrap();
+    assert!(ml.is_linear());
+    let amp = linear_dte_amplitude(&ml).unwrap();
+    let run = simulate(
+        &ml,
+        &static_state(&ml, 1e-9),
+        &opts(1e-10, 3000, 20, 64),
+        &|_| {},
+    )
+    .unwrap();
+    assert!(
+        rel(run.dte_harmonics(1)[1], amp) < 1e-6,
+        "{} vs {amp}",
+        run.dte_harmonics(1)[1]
+    );
+    assert!(linear_dte_amplitude(&m4).unwrap() > 0.0);
+}
+
+#[test]
+fn friction_power_is_dissipative_for_every_pair() {
+    let (m, d) = asset("full16.toml").build("full16").unwrap();
+    let fr = m
+        .terms
+        .iter()
+        .find(|t| t.name().starts_with("friction"))
+        .unwrap();
+    let _ = fr;
+    let core = m.mesh.clone();
+    let term = FrictionTerm {
+        core,
+        mu: 0.05,
+        direction: model::FrictionDirection::PitchSwitch,
+        geom: d.geometry,
+        omega: m.omega,
+        idx: [None, None, None, None],
+    };
+    let n = m.n();
+    let mut q = vec![0.0; n];
+    q[m.index_of("theta1").unwrap()] = 60e-6 / d.geometry.rb_m[0]; // compressed mesh
+    let v = vec![0.0; n];
+    for i in 0..1000 {
+        let t = m.mesh.t0 * 3.0 * i as f64 / 1000.0;
+        for (ff, _, _, vs) in term.pair_friction(t, &q, &v) {
+            assert!(ff * vs <= 0.0, "t = {t}: F_f = {ff}, v_s = {vs}");
+        }
+    }
+}
+
+#[test]
+fn scene_errors_name_the_key_and_expected_form() {
+    let unknown = SDOF_6000.replace("z1 = 25", "z1 = 25\nteeth = 3");
+    let e = Scene::from_str(&unknown, false, "u.toml")
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("u.toml") && e.contains("teeth"), "{e}");
+    let missing = SDOF_6000.replace(", zeta = 0.05", "");
+    let e = Scene::from_str(&missing, false, "m.toml")
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("zeta"), "{e}");
+    let bad = SDOF_6000.replace("kmin = 2.5e8", "kmin = 5.5e8");
+    let e = Scene::from_str(&bad, false, "b.toml")
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("effects.mesh_stiffness.kmin") && e.contains("kmin ≤ kmax"),
+        "{e}"
+    );
+    let neg = SDOF_6000.replace("half_gap_um = 50.0", "half_gap_um = -5.0");
+    let e = Scene::from_str(&neg, false, "n.toml")
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("effects.backlash.half_gap_um") && e.contains("positive"),
+        "{e}"
+    );
+    let kind = SDOF_6000.replace("\"rectangular\"", "\"square\"");
+    let e = Scene::from_str(&kind, false, "k.toml")
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("effects.mesh_stiffness.kind") && e.contains("\"pairs\""),
+        "{e}"
+    );
+    let grav = SDOF_6000.replace("backlash = ", "gravity = { g = [0.0, -9.81] }\nbacklash = ");
+    let e = Scene::from_str(&grav, false, "g.toml")
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("effects.gravity") && e.contains("lateral"),
+        "{e}"
+    );
+    let json = r#"{"scene": {"name": "j", "model": "spur_pair"}, "gears": {"z1": 25, "z2": 40, "module_mm": 3.0,
+        "pressure_angle_deg": 20.0, "face_width_mm": 20.0}, "operating": {"n1_rpm": 6000.0, "input_torque_Nm": 50.0},
+        "effects": {"mesh_stiffness": {"kind": "constant", "k": 3.8252e8, "zeta": 0.05}, "wind": {}}}"#;
+    let e = Scene::from_str(json, true, "j.json")
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("wind") && e.contains("line"), "{e}");
+    let ok = json.replace(", \"wind\": {}", "");
+    let (m, _) = Scene::from_str(&ok, true, "j.json")
+        .unwrap()
+        .build("j.json")
+        .unwrap();
+    assert_eq!(m.n(), 1);
 }

@@ -577,7 +577,7 @@ pub fn energy_audit(
     let mut y = y0.to_vec();
     y.push(0.0);
     let bps = model.breakpoints(0.0, t_end);
-    let e0 = model.energy(0.0, y0);
+    let e0 = model.energy(1e-9 * model.mesh.t0, y0);
     let solver = Dopri5::new(rtol, atol)?;
     let mut jumps = 0.0;
     let mut t = 0.0;
@@ -591,7 +591,8 @@ pub fn energy_audit(
         }
         t = tb;
     }
-    Ok((model.energy(t_end, &y[..m]) - e0, y[m], jumps))
+    // evaluate the end state on the side of the last piece (t_end may itself be a switch)
+    Ok((model.energy(t_end - dt0, &y[..m]) - e0, y[m], jumps))
 }
 
 /// One point of a frequency sweep.

@@ -524,7 +524,8 @@ impl FrictionTerm {
                     }
                     FrictionDirection::Tanh(v0) => -(vs / v0).tanh(),
                 };
-                (self.mu * lambda * p.force, lp, lg, vs)
+                // tension (negative mesh force) means no contact: no friction
+                (self.mu * lambda * p.force.max(0.0), lp, lg, vs)
             })
             .collect()
     }

@@ -69,6 +69,8 @@ impl std::ops::AddAssign for OdeStats {
     }
 }
 
+/// Relative offset used to evaluate a piecewise right-hand side on the correct side of a switch.
+const NUDGE: f64 = 1e-9;
 const C2: f64 = 1.0 / 5.0;
 const C3: f64 = 3.0 / 10.0;
 const C4: f64 = 4.0 / 5.0;
@@ -204,7 +206,8 @@ impl Dopri5 {
             }
             let t_stop = bp.peek().copied().unwrap_or(t1);
             if fresh {
-                sys.rhs(t, y, &mut k[0]);
+                // restart after a switch: evaluate just inside the new piece
+                sys.rhs(t + NUDGE * (t_stop - t), y, &mut k[0]);
                 st.rhs_evals += 1;
                 if h == 0.0 {
                     h = self.initial_step(t, y, &k[0]);
@@ -251,7 +254,13 @@ impl Dopri5 {
                         + A64 * rest[2][i]
                         + A65 * rest[3][i]);
             }
-            sys.rhs(t + h, &ytmp, &mut rest[4]);
+            // a step that ends on a switch evaluates its last stages just before it
+            let t_end_eval = if hit_stop {
+                t + h * (1.0 - NUDGE)
+            } else {
+                t + h
+            };
+            sys.rhs(t_end_eval, &ytmp, &mut rest[4]);
             for i in 0..n {
                 ynew[i] = y[i]
                     + h * (A71 * k1[i]
@@ -260,7 +269,7 @@ impl Dopri5 {
                         + A75 * rest[3][i]
                         + A76 * rest[4][i]);
             }
-            sys.rhs(t + h, &ynew, &mut rest[5]);
+            sys.rhs(t_end_eval, &ynew, &mut rest[5]);
             st.rhs_evals += 6;
             let mut err = 0.0;
             for i in 0..n {
@@ -477,7 +486,19 @@ pub fn rk4(
         let hh = (b - a) / m as f64;
         for s in 0..m {
             let t = a + s as f64 * hh;
-            sys.rhs(t, y, &mut k1);
+            let (ta, tb) = if breakpoints.is_some() {
+                (
+                    if s == 0 { t + NUDGE * hh } else { t },
+                    if s + 1 == m {
+                        t + hh * (1.0 - NUDGE)
+                    } else {
+                        t + hh
+                    },
+                )
+            } else {
+                (t, t + hh)
+            };
+            sys.rhs(ta, y, &mut k1);
             for i in 0..n {
                 yt[i] = y[i] + 0.5 * hh * k1[i];
             }
@@ -489,7 +510,7 @@ pub fn rk4(
             for i in 0..n {
                 yt[i] = y[i] + hh * k3[i];
             }
-            sys.rhs(t + hh, &yt, &mut k4);
+            sys.rhs(tb, &yt, &mut k4);
             for i in 0..n {
                 y[i] += hh / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i]);
             }
