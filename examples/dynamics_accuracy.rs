@@ -11,7 +11,13 @@ use std::time::Instant;
 const SCENE: &str = include_str!("../assets/dynamics/sdof_6000.toml");
 
 fn run(model: &model::Model, y0: &[f64], method: Method, spm: u32) -> (Run, f64) {
-    let o = RunOptions { method, poincare_tol: 1.0, max_periods: 0, record_mesh_periods: 120, samples_per_mesh: spm };
+    let o = RunOptions {
+        method,
+        poincare_tol: 1.0,
+        max_periods: 0,
+        record_mesh_periods: 120,
+        samples_per_mesh: spm,
+    };
     let t = Instant::now();
     let r = simulate(model, y0, &o, &|_| {}).expect("integration");
     (r, t.elapsed().as_secs_f64() * 1e3)
@@ -20,29 +26,60 @@ fn run(model: &model::Model, y0: &[f64], method: Method, spm: u32) -> (Run, f64)
 fn err(r: &Run, reference: &Run, spm: usize) -> f64 {
     let n = r.dte_m.len();
     let tail = n - 20 * spm..n;
-    let (lo, hi) = reference.dte_m[tail.clone()].iter().fold((f64::MAX, f64::MIN), |(a, b), &x| (a.min(x), b.max(x)));
-    tail.map(|i| (r.dte_m[i] - reference.dte_m[i]).abs()).fold(0.0, f64::max) / (hi - lo)
+    let (lo, hi) = reference.dte_m[tail.clone()]
+        .iter()
+        .fold((f64::MAX, f64::MIN), |(a, b), &x| (a.min(x), b.max(x)));
+    tail.map(|i| (r.dte_m[i] - reference.dte_m[i]).abs())
+        .fold(0.0, f64::max)
+        / (hi - lo)
 }
 
 fn main() {
     let scene = Scene::from_str(SCENE, false, "sdof_6000.toml").expect("scene");
     let (m, _) = scene.build("sdof_6000.toml").expect("model");
     let y0 = static_state(&m, 1e-9);
-    let dp = |rtol: f64, bp: bool| Method::Dopri5 { rtol, atol: rtol * 1e-6, breakpoints: bp, events: bp };
+    let dp = |rtol: f64, bp: bool| Method::Dopri5 {
+        rtol,
+        atol: rtol * 1e-6,
+        breakpoints: bp,
+        events: bp,
+    };
     println!("| method | setting | RHS evals | time [ms] | error |");
     println!("|---|---|---|---|---|");
     let (reference, _) = run(&m, &y0, dp(1e-12, true), 64);
-    for (label, bp) in [("DOPRI5 (no breakpoints, no events)", false), ("DOPRI5 with breakpoints + events", true)] {
+    for (label, bp) in [
+        ("DOPRI5 (no breakpoints, no events)", false),
+        ("DOPRI5 with breakpoints + events", true),
+    ] {
         for rtol in [1e-3, 1e-6, 1e-9] {
             let (r, ms) = run(&m, &y0, dp(rtol, bp), 64);
-            println!("| {label} | rtol {rtol:e} | {} | {ms:.1} | {:.1e} |", r.stats.rhs_evals, err(&r, &reference, 64));
+            println!(
+                "| {label} | rtol {rtol:e} | {} | {ms:.1} | {:.1e} |",
+                r.stats.rhs_evals,
+                err(&r, &reference, 64)
+            );
         }
     }
-    for (label, aligned) in [("RK4 fixed, not aligned", false), ("RK4 fixed, aligned to switches", true)] {
+    for (label, aligned) in [
+        ("RK4 fixed, not aligned", false),
+        ("RK4 fixed, aligned to switches", true),
+    ] {
         for steps in [20u32, 40, 80, 160, 320] {
             let (reference, _) = run(&m, &y0, dp(1e-12, true), steps);
-            let (r, ms) = run(&m, &y0, Method::Rk4 { steps_per_mesh: steps, aligned }, steps);
-            println!("| {label} | {steps} steps/mesh | {} | {ms:.1} | {:.1e} |", r.stats.rhs_evals, err(&r, &reference, steps as usize));
+            let (r, ms) = run(
+                &m,
+                &y0,
+                Method::Rk4 {
+                    steps_per_mesh: steps,
+                    aligned,
+                },
+                steps,
+            );
+            println!(
+                "| {label} | {steps} steps/mesh | {} | {ms:.1} | {:.1e} |",
+                r.stats.rhs_evals,
+                err(&r, &reference, steps as usize)
+            );
         }
     }
 }
