@@ -38,8 +38,7 @@ fn full16_dopri5_50_mesh_periods(bencher: divan::Bencher, breakpoints: bool) {
     });
 }
 
-#[divan::bench(args = [20, 80])]
-fn sdof_rk4_aligned_120_mesh_periods(bencher: divan::Bencher, steps: u32) {
+fn sdof() -> (model::Model, Vec<f64>) {
     let s = Scene::from_str(
         include_str!("../assets/dynamics/sdof_6000.toml"),
         false,
@@ -48,40 +47,43 @@ fn sdof_rk4_aligned_120_mesh_periods(bencher: divan::Bencher, steps: u32) {
     .expect("scene");
     let (m, _) = s.build("sdof").expect("model");
     let y0 = static_state(&m, 1e-9);
+    (m, y0)
+}
+
+fn bench_run(bencher: divan::Bencher, method: Method, spm: u32) {
+    let (m, y0) = sdof();
     let o = RunOptions {
-        method: Method::Rk4 {
-            steps_per_mesh: steps,
-            aligned: true,
-        },
+        method,
         poincare_tol: 1.0,
         max_periods: 0,
         record_mesh_periods: 120,
-        samples_per_mesh: steps,
+        samples_per_mesh: spm,
     };
     bencher.bench_local(|| simulate(&m, &y0, &o, &|_| {}).expect("run"));
 }
 
+#[divan::bench(args = [20, 80])]
+fn sdof_rk4_aligned_120_mesh_periods(bencher: divan::Bencher, steps: u32) {
+    bench_run(
+        bencher,
+        Method::Rk4 {
+            steps_per_mesh: steps,
+            aligned: true,
+        },
+        steps,
+    );
+}
+
 #[divan::bench(args = [1e-6, 1e-9])]
 fn sdof_dopri5_breakpoints_120_mesh_periods(bencher: divan::Bencher, rtol: f64) {
-    let s = Scene::from_str(
-        include_str!("../assets/dynamics/sdof_6000.toml"),
-        false,
-        "sdof",
-    )
-    .expect("scene");
-    let (m, _) = s.build("sdof").expect("model");
-    let y0 = static_state(&m, 1e-9);
-    let o = RunOptions {
-        method: Method::Dopri5 {
+    bench_run(
+        bencher,
+        Method::Dopri5 {
             rtol,
             atol: rtol * 1e-6,
             breakpoints: true,
             events: true,
         },
-        poincare_tol: 1.0,
-        max_periods: 0,
-        record_mesh_periods: 120,
-        samples_per_mesh: 64,
-    };
-    bencher.bench_local(|| simulate(&m, &y0, &o, &|_| {}).expect("run"));
+        64,
+    );
 }

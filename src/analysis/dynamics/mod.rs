@@ -426,19 +426,20 @@ fn advance(
                 Vec::new()
             };
             let n = model.n();
-            let evs_q: Vec<Box<dyn Fn(f64, &[f64]) -> f64 + Send + Sync + '_>> = if events {
+            let evs_q: Vec<model::StateEvent<'_>> = if events {
                 model.terms.iter().flat_map(|t| t.events()).collect()
             } else {
                 Vec::new()
             };
-            let wrapped: Vec<Box<dyn Fn(f64, &[f64]) -> f64 + '_>> = evs_q
+            // the model's events see the coordinates only
+            let wrapped: Vec<model::StateEvent<'_>> = evs_q
                 .iter()
-                .map(|g| {
-                    Box::new(move |t: f64, y: &[f64]| g(t, &y[..n]))
-                        as Box<dyn Fn(f64, &[f64]) -> f64>
-                })
+                .map(|g| Box::new(move |t: f64, y: &[f64]| g(t, &y[..n])) as model::StateEvent<'_>)
                 .collect();
-            let refs: Vec<ode::EventFn<'_>> = wrapped.iter().map(|b| b.as_ref()).collect();
+            let refs: Vec<ode::EventFn<'_>> = wrapped
+                .iter()
+                .map(|b| b.as_ref() as ode::EventFn<'_>)
+                .collect();
             let empty: [f64; 0] = [];
             Ok(solver.integrate(model, t0, t1, y, &bps, &refs, &mut |d| {
                 on(Sample::Dense(d), &empty)
@@ -448,40 +449,22 @@ fn advance(
             steps_per_mesh,
             aligned,
         } => {
-            let h = model.mesh.t0 / steps_per_mesh as f64;
-            let spm = opts.samples_per_mesh as f64;
-            let dt = model.mesh.t0 / spm;
-            // integrate sample interval by sample interval so that samples are step ends
+            // integrate sample interval by sample interval (samples are step ends); with
+            // `aligned`, each interval is further split at the switches
+            let h = model.mesh.t0 / f64::from(steps_per_mesh);
+            let dt = model.mesh.t0 / f64::from(opts.samples_per_mesh);
+            let nchunks = ((t1 - t0) / dt).round().max(1.0) as usize;
             let mut st = OdeStats::default();
-            let mut t = t0;
-            let steps = ((t1 - t0) / dt).round().max(1.0) as usize;
-            let hh = ((t1 - t0) / steps as f64).min(dt);
-            let (hstep, chunk) = if (t1 - t0) > 1.5 * dt {
-                (h, hh)
-            } else {
-                (h, t1 - t0)
-            };
-            let nchunks = ((t1 - t0) / chunk).round().max(1.0) as usize;
             for c in 0..nchunks {
-                let a = t;
-                let b = if c + 1 == nchunks {
-                    t1
-                } else {
-                    t0 + chunk * (c + 1) as f64
-                };
+                let a = t0 + dt * c as f64;
+                let b = if c + 1 == nchunks { t1 } else { a + dt };
                 let bps = if aligned {
-                    model.breakpoints(a, b)
+                    Some(model.breakpoints(a, b))
                 } else {
-                    Vec::new()
+                    None
                 };
-                if aligned {
-                    st += ode::rk4(model, a, b, hstep, y, Some(&bps), &mut |_, _| {});
-                } else {
-                    // unaligned: global uniform grid ignoring switches
-                    st += ode::rk4(model, a, b, hstep, y, None, &mut |_, _| {});
-                }
-                t = b;
-                on(Sample::Point(t), y);
+                st += ode::rk4(model, a, b, h, y, bps.as_deref(), &mut |_, _| {});
+                on(Sample::Point(b), y);
             }
             Ok(st)
         }

@@ -14,6 +14,9 @@ pub const DOF_NAMES: [&str; 17] = [
     "yb3", "xb4", "yb4", "theta_q", "u",
 ];
 
+/// A state-event function `g(t, q)` (q: coordinates); its zeros are kinks of a force law.
+pub type StateEvent<'a> = Box<dyn Fn(f64, &[f64]) -> f64 + Send + Sync + 'a>;
+
 /// A generalized force contribution (B.10 term list). `q`, `v`: coordinates (m or rad) and
 /// velocities; forces in N or N·m.
 pub trait ForceTerm: Send + Sync {
@@ -24,7 +27,7 @@ pub trait ForceTerm: Send + Sync {
     /// Pushes the known switch times in `(t0, t1)` (s).
     fn breakpoints(&self, _t0: f64, _t1: f64, _out: &mut Vec<f64>) {}
     /// State-event functions `g(t, q)` whose zeros are kinks of the force law.
-    fn events(&self) -> Vec<Box<dyn Fn(f64, &[f64]) -> f64 + Send + Sync + '_>> {
+    fn events(&self) -> Vec<StateEvent<'_>> {
         Vec::new()
     }
     /// Potential energy (J) when the term is treated as conservative in the energy audit.
@@ -400,11 +403,11 @@ impl ForceTerm for MeshTerm {
         }
         push_periodic(&offs, c.t0, t0, t1, out);
     }
-    fn events(&self) -> Vec<Box<dyn Fn(f64, &[f64]) -> f64 + Send + Sync + '_>> {
+    fn events(&self) -> Vec<StateEvent<'_>> {
         let Some(bl) = self.core.backlash else {
             return Vec::new();
         };
-        let mut ev: Vec<Box<dyn Fn(f64, &[f64]) -> f64 + Send + Sync + '_>> = Vec::new();
+        let mut ev: Vec<StateEvent<'_>> = Vec::new();
         let np = if self.core.per_pair { 2 } else { 1 };
         for j in 0..np {
             for sign in [1.0, -1.0] {
