@@ -500,3 +500,120 @@ fn scene_errors_name_the_key_and_expected_form() {
         .unwrap();
     assert_eq!(m.n(), 1);
 }
+
+/// B.11 in miniature: max DTE error (µm) over mesh periods 40..60 vs a tight reference (SDOF 6000 rpm scene).
+fn rk4_error(aligned: bool, steps: u32) -> f64 {
+    let s = asset("sdof_6000.toml");
+    let (m, _) = s.build("sdof").unwrap();
+    let y0 = static_state(&m, 1e-9);
+    let o = |method| RunOptions {
+        method,
+        poincare_tol: 1.0,
+        max_periods: 0,
+        record_mesh_periods: 60,
+        samples_per_mesh: steps,
+    };
+    let reference = simulate(
+        &m,
+        &y0,
+        &o(Method::Dopri5 {
+            rtol: 1e-12,
+            atol: 1e-18,
+            breakpoints: true,
+            events: true,
+        }),
+        &|_| {},
+    )
+    .unwrap();
+    let r = simulate(
+        &m,
+        &y0,
+        &o(Method::Rk4 {
+            steps_per_mesh: steps,
+            aligned,
+        }),
+        &|_| {},
+    )
+    .unwrap();
+    let tail = 40 * steps as usize;
+    r.dte_m[tail..]
+        .iter()
+        .zip(&reference.dte_m[tail..])
+        .map(|(a, b)| (a - b).abs())
+        .fold(0.0, f64::max)
+        / 1e-6
+}
+
+#[test]
+fn rk4_regains_fourth_order_only_when_aligned_to_switches() {
+    let (a40, a80) = (rk4_error(true, 40), rk4_error(true, 80));
+    let (u40, u80) = (rk4_error(false, 40), rk4_error(false, 80));
+    assert!(a40 / a80 > 10.0, "aligned: {a40} → {a80}");
+    assert!(u40 / u80 < 4.0, "not aligned: {u40} → {u80}");
+    assert!(u80 > 100.0 * a80, "{u80} vs {a80}");
+}
+
+#[test]
+fn quasi_static_dte_equals_b_plus_f0_over_k() {
+    // ω → 0 and no excitation: constant stiffness, backlash, no STE
+    let text = with_effects("backlash = { half_gap_um = 50.0 }", "auto")
+        .replace("n1_rpm = 6000.0", "n1_rpm = 1.0");
+    let (m, d) = Scene::from_str(&text, false, "q")
+        .unwrap()
+        .build("q")
+        .unwrap();
+    let run = simulate(&m, &vec![0.0; 2], &opts(1e-10, 50, 1, 16), &|_| {}).unwrap();
+    let want = 50e-6 + d.f0_n / 3.8252e8;
+    assert!((want * 1e6 - 53.709).abs() < 1e-3);
+    assert!(
+        run.dte_m.iter().all(|x| (x - want).abs() < 1e-12),
+        "{:?} vs {want}",
+        &run.dte_m[..3]
+    );
+}
+
+#[test]
+fn cli_runs_a_scene_and_rejects_bad_input() {
+    let exe = env!("CARGO_BIN_EXE_ncgear");
+    let dir = std::env::temp_dir().join(format!("ncgear_dyn_{}", std::process::id()));
+    let out = std::process::Command::new(exe)
+        .args([
+            "dynamics",
+            &format!("{ASSETS}/backlash_oscillator.toml"),
+            "--sweep",
+            "0.80:0.84:0.04",
+            "--json",
+            "--out",
+        ])
+        .arg(&dir)
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(v["dofs"], serde_json::json!(["u"]));
+    let up = v["sweep_up"].as_array().unwrap();
+    let a = |p: &serde_json::Value| p["dte_half_pp_m"].as_f64().unwrap() / 50e-6;
+    assert!(a(&up[0]) < 0.1 && a(&up[1]) > 0.25, "{up:?}");
+    assert!(dir.join("sweep.svg").exists() && dir.join("sweep.csv").exists());
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        stderr.contains("DOFs (1): u") && stderr.contains("backlash(b = 50.000 µm)"),
+        "{stderr}"
+    );
+    let bad = dir.join("bad.toml");
+    std::fs::write(&bad, SDOF_6000.replace("kmax = 4.5e8", "kmax = -4.5e8")).unwrap();
+    let out = std::process::Command::new(exe)
+        .args(["dynamics"])
+        .arg(&bad)
+        .arg("--out")
+        .arg(&dir)
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("effects.mesh_stiffness.kmax"));
+    let _ = std::fs::remove_dir_all(&dir);
+}
