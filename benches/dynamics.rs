@@ -52,13 +52,7 @@ fn sdof() -> (model::Model, Vec<f64>) {
 
 fn bench_run(bencher: divan::Bencher, method: Method, spm: u32) {
     let (m, y0) = sdof();
-    let o = RunOptions {
-        method,
-        poincare_tol: 1.0,
-        max_periods: 0,
-        record_mesh_periods: 120,
-        samples_per_mesh: spm,
-    };
+    let o = RunOptions::window(method, 120, spm);
     bencher.bench_local(|| simulate(&m, &y0, &o, &|_| {}).expect("run"));
 }
 

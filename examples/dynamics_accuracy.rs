@@ -11,13 +11,7 @@ use std::time::Instant;
 const SCENE: &str = include_str!("../assets/dynamics/sdof_6000.toml");
 
 fn run(model: &model::Model, y0: &[f64], method: Method, spm: u32) -> (Run, f64) {
-    let o = RunOptions {
-        method,
-        poincare_tol: 1.0,
-        max_periods: 0,
-        record_mesh_periods: 120,
-        samples_per_mesh: spm,
-    };
+    let o = RunOptions::window(method, 120, spm);
     let t = Instant::now();
     let r = simulate(model, y0, &o, &|_| {}).expect("integration");
     (r, t.elapsed().as_secs_f64() * 1e3)

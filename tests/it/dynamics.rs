@@ -506,13 +506,7 @@ fn rk4_error(aligned: bool, steps: u32) -> f64 {
     let s = asset("sdof_6000.toml");
     let (m, _) = s.build("sdof").unwrap();
     let y0 = static_state(&m, 1e-9);
-    let o = |method| RunOptions {
-        method,
-        poincare_tol: 1.0,
-        max_periods: 0,
-        record_mesh_periods: 60,
-        samples_per_mesh: steps,
-    };
+    let o = |method| RunOptions::window(method, 60, steps);
     let reference = simulate(
         &m,
         &y0,

@@ -119,6 +119,19 @@ impl RunOptions {
         Ok(o)
     }
 
+    /// A fixed window without transient: integrate `mesh_periods` from the initial state and
+    /// record them at `samples_per_mesh` (used for accuracy studies and benchmarks).
+    #[must_use]
+    pub fn window(method: Method, mesh_periods: u32, samples_per_mesh: u32) -> Self {
+        Self {
+            method,
+            poincare_tol: 1.0,
+            max_periods: 0,
+            record_mesh_periods: mesh_periods,
+            samples_per_mesh,
+        }
+    }
+
     fn validate(&self) -> Result<(), DynamicsError> {
         if self.samples_per_mesh < 2 {
             return Err(DynamicsError::BadOption {
