@@ -1,1 +1,0 @@
-//! See `companion-methods.md`.
