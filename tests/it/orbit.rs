@@ -713,7 +713,8 @@ fn full_spectrum_shows_forward_and_backward_lines() {
     s.sigma_um = 0.0;
     s.lines.clear();
     s.drift_um_s = (0.0, 0.0);
-    let spec = full_spectrum(&s.record(), false);
+    let rec = s.record();
+    let spec = full_spectrum(rec.mean_step_s(), rec.x_um(), rec.y_um());
     let at = |f: f64| {
         spec.iter()
             .min_by(|a, b| (a.0 - f).abs().total_cmp(&(b.0 - f).abs()))

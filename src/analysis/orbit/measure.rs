@@ -1057,22 +1057,24 @@ fn synchronous(rec: &Record, z: &[C64], omega_p: f64) -> Result<(C64, C64), Orbi
 }
 
 /// Full (complex) spectrum of `z = x + i y` with a Hann window: `(signed frequency Hz, amplitude µm)`
-/// sorted by frequency; amplitude-corrected so a line `Z e^{iωt}` on a bin shows `|Z|`. Needs
-/// uniformly sampled data (uses the mean step).
+/// sorted by frequency; amplitude-corrected so a line `Z e^{iωt}` on a bin shows `|Z|`. For
+/// uniformly sampled data with step `dt_s`; pass detrended data (e.g. [`Extractor::analysis_signal`]).
 #[must_use]
-pub fn full_spectrum(rec: &Record, drift: bool) -> Vec<(f64, f64)> {
-    let (x, y) = detrend(rec.t_s(), rec.x_um(), rec.y_um(), drift);
-    let n = rec.len();
+pub fn full_spectrum(dt_s: f64, x_um: &[f64], y_um: &[f64]) -> Vec<(f64, f64)> {
+    let n = x_um.len().min(y_um.len());
+    if n < 2 {
+        return Vec::new();
+    }
     let w: Vec<f64> = (0..n)
         .map(|k| 0.5 - 0.5 * (TAU * k as f64 / (n - 1) as f64).cos())
         .collect();
     let ws: f64 = w.iter().sum();
     let mut buf: Vec<rustfft::num_complex::Complex<f64>> = (0..n)
-        .map(|k| rustfft::num_complex::Complex::new(x[k] * w[k], y[k] * w[k]))
+        .map(|k| rustfft::num_complex::Complex::new(x_um[k] * w[k], y_um[k] * w[k]))
         .collect();
     let mut planner = rustfft::FftPlanner::new();
     planner.plan_fft_forward(n).process(&mut buf);
-    let df = 1.0 / (n as f64 * rec.mean_step_s());
+    let df = 1.0 / (n as f64 * dt_s);
     let mut out: Vec<(f64, f64)> = buf
         .iter()
         .enumerate()
