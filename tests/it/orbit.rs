@@ -713,6 +713,7 @@ fn full_spectrum_shows_forward_and_backward_lines() {
     s.sigma_um = 0.0;
     s.lines.clear();
     s.drift_um_s = (0.0, 0.0);
+    s.dc_um = (0.0, 0.0);
     let rec = s.record();
     let spec = full_spectrum(rec.mean_step_s(), rec.x_um(), rec.y_um());
     let at = |f: f64| {
