@@ -1068,13 +1068,29 @@ fn dtft(t: &[f64], z: &[C64], omega: f64, w: Option<&[f64]>) -> C64 {
     acc / ws
 }
 
+/// Symmetric Hann window `w_k = ½ − ½ cos(2πk/(n−1))`, `n ≥ 2`.
+fn hann(n: usize) -> Vec<f64> {
+    (0..n)
+        .map(|k| 0.5 - 0.5 * (TAU * k as f64 / (n - 1) as f64).cos())
+        .collect()
+}
+
+/// Unnormalised FFT of the Hann-windowed `x + iy`, and the window sum `Σ w_k`.
+fn hann_fft(x: &[f64], y: &[f64]) -> (Vec<rustfft::num_complex::Complex<f64>>, f64) {
+    let n = x.len().min(y.len());
+    let w = hann(n);
+    let mut buf: Vec<rustfft::num_complex::Complex<f64>> = (0..n)
+        .map(|k| rustfft::num_complex::Complex::new(x[k] * w[k], y[k] * w[k]))
+        .collect();
+    rustfft::FftPlanner::new()
+        .plan_fft_forward(n)
+        .process(&mut buf);
+    (buf, w.iter().sum())
+}
+
 /// Hann-window DTFT at ω (coefficient estimate of `e^{iωt}`).
 fn hann_dtft(t: &[f64], z: &[C64], omega: f64) -> C64 {
-    let n = t.len();
-    let w: Vec<f64> = (0..n)
-        .map(|k| 0.5 - 0.5 * (TAU * k as f64 / (n - 1) as f64).cos())
-        .collect();
-    dtft(t, z, omega, Some(&w))
+    dtft(t, z, omega, Some(&hann(t.len())))
 }
 
 /// Synchronous average: cubic (4-point Lagrange) resampling of z at M points per planet revolution
@@ -1161,15 +1177,7 @@ pub fn full_spectrum(dt_s: f64, x_um: &[f64], y_um: &[f64]) -> Vec<(f64, f64)> {
     if n < 2 {
         return Vec::new();
     }
-    let w: Vec<f64> = (0..n)
-        .map(|k| 0.5 - 0.5 * (TAU * k as f64 / (n - 1) as f64).cos())
-        .collect();
-    let ws: f64 = w.iter().sum();
-    let mut buf: Vec<rustfft::num_complex::Complex<f64>> = (0..n)
-        .map(|k| rustfft::num_complex::Complex::new(x_um[k] * w[k], y_um[k] * w[k]))
-        .collect();
-    let mut planner = rustfft::FftPlanner::new();
-    planner.plan_fft_forward(n).process(&mut buf);
+    let (buf, ws) = hann_fft(&x_um[..n], &y_um[..n]);
     let df = 1.0 / (n as f64 * dt_s);
     let mut out: Vec<(f64, f64)> = buf
         .iter()
@@ -1269,15 +1277,7 @@ impl Extractor {
         }
         let (x, y) = self.analysis_signal(rec)?;
         let n = x.len();
-        let w: Vec<f64> = (0..n)
-            .map(|k| 0.5 - 0.5 * (TAU * k as f64 / (n - 1) as f64).cos())
-            .collect();
-        let mut buf: Vec<rustfft::num_complex::Complex<f64>> = (0..n)
-            .map(|k| rustfft::num_complex::Complex::new(x[k] * w[k], y[k] * w[k]))
-            .collect();
-        rustfft::FftPlanner::new()
-            .plan_fft_forward(n)
-            .process(&mut buf);
+        let (buf, _) = hann_fft(&x, &y);
         let bin = TAU / (n as f64 * rec.mean_step_s());
         let wp = self.omega_p_rad_s.abs();
         let kmin = (((1.0 - search_rel) * wp / bin).floor() as usize).max(1);
