@@ -367,10 +367,16 @@ fn run_measure(path: &Path, s: &mut Setup) -> Result<(Record, Measurement), supe
     let rec = Record::from_csv_path(path).map_err(input_error)?;
     if s.estimate {
         let w = s.extractor.omega_p_rad_s();
+        let tol = 1e-10 * w.abs();
+        let pb = super::progress_bar(
+            Extractor::frequency_iterations(rec.duration_s(), tol),
+            "ω_p refine",
+        );
         let est = s
             .extractor
-            .estimate_frequency(&rec, 0.1, 1e-10 * w.abs())
+            .estimate_frequency(&rec, 0.1, tol, &|k| pb.set_position(k))
             .map_err(input_error)?;
+        pb.finish_and_clear();
         s.extractor = s
             .extractor
             .with_omega_p(est.refined_rad_s)

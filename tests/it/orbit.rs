@@ -894,7 +894,14 @@ fn planet_frequency_estimated_from_an_approximate_value() {
         .nuisance(s.nuisance())
         .build()
         .unwrap();
-    let est = ex.estimate_frequency(&rec, 0.1, 1e-9).unwrap();
+    let calls = std::sync::atomic::AtomicU64::new(0);
+    let est = ex
+        .estimate_frequency(&rec, 0.1, 1e-9, &|k| {
+            calls.store(k, std::sync::atomic::Ordering::Relaxed)
+        })
+        .unwrap();
+    assert_eq!(calls.into_inner(), u64::from(est.iterations));
+    assert!(u64::from(est.iterations) <= Extractor::frequency_iterations(rec.duration_s(), 1e-9));
     let bin = TAU / s.duration();
     assert!((est.interpolated_rad_s - wp).abs() < 0.1 * bin, "{est:?}");
     // CRB of a frequency, σ_ω ≈ √12·σ/(A·T·√N) per channel; the refined value is well within.

@@ -1247,7 +1247,8 @@ impl Extractor {
     /// ratio; (2) golden-section minimisation of the residual sum of squares of this extractor's
     /// fit over `ω ∈ [ω̂ − 1 bin, ω̂ + 1 bin]` down to `tol_rad_s`. The sign of the configured ω_p is
     /// kept (the spectrum of the orbit alone cannot tell it). Carrier frame or de-rotation only;
-    /// needs uniform sampling.
+    /// needs uniform sampling. `progress` receives the number of refinement iterations done (at most
+    /// [`Extractor::frequency_iterations`]); each costs one least-squares fit.
     ///
     /// # Errors
     /// [`OrbitError::Invalid`] for bad `search_rel`/`tol_rad_s` or the full-spectrum frame,
@@ -1257,6 +1258,7 @@ impl Extractor {
         rec: &Record,
         search_rel: f64,
         tol_rad_s: f64,
+        progress: &(dyn Fn(u64) + Sync),
     ) -> Result<FrequencyEstimate, OrbitError> {
         if !(search_rel > 0.0 && search_rel < 1.0) {
             return Err(invalid("search_rel", "must lie in (0, 1)"));
@@ -1345,6 +1347,7 @@ impl Extractor {
                 f2 = rss(c2);
             }
             it += 1;
+            progress(u64::from(it));
         }
         let sign = self.omega_p_rad_s.signum();
         Ok(FrequencyEstimate {
@@ -1352,6 +1355,17 @@ impl Extractor {
             refined_rad_s: sign * 0.5 * (a + b),
             iterations: it,
         })
+    }
+
+    /// Upper bound of the golden-section iterations of [`Extractor::estimate_frequency`] for a
+    /// record of length `record_s` (bracket 2 bins = `4π/T_rec`) and tolerance `tol_rad_s`.
+    #[must_use]
+    pub fn frequency_iterations(record_s: f64, tol_rad_s: f64) -> u64 {
+        let bracket = 2.0 * TAU / record_s;
+        let g = 0.5 * (5f64.sqrt() - 1.0);
+        ((bracket / tol_rad_s).ln() / (1.0 / g).ln())
+            .ceil()
+            .clamp(0.0, 200.0) as u64
     }
 
     /// A copy of this extractor at another signed ω_p (e.g. an estimated one).
