@@ -45,6 +45,9 @@ enum Sub {
         /// Directory for orbit.svg and spectrum.svg.
         #[arg(long)]
         plot_dir: Option<PathBuf>,
+        /// Write the plots as PNG instead of SVG.
+        #[arg(long)]
+        png: bool,
     },
     /// Planet eccentricity phasors from a measured orbit, up to the unobservable common mode (A.9).
     Identify {
@@ -125,7 +128,8 @@ pub fn run(args: Args) -> CliResult {
             opts,
             json,
             plot_dir,
-        } => measure(&signals, &opts, json, plot_dir.as_deref()),
+            png,
+        } => measure(&signals, &opts, json, plot_dir.as_deref(), png),
         Sub::Identify {
             signals,
             sin_pair,
@@ -363,10 +367,16 @@ fn run_measure(path: &Path, s: &mut Setup) -> Result<(Record, Measurement), supe
     let rec = Record::from_csv_path(path).map_err(input_error)?;
     if s.estimate {
         let w = s.extractor.omega_p_rad_s();
+        let tol = 1e-10 * w.abs();
+        let pb = super::progress_bar(
+            Extractor::frequency_iterations(rec.duration_s(), tol),
+            "ω_p refine",
+        );
         let est = s
             .extractor
-            .estimate_frequency(&rec, 0.1, 1e-10 * w.abs())
+            .estimate_frequency(&rec, 0.1, tol, &|k| pb.set_position(k))
             .map_err(input_error)?;
+        pb.finish_and_clear();
         s.extractor = s
             .extractor
             .with_omega_p(est.refined_rad_s)
@@ -401,11 +411,17 @@ fn measurement_json(m: &Measurement, s: &Setup) -> Value {
     })
 }
 
-fn measure(path: &Path, o: &MeasureOpts, json: bool, plot_dir: Option<&Path>) -> CliResult {
+fn measure(
+    path: &Path,
+    o: &MeasureOpts,
+    json: bool,
+    plot_dir: Option<&Path>,
+    png: bool,
+) -> CliResult {
     let mut s = setup(o)?;
     let (rec, m) = run_measure(path, &mut s)?;
     if let Some(dir) = plot_dir {
-        plots(dir, &rec, &m, &s)?;
+        plots(dir, &rec, &m, &s, if png { "png" } else { "svg" })?;
     }
     if json {
         return print_json(&measurement_json(&m, &s));
@@ -448,7 +464,7 @@ fn measure(path: &Path, o: &MeasureOpts, json: bool, plot_dir: Option<&Path>) ->
     Ok(())
 }
 
-fn plots(dir: &Path, rec: &Record, m: &Measurement, s: &Setup) -> CliResult {
+fn plots(dir: &Path, rec: &Record, m: &Measurement, s: &Setup, ext: &str) -> CliResult {
     std::fs::create_dir_all(dir)
         .map_err(|e| runtime_error(miette::miette!("{}: {e}", dir.display())))?;
     let (x, y) = s.extractor.analysis_signal(rec).map_err(input_error)?;
@@ -476,11 +492,25 @@ fn plots(dir: &Path, rec: &Record, m: &Measurement, s: &Setup) -> CliResult {
         y: "y [µm]".into(),
         equal_aspect: true,
     };
-    line_chart(&dir.join("orbit.svg"), &labels, &series, (800, 800))
-        .map_err(|e| runtime_error(miette::miette!("{e}")))?;
+    line_chart(
+        &dir.join(format!("orbit.{ext}")),
+        &labels,
+        &series,
+        (800, 800),
+    )
+    .map_err(|e| runtime_error(miette::miette!("{e}")))?;
     if rec.is_uniform(1e-6) {
-        let spec = full_spectrum(rec, s.extractor.drift());
-        let mut series = vec![Series::line("|Z(f)| (Hann, sensor frame)", spec)];
+        let fmax = 1.5
+            * m.lines
+                .iter()
+                .map(|l| l.omega_rad_s.abs())
+                .fold(0.0, f64::max)
+            / std::f64::consts::TAU;
+        let spec: Vec<(f64, f64)> = full_spectrum(rec.mean_step_s(), &x, &y)
+            .into_iter()
+            .filter(|p| p.0.abs() <= fmax)
+            .collect();
+        let mut series = vec![Series::line("|Z(f)| (Hann, analysis frame)", spec)];
         for l in m.lines.iter().filter(|l| l.kind == LineKind::Planet) {
             let f = l.omega_rad_s / std::f64::consts::TAU;
             let a = if l.label.ends_with('+') {
@@ -496,8 +526,13 @@ fn plots(dir: &Path, rec: &Record, m: &Measurement, s: &Setup) -> CliResult {
             y: "amplitude [µm]".into(),
             equal_aspect: false,
         };
-        line_chart(&dir.join("spectrum.svg"), &labels, &series, (1000, 600))
-            .map_err(|e| runtime_error(miette::miette!("{e}")))?;
+        line_chart(
+            &dir.join(format!("spectrum.{ext}")),
+            &labels,
+            &series,
+            (1000, 600),
+        )
+        .map_err(|e| runtime_error(miette::miette!("{e}")))?;
     }
     Ok(())
 }

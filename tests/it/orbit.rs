@@ -713,7 +713,9 @@ fn full_spectrum_shows_forward_and_backward_lines() {
     s.sigma_um = 0.0;
     s.lines.clear();
     s.drift_um_s = (0.0, 0.0);
-    let spec = full_spectrum(&s.record(), false);
+    s.dc_um = (0.0, 0.0);
+    let rec = s.record();
+    let spec = full_spectrum(rec.mean_step_s(), rec.x_um(), rec.y_um());
     let at = |f: f64| {
         spec.iter()
             .min_by(|a, b| (a.0 - f).abs().total_cmp(&(b.0 - f).abs()))
@@ -892,7 +894,14 @@ fn planet_frequency_estimated_from_an_approximate_value() {
         .nuisance(s.nuisance())
         .build()
         .unwrap();
-    let est = ex.estimate_frequency(&rec, 0.1, 1e-9).unwrap();
+    let calls = std::sync::atomic::AtomicU64::new(0);
+    let est = ex
+        .estimate_frequency(&rec, 0.1, 1e-9, &|k| {
+            calls.store(k, std::sync::atomic::Ordering::Relaxed)
+        })
+        .unwrap();
+    assert_eq!(calls.into_inner(), u64::from(est.iterations));
+    assert!(u64::from(est.iterations) <= Extractor::frequency_iterations(rec.duration_s(), 1e-9));
     let bin = TAU / s.duration();
     assert!((est.interpolated_rad_s - wp).abs() < 0.1 * bin, "{est:?}");
     // CRB of a frequency, σ_ω ≈ √12·σ/(A·T·√N) per channel; the refined value is well within.
@@ -950,5 +959,64 @@ fn ls_is_exact_on_noise_free_non_integer_records() {
             "{periods}: {:?}",
             m.orbit
         );
+    }
+}
+
+#[test]
+fn tach_synchronous_average_corrects_a_wrong_nominal_speed() {
+    // The nominal ω_p is 1 % off; once-per-revolution tach pulses give the true angle.
+    let mut s = Synth::base(17);
+    s.lines.truncate(1);
+    let rec = s.record();
+    let wp = s.orbit.omega_p_rad_s;
+    let period = TAU / wp;
+    let t_first = 0.123;
+    let pulses: Vec<f64> = (0..)
+        .map(|k| t_first + k as f64 * period)
+        .take_while(|t| *t < s.duration() - 1e-3)
+        .collect();
+    let with_tach = rec.clone().with_tach_pulses(pulses).unwrap();
+    let ex = Extractor::builder(wp * 1.01)
+        .method(Method::Synchronous)
+        .build()
+        .unwrap();
+    let good = errors(&ex.extract(&with_tach).unwrap().orbit, &s.orbit);
+    let bad = errors(&ex.extract(&rec).unwrap().orbit, &s.orbit);
+    // Tach: the 5 µm runout line is not synchronous and leaks into the average with about
+    // 5/(π·Δbins) µm (rectangular window over 26 revolutions); bound = that leakage + 4× CRLB.
+    let dbins = (4.91 - 3.37) * s.duration();
+    let lim = 5.0 / (PI * dbins) + 4.0 * s.crlb_amp();
+    let w = s.orbit.sin_pair();
+    assert!(
+        good[0].abs() < lim && good[2].abs() < lim,
+        "{good:?} vs {lim}"
+    );
+    assert!(
+        good[1].abs() < lim / w.a_x_um && good[3].abs() < lim / w.a_y_um,
+        "{good:?}"
+    );
+    assert!(bad[1].abs().max(bad[3].abs()) > 0.3, "{bad:?}");
+    // Tach column in a CSV: rising edges become pulses; other values are errors.
+    let mut text = String::from("t_s,x_um,y_um,tach\n");
+    for k in 0..40 {
+        text.push_str(&format!(
+            "{},{},{},{}\n",
+            0.01 * k as f64,
+            k,
+            -k,
+            u8::from(k % 10 == 3 || k % 10 == 4)
+        ));
+    }
+    let p = temp_csv("tach", &text);
+    let r = Record::from_csv_path(&p).unwrap();
+    assert_eq!(r.tach_pulses_s().unwrap(), &[0.03, 0.13, 0.23, 0.33]);
+    let bad_csv = temp_csv("tach_bad", &text.replace("0.05,5,-5,0", "0.05,5,-5,2"));
+    let e = Record::from_csv_path(&bad_csv).unwrap_err().to_string();
+    assert!(
+        e.contains(":7:") && e.contains("`tach`") && e.contains("0 or 1"),
+        "{e}"
+    );
+    for q in [p, bad_csv] {
+        let _ = std::fs::remove_file(q);
     }
 }

@@ -39,6 +39,7 @@ pub struct Record {
     x_um: Vec<f64>,
     y_um: Vec<f64>,
     carrier_angle_rad: Option<Vec<f64>>,
+    tach_pulses_s: Option<Vec<f64>>,
 }
 
 impl Record {
@@ -83,6 +84,7 @@ impl Record {
             x_um,
             y_um,
             carrier_angle_rad,
+            tach_pulses_s: None,
         })
     }
 
@@ -120,8 +122,8 @@ impl Record {
             .headers()
             .map_err(|e| csv_err(1, "header", e.to_string()))?
             .clone();
-        let mut idx = [None; 4];
-        const NAMES: [&str; 4] = ["t_s", "x_um", "y_um", "carrier_deg"];
+        let mut idx = [None; 5];
+        const NAMES: [&str; 5] = ["t_s", "x_um", "y_um", "carrier_deg", "tach"];
         for (j, h) in headers.iter().enumerate() {
             match NAMES.iter().position(|n| *n == h) {
                 Some(k) if idx[k].is_none() => idx[k] = Some(j),
@@ -131,7 +133,7 @@ impl Record {
                         1,
                         h,
                         format!(
-                            "unknown column (expected t_s, x_um, y_um and optionally carrier_deg; column {})",
+                            "unknown column (expected t_s, x_um, y_um and optionally carrier_deg, tach; column {})",
                             j + 1
                         ),
                     ));
@@ -147,14 +149,14 @@ impl Record {
                 ));
             }
         }
-        let mut cols: [Vec<f64>; 4] = Default::default();
+        let mut cols: [Vec<f64>; 5] = Default::default();
         for rec in rdr.records() {
             let rec = rec.map_err(|e| {
                 let line = e.position().map_or(0, csv::Position::line);
                 csv_err(line, "row", e.to_string())
             })?;
             let line = rec.position().map_or(0, csv::Position::line);
-            for k in 0..4 {
+            for k in 0..5 {
                 let Some(j) = idx[k] else { continue };
                 let cell = rec.get(j).unwrap_or("");
                 let v: f64 = cell.parse().map_err(|_| {
@@ -174,18 +176,72 @@ impl Record {
                         format!("time {v} s is not after the previous row"),
                     ));
                 }
+                if k == 4 && v != 0.0 && v != 1.0 {
+                    return Err(csv_err(
+                        line,
+                        NAMES[4],
+                        format!("expected 0 or 1 (tach pulse flag), found {cell:?}"),
+                    ));
+                }
                 cols[k].push(v);
             }
         }
-        let [t, x, y, c] = cols;
+        let [t, x, y, c, tach] = cols;
+        // Tach pulses: rising edges 0 → 1 of the flag column.
+        let pulses: Option<Vec<f64>> = idx[4].map(|_| {
+            (1..tach.len())
+                .filter(|&i| tach[i] == 1.0 && tach[i - 1] == 0.0)
+                .map(|i| t[i])
+                .collect()
+        });
         let carrier = idx[3].map(|_| c.iter().map(|d| d.to_radians()).collect());
-        Self::new(t, x, y, carrier).map_err(|e| match e {
+        let to_file = |e: OrbitError| match e {
             OrbitError::Record(m) => OrbitError::File {
                 file: file.to_string(),
                 message: m,
             },
             other => other,
-        })
+        };
+        let rec = Self::new(t, x, y, carrier).map_err(to_file)?;
+        match pulses {
+            Some(p) => rec.with_tach_pulses(p).map_err(to_file),
+            None => Ok(rec),
+        }
+    }
+
+    /// Attaches once-per-planet-revolution tach pulse times (s, strictly increasing, at least 2,
+    /// inside the record) for [`Method::Synchronous`].
+    ///
+    /// # Errors
+    /// [`OrbitError::Record`] naming the offending pulse.
+    pub fn with_tach_pulses(mut self, pulses_s: Vec<f64>) -> Result<Self, OrbitError> {
+        if pulses_s.len() < 2 {
+            return Err(OrbitError::Record(format!(
+                "need at least 2 tach pulses, got {}",
+                pulses_s.len()
+            )));
+        }
+        let (t0, t1) = (self.t_s[0], self.t_s[self.len() - 1]);
+        for (k, p) in pulses_s.iter().enumerate() {
+            if !(p.is_finite() && *p >= t0 && *p <= t1) {
+                return Err(OrbitError::Record(format!(
+                    "tach pulse {k} at {p} s is outside the record"
+                )));
+            }
+            if k > 0 && *p <= pulses_s[k - 1] {
+                return Err(OrbitError::Record(format!(
+                    "tach pulse {k} at {p} s is not after the previous one"
+                )));
+            }
+        }
+        self.tach_pulses_s = Some(pulses_s);
+        Ok(self)
+    }
+
+    /// Tach pulse times, s (if any).
+    #[must_use]
+    pub fn tach_pulses_s(&self) -> Option<&[f64]> {
+        self.tach_pulses_s.as_deref()
     }
 
     /// Sample times, s.
@@ -626,7 +682,10 @@ impl Extractor {
                             dtft(rec.t_s(), &z, b(wm), None),
                         )
                     }
-                    _ => synchronous(rec, &z, self.omega_p_rad_s)?,
+                    _ => match rec.tach_pulses_s() {
+                        Some(p) => synchronous_tach(rec, &z, p, self.omega_p_rad_s.signum())?,
+                        None => synchronous(rec, &z, self.omega_p_rad_s)?,
+                    },
                 };
                 m.orbit.z_plus_um = zp;
                 m.orbit.z_minus_um = zm;
@@ -1009,13 +1068,29 @@ fn dtft(t: &[f64], z: &[C64], omega: f64, w: Option<&[f64]>) -> C64 {
     acc / ws
 }
 
+/// Symmetric Hann window `w_k = ½ − ½ cos(2πk/(n−1))`, `n ≥ 2`.
+fn hann(n: usize) -> Vec<f64> {
+    (0..n)
+        .map(|k| 0.5 - 0.5 * (TAU * k as f64 / (n - 1) as f64).cos())
+        .collect()
+}
+
+/// Unnormalised FFT of the Hann-windowed `x + iy`, and the window sum `Σ w_k`.
+fn hann_fft(x: &[f64], y: &[f64]) -> (Vec<rustfft::num_complex::Complex<f64>>, f64) {
+    let n = x.len().min(y.len());
+    let w = hann(n);
+    let mut buf: Vec<rustfft::num_complex::Complex<f64>> = (0..n)
+        .map(|k| rustfft::num_complex::Complex::new(x[k] * w[k], y[k] * w[k]))
+        .collect();
+    rustfft::FftPlanner::new()
+        .plan_fft_forward(n)
+        .process(&mut buf);
+    (buf, w.iter().sum())
+}
+
 /// Hann-window DTFT at ω (coefficient estimate of `e^{iωt}`).
 fn hann_dtft(t: &[f64], z: &[C64], omega: f64) -> C64 {
-    let n = t.len();
-    let w: Vec<f64> = (0..n)
-        .map(|k| 0.5 - 0.5 * (TAU * k as f64 / (n - 1) as f64).cos())
-        .collect();
-    dtft(t, z, omega, Some(&w))
+    dtft(t, z, omega, Some(&hann(t.len())))
 }
 
 /// Synchronous average: cubic (4-point Lagrange) resampling of z at M points per planet revolution
@@ -1035,16 +1110,7 @@ fn synchronous(rec: &Record, z: &[C64], omega_p: f64) -> Result<(C64, C64), Orbi
     let per_rev = ((period / dt).floor() as usize).max(8);
     let total = revs * per_rev;
     let h = period / per_rev as f64;
-    let interp = |tt: f64| -> C64 {
-        let u = (tt - t[0]) / dt;
-        let i = (u.floor() as isize).clamp(1, n as isize - 3) as usize;
-        let f = u - i as f64;
-        let (a, b, c, d) = (z[i - 1], z[i], z[i + 1], z[i + 2]);
-        a * (-f * (f - 1.0) * (f - 2.0) / 6.0)
-            + b * ((f + 1.0) * (f - 1.0) * (f - 2.0) / 2.0)
-            + c * (-(f + 1.0) * f * (f - 2.0) / 2.0)
-            + d * ((f + 1.0) * f * (f - 1.0) / 6.0)
-    };
+    let interp = |tt: f64| cubic_at(t[0], dt, z, tt);
     let (mut zp, mut zm) = (C64::new(0.0, 0.0), C64::new(0.0, 0.0));
     for j in 0..total {
         let tt = t[0] + h * j as f64;
@@ -1056,23 +1122,63 @@ fn synchronous(rec: &Record, z: &[C64], omega_p: f64) -> Result<(C64, C64), Orbi
     Ok((zp / total as f64, zm / total as f64))
 }
 
+/// 4-point Lagrange (cubic) interpolation of uniformly sampled `z` (first sample at `t0`, step `dt`).
+fn cubic_at(t0: f64, dt: f64, z: &[C64], tt: f64) -> C64 {
+    let n = z.len();
+    let u = (tt - t0) / dt;
+    let i = (u.floor() as isize).clamp(1, n as isize - 3) as usize;
+    let f = u - i as f64;
+    let (a, b, c, d) = (z[i - 1], z[i], z[i + 1], z[i + 2]);
+    a * (-f * (f - 1.0) * (f - 2.0) / 6.0)
+        + b * ((f + 1.0) * (f - 1.0) * (f - 2.0) / 2.0)
+        + c * (-(f + 1.0) * f * (f - 2.0) / 2.0)
+        + d * ((f + 1.0) * f * (f - 1.0) / 6.0)
+}
+
+/// Tach-driven synchronous average (A.8 step 4): the planet angle is `sign·2π·(r + s)` between
+/// pulses r and r+1 (linear in time within a revolution); z is resampled (cubic) at M points per
+/// revolution over all whole revolutions and the DFT bin at ±1 order taken. The result refers to
+/// the first pulse; it is moved to the time origin with the mean speed
+/// `ω̄ = sign·2π·revs/(t_last − t_first)`: `Z₊ = Z₊,angle e^{−iω̄ t_first}`, `Z₋ = Z₋,angle e^{iω̄ t_first}`.
+fn synchronous_tach(
+    rec: &Record,
+    z: &[C64],
+    pulses: &[f64],
+    sign: f64,
+) -> Result<(C64, C64), OrbitError> {
+    let t = rec.t_s();
+    let dt = rec.mean_step_s();
+    let revs = pulses.len() - 1;
+    let span = pulses[revs] - pulses[0];
+    let per_rev = ((span / revs as f64 / dt).floor() as usize).max(8);
+    let (mut zp, mut zm) = (C64::new(0.0, 0.0), C64::new(0.0, 0.0));
+    for r in 0..revs {
+        let (a, b) = (pulses[r], pulses[r + 1]);
+        for j in 0..per_rev {
+            let s = j as f64 / per_rev as f64;
+            let v = cubic_at(t[0], dt, z, a + (b - a) * s);
+            let e = C64::from_polar(1.0, -sign * TAU * s);
+            zp += v * e;
+            zm += v * e.conj();
+        }
+    }
+    let total = (revs * per_rev) as f64;
+    let w_mean = sign * TAU * revs as f64 / span;
+    let shift = C64::from_polar(1.0, -w_mean * pulses[0]);
+    Ok((zp / total * shift, zm / total * shift.conj()))
+}
+
 /// Full (complex) spectrum of `z = x + i y` with a Hann window: `(signed frequency Hz, amplitude µm)`
-/// sorted by frequency; amplitude-corrected so a line `Z e^{iωt}` on a bin shows `|Z|`. Needs
-/// uniformly sampled data (uses the mean step).
+/// sorted by frequency; amplitude-corrected so a line `Z e^{iωt}` on a bin shows `|Z|`. For
+/// uniformly sampled data with step `dt_s`; pass detrended data (e.g. [`Extractor::analysis_signal`]).
 #[must_use]
-pub fn full_spectrum(rec: &Record, drift: bool) -> Vec<(f64, f64)> {
-    let (x, y) = detrend(rec.t_s(), rec.x_um(), rec.y_um(), drift);
-    let n = rec.len();
-    let w: Vec<f64> = (0..n)
-        .map(|k| 0.5 - 0.5 * (TAU * k as f64 / (n - 1) as f64).cos())
-        .collect();
-    let ws: f64 = w.iter().sum();
-    let mut buf: Vec<rustfft::num_complex::Complex<f64>> = (0..n)
-        .map(|k| rustfft::num_complex::Complex::new(x[k] * w[k], y[k] * w[k]))
-        .collect();
-    let mut planner = rustfft::FftPlanner::new();
-    planner.plan_fft_forward(n).process(&mut buf);
-    let df = 1.0 / (n as f64 * rec.mean_step_s());
+pub fn full_spectrum(dt_s: f64, x_um: &[f64], y_um: &[f64]) -> Vec<(f64, f64)> {
+    let n = x_um.len().min(y_um.len());
+    if n < 2 {
+        return Vec::new();
+    }
+    let (buf, ws) = hann_fft(&x_um[..n], &y_um[..n]);
+    let df = 1.0 / (n as f64 * dt_s);
     let mut out: Vec<(f64, f64)> = buf
         .iter()
         .enumerate()
@@ -1141,7 +1247,8 @@ impl Extractor {
     /// ratio; (2) golden-section minimisation of the residual sum of squares of this extractor's
     /// fit over `ω ∈ [ω̂ − 1 bin, ω̂ + 1 bin]` down to `tol_rad_s`. The sign of the configured ω_p is
     /// kept (the spectrum of the orbit alone cannot tell it). Carrier frame or de-rotation only;
-    /// needs uniform sampling.
+    /// needs uniform sampling. `progress` receives the number of refinement iterations done (at most
+    /// [`Extractor::frequency_iterations`]); each costs one least-squares fit.
     ///
     /// # Errors
     /// [`OrbitError::Invalid`] for bad `search_rel`/`tol_rad_s` or the full-spectrum frame,
@@ -1151,6 +1258,7 @@ impl Extractor {
         rec: &Record,
         search_rel: f64,
         tol_rad_s: f64,
+        progress: &(dyn Fn(u64) + Sync),
     ) -> Result<FrequencyEstimate, OrbitError> {
         if !(search_rel > 0.0 && search_rel < 1.0) {
             return Err(invalid("search_rel", "must lie in (0, 1)"));
@@ -1171,15 +1279,7 @@ impl Extractor {
         }
         let (x, y) = self.analysis_signal(rec)?;
         let n = x.len();
-        let w: Vec<f64> = (0..n)
-            .map(|k| 0.5 - 0.5 * (TAU * k as f64 / (n - 1) as f64).cos())
-            .collect();
-        let mut buf: Vec<rustfft::num_complex::Complex<f64>> = (0..n)
-            .map(|k| rustfft::num_complex::Complex::new(x[k] * w[k], y[k] * w[k]))
-            .collect();
-        rustfft::FftPlanner::new()
-            .plan_fft_forward(n)
-            .process(&mut buf);
+        let (buf, _) = hann_fft(&x, &y);
         let bin = TAU / (n as f64 * rec.mean_step_s());
         let wp = self.omega_p_rad_s.abs();
         let kmin = (((1.0 - search_rel) * wp / bin).floor() as usize).max(1);
@@ -1247,6 +1347,7 @@ impl Extractor {
                 f2 = rss(c2);
             }
             it += 1;
+            progress(u64::from(it));
         }
         let sign = self.omega_p_rad_s.signum();
         Ok(FrequencyEstimate {
@@ -1254,6 +1355,17 @@ impl Extractor {
             refined_rad_s: sign * 0.5 * (a + b),
             iterations: it,
         })
+    }
+
+    /// Upper bound of the golden-section iterations of [`Extractor::estimate_frequency`] for a
+    /// record of length `record_s` (bracket 2 bins = `4π/T_rec`) and tolerance `tol_rad_s`.
+    #[must_use]
+    pub fn frequency_iterations(record_s: f64, tol_rad_s: f64) -> u64 {
+        let bracket = 2.0 * TAU / record_s;
+        let g = 0.5 * (5f64.sqrt() - 1.0);
+        ((bracket / tol_rad_s).ln() / (1.0 / g).ln())
+            .ceil()
+            .clamp(0.0, 200.0) as u64
     }
 
     /// A copy of this extractor at another signed ω_p (e.g. an estimated one).
