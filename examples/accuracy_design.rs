@@ -175,7 +175,13 @@ fn main() {
     let mut csv = String::from("knob,value,measure,error,time_ms\n");
     for (knob, v, what, err, ms) in &rows {
         let _ = writeln!(md, "| {knob} | {v} | {what} | {err:.2e} | {ms:.1} |");
-        let _ = writeln!(csv, "{knob},{v},{what},{err:e},{ms:.3}");
+        let _ = writeln!(
+            csv,
+            "{},{},{},{err:e},{ms:.3}",
+            knob.replace(',', ";"),
+            v.replace(',', ";"),
+            what.replace(',', ";")
+        );
     }
     print!("{md}");
     let _ = std::fs::create_dir_all("assets/accuracy");

@@ -12,47 +12,136 @@ use std::fmt::Write as _;
 use std::time::Instant;
 
 fn main() {
-    let file = ErrorFile::parse(include_str!("../assets/tolerance/paper_3k.toml"), "paper_3k.toml", false).expect("bundled");
+    let file = ErrorFile::parse(
+        include_str!("../assets/tolerance/paper_3k.toml"),
+        "paper_3k.toml",
+        false,
+    )
+    .expect("bundled");
     let mut rows: Vec<(String, String, String, f64, f64)> = Vec::new();
     // 1. Peak grid density: 200 random phase sets, worst error vs the 400-point reference.
-    let sets: Vec<[f64; 3]> = (0..200).map(|k| {
-        let x = k as f64;
-        [(x * 1.618_034).fract() * TAU, (x * 2.718_281).fract() * TAU, (x * 3.141_593).fract() * TAU]
-    }).collect();
-    let reference = Analysis::new(&file, PeakOptions { samples_per_min_period: 400, ..PeakOptions::default() });
+    let sets: Vec<[f64; 3]> = (0..200)
+        .map(|k| {
+            let x = k as f64;
+            [
+                (x * 1.618_034).fract() * TAU,
+                (x * 2.718_281).fract() * TAU,
+                (x * 3.141_593).fract() * TAU,
+            ]
+        })
+        .collect();
+    let reference = Analysis::new(
+        &file,
+        PeakOptions {
+            samples_per_min_period: 400,
+            ..PeakOptions::default()
+        },
+    );
     let refs: Vec<f64> = sets.iter().map(|b| reference.peak(b, None).value).collect();
     for per in [4, 8, 20, 40, 80] {
-        let a = Analysis::new(&file, PeakOptions { samples_per_min_period: per, ..PeakOptions::default() });
+        let a = Analysis::new(
+            &file,
+            PeakOptions {
+                samples_per_min_period: per,
+                ..PeakOptions::default()
+            },
+        );
         let t = Instant::now();
-        let worst = sets.iter().zip(&refs).map(|(b, r)| (a.peak(b, None).value - r).abs()).fold(0.0, f64::max);
+        let worst = sets
+            .iter()
+            .zip(&refs)
+            .map(|(b, r)| (a.peak(b, None).value - r).abs())
+            .fold(0.0, f64::max);
         let us = t.elapsed().as_secs_f64() * 1e6 / sets.len() as f64;
-        rows.push(("certified peak: grid points per shortest period".into(), per.to_string(), "max |peak − reference|, µm".into(), worst, us / 1e3));
+        rows.push((
+            "certified peak: grid points per shortest period".into(),
+            per.to_string(),
+            "max |peak − reference|, µm".into(),
+            worst,
+            us / 1e3,
+        ));
     }
     // The naive alternative: a fixed time grid without refinement over the full period.
     for dt in [1e-3, 1e-4, 1e-5] {
         let t = Instant::now();
-        let worst = sets.iter().zip(&refs).map(|(b, r)| {
-            let ph = [0.0, b[0] + 20f64.to_radians(), -b[1] + 90f64.to_radians(), -b[2] + 20f64.to_radians()];
-            let terms: Vec<Sinusoid> = file.terms.iter().zip(ph).map(|(t, p)| Sinusoid { amplitude: t.amplitude_um, omega_rad_s: t.omega_rad_s, phase_rad: p }).collect();
-            (fixed_grid_peak(&terms, dt, TAU) - r).abs()
-        }).fold(0.0, f64::max);
+        let worst = sets
+            .iter()
+            .zip(&refs)
+            .map(|(b, r)| {
+                let ph = [
+                    0.0,
+                    b[0] + 20f64.to_radians(),
+                    -b[1] + 90f64.to_radians(),
+                    -b[2] + 20f64.to_radians(),
+                ];
+                let terms: Vec<Sinusoid> = file
+                    .terms
+                    .iter()
+                    .zip(ph)
+                    .map(|(t, p)| Sinusoid {
+                        amplitude: t.amplitude_um,
+                        omega_rad_s: t.omega_rad_s,
+                        phase_rad: p,
+                    })
+                    .collect();
+                (fixed_grid_peak(&terms, dt, TAU) - r).abs()
+            })
+            .fold(0.0, f64::max);
         let us = t.elapsed().as_secs_f64() * 1e6 / sets.len() as f64;
-        rows.push(("naive fixed grid over [0, 2π] s (no refinement)".into(), format!("dt = {dt:e} s"), "max |peak − reference|, µm".into(), worst, us / 1e3));
+        rows.push((
+            "naive fixed grid over [0, 2π] s (no refinement)".into(),
+            format!("dt = {dt:e} s"),
+            "max |peak − reference|, µm".into(),
+            worst,
+            us / 1e3,
+        ));
     }
     // 2. Monte Carlo sample count: error of the mean against a 200 000-sample reference.
     let a = Analysis::new(&file, PeakOptions::default());
-    let (reference, _) = a.monte_carlo(&McOptions { samples: 200_000, seed: 99, bins: 10 }, &|_| {}).expect("finite");
+    let (reference, _) = a
+        .monte_carlo(
+            &McOptions {
+                samples: 200_000,
+                seed: 99,
+                bins: 10,
+            },
+            &|_| {},
+        )
+        .expect("finite");
     for n in [1_000, 5_000, 20_000, 50_000] {
         let t = Instant::now();
-        let (s, _) = a.monte_carlo(&McOptions { samples: n, seed: 1, bins: 10 }, &|_| {}).expect("finite");
+        let (s, _) = a
+            .monte_carlo(
+                &McOptions {
+                    samples: n,
+                    seed: 1,
+                    bins: 10,
+                },
+                &|_| {},
+            )
+            .expect("finite");
         let ms = t.elapsed().as_secs_f64() * 1e3;
-        rows.push(("Monte Carlo samples (paper example)".into(), n.to_string(), "|mean − 200k mean|, µm (± 2 s.e.)".into(), (s.mean - reference.mean).abs(), ms));
+        rows.push((
+            "Monte Carlo samples (paper example)".into(),
+            n.to_string(),
+            "|mean − 200k mean|, µm (± 2 s.e.)".into(),
+            (s.mean - reference.mean).abs(),
+            ms,
+        ));
     }
-    let mut md = String::from("| knob | value | error measure | error | time (ms) |\n|---|---|---|---|---|\n");
+    let mut md = String::from(
+        "| knob | value | error measure | error | time (ms) |\n|---|---|---|---|---|\n",
+    );
     let mut csv = String::from("knob,value,measure,error,time_ms\n");
     for (knob, v, what, err, ms) in &rows {
         let _ = writeln!(md, "| {knob} | {v} | {what} | {err:.2e} | {ms:.3} |");
-        let _ = writeln!(csv, "{knob},{v},{what},{err:e},{ms:.4}");
+        let _ = writeln!(
+            csv,
+            "{},{},{},{err:e},{ms:.4}",
+            knob.replace(',', ";"),
+            v.replace(',', ";"),
+            what.replace(',', ";")
+        );
     }
     print!("{md}");
     let _ = std::fs::create_dir_all("assets/accuracy");

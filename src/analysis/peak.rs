@@ -273,7 +273,9 @@ impl PeakGrid {
             }
         }
         let deriv = |j: usize| -> f64 {
-            (0..amps.len()).map(|k| self.omegas[k] * (cs[k] * self.cos[k][j] - sn[k] * self.sin[k][j])).sum()
+            (0..amps.len())
+                .map(|k| self.omegas[k] * (cs[k] * self.cos[k][j] - sn[k] * self.sin[k][j]))
+                .sum()
         };
         // Every grid interval has an upper bound of |f| on it: max(|f_j|, |f_j+1|) + M2·h²/8
         // (coarse), or the maximum of the cubic Hermite interpolant of (f, f′) plus its error bound
@@ -281,7 +283,11 @@ impl PeakGrid {
         // value get the fine bound; they are refined best bound first until the best refined
         // value exceeds every remaining bound, so the result is certified.
         let h = self.h;
-        let m4: f64 = amps.iter().zip(&self.omegas).map(|(a, w)| a.abs() * w.powi(4)).sum();
+        let m4: f64 = amps
+            .iter()
+            .zip(&self.omegas)
+            .map(|(a, w)| a.abs() * w.powi(4))
+            .sum();
         let herm = m4 * h.powi(4) / 384.0;
         let loss = m2 * h * h / 8.0;
         let gmax = f.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
@@ -295,7 +301,10 @@ impl PeakGrid {
                 }
                 let sg = y0.signum();
                 let (y0, y1, m0, m1) = (sg * y0, sg * y1, sg * deriv(j) * h, sg * deriv(k) * h);
-                let (c2, c3) = (-3.0 * y0 - 2.0 * m0 + 3.0 * y1 - m1, 2.0 * y0 + m0 - 2.0 * y1 + m1);
+                let (c2, c3) = (
+                    -3.0 * y0 - 2.0 * m0 + 3.0 * y1 - m1,
+                    2.0 * y0 + m0 - 2.0 * y1 + m1,
+                );
                 let p = |s: f64| y0 + s * (m0 + s * (c2 + s * c3));
                 let mut mx = y0.max(y1);
                 // p′(s) = m0 + 2c2 s + 3c3 s² = 0 in (0, 1).
@@ -304,7 +313,14 @@ impl PeakGrid {
                     [if qb != 0.0 { -qc / qb } else { -1.0 }, -1.0]
                 } else {
                     let disc = qb * qb - 4.0 * qa * qc;
-                    if disc < 0.0 { [-1.0, -1.0] } else { [(-qb + disc.sqrt()) / (2.0 * qa), (-qb - disc.sqrt()) / (2.0 * qa)] }
+                    if disc < 0.0 {
+                        [-1.0, -1.0]
+                    } else {
+                        [
+                            (-qb + disc.sqrt()) / (2.0 * qa),
+                            (-qb - disc.sqrt()) / (2.0 * qa),
+                        ]
+                    }
                 };
                 for r in roots {
                     if r > 0.0 && r < 1.0 {

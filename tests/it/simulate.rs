@@ -197,6 +197,8 @@ fn simulate_cli_writes_animation_and_refuses_bad_design_files() {
         "pressure_angle.svg",
         "deviation.png",
         "dynamic.png",
+        "features.png",
+        "features.svg",
         "simulate.json",
     ] {
         assert!(

@@ -189,7 +189,16 @@ fn monte_carlo_is_seeded_and_stable_between_seeds() {
     let (s1, v1) = run(1);
     let (s2, _) = run(2);
     // Same seed, same samples (checked on a prefix-sized run: sample i depends only on (seed, i)).
-    let (_, v_small) = a.monte_carlo(&McOptions { samples: 3000, seed: 1, bins: 40 }, &|_| {}).unwrap();
+    let (_, v_small) = a
+        .monte_carlo(
+            &McOptions {
+                samples: 3000,
+                seed: 1,
+                bins: 40,
+            },
+            &|_| {},
+        )
+        .unwrap();
     assert_eq!(&v1[..3000], &v_small[..], "same seed, same samples");
     for (x, y) in [
         (s1.mean, s2.mean),
