@@ -16,6 +16,9 @@
 #![warn(clippy::print_stdout, clippy::print_stderr)]
 
 pub mod analysis;
+pub mod export;
+pub mod pair;
 pub mod periodic;
 pub mod pitch;
 pub mod plot;
+pub mod teeth;

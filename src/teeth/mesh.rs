@@ -1,0 +1,296 @@
+//! Mesh verification of two toothed outlines: roll them through a full cycle of the motion law
+//! and measure interference, backlash and transmission error (issue 3, "Verification").
+//!
+//! Setup: driver (gear 1) centre at the origin, rotated CCW by φ; driven (gear 2) centre at
+//! `(a, 0)`, rotated CW by `ψ(φ) + δ` (so its body angle `π + ψ` faces the driver). The clearance of
+//! a vertex of one outline against the other is the radial gap `|X| − R(arg X)` in the other's
+//! body frame (both outlines must be star-shaped about their centres; `R` is the piecewise-linear
+//! polar interpolant of the vertices). `f(δ)` is the minimum clearance over both outlines' vertices
+//! near the contact. Per φ:
+//! - working contact `ε(φ)`: the root of `f` with the working (larger-s) flanks touching; the
+//!   transmission error is `ε(φ)` (rad) — the driven angle error of the toothed pair;
+//! - coast contact `δc(φ)`: the other root; backlash on the pitch curve `(δc − ε)·r₂`, mm;
+//! - interference: `f < 0` for every δ (no free position), or penetration at `ε`.
+use rayon::prelude::*;
+use serde::Serialize;
+use std::f64::consts::{PI, TAU};
+
+/// Errors of mesh verification.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[non_exhaustive]
+pub enum MeshError {
+    /// An outline is not star-shaped about its centre (polar angle not increasing).
+    #[error("outline `{which}` is not star-shaped about its centre (vertex {index})")]
+    NotStarShaped {
+        /// Which outline.
+        which: &'static str,
+        /// First vertex where the polar angle decreases.
+        index: usize,
+    },
+    /// Bad parameter.
+    #[error("invalid mesh parameter `{name}` = {value}: {expected}")]
+    InvalidParameter {
+        /// Name.
+        name: &'static str,
+        /// Value.
+        value: f64,
+        /// Expectation.
+        expected: &'static str,
+    },
+}
+
+/// A star-shaped closed outline in polar form, for fast point-inside tests.
+#[derive(Debug, Clone)]
+pub struct StarShape {
+    theta: Vec<f64>,
+    r: Vec<f64>,
+}
+
+impl StarShape {
+    /// From a CCW closed polyline (mm) about the origin.
+    pub fn new(points_mm: &[[f64; 2]], which: &'static str) -> Result<Self, MeshError> {
+        let mut theta = Vec::with_capacity(points_mm.len());
+        let mut r = Vec::with_capacity(points_mm.len());
+        let mut prev = f64::NEG_INFINITY;
+        let mut offset = 0.0;
+        for (i, p) in points_mm.iter().enumerate() {
+            let mut t = p[1].atan2(p[0]) + offset;
+            if i > 0 && t < prev - PI {
+                offset += TAU;
+                t += TAU;
+            }
+            if i > 0 && t <= prev {
+                return Err(MeshError::NotStarShaped { which, index: i });
+            }
+            prev = t;
+            theta.push(t);
+            r.push(p[0].hypot(p[1]));
+        }
+        if theta.len() < 3 || theta[theta.len() - 1] - theta[0] >= TAU {
+            return Err(MeshError::NotStarShaped { which, index: theta.len() });
+        }
+        Ok(Self { theta, r })
+    }
+
+    /// Boundary radius at polar angle `t` (rad), mm.
+    #[must_use]
+    pub fn radius_at(&self, t: f64) -> f64 {
+        let t0 = self.theta[0];
+        let x = t0 + (t - t0).rem_euclid(TAU);
+        let n = self.theta.len();
+        let j = self.theta.partition_point(|&v| v <= x);
+        let (ta, ra, tb, rb) = if j == 0 || j == n {
+            (self.theta[n - 1] - if j == 0 { TAU } else { 0.0 }, self.r[n - 1], self.theta[0] + if j == n { TAU } else { 0.0 }, self.r[0])
+        } else {
+            (self.theta[j - 1], self.r[j - 1], self.theta[j], self.r[j])
+        };
+        ra + (rb - ra) * (x - ta) / (tb - ta)
+    }
+
+    /// Indices of the vertices with polar angle within `half_width` of `t`.
+    fn window(&self, t: f64, half_width: f64) -> Vec<usize> {
+        let t0 = self.theta[0];
+        let n = self.theta.len();
+        let lo = t0 + (t - half_width - t0).rem_euclid(TAU);
+        let hi = lo + 2.0 * half_width;
+        let mut out = Vec::new();
+        let a = self.theta.partition_point(|&v| v < lo);
+        let mut j = a;
+        while j < n && self.theta[j] <= hi {
+            out.push(j);
+            j += 1;
+        }
+        if hi > t0 + TAU {
+            let hi2 = hi - TAU;
+            let mut j = 0;
+            while j < a && self.theta[j] <= hi2 {
+                out.push(j);
+                j += 1;
+            }
+        }
+        out
+    }
+
+    fn point(&self, i: usize) -> [f64; 2] {
+        let (s, c) = self.theta[i].sin_cos();
+        [self.r[i] * c, self.r[i] * s]
+    }
+}
+
+/// Parameters of [`verify_mesh`].
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct MeshCheck {
+    /// Centre distance, mm.
+    pub centre_distance_mm: f64,
+    /// Number of driver positions over one turn.
+    pub steps: usize,
+    /// Nominal circumferential backlash of the pair on the pitch curve, mm (> 0).
+    pub backlash_mm: f64,
+    /// Module, mm (sets the contact window).
+    pub module_mm: f64,
+    /// Root-finding tolerance on δ, rad.
+    pub angle_tol_rad: f64,
+}
+
+/// Result of [`verify_mesh`] (all over the sampled cycle).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct MeshReport {
+    /// Driver positions checked.
+    pub steps: usize,
+    /// Positions with interference (no contact-free position of the driven gear).
+    pub interference_steps: usize,
+    /// Largest penetration found at the working contact position, mm (0 = none).
+    pub max_penetration_mm: f64,
+    /// Minimum clearance at the nominal position (ψ from the law), mm; ≈ 0 at the working contact.
+    pub min_nominal_clearance_mm: f64,
+    /// Minimum backlash on the pitch curve over the cycle, mm.
+    pub min_backlash_mm: f64,
+    /// Maximum backlash on the pitch curve over the cycle, mm.
+    pub max_backlash_mm: f64,
+    /// Maximum |transmission error| of the driven gear, degrees.
+    pub max_transmission_error_deg: f64,
+    /// Peak-to-peak transmission error, degrees.
+    pub transmission_error_p2p_deg: f64,
+}
+
+struct Sample {
+    eps: f64,
+    coast: f64,
+    nominal: f64,
+    r2: f64,
+    interference: bool,
+    penetration: f64,
+}
+
+/// Rolls `driver` (gear 1) and `driven` (gear 2) outlines (mm, CCW, body frames) through one driver
+/// turn with the motion law `psi(φ)` (driven CW rotation, rad; `psi(φ+2π) = psi(φ) + 2π`).
+///
+/// Complexity: O(steps · window vertices · root iterations); parallel over steps (rayon),
+/// deterministic.
+pub fn verify_mesh(
+    driver: &[[f64; 2]],
+    driven: &[[f64; 2]],
+    psi: &(dyn Fn(f64) -> f64 + Sync),
+    check: &MeshCheck,
+) -> Result<MeshReport, MeshError> {
+    for (name, v) in [
+        ("centre_distance_mm", check.centre_distance_mm),
+        ("backlash_mm", check.backlash_mm),
+        ("module_mm", check.module_mm),
+        ("angle_tol_rad", check.angle_tol_rad),
+    ] {
+        if !(v.is_finite() && v > 0.0) {
+            return Err(MeshError::InvalidParameter { name, value: v, expected: "finite and > 0" });
+        }
+    }
+    if check.steps == 0 {
+        return Err(MeshError::InvalidParameter { name: "steps", value: 0.0, expected: "≥ 1" });
+    }
+    let g1 = StarShape::new(driver, "driver")?;
+    let g2 = StarShape::new(driven, "driven")?;
+    let a = check.centre_distance_mm;
+    let m = check.module_mm;
+    let samples: Vec<Sample> = (0..check.steps)
+        .into_par_iter()
+        .map(|k| {
+            let phi = TAU * k as f64 / check.steps as f64;
+            let psi0 = psi(phi);
+            let r1 = g1.radius_at(-phi);
+            let r2 = (a - r1).max(m);
+            // Candidate vertices near the contact (±3 pitches).
+            let w1 = (3.0 * PI * m / r1).min(PI);
+            let w2 = (3.0 * PI * m / r2).min(PI);
+            let c1 = g1.window(-phi, w1);
+            let c2 = g2.window(PI + psi0, w2);
+            let clear = |delta: f64, set1: &[usize], set2: &[usize]| -> f64 {
+                let ang2 = psi0 + delta;
+                let (s1, co1) = phi.sin_cos();
+                let (s2, co2) = ang2.sin_cos();
+                let mut best = f64::INFINITY;
+                for &i in set2 {
+                    let b = g2.point(i);
+                    // world = Rot(−ang2) b + (a, 0); gear-1 body = Rot(−φ) world
+                    let w = [co2 * b[0] + s2 * b[1] + a, -s2 * b[0] + co2 * b[1]];
+                    let x = [co1 * w[0] + s1 * w[1], -s1 * w[0] + co1 * w[1]];
+                    let c = x[0].hypot(x[1]) - g1.radius_at(x[1].atan2(x[0]));
+                    best = best.min(c);
+                }
+                for &i in set1 {
+                    let b = g1.point(i);
+                    let w = [co1 * b[0] - s1 * b[1] - a, s1 * b[0] + co1 * b[1]];
+                    let x = [co2 * w[0] - s2 * w[1], s2 * w[0] + co2 * w[1]];
+                    let c = x[0].hypot(x[1]) - g2.radius_at(x[1].atan2(x[0]));
+                    best = best.min(c);
+                }
+                best
+            };
+            let db = check.backlash_mm / r2;
+            // Prune to vertices that can touch within the search range.
+            let reach = 4.0 * db * (r1.max(r2) + 2.0 * m) + 0.05 * m;
+            let keep1: Vec<usize> = c1.iter().copied().filter(|&i| clear(0.0, &[i], &[]) < reach).collect();
+            let keep2: Vec<usize> = c2.iter().copied().filter(|&i| clear(0.0, &[], &[i]) < reach).collect();
+            let f = |d: f64| clear(d, &keep1, &keep2);
+            let nominal = f(0.0);
+            let mid = 0.5 * db;
+            let fmid = f(mid);
+            if fmid <= 0.0 {
+                return Sample { eps: 0.0, coast: 0.0, nominal, r2, interference: true, penetration: -fmid };
+            }
+            let eps = root(&f, -db, mid, check.angle_tol_rad);
+            let coast = root(&f, mid, 3.0 * db, check.angle_tol_rad);
+            let (eps, coast) = match (eps, coast) {
+                (Some(e), Some(c)) => (e, c),
+                _ => return Sample { eps: 0.0, coast: 0.0, nominal, r2, interference: true, penetration: 0.0 },
+            };
+            Sample { eps, coast, nominal, r2, interference: false, penetration: 0.0 }
+        })
+        .collect();
+    let ok: Vec<&Sample> = samples.iter().filter(|s| !s.interference).collect();
+    let te: Vec<f64> = ok.iter().map(|s| s.eps).collect();
+    let bl: Vec<f64> = ok.iter().map(|s| (s.coast - s.eps) * s.r2).collect();
+    let max = |v: &[f64]| v.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+    let min = |v: &[f64]| v.iter().copied().fold(f64::INFINITY, f64::min);
+    Ok(MeshReport {
+        steps: check.steps,
+        interference_steps: samples.len() - ok.len(),
+        max_penetration_mm: samples.iter().map(|s| s.penetration).fold(0.0, f64::max),
+        min_nominal_clearance_mm: samples.iter().map(|s| s.nominal).fold(f64::INFINITY, f64::min),
+        min_backlash_mm: min(&bl),
+        max_backlash_mm: max(&bl),
+        max_transmission_error_deg: te.iter().fold(0.0f64, |a, e| a.max(e.abs())).to_degrees(),
+        transmission_error_p2p_deg: (max(&te) - min(&te)).max(0.0).to_degrees(),
+    })
+}
+
+/// Root of `f` on `[lo, hi]` with a sign change (Illinois regula falsi), to `tol`.
+fn root(f: &dyn Fn(f64) -> f64, mut lo: f64, mut hi: f64, tol: f64) -> Option<f64> {
+    let (mut flo, mut fhi) = (f(lo), f(hi));
+    if flo * fhi > 0.0 {
+        return None;
+    }
+    let mut side = 0i8;
+    for _ in 0..200 {
+        let x = (lo * fhi - hi * flo) / (fhi - flo);
+        let x = if x.is_finite() && x > lo && x < hi { x } else { 0.5 * (lo + hi) };
+        let fx = f(x);
+        if fx * fhi > 0.0 {
+            hi = x;
+            fhi = fx;
+            if side == 1 {
+                flo *= 0.5;
+            }
+            side = 1;
+        } else {
+            lo = x;
+            flo = fx;
+            if side == -1 {
+                fhi *= 0.5;
+            }
+            side = -1;
+        }
+        if hi - lo <= tol || fx == 0.0 {
+            return Some(x);
+        }
+    }
+    Some(0.5 * (lo + hi))
+}
