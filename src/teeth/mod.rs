@@ -14,10 +14,11 @@
 
 mod frame;
 pub mod mesh;
-mod outline;
+
 mod rack;
 
 pub use frame::ArcFrame;
+pub mod outline;
 pub use outline::{Outline, OutlineOptions, generate_outline};
 pub use rack::RackParams;
 
