@@ -7,5 +7,7 @@ pub struct Args {}
 
 /// Runs `ncgear pair`.
 pub fn run(_args: Args) -> CliResult {
-    Err(runtime_error(miette::miette!("`ncgear pair` is not built yet")))
+    Err(runtime_error(miette::miette!(
+        "`ncgear pair` is not built yet"
+    )))
 }

@@ -4,8 +4,8 @@
 //! group-100 subclass markers) for old programs. No SPLINE entities. Contours are simplified to
 //! `chord_tol_mm` (Douglas–Peucker). Spec: peers-and-cad.md §6, §10.
 use super::{ExportError, Sheet, io_err, simplify_closed};
-use ::dxf::entities::{Entity, EntityType, LwPolyline, ModelPoint};
 use ::dxf::LwPolylineVertex;
+use ::dxf::entities::{Entity, EntityType, LwPolyline, ModelPoint};
 use ::dxf::enums::{AcadVersion, DrawingUnits, Units};
 use ::dxf::tables::Layer;
 use ::dxf::{Drawing, Point};
@@ -23,16 +23,29 @@ pub enum DxfVersion {
 }
 
 /// Writes `sheet` as DXF; each closed contour is simplified to chord tolerance `chord_tol_mm`.
-pub fn write_dxf(sheet: &Sheet, path: &Path, version: DxfVersion, chord_tol_mm: f64) -> Result<(), ExportError> {
+pub fn write_dxf(
+    sheet: &Sheet,
+    path: &Path,
+    version: DxfVersion,
+    chord_tol_mm: f64,
+) -> Result<(), ExportError> {
     sheet.validate()?;
     if !(chord_tol_mm.is_finite() && chord_tol_mm >= 0.0) {
-        return Err(ExportError::InvalidOption { name: "chord_tol_mm", value: chord_tol_mm, expected: "finite and ≥ 0" });
+        return Err(ExportError::InvalidOption {
+            name: "chord_tol_mm",
+            value: chord_tol_mm,
+            expected: "finite and ≥ 0",
+        });
     }
     let simplified: Vec<(String, Vec<[f64; 2]>, bool)> = sheet
         .contours
         .iter()
         .map(|c| {
-            let pts = if c.closed && chord_tol_mm > 0.0 { simplify_closed(&c.points_mm, chord_tol_mm) } else { c.points_mm.clone() };
+            let pts = if c.closed && chord_tol_mm > 0.0 {
+                simplify_closed(&c.points_mm, chord_tol_mm)
+            } else {
+                c.points_mm.clone()
+            };
             (c.layer.clone(), pts, c.closed)
         })
         .collect();
@@ -43,23 +56,38 @@ pub fn write_dxf(sheet: &Sheet, path: &Path, version: DxfVersion, chord_tol_mm: 
             d.header.default_drawing_units = Units::Millimeters;
             d.header.drawing_units = DrawingUnits::Metric;
             for name in sheet.layers() {
-                let layer = Layer { name, ..Default::default() };
+                let layer = Layer {
+                    name,
+                    ..Default::default()
+                };
                 d.add_layer(layer);
             }
             for (layer, pts, closed) in simplified {
                 let mut pl = LwPolyline::default();
                 pl.set_is_closed(closed);
-                pl.vertices = pts.iter().map(|p| LwPolylineVertex { x: p[0], y: p[1], ..Default::default() }).collect();
+                pl.vertices = pts
+                    .iter()
+                    .map(|p| LwPolylineVertex {
+                        x: p[0],
+                        y: p[1],
+                        ..Default::default()
+                    })
+                    .collect();
                 let mut e = Entity::new(EntityType::LwPolyline(pl));
                 e.common.layer = layer;
                 d.add_entity(e);
             }
             for m in &sheet.markers {
-                let mut e = Entity::new(EntityType::ModelPoint(ModelPoint::new(Point::new(m.at_mm[0], m.at_mm[1], 0.0))));
+                let mut e = Entity::new(EntityType::ModelPoint(ModelPoint::new(Point::new(
+                    m.at_mm[0], m.at_mm[1], 0.0,
+                ))));
                 e.common.layer = m.layer.clone();
                 d.add_entity(e);
             }
-            d.save_file(path).map_err(|e| ExportError::Dxf { path: path.display().to_string(), message: e.to_string() })
+            d.save_file(path).map_err(|e| ExportError::Dxf {
+                path: path.display().to_string(),
+                message: e.to_string(),
+            })
         }
         DxfVersion::R12 => {
             let mut s = String::new();

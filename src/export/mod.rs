@@ -83,10 +83,24 @@ impl Sheet {
     /// Bounding box `[xmin, ymin, xmax, ymax]` of all contours and markers, mm.
     #[must_use]
     pub fn bbox_mm(&self) -> [f64; 4] {
-        let mut b = [f64::INFINITY, f64::INFINITY, f64::NEG_INFINITY, f64::NEG_INFINITY];
-        let pts = self.contours.iter().flat_map(|c| c.points_mm.iter()).chain(self.markers.iter().map(|m| &m.at_mm));
+        let mut b = [
+            f64::INFINITY,
+            f64::INFINITY,
+            f64::NEG_INFINITY,
+            f64::NEG_INFINITY,
+        ];
+        let pts = self
+            .contours
+            .iter()
+            .flat_map(|c| c.points_mm.iter())
+            .chain(self.markers.iter().map(|m| &m.at_mm));
         for p in pts {
-            b = [b[0].min(p[0]), b[1].min(p[1]), b[2].max(p[0]), b[3].max(p[1])];
+            b = [
+                b[0].min(p[0]),
+                b[1].min(p[1]),
+                b[2].max(p[0]),
+                b[3].max(p[1]),
+            ];
         }
         b
     }
@@ -94,10 +108,19 @@ impl Sheet {
     pub(crate) fn validate(&self) -> Result<(), ExportError> {
         for c in &self.contours {
             if c.points_mm.len() < 3 {
-                return Err(ExportError::BadContour { name: c.name.clone(), what: "fewer than 3 vertices" });
+                return Err(ExportError::BadContour {
+                    name: c.name.clone(),
+                    what: "fewer than 3 vertices",
+                });
             }
-            if c.points_mm.iter().any(|p| !(p[0].is_finite() && p[1].is_finite())) {
-                return Err(ExportError::BadContour { name: c.name.clone(), what: "non-finite coordinate" });
+            if c.points_mm
+                .iter()
+                .any(|p| !(p[0].is_finite() && p[1].is_finite()))
+            {
+                return Err(ExportError::BadContour {
+                    name: c.name.clone(),
+                    what: "non-finite coordinate",
+                });
             }
         }
         Ok(())
@@ -106,8 +129,12 @@ impl Sheet {
     /// Sorted unique layer names.
     #[must_use]
     pub fn layers(&self) -> Vec<String> {
-        let mut l: Vec<String> =
-            self.contours.iter().map(|c| c.layer.clone()).chain(self.markers.iter().map(|m| m.layer.clone())).collect();
+        let mut l: Vec<String> = self
+            .contours
+            .iter()
+            .map(|c| c.layer.clone())
+            .chain(self.markers.iter().map(|m| m.layer.clone()))
+            .collect();
         l.sort();
         l.dedup();
         l
@@ -155,9 +182,17 @@ pub fn simplify_closed(points_mm: &[[f64; 2]], tol_mm: f64) -> Vec<[f64; 2]> {
             stack.push((worst.1, b));
         }
     }
-    points_mm.iter().zip(keep).filter(|(_, k)| *k).map(|(p, _)| *p).collect()
+    points_mm
+        .iter()
+        .zip(keep)
+        .filter(|(_, k)| *k)
+        .map(|(p, _)| *p)
+        .collect()
 }
 
 pub(crate) fn io_err(path: &std::path::Path, source: std::io::Error) -> ExportError {
-    ExportError::Io { path: path.display().to_string(), source }
+    ExportError::Io {
+        path: path.display().to_string(),
+        source,
+    }
 }

@@ -18,7 +18,10 @@ pub fn to_svg_string(sheet: &Sheet, margin_mm: f64) -> String {
     );
     let stroke = (0.002 * w.max(h)).clamp(0.05, 0.5);
     for layer in sheet.layers() {
-        let _ = writeln!(s, r#"<g id="{layer}" inkscape:groupmode="layer" inkscape:label="{layer}" fill="none" stroke="black" stroke-width="{stroke:.3}">"#);
+        let _ = writeln!(
+            s,
+            r#"<g id="{layer}" inkscape:groupmode="layer" inkscape:label="{layer}" fill="none" stroke="black" stroke-width="{stroke:.3}">"#
+        );
         for c in sheet.contours.iter().filter(|c| c.layer == layer) {
             let tag = if c.closed { "polygon" } else { "polyline" };
             let _ = write!(s, r#"<{tag} id="{}" points=""#, c.name);
@@ -28,13 +31,30 @@ pub fn to_svg_string(sheet: &Sheet, margin_mm: f64) -> String {
             let _ = writeln!(s, r#""/>"#);
         }
         for m in sheet.markers.iter().filter(|m| m.layer == layer) {
-            let _ = writeln!(s, r#"<circle id="{}" cx="{:.5}" cy="{:.5}" r="{:.3}"/>"#, m.name, m.at_mm[0], -m.at_mm[1], 2.0 * stroke);
+            let _ = writeln!(
+                s,
+                r#"<circle id="{}" cx="{:.5}" cy="{:.5}" r="{:.3}"/>"#,
+                m.name,
+                m.at_mm[0],
+                -m.at_mm[1],
+                2.0 * stroke
+            );
         }
         let _ = writeln!(s, "</g>");
     }
-    let _ = writeln!(s, r#"<g id="TEXT" inkscape:groupmode="layer" inkscape:label="TEXT" font-family="sans-serif" font-size="{:.2}">"#, 4.0 * stroke.max(0.5));
+    let _ = writeln!(
+        s,
+        r#"<g id="TEXT" inkscape:groupmode="layer" inkscape:label="TEXT" font-family="sans-serif" font-size="{:.2}">"#,
+        4.0 * stroke.max(0.5)
+    );
     for m in &sheet.markers {
-        let _ = writeln!(s, r#"<text x="{:.4}" y="{:.4}">{}</text>"#, m.at_mm[0] + 3.0 * stroke, -m.at_mm[1] - 3.0 * stroke, m.name);
+        let _ = writeln!(
+            s,
+            r#"<text x="{:.4}" y="{:.4}">{}</text>"#,
+            m.at_mm[0] + 3.0 * stroke,
+            -m.at_mm[1] - 3.0 * stroke,
+            m.name
+        );
     }
     let _ = writeln!(s, "</g>\n</svg>");
     s

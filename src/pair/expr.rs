@@ -64,7 +64,11 @@ struct Parser<'a> {
 
 impl Parser<'_> {
     fn err(&self, message: &str) -> ExprError {
-        ExprError { offset: self.i, message: message.to_string(), text: self.text.to_string() }
+        ExprError {
+            offset: self.i,
+            message: message.to_string(),
+            text: self.text.to_string(),
+        }
     }
     fn ws(&mut self) {
         while self.i < self.s.len() && self.s[self.i].is_ascii_whitespace() {
@@ -80,7 +84,11 @@ impl Parser<'_> {
         while let Some(c @ (b'+' | b'-')) = self.peek() {
             self.i += 1;
             let r = self.product()?;
-            l = if c == b'+' { Expr::Add(l.into(), r.into()) } else { Expr::Sub(l.into(), r.into()) };
+            l = if c == b'+' {
+                Expr::Add(l.into(), r.into())
+            } else {
+                Expr::Sub(l.into(), r.into())
+            };
         }
         Ok(l)
     }
@@ -89,7 +97,11 @@ impl Parser<'_> {
         while let Some(c @ (b'*' | b'/')) = self.peek() {
             self.i += 1;
             let r = self.unary()?;
-            l = if c == b'*' { Expr::Mul(l.into(), r.into()) } else { Expr::Div(l.into(), r.into()) };
+            l = if c == b'*' {
+                Expr::Mul(l.into(), r.into())
+            } else {
+                Expr::Div(l.into(), r.into())
+            };
         }
         Ok(l)
     }
@@ -128,7 +140,9 @@ impl Parser<'_> {
             }
             Some(c) if c.is_ascii_digit() || c == b'.' => {
                 let start = self.i;
-                while self.i < self.s.len() && (self.s[self.i].is_ascii_digit() || self.s[self.i] == b'.') {
+                while self.i < self.s.len()
+                    && (self.s[self.i].is_ascii_digit() || self.s[self.i] == b'.')
+                {
                     self.i += 1;
                 }
                 if self.i < self.s.len() && (self.s[self.i] == b'e' || self.s[self.i] == b'E') {
@@ -154,7 +168,9 @@ impl Parser<'_> {
             }
             Some(c) if c.is_ascii_alphabetic() => {
                 let start = self.i;
-                while self.i < self.s.len() && (self.s[self.i].is_ascii_alphanumeric() || self.s[self.i] == b'_') {
+                while self.i < self.s.len()
+                    && (self.s[self.i].is_ascii_alphanumeric() || self.s[self.i] == b'_')
+                {
                     self.i += 1;
                 }
                 let name = &self.text[start..self.i];
@@ -192,7 +208,11 @@ impl Parser<'_> {
 impl Expr {
     /// Parses `text`.
     pub fn parse(text: &str) -> Result<Self, ExprError> {
-        let mut p = Parser { s: text.as_bytes(), i: 0, text };
+        let mut p = Parser {
+            s: text.as_bytes(),
+            i: 0,
+            text,
+        };
         let e = p.sum()?;
         if p.peek().is_some() {
             return Err(p.err("unexpected trailing input"));
@@ -231,9 +251,11 @@ impl Expr {
         match self {
             Expr::Num(_) => false,
             Expr::Phi => true,
-            Expr::Add(a, b) | Expr::Sub(a, b) | Expr::Mul(a, b) | Expr::Div(a, b) | Expr::Pow(a, b) => {
-                a.depends_on_phi() || b.depends_on_phi()
-            }
+            Expr::Add(a, b)
+            | Expr::Sub(a, b)
+            | Expr::Mul(a, b)
+            | Expr::Div(a, b)
+            | Expr::Pow(a, b) => a.depends_on_phi() || b.depends_on_phi(),
             Expr::Neg(a) | Expr::Call(_, a) => a.depends_on_phi(),
         }
     }
@@ -248,13 +270,22 @@ impl Expr {
             Phi => Num(1.0),
             Add(u, v) => Add(b(u.derivative()), b(v.derivative())),
             Sub(u, v) => Sub(b(u.derivative()), b(v.derivative())),
-            Mul(u, v) => Add(b(Mul(b(u.derivative()), v.clone())), b(Mul(u.clone(), b(v.derivative())))),
+            Mul(u, v) => Add(
+                b(Mul(b(u.derivative()), v.clone())),
+                b(Mul(u.clone(), b(v.derivative()))),
+            ),
             Div(u, v) => Div(
-                b(Sub(b(Mul(b(u.derivative()), v.clone())), b(Mul(u.clone(), b(v.derivative()))))),
+                b(Sub(
+                    b(Mul(b(u.derivative()), v.clone())),
+                    b(Mul(u.clone(), b(v.derivative()))),
+                )),
                 b(Mul(v.clone(), v.clone())),
             ),
             Pow(u, v) if !v.depends_on_phi() => Mul(
-                b(Mul(v.clone(), b(Pow(u.clone(), b(Sub(v.clone(), b(Num(1.0)))))))),
+                b(Mul(
+                    v.clone(),
+                    b(Pow(u.clone(), b(Sub(v.clone(), b(Num(1.0)))))),
+                )),
                 b(u.derivative()),
             ),
             Pow(u, v) => Mul(
@@ -299,7 +330,8 @@ mod tests {
         }
         let e = Expr::parse("-2^2 + sqrt(abs(phi))*exp(1) / tan(pi/4) + phi^phi").unwrap();
         let x = 1.7f64;
-        let want = -4.0 + x.abs().sqrt() * 1f64.exp() / (std::f64::consts::PI / 4.0).tan() + x.powf(x);
+        let want =
+            -4.0 + x.abs().sqrt() * 1f64.exp() / (std::f64::consts::PI / 4.0).tan() + x.powf(x);
         assert!((e.eval(x) - want).abs() < 1e-12);
         let h = 1e-6;
         let num = (e.eval(x + h) - e.eval(x - h)) / (2.0 * h);

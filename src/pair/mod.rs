@@ -14,7 +14,9 @@ use crate::export::{Contour, Marker, Sheet};
 use crate::periodic::{PeriodicSpline, invert_increasing, spectral_integral, uniform_angles};
 use crate::pitch::PitchCurve;
 use crate::teeth::mesh::{MeshCheck, MeshReport, verify_mesh};
-use crate::teeth::{ArcFrame, Outline, OutlineOptions, RackParams, TeethError, UndercutReport, outline};
+use crate::teeth::{
+    ArcFrame, Outline, OutlineOptions, RackParams, TeethError, UndercutReport, outline,
+};
 use serde::Serialize;
 use std::f64::consts::{PI, TAU};
 
@@ -73,14 +75,21 @@ impl Law {
     /// increasing and spanning less than 360°; ψ strictly increasing).
     pub fn from_csv(path: &std::path::Path) -> Result<Self, PairError> {
         let p = path.display().to_string();
-        let text = std::fs::read_to_string(path)
-            .map_err(|e| PairError::Csv { path: p.clone(), line: 0, message: e.to_string() })?;
+        let text = std::fs::read_to_string(path).map_err(|e| PairError::Csv {
+            path: p.clone(),
+            line: 0,
+            message: e.to_string(),
+        })?;
         let mut rows = Vec::new();
         for (k, line) in text.lines().enumerate() {
             let line = line.trim();
             if k == 0 {
                 if line.replace(' ', "") != "phi_deg,psi_deg" {
-                    return Err(PairError::Csv { path: p, line: 1, message: "expected header `phi_deg,psi_deg`".into() });
+                    return Err(PairError::Csv {
+                        path: p,
+                        line: 1,
+                        message: "expected header `phi_deg,psi_deg`".into(),
+                    });
                 }
                 continue;
             }
@@ -88,28 +97,45 @@ impl Law {
                 continue;
             }
             let parts: Vec<&str> = line.split(',').map(str::trim).collect();
-            let vals: Option<Vec<f64>> = parts.iter().map(|s| s.parse::<f64>().ok().filter(|v| v.is_finite())).collect();
+            let vals: Option<Vec<f64>> = parts
+                .iter()
+                .map(|s| s.parse::<f64>().ok().filter(|v| v.is_finite()))
+                .collect();
             match vals {
                 Some(v) if v.len() == 2 => rows.push([v[0].to_radians(), v[1].to_radians()]),
                 _ => {
                     return Err(PairError::Csv {
                         path: p,
                         line: k + 1,
-                        message: format!("expected two finite numbers `phi_deg,psi_deg`, got `{line}`"),
+                        message: format!(
+                            "expected two finite numbers `phi_deg,psi_deg`, got `{line}`"
+                        ),
                     });
                 }
             }
         }
         if rows.len() < 8 {
-            return Err(PairError::Csv { path: p, line: rows.len() + 1, message: "need at least 8 rows".into() });
+            return Err(PairError::Csv {
+                path: p,
+                line: rows.len() + 1,
+                message: "need at least 8 rows".into(),
+            });
         }
         for k in 1..rows.len() {
             if rows[k][0] <= rows[k - 1][0] || rows[k][1] <= rows[k - 1][1] {
-                return Err(PairError::Csv { path: p, line: k + 2, message: "phi and psi must be strictly increasing".into() });
+                return Err(PairError::Csv {
+                    path: p,
+                    line: k + 2,
+                    message: "phi and psi must be strictly increasing".into(),
+                });
             }
         }
         if rows[rows.len() - 1][0] - rows[0][0] >= TAU {
-            return Err(PairError::Csv { path: p, line: rows.len() + 1, message: "phi must span less than 360° (one turn, no repeated end row)".into() });
+            return Err(PairError::Csv {
+                path: p,
+                line: rows.len() + 1,
+                message: "phi must span less than 360° (one turn, no repeated end row)".into(),
+            });
         }
         Ok(Law::Table(rows))
     }
@@ -170,17 +196,32 @@ impl Motion {
                 for &f in &phis {
                     let i = d.eval(f);
                     if !(i.is_finite() && i > 0.0) {
-                        return Err(PairError::Law(format!("dψ/dφ = {i} at φ = {:.4}°; it must be finite and > 0", f.to_degrees())));
+                        return Err(PairError::Law(format!(
+                            "dψ/dφ = {i} at φ = {:.4}°; it must be finite and > 0",
+                            f.to_degrees()
+                        )));
                     }
                     ex.push(e.eval(f) - f);
                 }
-                let excess = PeriodicSpline::uniform(0.0, ex, TAU).map_err(|e| PairError::Law(e.to_string()))?;
-                Ok(Self { excess, ratio: RatioSource::Expr(d), unit_centre_distance: 1.0 })
+                let excess = PeriodicSpline::uniform(0.0, ex, TAU)
+                    .map_err(|e| PairError::Law(e.to_string()))?;
+                Ok(Self {
+                    excess,
+                    ratio: RatioSource::Expr(d),
+                    unit_centre_distance: 1.0,
+                })
             }
             Law::Centrode(e) => {
                 let r: Vec<f64> = phis.iter().map(|&f| e.eval(f)).collect();
-                if let Some((k, v)) = r.iter().enumerate().find(|(_, v)| !(v.is_finite() && **v > 0.0)) {
-                    return Err(PairError::Law(format!("r = {v} at φ = {:.4}°; the centrode must be finite and > 0", phis[k].to_degrees())));
+                if let Some((k, v)) = r
+                    .iter()
+                    .enumerate()
+                    .find(|(_, v)| !(v.is_finite() && **v > 0.0))
+                {
+                    return Err(PairError::Law(format!(
+                        "r = {v} at φ = {:.4}°; the centrode must be finite and > 0",
+                        phis[k].to_degrees()
+                    )));
                 }
                 let rmax = r.iter().copied().fold(0.0, f64::max);
                 let mean = |a: f64| r.iter().map(|v| v / (a - v)).sum::<f64>() / n as f64 - 1.0;
@@ -190,7 +231,11 @@ impl Motion {
                 }
                 for _ in 0..200 {
                     let mid = 0.5 * (lo + hi);
-                    if mean(mid) > 0.0 { lo = mid } else { hi = mid }
+                    if mean(mid) > 0.0 {
+                        lo = mid
+                    } else {
+                        hi = mid
+                    }
                     if hi - lo <= 1e-15 * hi {
                         break;
                     }
@@ -198,21 +243,35 @@ impl Motion {
                 let a = 0.5 * (lo + hi);
                 let i: Vec<f64> = r.iter().map(|v| v / (a - v)).collect();
                 let (_, f) = spectral_integral(&i);
-                let excess = PeriodicSpline::uniform(0.0, f, TAU).map_err(|e| PairError::Law(e.to_string()))?;
-                Ok(Self { excess, ratio: RatioSource::Centrode(e.clone(), a), unit_centre_distance: a })
+                let excess = PeriodicSpline::uniform(0.0, f, TAU)
+                    .map_err(|e| PairError::Law(e.to_string()))?;
+                Ok(Self {
+                    excess,
+                    ratio: RatioSource::Centrode(e.clone(), a),
+                    unit_centre_distance: a,
+                })
             }
             Law::Table(rows) => {
                 let phi0 = rows[0][0];
                 let psi0 = rows[0][1];
                 let x: Vec<f64> = rows.iter().map(|r| r[0] - phi0).collect();
                 let y: Vec<f64> = rows.iter().map(|r| r[1] - psi0 - (r[0] - phi0)).collect();
-                let sp = PeriodicSpline::new(x, y, TAU).map_err(|e| PairError::Law(e.to_string()))?;
+                let sp =
+                    PeriodicSpline::new(x, y, TAU).map_err(|e| PairError::Law(e.to_string()))?;
                 // Resample on the uniform grid (φ measured from the first row).
                 let ex: Vec<f64> = phis.iter().map(|&f| sp.value(f)).collect();
-                let excess = PeriodicSpline::uniform(0.0, ex, TAU).map_err(|e| PairError::Law(e.to_string()))?;
-                let m = Self { excess, ratio: RatioSource::Spline, unit_centre_distance: 1.0 };
+                let excess = PeriodicSpline::uniform(0.0, ex, TAU)
+                    .map_err(|e| PairError::Law(e.to_string()))?;
+                let m = Self {
+                    excess,
+                    ratio: RatioSource::Spline,
+                    unit_centre_distance: 1.0,
+                };
                 if let Some(f) = phis.iter().find(|&&f| m.ratio(f) <= 0.0) {
-                    return Err(PairError::Law(format!("the interpolated ratio is ≤ 0 near φ = {:.3}°", f.to_degrees())));
+                    return Err(PairError::Law(format!(
+                        "the interpolated ratio is ≤ 0 near φ = {:.3}°",
+                        f.to_degrees()
+                    )));
                 }
                 Ok(m)
             }
@@ -235,12 +294,16 @@ impl Motion {
                 // Solve π + ψ(φ) = t (mod 2π) for φ.
                 let target = (t - PI - self.psi(0.0)).rem_euclid(TAU) + self.psi(0.0);
                 let f = |x: f64| (self.psi(x), self.ratio(x));
-                let phi = invert_increasing(f, target, -TAU, 2.0 * TAU, target - self.psi(0.0), 1e-14);
+                let phi =
+                    invert_increasing(f, target, -TAU, 2.0 * TAU, target - self.psi(0.0), 1e-14);
                 a_mm / (1.0 + self.ratio(phi))
             })
             .collect();
         let bad = |e: crate::pitch::PitchError| PairError::Law(e.to_string());
-        Ok((PitchCurve::from_uniform_radii(r1).map_err(bad)?, PitchCurve::from_uniform_radii(r2).map_err(bad)?))
+        Ok((
+            PitchCurve::from_uniform_radii(r1).map_err(bad)?,
+            PitchCurve::from_uniform_radii(r2).map_err(bad)?,
+        ))
     }
 }
 
@@ -322,13 +385,25 @@ pub struct PairDesign {
 pub fn design_pair(law: &Law, opts: &PairOptions) -> Result<PairDesign, PairError> {
     let m = opts.module_mm;
     if !(m.is_finite() && m > 0.0) {
-        return Err(PairError::InvalidParameter { name: "module_mm", value: m, expected: "finite and > 0" });
+        return Err(PairError::InvalidParameter {
+            name: "module_mm",
+            value: m,
+            expected: "finite and > 0",
+        });
     }
     if opts.samples < 64 {
-        return Err(PairError::InvalidParameter { name: "samples", value: opts.samples as f64, expected: "≥ 64" });
+        return Err(PairError::InvalidParameter {
+            name: "samples",
+            value: opts.samples as f64,
+            expected: "≥ 64",
+        });
     }
     if !(opts.backlash_mm.is_finite() && opts.backlash_mm > 0.0) {
-        return Err(PairError::InvalidParameter { name: "backlash_mm", value: opts.backlash_mm, expected: "finite and > 0" });
+        return Err(PairError::InvalidParameter {
+            name: "backlash_mm",
+            value: opts.backlash_mm,
+            expected: "finite and > 0",
+        });
     }
     let motion = Motion::from_law(law, opts.samples)?;
     let a1 = motion.unit_centre_distance;
@@ -338,11 +413,19 @@ pub fn design_pair(law: &Law, opts: &PairOptions) -> Result<PairDesign, PairErro
         (Some(z), _) => z,
         (None, Law::Centrode(_)) => (l1 / (PI * m)).ceil() as u32,
         (None, _) => {
-            return Err(PairError::InvalidParameter { name: "teeth", value: 0.0, expected: "a tooth count for a motion or table law" });
+            return Err(PairError::InvalidParameter {
+                name: "teeth",
+                value: 0.0,
+                expected: "a tooth count for a motion or table law",
+            });
         }
     };
     if z < 3 {
-        return Err(PairError::InvalidParameter { name: "teeth", value: f64::from(z), expected: "≥ 3" });
+        return Err(PairError::InvalidParameter {
+            name: "teeth",
+            value: f64::from(z),
+            expected: "≥ 3",
+        });
     }
     let a = a1 * f64::from(z) * PI * m / l1;
     let (c1, c2) = motion.pitch_curves(a, opts.samples)?;
@@ -353,14 +436,37 @@ pub fn design_pair(law: &Law, opts: &PairOptions) -> Result<PairDesign, PairErro
     let th2 = (PI + motion.psi(0.0)).rem_euclid(TAU);
     let s2 = c2.arc_length_between_mm(0.0, th2, 1e-12 * a);
     let half = 0.5 * opts.backlash_mm;
-    let mk = |phase: f64, tol: f64| OutlineOptions { phase_mm: phase, thin_left_mm: half, thin_right_mm: 0.0, chord_tol_mm: tol };
+    let mk = |phase: f64, tol: f64| OutlineOptions {
+        phase_mm: phase,
+        thin_left_mm: half,
+        thin_right_mm: 0.0,
+        chord_tol_mm: tol,
+    };
     let o1 = mk(0.0, opts.chord_tol_mm);
     let o2 = mk(s2 + 0.5 * p, opts.chord_tol_mm);
     let driver = outline::generate_on(&f1, &opts.rack, z, m, &o1)?;
     let driven = outline::generate_on(&f2, &opts.rack, z, m, &o2)?;
     let mesh = if opts.verify_steps > 0 {
-        let v1 = outline::generate_on(&f1, &opts.rack, z, m, &OutlineOptions { chord_tol_mm: opts.verify_chord_tol_mm, ..o1 })?;
-        let v2 = outline::generate_on(&f2, &opts.rack, z, m, &OutlineOptions { chord_tol_mm: opts.verify_chord_tol_mm, ..o2 })?;
+        let v1 = outline::generate_on(
+            &f1,
+            &opts.rack,
+            z,
+            m,
+            &OutlineOptions {
+                chord_tol_mm: opts.verify_chord_tol_mm,
+                ..o1
+            },
+        )?;
+        let v2 = outline::generate_on(
+            &f2,
+            &opts.rack,
+            z,
+            m,
+            &OutlineOptions {
+                chord_tol_mm: opts.verify_chord_tol_mm,
+                ..o2
+            },
+        )?;
         let check = MeshCheck {
             centre_distance_mm: a,
             steps: opts.verify_steps,
@@ -373,14 +479,25 @@ pub fn design_pair(law: &Law, opts: &PairOptions) -> Result<PairDesign, PairErro
     } else {
         None
     };
-    let ratios: Vec<f64> = uniform_angles(opts.samples).iter().map(|&f| motion.ratio(f)).collect();
-    let pitch_poly = |c: &PitchCurve| uniform_angles(720).iter().map(|&t| c.point_mm(t)).collect::<Vec<_>>();
+    let ratios: Vec<f64> = uniform_angles(opts.samples)
+        .iter()
+        .map(|&f| motion.ratio(f))
+        .collect();
+    let pitch_poly = |c: &PitchCurve| {
+        uniform_angles(720)
+            .iter()
+            .map(|&t| c.point_mm(t))
+            .collect::<Vec<_>>()
+    };
     Ok(PairDesign {
         centre_distance_mm: a,
         z,
         module_mm: m,
         perimeter_mm: f1.length_mm(),
-        ratio_range: [ratios.iter().copied().fold(f64::INFINITY, f64::min), ratios.iter().copied().fold(0.0, f64::max)],
+        ratio_range: [
+            ratios.iter().copied().fold(f64::INFINITY, f64::min),
+            ratios.iter().copied().fold(0.0, f64::max),
+        ],
         driver_undercut: driver.undercut.clone(),
         driven_undercut: driven.undercut.clone(),
         driver,
@@ -400,18 +517,43 @@ impl PairDesign {
     pub fn assembly_sheet(&self) -> Sheet {
         let a = self.centre_distance_mm;
         let (s, c) = self.psi0_rad.sin_cos();
-        let place = |v: &[[f64; 2]]| v.iter().map(|p| [c * p[0] + s * p[1] + a, -s * p[0] + c * p[1]]).collect::<Vec<_>>();
-        let contour = |name: &str, layer: &str, pts: Vec<[f64; 2]>| Contour { name: name.into(), layer: layer.into(), points_mm: pts, closed: true };
+        let place = |v: &[[f64; 2]]| {
+            v.iter()
+                .map(|p| [c * p[0] + s * p[1] + a, -s * p[0] + c * p[1]])
+                .collect::<Vec<_>>()
+        };
+        let contour = |name: &str, layer: &str, pts: Vec<[f64; 2]>| Contour {
+            name: name.into(),
+            layer: layer.into(),
+            points_mm: pts,
+            closed: true,
+        };
         Sheet {
             contours: vec![
-                contour("driver_outline", "DRIVER_OUTLINE", self.driver.points_mm.clone()),
+                contour(
+                    "driver_outline",
+                    "DRIVER_OUTLINE",
+                    self.driver.points_mm.clone(),
+                ),
                 contour("driver_pitch", "DRIVER_PITCH", self.driver_pitch_mm.clone()),
-                contour("driven_outline", "DRIVEN_OUTLINE", place(&self.driven.points_mm)),
+                contour(
+                    "driven_outline",
+                    "DRIVEN_OUTLINE",
+                    place(&self.driven.points_mm),
+                ),
                 contour("driven_pitch", "DRIVEN_PITCH", place(&self.driven_pitch_mm)),
             ],
             markers: vec![
-                Marker { name: "driver_centre".into(), layer: "CENTRES".into(), at_mm: [0.0, 0.0] },
-                Marker { name: "driven_centre".into(), layer: "CENTRES".into(), at_mm: [a, 0.0] },
+                Marker {
+                    name: "driver_centre".into(),
+                    layer: "CENTRES".into(),
+                    at_mm: [0.0, 0.0],
+                },
+                Marker {
+                    name: "driven_centre".into(),
+                    layer: "CENTRES".into(),
+                    at_mm: [a, 0.0],
+                },
             ],
         }
     }

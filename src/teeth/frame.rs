@@ -70,7 +70,13 @@ impl ArcFrame {
             acc += 0.5 * h * seg;
         }
         let length = s[n];
-        Self { curve: curve.clone(), theta, s, dtheta, length }
+        Self {
+            curve: curve.clone(),
+            theta,
+            s,
+            dtheta,
+            length,
+        }
     }
 
     /// Perimeter `L`, mm.
@@ -122,7 +128,13 @@ impl ArcFrame {
         let t = [d[0] / v, d[1] / v];
         let n = [t[1], -t[0]];
         let kappa = g.convexity_mm2() / (v * v * v);
-        FramePoint { p, t, n, kappa, theta }
+        FramePoint {
+            p,
+            t,
+            n,
+            kappa,
+            theta,
+        }
     }
 
     /// Maps rack coordinates `(ξ, η)` (ξ along the rolling arc, η along the outward normal) with
@@ -130,6 +142,9 @@ impl ArcFrame {
     #[must_use]
     pub fn rack_to_body(f: &FramePoint, s_mm: f64, xi: f64, eta: f64) -> [f64; 2] {
         let u = xi - s_mm;
-        [f.p[0] + u * f.t[0] + eta * f.n[0], f.p[1] + u * f.t[1] + eta * f.n[1]]
+        [
+            f.p[0] + u * f.t[0] + eta * f.n[0],
+            f.p[1] + u * f.t[1] + eta * f.n[1],
+        ]
     }
 }

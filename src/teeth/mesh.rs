@@ -3,10 +3,9 @@
 //!
 //! Setup: driver (gear 1) centre at the origin, rotated CCW by φ; driven (gear 2) centre at
 //! `(a, 0)`, rotated CW by `ψ(φ) + δ` (so its body angle `π + ψ` faces the driver). The clearance of
-//! a vertex of one outline against the other is the radial gap `|X| − R(arg X)` in the other's
-//! body frame (both outlines must be star-shaped about their centres; `R` is the piecewise-linear
-//! polar interpolant of the vertices). `f(δ)` is the minimum clearance over both outlines' vertices
-//! near the contact. Per φ:
+//! a vertex of one outline against the other is its signed distance to the other polyline
+//! (negative inside; exact within `cap = 0.02·m` via a segment grid, clipped to `±cap` beyond).
+//! `f(δ)` is the minimum clearance over both outlines' vertices near the contact. Per φ:
 //! - working contact `ε(φ)`: the root of `f` with the working (larger-s) flanks touching; the
 //!   transmission error is `ε(φ)` (rad) — the driven angle error of the toothed pair;
 //! - coast contact `δc(φ)`: the other root; backlash on the pitch curve `(δc − ε)·r₂`, mm;
@@ -47,29 +46,26 @@ pub struct StarShape {
 }
 
 impl StarShape {
-    /// From a CCW closed polyline (mm) about the origin.
+    /// From a CCW closed polyline (mm) about the origin. Vertices are sorted by polar angle; a
+    /// polyline whose polar angle folds back slightly (flank bottoms of non-circular gears) is
+    /// accepted — the radial test is then only a coarse inside/outside sign far from the fold.
     pub fn new(points_mm: &[[f64; 2]], which: &'static str) -> Result<Self, MeshError> {
-        let mut theta = Vec::with_capacity(points_mm.len());
-        let mut r = Vec::with_capacity(points_mm.len());
-        let mut prev = f64::NEG_INFINITY;
-        let mut offset = 0.0;
-        for (i, p) in points_mm.iter().enumerate() {
-            let mut t = p[1].atan2(p[0]) + offset;
-            if i > 0 && t < prev - PI {
-                offset += TAU;
-                t += TAU;
-            }
-            if i > 0 && t <= prev {
-                return Err(MeshError::NotStarShaped { which, index: i });
-            }
-            prev = t;
-            theta.push(t);
-            r.push(p[0].hypot(p[1]));
+        if points_mm.len() < 3 {
+            return Err(MeshError::NotStarShaped {
+                which,
+                index: points_mm.len(),
+            });
         }
-        if theta.len() < 3 || theta[theta.len() - 1] - theta[0] >= TAU {
-            return Err(MeshError::NotStarShaped { which, index: theta.len() });
-        }
-        Ok(Self { theta, r })
+        let mut tr: Vec<(f64, f64)> = points_mm
+            .iter()
+            .map(|p| (p[1].atan2(p[0]), p[0].hypot(p[1])))
+            .collect();
+        tr.sort_by(|a, b| a.0.total_cmp(&b.0));
+        tr.dedup_by(|a, b| a.0 <= b.0);
+        Ok(Self {
+            theta: tr.iter().map(|v| v.0).collect(),
+            r: tr.iter().map(|v| v.1).collect(),
+        })
     }
 
     /// Boundary radius at polar angle `t` (rad), mm.
@@ -80,7 +76,12 @@ impl StarShape {
         let n = self.theta.len();
         let j = self.theta.partition_point(|&v| v <= x);
         let (ta, ra, tb, rb) = if j == 0 || j == n {
-            (self.theta[n - 1] - if j == 0 { TAU } else { 0.0 }, self.r[n - 1], self.theta[0] + if j == n { TAU } else { 0.0 }, self.r[0])
+            (
+                self.theta[n - 1] - if j == 0 { TAU } else { 0.0 },
+                self.r[n - 1],
+                self.theta[0] + if j == n { TAU } else { 0.0 },
+                self.r[0],
+            )
         } else {
             (self.theta[j - 1], self.r[j - 1], self.theta[j], self.r[j])
         };
@@ -114,6 +115,109 @@ impl StarShape {
     fn point(&self, i: usize) -> [f64; 2] {
         let (s, c) = self.theta[i].sin_cos();
         [self.r[i] * c, self.r[i] * s]
+    }
+}
+
+/// A closed CCW polyline with a uniform-grid segment index for signed distances near the
+/// boundary, and a polar table for the coarse inside/outside sign away from it.
+#[derive(Debug, Clone)]
+pub struct Shape {
+    pts: Vec<[f64; 2]>,
+    polar: StarShape,
+    cell: f64,
+    grid: std::collections::HashMap<(i64, i64), Vec<u32>>,
+}
+
+impl Shape {
+    /// Indexes `points_mm` with grid cell `cap_mm` (the largest distance reported exactly).
+    pub fn new(
+        points_mm: &[[f64; 2]],
+        cap_mm: f64,
+        which: &'static str,
+    ) -> Result<Self, MeshError> {
+        let polar = StarShape::new(points_mm, which)?;
+        let n = points_mm.len();
+        let mut grid: std::collections::HashMap<(i64, i64), Vec<u32>> =
+            std::collections::HashMap::new();
+        for i in 0..n {
+            let (a, b) = (points_mm[i], points_mm[(i + 1) % n]);
+            let (x0, x1) = (
+                (a[0].min(b[0]) / cap_mm).floor() as i64,
+                (a[0].max(b[0]) / cap_mm).floor() as i64,
+            );
+            let (y0, y1) = (
+                (a[1].min(b[1]) / cap_mm).floor() as i64,
+                (a[1].max(b[1]) / cap_mm).floor() as i64,
+            );
+            for cx in x0..=x1 {
+                for cy in y0..=y1 {
+                    grid.entry((cx, cy)).or_default().push(i as u32);
+                }
+            }
+        }
+        Ok(Self {
+            pts: points_mm.to_vec(),
+            polar,
+            cell: cap_mm,
+            grid,
+        })
+    }
+
+    /// Signed clearance of `x` (body frame, mm): distance to the outline, negative inside;
+    /// clipped to `±cap`.
+    #[must_use]
+    pub fn clearance(&self, x: [f64; 2]) -> f64 {
+        let n = self.pts.len();
+        let (cx, cy) = (
+            (x[0] / self.cell).floor() as i64,
+            (x[1] / self.cell).floor() as i64,
+        );
+        let mut best = (f64::INFINITY, 0usize, 0.5);
+        for gx in cx - 1..=cx + 1 {
+            for gy in cy - 1..=cy + 1 {
+                if let Some(list) = self.grid.get(&(gx, gy)) {
+                    for &i in list {
+                        let i = i as usize;
+                        let (a, b) = (self.pts[i], self.pts[(i + 1) % n]);
+                        let (dx, dy) = (b[0] - a[0], b[1] - a[1]);
+                        let t = (((x[0] - a[0]) * dx + (x[1] - a[1]) * dy) / (dx * dx + dy * dy))
+                            .clamp(0.0, 1.0);
+                        let d = (x[0] - a[0] - t * dx).hypot(x[1] - a[1] - t * dy);
+                        if d < best.0 {
+                            best = (d, i, t);
+                        }
+                    }
+                }
+            }
+        }
+        if best.0 > self.cell {
+            let r = x[0].hypot(x[1]);
+            return if r > self.polar.radius_at(x[1].atan2(x[0])) {
+                self.cell
+            } else {
+                -self.cell
+            };
+        }
+        let (d, i, t) = best;
+        let left = |j: usize| {
+            let (a, b) = (self.pts[j % n], self.pts[(j + 1) % n]);
+            (b[0] - a[0]) * (x[1] - a[1]) - (b[1] - a[1]) * (x[0] - a[0]) > 0.0
+        };
+        let inside = if t > 0.0 && t < 1.0 {
+            left(i)
+        } else {
+            // Closest point is a vertex v between edges e1 = (u→v) and e2 = (v→w).
+            let v = if t >= 1.0 { (i + 1) % n } else { i };
+            let prev = (v + n - 1) % n;
+            let (u, vv, w) = (self.pts[prev], self.pts[v], self.pts[(v + 1) % n]);
+            let convex = (vv[0] - u[0]) * (w[1] - vv[1]) - (vv[1] - u[1]) * (w[0] - vv[0]) > 0.0;
+            if convex {
+                left(prev) && left(v)
+            } else {
+                left(prev) || left(v)
+            }
+        };
+        if inside { -d } else { d }
     }
 }
 
@@ -180,16 +284,26 @@ pub fn verify_mesh(
         ("angle_tol_rad", check.angle_tol_rad),
     ] {
         if !(v.is_finite() && v > 0.0) {
-            return Err(MeshError::InvalidParameter { name, value: v, expected: "finite and > 0" });
+            return Err(MeshError::InvalidParameter {
+                name,
+                value: v,
+                expected: "finite and > 0",
+            });
         }
     }
     if check.steps == 0 {
-        return Err(MeshError::InvalidParameter { name: "steps", value: 0.0, expected: "≥ 1" });
+        return Err(MeshError::InvalidParameter {
+            name: "steps",
+            value: 0.0,
+            expected: "≥ 1",
+        });
     }
-    let g1 = StarShape::new(driver, "driver")?;
-    let g2 = StarShape::new(driven, "driven")?;
     let a = check.centre_distance_mm;
     let m = check.module_mm;
+    let cap = 0.02 * m;
+    let h1 = Shape::new(driver, cap, "driver")?;
+    let h2 = Shape::new(driven, cap, "driven")?;
+    let (g1, g2) = (&h1.polar, &h2.polar);
     let samples: Vec<Sample> = (0..check.steps)
         .into_par_iter()
         .map(|k| {
@@ -202,7 +316,7 @@ pub fn verify_mesh(
             let w2 = (3.0 * PI * m / r2).min(PI);
             let c1 = g1.window(-phi, w1);
             let c2 = g2.window(PI + psi0, w2);
-            let clear = |delta: f64, set1: &[usize], set2: &[usize]| -> f64 {
+            let clear = |delta: f64, set1: &[usize], set2: &[usize], exact: bool| -> f64 {
                 let ang2 = psi0 + delta;
                 let (s1, co1) = phi.sin_cos();
                 let (s2, co2) = ang2.sin_cos();
@@ -212,14 +326,22 @@ pub fn verify_mesh(
                     // world = Rot(−ang2) b + (a, 0); gear-1 body = Rot(−φ) world
                     let w = [co2 * b[0] + s2 * b[1] + a, -s2 * b[0] + co2 * b[1]];
                     let x = [co1 * w[0] + s1 * w[1], -s1 * w[0] + co1 * w[1]];
-                    let c = x[0].hypot(x[1]) - g1.radius_at(x[1].atan2(x[0]));
+                    let c = if exact {
+                        h1.clearance(x)
+                    } else {
+                        x[0].hypot(x[1]) - g1.radius_at(x[1].atan2(x[0]))
+                    };
                     best = best.min(c);
                 }
                 for &i in set1 {
                     let b = g1.point(i);
                     let w = [co1 * b[0] - s1 * b[1] - a, s1 * b[0] + co1 * b[1]];
                     let x = [co2 * w[0] - s2 * w[1], s2 * w[0] + co2 * w[1]];
-                    let c = x[0].hypot(x[1]) - g2.radius_at(x[1].atan2(x[0]));
+                    let c = if exact {
+                        h2.clearance(x)
+                    } else {
+                        x[0].hypot(x[1]) - g2.radius_at(x[1].atan2(x[0]))
+                    };
                     best = best.min(c);
                 }
                 best
@@ -227,22 +349,53 @@ pub fn verify_mesh(
             let db = check.backlash_mm / r2;
             // Prune to vertices that can touch within the search range.
             let reach = 4.0 * db * (r1.max(r2) + 2.0 * m) + 0.05 * m;
-            let keep1: Vec<usize> = c1.iter().copied().filter(|&i| clear(0.0, &[i], &[]) < reach).collect();
-            let keep2: Vec<usize> = c2.iter().copied().filter(|&i| clear(0.0, &[], &[i]) < reach).collect();
-            let f = |d: f64| clear(d, &keep1, &keep2);
+            let keep1: Vec<usize> = c1
+                .iter()
+                .copied()
+                .filter(|&i| clear(0.0, &[i], &[], false) < reach)
+                .collect();
+            let keep2: Vec<usize> = c2
+                .iter()
+                .copied()
+                .filter(|&i| clear(0.0, &[], &[i], false) < reach)
+                .collect();
+            let f = |d: f64| clear(d, &keep1, &keep2, true);
             let nominal = f(0.0);
             let mid = 0.5 * db;
             let fmid = f(mid);
             if fmid <= 0.0 {
-                return Sample { eps: 0.0, coast: 0.0, nominal, r2, interference: true, penetration: -fmid };
+                return Sample {
+                    eps: 0.0,
+                    coast: 0.0,
+                    nominal,
+                    r2,
+                    interference: true,
+                    penetration: -fmid,
+                };
             }
             let eps = root(&f, -db, mid, check.angle_tol_rad);
             let coast = root(&f, mid, 3.0 * db, check.angle_tol_rad);
             let (eps, coast) = match (eps, coast) {
                 (Some(e), Some(c)) => (e, c),
-                _ => return Sample { eps: 0.0, coast: 0.0, nominal, r2, interference: true, penetration: 0.0 },
+                _ => {
+                    return Sample {
+                        eps: 0.0,
+                        coast: 0.0,
+                        nominal,
+                        r2,
+                        interference: true,
+                        penetration: 0.0,
+                    };
+                }
             };
-            Sample { eps, coast, nominal, r2, interference: false, penetration: 0.0 }
+            Sample {
+                eps,
+                coast,
+                nominal,
+                r2,
+                interference: false,
+                penetration: 0.0,
+            }
         })
         .collect();
     let ok: Vec<&Sample> = samples.iter().filter(|s| !s.interference).collect();
@@ -254,7 +407,10 @@ pub fn verify_mesh(
         steps: check.steps,
         interference_steps: samples.len() - ok.len(),
         max_penetration_mm: samples.iter().map(|s| s.penetration).fold(0.0, f64::max),
-        min_nominal_clearance_mm: samples.iter().map(|s| s.nominal).fold(f64::INFINITY, f64::min),
+        min_nominal_clearance_mm: samples
+            .iter()
+            .map(|s| s.nominal)
+            .fold(f64::INFINITY, f64::min),
         min_backlash_mm: min(&bl),
         max_backlash_mm: max(&bl),
         max_transmission_error_deg: te.iter().fold(0.0f64, |a, e| a.max(e.abs())).to_degrees(),
@@ -271,7 +427,11 @@ fn root(f: &dyn Fn(f64) -> f64, mut lo: f64, mut hi: f64, tol: f64) -> Option<f6
     let mut side = 0i8;
     for _ in 0..200 {
         let x = (lo * fhi - hi * flo) / (fhi - flo);
-        let x = if x.is_finite() && x > lo && x < hi { x } else { 0.5 * (lo + hi) };
+        let x = if x.is_finite() && x > lo && x < hi {
+            x
+        } else {
+            0.5 * (lo + hi)
+        };
         let fx = f(x);
         if fx * fhi > 0.0 {
             hi = x;

@@ -139,11 +139,19 @@ pub fn tooth_count(
             expected: "a tooth count between 3 and 100000",
         });
     }
-    Ok(ToothCount { z: z as u32, perimeter_mm: l, z_raw, scale: z / z_raw })
+    Ok(ToothCount {
+        z: z as u32,
+        perimeter_mm: l,
+        z_raw,
+        scale: z / z_raw,
+    })
 }
 
 /// Scales a pitch curve by `factor` (all radii), e.g. with [`ToothCount::scale`].
-pub fn scale_curve(curve: &PitchCurve, factor: f64) -> Result<PitchCurve, crate::pitch::PitchError> {
+pub fn scale_curve(
+    curve: &PitchCurve,
+    factor: f64,
+) -> Result<PitchCurve, crate::pitch::PitchError> {
     PitchCurve::from_uniform_radii(curve.radii_mm().iter().map(|r| r * factor).collect())
 }
 

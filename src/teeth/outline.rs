@@ -34,7 +34,12 @@ impl OutlineOptions {
     /// Options with tooth 0 at `phase_mm`, no backlash and chord tolerance `chord_tol_mm`.
     #[must_use]
     pub fn new(phase_mm: f64, chord_tol_mm: f64) -> Self {
-        Self { phase_mm, thin_left_mm: 0.0, thin_right_mm: 0.0, chord_tol_mm }
+        Self {
+            phase_mm,
+            thin_left_mm: 0.0,
+            thin_right_mm: 0.0,
+            chord_tol_mm,
+        }
     }
 }
 
@@ -117,7 +122,13 @@ impl Gen<'_> {
     }
 }
 
-fn push_piece(out: &mut Vec<[f64; 2]>, from: f64, to: f64, step_mm: f64, f: impl Fn(f64) -> [f64; 2]) {
+fn push_piece(
+    out: &mut Vec<[f64; 2]>,
+    from: f64,
+    to: f64,
+    step_mm: f64,
+    f: impl Fn(f64) -> [f64; 2],
+) {
     // Estimate the spatial length with 8 chords, then sample uniformly in the parameter.
     let mut len = 0.0;
     let mut prev = f(from);
@@ -149,7 +160,13 @@ pub fn undercut_report(
     Ok(report_on(&frame, rack, z, module_mm, opts))
 }
 
-fn report_on(frame: &ArcFrame, rack: &RackParams, z: u32, m: f64, opts: &OutlineOptions) -> UndercutReport {
+fn report_on(
+    frame: &ArcFrame,
+    rack: &RackParams,
+    z: u32,
+    m: f64,
+    opts: &OutlineOptions,
+) -> UndercutReport {
     let p = frame.length_mm() / f64::from(z);
     let (sa, ca) = rack.alpha_rad().sin_cos();
     let sc = sa * ca;
@@ -158,9 +175,10 @@ fn report_on(frame: &ArcFrame, rack: &RackParams, z: u32, m: f64, opts: &Outline
     let mut flanks = Vec::with_capacity(2 * z as usize);
     for k in 0..z as usize {
         let sk = opts.phase_mm + k as f64 * p;
-        for (side, sign, sf) in
-            [("left", -1.0, sk - 0.25 * p + opts.thin_left_mm), ("right", 1.0, sk + 0.25 * p - opts.thin_right_mm)]
-        {
+        for (side, sign, sf) in [
+            ("left", -1.0, sk - 0.25 * p + opts.thin_left_mm),
+            ("right", 1.0, sk + 0.25 * p - opts.thin_right_mm),
+        ] {
             let mut worst = f64::INFINITY;
             let mut kmax = f64::NEG_INFINITY;
             let mut kmin = f64::INFINITY;
@@ -177,7 +195,11 @@ fn report_on(frame: &ArcFrame, rack: &RackParams, z: u32, m: f64, opts: &Outline
                 }
             }
             let rho = 1.0 / kmax;
-            let cusp = if kmax > 0.0 { rho * sa * sa } else { f64::INFINITY };
+            let cusp = if kmax > 0.0 {
+                rho * sa * sa
+            } else {
+                f64::INFINITY
+            };
             let undercut = worst < 0.0;
             flanks.push(FlankUndercut {
                 tooth: k,
@@ -193,11 +215,18 @@ fn report_on(frame: &ArcFrame, rack: &RackParams, z: u32, m: f64, opts: &Outline
         }
     }
     let required = rack.undercut_limit_rho_mm(m);
-    let rho_convex = flanks.iter().filter(|f| !f.concave).map(|f| f.min_rho_mm).fold(f64::INFINITY, f64::min);
+    let rho_convex = flanks
+        .iter()
+        .filter(|f| !f.concave)
+        .map(|f| f.min_rho_mm)
+        .fold(f64::INFINITY, f64::min);
     UndercutReport {
         undercut_count: flanks.iter().filter(|f| f.undercut).count(),
         concave_count: flanks.iter().filter(|f| f.concave).count(),
-        min_rho_mm: flanks.iter().map(|f| f.min_rho_mm).fold(f64::INFINITY, f64::min),
+        min_rho_mm: flanks
+            .iter()
+            .map(|f| f.min_rho_mm)
+            .fold(f64::INFINITY, f64::min),
         required_rho_mm: required,
         max_module_mm: m * rho_convex / required,
         flanks,
@@ -235,7 +264,11 @@ pub fn generate_on(
 ) -> Result<Outline, TeethError> {
     let m = module_mm;
     if !(m.is_finite() && m > 0.0) {
-        return Err(TeethError::InvalidParameter { name: "module_mm", value: m, expected: "finite and > 0" });
+        return Err(TeethError::InvalidParameter {
+            name: "module_mm",
+            value: m,
+            expected: "finite and > 0",
+        });
     }
     if !(opts.chord_tol_mm.is_finite() && opts.chord_tol_mm > 0.0) {
         return Err(TeethError::InvalidParameter {
@@ -254,14 +287,24 @@ pub fn generate_on(
         });
     }
     let p = l / zf;
-    for (name, v) in [("thin_left_mm", opts.thin_left_mm), ("thin_right_mm", opts.thin_right_mm)] {
+    for (name, v) in [
+        ("thin_left_mm", opts.thin_left_mm),
+        ("thin_right_mm", opts.thin_right_mm),
+    ] {
         if !(v.is_finite() && (0.0..0.25 * p).contains(&v)) {
-            return Err(TeethError::InvalidParameter { name, value: v, expected: "in [0, p/4)" });
+            return Err(TeethError::InvalidParameter {
+                name,
+                value: v,
+                expected: "in [0, p/4)",
+            });
         }
     }
     let report = report_on(frame, rack, z, m, opts);
     if let Some(f) = report.flanks.iter().find(|f| f.concave) {
-        return Err(TeethError::Concave { tooth: f.tooth, min_rho_mm: report.min_rho_mm });
+        return Err(TeethError::Concave {
+            tooth: f.tooth,
+            min_rho_mm: report.min_rho_mm,
+        });
     }
     if report.undercut_count > 0 {
         let worst = report
@@ -289,10 +332,15 @@ pub fn generate_on(
     let sc = sa * ca;
     let ta = sa / ca;
     let step = (8.0 * opts.chord_tol_mm * m).sqrt();
-    let step_f = if g.rho > 0.0 { (8.0 * opts.chord_tol_mm * g.rho).sqrt() } else { step };
+    let step_f = if g.rho > 0.0 {
+        (8.0 * opts.chord_tol_mm * g.rho).sqrt()
+    } else {
+        step
+    };
     let fillet_span = (g.hf - g.rho) / ta;
     // Rack tip flat between the two fillet centres.
-    let flat = p - (p * 0.5 - opts.thin_left_mm - opts.thin_right_mm) - 2.0 * (g.hs * ta + g.rho * ca);
+    let flat =
+        p - (p * 0.5 - opts.thin_left_mm - opts.thin_right_mm) - 2.0 * (g.hs * ta + g.rho * ca);
     if flat <= 0.0 {
         return Err(TeethError::NoRackTipFlat { flat_mm: flat });
     }
@@ -301,22 +349,39 @@ pub fn generate_on(
         let sk = opts.phase_mm + k as f64 * p;
         let sl = sk - 0.25 * p + opts.thin_left_mm;
         let sr = sk + 0.25 * p - opts.thin_right_mm;
-        let (s_tip_l, ul) = g.trim_tip(sl, -1.0).ok_or(TeethError::Trim { tooth: k, what: "left flank meets no tip" })?;
-        let (s_tip_r, ur) = g.trim_tip(sr, 1.0).ok_or(TeethError::Trim { tooth: k, what: "right flank meets no tip" })?;
+        let (s_tip_l, ul) = g.trim_tip(sl, -1.0).ok_or(TeethError::Trim {
+            tooth: k,
+            what: "left flank meets no tip",
+        })?;
+        let (s_tip_r, ur) = g.trim_tip(sr, 1.0).ok_or(TeethError::Trim {
+            tooth: k,
+            what: "right flank meets no tip",
+        })?;
         if ur <= ul {
-            return Err(TeethError::Trim { tooth: k, what: "pointed tooth (tip width ≤ 0)" });
+            return Err(TeethError::Trim {
+                tooth: k,
+                what: "pointed tooth (tip width ≤ 0)",
+            });
         }
         // Left fillet of tooth k: centre, span; then left flank from η = −hs up to the tip.
         let xcl = sl - g.hs * ta - g.rho * ca;
         // Root from the previous tooth's right fillet centre to this left fillet centre is emitted
         // by the previous tooth; here: left fillet (s decreasing from xcl).
-        push_piece(&mut out, xcl, xcl - fillet_span, step_f, |s| g.fillet(xcl, s));
-        push_piece(&mut out, sl - g.hs / sc, s_tip_l, step, |s| g.flank(sl, -1.0, s));
+        push_piece(&mut out, xcl, xcl - fillet_span, step_f, |s| {
+            g.fillet(xcl, s)
+        });
+        push_piece(&mut out, sl - g.hs / sc, s_tip_l, step, |s| {
+            g.flank(sl, -1.0, s)
+        });
         push_piece(&mut out, ul, ur, step, |u| g.tip(u));
         // Right flank from the tip down to η = −hs, then the right fillet, then the root.
-        push_piece(&mut out, s_tip_r, sr + g.hs / sc, step, |s| g.flank(sr, 1.0, s));
+        push_piece(&mut out, s_tip_r, sr + g.hs / sc, step, |s| {
+            g.flank(sr, 1.0, s)
+        });
         let xcr = sr + g.hs * ta + g.rho * ca;
-        push_piece(&mut out, xcr + fillet_span, xcr, step_f, |s| g.fillet(xcr, s));
+        push_piece(&mut out, xcr + fillet_span, xcr, step_f, |s| {
+            g.fillet(xcr, s)
+        });
         let next_sl = sk + p - 0.25 * p + opts.thin_left_mm;
         let next_xcl = next_sl - g.hs * ta - g.rho * ca;
         push_piece(&mut out, xcr, next_xcl, step, |s| g.map(s, s, -g.hf));
@@ -328,5 +393,10 @@ pub fn generate_on(
     {
         out.pop();
     }
-    Ok(Outline { points_mm: out, z, module_mm: m, undercut: report })
+    Ok(Outline {
+        points_mm: out,
+        z,
+        module_mm: m,
+        undercut: report,
+    })
 }

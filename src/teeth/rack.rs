@@ -15,32 +15,73 @@ pub struct RackParams {
 
 impl Default for RackParams {
     fn default() -> Self {
-        Self { alpha_rad: 20f64.to_radians(), addendum: 1.0, clearance: 0.25, fillet: 0.38 }
+        Self {
+            alpha_rad: 20f64.to_radians(),
+            addendum: 1.0,
+            clearance: 0.25,
+            fillet: 0.38,
+        }
     }
 }
 
-fn check(name: &'static str, value: f64, ok: bool, expected: &'static str) -> Result<(), TeethError> {
+fn check(
+    name: &'static str,
+    value: f64,
+    ok: bool,
+    expected: &'static str,
+) -> Result<(), TeethError> {
     if ok && value.is_finite() {
         Ok(())
     } else {
-        Err(TeethError::InvalidParameter { name, value, expected })
+        Err(TeethError::InvalidParameter {
+            name,
+            value,
+            expected,
+        })
     }
 }
 
 impl RackParams {
     /// A validated rack. `alpha_rad` ∈ (0, π/4]; `addendum` ha* > 0; `clearance` c* ≥ 0;
     /// `fillet` ρf* ≥ 0 with the fillet fitting in the dedendum: `ρf*(1 − sin α) < ha* + c*`.
-    pub fn new(alpha_rad: f64, addendum: f64, clearance: f64, fillet: f64) -> Result<Self, TeethError> {
-        check("alpha_rad", alpha_rad, alpha_rad > 0.0 && alpha_rad <= std::f64::consts::FRAC_PI_4, "in (0, 45°]")?;
-        check("addendum", addendum, addendum > 0.0 && addendum <= 2.0, "ha* in (0, 2]")?;
-        check("clearance", clearance, (0.0..=1.0).contains(&clearance), "c* in [0, 1]")?;
+    pub fn new(
+        alpha_rad: f64,
+        addendum: f64,
+        clearance: f64,
+        fillet: f64,
+    ) -> Result<Self, TeethError> {
+        check(
+            "alpha_rad",
+            alpha_rad,
+            alpha_rad > 0.0 && alpha_rad <= std::f64::consts::FRAC_PI_4,
+            "in (0, 45°]",
+        )?;
+        check(
+            "addendum",
+            addendum,
+            addendum > 0.0 && addendum <= 2.0,
+            "ha* in (0, 2]",
+        )?;
+        check(
+            "clearance",
+            clearance,
+            (0.0..=1.0).contains(&clearance),
+            "c* in [0, 1]",
+        )?;
         check(
             "fillet",
             fillet,
-            fillet >= 0.0 && fillet * (1.0 - alpha_rad.sin()) < addendum + clearance && fillet <= addendum + clearance,
+            fillet >= 0.0
+                && fillet * (1.0 - alpha_rad.sin()) < addendum + clearance
+                && fillet <= addendum + clearance,
             "ρf* ≥ 0 and fitting in the dedendum",
         )?;
-        Ok(Self { alpha_rad, addendum, clearance, fillet })
+        Ok(Self {
+            alpha_rad,
+            addendum,
+            clearance,
+            fillet,
+        })
     }
 
     /// Pressure angle α, rad.
