@@ -42,9 +42,7 @@ pub struct PeriodicSpline {
 #[non_exhaustive]
 pub enum SplineError {
     /// Fewer than 4 knots, or `x` and `y` of different lengths.
-    #[error(
-        "a periodic spline needs at least 4 knots with one value each (got {knots} knots, {values} values)"
-    )]
+    #[error("a periodic spline needs at least 4 knots with one value each (got {knots} knots, {values} values)")]
     TooFewKnots {
         /// Number of knots.
         knots: usize,
@@ -70,10 +68,7 @@ impl PeriodicSpline {
     pub fn new(x: Vec<f64>, y: Vec<f64>, period: f64) -> Result<Self, SplineError> {
         let n = x.len();
         if n < 4 || y.len() != n {
-            return Err(SplineError::TooFewKnots {
-                knots: n,
-                values: y.len(),
-            });
+            return Err(SplineError::TooFewKnots { knots: n, values: y.len() });
         }
         if let Some(i) = y.iter().position(|v| !v.is_finite()) {
             return Err(SplineError::NonFinite { index: i });
@@ -85,13 +80,7 @@ impl PeriodicSpline {
             }
         }
         let h: Vec<f64> = (0..n)
-            .map(|i| {
-                if i + 1 < n {
-                    x[i + 1] - x[i]
-                } else {
-                    x[0] + period - x[i]
-                }
-            })
+            .map(|i| if i + 1 < n { x[i + 1] - x[i] } else { x[0] + period - x[i] })
             .collect();
         let h_mean = period / n as f64;
         let uniform = h.iter().all(|hi| (hi - h_mean).abs() <= 1e-12 * h_mean);
@@ -109,13 +98,7 @@ impl PeriodicSpline {
             d[i] = 6.0 * ((y[(i + 1) % n] - y[i]) / hp - (y[i] - y[(i + n - 1) % n]) / hm);
         }
         let m = solve_cyclic_tridiagonal(&a, &b, &c, &d);
-        Ok(Self {
-            x,
-            y,
-            m,
-            period,
-            uniform,
-        })
+        Ok(Self { x, y, m, period, uniform })
     }
 
     /// Uniform knots `x_k = x0 + k·period/n`.
@@ -160,11 +143,7 @@ impl PeriodicSpline {
             }
         };
         let xi = self.x[i] - self.x[0];
-        let h = if i + 1 < n {
-            self.x[i + 1] - self.x[i]
-        } else {
-            self.x[0] + self.period - self.x[i]
-        };
+        let h = if i + 1 < n { self.x[i + 1] - self.x[i] } else { self.x[0] + self.period - self.x[i] };
         (i, u - xi, h)
     }
 
@@ -244,8 +223,7 @@ pub fn fft_coefficients(y: &[f64]) -> Vec<Complex<f64>> {
     let mut input = y.to_vec();
     let mut out = fft.make_output_vec();
     // Lengths match by construction, so the FFT cannot fail.
-    fft.process(&mut input, &mut out)
-        .expect("FFT buffer lengths are consistent");
+    fft.process(&mut input, &mut out).expect("FFT buffer lengths are consistent");
     let scale = 1.0 / n as f64;
     out.iter().map(|c| c * scale).collect()
 }
@@ -263,8 +241,7 @@ pub fn fft_synthesis(coeffs: &[Complex<f64>], n: usize) -> Vec<f64> {
         input[last].im = 0.0;
     }
     let mut out = ifft.make_output_vec();
-    ifft.process(&mut input, &mut out)
-        .expect("FFT buffer lengths are consistent");
+    ifft.process(&mut input, &mut out).expect("FFT buffer lengths are consistent");
     out
 }
 
@@ -334,11 +311,7 @@ pub fn invert_increasing(
         } else {
             lo = x;
         }
-        let mut next = if dfx > 0.0 && dfx.is_finite() {
-            x - r / dfx
-        } else {
-            f64::NAN
-        };
+        let mut next = if dfx > 0.0 && dfx.is_finite() { x - r / dfx } else { f64::NAN };
         if !(next > lo && next < hi) {
             next = 0.5 * (lo + hi);
         }
@@ -358,12 +331,8 @@ mod tests {
     fn spline_converges_fourth_order() {
         let f = |t: f64| (t.sin() + 0.3 * (2.0 * t).cos()).exp();
         let err = |n: usize| {
-            let s = PeriodicSpline::uniform(
-                0.0,
-                uniform_angles(n).iter().map(|&t| f(t)).collect(),
-                TAU,
-            )
-            .unwrap();
+            let s = PeriodicSpline::uniform(0.0, uniform_angles(n).iter().map(|&t| f(t)).collect(), TAU)
+                .unwrap();
             (0..1000)
                 .map(|k| {
                     let t = TAU * (k as f64 + 0.37) / 1000.0;
@@ -373,17 +342,12 @@ mod tests {
         };
         let (e1, e2) = (err(64), err(128));
         let order = (e1 / e2).log2();
-        assert!(
-            order > 3.7 && order < 4.5,
-            "order {order}, errors {e1} {e2}"
-        );
+        assert!(order > 3.7 && order < 4.5, "order {order}, errors {e1} {e2}");
     }
 
     #[test]
     fn nonuniform_spline_matches_function() {
-        let x: Vec<f64> = (0..200)
-            .map(|k| TAU * (k as f64 + 0.3 * (k as f64).sin()) / 200.0)
-            .collect();
+        let x: Vec<f64> = (0..200).map(|k| TAU * (k as f64 + 0.3 * (k as f64).sin()) / 200.0).collect();
         let y: Vec<f64> = x.iter().map(|t| t.cos()).collect();
         let s = PeriodicSpline::new(x, y, TAU).unwrap();
         for k in 0..50 {
@@ -397,10 +361,7 @@ mod tests {
     fn spectral_calculus_is_exact_on_trig_polynomials() {
         let n = 64;
         let t = uniform_angles(n);
-        let y: Vec<f64> = t
-            .iter()
-            .map(|&x| 2.0 + (3.0 * x).sin() - 0.5 * (5.0 * x + 1.0).cos())
-            .collect();
+        let y: Vec<f64> = t.iter().map(|&x| 2.0 + (3.0 * x).sin() - 0.5 * (5.0 * x + 1.0).cos()).collect();
         let dy = spectral_derivative(&y);
         let (mean, iy) = spectral_integral(&y);
         assert!((mean - 2.0).abs() < 1e-14);

@@ -78,10 +78,8 @@ impl PitchCurve {
         if n < 8 {
             return Err(PitchError::TooFewSamples(n));
         }
-        if let Some((index, &value)) = radii_mm
-            .iter()
-            .enumerate()
-            .find(|(_, r)| !(r.is_finite() && **r > 0.0))
+        if let Some((index, &value)) =
+            radii_mm.iter().enumerate().find(|(_, r)| !(r.is_finite() && **r > 0.0))
         {
             return Err(PitchError::NonPositive { index, value });
         }
@@ -123,11 +121,7 @@ impl PitchCurve {
     #[must_use]
     pub fn geometry(&self, theta_rad: f64) -> PolarGeometry {
         let [r, d1, d2] = self.spline.eval3(theta_rad);
-        PolarGeometry {
-            r_mm: r,
-            dr_mm: d1,
-            ddr_mm: d2,
-        }
+        PolarGeometry { r_mm: r, dr_mm: d1, ddr_mm: d2 }
     }
 
     /// Cartesian point of the curve in the body frame, mm.
@@ -203,14 +197,11 @@ impl PitchCurve {
             let d = g.convexity_mm2();
             s.min_convexity_mm2 = s.min_convexity_mm2.min(d);
             if d > 0.0 {
-                s.min_radius_of_curvature_mm =
-                    s.min_radius_of_curvature_mm.min(g.radius_of_curvature_mm());
+                s.min_radius_of_curvature_mm = s.min_radius_of_curvature_mm.min(g.radius_of_curvature_mm());
             } else {
                 concave += 1;
             }
-            s.max_pressure_deviation_rad = s
-                .max_pressure_deviation_rad
-                .max(g.pressure_deviation_rad().abs());
+            s.max_pressure_deviation_rad = s.max_pressure_deviation_rad.max(g.pressure_deviation_rad().abs());
         }
         s.concave_fraction = concave as f64 / n_check as f64;
         s
@@ -219,10 +210,7 @@ impl PitchCurve {
     /// Polar samples `(θ in degrees, r in mm)` at `n` uniform angles, for files.
     #[must_use]
     pub fn polar_table_deg(&self, n: usize) -> Vec<[f64; 2]> {
-        uniform_angles(n)
-            .into_iter()
-            .map(|t| [t.to_degrees(), self.radius_mm(t)])
-            .collect()
+        uniform_angles(n).into_iter().map(|t| [t.to_degrees(), self.radius_mm(t)]).collect()
     }
 }
 
@@ -260,14 +248,7 @@ mod tests {
 
     #[test]
     fn rejects_nonpositive_radius() {
-        let err = PitchCurve::from_uniform_radii(vec![1.0, 2.0, 0.0, 1.0, 1.0, 1.0, 1.0, 1.0])
-            .unwrap_err();
-        assert_eq!(
-            err,
-            PitchError::NonPositive {
-                index: 2,
-                value: 0.0
-            }
-        );
+        let err = PitchCurve::from_uniform_radii(vec![1.0, 2.0, 0.0, 1.0, 1.0, 1.0, 1.0, 1.0]).unwrap_err();
+        assert_eq!(err, PitchError::NonPositive { index: 2, value: 0.0 });
     }
 }

@@ -35,20 +35,12 @@ impl Series {
     /// A line series.
     #[must_use]
     pub fn line(name: impl Into<String>, points: Vec<(f64, f64)>) -> Self {
-        Self {
-            name: name.into(),
-            points,
-            markers: false,
-        }
+        Self { name: name.into(), points, markers: false }
     }
     /// A marker (scatter) series.
     #[must_use]
     pub fn markers(name: impl Into<String>, points: Vec<(f64, f64)>) -> Self {
-        Self {
-            name: name.into(),
-            points,
-            markers: true,
-        }
+        Self { name: name.into(), points, markers: true }
     }
 }
 
@@ -95,13 +87,8 @@ pub fn line_chart(
     size_px: (u32, u32),
 ) -> Result<(), PlotError> {
     register_font();
-    let err = |e: String| PlotError {
-        path: path.display().to_string(),
-        message: e,
-    };
-    let is_png = path
-        .extension()
-        .is_some_and(|e| e.eq_ignore_ascii_case("png"));
+    let err = |e: String| PlotError { path: path.display().to_string(), message: e };
+    let is_png = path.extension().is_some_and(|e| e.eq_ignore_ascii_case("png"));
     if is_png {
         let root = BitMapBackend::new(path, size_px).into_drawing_area();
         draw(root, labels, series).map_err(err)
@@ -164,25 +151,18 @@ where
         .map_err(e)?;
     for (k, s) in series.iter().enumerate() {
         let color = PALETTE[k % PALETTE.len()];
-        let pts: Vec<(f64, f64)> = s
-            .points
-            .iter()
-            .copied()
-            .filter(|(x, y)| x.is_finite() && y.is_finite())
-            .collect();
+        let pts: Vec<(f64, f64)> =
+            s.points.iter().copied().filter(|(x, y)| x.is_finite() && y.is_finite()).collect();
         let anno = if s.markers {
             chart
                 .draw_series(pts.iter().map(|p| Circle::new(*p, 2, color.filled())))
                 .map_err(e)?
         } else {
-            chart
-                .draw_series(LineSeries::new(pts, color.stroke_width(2)))
-                .map_err(e)?
+            chart.draw_series(LineSeries::new(pts, color.stroke_width(2))).map_err(e)?
         };
         if !s.name.is_empty() {
-            anno.label(s.name.clone()).legend(move |(x, y)| {
-                PathElement::new(vec![(x, y), (x + 18, y)], color.stroke_width(2))
-            });
+            anno.label(s.name.clone())
+                .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 18, y)], color.stroke_width(2)));
         }
     }
     if series.iter().any(|s| !s.name.is_empty()) {

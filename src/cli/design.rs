@@ -7,7 +7,5 @@ pub struct Args {}
 
 /// Runs `ncgear design`.
 pub fn run(_args: Args) -> CliResult {
-    Err(runtime_error(miette::miette!(
-        "`ncgear design` is not built yet"
-    )))
+    Err(runtime_error(miette::miette!("`ncgear design` is not built yet")))
 }

@@ -7,7 +7,5 @@ pub struct Args {}
 
 /// Runs `ncgear dynamics`.
 pub fn run(_args: Args) -> CliResult {
-    Err(runtime_error(miette::miette!(
-        "`ncgear dynamics` is not built yet"
-    )))
+    Err(runtime_error(miette::miette!("`ncgear dynamics` is not built yet")))
 }

@@ -63,9 +63,11 @@ pub fn progress_bar(len: u64, what: &str) -> indicatif::ProgressBar {
         return indicatif::ProgressBar::hidden();
     }
     let pb = indicatif::ProgressBar::new(len);
-    let style = indicatif::ProgressStyle::with_template("{msg:>12} [{bar:40}] {pos}/{len} ({eta})")
-        .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar())
-        .progress_chars("=> ");
+    let style = indicatif::ProgressStyle::with_template(
+        "{msg:>12} [{bar:40}] {pos}/{len} ({eta})",
+    )
+    .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar())
+    .progress_chars("=> ");
     pb.set_style(style);
     pb.set_message(what.to_string());
     pb
@@ -73,8 +75,7 @@ pub fn progress_bar(len: u64, what: &str) -> indicatif::ProgressBar {
 
 /// Writes `value` as pretty JSON to stdout.
 pub fn print_json(value: &impl serde::Serialize) -> CliResult {
-    let s =
-        serde_json::to_string_pretty(value).map_err(|e| runtime_error(miette::miette!("{e}")))?;
+    let s = serde_json::to_string_pretty(value).map_err(|e| runtime_error(miette::miette!("{e}")))?;
     println!("{s}");
     Ok(())
 }

@@ -7,7 +7,5 @@ pub struct Args {}
 
 /// Runs `ncgear tolerance`.
 pub fn run(_args: Args) -> CliResult {
-    Err(runtime_error(miette::miette!(
-        "`ncgear tolerance` is not built yet"
-    )))
+    Err(runtime_error(miette::miette!("`ncgear tolerance` is not built yet")))
 }
