@@ -304,6 +304,14 @@ pub fn verify_mesh(
     let h1 = Shape::new(driver, cap, "driver")?;
     let h2 = Shape::new(driven, cap, "driven")?;
     let (g1, g2) = (&h1.polar, &h2.polar);
+    // Coarse copies (every 16th vertex) index the initial pruning at a larger reach.
+    let rmax = g1.r.iter().chain(g2.r.iter()).copied().fold(0.0, f64::max);
+    let r2min = g2.r.iter().copied().fold(f64::INFINITY, f64::min).max(m);
+    let lip = rmax + 2.0 * m;
+    let reach = 4.0 * check.backlash_mm / r2min * lip + 0.05 * m;
+    let coarse = |v: &[[f64; 2]]| v.iter().step_by(16).copied().collect::<Vec<_>>();
+    let k1 = Shape::new(&coarse(driver), reach, "driver")?;
+    let k2 = Shape::new(&coarse(driven), reach, "driven")?;
     let samples: Vec<Sample> = (0..check.steps)
         .into_par_iter()
         .map(|k| {
@@ -311,58 +319,68 @@ pub fn verify_mesh(
             let psi0 = psi(phi);
             let r1 = g1.radius_at(-phi);
             let r2 = (a - r1).max(m);
-            // Candidate vertices near the contact (±3 pitches).
-            let w1 = (3.0 * PI * m / r1).min(PI);
-            let w2 = (3.0 * PI * m / r2).min(PI);
+            // Candidate vertices near the contact (±1.75 pitches).
+            let w1 = (1.75 * PI * m / r1).min(PI);
+            let w2 = (1.75 * PI * m / r2).min(PI);
             let c1 = g1.window(-phi, w1);
             let c2 = g2.window(PI + psi0, w2);
-            let clear = |delta: f64, set1: &[usize], set2: &[usize], exact: bool| -> f64 {
+            // Per-vertex clearances at driven offset δ against shapes (s1 for gear-2 vertices in
+            // the gear-1 frame, s2 for gear-1 vertices in the gear-2 frame).
+            let eval = |delta: f64, set1: &[usize], set2: &[usize], s1: &Shape, s2: &Shape| {
                 let ang2 = psi0 + delta;
-                let (s1, co1) = phi.sin_cos();
-                let (s2, co2) = ang2.sin_cos();
-                let mut best = f64::INFINITY;
-                for &i in set2 {
-                    let b = g2.point(i);
-                    // world = Rot(−ang2) b + (a, 0); gear-1 body = Rot(−φ) world
-                    let w = [co2 * b[0] + s2 * b[1] + a, -s2 * b[0] + co2 * b[1]];
-                    let x = [co1 * w[0] + s1 * w[1], -s1 * w[0] + co1 * w[1]];
-                    let c = if exact {
-                        h1.clearance(x)
-                    } else {
-                        x[0].hypot(x[1]) - g1.radius_at(x[1].atan2(x[0]))
-                    };
-                    best = best.min(c);
-                }
-                for &i in set1 {
-                    let b = g1.point(i);
-                    let w = [co1 * b[0] - s1 * b[1] - a, s1 * b[0] + co1 * b[1]];
-                    let x = [co2 * w[0] - s2 * w[1], s2 * w[0] + co2 * w[1]];
-                    let c = if exact {
-                        h2.clearance(x)
-                    } else {
-                        x[0].hypot(x[1]) - g2.radius_at(x[1].atan2(x[0]))
-                    };
-                    best = best.min(c);
-                }
-                best
+                let (sn1, co1) = phi.sin_cos();
+                let (sn2, co2) = ang2.sin_cos();
+                let v2: Vec<f64> = set2
+                    .iter()
+                    .map(|&i| {
+                        let b = g2.point(i);
+                        let w = [co2 * b[0] + sn2 * b[1] + a, -sn2 * b[0] + co2 * b[1]];
+                        s1.clearance([co1 * w[0] + sn1 * w[1], -sn1 * w[0] + co1 * w[1]])
+                    })
+                    .collect();
+                let v1: Vec<f64> = set1
+                    .iter()
+                    .map(|&i| {
+                        let b = g1.point(i);
+                        let w = [co1 * b[0] - sn1 * b[1] - a, sn1 * b[0] + co1 * b[1]];
+                        s2.clearance([co2 * w[0] - sn2 * w[1], sn2 * w[0] + co2 * w[1]])
+                    })
+                    .collect();
+                (v1, v2)
             };
             let db = check.backlash_mm / r2;
-            // Prune to vertices that can touch within the search range.
-            let reach = 4.0 * db * (r1.max(r2) + 2.0 * m) + 0.05 * m;
-            let keep1: Vec<usize> = c1
-                .iter()
-                .copied()
-                .filter(|&i| clear(0.0, &[i], &[], false) < reach)
-                .collect();
-            let keep2: Vec<usize> = c2
-                .iter()
-                .copied()
-                .filter(|&i| clear(0.0, &[], &[i], false) < reach)
-                .collect();
-            let f = |d: f64| clear(d, &keep1, &keep2, true);
-            let nominal = f(0.0);
+            // Coarse pruning: every 16th window vertex against the coarse shapes, then the fine
+            // vertices within ±16 of each kept coarse one (16 vertices span ≤ 0.1·m here).
+            let d1: Vec<usize> = c1.iter().step_by(16).copied().collect();
+            let d2: Vec<usize> = c2.iter().step_by(16).copied().collect();
+            let (p1, p2) = eval(0.0, &d1, &d2, &k1, &k2);
+            let expand = |c: &[usize], p: &[f64]| {
+                let mut flag = vec![false; c.len()];
+                for (j, v) in p.iter().enumerate() {
+                    if *v < reach + 0.1 * m {
+                        let lo = (j * 16).saturating_sub(16);
+                        let hi = (j * 16 + 17).min(c.len());
+                        flag[lo..hi].iter_mut().for_each(|f| *f = true);
+                    }
+                }
+                c.iter()
+                    .zip(flag)
+                    .filter(|(_, f)| *f)
+                    .map(|(i, _)| *i)
+                    .collect::<Vec<usize>>()
+            };
+            let keep1 = expand(&c1, &p1);
+            let keep2 = expand(&c2, &p2);
+            let fmin = |v: &(Vec<f64>, Vec<f64>)| {
+                v.0.iter()
+                    .chain(v.1.iter())
+                    .copied()
+                    .fold(f64::INFINITY, f64::min)
+            };
+            let f = |d: f64, s1: &[usize], s2: &[usize]| eval(d, s1, s2, &h1, &h2);
+            let nominal = fmin(&f(0.0, &keep1, &keep2));
             let mid = 0.5 * db;
-            let fmid = f(mid);
+            let fmid = fmin(&f(mid, &keep1, &keep2));
             if fmid <= 0.0 {
                 return Sample {
                     eps: 0.0,
@@ -373,8 +391,8 @@ pub fn verify_mesh(
                     penetration: -fmid,
                 };
             }
-            let eps = root(&f, -db, mid, check.angle_tol_rad);
-            let coast = root(&f, mid, 3.0 * db, check.angle_tol_rad);
+            let eps = root_pruned(&f, &keep1, &keep2, -db, mid, lip, check.angle_tol_rad);
+            let coast = root_pruned(&f, &keep1, &keep2, mid, 3.0 * db, lip, check.angle_tol_rad);
             let (eps, coast) = match (eps, coast) {
                 (Some(e), Some(c)) => (e, c),
                 _ => {
@@ -418,21 +436,43 @@ pub fn verify_mesh(
     })
 }
 
-/// Root of `f` on `[lo, hi]` with a sign change (Illinois regula falsi), to `tol`.
-fn root(f: &dyn Fn(f64) -> f64, mut lo: f64, mut hi: f64, tol: f64) -> Option<f64> {
-    let (mut flo, mut fhi) = (f(lo), f(hi));
+type PerVertex = (Vec<f64>, Vec<f64>);
+
+/// Root of the minimum clearance on `[lo, hi]` (Illinois regula falsi), to `tol`, pruning after
+/// each evaluation the vertices that cannot be the minimiser anywhere in the bracket: a vertex's
+/// clearance changes by at most `lip·|Δδ|`, so it is dropped when `c_i(x) > min c(x) + 2·lip·(hi − lo)`.
+#[allow(clippy::too_many_arguments)]
+fn root_pruned(
+    f: &dyn Fn(f64, &[usize], &[usize]) -> PerVertex,
+    k1: &[usize],
+    k2: &[usize],
+    mut lo: f64,
+    mut hi: f64,
+    lip: f64,
+    tol: f64,
+) -> Option<f64> {
+    let mut s1 = k1.to_vec();
+    let mut s2 = k2.to_vec();
+    let min = |v: &PerVertex| {
+        v.0.iter()
+            .chain(v.1.iter())
+            .copied()
+            .fold(f64::INFINITY, f64::min)
+    };
+    let (mut flo, mut fhi) = (min(&f(lo, &s1, &s2)), min(&f(hi, &s1, &s2)));
     if flo * fhi > 0.0 {
         return None;
     }
     let mut side = 0i8;
-    for _ in 0..200 {
+    for _ in 0..100 {
         let x = (lo * fhi - hi * flo) / (fhi - flo);
         let x = if x.is_finite() && x > lo && x < hi {
             x
         } else {
             0.5 * (lo + hi)
         };
-        let fx = f(x);
+        let v = f(x, &s1, &s2);
+        let fx = min(&v);
         if fx * fhi > 0.0 {
             hi = x;
             fhi = fx;
@@ -448,9 +488,22 @@ fn root(f: &dyn Fn(f64) -> f64, mut lo: f64, mut hi: f64, tol: f64) -> Option<f6
             }
             side = -1;
         }
-        if hi - lo <= tol || fx == 0.0 {
+        if hi - lo <= tol || fx.abs() <= 1e-11 {
             return Some(x);
         }
+        let thresh = fx + 2.0 * lip * (hi - lo);
+        s1 = s1
+            .iter()
+            .zip(&v.0)
+            .filter(|(_, c)| **c <= thresh)
+            .map(|(i, _)| *i)
+            .collect();
+        s2 = s2
+            .iter()
+            .zip(&v.1)
+            .filter(|(_, c)| **c <= thresh)
+            .map(|(i, _)| *i)
+            .collect();
     }
     Some(0.5 * (lo + hi))
 }
