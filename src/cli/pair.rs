@@ -63,8 +63,8 @@ pub struct Args {
     /// Chord tolerance of the exported contours, mm (default 1e-3·m).
     #[arg(long)]
     pub chord_tol: Option<f64>,
-    /// Driver positions checked by the mesh verification (0 = skip).
-    #[arg(long, default_value_t = 360)]
+    /// Driver positions checked by the mesh verification over one turn (0 = skip).
+    #[arg(long, default_value_t = 90)]
     pub verify_steps: usize,
     /// DXF version.
     #[arg(long, value_enum, default_value = "r2010")]

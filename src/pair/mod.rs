@@ -332,7 +332,7 @@ pub struct PairOptions {
 
 impl PairOptions {
     /// Defaults for `module_mm`: 20° rack, backlash 0.04·m, 4096 samples, chord 1e-3·m,
-    /// verification at chord 1e-6·m over 360 steps.
+    /// verification at chord 1e-6·m over 90 steps (every 4°).
     #[must_use]
     pub fn new(teeth: Option<u32>, module_mm: f64) -> Self {
         Self {
@@ -343,7 +343,7 @@ impl PairOptions {
             samples: 4096,
             chord_tol_mm: 1e-3 * module_mm,
             verify_chord_tol_mm: 1e-6 * module_mm,
-            verify_steps: 360,
+            verify_steps: 90,
         }
     }
 }

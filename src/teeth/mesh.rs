@@ -118,6 +118,38 @@ impl StarShape {
     }
 }
 
+/// Multiplicative hash for grid cells (the default SipHash dominated the profile).
+#[derive(Debug, Clone, Copy, Default)]
+pub struct FxBuild;
+
+/// Hasher of [`FxBuild`].
+#[derive(Debug, Clone, Copy, Default)]
+pub struct FxHasher(u64);
+
+impl std::hash::Hasher for FxHasher {
+    fn finish(&self) -> u64 {
+        self.0
+    }
+    fn write(&mut self, bytes: &[u8]) {
+        for b in bytes {
+            self.write_u64(u64::from(*b));
+        }
+    }
+    fn write_i64(&mut self, v: i64) {
+        self.write_u64(v as u64);
+    }
+    fn write_u64(&mut self, v: u64) {
+        self.0 = (self.0.rotate_left(5) ^ v).wrapping_mul(0x51_7c_c1_b7_27_22_0a_95);
+    }
+}
+
+impl std::hash::BuildHasher for FxBuild {
+    type Hasher = FxHasher;
+    fn build_hasher(&self) -> FxHasher {
+        FxHasher(0)
+    }
+}
+
 /// A closed CCW polyline with a uniform-grid segment index for signed distances near the
 /// boundary, and a polar table for the coarse inside/outside sign away from it.
 #[derive(Debug, Clone)]
@@ -125,7 +157,7 @@ pub struct Shape {
     pts: Vec<[f64; 2]>,
     polar: StarShape,
     cell: f64,
-    grid: std::collections::HashMap<(i64, i64), Vec<u32>>,
+    grid: std::collections::HashMap<(i64, i64), Vec<u32>, FxBuild>,
 }
 
 impl Shape {
@@ -137,8 +169,8 @@ impl Shape {
     ) -> Result<Self, MeshError> {
         let polar = StarShape::new(points_mm, which)?;
         let n = points_mm.len();
-        let mut grid: std::collections::HashMap<(i64, i64), Vec<u32>> =
-            std::collections::HashMap::new();
+        let mut grid: std::collections::HashMap<(i64, i64), Vec<u32>, FxBuild> =
+            std::collections::HashMap::default();
         for i in 0..n {
             let (a, b) = (points_mm[i], points_mm[(i + 1) % n]);
             let (x0, x1) = (
