@@ -53,7 +53,8 @@ pub enum TeethError {
     /// Undercut on at least one tooth (spec §12.4: no undercut iff ρc·sin²α ≥ h·m).
     #[error(
         "undercut on {count} tooth flank(s) (worst: tooth {worst_tooth}, {depth_mm:.4} mm deep); \
-         the largest module without undercut is {max_module_mm:.4} mm"
+         at this pitch-curve size the largest module without undercut is {max_module_mm:.4} mm; \
+         at this module use at least {min_teeth} teeth"
     )]
     Undercut {
         /// Number of undercut flanks.
@@ -64,6 +65,8 @@ pub enum TeethError {
         depth_mm: f64,
         /// Largest module without undercut at this pitch-curve curvature, mm.
         max_module_mm: f64,
+        /// Smallest tooth count without undercut at this module (curve rescaled to `zπm`).
+        min_teeth: u32,
     },
     /// Not enough tooth-space width for the rack tip (rack tip flat would be negative).
     #[error("rack tooth tip has no flat ({flat_mm:.4} mm): reduce ρf* or the backlash")]

@@ -317,6 +317,7 @@ pub fn generate_on(
             worst_tooth: worst.0,
             depth_mm: worst.1,
             max_module_mm: report.max_module_mm,
+            min_teeth: (f64::from(z) * m / report.max_module_mm).ceil() as u32,
         });
     }
     let (sa, ca) = rack.alpha_rad().sin_cos();

@@ -244,6 +244,7 @@ fn pair_centrode_solves_closure_and_meshes() {
     let law = Law::Centrode(Expr::parse("1 + 0.08*cos(2*phi)").unwrap());
     let err = design_pair(&law, &PairOptions::new(Some(20), 1.5)).unwrap_err();
     assert!(err.to_string().contains("undercut"), "{err}");
+    assert!(err.to_string().contains("at least 21 teeth"), "{err}");
     check_pair(law, 24, 1.5, "centrode");
 }
 
