@@ -43,7 +43,37 @@ def check(path):
         assert closed, f"{path}: open polyline on {layer}"
         assert len(pts) >= 3, f"{path}: polyline on {layer} has {len(pts)} vertices"
         assert math.dist(pts[0], pts[-1]) > 1e-9, f"{path}: duplicated end vertex on {layer}"
-    return ver, len(polys)
+    return ver, len(polys), polys
+
+
+def match_points(path, polys):
+    """DXF vertices must be a subset (within 1e-6 mm) of the unsimplified points written by the
+    test next to it (`<prefix>_points/<layer lower-case>.txt`, `x y 0` per line)."""
+    import bisect
+
+    stem = os.path.splitext(os.path.basename(path))[0]
+    checked = 0
+    for d in glob.glob(os.path.join(os.path.dirname(path), "*_points")):
+        prefix = os.path.basename(d)[: -len("_points")]
+        if not stem.startswith(prefix):
+            continue
+        for layer, pts, _closed in polys:
+            txt = os.path.join(d, layer.lower() + ".txt")
+            if not os.path.exists(txt):
+                continue
+            ref = sorted(tuple(map(float, line.split()[:2])) for line in open(txt) if line.strip())
+            xs = [p[0] for p in ref]
+            for x, y in pts:
+                i = bisect.bisect_left(xs, x - 1e-6)
+                ok = False
+                while i < len(ref) and ref[i][0] <= x + 1e-6:
+                    if abs(ref[i][1] - y) <= 1e-6:
+                        ok = True
+                        break
+                    i += 1
+                assert ok, f"{path}: vertex ({x}, {y}) on {layer} is not on the outline in {txt}"
+            checked += 1
+    return checked
 
 
 def main():
@@ -53,8 +83,9 @@ def main():
         print(f"no DXF files under {root}", file=sys.stderr)
         return 1
     for f in files:
-        ver, n = check(f)
-        print(f"ok {f}: {ver}, {n} closed polylines")
+        ver, n, polys = check(f)
+        m = match_points(f, polys)
+        print(f"ok {f}: {ver}, {n} closed polylines, {m} matched against the point lists")
     return 0
 
 
