@@ -1,7 +1,7 @@
 //! `ncgear pair`: a single non-circular gear pair from a motion law, a centrode or a CSV law,
 //! with rack-generated teeth, mesh verification and CAD exports. Thin shell over
 //! [`ncgear::pair`] and [`ncgear::export`].
-use super::{CliResult, Failure, print_json};
+use super::{CliResult, Failure, print_json, progress_bar};
 
 fn input_error(e: impl std::fmt::Display) -> Failure {
     super::input_error(miette::miette!("{e}"))
@@ -13,7 +13,7 @@ fn runtime_error(e: impl std::fmt::Display) -> Failure {
 use ncgear::export::dxf::{DxfVersion, write_dxf};
 use ncgear::export::points::write_points;
 use ncgear::export::svg::write_svg;
-use ncgear::pair::{Expr, Law, PairError, PairOptions, design_pair};
+use ncgear::pair::{Expr, Law, PairError, PairOptions, design_pair_with_progress};
 use ncgear::teeth::RackParams;
 use std::path::PathBuf;
 
@@ -105,7 +105,10 @@ pub fn run(args: Args) -> CliResult {
     if let Some(c) = args.chord_tol {
         opts.chord_tol_mm = c;
     }
-    let design = design_pair(&law, &opts).map_err(|e| match e {
+    let pb = progress_bar(opts.verify_steps as u64, "mesh check");
+    let design = design_pair_with_progress(&law, &opts, &|n| pb.inc(n));
+    pb.finish_and_clear();
+    let design = design.map_err(|e| match e {
         PairError::Teeth(_) | PairError::Mesh(_) => runtime_error(e),
         _ => input_error(e),
     })?;

@@ -383,6 +383,15 @@ pub struct PairDesign {
 /// the mating phase (driver tooth 0 centred at the contact of φ = 0, a driven space facing it),
 /// and the mesh verification over one turn.
 pub fn design_pair(law: &Law, opts: &PairOptions) -> Result<PairDesign, PairError> {
+    design_pair_with_progress(law, opts, &|_| {})
+}
+
+/// [`design_pair`] reporting mesh-verification progress (`progress(1)` per driver position).
+pub fn design_pair_with_progress(
+    law: &Law,
+    opts: &PairOptions,
+    progress: &(dyn Fn(u64) + Sync),
+) -> Result<PairDesign, PairError> {
     let m = opts.module_mm;
     if !(m.is_finite() && m > 0.0) {
         return Err(PairError::InvalidParameter {
@@ -475,7 +484,13 @@ pub fn design_pair(law: &Law, opts: &PairOptions) -> Result<PairDesign, PairErro
             angle_tol_rad: 1e-13,
         };
         let psi = |phi: f64| motion.psi(phi);
-        Some(verify_mesh(&v1.points_mm, &v2.points_mm, &psi, &check)?)
+        Some(verify_mesh(
+            &v1.points_mm,
+            &v2.points_mm,
+            &psi,
+            &check,
+            progress,
+        )?)
     } else {
         None
     };

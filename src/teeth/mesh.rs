@@ -301,6 +301,8 @@ struct Sample {
 /// Rolls `driver` (gear 1) and `driven` (gear 2) outlines (mm, CCW, body frames) through one driver
 /// turn with the motion law `psi(φ)` (driven CW rotation, rad; `psi(φ+2π) = psi(φ) + 2π`).
 ///
+/// `progress(1)` is called after each driver position.
+///
 /// Complexity: O(steps · window vertices · root iterations); parallel over steps (rayon),
 /// deterministic.
 pub fn verify_mesh(
@@ -308,6 +310,7 @@ pub fn verify_mesh(
     driven: &[[f64; 2]],
     psi: &(dyn Fn(f64) -> f64 + Sync),
     check: &MeshCheck,
+    progress: &(dyn Fn(u64) + Sync),
 ) -> Result<MeshReport, MeshError> {
     for (name, v) in [
         ("centre_distance_mm", check.centre_distance_mm),
@@ -438,6 +441,7 @@ pub fn verify_mesh(
                     };
                 }
             };
+            progress(1);
             Sample {
                 eps,
                 coast,
