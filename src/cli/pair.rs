@@ -1,13 +1,179 @@
-//! `ncgear pair`.
-use super::{CliResult, runtime_error};
+//! `ncgear pair`: a single non-circular gear pair from a motion law, a centrode or a CSV law,
+//! with rack-generated teeth, mesh verification and CAD exports. Thin shell over
+//! [`ncgear::pair`] and [`ncgear::export`].
+use super::{CliResult, Failure, print_json, progress_bar};
+
+fn input_error(e: impl std::fmt::Display) -> Failure {
+    super::input_error(miette::miette!("{e}"))
+}
+
+fn runtime_error(e: impl std::fmt::Display) -> Failure {
+    super::runtime_error(miette::miette!("{e}"))
+}
+use ncgear::export::dxf::{DxfVersion, write_dxf};
+use ncgear::export::points::write_points;
+use ncgear::export::svg::write_svg;
+use ncgear::pair::{Expr, Law, PairError, PairOptions, design_pair_with_progress};
+use ncgear::teeth::RackParams;
+use std::path::PathBuf;
+
+/// DXF flavour on the command line.
+#[derive(Debug, Clone, Copy, clap::ValueEnum)]
+pub enum DxfFlavour {
+    /// AutoCAD 2010, closed LWPOLYLINE (default).
+    R2010,
+    /// AutoCAD R12, POLYLINE/VERTEX, for old programs.
+    R12,
+}
 
 /// Arguments of `ncgear pair`.
 #[derive(Debug, clap::Args)]
-pub struct Args {}
+pub struct Args {
+    /// Motion law ψ(φ) in radians, e.g. "phi - 0.08*sin(2*phi)" (operators + - * / ^, phi, pi,
+    /// sin cos tan exp sqrt abs). Omit when using --centrode or --csv.
+    pub law: Option<String>,
+    /// Drive pitch radius at the contact r(φ), e.g. "1 + 0.08*cos(2*phi)"; the centre distance is
+    /// solved for closure and the shape scaled to the teeth.
+    #[arg(long, conflicts_with_all = ["law", "csv"])]
+    pub centrode: Option<String>,
+    /// CSV law file with header `phi_deg,psi_deg` (one driver turn, degrees).
+    #[arg(long, conflicts_with = "law")]
+    pub csv: Option<PathBuf>,
+    /// Tooth count of each gear (required for a motion or CSV law).
+    #[arg(long)]
+    pub teeth: Option<u32>,
+    /// Module, mm.
+    #[arg(long, default_value_t = 1.0)]
+    pub module: f64,
+    /// Rack pressure angle, degrees.
+    #[arg(long, default_value_t = 20.0)]
+    pub pressure_angle: f64,
+    /// Addendum factor ha*.
+    #[arg(long, default_value_t = 1.0)]
+    pub addendum: f64,
+    /// Clearance factor c*.
+    #[arg(long, default_value_t = 0.25)]
+    pub clearance: f64,
+    /// Rack tip-fillet radius factor ρf*.
+    #[arg(long, default_value_t = 0.38)]
+    pub fillet: f64,
+    /// Circumferential backlash of the pair on the pitch curve, mm (default 0.04·m).
+    #[arg(long)]
+    pub backlash: Option<f64>,
+    /// Chord tolerance of the exported contours, mm (default 1e-3·m).
+    #[arg(long)]
+    pub chord_tol: Option<f64>,
+    /// Driver positions checked by the mesh verification over one turn (0 = skip).
+    #[arg(long, default_value_t = 90)]
+    pub verify_steps: usize,
+    /// DXF version.
+    #[arg(long, value_enum, default_value = "r2010")]
+    pub dxf_version: DxfFlavour,
+    /// Output directory (created if missing; files are overwritten).
+    #[arg(long, short = 'o', default_value = "out")]
+    pub out: PathBuf,
+    /// Print the JSON report to stdout.
+    #[arg(long)]
+    pub json: bool,
+}
 
 /// Runs `ncgear pair`.
-pub fn run(_args: Args) -> CliResult {
-    Err(runtime_error(miette::miette!(
-        "`ncgear pair` is not built yet"
-    )))
+pub fn run(args: Args) -> CliResult {
+    let law = match (&args.law, &args.centrode, &args.csv) {
+        (Some(e), None, None) => Law::Motion(Expr::parse(e).map_err(input_error)?),
+        (None, Some(e), None) => Law::Centrode(Expr::parse(e).map_err(input_error)?),
+        (None, None, Some(p)) => Law::from_csv(p).map_err(input_error)?,
+        _ => {
+            return Err(input_error(miette::miette!(
+                "give exactly one of: a motion law, --centrode, --csv"
+            )));
+        }
+    };
+    let rack = RackParams::new(
+        args.pressure_angle.to_radians(),
+        args.addendum,
+        args.clearance,
+        args.fillet,
+    )
+    .map_err(input_error)?;
+    let mut opts = PairOptions::new(args.teeth, args.module);
+    opts.rack = rack;
+    opts.verify_steps = args.verify_steps;
+    if let Some(b) = args.backlash {
+        opts.backlash_mm = b;
+    }
+    if let Some(c) = args.chord_tol {
+        opts.chord_tol_mm = c;
+    }
+    let pb = progress_bar(opts.verify_steps as u64, "mesh check");
+    let design = design_pair_with_progress(&law, &opts, &|n| pb.inc(n));
+    pb.finish_and_clear();
+    let design = design.map_err(|e| match e {
+        PairError::Teeth(_) | PairError::Mesh(_) => runtime_error(e),
+        _ => input_error(e),
+    })?;
+    std::fs::create_dir_all(&args.out)
+        .map_err(|e| runtime_error(format!("cannot create {}: {e}", args.out.display())))?;
+    let sheet = design.assembly_sheet();
+    let version = match args.dxf_version {
+        DxfFlavour::R2010 => DxfVersion::R2010,
+        DxfFlavour::R12 => DxfVersion::R12,
+    };
+    let dxf = args.out.join("pair.dxf");
+    let svg = args.out.join("pair.svg");
+    write_dxf(&sheet, &dxf, version, opts.chord_tol_mm).map_err(runtime_error)?;
+    write_svg(&sheet, &svg, 2.0 * args.module).map_err(runtime_error)?;
+    let mut files = write_points(&sheet, &args.out, "pair_points").map_err(runtime_error)?;
+    files.push(dxf);
+    files.push(svg);
+    let report = serde_json::json!({
+        "tool": concat!("ncgear ", env!("CARGO_PKG_VERSION")),
+        "options": opts,
+        "z": design.z,
+        "module_mm": design.module_mm,
+        "centre_distance_mm": design.centre_distance_mm,
+        "perimeter_mm": design.perimeter_mm,
+        "ratio_range": design.ratio_range,
+        "driver_undercut": summary(&design.driver_undercut),
+        "driven_undercut": summary(&design.driven_undercut),
+        "mesh": design.mesh,
+        "files": files.iter().map(|p| p.display().to_string()).collect::<Vec<_>>(),
+    });
+    let json_path = args.out.join("pair.json");
+    std::fs::write(
+        &json_path,
+        serde_json::to_string_pretty(&report).unwrap_or_default(),
+    )
+    .map_err(|e| runtime_error(format!("cannot write {}: {e}", json_path.display())))?;
+    if args.json {
+        print_json(&report)?;
+    } else {
+        println!(
+            "z = {}, m = {} mm, a = {:.6} mm; outputs in {}",
+            design.z,
+            design.module_mm,
+            design.centre_distance_mm,
+            args.out.display()
+        );
+        if let Some(m) = &design.mesh {
+            println!(
+                "mesh: interference steps {}, backlash {:.4}..{:.4} mm, max transmission error {:.3e}°",
+                m.interference_steps,
+                m.min_backlash_mm,
+                m.max_backlash_mm,
+                m.max_transmission_error_deg
+            );
+        }
+    }
+    Ok(())
+}
+
+fn summary(u: &ncgear::teeth::UndercutReport) -> serde_json::Value {
+    serde_json::json!({
+        "undercut_flanks": u.undercut_count,
+        "concave_flanks": u.concave_count,
+        "min_rho_mm": u.min_rho_mm,
+        "required_rho_mm": u.required_rho_mm,
+        "max_module_mm": u.max_module_mm,
+    })
 }

@@ -1,0 +1,38 @@
+//! Benchmark of `ncgear pair` on the ncgears oracle law `phi - 0.08*sin(2*phi)`, 24 teeth, m 1.5:
+//! the design (law → pitch curves → rack-generated outlines, no verification), the design with
+//! a 36-step mesh verification, and the exports. Run: `cargo bench --bench pair`.
+use ncgear::export::dxf::{DxfVersion, write_dxf};
+use ncgear::export::svg::to_svg_string;
+use ncgear::pair::{Expr, Law, PairOptions, design_pair};
+
+fn main() {
+    divan::main();
+}
+
+fn law() -> Law {
+    Law::Motion(Expr::parse("phi - 0.08*sin(2*phi)").expect("valid law"))
+}
+
+#[divan::bench(sample_count = 10)]
+fn design_no_verification() {
+    let opts = PairOptions { verify_steps: 0, ..PairOptions::new(Some(24), 1.5) };
+    divan::black_box(design_pair(&law(), &opts).expect("pair"));
+}
+
+#[divan::bench(sample_count = 3)]
+fn design_with_36_step_verification() {
+    let opts = PairOptions { verify_steps: 36, ..PairOptions::new(Some(24), 1.5) };
+    divan::black_box(design_pair(&law(), &opts).expect("pair"));
+}
+
+#[divan::bench(sample_count = 10)]
+fn exports_svg_dxf(bencher: divan::Bencher) {
+    let opts = PairOptions { verify_steps: 0, ..PairOptions::new(Some(24), 1.5) };
+    let d = design_pair(&law(), &opts).expect("pair");
+    let sheet = d.assembly_sheet();
+    let path = std::env::temp_dir().join("ncgear_bench_pair.dxf");
+    bencher.bench(|| {
+        divan::black_box(to_svg_string(&sheet, 3.0));
+        write_dxf(&sheet, &path, DxfVersion::R2010, 1.5e-3).expect("dxf");
+    });
+}

@@ -1,0 +1,198 @@
+//! CAD exports of closed polylines in mm: SVG (mm-exact), DXF (R2010 LWPOLYLINE or R12 POLYLINE)
+//! and point lists (CSV with header, header-less `x y 0` TXT). Spec: peers-and-cad.md §6, §8.
+pub mod dxf;
+pub mod points;
+pub mod svg;
+
+use serde::Serialize;
+
+/// One named polyline on a layer, in mm.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Contour {
+    /// Name (e.g. `driver_outline`); used for point-list file names.
+    pub name: String,
+    /// Layer (e.g. `DRIVER_OUTLINE`, `DRIVER_PITCH`).
+    pub layer: String,
+    /// Vertices, mm. For closed contours, no duplicated end vertex.
+    pub points_mm: Vec<[f64; 2]>,
+    /// Closed contour.
+    pub closed: bool,
+}
+
+/// A named point (e.g. a gear centre), mm.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Marker {
+    /// Label.
+    pub name: String,
+    /// Layer (e.g. `CENTRES`).
+    pub layer: String,
+    /// Position, mm.
+    pub at_mm: [f64; 2],
+}
+
+/// A sheet: contours and markers, all in mm.
+#[derive(Debug, Clone, PartialEq, Default, Serialize)]
+pub struct Sheet {
+    /// Contours.
+    pub contours: Vec<Contour>,
+    /// Markers.
+    pub markers: Vec<Marker>,
+}
+
+/// Errors of the exporters.
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum ExportError {
+    /// Cannot write the file.
+    #[error("cannot write {path}: {source}")]
+    Io {
+        /// File path.
+        path: String,
+        /// Cause.
+        source: std::io::Error,
+    },
+    /// The DXF crate failed.
+    #[error("DXF writer failed for {path}: {message}")]
+    Dxf {
+        /// File path.
+        path: String,
+        /// Message.
+        message: String,
+    },
+    /// A contour has fewer than 3 vertices or a non-finite coordinate.
+    #[error("contour `{name}` is invalid: {what}")]
+    BadContour {
+        /// Contour name.
+        name: String,
+        /// What is wrong.
+        what: &'static str,
+    },
+    /// Bad option.
+    #[error("invalid export option `{name}` = {value}: {expected}")]
+    InvalidOption {
+        /// Name.
+        name: &'static str,
+        /// Value.
+        value: f64,
+        /// Expectation.
+        expected: &'static str,
+    },
+}
+
+impl Sheet {
+    /// Bounding box `[xmin, ymin, xmax, ymax]` of all contours and markers, mm.
+    #[must_use]
+    pub fn bbox_mm(&self) -> [f64; 4] {
+        let mut b = [
+            f64::INFINITY,
+            f64::INFINITY,
+            f64::NEG_INFINITY,
+            f64::NEG_INFINITY,
+        ];
+        let pts = self
+            .contours
+            .iter()
+            .flat_map(|c| c.points_mm.iter())
+            .chain(self.markers.iter().map(|m| &m.at_mm));
+        for p in pts {
+            b = [
+                b[0].min(p[0]),
+                b[1].min(p[1]),
+                b[2].max(p[0]),
+                b[3].max(p[1]),
+            ];
+        }
+        b
+    }
+
+    pub(crate) fn validate(&self) -> Result<(), ExportError> {
+        for c in &self.contours {
+            if c.points_mm.len() < 3 {
+                return Err(ExportError::BadContour {
+                    name: c.name.clone(),
+                    what: "fewer than 3 vertices",
+                });
+            }
+            if c.points_mm
+                .iter()
+                .any(|p| !(p[0].is_finite() && p[1].is_finite()))
+            {
+                return Err(ExportError::BadContour {
+                    name: c.name.clone(),
+                    what: "non-finite coordinate",
+                });
+            }
+        }
+        Ok(())
+    }
+
+    /// Sorted unique layer names.
+    #[must_use]
+    pub fn layers(&self) -> Vec<String> {
+        let mut l: Vec<String> = self
+            .contours
+            .iter()
+            .map(|c| c.layer.clone())
+            .chain(self.markers.iter().map(|m| m.layer.clone()))
+            .collect();
+        l.sort();
+        l.dedup();
+        l
+    }
+}
+
+/// Simplifies a closed polyline so that no removed vertex deviates more than `tol_mm` from the
+/// kept chords (Douglas–Peucker on the two halves split at the farthest vertex from vertex 0).
+#[must_use]
+pub fn simplify_closed(points_mm: &[[f64; 2]], tol_mm: f64) -> Vec<[f64; 2]> {
+    let n = points_mm.len();
+    if n < 4 {
+        return points_mm.to_vec();
+    }
+    let p0 = points_mm[0];
+    let far = (1..n)
+        .max_by(|&a, &b| {
+            let da = (points_mm[a][0] - p0[0]).hypot(points_mm[a][1] - p0[1]);
+            let db = (points_mm[b][0] - p0[0]).hypot(points_mm[b][1] - p0[1]);
+            da.total_cmp(&db)
+        })
+        .unwrap_or(n / 2);
+    let mut keep = vec![false; n];
+    keep[0] = true;
+    keep[far] = true;
+    let mut stack = vec![(0usize, far), (far, n)];
+    while let Some((a, b)) = stack.pop() {
+        if b <= a + 1 {
+            continue;
+        }
+        let pa = points_mm[a];
+        let pb = points_mm[b % n];
+        let (dx, dy) = (pb[0] - pa[0], pb[1] - pa[1]);
+        let l = dx.hypot(dy).max(1e-300);
+        let mut worst = (0.0, a);
+        for (i, p) in points_mm.iter().enumerate().take(b).skip(a + 1) {
+            let d = ((p[0] - pa[0]) * dy - (p[1] - pa[1]) * dx).abs() / l;
+            if d > worst.0 {
+                worst = (d, i);
+            }
+        }
+        if worst.0 > tol_mm {
+            keep[worst.1] = true;
+            stack.push((a, worst.1));
+            stack.push((worst.1, b));
+        }
+    }
+    points_mm
+        .iter()
+        .zip(keep)
+        .filter(|(_, k)| *k)
+        .map(|(p, _)| *p)
+        .collect()
+}
+
+pub(crate) fn io_err(path: &std::path::Path, source: std::io::Error) -> ExportError {
+    ExportError::Io {
+        path: path.display().to_string(),
+        source,
+    }
+}

@@ -1,0 +1,150 @@
+//! Arc-length frame of a pitch curve (spec §12.2): `P(s)`, unit tangent `T(s)`, outward normal
+//! `N(s) = (T_y, −T_x)`, curvature `κ(s)` (> 0 convex), `s ∈ [0, L)` CCW from body angle 0.
+use crate::pitch::PitchCurve;
+use std::f64::consts::TAU;
+
+/// Arc-length parametrisation of a [`PitchCurve`] (mm).
+///
+/// A table of `(θ_j, s_j)` on a uniform θ grid aligned with the curve's spline knots (5-point
+/// Gauss–Legendre per interval, exact to rounding for the smooth speed within a spline piece);
+/// `θ(s)` is a cubic Hermite interpolant using `dθ/ds = 1/√(r² + r_θ²)`, error `O(h⁴)` with
+/// `h = 2π/(8n)`.
+#[derive(Debug, Clone)]
+pub struct ArcFrame {
+    curve: PitchCurve,
+    theta: Vec<f64>,
+    s: Vec<f64>,
+    dtheta: Vec<f64>,
+    length: f64,
+}
+
+/// Frame at one arc-length position.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct FramePoint {
+    /// Point on the pitch curve, mm.
+    pub p: [f64; 2],
+    /// Unit tangent (CCW).
+    pub t: [f64; 2],
+    /// Outward unit normal.
+    pub n: [f64; 2],
+    /// Curvature, 1/mm (> 0 convex).
+    pub kappa: f64,
+    /// Body polar angle, rad.
+    pub theta: f64,
+}
+
+impl ArcFrame {
+    /// Builds the arc-length table.
+    #[must_use]
+    pub fn new(curve: &PitchCurve) -> Self {
+        const X: [f64; 5] = [
+            -0.906_179_845_938_664,
+            -0.538_469_310_105_683,
+            0.0,
+            0.538_469_310_105_683,
+            0.906_179_845_938_664,
+        ];
+        const W: [f64; 5] = [
+            0.236_926_885_056_189,
+            0.478_628_670_499_366,
+            0.568_888_888_888_889,
+            0.478_628_670_499_366,
+            0.236_926_885_056_189,
+        ];
+        let n = curve.len() * (32768 / curve.len()).max(4);
+        let h = TAU / n as f64;
+        let mut theta = Vec::with_capacity(n + 1);
+        let mut s = Vec::with_capacity(n + 1);
+        let mut dtheta = Vec::with_capacity(n + 1);
+        let mut acc = 0.0;
+        for j in 0..=n {
+            let th = j as f64 * h;
+            theta.push(th);
+            s.push(acc);
+            dtheta.push(1.0 / curve.geometry(th).speed_mm());
+            let mid = th + 0.5 * h;
+            let mut seg = 0.0;
+            for (x, w) in X.iter().zip(W) {
+                seg += w * curve.geometry(mid + 0.5 * h * x).speed_mm();
+            }
+            acc += 0.5 * h * seg;
+        }
+        let length = s[n];
+        Self {
+            curve: curve.clone(),
+            theta,
+            s,
+            dtheta,
+            length,
+        }
+    }
+
+    /// Perimeter `L`, mm.
+    #[must_use]
+    pub fn length_mm(&self) -> f64 {
+        self.length
+    }
+
+    /// The pitch curve.
+    #[must_use]
+    pub fn curve(&self) -> &PitchCurve {
+        &self.curve
+    }
+
+    /// Body polar angle at arc length `s_mm` (any real; periodic in `L`), rad.
+    #[must_use]
+    pub fn theta_at(&self, s_mm: f64) -> f64 {
+        let turns = (s_mm / self.length).floor();
+        let s = s_mm - turns * self.length;
+        let n = self.s.len() - 1;
+        let mut j = ((s / self.length) * n as f64) as usize;
+        j = j.min(n - 1);
+        while j > 0 && self.s[j] > s {
+            j -= 1;
+        }
+        while j + 1 < n && self.s[j + 1] <= s {
+            j += 1;
+        }
+        let (s0, s1) = (self.s[j], self.s[j + 1]);
+        let hs = s1 - s0;
+        let u = (s - s0) / hs;
+        let (u2, u3) = (u * u, u * u * u);
+        let th = (2.0 * u3 - 3.0 * u2 + 1.0) * self.theta[j]
+            + (u3 - 2.0 * u2 + u) * hs * self.dtheta[j]
+            + (-2.0 * u3 + 3.0 * u2) * self.theta[j + 1]
+            + (u3 - u2) * hs * self.dtheta[j + 1];
+        th + turns * TAU
+    }
+
+    /// Frame at arc length `s_mm`.
+    #[must_use]
+    pub fn at(&self, s_mm: f64) -> FramePoint {
+        let theta = self.theta_at(s_mm);
+        let g = self.curve.geometry(theta);
+        let (sn, cs) = theta.sin_cos();
+        let p = [g.r_mm * cs, g.r_mm * sn];
+        let d = [g.dr_mm * cs - g.r_mm * sn, g.dr_mm * sn + g.r_mm * cs];
+        let v = g.speed_mm();
+        let t = [d[0] / v, d[1] / v];
+        let n = [t[1], -t[0]];
+        let kappa = g.convexity_mm2() / (v * v * v);
+        FramePoint {
+            p,
+            t,
+            n,
+            kappa,
+            theta,
+        }
+    }
+
+    /// Maps rack coordinates `(ξ, η)` (ξ along the rolling arc, η along the outward normal) with
+    /// the rack tangent at `P(s)` to the body frame: `P(s) + (ξ − s)T(s) + ηN(s)` (spec §12.3).
+    #[must_use]
+    pub fn rack_to_body(f: &FramePoint, s_mm: f64, xi: f64, eta: f64) -> [f64; 2] {
+        let u = xi - s_mm;
+        [
+            f.p[0] + u * f.t[0] + eta * f.n[0],
+            f.p[1] + u * f.t[1] + eta * f.n[1],
+        ]
+    }
+}

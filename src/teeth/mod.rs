@@ -1,0 +1,201 @@
+//! Involute teeth on non-circular pitch curves, generated as the envelope of a basic rack rolling
+//! on the pitch curve, plus tooth count, undercut detection and mesh verification.
+//!
+//! Spec: design-chain §12 (12.1 tooth count, 12.2 arc-length frame, 12.3 rack generation,
+//! 12.4 undercut). Lengths in mm, angles in radians.
+//!
+//! Public vocabulary:
+//! - [`RackParams`]: the basic rack (α, ha*, c*, ρf*), validated.
+//! - [`tooth_count`] with a [`ToothPolicy`]: integer z and the scale factor applied to the curve.
+//! - [`generate_outline`]: one simple closed CCW outline (mm, body frame) per gear.
+//! - [`undercut_report`]: per-tooth undercut / concavity diagnostics.
+//! - [`mesh::verify_mesh`]: roll two outlines through a cycle (interference, backlash,
+//!   transmission error).
+
+mod frame;
+pub mod mesh;
+
+mod rack;
+
+pub use frame::ArcFrame;
+pub mod outline;
+pub use outline::{Outline, OutlineOptions, generate_outline};
+pub use rack::RackParams;
+
+use crate::pitch::PitchCurve;
+use serde::Serialize;
+
+/// Errors of tooth generation.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[non_exhaustive]
+pub enum TeethError {
+    /// A parameter is out of range.
+    #[error("invalid parameter `{name}` = {value}: {expected}")]
+    InvalidParameter {
+        /// Parameter name.
+        name: &'static str,
+        /// Given value.
+        value: f64,
+        /// What is expected.
+        expected: &'static str,
+    },
+    /// The pitch curve is concave somewhere: a rack cannot cut a concave arc (spec §12.4).
+    #[error(
+        "pitch curve is concave near tooth {tooth} (min signed radius of curvature {min_rho_mm:.4} mm): \
+         a rack cannot cut a concave arc; a shaper cutter is not implemented"
+    )]
+    Concave {
+        /// First tooth index on a concave stretch.
+        tooth: usize,
+        /// Most negative radius of curvature, mm.
+        min_rho_mm: f64,
+    },
+    /// Undercut on at least one tooth (spec §12.4: no undercut iff ρc·sin²α ≥ h·m).
+    #[error(
+        "undercut on {count} tooth flank(s) (worst: tooth {worst_tooth}, {depth_mm:.4} mm deep); \
+         at this pitch-curve size the largest module without undercut is {max_module_mm:.4} mm; \
+         at this module use at least {min_teeth} teeth"
+    )]
+    Undercut {
+        /// Number of undercut flanks.
+        count: usize,
+        /// Tooth with the deepest undercut.
+        worst_tooth: usize,
+        /// Depth of the undercut below the cusp, mm.
+        depth_mm: f64,
+        /// Largest module without undercut at this pitch-curve curvature, mm.
+        max_module_mm: f64,
+        /// Smallest tooth count without undercut at this module (curve rescaled to `zπm`).
+        min_teeth: u32,
+    },
+    /// Not enough tooth-space width for the rack tip (rack tip flat would be negative).
+    #[error("rack tooth tip has no flat ({flat_mm:.4} mm): reduce ρf* or the backlash")]
+    NoRackTipFlat {
+        /// Width of the rack tip flat, mm (negative).
+        flat_mm: f64,
+    },
+    /// A trimming step failed (flank did not meet the addendum curve).
+    #[error("could not trim tooth {tooth}: {what}")]
+    Trim {
+        /// Tooth index.
+        tooth: usize,
+        /// What failed.
+        what: &'static str,
+    },
+}
+
+/// How the tooth count is made an integer (spec §12.1, option 1: scale the centre distance).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[non_exhaustive]
+pub enum ToothPolicy {
+    /// `z = ⌈L/(πm)⌉`, curve scaled up (never increases undercut risk).
+    ScaleUp,
+    /// `z = round(L/(πm))`.
+    Nearest,
+    /// `z = ⌊L/(πm)⌋`, curve scaled down.
+    ScaleDown,
+    /// A given z (the curve is scaled to fit exactly).
+    Exact(u32),
+}
+
+/// Result of [`tooth_count`].
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct ToothCount {
+    /// Integer tooth count.
+    pub z: u32,
+    /// Perimeter of the given curve, mm.
+    pub perimeter_mm: f64,
+    /// Non-integer tooth count `L/(πm)` before scaling.
+    pub z_raw: f64,
+    /// Scale factor `zπm/L` to apply to the curve (and to the centre distance and l1).
+    pub scale: f64,
+}
+
+/// Tooth count of a pitch curve at `module_mm`: `L = z·π·m` (spec §12.1).
+///
+/// `accuracy_mm` is the perimeter accuracy. Errors if the module is not positive/finite or z < 3.
+pub fn tooth_count(
+    curve: &PitchCurve,
+    module_mm: f64,
+    policy: ToothPolicy,
+    accuracy_mm: f64,
+) -> Result<ToothCount, TeethError> {
+    if !(module_mm.is_finite() && module_mm > 0.0) {
+        return Err(TeethError::InvalidParameter {
+            name: "module_mm",
+            value: module_mm,
+            expected: "finite and > 0",
+        });
+    }
+    let l = curve.perimeter_mm(accuracy_mm);
+    let z_raw = l / (std::f64::consts::PI * module_mm);
+    let z = match policy {
+        ToothPolicy::ScaleUp => z_raw.ceil(),
+        ToothPolicy::Nearest => z_raw.round(),
+        ToothPolicy::ScaleDown => z_raw.floor(),
+        ToothPolicy::Exact(z) => f64::from(z),
+    };
+    if !(3.0..=1.0e5).contains(&z) {
+        return Err(TeethError::InvalidParameter {
+            name: "z",
+            value: z,
+            expected: "a tooth count between 3 and 100000",
+        });
+    }
+    Ok(ToothCount {
+        z: z as u32,
+        perimeter_mm: l,
+        z_raw,
+        scale: z / z_raw,
+    })
+}
+
+/// Scales a pitch curve by `factor` (all radii), e.g. with [`ToothCount::scale`].
+pub fn scale_curve(
+    curve: &PitchCurve,
+    factor: f64,
+) -> Result<PitchCurve, crate::pitch::PitchError> {
+    PitchCurve::from_uniform_radii(curve.radii_mm().iter().map(|r| r * factor).collect())
+}
+
+/// Undercut / concavity diagnostics of one tooth flank (spec §12.4).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct FlankUndercut {
+    /// Tooth index (tooth k is centred at `s_k = s0 + k·p`).
+    pub tooth: usize,
+    /// `"left"` (smaller arc length) or `"right"` flank.
+    pub side: &'static str,
+    /// Arc-length position of the flank's pitch point, mm.
+    pub s_mm: f64,
+    /// Minimum signed radius of curvature of the pitch curve over the generating range, mm.
+    pub min_rho_mm: f64,
+    /// Depth of the envelope cusp below the pitch curve `ρc·sin²α`, mm (∞ if concave-free & flat).
+    pub cusp_depth_mm: f64,
+    /// Depth generated by the straight rack flank `h_straight`, mm.
+    pub flank_depth_mm: f64,
+    /// Whether the envelope has a cusp within the straight-flank range (numerical sign test).
+    pub undercut: bool,
+    /// Undercut depth `max(0, h_straight − ρc·sin²α)`, mm.
+    pub undercut_mm: f64,
+    /// Whether the generating stretch is concave (κ < 0).
+    pub concave: bool,
+}
+
+/// Per-tooth undercut report.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct UndercutReport {
+    /// One entry per flank (2 per tooth).
+    pub flanks: Vec<FlankUndercut>,
+    /// Minimum radius of curvature of the pitch curve over all generating ranges, mm.
+    pub min_rho_mm: f64,
+    /// Required radius of curvature for no undercut, `h_straight / sin²α`, mm.
+    pub required_rho_mm: f64,
+    /// Largest module without undercut: `m·ρmin/required_rho`, mm.
+    pub max_module_mm: f64,
+    /// Number of undercut flanks.
+    pub undercut_count: usize,
+    /// Number of flanks on a concave stretch.
+    pub concave_count: usize,
+}
+
+pub use outline::undercut_report;

@@ -1,0 +1,403 @@
+//! Rack-envelope tooth outline (spec §12.3) and undercut report (spec §12.4).
+//!
+//! For tooth k centred at `s_k = s0 + k·p` (p = πm), the right (larger-s) flank crosses the pitch
+//! curve at `s_r = s_k + p/4 − t_r` and the left at `s_l = s_k − p/4 + t_l` (`t_*` = thinning for
+//! backlash). In rack coordinates relative to the rolling position `s` the generated pieces are
+//! (normal-through-the-instant-centre rule, exact):
+//! - right flank `Q − P = (s_r − s)cos α·(cos α, sin α)`, depth `η = (s_r − s) sin α cos α`;
+//! - left flank `Q − P = (s_l − s)cos α·(cos α, −sin α)`;
+//! - fillet of the rack tip circle, centre `C`, `F = C + ρf·(C − P)/|C − P|`;
+//! - root `η = −hf` at `ξ = s`; tip: the addendum curve `P(u) + ha·N(u)`, trimmed at its
+//!   intersection with the flanks (2-D Newton).
+//!
+//! Each point maps to the body frame by `P(s) + (ξ − s)T(s) + ηN(s)`.
+use super::frame::{ArcFrame, FramePoint};
+use super::{FlankUndercut, RackParams, TeethError, UndercutReport};
+use crate::pitch::PitchCurve;
+use serde::Serialize;
+
+/// Options of [`generate_outline`].
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct OutlineOptions {
+    /// Arc-length position of the centre of tooth 0, mm (the mating phase).
+    pub phase_mm: f64,
+    /// Thinning of the left (smaller-s) flank, mm of arc on the pitch curve.
+    pub thin_left_mm: f64,
+    /// Thinning of the right (larger-s) flank, mm of arc on the pitch curve.
+    pub thin_right_mm: f64,
+    /// Maximum chord sag of the polyline, mm (estimated with a radius of curvature ≥ m on flanks,
+    /// root and tip, and ρf on fillets).
+    pub chord_tol_mm: f64,
+}
+
+impl OutlineOptions {
+    /// Options with tooth 0 at `phase_mm`, no backlash and chord tolerance `chord_tol_mm`.
+    #[must_use]
+    pub fn new(phase_mm: f64, chord_tol_mm: f64) -> Self {
+        Self {
+            phase_mm,
+            thin_left_mm: 0.0,
+            thin_right_mm: 0.0,
+            chord_tol_mm,
+        }
+    }
+}
+
+/// A generated gear outline: one simple closed CCW polyline in the gear body frame, mm
+/// (no duplicated end vertex).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Outline {
+    /// Vertices, mm, CCW, closed implicitly.
+    pub points_mm: Vec<[f64; 2]>,
+    /// Tooth count.
+    pub z: u32,
+    /// Module, mm.
+    pub module_mm: f64,
+    /// Undercut/concavity diagnostics.
+    pub undercut: UndercutReport,
+}
+
+struct Gen<'a> {
+    frame: &'a ArcFrame,
+    ha: f64,
+    hf: f64,
+    rho: f64,
+    hs: f64,
+    sa: f64,
+    ca: f64,
+}
+
+impl Gen<'_> {
+    fn map(&self, s: f64, xi: f64, eta: f64) -> [f64; 2] {
+        let f = self.frame.at(s);
+        ArcFrame::rack_to_body(&f, s, xi, eta)
+    }
+    /// Flank point; `sign` = +1 right flank, −1 left flank.
+    fn flank(&self, sf: f64, sign: f64, s: f64) -> [f64; 2] {
+        let d = (sf - s) * self.ca;
+        self.map(s, s + d * self.ca, sign * d * self.sa)
+    }
+    fn fillet(&self, xc: f64, s: f64) -> [f64; 2] {
+        let ec = -(self.hf - self.rho);
+        let (dx, dy) = (xc - s, ec);
+        let l = dx.hypot(dy);
+        self.map(s, xc + self.rho * dx / l, ec + self.rho * dy / l)
+    }
+    fn tip(&self, u: f64) -> [f64; 2] {
+        let f = self.frame.at(u);
+        [f.p[0] + self.ha * f.n[0], f.p[1] + self.ha * f.n[1]]
+    }
+    /// Solves flank(s) = tip(u) by Newton from the flat-rack guess.
+    fn trim_tip(&self, sf: f64, sign: f64) -> Option<(f64, f64)> {
+        let sc = self.sa * self.ca;
+        let mut s = sf - sign * self.ha / sc;
+        let mut u = s + (sf - s) * self.ca * self.ca;
+        for _ in 0..50 {
+            let q = self.flank(sf, sign, s);
+            let t = self.tip(u);
+            let r = [q[0] - t[0], q[1] - t[1]];
+            if r[0].hypot(r[1]) < 1e-13 {
+                return Some((s, u));
+            }
+            let h = 1e-6;
+            let qs = self.flank(sf, sign, s + h);
+            let tu = self.tip(u + h);
+            let a = [(qs[0] - q[0]) / h, (qs[1] - q[1]) / h];
+            let b = [-(tu[0] - t[0]) / h, -(tu[1] - t[1]) / h];
+            let det = a[0] * b[1] - a[1] * b[0];
+            if det.abs() < 1e-300 {
+                return None;
+            }
+            let ds = (r[0] * b[1] - r[1] * b[0]) / det;
+            let du = (a[0] * r[1] - a[1] * r[0]) / det;
+            s -= ds;
+            u -= du;
+            if !(s.is_finite() && u.is_finite()) {
+                return None;
+            }
+        }
+        let q = self.flank(sf, sign, s);
+        let t = self.tip(u);
+        ((q[0] - t[0]).hypot(q[1] - t[1]) < 1e-9).then_some((s, u))
+    }
+}
+
+fn push_piece(
+    out: &mut Vec<[f64; 2]>,
+    from: f64,
+    to: f64,
+    step_mm: f64,
+    f: impl Fn(f64) -> [f64; 2],
+) {
+    // Estimate the spatial length with 8 chords, then sample uniformly in the parameter.
+    let mut len = 0.0;
+    let mut prev = f(from);
+    for k in 1..=8 {
+        let q = f(from + (to - from) * k as f64 / 8.0);
+        len += (q[0] - prev[0]).hypot(q[1] - prev[1]);
+        prev = q;
+    }
+    let n = ((len / step_mm).ceil() as usize).clamp(2, 1_000_000);
+    // Start vertex excluded: pieces join exactly, each piece emits (from, to].
+    for k in 1..=n {
+        out.push(f(from + (to - from) * k as f64 / n as f64));
+    }
+}
+
+/// Undercut and concavity report of a toothed pitch curve (spec §12.4).
+///
+/// For each flank the sign of `sin α + η κ(s)/sin α` (the envelope speed factor) is checked over
+/// the generating range below the pitch curve; a sign change is an undercut (cusp at depth
+/// `ρc·sin²α`). A flank whose generating range meets `κ < 0` is concave (cannot be rack-cut).
+pub fn undercut_report(
+    curve: &PitchCurve,
+    rack: &RackParams,
+    z: u32,
+    module_mm: f64,
+    opts: &OutlineOptions,
+) -> Result<UndercutReport, TeethError> {
+    let frame = ArcFrame::new(curve);
+    Ok(report_on(&frame, rack, z, module_mm, opts))
+}
+
+fn report_on(
+    frame: &ArcFrame,
+    rack: &RackParams,
+    z: u32,
+    m: f64,
+    opts: &OutlineOptions,
+) -> UndercutReport {
+    let p = frame.length_mm() / f64::from(z);
+    let (sa, ca) = rack.alpha_rad().sin_cos();
+    let sc = sa * ca;
+    let hs = rack.straight_depth() * m;
+    let ha = rack.addendum() * m;
+    let mut flanks = Vec::with_capacity(2 * z as usize);
+    for k in 0..z as usize {
+        let sk = opts.phase_mm + k as f64 * p;
+        for (side, sign, sf) in [
+            ("left", -1.0, sk - 0.25 * p + opts.thin_left_mm),
+            ("right", 1.0, sk + 0.25 * p - opts.thin_right_mm),
+        ] {
+            let mut worst = f64::INFINITY;
+            let mut kmax = f64::NEG_INFINITY;
+            let mut kmin = f64::INFINITY;
+            let n = 48;
+            for j in 0..=n {
+                // η from +ha (tip) down to −hs
+                let eta = ha - (ha + hs) * j as f64 / n as f64;
+                let s = sf - sign * eta / sc;
+                let fp: FramePoint = frame.at(s);
+                kmax = kmax.max(fp.kappa);
+                kmin = kmin.min(fp.kappa);
+                if eta < 0.0 {
+                    worst = worst.min(sa + eta * fp.kappa / sa);
+                }
+            }
+            let rho = 1.0 / kmax;
+            let cusp = if kmax > 0.0 {
+                rho * sa * sa
+            } else {
+                f64::INFINITY
+            };
+            let undercut = worst < 0.0;
+            flanks.push(FlankUndercut {
+                tooth: k,
+                side,
+                s_mm: sf,
+                min_rho_mm: if kmin <= 0.0 { 1.0 / kmin } else { rho },
+                cusp_depth_mm: cusp,
+                flank_depth_mm: hs,
+                undercut,
+                undercut_mm: if undercut { (hs - cusp).max(0.0) } else { 0.0 },
+                concave: kmin <= 0.0,
+            });
+        }
+    }
+    let required = rack.undercut_limit_rho_mm(m);
+    let rho_convex = flanks
+        .iter()
+        .filter(|f| !f.concave)
+        .map(|f| f.min_rho_mm)
+        .fold(f64::INFINITY, f64::min);
+    UndercutReport {
+        undercut_count: flanks.iter().filter(|f| f.undercut).count(),
+        concave_count: flanks.iter().filter(|f| f.concave).count(),
+        min_rho_mm: flanks
+            .iter()
+            .map(|f| f.min_rho_mm)
+            .fold(f64::INFINITY, f64::min),
+        required_rho_mm: required,
+        max_module_mm: m * rho_convex / required,
+        flanks,
+    }
+}
+
+/// Generates the toothed outline of `curve` with `z` teeth of module `module_mm` (spec §12.3).
+///
+/// Requirements: `L = z·π·m` to within 1e-6 relative (scale the curve with
+/// [`super::tooth_count`] first); the curve convex along every generating range; no undercut.
+/// Otherwise a typed error: [`TeethError::Concave`] (a rack cannot cut a concave arc) or
+/// [`TeethError::Undercut`] with the largest module that works.
+///
+/// Guarantees: the outline is the exact rack envelope sampled with chord sag ≤ `chord_tol_mm`
+/// (for curvature radii ≥ m on flanks), closed, CCW, no duplicate end vertex.
+/// Complexity: O(number of vertices).
+pub fn generate_outline(
+    curve: &PitchCurve,
+    rack: &RackParams,
+    z: u32,
+    module_mm: f64,
+    opts: &OutlineOptions,
+) -> Result<Outline, TeethError> {
+    let frame = ArcFrame::new(curve);
+    generate_on(&frame, rack, z, module_mm, opts)
+}
+
+/// [`generate_outline`] on a prebuilt [`ArcFrame`] (saves the arc-length table).
+pub fn generate_on(
+    frame: &ArcFrame,
+    rack: &RackParams,
+    z: u32,
+    module_mm: f64,
+    opts: &OutlineOptions,
+) -> Result<Outline, TeethError> {
+    let m = module_mm;
+    if !(m.is_finite() && m > 0.0) {
+        return Err(TeethError::InvalidParameter {
+            name: "module_mm",
+            value: m,
+            expected: "finite and > 0",
+        });
+    }
+    if !(opts.chord_tol_mm.is_finite() && opts.chord_tol_mm > 0.0) {
+        return Err(TeethError::InvalidParameter {
+            name: "chord_tol_mm",
+            value: opts.chord_tol_mm,
+            expected: "finite and > 0",
+        });
+    }
+    let l = frame.length_mm();
+    let zf = f64::from(z);
+    if z < 3 || ((l / (std::f64::consts::PI * m)) - zf).abs() > 1e-6 * zf {
+        return Err(TeethError::InvalidParameter {
+            name: "z",
+            value: zf,
+            expected: "L/(π·m) (scale the pitch curve to an integer tooth count first)",
+        });
+    }
+    let p = l / zf;
+    for (name, v) in [
+        ("thin_left_mm", opts.thin_left_mm),
+        ("thin_right_mm", opts.thin_right_mm),
+    ] {
+        if !(v.is_finite() && (0.0..0.25 * p).contains(&v)) {
+            return Err(TeethError::InvalidParameter {
+                name,
+                value: v,
+                expected: "in [0, p/4)",
+            });
+        }
+    }
+    let report = report_on(frame, rack, z, m, opts);
+    if let Some(f) = report.flanks.iter().find(|f| f.concave) {
+        return Err(TeethError::Concave {
+            tooth: f.tooth,
+            min_rho_mm: report.min_rho_mm,
+        });
+    }
+    if report.undercut_count > 0 {
+        let worst = report
+            .flanks
+            .iter()
+            .max_by(|a, b| a.undercut_mm.total_cmp(&b.undercut_mm))
+            .map_or((0, 0.0), |f| (f.tooth, f.undercut_mm));
+        return Err(TeethError::Undercut {
+            count: report.undercut_count,
+            worst_tooth: worst.0,
+            depth_mm: worst.1,
+            max_module_mm: report.max_module_mm,
+            min_teeth: (f64::from(z) * m / report.max_module_mm).ceil() as u32,
+        });
+    }
+    let (sa, ca) = rack.alpha_rad().sin_cos();
+    let g = Gen {
+        frame,
+        ha: rack.addendum() * m,
+        hf: (rack.addendum() + rack.clearance()) * m,
+        rho: rack.fillet() * m,
+        hs: rack.straight_depth() * m,
+        sa,
+        ca,
+    };
+    let sc = sa * ca;
+    let ta = sa / ca;
+    let step = (8.0 * opts.chord_tol_mm * m).sqrt();
+    let step_f = if g.rho > 0.0 {
+        (8.0 * opts.chord_tol_mm * g.rho).sqrt()
+    } else {
+        step
+    };
+    let fillet_span = (g.hf - g.rho) / ta;
+    // Rack tip flat between the two fillet centres.
+    let flat =
+        p - (p * 0.5 - opts.thin_left_mm - opts.thin_right_mm) - 2.0 * (g.hs * ta + g.rho * ca);
+    if flat <= 0.0 {
+        return Err(TeethError::NoRackTipFlat { flat_mm: flat });
+    }
+    let mut out = Vec::new();
+    for k in 0..z as usize {
+        let sk = opts.phase_mm + k as f64 * p;
+        let sl = sk - 0.25 * p + opts.thin_left_mm;
+        let sr = sk + 0.25 * p - opts.thin_right_mm;
+        let (s_tip_l, ul) = g.trim_tip(sl, -1.0).ok_or(TeethError::Trim {
+            tooth: k,
+            what: "left flank meets no tip",
+        })?;
+        let (s_tip_r, ur) = g.trim_tip(sr, 1.0).ok_or(TeethError::Trim {
+            tooth: k,
+            what: "right flank meets no tip",
+        })?;
+        if ur <= ul {
+            return Err(TeethError::Trim {
+                tooth: k,
+                what: "pointed tooth (tip width ≤ 0)",
+            });
+        }
+        // Left fillet of tooth k: centre, span; then left flank from η = −hs up to the tip.
+        let xcl = sl - g.hs * ta - g.rho * ca;
+        // Root from the previous tooth's right fillet centre to this left fillet centre is emitted
+        // by the previous tooth; here: left fillet (s decreasing from xcl).
+        push_piece(&mut out, xcl, xcl - fillet_span, step_f, |s| {
+            g.fillet(xcl, s)
+        });
+        push_piece(&mut out, sl - g.hs / sc, s_tip_l, step, |s| {
+            g.flank(sl, -1.0, s)
+        });
+        push_piece(&mut out, ul, ur, step, |u| g.tip(u));
+        // Right flank from the tip down to η = −hs, then the right fillet, then the root.
+        push_piece(&mut out, s_tip_r, sr + g.hs / sc, step, |s| {
+            g.flank(sr, 1.0, s)
+        });
+        let xcr = sr + g.hs * ta + g.rho * ca;
+        push_piece(&mut out, xcr + fillet_span, xcr, step_f, |s| {
+            g.fillet(xcr, s)
+        });
+        let next_sl = sk + p - 0.25 * p + opts.thin_left_mm;
+        let next_xcl = next_sl - g.hs * ta - g.rho * ca;
+        push_piece(&mut out, xcr, next_xcl, step, |s| g.map(s, s, -g.hf));
+    }
+    // Rotate so the first vertex is the start of tooth 0's left fillet; drop exact duplicates.
+    out.dedup_by(|a, b| (a[0] - b[0]).hypot(a[1] - b[1]) < 1e-12);
+    if let (Some(f), Some(l)) = (out.first(), out.last())
+        && (f[0] - l[0]).hypot(f[1] - l[1]) < 1e-12
+    {
+        out.pop();
+    }
+    Ok(Outline {
+        points_mm: out,
+        z,
+        module_mm: m,
+        undercut: report,
+    })
+}
