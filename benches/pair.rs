@@ -15,19 +15,28 @@ fn law() -> Law {
 
 #[divan::bench(sample_count = 10)]
 fn design_no_verification() {
-    let opts = PairOptions { verify_steps: 0, ..PairOptions::new(Some(24), 1.5) };
+    let opts = PairOptions {
+        verify_steps: 0,
+        ..PairOptions::new(Some(24), 1.5)
+    };
     divan::black_box(design_pair(&law(), &opts).expect("pair"));
 }
 
 #[divan::bench(sample_count = 3)]
 fn design_with_36_step_verification() {
-    let opts = PairOptions { verify_steps: 36, ..PairOptions::new(Some(24), 1.5) };
+    let opts = PairOptions {
+        verify_steps: 36,
+        ..PairOptions::new(Some(24), 1.5)
+    };
     divan::black_box(design_pair(&law(), &opts).expect("pair"));
 }
 
 #[divan::bench(sample_count = 10)]
 fn exports_svg_dxf(bencher: divan::Bencher) {
-    let opts = PairOptions { verify_steps: 0, ..PairOptions::new(Some(24), 1.5) };
+    let opts = PairOptions {
+        verify_steps: 0,
+        ..PairOptions::new(Some(24), 1.5)
+    };
     let d = design_pair(&law(), &opts).expect("pair");
     let sheet = d.assembly_sheet();
     let path = std::env::temp_dir().join("ncgear_bench_pair.dxf");

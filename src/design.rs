@@ -191,6 +191,10 @@ pub struct DesignReport {
     pub warnings: Vec<String>,
     /// Wall-clock time per stage, ms.
     pub timings_ms: Timings,
+    /// Teeth of the final gears (`ncgear design --module M`): a
+    /// [`crate::train::TrainTeethReport`] as JSON; absent without a module.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub teeth: Option<serde_json::Value>,
 }
 
 /// Units used in the report.
@@ -622,6 +626,7 @@ pub fn design(traj: &Trajectory, opts: &DesignOptions) -> Result<Design, DesignE
         checks,
         target_points: traj.points().to_vec(),
         warnings,
+        teeth: None,
         timings_ms: timings,
     };
     Ok(Design {

@@ -34,4 +34,5 @@ pub mod refine;
 pub mod segmented;
 pub mod simulate;
 pub mod teeth;
+pub mod train;
 pub mod trajectory;

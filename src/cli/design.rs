@@ -1,7 +1,10 @@
 //! `ncgear design TRAJ --out DIR`.
-use super::{CliResult, input_error, print_json, runtime_error};
+use super::teeth_args::RackArgs;
+use super::{CliResult, input_error, print_json, progress_bar, runtime_error};
 use ncgear::design::{DesignError, DesignOptions, RefineMode, design};
 use ncgear::segmented::Route;
+use ncgear::teeth::ToothPolicy;
+use ncgear::train::{TrainError, TrainPolicy, TrainTeethOptions, tooth_design};
 use ncgear::trajectory::Trajectory;
 use std::path::PathBuf;
 
@@ -62,6 +65,37 @@ pub struct Args {
     /// Print the report (design.json) to stdout instead of the summary.
     #[arg(long)]
     pub json: bool,
+    /// Module in mm: put rack-generated teeth on the three gears, verify both meshes and write
+    /// the CAD files under OUT/teeth/ (the `teeth` block of design.json).
+    #[arg(long, help_heading = "Teeth")]
+    pub module: Option<f64>,
+    /// How the tooth count is made an integer (spec §12.1).
+    #[arg(long, value_enum, default_value = "scale-up", help_heading = "Teeth")]
+    pub tooth_policy: ToothPolicyArg,
+    /// A given tooth count (scales the centre distance to fit; overrides --tooth-policy).
+    #[arg(long, requires = "module", help_heading = "Teeth")]
+    pub teeth: Option<u32>,
+    /// Carrier positions of the mesh verification per mesh (0 = skip).
+    #[arg(long, default_value_t = 72, help_heading = "Teeth")]
+    pub verify_steps: usize,
+    /// Rack, backlash and export options.
+    #[command(flatten, next_help_heading = "Teeth")]
+    pub rack: RackArgs,
+}
+
+/// `--tooth-policy` values.
+#[derive(Debug, Clone, Copy, clap::ValueEnum)]
+pub enum ToothPolicyArg {
+    /// Scale the centre distance up to z = ⌈L/πm⌉ (tip moves radially by (s − 1)·l1).
+    ScaleUp,
+    /// Scale the centre distance to z = round(L/πm).
+    Nearest,
+    /// Scale the centre distance down to z = ⌊L/πm⌋.
+    ScaleDown,
+    /// Keep the centre distance; rescale the ratio amplitude so that L = zπm.
+    RatioAmplitude,
+    /// Keep the gears; use the non-standard module L/(zπ), z = round(L/πm).
+    AdjustModule,
 }
 
 /// `--refine` values.
@@ -137,8 +171,33 @@ pub fn run(args: Args) -> CliResult {
         DesignError::Internal(_) => runtime_error(miette::miette!("{file}: {e}")),
         _ => input_error(miette::miette!("{file}: {e}")),
     })?;
-    let written = ncgear::outputs::write_design(&d, &args.out)
+    let mut d = d;
+    let mut teeth_files = Vec::new();
+    let train = match args.module {
+        Some(m) => {
+            // The design files are written even when the teeth are refused.
+            let mut t = match toothed(&args, &d, m) {
+                Ok(t) => t,
+                Err(e) => {
+                    ncgear::outputs::write_design(&d, &args.out)
+                        .map_err(|e| runtime_error(miette::miette!("{e}")))?;
+                    return Err(e);
+                }
+            };
+            teeth_files =
+                ncgear::outputs::write_teeth(&mut t, &args.out, args.rack.dxf_version.into())
+                    .map_err(|e| runtime_error(miette::miette!("{e}")))?;
+            d.report.teeth = Some(
+                serde_json::to_value(&t.report)
+                    .map_err(|e| runtime_error(miette::miette!("{e}")))?,
+            );
+            Some(t)
+        }
+        None => None,
+    };
+    let mut written = ncgear::outputs::write_design(&d, &args.out)
         .map_err(|e| runtime_error(miette::miette!("{e}")))?;
+    written.extend(teeth_files);
     if args.json {
         return print_json(&d.report);
     }
@@ -187,14 +246,90 @@ pub fn run(args: Args) -> CliResult {
     for w in &r.warnings {
         println!("  warning: {w}");
     }
+    if let Some(t) = &train {
+        let t = &t.report;
+        println!(
+            "  teeth: z = {}, m = {:.4} mm, a = {:.6} mm (scale {:.6}, ratio amplitude {:.6}); \
+             round trip on the final gears: max deviation {:.4} mm (designed {:.4} mm)",
+            t.z,
+            t.module_mm,
+            t.center_distance_mm,
+            t.scale,
+            t.ratio_amplitude,
+            t.roundtrip.max_deviation_mm,
+            t.roundtrip.before_max_deviation_mm
+        );
+        if let Some(mesh) = &t.mesh {
+            for (name, m) in [
+                ("sun-intermediate", &mesh.sun_intermediate),
+                ("intermediate-planet", &mesh.intermediate_planet),
+            ] {
+                println!(
+                    "  mesh {name}: {} interference steps of {}, backlash {:.4}..{:.4} mm, \
+                     max transmission error {:.2e}°",
+                    m.interference_steps,
+                    m.steps,
+                    m.min_backlash_mm,
+                    m.max_backlash_mm,
+                    m.max_transmission_error_deg
+                );
+            }
+        }
+    }
+    let teeth_dir = args.out.join("teeth");
+    let (teeth, rest): (Vec<_>, Vec<_>) = written.iter().partition(|p| p.starts_with(&teeth_dir));
     println!(
-        "  {:.1} ms; wrote {}",
+        "  {:.1} ms; wrote {}{}",
         r.timings_ms.total,
-        written
-            .iter()
+        rest.iter()
             .map(|p| p.display().to_string())
             .collect::<Vec<_>>()
-            .join(", ")
+            .join(", "),
+        if teeth.is_empty() {
+            String::new()
+        } else {
+            format!(" and {} CAD files in {}", teeth.len(), teeth_dir.display())
+        }
     );
     Ok(())
+}
+
+/// Teeth on the designed gears (`--module`).
+fn toothed(
+    args: &Args,
+    d: &ncgear::design::Design,
+    module_mm: f64,
+) -> Result<ncgear::train::ToothedTrain, super::Failure> {
+    let rack = args
+        .rack
+        .rack()
+        .map_err(|e| input_error(miette::miette!("{e}")))?;
+    let mut opts = TrainTeethOptions::new(module_mm);
+    opts.rack = rack;
+    opts.verify_steps = args.verify_steps;
+    if let Some(b) = args.rack.backlash {
+        opts.backlash_mm = b;
+    }
+    if let Some(c) = args.rack.chord_tol {
+        opts.chord_tol_mm = c;
+    }
+    opts.policy = match (args.teeth, args.tooth_policy) {
+        (Some(z), _) => TrainPolicy::ScaleCenterDistance(ToothPolicy::Exact(z)),
+        (None, ToothPolicyArg::ScaleUp) => TrainPolicy::ScaleCenterDistance(ToothPolicy::ScaleUp),
+        (None, ToothPolicyArg::Nearest) => TrainPolicy::ScaleCenterDistance(ToothPolicy::Nearest),
+        (None, ToothPolicyArg::ScaleDown) => {
+            TrainPolicy::ScaleCenterDistance(ToothPolicy::ScaleDown)
+        }
+        (None, ToothPolicyArg::RatioAmplitude) => TrainPolicy::RatioAmplitude,
+        (None, ToothPolicyArg::AdjustModule) => TrainPolicy::AdjustModule,
+    };
+    let pb = progress_bar(2 * opts.verify_steps as u64, "mesh check");
+    let t = tooth_design(d, &opts, 1e-9 * d.assembly.a_mm, &|n| pb.inc(n));
+    pb.finish_and_clear();
+    t.map_err(|e| match e {
+        TrainError::Teeth { .. } | TrainError::InvalidOption { .. } => {
+            input_error(miette::miette!("--module {module_mm}: {e}"))
+        }
+        _ => runtime_error(miette::miette!("{e}")),
+    })
 }

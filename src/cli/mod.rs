@@ -9,6 +9,7 @@ mod dynamics;
 mod orbit;
 mod pair;
 mod simulate;
+mod teeth_args;
 mod tolerance;
 
 /// Non-circular gear design for rice-transplanter planting arms, and gear-train analyses.

@@ -7,3 +7,4 @@ mod orbit;
 mod simulate;
 mod teeth;
 mod tolerance;
+mod train;

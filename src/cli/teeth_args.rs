@@ -1,0 +1,59 @@
+//! Tooth and CAD-export options shared by `ncgear design --module` and `ncgear pair`.
+use ncgear::export::dxf::DxfVersion;
+use ncgear::teeth::{RackParams, TeethError};
+
+/// DXF flavour on the command line.
+#[derive(Debug, Clone, Copy, clap::ValueEnum)]
+pub enum DxfFlavour {
+    /// AutoCAD 2010, closed LWPOLYLINE (default).
+    R2010,
+    /// AutoCAD R12, POLYLINE/VERTEX, for old programs.
+    R12,
+}
+
+impl From<DxfFlavour> for DxfVersion {
+    fn from(f: DxfFlavour) -> Self {
+        match f {
+            DxfFlavour::R2010 => DxfVersion::R2010,
+            DxfFlavour::R12 => DxfVersion::R12,
+        }
+    }
+}
+
+/// Basic rack, backlash and export options.
+#[derive(Debug, Clone, clap::Args)]
+pub struct RackArgs {
+    /// Rack pressure angle, degrees.
+    #[arg(long, default_value_t = 20.0)]
+    pub pressure_angle: f64,
+    /// Addendum factor ha*.
+    #[arg(long, default_value_t = 1.0)]
+    pub addendum: f64,
+    /// Clearance factor c*.
+    #[arg(long, default_value_t = 0.25)]
+    pub clearance: f64,
+    /// Rack tip-fillet radius factor ρf*.
+    #[arg(long, default_value_t = 0.38)]
+    pub fillet: f64,
+    /// Circumferential backlash of each mesh on the pitch curve, mm (default 0.04·m).
+    #[arg(long)]
+    pub backlash: Option<f64>,
+    /// Chord tolerance of the exported contours, mm (default 1e-3·m).
+    #[arg(long)]
+    pub chord_tol: Option<f64>,
+    /// DXF version.
+    #[arg(long, value_enum, default_value = "r2010")]
+    pub dxf_version: DxfFlavour,
+}
+
+impl RackArgs {
+    /// The validated basic rack.
+    pub fn rack(&self) -> Result<RackParams, TeethError> {
+        RackParams::new(
+            self.pressure_angle.to_radians(),
+            self.addendum,
+            self.clearance,
+            self.fillet,
+        )
+    }
+}

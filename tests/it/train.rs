@@ -1,0 +1,314 @@
+//! `ncgear design --module`: teeth on the designed planetary train (issue 3 on the design chain).
+use ncgear::design::{Design, DesignOptions, design};
+use ncgear::teeth::{TeethError, ToothPolicy};
+use ncgear::train::{Gear, TrainError, TrainPolicy, TrainTeethOptions, tooth_design, tooth_train};
+use ncgear::trajectory::Trajectory;
+use std::f64::consts::PI;
+use std::path::PathBuf;
+use std::process::Command;
+use std::sync::OnceLock;
+
+const G1_CSV: &str = include_str!("../data/G1_trajectory_360.csv");
+
+fn g1_design() -> &'static Design {
+    static D: OnceLock<Design> = OnceLock::new();
+    D.get_or_init(|| {
+        let t = Trajectory::parse_csv(G1_CSV, "G1_trajectory_360.csv").unwrap();
+        design(&t, &DesignOptions::default()).unwrap()
+    })
+}
+
+fn no_mesh(module_mm: f64, policy: TrainPolicy) -> TrainTeethOptions {
+    TrainTeethOptions {
+        policy,
+        verify_steps: 0,
+        ..TrainTeethOptions::new(module_mm)
+    }
+}
+
+/// Spec §11/§12.1: the G1 sun at m = 2 has L = 140.57 mm → z = 23 after scaling up, no undercut
+/// (ρmin·sin²α ≥ ha*·m). Both meshes roll through a carrier turn without interference, with
+/// positive backlash and a transmission error far below ncgears' 1e-5°. Scaling a by s moves every
+/// tip point radially by exactly (s − 1)·l1, and the round trip sees that.
+#[test]
+fn g1_train_at_module_2_has_23_teeth_meshes_and_moves_the_tip_by_the_closed_form() {
+    let d = g1_design();
+    let mut opts = TrainTeethOptions::new(2.0);
+    opts.verify_steps = 24;
+    let t = tooth_train(&d.assembly, &d.report.target_points, &opts, &|_| {}).unwrap();
+    let r = &t.report;
+    assert_eq!(r.z, 23);
+    assert!((22.3..22.45).contains(&r.z_raw), "z_raw {}", r.z_raw);
+    assert!(
+        (r.perimeter_mm - 23.0 * PI * 2.0).abs() < 1e-6,
+        "{}",
+        r.perimeter_mm
+    );
+    assert!((r.scale - 23.0 / r.z_raw).abs() < 1e-12);
+    assert!((r.center_distance_mm - r.scale * d.assembly.a_mm).abs() < 1e-12);
+    for (name, u) in [
+        ("sun", &r.undercut.sun),
+        ("intermediate", &r.undercut.intermediate),
+        ("planet", &r.undercut.planet),
+    ] {
+        assert_eq!((u.undercut_count, u.concave_count), (0, 0), "{name}");
+        assert_eq!(u.flanks.len(), 46, "{name}: two flanks per tooth");
+        // The §12.4 limit itself: ρmin·sin²α ≥ h·m with h = ha* + c* − ρf*(1 − sin α) = 1.0 here.
+        let s2 = 20f64.to_radians().sin().powi(2);
+        let h = 1.25 - 0.38 * (1.0 - 20f64.to_radians().sin());
+        assert!(
+            u.min_rho_mm * s2 >= h * 2.0,
+            "{name}: ρmin {}",
+            u.min_rho_mm
+        );
+        assert!((u.required_rho_mm - h * 2.0 / s2).abs() < 1e-9, "{name}");
+    }
+    let mesh = r.mesh.as_ref().unwrap();
+    for m in [&mesh.sun_intermediate, &mesh.intermediate_planet] {
+        assert_eq!(m.steps, 24);
+        assert_eq!(m.interference_steps, 0);
+        assert_eq!(m.max_penetration_mm, 0.0);
+        // Backlash 0.04·m = 0.08 mm nominal on the pitch curve; the measured one along the
+        // normal varies with the pressure-angle deviation but stays positive and bounded.
+        assert!(
+            m.min_backlash_mm > 0.05 && m.max_backlash_mm < 0.12,
+            "{m:?}"
+        );
+        assert!(m.max_transmission_error_deg < 1e-5, "{m:?}");
+    }
+    // Closed form of the tooth-count consequence: |ΔB| = (s − 1)·l1 at every carrier angle.
+    let l1 = 2.0 * d.assembly.a_mm;
+    assert!((r.radial_shift_mm - (r.scale - 1.0) * l1).abs() < 1e-12);
+    assert!(
+        (r.roundtrip.max_tip_shift_mm - r.radial_shift_mm).abs() < 1e-9,
+        "{:?} vs {}",
+        r.roundtrip,
+        r.radial_shift_mm
+    );
+    let rt = &r.roundtrip;
+    assert!(rt.before_max_deviation_mm < 0.02, "{rt:?}");
+    assert!(
+        rt.max_deviation_mm <= rt.max_tip_shift_mm + rt.before_max_deviation_mm + 1e-9
+            && rt.max_deviation_mm >= 0.5 * rt.max_tip_shift_mm,
+        "{rt:?}"
+    );
+    // The outlines: closed, CCW, simple enough to have positive area between root and tip circles.
+    for g in Gear::ALL {
+        let sheet = t.gear_sheet(g);
+        let o = &sheet.contours[0].points_mm;
+        let area = 0.5
+            * (0..o.len())
+                .map(|k| {
+                    let (p, q) = (o[k], o[(k + 1) % o.len()]);
+                    p[0] * q[1] - q[0] * p[1]
+                })
+                .sum::<f64>();
+        let pitch_area = 0.5 * {
+            let c = &sheet.contours[1].points_mm;
+            (0..c.len())
+                .map(|k| {
+                    let (p, q) = (c[k], c[(k + 1) % c.len()]);
+                    p[0] * q[1] - q[0] * p[1]
+                })
+                .sum::<f64>()
+        };
+        // Teeth add and remove about the same area around the pitch curve (addendum m, dedendum
+        // 1.25m): the outline area stays within ±L·0.25m of the pitch area.
+        assert!(
+            (area - pitch_area).abs() < r.perimeter_mm * 0.25 * 2.0,
+            "{}: {area} vs {pitch_area}",
+            g.name()
+        );
+    }
+}
+
+/// A larger module is refused where the rack would undercut, naming the gear and the largest
+/// module that works at that pitch-curve size (ρmin·sin²α/h).
+#[test]
+fn undercut_at_a_larger_module_is_refused_with_the_limit() {
+    let d = g1_design();
+    let err = tooth_train(
+        &d.assembly,
+        &d.report.target_points,
+        &no_mesh(3.0, TrainPolicy::ScaleCenterDistance(ToothPolicy::ScaleUp)),
+        &|_| {},
+    )
+    .unwrap_err();
+    match &err {
+        TrainError::Teeth {
+            gear,
+            source:
+                TeethError::Undercut {
+                    max_module_mm,
+                    min_teeth,
+                    ..
+                },
+        } => {
+            assert!(["sun", "intermediate", "planet"].contains(gear));
+            // z = ⌈140.6/(3π)⌉ = 15 scales the curve by 15/14.92; ρmin ≈ 20.7·1.005 mm.
+            let s2 = 20f64.to_radians().sin().powi(2);
+            assert!(
+                (2.3..2.6).contains(max_module_mm),
+                "{max_module_mm} (ρ·sin²α ≈ {})",
+                20.7 * s2
+            );
+            assert!(*min_teeth > 15);
+        }
+        other => panic!("expected an undercut, got {other:?}"),
+    }
+    assert!(err.to_string().starts_with("sun: ") || err.to_string().contains("undercut"));
+}
+
+/// §12.1 option 3: keep the gears, adjust the module — the trajectory does not move.
+#[test]
+fn adjusting_the_module_keeps_the_trajectory() {
+    let d = g1_design();
+    let t = tooth_train(
+        &d.assembly,
+        &d.report.target_points,
+        &no_mesh(2.0, TrainPolicy::AdjustModule),
+        &|_| {},
+    )
+    .unwrap();
+    let r = &t.report;
+    assert_eq!(r.z, 22);
+    assert!((r.module_mm * 22.0 * PI - r.perimeter_mm).abs() < 1e-9);
+    assert!((r.module_mm - 2.0).abs() < 0.04);
+    assert_eq!(r.scale, 1.0);
+    assert!(r.roundtrip.max_tip_shift_mm < 1e-12);
+    assert!((r.roundtrip.max_deviation_mm - r.roundtrip.before_max_deviation_mm).abs() < 1e-12);
+}
+
+/// §12.1 option 2: a held fixed, the ratio amplitude rescaled so that L(λ) = zπm. For G1,
+/// L(1) = 140.57 < πa = 141.37 (the circle), so z = 23 is out of reach and z = 22 needs λ > 1.
+#[test]
+fn ratio_amplitude_policy_solves_the_perimeter_equation() {
+    let d = g1_design();
+    let t = tooth_design(
+        d,
+        &no_mesh(2.0, TrainPolicy::RatioAmplitude),
+        1e-9 * d.assembly.a_mm,
+        &|_| {},
+    )
+    .unwrap();
+    let r = &t.report;
+    assert_eq!(r.z, 22);
+    assert!(
+        r.ratio_amplitude > 1.0 && r.ratio_amplitude < 4.0,
+        "λ {}",
+        r.ratio_amplitude
+    );
+    assert!(
+        (r.perimeter_mm - 22.0 * PI * 2.0).abs() < 1e-6,
+        "{}",
+        r.perimeter_mm
+    );
+    assert!((r.center_distance_mm - d.assembly.a_mm).abs() < 1e-6);
+    assert!(r.roundtrip.max_deviation_mm > r.roundtrip.before_max_deviation_mm);
+    assert!(r.roundtrip.max_deviation_mm.is_finite());
+    // The same job on a design.json view (no mechanism) is refused with a clear message.
+    let e = tooth_train(
+        &d.assembly,
+        &d.report.target_points,
+        &no_mesh(2.0, TrainPolicy::RatioAmplitude),
+        &|_| {},
+    )
+    .unwrap_err();
+    assert!(
+        e.to_string().contains("needs the designed mechanism"),
+        "{e}"
+    );
+}
+
+fn dxf_dir(sub: &str) -> PathBuf {
+    let d = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("target")
+        .join("test-dxf")
+        .join(sub);
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+/// `ncgear design --module 2`: CAD files for the train and each gear (checked by ezdxf in
+/// .ci/run), the `teeth` block in design.json; an undercut module exits 2 with the limit.
+#[test]
+fn design_cli_with_module_writes_cad_files_and_refuses_undercut() {
+    let out = dxf_dir("design_g1_m2");
+    let traj = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("assets/trajectories/g1_ellipse.csv");
+    let run = Command::new(env!("CARGO_BIN_EXE_ncgear"))
+        .args([
+            "design",
+            traj.to_str().unwrap(),
+            "--module",
+            "2",
+            "--verify-steps",
+            "8",
+        ])
+        .arg("--out")
+        .arg(&out)
+        .output()
+        .unwrap();
+    assert!(
+        run.status.success(),
+        "{}",
+        String::from_utf8_lossy(&run.stderr)
+    );
+    let json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("design.json")).unwrap()).unwrap();
+    let teeth = &json["teeth"];
+    assert_eq!(teeth["z"], 23);
+    assert_eq!(teeth["mesh"]["sun_intermediate"]["interference_steps"], 0);
+    assert_eq!(
+        teeth["mesh"]["intermediate_planet"]["interference_steps"],
+        0
+    );
+    for f in [
+        "train.svg",
+        "train.dxf",
+        "sun.dxf",
+        "intermediate.dxf",
+        "planet.dxf",
+        "planet.svg",
+        "sun_points/points.csv",
+        "sun_points/sun_outline.txt",
+        "planet_points/planet_pitch.txt",
+    ] {
+        let p = out.join("teeth").join(f);
+        assert!(
+            std::fs::metadata(&p)
+                .map(|m| m.len() > 200)
+                .unwrap_or(false),
+            "{f}"
+        );
+    }
+    // DXF: closed LWPOLYLINEs in mm, read back with the dxf crate.
+    let dr = dxf::Drawing::load_file(out.join("teeth/train.dxf")).unwrap();
+    assert_eq!(
+        dr.header.default_drawing_units,
+        dxf::enums::Units::Millimeters
+    );
+    let closed = dr
+        .entities()
+        .filter(
+            |e| matches!(&e.specific, dxf::entities::EntityType::LwPolyline(p) if p.is_closed()),
+        )
+        .count();
+    assert_eq!(closed, 6, "3 outlines + 3 pitch curves");
+    // SVG in mm.
+    let svg = std::fs::read_to_string(out.join("teeth/train.svg")).unwrap();
+    assert!(svg.contains("mm\" height=\"") && svg.contains("id=\"PLANET_OUTLINE\""));
+
+    let bad = Command::new(env!("CARGO_BIN_EXE_ncgear"))
+        .args(["design", traj.to_str().unwrap(), "--module", "3"])
+        .arg("--out")
+        .arg(dxf_dir("design_g1_m3_refused"))
+        .output()
+        .unwrap();
+    assert_eq!(bad.status.code(), Some(2));
+    let msg = String::from_utf8_lossy(&bad.stderr);
+    assert!(
+        msg.contains("--module 3") && msg.contains("largest module without undercut"),
+        "{msg}"
+    );
+}
