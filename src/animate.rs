@@ -15,7 +15,7 @@ pub struct AnimationOptions {
     pub frames: usize,
     /// Duration of one carrier turn, s.
     pub seconds: f64,
-    /// Points per pitch-curve outline.
+    /// Points per pitch-curve outline (toothed outlines are drawn as generated).
     pub outline_points: usize,
 }
 
@@ -107,16 +107,20 @@ fn header(s: &mut String, b: [f64; 4], scale: f64) {
 
 fn defs(s: &mut String, sim: &Simulation, n: usize) {
     let asm = &sim.assembly;
+    let shape = |k: usize, c: &PitchCurve| match &sim.outlines {
+        Some(o) => polyline(&o[k], true),
+        None => body_path(c, n),
+    };
     let _ = writeln!(s, "<defs>");
     let _ = writeln!(
         s,
         r##"<path id="sun" d="{}" fill="#dbe9f6" stroke="#1f77b4" stroke-width="0.5"/>"##,
-        body_path(&asm.sun, n)
+        shape(0, &asm.sun)
     );
     let _ = writeln!(
         s,
         r##"<path id="intermediate" d="{}" fill="#dff2df" stroke="#2ca02c" stroke-width="0.5"/>"##,
-        body_path(&asm.intermediate, n)
+        shape(1, &asm.intermediate)
     );
     // The planet carries the needle (A → B at the needle angle γ) and marks the tip.
     let g = asm.needle_angle_rad;
@@ -124,7 +128,7 @@ fn defs(s: &mut String, sim: &Simulation, n: usize) {
     let _ = writeln!(
         s,
         r##"<g id="planet"><path d="{}" fill="#ece2f4" stroke="#9467bd" stroke-width="0.5"/><path d="M0,0 L{bx:.3},{by:.3}" stroke="#ff7f0e" stroke-width="1.5"/><circle cx="{bx:.3}" cy="{by:.3}" r="1.8" fill="#d62728"/></g>"##,
-        body_path(&asm.planet, n)
+        shape(2, &asm.planet)
     );
     let _ = writeln!(s, "</defs>");
 }

@@ -91,6 +91,18 @@ pub struct DesignFile {
     /// Target trajectory points (mm), when the file carries them.
     #[serde(default)]
     pub target_points: Vec<[f64; 2]>,
+    /// The `teeth` block of `ncgear design --module` (only `z` and `module_mm` are read).
+    #[serde(default)]
+    pub teeth: Option<TeethFile>,
+}
+
+/// The part of `design.json`'s `teeth` block needed to regenerate the toothed outlines.
+#[derive(Debug, Clone, Copy, Serialize, Deserialize)]
+pub struct TeethFile {
+    /// Tooth count of each gear.
+    pub z: u32,
+    /// Module, mm.
+    pub module_mm: f64,
 }
 
 /// `carrier` of a design file.
@@ -242,6 +254,9 @@ pub struct Simulation {
     rebuilt: Rebuilt,
     /// The assembled train.
     pub assembly: Assembly,
+    /// Toothed outlines (body frames, mm) of the sun, intermediate and planet, drawn instead of
+    /// the pitch curves when present (see [`Simulation::with_outlines`]).
+    pub outlines: Option<[Vec<[f64; 2]>; 3]>,
 }
 
 /// Poses of both arms at one carrier angle.
@@ -260,6 +275,23 @@ impl Simulation {
         Self {
             rebuilt: assembly.rebuild(),
             assembly,
+            outlines: None,
+        }
+    }
+
+    /// The toothed train of [`crate::train::tooth_train`]: its (scaled) assembly, with the gear
+    /// outlines drawn by the animation (simplified to a chord tolerance of 0.01·m).
+    #[must_use]
+    pub fn toothed(train: &crate::train::ToothedTrain) -> Self {
+        let tol = 0.01 * train.report.module_mm;
+        let simple = |o: &crate::teeth::Outline| crate::export::simplify_closed(&o.points_mm, tol);
+        Self {
+            outlines: Some([
+                simple(&train.sun),
+                simple(&train.intermediate),
+                simple(&train.planet),
+            ]),
+            ..Self::new(train.assembly.clone())
         }
     }
 

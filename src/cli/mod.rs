@@ -82,6 +82,13 @@ pub fn print_json(value: &impl serde::Serialize) -> CliResult {
 
 /// Entry point: parse, dispatch, map failures to exit codes.
 pub fn main() -> ExitCode {
+    // A closed pipe (`ncgear … | head`) ends the process quietly, as for any Unix tool, instead
+    // of panicking inside `println!`.
+    #[cfg(unix)]
+    // SAFETY: called once at start-up, before any thread exists; SIG_DFL is a valid handler.
+    unsafe {
+        libc::signal(libc::SIGPIPE, libc::SIG_DFL);
+    }
     let cli = Cli::parse();
     let result = match cli.command {
         Command::Design(a) => design::run(a),

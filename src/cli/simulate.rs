@@ -2,6 +2,8 @@
 use super::{CliResult, input_error, print_json, runtime_error};
 use ncgear::animate::AnimationOptions;
 use ncgear::simulate::{DesignFile, FeatureOptions, SimulateError, Simulation};
+use ncgear::teeth::ToothPolicy;
+use ncgear::train::{TrainPolicy, TrainTeethOptions, tooth_train};
 use ncgear::trajectory::Trajectory;
 use std::path::PathBuf;
 
@@ -43,6 +45,10 @@ pub struct Args {
     /// Print the report as JSON on stdout.
     #[arg(long)]
     pub json: bool,
+    /// Draw toothed gears at this module (mm; the centre distance is scaled up to an integer
+    /// tooth count, as `ncgear design --module`). Default: the design file's `teeth` block, if any.
+    #[arg(long)]
+    pub module: Option<f64>,
 }
 
 fn input(e: SimulateError) -> super::Failure {
@@ -87,7 +93,28 @@ pub fn run(args: Args) -> CliResult {
         seconds: args.duration,
         ..AnimationOptions::default()
     };
-    let sim = Simulation::new(asm);
+    // Toothed outlines: --module, or the z and module of the design file's `teeth` block.
+    let policy = match (args.module, file.teeth) {
+        (Some(m), _) => Some((m, TrainPolicy::ScaleCenterDistance(ToothPolicy::ScaleUp))),
+        (None, Some(t)) => Some((
+            t.module_mm,
+            TrainPolicy::ScaleCenterDistance(ToothPolicy::Exact(t.z)),
+        )),
+        (None, None) => None,
+    };
+    let sim = match policy {
+        Some((m, policy)) => {
+            let opts = TrainTeethOptions {
+                policy,
+                verify_steps: 0,
+                ..TrainTeethOptions::new(m)
+            };
+            let train = tooth_train(&asm, &target, &opts, &|_| {})
+                .map_err(|e| input_error(miette::miette!("--module {m}: {e}")))?;
+            Simulation::toothed(&train)
+        }
+        None => Simulation::new(asm),
+    };
     let report = ncgear::outputs::write_simulation(&sim, &target, &opts, &anim, &args.out)
         .map_err(|e| match e {
             SimulateError::BadOption { option: "out", .. } => runtime_error(miette::miette!("{e}")),

@@ -299,6 +299,36 @@ fn design_cli_with_module_writes_cad_files_and_refuses_undercut() {
     let svg = std::fs::read_to_string(out.join("teeth/train.svg")).unwrap();
     assert!(svg.contains("mm\" height=\"") && svg.contains("id=\"PLANET_OUTLINE\""));
 
+    // `ncgear simulate` on that file animates the final, toothed gears: the sun is drawn with its
+    // teeth, and the tip's distance from the target is the teeth round trip's.
+    let sim_out = out.join("simulate");
+    let sim = Command::new(env!("CARGO_BIN_EXE_ncgear"))
+        .arg("simulate")
+        .arg(out.join("design.json"))
+        .arg("--out")
+        .arg(&sim_out)
+        .args(["--frames", "24"])
+        .output()
+        .unwrap();
+    assert!(
+        sim.status.success(),
+        "{}",
+        String::from_utf8_lossy(&sim.stderr)
+    );
+    let anim = std::fs::read_to_string(sim_out.join("animation.svg")).unwrap();
+    let sun = anim
+        .split("<path id=\"sun\" d=\"")
+        .nth(1)
+        .and_then(|t| t.split('"').next())
+        .unwrap();
+    assert!(sun.matches('L').count() > 23 * 8, "a toothed sun outline");
+    let report: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(sim_out.join("simulate.json")).unwrap())
+            .unwrap();
+    let want = teeth["roundtrip"]["max_deviation_mm"].as_f64().unwrap();
+    let got = report["deviation_max_mm"].as_f64().unwrap();
+    assert!((got - want).abs() < 0.01, "{got} vs {want}");
+
     let bad = Command::new(env!("CARGO_BIN_EXE_ncgear"))
         .args(["design", traj.to_str().unwrap(), "--module", "3"])
         .arg("--out")
