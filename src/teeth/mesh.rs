@@ -156,6 +156,7 @@ impl std::hash::BuildHasher for FxBuild {
 pub struct Shape {
     pts: Vec<[f64; 2]>,
     polar: StarShape,
+    bands: super::inside::Bands,
     cell: f64,
     grid: std::collections::HashMap<(i64, i64), Vec<u32>, FxBuild>,
 }
@@ -190,6 +191,7 @@ impl Shape {
         Ok(Self {
             pts: points_mm.to_vec(),
             polar,
+            bands: super::inside::Bands::new(points_mm, cap_mm),
             cell: cap_mm,
             grid,
         })
@@ -223,11 +225,12 @@ impl Shape {
             }
         }
         if best.0 > self.cell {
-            let r = x[0].hypot(x[1]);
-            return if r > self.polar.radius_at(x[1].atan2(x[0])) {
-                self.cell
-            } else {
+            // Far from the boundary: the exact crossing rule (a polar test would misread the
+            // pocket under a leaning, overhanging tooth).
+            return if self.bands.contains(x) {
                 -self.cell
+            } else {
+                self.cell
             };
         }
         let (d, i, t) = best;

@@ -13,6 +13,7 @@
 //!   transmission error).
 
 mod frame;
+mod inside;
 pub mod mesh;
 
 mod rack;

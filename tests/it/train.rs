@@ -342,3 +342,35 @@ fn design_cli_with_module_writes_cad_files_and_refuses_undercut() {
         "{msg}"
     );
 }
+
+/// The designer-style kidney (refined design, effective pressure angle up to 37.8°): its leaning
+/// teeth overhang the root (the outline is not star-shaped about the centre), which a polar
+/// inside test misreads as interference. At m = 1.5 both meshes are clean.
+#[test]
+fn leaning_teeth_of_the_kidney_design_mesh_without_interference() {
+    let traj =
+        PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("assets/trajectories/designer_kidney.csv");
+    let t = Trajectory::read(&traj).unwrap();
+    let d = design(&t, &DesignOptions::default()).unwrap();
+    let mut opts = TrainTeethOptions::new(1.5);
+    opts.verify_steps = 36;
+    let train = tooth_train(&d.assembly, &d.report.target_points, &opts, &|_| {}).unwrap();
+    let r = &train.report;
+    assert_eq!(r.z, 30);
+    // The fold of the outline (backwards polar travel) exceeds the exact-distance band 0.02·m.
+    let o = &train.sun.points_mm;
+    let th: Vec<f64> = o.iter().map(|p| p[1].atan2(p[0])).collect();
+    let (mut run, mut worst) = (0.0f64, 0.0f64);
+    for k in 0..th.len() {
+        let d = (th[(k + 1) % th.len()] - th[k] + PI).rem_euclid(2.0 * PI) - PI;
+        run = if d < 0.0 { run + d } else { 0.0 };
+        worst = worst.min(run);
+    }
+    assert!(-worst * 20.0 > 0.02 * 1.5, "fold {worst} rad");
+    let mesh = r.mesh.as_ref().unwrap();
+    for m in [&mesh.sun_intermediate, &mesh.intermediate_planet] {
+        assert_eq!(m.interference_steps, 0, "{m:?}");
+        assert!(m.max_transmission_error_deg < 1e-5, "{m:?}");
+        assert!(m.min_backlash_mm > 0.03, "{m:?}");
+    }
+}

@@ -1,0 +1,91 @@
+//! Exact point-in-polygon for gear outlines that are not star-shaped about their centre
+//! (teeth that lean under a large pressure-angle deviation overhang the root): the even–odd
+//! crossing rule on a horizontal ray, with the edges indexed by horizontal bands.
+
+/// Edges of a closed polyline bucketed by horizontal bands of height `band_mm`.
+#[derive(Debug, Clone)]
+pub(crate) struct Bands {
+    pts: Vec<[f64; 2]>,
+    y0: f64,
+    h: f64,
+    bands: Vec<Vec<u32>>,
+}
+
+impl Bands {
+    /// Indexes the edges of the closed polyline `points_mm` (no duplicated end vertex).
+    pub(crate) fn new(points_mm: &[[f64; 2]], band_mm: f64) -> Self {
+        let n = points_mm.len();
+        let (lo, hi) = points_mm
+            .iter()
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), p| {
+                (l.min(p[1]), h.max(p[1]))
+            });
+        let h = band_mm.max((hi - lo) / 1.0e5).max(f64::MIN_POSITIVE);
+        let count = (((hi - lo) / h).floor() as usize + 1).max(1);
+        let mut bands = vec![Vec::new(); count];
+        let index = |y: f64| (((y - lo) / h).floor().max(0.0) as usize).min(count - 1);
+        for i in 0..n {
+            let (a, b) = (points_mm[i], points_mm[(i + 1) % n]);
+            let (k0, k1) = (index(a[1].min(b[1])), index(a[1].max(b[1])));
+            for band in &mut bands[k0..=k1] {
+                band.push(i as u32);
+            }
+        }
+        Self {
+            pts: points_mm.to_vec(),
+            y0: lo,
+            h,
+            bands,
+        }
+    }
+
+    /// Whether `x` lies inside the polygon (even–odd rule; boundary points either way).
+    pub(crate) fn contains(&self, x: [f64; 2]) -> bool {
+        let k = (x[1] - self.y0) / self.h;
+        if !(k >= 0.0) || k as usize >= self.bands.len() {
+            return false;
+        }
+        let n = self.pts.len();
+        let mut inside = false;
+        for &i in &self.bands[k as usize] {
+            let (a, b) = (self.pts[i as usize], self.pts[(i as usize + 1) % n]);
+            if (a[1] > x[1]) != (b[1] > x[1]) {
+                let xc = a[0] + (x[1] - a[1]) * (b[0] - a[0]) / (b[1] - a[1]);
+                if xc > x[0] {
+                    inside = !inside;
+                }
+            }
+        }
+        inside
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::Bands;
+
+    /// A star-shaped test would call the pocket under the overhang "inside"; the crossing rule
+    /// does not.
+    #[test]
+    fn overhanging_tooth_pocket_is_outside() {
+        // A square with a hook: the notch between x = 1..3, y = 1..2 is outside.
+        let poly = [
+            [0.0, 0.0],
+            [4.0, 0.0],
+            [4.0, 3.0],
+            [1.0, 3.0],
+            [1.0, 2.0],
+            [3.0, 2.0],
+            [3.0, 1.0],
+            [0.0, 1.0],
+        ];
+        let b = Bands::new(&poly, 0.3);
+        assert!(b.contains([0.5, 0.5]));
+        assert!(b.contains([3.5, 2.5]));
+        assert!(b.contains([2.0, 2.5]));
+        assert!(!b.contains([2.0, 1.5]), "the pocket");
+        assert!(!b.contains([0.5, 1.5]));
+        assert!(!b.contains([5.0, 0.5]));
+        assert!(!b.contains([2.0, -1.0]));
+    }
+}
