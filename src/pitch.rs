@@ -149,30 +149,14 @@ impl PitchCurve {
     /// Arc length between body angles `from_rad ≤ to_rad`, mm, to within `accuracy_mm`.
     #[must_use]
     pub fn arc_length_between_mm(&self, from_rad: f64, to_rad: f64, accuracy_mm: f64) -> f64 {
-        const X: [f64; 5] = [
-            -0.906_179_845_938_664,
-            -0.538_469_310_105_683,
-            0.0,
-            0.538_469_310_105_683,
-            0.906_179_845_938_664,
-        ];
-        const W: [f64; 5] = [
-            0.236_926_885_056_189,
-            0.478_628_670_499_366,
-            0.568_888_888_888_889,
-            0.478_628_670_499_366,
-            0.236_926_885_056_189,
-        ];
         let integrate = |pieces: usize| {
             let h = (to_rad - from_rad) / pieces as f64;
-            let mut sum = 0.0;
-            for p in 0..pieces {
-                let mid = from_rad + (p as f64 + 0.5) * h;
-                for (x, w) in X.iter().zip(W) {
-                    sum += w * self.geometry(mid + 0.5 * h * x).speed_mm();
-                }
-            }
-            0.5 * h * sum
+            (0..pieces)
+                .map(|p| {
+                    let lo = from_rad + p as f64 * h;
+                    gauss_legendre5(|t| self.geometry(t).speed_mm(), lo, lo + h)
+                })
+                .sum::<f64>()
         };
         let mut pieces = self.len().max(8);
         let mut prev = integrate(pieces);
@@ -258,6 +242,30 @@ pub struct CurvatureSummary {
     pub max_pressure_deviation_rad: f64,
     /// Fraction of the checked angles where the curve is concave.
     pub concave_fraction: f64,
+}
+
+/// `∫ f` over `[lo, hi]` by 5-point Gauss–Legendre (exact for polynomials of degree ≤ 9).
+pub(crate) fn gauss_legendre5(f: impl Fn(f64) -> f64, lo: f64, hi: f64) -> f64 {
+    const X: [f64; 5] = [
+        -0.906_179_845_938_664,
+        -0.538_469_310_105_683,
+        0.0,
+        0.538_469_310_105_683,
+        0.906_179_845_938_664,
+    ];
+    const W: [f64; 5] = [
+        0.236_926_885_056_189,
+        0.478_628_670_499_366,
+        0.568_888_888_888_889,
+        0.478_628_670_499_366,
+        0.236_926_885_056_189,
+    ];
+    let (mid, half) = (0.5 * (lo + hi), 0.5 * (hi - lo));
+    half * X
+        .iter()
+        .zip(W)
+        .map(|(x, w)| w * f(mid + half * x))
+        .sum::<f64>()
 }
 
 #[cfg(test)]

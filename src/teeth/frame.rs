@@ -37,20 +37,6 @@ impl ArcFrame {
     /// Builds the arc-length table.
     #[must_use]
     pub fn new(curve: &PitchCurve) -> Self {
-        const X: [f64; 5] = [
-            -0.906_179_845_938_664,
-            -0.538_469_310_105_683,
-            0.0,
-            0.538_469_310_105_683,
-            0.906_179_845_938_664,
-        ];
-        const W: [f64; 5] = [
-            0.236_926_885_056_189,
-            0.478_628_670_499_366,
-            0.568_888_888_888_889,
-            0.478_628_670_499_366,
-            0.236_926_885_056_189,
-        ];
         let n = curve.len() * (32768 / curve.len()).max(4);
         let h = TAU / n as f64;
         let mut theta = Vec::with_capacity(n + 1);
@@ -62,12 +48,7 @@ impl ArcFrame {
             theta.push(th);
             s.push(acc);
             dtheta.push(1.0 / curve.geometry(th).speed_mm());
-            let mid = th + 0.5 * h;
-            let mut seg = 0.0;
-            for (x, w) in X.iter().zip(W) {
-                seg += w * curve.geometry(mid + 0.5 * h * x).speed_mm();
-            }
-            acc += 0.5 * h * seg;
+            acc += crate::pitch::gauss_legendre5(|t| curve.geometry(t).speed_mm(), th, th + h);
         }
         let length = s[n];
         Self {
