@@ -374,3 +374,33 @@ fn leaning_teeth_of_the_kidney_design_mesh_without_interference() {
         assert!(m.min_backlash_mm > 0.03, "{m:?}");
     }
 }
+
+/// A clockwise carrier (mirrored world tables) with an asymmetric sun: the mesh laws built from
+/// the design.json conventions hold in the world frame for both senses.
+#[test]
+fn clockwise_asymmetric_design_meshes() {
+    let traj =
+        PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("assets/trajectories/asymmetric_cw.json");
+    let t = Trajectory::read(&traj).unwrap();
+    let d = design(
+        &t,
+        &DesignOptions {
+            center_mm: [250.0, 400.0],
+            ..DesignOptions::default()
+        },
+    )
+    .unwrap();
+    assert_eq!(d.assembly.direction, -1);
+    let mut opts = TrainTeethOptions::new(1.25);
+    opts.verify_steps = 18;
+    let train = tooth_train(&d.assembly, &d.report.target_points, &opts, &|_| {}).unwrap();
+    let r = &train.report;
+    assert_eq!(r.z, 34);
+    let mesh = r.mesh.as_ref().unwrap();
+    for m in [&mesh.sun_intermediate, &mesh.intermediate_planet] {
+        assert_eq!(m.interference_steps, 0, "{m:?}");
+        assert!(m.max_transmission_error_deg < 1e-5, "{m:?}");
+        assert!(m.min_backlash_mm > 0.03, "{m:?}");
+    }
+    assert!((r.roundtrip.max_tip_shift_mm - r.radial_shift_mm.abs()).abs() < 1e-9);
+}
