@@ -39,3 +39,22 @@ fn designer_with_refinement(b: divan::Bencher) {
     let opts = DesignOptions::default();
     b.bench(|| design(divan::black_box(&t), &opts).expect("designer"));
 }
+
+/// Teeth on the designed G1 train at m = 2 (z = 23): outlines of the three gears at the export
+/// chord tolerance 1e-3·m, with `steps` verified carrier positions per mesh (0 = none).
+#[divan::bench(args = [0, 12], sample_count = 5)]
+fn teeth_g1_module_2(b: divan::Bencher, steps: usize) {
+    use ncgear::train::{TrainTeethOptions, tooth_train};
+    let d = design(&load("g1_ellipse.csv"), &DesignOptions::default()).expect("G1");
+    let mut opts = TrainTeethOptions::new(2.0);
+    opts.verify_steps = steps;
+    b.bench(|| {
+        tooth_train(
+            divan::black_box(&d.assembly),
+            &d.report.target_points,
+            &opts,
+            &|_| {},
+        )
+        .expect("G1 teeth")
+    });
+}
