@@ -56,10 +56,19 @@ pub enum Func {
     Ln,
 }
 
+/// Deepest nesting of parentheses, unary signs, powers and calls accepted by [`Expr::parse`]
+/// (the parser, evaluator and derivative recurse on the tree; a bound keeps the stack safe).
+pub const MAX_DEPTH: usize = 64;
+
+/// Longest expression text accepted by [`Expr::parse`], bytes (bounds the tree, whose
+/// symbolic derivative can grow quadratically with the length of a product chain).
+pub const MAX_LEN: usize = 1024;
+
 struct Parser<'a> {
     s: &'a [u8],
     i: usize,
     text: &'a str,
+    depth: usize,
 }
 
 impl Parser<'_> {
@@ -69,6 +78,14 @@ impl Parser<'_> {
             message: message.to_string(),
             text: self.text.to_string(),
         }
+    }
+    /// Enters one nesting level, refusing input nested deeper than [`MAX_DEPTH`].
+    fn enter(&mut self) -> Result<(), ExprError> {
+        self.depth += 1;
+        if self.depth > MAX_DEPTH {
+            return Err(self.err(&format!("expression nested deeper than {MAX_DEPTH} levels")));
+        }
+        Ok(())
     }
     fn ws(&mut self) {
         while self.i < self.s.len() && self.s[self.i].is_ascii_whitespace() {
@@ -106,6 +123,12 @@ impl Parser<'_> {
         Ok(l)
     }
     fn unary(&mut self) -> Result<Expr, ExprError> {
+        self.enter()?;
+        let e = self.unary_inner();
+        self.depth -= 1;
+        e
+    }
+    fn unary_inner(&mut self) -> Result<Expr, ExprError> {
         match self.peek() {
             Some(b'-') => {
                 self.i += 1;
@@ -207,11 +230,23 @@ impl Parser<'_> {
 
 impl Expr {
     /// Parses `text`.
+    ///
+    /// # Errors
+    /// [`ExprError`] with the byte offset: syntax, unknown names, text longer than [`MAX_LEN`]
+    /// bytes or nested deeper than [`MAX_DEPTH`].
     pub fn parse(text: &str) -> Result<Self, ExprError> {
+        if text.len() > MAX_LEN {
+            return Err(ExprError {
+                offset: MAX_LEN,
+                message: format!("expression longer than {MAX_LEN} bytes"),
+                text: text.chars().take(64).collect::<String>() + "…",
+            });
+        }
         let mut p = Parser {
             s: text.as_bytes(),
             i: 0,
             text,
+            depth: 0,
         };
         let e = p.sum()?;
         if p.peek().is_some() {
@@ -345,5 +380,17 @@ mod tests {
         assert_eq!(Expr::parse("phi + foo(2)").unwrap_err().offset, 6);
         assert_eq!(Expr::parse("(phi + 1").unwrap_err().offset, 8);
         assert_eq!(Expr::parse("phi 2").unwrap_err().offset, 4);
+        // Deep nesting is refused with a typed error instead of overflowing the stack.
+        let deep = "(".repeat(MAX_DEPTH + 1) + "phi" + &")".repeat(MAX_DEPTH + 1);
+        assert!(Expr::parse(&deep).unwrap_err().message.contains("nested"));
+        let ok = "(".repeat(MAX_DEPTH - 1) + "phi" + &")".repeat(MAX_DEPTH - 1);
+        assert_eq!(Expr::parse(&ok).unwrap(), Expr::Phi);
+        assert!(Expr::parse(&"-".repeat(10_000)).is_err());
+        assert!(
+            Expr::parse(&"phi+".repeat(300))
+                .unwrap_err()
+                .message
+                .contains("longer")
+        );
     }
 }

@@ -80,6 +80,15 @@ impl Law {
             line: 0,
             message: e.to_string(),
         })?;
+        Self::parse_csv(&text, &p)
+    }
+
+    /// Parses CSV law text (format of [`Law::from_csv`]); `file` names the source in errors.
+    ///
+    /// # Errors
+    /// [`PairError::Csv`] naming the file, the 1-based line and what was expected.
+    pub fn parse_csv(text: &str, file: &str) -> Result<Self, PairError> {
+        let p = file.to_string();
         let mut rows = Vec::new();
         for (k, line) in text.lines().enumerate() {
             let line = line.trim();
@@ -242,6 +251,12 @@ impl Motion {
                 }
                 let a = 0.5 * (lo + hi);
                 let i: Vec<f64> = r.iter().map(|v| v / (a - v)).collect();
+                if !(a.is_finite() && i.iter().all(|v| v.is_finite() && *v > 0.0)) {
+                    return Err(PairError::Law(format!(
+                        "the centrode (max r = {rmax:e}) gives no finite closing centre distance \
+                         (a = {a:e}); scale it to ordinary lengths"
+                    )));
+                }
                 let (_, f) = spectral_integral(&i);
                 let excess = PeriodicSpline::uniform(0.0, f, TAU)
                     .map_err(|e| PairError::Law(e.to_string()))?;

@@ -1,6 +1,8 @@
 //! Hard cases of the design chain (spec §14): noisy measured trajectories, points near the carrier
 //! axis, cusps, extreme ratios, and parsers fed arbitrary bytes. Each asserts a bounded result or a
 //! clear typed error, never a panic or a silent NaN.
+mod fuzz;
+
 use ncgear::design::{DesignError, DesignOptions, design};
 use ncgear::fourier::SunRatio;
 use ncgear::inverse::{InverseError, InverseOptions, invert};

@@ -32,6 +32,12 @@ use std::path::Path;
 /// Minimum number of samples of a record.
 pub const MIN_SAMPLES: usize = 16;
 
+/// Largest accepted |time| of a record sample, s (about 30 years).
+pub const MAX_ABS_TIME_S: f64 = 1e9;
+
+/// Largest accepted |displacement| of a record sample, µm (1 km; keeps sums of squares finite).
+pub const MAX_ABS_DISPLACEMENT_UM: f64 = 1e9;
+
 /// A sensor record: times and two orthogonal displacements, optionally the carrier angle.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Record {
@@ -44,7 +50,8 @@ pub struct Record {
 
 impl Record {
     /// Validates and builds a record: equal lengths ≥ [`MIN_SAMPLES`], finite values, strictly
-    /// increasing times (s), displacements in µm, carrier angle in rad.
+    /// increasing times (s, |t| ≤ [`MAX_ABS_TIME_S`]), displacements in µm (≤
+    /// [`MAX_ABS_DISPLACEMENT_UM`]), carrier angle in rad.
     ///
     /// # Errors
     /// [`OrbitError::Record`] naming the first offending sample.
@@ -70,6 +77,16 @@ impl Record {
             let c_ok = carrier_angle_rad.as_ref().is_none_or(|c| c[k].is_finite());
             if !(t_s[k].is_finite() && x_um[k].is_finite() && y_um[k].is_finite() && c_ok) {
                 return Err(OrbitError::Record(format!("sample {k}: non-finite value")));
+            }
+            if t_s[k].abs() > MAX_ABS_TIME_S
+                || x_um[k].abs() > MAX_ABS_DISPLACEMENT_UM
+                || y_um[k].abs() > MAX_ABS_DISPLACEMENT_UM
+            {
+                return Err(OrbitError::Record(format!(
+                    "sample {k}: |t| must be ≤ {MAX_ABS_TIME_S:e} s and |x|, |y| ≤ \
+                     {MAX_ABS_DISPLACEMENT_UM:e} µm (got t = {} s, x = {} µm, y = {} µm)",
+                    t_s[k], x_um[k], y_um[k]
+                )));
             }
             if k > 0 && t_s[k] <= t_s[k - 1] {
                 return Err(OrbitError::Record(format!(
@@ -690,6 +707,19 @@ impl Extractor {
                 m.orbit.z_plus_um = zp;
                 m.orbit.z_minus_um = zm;
             }
+        }
+        let finite = [m.orbit.z_plus_um, m.orbit.z_minus_um]
+            .iter()
+            .all(|z| z.re.is_finite() && z.im.is_finite())
+            && m.condition_number.is_none_or(f64::is_finite)
+            && m.residual_rms_um
+                .is_none_or(|(a, b)| a.is_finite() && b.is_finite());
+        if !finite {
+            return Err(OrbitError::Record(
+                "the extraction gave a non-finite result (values too large or a degenerate \
+                 time base)"
+                    .into(),
+            ));
         }
         Ok(m)
     }

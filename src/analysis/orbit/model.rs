@@ -69,6 +69,10 @@ pub struct PlanetSet {
 /// Two positions closer than this (rad) count as the same planet.
 const MIN_POSITION_GAP_RAD: f64 = 1e-6;
 
+/// Largest accepted planet eccentricity, µm (1 m: beyond any gear, and keeps every phasor
+/// product finite).
+pub const MAX_ECCENTRICITY_UM: f64 = 1e6;
+
 impl PlanetSet {
     /// Validates and builds a planet set.
     ///
@@ -76,7 +80,7 @@ impl PlanetSet {
     /// * `hand` — sun rotation sense (h).
     /// * `theta_p0_rad` — common phase θ_p0.
     /// * `omega_p_rad_s` — signed planet spin relative to the carrier (non-zero, finite).
-    /// * `planets` — at least 3, distinct positions, finite, e ≥ 0.
+    /// * `planets` — at least 3, distinct positions, finite, 0 ≤ e ≤ [`MAX_ECCENTRICITY_UM`].
     ///
     /// # Errors
     /// [`OrbitError::Invalid`] naming the offending parameter.
@@ -115,10 +119,12 @@ impl PlanetSet {
             if !p.position_rad.is_finite() {
                 return Err(invalid(format!("planet[{k}].position"), "must be finite"));
             }
-            if !(p.eccentricity_um.is_finite() && p.eccentricity_um >= 0.0) {
+            if !(p.eccentricity_um.is_finite()
+                && (0.0..=MAX_ECCENTRICITY_UM).contains(&p.eccentricity_um))
+            {
                 return Err(invalid(
                     format!("planet[{k}].eccentricity_um"),
-                    "must be finite and ≥ 0",
+                    format!("must be finite, ≥ 0 and ≤ {MAX_ECCENTRICITY_UM:e} µm (1 m)"),
                 ));
             }
             if !p.phase_rad.is_finite() {
@@ -583,16 +589,22 @@ impl ModelParams {
         let is_toml = path
             .extension()
             .is_some_and(|e| e.eq_ignore_ascii_case("toml"));
-        if is_toml {
-            toml::from_str(&text).map_err(|e| OrbitError::File {
-                file,
-                message: e.to_string(),
-            })
+        Self::parse(&text, is_toml, &file)
+    }
+
+    /// Parses parameter text: TOML when `toml` is true, JSON otherwise; `file` names the source.
+    ///
+    /// # Errors
+    /// [`OrbitError::File`] with the parser's line/key message.
+    pub fn parse(text: &str, toml: bool, file: &str) -> Result<Self, OrbitError> {
+        let err = |message: String| OrbitError::File {
+            file: file.to_string(),
+            message,
+        };
+        if toml {
+            toml::from_str(text).map_err(|e| err(e.to_string()))
         } else {
-            serde_json::from_str(&text).map_err(|e| OrbitError::File {
-                file,
-                message: e.to_string(),
-            })
+            serde_json::from_str(text).map_err(|e| err(e.to_string()))
         }
     }
 
