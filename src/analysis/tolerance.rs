@@ -202,6 +202,13 @@ impl ErrorFile {
                 );
             }
         }
+        let rb = self.base_radius();
+        if !(rb.is_finite() && rb > 0.0) {
+            return bad(
+                "base_circle".into(),
+                "a finite positive base radius 0.5·module_mm·teeth·cos(pressure_angle_deg), mm",
+            );
+        }
         for (k, t) in self.terms.iter().enumerate() {
             let key = |f: &str| format!("terms[{k}].{f}");
             if !t.amplitude_um.is_finite() {

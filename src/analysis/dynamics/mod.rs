@@ -47,6 +47,12 @@ pub enum DynamicsError {
     },
 }
 
+/// Largest number of recorded samples of a run (`record_mesh_periods × samples_per_mesh`).
+pub const MAX_RECORDED_SAMPLES: u64 = 2_000_000;
+
+/// Largest transient length, Poincaré periods.
+pub const MAX_TRANSIENT_PERIODS: u32 = 100_000;
+
 /// Time integrator choice (B.11).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Method {
@@ -140,6 +146,21 @@ impl RunOptions {
                 expected: "an integer ≥ 2",
             });
         }
+        let samples = u64::from(self.record_mesh_periods) * u64::from(self.samples_per_mesh);
+        if samples > MAX_RECORDED_SAMPLES {
+            return Err(DynamicsError::BadOption {
+                name: "solver.record_mesh_periods × output.samples_per_mesh",
+                value: samples.to_string(),
+                expected: "at most 2 000 000 recorded samples",
+            });
+        }
+        if self.max_periods > MAX_TRANSIENT_PERIODS {
+            return Err(DynamicsError::BadOption {
+                name: "solver.steady_state.max_periods",
+                value: self.max_periods.to_string(),
+                expected: "at most 100 000 Poincaré periods",
+            });
+        }
         if self.record_mesh_periods < 1 {
             return Err(DynamicsError::BadOption {
                 name: "solver.record_mesh_periods",
@@ -158,11 +179,11 @@ impl RunOptions {
             Method::Dopri5 { rtol, atol, .. } => {
                 Dopri5::new(rtol, atol)?;
             }
-            Method::Rk4 { steps_per_mesh, .. } if steps_per_mesh < 4 => {
+            Method::Rk4 { steps_per_mesh, .. } if !(4..=1_000_000).contains(&steps_per_mesh) => {
                 return Err(DynamicsError::BadOption {
                     name: "solver.rk4_steps_per_mesh",
                     value: steps_per_mesh.to_string(),
-                    expected: "an integer ≥ 4",
+                    expected: "an integer in 4..=1000000",
                 });
             }
             Method::Rk4 { .. } => {}
@@ -400,7 +421,14 @@ pub fn simulate(
         },
     )?;
     run.stats += st;
-    if run.dte_m.iter().any(|x| !x.is_finite()) || run.t_s.len() != ns {
+    if run.t_s.len() != ns
+        || run
+            .dte_m
+            .iter()
+            .chain(&run.mesh_force_n)
+            .chain(run.states.iter().flatten())
+            .any(|x| !x.is_finite())
+    {
         return Err(DynamicsError::Diverged(t_end));
     }
     Ok(run)

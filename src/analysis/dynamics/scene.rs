@@ -566,7 +566,7 @@ impl Scene {
             ));
         }
         let omega_e = 2.0 * PI * n1 * g.z1 as f64 / 60.0;
-        Ok(Derived {
+        let d = Derived {
             geometry: geom,
             mass_kg: mass,
             inertia_kgm2: inertia,
@@ -577,7 +577,27 @@ impl Scene {
             omega_e,
             t_mesh_s: 2.0 * PI / omega_e,
             f0_n: t1 / rb1,
-        })
+        };
+        // Each input is finite, but extreme ones can still overflow a derived quantity: name the
+        // inputs it comes from.
+        for (v, what, keys) in [
+            (d.m_e_kg, "m_e", "gears.inertia_kgm2 / gears.module_mm"),
+            (d.k_mean_n_per_m, "k_mean", "effects.mesh_stiffness"),
+            (d.c_m, "c_m", "effects.mesh_stiffness.zeta"),
+            (d.omega_n, "ωn", "effects.mesh_stiffness / gears"),
+            (d.omega_e, "ωe", "operating.n1_rpm"),
+            (d.t_mesh_s, "T_mesh", "operating.n1_rpm"),
+            (d.f0_n, "F0 = T1/rb1", "operating.input_torque_Nm"),
+        ] {
+            if !(v.is_finite() && (v > 0.0 || what == "F0 = T1/rb1")) {
+                return Err(bad(
+                    keys,
+                    format!("values giving {what} = {v:e}"),
+                    "values of physical size (the derived quantity must be finite and > 0)",
+                ));
+            }
+        }
+        Ok(d)
     }
 
     fn law(&self, file: &str, ms: &MeshSpec, eps: f64) -> Result<StiffnessLaw, SceneError> {

@@ -5,8 +5,8 @@
 //! deleted and swapped lines, stray bytes). Each must return a typed error or a value; any value
 //! must be finite, and the next stage run on it must again give a finite result or a typed error.
 //! Fixed proptest seeds keep CI deterministic.
-use ncgear::analysis::dynamics::RunOptions;
 use ncgear::analysis::dynamics::scene::Scene;
+use ncgear::analysis::dynamics::{Method, RunOptions, simulate};
 use ncgear::analysis::orbit::measure::{Extractor, Record};
 use ncgear::analysis::orbit::model::ModelParams;
 use ncgear::analysis::peak::PeakOptions;
@@ -277,6 +277,23 @@ fn check_scene(text: &str, json: bool) -> Result<(), TestCaseError> {
             finite(v, w)?;
         }
         let _ = RunOptions::from_scene(&s);
+        // A short fixed window (RK4, one mesh period): finite samples or a typed error.
+        let (model, _) = s
+            .build("fuzz")
+            .map_err(|e| TestCaseError::fail(format!("parsed scene, then build failed: {e}")))?;
+        let opts = RunOptions::window(
+            Method::Rk4 {
+                steps_per_mesh: 64,
+                aligned: false,
+            },
+            1,
+            8,
+        );
+        if let Ok(run) = simulate(&model, &vec![0.0; 2 * model.n()], &opts, &|_| {}) {
+            for v in run.dte_m.iter().chain(&run.mesh_force_n) {
+                finite(*v, "simulated sample")?;
+            }
+        }
     }
     Ok(())
 }
