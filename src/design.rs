@@ -515,7 +515,20 @@ pub fn design(traj: &Trajectory, opts: &DesignOptions) -> Result<Design, DesignE
     let mut refined = None;
     if run_refine {
         let k = opts.order.unwrap_or(opts.refine_order);
-        let start = SunRatio::fit_uniform(&seg.samples, k)?;
+        let start = match SunRatio::fit_uniform(&seg.samples, k) {
+            Ok(r) => r,
+            // The patent route's ratio itself reaches zero: no gears can give this needle law.
+            Err(RatioError::NotPositive { min_ratio, .. }) => {
+                let [lo, hi] = opts.refine_options.ratio_bounds;
+                return Err(DesignError::RatioOutOfBounds {
+                    min: min_ratio,
+                    max: seg.samples.iter().copied().fold(f64::MIN, f64::max),
+                    lo,
+                    hi,
+                });
+            }
+            Err(e) => return Err(e.into()),
+        };
         let (m0, _) = mk(start.clone(), tau);
         // C = π + γ for the start.
         let c0 = PI + m0.needle_angle_rad;
@@ -688,6 +701,86 @@ fn validate(opts: &DesignOptions) -> Result<(), DesignError> {
     let [lo, hi] = opts.refine_options.ratio_bounds;
     if !(lo > 0.0 && hi > lo && hi.is_finite()) {
         return bad("ratio-bounds", format!("{lo},{hi}"), "0 < min < max");
+    }
+    let [cx, cy] = opts.center_mm;
+    if !(cx.is_finite() && cy.is_finite()) {
+        return bad(
+            "center",
+            format!("{cx},{cy}"),
+            "two finite coordinates in mm",
+        );
+    }
+    let positive = |v: f64| v.is_finite() && v > 0.0;
+    if !(positive(opts.inverse.tol_relative) && opts.inverse.tol_relative < 1e-2) {
+        return bad(
+            "inverse.tol_relative",
+            opts.inverse.tol_relative.to_string(),
+            "a relative tolerance in (0, 0.01)",
+        );
+    }
+    if opts.inverse.dense_samples < 64 {
+        return bad(
+            "inverse.dense_samples",
+            opts.inverse.dense_samples.to_string(),
+            "at least 64 dense samples",
+        );
+    }
+    if opts.inverse.law_harmonics == Some(0) {
+        return bad(
+            "inverse.law_harmonics",
+            "0".into(),
+            "at least one harmonic (or none to keep the law as computed)",
+        );
+    }
+    if !positive(opts.segmented.tol_j) {
+        return bad(
+            "segmented.tol_j",
+            opts.segmented.tol_j.to_string(),
+            "a positive junction tolerance",
+        );
+    }
+    if !(opts.segmented.w1 > 0.0 && opts.segmented.w1 <= 1.0) {
+        return bad(
+            "segmented.w1",
+            opts.segmented.w1.to_string(),
+            "a mirror weight in (0, 1]",
+        );
+    }
+    if !(opts.refine_options.smoothness.is_finite() && opts.refine_options.smoothness >= 0.0) {
+        return bad(
+            "refine.smoothness",
+            opts.refine_options.smoothness.to_string(),
+            "a finite weight ≥ 0",
+        );
+    }
+    if opts.refine_options.samples < 16 {
+        return bad(
+            "refine.samples",
+            opts.refine_options.samples.to_string(),
+            "at least 16 residual samples",
+        );
+    }
+    if !(1..=64).contains(&opts.refine_order) {
+        return bad(
+            "refine_order",
+            opts.refine_order.to_string(),
+            "an integer in 1..=64",
+        );
+    }
+    if opts.check_samples < 16 {
+        return bad(
+            "check_samples",
+            opts.check_samples.to_string(),
+            "at least 16 carrier angles",
+        );
+    }
+    for (name, v) in [
+        ("pressure-angle", opts.pressure_angle_rad),
+        ("pressure-angle-limit", opts.pressure_angle_limit_rad),
+    ] {
+        if !(positive(v) && v < std::f64::consts::FRAC_PI_2) {
+            return bad(name, v.to_string(), "an angle in (0°, 90°)");
+        }
     }
     Ok(())
 }

@@ -2,6 +2,7 @@
 //! axis, cusps, extreme ratios, and parsers fed arbitrary bytes. Each asserts a bounded result or a
 //! clear typed error, never a panic or a silent NaN.
 mod fuzz;
+mod mechanisms;
 
 use ncgear::design::{DesignError, DesignOptions, design};
 use ncgear::fourier::SunRatio;
