@@ -9,6 +9,34 @@ use rand::SeedableRng;
 use rand::rngs::ChaCha8Rng;
 use rayon::prelude::*;
 
+/// Largest accepted sample count of one run.
+pub const MAX_SAMPLES: usize = 50_000_000;
+
+/// Largest accepted histogram bin count.
+pub const MAX_BINS: usize = 100_000;
+
+/// Why a Monte Carlo run has no result.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[non_exhaustive]
+pub enum McError {
+    /// A bad option value.
+    #[error("Monte Carlo option `{name}` = {value}: expected {expected}")]
+    BadOption {
+        /// Option.
+        name: &'static str,
+        /// Given value.
+        value: usize,
+        /// What is expected.
+        expected: &'static str,
+    },
+    /// The sampler returned a non-finite value (a bug of the sampler or of its input).
+    #[error("Monte Carlo sample {index} is not finite")]
+    NonFinite {
+        /// Sample index.
+        index: usize,
+    },
+}
+
 /// Options of a Monte Carlo run.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct McOptions {
@@ -102,16 +130,33 @@ fn quantile(sorted: &[f64], q: f64) -> f64 {
 }
 
 /// Runs `sample(rng, i)` for `i = 0..samples` in parallel; `progress(done)` is called after each
-/// chunk. Returns the statistics and the samples in index order. Non-finite samples are a bug of
-/// the sampler and are reported by `Err(index)`.
+/// chunk. Returns the statistics and the samples in index order.
+///
+/// # Errors
+/// [`McError::BadOption`] for `samples` outside `1..=MAX_SAMPLES` or `bins` outside
+/// `1..=MAX_BINS`; [`McError::NonFinite`] naming the first non-finite sample.
 pub fn run<F>(
     opts: &McOptions,
     sample: F,
     progress: &(dyn Fn(u64) + Sync),
-) -> Result<(McStats, Vec<f64>), usize>
+) -> Result<(McStats, Vec<f64>), McError>
 where
     F: Fn(&mut ChaCha8Rng, usize) -> f64 + Sync,
 {
+    if !(1..=MAX_SAMPLES).contains(&opts.samples) {
+        return Err(McError::BadOption {
+            name: "samples",
+            value: opts.samples,
+            expected: "a sample count in 1..=50000000",
+        });
+    }
+    if !(1..=MAX_BINS).contains(&opts.bins) {
+        return Err(McError::BadOption {
+            name: "bins",
+            value: opts.bins,
+            expected: "a bin count in 1..=100000",
+        });
+    }
     let chunk = 1024;
     let n = opts.samples;
     let done = std::sync::atomic::AtomicU64::new(0);
@@ -149,8 +194,8 @@ where
         w = Welford::merge(w, pw);
         all.extend(v);
     }
-    if let Some(i) = all.iter().position(|v| !v.is_finite()) {
-        return Err(i);
+    if let Some(index) = all.iter().position(|v| !v.is_finite()) {
+        return Err(McError::NonFinite { index });
     }
     let mut sorted = all.clone();
     sorted.sort_by(f64::total_cmp);
@@ -158,7 +203,7 @@ where
         sorted.first().copied().unwrap_or(f64::NAN),
         sorted.last().copied().unwrap_or(f64::NAN),
     );
-    let bins = opts.bins.max(1);
+    let bins = opts.bins;
     let width = ((max - min) / bins as f64).max(f64::MIN_POSITIVE);
     let mut counts = vec![0u64; bins];
     for v in &sorted {
@@ -221,5 +266,41 @@ mod tests {
         let (_, v1) = pool.install(|| run(&opts, |r, _| r.random::<f64>(), &|_| {}).unwrap());
         assert_eq!(v, v1);
         assert_eq!(s.histogram.iter().map(|h| h[2]).sum::<f64>(), 20_000.0);
+    }
+
+    #[test]
+    fn degenerate_counts_are_typed_errors() {
+        let f = |r: &mut ChaCha8Rng, _: usize| r.random::<f64>();
+        for (samples, bins) in [(0, 10), (MAX_SAMPLES + 1, 10), (10, 0), (10, usize::MAX)] {
+            let o = McOptions {
+                samples,
+                seed: 1,
+                bins,
+            };
+            assert!(matches!(
+                run(&o, f, &|_| {}),
+                Err(McError::BadOption { .. })
+            ));
+        }
+        let o = McOptions {
+            samples: 3000,
+            seed: 1,
+            bins: 5,
+        };
+        assert_eq!(
+            run(&o, |_, i| if i == 2500 { f64::NAN } else { 1.0 }, &|_| {}),
+            Err(McError::NonFinite { index: 2500 })
+        );
+        // One sample: exact statistics, zero spread.
+        let o = McOptions {
+            samples: 1,
+            seed: 1,
+            bins: 3,
+        };
+        let (s, _) = run(&o, |_, _| 2.5, &|_| {}).unwrap();
+        assert_eq!(
+            (s.min, s.max, s.mean, s.std, s.p50),
+            (2.5, 2.5, 2.5, 0.0, 2.5)
+        );
     }
 }

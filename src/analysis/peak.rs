@@ -137,9 +137,14 @@ impl PeakGrid {
     pub fn new(omegas: &[f64], opts: PeakOptions) -> Self {
         let wmax = omegas.iter().copied().fold(0.0, f64::max);
         let base = base_frequency(omegas, opts.max_denominator);
-        // A common period needing more than 2·10⁷ grid points is treated as none (the frequencies
-        // are then incommensurate for any practical window).
-        let base = base.filter(|g| wmax / g * opts.samples_per_min_period.max(4) as f64 <= 2e7);
+        // A common period needing more than 2·10⁷ grid points, or tables of more than 4·10⁷
+        // values per sin/cos set (≈ 320 MB), is treated as none (the frequencies are then
+        // incommensurate for any practical window).
+        let terms = omegas.len().max(1) as f64;
+        let base = base.filter(|g| {
+            let n = wmax / g * opts.samples_per_min_period.max(4) as f64;
+            n <= 2e7 && n * terms <= 4e7
+        });
         let commensurate = base.is_some() || wmax == 0.0;
         let (period, n) = match base {
             Some(g) => {

@@ -15,7 +15,7 @@
 //!   choice of assembly phases can beat;
 //! - Monte Carlo over random assembly phases (and amplitudes when distributions are given).
 
-use super::montecarlo::{self, McOptions, McStats};
+use super::montecarlo::{self, McError, McOptions, McStats};
 use super::peak::{Peak, PeakGrid, PeakOptions};
 use argmin::core::{CostFunction, Executor};
 use argmin::solver::neldermead::NelderMead;
@@ -560,7 +560,7 @@ impl Analysis {
         &self,
         opts: &McOptions,
         progress: &(dyn Fn(u64) + Sync),
-    ) -> Result<(McStats, Vec<f64>), usize> {
+    ) -> Result<(McStats, Vec<f64>), McError> {
         let d = self.free.len();
         montecarlo::run(
             opts,
@@ -660,10 +660,10 @@ pub fn analyse(
         Some(o) => {
             let (s, v) = a
                 .monte_carlo(o, progress)
-                .map_err(|i| ToleranceError::BadValue {
+                .map_err(|e| ToleranceError::BadValue {
                     file: "monte carlo".into(),
-                    key: format!("sample {i}"),
-                    message: "non-finite peak".into(),
+                    key: "samples".into(),
+                    message: e.to_string(),
                 })?;
             let p = v.iter().filter(|x| **x < greedy_peak).count() as f64 / v.len().max(1) as f64;
             (Some(s), Some(p))
