@@ -580,20 +580,27 @@ impl Scene {
         };
         // Each input is finite, but extreme ones can still overflow a derived quantity: name the
         // inputs it comes from.
-        for (v, what, keys) in [
-            (d.m_e_kg, "m_e", "gears.inertia_kgm2 / gears.module_mm"),
-            (d.k_mean_n_per_m, "k_mean", "effects.mesh_stiffness"),
-            (d.c_m, "c_m", "effects.mesh_stiffness.zeta"),
-            (d.omega_n, "ωn", "effects.mesh_stiffness / gears"),
-            (d.omega_e, "ωe", "operating.n1_rpm"),
-            (d.t_mesh_s, "T_mesh", "operating.n1_rpm"),
-            (d.f0_n, "F0 = T1/rb1", "operating.input_torque_Nm"),
+        // (value, name, input keys, whether it must be > 0)
+        for (v, what, keys, positive) in [
+            (
+                d.m_e_kg,
+                "m_e",
+                "gears.inertia_kgm2 / gears.module_mm",
+                true,
+            ),
+            (d.k_mean_n_per_m, "k_mean", "effects.mesh_stiffness", true),
+            (d.omega_n, "ωn", "effects.mesh_stiffness / gears", true),
+            (d.omega_e, "ωe", "operating.n1_rpm", true),
+            (d.t_mesh_s, "T_mesh", "operating.n1_rpm", true),
+            (d.c_m, "c_m", "effects.mesh_stiffness.zeta", false),
+            (d.f0_n, "F0 = T1/rb1", "operating.input_torque_Nm", false),
         ] {
-            if !(v.is_finite() && (v > 0.0 || what == "F0 = T1/rb1")) {
+            let sign_ok = !positive || v > 0.0;
+            if !(v.is_finite() && sign_ok) {
                 return Err(bad(
                     keys,
                     format!("values giving {what} = {v:e}"),
-                    "values of physical size (the derived quantity must be finite and > 0)",
+                    "values of physical size (the derived quantity must be finite, and > 0 for masses, stiffnesses and frequencies)",
                 ));
             }
         }
