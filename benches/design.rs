@@ -1,5 +1,5 @@
 //! Benchmarks of the design chain (divan). Run: `cargo bench --bench design`.
-//! The accuracy-vs-time table of the README comes from `cargo run --release --example accuracy_design`.
+//! The accuracy-vs-time table of the README comes from `cargo run --release --example accuracy -- design`.
 use ncgear::design::{DesignOptions, RefineMode, design};
 use ncgear::trajectory::Trajectory;
 

@@ -1,24 +1,22 @@
-//! What accuracy costs in time for the tolerance analysis (companion spec C): the peak-search grid
-//! (certified vs a naive fixed grid) and the Monte Carlo sample count, measured against
-//! references (a 400-points-per-period certified peak; a 200 000-sample Monte Carlo mean).
-//! Prints a Markdown table and writes `assets/accuracy/tolerance.csv`.
-//!
-//! Run: `cargo run --release --example accuracy_tolerance`
+//! Tolerance analysis (companion spec C): the peak-search grid (certified vs a naive fixed grid)
+//! and the Monte Carlo sample count, measured against references (a 400-points-per-period
+//! certified peak; a 200 000-sample Monte Carlo mean).
+use super::Row;
 use ncgear::analysis::montecarlo::McOptions;
 use ncgear::analysis::peak::{PeakOptions, Sinusoid, fixed_grid_peak};
 use ncgear::analysis::tolerance::{Analysis, ErrorFile};
 use std::f64::consts::TAU;
-use std::fmt::Write as _;
 use std::time::Instant;
 
-fn main() {
+/// The tolerance-analysis rows.
+pub fn rows() -> Vec<Row> {
     let file = ErrorFile::parse(
-        include_str!("../assets/tolerance/paper_3k.toml"),
+        include_str!("../../assets/tolerance/paper_3k.toml"),
         "paper_3k.toml",
         false,
     )
     .expect("bundled");
-    let mut rows: Vec<(String, String, String, f64, f64)> = Vec::new();
+    let mut rows = Vec::new();
     // 1. Peak grid density: 200 random phase sets, worst error vs the 400-point reference.
     let sets: Vec<[f64; 3]> = (0..200)
         .map(|k| {
@@ -53,10 +51,10 @@ fn main() {
             .map(|(b, r)| (a.peak(b, None).value - r).abs())
             .fold(0.0, f64::max);
         let us = t.elapsed().as_secs_f64() * 1e6 / sets.len() as f64;
-        rows.push((
-            "certified peak: grid points per shortest period".into(),
+        rows.push(Row::new(
+            "certified peak: grid points per shortest period",
             per.to_string(),
-            "max |peak − reference|, µm".into(),
+            "max |peak − reference|, µm",
             worst,
             us / 1e3,
         ));
@@ -88,10 +86,10 @@ fn main() {
             })
             .fold(0.0, f64::max);
         let us = t.elapsed().as_secs_f64() * 1e6 / sets.len() as f64;
-        rows.push((
-            "naive fixed grid over [0, 2π] s (no refinement)".into(),
+        rows.push(Row::new(
+            "naive fixed grid over [0, 2π] s (no refinement)",
             format!("dt = {dt:e} s"),
-            "max |peak − reference|, µm".into(),
+            "max |peak − reference|, µm",
             worst,
             us / 1e3,
         ));
@@ -121,29 +119,13 @@ fn main() {
             )
             .expect("finite");
         let ms = t.elapsed().as_secs_f64() * 1e3;
-        rows.push((
-            "Monte Carlo samples (paper example)".into(),
+        rows.push(Row::new(
+            "Monte Carlo samples (paper example)",
             n.to_string(),
-            "|mean − 200k mean|, µm (± 2 s.e.)".into(),
+            "|mean − 200k mean|, µm (± 2 s.e.)",
             (s.mean - reference.mean).abs(),
             ms,
         ));
     }
-    let mut md = String::from(
-        "| knob | value | error measure | error | time (ms) |\n|---|---|---|---|---|\n",
-    );
-    let mut csv = String::from("knob,value,measure,error,time_ms\n");
-    for (knob, v, what, err, ms) in &rows {
-        let _ = writeln!(md, "| {knob} | {v} | {what} | {err:.2e} | {ms:.3} |");
-        let _ = writeln!(
-            csv,
-            "{},{},{},{err:e},{ms:.4}",
-            knob.replace(',', ";"),
-            v.replace(',', ";"),
-            what.replace(',', ";")
-        );
-    }
-    print!("{md}");
-    let _ = std::fs::create_dir_all("assets/accuracy");
-    let _ = std::fs::write("assets/accuracy/tolerance.csv", csv);
+    rows
 }

@@ -1,17 +1,12 @@
-//! What accuracy costs in time for the design chain: every knob of spec §13 that trades the two,
-//! measured against references (closed forms of the G1 mechanism, the best achievable deviation of
-//! the designer-style target). Prints a Markdown table (the one in the README) and writes
-//! `assets/accuracy/design.csv`.
-//!
-//! Run: `cargo run --release --example accuracy_design`
+//! Design chain: every knob of spec §13 that trades accuracy for time, measured against references
+//! (closed forms of the G1 mechanism, the best achievable deviation of the designer-style target).
+use super::{Row, timed};
 use ncgear::design::{DesignOptions, RefineMode, design};
 use ncgear::inverse::{InverseOptions, invert};
 use ncgear::mechanism::Mechanism;
 use ncgear::refine::RefineOptions;
 use ncgear::trajectory::{Origin, Trajectory};
 use std::f64::consts::TAU;
-use std::fmt::Write as _;
-use std::time::Instant;
 
 fn g1() -> Mechanism {
     ncgear::golden::g1_mechanism()
@@ -43,22 +38,10 @@ fn designer() -> Trajectory {
     )
 }
 
-/// Median wall time (ms) of `reps` runs, and the last result.
-fn timed<T>(reps: usize, mut f: impl FnMut() -> T) -> (f64, T) {
-    let mut times = Vec::new();
-    let mut last = None;
-    for _ in 0..reps {
-        let t = Instant::now();
-        last = Some(f());
-        times.push(t.elapsed().as_secs_f64() * 1e3);
-    }
-    times.sort_by(f64::total_cmp);
-    (times[reps / 2], last.expect("reps ≥ 1"))
-}
-
-fn main() {
+/// The design-chain rows.
+pub fn rows() -> Vec<Row> {
     let g = g1();
-    let mut rows: Vec<(String, String, String, f64, f64)> = Vec::new();
+    let mut rows = Vec::new();
     // 1. Trajectory points M: ψ3 error of step 1 against the closed form, and l1 error.
     for m in [72, 180, 360, 720, 1440] {
         let t = g1_traj(m);
@@ -72,10 +55,10 @@ fn main() {
                 (inv.law.psi3(x) - (g.psi3(x + t0) - g.psi3(t0))).abs()
             })
             .fold(0.0, f64::max);
-        rows.push((
-            "trajectory points M (step 1)".into(),
+        rows.push(Row::new(
+            "trajectory points M (step 1)",
             m.to_string(),
-            "max |ψ3 error| × l3, mm".into(),
+            "max |ψ3 error| × l3, mm",
             err * 170.0,
             ms,
         ));
@@ -93,10 +76,10 @@ fn main() {
             ..DesignOptions::default()
         };
         let (ms, d) = timed(3, || design(&t360, &opts).expect("G1"));
-        rows.push((
-            "ψ3 grid N (full chain, K = 16)".into(),
+        rows.push(Row::new(
+            "ψ3 grid N (full chain, K = 16)",
             n.to_string(),
-            "round-trip max deviation, mm".into(),
+            "round-trip max deviation, mm",
             d.report.roundtrip.max_deviation_mm,
             ms,
         ));
@@ -109,10 +92,10 @@ fn main() {
             ..DesignOptions::default()
         };
         let (ms, d) = timed(3, || design(&t360, &opts).expect("G1"));
-        rows.push((
-            "Fourier order K (patent route, G1)".into(),
+        rows.push(Row::new(
+            "Fourier order K (patent route, G1)",
             k.to_string(),
-            "round-trip max deviation, mm".into(),
+            "round-trip max deviation, mm",
             d.report.roundtrip.max_deviation_mm,
             ms,
         ));
@@ -125,10 +108,10 @@ fn main() {
             ..DesignOptions::default()
         };
         let (ms, d) = timed(3, || design(&t360, &opts).expect("G1"));
-        rows.push((
-            "LM refinement (G1, compatible)".into(),
+        rows.push(Row::new(
+            "LM refinement (G1, compatible)",
             format!("K = {k}"),
-            "round-trip max deviation, mm".into(),
+            "round-trip max deviation, mm",
             d.report.roundtrip.max_deviation_mm,
             ms,
         ));
@@ -142,10 +125,10 @@ fn main() {
             ..DesignOptions::default()
         };
         let (ms, d) = timed(3, || design(&dz, &opts).expect("designer"));
-        rows.push((
-            "designer target, patent route".into(),
-            "K = 12".into(),
-            "excess over best 3.82 mm, mm".into(),
+        rows.push(Row::new(
+            "designer target, patent route",
+            "K = 12",
+            "excess over best 3.82 mm, mm",
             d.report.roundtrip.max_deviation_mm - 3.82,
             ms,
         ));
@@ -161,29 +144,13 @@ fn main() {
             ..DesignOptions::default()
         };
         let (ms, d) = timed(3, || design(&dz, &opts).expect("designer"));
-        rows.push((
-            "designer target, LM refinement".into(),
+        rows.push(Row::new(
+            "designer target, LM refinement",
             format!("K = {k}, patience {patience}"),
-            "excess over best 3.82 mm, mm".into(),
+            "excess over best 3.82 mm, mm",
             d.report.roundtrip.max_deviation_mm - 3.82,
             ms,
         ));
     }
-    let mut md = String::from(
-        "| knob | value | error measure | error | time (ms) |\n|---|---|---|---|---|\n",
-    );
-    let mut csv = String::from("knob,value,measure,error,time_ms\n");
-    for (knob, v, what, err, ms) in &rows {
-        let _ = writeln!(md, "| {knob} | {v} | {what} | {err:.2e} | {ms:.1} |");
-        let _ = writeln!(
-            csv,
-            "{},{},{},{err:e},{ms:.3}",
-            knob.replace(',', ";"),
-            v.replace(',', ";"),
-            what.replace(',', ";")
-        );
-    }
-    print!("{md}");
-    let _ = std::fs::create_dir_all("assets/accuracy");
-    let _ = std::fs::write("assets/accuracy/design.csv", csv);
+    rows
 }

@@ -1,14 +1,12 @@
-//! Pareto plot of every accuracy-vs-time table under `assets/accuracy/*.csv`
-//! (columns `knob,value,measure,error,time_ms`, written by `accuracy_design` and
-//! `accuracy_tolerance`): log10 error against log10 time, one series per knob.
+//! Pareto plot of every accuracy-vs-time table under `assets/accuracy/*.csv` (columns
+//! `knob,value,measure,error,time_ms`): log10 error against log10 time, one series per knob.
 //! Writes `assets/accuracy/pareto.png` and `.svg`.
-//!
-//! Run (after the accuracy examples): `cargo run --release --example pareto`
 use ncgear::plot::{ChartLabels, Series, line_chart};
 use std::collections::BTreeMap;
 use std::path::Path;
 
-fn main() -> Result<(), Box<dyn std::error::Error>> {
+/// Redraws the plot from the CSVs.
+pub fn plot() -> Result<(), Box<dyn std::error::Error>> {
     let dir = Path::new("assets/accuracy");
     let mut series: BTreeMap<String, Vec<(f64, f64)>> = BTreeMap::new();
     let mut files: Vec<_> = std::fs::read_dir(dir)?
