@@ -1,11 +1,13 @@
 //! Hard cases (spec §14, issue 8): noisy measured trajectories, points near the carrier axis,
 //! cusps, extreme ratios here; random mechanisms, loops and non-finite options in [`mechanisms`];
 //! stiff dynamics, degenerate error lists and colliding orbit lines in [`analyses`]; every parser
-//! fed random and mutated bytes in [`fuzz`]. Each asserts a bounded result or a clear typed error,
+//! fed random and mutated bytes in [`fuzz`]; random and concave pitch curves and extreme pair
+//! laws in [`teeth`]. Each asserts a bounded result or a clear typed error,
 //! never a panic or a silent NaN.
 mod analyses;
 mod fuzz;
 mod mechanisms;
+mod teeth;
 
 use ncgear::design::{DesignError, DesignOptions, design};
 use ncgear::fourier::SunRatio;
