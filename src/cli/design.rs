@@ -264,15 +264,7 @@ pub fn run(args: Args) -> CliResult {
                 ("sun-intermediate", &mesh.sun_intermediate),
                 ("intermediate-planet", &mesh.intermediate_planet),
             ] {
-                println!(
-                    "  mesh {name}: {} interference steps of {}, backlash {:.4}..{:.4} mm, \
-                     max transmission error {:.2e}°",
-                    m.interference_steps,
-                    m.steps,
-                    m.min_backlash_mm,
-                    m.max_backlash_mm,
-                    m.max_transmission_error_deg
-                );
+                println!("  mesh {name}: {}", m.summary());
             }
         }
     }

@@ -156,13 +156,7 @@ pub fn run(args: Args) -> CliResult {
             args.out.display()
         );
         if let Some(m) = &design.mesh {
-            println!(
-                "mesh: interference steps {}, backlash {:.4}..{:.4} mm, max transmission error {:.3e}°",
-                m.interference_steps,
-                m.min_backlash_mm,
-                m.max_backlash_mm,
-                m.max_transmission_error_deg
-            );
+            println!("mesh: {}", m.summary());
         }
     }
     Ok(())

@@ -10,6 +10,7 @@
 //!   transmission error is `ε(φ)` (rad) — the driven angle error of the toothed pair;
 //! - coast contact `δc(φ)`: the other root; backlash on the pitch curve `(δc − ε)·r₂`, mm;
 //! - interference: `f < 0` for every δ (no free position), or penetration at `ε`.
+use super::overlap::{Rigid, inside_term};
 use rayon::prelude::*;
 use serde::Serialize;
 use std::f64::consts::{PI, TAU};
@@ -159,6 +160,8 @@ pub struct Shape {
     bands: super::inside::Bands,
     cell: f64,
     grid: std::collections::HashMap<(i64, i64), Vec<u32>, FxBuild>,
+    /// Polar angle of each vertex of `pts`, rad.
+    ang: Vec<f64>,
 }
 
 impl Shape {
@@ -194,7 +197,51 @@ impl Shape {
             bands: super::inside::Bands::new(points_mm, cap_mm),
             cell: cap_mm,
             grid,
+            ang: points_mm.iter().map(|p| p[1].atan2(p[0])).collect(),
         })
+    }
+
+    /// The outline's vertices (body frame, mm), in order.
+    pub(crate) fn points(&self) -> &[[f64; 2]] {
+        &self.pts
+    }
+
+    /// Start indices of the edges `i → i+1` whose both ends have a polar angle within
+    /// `half_width` (rad) of `t` (in polyline order, so they form chains).
+    pub(crate) fn window_edges(&self, t: f64, half_width: f64) -> Vec<usize> {
+        let n = self.pts.len();
+        let within = |i: usize| ((self.ang[i] - t + PI).rem_euclid(TAU) - PI).abs() <= half_width;
+        (0..n)
+            .filter(|&i| within(i) && within((i + 1) % n))
+            .collect()
+    }
+
+    /// Indices of the segments listed in the grid cells that the box of `p`–`q` touches
+    /// (sorted, without repeats) into `out`.
+    pub(crate) fn segments_near(&self, p: [f64; 2], q: [f64; 2], out: &mut Vec<u32>) {
+        out.clear();
+        let cell = |v: f64| (v / self.cell).floor() as i64;
+        let (x0, x1) = (cell(p[0].min(q[0])), cell(p[0].max(q[0])));
+        let (y0, y1) = (cell(p[1].min(q[1])), cell(p[1].max(q[1])));
+        let boxed = (x1 - x0 + 1).saturating_mul(y1 - y0 + 1);
+        if boxed > self.grid.len() as i64 {
+            // A long edge over a fine grid: scan the occupied cells instead of the box.
+            for (&(gx, gy), list) in &self.grid {
+                if (x0..=x1).contains(&gx) && (y0..=y1).contains(&gy) {
+                    out.extend_from_slice(list);
+                }
+            }
+        } else {
+            for gx in x0..=x1 {
+                for gy in y0..=y1 {
+                    if let Some(list) = self.grid.get(&(gx, gy)) {
+                        out.extend_from_slice(list);
+                    }
+                }
+            }
+        }
+        out.sort_unstable();
+        out.dedup();
     }
 
     /// Signed clearance of `x` (body frame, mm): distance to the outline, negative inside;
@@ -286,13 +333,37 @@ pub struct MeshReport {
     pub min_backlash_mm: f64,
     /// Maximum backlash on the pitch curve over the cycle, mm.
     pub max_backlash_mm: f64,
+    /// Largest overlap (interference) area of the two outlines at the motion law's position
+    /// (driven angle `ψ(φ)`, no correction), over the teeth within ±1.75 pitches of the contact,
+    /// mm² (0 = the outlines do not overlap; ~1e-9 mm² is the transmission error's touch).
+    pub max_overlap_area_mm2: f64,
+    /// Driver angle of the largest overlap, degrees.
+    pub max_overlap_at_deg: f64,
     /// Maximum |transmission error| of the driven gear, degrees.
     pub max_transmission_error_deg: f64,
     /// Peak-to-peak transmission error, degrees.
     pub transmission_error_p2p_deg: f64,
 }
 
+impl MeshReport {
+    /// One-line human summary (interference, overlap, backlash range, transmission error).
+    #[must_use]
+    pub fn summary(&self) -> String {
+        format!(
+            "{} interference steps of {}, max overlap {:.3e} mm², backlash {:.4}..{:.4} mm, \
+             max transmission error {:.2e}°",
+            self.interference_steps,
+            self.steps,
+            self.max_overlap_area_mm2,
+            self.min_backlash_mm,
+            self.max_backlash_mm,
+            self.max_transmission_error_deg
+        )
+    }
+}
+
 struct Sample {
+    overlap: f64,
     eps: f64,
     coast: f64,
     nominal: f64,
@@ -350,109 +421,132 @@ pub fn verify_mesh(
     let coarse = |v: &[[f64; 2]]| v.iter().step_by(16).copied().collect::<Vec<_>>();
     let k1 = Shape::new(&coarse(driver), reach, "driver")?;
     let k2 = Shape::new(&coarse(driven), reach, "driven")?;
-    let samples: Vec<Sample> = (0..check.steps)
-        .into_par_iter()
-        .map(|k| {
-            let phi = TAU * k as f64 / check.steps as f64;
-            let psi0 = psi(phi);
-            let r1 = g1.radius_at(-phi);
-            let r2 = (a - r1).max(m);
-            // Candidate vertices near the contact (±1.75 pitches).
-            let w1 = (1.75 * PI * m / r1).min(PI);
-            let w2 = (1.75 * PI * m / r2).min(PI);
-            let c1 = g1.window(-phi, w1);
-            let c2 = g2.window(PI + psi0, w2);
-            // Per-vertex clearances at driven offset δ against shapes (s1 for gear-2 vertices in
-            // the gear-1 frame, s2 for gear-1 vertices in the gear-2 frame).
-            let eval = |delta: f64, set1: &[usize], set2: &[usize], s1: &Shape, s2: &Shape| {
-                let ang2 = psi0 + delta;
-                let (sn1, co1) = phi.sin_cos();
-                let (sn2, co2) = ang2.sin_cos();
-                let v2: Vec<f64> = set2
-                    .iter()
-                    .map(|&i| {
-                        let b = g2.point(i);
-                        let w = [co2 * b[0] + sn2 * b[1] + a, -sn2 * b[0] + co2 * b[1]];
-                        s1.clearance([co1 * w[0] + sn1 * w[1], -sn1 * w[0] + co1 * w[1]])
-                    })
-                    .collect();
-                let v1: Vec<f64> = set1
-                    .iter()
-                    .map(|&i| {
-                        let b = g1.point(i);
-                        let w = [co1 * b[0] - sn1 * b[1] - a, sn1 * b[0] + co1 * b[1]];
-                        s2.clearance([co2 * w[0] - sn2 * w[1], sn2 * w[0] + co2 * w[1]])
-                    })
-                    .collect();
-                (v1, v2)
-            };
-            let db = check.backlash_mm / r2;
-            // Coarse pruning: every 16th window vertex against the coarse shapes, then the fine
-            // vertices within ±16 of each kept coarse one (16 vertices span ≤ 0.1·m here).
-            let d1: Vec<usize> = c1.iter().step_by(16).copied().collect();
-            let d2: Vec<usize> = c2.iter().step_by(16).copied().collect();
-            let (p1, p2) = eval(0.0, &d1, &d2, &k1, &k2);
-            let expand = |c: &[usize], p: &[f64]| {
-                let mut flag = vec![false; c.len()];
-                for (j, v) in p.iter().enumerate() {
-                    if *v < reach + 0.1 * m {
-                        let lo = (j * 16).saturating_sub(16);
-                        let hi = (j * 16 + 17).min(c.len());
-                        flag[lo..hi].iter_mut().for_each(|f| *f = true);
-                    }
+    let sample = |k: usize| {
+        let phi = TAU * k as f64 / check.steps as f64;
+        let psi0 = psi(phi);
+        let r1 = g1.radius_at(-phi);
+        let r2 = (a - r1).max(m);
+        // Candidate vertices near the contact (±1.75 pitches).
+        let w1 = (1.75 * PI * m / r1).min(PI);
+        let w2 = (1.75 * PI * m / r2).min(PI);
+        let c1 = g1.window(-phi, w1);
+        let c2 = g2.window(PI + psi0, w2);
+        // Per-vertex clearances at driven offset δ against shapes (s1 for gear-2 vertices in
+        // the gear-1 frame, s2 for gear-1 vertices in the gear-2 frame).
+        let eval = |delta: f64, set1: &[usize], set2: &[usize], s1: &Shape, s2: &Shape| {
+            let ang2 = psi0 + delta;
+            let (sn1, co1) = phi.sin_cos();
+            let (sn2, co2) = ang2.sin_cos();
+            let v2: Vec<f64> = set2
+                .iter()
+                .map(|&i| {
+                    let b = g2.point(i);
+                    let w = [co2 * b[0] + sn2 * b[1] + a, -sn2 * b[0] + co2 * b[1]];
+                    s1.clearance([co1 * w[0] + sn1 * w[1], -sn1 * w[0] + co1 * w[1]])
+                })
+                .collect();
+            let v1: Vec<f64> = set1
+                .iter()
+                .map(|&i| {
+                    let b = g1.point(i);
+                    let w = [co1 * b[0] - sn1 * b[1] - a, sn1 * b[0] + co1 * b[1]];
+                    s2.clearance([co2 * w[0] - sn2 * w[1], sn2 * w[0] + co2 * w[1]])
+                })
+                .collect();
+            (v1, v2)
+        };
+        // Overlap area at the law's position (δ = 0), in the world frame.
+        let to_world1 = Rigid::new(phi, [0.0, 0.0]);
+        let to_world2 = Rigid::new(-psi0, [a, 0.0]);
+        let overlap = inside_term(
+            &h1,
+            &h1.window_edges(-phi, w1),
+            &to_world2.inverse().after(&to_world1),
+            &to_world1,
+            &h2,
+        ) + inside_term(
+            &h2,
+            &h2.window_edges(PI + psi0, w2),
+            &to_world1.inverse().after(&to_world2),
+            &to_world2,
+            &h1,
+        );
+        let db = check.backlash_mm / r2;
+        // Coarse pruning: every 16th window vertex against the coarse shapes, then the fine
+        // vertices within ±16 of each kept coarse one (16 vertices span ≤ 0.1·m here).
+        let d1: Vec<usize> = c1.iter().step_by(16).copied().collect();
+        let d2: Vec<usize> = c2.iter().step_by(16).copied().collect();
+        let (p1, p2) = eval(0.0, &d1, &d2, &k1, &k2);
+        let expand = |c: &[usize], p: &[f64]| {
+            let mut flag = vec![false; c.len()];
+            for (j, v) in p.iter().enumerate() {
+                if *v < reach + 0.1 * m {
+                    let lo = (j * 16).saturating_sub(16);
+                    let hi = (j * 16 + 17).min(c.len());
+                    flag[lo..hi].iter_mut().for_each(|f| *f = true);
                 }
-                c.iter()
-                    .zip(flag)
-                    .filter(|(_, f)| *f)
-                    .map(|(i, _)| *i)
-                    .collect::<Vec<usize>>()
+            }
+            c.iter()
+                .zip(flag)
+                .filter(|(_, f)| *f)
+                .map(|(i, _)| *i)
+                .collect::<Vec<usize>>()
+        };
+        let keep1 = expand(&c1, &p1);
+        let keep2 = expand(&c2, &p2);
+        let fmin = |v: &(Vec<f64>, Vec<f64>)| {
+            v.0.iter()
+                .chain(v.1.iter())
+                .copied()
+                .fold(f64::INFINITY, f64::min)
+        };
+        let f = |d: f64, s1: &[usize], s2: &[usize]| eval(d, s1, s2, &h1, &h2);
+        let nominal = fmin(&f(0.0, &keep1, &keep2));
+        let mid = 0.5 * db;
+        let fmid = fmin(&f(mid, &keep1, &keep2));
+        if fmid <= 0.0 {
+            return Sample {
+                overlap,
+                eps: 0.0,
+                coast: 0.0,
+                nominal,
+                r2,
+                interference: true,
+                penetration: -fmid,
             };
-            let keep1 = expand(&c1, &p1);
-            let keep2 = expand(&c2, &p2);
-            let fmin = |v: &(Vec<f64>, Vec<f64>)| {
-                v.0.iter()
-                    .chain(v.1.iter())
-                    .copied()
-                    .fold(f64::INFINITY, f64::min)
-            };
-            let f = |d: f64, s1: &[usize], s2: &[usize]| eval(d, s1, s2, &h1, &h2);
-            let nominal = fmin(&f(0.0, &keep1, &keep2));
-            let mid = 0.5 * db;
-            let fmid = fmin(&f(mid, &keep1, &keep2));
-            if fmid <= 0.0 {
+        }
+        let eps = root_pruned(&f, &keep1, &keep2, -db, mid, lip, check.angle_tol_rad);
+        let coast = root_pruned(&f, &keep1, &keep2, mid, 3.0 * db, lip, check.angle_tol_rad);
+        let (eps, coast) = match (eps, coast) {
+            (Some(e), Some(c)) => (e, c),
+            _ => {
                 return Sample {
+                    overlap,
                     eps: 0.0,
                     coast: 0.0,
                     nominal,
                     r2,
                     interference: true,
-                    penetration: -fmid,
+                    penetration: 0.0,
                 };
             }
-            let eps = root_pruned(&f, &keep1, &keep2, -db, mid, lip, check.angle_tol_rad);
-            let coast = root_pruned(&f, &keep1, &keep2, mid, 3.0 * db, lip, check.angle_tol_rad);
-            let (eps, coast) = match (eps, coast) {
-                (Some(e), Some(c)) => (e, c),
-                _ => {
-                    return Sample {
-                        eps: 0.0,
-                        coast: 0.0,
-                        nominal,
-                        r2,
-                        interference: true,
-                        penetration: 0.0,
-                    };
-                }
-            };
+        };
+        Sample {
+            overlap,
+            eps,
+            coast,
+            nominal,
+            r2,
+            interference: false,
+            penetration: 0.0,
+        }
+    };
+    let samples: Vec<Sample> = (0..check.steps)
+        .into_par_iter()
+        .map(|k| {
+            let s = sample(k);
             progress(1);
-            Sample {
-                eps,
-                coast,
-                nominal,
-                r2,
-                interference: false,
-                penetration: 0.0,
-            }
+            s
         })
         .collect();
     let ok: Vec<&Sample> = samples.iter().filter(|s| !s.interference).collect();
@@ -460,8 +554,20 @@ pub fn verify_mesh(
     let bl: Vec<f64> = ok.iter().map(|s| (s.coast - s.eps) * s.r2).collect();
     let max = |v: &[f64]| v.iter().copied().fold(f64::NEG_INFINITY, f64::max);
     let min = |v: &[f64]| v.iter().copied().fold(f64::INFINITY, f64::min);
+    let (k_max, max_overlap) = samples
+        .iter()
+        .enumerate()
+        .fold((0, 0.0f64), |(kb, vb), (k, s)| {
+            if s.overlap > vb {
+                (k, s.overlap)
+            } else {
+                (kb, vb)
+            }
+        });
     Ok(MeshReport {
         steps: check.steps,
+        max_overlap_area_mm2: max_overlap,
+        max_overlap_at_deg: 360.0 * k_max as f64 / check.steps as f64,
         interference_steps: samples.len() - ok.len(),
         max_penetration_mm: samples.iter().map(|s| s.penetration).fold(0.0, f64::max),
         min_nominal_clearance_mm: samples

@@ -67,6 +67,7 @@ fn g1_train_at_module_2_has_23_teeth_meshes_and_moves_the_tip_by_the_closed_form
     for m in [&mesh.sun_intermediate, &mesh.intermediate_planet] {
         assert_eq!(m.steps, 24);
         assert_eq!(m.interference_steps, 0);
+        assert!(m.max_overlap_area_mm2 <= 1e-9, "{m:?}");
         assert_eq!(m.max_penetration_mm, 0.0);
         // Backlash 0.04·m = 0.08 mm nominal on the pitch curve; the measured one along the
         // normal varies with the pressure-angle deviation but stays positive and bounded.
