@@ -253,24 +253,26 @@ impl Shape {
             (x[0] / self.cell).floor() as i64,
             (x[1] / self.cell).floor() as i64,
         );
+        // Squared distances; one square root at the end.
         let mut best = (f64::INFINITY, 0usize, 0.5);
         for gx in cx - 1..=cx + 1 {
             for gy in cy - 1..=cy + 1 {
                 if let Some(list) = self.grid.get(&(gx, gy)) {
                     for &i in list {
-                        let i = i as usize;
-                        let (a, b) = (self.pts[i], self.pts[(i + 1) % n]);
+                        let (a, b) = (self.pts[i as usize], self.pts[(i as usize + 1) % n]);
                         let (dx, dy) = (b[0] - a[0], b[1] - a[1]);
-                        let t = (((x[0] - a[0]) * dx + (x[1] - a[1]) * dy) / (dx * dx + dy * dy))
-                            .clamp(0.0, 1.0);
-                        let d = (x[0] - a[0] - t * dx).hypot(x[1] - a[1] - t * dy);
-                        if d < best.0 {
-                            best = (d, i, t);
+                        let (px, py) = (x[0] - a[0], x[1] - a[1]);
+                        let t = ((px * dx + py * dy) / (dx * dx + dy * dy)).clamp(0.0, 1.0);
+                        let (ex, ey) = (px - t * dx, py - t * dy);
+                        let d2 = ex * ex + ey * ey;
+                        if d2 < best.0 {
+                            best = (d2, i as usize, t);
                         }
                     }
                 }
             }
         }
+        let best = (best.0.sqrt(), best.1, best.2);
         if best.0 > self.cell {
             // Far from the boundary: the exact crossing rule (a polar test would misread the
             // pocket under a leaning, overhanging tooth).
