@@ -62,16 +62,15 @@ pub fn run(args: Args) -> CliResult {
             )));
         }
     };
-    let rack = args.rack.rack().map_err(input_error)?;
     let mut opts = PairOptions::new(args.teeth, args.module);
-    opts.rack = rack;
     opts.verify_steps = args.verify_steps;
-    if let Some(b) = args.rack.backlash {
-        opts.backlash_mm = b;
-    }
-    if let Some(c) = args.rack.chord_tol {
-        opts.chord_tol_mm = c;
-    }
+    args.rack
+        .apply_to(
+            &mut opts.rack,
+            &mut opts.backlash_mm,
+            &mut opts.chord_tol_mm,
+        )
+        .map_err(input_error)?;
     let pb = progress_bar(opts.verify_steps as u64, "mesh check");
     let design = design_pair_with_progress(&law, &opts, &|n| pb.inc(n));
     pb.finish_and_clear();

@@ -374,6 +374,21 @@ struct Sample {
     penetration: f64,
 }
 
+impl Sample {
+    /// A position without a contact-free driven angle.
+    fn interference(overlap: f64, nominal: f64, r2: f64, penetration: f64) -> Self {
+        Self {
+            overlap,
+            eps: 0.0,
+            coast: 0.0,
+            nominal,
+            r2,
+            interference: true,
+            penetration,
+        }
+    }
+}
+
 /// Rolls `driver` (gear 1) and `driven` (gear 2) outlines (mm, CCW, body frames) through one driver
 /// turn with the motion law `psi(φ)` (driven CW rotation, rad; `psi(φ+2π) = psi(φ) + 2π`).
 ///
@@ -507,30 +522,14 @@ pub fn verify_mesh(
         let mid = 0.5 * db;
         let fmid = fmin(&f(mid, &keep1, &keep2));
         if fmid <= 0.0 {
-            return Sample {
-                overlap,
-                eps: 0.0,
-                coast: 0.0,
-                nominal,
-                r2,
-                interference: true,
-                penetration: -fmid,
-            };
+            return Sample::interference(overlap, nominal, r2, -fmid);
         }
         let eps = root_pruned(&f, &keep1, &keep2, -db, mid, lip, check.angle_tol_rad);
         let coast = root_pruned(&f, &keep1, &keep2, mid, 3.0 * db, lip, check.angle_tol_rad);
         let (eps, coast) = match (eps, coast) {
             (Some(e), Some(c)) => (e, c),
             _ => {
-                return Sample {
-                    overlap,
-                    eps: 0.0,
-                    coast: 0.0,
-                    nominal,
-                    r2,
-                    interference: true,
-                    penetration: 0.0,
-                };
+                return Sample::interference(overlap, nominal, r2, 0.0);
             }
         };
         Sample {
