@@ -156,6 +156,67 @@ pub fn polygon_overlap_area(p_mm: &[[f64; 2]], q_mm: &[[f64; 2]]) -> Result<f64,
         + inside_term(&b, &all(q_mm.len()), &id, &id, &a))
 }
 
+/// First pair of non-adjacent edges `(i, j)`, `i < j` (edge `i` runs from vertex `i` to `i+1`) of
+/// the closed polygon `points_mm` that touch or cross, or `None` when the polygon is simple.
+/// Grid-indexed: O(n) for outlines with edges of similar length.
+///
+/// # Errors
+/// [`MeshError::NotStarShaped`] when the polygon has fewer than 3 vertices.
+///
+/// # Examples
+/// ```
+/// use ncgear::teeth::overlap::first_self_intersection;
+/// let square = [[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]];
+/// assert_eq!(first_self_intersection(&square).unwrap(), None);
+/// let bowtie = [[0.0, 0.0], [1.0, 1.0], [1.0, 0.0], [0.0, 1.0]];
+/// assert_eq!(first_self_intersection(&bowtie).unwrap(), Some((0, 2)));
+/// ```
+pub fn first_self_intersection(
+    points_mm: &[[f64; 2]],
+) -> Result<Option<(usize, usize)>, MeshError> {
+    let n = points_mm.len();
+    let mean = (0..n)
+        .map(|i| {
+            let (a, b) = (points_mm[i], points_mm[(i + 1) % n.max(1)]);
+            (b[0] - a[0]).hypot(b[1] - a[1])
+        })
+        .sum::<f64>()
+        / n.max(1) as f64;
+    let shape = Shape::new(points_mm, (2.0 * mean).max(1e-9), "polygon")?;
+    let mut near = Vec::new();
+    let mut found: Option<(usize, usize)> = None;
+    for i in 0..n {
+        let (p, q) = (points_mm[i], points_mm[(i + 1) % n]);
+        shape.segments_near(p, q, &mut near);
+        for &j in &near {
+            let j = j as usize;
+            if j <= i || j == i + 1 || (i == 0 && j == n - 1) {
+                continue;
+            }
+            let (a, b) = (points_mm[j], points_mm[(j + 1) % n]);
+            let side = |u: [f64; 2], v: [f64; 2], w: [f64; 2]| {
+                cross([v[0] - u[0], v[1] - u[1]], [w[0] - u[0], w[1] - u[1]])
+            };
+            let (d1, d2) = (side(p, q, a), side(p, q, b));
+            let (d3, d4) = (side(a, b, p), side(a, b, q));
+            let crosses = d1 * d2 <= 0.0 && d3 * d4 <= 0.0;
+            // Collinear edges: only when their boxes overlap.
+            let collinear = d1 == 0.0 && d2 == 0.0;
+            let boxes = p[0].min(q[0]) <= a[0].max(b[0])
+                && a[0].min(b[0]) <= p[0].max(q[0])
+                && p[1].min(q[1]) <= a[1].max(b[1])
+                && a[1].min(b[1]) <= p[1].max(q[1]);
+            if crosses && (!collinear || boxes) && found.is_none_or(|f| (i, j) < f) {
+                found = Some((i, j));
+            }
+        }
+        if found.is_some_and(|f| f.0 == i) {
+            break;
+        }
+    }
+    Ok(found)
+}
+
 #[cfg(test)]
 mod tests {
     use super::{Rigid, polygon_overlap_area};

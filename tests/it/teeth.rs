@@ -4,6 +4,7 @@ use ncgear::export::points::write_points;
 use ncgear::export::svg::write_svg;
 use ncgear::pair::{Expr, Law, Motion, PairOptions, design_pair};
 use ncgear::pitch::PitchCurve;
+use ncgear::teeth::overlap::first_self_intersection;
 use ncgear::teeth::{
     OutlineOptions, RackParams, TeethError, ToothPolicy, generate_outline, scale_curve, tooth_count,
 };
@@ -21,7 +22,7 @@ fn out_dir(sub: &str) -> PathBuf {
     d
 }
 
-/// Shoelace area (mm²) and a simple-polygon check by brute force on a subsample.
+/// Shoelace area (mm²).
 fn area(p: &[[f64; 2]]) -> f64 {
     let n = p.len();
     0.5 * (0..n)
@@ -62,6 +63,8 @@ fn g1_sun_at_module_2_has_23_teeth_and_no_undercut() {
         "{}",
         o.undercut.min_rho_mm
     );
+    // One simple closed outline: no two non-adjacent edges touch.
+    assert_eq!(first_self_intersection(&o.points_mm).unwrap(), None);
     // Closed CCW outline between root and tip offsets: area between the root and tip curve areas.
     let a = area(&o.points_mm);
     let l = 23.0 * std::f64::consts::PI * 2.0;
@@ -166,6 +169,14 @@ fn involute_on_a_circle() {
 
 fn check_pair(law: Law, teeth: u32, m: f64, tag: &str) -> ncgear::pair::PairDesign {
     let d = design_pair(&law, &PairOptions::new(Some(teeth), m)).unwrap();
+    for o in [&d.driver, &d.driven] {
+        assert_eq!(
+            first_self_intersection(&o.points_mm).unwrap(),
+            None,
+            "{tag}"
+        );
+        assert!(area(&o.points_mm) > 0.0, "{tag}: CCW");
+    }
     let mesh = d.mesh.clone().unwrap();
     assert_eq!(mesh.interference_steps, 0, "{tag}: {mesh:?}");
     assert!(mesh.max_penetration_mm <= 0.0);

@@ -93,10 +93,16 @@ fn g1_train_at_module_2_has_23_teeth_meshes_and_moves_the_tip_by_the_closed_form
             && rt.max_deviation_mm >= 0.5 * rt.max_tip_shift_mm,
         "{rt:?}"
     );
-    // The outlines: closed, CCW, simple enough to have positive area between root and tip circles.
+    // The outlines: closed, CCW, simple (no two non-adjacent edges touch), with positive area
+    // between root and tip curves.
     for g in Gear::ALL {
         let sheet = t.gear_sheet(g);
         let o = &sheet.contours[0].points_mm;
+        assert_eq!(
+            ncgear::teeth::overlap::first_self_intersection(o).unwrap(),
+            None,
+            "{g:?}"
+        );
         let area = 0.5
             * (0..o.len())
                 .map(|k| {
