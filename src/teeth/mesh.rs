@@ -746,12 +746,15 @@ fn min_of(v: &PerVertex) -> f64 {
 
 type PerVertex = (Vec<f64>, Vec<f64>);
 
+/// Per-vertex clearances at a driven offset δ (rad) for two vertex sets.
+type ClearanceFn<'a> = dyn Fn(f64, &[usize], &[usize]) -> PerVertex + 'a;
+
 /// Root of the minimum clearance on `[lo, hi]` (Illinois regula falsi), to `tol`, pruning after
 /// each evaluation the vertices that cannot be the minimiser anywhere in the bracket: a vertex's
 /// clearance changes by at most `lip·|Δδ|`, so it is dropped when `c_i(x) > min c(x) + 2·lip·(hi − lo)`.
 #[allow(clippy::too_many_arguments)]
 fn root_pruned(
-    f: &dyn Fn(f64, &[usize], &[usize]) -> PerVertex,
+    f: &ClearanceFn<'_>,
     k1: &[usize],
     k2: &[usize],
     mut lo: f64,
