@@ -1,6 +1,6 @@
 //! Benchmark of `ncgear pair` on the ncgears oracle law `phi - 0.08*sin(2*phi)`, 24 teeth, m 1.5:
 //! the design (law → pitch curves → rack-generated outlines, no verification), the design with
-//! a 36-step mesh verification, and the exports. Run: `cargo bench --bench pair`.
+//! the default 90-step mesh verification, and the exports. Run: `cargo bench --bench pair`.
 use ncgear::export::dxf::{DxfVersion, write_dxf};
 use ncgear::export::svg::to_svg_string;
 use ncgear::pair::{Expr, Law, PairOptions, design_pair};
@@ -23,9 +23,9 @@ fn design_no_verification() {
 }
 
 #[divan::bench(sample_count = 3)]
-fn design_with_36_step_verification() {
+fn design_with_90_step_verification() {
     let opts = PairOptions {
-        verify_steps: 36,
+        verify_steps: 90,
         ..PairOptions::new(Some(24), 1.5)
     };
     divan::black_box(design_pair(&law(), &opts).expect("pair"));

@@ -14,6 +14,8 @@
 //! carries its unit in its name or its doc comment.
 #![warn(missing_docs)]
 #![warn(clippy::print_stdout, clippy::print_stderr)]
+// `!(x > 0.0)` is how the input checks reject NaN together with out-of-range values.
+#![allow(clippy::neg_cmp_op_on_partial_ord)]
 
 pub mod analysis;
 pub mod animate;

@@ -258,7 +258,7 @@ pub fn fft_synthesis(coeffs: &[Complex<f64>], n: usize) -> Vec<f64> {
     let mut input = coeffs.to_vec();
     // The DC and (even n) Nyquist bins must be real for a real signal.
     input[0].im = 0.0;
-    if n % 2 == 0 {
+    if n.is_multiple_of(2) {
         let last = input.len() - 1;
         input[last].im = 0.0;
     }
@@ -279,7 +279,7 @@ pub fn spectral_derivative(y: &[f64]) -> Vec<f64> {
     for (k, ck) in c.iter_mut().enumerate() {
         *ck *= Complex::new(0.0, k as f64);
     }
-    if n % 2 == 0 {
+    if n.is_multiple_of(2) {
         c[last] = Complex::new(0.0, 0.0);
     }
     fft_synthesis(&c, n)
@@ -297,7 +297,7 @@ pub fn spectral_integral(y: &[f64]) -> (f64, Vec<f64>) {
     for (k, ck) in c.iter_mut().enumerate().skip(1) {
         *ck /= Complex::new(0.0, k as f64);
     }
-    if n % 2 == 0 {
+    if n.is_multiple_of(2) {
         c[last] = Complex::new(0.0, 0.0);
     }
     let f = fft_synthesis(&c, n);

@@ -138,6 +138,8 @@ pub fn design(
         f[i] * (1.0 - fr) + f[i + 1] * fr
     };
     let trapz = |f: &[f64]| du * (f.iter().sum::<f64>() - 0.5 * (f[0] + f[m]));
+    // (error, scale, ratio samples, angle samples, order)
+    #[allow(clippy::type_complexity)]
     let mut best: Option<(f64, f64, Vec<f64>, Vec<f64>, usize)> = None;
     for k in 0..=opts.k_max {
         let scale = PI / trapz(&f);

@@ -255,7 +255,7 @@ pub struct Simulation {
     /// The assembled train.
     pub assembly: Assembly,
     /// Toothed outlines (body frames, mm) of the sun, intermediate and planet, drawn instead of
-    /// the pitch curves when present (see [`Simulation::with_outlines`]).
+    /// the pitch curves when present (see [`Simulation::toothed`]).
     pub outlines: Option<[Vec<[f64; 2]>; 3]>,
 }
 

@@ -264,15 +264,7 @@ pub fn run(args: Args) -> CliResult {
                 ("sun-intermediate", &mesh.sun_intermediate),
                 ("intermediate-planet", &mesh.intermediate_planet),
             ] {
-                println!(
-                    "  mesh {name}: {} interference steps of {}, backlash {:.4}..{:.4} mm, \
-                     max transmission error {:.2e}°",
-                    m.interference_steps,
-                    m.steps,
-                    m.min_backlash_mm,
-                    m.max_backlash_mm,
-                    m.max_transmission_error_deg
-                );
+                println!("  mesh {name}: {}", m.summary());
             }
         }
     }
@@ -300,19 +292,15 @@ fn toothed(
     d: &ncgear::design::Design,
     module_mm: f64,
 ) -> Result<ncgear::train::ToothedTrain, super::Failure> {
-    let rack = args
-        .rack
-        .rack()
-        .map_err(|e| input_error(miette::miette!("{e}")))?;
     let mut opts = TrainTeethOptions::new(module_mm);
-    opts.rack = rack;
     opts.verify_steps = args.verify_steps;
-    if let Some(b) = args.rack.backlash {
-        opts.backlash_mm = b;
-    }
-    if let Some(c) = args.rack.chord_tol {
-        opts.chord_tol_mm = c;
-    }
+    args.rack
+        .apply_to(
+            &mut opts.rack,
+            &mut opts.backlash_mm,
+            &mut opts.chord_tol_mm,
+        )
+        .map_err(|e| input_error(miette::miette!("{e}")))?;
     opts.policy = match (args.teeth, args.tooth_policy) {
         (Some(z), _) => TrainPolicy::ScaleCenterDistance(ToothPolicy::Exact(z)),
         (None, ToothPolicyArg::ScaleUp) => TrainPolicy::ScaleCenterDistance(ToothPolicy::ScaleUp),

@@ -10,21 +10,12 @@ fn input_error(e: impl std::fmt::Display) -> Failure {
 fn runtime_error(e: impl std::fmt::Display) -> Failure {
     super::runtime_error(miette::miette!("{e}"))
 }
+use super::teeth_args::RackArgs;
 use ncgear::export::dxf::{DxfVersion, write_dxf};
 use ncgear::export::points::write_points;
 use ncgear::export::svg::write_svg;
 use ncgear::pair::{Expr, Law, PairError, PairOptions, design_pair_with_progress};
-use ncgear::teeth::RackParams;
 use std::path::PathBuf;
-
-/// DXF flavour on the command line.
-#[derive(Debug, Clone, Copy, clap::ValueEnum)]
-pub enum DxfFlavour {
-    /// AutoCAD 2010, closed LWPOLYLINE (default).
-    R2010,
-    /// AutoCAD R12, POLYLINE/VERTEX, for old programs.
-    R12,
-}
 
 /// Arguments of `ncgear pair`.
 #[derive(Debug, clap::Args)]
@@ -45,30 +36,12 @@ pub struct Args {
     /// Module, mm.
     #[arg(long, default_value_t = 1.0)]
     pub module: f64,
-    /// Rack pressure angle, degrees.
-    #[arg(long, default_value_t = 20.0)]
-    pub pressure_angle: f64,
-    /// Addendum factor ha*.
-    #[arg(long, default_value_t = 1.0)]
-    pub addendum: f64,
-    /// Clearance factor c*.
-    #[arg(long, default_value_t = 0.25)]
-    pub clearance: f64,
-    /// Rack tip-fillet radius factor ρf*.
-    #[arg(long, default_value_t = 0.38)]
-    pub fillet: f64,
-    /// Circumferential backlash of the pair on the pitch curve, mm (default 0.04·m).
-    #[arg(long)]
-    pub backlash: Option<f64>,
-    /// Chord tolerance of the exported contours, mm (default 1e-3·m).
-    #[arg(long)]
-    pub chord_tol: Option<f64>,
+    /// Rack, backlash and CAD-export options.
+    #[command(flatten)]
+    pub rack: RackArgs,
     /// Driver positions checked by the mesh verification over one turn (0 = skip).
     #[arg(long, default_value_t = 90)]
     pub verify_steps: usize,
-    /// DXF version.
-    #[arg(long, value_enum, default_value = "r2010")]
-    pub dxf_version: DxfFlavour,
     /// Output directory (created if missing; files are overwritten).
     #[arg(long, short = 'o', default_value = "out")]
     pub out: PathBuf,
@@ -89,22 +62,15 @@ pub fn run(args: Args) -> CliResult {
             )));
         }
     };
-    let rack = RackParams::new(
-        args.pressure_angle.to_radians(),
-        args.addendum,
-        args.clearance,
-        args.fillet,
-    )
-    .map_err(input_error)?;
     let mut opts = PairOptions::new(args.teeth, args.module);
-    opts.rack = rack;
     opts.verify_steps = args.verify_steps;
-    if let Some(b) = args.backlash {
-        opts.backlash_mm = b;
-    }
-    if let Some(c) = args.chord_tol {
-        opts.chord_tol_mm = c;
-    }
+    args.rack
+        .apply_to(
+            &mut opts.rack,
+            &mut opts.backlash_mm,
+            &mut opts.chord_tol_mm,
+        )
+        .map_err(input_error)?;
     let pb = progress_bar(opts.verify_steps as u64, "mesh check");
     let design = design_pair_with_progress(&law, &opts, &|n| pb.inc(n));
     pb.finish_and_clear();
@@ -115,10 +81,7 @@ pub fn run(args: Args) -> CliResult {
     std::fs::create_dir_all(&args.out)
         .map_err(|e| runtime_error(format!("cannot create {}: {e}", args.out.display())))?;
     let sheet = design.assembly_sheet();
-    let version = match args.dxf_version {
-        DxfFlavour::R2010 => DxfVersion::R2010,
-        DxfFlavour::R12 => DxfVersion::R12,
-    };
+    let version = DxfVersion::from(args.rack.dxf_version);
     let dxf = args.out.join("pair.dxf");
     let svg = args.out.join("pair.svg");
     write_dxf(&sheet, &dxf, version, opts.chord_tol_mm).map_err(runtime_error)?;
@@ -156,13 +119,7 @@ pub fn run(args: Args) -> CliResult {
             args.out.display()
         );
         if let Some(m) = &design.mesh {
-            println!(
-                "mesh: interference steps {}, backlash {:.4}..{:.4} mm, max transmission error {:.3e}°",
-                m.interference_steps,
-                m.min_backlash_mm,
-                m.max_backlash_mm,
-                m.max_transmission_error_deg
-            );
+            println!("mesh: {}", m.summary());
         }
     }
     Ok(())

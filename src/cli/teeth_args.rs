@@ -56,4 +56,22 @@ impl RackArgs {
             self.fillet,
         )
     }
+
+    /// Writes the validated rack and the given overrides (backlash, chord tolerance, mm) into
+    /// the options of a toothed design.
+    pub fn apply_to(
+        &self,
+        rack: &mut RackParams,
+        backlash_mm: &mut f64,
+        chord_tol_mm: &mut f64,
+    ) -> Result<(), TeethError> {
+        *rack = self.rack()?;
+        if let Some(b) = self.backlash {
+            *backlash_mm = b;
+        }
+        if let Some(c) = self.chord_tol {
+            *chord_tol_mm = c;
+        }
+        Ok(())
+    }
 }

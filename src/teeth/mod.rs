@@ -15,6 +15,7 @@
 mod frame;
 mod inside;
 pub mod mesh;
+pub mod overlap;
 
 mod rack;
 

@@ -5,6 +5,7 @@ mod dynamics;
 mod hard_cases;
 mod orbit;
 mod simulate;
+mod svg_render;
 mod teeth;
 mod tolerance;
 mod train;

@@ -4,6 +4,7 @@ use ncgear::export::points::write_points;
 use ncgear::export::svg::write_svg;
 use ncgear::pair::{Expr, Law, Motion, PairOptions, design_pair};
 use ncgear::pitch::PitchCurve;
+use ncgear::teeth::overlap::first_self_intersection;
 use ncgear::teeth::{
     OutlineOptions, RackParams, TeethError, ToothPolicy, generate_outline, scale_curve, tooth_count,
 };
@@ -21,7 +22,7 @@ fn out_dir(sub: &str) -> PathBuf {
     d
 }
 
-/// Shoelace area (mm²) and a simple-polygon check by brute force on a subsample.
+/// Shoelace area (mm²).
 fn area(p: &[[f64; 2]]) -> f64 {
     let n = p.len();
     0.5 * (0..n)
@@ -62,6 +63,8 @@ fn g1_sun_at_module_2_has_23_teeth_and_no_undercut() {
         "{}",
         o.undercut.min_rho_mm
     );
+    // One simple closed outline: no two non-adjacent edges touch.
+    assert_eq!(first_self_intersection(&o.points_mm).unwrap(), None);
     // Closed CCW outline between root and tip offsets: area between the root and tip curve areas.
     let a = area(&o.points_mm);
     let l = 23.0 * std::f64::consts::PI * 2.0;
@@ -166,9 +169,18 @@ fn involute_on_a_circle() {
 
 fn check_pair(law: Law, teeth: u32, m: f64, tag: &str) -> ncgear::pair::PairDesign {
     let d = design_pair(&law, &PairOptions::new(Some(teeth), m)).unwrap();
+    for o in [&d.driver, &d.driven] {
+        assert_eq!(
+            first_self_intersection(&o.points_mm).unwrap(),
+            None,
+            "{tag}"
+        );
+        assert!(area(&o.points_mm) > 0.0, "{tag}: CCW");
+    }
     let mesh = d.mesh.clone().unwrap();
     assert_eq!(mesh.interference_steps, 0, "{tag}: {mesh:?}");
     assert!(mesh.max_penetration_mm <= 0.0);
+    assert!(mesh.max_overlap_area_mm2 <= 1e-9, "{tag}: {mesh:?}");
     assert!(mesh.min_backlash_mm > 0.0, "{tag}: {mesh:?}");
     // Backlash = 0.04 m on the pitch curve, measured within 35 % (the lever arm varies).
     assert!(
@@ -331,4 +343,68 @@ fn bad_law_inputs_are_typed_errors() {
     .unwrap_err();
     assert!(e.to_string().contains("> 0"), "{e}");
     assert!(RackParams::new(0.0, 1.0, 0.25, 0.38).is_err());
+}
+
+/// Interference as overlap area (issue 3): zero for the designed pair at the law's position;
+/// with the driven gear clocked 0.02 rad off (≈ 6 backlashes) the teeth overlap, and the
+/// windowed area found by the mesh check equals the area of the full outlines' intersection
+/// computed independently in the world frame.
+#[test]
+fn overlap_area_is_zero_for_the_pair_and_matches_full_clipping_when_clocked_wrong() {
+    use ncgear::teeth::mesh::{MeshCheck, verify_mesh};
+    use ncgear::teeth::overlap::polygon_overlap_area;
+    let law = Law::Motion(Expr::parse("phi - 0.08*sin(2*phi)").unwrap());
+    let d = design_pair(
+        &law,
+        &PairOptions {
+            verify_steps: 0,
+            ..PairOptions::new(Some(24), 1.5)
+        },
+    )
+    .unwrap();
+    let motion = Motion::from_law(&law, 4096).unwrap();
+    let a = d.centre_distance_mm;
+    let run = |shift: f64| {
+        verify_mesh(
+            &d.driver.points_mm,
+            &d.driven.points_mm,
+            &|f| motion.psi(f) + shift,
+            &MeshCheck {
+                centre_distance_mm: a,
+                steps: 24,
+                backlash_mm: 0.06,
+                module_mm: 1.5,
+                angle_tol_rad: 1e-13,
+            },
+            &|_| {},
+        )
+        .unwrap()
+    };
+    let good = run(0.0);
+    assert_eq!(good.max_overlap_area_mm2, 0.0, "{good:?}");
+    assert_eq!(good.interference_steps, 0);
+    for shift in [0.02, -0.02] {
+        let bad = run(shift);
+        assert!(bad.max_overlap_area_mm2 > 0.05, "{shift}: {bad:?}");
+        assert_eq!(bad.interference_steps, 24, "{shift}: {bad:?}");
+        let phi = bad.max_overlap_at_deg.to_radians();
+        let rot = |p: &[f64; 2], t: f64, dx: f64| {
+            let (s, c) = t.sin_cos();
+            [c * p[0] - s * p[1] + dx, s * p[0] + c * p[1]]
+        };
+        let w1: Vec<[f64; 2]> = d
+            .driver
+            .points_mm
+            .iter()
+            .map(|p| rot(p, phi, 0.0))
+            .collect();
+        let t2 = -(motion.psi(phi) + shift);
+        let w2: Vec<[f64; 2]> = d.driven.points_mm.iter().map(|p| rot(p, t2, a)).collect();
+        let full = polygon_overlap_area(&w1, &w2).unwrap();
+        assert!(
+            (full - bad.max_overlap_area_mm2).abs() < 1e-9 * full.max(1.0),
+            "{shift}: windowed {} vs full {full}",
+            bad.max_overlap_area_mm2
+        );
+    }
 }

@@ -67,6 +67,7 @@ fn g1_train_at_module_2_has_23_teeth_meshes_and_moves_the_tip_by_the_closed_form
     for m in [&mesh.sun_intermediate, &mesh.intermediate_planet] {
         assert_eq!(m.steps, 24);
         assert_eq!(m.interference_steps, 0);
+        assert!(m.max_overlap_area_mm2 <= 1e-9, "{m:?}");
         assert_eq!(m.max_penetration_mm, 0.0);
         // Backlash 0.04·m = 0.08 mm nominal on the pitch curve; the measured one along the
         // normal varies with the pressure-angle deviation but stays positive and bounded.
@@ -92,10 +93,16 @@ fn g1_train_at_module_2_has_23_teeth_meshes_and_moves_the_tip_by_the_closed_form
             && rt.max_deviation_mm >= 0.5 * rt.max_tip_shift_mm,
         "{rt:?}"
     );
-    // The outlines: closed, CCW, simple enough to have positive area between root and tip circles.
+    // The outlines: closed, CCW, simple (no two non-adjacent edges touch), with positive area
+    // between root and tip curves.
     for g in Gear::ALL {
         let sheet = t.gear_sheet(g);
         let o = &sheet.contours[0].points_mm;
+        assert_eq!(
+            ncgear::teeth::overlap::first_self_intersection(o).unwrap(),
+            None,
+            "{g:?}"
+        );
         let area = 0.5
             * (0..o.len())
                 .map(|k| {
