@@ -8,3 +8,4 @@ mod simulate;
 mod teeth;
 mod tolerance;
 mod train;
+mod transplanter;
