@@ -53,7 +53,13 @@
 //! nothing keyed to it; tested); clocking the planet is the same as an arm mounting error of the
 //! opposite sign (tested).
 
+mod analyse;
 mod model;
+
+pub use analyse::{
+    AssemblyOptimum, Contribution, EnvelopePoint, FeatureDeviations, GreedyChoice,
+    TransplanterOptions, TransplanterReport, Validation, analyse,
+};
 pub use model::{ExactModel, FdSteps, LinearModel, TrainState};
 
 use rand::RngExt;
