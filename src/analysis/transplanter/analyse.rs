@@ -165,6 +165,8 @@ pub struct AssemblyOptimum {
     pub p_random_beats_joint: f64,
     /// `1 − joint/mean(random)`, %.
     pub gain_vs_random_mean_percent: f64,
+    /// `|ΔB(φH)|` of the joint optimum on the grid (linear model), µm.
+    pub joint_deviation_um: Vec<f64>,
 }
 
 /// The report of `ncgear tolerance DESIGN.json --errors ERRORS`.
@@ -543,7 +545,13 @@ fn optimise_assembly(
     for (a, &k) in free.iter().enumerate() {
         gammas[k] = joint.1[a];
     }
-    let joint_exact = exact_max(model, lin, &inv.with_directions(&gammas))?;
+    let best_x = inv.with_directions(&gammas);
+    let joint_exact = exact_max(model, lin, &best_x)?;
+    let joint_deviation_um = lin
+        .deviations(&best_x)
+        .iter()
+        .map(|d| d[0].hypot(d[1]) * UM)
+        .collect();
     // Random assembly: free directions random, everything else as given.
     let (random, vals) = montecarlo::run(
         &opts.mc,
@@ -579,6 +587,7 @@ fn optimise_assembly(
         },
         random,
         p_random_beats_joint: p,
+        joint_deviation_um,
     }))
 }
 
