@@ -1,7 +1,7 @@
 //! Transplanter tolerance analysis (companion spec C.6): exact perturbed kinematics, closed forms,
 //! the circular-gear phasor limit, linear vs exact, Monte Carlo stability, file errors.
 use ncgear::analysis::montecarlo::McOptions;
-use ncgear::analysis::tolerance::phasor_sum;
+use ncgear::analysis::tolerance::{ToleranceError, phasor_sum};
 use ncgear::analysis::transplanter::*;
 use ncgear::assembly::Assembly;
 use ncgear::golden::{ellipse_ratio, g1_mechanism};
@@ -360,7 +360,7 @@ fn bad_error_files_name_the_key() {
     let neg = ErrorInventory::parse("[pin_a]\nradial = { sigma_um = -1 }\n", "e.toml", false)
         .unwrap_err();
     assert!(
-        matches!(&neg, TransplanterError::BadValue { key, .. } if key == "pin_a.radial.sigma_um"),
+        matches!(&neg, TransplanterError::File(ToleranceError::BadValue { key, .. }) if key == "pin_a.radial.sigma_um"),
         "{neg}"
     );
     let keyed = ErrorInventory::parse(

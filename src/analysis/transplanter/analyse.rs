@@ -8,10 +8,10 @@ use super::{
     clock_index, ecc_index,
 };
 use crate::analysis::montecarlo::{self, McOptions, McStats};
+use crate::analysis::tolerance::nelder_mead_starts;
 use crate::assembly::{Assembly, Pose};
 use crate::simulate::{FeatureOptions, Features, TwoArms, features_of_turn};
-use argmin::core::{CostFunction, Executor};
-use argmin::solver::neldermead::NelderMead;
+use argmin::core::CostFunction;
 use nalgebra::DVector;
 use rand::rngs::ChaCha8Rng;
 use rand::{RngExt, SeedableRng};
@@ -495,48 +495,30 @@ fn optimise_assembly(
             inits.push((0..d).map(|_| rng.random::<f64>() * TAU).collect());
         }
         let mut best = (greedy_val, chosen.clone());
-        for x in inits {
-            let mut simplex = vec![DVector::from_vec(x.clone())];
-            for j in 0..d {
-                let mut v = x.clone();
-                v[j] += 0.4;
-                simplex.push(DVector::from_vec(v));
-            }
-            let Ok(solver) = NelderMead::new(simplex).with_sd_tolerance(1e-12) else {
-                continue;
-            };
-            let res = Executor::new(
-                Objective {
-                    lin,
-                    base: obj.base.clone(),
-                    free: obj.free.clone(),
-                    magnitude: obj.magnitude.clone(),
-                },
-                solver,
-            )
-            .configure(|s| s.max_iters(300))
-            .run();
-            if let Ok(r) = res
-                && let Some(p) = r.state().best_param.as_ref()
-            {
-                // Snap keyed gears to their positions.
-                let gs: Vec<f64> = p
-                    .iter()
-                    .zip(&free)
-                    .map(|(g, &k)| {
-                        let e = &inv.eccentricity[k];
-                        if e.keyed > 0 {
-                            let step = TAU / e.keyed as f64;
-                            e.direction_rad + ((g - e.direction_rad) / step).round() * step
-                        } else {
-                            *g
-                        }
-                    })
-                    .collect();
-                let v = obj.value(&gs, d);
-                if v < best.0 {
-                    best = (v, gs);
-                }
+        let make = || Objective {
+            lin,
+            base: obj.base.clone(),
+            free: obj.free.clone(),
+            magnitude: obj.magnitude.clone(),
+        };
+        for p in nelder_mead_starts(make, &inits, 0.4, 1e-12, 300) {
+            // Snap keyed gears to their positions.
+            let gs: Vec<f64> = p
+                .iter()
+                .zip(&free)
+                .map(|(g, &k)| {
+                    let e = &inv.eccentricity[k];
+                    if e.keyed > 0 {
+                        let step = TAU / e.keyed as f64;
+                        e.direction_rad + ((g - e.direction_rad) / step).round() * step
+                    } else {
+                        *g
+                    }
+                })
+                .collect();
+            let v = obj.value(&gs, d);
+            if v < best.0 {
+                best = (v, gs);
             }
         }
         (best, "nelder-mead")

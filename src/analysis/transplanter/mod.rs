@@ -62,6 +62,7 @@ pub use analyse::{
 };
 pub use model::{ExactModel, FdSteps, LinearModel, TrainState};
 
+use crate::analysis::tolerance::{ToleranceError, parse_config, read_config_text};
 use rand::RngExt;
 use rand::rngs::ChaCha8Rng;
 use rand_distr::{Distribution, StandardNormal};
@@ -121,32 +122,9 @@ pub type ErrorVector = [f64; N_COORDS];
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 #[non_exhaustive]
 pub enum TransplanterError {
-    /// The error file cannot be read.
-    #[error("{file}: cannot read the error file: {message}")]
-    Unreadable {
-        /// File.
-        file: String,
-        /// Message.
-        message: String,
-    },
-    /// Syntax or schema error (the parser names the key and line).
-    #[error("{file}: {message}")]
-    Parse {
-        /// File.
-        file: String,
-        /// Message.
-        message: String,
-    },
-    /// An impossible value.
-    #[error("{file}: `{key}`: {message}")]
-    BadValue {
-        /// File.
-        file: String,
-        /// Key path.
-        key: String,
-        /// What is expected.
-        message: String,
-    },
+    /// The error file cannot be read or parsed, or a value is impossible (names the key path).
+    #[error(transparent)]
+    File(#[from] ToleranceError),
     /// A bad option of the analysis.
     #[error("option `{option}`: {message}")]
     BadOption {
@@ -403,37 +381,24 @@ pub struct Inventory {
 impl ErrorInventory {
     /// Reads a TOML or JSON (`.json` extension or text starting with `{`) error file.
     pub fn read(path: &Path) -> Result<Inventory, TransplanterError> {
-        let file = path.display().to_string();
-        let text = std::fs::read_to_string(path).map_err(|e| TransplanterError::Unreadable {
-            file: file.clone(),
-            message: e.to_string(),
-        })?;
-        let json = path
-            .extension()
-            .is_some_and(|e| e.eq_ignore_ascii_case("json"));
+        let (text, file, json) = read_config_text(path)?;
         Self::parse(&text, &file, json)
     }
 
     /// Parses and validates error-file text; `file` names it in messages.
     pub fn parse(text: &str, file: &str, json: bool) -> Result<Inventory, TransplanterError> {
-        let parse_err = |message: String| TransplanterError::Parse {
-            file: file.into(),
-            message,
-        };
-        let parsed: Self = if json || text.trim_start().starts_with('{') {
-            serde_json::from_str(text).map_err(|e| parse_err(e.to_string()))?
-        } else {
-            toml::from_str(text).map_err(|e| parse_err(e.to_string()))?
-        };
+        let parsed: Self = parse_config(text, file, json)?;
         parsed.validate(file)
     }
 
     /// Checks every value and converts to internal units.
     pub fn validate(&self, file: &str) -> Result<Inventory, TransplanterError> {
-        let bad = |key: &str, message: &str| TransplanterError::BadValue {
-            file: file.into(),
-            key: key.into(),
-            message: message.into(),
+        let bad = |key: &str, message: &str| {
+            TransplanterError::File(ToleranceError::BadValue {
+                file: file.into(),
+                key: key.into(),
+                message: message.into(),
+            })
         };
         if !(self.pressure_angle_deg.is_finite()
             && self.pressure_angle_deg >= 5.0
