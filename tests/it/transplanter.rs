@@ -109,6 +109,9 @@ fn radial_pin_error_of_a_matches_the_closed_form() {
             assert!((a1[0] - a0[0] - delta * p.cos()).abs() < 1e-12);
             assert!((a1[1] - a0[1] - delta * p.sin()).abs() < 1e-12);
         }
+        println!(
+            "radial pin closed form, side {side}, α {alpha_deg}°, δ {delta} mm: {worst:.2e} mm"
+        );
         assert!(worst < 1e-9, "side {side}: {worst} mm");
         // Not a rigid translation: the rotation adds l3·Δ ≈ l3·δ·tan α / r.
         let rigid_plus_rotation = (delta.abs() + l3 * big.abs()) * 1.0001;
@@ -193,6 +196,10 @@ fn circular_train_reduces_to_the_phasor_model() {
             for (&p, d) in grid.iter().zip(&exact) {
                 w = w.max((d - lost - b * (p + xi).sin() / rb).abs());
             }
+            println!(
+                "phasor C-1: residual {w:.2e} rad of B/r_b = {:.2e} rad",
+                b / rb
+            );
             assert!(w < 1e-3 * b / rb, "phasor: {w} vs {}", b / rb);
             let (lo, hi) = exact
                 .iter()
@@ -450,4 +457,31 @@ fn cli_writes_the_report_and_plots_and_rejects_bad_files() {
     assert_eq!(out.status.code(), Some(2));
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(err.contains("planet.eccentricity.magnitude_um"), "{err}");
+}
+
+#[test]
+fn exact_fallback_agrees_with_the_linear_monte_carlo() {
+    let go = |tol: f64| {
+        let opts = TransplanterOptions {
+            mc: McOptions {
+                samples: 200,
+                seed: 9,
+                bins: 10,
+            },
+            validation_samples: 10,
+            linear_tolerance: tol,
+            feature_samples: 0,
+            starts: 2,
+            ..TransplanterOptions::default()
+        };
+        analyse(&g1(1), &inventory(), &opts, &|_| {}).unwrap()
+    };
+    let (lin, exact) = (go(0.05), go(1e-9));
+    assert_eq!(lin.validation.model_used, "linear");
+    assert_eq!(exact.validation.model_used, "exact");
+    // Same seed, same samples: per-sample agreement within the validated linear error.
+    let (a, b) = (&lin.max_deviation_um, &exact.max_deviation_um);
+    println!("MC mean: linear {:.4} µm, exact {:.4} µm", a.mean, b.mean);
+    assert!((a.mean / b.mean - 1.0).abs() < 0.01);
+    assert!((a.max / b.max - 1.0).abs() < 0.01);
 }
