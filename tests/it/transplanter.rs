@@ -177,6 +177,7 @@ fn circular_train_reduces_to_the_phasor_model() {
             worst = worst.max((d3 - model).abs());
         }
         let amp = exact.iter().fold(0.0f64, |a, v| a.max(v.abs()));
+        println!("circular LOA sum, side {side}: residual {worst:.2e} rad of {amp:.2e} rad");
         assert!(
             worst < 1e-3 * amp,
             "side {side}: {worst} vs amplitude {amp}"
