@@ -283,10 +283,10 @@ fn items() -> Vec<(Item, String)> {
     let mut v: Vec<(Item, String)> = (0..3)
         .map(|k| (Item::Ecc(k), format!("{} eccentricity", GEARS[k])))
         .collect();
-    for k in 0..3 {
+    for (k, gear) in GEARS.iter().enumerate() {
         v.push((
             Item::Scalar(clock_index(k), "deg"),
-            format!("{} clocking", GEARS[k]),
+            format!("{gear} clocking"),
         ));
     }
     for (i, n) in [
@@ -668,7 +668,7 @@ pub fn analyse(
             message: "at least 2 Monte Carlo samples".into(),
         });
     }
-    if !(opts.linear_tolerance > 0.0) {
+    if opts.linear_tolerance.is_nan() || opts.linear_tolerance <= 0.0 {
         return Err(TransplanterError::BadOption {
             option: "linear tolerance",
             message: "must be positive".into(),

@@ -616,8 +616,8 @@ impl Inventory {
             x[ecc_index(k)] = v[0] + e.sigma_mm * zx;
             x[ecc_index(k) + 1] = v[1] + e.sigma_mm * zy;
         }
-        for i in 6..N_COORDS {
-            x[i] += self.spread[i].draw(rng);
+        for (xi, sp) in x.iter_mut().zip(&self.spread).skip(6) {
+            *xi += sp.draw(rng);
         }
         x
     }
@@ -632,9 +632,9 @@ impl Inventory {
             x[ecc_index(k)] = m * g.cos();
             x[ecc_index(k) + 1] = m * g.sin();
         }
-        for i in 6..N_COORDS {
+        for (xi, sp) in x.iter_mut().zip(&self.spread).skip(6) {
             let s = if rng.random::<bool>() { 1.0 } else { -1.0 };
-            x[i] += s * self.spread[i].three_sigma();
+            *xi += s * sp.three_sigma();
         }
         x
     }
@@ -686,8 +686,8 @@ impl Inventory {
                 var[ecc_index(k) + 1] = s2;
             }
         }
-        for i in 6..N_COORDS {
-            var[i] = self.spread[i].variance();
+        for (v, sp) in var.iter_mut().zip(&self.spread).skip(6) {
+            *v = sp.variance();
         }
         (mean, var)
     }

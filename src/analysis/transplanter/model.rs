@@ -171,7 +171,7 @@ impl ExactModel {
         let c = dot(sub(cb, contact.w), contact.n_loa) - 0.5 * j;
         let pn = norm(p);
         let x = -c / pn;
-        if !(x.abs() <= 1.0) {
+        if x.is_nan() || x.abs() > 1.0 {
             return None;
         }
         let base = contact.n_loa[1].atan2(contact.n_loa[0]) - p[1].atan2(p[0]);
@@ -332,6 +332,9 @@ pub struct LinearModel {
     pub jacobian: Vec<[[f64; 2]; N_COORDS]>,
 }
 
+/// Nominal tip and sensitivity columns at one carrier angle.
+type Row = ([f64; 2], [[f64; 2]; N_COORDS]);
+
 fn is_angle(j: usize) -> bool {
     (6..9).contains(&j) || j == ARM
 }
@@ -353,7 +356,7 @@ impl LinearModel {
             });
         }
         let phis = model.grid(n);
-        let rows: Result<Vec<([f64; 2], [[f64; 2]; N_COORDS])>, TransplanterError> = phis
+        let rows: Result<Vec<Row>, TransplanterError> = phis
             .par_iter()
             .map(|&p| {
                 let zero = [0.0; N_COORDS];
