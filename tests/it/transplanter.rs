@@ -486,3 +486,65 @@ fn exact_fallback_agrees_with_the_linear_monte_carlo() {
     assert!((a.mean / b.mean - 1.0).abs() < 0.01);
     assert!((a.max / b.max - 1.0).abs() < 0.01);
 }
+
+/// Non-circular G1: a radial pin error δ of A changes the intermediate–planet centre distance;
+/// to first order (spec C.6 item 2) the planet turns by `Δθ3 = −δ·(u·N)/ρ_b`, with u the line of
+/// centres, N the line of action through the contact (pitch tangent t and normal n of the
+/// intermediate, `N = σ cos α t + sin α n`, σ = −load_side) and `ρ_b = (R⁺(W − A))·N` the moment
+/// arm about A; the tip moves by `δ·u + l3·Δθ3·e(β + π/2)`. Computed here from the pitch tables.
+#[test]
+fn radial_pin_error_on_g1_follows_the_first_order_line_of_action_formula() {
+    let asm = g1(1);
+    let alpha = 20f64.to_radians();
+    let m = ExactModel::new(&asm, alpha, 1).unwrap();
+    let rb = asm.rebuild();
+    let [_, mid, _] = rb.ccw_curves();
+    let (a, l3) = (asm.a_mm, asm.l3_mm);
+    let delta = 1e-3;
+    let mut x = ZERO;
+    x[PIN_A[0]] = delta;
+    let (mut worst, mut peak): (f64, f64) = (0.0, 0.0);
+    for p in m.grid(240) {
+        let th2 = rb.ccw_intermediate_angle(p);
+        let c2 = p - th2; // intermediate body angle facing A
+        let g = mid.geometry(c2);
+        let u = e(p);
+        let t = {
+            let (r, dr) = (g.r_mm, g.dr_mm);
+            let v = [dr * u[0] - r * u[1], dr * u[1] + r * u[0]];
+            let l = v[0].hypot(v[1]);
+            [v[0] / l, v[1] / l]
+        };
+        let mut n = [-t[1], t[0]];
+        if dot(n, u) < 0.0 {
+            n = [-n[0], -n[1]];
+        }
+        let sigma = -1.0;
+        let nl = [
+            sigma * alpha.cos() * t[0] + alpha.sin() * n[0],
+            sigma * alpha.cos() * t[1] + alpha.sin() * n[1],
+        ];
+        // Contact W = D + ρ2 u; lever of the planet about A: W − A = (ρ2 − a) u.
+        let w_a = [(g.r_mm - a) * u[0], (g.r_mm - a) * u[1]];
+        let arm = dot([-w_a[1], w_a[0]], nl);
+        let dth3 = -delta * dot(u, nl) / arm;
+        let nom = m.state(p, &ZERO).unwrap();
+        let per = m.state(p, &x).unwrap();
+        let b = nom.needle_angle_rad;
+        let pred = [
+            delta * u[0] - l3 * dth3 * b.sin(),
+            delta * u[1] + l3 * dth3 * b.cos(),
+        ];
+        let got = [per.tip_mm[0] - nom.tip_mm[0], per.tip_mm[1] - nom.tip_mm[1]];
+        worst = worst.max(dist(got, pred));
+        peak = peak.max(got[0].hypot(got[1]));
+    }
+    println!(
+        "G1 radial pin δ = 1 µm: first-order formula residual {worst:.2e} mm of {peak:.2e} mm"
+    );
+    assert!(
+        peak > 2.0 * delta,
+        "the planet rotation amplifies the pin error: {peak}"
+    );
+    assert!(worst < 1e-3 * peak, "{worst} vs {peak}");
+}
