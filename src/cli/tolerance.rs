@@ -330,6 +330,11 @@ fn print_transplanter(r: &TransplanterReport, args: &Args, inventory: &Path) {
         "  Monte Carlo ({} samples, seed {}): max |ΔB| µm: mean {:.3} std {:.3} P50 {:.3} P95 {:.3} P99.73 {:.3} max {:.3}",
         s.n, r.seed, s.mean, s.std, s.p50, s.p95, s.p9973, s.max
     );
+    let t = &r.planet_angle_error_arcsec;
+    println!(
+        "  planet transmission error max |Δθ3| (arcsec): mean {:.2} std {:.2} P95 {:.2} P99.73 {:.2}",
+        t.mean, t.std, t.p95, t.p9973
+    );
     println!(
         "  3σ envelope along the trajectory: max {:.3} µm",
         r.envelope_max_um

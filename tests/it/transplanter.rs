@@ -207,6 +207,10 @@ fn circular_train_reduces_to_the_phasor_model() {
                 .fold((f64::MAX, f64::MIN), |(l, h), v| (l.min(*v), h.max(*v)));
             assert!(((hi - lo) / 2.0 - b / rb).abs() < 1e-3 * b / rb);
             assert!(((hi + lo) / 2.0 - lost).abs() < 1e-3 * b / rb);
+            // The linear model's planet transmission error: max |Δθ3| = lost motion + B/r_b.
+            let lin = LinearModel::build(&m, 720, FdSteps::default()).unwrap();
+            let te = lin.max_planet_angle_error_rad(&x);
+            assert!((te - (lost + b / rb)).abs() < 1e-3 * b / rb, "{te}");
         }
     }
 }

@@ -2,13 +2,13 @@
 //! envelope, feature distributions, sensitivity ranking and the best assembly of the free
 //! runout orientations (spec C.6 items 3, 4, 6).
 
-use super::model::{ExactModel, FdSteps, LinearModel, TrainState};
+use super::model::{ExactModel, FdSteps, LinearModel, TrainState, angle_difference};
 use super::{
     ARM, BACKLASH, ErrorVector, GEARS, Inventory, N_COORDS, PIN_A, PIN_D, TransplanterError,
     clock_index, ecc_index,
 };
 use crate::analysis::montecarlo::{self, McOptions, McStats};
-use crate::analysis::tolerance::nelder_mead_starts;
+use crate::analysis::tolerance::{ARCSEC_PER_RAD, nelder_mead_starts};
 use crate::assembly::{Assembly, Pose};
 use crate::simulate::{FeatureOptions, Features, TwoArms, features_of_turn};
 use argmin::core::CostFunction;
@@ -188,6 +188,9 @@ pub struct TransplanterReport {
     pub seed: u64,
     /// `max_φ |ΔB|` over random assemblies, µm.
     pub max_deviation_um: McStats,
+    /// `max_φ |Δθ3|` of the planet (the transmission error of spec C) over the same random
+    /// assemblies, arc seconds.
+    pub planet_angle_error_arcsec: McStats,
     /// Deviation envelope along the trajectory.
     pub envelope: Vec<EnvelopePoint>,
     /// Largest envelope value, µm.
@@ -210,6 +213,22 @@ fn exact_max(
     for (p, b0) in lin.phis_rad.iter().zip(&lin.nominal_tips_mm) {
         let b = model.state(*p, x)?.tip_mm;
         m = m.max((b[0] - b0[0]).hypot(b[1] - b0[1]));
+    }
+    Ok(m)
+}
+
+/// `max_φ |Δθ3|` (rad) of the exact model.
+fn exact_max_angle(
+    model: &ExactModel,
+    lin: &LinearModel,
+    x: &ErrorVector,
+) -> Result<f64, TransplanterError> {
+    let zero = [0.0; N_COORDS];
+    let mut m: f64 = 0.0;
+    for p in &lin.phis_rad {
+        let a = model.state(*p, x)?.planet_angle_rad;
+        let b = model.state(*p, &zero)?.planet_angle_rad;
+        m = m.max(angle_difference(a, b).abs());
     }
     Ok(m)
 }
@@ -713,6 +732,20 @@ pub fn analyse(
             "Monte Carlo sample {i}: the exact model found no contact (errors too large)"
         ))
     })?;
+    // The planet's transmission error over the same samples (same seed and streams).
+    let (te, _) = montecarlo::run(
+        &opts.mc,
+        |rng, _| {
+            let x = inv.draw(rng);
+            if use_linear {
+                lin.max_planet_angle_error_rad(&x) * ARCSEC_PER_RAD
+            } else {
+                exact_max_angle(&model, &lin, &x).map_or(f64::NAN, |v| v * ARCSEC_PER_RAD)
+            }
+        },
+        &|_| {},
+    )
+    .map_err(|i| TransplanterError::Numerical(format!("Monte Carlo sample {i}: no contact")))?;
     let env = envelope(&lin, inv);
     let envelope_max_um = env.iter().map(|p| p.envelope_um).fold(0.0, f64::max);
     Ok(TransplanterReport {
@@ -724,6 +757,7 @@ pub fn analyse(
         validation,
         seed: opts.mc.seed,
         max_deviation_um: stats,
+        planet_angle_error_arcsec: te,
         envelope: env,
         envelope_max_um,
         features: feature_deviations(&model, asm, &lin, inv, opts)?,

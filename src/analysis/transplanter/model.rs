@@ -330,10 +330,19 @@ pub struct LinearModel {
     pub nominal_tips_mm: Vec<[f64; 2]>,
     /// Per carrier angle, the column `S_j = ∂B/∂x_j` of every coordinate (mm per internal unit).
     pub jacobian: Vec<[[f64; 2]; N_COORDS]>,
+    /// Per carrier angle, `∂θ3/∂x_j`: the planet's angle error (the transmission error of spec
+    /// C), rad per internal unit.
+    pub planet_angle_jacobian: Vec<[f64; N_COORDS]>,
+}
+
+/// `a − b` wrapped to (−π, π], rad.
+#[must_use]
+pub fn angle_difference(a: f64, b: f64) -> f64 {
+    (a - b + PI).rem_euclid(TAU) - PI
 }
 
 /// Nominal tip and sensitivity columns at one carrier angle.
-type Row = ([f64; 2], [[f64; 2]; N_COORDS]);
+type Row = ([f64; 2], [[f64; 2]; N_COORDS], [f64; N_COORDS]);
 
 fn is_angle(j: usize) -> bool {
     (6..9).contains(&j) || j == ARM
@@ -362,6 +371,7 @@ impl LinearModel {
                 let zero = [0.0; N_COORDS];
                 let b0 = model.state(p, &zero)?.tip_mm;
                 let mut cols = [[0.0; 2]; N_COORDS];
+                let mut ang = [0.0; N_COORDS];
                 for (j, col) in cols.iter_mut().enumerate() {
                     let h = if is_angle(j) {
                         steps.angle_rad
@@ -372,18 +382,20 @@ impl LinearModel {
                     xp[j] = h;
                     let mut xm = zero;
                     xm[j] = -h;
-                    let bp = model.state(p, &xp)?.tip_mm;
-                    let bm = model.state(p, &xm)?.tip_mm;
-                    *col = scale(sub(bp, bm), 0.5 / h);
+                    let sp = model.state(p, &xp)?;
+                    let sm = model.state(p, &xm)?;
+                    *col = scale(sub(sp.tip_mm, sm.tip_mm), 0.5 / h);
+                    ang[j] = angle_difference(sp.planet_angle_rad, sm.planet_angle_rad) * 0.5 / h;
                 }
-                Ok((b0, cols))
+                Ok((b0, cols, ang))
             })
             .collect();
         let rows = rows?;
         Ok(Self {
             phis_rad: phis,
             nominal_tips_mm: rows.iter().map(|r| r.0).collect(),
-            jacobian: rows.into_iter().map(|r| r.1).collect(),
+            jacobian: rows.iter().map(|r| r.1).collect(),
+            planet_angle_jacobian: rows.into_iter().map(|r| r.2).collect(),
         })
     }
 
@@ -404,6 +416,15 @@ impl LinearModel {
         (0..self.phis_rad.len())
             .map(|i| self.deviation_at(i, x))
             .collect()
+    }
+
+    /// `max_φ |Δθ3(φ)|`: the planet's largest angle error over the grid, rad.
+    #[must_use]
+    pub fn max_planet_angle_error_rad(&self, x: &ErrorVector) -> f64 {
+        self.planet_angle_jacobian
+            .iter()
+            .map(|row| row.iter().zip(x).map(|(s, v)| s * v).sum::<f64>().abs())
+            .fold(0.0, f64::max)
     }
 
     /// `max_φ |ΔB(φ)|`, mm.
