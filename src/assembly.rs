@@ -184,6 +184,47 @@ impl Rebuilt {
         self.mid_int.0 * x + self.mid_int.1.value(x)
     }
 
+    /// `+1` for a CCW carrier, `−1` for CW: world `y` = `sign·y` of the internal CCW frame, and a
+    /// world carrier angle φH is the CCW-frame angle `sign·φH`.
+    #[must_use]
+    pub fn sign(&self) -> f64 {
+        self.sign
+    }
+
+    /// Sun, intermediate and planet pitch curves in the CCW frame (mirrored for a CW design).
+    #[must_use]
+    pub fn ccw_curves(&self) -> [&PitchCurve; 3] {
+        [&self.sun, &self.mid, &self.planet]
+    }
+
+    /// Needle angle γ in the CCW frame, rad.
+    #[must_use]
+    pub fn ccw_needle_angle(&self) -> f64 {
+        self.gamma
+    }
+
+    /// Intermediate orientation `θ2(φ) = θ2(0) + φ + ∫_0^φ i_s` at CCW-frame carrier angle φ, rad.
+    #[must_use]
+    pub fn ccw_intermediate_angle(&self, phi: f64) -> f64 {
+        self.theta2_0 + phi + self.sun_phi(phi) - self.sun_phi(0.0)
+    }
+
+    /// Tooth correspondence of the sun–intermediate mesh: the intermediate body angle that meets
+    /// sun body angle `u` (CCW frame), `u + π − θ2(u)`, rad.
+    #[must_use]
+    pub fn ccw_sun_to_intermediate(&self, u: f64) -> f64 {
+        u + PI - self.ccw_intermediate_angle(u)
+    }
+
+    /// Tooth correspondence of the intermediate–planet mesh: the planet body angle
+    /// `c3 = c3(0) − ∫_{c2(0)}^{c2} g` that meets intermediate body angle `c2` (CCW frame), rad.
+    #[must_use]
+    pub fn ccw_intermediate_to_planet(&self, c2: f64) -> f64 {
+        let c2_0 = -self.theta2_0;
+        let c3_0 = PI - self.theta3_0;
+        c3_0 - (self.mid_g(c2) - self.mid_g(c2_0))
+    }
+
     /// Pose at world carrier angle φH (rad).
     #[must_use]
     pub fn pose(&self, phi_h: f64) -> Pose {

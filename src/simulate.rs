@@ -450,6 +450,32 @@ fn width_below(pts: &[[f64; 2]], y: f64) -> f64 {
 
 /// Computes the agronomic features.
 pub fn features(sim: &Simulation, opts: &FeatureOptions) -> Result<Features, SimulateError> {
+    let n = opts.samples.max(360);
+    features_of_turn(
+        &sim.turn(n),
+        sim.assembly.center_mm,
+        sim.assembly.direction,
+        opts,
+    )
+}
+
+/// The agronomic features of one carrier turn given as poses of both arms at `turn.len()` (≥ 8)
+/// instants uniform in time (carrier angle `direction·2πk/n`, rad), e.g. a perturbed train
+/// ([`crate::analysis::transplanter`]); `center_mm` is the carrier axis O (mm). `opts.samples` is
+/// not used (the turn sets the sampling).
+pub fn features_of_turn(
+    turn: &[TwoArms],
+    center_mm: [f64; 2],
+    direction: i8,
+    opts: &FeatureOptions,
+) -> Result<Features, SimulateError> {
+    let n = turn.len();
+    if n < 8 {
+        return Err(SimulateError::BadOption {
+            option: "samples",
+            message: format!("{n} poses per turn; at least 8 are needed"),
+        });
+    }
     if !(opts.rpm.is_finite() && opts.rpm > 0.0) {
         return Err(SimulateError::BadOption {
             option: "rpm",
@@ -468,8 +494,7 @@ pub fn features(sim: &Simulation, opts: &FeatureOptions) -> Result<Features, Sim
             message: "must be a positive depth in mm".into(),
         });
     }
-    let n = opts.samples.max(360);
-    let turn = sim.turn(n);
+    let angle_at = |f: f64| f64::from(direction.signum()) * TAU * f;
     let tips: Vec<[f64; 2]> = turn.iter().map(|p| p.arm1.tip_mm).collect();
     let (mut xmin, mut xmax, mut ymin, mut ymax) = (f64::MAX, f64::MIN, f64::MAX, f64::MIN);
     let (mut jlo, mut jhi) = (0, 0);
@@ -485,7 +510,7 @@ pub fn features(sim: &Simulation, opts: &FeatureOptions) -> Result<Features, Sim
             jhi = j;
         }
     }
-    let o = sim.assembly.center_mm;
+    let o = center_mm;
     let rho: Vec<f64> = tips
         .iter()
         .map(|p| (p[0] - o[0]).hypot(p[1] - o[1]))
@@ -546,7 +571,7 @@ pub fn features(sim: &Simulation, opts: &FeatureOptions) -> Result<Features, Sim
         })
         .fold(f64::INFINITY, f64::min);
     let deg = |x: f64| x.to_degrees();
-    let carrier_deg = |j: usize| deg(sim.angle_at(j as f64 / n as f64)).rem_euclid(360.0);
+    let carrier_deg = |j: usize| deg(angle_at(j as f64 / n as f64)).rem_euclid(360.0);
     Ok(Features {
         height_mm: ymax - ymin,
         bbox_mm: [xmin, xmax, ymin, ymax],

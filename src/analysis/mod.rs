@@ -5,3 +5,4 @@ pub mod montecarlo;
 pub mod orbit;
 pub mod peak;
 pub mod tolerance;
+pub mod transplanter;

@@ -2,8 +2,8 @@
 //!
 //! Sample `i` draws from its own stream `ChaCha8Rng::seed_from_u64(seed)` with `set_stream(i)`,
 //! so results are identical for any thread count and any chunking. Mean and variance are
-//! accumulated with Welford's update per chunk and merged (Chan et al.); quantiles come from the
-//! sorted sample.
+//! accumulated with Welford's update over the samples in index order ([`summarize`], also usable
+//! on any sample); quantiles come from the sorted sample.
 
 use rand::SeedableRng;
 use rand::rngs::ChaCha8Rng;
@@ -97,21 +97,6 @@ impl Welford {
         self.mean += d / self.n;
         self.m2 += d * (x - self.mean);
     }
-    fn merge(a: Self, b: Self) -> Self {
-        if a.n == 0.0 {
-            return b;
-        }
-        if b.n == 0.0 {
-            return a;
-        }
-        let n = a.n + b.n;
-        let d = b.mean - a.mean;
-        Self {
-            n,
-            mean: a.mean + d * b.n / n,
-            m2: a.m2 + b.m2 + d * d * a.n * b.n / n,
-        }
-    }
 }
 
 /// Quantile of sorted data by linear interpolation (type 7).
@@ -126,6 +111,18 @@ fn quantile(sorted: &[f64], q: f64) -> f64 {
         sorted[i] * (1.0 - f) + sorted[i + 1] * f
     } else {
         sorted[i]
+    }
+}
+
+fn check_bins(bins: usize) -> Result<(), McError> {
+    if (1..=MAX_BINS).contains(&bins) {
+        Ok(())
+    } else {
+        Err(McError::BadOption {
+            name: "bins",
+            value: bins,
+            expected: "a bin count in 1..=100000",
+        })
     }
 }
 
@@ -150,60 +147,57 @@ where
             expected: "a sample count in 1..=50000000",
         });
     }
-    if !(1..=MAX_BINS).contains(&opts.bins) {
-        return Err(McError::BadOption {
-            name: "bins",
-            value: opts.bins,
-            expected: "a bin count in 1..=100000",
-        });
-    }
+    check_bins(opts.bins)?;
     let chunk = 1024;
     let n = opts.samples;
     let done = std::sync::atomic::AtomicU64::new(0);
-    let parts: Vec<(Welford, Vec<f64>)> = (0..n.div_ceil(chunk))
+    let parts: Vec<Vec<f64>> = (0..n.div_ceil(chunk))
         .into_par_iter()
         .map(|c| {
-            let mut w = Welford {
-                n: 0.0,
-                mean: 0.0,
-                m2: 0.0,
-            };
             let lo = c * chunk;
             let hi = (lo + chunk).min(n);
             let mut vals = Vec::with_capacity(hi - lo);
             for i in lo..hi {
                 let mut rng = ChaCha8Rng::seed_from_u64(opts.seed);
                 rng.set_stream(i as u64);
-                let v = sample(&mut rng, i);
-                w.push(v);
-                vals.push(v);
+                vals.push(sample(&mut rng, i));
             }
             let d = done.fetch_add((hi - lo) as u64, std::sync::atomic::Ordering::Relaxed)
                 + (hi - lo) as u64;
             progress(d);
-            (w, vals)
+            vals
         })
         .collect();
+    let all: Vec<f64> = parts.into_iter().flatten().collect();
+    Ok((summarize(&all, opts.bins)?, all))
+}
+
+/// Summary statistics (Welford mean/variance, sorted quantiles, histogram with `bins` bins) of
+/// a sample.
+///
+/// # Errors
+/// [`McError::BadOption`] for `bins` outside `1..=MAX_BINS`; [`McError::NonFinite`] naming the
+/// first non-finite value.
+pub fn summarize(all: &[f64], bins: usize) -> Result<McStats, McError> {
+    check_bins(bins)?;
     let mut w = Welford {
         n: 0.0,
         mean: 0.0,
         m2: 0.0,
     };
-    let mut all = Vec::with_capacity(n);
-    for (pw, v) in parts {
-        w = Welford::merge(w, pw);
-        all.extend(v);
+    for &v in all {
+        w.push(v);
     }
+    let n = all.len();
     if let Some(index) = all.iter().position(|v| !v.is_finite()) {
         return Err(McError::NonFinite { index });
     }
-    let mut sorted = all.clone();
+    let mut sorted = all.to_vec();
     sorted.sort_by(f64::total_cmp);
     let (min, max) = (
         sorted.first().copied().unwrap_or(f64::NAN),
         sorted.last().copied().unwrap_or(f64::NAN),
     );
-    let bins = opts.bins;
     let width = ((max - min) / bins as f64).max(f64::MIN_POSITIVE);
     let mut counts = vec![0u64; bins];
     for v in &sorted {
@@ -215,31 +209,28 @@ where
     } else {
         0.0
     };
-    Ok((
-        McStats {
-            n,
-            min,
-            max,
-            mean: w.mean,
-            std,
-            mean_std_error: std / w.n.max(1.0).sqrt(),
-            p50: quantile(&sorted, 0.5),
-            p95: quantile(&sorted, 0.95),
-            p9973: quantile(&sorted, 0.9973),
-            histogram: counts
-                .iter()
-                .enumerate()
-                .map(|(k, c)| {
-                    [
-                        min + k as f64 * width,
-                        min + (k + 1) as f64 * width,
-                        *c as f64,
-                    ]
-                })
-                .collect(),
-        },
-        all,
-    ))
+    Ok(McStats {
+        n,
+        min,
+        max,
+        mean: w.mean,
+        std,
+        mean_std_error: std / w.n.max(1.0).sqrt(),
+        p50: quantile(&sorted, 0.5),
+        p95: quantile(&sorted, 0.95),
+        p9973: quantile(&sorted, 0.9973),
+        histogram: counts
+            .iter()
+            .enumerate()
+            .map(|(k, c)| {
+                [
+                    min + k as f64 * width,
+                    min + (k + 1) as f64 * width,
+                    *c as f64,
+                ]
+            })
+            .collect(),
+    })
 }
 
 #[cfg(test)]

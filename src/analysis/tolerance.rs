@@ -133,35 +133,48 @@ pub enum ToleranceError {
     },
 }
 
+/// Reads a configuration file: its text, its name for messages, and whether it is JSON (`.json`
+/// extension; otherwise TOML unless the text starts with `{`).
+pub fn read_config_text(path: &Path) -> Result<(String, String, bool), ToleranceError> {
+    let file = path.display().to_string();
+    let text = std::fs::read_to_string(path).map_err(|e| ToleranceError::Unreadable {
+        file: file.clone(),
+        message: e.to_string(),
+    })?;
+    let json = path
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("json"));
+    Ok((text, file, json))
+}
+
+/// Deserialises JSON (`json`, or text starting with `{`) or TOML; the parser's message names the
+/// key (and line for TOML).
+pub fn parse_config<T: serde::de::DeserializeOwned>(
+    text: &str,
+    file: &str,
+    json: bool,
+) -> Result<T, ToleranceError> {
+    let parse_err = |message: String| ToleranceError::Parse {
+        file: file.into(),
+        message,
+    };
+    if json || text.trim_start().starts_with('{') {
+        serde_json::from_str(text).map_err(|e| parse_err(e.to_string()))
+    } else {
+        toml::from_str(text).map_err(|e| parse_err(e.to_string()))
+    }
+}
+
 impl ErrorFile {
     /// Reads a JSON (`.json` or content starting with `{`) or TOML error file and validates it.
     pub fn read(path: &Path) -> Result<Self, ToleranceError> {
-        let file = path.display().to_string();
-        let text = std::fs::read_to_string(path).map_err(|e| ToleranceError::Unreadable {
-            file: file.clone(),
-            message: e.to_string(),
-        })?;
-        Self::parse(
-            &text,
-            &file,
-            path.extension()
-                .is_some_and(|e| e.eq_ignore_ascii_case("json")),
-        )
+        let (text, file, json) = read_config_text(path)?;
+        Self::parse(&text, &file, json)
     }
 
     /// Parses error-file text; `file` names it in messages.
     pub fn parse(text: &str, file: &str, json: bool) -> Result<Self, ToleranceError> {
-        let parsed: Self = if json || text.trim_start().starts_with('{') {
-            serde_json::from_str(text).map_err(|e| ToleranceError::Parse {
-                file: file.into(),
-                message: e.to_string(),
-            })?
-        } else {
-            toml::from_str(text).map_err(|e| ToleranceError::Parse {
-                file: file.into(),
-                message: e.to_string(),
-            })?
-        };
+        let parsed: Self = parse_config(text, file, json)?;
         parsed.validate(file)?;
         Ok(parsed)
     }
@@ -453,26 +466,10 @@ impl Analysis {
             inits.push(e.to_vec());
         }
         let mut best = (f64::INFINITY, vec![0.0; d]);
-        for x0 in &inits {
-            let mut simplex = vec![DVector::from_vec(x0.clone())];
-            for k in 0..d {
-                let mut v = x0.clone();
-                v[k] += 0.3;
-                simplex.push(DVector::from_vec(v));
-            }
-            let Ok(solver) = NelderMead::new(simplex).with_sd_tolerance(1e-10) else {
-                continue;
-            };
-            let res = Executor::new(JointCost { a: self }, solver)
-                .configure(|s| s.max_iters(400))
-                .run();
-            if let Ok(r) = res {
-                if let Some(p) = r.state().best_param.as_ref() {
-                    let v = self.peak(p.as_slice(), None).value;
-                    if v < best.0 {
-                        best = (v, p.as_slice().iter().map(|b| b.rem_euclid(TAU)).collect());
-                    }
-                }
+        for p in nelder_mead_starts(|| JointCost { a: self }, &inits, 0.3, 1e-10, 400) {
+            let v = self.peak(&p, None).value;
+            if v < best.0 {
+                best = (v, p.iter().map(|b| b.rem_euclid(TAU)).collect());
             }
         }
         Joint {
@@ -586,6 +583,42 @@ impl Analysis {
             progress,
         )
     }
+}
+
+/// Multistart Nelder–Mead (argmin): from each start an axis-aligned simplex with edge `step`,
+/// stopped when the simplex values' standard deviation falls below `sd_tolerance` or after
+/// `max_iters` iterations. Returns the best parameter of every start that ran (the caller
+/// projects it onto its domain and re-evaluates).
+pub fn nelder_mead_starts<C>(
+    make_cost: impl Fn() -> C,
+    starts: &[Vec<f64>],
+    step: f64,
+    sd_tolerance: f64,
+    max_iters: u64,
+) -> Vec<Vec<f64>>
+where
+    C: CostFunction<Param = DVector<f64>, Output = f64>,
+{
+    let mut out = Vec::new();
+    for x0 in starts {
+        let mut simplex = vec![DVector::from_vec(x0.clone())];
+        for k in 0..x0.len() {
+            let mut v = x0.clone();
+            v[k] += step;
+            simplex.push(DVector::from_vec(v));
+        }
+        let Ok(solver) = NelderMead::new(simplex).with_sd_tolerance(sd_tolerance) else {
+            continue;
+        };
+        if let Ok(r) = Executor::new(make_cost(), solver)
+            .configure(|s| s.max_iters(max_iters))
+            .run()
+            && let Some(p) = r.state().best_param.as_ref()
+        {
+            out.push(p.as_slice().to_vec());
+        }
+    }
+    out
 }
 
 /// A full report of `ncgear tolerance` on an error file.

@@ -1,25 +1,42 @@
-//! `ncgear tolerance ERRORS`: error harmonics, phase compensation and Monte Carlo.
+//! `ncgear tolerance ERRORS` (error harmonics, phase compensation, Monte Carlo) and
+//! `ncgear tolerance DESIGN.json --errors ERRORS` (transplanter tolerance analysis, spec C.6).
 use super::{CliResult, input_error, print_json, progress_bar, runtime_error};
-use ncgear::analysis::montecarlo::McOptions;
+use ncgear::analysis::montecarlo::{McOptions, McStats};
 use ncgear::analysis::tolerance::{ErrorFile, analyse};
+use ncgear::analysis::transplanter::{
+    self, ErrorInventory, TransplanterOptions, TransplanterReport,
+};
 use ncgear::plot::{ChartLabels, Series, line_chart};
-use std::path::PathBuf;
+use ncgear::simulate::DesignFile;
+use std::path::{Path, PathBuf};
 
 /// Arguments of `ncgear tolerance`.
 #[derive(Debug, clap::Args)]
 pub struct Args {
-    /// Error file (TOML or JSON): terms A·sin(ωt + φ) in µm, rad/s, degrees; see the README.
+    /// Error file (TOML or JSON): terms A·sin(ωt + φ) in µm, rad/s, degrees; or, with `--errors`,
+    /// the design.json of a transplanter (see the README).
     pub errors: PathBuf,
-    /// Monte Carlo samples over random assembly phases (0: no Monte Carlo).
+    /// Transplanter error inventory (TOML or JSON, µm and degrees): analyse the design file given
+    /// as the positional argument (spec C.6).
+    #[arg(long = "errors", value_name = "ERRORS")]
+    pub inventory: Option<PathBuf>,
+    /// Monte Carlo samples over random assemblies (0: no Monte Carlo; the transplanter analysis
+    /// needs at least 2).
     #[arg(long, default_value_t = 50_000)]
     pub samples: usize,
     /// Seed of the Monte Carlo.
     #[arg(long, default_value_t = 1)]
     pub seed: u64,
-    /// Starts of the joint phase optimiser.
+    /// Starts of the joint phase / assembly optimiser.
     #[arg(long, default_value_t = 24)]
     pub starts: usize,
-    /// Output directory for the histogram plot and tolerance.json.
+    /// Transplanter: exact-model samples for the agronomic-feature distributions (0: skip).
+    #[arg(long, default_value_t = 200)]
+    pub feature_samples: usize,
+    /// Transplanter: samples at 3σ validating the linear model against the exact one.
+    #[arg(long, default_value_t = 100)]
+    pub validation_samples: usize,
+    /// Output directory for the plots and tolerance.json / transplanter.json.
     #[arg(long, default_value = "out/tolerance")]
     pub out: PathBuf,
     /// Print the report as JSON on stdout.
@@ -29,6 +46,9 @@ pub struct Args {
 
 /// Runs `ncgear tolerance`.
 pub fn run(args: Args) -> CliResult {
+    if let Some(inv) = args.inventory.clone() {
+        return run_transplanter(&args, &inv);
+    }
     let file = ErrorFile::read(&args.errors).map_err(|e| input_error(miette::miette!("{e}")))?;
     let mc = (args.samples > 0).then_some(McOptions {
         samples: args.samples,
@@ -39,18 +59,9 @@ pub fn run(args: Args) -> CliResult {
     let report = analyse(&file, mc.as_ref(), args.starts, &|d| pb.set_position(d))
         .map_err(|e| runtime_error(miette::miette!("{e}")))?;
     pb.finish_and_clear();
-    std::fs::create_dir_all(&args.out)
-        .map_err(|e| runtime_error(miette::miette!("cannot create {}: {e}", args.out.display())))?;
-    let json =
-        serde_json::to_string_pretty(&report).map_err(|e| runtime_error(miette::miette!("{e}")))?;
-    std::fs::write(args.out.join("tolerance.json"), json)
-        .map_err(|e| runtime_error(miette::miette!("cannot write tolerance.json: {e}")))?;
+    create_dir(&args.out)?;
+    write_json(&args.out.join("tolerance.json"), &report)?;
     if let Some(s) = &report.monte_carlo_arcsec {
-        let pts: Vec<(f64, f64)> = s
-            .histogram
-            .iter()
-            .flat_map(|h| [(h[0], h[2]), (h[1], h[2])])
-            .collect();
         line_chart(
             &args.out.join("histogram.png"),
             &ChartLabels {
@@ -60,7 +71,7 @@ pub fn run(args: Args) -> CliResult {
                 equal_aspect: false,
             },
             &[
-                Series::line("random assembly", pts),
+                Series::line("random assembly", histogram_points(s)),
                 Series::markers(
                     "greedy compensation",
                     vec![(report.greedy_peak_arcsec, 0.0)],
@@ -120,4 +131,259 @@ pub fn run(args: Args) -> CliResult {
         );
     }
     Ok(())
+}
+
+fn create_dir(dir: &Path) -> CliResult {
+    std::fs::create_dir_all(dir)
+        .map_err(|e| runtime_error(miette::miette!("cannot create {}: {e}", dir.display())))
+}
+
+fn write_json(path: &Path, value: &impl serde::Serialize) -> CliResult {
+    let json =
+        serde_json::to_string_pretty(value).map_err(|e| runtime_error(miette::miette!("{e}")))?;
+    std::fs::write(path, json)
+        .map_err(|e| runtime_error(miette::miette!("cannot write {}: {e}", path.display())))
+}
+
+/// Step outline of a histogram: `(edge, count)` pairs.
+fn histogram_points(s: &McStats) -> Vec<(f64, f64)> {
+    s.histogram
+        .iter()
+        .flat_map(|h| [(h[0], h[2]), (h[1], h[2])])
+        .collect()
+}
+
+fn run_transplanter(args: &Args, inventory: &Path) -> CliResult {
+    let (_, asm) =
+        DesignFile::read(&args.errors).map_err(|e| input_error(miette::miette!("{e}")))?;
+    let inv = ErrorInventory::read(inventory).map_err(|e| input_error(miette::miette!("{e}")))?;
+    let opts = TransplanterOptions {
+        mc: McOptions {
+            samples: args.samples,
+            seed: args.seed,
+            bins: 60,
+        },
+        validation_samples: args.validation_samples,
+        feature_samples: args.feature_samples,
+        starts: args.starts,
+        ..TransplanterOptions::default()
+    };
+    let pb = progress_bar(args.samples as u64, "Monte Carlo");
+    let report =
+        transplanter::analyse(&asm, &inv, &opts, &|d| pb.set_position(d)).map_err(|e| match e {
+            transplanter::TransplanterError::BadOption { .. } => {
+                input_error(miette::miette!("{e}"))
+            }
+            _ => runtime_error(miette::miette!("{e}")),
+        })?;
+    pb.finish_and_clear();
+    create_dir(&args.out)?;
+    write_json(&args.out.join("transplanter.json"), &report)?;
+    transplanter_plots(&report, &args.out)?;
+    if args.json {
+        return print_json(&report);
+    }
+    print_transplanter(&report, args, inventory);
+    Ok(())
+}
+
+fn transplanter_plots(r: &TransplanterReport, out: &Path) -> CliResult {
+    let plot_err = |e: ncgear::plot::PlotError| runtime_error(miette::miette!("{e}"));
+    let n = r.envelope.len().max(1);
+    let x = |i: usize| 360.0 * i as f64 / n as f64;
+    let mut series = vec![
+        Series::line(
+            "3σ envelope |mean| + 3σ (random assembly)",
+            r.envelope
+                .iter()
+                .enumerate()
+                .map(|(i, p)| (x(i), p.envelope_um))
+                .collect(),
+        ),
+        Series::line(
+            "errors as given",
+            r.envelope
+                .iter()
+                .enumerate()
+                .map(|(i, p)| (x(i), p.nominal_errors_um))
+                .collect(),
+        ),
+    ];
+    if let Some(a) = &r.assembly {
+        series.push(Series::line(
+            "best assembly of the free runouts",
+            a.joint_deviation_um
+                .iter()
+                .enumerate()
+                .map(|(i, v)| (x(i), *v))
+                .collect(),
+        ));
+    }
+    for ext in ["png", "svg"] {
+        line_chart(
+            &out.join(format!("envelope.{ext}")),
+            &ChartLabels {
+                title: "Needle-tip deviation along the trajectory".into(),
+                x: "carrier angle from φH = 0 in the direction of rotation (deg)".into(),
+                y: "|ΔB| (µm)".into(),
+                equal_aspect: false,
+            },
+            &series,
+            (900, 500),
+        )
+        .map_err(plot_err)?;
+    }
+    // Trajectory band: the nominal path ± the envelope (magnified) along the path normal.
+    let (mut lo, mut hi) = (f64::MAX, f64::MIN);
+    for p in &r.envelope {
+        lo = lo.min(p.nominal_tip_mm[0]);
+        hi = hi.max(p.nominal_tip_mm[0]);
+    }
+    let env_max = r.envelope_max_um.max(1e-9) * 1e-3;
+    let raw = 0.02 * (hi - lo) / env_max;
+    let mag = 10f64.powf(raw.log10().floor()).max(1.0);
+    let band = |s: f64| {
+        let mut v: Vec<(f64, f64)> = r
+            .envelope
+            .iter()
+            .map(|p| {
+                let d = s * mag * p.envelope_um * 1e-3;
+                (
+                    p.nominal_tip_mm[0] + d * p.normal[0],
+                    p.nominal_tip_mm[1] + d * p.normal[1],
+                )
+            })
+            .collect();
+        if let Some(f) = v.first().copied() {
+            v.push(f);
+        }
+        v
+    };
+    line_chart(
+        &out.join("band.png"),
+        &ChartLabels {
+            title: format!("Needle-tip trajectory with the 3σ deviation band (band ×{mag:.0})"),
+            x: "x (mm)".into(),
+            y: "y (mm)".into(),
+            equal_aspect: true,
+        },
+        &[
+            Series::line("nominal", band(0.0)),
+            Series::line("outer band", band(1.0)),
+            Series::line("inner band", band(-1.0)),
+        ],
+        (800, 700),
+    )
+    .map_err(plot_err)?;
+    let mut hist = vec![Series::line(
+        "all errors random",
+        histogram_points(&r.max_deviation_um),
+    )];
+    if let Some(a) = &r.assembly {
+        hist.push(Series::line(
+            "random runout orientation, other errors as given",
+            histogram_points(&a.random),
+        ));
+        hist.push(Series::markers("best assembly", vec![(a.joint_um, 0.0)]));
+    }
+    line_chart(
+        &out.join("histogram.png"),
+        &ChartLabels {
+            title: format!(
+                "max |ΔB| over one turn, {} random assemblies",
+                r.max_deviation_um.n
+            ),
+            x: "max |ΔB| (µm)".into(),
+            y: "samples per bin".into(),
+            equal_aspect: false,
+        },
+        &hist,
+        (900, 500),
+    )
+    .map_err(plot_err)
+}
+
+fn print_transplanter(r: &TransplanterReport, args: &Args, inventory: &Path) {
+    let s = &r.max_deviation_um;
+    println!(
+        "{} with {}: α = {:.1}°, load side {}, {} carrier angles",
+        args.errors.display(),
+        inventory.display(),
+        r.pressure_angle_deg,
+        r.load_side,
+        r.samples_per_turn
+    );
+    println!(
+        "  errors as given: max |ΔB| = {:.3} µm (exact), {:.3} µm (linear)",
+        r.nominal_errors_exact_um, r.nominal_errors_linear_um
+    );
+    let v = &r.validation;
+    println!(
+        "  linear vs exact on {} samples at 3σ: max relative error {:.3} % (mean {:.3} %, max {:.3} µm) → {} model",
+        v.samples,
+        100.0 * v.max_relative_error,
+        100.0 * v.mean_relative_error,
+        v.max_absolute_error_um,
+        v.model_used
+    );
+    println!(
+        "  Monte Carlo ({} samples, seed {}): max |ΔB| µm: mean {:.3} std {:.3} P50 {:.3} P95 {:.3} P99.73 {:.3} max {:.3}",
+        s.n, r.seed, s.mean, s.std, s.p50, s.p95, s.p9973, s.max
+    );
+    let t = &r.planet_angle_error_arcsec;
+    println!(
+        "  planet transmission error max |Δθ3| (arcsec): mean {:.2} std {:.2} P95 {:.2} P99.73 {:.2}",
+        t.mean, t.std, t.p95, t.p9973
+    );
+    println!(
+        "  3σ envelope along the trajectory: max {:.3} µm",
+        r.envelope_max_um
+    );
+    if let Some(f) = &r.features {
+        let line = |name: &str, st: &McStats, unit: &str| {
+            println!(
+                "    {name:<28} mean {:+.5} std {:.5} P99.73 {:+.5} {unit}",
+                st.mean, st.std, st.p9973
+            );
+        };
+        println!(
+            "  agronomic-feature deviations over {} exact samples:",
+            f.samples
+        );
+        line("trajectory height", &f.height_mm, "mm");
+        line("hole width", &f.hole_width_mm, "mm");
+        line("static width at depth", &f.static_width_at_depth_mm, "mm");
+        line("lowest point", &f.lowest_point_mm, "mm");
+        line("needle angle at taking", &f.needle_angle_take_deg, "deg");
+        line("needle angle at planting", &f.needle_angle_plant_deg, "deg");
+    }
+    println!("  worst contributors (at 3σ):");
+    for c in r.ranking.iter().take(8) {
+        println!(
+            "    {:<30} {:>9.3} {:<3} → {:>9.3} µm ({:>5.1} %)",
+            c.error, c.three_sigma, c.unit, c.max_deviation_um, c.share_percent
+        );
+    }
+    if let Some(a) = &r.assembly {
+        println!(
+            "  best assembly of {:?}: as given {:.3} µm, greedy {:.3} µm, joint ({}) {:.3} µm at {:?}° (exact {:.3} µm)",
+            a.free,
+            a.as_given_um,
+            a.greedy_um,
+            a.joint_method,
+            a.joint_um,
+            a.joint_directions_deg
+                .iter()
+                .map(|d| (d * 10.0).round() / 10.0)
+                .collect::<Vec<_>>(),
+            a.joint_exact_um
+        );
+        println!(
+            "    random orientation: mean {:.3} µm, P95 {:.3} µm; gain vs mean {:.1} %; P(random ≤ best) = {:.2} %",
+            a.random.mean,
+            a.random.p95,
+            a.gain_vs_random_mean_percent,
+            100.0 * a.p_random_beats_joint
+        );
+    }
 }

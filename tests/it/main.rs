@@ -9,3 +9,4 @@ mod svg_render;
 mod teeth;
 mod tolerance;
 mod train;
+mod transplanter;

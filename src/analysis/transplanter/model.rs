@@ -1,0 +1,440 @@
+//! Exact perturbed kinematics (flank-line contact, see the module docs of
+//! [`super`]) and the linear sensitivity model built from it by central finite differences.
+
+use super::{
+    ARM, BACKLASH, ErrorVector, N_COORDS, PIN_A, PIN_D, TransplanterError, clock_index, ecc_index,
+};
+use crate::assembly::{Assembly, Rebuilt};
+use crate::pitch::PitchCurve;
+use rayon::prelude::*;
+use std::f64::consts::{FRAC_PI_2, PI, TAU};
+
+type V2 = [f64; 2];
+
+fn e(a: f64) -> V2 {
+    [a.cos(), a.sin()]
+}
+fn add(a: V2, b: V2) -> V2 {
+    [a[0] + b[0], a[1] + b[1]]
+}
+fn sub(a: V2, b: V2) -> V2 {
+    [a[0] - b[0], a[1] - b[1]]
+}
+fn scale(a: V2, s: f64) -> V2 {
+    [a[0] * s, a[1] * s]
+}
+fn dot(a: V2, b: V2) -> f64 {
+    a[0] * b[0] + a[1] * b[1]
+}
+fn cross(a: V2, b: V2) -> f64 {
+    a[0] * b[1] - a[1] * b[0]
+}
+fn rot(a: V2, t: f64) -> V2 {
+    let (s, c) = t.sin_cos();
+    [c * a[0] - s * a[1], s * a[0] + c * a[1]]
+}
+fn norm(a: V2) -> f64 {
+    a[0].hypot(a[1])
+}
+
+/// State of the perturbed arm at one carrier angle (world frame, mm and rad).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct TrainState {
+    /// Carrier angle φH, rad (world).
+    pub phi_h_rad: f64,
+    /// Intermediate centre D (with its pin error), mm.
+    pub intermediate_center_mm: [f64; 2],
+    /// Planet centre A (with its pin error), mm.
+    pub planet_center_mm: [f64; 2],
+    /// Intermediate orientation θ2, rad (world sense).
+    pub intermediate_angle_rad: f64,
+    /// Planet orientation θ3, rad (world sense).
+    pub planet_angle_rad: f64,
+    /// Needle direction β = θ3 + γ + Δγ, rad (world sense).
+    pub needle_angle_rad: f64,
+    /// Needle tip, mm.
+    pub tip_mm: [f64; 2],
+}
+
+/// The exact model of one arm with errors: a configured solver (see [`ExactModel::new`]).
+#[derive(Debug, Clone)]
+pub struct ExactModel {
+    rebuilt: Rebuilt,
+    center: V2,
+    a: f64,
+    l3: f64,
+    alpha: f64,
+    side: f64,
+}
+
+/// The contact on a driver: pitch point, line-of-action direction, driver parameter.
+struct Contact {
+    w: V2,
+    n_loa: V2,
+    v: f64,
+}
+
+impl ExactModel {
+    /// Sets up the model of `assembly` with pressure angle `pressure_angle_rad` (5°…45°) and the
+    /// loaded flank `load_side` (±1) of the sun–intermediate mesh.
+    pub fn new(
+        assembly: &Assembly,
+        pressure_angle_rad: f64,
+        load_side: i8,
+    ) -> Result<Self, TransplanterError> {
+        if !(pressure_angle_rad.is_finite()
+            && (5f64.to_radians() - 1e-12..=45f64.to_radians() + 1e-12)
+                .contains(&pressure_angle_rad))
+        {
+            return Err(TransplanterError::BadOption {
+                option: "pressure angle",
+                message: format!("{pressure_angle_rad} rad; expected 5°…45° (in radians)"),
+            });
+        }
+        if !(load_side == 1 || load_side == -1) {
+            return Err(TransplanterError::BadOption {
+                option: "load side",
+                message: format!("{load_side}; expected 1 or -1"),
+            });
+        }
+        Ok(Self {
+            rebuilt: assembly.rebuild(),
+            center: assembly.center_mm,
+            a: assembly.a_mm,
+            l3: assembly.l3_mm,
+            alpha: pressure_angle_rad,
+            side: f64::from(load_side),
+        })
+    }
+
+    /// The driver's pitch point on the ray from its centre `c` along `u`: body point
+    /// `R(κ)(r(v)e(v)) + ε`, world `c + R(θ)·body`; Newton on `cross(q(v), u) = 0` from
+    /// `v = arg u − θ − κ`, to `tol_rad`.
+    #[allow(clippy::too_many_arguments)]
+    fn contact(
+        &self,
+        curve: &PitchCurve,
+        c: V2,
+        theta: f64,
+        kappa: f64,
+        eps: V2,
+        u: V2,
+        sigma: f64,
+        tol_rad: f64,
+    ) -> Option<Contact> {
+        let ecc = rot(eps, theta);
+        let q = |v: f64| {
+            let g = curve.geometry(v);
+            let dir = v + theta + kappa;
+            let p = add(scale(e(dir), g.r_mm), ecc);
+            let dp = add(scale(e(dir), g.dr_mm), scale(e(dir + FRAC_PI_2), g.r_mm));
+            (p, dp)
+        };
+        let mut v = u[1].atan2(u[0]) - theta - kappa;
+        let mut converged = false;
+        for _ in 0..50 {
+            let (p, dp) = q(v);
+            let f = cross(p, u);
+            let df = cross(dp, u);
+            if !(df.is_finite() && df != 0.0) {
+                return None;
+            }
+            let step = (f / df).clamp(-0.5, 0.5);
+            v -= step;
+            if step.abs() <= tol_rad {
+                converged = true;
+                break;
+            }
+        }
+        let (p, dp) = q(v);
+        if !converged || dot(p, u) <= 0.0 {
+            return None;
+        }
+        let t = scale(dp, 1.0 / norm(dp));
+        let mut n = [-t[1], t[0]];
+        if dot(n, u) < 0.0 {
+            n = scale(n, -1.0);
+        }
+        let n_loa = add(
+            scale(t, sigma * self.alpha.cos()),
+            scale(n, self.alpha.sin()),
+        );
+        Some(Contact {
+            w: add(c, p),
+            n_loa,
+            v,
+        })
+    }
+
+    /// Driven angle: `(C_b + R(θ)p − W_a)·N = j/2`, the root nearer the pitch point facing `-u`.
+    fn driven_angle(cb: V2, p: V2, contact: &Contact, j: f64, u: V2) -> Option<f64> {
+        let c = dot(sub(cb, contact.w), contact.n_loa) - 0.5 * j;
+        let pn = norm(p);
+        let x = -c / pn;
+        if x.is_nan() || x.abs() > 1.0 {
+            return None;
+        }
+        let base = contact.n_loa[1].atan2(contact.n_loa[0]) - p[1].atan2(p[0]);
+        let guess = (-u[1]).atan2(-u[0]) - p[1].atan2(p[0]);
+        let acos = x.acos();
+        let near = |cand: f64| cand + TAU * ((guess - cand) / TAU).round();
+        let (r1, r2) = (near(base + acos), near(base - acos));
+        Some(if (r1 - guess).abs() <= (r2 - guess).abs() {
+            r1
+        } else {
+            r2
+        })
+    }
+
+    /// State of the arm at world carrier angle `phi_h_rad` with errors `x` (mm, rad; see
+    /// [`super::COORD_NAMES`]).
+    pub fn state(&self, phi_h_rad: f64, x: &ErrorVector) -> Result<TrainState, TransplanterError> {
+        let r = &self.rebuilt;
+        let s = r.sign();
+        let phi = s * phi_h_rad;
+        let [sun, mid, planet] = r.ccw_curves();
+        let eps = |k: usize| [x[ecc_index(k)], x[ecc_index(k) + 1]];
+        let kappa = |k: usize| x[clock_index(k)];
+        let no_contact = |mesh: &'static str| TransplanterError::NoContact {
+            mesh,
+            carrier_deg: phi_h_rad.to_degrees(),
+        };
+        const TOL: f64 = 1e-14;
+        // Mesh 1: sun (fixed, centre O) drives the intermediate.
+        let radial = e(phi);
+        let tangential = e(phi + FRAC_PI_2);
+        let c2 = add(
+            scale(radial, self.a + x[PIN_D[0]]),
+            scale(tangential, x[PIN_D[1]]),
+        );
+        let u12 = scale(c2, 1.0 / norm(c2));
+        let k1 = self
+            .contact(sun, [0.0, 0.0], 0.0, kappa(0), eps(0), u12, self.side, TOL)
+            .ok_or_else(|| no_contact("sun–intermediate"))?;
+        let w2 = r.ccw_sun_to_intermediate(k1.v);
+        let p2 = add(scale(e(w2 + kappa(1)), mid.radius_mm(w2)), eps(1));
+        let theta2 = Self::driven_angle(c2, p2, &k1, x[BACKLASH[0]], u12)
+            .ok_or_else(|| no_contact("sun–intermediate"))?;
+        // Mesh 2: intermediate drives the planet (opposite flank).
+        let c3 = add(
+            scale(radial, 2.0 * self.a + x[PIN_A[0]]),
+            scale(tangential, x[PIN_A[1]]),
+        );
+        let d23 = sub(c3, c2);
+        let u23 = scale(d23, 1.0 / norm(d23));
+        let k2 = self
+            .contact(mid, c2, theta2, kappa(1), eps(1), u23, -self.side, TOL)
+            .ok_or_else(|| no_contact("intermediate–planet"))?;
+        let w3 = r.ccw_intermediate_to_planet(k2.v);
+        let p3 = add(scale(e(w3 + kappa(2)), planet.radius_mm(w3)), eps(2));
+        let theta3 = Self::driven_angle(c3, p3, &k2, x[BACKLASH[1]], u23)
+            .ok_or_else(|| no_contact("intermediate–planet"))?;
+        let beta = theta3 + r.ccw_needle_angle() + x[ARM];
+        let tip = add(c3, scale(e(beta), self.l3));
+        let o = self.center;
+        let world = |p: V2| [o[0] + p[0], o[1] + s * p[1]];
+        let st = TrainState {
+            phi_h_rad,
+            intermediate_center_mm: world(c2),
+            planet_center_mm: world(c3),
+            intermediate_angle_rad: s * theta2,
+            planet_angle_rad: s * theta3,
+            needle_angle_rad: s * beta,
+            tip_mm: world(tip),
+        };
+        if st.tip_mm.iter().all(|v| v.is_finite()) && st.planet_angle_rad.is_finite() {
+            Ok(st)
+        } else {
+            Err(TransplanterError::Numerical(format!(
+                "non-finite state at carrier angle {:.3}°",
+                phi_h_rad.to_degrees()
+            )))
+        }
+    }
+
+    /// World carrier angles of a uniform grid of `n` points over one turn, in travel order, rad.
+    #[must_use]
+    pub fn grid(&self, n: usize) -> Vec<f64> {
+        let s = self.rebuilt.sign();
+        (0..n).map(|k| s * TAU * k as f64 / n as f64).collect()
+    }
+
+    /// States at the carrier angles `phis` (rad).
+    pub fn trace(
+        &self,
+        phis: &[f64],
+        x: &ErrorVector,
+    ) -> Result<Vec<TrainState>, TransplanterError> {
+        phis.iter().map(|&p| self.state(p, x)).collect()
+    }
+
+    /// Tip deviations `B(φ; x) − B(φ; 0)` (mm, world) at `phis`.
+    pub fn deviations(
+        &self,
+        phis: &[f64],
+        x: &ErrorVector,
+    ) -> Result<Vec<[f64; 2]>, TransplanterError> {
+        let zero = [0.0; N_COORDS];
+        phis.iter()
+            .map(|&p| {
+                let a = self.state(p, x)?.tip_mm;
+                let b = self.state(p, &zero)?.tip_mm;
+                Ok(sub(a, b))
+            })
+            .collect()
+    }
+
+    /// The carrier direction, ±1.
+    #[must_use]
+    pub fn sign(&self) -> f64 {
+        self.rebuilt.sign()
+    }
+
+    /// The rebuilt nominal train.
+    #[must_use]
+    pub fn rebuilt(&self) -> &Rebuilt {
+        &self.rebuilt
+    }
+
+    /// Half a turn in world angle, rad (arm 2 is arm 1 at φH + π).
+    #[must_use]
+    pub fn half_turn(&self) -> f64 {
+        PI
+    }
+}
+
+/// Finite-difference steps of the linear model.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct FdSteps {
+    /// Step of the length coordinates, mm.
+    pub length_mm: f64,
+    /// Step of the angle coordinates, rad.
+    pub angle_rad: f64,
+}
+
+impl Default for FdSteps {
+    fn default() -> Self {
+        Self {
+            length_mm: 1e-3,
+            angle_rad: 1e-5,
+        }
+    }
+}
+
+/// `ΔB(φ) = Σ_j S_j(φ)·x_j`: the tip sensitivities (world mm per mm or per rad) on a φH grid.
+#[derive(Debug, Clone)]
+pub struct LinearModel {
+    /// World carrier angles of the grid, rad.
+    pub phis_rad: Vec<f64>,
+    /// Nominal tip positions, mm.
+    pub nominal_tips_mm: Vec<[f64; 2]>,
+    /// Per carrier angle, the column `S_j = ∂B/∂x_j` of every coordinate (mm per internal unit).
+    pub jacobian: Vec<[[f64; 2]; N_COORDS]>,
+    /// Per carrier angle, `∂θ3/∂x_j`: the planet's angle error (the transmission error of spec
+    /// C), rad per internal unit.
+    pub planet_angle_jacobian: Vec<[f64; N_COORDS]>,
+}
+
+/// `a − b` wrapped to (−π, π], rad.
+#[must_use]
+pub fn angle_difference(a: f64, b: f64) -> f64 {
+    (a - b + PI).rem_euclid(TAU) - PI
+}
+
+/// Nominal tip and sensitivity columns at one carrier angle.
+type Row = ([f64; 2], [[f64; 2]; N_COORDS], [f64; N_COORDS]);
+
+fn is_angle(j: usize) -> bool {
+    (6..9).contains(&j) || j == ARM
+}
+
+impl LinearModel {
+    /// Central differences `S_j = (B(x_j = +h) − B(x_j = −h))/2h` of the exact model on `n`
+    /// uniform carrier angles (parallel over the grid).
+    pub fn build(model: &ExactModel, n: usize, steps: FdSteps) -> Result<Self, TransplanterError> {
+        if n < 8 {
+            return Err(TransplanterError::BadOption {
+                option: "samples per turn",
+                message: format!("{n}; at least 8"),
+            });
+        }
+        if !(steps.length_mm > 0.0 && steps.angle_rad > 0.0) {
+            return Err(TransplanterError::BadOption {
+                option: "finite-difference steps",
+                message: "must be positive".into(),
+            });
+        }
+        let phis = model.grid(n);
+        let rows: Result<Vec<Row>, TransplanterError> = phis
+            .par_iter()
+            .map(|&p| {
+                let zero = [0.0; N_COORDS];
+                let b0 = model.state(p, &zero)?.tip_mm;
+                let mut cols = [[0.0; 2]; N_COORDS];
+                let mut ang = [0.0; N_COORDS];
+                for (j, col) in cols.iter_mut().enumerate() {
+                    let h = if is_angle(j) {
+                        steps.angle_rad
+                    } else {
+                        steps.length_mm
+                    };
+                    let mut xp = zero;
+                    xp[j] = h;
+                    let mut xm = zero;
+                    xm[j] = -h;
+                    let sp = model.state(p, &xp)?;
+                    let sm = model.state(p, &xm)?;
+                    *col = scale(sub(sp.tip_mm, sm.tip_mm), 0.5 / h);
+                    ang[j] = angle_difference(sp.planet_angle_rad, sm.planet_angle_rad) * 0.5 / h;
+                }
+                Ok((b0, cols, ang))
+            })
+            .collect();
+        let rows = rows?;
+        Ok(Self {
+            phis_rad: phis,
+            nominal_tips_mm: rows.iter().map(|r| r.0).collect(),
+            jacobian: rows.iter().map(|r| r.1).collect(),
+            planet_angle_jacobian: rows.into_iter().map(|r| r.2).collect(),
+        })
+    }
+
+    /// Tip deviation (mm, world) at grid point `i`.
+    #[must_use]
+    pub fn deviation_at(&self, i: usize, x: &ErrorVector) -> [f64; 2] {
+        let mut d = [0.0; 2];
+        for (col, v) in self.jacobian[i].iter().zip(x) {
+            d[0] += col[0] * v;
+            d[1] += col[1] * v;
+        }
+        d
+    }
+
+    /// Tip deviations (mm) over the grid.
+    #[must_use]
+    pub fn deviations(&self, x: &ErrorVector) -> Vec<[f64; 2]> {
+        (0..self.phis_rad.len())
+            .map(|i| self.deviation_at(i, x))
+            .collect()
+    }
+
+    /// `max_φ |Δθ3(φ)|`: the planet's largest angle error over the grid, rad.
+    #[must_use]
+    pub fn max_planet_angle_error_rad(&self, x: &ErrorVector) -> f64 {
+        self.planet_angle_jacobian
+            .iter()
+            .map(|row| row.iter().zip(x).map(|(s, v)| s * v).sum::<f64>().abs())
+            .fold(0.0, f64::max)
+    }
+
+    /// `max_φ |ΔB(φ)|`, mm.
+    #[must_use]
+    pub fn max_deviation_mm(&self, x: &ErrorVector) -> f64 {
+        (0..self.phis_rad.len())
+            .map(|i| {
+                let d = self.deviation_at(i, x);
+                d[0].hypot(d[1])
+            })
+            .fold(0.0, f64::max)
+    }
+}
