@@ -659,23 +659,23 @@ fn validate(opts: &DesignOptions) -> Result<(), DesignError> {
             expected,
         })
     };
-    if let Some(k) = opts.order {
-        if !(1..=64).contains(&k) {
-            return bad(
-                "order",
-                k.to_string(),
-                "an integer in 1..=64 (40 is the recommended cap, spec §8.2)",
-            );
-        }
+    if let Some(k) = opts.order
+        && !(1..=64).contains(&k)
+    {
+        return bad(
+            "order",
+            k.to_string(),
+            "an integer in 1..=64 (40 is the recommended cap, spec §8.2)",
+        );
     }
-    if let Some(h) = opts.smoothing {
-        if !(4..=512).contains(&h) {
-            return bad(
-                "smooth",
-                h.to_string(),
-                "a number of harmonics in 4..=512 (about 1/10 of the points for noisy data)",
-            );
-        }
+    if let Some(h) = opts.smoothing
+        && !(4..=512).contains(&h)
+    {
+        return bad(
+            "smooth",
+            h.to_string(),
+            "a number of harmonics in 4..=512 (about 1/10 of the points for noisy data)",
+        );
     }
     if !(opts.tol_tip_mm.is_finite() && opts.tol_tip_mm > 0.0) {
         return bad(

@@ -263,12 +263,12 @@ impl Trajectory {
             message,
         };
         let doc: Doc = serde_json::from_str(text).map_err(|e| bad(e.to_string()))?;
-        if let Some(u) = doc.units.as_deref() {
-            if u != "mm" {
-                return Err(bad(format!(
-                    "field `units` is \"{u}\", only \"mm\" is supported"
-                )));
-            }
+        if let Some(u) = doc.units.as_deref()
+            && u != "mm"
+        {
+            return Err(bad(format!(
+                "field `units` is \"{u}\", only \"mm\" is supported"
+            )));
         }
         let origins: Vec<Origin> = (0..doc.points.len()).map(Origin::Index).collect();
         Self::new(doc.points, &origins, file)

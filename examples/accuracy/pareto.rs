@@ -5,10 +5,13 @@
 use ncgear::plot::{ChartLabels, Series, line_chart};
 use std::path::Path;
 
-/// Series of one CSV, in file order: (knob, [(log10 ms, log10 error)]).
-fn read_series(path: &Path) -> std::io::Result<Vec<(String, Vec<(f64, f64)>)>> {
+/// One knob's line: (knob, [(log10 ms, log10 error)]).
+type KnobSeries = (String, Vec<(f64, f64)>);
+
+/// Series of one CSV, in file order.
+fn read_series(path: &Path) -> std::io::Result<Vec<KnobSeries>> {
     let text = std::fs::read_to_string(path)?;
-    let mut out: Vec<(String, Vec<(f64, f64)>)> = Vec::new();
+    let mut out: Vec<KnobSeries> = Vec::new();
     for line in text.lines().skip(1) {
         let f: Vec<&str> = line.split(',').collect();
         if f.len() < 5 {
@@ -34,7 +37,7 @@ fn draw(
     dir: &Path,
     stem: &str,
     title: &str,
-    series: &[(String, Vec<(f64, f64)>)],
+    series: &[KnobSeries],
     size: (u32, u32),
 ) -> Result<(), Box<dyn std::error::Error>> {
     let all: Vec<Series> = series

@@ -18,6 +18,8 @@ pub fn rows() -> Vec<Row> {
     .expect("bundled");
     let mut rows = Vec::new();
     // 1. Peak grid density: 200 random phase sets, worst error vs the 400-point reference.
+    // Additive-recurrence (Weyl) phases; the multipliers only need to be irrational-looking.
+    #[allow(clippy::approx_constant)]
     let sets: Vec<[f64; 3]> = (0..200)
         .map(|k| {
             let x = k as f64;

@@ -556,7 +556,7 @@ fn quasi_static_dte_equals_b_plus_f0_over_k() {
         .unwrap()
         .build("q")
         .unwrap();
-    let run = simulate(&m, &vec![0.0; 2], &opts(1e-10, 50, 1, 16), &|_| {}).unwrap();
+    let run = simulate(&m, &[0.0; 2], &opts(1e-10, 50, 1, 16), &|_| {}).unwrap();
     let want = 50e-6 + d.f0_n / 3.8252e8;
     assert!((want * 1e6 - 53.709).abs() < 1e-3);
     assert!(

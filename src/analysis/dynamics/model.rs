@@ -768,8 +768,8 @@ impl OdeSystem for Model {
         for term in &self.terms {
             term.add_forces(t, q, v, dv);
         }
-        for i in 0..n {
-            dv[i] /= self.mass[i];
+        for (a, m) in dv.iter_mut().zip(&self.mass) {
+            *a /= m;
         }
     }
 }

@@ -175,6 +175,7 @@ impl Dopri5 {
     /// Integrates from `t0` to `t1` (> t0), restarting at every time in `breakpoints` (sorted,
     /// those outside `(t0, t1)` are ignored) and at every located zero of an event function.
     /// `on_step` receives every accepted step's dense output. Returns the final state in `y`.
+    #[allow(clippy::too_many_arguments)] // the integrator's whole interface: system, span, state, breakpoints, events, callback
     pub fn integrate(
         &self,
         sys: &dyn OdeSystem,
@@ -384,6 +385,7 @@ impl Dopri5 {
 }
 
 /// Re-parametrises a dense step onto `[t, te]` (exact: the interpolant is a quartic in θ).
+#[allow(clippy::needless_range_loop)] // one index over ten parallel coefficient arrays
 fn restrict(d: &DenseStep, te: f64) -> [Vec<f64>; 5] {
     // y(θ) = r1 + θ r2 + θ(1−θ) r3 + θ²(1−θ) r4 + θ²(1−θ)² r5 is a quartic in θ; on the
     // sub-interval θ = s·θ', so expand in powers, scale by s^j and convert back.

@@ -220,7 +220,11 @@ fn exact_max(
 /// Maps a Monte Carlo failure of the named quantity to a [`TransplanterError`].
 fn mc_error(what: &'static str) -> impl Fn(McError) -> TransplanterError {
     move |e| match e {
-        McError::BadOption { name, value, expected } => TransplanterError::BadOption {
+        McError::BadOption {
+            name,
+            value,
+            expected,
+        } => TransplanterError::BadOption {
             option: name,
             message: format!("{value}: expected {expected}"),
         },
@@ -665,8 +669,7 @@ fn feature_deviations(
     let feats = feats?;
     let stats = |f: &dyn Fn(&Features) -> f64| {
         let v: Vec<f64> = feats.iter().map(|x| f(x) - f(&nominal)).collect();
-        montecarlo::summarize(&v, opts.mc.bins)
-            .map_err(mc_error("feature"))
+        montecarlo::summarize(&v, opts.mc.bins).map_err(mc_error("feature"))
     };
     let wrap = |a: f64| (a + 180.0).rem_euclid(360.0) - 180.0;
     Ok(Some(FeatureDeviations {
@@ -740,7 +743,9 @@ pub fn analyse(
         },
         progress,
     )
-    .map_err(mc_error("tip deviation (the exact model found no contact: errors too large)"))?;
+    .map_err(mc_error(
+        "tip deviation (the exact model found no contact: errors too large)",
+    ))?;
     // The planet's transmission error over the same samples (same seed and streams).
     let (te, _) = montecarlo::run(
         &opts.mc,
@@ -754,7 +759,9 @@ pub fn analyse(
         },
         &|_| {},
     )
-    .map_err(mc_error("planet angle error (the exact model found no contact)"))?;
+    .map_err(mc_error(
+        "planet angle error (the exact model found no contact)",
+    ))?;
     let env = envelope(&lin, inv);
     let envelope_max_um = env.iter().map(|p| p.envelope_um).fold(0.0, f64::max);
     Ok(TransplanterReport {

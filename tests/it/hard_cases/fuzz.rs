@@ -164,7 +164,7 @@ fn apply(text: &str, muts: &[Mutation]) -> String {
         let nl = lines.len().max(1);
         s = match m.op {
             // Replace a token (numbers, keys, names) by a bad one.
-            0 | 1 | 2 => {
+            0..=2 => {
                 let t = tokens(&s);
                 if t.is_empty() {
                     s
