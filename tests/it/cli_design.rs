@@ -2,11 +2,8 @@
 //! exit codes and messages on bad input.
 use std::f64::consts::{PI, TAU};
 use std::path::{Path, PathBuf};
-use std::process::Command;
 
-fn ncgear() -> Command {
-    Command::new(env!("CARGO_BIN_EXE_ncgear"))
-}
+use crate::cli::{ncgear, succeed};
 
 fn out_dir(name: &str) -> PathBuf {
     let d = Path::new(env!("CARGO_TARGET_TMPDIR")).join(name);
@@ -135,18 +132,13 @@ fn min_dist(p: [f64; 2], pts: &[[f64; 2]]) -> f64 {
 }
 
 fn run_design(file: &str, extra: &[&str], dir: &Path) -> serde_json::Value {
-    let out = ncgear()
-        .arg("design")
-        .arg(asset(file))
-        .arg("--out")
-        .arg(dir)
-        .args(extra)
-        .output()
-        .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
+    succeed(
+        ncgear()
+            .arg("design")
+            .arg(asset(file))
+            .arg("--out")
+            .arg(dir)
+            .args(extra),
     );
     let text = std::fs::read_to_string(dir.join("design.json")).unwrap();
     serde_json::from_str(&text).unwrap()

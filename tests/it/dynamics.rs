@@ -570,22 +570,17 @@ fn quasi_static_dte_equals_b_plus_f0_over_k() {
 fn cli_runs_a_scene_and_rejects_bad_input() {
     let exe = env!("CARGO_BIN_EXE_ncgear");
     let dir = std::env::temp_dir().join(format!("ncgear_dyn_{}", std::process::id()));
-    let out = std::process::Command::new(exe)
-        .args([
-            "dynamics",
-            &format!("{ASSETS}/backlash_oscillator.toml"),
-            "--sweep",
-            "0.80:0.84:0.04",
-            "--json",
-            "--out",
-        ])
-        .arg(&dir)
-        .output()
-        .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
+    let out = crate::cli::succeed(
+        std::process::Command::new(exe)
+            .args([
+                "dynamics",
+                &format!("{ASSETS}/backlash_oscillator.toml"),
+                "--sweep",
+                "0.80:0.84:0.04",
+                "--json",
+                "--out",
+            ])
+            .arg(&dir),
     );
     let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
     assert_eq!(v["dofs"], serde_json::json!(["u"]));

@@ -1,4 +1,5 @@
 //! The single integration-test crate (links once): one module per area.
+mod cli;
 mod cli_design;
 mod design;
 mod dynamics;

@@ -4,7 +4,6 @@ use ncgear::fourier::SunRatio;
 use ncgear::mechanism::Mechanism;
 use ncgear::simulate::{DesignFile, FeatureOptions, SimulateError, Simulation, features};
 use std::f64::consts::{PI, TAU};
-use std::process::Command;
 
 const G1_CSV: &str = include_str!("../data/G1_trajectory_360.csv");
 
@@ -147,9 +146,7 @@ fn g1_features_against_independent_values() {
     ));
 }
 
-fn ncgear() -> Command {
-    Command::new(env!("CARGO_BIN_EXE_ncgear"))
-}
+use crate::cli::{ncgear, succeed_json};
 
 #[test]
 fn simulate_cli_writes_animation_and_refuses_bad_design_files() {
@@ -165,20 +162,14 @@ fn simulate_cli_writes_animation_and_refuses_bad_design_files() {
         .output()
         .unwrap();
     assert!(st.status.success());
-    let out = ncgear()
-        .arg("simulate")
-        .arg(dir.join("d/design.json"))
-        .arg("--out")
-        .arg(dir.join("s"))
-        .arg("--json")
-        .output()
-        .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
+    let v = succeed_json(
+        ncgear()
+            .arg("simulate")
+            .arg(dir.join("d/design.json"))
+            .arg("--out")
+            .arg(dir.join("s"))
+            .arg("--json"),
     );
-    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
     assert!(v["deviation_max_mm"].as_f64().unwrap() < 0.05);
     assert!(v["arm2_vs_arm1_mm"].as_f64().unwrap() < 1e-6);
     let svg = std::fs::read_to_string(dir.join("s/animation.svg")).unwrap();

@@ -415,28 +415,22 @@ fn cli_writes_the_report_and_plots_and_rejects_bad_files() {
     let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join("transplanter_cli");
     let _ = std::fs::remove_dir_all(&dir);
     let asset = |n: &str| format!("{}/assets/transplanter/{n}", env!("CARGO_MANIFEST_DIR"));
-    let out = std::process::Command::new(env!("CARGO_BIN_EXE_ncgear"))
-        .args([
-            "tolerance",
-            &asset("g1_design.json"),
-            "--errors",
-            &asset("g1_errors.toml"),
-            "--samples",
-            "2000",
-            "--feature-samples",
-            "4",
-            "--json",
-            "--out",
-        ])
-        .arg(&dir)
-        .output()
-        .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
+    let v = crate::cli::succeed_json(
+        crate::cli::ncgear()
+            .args([
+                "tolerance",
+                &asset("g1_design.json"),
+                "--errors",
+                &asset("g1_errors.toml"),
+                "--samples",
+                "2000",
+                "--feature-samples",
+                "4",
+                "--json",
+                "--out",
+            ])
+            .arg(&dir),
     );
-    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
     assert_eq!(v["validation"]["model_used"], "linear");
     assert_eq!(v["max_deviation_um"]["n"], 2000);
     assert_eq!(v["envelope"].as_array().unwrap().len(), 720);
@@ -452,7 +446,7 @@ fn cli_writes_the_report_and_plots_and_rejects_bad_files() {
     // A bad inventory is an input error (exit 2) naming the key.
     let bad = dir.join("bad.toml");
     std::fs::write(&bad, "[planet.eccentricity]\nmagnitude_um = -3\n").unwrap();
-    let out = std::process::Command::new(env!("CARGO_BIN_EXE_ncgear"))
+    let out = crate::cli::ncgear()
         .args(["tolerance", &asset("g1_design.json"), "--errors"])
         .arg(&bad)
         .arg("--out")

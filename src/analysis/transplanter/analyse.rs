@@ -731,37 +731,43 @@ pub fn analyse(
         model_used: if use_linear { "linear" } else { "exact" }.into(),
     };
     let given = inv.nominal_vector();
-    let (stats, _) = montecarlo::run(
-        &opts.mc,
-        |rng, _| {
-            let x = inv.draw(rng);
-            if use_linear {
-                lin.max_deviation_mm(&x) * UM
-            } else {
-                exact_max(&model, &lin, &x).map_or(f64::NAN, |v| v * UM)
-            }
-        },
-        progress,
-    )
-    .map_err(mc_error(
+    // One metric of the random assemblies: the linear model's value, or the exact one's when
+    // the validation failed. Both metrics use the same seed, hence the same samples.
+    type Exact = fn(&ExactModel, &LinearModel, &ErrorVector) -> Result<f64, TransplanterError>;
+    let distribution = |linear: fn(&LinearModel, &ErrorVector) -> f64,
+                        exact: Exact,
+                        scale: f64,
+                        what: &'static str,
+                        progress: &(dyn Fn(u64) + Sync)| {
+        montecarlo::run(
+            &opts.mc,
+            |rng, _| {
+                let x = inv.draw(rng);
+                if use_linear {
+                    linear(&lin, &x) * scale
+                } else {
+                    exact(&model, &lin, &x).map_or(f64::NAN, |v| v * scale)
+                }
+            },
+            progress,
+        )
+        .map(|(stats, _)| stats)
+        .map_err(mc_error(what))
+    };
+    let stats = distribution(
+        LinearModel::max_deviation_mm,
+        exact_max,
+        UM,
         "tip deviation (the exact model found no contact: errors too large)",
-    ))?;
-    // The planet's transmission error over the same samples (same seed and streams).
-    let (te, _) = montecarlo::run(
-        &opts.mc,
-        |rng, _| {
-            let x = inv.draw(rng);
-            if use_linear {
-                lin.max_planet_angle_error_rad(&x) * ARCSEC_PER_RAD
-            } else {
-                exact_max_angle(&model, &lin, &x).map_or(f64::NAN, |v| v * ARCSEC_PER_RAD)
-            }
-        },
-        &|_| {},
-    )
-    .map_err(mc_error(
+        progress,
+    )?;
+    let te = distribution(
+        LinearModel::max_planet_angle_error_rad,
+        exact_max_angle,
+        ARCSEC_PER_RAD,
         "planet angle error (the exact model found no contact)",
-    ))?;
+        &|_| {},
+    )?;
     let env = envelope(&lin, inv);
     let envelope_max_um = env.iter().map(|p| p.envelope_um).fold(0.0, f64::max);
     Ok(TransplanterReport {
