@@ -652,137 +652,131 @@ pub fn design(traj: &Trajectory, opts: &DesignOptions) -> Result<Design, DesignE
 }
 
 fn validate(opts: &DesignOptions) -> Result<(), DesignError> {
-    let bad = |option, value: String, expected| {
-        Err(DesignError::BadOption {
-            option,
-            value,
-            expected,
-        })
-    };
-    if let Some(k) = opts.order
-        && !(1..=64).contains(&k)
-    {
-        return bad(
+    let positive = |v: f64| v.is_finite() && v > 0.0;
+    let angle = |v: f64| positive(v) && v < std::f64::consts::FRAC_PI_2;
+    let (inv, seg, refine) = (&opts.inverse, &opts.segmented, &opts.refine_options);
+    let [lo, hi] = refine.ratio_bounds;
+    let [cx, cy] = opts.center_mm;
+    let show = |v: Option<usize>| v.map_or_else(|| "none".into(), |k| k.to_string());
+    // (valid, option, given value, what is expected), checked in this order.
+    let rules: [(bool, &'static str, String, &'static str); 18] = [
+        (
+            opts.order.is_none_or(|k| (1..=64).contains(&k)),
             "order",
-            k.to_string(),
+            show(opts.order),
             "an integer in 1..=64 (40 is the recommended cap, spec §8.2)",
-        );
-    }
-    if let Some(h) = opts.smoothing
-        && !(4..=512).contains(&h)
-    {
-        return bad(
+        ),
+        (
+            opts.smoothing.is_none_or(|h| (4..=512).contains(&h)),
             "smooth",
-            h.to_string(),
+            show(opts.smoothing),
             "a number of harmonics in 4..=512 (about 1/10 of the points for noisy data)",
-        );
-    }
-    if !(opts.tol_tip_mm.is_finite() && opts.tol_tip_mm > 0.0) {
-        return bad(
+        ),
+        (
+            positive(opts.tol_tip_mm),
             "tol-mm",
             opts.tol_tip_mm.to_string(),
             "a positive length in mm",
-        );
-    }
-    if opts.inverse.grid < 64 || opts.inverse.grid > 1 << 16 {
-        return bad(
+        ),
+        (
+            (64..=1 << 16).contains(&inv.grid),
             "grid",
-            opts.inverse.grid.to_string(),
+            inv.grid.to_string(),
             "a grid size in 64..=65536",
-        );
-    }
-    if opts.curve_samples < 720 {
-        return bad(
+        ),
+        (
+            opts.curve_samples >= 720,
             "samples",
             opts.curve_samples.to_string(),
             "at least 720 samples per pitch curve",
-        );
-    }
-    let [lo, hi] = opts.refine_options.ratio_bounds;
-    if !(lo > 0.0 && hi > lo && hi.is_finite()) {
-        return bad("ratio-bounds", format!("{lo},{hi}"), "0 < min < max");
-    }
-    let [cx, cy] = opts.center_mm;
-    if !(cx.is_finite() && cy.is_finite()) {
-        return bad(
+        ),
+        (
+            lo > 0.0 && hi > lo && hi.is_finite(),
+            "ratio-bounds",
+            format!("{lo},{hi}"),
+            "0 < min < max",
+        ),
+        (
+            cx.is_finite() && cy.is_finite(),
             "center",
             format!("{cx},{cy}"),
             "two finite coordinates in mm",
-        );
-    }
-    let positive = |v: f64| v.is_finite() && v > 0.0;
-    if !(positive(opts.inverse.tol_relative) && opts.inverse.tol_relative < 1e-2) {
-        return bad(
+        ),
+        (
+            positive(inv.tol_relative) && inv.tol_relative < 1e-2,
             "inverse.tol_relative",
-            opts.inverse.tol_relative.to_string(),
+            inv.tol_relative.to_string(),
             "a relative tolerance in (0, 0.01)",
-        );
-    }
-    if opts.inverse.dense_samples < 64 {
-        return bad(
+        ),
+        (
+            inv.dense_samples >= 64,
             "inverse.dense_samples",
-            opts.inverse.dense_samples.to_string(),
+            inv.dense_samples.to_string(),
             "at least 64 dense samples",
-        );
-    }
-    if opts.inverse.law_harmonics == Some(0) {
-        return bad(
+        ),
+        (
+            inv.law_harmonics != Some(0),
             "inverse.law_harmonics",
-            "0".into(),
+            show(inv.law_harmonics),
             "at least one harmonic (or none to keep the law as computed)",
-        );
-    }
-    if !positive(opts.segmented.tol_j) {
-        return bad(
+        ),
+        (
+            positive(seg.tol_j),
             "segmented.tol_j",
-            opts.segmented.tol_j.to_string(),
+            seg.tol_j.to_string(),
             "a positive junction tolerance",
-        );
-    }
-    if !(opts.segmented.w1 > 0.0 && opts.segmented.w1 <= 1.0) {
-        return bad(
+        ),
+        (
+            seg.w1 > 0.0 && seg.w1 <= 1.0,
             "segmented.w1",
-            opts.segmented.w1.to_string(),
+            seg.w1.to_string(),
             "a mirror weight in (0, 1]",
-        );
-    }
-    if !(opts.refine_options.smoothness.is_finite() && opts.refine_options.smoothness >= 0.0) {
-        return bad(
+        ),
+        (
+            refine.smoothness.is_finite() && refine.smoothness >= 0.0,
             "refine.smoothness",
-            opts.refine_options.smoothness.to_string(),
+            refine.smoothness.to_string(),
             "a finite weight ≥ 0",
-        );
-    }
-    if opts.refine_options.samples < 16 {
-        return bad(
+        ),
+        (
+            refine.samples >= 16,
             "refine.samples",
-            opts.refine_options.samples.to_string(),
+            refine.samples.to_string(),
             "at least 16 residual samples",
-        );
-    }
-    if !(1..=64).contains(&opts.refine_order) {
-        return bad(
+        ),
+        (
+            (1..=64).contains(&opts.refine_order),
             "refine_order",
             opts.refine_order.to_string(),
             "an integer in 1..=64",
-        );
-    }
-    if opts.check_samples < 16 {
-        return bad(
+        ),
+        (
+            opts.check_samples >= 16,
             "check_samples",
             opts.check_samples.to_string(),
             "at least 16 carrier angles",
-        );
+        ),
+        (
+            angle(opts.pressure_angle_rad),
+            "pressure-angle",
+            format!("{} rad", opts.pressure_angle_rad),
+            "an angle in (0°, 90°)",
+        ),
+        (
+            angle(opts.pressure_angle_limit_rad),
+            "pressure-angle-limit",
+            format!("{} rad", opts.pressure_angle_limit_rad),
+            "an angle in (0°, 90°)",
+        ),
+    ];
+    match rules.into_iter().find(|r| !r.0) {
+        Some((_, option, value, expected)) => Err(DesignError::BadOption {
+            option,
+            value,
+            expected,
+        }),
+        None => Ok(()),
     }
-    for (name, v) in [
-        ("pressure-angle", opts.pressure_angle_rad),
-        ("pressure-angle-limit", opts.pressure_angle_limit_rad),
-    ] {
-        if !(positive(v) && v < std::f64::consts::FRAC_PI_2) {
-            return bad(name, v.to_string(), "an angle in (0°, 90°)");
-        }
-    }
-    Ok(())
 }
 
 type Finished = (
