@@ -279,3 +279,94 @@ fn non_finite_mechanism_inputs_are_typed_errors() {
         }
     }
 }
+
+/// Ellipse suns of growing eccentricity through the whole chain and the teeth (module 2 mm):
+/// small eccentricities give a toothed train whose two meshes run without interference and keep
+/// positive backlash; from some eccentricity on, teeth stop being possible and the refusal is a
+/// typed `Teeth` error (`Concave` or `Undercut`) naming the gear — and it stays refused beyond.
+/// An undercut refusal names a tooth count; with that count the same design must cut clean teeth.
+#[test]
+fn eccentricity_sweep_teeth_until_they_stop_being_possible() {
+    use ncgear::teeth::{TeethError, ToothPolicy};
+    use ncgear::train::{TrainError, TrainPolicy, TrainTeethOptions, tooth_design};
+    let mut first_refusal = None;
+    for (k, e) in [0.05f64, 0.15, 0.25, 0.35, 0.45, 0.55]
+        .into_iter()
+        .enumerate()
+    {
+        let m = Mechanism {
+            a_mm: 45.0,
+            l3_mm: 170.0,
+            ratio: ncgear::golden::ellipse_ratio(e),
+            sun_phase_rad: 0.0,
+            needle_angle_rad: (-70f64).to_radians(),
+        };
+        let d = match design(&traced(&m, 720), &quick()) {
+            Ok(d) => d,
+            Err(err) => {
+                eprintln!("e = {e}: design refused: {err}");
+                assert!(acceptable_refusal(&err), "e = {e}: {err}");
+                first_refusal.get_or_insert(k);
+                continue;
+            }
+        };
+        let opts = TrainTeethOptions {
+            verify_steps: 24,
+            ..TrainTeethOptions::new(2.0)
+        };
+        match tooth_design(&d, &opts, 1e-6, &|_| {}) {
+            Ok(t) => {
+                let mesh = t.report.mesh.as_ref().expect("verified");
+                eprintln!(
+                    "e = {e}: z = {}, {} / {}",
+                    t.report.z,
+                    mesh.sun_intermediate.summary(),
+                    mesh.intermediate_planet.summary()
+                );
+                assert!(first_refusal.is_none(), "e = {e} toothed after a refusal");
+                for r in [&mesh.sun_intermediate, &mesh.intermediate_planet] {
+                    assert_eq!(r.interference_steps, 0, "e = {e}: {}", r.summary());
+                    assert!(r.min_backlash_mm > 0.0 && r.max_overlap_area_mm2 == 0.0);
+                }
+            }
+            Err(err) => {
+                eprintln!("e = {e}: teeth refused: {err}");
+                assert!(
+                    matches!(
+                        err,
+                        TrainError::Teeth {
+                            source: TeethError::Concave { .. } | TeethError::Undercut { .. },
+                            ..
+                        }
+                    ),
+                    "e = {e}: {err}"
+                );
+                first_refusal.get_or_insert(k);
+                // The diagnosis must be actionable: the tooth count it names cuts clean teeth.
+                if let TrainError::Teeth {
+                    source:
+                        TeethError::Undercut {
+                            max_module_mm,
+                            min_teeth,
+                            ..
+                        },
+                    ..
+                } = err
+                {
+                    assert!(max_module_mm < 2.0 && min_teeth > 23, "e = {e}: {err}");
+                    let more = TrainTeethOptions {
+                        policy: TrainPolicy::ScaleCenterDistance(ToothPolicy::Exact(min_teeth)),
+                        ..opts
+                    };
+                    let t = tooth_design(&d, &more, 1e-6, &|_| {});
+                    let t = t.unwrap_or_else(|e2| panic!("e = {e}, z = {min_teeth}: {e2}"));
+                    let mesh = t.report.mesh.expect("verified");
+                    assert_eq!(mesh.sun_intermediate.interference_steps, 0);
+                    assert_eq!(mesh.intermediate_planet.interference_steps, 0);
+                }
+            }
+        }
+    }
+    let k = first_refusal.expect("e = 0.55 must be beyond what teeth allow");
+    assert!(k >= 1, "e = 0.05 must be toothed");
+}
