@@ -4,7 +4,6 @@
 use ncgear::design::{DesignOptions, design};
 use ncgear::export::Sheet;
 use ncgear::export::svg::to_svg_string;
-use ncgear::pair::{Law, PairOptions, design_pair, expr::Expr};
 use ncgear::train::{TrainTeethOptions, tooth_train};
 use ncgear::trajectory::Trajectory;
 
@@ -86,14 +85,7 @@ fn render_and_check(sheet: &Sheet, margin_mm: f64, scale: f32, tag: &str) -> f64
 
 #[test]
 fn pair_sheet_renders_at_its_size_in_mm_with_ink_on_the_outlines() {
-    let d = design_pair(
-        &Law::Motion(Expr::parse("phi - 0.08*sin(2*phi)").unwrap()),
-        &PairOptions {
-            verify_steps: 0,
-            ..PairOptions::new(Some(24), 1.5)
-        },
-    )
-    .unwrap();
+    let d = crate::teeth::oracle_pair_unverified();
     let sheet = d.assembly_sheet();
     let f = render_and_check(&sheet, 5.0, 4.0, "pair");
     assert!(

@@ -262,14 +262,7 @@ fn pair_centrode_solves_closure_and_meshes() {
 
 #[test]
 fn exports_are_closed_mm_polylines() {
-    let d = design_pair(
-        &Law::Motion(Expr::parse("phi - 0.08*sin(2*phi)").unwrap()),
-        &PairOptions {
-            verify_steps: 0,
-            ..PairOptions::new(Some(24), 1.5)
-        },
-    )
-    .unwrap();
+    let d = oracle_pair_unverified();
     let dir = out_dir("test-dxf");
     let sheet = d.assembly_sheet();
     let path = dir.join("pair_export_check.dxf");
@@ -407,4 +400,17 @@ fn overlap_area_is_zero_for_the_pair_and_matches_full_clipping_when_clocked_wron
             bad.max_overlap_area_mm2
         );
     }
+}
+
+/// ncgears' own example, `phi - 0.08*sin(2*phi)`, 24 teeth, m = 1.5 mm, without the mesh
+/// verification (a fixture for the export and rendering tests).
+pub fn oracle_pair_unverified() -> ncgear::pair::PairDesign {
+    design_pair(
+        &Law::Motion(Expr::parse("phi - 0.08*sin(2*phi)").unwrap()),
+        &PairOptions {
+            verify_steps: 0,
+            ..PairOptions::new(Some(24), 1.5)
+        },
+    )
+    .unwrap()
 }
