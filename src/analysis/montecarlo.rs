@@ -132,6 +132,19 @@ fn check_bins(bins: usize) -> Result<(), McError> {
 /// # Errors
 /// [`McError::BadOption`] for `samples` outside `1..=MAX_SAMPLES` or `bins` outside
 /// `1..=MAX_BINS`; [`McError::NonFinite`] naming the first non-finite sample.
+///
+/// ```
+/// use ncgear::analysis::montecarlo::{McOptions, run};
+/// use rand::RngExt;
+/// let opts = McOptions { samples: 20_000, seed: 7, bins: 10 };
+/// let (stats, values) = run(&opts, |rng, _| rng.random::<f64>(), &|_| {}).unwrap();
+/// // Uniform on [0, 1): mean 1/2 within 4 standard errors, std √(1/12).
+/// assert!((stats.mean - 0.5).abs() < 4.0 * stats.mean_std_error);
+/// assert!((stats.std - (1.0f64 / 12.0).sqrt()).abs() < 0.01);
+/// // Same seed, same samples.
+/// let (_, again) = run(&opts, |rng, _| rng.random::<f64>(), &|_| {}).unwrap();
+/// assert_eq!(values, again);
+/// ```
 pub fn run<F>(
     opts: &McOptions,
     sample: F,

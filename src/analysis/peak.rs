@@ -98,6 +98,13 @@ fn gcd(a: u128, b: u128) -> u128 {
 
 /// Base frequency `ω_g = gcd(ω_k)` (rad/s) of the non-zero frequencies, exact on rationals;
 /// `None` if some frequency is not a rational with denominator ≤ `max_den` relative to the others.
+///
+/// ```
+/// use ncgear::analysis::peak::base_frequency;
+/// assert_eq!(base_frequency(&[2.0, 3.0], 1000), Some(1.0));
+/// assert_eq!(base_frequency(&[0.0, 1.5, 2.5], 1000), Some(0.5)); // ω = 0 terms are ignored
+/// assert_eq!(base_frequency(&[1.0, std::f64::consts::SQRT_2], 1000), None);
+/// ```
 #[must_use]
 pub fn base_frequency(omegas: &[f64], max_den: u64) -> Option<f64> {
     let nz: Vec<f64> = omegas.iter().copied().filter(|w| *w > 0.0).collect();
@@ -399,6 +406,21 @@ fn golden_max(g: impl Fn(f64) -> f64, mut a: f64, mut b: f64, tol: f64) -> (f64,
 }
 
 /// Certified peak of a list of sinusoids (builds a one-off grid).
+///
+/// ```
+/// use ncgear::analysis::peak::{PeakOptions, Sinusoid, certified_peak, fixed_grid_peak};
+/// // f = sin t + ½ sin 2t peaks where cos t + cos 2t = 0, at t = π/3: f = 3√3/4.
+/// let terms = [
+///     Sinusoid { amplitude: 1.0, omega_rad_s: 1.0, phase_rad: 0.0 },
+///     Sinusoid { amplitude: 0.5, omega_rad_s: 2.0, phase_rad: 0.0 },
+/// ];
+/// let p = certified_peak(&terms, PeakOptions::default());
+/// assert!((p.value - 3.0 * 3f64.sqrt() / 4.0).abs() < 1e-12);
+/// assert!((p.time_s - std::f64::consts::FRAC_PI_3).abs() < 1e-6);
+/// assert!((p.period_s - std::f64::consts::TAU).abs() < 1e-12);
+/// // A coarse fixed time grid misses the top.
+/// assert!(fixed_grid_peak(&terms, 0.1, p.period_s) < p.value - 1e-4);
+/// ```
 #[must_use]
 pub fn certified_peak(terms: &[Sinusoid], opts: PeakOptions) -> Peak {
     let omegas: Vec<f64> = terms.iter().map(|s| s.omega_rad_s).collect();

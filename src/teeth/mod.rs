@@ -116,6 +116,18 @@ pub struct ToothCount {
 /// Tooth count of a pitch curve at `module_mm`: `L = z·π·m` (spec §12.1).
 ///
 /// `accuracy_mm` is the perimeter accuracy. Errors if the module is not positive/finite or z < 3.
+///
+/// ```
+/// use ncgear::pitch::PitchCurve;
+/// use ncgear::teeth::{ToothPolicy, tooth_count};
+/// // A circle of radius 22.5 mm at m = 2: L/(πm) = 22.5, scaled up to z = 23.
+/// let circle = PitchCurve::from_uniform_radii(vec![22.5; 256]).unwrap();
+/// let t = tooth_count(&circle, 2.0, ToothPolicy::ScaleUp, 1e-9).unwrap();
+/// assert_eq!(t.z, 23);
+/// assert!((t.z_raw - 22.5).abs() < 1e-9);
+/// assert!((t.scale - 23.0 / 22.5).abs() < 1e-9);
+/// assert!(tooth_count(&circle, 0.0, ToothPolicy::ScaleUp, 1e-9).is_err());
+/// ```
 pub fn tooth_count(
     curve: &PitchCurve,
     module_mm: f64,

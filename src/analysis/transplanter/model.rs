@@ -335,7 +335,14 @@ pub struct LinearModel {
     pub planet_angle_jacobian: Vec<[f64; N_COORDS]>,
 }
 
-/// `a − b` wrapped to (−π, π], rad.
+/// `a − b` wrapped to [−π, π), rad.
+///
+/// ```
+/// use ncgear::analysis::transplanter::angle_difference;
+/// use std::f64::consts::PI;
+/// assert!((angle_difference(0.1, 2.0 * PI - 0.1) - 0.2).abs() < 1e-15);
+/// assert!((angle_difference(PI, 0.0) + PI).abs() < 1e-15);
+/// ```
 #[must_use]
 pub fn angle_difference(a: f64, b: f64) -> f64 {
     (a - b + PI).rem_euclid(TAU) - PI
