@@ -19,6 +19,17 @@ fn traced(m: &Mechanism, n: usize) -> Trajectory {
     traj((0..n).map(|k| m.tip(TAU * k as f64 / n as f64)).collect())
 }
 
+/// An ellipse sun of eccentricity `e` on a = 45 mm, l3 = 170 mm, γ = −70°.
+fn ellipse_mechanism(e: f64) -> Mechanism {
+    Mechanism {
+        a_mm: 45.0,
+        l3_mm: 170.0,
+        ratio: ncgear::golden::ellipse_ratio(e),
+        sun_phase_rad: 0.0,
+        needle_angle_rad: (-70f64).to_radians(),
+    }
+}
+
 /// Options for quick hard-case runs (fewer output samples; the chain itself unchanged).
 fn quick() -> DesignOptions {
     DesignOptions {
@@ -164,13 +175,7 @@ fn loops_cusps_and_near_tangencies_are_designed_or_refused() {
 fn extreme_ratios_design_exactly_or_report_the_span() {
     let mut refused = 0;
     for e in [0.05f64, 0.25, 0.4, 0.45, 0.5, 0.6, 0.7] {
-        let m = Mechanism {
-            a_mm: 45.0,
-            l3_mm: 170.0,
-            ratio: ncgear::golden::ellipse_ratio(e),
-            sun_phase_rad: 0.0,
-            needle_angle_rad: (-70f64).to_radians(),
-        };
+        let m = ellipse_mechanism(e);
         // i21 = (1 − e²)/(1 − 2e cos θ + e²): extremes (1 − e)/(1 + e) and (1 + e)/(1 − e).
         let (lo, hi) = ((1.0 - e) / (1.0 + e), (1.0 + e) / (1.0 - e));
         let inside = lo > 0.3 && hi < 3.3;
@@ -294,13 +299,7 @@ fn eccentricity_sweep_teeth_until_they_stop_being_possible() {
         .into_iter()
         .enumerate()
     {
-        let m = Mechanism {
-            a_mm: 45.0,
-            l3_mm: 170.0,
-            ratio: ncgear::golden::ellipse_ratio(e),
-            sun_phase_rad: 0.0,
-            needle_angle_rad: (-70f64).to_radians(),
-        };
+        let m = ellipse_mechanism(e);
         let d = match design(&traced(&m, 720), &quick()) {
             Ok(d) => d,
             Err(err) => {
