@@ -14,9 +14,9 @@
 //! `ψ3` is resampled on a uniform grid of `N` carrier angles by solving `φH(s) = φH0 + t_n` on the
 //! interpolant itself (no second interpolation), so its error is the spline's, O(h⁴) (§3.5).
 
-use crate::periodic::{PeriodicSpline, bisect_root, spectral_derivative};
+use crate::periodic::{PeriodicSpline, bisect_root, spectral_derivative, wrap_pi};
 use crate::trajectory::{ClosedSpline, Trajectory};
-use std::f64::consts::{PI, TAU};
+use std::f64::consts::TAU;
 
 /// Accuracy knobs of the inversion (spec §13).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -262,15 +262,9 @@ fn winding_number(pts: &[[f64; 2]]) -> i64 {
     for k in 0..n {
         let a = pts[k][1].atan2(pts[k][0]);
         let b = pts[(k + 1) % n][1].atan2(pts[(k + 1) % n][0]);
-        total += wrap(b - a);
+        total += wrap_pi(b - a);
     }
     (total / TAU).round() as i64
-}
-
-/// Wraps an angle to (−π, π].
-fn wrap(x: f64) -> f64 {
-    let y = x.rem_euclid(TAU);
-    if y > PI { y - TAU } else { y }
 }
 
 /// Runs of indices where `bad(j)` holds, as `[first, last]` pairs.
@@ -389,7 +383,7 @@ fn solve_frame(
     for j in 1..=ns {
         let u = if j == ns { len } else { j as f64 * ds };
         let prev = phi[j - 1];
-        phi.push(prev + wrap(raw_phi(u) - prev));
+        phi.push(prev + wrap_pi(raw_phi(u) - prev));
     }
     let total = phi[ns] - phi[0];
     let phi0 = phi[0];
@@ -419,7 +413,7 @@ fn solve_frame(
     for j in 1..=ns {
         let u = if j == ns { len } else { j as f64 * ds };
         let prev = beta[j - 1];
-        beta.push(prev + wrap(beta_at(u, phi[j]) - prev));
+        beta.push(prev + wrap_pi(beta_at(u, phi[j]) - prev));
     }
     let psi = |j: usize| (phi[j] - phi0) - (beta[j] - beta[0]);
     let bad = runs(ns, |j| psi(j + 1) <= psi(j));
@@ -439,13 +433,13 @@ fn solve_frame(
         let target = phi0 + t;
         let j = phi.partition_point(|&v| v <= target).clamp(1, ns) - 1;
         let (u_lo, u_hi) = (j as f64 * ds, ((j + 1) as f64 * ds).min(len));
-        let unwrap_near = |u: f64| phi[j] + wrap(raw_phi(u) - phi[j]);
+        let unwrap_near = |u: f64| phi[j] + wrap_pi(raw_phi(u) - phi[j]);
         let u = if k == 0 {
             0.0
         } else {
             bisect_root(|u| unwrap_near(u) - target, u_lo, u_hi, tol)
         };
-        let b = beta[j] + wrap(beta_at(u, target) - beta[j]);
+        let b = beta[j] + wrap_pi(beta_at(u, target) - beta[j]);
         samples.push(-(b - beta[0]));
     }
     Ok(Solved::Done(Box::new(Inversion {

@@ -305,6 +305,22 @@ pub fn spectral_integral(y: &[f64]) -> (f64, Vec<f64>) {
     (mean, f.into_iter().map(|v| v - f0).collect())
 }
 
+/// Wraps an angle to (−π, π], rad: `x − 2πk` for the integer k that lands there. Used for
+/// angle differences and for unwrapping sampled angles.
+///
+/// ```
+/// use ncgear::periodic::wrap_pi;
+/// use std::f64::consts::PI;
+/// assert!((wrap_pi(0.1 - (2.0 * PI - 0.1)) - 0.2).abs() < 1e-15);
+/// assert_eq!(wrap_pi(-PI), PI);
+/// assert!((wrap_pi(7.0 * PI / 2.0) + PI / 2.0).abs() < 1e-15);
+/// ```
+#[must_use]
+pub fn wrap_pi(x: f64) -> f64 {
+    let y = x.rem_euclid(TAU);
+    if y > std::f64::consts::PI { y - TAU } else { y }
+}
+
 /// Uniform grid `x_k = 2πk/n`, `k = 0..n`, in radians.
 #[must_use]
 pub fn uniform_angles(n: usize) -> Vec<f64> {

@@ -141,15 +141,7 @@ pub struct Orbit {
     pub z_minus_um: C64,
 }
 
-/// Wraps an angle to (−π, π].
-pub(crate) fn wrap_pi(a: f64) -> f64 {
-    let w = a.rem_euclid(std::f64::consts::TAU);
-    if w > std::f64::consts::PI {
-        w - std::f64::consts::TAU
-    } else {
-        w
-    }
-}
+pub(crate) use crate::periodic::wrap_pi;
 
 /// Wraps an angle to (−π/2, π/2] (axis directions, defined mod π).
 pub(crate) fn wrap_half_pi(a: f64) -> f64 {

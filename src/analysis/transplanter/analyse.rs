@@ -2,7 +2,7 @@
 //! envelope, feature distributions, sensitivity ranking and the best assembly of the free
 //! runout orientations (spec C.6 items 3, 4, 6).
 
-use super::model::{ExactModel, FdSteps, LinearModel, TrainState, angle_difference};
+use super::model::{ExactModel, FdSteps, LinearModel, TrainState};
 use super::{
     ARM, BACKLASH, ErrorVector, GEARS, Inventory, N_COORDS, PIN_A, PIN_D, TransplanterError,
     clock_index, ecc_index,
@@ -10,6 +10,7 @@ use super::{
 use crate::analysis::montecarlo::{self, McError, McOptions, McStats};
 use crate::analysis::tolerance::{ARCSEC_PER_RAD, nelder_mead_starts};
 use crate::assembly::{Assembly, Pose};
+use crate::periodic::wrap_pi;
 use crate::simulate::{FeatureOptions, Features, TwoArms, features_of_turn};
 use argmin::core::CostFunction;
 use nalgebra::DVector;
@@ -245,7 +246,7 @@ fn exact_max_angle(
     for p in &lin.phis_rad {
         let a = model.state(*p, x)?.planet_angle_rad;
         let b = model.state(*p, &zero)?.planet_angle_rad;
-        m = m.max(angle_difference(a, b).abs());
+        m = m.max(wrap_pi(a - b).abs());
     }
     Ok(m)
 }

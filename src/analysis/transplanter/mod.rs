@@ -60,7 +60,7 @@ pub use analyse::{
     AssemblyOptimum, Contribution, EnvelopePoint, FeatureDeviations, GreedyChoice,
     TransplanterOptions, TransplanterReport, Validation, analyse,
 };
-pub use model::{ExactModel, FdSteps, LinearModel, TrainState, angle_difference};
+pub use model::{ExactModel, FdSteps, LinearModel, TrainState};
 
 use crate::analysis::tolerance::{ToleranceError, parse_config, read_config_text};
 use rand::RngExt;

@@ -5,6 +5,7 @@ use super::{
     ARM, BACKLASH, ErrorVector, N_COORDS, PIN_A, PIN_D, TransplanterError, clock_index, ecc_index,
 };
 use crate::assembly::{Assembly, Rebuilt};
+use crate::periodic::wrap_pi;
 use crate::pitch::PitchCurve;
 use rayon::prelude::*;
 use std::f64::consts::{FRAC_PI_2, PI, TAU};
@@ -335,19 +336,6 @@ pub struct LinearModel {
     pub planet_angle_jacobian: Vec<[f64; N_COORDS]>,
 }
 
-/// `a − b` wrapped to [−π, π), rad.
-///
-/// ```
-/// use ncgear::analysis::transplanter::angle_difference;
-/// use std::f64::consts::PI;
-/// assert!((angle_difference(0.1, 2.0 * PI - 0.1) - 0.2).abs() < 1e-15);
-/// assert!((angle_difference(PI, 0.0) + PI).abs() < 1e-15);
-/// ```
-#[must_use]
-pub fn angle_difference(a: f64, b: f64) -> f64 {
-    (a - b + PI).rem_euclid(TAU) - PI
-}
-
 /// Nominal tip and sensitivity columns at one carrier angle.
 type Row = ([f64; 2], [[f64; 2]; N_COORDS], [f64; N_COORDS]);
 
@@ -392,7 +380,7 @@ impl LinearModel {
                     let sp = model.state(p, &xp)?;
                     let sm = model.state(p, &xm)?;
                     *col = scale(sub(sp.tip_mm, sm.tip_mm), 0.5 / h);
-                    ang[j] = angle_difference(sp.planet_angle_rad, sm.planet_angle_rad) * 0.5 / h;
+                    ang[j] = wrap_pi(sp.planet_angle_rad - sm.planet_angle_rad) * 0.5 / h;
                 }
                 Ok((b0, cols, ang))
             })
