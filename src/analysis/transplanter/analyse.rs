@@ -446,9 +446,7 @@ fn candidates(inv: &Inventory, k: usize, continuous_steps: usize) -> Vec<f64> {
     } else {
         continuous_steps
     };
-    (0..n)
-        .map(|i| e.direction_rad + TAU * i as f64 / n as f64)
-        .collect()
+    (0..n).map(|i| e.position_direction(i, n)).collect()
 }
 
 #[allow(clippy::too_many_lines)]

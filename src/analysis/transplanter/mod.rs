@@ -349,12 +349,18 @@ impl Eccentricity {
             self.magnitude_mm * gamma.sin(),
         ]
     }
+    /// Direction of position `i` of `n` equally spaced assembly positions starting at the
+    /// nominal direction, `γ + 2πi/n`, rad.
+    #[must_use]
+    pub fn position_direction(&self, i: usize, n: usize) -> f64 {
+        self.direction_rad + TAU * i as f64 / n as f64
+    }
     /// A random admissible direction of a free eccentricity (uniform, or uniform over the keyed
     /// positions), rad.
     pub fn random_direction(&self, rng: &mut ChaCha8Rng) -> f64 {
         if self.keyed > 0 {
             let i = (rng.random::<f64>() * self.keyed as f64).floor() as usize;
-            self.direction_rad + TAU * i.min(self.keyed - 1) as f64 / self.keyed as f64
+            self.position_direction(i.min(self.keyed - 1), self.keyed)
         } else {
             rng.random::<f64>() * TAU
         }
@@ -658,15 +664,16 @@ impl Inventory {
                 let (i0, i1) = (ecc_index(k), ecc_index(k) + 1);
                 // Keyed positions: mean and variance of the discrete set of vectors.
                 let (mut mx, mut my, mut vx, mut vy) = (0.0, 0.0, 0.0, 0.0);
-                let n = if e.keyed > 0 { e.keyed } else { 1 };
-                if e.keyed > 0 {
-                    for i in 0..n {
-                        let v = e.vector(e.direction_rad + TAU * i as f64 / n as f64);
+                let n = e.keyed;
+                if n > 0 {
+                    let vs: Vec<[f64; 2]> = (0..n)
+                        .map(|i| e.vector(e.position_direction(i, n)))
+                        .collect();
+                    for v in &vs {
                         mx += v[0] / n as f64;
                         my += v[1] / n as f64;
                     }
-                    for i in 0..n {
-                        let v = e.vector(e.direction_rad + TAU * i as f64 / n as f64);
+                    for v in &vs {
                         vx += (v[0] - mx).powi(2) / n as f64;
                         vy += (v[1] - my).powi(2) / n as f64;
                     }

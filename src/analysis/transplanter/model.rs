@@ -140,6 +140,8 @@ impl ExactModel {
             if !(df.is_finite() && df != 0.0) {
                 return None;
             }
+            // Damped: at most 0.5 rad per step, so that the iteration stays on the branch of
+            // the ray `u` it started from (the start is within a few mrad of the root).
             let step = (f / df).clamp(-0.5, 0.5);
             v -= step;
             if step.abs() <= tol_rad {
