@@ -18,6 +18,7 @@
 
 use crate::assembly::{Assembly, hausdorff_mm};
 use crate::compat::{self, Compatibility};
+use crate::fit::{self, FitOptions};
 use crate::fourier::{RatioError, SunRatio};
 use crate::inverse::{self, InverseError, InverseOptions, Inversion};
 use crate::mechanism::Mechanism;
@@ -64,6 +65,10 @@ pub struct DesignOptions {
     pub tol_tip_mm: f64,
     /// Refinement policy.
     pub refine: RefineMode,
+    /// Fit every parameter to the points as the last stage ([`crate::fit`]), when the chain's
+    /// result is not within 0.2·`tol_tip_mm` of them, leaves the ratio bounds, or came from smoothed
+    /// points (default true). Off: the chain's result (patent route, or §8.3 with `refine: On`).
+    pub fit_to_points: bool,
     /// Refinement knobs (ratio bounds are shared with check C6).
     pub refine_options: RefineOptions,
     /// Fourier order used by the refinement when no fixed order is given.
@@ -88,6 +93,7 @@ impl Default for DesignOptions {
             order: None,
             tol_tip_mm: 0.05,
             refine: RefineMode::Auto,
+            fit_to_points: true,
             refine_options: RefineOptions::default(),
             refine_order: 12,
             curve_samples: 3600,
@@ -121,7 +127,7 @@ pub enum DesignError {
     },
     /// The best ratio found leaves the admissible bounds.
     #[error(
-        "the sun ratio i21 would span [{min:.3}, {max:.3}], outside the bounds [{lo}, {hi}] (spec §14): the trajectory asks for a needle swing the gears cannot give; relax --ratio-bounds or reduce the swing"
+        "the sun ratio i21 would span [{min:.3}, {max:.3}], outside the admissible bounds [{lo}, {hi}] (spec §14); with the refinement off nothing brings it back inside: let the fit to the points run (refine auto or on), which keeps every design within the bounds"
     )]
     RatioOutOfBounds {
         /// Smallest ratio.
@@ -178,7 +184,10 @@ pub struct DesignReport {
     pub patent_route: RouteSummary,
     /// The refinement's result, when run.
     pub refinement: Option<RouteSummary>,
-    /// Which result the gears come from: "patent" or "refined".
+    /// The orthogonal-distance fit of the whole train to the points, when it ran.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub fit: Option<FitSummary>,
+    /// Which result the gears come from: "patent", "refined" (§8.3) or "fit".
     pub chosen: String,
     /// The final sun ratio `i21(u) = 1 + Σ a_k cos ku + b_k sin ku`, u = sun polar angle from the
     /// design reference ray, which points at world angle `sun_phase_deg`.
@@ -243,9 +252,15 @@ pub struct Gear {
 /// Round-trip result.
 #[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct RoundTrip {
-    /// Max synchronous tip deviation `|B_rebuilt(φH) − B_target(φH)|`, mm.
+    /// Max synchronous tip deviation `max_j |B_rebuilt(φ_j) − P_j|` over the target points, mm,
+    /// where φ_j is the carrier angle at which the designed tip passes point j.
     pub max_deviation_mm: f64,
-    /// Hausdorff distance between the traced path and the target polyline, mm.
+    /// RMS of the same deviations, mm.
+    #[serde(default)]
+    pub rms_deviation_mm: f64,
+    /// Hausdorff distance between the traced path and the target curve through the points, mm
+    /// (a periodic cubic spline through the points in the carrier angle at which the tip passes
+    /// them; the chord-length spline when those angles are not monotone).
     pub hausdorff_mm: f64,
     /// Largest `|r_sun + ρ2 − a|` / `|r_planet + ρ2 − a|` seen, mm.
     pub max_mesh_error_mm: f64,
@@ -268,6 +283,9 @@ pub struct TrajectorySummary {
     pub needle_swing_deg: f64,
     /// i31 range over the turn.
     pub i31_range: [f64; 2],
+    /// Measurement noise σ estimated from the points (local cubic fits), mm.
+    #[serde(default)]
+    pub noise_sigma_mm: f64,
 }
 
 /// Compatibility summary.
@@ -305,6 +323,31 @@ pub struct RouteSummary {
     /// Deviation at each order tried (patent route, adaptive): `[K, mm]`.
     #[serde(skip_serializing_if = "Vec::is_empty", default)]
     pub order_scan: Vec<[f64; 2]>,
+}
+
+/// The orthogonal-distance fit ([`crate::fit`]): distances of the target points from the curve the
+/// fitted train traces (analytic model), mm.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+pub struct FitSummary {
+    /// Fourier order K of the fitted sun ratio.
+    pub order: usize,
+    /// RMS point distance, mm (≈ the noise σ on measured points).
+    pub rms_mm: f64,
+    /// Largest point distance, mm.
+    pub max_mm: f64,
+    /// RMS point distance of the start (the chain's result before the fit), mm.
+    pub start_rms_mm: f64,
+    /// Largest point distance of the start, mm.
+    pub start_max_mm: f64,
+    /// Noise σ estimated from the points alone (local cubic fits), mm.
+    pub noise_sigma_mm: f64,
+    /// Harmonics of the smoothed copy the start was taken from (measured points), if any.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub start_smoothing_harmonics: Option<usize>,
+    /// Levenberg–Marquardt iterations.
+    pub iterations: usize,
+    /// `[K, rms_mm, max_mm]` per order tried.
+    pub order_scan: Vec<[f64; 3]>,
 }
 
 /// The final ratio's Fourier coefficients.
@@ -346,8 +389,11 @@ pub struct Timings {
     pub compat: f64,
     /// Patent route incl. order choice.
     pub patent: f64,
-    /// Refinement.
+    /// Refinement (§8.3).
     pub refine: f64,
+    /// Fit to the points.
+    #[serde(default)]
+    pub fit: f64,
     /// Curves, checks and round trip.
     pub outputs: f64,
     /// Total.
@@ -381,13 +427,14 @@ pub fn design(traj: &Trajectory, opts: &DesignOptions) -> Result<Design, DesignE
     let mut warnings = Vec::new();
 
     let t0 = Instant::now();
-    let smoothed = opts.smoothing.map(|h| traj.smoothed(h));
-    let mut inv_opts = opts.inverse;
-    if let Some(h) = opts.smoothing {
-        inv_opts.law_harmonics = inv_opts.law_harmonics.or(Some(h / 2));
-    }
-    let inv = inverse::invert(smoothed.as_ref().unwrap_or(traj), opts.center_mm, &inv_opts)?;
+    let noise_sigma = traj.noise_sigma_mm();
+    let (inv, start_smoothing) = invert_for_start(traj, opts, noise_sigma)?;
     timings.inverse = ms(t0);
+    if let Some(h) = start_smoothing.filter(|_| opts.smoothing.is_none()) {
+        warnings.push(format!(
+            "measured points (estimated noise σ = {noise_sigma:.4} mm): the start of the design was taken from the loop smoothed to {h} harmonics; the gears are fitted to the points as read"
+        ));
+    }
     if inv.other_sense_traceable {
         warnings.push(format!(
             "both carrier senses can trace this path (the other one with the arm's elbow flipped); chose {} as the better-realisable law",
@@ -510,25 +557,24 @@ pub fn design(traj: &Trajectory, opts: &DesignOptions) -> Result<Design, DesignE
     let run_refine = match opts.refine {
         RefineMode::On => true,
         RefineMode::Off => false,
-        RefineMode::Auto => patent_dev > opts.tol_tip_mm,
+        // The fit to the points (below) is the default refinement; §8.3 runs when asked for.
+        RefineMode::Auto => false,
     };
     let mut refined = None;
     if run_refine {
         let k = opts.order.unwrap_or(opts.refine_order);
-        let start = match SunRatio::fit_uniform(&seg.samples, k) {
-            Ok(r) => r,
-            // The patent route's ratio itself reaches zero: no gears can give this needle law.
-            Err(RatioError::NotPositive { min_ratio, .. }) => {
-                let [lo, hi] = opts.refine_options.ratio_bounds;
-                return Err(DesignError::RatioOutOfBounds {
-                    min: min_ratio,
-                    max: seg.samples.iter().copied().fold(f64::MIN, f64::max),
-                    lo,
-                    hi,
-                });
-            }
-            Err(e) => return Err(e.into()),
-        };
+        // The patent route's ratio made admissible (spec §14): the refinement starts inside the bounds.
+        let start = crate::fit::admissible_ratio(
+            &SunRatio::fit_uniform(&seg.samples, k).unwrap_or_else(|_| {
+                let c = crate::periodic::fft_coefficients(&seg.samples);
+                let kk = k.min(c.len().saturating_sub(1));
+                SunRatio::new_unchecked(
+                    (1..=kk).map(|j| 2.0 * c[j].re).collect(),
+                    (1..=kk).map(|j| -2.0 * c[j].im).collect(),
+                )
+            }),
+            opts.refine_options.ratio_bounds,
+        );
         let (m0, _) = mk(start.clone(), tau);
         // C = π + γ for the start.
         let c0 = PI + m0.needle_angle_rad;
@@ -556,16 +602,98 @@ pub fn design(traj: &Trajectory, opts: &DesignOptions) -> Result<Design, DesignE
         note: format!("Levenberg–Marquardt: {term}"),
         order_scan: Vec::new(),
     });
-    let (mech, chosen) = match refined {
+    let (mut mech, mut chosen) = match refined {
         Some((m, dev, ..)) if dev < patent_dev => (m, "refined"),
         _ => (patent_m, "patent"),
     };
-    let best_dev = refine_summary
-        .as_ref()
-        .map_or(patent_dev, |r| r.max_deviation_mm.min(patent_dev));
-    if best_dev > opts.tol_tip_mm {
+
+    // The final stage: every parameter fitted to the points themselves (orthogonal distances).
+    let t0 = Instant::now();
+    let [lo, hi] = opts.refine_options.ratio_bounds;
+    let points = traj.relative_to(opts.center_mm, inv.direction < 0);
+    let admissible = |m: &Mechanism| {
+        let [rlo, rhi] = fit::ratio_range(&m.ratio);
+        rlo >= lo && rhi <= hi
+    };
+    let (mut angles, start_d) = fit::point_distances(&points, &mech);
+    let start_max = start_d.iter().copied().fold(0.0, f64::max);
+    let start_rms = rms(&start_d);
+    let run_fit = opts.fit_to_points
+        && match opts.refine {
+        RefineMode::Off => false,
+        RefineMode::On => true,
+        RefineMode::Auto => {
+            start_smoothing.is_some() || !admissible(&mech) || start_max > 0.2 * opts.tol_tip_mm
+        }
+        };
+    let mut fit_summary = None;
+    if run_fit {
+        let fit_opts = FitOptions {
+            order: opts.order,
+            ratio_bounds: opts.refine_options.ratio_bounds,
+            tol_mm: 0.2 * opts.tol_tip_mm,
+            noise_sigma_mm: noise_sigma,
+            ..FitOptions::default()
+        };
+        let mut f = fit::fit_points(&points, &mech, &fit_opts)
+            .map_err(|e| DesignError::Internal(e.to_string()))?;
+        // A target the first fit does not reproduce (and noise does not explain) may sit in another
+        // basin: restart from the patent route's low orders and keep the best.
+        let measured = noise_sigma > MEASURED_NOISE_MM;
+        if f.max_mm > opts.tol_tip_mm && f.rms_mm > 2.0 * noise_sigma {
+            for k in [2, 4] {
+                let Ok(r) = SunRatio::fit_uniform(&seg.samples, k).or_else(|_| {
+                    SunRatio::fit_uniform(&seg.samples, 1)
+                }) else {
+                    continue;
+                };
+                let start = mk(fit::admissible_ratio(&r, opts.refine_options.ratio_bounds), tau).0;
+                if let Ok(g) = fit::fit_points(&points, &start, &fit_opts) {
+                    let better = if measured {
+                        g.rms_mm < f.rms_mm
+                    } else {
+                        g.max_mm.max(g.coverage_mm) < f.max_mm.max(f.coverage_mm)
+                    };
+                    if better {
+                        f = g;
+                    }
+                }
+            }
+            // Not traceable (and clean): trade RMS for the largest deviation, which is what the
+            // user sees. Never on measured points, where the largest distance is the noise's.
+            if !measured {
+                f = fit::minimax(&points, f, &fit_opts);
+            }
+        }
+        fit_summary = Some(FitSummary {
+            order: f.mechanism.ratio.order(),
+            rms_mm: f.rms_mm,
+            max_mm: f.max_mm,
+            start_rms_mm: start_rms,
+            start_max_mm: start_max,
+            noise_sigma_mm: noise_sigma,
+            start_smoothing_harmonics: start_smoothing,
+            iterations: f.iterations,
+            order_scan: f.order_scan.clone(),
+        });
+        if f.rms_mm < start_rms || !admissible(&mech) {
+            mech = f.mechanism;
+            angles = f.carrier_angles_rad;
+            chosen = "fit";
+        }
+    }
+    timings.fit = ms(t0);
+    let best_dev = fit_summary.as_ref().map_or_else(
+        || {
+            refine_summary
+                .as_ref()
+                .map_or(patent_dev, |r| r.max_deviation_mm.min(patent_dev))
+        },
+        |f| if chosen == "fit" { f.max_mm } else { start_max },
+    );
+    if best_dev > opts.tol_tip_mm && noise_sigma < 0.2 * opts.tol_tip_mm {
         warnings.push(format!(
-            "the best design deviates {best_dev:.3} mm from the target (tolerance {} mm); the target is not exactly traceable by this train (E_c·l3 = {:.3} mm)",
+            "the best design deviates {best_dev:.3} mm from the target (tolerance {} mm): no train of this type traces it exactly (E_c·l3 = {:.3} mm); this is the closest admissible design found",
             opts.tol_tip_mm,
             compat.residual_rad * l3
         ));
@@ -573,9 +701,7 @@ pub fn design(traj: &Trajectory, opts: &DesignOptions) -> Result<Design, DesignE
 
     // Outputs, checks, round trip.
     let t0 = Instant::now();
-    let [lo, hi] = opts.refine_options.ratio_bounds;
-    let (imin, _) = mech.ratio.sampled_extreme(4096, false);
-    let (imax, _) = mech.ratio.sampled_extreme(4096, true);
+    let [imin, imax] = fit::ratio_range(&mech.ratio);
     if imin < lo || imax > hi {
         return Err(DesignError::RatioOutOfBounds {
             min: imin,
@@ -584,7 +710,7 @@ pub fn design(traj: &Trajectory, opts: &DesignOptions) -> Result<Design, DesignE
             hi,
         });
     }
-    let out = finish(traj, &inv, &compat, mech, opts, &mut warnings)?;
+    let out = finish(traj, &inv, &compat, mech, &angles, opts, &mut warnings)?;
     timings.outputs = ms(t0);
     timings.total = ms(t_all);
     let (mechanism, assembly, traced, checks, roundtrip, gears) = out;
@@ -599,9 +725,9 @@ pub fn design(traj: &Trajectory, opts: &DesignOptions) -> Result<Design, DesignE
             length: "mm".into(),
             angle: "deg".into(),
         },
-        l1: inv.l1_mm,
-        l3,
-        center_distance: a,
+        l1: mechanism.l1_mm(),
+        l3: mechanism.l3_mm,
+        center_distance: mechanism.a_mm,
         needle_angle_deg: sign * mechanism.needle_angle_rad.to_degrees(),
         carrier: Carrier {
             center: opts.center_mm,
@@ -618,6 +744,7 @@ pub fn design(traj: &Trajectory, opts: &DesignOptions) -> Result<Design, DesignE
             i31_range: i31
                 .iter()
                 .fold([f64::MAX, f64::MIN], |m, v| [m[0].min(*v), m[1].max(*v)]),
+            noise_sigma_mm: noise_sigma,
         },
         compatibility: CompatSummary {
             tau_deg: compat.tau_rad.to_degrees(),
@@ -628,6 +755,7 @@ pub fn design(traj: &Trajectory, opts: &DesignOptions) -> Result<Design, DesignE
         },
         patent_route: patent_summary,
         refinement: refine_summary,
+        fit: fit_summary,
         chosen: chosen.into(),
         fourier: FourierSummary {
             order: mechanism.ratio.order(),
@@ -649,6 +777,91 @@ pub fn design(traj: &Trajectory, opts: &DesignOptions) -> Result<Design, DesignE
         inversion: inv,
         traced_mm: traced,
     })
+}
+
+/// `n` points of the target curve through the points: a periodic cubic spline in the carrier
+/// angle at which the designed tip passes each point (the mechanism's own time, in which the tip
+/// moves smoothly even round a sharp, coarsely sampled nose), or, when those angles do not advance
+/// monotonically, the chord-length spline of spec §3.1.
+fn target_curve(points: &[[f64; 2]], angles: &[f64], n: usize) -> Vec<[f64; 2]> {
+    let mut knots = Vec::with_capacity(angles.len());
+    let mut acc = 0.0;
+    for (j, &a) in angles.iter().enumerate() {
+        if j > 0 {
+            acc += (a - angles[j - 1]).rem_euclid(TAU);
+        }
+        knots.push(acc);
+    }
+    let closing = angles
+        .last()
+        .map_or(0.0, |&a| (angles[0] - a).rem_euclid(TAU));
+    let monotone = knots.windows(2).all(|w| w[1] > w[0])
+        && closing > 0.0
+        && (acc + closing - TAU).abs() < 1e-6;
+    let axis = |c: usize| {
+        crate::periodic::PeriodicSpline::new(
+            knots.clone(),
+            points.iter().map(|p| p[c]).collect(),
+            TAU,
+        )
+    };
+    match (monotone, axis(0), axis(1)) {
+        (true, Ok(x), Ok(y)) => (0..n)
+            .map(|k| {
+                let t = TAU * k as f64 / n as f64;
+                [x.value(t), y.value(t)]
+            })
+            .collect(),
+        _ => {
+            let spline = ClosedSpline::through(points);
+            (0..n)
+                .map(|k| spline.point(spline.period() * k as f64 / n as f64))
+                .collect()
+        }
+    }
+}
+
+fn rms(v: &[f64]) -> f64 {
+    (v.iter().map(|d| d * d).sum::<f64>() / v.len().max(1) as f64).sqrt()
+}
+
+/// Noise σ (mm) above which points count as measured: the start is then taken from a smoothed copy.
+const MEASURED_NOISE_MM: f64 = 0.002;
+
+/// Smoothing harmonics tried, in order, for the start on measured points.
+const START_SMOOTHING: [usize; 5] = [24, 32, 16, 48, 12];
+
+/// Step 1 for the start of the design. With `--smooth` the smoothed loop is inverted; measured
+/// points (estimated σ above [`MEASURED_NOISE_MM`]) and points whose raw inversion fails the
+/// monotonicity tests are inverted from a smoothed copy (the fit later uses the points as read).
+/// Returns the inversion and the smoothing used.
+fn invert_for_start(
+    traj: &Trajectory,
+    opts: &DesignOptions,
+    noise_sigma_mm: f64,
+) -> Result<(Inversion, Option<usize>), DesignError> {
+    let smoothed = |h: usize| {
+        let mut o = opts.inverse;
+        o.law_harmonics = o.law_harmonics.or(Some(h / 2));
+        inverse::invert(&traj.smoothed(h), opts.center_mm, &o)
+    };
+    if let Some(h) = opts.smoothing {
+        return Ok((smoothed(h)?, Some(h)));
+    }
+    let raw = inverse::invert(traj, opts.center_mm, &opts.inverse);
+    let retry = match &raw {
+        Ok(_) => noise_sigma_mm > MEASURED_NOISE_MM,
+        Err(InverseError::NotMonotone { .. } | InverseError::NeedleReverses { .. }) => true,
+        Err(_) => false,
+    };
+    if retry {
+        for h in START_SMOOTHING {
+            if let Ok(inv) = smoothed(h) {
+                return Ok((inv, Some(h)));
+            }
+        }
+    }
+    Ok((raw?, None))
 }
 
 fn validate(opts: &DesignOptions) -> Result<(), DesignError> {
@@ -794,6 +1007,7 @@ fn finish(
     inv: &Inversion,
     compat: &Compatibility,
     mech: Mechanism,
+    angles: &[f64],
     opts: &DesignOptions,
     warnings: &mut Vec<String>,
 ) -> Result<Finished, DesignError> {
@@ -808,29 +1022,29 @@ fn finish(
     // Round trip from the tables only (C12), with mesh errors (C3, C4).
     let rebuilt = assembly.rebuild();
     let m = opts.check_samples;
-    let mut sync: f64 = 0.0;
     let mut mesh: [f64; 2] = [0.0, 0.0];
     let mut traced = Vec::with_capacity(m);
     for k in 0..m {
-        let phi_solved = TAU * k as f64 / m as f64;
-        let pose = rebuilt.pose(sign * phi_solved);
-        let target = inv.tip(phi_solved);
-        let tw = [
-            opts.center_mm[0] + target[0],
-            opts.center_mm[1] + sign * target[1],
-        ];
-        sync = sync.max((pose.tip_mm[0] - tw[0]).hypot(pose.tip_mm[1] - tw[1]));
+        let pose = rebuilt.pose(sign * TAU * k as f64 / m as f64);
         mesh[0] = mesh[0].max(pose.sun_mesh_error_mm.abs());
         mesh[1] = mesh[1].max(pose.planet_mesh_error_mm.abs());
         traced.push(pose.tip_mm);
     }
-    let spline = ClosedSpline::through(traj.points());
-    let dense: Vec<[f64; 2]> = (0..2 * m)
-        .map(|k| spline.point(spline.period() * k as f64 / (2 * m) as f64))
+    // Synchronous deviation at every target point, at the carrier angle the tip passes it.
+    let dev: Vec<f64> = traj
+        .points()
+        .iter()
+        .zip(angles)
+        .map(|(p, &phi)| {
+            let tip = rebuilt.pose(sign * phi).tip_mm;
+            (tip[0] - p[0]).hypot(tip[1] - p[1])
+        })
         .collect();
-    let haus = hausdorff_mm(&traced, &dense);
+    let sync = dev.iter().copied().fold(0.0, f64::max);
+    let haus = hausdorff_mm(&traced, &target_curve(traj.points(), angles, 2 * m));
     let roundtrip = RoundTrip {
         max_deviation_mm: sync,
+        rms_deviation_mm: rms(&dev),
         hausdorff_mm: haus,
         max_mesh_error_mm: mesh[0].max(mesh[1]),
         samples: m,
@@ -846,8 +1060,7 @@ fn finish(
     let cs = sun.curvature_extremes(8 * n);
     let cm = mid.curvature_extremes(8 * n);
     let means = rebuilt.ratio_means();
-    let (imin, _) = mech.ratio.sampled_extreme(4096, false);
-    let (imax, _) = mech.ratio.sampled_extreme(4096, true);
+    let [imin, imax] = fit::ratio_range(&mech.ratio);
     let i31_min = (0..4096)
         .map(|k| {
             let t = TAU * k as f64 / 4096.0;

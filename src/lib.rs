@@ -23,6 +23,7 @@ pub mod assembly;
 pub mod compat;
 pub mod design;
 pub mod export;
+pub mod fit;
 pub mod fourier;
 pub mod golden;
 pub mod inverse;

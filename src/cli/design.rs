@@ -26,7 +26,7 @@ pub struct Args {
     /// Target max tip deviation, mm.
     #[arg(long, default_value_t = DesignOptions::default().tol_tip_mm)]
     pub tol_mm: f64,
-    /// Direct least-squares refinement: auto (when the patent route misses --tol-mm), on, off.
+    /// Refinement: auto (the fit to the points when the chain's result misses 0.2·--tol-mm, leaves the ratio bounds or comes from noisy points), on (§8.3 tip-motion fit, then the fit to the points), off (the patent route only).
     #[arg(long, value_enum, default_value = "auto")]
     pub refine: RefineArg,
     /// Fourier order of the refinement when --order is not given.
@@ -56,6 +56,9 @@ pub struct Args {
     /// Admissible sun ratio range `MIN,MAX`.
     #[arg(long, value_parser = parse_pair, default_value = "0.3,3.3")]
     pub ratio_bounds: [f64; 2],
+    /// Keep the chain's result: skip the final fit of every parameter to the points.
+    #[arg(long)]
+    pub no_fit: bool,
     /// Penalise concave pitch arcs in the refinement.
     #[arg(long)]
     pub convexity: bool,
@@ -149,6 +152,7 @@ pub fn run(args: Args) -> CliResult {
         RefineArg::Off => RefineMode::Off,
     };
     opts.refine_order = args.refine_order;
+    opts.fit_to_points = !args.no_fit;
     opts.smoothing = args.smooth;
     opts.segmented.hypothesis = args
         .harmonics

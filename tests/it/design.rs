@@ -244,8 +244,11 @@ fn g1_end_to_end_patent_route_orders_within_golden_bounds() {
         let dev = d.report.patent_route.max_deviation_mm;
         assert!(dev <= 2.0 * bound, "K = {k}: {dev} mm");
         let rt = &d.report.roundtrip;
+        // The round trip measures each point at the carrier angle where the tip passes it
+        // closest, so it never exceeds the synchronous deviation against the inverted law (plus
+        // the table rebuild error).
         assert!(
-            (rt.max_deviation_mm - dev).abs() < 1e-3,
+            rt.max_deviation_mm <= dev + 1e-3 && rt.max_deviation_mm > 0.3 * dev,
             "round trip {} vs model {dev}",
             rt.max_deviation_mm
         );
@@ -364,28 +367,36 @@ fn designer_trajectory(eps: f64) -> Trajectory {
 
 #[test]
 fn designer_style_target_patent_route_versus_refinement() {
-    let d = design(&designer_trajectory(0.03), &DesignOptions::default()).unwrap();
+    let t = designer_trajectory(0.03);
+    let d = design(&t, &DesignOptions::default()).unwrap();
     let r = &d.report;
     let patent = r.patent_route.max_deviation_mm;
-    let refined = r
-        .refinement
-        .as_ref()
-        .expect("refinement runs when the patent route misses")
-        .max_deviation_mm;
     assert!(
         (r.compatibility.tip_equivalent_mm - 8.3).abs() < 1.0,
         "E_c·l3 = {}",
         r.compatibility.tip_equivalent_mm
     );
-    // Best achievable 3.82 mm (spec §6.4): within 1.5×.
-    assert!(refined <= 1.5 * 3.82, "refined {refined} mm");
-    assert!(refined < patent, "refined {refined} vs patent {patent}");
-    assert_eq!(r.chosen, "refined");
+    // The fit to the points (all parameters free, minimax finish) does better than the spec's best
+    // synchronous deviation with l1, l3 fixed (3.82 mm, §6.4).
+    let fit = r.fit.as_ref().expect("the fit runs when the patent route misses");
+    assert_eq!(r.chosen, "fit");
+    assert!(fit.max_mm < 3.82 && fit.max_mm < patent, "fit {} vs patent {patent}", fit.max_mm);
     assert!(
-        (r.roundtrip.max_deviation_mm - refined).abs() < 0.01,
-        "{} vs {refined}",
-        r.roundtrip.max_deviation_mm
+        (r.roundtrip.max_deviation_mm - fit.max_mm).abs() < 0.01,
+        "{} vs {}",
+        r.roundtrip.max_deviation_mm,
+        fit.max_mm
     );
+    // §8.3 on request: still better than the patent route, within 1.5× of its best 3.82 mm.
+    let on = DesignOptions {
+        refine: RefineMode::On,
+        fit_to_points: false,
+        ..DesignOptions::default()
+    };
+    let d = design(&t, &on).unwrap();
+    let refined = d.report.refinement.as_ref().expect("refine on").max_deviation_mm;
+    assert!(refined <= 1.5 * 3.82 && refined < patent, "refined {refined} mm");
+    assert_eq!(d.report.chosen, "refined");
 }
 
 #[test]

@@ -5,6 +5,7 @@ mod design;
 mod dynamics;
 mod hard_cases;
 mod orbit;
+mod robust;
 mod simulate;
 mod svg_render;
 mod teeth;

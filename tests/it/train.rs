@@ -358,7 +358,13 @@ fn leaning_teeth_of_the_kidney_design_mesh_without_interference() {
     let traj =
         PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("assets/trajectories/designer_kidney.csv");
     let t = Trajectory::read(&traj).unwrap();
-    let d = design(&t, &DesignOptions::default()).unwrap();
+    // The §8.3 refined design (fixed l1, l3), as this test was built on.
+    let refined = DesignOptions {
+        refine: ncgear::design::RefineMode::On,
+        fit_to_points: false,
+        ..DesignOptions::default()
+    };
+    let d = design(&t, &refined).unwrap();
     let mut opts = TrainTeethOptions::new(1.5);
     opts.verify_steps = 36;
     let train = tooth_train(&d.assembly, &d.report.target_points, &opts, &|_| {}).unwrap();
