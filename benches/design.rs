@@ -58,3 +58,32 @@ fn teeth_g1_module_2(b: divan::Bencher, steps: usize) {
         .expect("G1 teeth")
     });
 }
+
+/// One case per family of issue 15 (`assets/cases/`, made by an independent forward model): the
+/// whole chain with default options, the fit to the points included. `exact_cw_offset` is CW
+/// with its carrier axis at the centre named in the file's `# center:` line.
+#[divan::bench(
+    args = [
+        "exact_two_harmonic", "exact_three_harmonic", "exact_concave_sun", "exact_sparse_200",
+        "exact_cw_offset", "noisy_020um", "noisy_050um", "noisy_030um_400", "designer_even2",
+        "designer_odd3", "designer_odd2",
+    ],
+    sample_count = 5
+)]
+fn family_case(b: divan::Bencher, name: &str) {
+    let p = format!("{}/assets/cases/{name}.csv", env!("CARGO_MANIFEST_DIR"));
+    let text = std::fs::read_to_string(&p).expect("bundled case");
+    let center = text
+        .lines()
+        .find_map(|l| l.strip_prefix("# center:"))
+        .map_or([0.0, 0.0], |c| {
+            let v: Vec<f64> = c.split(',').map(|x| x.trim().parse().unwrap()).collect();
+            [v[0], v[1]]
+        });
+    let t = Trajectory::parse_csv(&text, name).expect("bundled case");
+    let opts = DesignOptions {
+        center_mm: center,
+        ..DesignOptions::default()
+    };
+    b.bench(|| design(divan::black_box(&t), &opts).expect("designed"));
+}

@@ -173,6 +173,8 @@ fn tip_eval(m: &Mechanism, phi: f64) -> TipEval {
 /// with a Gauss–Newton fallback and a step cap). Returns `(φ, evaluation at φ)`.
 fn project(m: &Mechanism, p: [f64; 2], mut phi: f64) -> (f64, TipEval) {
     let mut e = tip_eval(m, phi);
+    let dist2 = |e: &TipEval| (e.b[0] - p[0]).powi(2) + (e.b[1] - p[1]).powi(2);
+    let mut best = (phi, dist2(&e));
     for _ in 0..30 {
         let r = [e.b[0] - p[0], e.b[1] - p[1]];
         let g = r[0] * e.v[0] + r[1] * e.v[1];
@@ -182,9 +184,18 @@ fn project(m: &Mechanism, p: [f64; 2], mut phi: f64) -> (f64, TipEval) {
         step = step.clamp(-0.2, 0.2);
         phi += step;
         e = tip_eval(m, phi);
+        let d2 = dist2(&e);
+        if d2 < best.1 {
+            best = (phi, d2);
+        }
         if step.abs() < 1e-13 {
             break;
         }
+    }
+    // Near a cusp (tip nearly at rest) Newton may wander: keep the closest point seen.
+    if best.0 != phi {
+        phi = best.0;
+        e = tip_eval(m, phi);
     }
     (phi, e)
 }
@@ -193,16 +204,18 @@ fn project(m: &Mechanism, p: [f64; 2], mut phi: f64) -> (f64, TipEval) {
 fn normal_residual(e: &TipEval, p: [f64; 2]) -> (f64, [f64; 2]) {
     let r = [p[0] - e.b[0], p[1] - e.b[1]];
     let vn = e.v[0].hypot(e.v[1]);
-    let n = if vn > 1e-9 {
-        [-e.v[1] / vn, e.v[0] / vn]
-    } else {
-        // A cusp (tip at rest): the residual itself gives the direction.
-        let rn = r[0].hypot(r[1]);
-        if rn > 0.0 {
-            [r[0] / rn, r[1] / rn]
+    let rn = r[0].hypot(r[1]);
+    // Near a cusp (tip nearly at rest, |B′| below 2 % of |B|'s scale) the tangent is ill-defined:
+    // the residual itself gives the direction (the same at an exact projection).
+    let scale = e.b[0].hypot(e.b[1]).max(1.0);
+    let n = if vn > 0.02 * scale || rn == 0.0 {
+        if vn > 0.0 {
+            [-e.v[1] / vn, e.v[0] / vn]
         } else {
             [1.0, 0.0]
         }
+    } else {
+        [r[0] / rn, r[1] / rn]
     };
     (n[0] * r[0] + n[1] * r[1], n)
 }
@@ -603,16 +616,7 @@ pub fn fit_points(
         let (fitted, it) = lm.run(with_order(&m, k), &mut phis);
         iterations += it;
         // Measure on every point.
-        let (new_phis, dists): (Vec<f64>, Vec<f64>) = points
-            .par_iter()
-            .zip(phis_all.par_iter())
-            .map(|(p, &phi0)| {
-                let (phi, e) = project(&fitted, *p, phi0);
-                (phi, normal_residual(&e, *p).0.abs())
-            })
-            .unzip();
-        let rms = (dists.iter().map(|d| d * d).sum::<f64>() / dists.len() as f64).sqrt();
-        let max = dists.iter().copied().fold(0.0, f64::max);
+        let (new_phis, dists, rms, max, _) = measure(&fitted, points, &phis_all);
         scan.push([k as f64, rms, max]);
         let prev_rms = best.as_ref().map(|b| b.3);
         let improved = prev_rms.is_none_or(|p| rms < p);
@@ -653,12 +657,16 @@ pub fn fit_points(
 
 /// Measures a mechanism on every point: carrier angles, distances, RMS, max and coverage.
 fn measure(m: &Mechanism, points: &[[f64; 2]], phis: &[f64]) -> (Vec<f64>, Vec<f64>, f64, f64, f64) {
+    let fresh = initial_angles(m, points);
     let (new_phis, dists): (Vec<f64>, Vec<f64>) = points
         .par_iter()
-        .zip(phis.par_iter())
-        .map(|(p, &phi0)| {
-            let (phi, e) = project(m, *p, phi0);
-            (phi, normal_residual(&e, *p).0.abs())
+        .zip(phis.par_iter().zip(fresh.par_iter()))
+        .map(|(p, (&phi0, &phi1))| {
+            // From the tracked angle and from the nearest dense sample: the closer wins.
+            let (a, ea) = project(m, *p, phi0);
+            let (b, eb) = project(m, *p, phi1);
+            let (da, db) = (normal_residual(&ea, *p).0.abs(), normal_residual(&eb, *p).0.abs());
+            if db < da { (b, db) } else { (a, da) }
         })
         .unzip();
     let rms = (dists.iter().map(|d| d * d).sum::<f64>() / dists.len() as f64).sqrt();
