@@ -620,11 +620,11 @@ pub fn design(traj: &Trajectory, opts: &DesignOptions) -> Result<Design, DesignE
     let start_rms = rms(&start_d);
     let run_fit = opts.fit_to_points
         && match opts.refine {
-        RefineMode::Off => false,
-        RefineMode::On => true,
-        RefineMode::Auto => {
-            start_smoothing.is_some() || !admissible(&mech) || start_max > 0.2 * opts.tol_tip_mm
-        }
+            RefineMode::Off => false,
+            RefineMode::On => true,
+            RefineMode::Auto => {
+                start_smoothing.is_some() || !admissible(&mech) || start_max > 0.2 * opts.tol_tip_mm
+            }
         };
     let mut fit_summary = None;
     if run_fit {
@@ -642,12 +642,16 @@ pub fn design(traj: &Trajectory, opts: &DesignOptions) -> Result<Design, DesignE
         let measured = noise_sigma > MEASURED_NOISE_MM;
         if f.max_mm > opts.tol_tip_mm && f.rms_mm > 2.0 * noise_sigma {
             for k in [2, 4] {
-                let Ok(r) = SunRatio::fit_uniform(&seg.samples, k).or_else(|_| {
-                    SunRatio::fit_uniform(&seg.samples, 1)
-                }) else {
+                let Ok(r) = SunRatio::fit_uniform(&seg.samples, k)
+                    .or_else(|_| SunRatio::fit_uniform(&seg.samples, 1))
+                else {
                     continue;
                 };
-                let start = mk(fit::admissible_ratio(&r, opts.refine_options.ratio_bounds), tau).0;
+                let start = mk(
+                    fit::admissible_ratio(&r, opts.refine_options.ratio_bounds),
+                    tau,
+                )
+                .0;
                 if let Ok(g) = fit::fit_points(&points, &start, &fit_opts) {
                     let better = if measured {
                         g.rms_mm < f.rms_mm

@@ -180,7 +180,11 @@ fn project(m: &Mechanism, p: [f64; 2], mut phi: f64) -> (f64, TipEval) {
         let g = r[0] * e.v[0] + r[1] * e.v[1];
         let vv = e.v[0] * e.v[0] + e.v[1] * e.v[1];
         let h = vv + r[0] * e.acc[0] + r[1] * e.acc[1];
-        let mut step = if h > 0.1 * vv { -g / h } else { -g / (vv + 1e-300) };
+        let mut step = if h > 0.1 * vv {
+            -g / h
+        } else {
+            -g / (vv + 1e-300)
+        };
         step = step.clamp(-0.2, 0.2);
         phi += step;
         e = tip_eval(m, phi);
@@ -371,7 +375,11 @@ fn coverage(m: &Mechanism, q: &[[f64; 2]], phi: f64) -> (f64, [f64; 2], TipEval)
     let r = [e.b[0] - c[0], e.b[1] - c[1]];
     let d = r[0].hypot(r[1]);
     let excess = (d - 0.6 * chord).max(0.0);
-    let u = if d > 0.0 { [r[0] / d, r[1] / d] } else { [0.0, 0.0] };
+    let u = if d > 0.0 {
+        [r[0] / d, r[1] / d]
+    } else {
+        [0.0, 0.0]
+    };
     (excess, u, e)
 }
 
@@ -528,7 +536,8 @@ impl Lm<'_> {
                     accepted = true;
                     r = self.evaluate(&m, phis, Some(&mut jac));
                     cost = r.norm_squared();
-                    let rms = (r.rows(0, self.pts.len()).norm_squared() / self.pts.len() as f64).sqrt();
+                    let rms =
+                        (r.rows(0, self.pts.len()).norm_squared() / self.pts.len() as f64).sqrt();
                     if gain < 1e-4 || (self.weights.is_none() && rms < 0.01 * self.opts.tol_mm) {
                         return (m, iters);
                     }
@@ -593,9 +602,17 @@ pub fn fit_points(
     let orders: Vec<usize> = match opts.order {
         Some(k) => vec![k.max(1)],
         None => {
-            let k0 = start.ratio.order().clamp(FIT_ORDERS[0], opts.max_order.max(1));
+            let k0 = start
+                .ratio
+                .order()
+                .clamp(FIT_ORDERS[0], opts.max_order.max(1));
             let mut v = vec![k0];
-            v.extend(FIT_ORDERS.iter().copied().filter(|&k| k > k0 && k <= opts.max_order));
+            v.extend(
+                FIT_ORDERS
+                    .iter()
+                    .copied()
+                    .filter(|&k| k > k0 && k <= opts.max_order),
+            );
             v
         }
     };
@@ -656,7 +673,11 @@ pub fn fit_points(
 }
 
 /// Measures a mechanism on every point: carrier angles, distances, RMS, max and coverage.
-fn measure(m: &Mechanism, points: &[[f64; 2]], phis: &[f64]) -> (Vec<f64>, Vec<f64>, f64, f64, f64) {
+fn measure(
+    m: &Mechanism,
+    points: &[[f64; 2]],
+    phis: &[f64],
+) -> (Vec<f64>, Vec<f64>, f64, f64, f64) {
     let fresh = initial_angles(m, points);
     let (new_phis, dists): (Vec<f64>, Vec<f64>) = points
         .par_iter()
@@ -665,7 +686,10 @@ fn measure(m: &Mechanism, points: &[[f64; 2]], phis: &[f64]) -> (Vec<f64>, Vec<f
             // From the tracked angle and from the nearest dense sample: the closer wins.
             let (a, ea) = project(m, *p, phi0);
             let (b, eb) = project(m, *p, phi1);
-            let (da, db) = (normal_residual(&ea, *p).0.abs(), normal_residual(&eb, *p).0.abs());
+            let (da, db) = (
+                normal_residual(&ea, *p).0.abs(),
+                normal_residual(&eb, *p).0.abs(),
+            );
             if db < da { (b, db) } else { (a, da) }
         })
         .unzip();
@@ -765,7 +789,11 @@ mod tests {
                 n[0] * (p[0] - b[0]) + n[1] * (p[1] - b[1])
             };
             let fd = (d(1.0) - d(-1.0)) / (2.0 * h);
-            assert!((fd - row[c]).abs() < 1e-5 * (1.0 + fd.abs()), "param {c}: {fd} vs {}", row[c]);
+            assert!(
+                (fd - row[c]).abs() < 1e-5 * (1.0 + fd.abs()),
+                "param {c}: {fd} vs {}",
+                row[c]
+            );
         }
     }
 
@@ -792,7 +820,9 @@ mod tests {
     #[test]
     fn fit_recovers_the_train_from_a_perturbed_start() {
         let truth = mech();
-        let pts: Vec<[f64; 2]> = (0..500).map(|k| truth.tip(0.3 + TAU * k as f64 / 500.0)).collect();
+        let pts: Vec<[f64; 2]> = (0..500)
+            .map(|k| truth.tip(0.3 + TAU * k as f64 / 500.0))
+            .collect();
         let mut start = truth.clone();
         start.a_mm += 0.5;
         start.l3_mm += 1.0;
@@ -800,7 +830,11 @@ mod tests {
         start.ratio = SunRatio::new(vec![0.2, 0.0, 0.0], vec![0.0, 0.0, 0.0]).unwrap();
         // At the true order the fit is exact (to the smoothness term); above it the invisible
         // re-timing directions (spec §6.3) slow the last digits, far below the tolerance.
-        let exact = FitOptions { order: Some(3), tol_mm: 1e-7, ..FitOptions::default() };
+        let exact = FitOptions {
+            order: Some(3),
+            tol_mm: 1e-7,
+            ..FitOptions::default()
+        };
         let f = fit_points(&pts, &start, &exact).unwrap();
         assert!(f.max_mm < 1e-5, "{:?}", f.order_scan);
         // Default stopping: RMS below 1 % of the tolerance, or less than 1e-4 relative gain.

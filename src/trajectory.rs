@@ -153,7 +153,9 @@ fn outlier(points: &[[f64; 2]]) -> Option<(usize, f64, f64, f64)> {
     if n < 3 {
         return None;
     }
-    let steps: Vec<f64> = (0..n).map(|k| dist(points[k], points[(k + 1) % n])).collect();
+    let steps: Vec<f64> = (0..n)
+        .map(|k| dist(points[k], points[(k + 1) % n]))
+        .collect();
     let mut sorted = steps.clone();
     sorted.sort_by(f64::total_cmp);
     let spacing = sorted[n / 2];
@@ -203,7 +205,8 @@ fn local_cubic_noise_mm(points: &[[f64; 2]]) -> f64 {
                 .map(|j| {
                     let t = u[j] / scale;
                     let v = nalgebra::Vector4::new(1.0, t, t * t, t * t * t);
-                    (points[idx[j]][0] - v.dot(&cx)).powi(2) + (points[idx[j]][1] - v.dot(&cy)).powi(2)
+                    (points[idx[j]][0] - v.dot(&cx)).powi(2)
+                        + (points[idx[j]][1] - v.dot(&cy)).powi(2)
                 })
                 .sum::<f64>()
         })
@@ -523,6 +526,7 @@ impl ClosedSpline {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use std::f64::consts::{PI, TAU};
 
     fn circle_csv(n: usize) -> String {
         (0..n)
@@ -531,6 +535,49 @@ mod tests {
                 format!("{:.9} {:.9}\n", 150.0 + 40.0 * t.cos(), 40.0 * t.sin())
             })
             .collect()
+    }
+
+    #[test]
+    fn a_typo_point_is_named_as_an_outlier() {
+        let mut lines: Vec<String> = circle_csv(200).lines().map(String::from).collect();
+        lines[57] = "7.6e19 12.0".into();
+        match Trajectory::parse_csv(&lines.join("\n"), "t.csv") {
+            Err(TrajectoryError::Outlier {
+                origin, spacing_mm, ..
+            }) => {
+                assert_eq!(origin, Origin::Line(58));
+                assert!((spacing_mm - 2.0 * 40.0 * (PI / 200.0).sin()).abs() < 1e-6);
+            }
+            other => panic!("expected Outlier, got {other:?}"),
+        }
+    }
+
+    #[test]
+    fn noise_estimate_is_near_zero_on_exact_points_and_near_sigma_on_noisy_ones() {
+        let exact = Trajectory::parse_csv(&circle_csv(400), "c.csv").unwrap();
+        assert!(exact.noise_sigma_mm() < 1e-5, "{}", exact.noise_sigma_mm());
+        // Deterministic Gaussian noise σ = 0.03 mm (Box–Muller on a fixed LCG).
+        let mut state = 12345u64;
+        let mut uniform = || {
+            state = state
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            ((state >> 11) as f64 + 0.5) / (1u64 << 53) as f64
+        };
+        let sigma = 0.03;
+        let pts: Vec<[f64; 2]> = exact
+            .points()
+            .iter()
+            .map(|p| {
+                let (u, v) = (uniform(), uniform());
+                let r = (-2.0 * u.ln()).sqrt() * sigma;
+                [p[0] + r * (TAU * v).cos(), p[1] + r * (TAU * v).sin()]
+            })
+            .collect();
+        let origins: Vec<Origin> = (0..pts.len()).map(Origin::Index).collect();
+        let noisy = Trajectory::new(pts, &origins, "n").unwrap();
+        let est = noisy.noise_sigma_mm();
+        assert!((est / sigma - 1.0).abs() < 0.35, "{est}");
     }
 
     #[test]

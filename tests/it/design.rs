@@ -378,9 +378,16 @@ fn designer_style_target_patent_route_versus_refinement() {
     );
     // The fit to the points (all parameters free, minimax finish) does better than the spec's best
     // synchronous deviation with l1, l3 fixed (3.82 mm, §6.4).
-    let fit = r.fit.as_ref().expect("the fit runs when the patent route misses");
+    let fit = r
+        .fit
+        .as_ref()
+        .expect("the fit runs when the patent route misses");
     assert_eq!(r.chosen, "fit");
-    assert!(fit.max_mm < 3.82 && fit.max_mm < patent, "fit {} vs patent {patent}", fit.max_mm);
+    assert!(
+        fit.max_mm < 3.82 && fit.max_mm < patent,
+        "fit {} vs patent {patent}",
+        fit.max_mm
+    );
     assert!(
         (r.roundtrip.max_deviation_mm - fit.max_mm).abs() < 0.01,
         "{} vs {}",
@@ -394,8 +401,16 @@ fn designer_style_target_patent_route_versus_refinement() {
         ..DesignOptions::default()
     };
     let d = design(&t, &on).unwrap();
-    let refined = d.report.refinement.as_ref().expect("refine on").max_deviation_mm;
-    assert!(refined <= 1.5 * 3.82 && refined < patent, "refined {refined} mm");
+    let refined = d
+        .report
+        .refinement
+        .as_ref()
+        .expect("refine on")
+        .max_deviation_mm;
+    assert!(
+        refined <= 1.5 * 3.82 && refined < patent,
+        "refined {refined} mm"
+    );
     assert_eq!(d.report.chosen, "refined");
 }
 

@@ -163,13 +163,25 @@ fn ratios_beyond_the_bounds_are_designed_within_them() {
     let dev = d.report.roundtrip.max_deviation_mm;
     assert!(dev > 0.05 && dev.is_finite(), "{dev}");
     let fit = d.report.fit.as_ref().expect("the fit ran");
-    assert!((fit.max_mm - dev).abs() < 0.01 * dev, "{} vs {dev}", fit.max_mm);
-    assert!(d.report.warnings.iter().any(|w| w.contains("closest admissible design")));
+    assert!(
+        (fit.max_mm - dev).abs() < 0.01 * dev,
+        "{} vs {dev}",
+        fit.max_mm
+    );
+    assert!(
+        d.report
+            .warnings
+            .iter()
+            .any(|w| w.contains("closest admissible design"))
+    );
     // With the fit off nothing brings the patent route's ratio inside: a typed refusal that says so.
     opts.fit_to_points = false;
     match design(&t, &opts) {
         Err(DesignError::RatioOutOfBounds { min, max, .. }) => assert!(min < 0.6 || max > 1.7),
-        other => panic!("expected RatioOutOfBounds, got {:?}", other.map(|d| d.report.fourier.i21_range)),
+        other => panic!(
+            "expected RatioOutOfBounds, got {:?}",
+            other.map(|d| d.report.fourier.i21_range)
+        ),
     }
 }
 

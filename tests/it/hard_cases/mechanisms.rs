@@ -220,7 +220,10 @@ fn extreme_ratios_design_exactly_or_report_the_span() {
             }
         }
     }
-    assert!(beyond >= 1, "e = 0.7 (i21 down to 0.18) is designed within the bounds, with its deviation");
+    assert!(
+        beyond >= 1,
+        "e = 0.7 (i21 down to 0.18) is designed within the bounds, with its deviation"
+    );
 }
 
 /// NaN, ±∞ and out-of-range values in every numeric design option: a typed `BadOption`, never a

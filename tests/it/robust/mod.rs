@@ -535,7 +535,12 @@ fn robust_generated_trajectories_meet_the_quality_targets() {
         .iter()
         .zip(&failures_by_case(&outcomes))
         .filter(|(o, f)| **f && !KNOWN_MISSES.contains(&o.seed))
-        .map(|(o, _)| failures.iter().find(|f| f.contains(&format!("seed {} ", o.seed))).unwrap())
+        .map(|(o, _)| {
+            failures
+                .iter()
+                .find(|f| f.contains(&format!("seed {} ", o.seed)))
+                .unwrap()
+        })
         .collect();
     assert!(
         unexpected.is_empty(),
@@ -543,7 +548,11 @@ fn robust_generated_trajectories_meet_the_quality_targets() {
         unexpected.len(),
         outcomes.len(),
         KNOWN_MISSES.len(),
-        unexpected.iter().map(|s| s.as_str()).collect::<Vec<_>>().join("\n")
+        unexpected
+            .iter()
+            .map(|s| s.as_str())
+            .collect::<Vec<_>>()
+            .join("\n")
     );
 }
 
