@@ -564,17 +564,8 @@ pub fn design(traj: &Trajectory, opts: &DesignOptions) -> Result<Design, DesignE
     if run_refine {
         let k = opts.order.unwrap_or(opts.refine_order);
         // The patent route's ratio made admissible (spec §14): the refinement starts inside the bounds.
-        let start = crate::fit::admissible_ratio(
-            &SunRatio::fit_uniform(&seg.samples, k).unwrap_or_else(|_| {
-                let c = crate::periodic::fft_coefficients(&seg.samples);
-                let kk = k.min(c.len().saturating_sub(1));
-                SunRatio::new_unchecked(
-                    (1..=kk).map(|j| 2.0 * c[j].re).collect(),
-                    (1..=kk).map(|j| -2.0 * c[j].im).collect(),
-                )
-            }),
-            opts.refine_options.ratio_bounds,
-        );
+        let start = SunRatio::fit_uniform_unchecked(&seg.samples, k)
+            .admissible(opts.refine_options.ratio_bounds);
         let (m0, _) = mk(start.clone(), tau);
         // C = π + γ for the start.
         let c0 = PI + m0.needle_angle_rad;
@@ -612,18 +603,20 @@ pub fn design(traj: &Trajectory, opts: &DesignOptions) -> Result<Design, DesignE
     let [lo, hi] = opts.refine_options.ratio_bounds;
     let points = traj.relative_to(opts.center_mm, inv.direction < 0);
     let admissible = |m: &Mechanism| {
-        let [rlo, rhi] = fit::ratio_range(&m.ratio);
+        let [rlo, rhi] = m.ratio.range();
         rlo >= lo && rhi <= hi
     };
-    let (mut angles, start_d) = fit::point_distances(&points, &mech);
-    let start_max = start_d.iter().copied().fold(0.0, f64::max);
-    let start_rms = rms(&start_d);
+    let start = fit::measure(&points, &mech);
+    let (start_max, start_rms) = (start.max_mm, start.rms_mm);
+    let mut angles = start.carrier_angles_rad;
     let run_fit = opts.fit_to_points
         && match opts.refine {
             RefineMode::Off => false,
             RefineMode::On => true,
             RefineMode::Auto => {
-                start_smoothing.is_some() || !admissible(&mech) || start_max > 0.2 * opts.tol_tip_mm
+                start_smoothing.is_some()
+                    || !admissible(&mech)
+                    || start_max > FIT_TOL_FRACTION * opts.tol_tip_mm
             }
         };
     let mut fit_summary = None;
@@ -631,44 +624,17 @@ pub fn design(traj: &Trajectory, opts: &DesignOptions) -> Result<Design, DesignE
         let fit_opts = FitOptions {
             order: opts.order,
             ratio_bounds: opts.refine_options.ratio_bounds,
-            tol_mm: 0.2 * opts.tol_tip_mm,
+            tol_mm: FIT_TOL_FRACTION * opts.tol_tip_mm,
             noise_sigma_mm: noise_sigma,
             ..FitOptions::default()
         };
-        let mut f = fit::fit_points(&points, &mech, &fit_opts)
-            .map_err(|e| DesignError::Internal(e.to_string()))?;
-        // A target the first fit does not reproduce (and noise does not explain) may sit in another
-        // basin: restart from the patent route's low orders and keep the best.
-        let measured = noise_sigma > MEASURED_NOISE_MM;
-        if f.max_mm > opts.tol_tip_mm && f.rms_mm > 2.0 * noise_sigma {
-            for k in [2, 4] {
-                let Ok(r) = SunRatio::fit_uniform(&seg.samples, k)
-                    .or_else(|_| SunRatio::fit_uniform(&seg.samples, 1))
-                else {
-                    continue;
-                };
-                let start = mk(
-                    fit::admissible_ratio(&r, opts.refine_options.ratio_bounds),
-                    tau,
-                )
-                .0;
-                if let Ok(g) = fit::fit_points(&points, &start, &fit_opts) {
-                    let better = if measured {
-                        g.rms_mm < f.rms_mm
-                    } else {
-                        g.max_mm.max(g.coverage_mm) < f.max_mm.max(f.coverage_mm)
-                    };
-                    if better {
-                        f = g;
-                    }
-                }
-            }
-            // Not traceable (and clean): trade RMS for the largest deviation, which is what the
-            // user sees. Never on measured points, where the largest distance is the noise's.
-            if !measured {
-                f = fit::minimax(&points, f, &fit_opts);
-            }
-        }
+        let restart = |k: usize| {
+            SunRatio::fit_uniform(&seg.samples, k)
+                .or_else(|_| SunRatio::fit_uniform(&seg.samples, 1))
+                .ok()
+                .map(|r| mk(r.admissible(opts.refine_options.ratio_bounds), tau).0)
+        };
+        let f = fit_with_restarts(&points, &mech, restart, &fit_opts, opts.tol_tip_mm)?;
         fit_summary = Some(FitSummary {
             order: f.mechanism.ratio.order(),
             rms_mm: f.rms_mm,
@@ -695,7 +661,7 @@ pub fn design(traj: &Trajectory, opts: &DesignOptions) -> Result<Design, DesignE
         },
         |f| if chosen == "fit" { f.max_mm } else { start_max },
     );
-    if best_dev > opts.tol_tip_mm && noise_sigma < 0.2 * opts.tol_tip_mm {
+    if best_dev > opts.tol_tip_mm && noise_sigma < FIT_TOL_FRACTION * opts.tol_tip_mm {
         warnings.push(format!(
             "the best design deviates {best_dev:.3} mm from the target (tolerance {} mm): no train of this type traces it exactly (E_c·l3 = {:.3} mm); this is the closest admissible design found",
             opts.tol_tip_mm,
@@ -705,7 +671,7 @@ pub fn design(traj: &Trajectory, opts: &DesignOptions) -> Result<Design, DesignE
 
     // Outputs, checks, round trip.
     let t0 = Instant::now();
-    let [imin, imax] = fit::ratio_range(&mech.ratio);
+    let [imin, imax] = mech.ratio.range();
     if imin < lo || imax > hi {
         return Err(DesignError::RatioOutOfBounds {
             min: imin,
@@ -823,6 +789,50 @@ fn target_curve(points: &[[f64; 2]], angles: &[f64], n: usize) -> Vec<[f64; 2]> 
                 .collect()
         }
     }
+}
+
+/// The fit aims at this fraction of `tol_tip_mm` on the points, and runs (refine auto) when the
+/// chain's result is farther: room for the table rebuild and for the curve between the points.
+const FIT_TOL_FRACTION: f64 = 0.2;
+
+/// The fit to the points from the chain's result; a target it does not reproduce (and noise does
+/// not explain) may sit in another basin, so it restarts from `restart(K)` for K = 2, 4 (the patent
+/// route's low orders) and keeps the best — by RMS on measured points, by
+/// `max(max, coverage)` (the Hausdorff distance to the points' polyline) on clean ones, which then
+/// get the minimax finish.
+fn fit_with_restarts(
+    points: &[[f64; 2]],
+    start: &Mechanism,
+    restart: impl Fn(usize) -> Option<Mechanism>,
+    fit_opts: &FitOptions,
+    tol_tip_mm: f64,
+) -> Result<fit::Fitted, DesignError> {
+    let internal = |e: fit::FitError| DesignError::Internal(e.to_string());
+    let mut f = fit::fit_points(points, start, fit_opts).map_err(internal)?;
+    let noise = fit_opts.noise_sigma_mm;
+    if f.max_mm <= tol_tip_mm || f.rms_mm <= 2.0 * noise {
+        return Ok(f);
+    }
+    let measured = noise > MEASURED_NOISE_MM;
+    for k in [2, 4] {
+        let Some(g) = restart(k).and_then(|s| fit::fit_points(points, &s, fit_opts).ok()) else {
+            continue;
+        };
+        let better = if measured {
+            g.rms_mm < f.rms_mm
+        } else {
+            g.max_mm.max(g.coverage_mm) < f.max_mm.max(f.coverage_mm)
+        };
+        if better {
+            f = g;
+        }
+    }
+    // Not traceable (and clean): trade RMS for the largest deviation, which is what the user
+    // sees. Never on measured points, where the largest distance is the noise's.
+    if !measured {
+        f = fit::minimax(points, f, fit_opts);
+    }
+    Ok(f)
 }
 
 fn rms(v: &[f64]) -> f64 {
@@ -1064,7 +1074,7 @@ fn finish(
     let cs = sun.curvature_extremes(8 * n);
     let cm = mid.curvature_extremes(8 * n);
     let means = rebuilt.ratio_means();
-    let [imin, imax] = fit::ratio_range(&mech.ratio);
+    let [imin, imax] = mech.ratio.range();
     let i31_min = (0..4096)
         .map(|k| {
             let t = TAU * k as f64 / 4096.0;

@@ -110,13 +110,28 @@ impl SunRatio {
     /// Least-squares fit of order `K` to uniform samples `y_n = i(2πn/N)` (spec §8.1): the truncated
     /// DFT with the mean forced to 1 (exact closure). Requires `N ≥ 2K + 1`.
     pub fn fit_uniform(samples: &[f64], order: usize) -> Result<Self, RatioError> {
+        let (a, b) = Self::dft_coefficients(samples, order);
+        Self::new(a, b)
+    }
+
+    /// [`SunRatio::fit_uniform`] without the positivity check (for a start that is made
+    /// admissible afterwards, [`SunRatio::admissible`]).
+    #[must_use]
+    pub fn fit_uniform_unchecked(samples: &[f64], order: usize) -> Self {
+        let (a, b) = Self::dft_coefficients(samples, order);
+        Self::new_unchecked(a, b)
+    }
+
+    /// Cosine and sine coefficients 1..=K of the truncated DFT of uniform samples.
+    fn dft_coefficients(samples: &[f64], order: usize) -> (Vec<f64>, Vec<f64>) {
         let c = fft_coefficients(samples);
         let k_max = order
             .min(c.len().saturating_sub(1))
             .min((samples.len().saturating_sub(1)) / 2);
-        let a = (1..=k_max).map(|k| 2.0 * c[k].re).collect();
-        let b = (1..=k_max).map(|k| -2.0 * c[k].im).collect();
-        Self::new(a, b)
+        (
+            (1..=k_max).map(|k| 2.0 * c[k].re).collect(),
+            (1..=k_max).map(|k| -2.0 * c[k].im).collect(),
+        )
     }
 
     /// Fourier order K.
@@ -197,6 +212,61 @@ impl SunRatio {
         self.inverse_integral(self.integral(t) + PI, tol_rad)
     }
 
+    /// Smallest and largest value of the ratio over the turn: the extremes of a grid of 64·K + 512
+    /// angles refined by Newton steps on `i21′ = 0` (exact to rounding for the global extremes).
+    #[must_use]
+    pub fn range(&self) -> [f64; 2] {
+        let ratio = self;
+        let n = 64 * ratio.order() + 512;
+        let h = TAU / n as f64;
+        let refine = |th0: f64, v0: f64, max: bool| {
+            let mut th = th0;
+            let mut best = v0;
+            for _ in 0..8 {
+                let [v, d1, d2] = ratio.eval3(th);
+                if (max && v > best) || (!max && v < best) {
+                    best = v;
+                }
+                if d2 == 0.0 {
+                    break;
+                }
+                let step = (-d1 / d2).clamp(-h, h);
+                th += step;
+                if step.abs() < 1e-14 {
+                    break;
+                }
+            }
+            let v = ratio.value(th);
+            if max { best.max(v) } else { best.min(v) }
+        };
+        let (lo, at_lo) = ratio.sampled_extreme(n, false);
+        let (hi, at_hi) = ratio.sampled_extreme(n, true);
+        [refine(at_lo, lo, false), refine(at_hi, hi, true)]
+    }
+
+    /// Makes a ratio admissible by shrinking `i21 − 1` (closure kept): the factor is the largest
+    /// `s ≤ 1` with `1 + s(i − 1)` inside `bounds` narrowed by 1e-9 relative ([`SunRatio::range`]).
+    #[must_use]
+    pub fn admissible(&self, bounds: [f64; 2]) -> SunRatio {
+        let ratio = self;
+        let [lo, hi] = ratio.range();
+        let (blo, bhi) = (bounds[0] * (1.0 + 1e-9), bounds[1] * (1.0 - 1e-9));
+        let mut s: f64 = 1.0;
+        if hi > bhi && hi > 1.0 {
+            s = s.min((bhi - 1.0) / (hi - 1.0));
+        }
+        if lo < blo && lo < 1.0 {
+            s = s.min((1.0 - blo) / (1.0 - lo));
+        }
+        if s >= 1.0 {
+            return ratio.clone();
+        }
+        SunRatio::new_unchecked(
+            ratio.cos_coefficients().iter().map(|v| v * s).collect(),
+            ratio.sin_coefficients().iter().map(|v| v * s).collect(),
+        )
+    }
+
     /// Smallest (or, with `max = true`, largest) sampled ratio on `n` uniform angles, and where (rad).
     #[must_use]
     pub fn sampled_extreme(&self, n: usize, max: bool) -> (f64, f64) {
@@ -253,6 +323,16 @@ mod tests {
             let fd2 = (r.eval3(t + h)[1] - r.eval3(t - h)[1]) / (2.0 * h);
             assert!((d2 - fd2).abs() < 1e-7);
         }
+    }
+
+    #[test]
+    fn admissible_ratio_keeps_closure_and_bounds() {
+        let r = SunRatio::new(vec![0.9], vec![0.0]).unwrap();
+        let s = r.admissible([0.3, 1.5]);
+        let (hi, _) = s.sampled_extreme(4096, true);
+        assert!(hi <= 1.5 && hi > 1.5 - 1e-6, "{hi}");
+        assert!(s.range()[1] <= 1.5);
+        assert!((s.integral(TAU) - TAU).abs() < 1e-12);
     }
 
     #[test]

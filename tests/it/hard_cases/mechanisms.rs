@@ -109,7 +109,7 @@ proptest! {
             needle_angle_rad: needle,
         };
         let t = traced(&m, 720);
-        let [tlo, thi] = ncgear::fit::ratio_range(&m.ratio);
+        let [tlo, thi] = m.ratio.range();
         let admissible = tlo >= 0.3 && thi <= 3.3;
         match design(&t, &quick()) {
             Ok(d) if !admissible => {

@@ -1,0 +1,239 @@
+//! The curve a train traces, seen from the target points: tip, velocity and acceleration in the
+//! carrier angle, the projection of a point on the curve, the signed normal distance and its
+//! gradient in the design parameters (formulas in the [`crate::fit`] module doc).
+
+use crate::mechanism::{INVERSE_TOL_RAD, Mechanism};
+use rayon::prelude::*;
+use std::f64::consts::{PI, TAU};
+
+/// Tip, velocity and acceleration w.r.t. φ, and the quantities the Jacobian needs.
+pub(super) struct TipEval {
+    pub(super) b: [f64; 2],
+    pub(super) v: [f64; 2],
+    pub(super) acc: [f64; 2],
+    pub(super) beta: f64,
+    pub(super) t: f64,
+    pub(super) s: f64,
+    pub(super) i_t: f64,
+    pub(super) i_s: f64,
+}
+
+pub(super) fn tip_eval(m: &Mechanism, phi: f64) -> TipEval {
+    let t = phi - m.sun_phase_rad;
+    let (fi_t, _) = m.ratio.integral_and_value(t);
+    let s = m.ratio.inverse_integral(fi_t + PI, INVERSE_TOL_RAD);
+    let [i_t, di_t, _] = m.ratio.eval3(t);
+    let [i_s, di_s, _] = m.ratio.eval3(s);
+    let beta = phi + PI - s + m.needle_angle_rad;
+    let (sp, cp) = phi.sin_cos();
+    let (sb, cb) = beta.sin_cos();
+    let (l1, l3) = (2.0 * m.a_mm, m.l3_mm);
+    let ds = i_t / i_s;
+    let db = 1.0 - ds;
+    // β″ = −d/dφ (i(t)/i(S)) = −(i′(t)·i(S) − i(t)·i′(S)·S′)/i(S)².
+    let ddb = -(di_t * i_s - i_t * di_s * ds) / (i_s * i_s);
+    TipEval {
+        b: [l1 * cp + l3 * cb, l1 * sp + l3 * sb],
+        v: [-l1 * sp - l3 * sb * db, l1 * cp + l3 * cb * db],
+        acc: [
+            -l1 * cp - l3 * cb * db * db - l3 * sb * ddb,
+            -l1 * sp - l3 * sb * db * db + l3 * cb * ddb,
+        ],
+        beta,
+        t,
+        s,
+        i_t,
+        i_s,
+    }
+}
+
+/// Closest point of the traced curve to `p` near carrier angle `phi` (Newton on `(B − P)·B′ = 0`
+/// with a Gauss–Newton fallback and a step cap). Returns `(φ, evaluation at φ)`.
+pub(super) fn project(m: &Mechanism, p: [f64; 2], mut phi: f64) -> (f64, TipEval) {
+    let mut e = tip_eval(m, phi);
+    let dist2 = |e: &TipEval| (e.b[0] - p[0]).powi(2) + (e.b[1] - p[1]).powi(2);
+    let mut best = (phi, dist2(&e));
+    for _ in 0..30 {
+        let r = [e.b[0] - p[0], e.b[1] - p[1]];
+        let g = r[0] * e.v[0] + r[1] * e.v[1];
+        let vv = e.v[0] * e.v[0] + e.v[1] * e.v[1];
+        let h = vv + r[0] * e.acc[0] + r[1] * e.acc[1];
+        let mut step = if h > 0.1 * vv {
+            -g / h
+        } else {
+            -g / (vv + 1e-300)
+        };
+        step = step.clamp(-0.2, 0.2);
+        phi += step;
+        e = tip_eval(m, phi);
+        let d2 = dist2(&e);
+        if d2 < best.1 {
+            best = (phi, d2);
+        }
+        if step.abs() < 1e-13 {
+            break;
+        }
+    }
+    // Near a cusp (tip nearly at rest) Newton may wander: keep the closest point seen.
+    if best.0 != phi {
+        phi = best.0;
+        e = tip_eval(m, phi);
+    }
+    (phi, e)
+}
+
+/// Signed normal distance of `p` from the curve at the projection `e`, and the unit normal.
+pub(super) fn normal_residual(e: &TipEval, p: [f64; 2]) -> (f64, [f64; 2]) {
+    let r = [p[0] - e.b[0], p[1] - e.b[1]];
+    let vn = e.v[0].hypot(e.v[1]);
+    let rn = r[0].hypot(r[1]);
+    // Near a cusp (tip nearly at rest, |B′| below 2 % of |B|'s scale) the tangent is ill-defined:
+    // the residual itself gives the direction (the same at an exact projection).
+    let scale = e.b[0].hypot(e.b[1]).max(1.0);
+    let n = if vn > 0.02 * scale || rn == 0.0 {
+        if vn > 0.0 {
+            [-e.v[1] / vn, e.v[0] / vn]
+        } else {
+            [1.0, 0.0]
+        }
+    } else {
+        [r[0] / rn, r[1] / rn]
+    };
+    (n[0] * r[0] + n[1] * r[1], n)
+}
+
+/// Jacobian row of the signed distance `d = n·(P − B)` (see the module doc).
+pub(super) fn point_row(m: &Mechanism, e: &TipEval, n: [f64; 2], row: &mut [f64]) {
+    let k = m.ratio.order();
+    let l3 = m.l3_mm;
+    let (sp, cp) = (e.t + m.sun_phase_rad).sin_cos();
+    let (sb, cb) = e.beta.sin_cos();
+    let ne_phi = n[0] * cp + n[1] * sp;
+    let ne_beta = n[0] * cb + n[1] * sb;
+    let ne_perp = -n[0] * sb + n[1] * cb;
+    row[0] = -2.0 * ne_phi;
+    row[1] = -ne_beta;
+    row[2] = -l3 * ne_perp;
+    row[3] = -l3 * ne_perp * (e.i_t / e.i_s);
+    let f = l3 * ne_perp / e.i_s;
+    let (s1t, c1t) = e.t.sin_cos();
+    let (s1s, c1s) = e.s.sin_cos();
+    let (mut st, mut ct, mut ss, mut cs) = (s1t, c1t, s1s, c1s);
+    for kk in 0..k {
+        let kf = (kk + 1) as f64;
+        row[4 + kk] = f * (st - ss) / kf;
+        row[4 + k + kk] = f * (cs - ct) / kf;
+        (st, ct) = (st * c1t + ct * s1t, ct * c1t - st * s1t);
+        (ss, cs) = (ss * c1s + cs * s1s, cs * c1s - ss * s1s);
+    }
+}
+
+/// Carrier angle of each point on the curve traced by `m`: the nearest of 4096 samples, then
+/// projected.
+pub(super) fn initial_angles(m: &Mechanism, pts: &[[f64; 2]]) -> Vec<f64> {
+    let n = 4096;
+    let curve: Vec<[f64; 2]> = (0..n).map(|k| m.tip(TAU * k as f64 / n as f64)).collect();
+    pts.par_iter()
+        .map(|p| {
+            let (k, _) = curve.iter().enumerate().fold((0, f64::MAX), |b, (k, q)| {
+                let d = (q[0] - p[0]).powi(2) + (q[1] - p[1]).powi(2);
+                if d < b.1 { (k, d) } else { b }
+            });
+            project(m, *p, TAU * k as f64 / n as f64).0
+        })
+        .collect()
+}
+
+/// Nearest point of the closed polyline `q` to `p`, and the length of that segment (mm).
+pub(super) fn nearest_on_polyline(q: &[[f64; 2]], p: [f64; 2]) -> ([f64; 2], f64) {
+    let n = q.len();
+    let mut best = (q[0], f64::MAX, 0.0);
+    for k in 0..n {
+        let (a, b) = (q[k], q[(k + 1) % n]);
+        let ab = [b[0] - a[0], b[1] - a[1]];
+        let l2 = ab[0] * ab[0] + ab[1] * ab[1];
+        let t = if l2 > 0.0 {
+            (((p[0] - a[0]) * ab[0] + (p[1] - a[1]) * ab[1]) / l2).clamp(0.0, 1.0)
+        } else {
+            0.0
+        };
+        let c = [a[0] + t * ab[0], a[1] + t * ab[1]];
+        let d = (p[0] - c[0]).powi(2) + (p[1] - c[1]).powi(2);
+        if d < best.1 {
+            best = (c, d, l2.sqrt());
+        }
+    }
+    (best.0, best.2)
+}
+
+/// Distance (mm) of the traced curve's sample at `phi` from the target polyline beyond what the
+/// polyline's chords can explain (0.6 of the nearest chord: even round a sharp, coarsely sampled
+/// nose a smooth curve through two points bulges at most about half their distance beyond their
+/// chord), its gradient direction, and the tip evaluation.
+pub(super) fn coverage(m: &Mechanism, q: &[[f64; 2]], phi: f64) -> (f64, [f64; 2], TipEval) {
+    let e = tip_eval(m, phi);
+    let (c, chord) = nearest_on_polyline(q, e.b);
+    let r = [e.b[0] - c[0], e.b[1] - c[1]];
+    let d = r[0].hypot(r[1]);
+    let excess = (d - 0.6 * chord).max(0.0);
+    let u = if d > 0.0 {
+        [r[0] / d, r[1] / d]
+    } else {
+        [0.0, 0.0]
+    };
+    (excess, u, e)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::fit::solver::{from_params, to_params};
+    use crate::fourier::SunRatio;
+
+    fn mech() -> Mechanism {
+        Mechanism {
+            a_mm: 44.0,
+            l3_mm: 172.0,
+            ratio: SunRatio::new(vec![0.25, 0.04, -0.02], vec![0.05, -0.03, 0.01]).unwrap(),
+            sun_phase_rad: 0.4,
+            needle_angle_rad: -1.1,
+        }
+    }
+
+    #[test]
+    fn jacobian_matches_finite_differences() {
+        let m = mech();
+        let p = [150.0, -120.0];
+        let (phi, e) = project(&m, p, 5.0);
+        let (_, n) = normal_residual(&e, p);
+        let mut row = vec![0.0; 4 + 2 * 3];
+        point_row(&m, &e, n, &mut row);
+        let q = to_params(&m);
+        for c in 0..q.len() {
+            let h = 1e-6;
+            let d = |s: f64| {
+                let mut qq = q.clone();
+                qq[c] += s * h;
+                let mm = from_params(&qq, 3);
+                let b = mm.tip(phi);
+                n[0] * (p[0] - b[0]) + n[1] * (p[1] - b[1])
+            };
+            let fd = (d(1.0) - d(-1.0)) / (2.0 * h);
+            assert!(
+                (fd - row[c]).abs() < 1e-5 * (1.0 + fd.abs()),
+                "param {c}: {fd} vs {}",
+                row[c]
+            );
+        }
+    }
+
+    #[test]
+    fn projection_is_orthogonal() {
+        let m = mech();
+        let p = [150.0, -120.0];
+        let (_, e) = project(&m, p, 5.0);
+        let r = [p[0] - e.b[0], p[1] - e.b[1]];
+        let cos = (r[0] * e.v[0] + r[1] * e.v[1]) / (r[0].hypot(r[1]) * e.v[0].hypot(e.v[1]));
+        assert!(cos.abs() < 1e-10, "{cos}");
+    }
+}

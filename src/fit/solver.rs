@@ -1,0 +1,227 @@
+//! The Levenberg–Marquardt solver of the fit: residual rows (point distances, coverage, ratio
+//! bounds, smoothness), Marquardt-scaled damped steps, every trial made admissible before it is
+//! judged.
+
+use super::FitOptions;
+use super::curve::{coverage, normal_residual, point_row, project};
+use crate::fourier::SunRatio;
+use crate::mechanism::Mechanism;
+use nalgebra::{DMatrix, DVector};
+use rayon::prelude::*;
+use std::f64::consts::TAU;
+
+/// Parameters ↔ mechanism: `[a, l3, γ, φ_ref, a_1..a_K, b_1..b_K]`.
+pub(super) fn to_params(m: &Mechanism) -> Vec<f64> {
+    let mut p = vec![m.a_mm, m.l3_mm, m.needle_angle_rad, m.sun_phase_rad];
+    p.extend_from_slice(m.ratio.cos_coefficients());
+    p.extend_from_slice(m.ratio.sin_coefficients());
+    p
+}
+
+pub(super) fn from_params(p: &[f64], k: usize) -> Mechanism {
+    Mechanism {
+        a_mm: p[0],
+        l3_mm: p[1],
+        needle_angle_rad: p[2],
+        sun_phase_rad: p[3],
+        ratio: SunRatio::new_unchecked(p[4..4 + k].to_vec(), p[4 + k..4 + 2 * k].to_vec()),
+    }
+}
+
+/// The same ratio at order `k` (truncated or padded with zeros).
+pub(super) fn with_order(m: &Mechanism, k: usize) -> Mechanism {
+    let mut a = m.ratio.cos_coefficients().to_vec();
+    let mut b = m.ratio.sin_coefficients().to_vec();
+    a.resize(k, 0.0);
+    b.resize(k, 0.0);
+    Mechanism {
+        ratio: SunRatio::new_unchecked(a, b),
+        ..m.clone()
+    }
+}
+
+/// Angles at which the bound penalty is sampled.
+const BOUND_SAMPLES: usize = 256;
+
+/// Carrier angles at which the traced curve is held to the target (coverage rows).
+pub(super) const COVERAGE_SAMPLES: usize = 256;
+
+pub(super) struct Lm<'a> {
+    pub(super) pts: &'a [[f64; 2]],
+    pub(super) k: usize,
+    pub(super) opts: &'a FitOptions,
+    /// Square roots of per-point weights (IRLS towards the minimax fit), or all ones.
+    pub(super) weights: Option<&'a [f64]>,
+}
+
+impl Lm<'_> {
+    fn n_rows(&self) -> usize {
+        self.pts.len() + COVERAGE_SAMPLES + BOUND_SAMPLES + 2 * self.k
+    }
+
+    /// Residuals at `m` (points projected from `phis`, updated in place); with `jac`, also the
+    /// Jacobian.
+    fn evaluate(
+        &self,
+        m: &Mechanism,
+        phis: &mut [f64],
+        jac: Option<&mut DMatrix<f64>>,
+    ) -> DVector<f64> {
+        let k = self.k;
+        let np = if jac.is_some() { 4 + 2 * k } else { 0 };
+        let rows: Vec<(f64, f64, Vec<f64>)> = self
+            .pts
+            .par_iter()
+            .zip(phis.par_iter())
+            .map(|(p, &phi0)| {
+                let (phi, e) = project(m, *p, phi0);
+                let (d, n) = normal_residual(&e, *p);
+                let mut row = vec![0.0; np];
+                if !row.is_empty() {
+                    point_row(m, &e, n, &mut row);
+                }
+                (phi, d, row)
+            })
+            .collect();
+        let mut r = DVector::zeros(self.n_rows());
+        let mut j = jac;
+        let weighted: Vec<(f64, Vec<f64>)> = rows
+            .into_iter()
+            .enumerate()
+            .map(|(idx, (phi, d, row))| {
+                let w = self.weights.map_or(1.0, |w| w[idx]);
+                phis[idx] = phi;
+                (w * d, row.into_iter().map(|v| w * v).collect())
+            })
+            .collect();
+        put_rows(&mut r, j.as_deref_mut(), 0, weighted);
+        // Coverage: the traced curve may not leave the target where no point watches it (a
+        // one-sided point-to-curve fit would allow a loop between two points).
+        let m0 = self.pts.len();
+        let cov: Vec<(f64, Vec<f64>)> = (0..COVERAGE_SAMPLES)
+            .into_par_iter()
+            .map(|c| {
+                let phi = TAU * c as f64 / COVERAGE_SAMPLES as f64;
+                let (excess, u, e) = coverage(m, self.pts, phi);
+                let mut row = vec![0.0; np];
+                if !row.is_empty() && excess > 0.0 {
+                    point_row(m, &e, [-u[0], -u[1]], &mut row);
+                }
+                (excess, row)
+            })
+            .collect();
+        put_rows(&mut r, j.as_deref_mut(), m0, cov);
+        let m0 = m0 + COVERAGE_SAMPLES;
+        // Bound penalty: w·dist(i21(θ_m), [i_min, i_max]).
+        let w = 10.0 * m.l3_mm.abs().max(1.0);
+        let [lo, hi] = self.opts.ratio_bounds;
+        for b in 0..BOUND_SAMPLES {
+            let th = TAU * b as f64 / BOUND_SAMPLES as f64;
+            let i = m.ratio.value(th);
+            let (viol, sign) = if i > hi {
+                (i - hi, 1.0)
+            } else if i < lo {
+                (lo - i, -1.0)
+            } else {
+                (0.0, 0.0)
+            };
+            r[m0 + b] = w * viol;
+            if let Some(j) = j.as_deref_mut() {
+                for kk in 0..k {
+                    let (s, c) = (((kk + 1) as f64) * th).sin_cos();
+                    j[(m0 + b, 4 + kk)] = w * sign * c;
+                    j[(m0 + b, 4 + k + kk)] = w * sign * s;
+                }
+            }
+        }
+        // Smoothness: √λ·l3·k²·(a_k, b_k).
+        let ws = self.opts.smoothness * m.l3_mm.abs();
+        let (ca, cb) = (m.ratio.cos_coefficients(), m.ratio.sin_coefficients());
+        for kk in 0..k {
+            let h = ((kk + 1) * (kk + 1)) as f64 * ws;
+            let row = m0 + BOUND_SAMPLES + 2 * kk;
+            r[row] = h * ca[kk];
+            r[row + 1] = h * cb[kk];
+            if let Some(j) = j.as_deref_mut() {
+                j[(row, 4 + kk)] = h;
+                j[(row + 1, 4 + k + kk)] = h;
+            }
+        }
+        r
+    }
+
+    /// Levenberg–Marquardt from `m`; returns the best admissible mechanism and iterations used.
+    pub(super) fn run(&self, mut m: Mechanism, phis: &mut [f64]) -> (Mechanism, usize) {
+        let np = 4 + 2 * self.k;
+        let mut jac = DMatrix::zeros(self.n_rows(), np);
+        let mut r = self.evaluate(&m, phis, Some(&mut jac));
+        let mut cost = r.norm_squared();
+        let mut lambda = 1e-3;
+        let mut iters = 0;
+        for _ in 0..self.opts.max_iterations {
+            iters += 1;
+            let a = jac.tr_mul(&jac);
+            let g = jac.tr_mul(&r);
+            let p0 = to_params(&m);
+            let mut accepted = false;
+            while lambda < 1e12 {
+                let mut h = a.clone();
+                for c in 0..np {
+                    h[(c, c)] += lambda * a[(c, c)].max(1e-12);
+                }
+                let Some(ch) = h.cholesky() else {
+                    lambda *= 10.0;
+                    continue;
+                };
+                let delta = ch.solve(&(-&g));
+                let p: Vec<f64> = p0.iter().zip(delta.iter()).map(|(x, d)| x + d).collect();
+                let mut trial = from_params(&p, self.k);
+                trial.ratio = trial.ratio.admissible(self.opts.ratio_bounds);
+                if !(trial.a_mm > 0.0 && trial.l3_mm > 0.0) {
+                    lambda *= 4.0;
+                    continue;
+                }
+                let mut trial_phis = phis.to_vec();
+                let rt = self.evaluate(&trial, &mut trial_phis, None);
+                let ct = rt.norm_squared();
+                if ct.is_finite() && ct < cost {
+                    let gain = (cost - ct) / cost.max(1e-300);
+                    m = trial;
+                    phis.copy_from_slice(&trial_phis);
+                    lambda = (lambda / 3.0).max(1e-12);
+                    accepted = true;
+                    r = self.evaluate(&m, phis, Some(&mut jac));
+                    cost = r.norm_squared();
+                    let rms =
+                        (r.rows(0, self.pts.len()).norm_squared() / self.pts.len() as f64).sqrt();
+                    if gain < 1e-4 || (self.weights.is_none() && rms < 0.01 * self.opts.tol_mm) {
+                        return (m, iters);
+                    }
+                    break;
+                }
+                lambda *= 4.0;
+            }
+            if !accepted {
+                break;
+            }
+        }
+        (m, iters)
+    }
+}
+
+/// Writes `(residual, Jacobian row)` pairs from row `offset` on (rows are empty without a Jacobian).
+fn put_rows(
+    r: &mut DVector<f64>,
+    mut jac: Option<&mut DMatrix<f64>>,
+    offset: usize,
+    rows: Vec<(f64, Vec<f64>)>,
+) {
+    for (i, (value, row)) in rows.into_iter().enumerate() {
+        r[offset + i] = value;
+        if let Some(j) = jac.as_deref_mut() {
+            for (c, v) in row.into_iter().enumerate() {
+                j[(offset + i, c)] = v;
+            }
+        }
+    }
+}
