@@ -128,21 +128,38 @@ pub(super) fn point_row(m: &Mechanism, e: &TipEval, n: [f64; 2], row: &mut [f64]
     }
 }
 
-/// Carrier angle of each point on the curve traced by `m`: the nearest of 4096 samples, then
-/// projected.
+/// Carrier angle of each point on the curve traced by `m`: projected from each of the
+/// [`CANDIDATES`] nearest local minima of the distance to 4096 curve samples, the closest
+/// projection kept. (Near a crossing or a close approach of two stretches, the nearest sample can
+/// lie on the other stretch: a fast tip spaces its own samples farther apart than the gap.)
 pub(super) fn initial_angles(m: &Mechanism, pts: &[[f64; 2]]) -> Vec<f64> {
     let n = 4096;
     let curve: Vec<[f64; 2]> = (0..n).map(|k| m.tip(TAU * k as f64 / n as f64)).collect();
     pts.par_iter()
         .map(|p| {
-            let (k, _) = curve.iter().enumerate().fold((0, f64::MAX), |b, (k, q)| {
-                let d = (q[0] - p[0]).powi(2) + (q[1] - p[1]).powi(2);
-                if d < b.1 { (k, d) } else { b }
-            });
-            project(m, *p, TAU * k as f64 / n as f64).0
+            let d: Vec<f64> = curve
+                .iter()
+                .map(|q| (q[0] - p[0]).powi(2) + (q[1] - p[1]).powi(2))
+                .collect();
+            let mut minima: Vec<usize> = (0..n)
+                .filter(|&k| d[k] <= d[(k + n - 1) % n] && d[k] <= d[(k + 1) % n])
+                .collect();
+            minima.sort_by(|&a, &b| d[a].total_cmp(&d[b]));
+            minima
+                .iter()
+                .take(CANDIDATES)
+                .map(|&k| {
+                    let (phi, e) = project(m, *p, TAU * k as f64 / n as f64);
+                    (phi, (e.b[0] - p[0]).powi(2) + (e.b[1] - p[1]).powi(2))
+                })
+                .fold((0.0, f64::MAX), |b, c| if c.1 < b.1 { c } else { b })
+                .0
         })
         .collect()
 }
+
+/// Local minima of the sample distance tried per point by [`initial_angles`].
+const CANDIDATES: usize = 3;
 
 /// Nearest point of the closed polyline `q` to `p`, and the length of that segment (mm).
 pub(super) fn nearest_on_polyline(q: &[[f64; 2]], p: [f64; 2]) -> ([f64; 2], f64) {

@@ -122,10 +122,8 @@ proptest! {
                 let r = &d.report;
                 prop_assert!((r.l1 - 2.0 * a).abs() < 1e-3, "l1 {} vs {}", r.l1, 2.0 * a);
                 prop_assert!((r.l3 - m.l3_mm).abs() < 1e-3, "l3 {} vs {}", r.l3, m.l3_mm);
-                // Known limit (issue 15, open): ratio excursions s > 0.5 may stall at up to 0.1 mm.
-                let bound = if s <= 0.5 { 0.05 } else { 0.1 };
                 prop_assert!(
-                    r.roundtrip.max_deviation_mm < bound,
+                    r.roundtrip.max_deviation_mm < 0.05,
                     "s = {s}, l3/l1 = {arm}: round trip {} mm", r.roundtrip.max_deviation_mm
                 );
                 prop_assert!(r.fourier.a.iter().chain(&r.fourier.b).all(|v| v.is_finite()));
@@ -199,13 +197,8 @@ fn extreme_ratios_design_exactly_or_report_the_span() {
                     imin >= 0.3 - 1e-9 && imax <= 3.3 + 1e-9,
                     "e = {e}: {imin} {imax}"
                 );
-                // Known limit (issue 15, open): from e ≈ 0.4 (i21 spans [0.43, 2.33]) the fit stalls
-                // at 0.05–0.09 mm on a few points near the needle's fastest swing; below it the
-                // design is exact.
-                if inside && e < 0.35 {
+                if inside {
                     assert!(d.report.roundtrip.max_deviation_mm < 0.05, "e = {e}");
-                } else if inside {
-                    assert!(d.report.roundtrip.max_deviation_mm < 0.1, "e = {e}");
                 } else {
                     beyond += 1;
                     assert!(d.report.roundtrip.max_deviation_mm > 0.05, "e = {e}");
@@ -318,13 +311,7 @@ fn eccentricity_sweep_teeth_until_they_stop_being_possible() {
         .enumerate()
     {
         let m = ellipse_mechanism(e);
-        // The chain's own designs (this sweep is about the teeth; with the fit on, e = 0.45 gives an
-        // intermediate whose undercut advice names the tooth count it already has — open).
-        let chain_only = DesignOptions {
-            fit_to_points: false,
-            ..quick()
-        };
-        let d = match design(&traced(&m, 720), &chain_only) {
+        let d = match design(&traced(&m, 720), &quick()) {
             Ok(d) => d,
             Err(err) => {
                 eprintln!("e = {e}: design refused: {err}");
@@ -376,7 +363,12 @@ fn eccentricity_sweep_teeth_until_they_stop_being_possible() {
                     ..
                 } = err
                 {
-                    assert!(max_module_mm < 2.0 && min_teeth > 23, "e = {e}: {err}");
+                    // More teeth than the design was cut with (ScaleUp: ⌈L/(π·m)⌉ at m = 2).
+                    let z0 = (d.report.gears.sun.perimeter_mm / (PI * 2.0)).ceil() as u32;
+                    assert!(
+                        max_module_mm < 2.0 && min_teeth > z0,
+                        "e = {e}, z = {z0}: {err}"
+                    );
                     let more = TrainTeethOptions {
                         policy: TrainPolicy::ScaleCenterDistance(ToothPolicy::Exact(min_teeth)),
                         ..opts
