@@ -335,6 +335,50 @@ mod tests {
         assert!((s.integral(TAU) - TAU).abs() < 1e-12);
     }
 
+    /// A fitted designer ratio (K = 12, i21 ∈ [0.32, 2.21]) on which plain Newton ping-ponged
+    /// between the ends of its bracket and left Φ⁻¹ 0.3 rad off (one spiked intermediate sample).
+    #[test]
+    fn inverse_integral_converges_where_newton_ping_pongs() {
+        let a = vec![
+            -0.36529485812796775,
+            0.13576318266093604,
+            -0.06291100670698704,
+            -0.07628032101683976,
+            -0.22710598281158342,
+            -0.004644858097947298,
+            0.22913764468035558,
+            -0.2182444576421202,
+            0.1411391373181318,
+            -0.07581659971500242,
+            0.03529120643136863,
+            -0.014224779015298953,
+        ];
+        let b = vec![
+            -0.008118720069198806,
+            0.010767139255749085,
+            -0.012953904096046137,
+            -0.008444694610768768,
+            0.041993377322530494,
+            0.04069284919866566,
+            0.08080059854125095,
+            -0.06518153989327644,
+            0.007521923774909562,
+            0.07589043826079249,
+            -0.04339152917992613,
+            0.0324362768438573,
+        ];
+        let r = SunRatio::new(a, b).unwrap();
+        for k in 0..3600 {
+            let y = PI - TAU * k as f64 / 3600.0;
+            let x = r.inverse_integral(y, 1e-13);
+            assert!(
+                (r.integral(x) - y).abs() < 1e-11,
+                "k = {k}: Φ(x) − y = {}",
+                r.integral(x) - y
+            );
+        }
+    }
+
     #[test]
     fn non_positive_ratio_is_rejected() {
         assert!(matches!(
