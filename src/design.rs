@@ -628,13 +628,16 @@ pub fn design(traj: &Trajectory, opts: &DesignOptions) -> Result<Design, DesignE
             noise_sigma_mm: noise_sigma,
             ..FitOptions::default()
         };
-        let restart = |k: usize| {
-            SunRatio::fit_uniform(&seg.samples, k)
-                .or_else(|_| SunRatio::fit_uniform(&seg.samples, 1))
-                .ok()
-                .map(|r| mk(r.admissible(opts.refine_options.ratio_bounds), tau).0)
-        };
-        let f = fit_with_restarts(&points, &mech, restart, &fit_opts, opts.tol_tip_mm)?;
+        let restarts = [2]
+            .into_iter()
+            .filter_map(|k| {
+                SunRatio::fit_uniform(&seg.samples, k)
+                    .or_else(|_| SunRatio::fit_uniform(&seg.samples, 1))
+                    .ok()
+                    .map(|r| mk(r.admissible(opts.refine_options.ratio_bounds), tau).0)
+            })
+            .collect();
+        let f = fit_with_restarts(&points, &mech, restarts, &fit_opts, opts.tol_tip_mm)?;
         fit_summary = Some(FitSummary {
             order: f.mechanism.ratio.order(),
             rms_mm: f.rms_mm,
@@ -795,15 +798,16 @@ fn target_curve(points: &[[f64; 2]], angles: &[f64], n: usize) -> Vec<[f64; 2]> 
 /// chain's result is farther: room for the table rebuild and for the curve between the points.
 const FIT_TOL_FRACTION: f64 = 0.2;
 
-/// The fit to the points from the chain's result; a target it does not reproduce (and noise does
-/// not explain) may sit in another basin, so it restarts from `restart(K)` for K = 2, 4 (the patent
-/// route's low orders) and keeps the best — by RMS on measured points, by
-/// `max(max, coverage)` (the Hausdorff distance to the points' polyline) on clean ones, which then
-/// get the minimax finish.
+/// The fit to the points from the chain's result. A target it does not reproduce (and noise does
+/// not explain) may sit in another basin: restarts from `restarts` (the patent route at order 2)
+/// and from the first fit with its ratio cut to order 2 are screened on a few points with a
+/// short budget; the best is refitted on every point and kept if it beats the first fit —
+/// by RMS on measured points, by `max(max, coverage)` (the Hausdorff distance to the points'
+/// polyline) on clean ones, which then get the minimax finish.
 fn fit_with_restarts(
     points: &[[f64; 2]],
     start: &Mechanism,
-    restart: impl Fn(usize) -> Option<Mechanism>,
+    restarts: Vec<Mechanism>,
     fit_opts: &FitOptions,
     tol_tip_mm: f64,
 ) -> Result<fit::Fitted, DesignError> {
@@ -814,16 +818,37 @@ fn fit_with_restarts(
         return Ok(f);
     }
     let measured = noise > MEASURED_NOISE_MM;
-    for k in [2, 4] {
-        let Some(g) = restart(k).and_then(|s| fit::fit_points(points, &s, fit_opts).ok()) else {
-            continue;
-        };
-        let better = if measured {
-            g.rms_mm < f.rms_mm
+    let score = |g: &fit::Fitted| {
+        if measured {
+            g.rms_mm
         } else {
-            g.max_mm.max(g.coverage_mm) < f.max_mm.max(f.coverage_mm)
+            g.max_mm.max(g.coverage_mm)
+        }
+    };
+    let screen = FitOptions {
+        max_points: SCREEN_POINTS,
+        max_iterations: SCREEN_ITERATIONS,
+        max_order: f.mechanism.ratio.order(),
+        ..fit_opts.clone()
+    };
+    let cut = |k: usize| Mechanism {
+        ratio: f.mechanism.ratio.with_order(k),
+        ..f.mechanism.clone()
+    };
+    let starts: Vec<Mechanism> = restarts.into_iter().chain([cut(2)]).collect();
+    let screened = starts
+        .iter()
+        .filter_map(|s| fit::fit_points(points, s, &screen).ok())
+        .min_by(|a, b| score(a).total_cmp(&score(b)));
+    if let Some(g) = screened.filter(|g| score(g) < score(&f)) {
+        // On every point, at the screened order, with the screening's iteration budget.
+        let refit = FitOptions {
+            order: Some(g.mechanism.ratio.order()),
+            max_iterations: SCREEN_ITERATIONS,
+            ..fit_opts.clone()
         };
-        if better {
+        let g = fit::fit_points(points, &g.mechanism, &refit).unwrap_or(g);
+        if score(&g) < score(&f) {
             f = g;
         }
     }
@@ -834,6 +859,10 @@ fn fit_with_restarts(
     }
     Ok(f)
 }
+
+/// Points and Levenberg–Marquardt iterations of a screening fit of a restart.
+const SCREEN_POINTS: usize = 240;
+const SCREEN_ITERATIONS: usize = 15;
 
 fn rms(v: &[f64]) -> f64 {
     (v.iter().map(|d| d * d).sum::<f64>() / v.len().max(1) as f64).sqrt()

@@ -134,6 +134,16 @@ impl SunRatio {
         )
     }
 
+    /// The same series at order `k`: truncated, or padded with zero coefficients.
+    #[must_use]
+    pub fn with_order(&self, k: usize) -> Self {
+        let mut a = self.a.clone();
+        let mut b = self.b.clone();
+        a.resize(k, 0.0);
+        b.resize(k, 0.0);
+        Self::new_unchecked(a, b)
+    }
+
     /// Fourier order K.
     #[must_use]
     pub fn order(&self) -> usize {

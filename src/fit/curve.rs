@@ -1,5 +1,5 @@
 //! The curve a train traces, seen from the target points: tip, velocity and acceleration in the
-//! carrier angle, the projection of a point on the curve, the signed normal distance and its
+//! carrier angle, the projection of a point on the curve, the signed distance and its
 //! gradient in the design parameters (formulas in the [`crate::fit`] module doc).
 
 use crate::mechanism::{INVERSE_TOL_RAD, Mechanism};
@@ -82,24 +82,21 @@ pub(super) fn project(m: &Mechanism, p: [f64; 2], mut phi: f64) -> (f64, TipEval
     (phi, e)
 }
 
-/// Signed normal distance of `p` from the curve at the projection `e`, and the unit normal.
+/// Signed distance of `p` from the curve at the projection `e` and its unit direction: `|P − B|`
+/// signed by the side of the curve (the tangent's normal), along `(P − B)/|P − B|`. At a converged
+/// projection this is the normal distance; where a projection is not converged (a cusp, where the
+/// tip is at rest and the tangent is undefined) it still is the true distance, never less.
 pub(super) fn normal_residual(e: &TipEval, p: [f64; 2]) -> (f64, [f64; 2]) {
     let r = [p[0] - e.b[0], p[1] - e.b[1]];
-    let vn = e.v[0].hypot(e.v[1]);
     let rn = r[0].hypot(r[1]);
-    // Near a cusp (tip nearly at rest, |B′| below 2 % of |B|'s scale) the tangent is ill-defined:
-    // the residual itself gives the direction (the same at an exact projection).
-    let scale = e.b[0].hypot(e.b[1]).max(1.0);
-    let n = if vn > 0.02 * scale || rn == 0.0 {
-        if vn > 0.0 {
-            [-e.v[1] / vn, e.v[0] / vn]
-        } else {
-            [1.0, 0.0]
-        }
+    let side = -e.v[1] * r[0] + e.v[0] * r[1];
+    let s = if side < 0.0 { -1.0 } else { 1.0 };
+    if rn > 0.0 {
+        (s * rn, [s * r[0] / rn, s * r[1] / rn])
     } else {
-        [r[0] / rn, r[1] / rn]
-    };
-    (n[0] * r[0] + n[1] * r[1], n)
+        let vn = e.v[0].hypot(e.v[1]).max(1e-300);
+        (0.0, [-e.v[1] / vn, e.v[0] / vn])
+    }
 }
 
 /// Jacobian row of the signed distance `d = n·(P − B)` (see the module doc).

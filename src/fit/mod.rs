@@ -12,9 +12,11 @@
 //! ```
 //!
 //! Each point carries its own carrier angle φ_j (the instant the tip passes it), found by projecting
-//! the point on the traced curve (Newton on `(B − P)·B′ = 0`). The residual is the signed normal
-//! distance `d_j = n_j·(P_j − B(φ_j))`; since `P_j − B(φ_j) ⟂ B′(φ_j)` at the projection, its
-//! gradient is `−n_j·∂B/∂p` (no term from φ_j). The derivatives are analytic:
+//! the point on the traced curve (Newton on `(B − P)·B′ = 0`, from the nearest local minima of the
+//! distance to dense curve samples). The residual is the signed distance `d_j = n_j·(P_j − B(φ_j))`
+//! with `n_j = ±(P_j − B(φ_j))/|P_j − B(φ_j)|` (the sign tells the side of the curve); since
+//! `P_j − B(φ_j) ⟂ B′(φ_j)` at the projection, its gradient is `−n_j·∂B/∂p` (no term from φ_j).
+//! The derivatives are analytic:
 //!
 //! ```text
 //! ∂S/∂t = i21(t)/i21(S),       ∂S/∂c = (∂Φ/∂c(t) − ∂Φ/∂c(S)) / i21(S),
@@ -48,7 +50,7 @@ mod curve;
 mod solver;
 
 use crate::mechanism::Mechanism;
-use curve::{initial_angles, nearest_on_polyline, normal_residual, project};
+use curve::{initial_angles, nearest_on_polyline, project};
 use rayon::prelude::*;
 use solver::{COVERAGE_SAMPLES, Lm, to_params, with_order};
 use std::f64::consts::TAU;
@@ -228,7 +230,8 @@ pub fn measure(points: &[[f64; 2]], m: &Mechanism) -> Measured {
     measure_from(m, points, None)
 }
 
-/// [`measure`], also projecting from `tracked` angles (the closer projection wins: near a cusp the
+/// [`measure`], also projecting from `tracked` angles; the distance is the Euclidean one at the
+/// projected angle (never the normal component, which an unconverged projection would understate), (the closer projection wins: near a cusp the
 /// nearest sample and the tracked angle can lead to different local minima).
 fn measure_from(m: &Mechanism, points: &[[f64; 2]], tracked: Option<&[f64]>) -> Measured {
     let fresh = initial_angles(m, points);
@@ -237,11 +240,11 @@ fn measure_from(m: &Mechanism, points: &[[f64; 2]], tracked: Option<&[f64]>) -> 
         .enumerate()
         .map(|(j, p)| {
             let (a, ea) = project(m, *p, fresh[j]);
-            let da = normal_residual(&ea, *p).0.abs();
+            let da = (ea.b[0] - p[0]).hypot(ea.b[1] - p[1]);
             match tracked {
                 Some(t) => {
                     let (b, eb) = project(m, *p, t[j]);
-                    let db = normal_residual(&eb, *p).0.abs();
+                    let db = (eb.b[0] - p[0]).hypot(eb.b[1] - p[1]);
                     if db < da { (b, db) } else { (a, da) }
                 }
                 None => (a, da),
@@ -308,10 +311,14 @@ pub fn minimax(points: &[[f64; 2]], fitted: Fitted, opts: &FitOptions) -> Fitted
             .step_by(stride)
             .map(|d| ((d / dmax).powf(p - 2.0)).max(1e-6).sqrt())
             .collect();
+        let pass = FitOptions {
+            max_iterations: opts.max_iterations.min(MINIMAX_ITERATIONS),
+            ..opts.clone()
+        };
         let lm = Lm {
             pts: &sub,
             k,
-            opts,
+            opts: &pass,
             weights: Some(&w),
         };
         let mut phis: Vec<f64> = phis_all.iter().step_by(stride).copied().collect();
@@ -328,6 +335,9 @@ pub fn minimax(points: &[[f64; 2]], fitted: Fitted, opts: &FitOptions) -> Fitted
     }
     best
 }
+
+/// Levenberg–Marquardt iterations per reweighting pass of [`minimax`].
+const MINIMAX_ITERATIONS: usize = 15;
 
 /// Every `stride`-th point, so that at most `opts.max_points` drive the iterations.
 fn subsample(points: &[[f64; 2]], opts: &FitOptions) -> (usize, Vec<[f64; 2]>) {

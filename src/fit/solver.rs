@@ -30,12 +30,8 @@ pub(super) fn from_params(p: &[f64], k: usize) -> Mechanism {
 
 /// The same ratio at order `k` (truncated or padded with zeros).
 pub(super) fn with_order(m: &Mechanism, k: usize) -> Mechanism {
-    let mut a = m.ratio.cos_coefficients().to_vec();
-    let mut b = m.ratio.sin_coefficients().to_vec();
-    a.resize(k, 0.0);
-    b.resize(k, 0.0);
     Mechanism {
-        ratio: SunRatio::new_unchecked(a, b),
+        ratio: m.ratio.with_order(k),
         ..m.clone()
     }
 }
