@@ -362,12 +362,11 @@ pub fn invert_increasing(
     tol: f64,
 ) -> f64 {
     let mut x = guess.clamp(lo, hi);
-    // Safeguarded Newton (Numerical Recipes' rtsafe): a Newton step is taken only when it lands
-    // inside the bracket and the residual is shrinking fast enough (|2r| ≤ |previous step·f′|);
-    // otherwise bisect. Without the second test, Newton can ping-pong between the two ends of a
-    // bracket that shrinks by a hair per step and stop unconverged.
-    let mut step_old = hi - lo;
-    let mut step = step_old;
+    // Newton, with bisection when the step leaves the bracket or when the residual did not at
+    // least halve since the last step: plain Newton can ping-pong between the two ends of a
+    // bracket that shrinks by a hair per step and stop unconverged. Where Newton converges
+    // normally (the residual falls quadratically) the path is plain Newton.
+    let mut r_prev = f64::INFINITY;
     for _ in 0..200 {
         let (fx, dfx) = f(x);
         let r = fx - y;
@@ -376,20 +375,16 @@ pub fn invert_increasing(
         } else {
             lo = x;
         }
-        let newton = if dfx > 0.0 && dfx.is_finite() {
+        let mut next = if dfx > 0.0 && dfx.is_finite() {
             x - r / dfx
         } else {
             f64::NAN
         };
-        let next = if newton > lo && newton < hi && 2.0 * r.abs() <= (step_old * dfx).abs() {
-            step_old = step;
-            newton
-        } else {
-            step_old = step;
-            0.5 * (lo + hi)
-        };
-        step = next - x;
-        if step.abs() <= tol || (hi - lo) <= tol {
+        if !(next > lo && next < hi) || r.abs() > 0.5 * r_prev {
+            next = 0.5 * (lo + hi);
+        }
+        r_prev = r.abs();
+        if (next - x).abs() <= tol || (hi - lo) <= tol {
             return next;
         }
         x = next;
