@@ -21,6 +21,7 @@ pub mod analysis;
 pub mod animate;
 pub mod assembly;
 pub mod compat;
+pub mod config;
 pub mod design;
 pub mod export;
 pub mod fit;
