@@ -1,7 +1,7 @@
 //! Benchmarks of the design chain (divan). Run: `cargo bench --bench design`.
 //! The accuracy-vs-time table of the README comes from `cargo run --release --example accuracy -- design`.
+use ncgear::design::trajectory::Trajectory;
 use ncgear::design::{DesignOptions, RefineMode, design};
-use ncgear::trajectory::Trajectory;
 
 fn main() {
     divan::main();
@@ -44,7 +44,7 @@ fn designer_with_refinement(b: divan::Bencher) {
 /// chord tolerance 1e-3·m, with `steps` verified carrier positions per mesh (0 = none).
 #[divan::bench(args = [0, 12], sample_count = 5)]
 fn teeth_g1_module_2(b: divan::Bencher, steps: usize) {
-    use ncgear::train::{TrainTeethOptions, tooth_train};
+    use ncgear::design::train::{TrainTeethOptions, tooth_train};
     let d = design(&load("g1_ellipse.csv"), &DesignOptions::default()).expect("G1");
     let mut opts = TrainTeethOptions::new(2.0);
     opts.verify_steps = steps;

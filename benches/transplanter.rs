@@ -3,8 +3,8 @@
 //! turn, and the linear Monte Carlo per 1000 samples. Run: `cargo bench --bench transplanter`.
 use ncgear::analysis::montecarlo::McOptions;
 use ncgear::analysis::transplanter::{ErrorInventory, ExactModel, FdSteps, Inventory, LinearModel};
-use ncgear::assembly::Assembly;
-use ncgear::golden::g1_mechanism;
+use ncgear::geometry::assembly::Assembly;
+use ncgear::geometry::golden::g1_mechanism;
 
 fn main() {
     divan::main();

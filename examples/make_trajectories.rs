@@ -9,12 +9,12 @@
 //!   (250, 400) mm, 720 points, JSON format — exactly traceable.
 //!
 //! Run: `cargo run --release --example make_trajectories`
-use ncgear::mechanism::Mechanism;
+use ncgear::geometry::mechanism::Mechanism;
 use std::f64::consts::TAU;
 use std::fmt::Write as _;
 
 fn g1() -> Mechanism {
-    ncgear::golden::g1_mechanism()
+    ncgear::geometry::golden::g1_mechanism()
 }
 
 fn main() -> std::io::Result<()> {
@@ -45,7 +45,7 @@ fn main() -> std::io::Result<()> {
     std::fs::write(dir.join("designer_kidney.csv"), s)?;
 
     // G4-type asymmetric sun, mirrored (clockwise carrier), offset centre.
-    let ratio = ncgear::golden::g4_ratio();
+    let ratio = ncgear::geometry::golden::g4_ratio();
     let m4 = Mechanism {
         a_mm: 42.0,
         l3_mm: 165.0,

@@ -103,7 +103,11 @@ impl Source {
 ///
 /// # Errors
 /// [`ConfigError::Parse`] with the parser's message (key, and line for TOML).
-pub fn parse<T: DeserializeOwned>(text: &str, file: &str, format: Format) -> Result<T, ConfigError> {
+pub fn parse<T: DeserializeOwned>(
+    text: &str,
+    file: &str,
+    format: Format,
+) -> Result<T, ConfigError> {
     let parsed = match format {
         Format::Json => serde_json::from_str(text).map_err(|e| e.to_string()),
         Format::Toml => toml::from_str(text).map_err(|e| e.to_string()),

@@ -18,25 +18,12 @@
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
 pub mod analysis;
-pub mod animate;
-pub mod assembly;
-pub mod compat;
 pub mod config;
 pub mod design;
 pub mod export;
-pub mod fit;
-pub mod fourier;
-pub mod golden;
-pub mod inverse;
-pub mod mechanism;
-pub mod outputs;
+pub mod geometry;
+pub mod math;
+pub mod output;
 pub mod pair;
-pub mod periodic;
-pub mod pitch;
-pub mod plot;
-pub mod refine;
-pub mod segmented;
 pub mod simulate;
 pub mod teeth;
-pub mod train;
-pub mod trajectory;

@@ -2,7 +2,7 @@
 //! dynamic trajectory and the agronomic features (spec §2).
 //!
 //! The design file is read through the documented `design.json` conventions only (see
-//! [`crate::assembly`]), so files written by other tools work too: `l3`, `center_distance`,
+//! [`crate::geometry::assembly`]), so files written by other tools work too: `l3`, `center_distance`,
 //! `needle_angle_deg`, `carrier`, `gears.{sun,intermediate,planet}.pitch` and the two
 //! `angle_at_zero_deg`. Unknown fields are ignored (design.json carries many report fields).
 //!
@@ -27,8 +27,8 @@
 //! - **minimum clearance between the two arms**: the smallest distance over one turn between the
 //!   needle segments `A1B1` and `A2B2`, mm.
 
-use crate::assembly::{Assembly, Pose, Rebuilt};
-use crate::pitch::PitchCurve;
+use crate::geometry::assembly::{Assembly, Pose, Rebuilt};
+use crate::geometry::pitch::PitchCurve;
 use serde::{Deserialize, Serialize};
 use std::f64::consts::{PI, TAU};
 use std::path::Path;
@@ -279,10 +279,10 @@ impl Simulation {
         }
     }
 
-    /// The toothed train of [`crate::train::tooth_train`]: its (scaled) assembly, with the gear
+    /// The toothed train of [`crate::design::train::tooth_train`]: its (scaled) assembly, with the gear
     /// outlines drawn by the animation (simplified to a chord tolerance of 0.01·m).
     #[must_use]
-    pub fn toothed(train: &crate::train::ToothedTrain) -> Self {
+    pub fn toothed(train: &crate::design::train::ToothedTrain) -> Self {
         let tol = 0.01 * train.report.module_mm;
         let simple = |o: &crate::teeth::Outline| crate::export::simplify_closed(&o.points_mm, tol);
         Self {
@@ -420,7 +420,7 @@ pub struct Features {
 }
 
 fn seg_seg(p1: [f64; 2], p2: [f64; 2], q1: [f64; 2], q2: [f64; 2]) -> f64 {
-    let pd = crate::assembly::seg_dist;
+    let pd = crate::geometry::assembly::seg_dist;
     let cross = |o: [f64; 2], a: [f64; 2], b: [f64; 2]| {
         (a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0])
     };
@@ -596,5 +596,5 @@ pub fn features_of_turn(
 /// Distance from each point to a closed polyline, mm.
 #[must_use]
 pub fn deviation_along(points: &[[f64; 2]], target: &[[f64; 2]]) -> Vec<f64> {
-    crate::assembly::distances_to_polyline(points, target)
+    crate::geometry::assembly::distances_to_polyline(points, target)
 }

@@ -1,15 +1,15 @@
 //! Design chain: every knob of spec §13 that trades accuracy for time, measured against references
 //! (closed forms of the G1 mechanism, the best achievable deviation of the designer-style target).
 use super::{Row, timed};
+use ncgear::design::inverse::{InverseOptions, invert};
+use ncgear::design::refine::RefineOptions;
+use ncgear::design::trajectory::{Origin, Trajectory};
 use ncgear::design::{DesignOptions, RefineMode, design};
-use ncgear::inverse::{InverseOptions, invert};
-use ncgear::mechanism::Mechanism;
-use ncgear::refine::RefineOptions;
-use ncgear::trajectory::{Origin, Trajectory};
+use ncgear::geometry::mechanism::Mechanism;
 use std::f64::consts::TAU;
 
 fn g1() -> Mechanism {
-    ncgear::golden::g1_mechanism()
+    ncgear::geometry::golden::g1_mechanism()
 }
 
 fn traj(points: Vec<[f64; 2]>) -> Trajectory {

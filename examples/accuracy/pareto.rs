@@ -2,7 +2,7 @@
 //! `knob,value,measure,error,time_ms`): log10 error against log10 time, one series per knob,
 //! points joined in sweep order. Writes `assets/accuracy/pareto.{png,svg}` (every knob) and
 //! `assets/accuracy/pareto_<area>.{png,svg}` (one per CSV, readable legends).
-use ncgear::plot::{ChartLabels, Series, line_chart};
+use ncgear::output::plot::{ChartLabels, Series, line_chart};
 use std::path::Path;
 
 /// One knob's line: (knob, [(log10 ms, log10 error)]).

@@ -6,8 +6,8 @@
 //! 28 800-sample pitch curve) and the error is the Hausdorff distance between the outlines
 //! (the pitch-curve sample rows use chord 1e-5 mm, so their floor is ≈ 1e-5 mm).
 use super::{Row, timed};
-use ncgear::assembly::{distances_to_polyline, hausdorff_mm};
-use ncgear::pitch::PitchCurve;
+use ncgear::geometry::assembly::{distances_to_polyline, hausdorff_mm};
+use ncgear::geometry::pitch::PitchCurve;
 use ncgear::teeth::{
     Outline, OutlineOptions, RackParams, ToothPolicy, generate_outline, scale_curve, tooth_count,
 };
@@ -30,7 +30,7 @@ fn involute_flank(r0: f64, z: u32, m: f64, n: usize) -> Vec<[f64; 2]> {
 }
 
 fn g1_sun(samples: usize, module_mm: f64) -> (PitchCurve, u32) {
-    let c = ncgear::golden::g1_mechanism()
+    let c = ncgear::geometry::golden::g1_mechanism()
         .sun_curve(samples)
         .expect("G1 sun");
     let tc = tooth_count(&c, module_mm, ToothPolicy::Nearest, 1e-10).expect("tooth count");

@@ -1,11 +1,11 @@
 //! `ncgear design TRAJ --out DIR`.
 use super::teeth_args::RackArgs;
 use super::{CliResult, input_error, print_json, progress_bar, runtime_error};
+use ncgear::design::segmented::Route;
+use ncgear::design::train::{TrainError, TrainPolicy, TrainTeethOptions, tooth_design};
+use ncgear::design::trajectory::Trajectory;
 use ncgear::design::{DesignError, DesignOptions, RefineMode, design};
-use ncgear::segmented::Route;
 use ncgear::teeth::ToothPolicy;
-use ncgear::train::{TrainError, TrainPolicy, TrainTeethOptions, tooth_design};
-use ncgear::trajectory::Trajectory;
 use std::path::PathBuf;
 
 /// Arguments of `ncgear design`.
@@ -183,13 +183,13 @@ pub fn run(args: Args) -> CliResult {
             let mut t = match toothed(&args, &d, m) {
                 Ok(t) => t,
                 Err(e) => {
-                    ncgear::outputs::write_design(&d, &args.out)
+                    ncgear::output::files::write_design(&d, &args.out)
                         .map_err(|e| runtime_error(miette::miette!("{e}")))?;
                     return Err(e);
                 }
             };
             teeth_files =
-                ncgear::outputs::write_teeth(&mut t, &args.out, args.rack.dxf_version.into())
+                ncgear::output::files::write_teeth(&mut t, &args.out, args.rack.dxf_version.into())
                     .map_err(|e| runtime_error(miette::miette!("{e}")))?;
             d.report.teeth = Some(
                 serde_json::to_value(&t.report)
@@ -199,7 +199,7 @@ pub fn run(args: Args) -> CliResult {
         }
         None => None,
     };
-    let mut written = ncgear::outputs::write_design(&d, &args.out)
+    let mut written = ncgear::output::files::write_design(&d, &args.out)
         .map_err(|e| runtime_error(miette::miette!("{e}")))?;
     written.extend(teeth_files);
     if args.json {
@@ -295,7 +295,7 @@ fn toothed(
     args: &Args,
     d: &ncgear::design::Design,
     module_mm: f64,
-) -> Result<ncgear::train::ToothedTrain, super::Failure> {
+) -> Result<ncgear::design::train::ToothedTrain, super::Failure> {
     let mut opts = TrainTeethOptions::new(module_mm);
     opts.verify_steps = args.verify_steps;
     args.rack

@@ -1,7 +1,7 @@
 //! `ncgear dynamics`: thin shell over `ncgear::analysis::dynamics`.
 use super::{CliResult, input_error, print_json, progress_bar, runtime_error};
 use ncgear::analysis::dynamics::{self as dy, DynamicsError, RunOptions, Scene};
-use ncgear::plot::{ChartLabels, Series, line_chart};
+use ncgear::output::plot::{ChartLabels, Series, line_chart};
 use std::path::{Path, PathBuf};
 
 /// Arguments of `ncgear dynamics`.
@@ -285,7 +285,7 @@ pub fn run(args: Args) -> CliResult {
     )?;
     // phase plane (spectral derivative over the integer-period record) and Poincaré section
     let t_rec = model.mesh.t0 * f64::from(opts.record_mesh_periods);
-    let rate: Vec<f64> = ncgear::periodic::spectral_derivative(&run.dte_m)
+    let rate: Vec<f64> = ncgear::math::periodic::spectral_derivative(&run.dte_m)
         .iter()
         .map(|d| d * 2.0 * std::f64::consts::PI / t_rec)
         .collect();
@@ -309,7 +309,7 @@ pub fn run(args: Args) -> CliResult {
     )?;
     // spectrum
     if scene.output.spectrum {
-        let c = ncgear::periodic::fft_coefficients(&run.dte_m);
+        let c = ncgear::math::periodic::fft_coefficients(&run.dte_m);
         let df = 1.0 / t_rec;
         let spectrum = c
             .iter()

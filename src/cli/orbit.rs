@@ -9,7 +9,7 @@ use ncgear::analysis::orbit::model::{
     GearSpeeds, Line, LineKind, ModelParams, PlanetSet, rpm_to_rad_s,
 };
 use ncgear::analysis::orbit::{C64, Ellipse, Orbit, OrbitError};
-use ncgear::plot::{ChartLabels, Series, line_chart};
+use ncgear::output::plot::{ChartLabels, Series, line_chart};
 use serde_json::{Value, json};
 use std::path::{Path, PathBuf};
 

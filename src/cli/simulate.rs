@@ -1,10 +1,10 @@
 //! `ncgear simulate DESIGN.json --out DIR`.
 use super::{CliResult, input_error, print_json, runtime_error};
-use ncgear::animate::AnimationOptions;
+use ncgear::design::train::{TrainPolicy, TrainTeethOptions, tooth_train};
+use ncgear::design::trajectory::Trajectory;
+use ncgear::output::animate::AnimationOptions;
 use ncgear::simulate::{DesignFile, FeatureOptions, SimulateError, Simulation};
 use ncgear::teeth::ToothPolicy;
-use ncgear::train::{TrainPolicy, TrainTeethOptions, tooth_train};
-use ncgear::trajectory::Trajectory;
 use std::path::PathBuf;
 
 /// Arguments of `ncgear simulate`.
@@ -115,7 +115,7 @@ pub fn run(args: Args) -> CliResult {
         }
         None => Simulation::new(asm),
     };
-    let report = ncgear::outputs::write_simulation(&sim, &target, &opts, &anim, &args.out)
+    let report = ncgear::output::files::write_simulation(&sim, &target, &opts, &anim, &args.out)
         .map_err(|e| match e {
             SimulateError::BadOption { option: "out", .. } => runtime_error(miette::miette!("{e}")),
             _ => input(e),

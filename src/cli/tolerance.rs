@@ -6,7 +6,7 @@ use ncgear::analysis::tolerance::{ErrorFile, analyse};
 use ncgear::analysis::transplanter::{
     self, ErrorInventory, TransplanterOptions, TransplanterReport,
 };
-use ncgear::plot::{ChartLabels, Series, line_chart};
+use ncgear::output::plot::{ChartLabels, Series, line_chart};
 use ncgear::simulate::DesignFile;
 use std::path::{Path, PathBuf};
 
@@ -188,7 +188,7 @@ fn run_transplanter(args: &Args, inventory: &Path) -> CliResult {
 }
 
 fn transplanter_plots(r: &TransplanterReport, out: &Path) -> CliResult {
-    let plot_err = |e: ncgear::plot::PlotError| runtime_error(miette::miette!("{e}"));
+    let plot_err = |e: ncgear::output::plot::PlotError| runtime_error(miette::miette!("{e}"));
     let n = r.envelope.len().max(1);
     let x = |i: usize| 360.0 * i as f64 / n as f64;
     let mut series = vec![

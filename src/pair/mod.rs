@@ -11,8 +11,8 @@ pub mod expr;
 pub use expr::{Expr, ExprError};
 
 use crate::export::{Contour, Marker, Sheet};
-use crate::periodic::{PeriodicSpline, invert_increasing, spectral_integral, uniform_angles};
-use crate::pitch::PitchCurve;
+use crate::geometry::pitch::PitchCurve;
+use crate::math::periodic::{PeriodicSpline, invert_increasing, spectral_integral, uniform_angles};
 use crate::teeth::mesh::{MeshCheck, MeshReport, verify_mesh};
 use crate::teeth::{
     ArcFrame, Outline, OutlineOptions, RackParams, TeethError, UndercutReport, outline,
@@ -314,7 +314,7 @@ impl Motion {
                 a_mm / (1.0 + self.ratio(phi))
             })
             .collect();
-        let bad = |e: crate::pitch::PitchError| PairError::Law(e.to_string());
+        let bad = |e: crate::geometry::pitch::PitchError| PairError::Law(e.to_string());
         Ok((
             PitchCurve::from_uniform_radii(r1).map_err(bad)?,
             PitchCurve::from_uniform_radii(r2).map_err(bad)?,

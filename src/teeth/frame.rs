@@ -1,6 +1,6 @@
 //! Arc-length frame of a pitch curve (spec §12.2): `P(s)`, unit tangent `T(s)`, outward normal
 //! `N(s) = (T_y, −T_x)`, curvature `κ(s)` (> 0 convex), `s ∈ [0, L)` CCW from body angle 0.
-use crate::pitch::PitchCurve;
+use crate::geometry::pitch::PitchCurve;
 use std::f64::consts::TAU;
 
 /// Arc-length parametrisation of a [`PitchCurve`] (mm).
@@ -48,7 +48,11 @@ impl ArcFrame {
             theta.push(th);
             s.push(acc);
             dtheta.push(1.0 / curve.geometry(th).speed_mm());
-            acc += crate::pitch::gauss_legendre5(|t| curve.geometry(t).speed_mm(), th, th + h);
+            acc += crate::geometry::pitch::gauss_legendre5(
+                |t| curve.geometry(t).speed_mm(),
+                th,
+                th + h,
+            );
         }
         let length = s[n];
         Self {

@@ -24,7 +24,7 @@ pub mod outline;
 pub use outline::{Outline, OutlineOptions, generate_outline};
 pub use rack::RackParams;
 
-use crate::pitch::PitchCurve;
+use crate::geometry::pitch::PitchCurve;
 use serde::Serialize;
 
 /// Errors of tooth generation.
@@ -118,7 +118,7 @@ pub struct ToothCount {
 /// `accuracy_mm` is the perimeter accuracy. Errors if the module is not positive/finite or z < 3.
 ///
 /// ```
-/// use ncgear::pitch::PitchCurve;
+/// use ncgear::geometry::pitch::PitchCurve;
 /// use ncgear::teeth::{ToothPolicy, tooth_count};
 /// // A circle of radius 22.5 mm at m = 2: L/(πm) = 22.5, scaled up to z = 23.
 /// let circle = PitchCurve::from_uniform_radii(vec![22.5; 256]).unwrap();
@@ -168,7 +168,7 @@ pub fn tooth_count(
 pub fn scale_curve(
     curve: &PitchCurve,
     factor: f64,
-) -> Result<PitchCurve, crate::pitch::PitchError> {
+) -> Result<PitchCurve, crate::geometry::pitch::PitchError> {
     PitchCurve::from_uniform_radii(curve.radii_mm().iter().map(|r| r * factor).collect())
 }
 

@@ -13,7 +13,7 @@
 //! Each point maps to the body frame by `P(s) + (ξ − s)T(s) + ηN(s)`.
 use super::frame::{ArcFrame, FramePoint};
 use super::{FlankUndercut, RackParams, TeethError, UndercutReport};
-use crate::pitch::PitchCurve;
+use crate::geometry::pitch::PitchCurve;
 use serde::Serialize;
 
 /// Options of [`generate_outline`].

@@ -1,12 +1,12 @@
 //! The design chain: golden numbers of spec §11, round trips, designer-style targets, errors.
-use ncgear::compat;
+use ncgear::design::compat;
+use ncgear::design::inverse::{InverseError, InverseOptions, NeedleLaw, invert};
+use ncgear::design::segmented::SegmentedOptions;
+use ncgear::design::trajectory::{Origin, Trajectory};
 use ncgear::design::{DesignOptions, RefineMode, design};
-use ncgear::fourier::SunRatio;
-use ncgear::inverse::{InverseError, InverseOptions, NeedleLaw, invert};
-use ncgear::mechanism::Mechanism;
-use ncgear::pitch::{PitchCurve, conjugate_center_distance};
-use ncgear::segmented::SegmentedOptions;
-use ncgear::trajectory::{Origin, Trajectory};
+use ncgear::geometry::fourier::SunRatio;
+use ncgear::geometry::mechanism::Mechanism;
+use ncgear::geometry::pitch::{PitchCurve, conjugate_center_distance};
 use std::f64::consts::{PI, TAU};
 
 const G1_CSV: &str = include_str!("../data/G1_trajectory_360.csv");
@@ -20,7 +20,7 @@ const G1_I31: [f64; 7] = [
 
 /// The G1 mechanism of spec §11: a = 45, l3 = 170, β_init = −70°, far vertex faces D at φH = 0.
 fn g1_mechanism() -> Mechanism {
-    ncgear::golden::g1_mechanism()
+    ncgear::geometry::golden::g1_mechanism()
 }
 
 fn g1_closed_psi3(t: f64) -> f64 {
@@ -206,7 +206,7 @@ fn g3_pi_periodic_ratio_translates_the_needle() {
 
 #[test]
 fn g4_asymmetric_sun_is_compatible_with_known_origins() {
-    let raw = ncgear::golden::g4_ratio();
+    let raw = ncgear::geometry::golden::g4_ratio();
     let m = Mechanism {
         a_mm: 45.0,
         l3_mm: 170.0,

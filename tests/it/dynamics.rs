@@ -327,7 +327,7 @@ fn free_vibration_peaks_match_eigenvalues_4dof() {
         .enumerate()
         .map(|(i, v)| v * (0.5 - 0.5 * (2.0 * std::f64::consts::PI * i as f64 / ns as f64).cos()))
         .collect();
-    let c = ncgear::periodic::fft_coefficients(&w);
+    let c = ncgear::math::periodic::fft_coefficients(&w);
     let mag: Vec<f64> = c.iter().map(|z| z.norm().max(1e-300).ln()).collect();
     let df = 1.0 / (dt * ns as f64);
     for &fe in &f[1..] {

@@ -9,21 +9,21 @@ mod fuzz;
 mod mechanisms;
 mod teeth;
 
+use ncgear::design::inverse::{InverseError, InverseOptions, invert};
+use ncgear::design::trajectory::{Origin, Trajectory};
 use ncgear::design::{DesignError, DesignOptions, design};
-use ncgear::fourier::SunRatio;
-use ncgear::inverse::{InverseError, InverseOptions, invert};
-use ncgear::mechanism::Mechanism;
-use ncgear::trajectory::{Origin, Trajectory};
+use ncgear::geometry::fourier::SunRatio;
+use ncgear::geometry::mechanism::Mechanism;
 use proptest::prelude::*;
 use rand::SeedableRng;
 use rand_distr::{Distribution, Normal};
 use std::f64::consts::TAU;
 
 fn g1() -> Mechanism {
-    ncgear::golden::g1_mechanism()
+    ncgear::geometry::golden::g1_mechanism()
 }
 
-fn traj(points: Vec<[f64; 2]>) -> Result<Trajectory, ncgear::trajectory::TrajectoryError> {
+fn traj(points: Vec<[f64; 2]>) -> Result<Trajectory, ncgear::design::trajectory::TrajectoryError> {
     let o: Vec<Origin> = (0..points.len()).map(Origin::Index).collect();
     Trajectory::new(points, &o, "generated")
 }

@@ -1,7 +1,7 @@
 //! `ncgear simulate`: forward kinematics from tables, both arms, features, animation, errors.
-use ncgear::assembly::Assembly;
-use ncgear::fourier::SunRatio;
-use ncgear::mechanism::Mechanism;
+use ncgear::geometry::assembly::Assembly;
+use ncgear::geometry::fourier::SunRatio;
+use ncgear::geometry::mechanism::Mechanism;
 use ncgear::simulate::{DesignFile, FeatureOptions, SimulateError, Simulation, features};
 use std::f64::consts::{PI, TAU};
 

@@ -1,11 +1,11 @@
 //! The SVG exports render in an independent SVG engine (resvg, issue 3): the document size is the
 //! sheet's size in mm, and the drawn pixels lie on the outlines (1 SVG unit = 1 mm, y up in the
 //! sheet, y down in SVG), not elsewhere.
+use ncgear::design::train::{TrainTeethOptions, tooth_train};
+use ncgear::design::trajectory::Trajectory;
 use ncgear::design::{DesignOptions, design};
 use ncgear::export::Sheet;
 use ncgear::export::svg::to_svg_string;
-use ncgear::train::{TrainTeethOptions, tooth_train};
-use ncgear::trajectory::Trajectory;
 
 /// CSS pixels per mm (usvg resolves `mm` at 96 dpi).
 const PX_PER_MM: f64 = 96.0 / 25.4;

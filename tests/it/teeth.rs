@@ -2,8 +2,8 @@
 use ncgear::export::dxf::{DxfVersion, write_dxf};
 use ncgear::export::points::write_points;
 use ncgear::export::svg::write_svg;
+use ncgear::geometry::pitch::PitchCurve;
 use ncgear::pair::{Expr, Law, Motion, PairOptions, design_pair};
-use ncgear::pitch::PitchCurve;
 use ncgear::teeth::overlap::first_self_intersection;
 use ncgear::teeth::{
     OutlineOptions, RackParams, TeethError, ToothPolicy, generate_outline, scale_curve, tooth_count,

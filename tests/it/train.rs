@@ -1,8 +1,10 @@
 //! `ncgear design --module`: teeth on the designed planetary train (issue 3 on the design chain).
+use ncgear::design::train::{
+    Gear, TrainError, TrainPolicy, TrainTeethOptions, tooth_design, tooth_train,
+};
+use ncgear::design::trajectory::Trajectory;
 use ncgear::design::{Design, DesignOptions, design};
 use ncgear::teeth::{TeethError, ToothPolicy};
-use ncgear::train::{Gear, TrainError, TrainPolicy, TrainTeethOptions, tooth_design, tooth_train};
-use ncgear::trajectory::Trajectory;
 use std::f64::consts::PI;
 use std::path::PathBuf;
 use std::process::Command;

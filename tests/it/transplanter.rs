@@ -3,8 +3,8 @@
 use ncgear::analysis::montecarlo::McOptions;
 use ncgear::analysis::tolerance::{ToleranceError, phasor_sum};
 use ncgear::analysis::transplanter::*;
-use ncgear::assembly::Assembly;
-use ncgear::golden::{ellipse_ratio, g1_mechanism};
+use ncgear::geometry::assembly::Assembly;
+use ncgear::geometry::golden::{ellipse_ratio, g1_mechanism};
 use ncgear::simulate::{FeatureOptions, Simulation, features};
 use rand::SeedableRng;
 use rand::rngs::ChaCha8Rng;

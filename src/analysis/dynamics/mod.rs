@@ -225,7 +225,7 @@ impl Run {
     /// Largest non-harmonic line of the DTE spectrum (not at a multiple of f_mesh), m.
     #[must_use]
     pub fn dte_non_harmonic(&self) -> f64 {
-        let c = crate::periodic::fft_coefficients(&self.dte_m);
+        let c = crate::math::periodic::fft_coefficients(&self.dte_m);
         let p = self.dte_m.len() / self.samples_per_mesh as usize;
         c.iter()
             .enumerate()
@@ -254,7 +254,7 @@ fn min_max(v: &[f64]) -> (f64, f64) {
 /// integer number of periods: `A_0 = mean`, `A_k = 2|c_{kP}|`.
 #[must_use]
 pub fn harmonics(y: &[f64], spp: usize, kmax: usize) -> Vec<f64> {
-    let c = crate::periodic::fft_coefficients(y);
+    let c = crate::math::periodic::fft_coefficients(y);
     let p = y.len() / spp.max(1);
     (0..=kmax)
         .map(|k| {

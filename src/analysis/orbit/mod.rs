@@ -141,7 +141,7 @@ pub struct Orbit {
     pub z_minus_um: C64,
 }
 
-pub(crate) use crate::periodic::wrap_pi;
+pub(crate) use crate::math::periodic::wrap_pi;
 
 /// Wraps an angle to (−π/2, π/2] (axis directions, defined mod π).
 pub(crate) fn wrap_half_pi(a: f64) -> f64 {

@@ -9,8 +9,8 @@ use super::{
 };
 use crate::analysis::montecarlo::{self, McError, McOptions, McStats};
 use crate::analysis::tolerance::{ARCSEC_PER_RAD, nelder_mead_starts};
-use crate::assembly::{Assembly, Pose};
-use crate::periodic::wrap_pi;
+use crate::geometry::assembly::{Assembly, Pose};
+use crate::math::periodic::wrap_pi;
 use crate::simulate::{FeatureOptions, Features, TwoArms, features_of_turn};
 use argmin::core::CostFunction;
 use nalgebra::DVector;

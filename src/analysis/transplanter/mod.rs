@@ -1,7 +1,7 @@
 //! Tolerance analysis of the non-circular planetary transplanting mechanism (companion spec C.6):
 //! `ncgear tolerance DESIGN.json --errors ERRORS`.
 //!
-//! One arm (sun 1, intermediate 2, planet 3, needle) of a designed train ([`crate::assembly`]) is
+//! One arm (sun 1, intermediate 2, planet 3, needle) of a designed train ([`crate::geometry::assembly`]) is
 //! rebuilt with manufacturing and assembly errors and solved **exactly** mesh by mesh
 //! ([`model::ExactModel`]); a **linear sensitivity model** ([`model::LinearModel`]) is built from it
 //! by central finite differences on a φH grid, validated against the exact model at 3σ and used
@@ -31,8 +31,8 @@
 //! 1. the meshing tooth: the driver parameter `v` whose perturbed pitch point `W_a(v)` lies on the
 //!    (perturbed) line of centres `C_a C_b` (1-D Newton, so the contact point moves with the
 //!    errors); the driven tooth is the nominal tooth correspondence `w = m(v)` (equal arc lengths,
-//!    from the design tables: [`crate::assembly::Rebuilt::ccw_sun_to_intermediate`],
-//!    [`crate::assembly::Rebuilt::ccw_intermediate_to_planet`]);
+//!    from the design tables: [`crate::geometry::assembly::Rebuilt::ccw_sun_to_intermediate`],
+//!    [`crate::geometry::assembly::Rebuilt::ccw_intermediate_to_planet`]);
 //! 2. line of action through `W_a`: `N = σ·cos α·t + sin α·n` (t the driver's pitch tangent, n the
 //!    normal towards b, α the pressure angle, σ = ±1 the loaded flank);
 //! 3. the driven angle θ_b solves the flank condition `(W_b(w; θ_b) − W_a)·N = j/2`: the two flanks,

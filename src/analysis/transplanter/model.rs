@@ -4,9 +4,9 @@
 use super::{
     ARM, BACKLASH, ErrorVector, N_COORDS, PIN_A, PIN_D, TransplanterError, clock_index, ecc_index,
 };
-use crate::assembly::{Assembly, Rebuilt};
-use crate::periodic::wrap_pi;
-use crate::pitch::PitchCurve;
+use crate::geometry::assembly::{Assembly, Rebuilt};
+use crate::geometry::pitch::PitchCurve;
+use crate::math::periodic::wrap_pi;
 use rayon::prelude::*;
 use std::f64::consts::{FRAC_PI_2, PI, TAU};
 

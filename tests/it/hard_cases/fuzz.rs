@@ -11,9 +11,9 @@ use ncgear::analysis::orbit::measure::{Extractor, Record};
 use ncgear::analysis::orbit::model::ModelParams;
 use ncgear::analysis::peak::PeakOptions;
 use ncgear::analysis::tolerance::{Analysis, ErrorFile};
+use ncgear::design::trajectory::Trajectory;
 use ncgear::pair::{Expr, Law, Motion};
 use ncgear::simulate::DesignFile;
-use ncgear::trajectory::Trajectory;
 use proptest::prelude::*;
 use proptest::test_runner::{RngSeed, TestCaseError};
 use std::sync::OnceLock;
@@ -94,7 +94,7 @@ fn design_json() -> &'static str {
         let d = ncgear::design::design(&t, &ncgear::design::DesignOptions::default()).expect("G1");
         let dir = std::env::temp_dir().join(format!("ncgear_fuzz_{}", std::process::id()));
         let _ = std::fs::create_dir_all(&dir);
-        ncgear::outputs::write_design(&d, &dir).expect("write");
+        ncgear::output::files::write_design(&d, &dir).expect("write");
         let text = std::fs::read_to_string(dir.join("design.json")).expect("design.json");
         let _ = std::fs::remove_dir_all(&dir);
         text

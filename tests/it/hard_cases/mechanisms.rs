@@ -1,11 +1,11 @@
 //! Hard cases of the design chain (issue 8, item 3): random traceable mechanisms (random closed
 //! Fourier suns up to the ratio bounds), trajectories with loops and near-tangencies, extreme
 //! ratios and non-finite options. Each asserts a bounded result or a typed error.
+use ncgear::design::inverse::InverseError;
+use ncgear::design::trajectory::{Origin, Trajectory};
 use ncgear::design::{DesignError, DesignOptions, design};
-use ncgear::fourier::SunRatio;
-use ncgear::inverse::InverseError;
-use ncgear::mechanism::Mechanism;
-use ncgear::trajectory::{Origin, Trajectory};
+use ncgear::geometry::fourier::SunRatio;
+use ncgear::geometry::mechanism::Mechanism;
 use proptest::prelude::*;
 use proptest::test_runner::RngSeed;
 use std::f64::consts::{PI, TAU};
@@ -24,7 +24,7 @@ fn ellipse_mechanism(e: f64) -> Mechanism {
     Mechanism {
         a_mm: 45.0,
         l3_mm: 170.0,
-        ratio: ncgear::golden::ellipse_ratio(e),
+        ratio: ncgear::geometry::golden::ellipse_ratio(e),
         sun_phase_rad: 0.0,
         needle_angle_rad: (-70f64).to_radians(),
     }
@@ -223,7 +223,7 @@ fn extreme_ratios_design_exactly_or_report_the_span() {
 /// panic or a NaN in the report.
 #[test]
 fn non_finite_design_options_are_typed_errors() {
-    let t = traced(&ncgear::golden::g1_mechanism(), 360);
+    let t = traced(&ncgear::geometry::golden::g1_mechanism(), 360);
     type Setter = fn(&mut DesignOptions, f64);
     let setters: [(&str, Setter); 11] = [
         ("center x", |o, v| o.center_mm[0] = v),
@@ -303,8 +303,8 @@ fn non_finite_mechanism_inputs_are_typed_errors() {
 /// An undercut refusal names a tooth count; with that count the same design must cut clean teeth.
 #[test]
 fn eccentricity_sweep_teeth_until_they_stop_being_possible() {
+    use ncgear::design::train::{TrainError, TrainPolicy, TrainTeethOptions, tooth_design};
     use ncgear::teeth::{TeethError, ToothPolicy};
-    use ncgear::train::{TrainError, TrainPolicy, TrainTeethOptions, tooth_design};
     let mut first_refusal = None;
     for (k, e) in [0.05f64, 0.15, 0.25, 0.35, 0.45, 0.55]
         .into_iter()

@@ -2,8 +2,8 @@
 //! from fine to undercut, random pair laws. Rack generation gives a finite simple outline whose
 //! vertices stay within an addendum/dedendum band of the pitch curve, or a typed error
 //! (`Concave`, `Undercut`, …) — never a panic or a NaN vertex.
+use ncgear::geometry::pitch::PitchCurve;
 use ncgear::pair::{Expr, Law, PairOptions, design_pair};
-use ncgear::pitch::PitchCurve;
 use ncgear::teeth::{
     OutlineOptions, RackParams, TeethError, ToothPolicy, generate_outline, scale_curve, tooth_count,
 };

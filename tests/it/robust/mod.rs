@@ -20,8 +20,8 @@
 pub mod forward;
 
 use forward::{Case, Family, SunLaw, Train, generate};
+use ncgear::design::trajectory::{Origin, Trajectory};
 use ncgear::design::{DesignOptions, design};
-use ncgear::trajectory::{Origin, Trajectory};
 use rayon::prelude::*;
 use std::f64::consts::TAU;
 use std::fmt::Write as _;
@@ -190,16 +190,16 @@ fn generating_reference(case: &Case) -> Reference {
     }
 }
 
-/// Multi-start reference through `ncgear::fit::fit_points`: the generating ellipse mechanism
+/// Multi-start reference through `ncgear::design::fit::fit_points`: the generating ellipse mechanism
 /// plus [`FIT_RANDOM_STARTS`] random perturbations of it; best = min over starts of the Hausdorff
 /// between the fitted mechanism's path (2048 carrier angles) and the truth. Kept in a macro so it
 /// is only type-checked once invoked (the `fit` module is being written concurrently).
 #[allow(unused_macros)]
 macro_rules! fit_multistart_reference {
     ($case:expr) => {{
-        use ncgear::fit::{FitOptions, fit_points};
-        use ncgear::fourier::SunRatio;
-        use ncgear::mechanism::Mechanism;
+        use ncgear::design::fit::{FitOptions, fit_points};
+        use ncgear::geometry::fourier::SunRatio;
+        use ncgear::geometry::mechanism::Mechanism;
         use rand::rngs::ChaCha8Rng;
         use rand::{RngExt, SeedableRng};
         let case: &Case = $case;
@@ -272,7 +272,7 @@ macro_rules! fit_multistart_reference {
         }
         Reference {
             hausdorff_mm: best,
-            how: "multi-start ncgear::fit::fit_points",
+            how: "multi-start ncgear::design::fit::fit_points",
             starts_ok: ok,
             ms: 0.0,
         }
@@ -281,7 +281,7 @@ macro_rules! fit_multistart_reference {
 
 /// The best achievable Hausdorff of a designer case.
 ///
-/// ONE-LINE SWITCH: without `ncgear::fit`, replace the body by `generating_reference(case)`
+/// ONE-LINE SWITCH: without `ncgear::design::fit`, replace the body by `generating_reference(case)`
 /// (an upper bound of the best achievable: the unperturbed generating train).
 fn designer_reference(case: &Case) -> Reference {
     fit_multistart_reference!(case)
@@ -562,8 +562,8 @@ const KNOWN_MISSES: [u64; 2] = [4009, 4022];
 /// the generator): focus ellipse and harmonic suns with random phases and needle angles.
 #[test]
 fn robust_forward_model_agrees_with_the_crate_mechanism() {
-    use ncgear::fourier::SunRatio;
-    use ncgear::mechanism::Mechanism;
+    use ncgear::geometry::fourier::SunRatio;
+    use ncgear::geometry::mechanism::Mechanism;
     use rand::rngs::ChaCha8Rng;
     use rand::{RngExt, SeedableRng};
     let mut worst: f64 = 0.0;

@@ -7,7 +7,7 @@
 //! Reference: design-chain spec §5 (polar derivatives, convexity `Δ = r² + 2r_θ² − r r_θθ`,
 //! radius of curvature `ρc = (r² + r_θ²)^{3/2}/Δ`, pressure-angle deviation `atan(r_θ/r)`), §9.
 
-use crate::periodic::{PeriodicSpline, uniform_angles};
+use crate::math::periodic::{PeriodicSpline, uniform_angles};
 use std::f64::consts::TAU;
 
 /// A closed, positive polar pitch curve `r(θ)` in mm, θ in radians CCW in the body frame.

@@ -29,13 +29,13 @@
 //! at `s_n + δ + p/2` (`s_n` its contact arc position): a space faces the driver tooth. Every gear's
 //! coast (smaller-s) flank is thinned by half the backlash, so the working flanks of both meshes
 //! stay exactly conjugate.
-use crate::assembly::{Assembly, distances_to_polyline, hausdorff_mm};
 use crate::design::Design;
 use crate::export::{Contour, Marker, Sheet};
-use crate::fourier::SunRatio;
-use crate::mechanism::Mechanism;
-use crate::periodic::{bisect_root, uniform_angles};
-use crate::pitch::{PitchCurve, PitchError};
+use crate::geometry::assembly::{Assembly, distances_to_polyline, hausdorff_mm};
+use crate::geometry::fourier::SunRatio;
+use crate::geometry::mechanism::Mechanism;
+use crate::geometry::pitch::{PitchCurve, PitchError};
+use crate::math::periodic::{bisect_root, uniform_angles};
 use crate::teeth::mesh::{MeshCheck, MeshError, MeshReport, verify_mesh};
 use crate::teeth::{
     ArcFrame, Outline, OutlineOptions, RackParams, TeethError, ToothPolicy, UndercutReport,

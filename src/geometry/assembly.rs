@@ -18,9 +18,9 @@
 //! c3(φ) = c3(0) − ∫_{c2(0)}^{c2(φ)} g,    θ3(φ) = φ + π − c3(φ)   (planet rolls on the intermediate)
 //! ```
 
-use crate::mechanism::Mechanism;
-use crate::periodic::{PeriodicSpline, spectral_integral};
-use crate::pitch::{PitchCurve, PitchError};
+use crate::geometry::mechanism::Mechanism;
+use crate::geometry::pitch::{PitchCurve, PitchError};
+use crate::math::periodic::{PeriodicSpline, spectral_integral};
 use std::f64::consts::{PI, TAU};
 
 /// The assembled gear train, world frame, mm and rad.

@@ -13,8 +13,8 @@
 //!
 //! capped at `k_max` iterations (the interior degenerates if continued on asymmetric targets).
 
-use crate::inverse::NeedleLaw;
-use crate::periodic::invert_increasing;
+use crate::design::inverse::NeedleLaw;
+use crate::math::periodic::invert_increasing;
 use std::f64::consts::PI;
 
 /// Which three of the patent's four relations are solved exactly (spec §15 item 4).

@@ -14,8 +14,8 @@
 //! `ψ3` is resampled on a uniform grid of `N` carrier angles by solving `φH(s) = φH0 + t_n` on the
 //! interpolant itself (no second interpolation), so its error is the spline's, O(h⁴) (§3.5).
 
-use crate::periodic::{PeriodicSpline, bisect_root, spectral_derivative, wrap_pi};
-use crate::trajectory::{ClosedSpline, Trajectory};
+use crate::design::trajectory::{ClosedSpline, Trajectory};
+use crate::math::periodic::{PeriodicSpline, bisect_root, spectral_derivative, wrap_pi};
 use std::f64::consts::TAU;
 
 /// Accuracy knobs of the inversion (spec §13).
@@ -224,8 +224,8 @@ pub fn invert(
     let cw = solve_frame(&mirrored, opts, -1, center);
     match (ccw, cw) {
         (Ok(Solved::Done(mut a)), Ok(Solved::Done(mut b))) => {
-            let ea = crate::compat::analyse(&a.law, 256, 1e-10).residual_rad;
-            let eb = crate::compat::analyse(&b.law, 256, 1e-10).residual_rad;
+            let ea = crate::design::compat::analyse(&a.law, 256, 1e-10).residual_rad;
+            let eb = crate::design::compat::analyse(&b.law, 256, 1e-10).residual_rad;
             a.other_sense_traceable = true;
             b.other_sense_traceable = true;
             Ok(if eb < ea { *b } else { *a })
@@ -246,13 +246,13 @@ enum Solved {
 
 /// Keeps the first `k` harmonics of uniform periodic samples.
 fn low_pass(y: &[f64], k: usize) -> Vec<f64> {
-    let mut c = crate::periodic::fft_coefficients(y);
+    let mut c = crate::math::periodic::fft_coefficients(y);
     for (j, v) in c.iter_mut().enumerate() {
         if j > k {
             *v = realfft::num_complex::Complex::new(0.0, 0.0);
         }
     }
-    crate::periodic::fft_synthesis(&c, y.len())
+    crate::math::periodic::fft_synthesis(&c, y.len())
 }
 
 /// Winding number of a closed polyline about the origin.

@@ -17,8 +17,8 @@
 //! (the planet is congruent to the sun, §6.1); the intermediate's body frame is the one in which its
 //! sun-side contact sits at `π − Φ(t′)`.
 
-use crate::fourier::SunRatio;
-use crate::pitch::{PitchCurve, PitchError};
+use crate::geometry::fourier::SunRatio;
+use crate::geometry::pitch::{PitchCurve, PitchError};
 use std::f64::consts::{PI, TAU};
 
 /// Tolerance of the Φ⁻¹ solves, rad (spec §13: 1e-13).

@@ -3,7 +3,7 @@
 //! frame is drawn with y up (one `scale(1,−1)` group), so rotations are CCW-positive as in the
 //! design file.
 
-use crate::pitch::PitchCurve;
+use crate::geometry::pitch::PitchCurve;
 use crate::simulate::Simulation;
 use std::f64::consts::TAU;
 use std::fmt::Write as _;

@@ -1,8 +1,8 @@
 //! The curve a train traces, seen from the target points: tip, velocity and acceleration in the
 //! carrier angle, the projection of a point on the curve, the signed distance and its
-//! gradient in the design parameters (formulas in the [`crate::fit`] module doc).
+//! gradient in the design parameters (formulas in the [`crate::design::fit`] module doc).
 
-use crate::mechanism::{INVERSE_TOL_RAD, Mechanism};
+use crate::geometry::mechanism::{INVERSE_TOL_RAD, Mechanism};
 use rayon::prelude::*;
 use std::f64::consts::{PI, TAU};
 
@@ -201,8 +201,8 @@ pub(super) fn coverage(m: &Mechanism, q: &[[f64; 2]], phi: f64) -> (f64, [f64; 2
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::fit::solver::{from_params, to_params};
-    use crate::fourier::SunRatio;
+    use crate::design::fit::solver::{from_params, to_params};
+    use crate::geometry::fourier::SunRatio;
 
     fn mech() -> Mechanism {
         Mechanism {

@@ -34,7 +34,8 @@
 //! the noise level and still improving.
 //!
 //! ```
-//! use ncgear::{fit::{fit_points, FitOptions}, fourier::SunRatio, mechanism::Mechanism};
+//! use ncgear::design::fit::{fit_points, FitOptions};
+//! use ncgear::geometry::{fourier::SunRatio, mechanism::Mechanism};
 //! let truth = Mechanism { a_mm: 45.0, l3_mm: 170.0,
 //!     ratio: SunRatio::new(vec![0.3, 0.045], vec![0.0, 0.0]).unwrap(),
 //!     sun_phase_rad: 0.2, needle_angle_rad: -1.2 };
@@ -49,7 +50,7 @@
 mod curve;
 mod solver;
 
-use crate::mechanism::Mechanism;
+use crate::geometry::mechanism::Mechanism;
 use curve::{initial_angles, nearest_on_polyline, project};
 use rayon::prelude::*;
 use solver::{COVERAGE_SAMPLES, Lm, to_params, with_order};
@@ -348,7 +349,7 @@ fn subsample(points: &[[f64; 2]], opts: &FitOptions) -> (usize, Vec<[f64; 2]>) {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::fourier::SunRatio;
+    use crate::geometry::fourier::SunRatio;
 
     fn mech() -> Mechanism {
         Mechanism {

@@ -9,13 +9,13 @@
 //! exactly for every coefficient vector (check C1).
 //!
 //! ```
-//! use ncgear::fourier::SunRatio;
+//! use ncgear::geometry::fourier::SunRatio;
 //! let i21 = SunRatio::new(vec![0.1], vec![0.0]).unwrap();
 //! assert!((i21.value(0.0) - 1.1).abs() < 1e-15);
 //! assert!((i21.integral(std::f64::consts::TAU) - std::f64::consts::TAU).abs() < 1e-12);
 //! ```
 
-use crate::periodic::{fft_coefficients, invert_increasing};
+use crate::math::periodic::{fft_coefficients, invert_increasing};
 use std::f64::consts::{PI, TAU};
 
 /// A positive 2π-periodic sun ratio `i21(θ)` with mean exactly 1, as a truncated Fourier series.

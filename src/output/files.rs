@@ -1,10 +1,10 @@
 //! Files written by `ncgear design`: `design.json`, pitch tables, the mechanism preview and the
 //! ratio plot. All lengths in mm, angles in degrees; SVG user unit = 1 mm.
 
-use crate::assembly::Assembly;
 use crate::design::Design;
-use crate::pitch::PitchCurve;
-use crate::plot::{ChartLabels, Series, line_chart};
+use crate::geometry::assembly::Assembly;
+use crate::geometry::pitch::PitchCurve;
+use crate::output::plot::{ChartLabels, Series, line_chart};
 use std::f64::consts::TAU;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
@@ -23,7 +23,7 @@ pub enum OutputError {
     },
     /// Plotting failed.
     #[error(transparent)]
-    Plot(#[from] crate::plot::PlotError),
+    Plot(#[from] crate::output::plot::PlotError),
     /// A CAD export failed.
     #[error(transparent)]
     Export(#[from] crate::export::ExportError),
@@ -376,7 +376,7 @@ pub fn write_simulation(
     sim: &crate::simulate::Simulation,
     target: &[[f64; 2]],
     feat_opts: &crate::simulate::FeatureOptions,
-    anim: &crate::animate::AnimationOptions,
+    anim: &crate::output::animate::AnimationOptions,
     dir: &Path,
 ) -> Result<SimulationReport, crate::simulate::SimulateError> {
     use crate::simulate::{SimulateError, deviation_along, features};
@@ -400,7 +400,7 @@ pub fn write_simulation(
     } else {
         Vec::new()
     };
-    let arm2_vs_arm1 = crate::assembly::hausdorff_mm(&arm2, &arm1);
+    let arm2_vs_arm1 = crate::geometry::assembly::hausdorff_mm(&arm2, &arm1);
     let mut written: Vec<PathBuf> = Vec::new();
     let mut csv = String::from(
         "carrier_deg,arm1_x_mm,arm1_y_mm,arm2_x_mm,arm2_y_mm,needle1_deg,deviation_mm\n",
@@ -438,10 +438,14 @@ pub fn write_simulation(
     write(&p, &csv).map_err(io)?;
     written.push(p);
     let p = dir.join("animation.svg");
-    write(&p, &crate::animate::animated_svg(sim, target, anim)).map_err(io)?;
+    write(&p, &crate::output::animate::animated_svg(sim, target, anim)).map_err(io)?;
     written.push(p);
     let p = dir.join("frames.svg");
-    write(&p, &crate::animate::frame_sheet(sim, target, 4, 3, 360)).map_err(io)?;
+    write(
+        &p,
+        &crate::output::animate::frame_sheet(sim, target, 4, 3, 360),
+    )
+    .map_err(io)?;
     written.push(p);
     // Plots.
     let deg = |k: usize| 360.0 * k as f64 / n as f64;
@@ -469,7 +473,7 @@ pub fn write_simulation(
         // Ratios from the kinematics (central differences of the continuous pose angles):
         // i21 = dθ2/dφ − 1, i3H = dθ3/dφ, i31 = 1 − i3H (φ in the direction of motion).
         let hf = 1e-4;
-        let rate = |k: usize, f: &dyn Fn(&crate::assembly::Pose) -> f64| {
+        let rate = |k: usize, f: &dyn Fn(&crate::geometry::assembly::Pose) -> f64| {
             let x = k as f64 / n as f64;
             let (p, m) = (
                 sim.pose(sim.angle_at(x + hf)).arm1,
@@ -524,7 +528,7 @@ pub fn write_simulation(
             (700, 700),
             &mut written,
         )?;
-        let along = |c: &PitchCurve, f: &dyn Fn(crate::pitch::PolarGeometry) -> f64| {
+        let along = |c: &PitchCurve, f: &dyn Fn(crate::geometry::pitch::PolarGeometry) -> f64| {
             (0..=720)
                 .map(|k| {
                     let t = TAU * k as f64 / 720.0;
@@ -532,8 +536,8 @@ pub fn write_simulation(
                 })
                 .collect::<Vec<_>>()
         };
-        let rho = |g: crate::pitch::PolarGeometry| g.radius_of_curvature_mm();
-        let mu = |g: crate::pitch::PolarGeometry| g.pressure_deviation_rad().to_degrees();
+        let rho = |g: crate::geometry::pitch::PolarGeometry| g.radius_of_curvature_mm();
+        let mu = |g: crate::geometry::pitch::PolarGeometry| g.pressure_deviation_rad().to_degrees();
         both(
             &dir.join("curvature"),
             &ChartLabels {
@@ -640,7 +644,7 @@ pub fn write_simulation(
 /// DXF contours are simplified to `train.report.options.chord_tol_mm`; SVG and DXF in mm.
 /// The written paths are also stored in `train.report.files`.
 pub fn write_teeth(
-    train: &mut crate::train::ToothedTrain,
+    train: &mut crate::design::train::ToothedTrain,
     dir: &Path,
     dxf_version: crate::export::dxf::DxfVersion,
 ) -> Result<Vec<PathBuf>, OutputError> {
@@ -654,7 +658,7 @@ pub fn write_teeth(
     let margin = 2.0 * train.report.module_mm;
     let mut written = Vec::new();
     let mut sheets = vec![("train".to_string(), train.sheet(0.0))];
-    for g in crate::train::Gear::ALL {
+    for g in crate::design::train::Gear::ALL {
         sheets.push((g.name().to_string(), train.gear_sheet(g)));
     }
     for (k, (name, sheet)) in sheets.iter().enumerate() {

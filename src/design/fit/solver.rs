@@ -4,8 +4,8 @@
 
 use super::FitOptions;
 use super::curve::{coverage, normal_residual, point_row, project};
-use crate::fourier::SunRatio;
-use crate::mechanism::Mechanism;
+use crate::geometry::fourier::SunRatio;
+use crate::geometry::mechanism::Mechanism;
 use nalgebra::{DMatrix, DVector};
 use rayon::prelude::*;
 use std::f64::consts::TAU;

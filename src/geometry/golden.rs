@@ -2,13 +2,13 @@
 //! examples and users who want a known-good mechanism to start from).
 //!
 //! ```
-//! let m = ncgear::golden::g1_mechanism();
+//! let m = ncgear::geometry::golden::g1_mechanism();
 //! // ψ3 at t = 30° (spec §11: 52.252904°).
 //! assert!((m.psi3(30f64.to_radians()).to_degrees() - 52.252904).abs() < 1e-6);
 //! ```
 
-use crate::fourier::SunRatio;
-use crate::mechanism::Mechanism;
+use crate::geometry::fourier::SunRatio;
+use crate::geometry::mechanism::Mechanism;
 
 /// G1 sun ratio: focus-pivoted ellipse pair, `i = (1−e²)/(1 − 2e cos θ + e²) = 1 + 2Σ eᵏ cos kθ`,
 /// truncated where `eᵏ` falls below machine precision (`e` < 0.5).

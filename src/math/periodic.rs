@@ -19,7 +19,7 @@ use std::f64::consts::TAU;
 /// (Sherman–Morrison on the cyclic part). Interpolation error is `O(h⁴)` on smooth data.
 ///
 /// ```
-/// use ncgear::periodic::PeriodicSpline;
+/// use ncgear::math::periodic::PeriodicSpline;
 /// use std::f64::consts::TAU;
 /// let n = 64;
 /// let x: Vec<f64> = (0..n).map(|k| TAU * k as f64 / n as f64).collect();
@@ -309,7 +309,7 @@ pub fn spectral_integral(y: &[f64]) -> (f64, Vec<f64>) {
 /// angle differences and for unwrapping sampled angles.
 ///
 /// ```
-/// use ncgear::periodic::wrap_pi;
+/// use ncgear::math::periodic::wrap_pi;
 /// use std::f64::consts::PI;
 /// assert!((wrap_pi(0.1 - (2.0 * PI - 0.1)) - 0.2).abs() < 1e-15);
 /// assert_eq!(wrap_pi(-PI), PI);

@@ -2,30 +2,38 @@
 //!
 //! `trajectory → inverse → compat → segmented → fourier → refine → mechanism → assembly`:
 //!
-//! 1. [`crate::inverse`]: l1, l3, ψ3, i31 (step 1–2);
-//! 2. [`crate::compat`]: half-closure origin τ and compatibility residual E_c (§6.4);
-//! 3. [`crate::segmented`]: Fourier hypothesis, mirror/weight iteration (§7);
-//! 4. [`crate::fourier`]: least-squares fit with exact closure, order fixed or adaptive (§8.1–8.2);
-//! 5. [`crate::refine`]: direct fit of the tip motion when the patent route misses the tolerance (§8.3);
+//! 1. [`crate::design::inverse`]: l1, l3, ψ3, i31 (step 1–2);
+//! 2. [`crate::design::compat`]: half-closure origin τ and compatibility residual E_c (§6.4);
+//! 3. [`crate::design::segmented`]: Fourier hypothesis, mirror/weight iteration (§7);
+//! 4. [`crate::geometry::fourier`]: least-squares fit with exact closure, order fixed or adaptive (§8.1–8.2);
+//! 5. [`crate::design::refine`]: direct fit of the tip motion when the patent route misses the tolerance (§8.3);
 //! 6. pitch curves, assembly angles, checks C1–C12 and the round trip from the output tables (§9–10).
 //!
 //! ```no_run
-//! use ncgear::{design::{design, DesignOptions}, trajectory::Trajectory};
+//! use ncgear::design::{design, DesignOptions, trajectory::Trajectory};
 //! let traj = Trajectory::read(std::path::Path::new("assets/trajectories/g1_ellipse.csv")).unwrap();
 //! let d = design(&traj, &DesignOptions::default()).unwrap();
 //! assert!(d.report.roundtrip.max_deviation_mm < 0.1);
 //! ```
 
-use crate::assembly::{Assembly, hausdorff_mm};
-use crate::compat::{self, Compatibility};
-use crate::fit::{self, FitOptions};
-use crate::fourier::{RatioError, SunRatio};
-use crate::inverse::{self, InverseError, InverseOptions, Inversion};
-use crate::mechanism::Mechanism;
-use crate::pitch::{PitchCurve, PitchError};
-use crate::refine::{self, RefineOptions};
-use crate::segmented::{self, SegmentedError, SegmentedOptions};
-use crate::trajectory::{ClosedSpline, Trajectory};
+pub mod compat;
+pub mod fit;
+pub mod inverse;
+pub mod refine;
+pub mod segmented;
+pub mod train;
+pub mod trajectory;
+
+use crate::design::compat::Compatibility;
+use crate::design::fit::FitOptions;
+use crate::design::inverse::{InverseError, InverseOptions, Inversion};
+use crate::design::refine::RefineOptions;
+use crate::design::segmented::{SegmentedError, SegmentedOptions};
+use crate::design::trajectory::{ClosedSpline, Trajectory};
+use crate::geometry::assembly::{Assembly, hausdorff_mm};
+use crate::geometry::fourier::{RatioError, SunRatio};
+use crate::geometry::mechanism::Mechanism;
+use crate::geometry::pitch::{PitchCurve, PitchError};
 use serde::{Deserialize, Serialize};
 use std::f64::consts::{PI, TAU};
 use std::time::Instant;
@@ -65,7 +73,7 @@ pub struct DesignOptions {
     pub tol_tip_mm: f64,
     /// Refinement policy.
     pub refine: RefineMode,
-    /// Fit every parameter to the points as the last stage ([`crate::fit`]), when the chain's
+    /// Fit every parameter to the points as the last stage ([`crate::design::fit`]), when the chain's
     /// result is not within 0.2·`tol_tip_mm` of them, leaves the ratio bounds, or came from smoothed
     /// points (default true). Off: the chain's result (patent route, or §8.3 with `refine: On`).
     pub fit_to_points: bool,
@@ -201,7 +209,7 @@ pub struct DesignReport {
     /// Wall-clock time per stage, ms.
     pub timings_ms: Timings,
     /// Teeth of the final gears (`ncgear design --module M`): a
-    /// [`crate::train::TrainTeethReport`] as JSON; absent without a module.
+    /// [`crate::design::train::TrainTeethReport`] as JSON; absent without a module.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub teeth: Option<serde_json::Value>,
 }
@@ -325,7 +333,7 @@ pub struct RouteSummary {
     pub order_scan: Vec<[f64; 2]>,
 }
 
-/// The orthogonal-distance fit ([`crate::fit`]): distances of the target points from the curve the
+/// The orthogonal-distance fit ([`crate::design::fit`]): distances of the target points from the curve the
 /// fitted train traces (analytic model), mm.
 #[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct FitSummary {
@@ -772,7 +780,7 @@ fn target_curve(points: &[[f64; 2]], angles: &[f64], n: usize) -> Vec<[f64; 2]> 
         && closing > 0.0
         && (acc + closing - TAU).abs() < 1e-6;
     let axis = |c: usize| {
-        crate::periodic::PeriodicSpline::new(
+        crate::math::periodic::PeriodicSpline::new(
             knots.clone(),
             points.iter().map(|p| p[c]).collect(),
             TAU,

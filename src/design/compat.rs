@@ -10,8 +10,8 @@
 //!
 //! and the origin with the smallest `E_c` is chosen (spec §15 item 5).
 
-use crate::inverse::NeedleLaw;
-use crate::periodic::bisect_root;
+use crate::design::inverse::NeedleLaw;
+use crate::math::periodic::bisect_root;
 use std::f64::consts::{PI, TAU};
 
 /// Compatibility of a target with the train.

@@ -8,7 +8,7 @@
 //! - JSON: `{"units": "mm", "points": [[x, y], ...]}`.
 //!
 //! ```
-//! use ncgear::trajectory::Trajectory;
+//! use ncgear::design::trajectory::Trajectory;
 //! let text: String = (0..36)
 //!     .map(|k| {
 //!         let t = (k as f64).to_radians() * 10.0;
@@ -19,7 +19,7 @@
 //! assert_eq!(traj.len(), 36);
 //! ```
 
-use crate::periodic::PeriodicSpline;
+use crate::math::periodic::PeriodicSpline;
 use std::fmt;
 use std::path::Path;
 
@@ -436,7 +436,7 @@ impl Trajectory {
         };
         let samples: Vec<[f64; 2]> = (0..m).map(|k| at(len * k as f64 / m as f64)).collect();
         let filt = |c: usize| {
-            let mut co = crate::periodic::fft_coefficients(
+            let mut co = crate::math::periodic::fft_coefficients(
                 &samples.iter().map(|p| p[c]).collect::<Vec<_>>(),
             );
             for (k, v) in co.iter_mut().enumerate() {

@@ -1,0 +1,3 @@
+//! Numerical helpers shared by every layer: periodic functions on a turn, closed polylines.
+
+pub mod periodic;
