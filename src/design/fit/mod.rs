@@ -48,7 +48,12 @@
 //! ```
 
 mod curve;
+mod restarts;
 mod solver;
+
+/// Noise σ (mm) above which points count as measured: the start is then taken from a smoothed copy.
+pub const MEASURED_NOISE_MM: f64 = 0.002;
+pub use restarts::fit_with_restarts;
 
 use crate::geometry::mechanism::Mechanism;
 use curve::{initial_angles, nearest_on_polyline, project};

@@ -1,0 +1,229 @@
+//! Pitch tables, assembly, checks C1–C12 and the round trip from the output tables (spec §9–10).
+
+use super::error::DesignError;
+use super::options::DesignOptions;
+use super::report::*;
+use crate::design::compat::Compatibility;
+use crate::design::inverse::Inversion;
+use crate::design::trajectory::{ClosedSpline, Trajectory};
+use crate::geometry::assembly::{Assembly, hausdorff_mm};
+use crate::geometry::mechanism::Mechanism;
+use crate::geometry::pitch::PitchCurve;
+use std::f64::consts::TAU;
+
+/// `n` points of the target curve through the points: a periodic cubic spline in the carrier
+/// angle at which the designed tip passes each point (the mechanism's own time, in which the tip
+/// moves smoothly even round a sharp, coarsely sampled nose), or, when those angles do not advance
+/// monotonically, the chord-length spline of spec §3.1.
+fn target_curve(points: &[[f64; 2]], angles: &[f64], n: usize) -> Vec<[f64; 2]> {
+    let mut knots = Vec::with_capacity(angles.len());
+    let mut acc = 0.0;
+    for (j, &a) in angles.iter().enumerate() {
+        if j > 0 {
+            acc += (a - angles[j - 1]).rem_euclid(TAU);
+        }
+        knots.push(acc);
+    }
+    let closing = angles
+        .last()
+        .map_or(0.0, |&a| (angles[0] - a).rem_euclid(TAU));
+    let monotone = knots.windows(2).all(|w| w[1] > w[0])
+        && closing > 0.0
+        && (acc + closing - TAU).abs() < 1e-6;
+    let axis = |c: usize| {
+        crate::math::periodic::PeriodicSpline::new(
+            knots.clone(),
+            points.iter().map(|p| p[c]).collect(),
+            TAU,
+        )
+    };
+    match (monotone, axis(0), axis(1)) {
+        (true, Ok(x), Ok(y)) => (0..n)
+            .map(|k| {
+                let t = TAU * k as f64 / n as f64;
+                [x.value(t), y.value(t)]
+            })
+            .collect(),
+        _ => {
+            let spline = ClosedSpline::through(points);
+            (0..n)
+                .map(|k| spline.point(spline.period() * k as f64 / n as f64))
+                .collect()
+        }
+    }
+}
+
+fn rms(v: &[f64]) -> f64 {
+    (v.iter().map(|d| d * d).sum::<f64>() / v.len().max(1) as f64).sqrt()
+}
+
+pub(super) type Finished = (
+    Mechanism,
+    Assembly,
+    Vec<[f64; 2]>,
+    Vec<Check>,
+    RoundTrip,
+    Gears,
+);
+
+/// Pitch curves, assembly, checks C1–C12 and the round trip from the output tables.
+pub(super) fn finish(
+    traj: &Trajectory,
+    inv: &Inversion,
+    compat: &Compatibility,
+    mech: Mechanism,
+    angles: &[f64],
+    opts: &DesignOptions,
+    warnings: &mut Vec<String>,
+) -> Result<Finished, DesignError> {
+    let n = opts.curve_samples;
+    let sign = f64::from(inv.direction);
+    let assembly = Assembly::from_mechanism(&mech, opts.center_mm, inv.direction, n)?;
+    let (sun, mid, planet) = (
+        assembly.sun.clone(),
+        assembly.intermediate.clone(),
+        assembly.planet.clone(),
+    );
+    // Round trip from the tables only (C12), with mesh errors (C3, C4).
+    let rebuilt = assembly.rebuild();
+    let m = opts.check_samples;
+    let mut mesh: [f64; 2] = [0.0, 0.0];
+    let mut traced = Vec::with_capacity(m);
+    for k in 0..m {
+        let pose = rebuilt.pose(sign * TAU * k as f64 / m as f64);
+        mesh[0] = mesh[0].max(pose.sun_mesh_error_mm.abs());
+        mesh[1] = mesh[1].max(pose.planet_mesh_error_mm.abs());
+        traced.push(pose.tip_mm);
+    }
+    // Synchronous deviation at every target point, at the carrier angle the tip passes it.
+    let dev: Vec<f64> = traj
+        .points()
+        .iter()
+        .zip(angles)
+        .map(|(p, &phi)| {
+            let tip = rebuilt.pose(sign * phi).tip_mm;
+            (tip[0] - p[0]).hypot(tip[1] - p[1])
+        })
+        .collect();
+    let sync = dev.iter().copied().fold(0.0, f64::max);
+    let haus = hausdorff_mm(&traced, &target_curve(traj.points(), angles, 2 * m));
+    let roundtrip = RoundTrip {
+        max_deviation_mm: sync,
+        rms_deviation_mm: rms(&dev),
+        hausdorff_mm: haus,
+        max_mesh_error_mm: mesh[0].max(mesh[1]),
+        samples: m,
+    };
+
+    // Geometry checks.
+    let acc = 1e-9 * mech.a_mm;
+    let (ls, lm, lp) = (
+        sun.perimeter_mm(acc),
+        mid.perimeter_mm(acc),
+        planet.perimeter_mm(acc),
+    );
+    let cs = sun.curvature_extremes(8 * n);
+    let cm = mid.curvature_extremes(8 * n);
+    let means = rebuilt.ratio_means();
+    let [imin, imax] = mech.ratio.range();
+    let i31_min = (0..4096)
+        .map(|k| {
+            let t = TAU * k as f64 / 4096.0;
+            mech.ratio.value(t) / mech.ratio.value(mech.half_turn_map(t))
+        })
+        .fold(f64::INFINITY, f64::min);
+    let min_conv = cs.min_convexity_mm2.min(cm.min_convexity_mm2);
+    let min_rho = cs
+        .min_radius_of_curvature_mm
+        .min(cm.min_radius_of_curvature_mm);
+    let max_dev_mu = cs
+        .max_pressure_deviation_rad
+        .max(cm.max_pressure_deviation_rad);
+    let alpha = opts.pressure_angle_rad;
+    let [lo, hi] = opts.refine_options.ratio_bounds;
+    let check = |id: &str, name: String, value: f64, limit: f64, pass: bool| Check {
+        id: id.into(),
+        name,
+        value,
+        limit,
+        pass,
+    };
+    let closure = (mech.ratio.integral(TAU) - TAU).abs();
+    let table_closure = (means[0] - 1.0).abs().max((means[1] - 1.0).abs()) * TAU * mech.a_mm;
+    let mesh_limit = 1e-6 * mech.a_mm;
+    let slip = (ls - lm).abs().max((ls - lp).abs()) / ls;
+    let rack_module = if min_conv > 0.0 {
+        min_rho * alpha.sin().powi(2)
+    } else {
+        0.0
+    };
+    let concave = cs.concave_fraction.max(cm.concave_fraction);
+    let effective = alpha + max_dev_mu;
+    let limit_deg = opts.pressure_angle_limit_rad.to_degrees();
+    let compat_mm = compat.residual_rad * mech.l3_mm;
+    let tol = opts.tol_tip_mm;
+    #[rustfmt::skip]
+    let checks = vec![
+        check("C1", "closure of the ratio |Φ(2π) − 2π|, rad".into(),
+            closure, 1e-12, closure <= 1e-12),
+        check("C2", "closure of the output tables: max |mean r/(a−r) − 1|·2π·a, mm".into(),
+            table_closure, 1e-6, table_closure <= 1e-6),
+        check("C3", "centre distance sun–intermediate max |r1 + ρ2 − a|, mm".into(),
+            mesh[0], mesh_limit, mesh[0] <= mesh_limit),
+        check("C4", "centre distance intermediate–planet max |r3 + ρ2 − a|, mm".into(),
+            mesh[1], mesh_limit, mesh[1] <= mesh_limit),
+        check("C5", "rolling without slip: max relative perimeter difference".into(),
+            slip, 1e-7, slip <= 1e-7),
+        check("C6", format!("ratio bounds: i21 in [{lo}, {hi}] (value: min i21), i31 > 0 (min i31 = {i31_min:.4})"),
+            imin, lo, imin >= lo && imax <= hi && i31_min > 0.0),
+        check("C7", "convexity: min Δ = r² + 2r′² − r r″ of sun and intermediate, mm²".into(),
+            min_conv, 0.0, true),
+        check("C8", format!("undercut: largest rack module ρc,min·sin²α/ha* at α = {:.1}°, ha* = 1, mm", alpha.to_degrees()),
+            rack_module, 0.0, true),
+        check("C9", "concave arcs (need a shaper cutter): fraction of the sun and intermediate that is concave".into(),
+            concave, 0.0, true),
+        check("C10", "max effective pressure angle α + max|atan(r_θ/r)|, deg".into(),
+            effective.to_degrees(), limit_deg, effective <= opts.pressure_angle_limit_rad),
+        check("C11", "compatibility l3·E_c, mm (report)".into(),
+            compat_mm, tol, true),
+        check("C12", "round trip from the output tables: max synchronous tip deviation, mm".into(),
+            sync, tol, sync <= tol),
+    ];
+    if min_conv <= 0.0 {
+        warnings.push(format!(
+            "a pitch curve is concave somewhere (min Δ = {min_conv:.3} mm²): a rack cannot cut it; a shaper cutter of radius below {:.2} mm is needed (C9)",
+            min_rho.abs()
+        ));
+    }
+    for c in &checks {
+        if !c.pass {
+            warnings.push(format!(
+                "check {} failed: {} = {:.4e} (limit {:.4e})",
+                c.id, c.name, c.value, c.limit
+            ));
+        }
+    }
+    let table = |c: &PitchCurve| c.polar_table_deg(n);
+    let gear = |c: &PitchCurve, angle: Option<f64>, perim: f64, rho: f64| Gear {
+        pitch: table(c),
+        angle_at_zero_deg: angle.map(|a| a.to_degrees().rem_euclid(360.0)),
+        perimeter_mm: perim,
+        min_radius_of_curvature_mm: rho,
+    };
+    let gears = Gears {
+        sun: gear(&sun, None, ls, cs.min_radius_of_curvature_mm),
+        intermediate: gear(
+            &mid,
+            Some(assembly.intermediate_angle_at_zero_rad),
+            lm,
+            cm.min_radius_of_curvature_mm,
+        ),
+        planet: gear(
+            &planet,
+            Some(assembly.planet_angle_at_zero_rad),
+            lp,
+            cs.min_radius_of_curvature_mm,
+        ),
+    };
+    Ok((mech, assembly, traced, checks, roundtrip, gears))
+}

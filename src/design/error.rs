@@ -1,0 +1,58 @@
+//! Why the design chain stopped.
+
+use crate::design::inverse::InverseError;
+use crate::design::segmented::SegmentedError;
+use crate::geometry::fourier::RatioError;
+use crate::geometry::pitch::PitchError;
+
+/// Why the chain stopped. Targets the train cannot trace exactly are *not* errors: they are
+/// reported (compatibility residual, achieved deviation).
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[non_exhaustive]
+pub enum DesignError {
+    /// Step 1 failed: no constant-length arm traces the trajectory.
+    #[error(transparent)]
+    Inverse(#[from] InverseError),
+    /// The hypothesis is invalid.
+    #[error(transparent)]
+    Segmented(#[from] SegmentedError),
+    /// A bad option value.
+    #[error("option `{option}` = {value}: {expected}")]
+    BadOption {
+        /// Option name.
+        option: &'static str,
+        /// Given value.
+        value: String,
+        /// What is expected.
+        expected: &'static str,
+    },
+    /// The best ratio found leaves the admissible bounds.
+    #[error(
+        "the sun ratio i21 would span [{min:.3}, {max:.3}], outside the admissible bounds [{lo}, {hi}] (spec §14); with the refinement off nothing brings it back inside: let the fit to the points run (refine auto or on), which keeps every design within the bounds"
+    )]
+    RatioOutOfBounds {
+        /// Smallest ratio.
+        min: f64,
+        /// Largest ratio.
+        max: f64,
+        /// Lower bound.
+        lo: f64,
+        /// Upper bound.
+        hi: f64,
+    },
+    /// Internal failure building a ratio or curve.
+    #[error("internal: {0}")]
+    Internal(String),
+}
+
+impl From<RatioError> for DesignError {
+    fn from(e: RatioError) -> Self {
+        DesignError::Internal(e.to_string())
+    }
+}
+
+impl From<PitchError> for DesignError {
+    fn from(e: PitchError) -> Self {
+        DesignError::Internal(e.to_string())
+    }
+}

@@ -1,0 +1,209 @@
+//! Options of the design chain: every knob, its default and its validation.
+
+use super::error::DesignError;
+use crate::design::inverse::InverseOptions;
+use crate::design::refine::RefineOptions;
+use crate::design::segmented::SegmentedOptions;
+use serde::{Deserialize, Serialize};
+
+/// Orders tried by the adaptive order choice (spec §8.2).
+pub const ADAPTIVE_ORDERS: [usize; 8] = [4, 6, 8, 12, 16, 24, 32, 40];
+
+/// When to run the refinement of §8.3.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum RefineMode {
+    /// Only when the patent route misses the tolerance (default).
+    #[default]
+    Auto,
+    /// Always.
+    On,
+    /// Never.
+    Off,
+}
+
+/// Every knob of the chain.
+#[derive(Debug, Clone, PartialEq)]
+pub struct DesignOptions {
+    /// Carrier axis O in the trajectory's frame, mm.
+    pub center_mm: [f64; 2],
+    /// Step-1 accuracy knobs.
+    pub inverse: InverseOptions,
+    /// Smooth a measured/noisy trajectory to this many Fourier harmonics before step 1
+    /// (deviations are still measured against the points as read).
+    pub smoothing: Option<usize>,
+    /// Patent-route knobs.
+    pub segmented: SegmentedOptions,
+    /// Fixed Fourier order K; `None` = adaptive to `tol_tip_mm`.
+    pub order: Option<usize>,
+    /// Target max synchronous tip deviation, mm. Default 0.05: the round-trip acceptance bound
+    /// for exactly traceable targets (the spec suggests 0.1).
+    pub tol_tip_mm: f64,
+    /// Refinement policy.
+    pub refine: RefineMode,
+    /// Fit every parameter to the points as the last stage ([`crate::design::fit`]), when the chain's
+    /// result is not within 0.2·`tol_tip_mm` of them, leaves the ratio bounds, or came from smoothed
+    /// points (default true). Off: the chain's result (patent route, or §8.3 with `refine: On`).
+    pub fit_to_points: bool,
+    /// Refinement knobs (ratio bounds are shared with check C6).
+    pub refine_options: RefineOptions,
+    /// Fourier order used by the refinement when no fixed order is given.
+    pub refine_order: usize,
+    /// Samples per pitch curve in the outputs (≥ 720).
+    pub curve_samples: usize,
+    /// Carrier angles used to measure deviations.
+    pub check_samples: usize,
+    /// Rack pressure angle α used by the pressure-angle check C10, rad.
+    pub pressure_angle_rad: f64,
+    /// Limit on the effective pressure angle, rad (C10).
+    pub pressure_angle_limit_rad: f64,
+}
+
+impl Default for DesignOptions {
+    fn default() -> Self {
+        Self {
+            center_mm: [0.0, 0.0],
+            inverse: InverseOptions::default(),
+            smoothing: None,
+            segmented: SegmentedOptions::default(),
+            order: None,
+            tol_tip_mm: 0.05,
+            refine: RefineMode::Auto,
+            fit_to_points: true,
+            refine_options: RefineOptions::default(),
+            refine_order: 12,
+            curve_samples: 3600,
+            check_samples: 2048,
+            pressure_angle_rad: 20f64.to_radians(),
+            pressure_angle_limit_rad: 45f64.to_radians(),
+        }
+    }
+}
+
+pub(super) fn validate(opts: &DesignOptions) -> Result<(), DesignError> {
+    let positive = |v: f64| v.is_finite() && v > 0.0;
+    let angle = |v: f64| positive(v) && v < std::f64::consts::FRAC_PI_2;
+    let (inv, seg, refine) = (&opts.inverse, &opts.segmented, &opts.refine_options);
+    let [lo, hi] = refine.ratio_bounds;
+    let [cx, cy] = opts.center_mm;
+    let show = |v: Option<usize>| v.map_or_else(|| "none".into(), |k| k.to_string());
+    // (valid, option, given value, what is expected), checked in this order.
+    let rules: [(bool, &'static str, String, &'static str); 18] = [
+        (
+            opts.order.is_none_or(|k| (1..=64).contains(&k)),
+            "order",
+            show(opts.order),
+            "an integer in 1..=64 (40 is the recommended cap, spec §8.2)",
+        ),
+        (
+            opts.smoothing.is_none_or(|h| (4..=512).contains(&h)),
+            "smooth",
+            show(opts.smoothing),
+            "a number of harmonics in 4..=512 (about 1/10 of the points for noisy data)",
+        ),
+        (
+            positive(opts.tol_tip_mm),
+            "tol-mm",
+            opts.tol_tip_mm.to_string(),
+            "a positive length in mm",
+        ),
+        (
+            (64..=1 << 16).contains(&inv.grid),
+            "grid",
+            inv.grid.to_string(),
+            "a grid size in 64..=65536",
+        ),
+        (
+            opts.curve_samples >= 720,
+            "samples",
+            opts.curve_samples.to_string(),
+            "at least 720 samples per pitch curve",
+        ),
+        (
+            lo > 0.0 && hi > lo && hi.is_finite(),
+            "ratio-bounds",
+            format!("{lo},{hi}"),
+            "0 < min < max",
+        ),
+        (
+            cx.is_finite() && cy.is_finite(),
+            "center",
+            format!("{cx},{cy}"),
+            "two finite coordinates in mm",
+        ),
+        (
+            positive(inv.tol_relative) && inv.tol_relative < 1e-2,
+            "inverse.tol_relative",
+            inv.tol_relative.to_string(),
+            "a relative tolerance in (0, 0.01)",
+        ),
+        (
+            inv.dense_samples >= 64,
+            "inverse.dense_samples",
+            inv.dense_samples.to_string(),
+            "at least 64 dense samples",
+        ),
+        (
+            inv.law_harmonics != Some(0),
+            "inverse.law_harmonics",
+            show(inv.law_harmonics),
+            "at least one harmonic (or none to keep the law as computed)",
+        ),
+        (
+            positive(seg.tol_j),
+            "segmented.tol_j",
+            seg.tol_j.to_string(),
+            "a positive junction tolerance",
+        ),
+        (
+            seg.w1 > 0.0 && seg.w1 <= 1.0,
+            "segmented.w1",
+            seg.w1.to_string(),
+            "a mirror weight in (0, 1]",
+        ),
+        (
+            refine.smoothness.is_finite() && refine.smoothness >= 0.0,
+            "refine.smoothness",
+            refine.smoothness.to_string(),
+            "a finite weight ≥ 0",
+        ),
+        (
+            refine.samples >= 16,
+            "refine.samples",
+            refine.samples.to_string(),
+            "at least 16 residual samples",
+        ),
+        (
+            (1..=64).contains(&opts.refine_order),
+            "refine_order",
+            opts.refine_order.to_string(),
+            "an integer in 1..=64",
+        ),
+        (
+            opts.check_samples >= 16,
+            "check_samples",
+            opts.check_samples.to_string(),
+            "at least 16 carrier angles",
+        ),
+        (
+            angle(opts.pressure_angle_rad),
+            "pressure-angle",
+            format!("{} rad", opts.pressure_angle_rad),
+            "an angle in (0°, 90°)",
+        ),
+        (
+            angle(opts.pressure_angle_limit_rad),
+            "pressure-angle-limit",
+            format!("{} rad", opts.pressure_angle_limit_rad),
+            "an angle in (0°, 90°)",
+        ),
+    ];
+    match rules.into_iter().find(|r| !r.0) {
+        Some((_, option, value, expected)) => Err(DesignError::BadOption {
+            option,
+            value,
+            expected,
+        }),
+        None => Ok(()),
+    }
+}

@@ -1,0 +1,265 @@
+//! `design.json`: the design report and the design it describes (mm and degrees).
+
+use crate::design::inverse::Inversion;
+use crate::geometry::assembly::Assembly;
+use crate::geometry::mechanism::Mechanism;
+use serde::{Deserialize, Serialize};
+
+/// `design.json`: everything a CAD pipeline or a reviewer needs, in mm and degrees.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[non_exhaustive]
+pub struct DesignReport {
+    /// Units of every length and angle below.
+    pub units: Units,
+    /// Carrier arm length `|OA|`, mm.
+    pub l1: f64,
+    /// Needle length `|AB|`, mm.
+    pub l3: f64,
+    /// Centre distance `a = l1/2`, mm.
+    pub center_distance: f64,
+    /// Needle angle γ relative to the planet's body +x axis, degrees.
+    pub needle_angle_deg: f64,
+    /// Carrier axis and sense.
+    pub carrier: Carrier,
+    /// Pitch tables and assembly angles.
+    pub gears: Gears,
+    /// Round trip from the output tables (C12).
+    pub roundtrip: RoundTrip,
+    /// Step-1 summary.
+    pub trajectory: TrajectorySummary,
+    /// Compatibility (§6.4, C11).
+    pub compatibility: CompatSummary,
+    /// The patent route's result.
+    pub patent_route: RouteSummary,
+    /// The refinement's result, when run.
+    pub refinement: Option<RouteSummary>,
+    /// The orthogonal-distance fit of the whole train to the points, when it ran.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub fit: Option<FitSummary>,
+    /// Which result the gears come from: "patent", "refined" (§8.3) or "fit".
+    pub chosen: String,
+    /// The final sun ratio `i21(u) = 1 + Σ a_k cos ku + b_k sin ku`, u = sun polar angle from the
+    /// design reference ray, which points at world angle `sun_phase_deg`.
+    pub fourier: FourierSummary,
+    /// Checks C1–C12.
+    pub checks: Vec<Check>,
+    /// The target trajectory as read (world frame, mm, travel order).
+    pub target_points: Vec<[f64; 2]>,
+    /// Human-readable warnings.
+    pub warnings: Vec<String>,
+    /// Wall-clock time per stage, ms.
+    pub timings_ms: Timings,
+    /// Teeth of the final gears (`ncgear design --module M`): a
+    /// [`crate::design::train::TrainTeethReport`] as JSON; absent without a module.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub teeth: Option<serde_json::Value>,
+}
+
+/// Units used in the report.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+pub struct Units {
+    /// "mm".
+    pub length: String,
+    /// "deg".
+    pub angle: String,
+}
+
+/// The carrier.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+pub struct Carrier {
+    /// Carrier axis O, mm.
+    pub center: [f64; 2],
+    /// +1 CCW, −1 CW (the sense the trajectory is travelled).
+    pub direction: i8,
+}
+
+/// The three gears.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+pub struct Gears {
+    /// Fixed sun gear; body frame = world frame.
+    pub sun: Gear,
+    /// Intermediate gear.
+    pub intermediate: Gear,
+    /// Planet gear (congruent to the sun, spec §6.1).
+    pub planet: Gear,
+}
+
+/// One gear's pitch table.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+pub struct Gear {
+    /// `[theta_deg, r_mm]`, θ CCW in the body frame, uniform.
+    pub pitch: Vec<[f64; 2]>,
+    /// Orientation at φH = 0 (world angle of the body +x axis), degrees; absent for the sun.
+    #[serde(skip_serializing_if = "Option::is_none", default)]
+    pub angle_at_zero_deg: Option<f64>,
+    /// Perimeter, mm.
+    pub perimeter_mm: f64,
+    /// Smallest signed radius of curvature, mm (negative = concave).
+    pub min_radius_of_curvature_mm: f64,
+}
+
+/// Round-trip result.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+pub struct RoundTrip {
+    /// Max synchronous tip deviation `max_j |B_rebuilt(φ_j) − P_j|` over the target points, mm,
+    /// where φ_j is the carrier angle at which the designed tip passes point j.
+    pub max_deviation_mm: f64,
+    /// RMS of the same deviations, mm.
+    #[serde(default)]
+    pub rms_deviation_mm: f64,
+    /// Hausdorff distance between the traced path and the target curve through the points, mm
+    /// (a periodic cubic spline through the points in the carrier angle at which the tip passes
+    /// them; the chord-length spline when those angles are not monotone).
+    pub hausdorff_mm: f64,
+    /// Largest `|r_sun + ρ2 − a|` / `|r_planet + ρ2 − a|` seen, mm.
+    pub max_mesh_error_mm: f64,
+    /// Carrier angles simulated.
+    pub samples: usize,
+}
+
+/// Step-1 summary.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+pub struct TrajectorySummary {
+    /// Points read.
+    pub points: usize,
+    /// Largest tip distance from O, mm.
+    pub rho_max_mm: f64,
+    /// Smallest tip distance from O, mm.
+    pub rho_min_mm: f64,
+    /// Carrier angle at the ρmax instant (reference instant), degrees, file frame.
+    pub reference_carrier_angle_deg: f64,
+    /// Needle swing amplitude `max|ψ3 − t − mean|`, degrees.
+    pub needle_swing_deg: f64,
+    /// i31 range over the turn.
+    pub i31_range: [f64; 2],
+    /// Measurement noise σ estimated from the points (local cubic fits), mm.
+    #[serde(default)]
+    pub noise_sigma_mm: f64,
+}
+
+/// Compatibility summary.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+pub struct CompatSummary {
+    /// Chosen half-closure origin τ, degrees after the reference instant.
+    pub tau_deg: f64,
+    /// E_c, rad.
+    pub residual_rad: f64,
+    /// `l3·E_c`, mm.
+    pub tip_equivalent_mm: f64,
+    /// `i31(τ)·i31(τ+π)`.
+    pub endpoint_product: f64,
+    /// All origins found, degrees after the reference instant.
+    pub origins_deg: Vec<f64>,
+}
+
+/// Result of one route.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+pub struct RouteSummary {
+    /// Fourier order K.
+    pub order: usize,
+    /// Max synchronous tip deviation of the forward model, mm.
+    pub max_deviation_mm: f64,
+    /// Junction mismatch J0 (patent route).
+    #[serde(skip_serializing_if = "Option::is_none", default)]
+    pub j0: Option<f64>,
+    /// Junction slope mismatch J1 (patent route).
+    #[serde(skip_serializing_if = "Option::is_none", default)]
+    pub j1: Option<f64>,
+    /// Mirror iterations (patent) or residual evaluations (refinement).
+    pub iterations: usize,
+    /// Solver note.
+    pub note: String,
+    /// Deviation at each order tried (patent route, adaptive): `[K, mm]`.
+    #[serde(skip_serializing_if = "Vec::is_empty", default)]
+    pub order_scan: Vec<[f64; 2]>,
+}
+
+/// The orthogonal-distance fit ([`crate::design::fit`]): distances of the target points from the curve the
+/// fitted train traces (analytic model), mm.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+pub struct FitSummary {
+    /// Fourier order K of the fitted sun ratio.
+    pub order: usize,
+    /// RMS point distance, mm (≈ the noise σ on measured points).
+    pub rms_mm: f64,
+    /// Largest point distance, mm.
+    pub max_mm: f64,
+    /// RMS point distance of the start (the chain's result before the fit), mm.
+    pub start_rms_mm: f64,
+    /// Largest point distance of the start, mm.
+    pub start_max_mm: f64,
+    /// Noise σ estimated from the points alone (local cubic fits), mm.
+    pub noise_sigma_mm: f64,
+    /// Harmonics of the smoothed copy the start was taken from (measured points), if any.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub start_smoothing_harmonics: Option<usize>,
+    /// Levenberg–Marquardt iterations.
+    pub iterations: usize,
+    /// `[K, rms_mm, max_mm]` per order tried.
+    pub order_scan: Vec<[f64; 3]>,
+}
+
+/// The final ratio's Fourier coefficients.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+pub struct FourierSummary {
+    /// Order K.
+    pub order: usize,
+    /// Cosine coefficients a_1..a_K.
+    pub a: Vec<f64>,
+    /// Sine coefficients b_1..b_K.
+    pub b: Vec<f64>,
+    /// World angle of the design reference ray, degrees.
+    pub sun_phase_deg: f64,
+    /// i21 range.
+    pub i21_range: [f64; 2],
+}
+
+/// One verification check (spec §10).
+#[derive(Debug, Clone, Serialize, Deserialize)]
+pub struct Check {
+    /// "C1".."C12".
+    pub id: String,
+    /// What it checks.
+    pub name: String,
+    /// Measured value.
+    pub value: f64,
+    /// Limit.
+    pub limit: f64,
+    /// Whether it passes; report-only checks pass.
+    pub pass: bool,
+}
+
+/// Stage timings, ms.
+#[derive(Debug, Clone, Default, Serialize, Deserialize)]
+pub struct Timings {
+    /// Step 1.
+    pub inverse: f64,
+    /// Compatibility.
+    pub compat: f64,
+    /// Patent route incl. order choice.
+    pub patent: f64,
+    /// Refinement (§8.3).
+    pub refine: f64,
+    /// Fit to the points.
+    #[serde(default)]
+    pub fit: f64,
+    /// Curves, checks and round trip.
+    pub outputs: f64,
+    /// Total.
+    pub total: f64,
+}
+
+/// Everything the chain produced: the report plus the objects behind it.
+#[derive(Debug, Clone)]
+pub struct Design {
+    /// The report (`design.json`).
+    pub report: DesignReport,
+    /// The chosen mechanism (solved frame: CCW, relative to O).
+    pub mechanism: Mechanism,
+    /// The assembled gears, world frame.
+    pub assembly: Assembly,
+    /// Step-1 result.
+    pub inversion: Inversion,
+    /// Traced tip path from the round trip, mm, world frame.
+    pub traced_mm: Vec<[f64; 2]>,
+}
