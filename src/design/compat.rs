@@ -10,7 +10,7 @@
 //!
 //! and the origin with the smallest `E_c` is chosen (spec §15 item 5).
 
-use crate::design::inverse::NeedleLaw;
+use crate::design::law::NeedleLaw;
 use crate::math::periodic::bisect_root;
 use std::f64::consts::{PI, TAU};
 

@@ -22,6 +22,7 @@ pub mod compat;
 mod error;
 pub mod fit;
 pub mod inverse;
+pub mod law;
 mod options;
 pub mod refine;
 mod report;

@@ -1,6 +1,7 @@
 //! The design chain: golden numbers of spec §11, round trips, designer-style targets, errors.
 use ncgear::design::compat;
-use ncgear::design::inverse::{InverseError, InverseOptions, NeedleLaw, invert};
+use ncgear::design::inverse::{InverseError, InverseOptions, invert};
+use ncgear::design::law::NeedleLaw;
 use ncgear::design::segmented::SegmentedOptions;
 use ncgear::design::trajectory::{Origin, Trajectory};
 use ncgear::design::{DesignOptions, RefineMode, design};
