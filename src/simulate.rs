@@ -284,7 +284,8 @@ impl Simulation {
     #[must_use]
     pub fn toothed(train: &crate::design::train::ToothedTrain) -> Self {
         let tol = 0.01 * train.report.module_mm;
-        let simple = |o: &crate::teeth::Outline| crate::export::simplify_closed(&o.points_mm, tol);
+        let simple =
+            |o: &crate::teeth::Outline| crate::math::polyline::simplify_closed(&o.points_mm, tol);
         Self {
             outlines: Some([
                 simple(&train.sun),
@@ -420,7 +421,7 @@ pub struct Features {
 }
 
 fn seg_seg(p1: [f64; 2], p2: [f64; 2], q1: [f64; 2], q2: [f64; 2]) -> f64 {
-    let pd = crate::geometry::assembly::seg_dist;
+    let pd = crate::math::polyline::seg_dist;
     let cross = |o: [f64; 2], a: [f64; 2], b: [f64; 2]| {
         (a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0])
     };
@@ -596,5 +597,5 @@ pub fn features_of_turn(
 /// Distance from each point to a closed polyline, mm.
 #[must_use]
 pub fn deviation_along(points: &[[f64; 2]], target: &[[f64; 2]]) -> Vec<f64> {
-    crate::geometry::assembly::distances_to_polyline(points, target)
+    crate::math::polyline::distances_to_polyline(points, target)
 }

@@ -6,8 +6,8 @@
 //! 28 800-sample pitch curve) and the error is the Hausdorff distance between the outlines
 //! (the pitch-curve sample rows use chord 1e-5 mm, so their floor is ≈ 1e-5 mm).
 use super::{Row, timed};
-use ncgear::geometry::assembly::{distances_to_polyline, hausdorff_mm};
 use ncgear::geometry::pitch::PitchCurve;
+use ncgear::math::polyline::{distances_to_polyline, hausdorff_mm};
 use ncgear::teeth::{
     Outline, OutlineOptions, RackParams, ToothPolicy, generate_outline, scale_curve, tooth_count,
 };

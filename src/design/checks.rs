@@ -6,9 +6,10 @@ use super::report::*;
 use crate::design::compat::Compatibility;
 use crate::design::inverse::Inversion;
 use crate::design::trajectory::{ClosedSpline, Trajectory};
-use crate::geometry::assembly::{Assembly, hausdorff_mm};
+use crate::geometry::assembly::Assembly;
 use crate::geometry::mechanism::Mechanism;
 use crate::geometry::pitch::PitchCurve;
+use crate::math::polyline::hausdorff_mm;
 use std::f64::consts::TAU;
 
 /// `n` points of the target curve through the points: a periodic cubic spline in the carrier

@@ -31,11 +31,12 @@
 //! stay exactly conjugate.
 use crate::design::Design;
 use crate::export::{Contour, Marker, Sheet};
-use crate::geometry::assembly::{Assembly, distances_to_polyline, hausdorff_mm};
+use crate::geometry::assembly::Assembly;
 use crate::geometry::fourier::SunRatio;
 use crate::geometry::mechanism::Mechanism;
 use crate::geometry::pitch::{PitchCurve, PitchError};
 use crate::math::periodic::{bisect_root, uniform_angles};
+use crate::math::polyline::{distances_to_polyline, hausdorff_mm};
 use crate::teeth::mesh::{MeshCheck, MeshError, MeshReport, verify_mesh};
 use crate::teeth::{
     ArcFrame, Outline, OutlineOptions, RackParams, TeethError, ToothPolicy, UndercutReport,

@@ -3,7 +3,8 @@
 //! POINT entities for markers), or a hand-written minimal R12 (POLYLINE/VERTEX/SEQEND, no
 //! group-100 subclass markers) for old programs. No SPLINE entities. Contours are simplified to
 //! `chord_tol_mm` (Douglas–Peucker). Spec: peers-and-cad.md §6, §10.
-use super::{ExportError, Sheet, io_err, simplify_closed};
+use super::{ExportError, Sheet, io_err};
+use crate::math::polyline::simplify_closed;
 use ::dxf::LwPolylineVertex;
 use ::dxf::entities::{Entity, EntityType, LwPolyline, ModelPoint};
 use ::dxf::enums::{AcadVersion, DrawingUnits, Units};

@@ -141,55 +141,6 @@ impl Sheet {
     }
 }
 
-/// Simplifies a closed polyline so that no removed vertex deviates more than `tol_mm` from the
-/// kept chords (Douglas–Peucker on the two halves split at the farthest vertex from vertex 0).
-#[must_use]
-pub fn simplify_closed(points_mm: &[[f64; 2]], tol_mm: f64) -> Vec<[f64; 2]> {
-    let n = points_mm.len();
-    if n < 4 {
-        return points_mm.to_vec();
-    }
-    let p0 = points_mm[0];
-    let far = (1..n)
-        .max_by(|&a, &b| {
-            let da = (points_mm[a][0] - p0[0]).hypot(points_mm[a][1] - p0[1]);
-            let db = (points_mm[b][0] - p0[0]).hypot(points_mm[b][1] - p0[1]);
-            da.total_cmp(&db)
-        })
-        .unwrap_or(n / 2);
-    let mut keep = vec![false; n];
-    keep[0] = true;
-    keep[far] = true;
-    let mut stack = vec![(0usize, far), (far, n)];
-    while let Some((a, b)) = stack.pop() {
-        if b <= a + 1 {
-            continue;
-        }
-        let pa = points_mm[a];
-        let pb = points_mm[b % n];
-        let (dx, dy) = (pb[0] - pa[0], pb[1] - pa[1]);
-        let l = dx.hypot(dy).max(1e-300);
-        let mut worst = (0.0, a);
-        for (i, p) in points_mm.iter().enumerate().take(b).skip(a + 1) {
-            let d = ((p[0] - pa[0]) * dy - (p[1] - pa[1]) * dx).abs() / l;
-            if d > worst.0 {
-                worst = (d, i);
-            }
-        }
-        if worst.0 > tol_mm {
-            keep[worst.1] = true;
-            stack.push((a, worst.1));
-            stack.push((worst.1, b));
-        }
-    }
-    points_mm
-        .iter()
-        .zip(keep)
-        .filter(|(_, k)| *k)
-        .map(|(p, _)| *p)
-        .collect()
-}
-
 pub(crate) fn io_err(path: &std::path::Path, source: std::io::Error) -> ExportError {
     ExportError::Io {
         path: path.display().to_string(),

@@ -400,7 +400,7 @@ pub fn write_simulation(
     } else {
         Vec::new()
     };
-    let arm2_vs_arm1 = crate::geometry::assembly::hausdorff_mm(&arm2, &arm1);
+    let arm2_vs_arm1 = crate::math::polyline::hausdorff_mm(&arm2, &arm1);
     let mut written: Vec<PathBuf> = Vec::new();
     let mut csv = String::from(
         "carrier_deg,arm1_x_mm,arm1_y_mm,arm2_x_mm,arm2_y_mm,needle1_deg,deviation_mm\n",

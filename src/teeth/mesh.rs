@@ -620,7 +620,7 @@ impl Level {
         let every = |v: &[[f64; 2]], k: usize| v.iter().step_by(k).copied().collect::<Vec<_>>();
         let thin = |v: &[[f64; 2]]| {
             if simplify_mm > 0.0 {
-                crate::export::simplify_closed(v, simplify_mm)
+                crate::math::polyline::simplify_closed(v, simplify_mm)
             } else {
                 v.to_vec()
             }
