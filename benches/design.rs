@@ -24,11 +24,9 @@ fn full_chain_g1_360(b: divan::Bencher) {
 #[divan::bench(args = [4, 8, 16, 32], sample_count = 10)]
 fn patent_route_order(b: divan::Bencher, k: usize) {
     let t = load("g1_ellipse.csv");
-    let opts = DesignOptions {
-        order: Some(k),
-        refine: RefineMode::Off,
-        ..DesignOptions::default()
-    };
+    let mut opts = DesignOptions::default();
+    opts.order = Some(k);
+    opts.refine = RefineMode::Off;
     b.bench(|| design(divan::black_box(&t), &opts).expect("G1"));
 }
 
@@ -81,9 +79,7 @@ fn family_case(b: divan::Bencher, name: &str) {
             [v[0], v[1]]
         });
     let t = Trajectory::parse_csv(&text, name).expect("bundled case");
-    let opts = DesignOptions {
-        center_mm: center,
-        ..DesignOptions::default()
-    };
+    let mut opts = DesignOptions::default();
+    opts.center_mm = center;
     b.bench(|| design(divan::black_box(&t), &opts).expect("designed"));
 }

@@ -21,16 +21,17 @@ use std::f64::consts::TAU;
 
 /// Accuracy knobs of the inversion (spec §13).
 #[derive(Debug, Clone, Copy, PartialEq)]
+#[non_exhaustive]
 pub struct InverseOptions {
-    /// Dense samples of the interpolant used to locate extremes and check monotonicity (`n_s`).
+    /// Dense samples of the interpolant used to locate extremes and check monotonicity (`n_s`). Default 20 000.
     pub dense_samples: usize,
-    /// Uniform carrier-angle grid size `N` for ψ3 (FFT size).
+    /// Uniform carrier-angle grid size `N` for ψ3 (FFT size). Default 1024.
     pub grid: usize,
     /// Tolerance on the spline parameter when solving for extremes and carrier angles, in units
-    /// of the trajectory length.
+    /// of the trajectory length. Default 1e-14.
     pub tol_relative: f64,
     /// Low-pass the needle law `ψ3 − t` to this many harmonics (for measured, noisy data: the
-    /// inversion amplifies noise near the extremes, spec §3.5); `None` keeps it as computed.
+    /// inversion amplifies noise near the extremes, spec §3.5); `None` (default) keeps it as computed.
     pub law_harmonics: Option<usize>,
 }
 
@@ -52,7 +53,7 @@ impl Default for InverseOptions {
 pub enum InverseError {
     /// The carrier axis is inside the loop.
     #[error(
-        "the carrier axis O lies inside the loop (winding number {winding}); a transplanter needs O outside the loop (l3 > l1): check --center"
+        "the carrier axis O lies inside the loop (winding number {winding}); a transplanter needs O outside the loop (l3 > l1): check the carrier axis position (`center_mm`)"
     )]
     AxisInsideLoop {
         /// Winding number of the loop about O.
@@ -72,7 +73,7 @@ pub enum InverseError {
     },
     /// Some point is too close to the carrier axis.
     #[error(
-        "the trajectory comes within {rho_min_mm:.3} mm of the carrier axis, below 5 % of l3 ({limit_mm:.3} mm); the inversion is ill-conditioned there (spec §14): move --center or the trajectory"
+        "the trajectory comes within {rho_min_mm:.3} mm of the carrier axis, below 5 % of l3 ({limit_mm:.3} mm); the inversion is ill-conditioned there (spec §14): move the carrier axis (`center_mm`) or the trajectory"
     )]
     TooCloseToAxis {
         /// ρmin, mm.
@@ -81,7 +82,7 @@ pub enum InverseError {
         limit_mm: f64,
     },
     /// The carrier angle is not monotone along the trajectory.
-    #[error("no arm with constant l1 = {l1_mm:.3} mm and l3 = {l3_mm:.3} mm can trace this path: the carrier angle would have to run backwards on {} stretch(es), carrier angles (deg) {stretches_deg:?} (monotonicity criterion, spec §3.3); redraw those parts, or for measured data smooth it (`--smooth 24`)", stretches_deg.len())]
+    #[error("no arm with constant l1 = {l1_mm:.3} mm and l3 = {l3_mm:.3} mm can trace this path: the carrier angle would have to run backwards on {} stretch(es), carrier angles (deg) {stretches_deg:?} (monotonicity criterion, spec §3.3); redraw those parts (the points as read and smoothed copies of them were tried)", stretches_deg.len())]
     NotMonotone {
         /// l1, mm.
         l1_mm: f64,

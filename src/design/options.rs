@@ -22,40 +22,43 @@ pub enum RefineMode {
     Off,
 }
 
-/// Every knob of the chain.
+/// Every knob of the chain; [`DesignOptions::default`] is what `ncgear design` runs with.
 #[derive(Debug, Clone, PartialEq)]
+#[non_exhaustive]
 pub struct DesignOptions {
-    /// Carrier axis O in the trajectory's frame, mm.
+    /// Carrier axis O in the trajectory's frame, mm. Default [0, 0].
     pub center_mm: [f64; 2],
-    /// Step-1 accuracy knobs.
+    /// Step-1 accuracy knobs. Default [`InverseOptions::default`].
     pub inverse: InverseOptions,
     /// Smooth a measured/noisy trajectory to this many Fourier harmonics before step 1
-    /// (deviations are still measured against the points as read).
+    /// (deviations are still measured against the points as read). Default `None`: measured
+    /// points are detected from their estimated noise and smoothed for the start only.
     pub smoothing: Option<usize>,
-    /// Patent-route knobs.
+    /// Patent-route knobs. Default [`SegmentedOptions::default`].
     pub segmented: SegmentedOptions,
-    /// Fixed Fourier order K; `None` = adaptive to `tol_tip_mm`.
+    /// Fixed Fourier order K; `None` (default) = adaptive to `tol_tip_mm`.
     pub order: Option<usize>,
     /// Target max synchronous tip deviation, mm. Default 0.05: the round-trip acceptance bound
     /// for exactly traceable targets (the spec suggests 0.1).
     pub tol_tip_mm: f64,
-    /// Refinement policy.
+    /// Refinement policy. Default [`RefineMode::Auto`].
     pub refine: RefineMode,
     /// Fit every parameter to the points as the last stage ([`crate::design::fit`]), when the chain's
     /// result is not within 0.2·`tol_tip_mm` of them, leaves the ratio bounds, or came from smoothed
     /// points (default true). Off: the chain's result (patent route, or §8.3 with `refine: On`).
     pub fit_to_points: bool,
-    /// Refinement knobs (ratio bounds are shared with check C6).
+    /// Refinement knobs (ratio bounds are shared with check C6 and the fit). Default
+    /// [`RefineOptions::default`].
     pub refine_options: RefineOptions,
-    /// Fourier order used by the refinement when no fixed order is given.
+    /// Fourier order used by the refinement when no fixed order is given. Default 12.
     pub refine_order: usize,
-    /// Samples per pitch curve in the outputs (≥ 720).
+    /// Samples per pitch curve in the outputs (≥ 720). Default 3600.
     pub curve_samples: usize,
-    /// Carrier angles used to measure deviations.
+    /// Carrier angles used to measure deviations. Default 2048.
     pub check_samples: usize,
-    /// Rack pressure angle α used by the pressure-angle check C10, rad.
+    /// Rack pressure angle α used by the pressure-angle check C10, rad. Default 20°.
     pub pressure_angle_rad: f64,
-    /// Limit on the effective pressure angle, rad (C10).
+    /// Limit on the effective pressure angle, rad (C10). Default 45°.
     pub pressure_angle_limit_rad: f64,
 }
 
@@ -97,37 +100,37 @@ pub(super) fn validate(opts: &DesignOptions) -> Result<(), DesignError> {
         ),
         (
             opts.smoothing.is_none_or(|h| (4..=512).contains(&h)),
-            "smooth",
+            "smoothing",
             show(opts.smoothing),
             "a number of harmonics in 4..=512 (about 1/10 of the points for noisy data)",
         ),
         (
             positive(opts.tol_tip_mm),
-            "tol-mm",
+            "tol_tip_mm",
             opts.tol_tip_mm.to_string(),
             "a positive length in mm",
         ),
         (
             (64..=1 << 16).contains(&inv.grid),
-            "grid",
+            "inverse.grid",
             inv.grid.to_string(),
             "a grid size in 64..=65536",
         ),
         (
             opts.curve_samples >= 720,
-            "samples",
+            "curve_samples",
             opts.curve_samples.to_string(),
             "at least 720 samples per pitch curve",
         ),
         (
             lo > 0.0 && hi > lo && hi.is_finite(),
-            "ratio-bounds",
+            "refine_options.ratio_bounds",
             format!("{lo},{hi}"),
             "0 < min < max",
         ),
         (
             cx.is_finite() && cy.is_finite(),
-            "center",
+            "center_mm",
             format!("{cx},{cy}"),
             "two finite coordinates in mm",
         ),
@@ -163,13 +166,13 @@ pub(super) fn validate(opts: &DesignOptions) -> Result<(), DesignError> {
         ),
         (
             refine.smoothness.is_finite() && refine.smoothness >= 0.0,
-            "refine.smoothness",
+            "refine_options.smoothness",
             refine.smoothness.to_string(),
             "a finite weight ≥ 0",
         ),
         (
             refine.samples >= 16,
-            "refine.samples",
+            "refine_options.samples",
             refine.samples.to_string(),
             "at least 16 residual samples",
         ),
@@ -187,13 +190,13 @@ pub(super) fn validate(opts: &DesignOptions) -> Result<(), DesignError> {
         ),
         (
             angle(opts.pressure_angle_rad),
-            "pressure-angle",
+            "pressure_angle_rad",
             format!("{} rad", opts.pressure_angle_rad),
             "an angle in (0°, 90°)",
         ),
         (
             angle(opts.pressure_angle_limit_rad),
-            "pressure-angle-limit",
+            "pressure_angle_limit_rad",
             format!("{} rad", opts.pressure_angle_limit_rad),
             "an angle in (0°, 90°)",
         ),

@@ -21,18 +21,19 @@ use nalgebra::{DMatrix, DVector, Dyn, Owned};
 use rayon::prelude::*;
 use std::f64::consts::TAU;
 
-/// Options of the refinement.
+/// Options of the refinement (spec §8.3).
 #[derive(Debug, Clone, Copy, PartialEq)]
+#[non_exhaustive]
 pub struct RefineOptions {
-    /// Residual samples `J` (at least 4K are used).
+    /// Residual samples `J` (at least 4K are used). Default 360.
     pub samples: usize,
-    /// Ratio bounds `[i_min, i_max]`.
+    /// Ratio bounds `[i_min, i_max]` (dimensionless; spec §14). Default [0.3, 3.3].
     pub ratio_bounds: [f64; 2],
-    /// Penalise concave sun/intermediate arcs.
+    /// Penalise concave sun/intermediate arcs. Default false.
     pub convexity_penalty: bool,
-    /// Smoothness weight √λ relative to l3 (dimensionless).
+    /// Smoothness weight √λ relative to l3 (dimensionless). Default 1e-4.
     pub smoothness: f64,
-    /// Cap on residual evaluations, in multiples of (parameters + 1).
+    /// Cap on residual evaluations, in multiples of (parameters + 1). Default 60.
     pub patience: usize,
 }
 

@@ -28,18 +28,19 @@ pub enum Route {
     Bd,
 }
 
-/// Parameters of the segmented design.
+/// Parameters of the segmented design (spec §7).
 #[derive(Debug, Clone, PartialEq)]
+#[non_exhaustive]
 pub struct SegmentedOptions {
-    /// Hypothesis harmonics `(A_n, φ_n rad)` of `sin(2n u + φ_n)`, n = 1, 2, …; empty for `F′₀ ≡ 1`.
+    /// Hypothesis harmonics `(A_n, φ_n rad)` of `sin(2n u + φ_n)`, n = 1, 2, …; empty (default) for `F′₀ ≡ 1`.
     pub hypothesis: Vec<(f64, f64)>,
-    /// Mirror weight `w1` (0.5 converges the junctions in one step).
+    /// Mirror weight `w1` (0.5, the default, converges the junctions in one step).
     pub w1: f64,
-    /// Junction tolerance `tol_J`, relative to mean(F′) = 1.
+    /// Junction tolerance `tol_J`, relative to mean(F′) = 1. Default 1e-6.
     pub tol_j: f64,
-    /// Iteration cap `k_max`.
+    /// Iteration cap `k_max`. Default 20.
     pub k_max: usize,
-    /// Route.
+    /// Route. Default [`Route::Ac`].
     pub route: Route,
 }
 
