@@ -140,12 +140,10 @@ pub fn parse_pair(s: &str) -> Result<[f64; 2], String> {
 pub fn run(args: Args) -> CliResult {
     let traj =
         Trajectory::read(&args.trajectory).map_err(|e| input_error(miette::miette!("{e}")))?;
-    let mut opts = DesignOptions {
-        center_mm: args.center,
-        order: args.order,
-        tol_tip_mm: args.tol_mm,
-        ..DesignOptions::default()
-    };
+    let mut opts = DesignOptions::default();
+    opts.center_mm = args.center;
+    opts.order = args.order;
+    opts.tol_tip_mm = args.tol_mm;
     opts.refine = match args.refine {
         RefineArg::Auto => RefineMode::Auto,
         RefineArg::On => RefineMode::On,

@@ -63,13 +63,11 @@ fn noisy_measured_trajectory_with_smoothing_stays_close_to_the_clean_path() {
             Ok(_) => {}
         }
         // With smoothing the chain runs and stays within a bounded distance of the clean path.
-        let d = design(
-            &t,
-            &DesignOptions {
-                smoothing: Some(24),
-                ..DesignOptions::default()
-            },
-        )
+        let d = design(&t, &{
+            let mut o = DesignOptions::default();
+            o.smoothing = Some(24);
+            o
+        })
         .unwrap();
         let worst = d
             .traced_mm
@@ -210,7 +208,7 @@ proptest! {
         text.truncate(text.len().saturating_sub(cut));
         if let Ok(t) = Trajectory::parse_csv(&text, "m.csv") {
             // Whatever parses must either design or fail with a typed error — and never yield NaN.
-            if let Ok(d) = design(&t, &DesignOptions { check_samples: 256, curve_samples: 720, ..DesignOptions::default() }) {
+            if let Ok(d) = design(&t, &{ let mut o = DesignOptions::default(); o.check_samples = 256; o.curve_samples = 720; o }) {
                 prop_assert!(d.report.roundtrip.max_deviation_mm.is_finite());
                 prop_assert!(d.report.l1.is_finite() && d.report.l3.is_finite());
             }

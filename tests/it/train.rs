@@ -361,11 +361,9 @@ fn leaning_teeth_of_the_kidney_design_mesh_without_interference() {
         PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("assets/trajectories/designer_kidney.csv");
     let t = Trajectory::read(&traj).unwrap();
     // The §8.3 refined design (fixed l1, l3), as this test was built on.
-    let refined = DesignOptions {
-        refine: ncgear::design::RefineMode::On,
-        fit_to_points: false,
-        ..DesignOptions::default()
-    };
+    let mut refined = DesignOptions::default();
+    refined.refine = ncgear::design::RefineMode::On;
+    refined.fit_to_points = false;
     let d = design(&t, &refined).unwrap();
     let mut opts = TrainTeethOptions::new(1.5);
     opts.verify_steps = 36;
@@ -397,13 +395,11 @@ fn clockwise_asymmetric_design_meshes() {
     let traj =
         PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("assets/trajectories/asymmetric_cw.json");
     let t = Trajectory::read(&traj).unwrap();
-    let d = design(
-        &t,
-        &DesignOptions {
-            center_mm: [250.0, 400.0],
-            ..DesignOptions::default()
-        },
-    )
+    let d = design(&t, &{
+        let mut o = DesignOptions::default();
+        o.center_mm = [250.0, 400.0];
+        o
+    })
     .unwrap();
     assert_eq!(d.assembly.direction, -1);
     let mut opts = TrainTeethOptions::new(1.25);

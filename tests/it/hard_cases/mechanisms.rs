@@ -32,11 +32,10 @@ fn ellipse_mechanism(e: f64) -> Mechanism {
 
 /// Options for quick hard-case runs (fewer output samples; the chain itself unchanged).
 fn quick() -> DesignOptions {
-    DesignOptions {
-        check_samples: 512,
-        curve_samples: 720,
-        ..DesignOptions::default()
-    }
+    let mut o = DesignOptions::default();
+    o.check_samples = 512;
+    o.curve_samples = 720;
+    o
 }
 
 /// A random closed Fourier sun `1 + s·Σ(a_k cos kθ + b_k sin kθ)/max|Σ|`: its ratio spans
