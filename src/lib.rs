@@ -13,9 +13,19 @@
 //! Units: files speak mm and degrees; the library works in mm and radians. Every public quantity
 //! carries its unit in its name or its doc comment.
 #![warn(missing_docs)]
+// Every declared dependency is used (the test and bench targets have their own dev-dependencies).
+#![cfg_attr(not(test), warn(unused_crate_dependencies))]
 #![warn(clippy::print_stdout, clippy::print_stderr)]
 // `!(x > 0.0)` is how the input checks reject NaN together with out-of-range values.
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
+
+// Dependencies the library declares but does not name: argmin's nalgebra 0.34 backend (a
+// feature-only dependency), and those of the `ncgear` binary (the `cli` feature).
+use argmin_math as _;
+#[cfg(feature = "cli")]
+use {clap as _, indicatif as _};
+#[cfg(all(feature = "cli", unix))]
+use libc as _;
 
 pub mod analysis;
 pub mod config;
