@@ -9,7 +9,7 @@ fn main() {
 
 fn load(name: &str) -> Trajectory {
     let p = format!("{}/assets/trajectories/{name}", env!("CARGO_MANIFEST_DIR"));
-    Trajectory::read(std::path::Path::new(&p)).expect("bundled example")
+    Trajectory::from_path(std::path::Path::new(&p)).expect("bundled example")
 }
 
 /// The full chain on the 360-point G1 trajectory with default options (adaptive K).

@@ -22,10 +22,10 @@
 // Dependencies the library declares but does not name: argmin's nalgebra 0.34 backend (a
 // feature-only dependency), and those of the `ncgear` binary (the `cli` feature).
 use argmin_math as _;
-#[cfg(feature = "cli")]
-use {clap as _, indicatif as _};
 #[cfg(all(feature = "cli", unix))]
 use libc as _;
+#[cfg(feature = "cli")]
+use {clap as _, indicatif as _};
 
 pub mod analysis;
 pub mod config;

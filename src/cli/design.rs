@@ -139,7 +139,7 @@ pub fn parse_pair(s: &str) -> Result<[f64; 2], String> {
 /// Runs `ncgear design`.
 pub fn run(args: Args) -> CliResult {
     let traj =
-        Trajectory::read(&args.trajectory).map_err(|e| input_error(miette::miette!("{e}")))?;
+        Trajectory::from_path(&args.trajectory).map_err(|e| input_error(miette::miette!("{e}")))?;
     let mut opts = DesignOptions::default();
     opts.center_mm = args.center;
     opts.order = args.order;

@@ -59,7 +59,7 @@ fn input(e: SimulateError) -> super::Failure {
 pub fn run(args: Args) -> CliResult {
     let (file, asm) = DesignFile::read(&args.design).map_err(input)?;
     let target = match &args.target {
-        Some(p) => Trajectory::read(p)
+        Some(p) => Trajectory::from_path(p)
             .map_err(|e| input_error(miette::miette!("{e}")))?
             .points()
             .to_vec(),

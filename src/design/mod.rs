@@ -11,7 +11,7 @@
 //!
 //! ```no_run
 //! use ncgear::design::{design, DesignOptions, trajectory::Trajectory};
-//! let traj = Trajectory::read(std::path::Path::new("assets/trajectories/g1_ellipse.csv")).unwrap();
+//! let traj = Trajectory::from_path(std::path::Path::new("assets/trajectories/g1_ellipse.csv")).unwrap();
 //! let d = design(&traj, &DesignOptions::default()).unwrap();
 //! assert!(d.report.roundtrip.max_deviation_mm < 0.1);
 //! ```

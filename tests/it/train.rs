@@ -359,7 +359,7 @@ fn design_cli_with_module_writes_cad_files_and_refuses_undercut() {
 fn leaning_teeth_of_the_kidney_design_mesh_without_interference() {
     let traj =
         PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("assets/trajectories/designer_kidney.csv");
-    let t = Trajectory::read(&traj).unwrap();
+    let t = Trajectory::from_path(&traj).unwrap();
     // The §8.3 refined design (fixed l1, l3), as this test was built on.
     let mut refined = DesignOptions::default();
     refined.refine = ncgear::design::RefineMode::On;
@@ -394,7 +394,7 @@ fn leaning_teeth_of_the_kidney_design_mesh_without_interference() {
 fn clockwise_asymmetric_design_meshes() {
     let traj =
         PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("assets/trajectories/asymmetric_cw.json");
-    let t = Trajectory::read(&traj).unwrap();
+    let t = Trajectory::from_path(&traj).unwrap();
     let d = design(&t, &{
         let mut o = DesignOptions::default();
         o.center_mm = [250.0, 400.0];

@@ -19,202 +19,18 @@
 //! assert_eq!(traj.len(), 36);
 //! ```
 
-use crate::math::periodic::PeriodicSpline;
-use std::fmt;
+mod error;
+mod screen;
+mod spline;
+
+pub use error::{Origin, TrajectoryError};
+pub use spline::ClosedSpline;
+
+use screen::{local_cubic_noise_mm, outlier};
 use std::path::Path;
 
 /// Fewest points accepted in a trajectory file.
 pub const MIN_POINTS: usize = 20;
-
-/// Where a point came from in its file, for diagnostics.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Origin {
-    /// 1-based line of a CSV file.
-    Line(usize),
-    /// 0-based index in the JSON `points` array.
-    Index(usize),
-}
-
-impl fmt::Display for Origin {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match self {
-            Origin::Line(l) => write!(f, "line {l}"),
-            Origin::Index(i) => write!(f, "points[{i}]"),
-        }
-    }
-}
-
-/// Why a trajectory file cannot be used. Every variant names the file and, where it applies, the
-/// line or field, what was expected and how to fix it.
-#[derive(Debug, Clone, PartialEq, thiserror::Error)]
-#[non_exhaustive]
-pub enum TrajectoryError {
-    /// The file cannot be read.
-    #[error("{file}: cannot read the trajectory file: {message}")]
-    Unreadable {
-        /// File name.
-        file: String,
-        /// OS message.
-        message: String,
-    },
-    /// A CSV line is not two numbers.
-    #[error(
-        "{file}: {origin}: expected two numbers `x, y` in mm, found `{found}`; fix or comment the line out with #"
-    )]
-    BadLine {
-        /// File name.
-        file: String,
-        /// Where.
-        origin: Origin,
-        /// The offending text.
-        found: String,
-    },
-    /// The JSON does not follow the schema.
-    #[error("{file}: {message}; expected {{\"units\": \"mm\", \"points\": [[x, y], ...]}}")]
-    BadJson {
-        /// File name.
-        file: String,
-        /// Parser message.
-        message: String,
-    },
-    /// A coordinate is NaN or infinite.
-    #[error(
-        "{file}: {origin}: coordinate is not a finite number; every point needs finite x and y in mm"
-    )]
-    NotFinite {
-        /// File name.
-        file: String,
-        /// Where.
-        origin: Origin,
-    },
-    /// Too few points.
-    #[error(
-        "{file}: {count} points, at least {min} are needed (360, one per carrier degree, is typical)"
-    )]
-    TooFewPoints {
-        /// File name.
-        file: String,
-        /// Points found.
-        count: usize,
-        /// Minimum.
-        min: usize,
-    },
-    /// Two consecutive points coincide.
-    #[error("{file}: {origin} repeats the previous point ({x}, {y}) mm; remove the duplicate")]
-    DuplicatePoint {
-        /// File name.
-        file: String,
-        /// Where.
-        origin: Origin,
-        /// x, mm.
-        x: f64,
-        /// y, mm.
-        y: f64,
-    },
-    /// One point lies far off the curve its neighbours draw (a typo such as `7.6e19`).
-    #[error(
-        "{file}: {origin}: the point ({x}, {y}) mm lies {jump_mm:.4e} mm from its neighbours, which are {neighbours_mm:.3} mm apart (typical spacing {spacing_mm:.3} mm): an outlier, probably a typo; correct or remove that line"
-    )]
-    Outlier {
-        /// File name.
-        file: String,
-        /// Where.
-        origin: Origin,
-        /// x, mm.
-        x: f64,
-        /// y, mm.
-        y: f64,
-        /// Distance to the nearer neighbour, mm.
-        jump_mm: f64,
-        /// Distance between the two neighbours, mm.
-        neighbours_mm: f64,
-        /// Median spacing of consecutive points, mm.
-        spacing_mm: f64,
-    },
-    /// The closing gap is far larger than the point spacing.
-    #[error(
-        "{file}: the curve is open: the gap from the last point back to the first is {gap_mm:.3} mm, while consecutive points are at most {spacing_mm:.3} mm apart; give the whole closed loop in travel order"
-    )]
-    Open {
-        /// File name.
-        file: String,
-        /// Closing gap, mm.
-        gap_mm: f64,
-        /// Largest spacing between consecutive points, mm.
-        spacing_mm: f64,
-    },
-}
-
-/// The first point that jumps far off the curve and back: both its steps exceed 50× the median
-/// spacing (and 1000× the distance between its two neighbours plus one spacing). Returns
-/// `(index, nearer step, neighbour distance, median spacing)`, mm.
-fn outlier(points: &[[f64; 2]]) -> Option<(usize, f64, f64, f64)> {
-    let n = points.len();
-    if n < 3 {
-        return None;
-    }
-    let steps: Vec<f64> = (0..n)
-        .map(|k| dist(points[k], points[(k + 1) % n]))
-        .collect();
-    let mut sorted = steps.clone();
-    sorted.sort_by(f64::total_cmp);
-    let spacing = sorted[n / 2];
-    (0..n).find_map(|k| {
-        let (before, after) = (steps[(k + n - 1) % n], steps[k]);
-        let jump = before.min(after);
-        let between = dist(points[(k + n - 1) % n], points[(k + 1) % n]);
-        (jump > 50.0 * spacing && jump > 1000.0 * (between + spacing))
-            .then_some((k, jump, between, spacing))
-    })
-}
-
-/// Median over the points of the local cubic-fit residual (9-point windows, chord-length
-/// parameter, both coordinates, 10 degrees of freedom), corrected to a standard deviation: an
-/// estimate of the measurement noise σ (mm) that needs no model of the curve. On exact samples of a
-/// smooth curve it is the cubic's truncation error (µm for 200+ points on a transplanter loop).
-fn local_cubic_noise_mm(points: &[[f64; 2]]) -> f64 {
-    let n = points.len();
-    if n < 9 {
-        return 0.0;
-    }
-    let mut rss: Vec<f64> = (0..n)
-        .map(|k| {
-            // Window k−4..k+4, parameter u = chord length from the centre, scaled to O(1).
-            let idx: Vec<usize> = (0..9).map(|j| (k + n + j - 4) % n).collect();
-            let mut u = [0.0; 9];
-            for j in 5..9 {
-                u[j] = u[j - 1] + dist(points[idx[j - 1]], points[idx[j]]);
-            }
-            for j in (0..4).rev() {
-                u[j] = u[j + 1] - dist(points[idx[j + 1]], points[idx[j]]);
-            }
-            let scale = (u[8] - u[0]).max(1e-300) / 2.0;
-            let mut a = nalgebra::Matrix4::<f64>::zeros();
-            let mut bx = nalgebra::Vector4::<f64>::zeros();
-            let mut by = nalgebra::Vector4::<f64>::zeros();
-            for j in 0..9 {
-                let t = u[j] / scale;
-                let v = nalgebra::Vector4::new(1.0, t, t * t, t * t * t);
-                a += v * v.transpose();
-                bx += v * points[idx[j]][0];
-                by += v * points[idx[j]][1];
-            }
-            let Some(ch) = a.cholesky() else { return 0.0 };
-            let (cx, cy) = (ch.solve(&bx), ch.solve(&by));
-            (0..9)
-                .map(|j| {
-                    let t = u[j] / scale;
-                    let v = nalgebra::Vector4::new(1.0, t, t * t, t * t * t);
-                    (points[idx[j]][0] - v.dot(&cx)).powi(2)
-                        + (points[idx[j]][1] - v.dot(&cy)).powi(2)
-                })
-                .sum::<f64>()
-        })
-        .collect();
-    rss.sort_by(f64::total_cmp);
-    // Median of χ²₁₀/10 is 0.9342.
-    (rss[n / 2] / 10.0 / 0.9342).sqrt()
-}
 
 /// A closed needle-tip trajectory in travel order, mm.
 #[derive(Debug, Clone, PartialEq)]
@@ -289,9 +105,26 @@ impl Trajectory {
         Ok(Self { points })
     }
 
+    /// Points already in memory (mm, travel order), e.g. a CAD polyline; validated as a file
+    /// would be, with point indices in messages.
+    ///
+    /// ```
+    /// use ncgear::design::trajectory::Trajectory;
+    /// let pts: Vec<[f64; 2]> = (0..40)
+    ///     .map(|k| {
+    ///         let t = std::f64::consts::TAU * k as f64 / 40.0;
+    ///         [100.0 + 20.0 * t.cos(), 20.0 * t.sin()]
+    ///     })
+    ///     .collect();
+    /// assert_eq!(Trajectory::from_points(pts).unwrap().len(), 40);
+    /// ```
+    pub fn from_points(points: Vec<[f64; 2]>) -> Result<Self, TrajectoryError> {
+        Self::new(points, &[], "points")
+    }
+
     /// Reads a CSV or JSON trajectory file (JSON when the extension is `.json` or the content
     /// starts with `{`).
-    pub fn read(path: &Path) -> Result<Self, TrajectoryError> {
+    pub fn from_path(path: &Path) -> Result<Self, TrajectoryError> {
         let file = path.display().to_string();
         let bytes = std::fs::read(path).map_err(|e| TrajectoryError::Unreadable {
             file: file.clone(),
@@ -301,14 +134,23 @@ impl Trajectory {
             file: file.clone(),
             message: format!("not UTF-8 text ({e})"),
         })?;
-        let is_json = path
+        if path
             .extension()
             .is_some_and(|e| e.eq_ignore_ascii_case("json"))
-            || text.trim_start().starts_with('{');
-        if is_json {
+        {
             Self::parse_json(&text, &file)
         } else {
-            Self::parse_csv(&text, &file)
+            Self::parse(&text, &file)
+        }
+    }
+
+    /// Parses trajectory text: JSON when it starts with `{`, CSV otherwise; `file` names the
+    /// source in messages.
+    pub fn parse(text: &str, file: &str) -> Result<Self, TrajectoryError> {
+        if text.trim_start().starts_with('{') {
+            Self::parse_json(text, file)
+        } else {
+            Self::parse_csv(text, file)
         }
     }
 
@@ -474,53 +316,6 @@ impl Trajectory {
 
 fn dist(p: [f64; 2], q: [f64; 2]) -> f64 {
     (p[0] - q[0]).hypot(p[1] - q[1])
-}
-
-/// A periodic C² chord-length cubic spline `P(s) = (x(s), y(s))`, `s ∈ [0, L)` in mm of chord length.
-#[derive(Debug, Clone)]
-pub struct ClosedSpline {
-    x: PeriodicSpline,
-    y: PeriodicSpline,
-}
-
-impl ClosedSpline {
-    /// Interpolates closed points (no repeated end point, distinct consecutive points).
-    #[must_use]
-    pub fn through(points: &[[f64; 2]]) -> Self {
-        let n = points.len();
-        let mut s = Vec::with_capacity(n);
-        let mut acc = 0.0;
-        for k in 0..n {
-            s.push(acc);
-            acc += dist(points[k], points[(k + 1) % n]);
-        }
-        let xs = points.iter().map(|p| p[0]).collect();
-        let ys = points.iter().map(|p| p[1]).collect();
-        // Knots are strictly increasing (distinct consecutive points) and n ≥ 3.
-        let x = PeriodicSpline::new(s.clone(), xs, acc).expect("validated trajectory");
-        let y = PeriodicSpline::new(s, ys, acc).expect("validated trajectory");
-        Self { x, y }
-    }
-
-    /// Parameter period `L` (mm).
-    #[must_use]
-    pub fn period(&self) -> f64 {
-        self.x.period()
-    }
-
-    /// `(P, P′, P″)` at `s`.
-    #[must_use]
-    pub fn eval(&self, s: f64) -> [[f64; 2]; 3] {
-        let x = self.x.eval3(s);
-        let y = self.y.eval3(s);
-        [[x[0], y[0]], [x[1], y[1]], [x[2], y[2]]]
-    }
-
-    /// `P(s)` in mm.
-    #[must_use]
-    pub fn point(&self, s: f64) -> [f64; 2] {
-        [self.x.value(s), self.y.value(s)]
-    }
 }
 
 #[cfg(test)]

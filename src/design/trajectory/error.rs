@@ -1,0 +1,122 @@
+//! Why a trajectory file is refused, and where in it (line, field or point index).
+
+use std::fmt;
+
+/// Where a point came from in its file, for diagnostics.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Origin {
+    /// 1-based line of a CSV file.
+    Line(usize),
+    /// 0-based index in the JSON `points` array.
+    Index(usize),
+}
+
+impl fmt::Display for Origin {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Origin::Line(l) => write!(f, "line {l}"),
+            Origin::Index(i) => write!(f, "points[{i}]"),
+        }
+    }
+}
+
+/// Why a trajectory file cannot be used. Every variant names the file and, where it applies, the
+/// line or field, what was expected and how to fix it.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[non_exhaustive]
+pub enum TrajectoryError {
+    /// The file cannot be read.
+    #[error("{file}: cannot read the trajectory file: {message}")]
+    Unreadable {
+        /// File name.
+        file: String,
+        /// OS message.
+        message: String,
+    },
+    /// A CSV line is not two numbers.
+    #[error(
+        "{file}: {origin}: expected two numbers `x, y` in mm, found `{found}`; fix or comment the line out with #"
+    )]
+    BadLine {
+        /// File name.
+        file: String,
+        /// Where.
+        origin: Origin,
+        /// The offending text.
+        found: String,
+    },
+    /// The JSON does not follow the schema.
+    #[error("{file}: {message}; expected {{\"units\": \"mm\", \"points\": [[x, y], ...]}}")]
+    BadJson {
+        /// File name.
+        file: String,
+        /// Parser message.
+        message: String,
+    },
+    /// A coordinate is NaN or infinite.
+    #[error(
+        "{file}: {origin}: coordinate is not a finite number; every point needs finite x and y in mm"
+    )]
+    NotFinite {
+        /// File name.
+        file: String,
+        /// Where.
+        origin: Origin,
+    },
+    /// Too few points.
+    #[error(
+        "{file}: {count} points, at least {min} are needed (360, one per carrier degree, is typical)"
+    )]
+    TooFewPoints {
+        /// File name.
+        file: String,
+        /// Points found.
+        count: usize,
+        /// Minimum.
+        min: usize,
+    },
+    /// Two consecutive points coincide.
+    #[error("{file}: {origin} repeats the previous point ({x}, {y}) mm; remove the duplicate")]
+    DuplicatePoint {
+        /// File name.
+        file: String,
+        /// Where.
+        origin: Origin,
+        /// x, mm.
+        x: f64,
+        /// y, mm.
+        y: f64,
+    },
+    /// One point lies far off the curve its neighbours draw (a typo such as `7.6e19`).
+    #[error(
+        "{file}: {origin}: the point ({x}, {y}) mm lies {jump_mm:.4e} mm from its neighbours, which are {neighbours_mm:.3} mm apart (typical spacing {spacing_mm:.3} mm): an outlier, probably a typo; correct or remove that line"
+    )]
+    Outlier {
+        /// File name.
+        file: String,
+        /// Where.
+        origin: Origin,
+        /// x, mm.
+        x: f64,
+        /// y, mm.
+        y: f64,
+        /// Distance to the nearer neighbour, mm.
+        jump_mm: f64,
+        /// Distance between the two neighbours, mm.
+        neighbours_mm: f64,
+        /// Median spacing of consecutive points, mm.
+        spacing_mm: f64,
+    },
+    /// The closing gap is far larger than the point spacing.
+    #[error(
+        "{file}: the curve is open: the gap from the last point back to the first is {gap_mm:.3} mm, while consecutive points are at most {spacing_mm:.3} mm apart; give the whole closed loop in travel order"
+    )]
+    Open {
+        /// File name.
+        file: String,
+        /// Closing gap, mm.
+        gap_mm: f64,
+        /// Largest spacing between consecutive points, mm.
+        spacing_mm: f64,
+    },
+}

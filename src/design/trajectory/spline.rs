@@ -1,0 +1,51 @@
+//! The closed chord-length spline through the points (spec §3.1).
+
+use super::dist;
+use crate::math::periodic::PeriodicSpline;
+
+/// A periodic C² chord-length cubic spline `P(s) = (x(s), y(s))`, `s ∈ [0, L)` in mm of chord length.
+#[derive(Debug, Clone)]
+pub struct ClosedSpline {
+    x: PeriodicSpline,
+    y: PeriodicSpline,
+}
+
+impl ClosedSpline {
+    /// Interpolates closed points (no repeated end point, distinct consecutive points).
+    #[must_use]
+    pub fn through(points: &[[f64; 2]]) -> Self {
+        let n = points.len();
+        let mut s = Vec::with_capacity(n);
+        let mut acc = 0.0;
+        for k in 0..n {
+            s.push(acc);
+            acc += dist(points[k], points[(k + 1) % n]);
+        }
+        let xs = points.iter().map(|p| p[0]).collect();
+        let ys = points.iter().map(|p| p[1]).collect();
+        // Knots are strictly increasing (distinct consecutive points) and n ≥ 3.
+        let x = PeriodicSpline::new(s.clone(), xs, acc).expect("validated trajectory");
+        let y = PeriodicSpline::new(s, ys, acc).expect("validated trajectory");
+        Self { x, y }
+    }
+
+    /// Parameter period `L` (mm).
+    #[must_use]
+    pub fn period(&self) -> f64 {
+        self.x.period()
+    }
+
+    /// `(P, P′, P″)` at `s`.
+    #[must_use]
+    pub fn eval(&self, s: f64) -> [[f64; 2]; 3] {
+        let x = self.x.eval3(s);
+        let y = self.y.eval3(s);
+        [[x[0], y[0]], [x[1], y[1]], [x[2], y[2]]]
+    }
+
+    /// `P(s)` in mm.
+    #[must_use]
+    pub fn point(&self, s: f64) -> [f64; 2] {
+        [self.x.value(s), self.y.value(s)]
+    }
+}
