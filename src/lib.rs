@@ -66,6 +66,6 @@ pub mod pair;
 pub mod simulate;
 pub mod teeth;
 
-pub use design::trajectory::Trajectory;
 pub use design::train::tooth_design;
+pub use design::trajectory::Trajectory;
 pub use design::{Design, DesignError, DesignOptions, DesignReport, design};

@@ -6,6 +6,7 @@ mod cli_design;
 mod design;
 mod dynamics;
 mod hard_cases;
+mod layout;
 mod orbit;
 mod robust;
 mod simulate;
