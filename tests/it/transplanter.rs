@@ -4,6 +4,7 @@ use ncgear::analysis::montecarlo::McOptions;
 use ncgear::analysis::tolerance::{ToleranceError, phasor_sum};
 use ncgear::analysis::transplanter::*;
 use ncgear::assembly::Assembly;
+use ncgear::config::Format;
 use ncgear::golden::{ellipse_ratio, g1_mechanism};
 use ncgear::simulate::{FeatureOptions, Simulation, features};
 use rand::SeedableRng;
@@ -24,7 +25,14 @@ fn circular() -> Assembly {
 }
 
 fn inventory() -> Inventory {
-    ErrorInventory::parse(ERRORS, "g1_errors.toml", false).unwrap()
+    ErrorInventory::parse(ERRORS, "g1_errors.toml", Format::Toml).unwrap()
+}
+
+/// Monte Carlo options: `samples`, `seed`, histogram `bins`.
+fn mc(samples: usize, seed: u64, bins: usize) -> McOptions {
+    let mut o = McOptions::default();
+    (o.samples, o.seed, o.bins) = (samples, seed, bins);
+    o
 }
 
 fn e(a: f64) -> [f64; 2] {
@@ -55,16 +63,10 @@ fn zero_errors_reproduce_the_rebuilt_train_and_give_zero_deviation() {
     }
     // Whole pipeline with an empty inventory: every deviation is zero.
     let inv = Inventory::zero(20f64.to_radians(), 1, 360);
-    let opts = TransplanterOptions {
-        mc: McOptions {
-            samples: 1000,
-            seed: 3,
-            bins: 10,
-        },
-        validation_samples: 10,
-        feature_samples: 0,
-        ..TransplanterOptions::default()
-    };
+    let mut opts = TransplanterOptions::default();
+    opts.mc = mc(1000, 3, 10);
+    opts.validation_samples = 10;
+    opts.feature_samples = 0;
     let r = analyse(&g1(1), &inv, &opts, &|_| {}).unwrap();
     assert!(
         r.max_deviation_um.max < 1e-9 * 1e3,
@@ -289,16 +291,10 @@ fn linear_model_agrees_with_the_exact_model_at_three_sigma() {
 }
 
 fn run(seed: u64, samples: usize, feature_samples: usize) -> TransplanterReport {
-    let opts = TransplanterOptions {
-        mc: McOptions {
-            samples,
-            seed,
-            bins: 40,
-        },
-        feature_samples,
-        starts: 6,
-        ..TransplanterOptions::default()
-    };
+    let mut opts = TransplanterOptions::default();
+    opts.mc = mc(samples, seed, 40);
+    opts.feature_samples = feature_samples;
+    opts.starts = 6;
     analyse(&g1(1), &inventory(), &opts, &|_| {}).unwrap()
 }
 
@@ -366,11 +362,19 @@ fn feature_distributions_start_from_the_simulated_features() {
 
 #[test]
 fn bad_error_files_name_the_key() {
-    let unknown =
-        ErrorInventory::parse("[pin_a]\nradial = { sigma_mm = 5 }\n", "e.toml", false).unwrap_err();
+    let unknown = ErrorInventory::parse(
+        "[pin_a]\nradial = { sigma_mm = 5 }\n",
+        "e.toml",
+        Format::Toml,
+    )
+    .unwrap_err();
     assert!(unknown.to_string().contains("sigma_mm"), "{unknown}");
-    let neg = ErrorInventory::parse("[pin_a]\nradial = { sigma_um = -1 }\n", "e.toml", false)
-        .unwrap_err();
+    let neg = ErrorInventory::parse(
+        "[pin_a]\nradial = { sigma_um = -1 }\n",
+        "e.toml",
+        Format::Toml,
+    )
+    .unwrap_err();
     assert!(
         matches!(&neg, TransplanterError::File(ToleranceError::BadValue { key, .. }) if key == "pin_a.radial.sigma_um"),
         "{neg}"
@@ -378,7 +382,7 @@ fn bad_error_files_name_the_key() {
     let keyed = ErrorInventory::parse(
         "[sun.eccentricity]\nmagnitude_um = 5\nkeyed_positions = 4\n",
         "e.toml",
-        false,
+        Format::Toml,
     )
     .unwrap_err();
     assert!(
@@ -390,14 +394,15 @@ fn bad_error_files_name_the_key() {
     let both = ErrorInventory::parse(
         "{\"arm_mounting\": {\"sigma_deg\": 0.1, \"half_width_deg\": 0.1}}",
         "e.json",
-        true,
+        Format::Json,
     )
     .unwrap_err();
     assert!(
         both.to_string().contains("arm_mounting.sigma_deg"),
         "{both}"
     );
-    let alpha = ErrorInventory::parse("pressure_angle_deg = 70\n", "e.toml", false).unwrap_err();
+    let alpha =
+        ErrorInventory::parse("pressure_angle_deg = 70\n", "e.toml", Format::Toml).unwrap_err();
     assert!(alpha.to_string().contains("pressure_angle_deg"), "{alpha}");
     // Errors far too large for the geometry: a typed error, not a panic.
     let asm = g1(1);
@@ -461,18 +466,12 @@ fn cli_writes_the_report_and_plots_and_rejects_bad_files() {
 #[test]
 fn exact_fallback_agrees_with_the_linear_monte_carlo() {
     let go = |tol: f64| {
-        let opts = TransplanterOptions {
-            mc: McOptions {
-                samples: 200,
-                seed: 9,
-                bins: 10,
-            },
-            validation_samples: 10,
-            linear_tolerance: tol,
-            feature_samples: 0,
-            starts: 2,
-            ..TransplanterOptions::default()
-        };
+        let mut opts = TransplanterOptions::default();
+        opts.mc = mc(200, 9, 10);
+        opts.validation_samples = 10;
+        opts.linear_tolerance = tol;
+        opts.feature_samples = 0;
+        opts.starts = 2;
         analyse(&g1(1), &inventory(), &opts, &|_| {}).unwrap()
     };
     let (lin, exact) = (go(0.05), go(1e-9));
