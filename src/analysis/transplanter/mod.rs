@@ -52,14 +52,13 @@
 //! Needle tip: `B = C_A + l3·e(θ3 + γ + Δγ)`. Clocking the intermediate is invisible (an idler has
 //! nothing keyed to it; tested); clocking the planet is the same as an arm mounting error of the
 //! opposite sign (tested).
-
 //!
 //! ## Files
 //!
-//! [`schema`](ErrorInventory) (the error file and its validation), [`Inventory`] (internal
-//! units, random draws, moments), [`model`](ExactModel) (exact and linear models), and the
-//! analysis ([`analyse`]) with its parts: envelope, agronomic features, ranking, best assembly,
-//! and the [`TransplanterReport`].
+//! `schema` ([`ErrorInventory`]: the error file and its validation), `inventory` ([`Inventory`]:
+//! internal units, random draws, moments), `model` ([`ExactModel`], [`LinearModel`]), `analyse`
+//! ([`analyse`]: validation, Monte Carlo, the report) with its parts `envelope`, `features`,
+//! `ranking` and `best_assembly`, and `report` ([`TransplanterReport`] and its plot geometry).
 
 mod analyse;
 mod best_assembly;
