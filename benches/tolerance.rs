@@ -4,6 +4,7 @@
 use ncgear::analysis::montecarlo::McOptions;
 use ncgear::analysis::peak::PeakOptions;
 use ncgear::analysis::tolerance::{Analysis, ErrorFile};
+use ncgear::config::Format;
 
 fn main() {
     divan::main();
@@ -11,24 +12,17 @@ fn main() {
 
 fn paper() -> ErrorFile {
     let text = include_str!("../assets/tolerance/paper_3k.toml");
-    ErrorFile::parse(text, "paper_3k.toml", false).expect("bundled example")
+    ErrorFile::parse(text, "paper_3k.toml", Format::Toml).expect("bundled example")
 }
 
 /// 50 000 samples; `args` = grid points per shortest period (20 = the default).
 #[divan::bench(args = [20, 40, 80], sample_count = 3)]
 fn monte_carlo_50k(b: divan::Bencher, per_period: usize) {
-    let a = Analysis::new(
-        &paper(),
-        PeakOptions {
-            samples_per_min_period: per_period,
-            ..PeakOptions::default()
-        },
-    );
-    let opts = McOptions {
-        samples: 50_000,
-        seed: 1,
-        bins: 60,
-    };
+    let mut peak = PeakOptions::default();
+    peak.samples_per_min_period = per_period;
+    let a = Analysis::new(&paper(), peak);
+    let mut opts = McOptions::default();
+    (opts.samples, opts.seed, opts.bins) = (50_000, 1, 60);
     b.bench(|| a.monte_carlo(&opts, &|_| {}).expect("finite"));
 }
 

@@ -3,6 +3,7 @@
 //! turn, and the linear Monte Carlo per 1000 samples. Run: `cargo bench --bench transplanter`.
 use ncgear::analysis::montecarlo::McOptions;
 use ncgear::analysis::transplanter::{ErrorInventory, ExactModel, FdSteps, Inventory, LinearModel};
+use ncgear::config::Format;
 use ncgear::geometry::assembly::Assembly;
 use ncgear::geometry::golden::g1_mechanism;
 
@@ -15,7 +16,7 @@ fn setup() -> (Assembly, Inventory, ExactModel) {
     let inv = ErrorInventory::parse(
         include_str!("../assets/transplanter/g1_errors.toml"),
         "g1_errors.toml",
-        false,
+        Format::Toml,
     )
     .expect("bundled example");
     let m = ExactModel::new(&asm, inv.pressure_angle_rad, inv.load_side).expect("model");
@@ -51,11 +52,8 @@ fn linear_build_720(b: divan::Bencher) {
 fn linear_mc_1000(b: divan::Bencher) {
     let (_, inv, m) = setup();
     let lin = LinearModel::build(&m, 720, FdSteps::default()).expect("build");
-    let opts = McOptions {
-        samples: 1000,
-        seed: 1,
-        bins: 20,
-    };
+    let mut opts = McOptions::default();
+    (opts.samples, opts.seed, opts.bins) = (1000, 1, 20);
     b.bench(|| {
         ncgear::analysis::montecarlo::run(&opts, |r, _| lin.max_deviation_mm(&inv.draw(r)), &|_| {})
             .expect("finite")

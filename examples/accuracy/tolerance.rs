@@ -5,15 +5,30 @@ use super::Row;
 use ncgear::analysis::montecarlo::McOptions;
 use ncgear::analysis::peak::{PeakOptions, Sinusoid, fixed_grid_peak};
 use ncgear::analysis::tolerance::{Analysis, ErrorFile};
+use ncgear::config::Format;
 use std::f64::consts::TAU;
 use std::time::Instant;
+
+/// Certified-peak options with `per` grid points per shortest period.
+fn peak_options(per: usize) -> PeakOptions {
+    let mut o = PeakOptions::default();
+    o.samples_per_min_period = per;
+    o
+}
+
+/// Monte Carlo options: `samples`, `seed`, histogram `bins`.
+fn mc_options(samples: usize, seed: u64, bins: usize) -> McOptions {
+    let mut o = McOptions::default();
+    (o.samples, o.seed, o.bins) = (samples, seed, bins);
+    o
+}
 
 /// The tolerance-analysis rows.
 pub fn rows() -> Vec<Row> {
     let file = ErrorFile::parse(
         include_str!("../../assets/tolerance/paper_3k.toml"),
         "paper_3k.toml",
-        false,
+        Format::Toml,
     )
     .expect("bundled");
     let mut rows = Vec::new();
@@ -30,22 +45,10 @@ pub fn rows() -> Vec<Row> {
             ]
         })
         .collect();
-    let reference = Analysis::new(
-        &file,
-        PeakOptions {
-            samples_per_min_period: 400,
-            ..PeakOptions::default()
-        },
-    );
+    let reference = Analysis::new(&file, peak_options(400));
     let refs: Vec<f64> = sets.iter().map(|b| reference.peak(b, None).value).collect();
     for per in [4, 8, 20, 40, 80] {
-        let a = Analysis::new(
-            &file,
-            PeakOptions {
-                samples_per_min_period: per,
-                ..PeakOptions::default()
-            },
-        );
+        let a = Analysis::new(&file, peak_options(per));
         let t = Instant::now();
         let worst = sets
             .iter()
@@ -99,26 +102,12 @@ pub fn rows() -> Vec<Row> {
     // 2. Monte Carlo sample count: error of the mean against a 200 000-sample reference.
     let a = Analysis::new(&file, PeakOptions::default());
     let (reference, _) = a
-        .monte_carlo(
-            &McOptions {
-                samples: 200_000,
-                seed: 99,
-                bins: 10,
-            },
-            &|_| {},
-        )
+        .monte_carlo(&mc_options(200_000, 99, 10), &|_| {})
         .expect("finite");
     for n in [1_000, 5_000, 20_000, 50_000] {
         let t = Instant::now();
         let (s, _) = a
-            .monte_carlo(
-                &McOptions {
-                    samples: n,
-                    seed: 1,
-                    bins: 10,
-                },
-                &|_| {},
-            )
+            .monte_carlo(&mc_options(n, 1, 10), &|_| {})
             .expect("finite");
         let ms = t.elapsed().as_secs_f64() * 1e3;
         rows.push(Row::new(

@@ -2,6 +2,7 @@
 
 pub mod dynamics;
 pub mod montecarlo;
+pub mod optimise;
 pub mod orbit;
 pub mod peak;
 pub mod tolerance;

@@ -39,12 +39,13 @@ pub enum McError {
 
 /// Options of a Monte Carlo run.
 #[derive(Debug, Clone, Copy, PartialEq)]
+#[non_exhaustive]
 pub struct McOptions {
-    /// Number of samples.
+    /// Number of samples, `1..=MAX_SAMPLES` (default 50 000).
     pub samples: usize,
-    /// Seed.
+    /// Seed of the sample streams (default 1).
     pub seed: u64,
-    /// Histogram bins.
+    /// Histogram bins, `1..=MAX_BINS` (default 60).
     pub bins: usize,
 }
 
@@ -81,6 +82,40 @@ pub struct McStats {
     pub p9973: f64,
     /// Histogram `[lower edge, upper edge, count]`.
     pub histogram: Vec<[f64; 3]>,
+}
+
+impl McStats {
+    /// The statistics of the sample multiplied by `factor` > 0 (a change of unit, e.g. µm to arc
+    /// seconds); `n` and the counts are kept.
+    #[must_use]
+    pub fn scaled(&self, factor: f64) -> Self {
+        let f = factor;
+        Self {
+            n: self.n,
+            min: self.min * f,
+            max: self.max * f,
+            mean: self.mean * f,
+            std: self.std * f,
+            mean_std_error: self.mean_std_error * f,
+            p50: self.p50 * f,
+            p95: self.p95 * f,
+            p9973: self.p9973 * f,
+            histogram: self
+                .histogram
+                .iter()
+                .map(|h| [h[0] * f, h[1] * f, h[2]])
+                .collect(),
+        }
+    }
+
+    /// The histogram's step outline for plotting: `(edge, count)` at both edges of every bin.
+    #[must_use]
+    pub fn step_outline(&self) -> Vec<(f64, f64)> {
+        self.histogram
+            .iter()
+            .flat_map(|h| [(h[0], h[2]), (h[1], h[2])])
+            .collect()
+    }
 }
 
 #[derive(Clone, Copy)]
@@ -136,7 +171,8 @@ fn check_bins(bins: usize) -> Result<(), McError> {
 /// ```
 /// use ncgear::analysis::montecarlo::{McOptions, run};
 /// use rand::RngExt;
-/// let opts = McOptions { samples: 20_000, seed: 7, bins: 10 };
+/// let mut opts = McOptions::default();
+/// (opts.samples, opts.seed, opts.bins) = (20_000, 7, 10);
 /// let (stats, values) = run(&opts, |rng, _| rng.random::<f64>(), &|_| {}).unwrap();
 /// // Uniform on [0, 1): mean 1/2 within 4 standard errors, std √(1/12).
 /// assert!((stats.mean - 0.5).abs() < 4.0 * stats.mean_std_error);

@@ -23,14 +23,15 @@ pub struct Sinusoid {
 
 /// Accuracy knobs of the certified peak.
 #[derive(Debug, Clone, Copy, PartialEq)]
+#[non_exhaustive]
 pub struct PeakOptions {
-    /// Grid points per shortest period `T_min` (≥ 20 certifies the bracket).
+    /// Grid points per shortest period `T_min` (≥ 20 certifies the bracket; default 20).
     pub samples_per_min_period: usize,
-    /// Local maxima refined.
+    /// Local maxima refined (default 8).
     pub refine_top: usize,
-    /// Refinement tolerance on t, relative to `T_min`.
+    /// Refinement tolerance on t, relative to `T_min` (default 1e-12).
     pub tol_relative: f64,
-    /// Largest denominator accepted when reading frequencies as rationals.
+    /// Largest denominator accepted when reading frequencies as rationals (default 1 000 000).
     pub max_denominator: u64,
 }
 

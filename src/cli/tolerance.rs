@@ -2,9 +2,9 @@
 //! `ncgear tolerance DESIGN.json --errors ERRORS` (transplanter tolerance analysis, spec C.6).
 use super::{CliResult, input_error, print_json, progress_bar, runtime_error};
 use ncgear::analysis::montecarlo::{McOptions, McStats};
-use ncgear::analysis::tolerance::{ErrorFile, analyse};
+use ncgear::analysis::tolerance::{ErrorFile, ToleranceOptions, analyse};
 use ncgear::analysis::transplanter::{
-    self, ErrorInventory, TransplanterOptions, TransplanterReport,
+    self, ErrorInventory, TransplanterError, TransplanterOptions, TransplanterReport,
 };
 use ncgear::output::plot::{ChartLabels, Series, line_chart};
 use ncgear::simulate::DesignFile;
@@ -49,15 +49,18 @@ pub fn run(args: Args) -> CliResult {
     if let Some(inv) = args.inventory.clone() {
         return run_transplanter(&args, &inv);
     }
-    let file = ErrorFile::read(&args.errors).map_err(|e| input_error(miette::miette!("{e}")))?;
-    let mc = (args.samples > 0).then_some(McOptions {
-        samples: args.samples,
-        seed: args.seed,
-        bins: 60,
-    });
+    let file =
+        ErrorFile::from_path(&args.errors).map_err(|e| input_error(miette::miette!("{e}")))?;
+    let mut opts = ToleranceOptions::default();
+    opts.monte_carlo = (args.samples > 0).then(|| mc_options(&args));
+    opts.joint_starts = args.starts;
     let pb = progress_bar(args.samples as u64, "Monte Carlo");
-    let report = analyse(&file, mc.as_ref(), args.starts, &|d| pb.set_position(d))
-        .map_err(|e| runtime_error(miette::miette!("{e}")))?;
+    let report = analyse(&file, &opts, &|d| pb.set_position(d)).map_err(|e| {
+        runtime_error(miette::miette!(
+            help = "--samples sets the Monte Carlo sample count",
+            "{e}"
+        ))
+    })?;
     pb.finish_and_clear();
     create_dir(&args.out)?;
     write_json(&args.out.join("tolerance.json"), &report)?;
@@ -71,7 +74,7 @@ pub fn run(args: Args) -> CliResult {
                 equal_aspect: false,
             },
             &[
-                Series::line("random assembly", histogram_points(s)),
+                Series::line("random assembly", s.step_outline()),
                 Series::markers(
                     "greedy compensation",
                     vec![(report.greedy_peak_arcsec, 0.0)],
@@ -84,11 +87,11 @@ pub fn run(args: Args) -> CliResult {
     if args.json {
         return print_json(&report);
     }
-    let rb = report.base_radius_mm;
-    let asec = |v: f64| ncgear::analysis::tolerance::arcsec(v, rb);
+    let asec = |v: f64| report.arcsec(v);
     println!(
-        "{}: base radius {rb:.4} mm, common period {:.6} s{}",
+        "{}: base radius {:.4} mm, common period {:.6} s{}",
         args.errors.display(),
+        report.base_radius_mm,
         report.period_s,
         if report.commensurate {
             ""
@@ -145,37 +148,44 @@ fn write_json(path: &Path, value: &impl serde::Serialize) -> CliResult {
         .map_err(|e| runtime_error(miette::miette!("cannot write {}: {e}", path.display())))
 }
 
-/// Step outline of a histogram: `(edge, count)` pairs.
-fn histogram_points(s: &McStats) -> Vec<(f64, f64)> {
-    s.histogram
-        .iter()
-        .flat_map(|h| [(h[0], h[2]), (h[1], h[2])])
-        .collect()
+/// The Monte Carlo options of the arguments (60 histogram bins).
+fn mc_options(args: &Args) -> McOptions {
+    let mut mc = McOptions::default();
+    mc.samples = args.samples;
+    mc.seed = args.seed;
+    mc.bins = 60;
+    mc
+}
+
+/// The command-line flag that sets a field of [`TransplanterOptions`], for error hints.
+fn flag_of(option: &str) -> Option<&'static str> {
+    match option {
+        "mc.samples" => Some("--samples"),
+        "mc.seed" => Some("--seed"),
+        _ => None,
+    }
 }
 
 fn run_transplanter(args: &Args, inventory: &Path) -> CliResult {
     let (_, asm) =
         DesignFile::read(&args.errors).map_err(|e| input_error(miette::miette!("{e}")))?;
-    let inv = ErrorInventory::read(inventory).map_err(|e| input_error(miette::miette!("{e}")))?;
-    let opts = TransplanterOptions {
-        mc: McOptions {
-            samples: args.samples,
-            seed: args.seed,
-            bins: 60,
-        },
-        validation_samples: args.validation_samples,
-        feature_samples: args.feature_samples,
-        starts: args.starts,
-        ..TransplanterOptions::default()
-    };
+    let inv =
+        ErrorInventory::from_path(inventory).map_err(|e| input_error(miette::miette!("{e}")))?;
+    let mut opts = TransplanterOptions::default();
+    opts.mc = mc_options(args);
+    opts.validation_samples = args.validation_samples;
+    opts.feature_samples = args.feature_samples;
+    opts.starts = args.starts;
     let pb = progress_bar(args.samples as u64, "Monte Carlo");
-    let report =
-        transplanter::analyse(&asm, &inv, &opts, &|d| pb.set_position(d)).map_err(|e| match e {
-            transplanter::TransplanterError::BadOption { .. } => {
-                input_error(miette::miette!("{e}"))
-            }
+    let report = transplanter::analyse(&asm, &inv, &opts, &|d| pb.set_position(d)).map_err(
+        |e| match &e {
+            TransplanterError::BadOption { option, .. } => match flag_of(option) {
+                Some(flag) => input_error(miette::miette!(help = format!("set by {flag}"), "{e}")),
+                None => input_error(miette::miette!("{e}")),
+            },
             _ => runtime_error(miette::miette!("{e}")),
-        })?;
+        },
+    )?;
     pb.finish_and_clear();
     create_dir(&args.out)?;
     write_json(&args.out.join("transplanter.json"), &report)?;
@@ -234,31 +244,7 @@ fn transplanter_plots(r: &TransplanterReport, out: &Path) -> CliResult {
         .map_err(plot_err)?;
     }
     // Trajectory band: the nominal path ± the envelope (magnified) along the path normal.
-    let (mut lo, mut hi) = (f64::MAX, f64::MIN);
-    for p in &r.envelope {
-        lo = lo.min(p.nominal_tip_mm[0]);
-        hi = hi.max(p.nominal_tip_mm[0]);
-    }
-    let env_max = r.envelope_max_um.max(1e-9) * 1e-3;
-    let raw = 0.02 * (hi - lo) / env_max;
-    let mag = 10f64.powf(raw.log10().floor()).max(1.0);
-    let band = |s: f64| {
-        let mut v: Vec<(f64, f64)> = r
-            .envelope
-            .iter()
-            .map(|p| {
-                let d = s * mag * p.envelope_um * 1e-3;
-                (
-                    p.nominal_tip_mm[0] + d * p.normal[0],
-                    p.nominal_tip_mm[1] + d * p.normal[1],
-                )
-            })
-            .collect();
-        if let Some(f) = v.first().copied() {
-            v.push(f);
-        }
-        v
-    };
+    let mag = r.band_magnification();
     line_chart(
         &out.join("band.png"),
         &ChartLabels {
@@ -268,21 +254,21 @@ fn transplanter_plots(r: &TransplanterReport, out: &Path) -> CliResult {
             equal_aspect: true,
         },
         &[
-            Series::line("nominal", band(0.0)),
-            Series::line("outer band", band(1.0)),
-            Series::line("inner band", band(-1.0)),
+            Series::line("nominal", r.band(0.0, mag)),
+            Series::line("outer band", r.band(1.0, mag)),
+            Series::line("inner band", r.band(-1.0, mag)),
         ],
         (800, 700),
     )
     .map_err(plot_err)?;
     let mut hist = vec![Series::line(
         "all errors random",
-        histogram_points(&r.max_deviation_um),
+        r.max_deviation_um.step_outline(),
     )];
     if let Some(a) = &r.assembly {
         hist.push(Series::line(
             "random runout orientation, other errors as given",
-            histogram_points(&a.random),
+            a.random.step_outline(),
         ));
         hist.push(Series::markers("best assembly", vec![(a.joint_um, 0.0)]));
     }

@@ -3,12 +3,20 @@
 use ncgear::analysis::montecarlo::McOptions;
 use ncgear::analysis::peak::{PeakOptions, Sinusoid, certified_peak, fixed_grid_peak};
 use ncgear::analysis::tolerance::{Analysis, ErrorFile, ToleranceError, arcsec, phasor_sum};
+use ncgear::config::Format;
 use std::f64::consts::{PI, TAU};
 
 const PAPER: &str = include_str!("../../assets/tolerance/paper_3k.toml");
 
 fn paper() -> ErrorFile {
-    ErrorFile::parse(PAPER, "paper_3k.toml", false).unwrap()
+    ErrorFile::parse(PAPER, "paper_3k.toml", Format::Toml).unwrap()
+}
+
+/// Monte Carlo options: `samples`, `seed`, histogram `bins`.
+fn mc(samples: usize, seed: u64, bins: usize) -> McOptions {
+    let mut o = McOptions::default();
+    (o.samples, o.seed, o.bins) = (samples, seed, bins);
+    o
 }
 
 fn argmin(v: &[f64]) -> (usize, f64) {
@@ -175,30 +183,11 @@ fn monte_carlo_is_seeded_and_stable_between_seeds() {
     let f = paper();
     let a = Analysis::new(&f, PeakOptions::default());
     let rb = f.base_radius();
-    let run = |seed| {
-        a.monte_carlo(
-            &McOptions {
-                samples: 50_000,
-                seed,
-                bins: 40,
-            },
-            &|_| {},
-        )
-        .unwrap()
-    };
+    let run = |seed| a.monte_carlo(&mc(50_000, seed, 40), &|_| {}).unwrap();
     let (s1, v1) = run(1);
     let (s2, _) = run(2);
     // Same seed, same samples (checked on a prefix-sized run: sample i depends only on (seed, i)).
-    let (_, v_small) = a
-        .monte_carlo(
-            &McOptions {
-                samples: 3000,
-                seed: 1,
-                bins: 40,
-            },
-            &|_| {},
-        )
-        .unwrap();
+    let (_, v_small) = a.monte_carlo(&mc(3000, 1, 40), &|_| {}).unwrap();
     assert_eq!(&v1[..3000], &v_small[..], "same seed, same samples");
     for (x, y) in [
         (s1.mean, s2.mean),
@@ -217,16 +206,21 @@ fn monte_carlo_is_seeded_and_stable_between_seeds() {
 #[test]
 fn error_files_name_the_bad_key() {
     let bad = PAPER.replace("sign = -1", "sign = 2");
-    match ErrorFile::parse(&bad, "x.toml", false) {
+    match ErrorFile::parse(&bad, "x.toml", Format::Toml) {
         Err(ToleranceError::BadValue { key, .. }) => assert_eq!(key, "terms[2].sign"),
         other => panic!("{other:?}"),
     }
     let unknown = PAPER.replace("scan_steps = 100", "scan_steps = 100\nsamples = 5");
-    let e = ErrorFile::parse(&unknown, "y.toml", false).unwrap_err();
+    let e = ErrorFile::parse(&unknown, "y.toml", Format::Toml).unwrap_err();
     assert!(
         e.to_string().contains("samples") && e.to_string().contains("y.toml"),
         "{e}"
     );
-    let e = ErrorFile::parse(r#"{"base_radius_mm": 40, "terms": []}"#, "z.json", true).unwrap_err();
+    let e = ErrorFile::parse(
+        r#"{"base_radius_mm": 40, "terms": []}"#,
+        "z.json",
+        Format::Json,
+    )
+    .unwrap_err();
     assert!(e.to_string().contains("terms"), "{e}");
 }

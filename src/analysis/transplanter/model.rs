@@ -7,35 +7,20 @@ use super::{
 use crate::geometry::assembly::{Assembly, Rebuilt};
 use crate::geometry::pitch::PitchCurve;
 use crate::math::periodic::wrap_pi;
+use nalgebra::{Rotation2, Vector2};
 use rayon::prelude::*;
 use std::f64::consts::{FRAC_PI_2, PI, TAU};
 
-type V2 = [f64; 2];
+type V2 = Vector2<f64>;
 
+/// The unit vector `(cos a, sin a)` at angle `a`, rad.
 fn e(a: f64) -> V2 {
-    [a.cos(), a.sin()]
+    V2::new(a.cos(), a.sin())
 }
-fn add(a: V2, b: V2) -> V2 {
-    [a[0] + b[0], a[1] + b[1]]
-}
-fn sub(a: V2, b: V2) -> V2 {
-    [a[0] - b[0], a[1] - b[1]]
-}
-fn scale(a: V2, s: f64) -> V2 {
-    [a[0] * s, a[1] * s]
-}
-fn dot(a: V2, b: V2) -> f64 {
-    a[0] * b[0] + a[1] * b[1]
-}
-fn cross(a: V2, b: V2) -> f64 {
-    a[0] * b[1] - a[1] * b[0]
-}
-fn rot(a: V2, t: f64) -> V2 {
-    let (s, c) = t.sin_cos();
-    [c * a[0] - s * a[1], s * a[0] + c * a[1]]
-}
+
+/// The length `|a|` (by `hypot`).
 fn norm(a: V2) -> f64 {
-    a[0].hypot(a[1])
+    a.x.hypot(a.y)
 }
 
 /// State of the perturbed arm at one carrier angle (world frame, mm and rad).
@@ -88,19 +73,19 @@ impl ExactModel {
                 .contains(&pressure_angle_rad))
         {
             return Err(TransplanterError::BadOption {
-                option: "pressure angle",
+                option: "pressure_angle_rad",
                 message: format!("{pressure_angle_rad} rad; expected 5°…45° (in radians)"),
             });
         }
         if !(load_side == 1 || load_side == -1) {
             return Err(TransplanterError::BadOption {
-                option: "load side",
+                option: "load_side",
                 message: format!("{load_side}; expected 1 or -1"),
             });
         }
         Ok(Self {
             rebuilt: assembly.rebuild(),
-            center: assembly.center_mm,
+            center: V2::from(assembly.center_mm),
             a: assembly.a_mm,
             l3: assembly.l3_mm,
             alpha: pressure_angle_rad,
@@ -123,20 +108,20 @@ impl ExactModel {
         sigma: f64,
         tol_rad: f64,
     ) -> Option<Contact> {
-        let ecc = rot(eps, theta);
+        let ecc = Rotation2::new(theta) * eps;
         let q = |v: f64| {
             let g = curve.geometry(v);
             let dir = v + theta + kappa;
-            let p = add(scale(e(dir), g.r_mm), ecc);
-            let dp = add(scale(e(dir), g.dr_mm), scale(e(dir + FRAC_PI_2), g.r_mm));
+            let p = e(dir) * g.r_mm + ecc;
+            let dp = e(dir) * g.dr_mm + e(dir + FRAC_PI_2) * g.r_mm;
             (p, dp)
         };
-        let mut v = u[1].atan2(u[0]) - theta - kappa;
+        let mut v = u.y.atan2(u.x) - theta - kappa;
         let mut converged = false;
         for _ in 0..50 {
             let (p, dp) = q(v);
-            let f = cross(p, u);
-            let df = cross(dp, u);
+            let f = p.perp(&u);
+            let df = dp.perp(&u);
             if !(df.is_finite() && df != 0.0) {
                 return None;
             }
@@ -150,35 +135,28 @@ impl ExactModel {
             }
         }
         let (p, dp) = q(v);
-        if !converged || dot(p, u) <= 0.0 {
+        if !converged || p.dot(&u) <= 0.0 {
             return None;
         }
-        let t = scale(dp, 1.0 / norm(dp));
-        let mut n = [-t[1], t[0]];
-        if dot(n, u) < 0.0 {
-            n = scale(n, -1.0);
+        let t = dp * (1.0 / norm(dp));
+        let mut n = V2::new(-t.y, t.x);
+        if n.dot(&u) < 0.0 {
+            n = -n;
         }
-        let n_loa = add(
-            scale(t, sigma * self.alpha.cos()),
-            scale(n, self.alpha.sin()),
-        );
-        Some(Contact {
-            w: add(c, p),
-            n_loa,
-            v,
-        })
+        let n_loa = t * (sigma * self.alpha.cos()) + n * self.alpha.sin();
+        Some(Contact { w: c + p, n_loa, v })
     }
 
     /// Driven angle: `(C_b + R(θ)p − W_a)·N = j/2`, the root nearer the pitch point facing `-u`.
     fn driven_angle(cb: V2, p: V2, contact: &Contact, j: f64, u: V2) -> Option<f64> {
-        let c = dot(sub(cb, contact.w), contact.n_loa) - 0.5 * j;
+        let c = (cb - contact.w).dot(&contact.n_loa) - 0.5 * j;
         let pn = norm(p);
         let x = -c / pn;
         if x.is_nan() || x.abs() > 1.0 {
             return None;
         }
-        let base = contact.n_loa[1].atan2(contact.n_loa[0]) - p[1].atan2(p[0]);
-        let guess = (-u[1]).atan2(-u[0]) - p[1].atan2(p[0]);
+        let base = contact.n_loa.y.atan2(contact.n_loa.x) - p.y.atan2(p.x);
+        let guess = (-u.y).atan2(-u.x) - p.y.atan2(p.x);
         let acos = x.acos();
         let near = |cand: f64| cand + TAU * ((guess - cand) / TAU).round();
         let (r1, r2) = (near(base + acos), near(base - acos));
@@ -196,7 +174,7 @@ impl ExactModel {
         let s = r.sign();
         let phi = s * phi_h_rad;
         let [sun, mid, planet] = r.ccw_curves();
-        let eps = |k: usize| [x[ecc_index(k)], x[ecc_index(k) + 1]];
+        let eps = |k: usize| V2::new(x[ecc_index(k)], x[ecc_index(k) + 1]);
         let kappa = |k: usize| x[clock_index(k)];
         let no_contact = |mesh: &'static str| TransplanterError::NoContact {
             mesh,
@@ -206,36 +184,30 @@ impl ExactModel {
         // Mesh 1: sun (fixed, centre O) drives the intermediate.
         let radial = e(phi);
         let tangential = e(phi + FRAC_PI_2);
-        let c2 = add(
-            scale(radial, self.a + x[PIN_D[0]]),
-            scale(tangential, x[PIN_D[1]]),
-        );
-        let u12 = scale(c2, 1.0 / norm(c2));
+        let c2 = radial * (self.a + x[PIN_D[0]]) + tangential * x[PIN_D[1]];
+        let u12 = c2 * (1.0 / norm(c2));
         let k1 = self
-            .contact(sun, [0.0, 0.0], 0.0, kappa(0), eps(0), u12, self.side, TOL)
+            .contact(sun, V2::zeros(), 0.0, kappa(0), eps(0), u12, self.side, TOL)
             .ok_or_else(|| no_contact("sun–intermediate"))?;
         let w2 = r.ccw_sun_to_intermediate(k1.v);
-        let p2 = add(scale(e(w2 + kappa(1)), mid.radius_mm(w2)), eps(1));
+        let p2 = e(w2 + kappa(1)) * mid.radius_mm(w2) + eps(1);
         let theta2 = Self::driven_angle(c2, p2, &k1, x[BACKLASH[0]], u12)
             .ok_or_else(|| no_contact("sun–intermediate"))?;
         // Mesh 2: intermediate drives the planet (opposite flank).
-        let c3 = add(
-            scale(radial, 2.0 * self.a + x[PIN_A[0]]),
-            scale(tangential, x[PIN_A[1]]),
-        );
-        let d23 = sub(c3, c2);
-        let u23 = scale(d23, 1.0 / norm(d23));
+        let c3 = radial * (2.0 * self.a + x[PIN_A[0]]) + tangential * x[PIN_A[1]];
+        let d23 = c3 - c2;
+        let u23 = d23 * (1.0 / norm(d23));
         let k2 = self
             .contact(mid, c2, theta2, kappa(1), eps(1), u23, -self.side, TOL)
             .ok_or_else(|| no_contact("intermediate–planet"))?;
         let w3 = r.ccw_intermediate_to_planet(k2.v);
-        let p3 = add(scale(e(w3 + kappa(2)), planet.radius_mm(w3)), eps(2));
+        let p3 = e(w3 + kappa(2)) * planet.radius_mm(w3) + eps(2);
         let theta3 = Self::driven_angle(c3, p3, &k2, x[BACKLASH[1]], u23)
             .ok_or_else(|| no_contact("intermediate–planet"))?;
         let beta = theta3 + r.ccw_needle_angle() + x[ARM];
-        let tip = add(c3, scale(e(beta), self.l3));
+        let tip = c3 + e(beta) * self.l3;
         let o = self.center;
-        let world = |p: V2| [o[0] + p[0], o[1] + s * p[1]];
+        let world = |p: V2| [o.x + p.x, o.y + s * p.y];
         let st = TrainState {
             phi_h_rad,
             intermediate_center_mm: world(c2),
@@ -282,7 +254,7 @@ impl ExactModel {
             .map(|&p| {
                 let a = self.state(p, x)?.tip_mm;
                 let b = self.state(p, &zero)?.tip_mm;
-                Ok(sub(a, b))
+                Ok((V2::from(a) - V2::from(b)).into())
             })
             .collect()
     }
@@ -308,10 +280,11 @@ impl ExactModel {
 
 /// Finite-difference steps of the linear model.
 #[derive(Debug, Clone, Copy, PartialEq)]
+#[non_exhaustive]
 pub struct FdSteps {
-    /// Step of the length coordinates, mm.
+    /// Step of the length coordinates, mm (default 1e-3, 1 µm).
     pub length_mm: f64,
-    /// Step of the angle coordinates, rad.
+    /// Step of the angle coordinates, rad (default 1e-5).
     pub angle_rad: f64,
 }
 
@@ -351,14 +324,17 @@ impl LinearModel {
     pub fn build(model: &ExactModel, n: usize, steps: FdSteps) -> Result<Self, TransplanterError> {
         if n < 8 {
             return Err(TransplanterError::BadOption {
-                option: "samples per turn",
+                option: "samples_per_turn",
                 message: format!("{n}; at least 8"),
             });
         }
         if !(steps.length_mm > 0.0 && steps.angle_rad > 0.0) {
             return Err(TransplanterError::BadOption {
-                option: "finite-difference steps",
-                message: "must be positive".into(),
+                option: "fd_steps",
+                message: format!(
+                    "length_mm = {}, angle_rad = {}: both must be positive",
+                    steps.length_mm, steps.angle_rad
+                ),
             });
         }
         let phis = model.grid(n);
@@ -381,7 +357,7 @@ impl LinearModel {
                     xm[j] = -h;
                     let sp = model.state(p, &xp)?;
                     let sm = model.state(p, &xm)?;
-                    *col = scale(sub(sp.tip_mm, sm.tip_mm), 0.5 / h);
+                    *col = ((V2::from(sp.tip_mm) - V2::from(sm.tip_mm)) * (0.5 / h)).into();
                     ang[j] = wrap_pi(sp.planet_angle_rad - sm.planet_angle_rad) * 0.5 / h;
                 }
                 Ok((b0, cols, ang))

@@ -12,6 +12,7 @@ use ncgear::analysis::orbit::measure::{Extractor, Record};
 use ncgear::analysis::orbit::model::{Hand, Line, LineKind, Planet, PlanetSet};
 use ncgear::analysis::peak::PeakOptions;
 use ncgear::analysis::tolerance::{Analysis, ErrorFile, ToleranceError};
+use ncgear::config::Format;
 use std::f64::consts::TAU;
 
 const HERTZ: &str = include_str!("../../../assets/dynamics/full16_hertz.toml");
@@ -139,7 +140,11 @@ fn non_finite_and_extreme_scene_values_are_typed_errors() {
 }
 
 fn errors(terms: &str) -> Result<ErrorFile, ToleranceError> {
-    ErrorFile::parse(&format!("base_radius_mm = 47.0\n{terms}"), "e.toml", false)
+    ErrorFile::parse(
+        &format!("base_radius_mm = 47.0\n{terms}"),
+        "e.toml",
+        Format::Toml,
+    )
 }
 
 /// A TOML number (TOML spells the non-finite values `nan`, `inf`, `-inf`).
@@ -210,11 +215,8 @@ fn degenerate_error_lists_give_typed_errors_or_exact_peaks() {
     let f = errors(&term(1.0, 1.0, 0.0)).unwrap();
     let a = Analysis::new(&f, PeakOptions::default());
     for (samples, bins) in [(0, 10), (usize::MAX, 10), (100, 0), (100, usize::MAX)] {
-        let o = McOptions {
-            samples,
-            seed: 1,
-            bins,
-        };
+        let mut o = McOptions::default();
+        (o.samples, o.seed, o.bins) = (samples, 1, bins);
         assert!(matches!(
             a.monte_carlo(&o, &|_| {}),
             Err(McError::BadOption { .. })
@@ -256,7 +258,7 @@ fn non_finite_error_file_values_are_typed_errors() {
         let text = format!("{base}\n{}", text.replace(base, ""));
         assert!(
             matches!(
-                ErrorFile::parse(&text, "e.toml", false),
+                ErrorFile::parse(&text, "e.toml", Format::Toml),
                 Err(ToleranceError::BadValue { .. })
             ),
             "accepted: {base}"

@@ -11,6 +11,7 @@ use ncgear::analysis::orbit::measure::{Extractor, Record};
 use ncgear::analysis::orbit::model::ModelParams;
 use ncgear::analysis::peak::PeakOptions;
 use ncgear::analysis::tolerance::{Analysis, ErrorFile};
+use ncgear::config::Format;
 use ncgear::design::trajectory::Trajectory;
 use ncgear::pair::{Expr, Law, Motion};
 use ncgear::simulate::DesignFile;
@@ -299,7 +300,12 @@ fn check_scene(text: &str, json: bool) -> Result<(), TestCaseError> {
 }
 
 fn check_errors(text: &str, json: bool) -> Result<(), TestCaseError> {
-    if let Ok(f) = ErrorFile::parse(text, "fuzz", json) {
+    let format = if json {
+        Format::Json
+    } else {
+        Format::detect(std::path::Path::new(""), text)
+    };
+    if let Ok(f) = ErrorFile::parse(text, "fuzz", format) {
         finite(f.base_radius(), "base radius")?;
         let a = Analysis::new(&f, PeakOptions::default());
         let betas = vec![0.3; a.free_count()];
@@ -395,8 +401,8 @@ fn bundled_assets_parse() {
         assert!(Scene::from_str(s, false, "s").is_ok());
         assert!(Scene::from_str(&toml_to_json(s), true, "s").is_ok());
     }
-    assert!(ErrorFile::parse(ERRORS_TOML, "e", false).is_ok());
-    assert!(ErrorFile::parse(&toml_to_json(ERRORS_TOML), "e", true).is_ok());
+    assert!(ErrorFile::parse(ERRORS_TOML, "e", Format::Toml).is_ok());
+    assert!(ErrorFile::parse(&toml_to_json(ERRORS_TOML), "e", Format::Json).is_ok());
     assert!(Record::from_csv_reader(head(SIGNALS_CSV, 400).as_bytes(), "r").is_ok());
     assert!(ModelParams::parse(MODEL_TOML, true, "m").is_ok_and(|p| p.planet_set().is_ok()));
     assert!(ModelParams::parse(MODEL_JSON, false, "m").is_ok_and(|p| p.planet_set().is_ok()));

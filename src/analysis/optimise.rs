@@ -1,0 +1,42 @@
+//! Multistart Nelder–Mead (argmin), shared by the phase compensation of
+//! [`super::tolerance`] and the best assembly of [`super::transplanter`].
+
+use argmin::core::{CostFunction, Executor};
+use argmin::solver::neldermead::NelderMead;
+use nalgebra::DVector;
+
+/// Multistart Nelder–Mead (argmin): from each start an axis-aligned simplex with edge `step`
+/// (in the parameter's unit, e.g. rad), stopped when the simplex values' standard deviation falls
+/// below `sd_tolerance` (the cost's unit) or after `max_iters` iterations. Returns the best
+/// parameter of every start that ran (the caller projects it onto its domain and re-evaluates).
+pub fn nelder_mead_starts<C>(
+    make_cost: impl Fn() -> C,
+    starts: &[Vec<f64>],
+    step: f64,
+    sd_tolerance: f64,
+    max_iters: u64,
+) -> Vec<Vec<f64>>
+where
+    C: CostFunction<Param = DVector<f64>, Output = f64>,
+{
+    let mut out = Vec::new();
+    for x0 in starts {
+        let mut simplex = vec![DVector::from_vec(x0.clone())];
+        for k in 0..x0.len() {
+            let mut v = x0.clone();
+            v[k] += step;
+            simplex.push(DVector::from_vec(v));
+        }
+        let Ok(solver) = NelderMead::new(simplex).with_sd_tolerance(sd_tolerance) else {
+            continue;
+        };
+        if let Ok(r) = Executor::new(make_cost(), solver)
+            .configure(|s| s.max_iters(max_iters))
+            .run()
+            && let Some(p) = r.state().best_param.as_ref()
+        {
+            out.push(p.as_slice().to_vec());
+        }
+    }
+    out
+}

@@ -1,0 +1,222 @@
+//! Best assembly of the free runout orientations: greedy (C.3), joint (exhaustive over keyed
+//! positions or multistart Nelder–Mead) and the random-assembly distribution to compare with.
+
+use super::analyse::{TransplanterOptions, UM, exact_max, mc_error, rng_for};
+use super::report::{AssemblyOptimum, GreedyChoice};
+use super::{ExactModel, GEARS, Inventory, LinearModel, TransplanterError, ecc_index};
+use crate::analysis::montecarlo;
+use crate::analysis::optimise::nelder_mead_starts;
+use argmin::core::CostFunction;
+use nalgebra::DVector;
+use rand::RngExt;
+use rayon::prelude::*;
+use std::f64::consts::TAU;
+
+/// `max_φ |base(φ) + Σ_k m_k (cos γ_k S_x + sin γ_k S_y)|` for the free gears.
+struct Objective<'a> {
+    lin: &'a LinearModel,
+    base: Vec<[f64; 2]>,
+    free: Vec<usize>,
+    magnitude: Vec<f64>,
+}
+
+impl Objective<'_> {
+    /// Objective (mm) with the first `active` free gears at directions `gammas` (rad).
+    fn value(&self, gammas: &[f64], active: usize) -> f64 {
+        let cs: Vec<(f64, f64)> = gammas.iter().map(|g| (g.cos(), g.sin())).collect();
+        self.base
+            .iter()
+            .zip(&self.lin.jacobian)
+            .map(|(b, col)| {
+                let mut d = *b;
+                for (a, &k) in self.free.iter().enumerate().take(active) {
+                    let (c, s) = cs[a];
+                    let (sx, sy) = (col[ecc_index(k)], col[ecc_index(k) + 1]);
+                    let m = self.magnitude[a];
+                    d[0] += m * (c * sx[0] + s * sy[0]);
+                    d[1] += m * (c * sx[1] + s * sy[1]);
+                }
+                d[0].hypot(d[1])
+            })
+            .fold(0.0, f64::max)
+    }
+}
+
+impl CostFunction for Objective<'_> {
+    type Param = DVector<f64>;
+    type Output = f64;
+    fn cost(&self, p: &DVector<f64>) -> Result<f64, argmin::core::Error> {
+        Ok(self.value(p.as_slice(), self.free.len()))
+    }
+}
+
+fn candidates(inv: &Inventory, k: usize, continuous_steps: usize) -> Vec<f64> {
+    let e = &inv.eccentricity[k];
+    let n = if e.keyed > 0 {
+        e.keyed
+    } else {
+        continuous_steps
+    };
+    (0..n).map(|i| e.position_direction(i, n)).collect()
+}
+
+/// The best assembly of the free eccentricity directions (`None` when none is free); the
+/// random-assembly Monte Carlo reports to `progress`.
+#[allow(clippy::too_many_lines)]
+pub(super) fn optimise_assembly(
+    model: &ExactModel,
+    lin: &LinearModel,
+    inv: &Inventory,
+    opts: &TransplanterOptions,
+    progress: &(dyn Fn(u64) + Sync),
+) -> Result<Option<AssemblyOptimum>, TransplanterError> {
+    let free = inv.free_gears();
+    if free.is_empty() {
+        return Ok(None);
+    }
+    let mut x0 = inv.nominal_vector();
+    for &k in &free {
+        x0[ecc_index(k)] = 0.0;
+        x0[ecc_index(k) + 1] = 0.0;
+    }
+    let obj = Objective {
+        lin,
+        base: lin.deviations(&x0),
+        magnitude: free
+            .iter()
+            .map(|&k| inv.eccentricity[k].magnitude_mm)
+            .collect(),
+        free: free.clone(),
+    };
+    let given: Vec<f64> = free
+        .iter()
+        .map(|&k| inv.eccentricity[k].direction_rad)
+        .collect();
+    let as_given = obj.value(&given, free.len());
+    // Greedy (C.3): each free gear in order takes the best scan position.
+    let mut chosen: Vec<f64> = Vec::new();
+    let mut greedy = Vec::new();
+    for (a, &k) in free.iter().enumerate() {
+        let mut best = (f64::INFINITY, 0.0);
+        for g in candidates(inv, k, 72) {
+            let mut gs = chosen.clone();
+            gs.push(g);
+            let v = obj.value(&gs, a + 1);
+            if v < best.0 {
+                best = (v, g);
+            }
+        }
+        chosen.push(best.1);
+        greedy.push(GreedyChoice {
+            gear: GEARS[k].into(),
+            direction_deg: best.1.to_degrees().rem_euclid(360.0),
+            max_deviation_um: best.0 * UM,
+        });
+    }
+    let greedy_val = obj.value(&chosen, free.len());
+    // Joint: exhaustive over keyed positions when small, else multistart Nelder–Mead.
+    let keyed: Vec<usize> = free.iter().map(|&k| inv.eccentricity[k].keyed).collect();
+    let combos: usize = keyed.iter().map(|&n| n.max(1)).product();
+    let (joint, method) = if keyed.iter().all(|&n| n > 0) && combos <= 100_000 {
+        let lists: Vec<Vec<f64>> = free.iter().map(|&k| candidates(inv, k, 1)).collect();
+        let best = (0..combos)
+            .into_par_iter()
+            .map(|mut c| {
+                let gs: Vec<f64> = lists
+                    .iter()
+                    .map(|l| {
+                        let g = l[c % l.len()];
+                        c /= l.len();
+                        g
+                    })
+                    .collect();
+                (obj.value(&gs, free.len()), gs)
+            })
+            .min_by(|a, b| a.0.total_cmp(&b.0))
+            .unwrap_or((greedy_val, chosen.clone()));
+        (best, "exhaustive")
+    } else {
+        let d = free.len();
+        let mut rng = rng_for(opts.mc.seed, 3, 0);
+        let mut inits: Vec<Vec<f64>> = vec![chosen.clone()];
+        for _ in 0..opts.starts {
+            inits.push((0..d).map(|_| rng.random::<f64>() * TAU).collect());
+        }
+        let mut best = (greedy_val, chosen.clone());
+        let make = || Objective {
+            lin,
+            base: obj.base.clone(),
+            free: obj.free.clone(),
+            magnitude: obj.magnitude.clone(),
+        };
+        for p in nelder_mead_starts(make, &inits, 0.4, 1e-12, 300) {
+            // Snap keyed gears to their positions.
+            let gs: Vec<f64> = p
+                .iter()
+                .zip(&free)
+                .map(|(g, &k)| {
+                    let e = &inv.eccentricity[k];
+                    if e.keyed > 0 {
+                        let step = TAU / e.keyed as f64;
+                        e.direction_rad + ((g - e.direction_rad) / step).round() * step
+                    } else {
+                        *g
+                    }
+                })
+                .collect();
+            let v = obj.value(&gs, d);
+            if v < best.0 {
+                best = (v, gs);
+            }
+        }
+        (best, "nelder-mead")
+    };
+    let mut gammas = inv.eccentricity.map(|e| e.direction_rad);
+    for (a, &k) in free.iter().enumerate() {
+        gammas[k] = joint.1[a];
+    }
+    let best_x = inv.with_directions(&gammas);
+    let joint_exact = exact_max(model, lin, &best_x)?;
+    let joint_deviation_um = lin
+        .deviations(&best_x)
+        .iter()
+        .map(|d| d[0].hypot(d[1]) * UM)
+        .collect();
+    // Random assembly: free directions random, everything else as given.
+    let (random, vals) = montecarlo::run(
+        &opts.mc,
+        |rng, _| {
+            let gs: Vec<f64> = free
+                .iter()
+                .map(|&k| inv.eccentricity[k].random_direction(rng))
+                .collect();
+            obj.value(&gs, free.len()) * UM
+        },
+        progress,
+    )
+    .map_err(mc_error("random assembly"))?;
+    let p = vals.iter().filter(|v| **v <= joint.0 * UM).count() as f64 / vals.len().max(1) as f64;
+    Ok(Some(AssemblyOptimum {
+        free: free.iter().map(|&k| GEARS[k].to_string()).collect(),
+        keyed_positions: keyed,
+        as_given_um: as_given * UM,
+        greedy,
+        greedy_um: greedy_val * UM,
+        joint_directions_deg: joint
+            .1
+            .iter()
+            .map(|g| g.to_degrees().rem_euclid(360.0))
+            .collect(),
+        joint_um: joint.0 * UM,
+        joint_exact_um: joint_exact * UM,
+        joint_method: method.into(),
+        gain_vs_random_mean_percent: if random.mean > 0.0 {
+            100.0 * (1.0 - joint.0 * UM / random.mean)
+        } else {
+            0.0
+        },
+        random,
+        p_random_beats_joint: p,
+        joint_deviation_um,
+    }))
+}

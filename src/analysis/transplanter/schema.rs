@@ -1,0 +1,333 @@
+//! The error inventory file of the transplanter analysis (TOML or JSON; µm and degrees) and its
+//! validation into an [`Inventory`] in internal units.
+
+use super::inventory::{Eccentricity, Inventory, Spread};
+use super::{ARM, BACKLASH, GEARS, N_COORDS, PIN_A, PIN_D, TransplanterError, clock_index};
+use crate::analysis::tolerance::ToleranceError;
+use crate::config::{self, Format};
+use serde::{Deserialize, Serialize};
+use std::path::Path;
+
+/// A scalar length error (µm): nominal value and an optional distribution about it.
+#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct LengthError {
+    /// Nominal (measured or deterministic) value, µm.
+    #[serde(default)]
+    pub nominal_um: f64,
+    /// Standard deviation of a normal distribution about the nominal value, µm.
+    #[serde(default)]
+    pub sigma_um: Option<f64>,
+    /// Half width of a uniform distribution about the nominal value, µm.
+    #[serde(default)]
+    pub half_width_um: Option<f64>,
+}
+
+/// A scalar angle error (degrees): nominal value and an optional distribution about it.
+#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct AngleError {
+    /// Nominal value, degrees.
+    #[serde(default)]
+    pub nominal_deg: f64,
+    /// Standard deviation of a normal distribution about the nominal value, degrees.
+    #[serde(default)]
+    pub sigma_deg: Option<f64>,
+    /// Half width of a uniform distribution about the nominal value, degrees.
+    #[serde(default)]
+    pub half_width_deg: Option<f64>,
+}
+
+/// Eccentricity of a gear's pitch curve relative to its rotation centre.
+#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct EccentricityError {
+    /// Nominal (measured) magnitude e, µm.
+    #[serde(default)]
+    pub magnitude_um: f64,
+    /// Direction γ in the body frame, degrees (positive in the direction of carrier rotation).
+    #[serde(default)]
+    pub direction_deg: f64,
+    /// σ of a 2-D Gaussian added to the nominal vector (per component; Rayleigh magnitude), µm.
+    #[serde(default)]
+    pub sigma_um: Option<f64>,
+    /// The direction is an assembly choice (bearing / bushing orientation): random in the Monte
+    /// Carlo of random assembly, optimised in the best assembly.
+    #[serde(default)]
+    pub free_direction: bool,
+    /// Number of keyed positions of a free direction (`γ = direction + 360°·i/n`); 0 = continuous.
+    #[serde(default)]
+    pub keyed_positions: usize,
+}
+
+/// Errors of one gear.
+#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct GearErrors {
+    /// Eccentricity.
+    #[serde(default)]
+    pub eccentricity: EccentricityError,
+    /// Clocking (pitch curve rotated in the body frame).
+    #[serde(default)]
+    pub clocking: AngleError,
+}
+
+/// Pin-hole position errors of a carrier pin.
+#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PinErrors {
+    /// Along the carrier arm (away from O), µm.
+    #[serde(default)]
+    pub radial: LengthError,
+    /// Perpendicular to the arm, in the direction of carrier rotation, µm.
+    #[serde(default)]
+    pub tangential: LengthError,
+}
+
+/// Normal backlash of the two meshes.
+#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct BacklashErrors {
+    /// Sun–intermediate mesh, µm.
+    #[serde(default)]
+    pub sun_intermediate: LengthError,
+    /// Intermediate–planet mesh, µm.
+    #[serde(default)]
+    pub intermediate_planet: LengthError,
+}
+
+fn default_alpha() -> f64 {
+    20.0
+}
+fn default_side() -> i8 {
+    1
+}
+fn default_samples() -> usize {
+    720
+}
+
+/// An error file of the transplanter analysis (TOML or JSON; µm and degrees).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ErrorInventory {
+    /// Pressure angle α of the tooth flanks, degrees (default 20).
+    #[serde(default = "default_alpha")]
+    pub pressure_angle_deg: f64,
+    /// Loaded flank of the sun–intermediate mesh, ±1 (the intermediate–planet mesh takes the
+    /// opposite flank, so the lost motions add up).
+    #[serde(default = "default_side")]
+    pub load_side: i8,
+    /// Carrier angles per turn of the deviation grid (default 720).
+    #[serde(default = "default_samples")]
+    pub samples_per_turn: usize,
+    /// Sun gear (1).
+    #[serde(default)]
+    pub sun: GearErrors,
+    /// Intermediate gear (2).
+    #[serde(default)]
+    pub intermediate: GearErrors,
+    /// Planet gear (3).
+    #[serde(default)]
+    pub planet: GearErrors,
+    /// Pin hole D (intermediate axis).
+    #[serde(default)]
+    pub pin_d: PinErrors,
+    /// Pin hole A (planet axis).
+    #[serde(default)]
+    pub pin_a: PinErrors,
+    /// Arm (needle) mounting angle about A.
+    #[serde(default)]
+    pub arm_mounting: AngleError,
+    /// Backlash.
+    #[serde(default)]
+    pub backlash: BacklashErrors,
+}
+
+impl ErrorInventory {
+    /// Reads a TOML or JSON error file ([`Format::detect`]) and validates it.
+    ///
+    /// # Errors
+    /// [`TransplanterError::File`] naming the file, and the key of a bad value.
+    pub fn from_path(path: &Path) -> Result<Inventory, TransplanterError> {
+        let source = config::Source::from_path(path)?;
+        Self::parse(&source.text, &source.file, source.format)
+    }
+
+    /// Parses and validates error-file text in `format`; `file` names it in messages.
+    ///
+    /// # Errors
+    /// [`TransplanterError::File`]: the parser's message (names the key), or a bad value.
+    pub fn parse(text: &str, file: &str, format: Format) -> Result<Inventory, TransplanterError> {
+        let parsed: Self = config::parse(text, file, format).map_err(ToleranceError::from)?;
+        parsed.validate(file)
+    }
+
+    /// Checks every value and converts to internal units.
+    ///
+    /// # Errors
+    /// [`TransplanterError::File`] with [`ToleranceError::BadValue`] naming the key.
+    pub fn validate(&self, file: &str) -> Result<Inventory, TransplanterError> {
+        let bad = |key: &str, message: &str| {
+            TransplanterError::File(ToleranceError::BadValue {
+                file: file.into(),
+                key: key.into(),
+                message: message.into(),
+            })
+        };
+        if !(self.pressure_angle_deg.is_finite()
+            && self.pressure_angle_deg >= 5.0
+            && self.pressure_angle_deg <= 45.0)
+        {
+            return Err(bad(
+                "pressure_angle_deg",
+                "a pressure angle in [5, 45] degrees",
+            ));
+        }
+        if !(self.load_side == 1 || self.load_side == -1) {
+            return Err(bad("load_side", "1 or -1 (the loaded flank)"));
+        }
+        if !(16..=100_000).contains(&self.samples_per_turn) {
+            return Err(bad("samples_per_turn", "an integer in 16..=100000"));
+        }
+        let um = 1e-3;
+        let spread =
+            |key: &str, sigma: Option<f64>, half: Option<f64>, unit: &str, scale: f64| match (
+                sigma, half,
+            ) {
+                (None, None) => Ok(Spread::Fixed),
+                (Some(s), None) if s.is_finite() && s >= 0.0 => Ok(Spread::Normal(s * scale)),
+                (None, Some(h)) if h.is_finite() && h >= 0.0 => Ok(Spread::Uniform(h * scale)),
+                (Some(_), Some(_)) => Err(bad(
+                    key,
+                    "give either sigma or half_width (normal or uniform), not both",
+                )),
+                _ => Err(bad(key, &format!("a finite value ≥ 0 in {unit}"))),
+            };
+        let finite = |key: &str, v: f64, unit: &str| {
+            if v.is_finite() {
+                Ok(v)
+            } else {
+                Err(bad(key, &format!("a finite value in {unit}")))
+            }
+        };
+        let length = |key: &str, e: &LengthError| -> Result<(f64, Spread), TransplanterError> {
+            let n = finite(&format!("{key}.nominal_um"), e.nominal_um, "µm")?;
+            let s = spread(
+                &format!("{key}.sigma_um"),
+                e.sigma_um,
+                e.half_width_um,
+                "µm",
+                um,
+            )?;
+            Ok((n * um, s))
+        };
+        let angle = |key: &str, e: &AngleError| -> Result<(f64, Spread), TransplanterError> {
+            let n = finite(&format!("{key}.nominal_deg"), e.nominal_deg, "degrees")?;
+            if n.abs() > 10.0 {
+                return Err(bad(
+                    &format!("{key}.nominal_deg"),
+                    "an assembly angle error within ±10 degrees",
+                ));
+            }
+            let s = spread(
+                &format!("{key}.sigma_deg"),
+                e.sigma_deg,
+                e.half_width_deg,
+                "degrees",
+                1f64.to_radians(),
+            )?;
+            Ok((n.to_radians(), s))
+        };
+        let gears = [&self.sun, &self.intermediate, &self.planet];
+        let mut ecc = [Eccentricity {
+            magnitude_mm: 0.0,
+            direction_rad: 0.0,
+            sigma_mm: 0.0,
+            free: false,
+            keyed: 0,
+        }; 3];
+        let mut nominal = [0.0; N_COORDS];
+        let mut spreads = [Spread::Fixed; N_COORDS];
+        for (k, g) in gears.iter().enumerate() {
+            let key = format!("{}.eccentricity", GEARS[k]);
+            let e = &g.eccentricity;
+            if !(e.magnitude_um.is_finite() && e.magnitude_um >= 0.0) {
+                return Err(bad(
+                    &format!("{key}.magnitude_um"),
+                    "a finite magnitude ≥ 0 in µm",
+                ));
+            }
+            finite(&format!("{key}.direction_deg"), e.direction_deg, "degrees")?;
+            let sigma = match e.sigma_um {
+                None => 0.0,
+                Some(s) if s.is_finite() && s >= 0.0 => s * um,
+                Some(_) => return Err(bad(&format!("{key}.sigma_um"), "a finite σ ≥ 0 in µm")),
+            };
+            if e.keyed_positions > 0 && !e.free_direction {
+                return Err(bad(
+                    &format!("{key}.keyed_positions"),
+                    "only a free direction (free_direction = true) has keyed positions",
+                ));
+            }
+            if e.keyed_positions > 360 {
+                return Err(bad(
+                    &format!("{key}.keyed_positions"),
+                    "at most 360 positions (0 = continuous)",
+                ));
+            }
+            ecc[k] = Eccentricity {
+                magnitude_mm: e.magnitude_um * um,
+                direction_rad: e.direction_deg.to_radians(),
+                sigma_mm: sigma,
+                free: e.free_direction,
+                keyed: e.keyed_positions,
+            };
+            let (n, s) = angle(&format!("{}.clocking", GEARS[k]), &g.clocking)?;
+            nominal[clock_index(k)] = n;
+            spreads[clock_index(k)] = s;
+        }
+        for (pin, idx, name) in [(&self.pin_d, PIN_D, "pin_d"), (&self.pin_a, PIN_A, "pin_a")] {
+            for (e, i, part) in [
+                (&pin.radial, idx[0], "radial"),
+                (&pin.tangential, idx[1], "tangential"),
+            ] {
+                let (n, s) = length(&format!("{name}.{part}"), e)?;
+                nominal[i] = n;
+                spreads[i] = s;
+            }
+        }
+        let (n, s) = angle("arm_mounting", &self.arm_mounting)?;
+        nominal[ARM] = n;
+        spreads[ARM] = s;
+        for (e, i, part) in [
+            (
+                &self.backlash.sun_intermediate,
+                BACKLASH[0],
+                "sun_intermediate",
+            ),
+            (
+                &self.backlash.intermediate_planet,
+                BACKLASH[1],
+                "intermediate_planet",
+            ),
+        ] {
+            let (n, s) = length(&format!("backlash.{part}"), e)?;
+            if n < 0.0 {
+                return Err(bad(
+                    &format!("backlash.{part}.nominal_um"),
+                    "a backlash ≥ 0 in µm",
+                ));
+            }
+            nominal[i] = n;
+            spreads[i] = s;
+        }
+        Ok(Inventory {
+            pressure_angle_rad: self.pressure_angle_deg.to_radians(),
+            load_side: self.load_side,
+            samples_per_turn: self.samples_per_turn,
+            eccentricity: ecc,
+            nominal,
+            spread: spreads,
+        })
+    }
+}

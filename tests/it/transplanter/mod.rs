@@ -1,0 +1,52 @@
+//! Transplanter tolerance analysis (companion spec C.6): exact perturbed kinematics, closed forms,
+//! the circular-gear phasor limit, linear vs exact, Monte Carlo stability, file errors.
+//! Shared fixtures here; [`kinematics`] tests the models, [`analysis`] the report, files and CLI.
+use ncgear::analysis::montecarlo::McOptions;
+use ncgear::analysis::tolerance::{ToleranceError, phasor_sum};
+use ncgear::analysis::transplanter::*;
+use ncgear::config::Format;
+use ncgear::geometry::assembly::Assembly;
+use ncgear::geometry::golden::{ellipse_ratio, g1_mechanism};
+use ncgear::simulate::{FeatureOptions, Simulation, features};
+use rand::SeedableRng;
+use rand::rngs::ChaCha8Rng;
+use std::f64::consts::{FRAC_PI_2, PI};
+
+mod analysis;
+mod kinematics;
+
+const ERRORS: &str = include_str!("../../../assets/transplanter/g1_errors.toml");
+
+fn g1(direction: i8) -> Assembly {
+    Assembly::from_mechanism(&g1_mechanism(), [10.0, -5.0], direction, 720).unwrap()
+}
+
+/// All three gears circles of radius r = a/2 = 22.5 mm (ratio 1: the needle translates).
+fn circular() -> Assembly {
+    let mut m = g1_mechanism();
+    m.ratio = ellipse_ratio(0.0);
+    Assembly::from_mechanism(&m, [0.0, 0.0], 1, 720).unwrap()
+}
+
+fn inventory() -> Inventory {
+    ErrorInventory::parse(ERRORS, "g1_errors.toml", Format::Toml).unwrap()
+}
+
+/// Monte Carlo options: `samples`, `seed`, histogram `bins`.
+fn mc(samples: usize, seed: u64, bins: usize) -> McOptions {
+    let mut o = McOptions::default();
+    (o.samples, o.seed, o.bins) = (samples, seed, bins);
+    o
+}
+
+fn e(a: f64) -> [f64; 2] {
+    [a.cos(), a.sin()]
+}
+fn dot(a: [f64; 2], b: [f64; 2]) -> f64 {
+    a[0] * b[0] + a[1] * b[1]
+}
+fn dist(a: [f64; 2], b: [f64; 2]) -> f64 {
+    (a[0] - b[0]).hypot(a[1] - b[1])
+}
+
+const ZERO: ErrorVector = [0.0; N_COORDS];
