@@ -1046,3 +1046,46 @@ fn tach_synchronous_average_corrects_a_wrong_nominal_speed() {
         let _ = std::fs::remove_file(q);
     }
 }
+
+use ncgear::analysis::orbit::evaluate::{Evaluation, MeasureOptions, SensorFrame};
+use ncgear::analysis::orbit::report::{IdentifyReport, ModelReport};
+
+#[test]
+fn library_reports_are_what_the_cli_prints() {
+    let p = ModelParams::from_path(&asset("model.toml")).unwrap();
+    let set = p.planet_set().unwrap();
+    let model = ModelReport::new(&p).unwrap();
+    assert_eq!(model.orbit.orbit(), set.solve().orbit);
+    let mut opts = MeasureOptions::default();
+    opts.frame = SensorFrame::Derotate;
+    let mut ev = Evaluation::new(Some(&p), &opts).unwrap();
+    let rec = Record::from_csv_path(&asset("signals.csv")).unwrap();
+    assert!(ev.refine_frequency(&rec, &|_| {}).unwrap().is_none());
+    let m = ev.extract(&rec).unwrap();
+    let report = serde_json::to_value(ev.report(&m)).unwrap();
+    for key in [
+        "method",
+        "frame",
+        "orbit",
+        "uncertainty_1sigma",
+        "condition_number",
+        "residual_rms_um",
+        "lines",
+        "warnings",
+        "omega_p_rad_s",
+        "frequency_estimated",
+        "record_length_s",
+        "samples",
+        "comparison_with_model",
+    ] {
+        assert!(!report[key].is_null(), "{key}");
+    }
+    let id = IdentifyReport::new(&set, &m.orbit, None).unwrap();
+    assert_eq!(id.planets.len(), 3);
+    assert!(!id.common_mode_observable);
+    // Library errors name the field, never a CLI flag.
+    let e = Evaluation::new(None, &MeasureOptions::default())
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("planet_speed_rpm") && !e.contains("--"), "{e}");
+}
