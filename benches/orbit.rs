@@ -1,7 +1,7 @@
 //! Benchmarks of `ncgear orbit`: evaluation of a 1-million-sample two-channel record.
 //!
 //! Run: `cargo bench --bench orbit`
-use ncgear::analysis::orbit::measure::{Extractor, Method, Record};
+use ncgear::analysis::orbit::measure::{ExtractOptions, Extractor, Method, Record};
 use ncgear::analysis::orbit::model::{Line, LineKind};
 use std::f64::consts::TAU;
 
@@ -53,10 +53,12 @@ fn lines() -> Vec<Line> {
 #[divan::bench(sample_count = 10)]
 fn least_squares_1m(bencher: divan::Bencher) {
     let rec = record();
-    let ex = Extractor::builder(TAU * 3.373)
-        .nuisance(lines())
-        .build()
-        .expect("valid extractor");
+    let ex = Extractor::new(TAU * 3.373, {
+        let mut o = ExtractOptions::default();
+        o.nuisance = lines();
+        o
+    })
+    .expect("valid extractor");
     bencher.bench_local(|| ex.extract(divan::black_box(&rec)).expect("extraction"));
 }
 
@@ -64,10 +66,12 @@ fn least_squares_1m(bencher: divan::Bencher) {
 #[divan::bench(sample_count = 10)]
 fn hann_dtft_1m(bencher: divan::Bencher) {
     let rec = record();
-    let ex = Extractor::builder(TAU * 3.373)
-        .method(Method::HannDtft)
-        .build()
-        .expect("valid extractor");
+    let ex = Extractor::new(TAU * 3.373, {
+        let mut o = ExtractOptions::default();
+        o.method = Method::HannDtft;
+        o
+    })
+    .expect("valid extractor");
     bencher.bench_local(|| ex.extract(divan::black_box(&rec)).expect("extraction"));
 }
 

@@ -4,7 +4,7 @@
 //! forward and backward mesh lines at 12·3.37 Hz, a DC offset and a linear drift, sampled at
 //! 500 Hz over a non-integer number of planet periods. Error = max(|Z₊ − true|, |Z₋ − true|), µm.
 use super::{Row, timed};
-use ncgear::analysis::orbit::measure::{Extractor, Method, Record};
+use ncgear::analysis::orbit::measure::{ExtractOptions, Extractor, Method, Record};
 use ncgear::analysis::orbit::model::{Line, LineKind};
 use ncgear::analysis::orbit::{C64, Orbit};
 use rand::SeedableRng;
@@ -79,11 +79,12 @@ pub fn rows() -> Vec<Row> {
         ("Hann-window DTFT at the exact line", Method::HannDtft),
         ("least squares (lines + drift known)", Method::LeastSquares),
     ] {
-        let mut b = Extractor::builder(wp).method(method);
+        let mut opts = ExtractOptions::default();
+        opts.method = method;
         if method == Method::LeastSquares {
-            b = b.nuisance(nuisance.clone());
+            opts.nuisance.clone_from(&nuisance);
         }
-        let ex = b.build().expect("valid extractor");
+        let ex = Extractor::new(wp, opts).expect("valid extractor");
         for p in periods {
             let rec = record(p, 0.0, 1);
             let (ms, m) = timed(3, || ex.extract(&rec).expect("extraction"));
@@ -97,10 +98,9 @@ pub fn rows() -> Vec<Row> {
         }
     }
     // Least squares with σ = 2 µm sensor noise: RMS error over 16 seeds (vs the CRLB ≈ σ√(2/N)).
-    let ex = Extractor::builder(wp)
-        .nuisance(nuisance)
-        .build()
-        .expect("valid extractor");
+    let mut opts = ExtractOptions::default();
+    opts.nuisance = nuisance;
+    let ex = Extractor::new(wp, opts).expect("valid extractor");
     for p in periods {
         let mut ms_all = Vec::new();
         let mut sq = 0.0;

@@ -1,16 +1,12 @@
 //! `ncgear orbit`: floating sun-gear orbit under planet eccentricity (spec A). Thin shell over
 //! `ncgear::analysis::orbit`.
 use super::{CliResult, input_error, print_json, runtime_error};
-use ncgear::analysis::orbit::identify::identify;
-use ncgear::analysis::orbit::measure::{
-    Comparison, Extractor, Frame, Measurement, Method, Record, full_spectrum,
-};
-use ncgear::analysis::orbit::model::{
-    GearSpeeds, Line, LineKind, ModelParams, PlanetSet, rpm_to_rad_s,
-};
-use ncgear::analysis::orbit::{C64, Ellipse, Orbit, OrbitError};
+use ncgear::analysis::orbit::evaluate::{Evaluation, MeasureOptions, SensorFrame};
+use ncgear::analysis::orbit::measure::{Measurement, Method, Record, full_spectrum};
+use ncgear::analysis::orbit::model::{LineKind, ModelParams};
+use ncgear::analysis::orbit::report::{IdentifyReport, MeasureReport, ModelReport, OrbitSummary};
+use ncgear::analysis::orbit::{C64, Orbit, OrbitError, SinPair};
 use ncgear::output::plot::{ChartLabels, Series, line_chart};
-use serde_json::{Value, json};
 use std::path::{Path, PathBuf};
 
 /// Arguments of `ncgear orbit`.
@@ -146,54 +142,57 @@ pub fn run(args: Args) -> CliResult {
     }
 }
 
-fn load_model(path: &Path) -> Result<(ModelParams, PlanetSet), super::Failure> {
+/// Reads a model parameter file and checks that it gives a valid planet set.
+fn load_params(path: &Path) -> Result<ModelParams, super::Failure> {
     let p = ModelParams::from_path(path).map_err(input_error)?;
-    let set = p.planet_set().map_err(|e| input_error(located(path, e)))?;
-    Ok((p, set))
+    p.planet_set().map_err(|e| input_error(located(path, e)))?;
+    Ok(p)
 }
 
 fn located(path: &Path, e: OrbitError) -> miette::Report {
     miette::miette!("{}: {e}", path.display())
 }
 
-fn c_json(z: C64) -> Value {
-    json!({"re": z.re, "im": z.im, "abs": z.norm(), "arg_rad": z.arg()})
+/// The library names fields; this adds, as help, the flag that sets the field.
+fn with_flag_help(e: OrbitError) -> miette::Report {
+    let help = match &e {
+        OrbitError::Invalid { key, .. } => match key.as_str() {
+            "planet_speed_rpm" => "give --model PARAMS or --planet-speed-rpm RPM, not both",
+            "carrier_speed_rpm" => {
+                "--frame housing needs --carrier-speed-rpm or [gears] in --model"
+            }
+            "planet_speed" => "check --planet-speed-rpm or the speeds in --model",
+            "carrier_speed" => "check --carrier-speed-rpm or [gears] in --model",
+            "method" => "--method sync needs --frame carrier or --frame derotate",
+            "max_condition" => "check --max-condition",
+            k if k.starts_with("line ") => "check --line-hz",
+            _ => return miette::Report::new(e),
+        },
+        _ => return miette::Report::new(e),
+    };
+    miette::miette!(help = help, "{e}")
 }
 
-fn orbit_json(o: &Orbit) -> Value {
-    let s = o.sin_pair();
-    let e = o.ellipse();
-    json!({
-        "omega_p_rad_s": o.omega_p_rad_s,
-        "a_sx_um": s.a_x_um, "phi_sx_rad": s.phi_x_rad, "a_sy_um": s.a_y_um, "phi_sy_rad": s.phi_y_rad,
-        "z_plus_um": c_json(o.z_plus_um), "z_minus_um": c_json(o.z_minus_um),
-        "ellipse": ellipse_json(&e),
-    })
+/// Prints a report as JSON. Through `serde_json::Value`, whose objects keep their keys sorted:
+/// the layout `--json` has always printed.
+fn print_report(report: &impl serde::Serialize) -> CliResult {
+    let v = serde_json::to_value(report).map_err(|e| runtime_error(miette::miette!("{e}")))?;
+    print_json(&v)
 }
 
-fn ellipse_json(e: &Ellipse) -> Value {
-    json!({
-        "r_long_um": e.r_long_um, "r_short_um": e.r_short_um,
-        "alpha_long_rad": e.alpha_long_rad, "alpha_long_deg": e.alpha_long_rad.map(f64::to_degrees),
-        "whirl": e.whirl, "counter_clockwise": e.counter_clockwise,
-    })
-}
-
-fn print_orbit(o: &Orbit) {
-    let s = o.sin_pair();
-    let e = o.ellipse();
+fn print_orbit(o: &OrbitSummary) {
+    let e = &o.ellipse;
     println!(
         "  x_s = {:.6} µm · sin(ω_p t {:+.6} rad)",
-        s.a_x_um, s.phi_x_rad
+        o.a_sx_um, o.phi_sx_rad
     );
     println!(
         "  y_s = {:.6} µm · sin(ω_p t {:+.6} rad)",
-        s.a_y_um, s.phi_y_rad
+        o.a_sy_um, o.phi_sy_rad
     );
     println!(
         "  |Z+| = {:.6} µm, |Z-| = {:.6} µm",
-        o.z_plus_um.norm(),
-        o.z_minus_um.norm()
+        o.z_plus_um.abs, o.z_minus_um.abs
     );
     println!(
         "  ellipse: R_L = {:.6} µm, R_S = {:.6} µm, α_L = {}",
@@ -218,11 +217,10 @@ fn print_orbit(o: &Orbit) {
 }
 
 fn model(path: &Path, json: bool, plot: Option<&Path>) -> CliResult {
-    let (p, set) = load_model(path)?;
-    let sol = set.solve();
-    let speeds = p.gear_speeds().map_err(input_error)?;
+    let p = load_params(path)?;
+    let r = ModelReport::new(&p).map_err(|e| input_error(located(path, e)))?;
     if let Some(plot) = plot {
-        let o = sol.orbit;
+        let o = r.orbit.orbit();
         let trace = o.trace_um(720);
         let mut series = vec![Series::line("sun orbit (carrier frame)", trace)];
         series.push(Series::line("major axis", axis_points(&o)));
@@ -239,32 +237,25 @@ fn model(path: &Path, json: bool, plot: Option<&Path>) -> CliResult {
         )
         .map_err(|e| runtime_error(miette::miette!("{e}")))?;
     }
-    let common = sol.common_mode_um;
     if json {
-        return print_json(&json!({
-            "orbit": orbit_json(&sol.orbit),
-            "common_mode_um": {"amplitude_um": common.norm(), "phase_rad": common.arg()},
-            "load_independent": sol.load_independent,
-            "gear_speeds": speeds,
-            "line_of_action_angles_rad": set.line_of_action_angles_rad(),
-        }));
+        return print_report(&r);
     }
     println!(
         "Sun orbit (carrier frame, planet frequency ω_p = {:.6} rad/s):",
-        set.omega_p_rad_s()
+        r.orbit.omega_p_rad_s
     );
-    print_orbit(&sol.orbit);
+    print_orbit(&r.orbit);
+    let common = r.common_mode_um;
     println!(
         "  common mode (transmission error along the lines of action): c = {:.6} µm · sin(ω_p t {:+.6} rad)",
-        common.norm(),
-        common.arg()
+        common.amplitude_um, common.phase_rad
     );
-    if !sol.load_independent {
+    if !r.load_independent {
         println!(
             "  note: planets not equally spaced — the kinematic (least-squares) solution is not load independent; use a stiffness model"
         );
     }
-    if let Some(g) = speeds {
+    if let Some(g) = r.gear_speeds {
         println!(
             "  speeds [rad/s]: sun {:.6}, carrier {:.6}, planet rel. carrier {:.6}, sun rel. carrier {:.6}, mesh {:.6}",
             g.sun_rad_s, g.carrier_rad_s, g.planet_rad_s, g.sun_relative_rad_s, g.mesh_rad_s
@@ -285,130 +276,44 @@ fn axis_points(o: &Orbit) -> Vec<(f64, f64)> {
     })
 }
 
-struct Setup {
-    extractor: Extractor,
-    estimate: bool,
-    model: Option<(ModelParams, PlanetSet)>,
-}
-
-fn setup(o: &MeasureOpts) -> Result<Setup, super::Failure> {
-    let model = o.model.as_deref().map(load_model).transpose()?;
-    let speeds: Option<GearSpeeds> = match &model {
-        Some((p, _)) => p.gear_speeds().map_err(input_error)?,
-        None => None,
+/// The evaluation the flags describe.
+fn evaluation(o: &MeasureOpts) -> Result<Evaluation, super::Failure> {
+    let model = o.model.as_deref().map(load_params).transpose()?;
+    let mut opts = MeasureOptions::default();
+    opts.planet_speed_rpm = o.planet_speed_rpm;
+    opts.frame = match o.frame {
+        FrameArg::Carrier => SensorFrame::Carrier,
+        FrameArg::Derotate => SensorFrame::Derotate,
+        FrameArg::Housing => SensorFrame::Housing,
     };
-    let omega_p = match (&model, o.planet_speed_rpm) {
-        (Some(_), Some(_)) => {
-            return Err(input_error(miette::miette!(
-                "give --model or --planet-speed-rpm, not both"
-            )));
-        }
-        (Some((_, set)), None) => set.omega_p_rad_s(),
-        (None, Some(rpm)) => rpm_to_rad_s(rpm),
-        (None, None) => {
-            return Err(input_error(miette::miette!(
-                "need --model PARAMS or --planet-speed-rpm RPM"
-            )));
-        }
-    };
-    let frame = match o.frame {
-        FrameArg::Carrier => Frame::Carrier,
-        FrameArg::Derotate => Frame::HousingDerotate,
-        FrameArg::Housing => {
-            let wc = match (o.carrier_speed_rpm, speeds) {
-                (Some(rpm), _) => rpm_to_rad_s(rpm),
-                (None, Some(g)) => g.carrier_rad_s,
-                (None, None) => {
-                    return Err(input_error(miette::miette!(
-                        "--frame housing needs --carrier-speed-rpm or [gears] in --model"
-                    )));
-                }
-            };
-            Frame::HousingFullSpectrum { carrier_rad_s: wc }
-        }
-    };
-    let mut lines: Vec<Line> = speeds
-        .map(|g| {
-            g.expected_lines(
-                matches!(frame, Frame::HousingFullSpectrum { .. }),
-                o.mesh_harmonics,
-            )
-        })
-        .unwrap_or_default();
-    lines.extend(o.line_hz.iter().map(|f| {
-        Line::new(
-            format!("user {f} Hz"),
-            f * std::f64::consts::TAU,
-            LineKind::Nuisance,
-        )
-    }));
-    let method = match o.method {
+    opts.carrier_speed_rpm = o.carrier_speed_rpm;
+    opts.method = match o.method {
         MethodArg::Ls => Method::LeastSquares,
         MethodArg::Hann => Method::HannDtft,
         MethodArg::Sync => Method::Synchronous,
         MethodArg::Fft => Method::PlainFft,
     };
-    let extractor = Extractor::builder(omega_p)
-        .frame(frame)
-        .method(method)
-        .drift(!o.no_drift)
-        .nuisance(lines)
-        .max_condition(o.max_condition)
-        .build()
-        .map_err(input_error)?;
-    Ok(Setup {
-        extractor,
-        estimate: o.estimate_frequency,
-        model,
-    })
+    opts.line_hz.clone_from(&o.line_hz);
+    opts.mesh_harmonics = o.mesh_harmonics;
+    opts.drift = !o.no_drift;
+    opts.estimate_frequency = o.estimate_frequency;
+    opts.max_condition = o.max_condition;
+    Evaluation::new(model.as_ref(), &opts).map_err(|e| input_error(with_flag_help(e)))
 }
 
-fn run_measure(path: &Path, s: &mut Setup) -> Result<(Record, Measurement), super::Failure> {
+fn run_measure(path: &Path, ev: &mut Evaluation) -> Result<(Record, Measurement), super::Failure> {
     let rec = Record::from_csv_path(path).map_err(input_error)?;
-    if s.estimate {
-        let w = s.extractor.omega_p_rad_s();
-        let tol = 1e-10 * w.abs();
-        let pb = super::progress_bar(
-            Extractor::frequency_iterations(rec.duration_s(), tol),
-            "ω_p refine",
-        );
-        let est = s
-            .extractor
-            .estimate_frequency(&rec, 0.1, tol, &|k| pb.set_position(k))
+    if ev.estimates_frequency() {
+        let pb = super::progress_bar(ev.refine_iterations(&rec), "ω_p refine");
+        ev.refine_frequency(&rec, &|k| pb.set_position(k))
             .map_err(input_error)?;
         pb.finish_and_clear();
-        s.extractor = s
-            .extractor
-            .with_omega_p(est.refined_rad_s)
-            .map_err(input_error)?;
     }
-    let m = s.extractor.extract(&rec).map_err(|e| match e {
+    let m = ev.extract(&rec).map_err(|e| match e {
         OrbitError::Collision { .. } | OrbitError::Record(_) => input_error(located(path, e)),
         other => runtime_error(other),
     })?;
     Ok((rec, m))
-}
-
-fn measurement_json(m: &Measurement, s: &Setup) -> Value {
-    let cmp = s
-        .model
-        .as_ref()
-        .map(|(_, set)| Comparison::new(&m.orbit, &set.solve().orbit));
-    json!({
-        "method": s.extractor.method(),
-        "frame": s.extractor.frame(),
-        "orbit": orbit_json(&m.orbit),
-        "uncertainty_1sigma": m.uncertainty,
-        "condition_number": m.condition_number,
-        "residual_rms_um": m.residual_rms_um.map(|(x, y)| json!({"x": x, "y": y})),
-        "lines": m.lines,
-        "warnings": m.warnings,
-        "omega_p_rad_s": s.extractor.omega_p_rad_s(),
-        "frequency_estimated": s.estimate,
-        "record_length_s": m.record_length_s,
-        "samples": m.samples,
-        "comparison_with_model": cmp,
-    })
 }
 
 fn measure(
@@ -418,39 +323,36 @@ fn measure(
     plot_dir: Option<&Path>,
     png: bool,
 ) -> CliResult {
-    let mut s = setup(o)?;
-    let (rec, m) = run_measure(path, &mut s)?;
+    let mut ev = evaluation(o)?;
+    let (rec, m) = run_measure(path, &mut ev)?;
     if let Some(dir) = plot_dir {
-        plots(dir, &rec, &m, &s, if png { "png" } else { "svg" })?;
+        plots(dir, &rec, &m, &ev, if png { "png" } else { "svg" })?;
     }
+    let r: MeasureReport = ev.report(&m);
     if json {
-        return print_json(&measurement_json(&m, &s));
+        return print_report(&r);
     }
     println!(
         "Record: {} samples over {:.6} s; method {:?}, frame {:?}",
-        m.samples,
-        m.record_length_s,
-        s.extractor.method(),
-        s.extractor.frame()
+        r.samples, r.record_length_s, r.method, r.frame
     );
-    print_orbit(&m.orbit);
-    if let Some(u) = m.uncertainty {
+    print_orbit(&r.orbit);
+    if let Some(u) = r.uncertainty_1sigma {
         println!(
             "  1-σ: A_sx ±{:.4} µm, φ_sx ±{:.5} rad, A_sy ±{:.4} µm, φ_sy ±{:.5} rad, |Z+| ±{:.4} µm, |Z-| ±{:.4} µm",
             u.a_x_um, u.phi_x_rad, u.a_y_um, u.phi_y_rad, u.z_plus_um, u.z_minus_um
         );
     }
-    if let Some(c) = m.condition_number {
+    if let Some(c) = r.condition_number {
         println!("  condition number {c:.3e}");
     }
-    if let Some((x, y)) = m.residual_rms_um {
-        println!("  residual RMS x {x:.4} µm, y {y:.4} µm");
+    if let Some(rms) = r.residual_rms_um {
+        println!("  residual RMS x {:.4} µm, y {:.4} µm", rms.x, rms.y);
     }
-    for w in &m.warnings {
+    for w in &r.warnings {
         println!("  warning: {w}");
     }
-    if let Some((_, set)) = &s.model {
-        let c = Comparison::new(&m.orbit, &set.solve().orbit);
+    if let Some(c) = r.comparison_with_model {
         println!(
             "  vs model: ΔR_L {:+.4} µm, ΔR_S {:+.4} µm, Δα_L {}, |ΔZ+| {:.4} µm, |ΔZ-| {:.4} µm",
             c.d_r_long_um,
@@ -464,10 +366,10 @@ fn measure(
     Ok(())
 }
 
-fn plots(dir: &Path, rec: &Record, m: &Measurement, s: &Setup, ext: &str) -> CliResult {
+fn plots(dir: &Path, rec: &Record, m: &Measurement, ev: &Evaluation, ext: &str) -> CliResult {
     std::fs::create_dir_all(dir)
         .map_err(|e| runtime_error(miette::miette!("{}: {e}", dir.display())))?;
-    let (x, y) = s.extractor.analysis_signal(rec).map_err(input_error)?;
+    let (x, y) = ev.extractor().analysis_signal(rec).map_err(input_error)?;
     let step = (x.len() / 4000).max(1);
     let raw: Vec<(f64, f64)> = x
         .iter()
@@ -483,7 +385,7 @@ fn plots(dir: &Path, rec: &Record, m: &Measurement, s: &Setup, ext: &str) -> Cli
     if !axis.is_empty() {
         series.push(Series::line("major axis", axis));
     }
-    if let Some((_, set)) = &s.model {
+    if let Some(set) = ev.model() {
         series.push(Series::line("model", set.solve().orbit.trace_um(720)));
     }
     let labels = ChartLabels {
@@ -554,24 +456,18 @@ fn identify_cmd(
             "--te expects 2 comma-separated numbers: amplitude_um,phase_deg"
         )));
     }
-    let mut s = setup(o)?;
-    let Some((_, set)) = s.model.clone() else {
+    let mut ev = evaluation(o)?;
+    let Some(set) = ev.model().cloned() else {
         return Err(input_error(miette::miette!(
             "identify needs --model PARAMS (planet positions, α, sense, ω_p)"
         )));
     };
     let orbit = match (signals, sin_pair) {
-        (Some(path), _) => {
-            // With --estimate-frequency the phasors were taken at the estimated ω_p; the model's
-            // map is linear in them, so identify them against the nominal ω_p.
-            let o = run_measure(path, &mut s)?.1.orbit;
-            Orbit {
-                omega_p_rad_s: set.omega_p_rad_s(),
-                ..o
-            }
-        }
+        // With --estimate-frequency the phasors are taken at the estimated ω_p; the report
+        // identifies them against the model's.
+        (Some(path), _) => run_measure(path, &mut ev)?.1.orbit,
         (None, Some(v)) => {
-            let sp = ncgear::analysis::orbit::SinPair {
+            let sp = SinPair {
                 a_x_um: v[0],
                 phi_x_rad: v[1].to_radians(),
                 a_y_um: v[2],
@@ -586,31 +482,19 @@ fn identify_cmd(
         }
     };
     let te = te.map(|v| C64::from_polar(v[0], v[1].to_radians()));
-    let id = identify(&set.kinematic_map(), &orbit, te).map_err(input_error)?;
+    let r = IdentifyReport::new(&set, &orbit, te).map_err(input_error)?;
     if json {
-        let planets: Vec<Value> = id
-            .phasors_um
-            .iter()
-            .map(|e| json!({"eccentricity_um": e.norm(), "phase_rad": e.arg(), "phase_deg": e.arg().to_degrees()}))
-            .collect();
-        return print_json(&json!({
-            "planets": planets,
-            "null_space": id.null_space,
-            "common_mode_observable": id.null_space.is_empty(),
-            "used_transmission_error": id.used_transmission_error,
-            "statement": id.statement,
-            "orbit": orbit_json(&orbit),
-        }));
+        return print_report(&r);
     }
     println!("Identified planet eccentricity phasors E_i = e_i·exp(i(θp0+θp_i)):");
-    for (k, e) in id.phasors_um.iter().enumerate() {
+    for (k, p) in r.planets.iter().enumerate() {
         println!(
             "  planet {}: e = {:.6} µm, phase = {:+.4}°",
             k + 1,
-            e.norm(),
-            e.arg().to_degrees()
+            p.eccentricity_um,
+            p.phase_deg
         );
     }
-    println!("{}", id.statement);
+    println!("{}", r.statement);
     Ok(())
 }

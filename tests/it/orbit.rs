@@ -313,7 +313,7 @@ fn model_rejects_bad_parameters() {
 
 use ncgear::analysis::orbit::OrbitError;
 use ncgear::analysis::orbit::measure::{
-    Comparison, Extractor, Frame, Method, Record, full_spectrum,
+    Comparison, ExtractOptions, Extractor, Frame, Method, Record, full_spectrum,
 };
 use ncgear::analysis::orbit::model::Line;
 use rand::SeedableRng;
@@ -444,10 +444,12 @@ fn ls_extraction_within_4x_crlb_non_integer_drift_noise_nuisance() {
     for seed in [1u64, 2, 3] {
         let s = Synth::base(seed);
         let rec = s.record();
-        let ex = Extractor::builder(s.orbit.omega_p_rad_s)
-            .nuisance(s.nuisance())
-            .build()
-            .unwrap();
+        let ex = Extractor::new(s.orbit.omega_p_rad_s, {
+            let mut o = ExtractOptions::default();
+            o.nuisance = s.nuisance();
+            o
+        })
+        .unwrap();
         let m = ex.extract(&rec).unwrap();
         assert_within_crlb(&s, &m.orbit, 4.0);
         let e = errors(&m.orbit, &s.orbit);
@@ -496,17 +498,18 @@ fn ls_handles_nearby_nuisance_line_and_jittered_time() {
     s.t0_s = 0.8;
     let rec = s.record();
     assert!(!rec.is_uniform(1e-6));
-    let m = Extractor::builder(s.orbit.omega_p_rad_s)
-        .nuisance(s.nuisance())
-        .build()
-        .unwrap()
-        .extract(&rec)
-        .unwrap();
+    let m = Extractor::new(s.orbit.omega_p_rad_s, {
+        let mut o = ExtractOptions::default();
+        o.nuisance = s.nuisance();
+        o
+    })
+    .unwrap()
+    .extract(&rec)
+    .unwrap();
     assert_within_crlb(&s, &m.orbit, 4.0);
     assert_eq!(m.warnings.len(), 1, "{:?}", m.warnings); // 2.5 bins < 3 bins
     // Without the nuisance lines in the model the estimate is biased far beyond the CRLB.
-    let naive = Extractor::builder(s.orbit.omega_p_rad_s)
-        .build()
+    let naive = Extractor::new(s.orbit.omega_p_rad_s, ExtractOptions::default())
         .unwrap()
         .extract(&rec)
         .unwrap();
@@ -519,13 +522,15 @@ fn plain_fft_phase_error_contrast() {
     let s = Synth::base(11);
     let rec = s.record();
     let run = |m: Method| {
-        Extractor::builder(s.orbit.omega_p_rad_s)
-            .method(m)
-            .nuisance(s.nuisance())
-            .build()
-            .unwrap()
-            .extract(&rec)
-            .unwrap()
+        Extractor::new(s.orbit.omega_p_rad_s, {
+            let mut o = ExtractOptions::default();
+            o.method = m;
+            o.nuisance = s.nuisance();
+            o
+        })
+        .unwrap()
+        .extract(&rec)
+        .unwrap()
     };
     let fft = errors(&run(Method::PlainFft).orbit, &s.orbit);
     let hann = errors(&run(Method::HannDtft).orbit, &s.orbit);
@@ -564,12 +569,14 @@ fn colliding_lines_are_refused() {
         -(s.orbit.omega_p_rad_s + 1e-7 * bin),
         LineKind::Nuisance,
     ));
-    let err = Extractor::builder(s.orbit.omega_p_rad_s)
-        .nuisance(lines)
-        .build()
-        .unwrap()
-        .extract(&rec)
-        .unwrap_err();
+    let err = Extractor::new(s.orbit.omega_p_rad_s, {
+        let mut o = ExtractOptions::default();
+        o.nuisance = lines;
+        o
+    })
+    .unwrap()
+    .extract(&rec)
+    .unwrap_err();
     match &err {
         OrbitError::Collision {
             condition,
@@ -592,11 +599,13 @@ fn colliding_lines_are_refused() {
         LineKind::Nuisance,
     ));
     assert!(matches!(
-        Extractor::builder(s.orbit.omega_p_rad_s)
-            .nuisance(lines)
-            .build()
-            .unwrap()
-            .extract(&rec),
+        Extractor::new(s.orbit.omega_p_rad_s, {
+            let mut o = ExtractOptions::default();
+            o.nuisance = lines;
+            o
+        })
+        .unwrap()
+        .extract(&rec),
         Err(OrbitError::Collision { .. })
     ));
     // 0.001 bin away: condition ≈ 1e3 < 1e6, so analysed — but warned, and the reported
@@ -607,12 +616,14 @@ fn colliding_lines_are_refused() {
         -(s.orbit.omega_p_rad_s + 0.001 * bin),
         LineKind::Nuisance,
     ));
-    let m = Extractor::builder(s.orbit.omega_p_rad_s)
-        .nuisance(lines)
-        .build()
-        .unwrap()
-        .extract(&rec)
-        .unwrap();
+    let m = Extractor::new(s.orbit.omega_p_rad_s, {
+        let mut o = ExtractOptions::default();
+        o.nuisance = lines;
+        o
+    })
+    .unwrap()
+    .extract(&rec)
+    .unwrap();
     assert!(
         m.warnings
             .iter()
@@ -628,12 +639,14 @@ fn colliding_lines_are_refused() {
         s.orbit.omega_p_rad_s + 2.0 * bin,
         LineKind::Nuisance,
     ));
-    let m = Extractor::builder(s.orbit.omega_p_rad_s)
-        .nuisance(lines)
-        .build()
-        .unwrap()
-        .extract(&rec)
-        .unwrap();
+    let m = Extractor::new(s.orbit.omega_p_rad_s, {
+        let mut o = ExtractOptions::default();
+        o.nuisance = lines;
+        o
+    })
+    .unwrap()
+    .extract(&rec)
+    .unwrap();
     assert!(
         m.warnings
             .iter()
@@ -651,13 +664,15 @@ fn housing_frame_derotation_and_full_spectrum() {
     s.lines.truncate(1); // runout line, given in the carrier frame
     let rec = s.record();
     // (a) de-rotate with the recorded carrier angle.
-    let m = Extractor::builder(s.orbit.omega_p_rad_s)
-        .frame(Frame::HousingDerotate)
-        .nuisance(s.nuisance())
-        .build()
-        .unwrap()
-        .extract(&rec)
-        .unwrap();
+    let m = Extractor::new(s.orbit.omega_p_rad_s, {
+        let mut o = ExtractOptions::default();
+        o.frame = Frame::HousingDerotate;
+        o.nuisance = s.nuisance();
+        o
+    })
+    .unwrap()
+    .extract(&rec)
+    .unwrap();
     assert_within_crlb(&s, &m.orbit, 4.0);
     // (b) full spectrum at the signed frequencies ω_c ± ω_p; nuisance shifted to the housing frame.
     let wc = s.carrier_rad_s;
@@ -666,17 +681,18 @@ fn housing_frame_derotation_and_full_spectrum() {
         .iter()
         .map(|(w, _)| Line::new("runout", w + wc, LineKind::Nuisance))
         .collect();
-    let m = Extractor::builder(s.orbit.omega_p_rad_s)
-        .frame(Frame::HousingFullSpectrum { carrier_rad_s: wc })
-        .nuisance(housing)
-        .build()
-        .unwrap()
-        .extract(&rec)
-        .unwrap();
+    let m = Extractor::new(s.orbit.omega_p_rad_s, {
+        let mut o = ExtractOptions::default();
+        o.frame = Frame::HousingFullSpectrum { carrier_rad_s: wc };
+        o.nuisance = housing;
+        o
+    })
+    .unwrap()
+    .extract(&rec)
+    .unwrap();
     assert_within_crlb(&s, &m.orbit, 4.0);
     // Reading the housing record as if it were the carrier frame is wrong by far.
-    let wrong = Extractor::builder(s.orbit.omega_p_rad_s)
-        .build()
+    let wrong = Extractor::new(s.orbit.omega_p_rad_s, ExtractOptions::default())
         .unwrap()
         .extract(&rec)
         .unwrap();
@@ -687,10 +703,12 @@ fn housing_frame_derotation_and_full_spectrum() {
 fn least_squares_is_thread_count_independent() {
     let s = Synth::base(3);
     let rec = s.record();
-    let ex = Extractor::builder(s.orbit.omega_p_rad_s)
-        .nuisance(s.nuisance())
-        .build()
-        .unwrap();
+    let ex = Extractor::new(s.orbit.omega_p_rad_s, {
+        let mut o = ExtractOptions::default();
+        o.nuisance = s.nuisance();
+        o
+    })
+    .unwrap();
     let one = rayon::ThreadPoolBuilder::new()
         .num_threads(1)
         .build()
@@ -863,13 +881,15 @@ fn asset_signals_match_the_model_within_4x_crlb() {
         },
     ] {
         let housing = matches!(frame, Frame::HousingFullSpectrum { .. });
-        let m = Extractor::builder(set.omega_p_rad_s())
-            .frame(frame)
-            .nuisance(g.expected_lines(housing, 2))
-            .build()
-            .unwrap()
-            .extract(&rec)
-            .unwrap();
+        let m = Extractor::new(set.omega_p_rad_s(), {
+            let mut o = ExtractOptions::default();
+            o.frame = frame;
+            o.nuisance = g.expected_lines(housing, 2);
+            o
+        })
+        .unwrap()
+        .extract(&rec)
+        .unwrap();
         let e = errors(&m.orbit, &model);
         let s = model.sin_pair();
         let lim = [
@@ -890,10 +910,12 @@ fn planet_frequency_estimated_from_an_approximate_value() {
     let rec = s.record();
     let wp = s.orbit.omega_p_rad_s;
     // Configured 2 % low (≈ 0.5 bin off).
-    let ex = Extractor::builder(wp * 0.98)
-        .nuisance(s.nuisance())
-        .build()
-        .unwrap();
+    let ex = Extractor::new(wp * 0.98, {
+        let mut o = ExtractOptions::default();
+        o.nuisance = s.nuisance();
+        o
+    })
+    .unwrap();
     let calls = std::sync::atomic::AtomicU64::new(0);
     let est = ex
         .estimate_frequency(&rec, 0.1, 1e-9, &|k| {
@@ -943,12 +965,14 @@ fn ls_is_exact_on_noise_free_non_integer_records() {
         s.sigma_um = 0.0;
         s.periods = periods;
         s.samples = 6000;
-        let m = Extractor::builder(s.orbit.omega_p_rad_s)
-            .nuisance(s.nuisance())
-            .build()
-            .unwrap()
-            .extract(&s.record())
-            .unwrap();
+        let m = Extractor::new(s.orbit.omega_p_rad_s, {
+            let mut o = ExtractOptions::default();
+            o.nuisance = s.nuisance();
+            o
+        })
+        .unwrap()
+        .extract(&s.record())
+        .unwrap();
         assert!(
             (m.orbit.z_plus_um - s.orbit.z_plus_um).norm() < 1e-9,
             "{periods}: {:?}",
@@ -976,10 +1000,12 @@ fn tach_synchronous_average_corrects_a_wrong_nominal_speed() {
         .take_while(|t| *t < s.duration() - 1e-3)
         .collect();
     let with_tach = rec.clone().with_tach_pulses(pulses).unwrap();
-    let ex = Extractor::builder(wp * 1.01)
-        .method(Method::Synchronous)
-        .build()
-        .unwrap();
+    let ex = Extractor::new(wp * 1.01, {
+        let mut o = ExtractOptions::default();
+        o.method = Method::Synchronous;
+        o
+    })
+    .unwrap();
     let good = errors(&ex.extract(&with_tach).unwrap().orbit, &s.orbit);
     let bad = errors(&ex.extract(&rec).unwrap().orbit, &s.orbit);
     // Tach: the 5 µm runout line is not synchronous and leaks into the average with about
@@ -1019,4 +1045,47 @@ fn tach_synchronous_average_corrects_a_wrong_nominal_speed() {
     for q in [p, bad_csv] {
         let _ = std::fs::remove_file(q);
     }
+}
+
+use ncgear::analysis::orbit::evaluate::{Evaluation, MeasureOptions, SensorFrame};
+use ncgear::analysis::orbit::report::{IdentifyReport, ModelReport};
+
+#[test]
+fn library_reports_are_what_the_cli_prints() {
+    let p = ModelParams::from_path(&asset("model.toml")).unwrap();
+    let set = p.planet_set().unwrap();
+    let model = ModelReport::new(&p).unwrap();
+    assert_eq!(model.orbit.orbit(), set.solve().orbit);
+    let mut opts = MeasureOptions::default();
+    opts.frame = SensorFrame::Derotate;
+    let mut ev = Evaluation::new(Some(&p), &opts).unwrap();
+    let rec = Record::from_csv_path(&asset("signals.csv")).unwrap();
+    assert!(ev.refine_frequency(&rec, &|_| {}).unwrap().is_none());
+    let m = ev.extract(&rec).unwrap();
+    let report = serde_json::to_value(ev.report(&m)).unwrap();
+    for key in [
+        "method",
+        "frame",
+        "orbit",
+        "uncertainty_1sigma",
+        "condition_number",
+        "residual_rms_um",
+        "lines",
+        "warnings",
+        "omega_p_rad_s",
+        "frequency_estimated",
+        "record_length_s",
+        "samples",
+        "comparison_with_model",
+    ] {
+        assert!(!report[key].is_null(), "{key}");
+    }
+    let id = IdentifyReport::new(&set, &m.orbit, None).unwrap();
+    assert_eq!(id.planets.len(), 3);
+    assert!(!id.common_mode_observable);
+    // Library errors name the field, never a CLI flag.
+    let e = Evaluation::new(None, &MeasureOptions::default())
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("planet_speed_rpm") && !e.contains("--"), "{e}");
 }

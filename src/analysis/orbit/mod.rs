@@ -11,15 +11,22 @@
 //! * [`identify`] — planet eccentricity phasors from a measured orbit (A.9), up to the
 //!   unobservable common mode unless a transmission-error channel is given.
 //!
+//! Two modules put the stages together as `ncgear orbit` does: [`evaluate`] derives ω_p, the frame
+//! and the nuisance lines from a model file or given speeds ([`evaluate::MeasureOptions`]), and
+//! [`report`] holds the serializable results ([`report::ModelReport`], [`report::MeasureReport`],
+//! [`report::IdentifyReport`]) — exactly what the CLI prints with `--json`.
+//!
 //! The shared value type is [`Orbit`]: the planet-frequency sun motion written as
 //! `z(t) = x + i y = Z₊ e^{iω_p t} + Z₋ e^{−iω_p t}` (carrier frame, µm).
 //!
 //! Units: displacements in µm (`_um`), angles in rad (`_rad`), angular speeds in rad/s
 //! (`_rad_s`), time in s. Files use µm, degrees and rpm as their keys say.
 
+pub mod evaluate;
 pub mod identify;
 pub mod measure;
 pub mod model;
+pub mod report;
 
 pub use nalgebra::Complex;
 

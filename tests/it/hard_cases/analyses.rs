@@ -8,7 +8,7 @@ use ncgear::analysis::dynamics::{
 };
 use ncgear::analysis::montecarlo::{McError, McOptions};
 use ncgear::analysis::orbit::OrbitError;
-use ncgear::analysis::orbit::measure::{Extractor, Record};
+use ncgear::analysis::orbit::measure::{ExtractOptions, Extractor, Record};
 use ncgear::analysis::orbit::model::{Hand, Line, LineKind, Planet, PlanetSet};
 use ncgear::analysis::peak::PeakOptions;
 use ncgear::analysis::tolerance::{Analysis, ErrorFile, ToleranceError};
@@ -279,8 +279,7 @@ fn colliding_and_duplicated_lines_in_orbit_records() {
     let wp = TAU * 3.0;
     let rec = orbit_record(4000, 1e-3, wp);
     // Clean record: the least-squares extraction recovers the sinusoids exactly.
-    let m = Extractor::builder(wp)
-        .build()
+    let m = Extractor::new(wp, ExtractOptions::default())
         .unwrap()
         .extract(&rec)
         .unwrap();
@@ -294,11 +293,13 @@ fn colliding_and_duplicated_lines_in_orbit_records() {
     // NaN orbit.
     let nuisance = |w: f64| Line::new("n", w, LineKind::Nuisance);
     for w in [wp, -wp, wp * (1.0 + 1e-13)] {
-        match Extractor::builder(wp)
-            .nuisance(vec![nuisance(w)])
-            .build()
-            .unwrap()
-            .extract(&rec)
+        match Extractor::new(wp, {
+            let mut o = ExtractOptions::default();
+            o.nuisance = vec![nuisance(w)];
+            o
+        })
+        .unwrap()
+        .extract(&rec)
         {
             Err(OrbitError::Collision {
                 condition, limit, ..
@@ -316,12 +317,14 @@ fn colliding_and_duplicated_lines_in_orbit_records() {
         vec![nuisance(0.0)],
         vec![nuisance(5.0 * wp), nuisance(-5.0 * wp), nuisance(0.0)],
     ] {
-        let m = Extractor::builder(wp)
-            .nuisance(lines)
-            .build()
-            .unwrap()
-            .extract(&rec)
-            .unwrap();
+        let m = Extractor::new(wp, {
+            let mut o = ExtractOptions::default();
+            o.nuisance = lines;
+            o
+        })
+        .unwrap()
+        .extract(&rec)
+        .unwrap();
         let q = m.orbit.sin_pair();
         assert!(
             (q.a_x_um - 7.0).abs() < 1e-9 && (q.a_y_um - 3.0).abs() < 1e-9,
@@ -330,25 +333,31 @@ fn colliding_and_duplicated_lines_in_orbit_records() {
     }
     // NaN or ∞ in every extractor and planet-set input: typed errors.
     for w in [f64::NAN, f64::INFINITY, 0.0] {
-        assert!(Extractor::builder(w).build().is_err());
+        assert!(Extractor::new(w, ExtractOptions::default()).is_err());
     }
     assert!(
-        Extractor::builder(wp)
-            .nuisance(vec![nuisance(f64::NAN)])
-            .build()
-            .is_err()
+        Extractor::new(wp, {
+            let mut o = ExtractOptions::default();
+            o.nuisance = vec![nuisance(f64::NAN)];
+            o
+        })
+        .is_err()
     );
     assert!(
-        Extractor::builder(wp)
-            .max_condition(f64::NAN)
-            .build()
-            .is_err()
+        Extractor::new(wp, {
+            let mut o = ExtractOptions::default();
+            o.max_condition = f64::NAN;
+            o
+        })
+        .is_err()
     );
     assert!(
-        Extractor::builder(wp)
-            .min_separation_bins(f64::NAN)
-            .build()
-            .is_err()
+        Extractor::new(wp, {
+            let mut o = ExtractOptions::default();
+            o.min_separation_bins = f64::NAN;
+            o
+        })
+        .is_err()
     );
     let planet = |e: f64, pos: f64| Planet {
         position_rad: pos,

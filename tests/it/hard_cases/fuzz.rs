@@ -7,7 +7,7 @@
 //! Fixed proptest seeds keep CI deterministic.
 use ncgear::analysis::dynamics::scene::Scene;
 use ncgear::analysis::dynamics::{Method, RunOptions, simulate};
-use ncgear::analysis::orbit::measure::{Extractor, Record};
+use ncgear::analysis::orbit::measure::{ExtractOptions, Extractor, Record};
 use ncgear::analysis::orbit::model::ModelParams;
 use ncgear::analysis::peak::PeakOptions;
 use ncgear::analysis::tolerance::{Analysis, ErrorFile};
@@ -315,8 +315,12 @@ fn check_errors(text: &str, json: bool) -> Result<(), TestCaseError> {
     Ok(())
 }
 
+fn model_format(toml: bool) -> Format {
+    if toml { Format::Toml } else { Format::Json }
+}
+
 fn check_model(text: &str, toml: bool) -> Result<(), TestCaseError> {
-    if let Ok(p) = ModelParams::parse(text, toml, "fuzz")
+    if let Ok(p) = ModelParams::parse(text, "fuzz", model_format(toml))
         && let Ok(set) = p.planet_set()
     {
         let s = set.solve();
@@ -333,9 +337,7 @@ fn check_record(text: &str) -> Result<(), TestCaseError> {
             finite(*v, "record")?;
         }
         // ω_p of assets/orbit/model.toml (30 rpm planet speed).
-        let ex = Extractor::builder(std::f64::consts::PI)
-            .build()
-            .expect("valid");
+        let ex = Extractor::new(std::f64::consts::PI, ExtractOptions::default()).expect("valid");
         if let Ok(m) = ex.extract(&r) {
             finite(m.orbit.z_plus_um.norm(), "extracted Z+")?;
             finite(m.orbit.z_minus_um.norm(), "extracted Z-")?;
@@ -404,8 +406,12 @@ fn bundled_assets_parse() {
     assert!(ErrorFile::parse(ERRORS_TOML, "e", Format::Toml).is_ok());
     assert!(ErrorFile::parse(&toml_to_json(ERRORS_TOML), "e", Format::Json).is_ok());
     assert!(Record::from_csv_reader(head(SIGNALS_CSV, 400).as_bytes(), "r").is_ok());
-    assert!(ModelParams::parse(MODEL_TOML, true, "m").is_ok_and(|p| p.planet_set().is_ok()));
-    assert!(ModelParams::parse(MODEL_JSON, false, "m").is_ok_and(|p| p.planet_set().is_ok()));
+    assert!(
+        ModelParams::parse(MODEL_TOML, "m", Format::Toml).is_ok_and(|p| p.planet_set().is_ok())
+    );
+    assert!(
+        ModelParams::parse(MODEL_JSON, "m", Format::Json).is_ok_and(|p| p.planet_set().is_ok())
+    );
     assert!(Law::parse_csv(LAW_CSV, "l").is_ok());
     assert!(Expr::parse("phi - 0.08*sin(2*phi)").is_ok());
 }
