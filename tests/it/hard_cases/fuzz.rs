@@ -11,6 +11,7 @@ use ncgear::analysis::orbit::measure::{Extractor, Record};
 use ncgear::analysis::orbit::model::ModelParams;
 use ncgear::analysis::peak::PeakOptions;
 use ncgear::analysis::tolerance::{Analysis, ErrorFile};
+use ncgear::config::Format;
 use ncgear::pair::{Expr, Law, Motion};
 use ncgear::simulate::DesignFile;
 use ncgear::trajectory::Trajectory;
@@ -261,7 +262,7 @@ fn check_design_file(text: &str) -> Result<(), TestCaseError> {
 }
 
 fn check_scene(text: &str, json: bool) -> Result<(), TestCaseError> {
-    if let Ok(s) = Scene::from_str(text, json, "fuzz") {
+    if let Ok(s) = Scene::parse(text, "fuzz", if json { Format::Json } else { Format::Toml }) {
         let d = s
             .derived("fuzz")
             .map_err(|e| TestCaseError::fail(format!("parsed scene, then derived failed: {e}")))?;
@@ -392,8 +393,8 @@ fn bundled_assets_parse() {
     assert!(Trajectory::parse_json(ASYM_JSON, "a").is_ok());
     assert!(DesignFile::parse(design_json(), "d").is_ok());
     for s in SCENES {
-        assert!(Scene::from_str(s, false, "s").is_ok());
-        assert!(Scene::from_str(&toml_to_json(s), true, "s").is_ok());
+        assert!(Scene::parse(s, "s", Format::Toml).is_ok());
+        assert!(Scene::parse(&toml_to_json(s), "s", Format::Json).is_ok());
     }
     assert!(ErrorFile::parse(ERRORS_TOML, "e", false).is_ok());
     assert!(ErrorFile::parse(&toml_to_json(ERRORS_TOML), "e", true).is_ok());

@@ -59,7 +59,6 @@ pub trait ForceTerm: Send + Sync {
     }
 }
 
-
 /// The assembled equations of motion `M q̈ = Σ terms`, with `M` diagonal.
 pub struct Model {
     /// Indices into [`DOF_NAMES`] of the retained DOFs, in order.

@@ -1,8 +1,8 @@
 //! The force terms besides the mesh: constant forces, linear spring–dampers, sliding friction
 //! (B.4), mass unbalance and Hertz rolling-element bearings (B.5).
 
-use super::mesh::{MeshCore, PairState, push_periodic};
 use super::ForceTerm;
+use super::mesh::{MeshCore, PairState, push_periodic};
 use crate::analysis::dynamics::tvms::PairGeometry;
 use nalgebra::DMatrix;
 use std::f64::consts::PI;

@@ -4,7 +4,9 @@
 
 use super::terms::{self, BearingLaw};
 use super::{Derived, DofSet, Effects, Scene, SceneError, invalid, mesh};
-use crate::analysis::dynamics::model::{DOF_NAMES, ForceTerm, MeshCore, MeshTerm, Model, StiffnessLaw};
+use crate::analysis::dynamics::model::{
+    DOF_NAMES, ForceTerm, MeshCore, MeshTerm, Model, StiffnessLaw,
+};
 use std::f64::consts::PI;
 use std::sync::Arc;
 
@@ -143,8 +145,16 @@ fn mesh_core(scene: &Scene, file: &str, lay: &Layout, d: &Derived) -> Result<Mes
             .filter_map(|&(n, c)| lay.idx(n).map(|i| (i, c)))
             .collect()
     };
-    let ste = e.static_te.as_ref().map(|s| mesh::static_te(file, s)).transpose()?;
-    let backlash = e.backlash.as_ref().map(|b| mesh::backlash(file, b)).transpose()?;
+    let ste = e
+        .static_te
+        .as_ref()
+        .map(|s| mesh::static_te(file, s))
+        .transpose()?;
+    let backlash = e
+        .backlash
+        .as_ref()
+        .map(|b| mesh::backlash(file, b))
+        .transpose()?;
     let relief = e
         .tip_relief
         .as_ref()
@@ -162,9 +172,7 @@ fn mesh_core(scene: &Scene, file: &str, lay: &Layout, d: &Derived) -> Result<Mes
         backlash,
         relief,
         contact_length: geom.contact_ratio * geom.base_pitch_m,
-        per_pair: relief.is_some()
-            || e.friction.is_some()
-            || matches!(law, StiffnessLaw::Pairs(_)),
+        per_pair: relief.is_some() || e.friction.is_some() || matches!(law, StiffnessLaw::Pairs(_)),
     })
 }
 

@@ -2,7 +2,7 @@
 //! transmission error, backlash (B-5) and tip relief (B-4), converted from file units (µm, mm,
 //! degrees) to SI.
 
-use super::{MeshSpec, ReliefKind, ReliefSpec, SceneError, SteSpec, BacklashSpec};
+use super::{BacklashSpec, MeshSpec, ReliefKind, ReliefSpec, SceneError, SteSpec};
 use super::{finite, invalid, nonneg, pos};
 use crate::analysis::dynamics::model::{Backlash, Relief, Ste, StiffnessLaw};
 use crate::analysis::dynamics::tvms::{PairGeometry, RectangularTvms};
@@ -32,7 +32,9 @@ pub(super) fn stiffness_law(
             pos(file, &format!("{key}.k"), k)?;
             StiffnessLaw::Constant(k)
         }
-        MeshSpec::Fourier { kmax, kmin, n, .. } => StiffnessLaw::Fourier(rect(kmax, kmin)?, n.unwrap_or(9)),
+        MeshSpec::Fourier { kmax, kmin, n, .. } => {
+            StiffnessLaw::Fourier(rect(kmax, kmin)?, n.unwrap_or(9))
+        }
         MeshSpec::Rectangular { kmax, kmin, .. } => StiffnessLaw::Rectangular(rect(kmax, kmin)?),
         MeshSpec::Pairs { kmax, kmin, .. } => StiffnessLaw::Pairs(rect(kmax, kmin)?),
     })

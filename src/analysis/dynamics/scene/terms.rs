@@ -3,7 +3,9 @@
 //! mass unbalance and gravity. Each validates its table (key path in the error) first.
 
 use super::build::Layout;
-use super::{BearingSpec, EccKind, EccentricitySpec, FrictionSpec, GravitySpec, SceneError, ShaftSpec};
+use super::{
+    BearingSpec, EccKind, EccentricitySpec, FrictionSpec, GravitySpec, SceneError, ShaftSpec,
+};
 use super::{Derived, finite, invalid, nonneg, pos};
 use crate::analysis::dynamics::model::{
     ConstantForce, ForceTerm, FrictionDirection, FrictionTerm, HertzBearing, LinearSpring,
@@ -169,7 +171,10 @@ pub(super) fn load(lay: &Layout, d: &Derived, mp: f64, shafts: bool) -> Box<dyn 
     } else {
         ("theta1", "theta2")
     };
-    let forces = vec![(lay.idx(a).unwrap_or(0), mp), (lay.idx(b).unwrap_or(0), -mq)];
+    let forces = vec![
+        (lay.idx(a).unwrap_or(0), mp),
+        (lay.idx(b).unwrap_or(0), -mq),
+    ];
     Box::new(ConstantForce {
         label: format!("torques(Mp = {mp} N·m on {a}, Mq = {mq:.4} N·m on {b})"),
         forces,
@@ -211,7 +216,12 @@ pub(super) fn friction(
         direction,
         geom: d.geometry,
         omega: lay.omega,
-        idx: [lay.idx("x1"), lay.idx("x2"), lay.idx("theta1"), lay.idx("theta2")],
+        idx: [
+            lay.idx("x1"),
+            lay.idx("x2"),
+            lay.idx("theta1"),
+            lay.idx("theta2"),
+        ],
     }))
 }
 
@@ -280,7 +290,12 @@ pub(super) fn bearings(
             .collect()
     } else {
         vec![
-            ("bearing(pinion)".into(), lay.idx("x1"), lay.idx("y1"), omega1),
+            (
+                "bearing(pinion)".into(),
+                lay.idx("x1"),
+                lay.idx("y1"),
+                omega1,
+            ),
             ("bearing(gear)".into(), lay.idx("x2"), lay.idx("y2"), omega2),
         ]
     };
@@ -289,7 +304,14 @@ pub(super) fn bearings(
         match law {
             BearingLaw::Rigid => {}
             BearingLaw::Linear(kb) => {
-                axis_springs(out, &label, sites, &format!("linear(kb = {kb} N/m)"), kb, cb);
+                axis_springs(
+                    out,
+                    &label,
+                    sites,
+                    &format!("linear(kb = {kb} N/m)"),
+                    kb,
+                    cb,
+                );
             }
             BearingLaw::Hertz {
                 kc,
