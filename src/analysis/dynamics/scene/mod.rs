@@ -2,16 +2,18 @@
 //! loader validates every value (key path + expected form in the error), prunes the DOF set and
 //! builds the force-term list once.
 //!
-//! [`schema`] holds the file's serde types, [`Scene::derived`] (here) the derived physical
+//! [`schema`] holds the file's serde types ([`settings`] those of `[solver]` and `[output]`), [`Scene::derived`] (here) the derived physical
 //! parameters, and `build` turns a scene into a [`Model`](super::model::Model): one function per
 //! effect, in `mesh` (stiffness law, STE, backlash, tip relief) and `terms` (the other effects).
 
 mod build;
 mod mesh;
 pub mod schema;
+pub mod settings;
 mod terms;
 
 pub use schema::*;
+pub use settings::*;
 
 use super::model::StiffnessLaw;
 use super::tvms::PairGeometry;
