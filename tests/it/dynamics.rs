@@ -632,3 +632,44 @@ fn cli_runs_a_scene_and_rejects_bad_input() {
     assert!(String::from_utf8_lossy(&out.stderr).contains("effects.mesh_stiffness.kmax"));
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+#[test]
+fn library_run_reports_what_the_cli_prints() {
+    // linear fast path: header + amplitude, no run record
+    let r = run(&asset("torsional4.toml"), "t4", &AnalysisOptions::default()).unwrap();
+    assert_eq!(r.header.dofs, ["theta_p", "theta1", "theta2", "theta_q"]);
+    assert!(r.linear_dte_amplitude_m.unwrap() > 0.0);
+    assert!(r.run.is_none() && r.recording.is_none() && r.sweep_up.is_none());
+    let v = serde_json::to_value(&r).unwrap();
+    let keys: Vec<&str> = v.as_object().unwrap().keys().map(String::as_str).collect();
+    assert_eq!(
+        keys,
+        [
+            "derived",
+            "dofs",
+            "linear_dte_amplitude_m",
+            "natural_frequencies_hz",
+            "scene",
+            "solver",
+            "terms"
+        ]
+    );
+    // an output signal that is not a DOF is an error naming the key, before any integration
+    let mut s = Scene::parse(SDOF_6000, "sdof", Format::Toml).unwrap();
+    s.output.signals = vec!["x9".into()];
+    let e = run(&s, "sdof", &AnalysisOptions::default())
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.starts_with("output.signals: `x9` is not a DOF") && e.contains("DOFs: u"),
+        "{e}"
+    );
+    // unreadable file: the path in the message
+    let e = Scene::from_path(std::path::Path::new("/nonexistent/s.toml"))
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.starts_with("cannot read scene file /nonexistent/s.toml"),
+        "{e}"
+    );
+}
