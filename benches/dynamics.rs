@@ -4,16 +4,17 @@
 //!
 //! Run: `cargo bench --bench dynamics`
 use ncgear::analysis::dynamics::*;
+use ncgear::config::Format;
 
 fn main() {
     divan::main();
 }
 
 fn full16() -> model::Model {
-    let s = Scene::from_str(
+    let s = Scene::parse(
         include_str!("../assets/dynamics/full16.toml"),
-        false,
         "full16.toml",
+        Format::Toml,
     )
     .expect("scene");
     s.build("full16.toml").expect("model").0
@@ -39,10 +40,10 @@ fn full16_dopri5_50_mesh_periods(bencher: divan::Bencher, breakpoints: bool) {
 }
 
 fn sdof() -> (model::Model, Vec<f64>) {
-    let s = Scene::from_str(
+    let s = Scene::parse(
         include_str!("../assets/dynamics/sdof_6000.toml"),
-        false,
         "sdof",
+        Format::Toml,
     )
     .expect("scene");
     let (m, _) = s.build("sdof").expect("model");

@@ -5,13 +5,14 @@
 //!
 //! Run: `cargo run --release --example dynamics_speed`
 use ncgear::analysis::dynamics::*;
+use ncgear::config::Format;
 use std::time::Instant;
 
 fn main() {
-    let scene = Scene::from_str(
+    let scene = Scene::parse(
         include_str!("../assets/dynamics/full16.toml"),
-        false,
         "full16.toml",
+        Format::Toml,
     )
     .expect("scene");
     let (m, _) = scene.build("full16.toml").expect("model");

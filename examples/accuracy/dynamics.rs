@@ -6,6 +6,7 @@
 //! reported as the first row).
 use super::{Row, timed};
 use ncgear::analysis::dynamics::*;
+use ncgear::config::Format;
 
 const SCENE: &str = include_str!("../../assets/dynamics/sdof_6000.toml");
 
@@ -36,7 +37,7 @@ fn dp(rtol: f64, bp: bool) -> Method {
 
 /// The dynamics rows.
 pub fn rows() -> Vec<Row> {
-    let scene = Scene::from_str(SCENE, false, "sdof_6000.toml").expect("scene");
+    let scene = Scene::parse(SCENE, "sdof_6000.toml", Format::Toml).expect("scene");
     let (m, _) = scene.build("sdof_6000.toml").expect("model");
     let y0 = static_state(&m, 1e-9);
     let measure = "max |DTE error| / DTE p-p (last 20 of 120 mesh periods)";

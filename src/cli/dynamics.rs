@@ -1,6 +1,6 @@
 //! `ncgear dynamics`: thin shell over `ncgear::analysis::dynamics`.
 use super::{CliResult, input_error, print_json, progress_bar, runtime_error};
-use ncgear::analysis::dynamics::{self as dy, DynamicsError, RunOptions, Scene};
+use ncgear::analysis::dynamics::{self as dy, AnalysisOptions, DynamicsError, Scene};
 use ncgear::output::plot::{ChartLabels, Series, line_chart};
 use std::path::{Path, PathBuf};
 
@@ -25,9 +25,10 @@ pub struct Args {
 
 fn dyn_err(e: DynamicsError) -> super::Failure {
     match e {
-        DynamicsError::Scene(_) | DynamicsError::BadOption { .. } | DynamicsError::NotLinear(_) => {
-            input_error(miette::miette!("{e}"))
-        }
+        DynamicsError::Scene(_)
+        | DynamicsError::BadOption { .. }
+        | DynamicsError::NotLinear(_)
+        | DynamicsError::Output { .. } => input_error(miette::miette!("{e}")),
         _ => runtime_error(miette::miette!("{e}")),
     }
 }
@@ -82,14 +83,12 @@ fn parse_sweep(s: &str) -> Result<Vec<f64>, super::Failure> {
     Ok((0..=n).map(|i| a + h * i as f64).collect())
 }
 
-/// Runs `ncgear dynamics`.
+/// Runs `ncgear dynamics`: loads the scene, prints the run log, runs it through the library
+/// ([`dy::Prepared::run`]) and writes the CSV files and plots of the result.
 pub fn run(args: Args) -> CliResult {
     let file = args.scene.display().to_string();
     let scene = Scene::from_path(&args.scene).map_err(|e| input_error(miette::miette!("{e}")))?;
-    let (model, derived) = scene
-        .build(&file)
-        .map_err(|e| input_error(miette::miette!("{e}")))?;
-    let opts = RunOptions::from_scene(&scene).map_err(dyn_err)?;
+    let prepared = dy::Prepared::new(scene, &file).map_err(dyn_err)?;
     if !matches!(args.format.as_str(), "svg" | "png") {
         return Err(input_error(miette::miette!(
             "--format `{}`: expected svg or png",
@@ -98,30 +97,72 @@ pub fn run(args: Args) -> CliResult {
     }
     std::fs::create_dir_all(&args.out)
         .map_err(|e| runtime_error(miette::miette!("cannot create {}: {e}", args.out.display())))?;
-    let ext = &args.format;
-    let out = |name: &str| args.out.join(name);
-    // run log
-    let terms: Vec<String> = model.terms.iter().map(|t| t.name()).collect();
-    let solver = format!("{:?}", opts.method);
-    eprintln!("scene `{}` ({file})", scene.scene.name);
-    eprintln!("DOFs ({}): {}", model.n(), model.dof_names().join(", "));
-    for t in &terms {
+    print_header(&prepared, &file);
+    let linear = prepared.takes_linear_path();
+    let mut options = AnalysisOptions::default();
+    if let (Some(sw), false) = (&args.sweep, linear) {
+        options.sweep = Some(parse_sweep(sw)?);
+    }
+    let pb = match &options.sweep {
+        _ if linear => None,
+        Some(up) => Some(progress_bar(2 * up.len() as u64, "sweep")),
+        None => Some(progress_bar(
+            u64::from(prepared.options.max_periods),
+            "transient",
+        )),
+    };
+    let report = prepared
+        .run(&options, &|k| {
+            if let Some(pb) = &pb {
+                pb.set_position(k);
+            }
+        })
+        .map_err(dyn_err)?;
+    if let Some(pb) = &pb {
+        pb.finish_and_clear();
+    }
+    if let Some(amp) = report.linear_dte_amplitude_m {
+        eprintln!(
+            "linear fast path: DTE amplitude at the mesh frequency {:.6} µm",
+            amp * 1e6
+        );
+    }
+    let out = Outputs {
+        dir: &args.out,
+        ext: &args.format,
+    };
+    if let (Some(up), Some(down)) = (&report.sweep_up, &report.sweep_down) {
+        write_sweep(&out, &prepared, up, down)?;
+    }
+    if let (Some(summary), Some(rec)) = (&report.run, &report.recording) {
+        write_run(&out, &prepared, summary, rec)?;
+    }
+    if args.json {
+        let value =
+            serde_json::to_value(&report).map_err(|e| runtime_error(miette::miette!("{e}")))?;
+        print_json(&value)?;
+    }
+    Ok(())
+}
+
+/// The run log's header on stderr: scene, DOFs, terms, solver, natural frequencies.
+fn print_header(p: &dy::Prepared, file: &str) {
+    let h = &p.header;
+    eprintln!("scene `{}` ({file})", h.scene);
+    eprintln!("DOFs ({}): {}", h.dofs.len(), h.dofs.join(", "));
+    for t in &h.terms {
         eprintln!("term: {t}");
     }
     eprintln!(
-        "solver: {solver}{}",
-        if model.is_linear() {
+        "solver: {}{}",
+        h.solver,
+        if p.model.is_linear() {
             " (linear model: eigen-solution and FRF available)"
         } else {
             ""
         }
     );
-    let eig = dy::natural_frequencies_hz(&model).ok();
-    let mut summary = serde_json::json!({
-        "scene": scene.scene.name, "dofs": model.dof_names(), "terms": terms, "solver": solver,
-        "derived": derived, "natural_frequencies_hz": eig,
-    });
-    if let Some(f) = &eig {
+    if let Some(f) = &h.natural_frequencies_hz {
         eprintln!(
             "natural frequencies (mean stiffness) [Hz]: {}",
             f.iter()
@@ -130,135 +171,113 @@ pub fn run(args: Args) -> CliResult {
                 .join(", ")
         );
     }
-    if scene.solver.method == "linear" || (scene.solver.method == "auto" && model.is_linear()) {
-        let amp = dy::linear_dte_amplitude(&model).map_err(dyn_err)?;
-        eprintln!(
-            "linear fast path: DTE amplitude at the mesh frequency {:.6} µm",
-            amp * 1e6
-        );
-        summary["linear_dte_amplitude_m"] = amp.into();
-        if args.json {
-            print_json(&summary)?;
-        }
-        return Ok(());
+}
+
+/// Where the files go and the plot format.
+struct Outputs<'a> {
+    dir: &'a Path,
+    ext: &'a str,
+}
+
+impl Outputs<'_> {
+    fn file(&self, name: &str) -> PathBuf {
+        self.dir.join(name)
     }
-    if let Some(sw) = &args.sweep {
-        let up = parse_sweep(sw)?;
-        let down: Vec<f64> = up.iter().rev().copied().collect();
-        let pb = progress_bar(2 * up.len() as u64, "sweep");
-        let res_up =
-            dy::sweep(&scene, &file, &up, &opts, None, &|k| pb.set_position(k)).map_err(dyn_err)?;
-        let start = res_up.len() as u64;
-        let res_down = dy::sweep(&scene, &file, &down, &opts, None, &|k| {
-            pb.set_position(start + k)
-        })
-        .map_err(dyn_err)?;
-        pb.finish_and_clear();
-        let b = model.mesh.backlash.map_or(1.0, |b| b.b);
-        let pts = |r: &[dy::SweepPoint]| {
-            r.iter()
-                .map(|p| (p.omega_ratio, p.dte_half_pp_m / b))
-                .collect::<Vec<_>>()
-        };
-        let ylab = if model.mesh.backlash.is_some() {
-            "DTE half peak-to-peak / b"
-        } else {
-            "DTE half peak-to-peak [m]"
-        };
-        chart(
-            &out(&format!("sweep.{ext}")),
-            "Frequency sweep (jump phenomenon)",
-            "Ω = ωe/ωn",
-            ylab,
+
+    fn plot(&self, stem: &str) -> PathBuf {
+        self.dir.join(format!("{stem}.{}", self.ext))
+    }
+}
+
+/// `sweep.csv` and the sweep plot (amplitude over b with backlash).
+fn write_sweep(
+    out: &Outputs,
+    p: &dy::Prepared,
+    up: &[dy::SweepPoint],
+    down: &[dy::SweepPoint],
+) -> CliResult {
+    let backlash = p.model.mesh.backlash;
+    let b = backlash.map_or(1.0, |b| b.b);
+    let pts = |r: &[dy::SweepPoint]| {
+        r.iter()
+            .map(|p| (p.omega_ratio, p.dte_half_pp_m / b))
+            .collect::<Vec<_>>()
+    };
+    let ylab = if backlash.is_some() {
+        "DTE half peak-to-peak / b"
+    } else {
+        "DTE half peak-to-peak [m]"
+    };
+    chart(
+        &out.plot("sweep"),
+        "Frequency sweep (jump phenomenon)",
+        "Ω = ωe/ωn",
+        ylab,
+        vec![
+            Series::line("sweep up", pts(up)),
+            Series::line("sweep down", pts(down)),
+        ],
+        false,
+    )?;
+    let rows = up
+        .iter()
+        .map(|p| (1.0, p))
+        .chain(down.iter().map(|p| (-1.0, p)));
+    write_csv(
+        &out.file("sweep.csv"),
+        &[
+            "direction",
+            "omega_ratio",
+            "n1_rpm",
+            "dte_half_pp_m",
+            "dte_mean_m",
+            "dte_first_harmonic_m",
+            "contact_loss_fraction",
+        ]
+        .map(String::from),
+        rows.map(|(d, p)| {
             vec![
-                Series::line("sweep up", pts(&res_up)),
-                Series::line("sweep down", pts(&res_down)),
-            ],
-            false,
-        )?;
-        let rows = res_up
-            .iter()
-            .map(|p| (1.0, p))
-            .chain(res_down.iter().map(|p| (-1.0, p)));
-        write_csv(
-            &out("sweep.csv"),
-            &[
-                "direction",
-                "omega_ratio",
-                "n1_rpm",
-                "dte_half_pp_m",
-                "dte_mean_m",
-                "dte_first_harmonic_m",
-                "contact_loss_fraction",
+                d,
+                p.omega_ratio,
+                p.n1_rpm,
+                p.dte_half_pp_m,
+                p.dte_mean_m,
+                p.dte_first_harmonic_m,
+                p.contact_loss_fraction,
             ]
-            .map(String::from),
-            rows.map(|(d, p)| {
-                vec![
-                    d,
-                    p.omega_ratio,
-                    p.n1_rpm,
-                    p.dte_half_pp_m,
-                    p.dte_mean_m,
-                    p.dte_first_harmonic_m,
-                    p.contact_loss_fraction,
-                ]
-            }),
-        )?;
-        summary["sweep_up"] = serde_json::to_value(&res_up).unwrap_or_default();
-        summary["sweep_down"] = serde_json::to_value(&res_down).unwrap_or_default();
-        eprintln!("sweep written to {}", out("sweep.csv").display());
-        if args.json {
-            print_json(&summary)?;
-        }
-        return Ok(());
-    }
-    let y0 = dy::static_state(&model, 1e-6);
-    let pb = progress_bar(u64::from(opts.max_periods), "transient");
-    let run = dy::simulate(&model, &y0, &opts, &|k| pb.set_position(k)).map_err(dyn_err)?;
-    pb.finish_and_clear();
+        }),
+    )?;
+    eprintln!("sweep written to {}", out.file("sweep.csv").display());
+    Ok(())
+}
+
+/// The run's files and plots (time series, DTE, mesh force, phase plane, spectrum, orbits) and
+/// its log lines.
+fn write_run(out: &Outputs, p: &dy::Prepared, s: &dy::RunReport, rec: &dy::Recording) -> CliResult {
+    let run = &rec.run;
     eprintln!(
         "transient {} Poincaré periods ({}), {} RHS evaluations, {} accepted / {} rejected steps, {} events",
-        run.transient_periods,
-        if run.steady {
+        s.transient_periods,
+        if s.steady {
             "steady".to_string()
         } else {
-            format!("NOT steady, change {:.2e}", run.poincare_change)
+            format!("NOT steady, change {:.2e}", s.poincare_change)
         },
-        run.stats.rhs_evals,
-        run.stats.accepted,
-        run.stats.rejected,
-        run.stats.events
+        s.stats.rhs_evals,
+        s.stats.accepted,
+        s.stats.rejected,
+        s.stats.events
     );
-    // time series
-    let mut header = vec!["t_s".to_string(), "dte_m".into(), "mesh_force_n".into()];
-    let mut cols = Vec::new();
-    for s in &scene.output.signals {
-        if s == "dte" || s == "mesh_force" {
-            continue;
-        }
-        let i = model.index_of(s).ok_or_else(|| {
-            input_error(miette::miette!(
-                "output.signals: `{s}` is not a DOF of this scene; DOFs: {}",
-                model.dof_names().join(", ")
-            ))
-        })?;
-        header.push(s.clone());
-        cols.push(i);
-    }
     write_csv(
-        &out("timeseries.csv"),
-        &header,
-        (0..run.t_s.len()).map(|k| {
-            let mut r = vec![run.t_s[k], run.dte_m[k], run.mesh_force_n[k]];
-            r.extend(cols.iter().map(|&i| run.states[k][i]));
-            r
-        }),
+        &out.file("timeseries.csv"),
+        &rec.timeseries_header(),
+        rec.timeseries_rows(),
     )?;
     let spm = run.samples_per_mesh as usize;
     let show = run.t_s.len().min(10 * spm);
     let t0 = run.t_s[0];
     chart(
-        &out(&format!("dte.{ext}")),
+        &out.plot("dte"),
         "Dynamic transmission error",
         "t − t_rec [ms]",
         "DTE [µm]",
@@ -271,7 +290,7 @@ pub fn run(args: Args) -> CliResult {
         false,
     )?;
     chart(
-        &out(&format!("mesh_force.{ext}")),
+        &out.plot("mesh_force"),
         "Mesh force",
         "t − t_rec [ms]",
         "F_m [N]",
@@ -283,48 +302,26 @@ pub fn run(args: Args) -> CliResult {
         )],
         false,
     )?;
-    // phase plane (spectral derivative over the integer-period record) and Poincaré section
-    let t_rec = model.mesh.t0 * f64::from(opts.record_mesh_periods);
-    let rate: Vec<f64> = ncgear::math::periodic::spectral_derivative(&run.dte_m)
-        .iter()
-        .map(|d| d * 2.0 * std::f64::consts::PI / t_rec)
-        .collect();
-    let phase: Vec<(f64, f64)> = run
-        .dte_m
-        .iter()
-        .zip(&rate)
-        .map(|(d, v)| (d * 1e6, v * 1e3))
-        .collect();
-    let poincare: Vec<(f64, f64)> = phase.iter().step_by(spm).copied().collect();
     chart(
-        &out(&format!("phase.{ext}")),
+        &out.plot("phase"),
         "Phase plane and Poincaré section (once per mesh period)",
         "DTE [µm]",
         "dDTE/dt [mm/s]",
         vec![
-            Series::line("trajectory", phase),
-            Series::markers("Poincaré", poincare.clone()),
+            Series::line("trajectory", rec.phase.clone()),
+            Series::markers("Poincaré", s.poincare_section.clone()),
         ],
         false,
     )?;
-    // spectrum
-    if scene.output.spectrum {
-        let c = ncgear::math::periodic::fft_coefficients(&run.dte_m);
-        let df = 1.0 / t_rec;
-        let spectrum = c
-            .iter()
-            .enumerate()
-            .skip(1)
-            .map(|(k, z)| (k as f64 * df, 2.0 * z.norm()))
-            .collect::<Vec<_>>();
+    if let Some(spectrum) = &rec.spectrum {
         write_csv(
-            &out("spectrum.csv"),
+            &out.file("spectrum.csv"),
             &["f_hz".into(), "amplitude_m".into()],
             spectrum.iter().map(|&(f, a)| vec![f, a]),
         )?;
-        let fmax = 10.0 / model.mesh.t0;
+        let fmax = 10.0 / p.model.mesh.t0;
         chart(
-            &out(&format!("spectrum.{ext}")),
+            &out.plot("spectrum"),
             "DTE spectrum",
             "f [Hz]",
             "amplitude [µm]",
@@ -339,57 +336,26 @@ pub fn run(args: Args) -> CliResult {
             false,
         )?;
     }
-    for which in &scene.output.orbit {
-        let g = match which.as_str() {
-            "pinion" => 1,
-            "gear" => 2,
-            o => {
-                return Err(input_error(miette::miette!(
-                    "output.orbit: `{o}`: expected \"pinion\" or \"gear\""
-                )));
-            }
-        };
-        let (Some(ix), Some(iy)) = (
-            model.index_of(&format!("x{g}")),
-            model.index_of(&format!("y{g}")),
-        ) else {
-            return Err(input_error(miette::miette!(
-                "output.orbit: the {which} centre has no lateral DOFs (x{g}, y{g}) in this scene"
-            )));
-        };
-        let pts = run
-            .states
-            .iter()
-            .map(|s| (s[ix] * 1e6, s[iy] * 1e6))
-            .collect();
+    for (gear, pts) in &rec.orbits {
+        let which = gear.as_str();
         chart(
-            &out(&format!("orbit_{which}.{ext}")),
+            &out.plot(&format!("orbit_{which}")),
             &format!("Orbit of the {which} centre"),
             "x [µm]",
             "y [µm]",
-            vec![Series::line(which.clone(), pts)],
+            vec![Series::line(which, pts.clone())],
             true,
         )?;
     }
-    let h = run.dte_harmonics(6);
     eprintln!(
         "DTE mean {:.4} µm, harmonics at k·f_mesh [µm]: {}",
-        h[0] * 1e6,
-        h[1..]
+        s.dte_mean_m * 1e6,
+        s.dte_harmonics_m
             .iter()
             .map(|x| format!("{:.4}", x * 1e6))
             .collect::<Vec<_>>()
             .join(", ")
     );
-    eprintln!("outputs written to {}", args.out.display());
-    summary["run"] = serde_json::json!({
-        "stats": run.stats, "transient_periods": run.transient_periods, "steady": run.steady,
-        "poincare_change": run.poincare_change, "dte_mean_m": h[0], "dte_harmonics_m": &h[1..],
-        "dte_half_pp_m": run.dte_half_pp(), "dte_non_harmonic_max_m": run.dte_non_harmonic(),
-        "poincare_section": poincare,
-    });
-    if args.json {
-        print_json(&summary)?;
-    }
+    eprintln!("outputs written to {}", out.dir.display());
     Ok(())
 }

@@ -3,6 +3,7 @@ use ncgear::analysis::dynamics::model::FrictionTerm;
 use ncgear::analysis::dynamics::tvms::{PairGeometry, RectangularTvms};
 use ncgear::analysis::dynamics::*;
 use ncgear::analysis::dynamics::{model, ode};
+use ncgear::config::Format;
 
 const ASSETS: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/assets/dynamics");
 
@@ -90,7 +91,7 @@ fn tvms_mean_harmonics_and_patent_double_count() {
 }
 
 fn eig_of(text: &str) -> Vec<f64> {
-    let s = Scene::from_str(text, false, "inline").unwrap();
+    let s = Scene::parse(text, "inline", Format::Toml).unwrap();
     let (m, _) = s.build("inline").unwrap();
     natural_frequencies_hz(&m).unwrap()
 }
@@ -130,23 +131,23 @@ fn natural_frequencies_16_4_and_pair() {
 }
 
 fn opts(rtol: f64, max_periods: u32, record: u32, spm: u32) -> RunOptions {
-    RunOptions {
-        method: Method::Dopri5 {
-            rtol,
-            atol: rtol * 1e-6,
-            breakpoints: true,
-            events: true,
-        },
-        poincare_tol: 1e-9,
-        max_periods,
-        record_mesh_periods: record,
-        samples_per_mesh: spm,
-    }
+    let mut o = RunOptions::default();
+    o.method = Method::Dopri5 {
+        rtol,
+        atol: rtol * 1e-6,
+        breakpoints: true,
+        events: true,
+    };
+    o.poincare_tol = 1e-9;
+    o.max_periods = max_periods;
+    o.record_mesh_periods = record;
+    o.samples_per_mesh = spm;
+    o
 }
 
 #[test]
 fn dte_harmonics_at_6000_rpm() {
-    let s = Scene::from_str(SDOF_6000, false, "sdof").unwrap();
+    let s = Scene::parse(SDOF_6000, "sdof", Format::Toml).unwrap();
     let (m, d) = s.build("sdof").unwrap();
     assert_eq!(m.dof_names(), ["u"]);
     assert!((d.omega_e / d.omega_n - 0.4268).abs() < 1e-4);
@@ -223,7 +224,7 @@ fn backlash_oscillator_jump_and_coexistence() {
 
 #[test]
 fn energy_balance_over_100_mesh_periods() {
-    let s = Scene::from_str(SDOF_6000, false, "sdof").unwrap();
+    let s = Scene::parse(SDOF_6000, "sdof", Format::Toml).unwrap();
     let (m, _) = s.build("sdof").unwrap();
     let y0 = static_state(&m, 1e-9);
     let rtol = 1e-8;
@@ -295,7 +296,7 @@ fn free_vibration_peaks_match_eigenvalues_4dof() {
     let text = with_effects(TORSION, "auto")
         .replace("zeta = 0.05", "zeta = 0.0")
         .replace("input_torque_Nm = 50.0", "input_torque_Nm = 0.0");
-    let s = Scene::from_str(&text, false, "f").unwrap();
+    let s = Scene::parse(&text, "f", Format::Toml).unwrap();
     let (m, _) = s.build("f").unwrap();
     assert!(m.is_linear());
     let f = natural_frequencies_hz(&m).unwrap();
@@ -361,36 +362,36 @@ fn dof_pruning_and_run_log() {
         "bearings = { law = \"linear\", kb = 2e8 }\nfriction = { mu = 0.05, direction = \"pitch_switch\" }",
         "auto",
     );
-    let (m6, _) = Scene::from_str(&six, false, "six")
+    let (m6, _) = Scene::parse(&six, "six", Format::Toml)
         .unwrap()
         .build("six")
         .unwrap();
     assert_eq!(m6.dof_names(), ["x1", "y1", "theta1", "x2", "y2", "theta2"]);
     // nothing forces x → pruned
     let four = with_effects("bearings = { law = \"linear\", kb = 2e8 }", "auto");
-    let (m4l, _) = Scene::from_str(&four, false, "four")
+    let (m4l, _) = Scene::parse(&four, "four", Format::Toml)
         .unwrap()
         .build("four")
         .unwrap();
     assert_eq!(m4l.dof_names(), ["y1", "theta1", "y2", "theta2"]);
     // effects off unless named: the plain SDOF has only mesh + load and no breakpoints
-    let (m1, _) = Scene::from_str(&with_effects("", "auto"), false, "one")
+    let (m1, _) = Scene::parse(&with_effects("", "auto"), "one", Format::Toml)
         .unwrap()
         .build("one")
         .unwrap();
     assert_eq!(m1.terms.len(), 2);
     assert!(m1.breakpoints(0.0, 1.0).is_empty());
-    let (mr, _) = Scene::from_str(SDOF_6000, false, "r")
+    let (mr, _) = Scene::parse(SDOF_6000, "r", Format::Toml)
         .unwrap()
         .build("r")
         .unwrap();
     let bp = mr.breakpoints(0.0, 10.0 * mr.mesh.t0);
     assert_eq!(bp.len(), 19); // j t0 (j = 1..9) and j t0 + (ε−1) t0 (j = 0..9)
     // linear fast path: the FRF equals the time-domain steady state (SDOF with STE)
-    let (ml, _) = Scene::from_str(
+    let (ml, _) = Scene::parse(
         &with_effects("static_te = { er_um = 10.0 }", "auto"),
-        false,
         "l",
+        Format::Toml,
     )
     .unwrap()
     .build("l")
@@ -445,17 +446,17 @@ fn friction_power_is_dissipative_for_every_pair() {
 #[test]
 fn scene_errors_name_the_key_and_expected_form() {
     let unknown = SDOF_6000.replace("z1 = 25", "z1 = 25\nteeth = 3");
-    let e = Scene::from_str(&unknown, false, "u.toml")
+    let e = Scene::parse(&unknown, "u.toml", Format::Toml)
         .unwrap_err()
         .to_string();
     assert!(e.contains("u.toml") && e.contains("teeth"), "{e}");
     let missing = SDOF_6000.replace(", zeta = 0.05", "");
-    let e = Scene::from_str(&missing, false, "m.toml")
+    let e = Scene::parse(&missing, "m.toml", Format::Toml)
         .unwrap_err()
         .to_string();
     assert!(e.contains("zeta"), "{e}");
     let bad = SDOF_6000.replace("kmin = 2.5e8", "kmin = 5.5e8");
-    let e = Scene::from_str(&bad, false, "b.toml")
+    let e = Scene::parse(&bad, "b.toml", Format::Toml)
         .unwrap_err()
         .to_string();
     assert!(
@@ -463,7 +464,7 @@ fn scene_errors_name_the_key_and_expected_form() {
         "{e}"
     );
     let neg = SDOF_6000.replace("half_gap_um = 50.0", "half_gap_um = -5.0");
-    let e = Scene::from_str(&neg, false, "n.toml")
+    let e = Scene::parse(&neg, "n.toml", Format::Toml)
         .unwrap_err()
         .to_string();
     assert!(
@@ -471,15 +472,40 @@ fn scene_errors_name_the_key_and_expected_form() {
         "{e}"
     );
     let kind = SDOF_6000.replace("\"rectangular\"", "\"square\"");
-    let e = Scene::from_str(&kind, false, "k.toml")
+    let e = Scene::parse(&kind, "k.toml", Format::Toml)
         .unwrap_err()
         .to_string();
+    // an unknown kind: the file, the line, the bad value and the known kinds
     assert!(
-        e.contains("effects.mesh_stiffness.kind") && e.contains("\"pairs\""),
+        e.starts_with("k.toml: ")
+            && e.contains("line ")
+            && e.contains("`square`")
+            && e.contains("`pairs`"),
         "{e}"
     );
+    for (effect, bad, known) in [
+        (
+            "bearings = { law = \"magnetic\", kb = 2e8 }",
+            "`magnetic`",
+            "`hertz`",
+        ),
+        (
+            "friction = { mu = 0.05, direction = \"sideways\" }",
+            "`sideways`",
+            "`pitch_switch`",
+        ),
+    ] {
+        let text = with_effects(effect, "auto");
+        let e = Scene::parse(&text, "x.toml", Format::Toml)
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.starts_with("x.toml: ") && e.contains(bad) && e.contains(known),
+            "{e}"
+        );
+    }
     let grav = SDOF_6000.replace("backlash = ", "gravity = { g = [0.0, -9.81] }\nbacklash = ");
-    let e = Scene::from_str(&grav, false, "g.toml")
+    let e = Scene::parse(&grav, "g.toml", Format::Toml)
         .unwrap_err()
         .to_string();
     assert!(
@@ -489,12 +515,12 @@ fn scene_errors_name_the_key_and_expected_form() {
     let json = r#"{"scene": {"name": "j", "model": "spur_pair"}, "gears": {"z1": 25, "z2": 40, "module_mm": 3.0,
         "pressure_angle_deg": 20.0, "face_width_mm": 20.0}, "operating": {"n1_rpm": 6000.0, "input_torque_Nm": 50.0},
         "effects": {"mesh_stiffness": {"kind": "constant", "k": 3.8252e8, "zeta": 0.05}, "wind": {}}}"#;
-    let e = Scene::from_str(json, true, "j.json")
+    let e = Scene::parse(json, "j.json", Format::Json)
         .unwrap_err()
         .to_string();
     assert!(e.contains("wind") && e.contains("line"), "{e}");
     let ok = json.replace(", \"wind\": {}", "");
-    let (m, _) = Scene::from_str(&ok, true, "j.json")
+    let (m, _) = Scene::parse(&ok, "j.json", Format::Json)
         .unwrap()
         .build("j.json")
         .unwrap();
@@ -552,7 +578,7 @@ fn quasi_static_dte_equals_b_plus_f0_over_k() {
     // ω → 0 and no excitation: constant stiffness, backlash, no STE
     let text = with_effects("backlash = { half_gap_um = 50.0 }", "auto")
         .replace("n1_rpm = 6000.0", "n1_rpm = 1.0");
-    let (m, d) = Scene::from_str(&text, false, "q")
+    let (m, d) = Scene::parse(&text, "q", Format::Toml)
         .unwrap()
         .build("q")
         .unwrap();
@@ -605,4 +631,45 @@ fn cli_runs_a_scene_and_rejects_bad_input() {
     assert_eq!(out.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&out.stderr).contains("effects.mesh_stiffness.kmax"));
     let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn library_run_reports_what_the_cli_prints() {
+    // linear fast path: header + amplitude, no run record
+    let r = run(&asset("torsional4.toml"), "t4", &AnalysisOptions::default()).unwrap();
+    assert_eq!(r.header.dofs, ["theta_p", "theta1", "theta2", "theta_q"]);
+    assert!(r.linear_dte_amplitude_m.unwrap() > 0.0);
+    assert!(r.run.is_none() && r.recording.is_none() && r.sweep_up.is_none());
+    let v = serde_json::to_value(&r).unwrap();
+    let keys: Vec<&str> = v.as_object().unwrap().keys().map(String::as_str).collect();
+    assert_eq!(
+        keys,
+        [
+            "derived",
+            "dofs",
+            "linear_dte_amplitude_m",
+            "natural_frequencies_hz",
+            "scene",
+            "solver",
+            "terms"
+        ]
+    );
+    // an output signal that is not a DOF is an error naming the key, before any integration
+    let mut s = Scene::parse(SDOF_6000, "sdof", Format::Toml).unwrap();
+    s.output.signals = vec!["x9".into()];
+    let e = run(&s, "sdof", &AnalysisOptions::default())
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.starts_with("output.signals: `x9` is not a DOF") && e.contains("DOFs: u"),
+        "{e}"
+    );
+    // unreadable file: the path in the message
+    let e = Scene::from_path(std::path::Path::new("/nonexistent/s.toml"))
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.starts_with("cannot read scene file /nonexistent/s.toml"),
+        "{e}"
+    );
 }

@@ -21,7 +21,7 @@ const BACKLASH: &str = include_str!("../../../assets/dynamics/backlash_oscillato
 /// Runs `mesh_periods` mesh periods from the static state with DOPRI5 (breakpoints and events):
 /// the largest |DTE| (m) of a finite run, or a typed error.
 fn run_stiff(text: &str, label: &str, mesh_periods: u32) -> Result<f64, DynamicsError> {
-    let s = Scene::from_str(text, false, label)?;
+    let s = Scene::parse(text, label, Format::Toml)?;
     let (m, _) = s.build(label)?;
     let y0 = static_state(&m, 1e-6);
     assert!(y0.iter().all(|v| v.is_finite()), "{label}: static state");
@@ -122,7 +122,7 @@ fn non_finite_and_extreme_scene_values_are_typed_errors() {
     ] {
         let text = HERTZ.replace(from, to);
         assert_ne!(text, HERTZ, "{from}");
-        let outcome = Scene::from_str(&text, false, "h.toml")
+        let outcome = Scene::parse(&text, "h.toml", Format::Toml)
             .map_err(DynamicsError::from)
             .and_then(|s| RunOptions::from_scene(&s).map(|_| s));
         match outcome {

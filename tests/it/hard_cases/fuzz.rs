@@ -262,7 +262,7 @@ fn check_design_file(text: &str) -> Result<(), TestCaseError> {
 }
 
 fn check_scene(text: &str, json: bool) -> Result<(), TestCaseError> {
-    if let Ok(s) = Scene::from_str(text, json, "fuzz") {
+    if let Ok(s) = Scene::parse(text, "fuzz", if json { Format::Json } else { Format::Toml }) {
         let d = s
             .derived("fuzz")
             .map_err(|e| TestCaseError::fail(format!("parsed scene, then derived failed: {e}")))?;
@@ -400,8 +400,8 @@ fn bundled_assets_parse() {
     assert!(Trajectory::parse_json(ASYM_JSON, "a").is_ok());
     assert!(DesignFile::parse(design_json(), "d").is_ok());
     for s in SCENES {
-        assert!(Scene::from_str(s, false, "s").is_ok());
-        assert!(Scene::from_str(&toml_to_json(s), true, "s").is_ok());
+        assert!(Scene::parse(s, "s", Format::Toml).is_ok());
+        assert!(Scene::parse(&toml_to_json(s), "s", Format::Json).is_ok());
     }
     assert!(ErrorFile::parse(ERRORS_TOML, "e", Format::Toml).is_ok());
     assert!(ErrorFile::parse(&toml_to_json(ERRORS_TOML), "e", Format::Json).is_ok());

@@ -8,6 +8,16 @@
 //! crate: splitting at breakpoints, restarting after events and counting right-hand-side
 //! evaluations needs full control of the step loop.
 
+//!
+//! [`rk4`](fn@rk4) lives in `rk4`, the event location on the dense output in `events`.
+
+mod events;
+mod rk4;
+
+pub use rk4::rk4;
+
+use events::{locate, restrict};
+
 /// A first-order system `y' = f(t, y)`.
 pub trait OdeSystem {
     /// State dimension.
@@ -385,145 +395,6 @@ impl Dopri5 {
 }
 
 /// Re-parametrises a dense step onto `[t, te]` (exact: the interpolant is a quartic in θ).
-#[allow(clippy::needless_range_loop)] // one index over ten parallel coefficient arrays
-fn restrict(d: &DenseStep, te: f64) -> [Vec<f64>; 5] {
-    // y(θ) = r1 + θ r2 + θ(1−θ) r3 + θ²(1−θ) r4 + θ²(1−θ)² r5 is a quartic in θ; on the
-    // sub-interval θ = s·θ', so expand in powers, scale by s^j and convert back.
-    let n = d.r[0].len();
-    let s = (te - d.t) / d.h;
-    let mut out: [Vec<f64>; 5] = std::array::from_fn(|_| vec![0.0; n]);
-    for i in 0..n {
-        let (r1, r2, r3, r4, r5) = (d.r[0][i], d.r[1][i], d.r[2][i], d.r[3][i], d.r[4][i]);
-        let p = [r1, r2 + r3, -r3 + r4 + r5, -r4 - 2.0 * r5, r5];
-        let q: Vec<f64> = (0..5).map(|j| p[j] * s.powi(j as i32)).collect();
-        let b5 = q[4];
-        let b4 = -q[3] - 2.0 * b5;
-        let b3 = b4 + b5 - q[2];
-        let b2 = q[1] - b3;
-        out[0][i] = q[0];
-        out[1][i] = b2;
-        out[2][i] = b3;
-        out[3][i] = b4;
-        out[4][i] = b5;
-    }
-    out
-}
-
-/// Illinois false position on the dense output.
-fn locate(
-    g: EventFn<'_>,
-    d: &DenseStep,
-    mut a: f64,
-    mut b: f64,
-    mut ga: f64,
-    mut gb: f64,
-    y: &mut [f64],
-) -> f64 {
-    let mut side = 0;
-    for _ in 0..100 {
-        let c = (a * gb - b * ga) / (gb - ga);
-        if !(c > a && c < b) || (b - a) <= 1e-15 * b.abs().max(1e-12) {
-            break;
-        }
-        d.eval(c, y);
-        let gc = g(c, y);
-        if gc == 0.0 {
-            return c;
-        }
-        if gc.signum() == gb.signum() {
-            b = c;
-            gb = gc;
-            if side == 1 {
-                ga *= 0.5;
-            }
-            side = 1;
-        } else {
-            a = c;
-            ga = gc;
-            if side == -1 {
-                gb *= 0.5;
-            }
-            side = -1;
-        }
-        if (b - a) < 1e-13 * d.h.abs() {
-            break;
-        }
-    }
-    b
-}
-
-/// Fixed-step classical RK4: `steps` equal steps per interval between consecutive breakpoints
-/// when `align` (restores 4th order across switches), otherwise `ceil((t1−t0)/h)` uniform steps
-/// of nominal size `h` ignoring the switches. `on_step(t, y)` is called after every step.
-pub fn rk4(
-    sys: &dyn OdeSystem,
-    t0: f64,
-    t1: f64,
-    h: f64,
-    y: &mut [f64],
-    breakpoints: Option<&[f64]>,
-    on_step: &mut dyn FnMut(f64, &[f64]),
-) -> OdeStats {
-    let n = sys.dim();
-    let mut st = OdeStats::default();
-    let mut knots = vec![t0];
-    if let Some(bps) = breakpoints {
-        knots.extend(
-            bps.iter()
-                .copied()
-                .filter(|&b| b > t0 + 1e-12 * h && b < t1 - 1e-12 * h),
-        );
-    }
-    knots.push(t1);
-    let (mut k1, mut k2, mut k3, mut k4, mut yt) = (
-        vec![0.0; n],
-        vec![0.0; n],
-        vec![0.0; n],
-        vec![0.0; n],
-        vec![0.0; n],
-    );
-    for w in knots.windows(2) {
-        let (a, b) = (w[0], w[1]);
-        let m = ((b - a) / h - 1e-9).ceil().max(1.0) as usize;
-        let hh = (b - a) / m as f64;
-        for s in 0..m {
-            let t = a + s as f64 * hh;
-            let (ta, tb) = if breakpoints.is_some() {
-                (
-                    if s == 0 { t + NUDGE * hh } else { t },
-                    if s + 1 == m {
-                        t + hh * (1.0 - NUDGE)
-                    } else {
-                        t + hh
-                    },
-                )
-            } else {
-                (t, t + hh)
-            };
-            sys.rhs(ta, y, &mut k1);
-            for i in 0..n {
-                yt[i] = y[i] + 0.5 * hh * k1[i];
-            }
-            sys.rhs(t + 0.5 * hh, &yt, &mut k2);
-            for i in 0..n {
-                yt[i] = y[i] + 0.5 * hh * k2[i];
-            }
-            sys.rhs(t + 0.5 * hh, &yt, &mut k3);
-            for i in 0..n {
-                yt[i] = y[i] + hh * k3[i];
-            }
-            sys.rhs(tb, &yt, &mut k4);
-            for i in 0..n {
-                y[i] += hh / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i]);
-            }
-            st.rhs_evals += 4;
-            st.accepted += 1;
-            on_step(if s + 1 == m { b } else { t + hh }, y);
-        }
-    }
-    st
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;

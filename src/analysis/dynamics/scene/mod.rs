@@ -1,0 +1,278 @@
+//! Scene files (TOML or JSON, spec B.10): every effect is off unless the scene names it. The
+//! loader validates every value (key path + expected form in the error), prunes the DOF set and
+//! builds the force-term list once.
+//!
+//! [`schema`] holds the file's serde types ([`settings`] those of `[solver]` and `[output]`), [`Scene::derived`] (here) the derived physical
+//! parameters, and `build` turns a scene into a [`Model`](super::model::Model): one function per
+//! effect, in `mesh` (stiffness law, STE, backlash, tip relief) and `terms` (the other effects).
+
+mod build;
+mod mesh;
+pub mod schema;
+pub mod settings;
+mod terms;
+
+pub use schema::*;
+pub use settings::*;
+
+use super::model::StiffnessLaw;
+use super::tvms::PairGeometry;
+use crate::config::{self, ConfigError, Format};
+use serde::Serialize;
+use std::f64::consts::PI;
+use std::path::Path;
+
+/// A scene error: file, key path and what was expected.
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum SceneError {
+    /// The file could not be read.
+    #[error("cannot read scene file {file}: {message}")]
+    Io {
+        /// File path.
+        file: String,
+        /// The operating system's message.
+        message: String,
+    },
+    /// Syntax error, unknown key or kind, missing key or wrong type (the parser names line and
+    /// key).
+    #[error("{file}: {message}")]
+    Parse {
+        /// File path.
+        file: String,
+        /// Parser message (line/column, key).
+        message: String,
+    },
+    /// A value outside its domain.
+    #[error("{file}: `{key}` = {found}: expected {expected}")]
+    Invalid {
+        /// File path.
+        file: String,
+        /// Dotted key path.
+        key: String,
+        /// What was found.
+        found: String,
+        /// The expected form.
+        expected: String,
+    },
+}
+
+impl From<ConfigError> for SceneError {
+    fn from(e: ConfigError) -> Self {
+        match e {
+            ConfigError::Unreadable { file, message } => Self::Io { file, message },
+            ConfigError::Parse { file, message } => Self::Parse { file, message },
+        }
+    }
+}
+
+/// Derived physical parameters reported in the run log.
+#[derive(Debug, Clone, Serialize)]
+pub struct Derived {
+    /// Geometry.
+    pub geometry: PairGeometry,
+    /// Gear masses, kg.
+    pub mass_kg: [f64; 2],
+    /// Gear inertias, kg·m².
+    pub inertia_kgm2: [f64; 2],
+    /// Equivalent mass m_e = J1J2/(J1 rb2² + J2 rb1²), kg.
+    pub m_e_kg: f64,
+    /// Mean mesh stiffness, N/m.
+    pub k_mean_n_per_m: f64,
+    /// Mesh damping, N·s/m.
+    pub c_m: f64,
+    /// ωn = sqrt(k_mean/m_e), rad/s.
+    pub omega_n: f64,
+    /// Mesh frequency ωe, rad/s.
+    pub omega_e: f64,
+    /// Mesh period, s.
+    pub t_mesh_s: f64,
+    /// F0 = T1/rb1, N.
+    pub f0_n: f64,
+}
+
+impl Scene {
+    /// Reads a `.toml` or `.json` scene ([`Format::detect`]: by extension, else by content) and
+    /// validates it.
+    ///
+    /// # Errors
+    /// [`SceneError::Io`], [`SceneError::Parse`], [`SceneError::Invalid`].
+    pub fn from_path(path: &Path) -> Result<Self, SceneError> {
+        let src = config::Source::from_path(path)?;
+        Self::parse(&src.text, &src.file, src.format)
+    }
+
+    /// Parses scene text in `format` and validates it; `file` names the source in errors.
+    ///
+    /// # Errors
+    /// [`SceneError::Parse`], [`SceneError::Invalid`].
+    pub fn parse(text: &str, file: &str, format: Format) -> Result<Self, SceneError> {
+        let scene: Self = config::parse(text, file, format)?;
+        scene.build(file)?;
+        Ok(scene)
+    }
+
+    /// Derived parameters (geometry, masses, m_e, k_mean, c_m, ωn, ωe).
+    ///
+    /// # Errors
+    /// [`SceneError::Invalid`] naming the key.
+    pub fn derived(&self, file: &str) -> Result<Derived, SceneError> {
+        let bad = |key: &str, found: String, expected: &str| invalid(file, key, found, expected);
+        let g = &self.gears;
+        pos(file, "gears.face_width_mm", g.face_width_mm)?;
+        pos(file, "gears.density_kg_m3", g.density_kg_m3)?;
+        let geom = PairGeometry::new(
+            g.z1,
+            g.z2,
+            g.module_mm,
+            g.pressure_angle_deg,
+            g.addendum_coeff,
+        )
+        .ok_or_else(|| {
+            bad(
+                "gears",
+                format!(
+                    "z1 = {}, z2 = {}, module_mm = {}, pressure_angle_deg = {}",
+                    g.z1, g.z2, g.module_mm, g.pressure_angle_deg
+                ),
+                "z ≥ 5, module > 0, 0 < α < 45°, and a contact ratio 1 < ε < 2",
+            )
+        })?;
+        // solid steel discs: m = π r² b ρ, J = m r²/2
+        let b = g.face_width_mm * 1e-3;
+        let disc = |r: f64| {
+            let m = PI * r * r * b * g.density_kg_m3;
+            (m, 0.5 * m * r * r)
+        };
+        let (m1, j1) = disc(geom.r_m[0]);
+        let (m2, j2) = disc(geom.r_m[1]);
+        let mass = g.mass_kg.unwrap_or([m1, m2]);
+        let inertia = g.inertia_kgm2.unwrap_or([j1, j2]);
+        for i in 0..2 {
+            pos(file, &format!("gears.mass_kg[{i}]"), mass[i])?;
+            pos(file, &format!("gears.inertia_kgm2[{i}]"), inertia[i])?;
+        }
+        let [rb1, rb2] = geom.rb_m;
+        let m_e = inertia[0] * inertia[1] / (inertia[0] * rb2 * rb2 + inertia[1] * rb1 * rb1);
+        let ms = self.mesh_spec(file)?;
+        let law = mesh::stiffness_law(file, ms, geom.contact_ratio)?;
+        let k_mean = match law {
+            StiffnessLaw::Constant(k) => k,
+            StiffnessLaw::Fourier(r, _) | StiffnessLaw::Rectangular(r) | StiffnessLaw::Pairs(r) => {
+                r.mean()
+            }
+        };
+        nonneg(file, "effects.mesh_stiffness.zeta", ms.zeta())?;
+        let c_m = 2.0 * ms.zeta() * (k_mean * m_e).sqrt();
+        let n1 = self.operating.n1_rpm;
+        if !(n1.is_finite() && n1 > 0.0) {
+            return Err(bad(
+                "operating.n1_rpm",
+                n1.to_string(),
+                "a positive speed in rpm",
+            ));
+        }
+        let t1 = self.operating.input_torque_Nm;
+        if !t1.is_finite() {
+            return Err(bad(
+                "operating.input_torque_Nm",
+                t1.to_string(),
+                "a finite torque in N·m",
+            ));
+        }
+        let omega_e = 2.0 * PI * n1 * g.z1 as f64 / 60.0;
+        let d = Derived {
+            geometry: geom,
+            mass_kg: mass,
+            inertia_kgm2: inertia,
+            m_e_kg: m_e,
+            k_mean_n_per_m: k_mean,
+            c_m,
+            omega_n: (k_mean / m_e).sqrt(),
+            omega_e,
+            t_mesh_s: 2.0 * PI / omega_e,
+            f0_n: t1 / rb1,
+        };
+        // Each input is finite, but extreme ones can still overflow a derived quantity: name the
+        // inputs it comes from.
+        // (value, name, input keys, whether it must be > 0)
+        for (v, what, keys, positive) in [
+            (
+                d.m_e_kg,
+                "m_e",
+                "gears.inertia_kgm2 / gears.module_mm",
+                true,
+            ),
+            (d.k_mean_n_per_m, "k_mean", "effects.mesh_stiffness", true),
+            (d.omega_n, "ωn", "effects.mesh_stiffness / gears", true),
+            (d.omega_e, "ωe", "operating.n1_rpm", true),
+            (d.t_mesh_s, "T_mesh", "operating.n1_rpm", true),
+            (d.c_m, "c_m", "effects.mesh_stiffness.zeta", false),
+            (d.f0_n, "F0 = T1/rb1", "operating.input_torque_Nm", false),
+        ] {
+            let sign_ok = !positive || v > 0.0;
+            if !(v.is_finite() && sign_ok) {
+                return Err(bad(
+                    keys,
+                    format!("values giving {what} = {v:e}"),
+                    "values of physical size (the derived quantity must be finite, and > 0 for masses, stiffnesses and frequencies)",
+                ));
+            }
+        }
+        Ok(d)
+    }
+
+    /// `effects.mesh_stiffness`, which every scene needs.
+    fn mesh_spec(&self, file: &str) -> Result<&MeshSpec, SceneError> {
+        self.effects.mesh_stiffness.as_ref().ok_or_else(|| {
+            invalid(
+                file,
+                "effects.mesh_stiffness",
+                "missing".into(),
+                "a table { kind = \"constant\" | \"fourier\" | \"rectangular\" | \"pairs\", ... , zeta = ... }",
+            )
+        })
+    }
+}
+
+/// [`SceneError::Invalid`] for `key` in `file`.
+fn invalid(file: &str, key: &str, found: String, expected: &str) -> SceneError {
+    SceneError::Invalid {
+        file: file.into(),
+        key: key.into(),
+        found,
+        expected: expected.into(),
+    }
+}
+
+/// `v` must be finite and > 0.
+fn pos(file: &str, key: &str, v: f64) -> Result<(), SceneError> {
+    if v.is_finite() && v > 0.0 {
+        Ok(())
+    } else {
+        Err(invalid(
+            file,
+            key,
+            v.to_string(),
+            "a positive finite number",
+        ))
+    }
+}
+
+/// `v` must be finite and ≥ 0.
+fn nonneg(file: &str, key: &str, v: f64) -> Result<(), SceneError> {
+    if v.is_finite() && v >= 0.0 {
+        Ok(())
+    } else {
+        Err(invalid(file, key, v.to_string(), "a finite number ≥ 0"))
+    }
+}
+
+/// `v` must be finite.
+fn finite(file: &str, key: &str, v: f64) -> Result<(), SceneError> {
+    if v.is_finite() {
+        Ok(())
+    } else {
+        Err(invalid(file, key, v.to_string(), "a finite number"))
+    }
+}
