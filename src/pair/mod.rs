@@ -6,15 +6,14 @@
 //! `(a, 0)`, rotating CW by ψ; ratio `i = dψ/dφ > 0`. Contact on the centre line:
 //! `r1 = a·i/(1+i)` at driver body angle `−φ`, `r2 = a/(1+i)` at driven body angle `π + ψ`.
 //! One driven turn per driver turn: `ψ(φ+2π) = ψ(φ) + 2π` (equal tooth counts).
+mod design;
 pub mod expr;
-
-pub use expr::{Expr, ExprError};mod design;
 mod law;
 mod motion;
 
 pub use design::{PairDesign, PairOptions, design_pair, design_pair_with_progress};
-pub use law::Law;
 pub use expr::{Expr, ExprError};
+pub use law::Law;
 pub use motion::Motion;
 
 use crate::teeth::TeethError;
