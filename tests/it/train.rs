@@ -21,11 +21,10 @@ fn g1_design() -> &'static Design {
 }
 
 fn no_mesh(module_mm: f64, policy: TrainPolicy) -> TrainTeethOptions {
-    TrainTeethOptions {
-        policy,
-        verify_steps: 0,
-        ..TrainTeethOptions::new(module_mm)
-    }
+    let mut opts = TrainTeethOptions::new(module_mm);
+    opts.policy = policy;
+    opts.verify_steps = 0;
+    opts
 }
 
 /// Spec §11/§12.1: the G1 sun at m = 2 has L = 140.57 mm → z = 23 after scaling up, no undercut

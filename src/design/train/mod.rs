@@ -28,15 +28,16 @@
 //! driver whose contact lies `δ` (arc, mm) ahead of a tooth centre, the driven tooth 0 is centred
 //! at `s_n + δ + p/2` (`s_n` its contact arc position): a space faces the driver tooth. Every gear's
 //! coast (smaller-s) flank is thinned by half the backlash, so the working flanks of both meshes
-//! stay exactly conjugate.mod amplitude;
+//! stay exactly conjugate.
+mod amplitude;
 mod build;
 mod report;
 mod sheet;
 
 pub use amplitude::{AmplitudeFit, rescale_ratio_amplitude};
 pub use build::{attach_teeth, tooth_design, tooth_train};
-pub use report::{TrainMesh, TrainRoundTrip, TrainTeethReport, TrainUndercut};
 pub(crate) use report::teeth_json;
+pub use report::{TrainMesh, TrainRoundTrip, TrainTeethReport, TrainUndercut};
 pub use sheet::{Gear, ToothedTrain};
 
 use crate::geometry::pitch::PitchError;
@@ -134,5 +135,19 @@ impl Default for TrainTeethOptions {
     /// [`TrainTeethOptions::new`] at a module of 2 mm.
     fn default() -> Self {
         Self::new(2.0)
+    }
+}
+
+impl std::ops::Deref for TrainTeethOptions {
+    type Target = ToothingOptions;
+    /// The shared toothing options: `opts.module_mm` reads `opts.toothing.module_mm`.
+    fn deref(&self) -> &ToothingOptions {
+        &self.toothing
+    }
+}
+
+impl std::ops::DerefMut for TrainTeethOptions {
+    fn deref_mut(&mut self) -> &mut ToothingOptions {
+        &mut self.toothing
     }
 }
