@@ -1,6 +1,6 @@
 //! One resolution of the mesh check: both outlines indexed, the candidate vertices near the
 //! contact, per-vertex clearances at a driven offset, and the pruned root search on them.
-use super::{MeshCheck, MeshError, Shape};
+use crate::teeth::shape::{MeshError, Shape};
 use std::f64::consts::PI;
 
 /// Driver angle `phi`, law angle `psi0` (rad) and centre distance `a` (mm) of one position.
@@ -23,15 +23,17 @@ pub(super) struct Level {
 }
 
 impl Level {
-    /// Both outlines, simplified to `simplify_mm` (Douglas–Peucker; 0 = all vertices).
+    /// Both outlines, simplified to `simplify_mm` (Douglas–Peucker; 0 = all vertices), for teeth
+    /// of `module_mm` with the pair's nominal backlash `backlash_mm`.
     pub(super) fn new(
         driver: &[[f64; 2]],
         driven: &[[f64; 2]],
         cap: f64,
-        check: &MeshCheck,
+        module_mm: f64,
+        backlash_mm: f64,
         simplify_mm: f64,
     ) -> Result<Self, MeshError> {
-        let m = check.module_mm;
+        let m = module_mm;
         let every = |v: &[[f64; 2]], k: usize| v.iter().step_by(k).copied().collect::<Vec<_>>();
         let thin = |v: &[[f64; 2]]| {
             if simplify_mm > 0.0 {
@@ -58,7 +60,7 @@ impl Level {
             .fold(f64::INFINITY, f64::min)
             .max(m);
         let lip = rmax + 2.0 * m;
-        let reach = 4.0 * check.backlash_mm / r2min * lip + 0.05 * m;
+        let reach = 4.0 * backlash_mm / r2min * lip + 0.05 * m;
         // Coarse copies (every 16th vertex) index the initial pruning at a larger reach.
         let k1 = Shape::new(&every(&d1, 16), reach, "driver")?;
         let k2 = Shape::new(&every(&d2, 16), reach, "driven")?;

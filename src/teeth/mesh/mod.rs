@@ -167,10 +167,10 @@ pub fn verify_mesh(
     let a = check.centre_distance_mm;
     let m = check.module_mm;
     let cap = 0.02 * m;
-    let fine = Level::new(driver, driven, cap, check, 0.0)?;
+    let fine = Level::new(driver, driven, cap, m, check.backlash_mm, 0.0)?;
     // A simplified copy (within 1e-4·m of the outlines) finds both contacts cheaply; the fine
     // outlines then polish them in a narrow bracket.
-    let medium = Level::new(driver, driven, cap, check, 1e-4 * m)?;
+    let medium = Level::new(driver, driven, cap, m, check.backlash_mm, 1e-4 * m)?;
     let g1 = &fine.h1.polar;
     // Largest gap between the medium and fine polylines (mm): bounds |f_fine − f_medium|.
     let dev = fine.deviation_from(&medium);
