@@ -193,10 +193,11 @@ fn adjusting_the_module_keeps_the_trajectory() {
 fn attach_teeth_records_the_report_in_the_design_and_it_round_trips_through_json() {
     let mut d = g1_design().clone();
     assert!(d.report.teeth.is_none());
+    let accuracy_mm = 1e-9 * d.assembly.a_mm;
     let t = attach_teeth(
         &mut d,
         &no_mesh(2.0, TrainPolicy::ScaleCenterDistance(ToothPolicy::ScaleUp)),
-        1e-9 * d.assembly.a_mm,
+        accuracy_mm,
         &|_| {},
     )
     .unwrap();
