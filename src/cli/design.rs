@@ -2,7 +2,7 @@
 use super::teeth_args::RackArgs;
 use super::{CliResult, input_error, print_json, progress_bar, runtime_error};
 use ncgear::design::segmented::Route;
-use ncgear::design::train::{TrainError, TrainPolicy, TrainTeethOptions, tooth_design};
+use ncgear::design::train::{TrainError, TrainPolicy, TrainTeethOptions, attach_teeth};
 use ncgear::design::trajectory::Trajectory;
 use ncgear::design::{DesignError, DesignOptions, RefineMode, design};
 use ncgear::teeth::ToothPolicy;
@@ -178,7 +178,7 @@ pub fn run(args: Args) -> CliResult {
     let train = match args.module {
         Some(m) => {
             // The design files are written even when the teeth are refused.
-            let mut t = match toothed(&args, &d, m) {
+            let mut t = match toothed(&args, &mut d, m) {
                 Ok(t) => t,
                 Err(e) => {
                     ncgear::output::files::write_design(&d, &args.out)
@@ -189,10 +189,8 @@ pub fn run(args: Args) -> CliResult {
             teeth_files =
                 ncgear::output::files::write_teeth(&mut t, &args.out, args.rack.dxf_version.into())
                     .map_err(|e| runtime_error(miette::miette!("{e}")))?;
-            d.report.teeth = Some(
-                serde_json::to_value(&t.report)
-                    .map_err(|e| runtime_error(miette::miette!("{e}")))?,
-            );
+            // The report now lists the CAD files.
+            t.record(&mut d);
             Some(t)
         }
         None => None,
@@ -291,17 +289,13 @@ pub fn run(args: Args) -> CliResult {
 /// Teeth on the designed gears (`--module`).
 fn toothed(
     args: &Args,
-    d: &ncgear::design::Design,
+    d: &mut ncgear::design::Design,
     module_mm: f64,
 ) -> Result<ncgear::design::train::ToothedTrain, super::Failure> {
     let mut opts = TrainTeethOptions::new(module_mm);
     opts.verify_steps = args.verify_steps;
     args.rack
-        .apply_to(
-            &mut opts.rack,
-            &mut opts.backlash_mm,
-            &mut opts.chord_tol_mm,
-        )
+        .apply_to(&mut opts.toothing)
         .map_err(|e| input_error(miette::miette!("{e}")))?;
     opts.policy = match (args.teeth, args.tooth_policy) {
         (Some(z), _) => TrainPolicy::ScaleCenterDistance(ToothPolicy::Exact(z)),
@@ -314,7 +308,8 @@ fn toothed(
         (None, ToothPolicyArg::AdjustModule) => TrainPolicy::AdjustModule,
     };
     let pb = progress_bar(2 * opts.verify_steps as u64, "mesh check");
-    let t = tooth_design(d, &opts, 1e-9 * d.assembly.a_mm, &|n| pb.inc(n));
+    let accuracy_mm = 1e-9 * d.assembly.a_mm;
+    let t = attach_teeth(d, &opts, accuracy_mm, &|n| pb.inc(n));
     pb.finish_and_clear();
     t.map_err(|e| match e {
         TrainError::Teeth { .. } | TrainError::InvalidOption { .. } => {

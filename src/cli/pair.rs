@@ -65,11 +65,7 @@ pub fn run(args: Args) -> CliResult {
     let mut opts = PairOptions::new(args.teeth, args.module);
     opts.verify_steps = args.verify_steps;
     args.rack
-        .apply_to(
-            &mut opts.rack,
-            &mut opts.backlash_mm,
-            &mut opts.chord_tol_mm,
-        )
+        .apply_to(&mut opts.toothing)
         .map_err(input_error)?;
     let pb = progress_bar(opts.verify_steps as u64, "mesh check");
     let design = design_pair_with_progress(&law, &opts, &|n| pb.inc(n));

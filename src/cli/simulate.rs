@@ -104,11 +104,9 @@ pub fn run(args: Args) -> CliResult {
     };
     let sim = match policy {
         Some((m, policy)) => {
-            let opts = TrainTeethOptions {
-                policy,
-                verify_steps: 0,
-                ..TrainTeethOptions::new(m)
-            };
+            let mut opts = TrainTeethOptions::new(m);
+            opts.policy = policy;
+            opts.verify_steps = 0;
             let train = tooth_train(&asm, &target, &opts, &|_| {})
                 .map_err(|e| input_error(miette::miette!("--module {m}: {e}")))?;
             Simulation::toothed(&train)

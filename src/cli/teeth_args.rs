@@ -1,6 +1,6 @@
 //! Tooth and CAD-export options shared by `ncgear design --module` and `ncgear pair`.
 use ncgear::export::dxf::DxfVersion;
-use ncgear::teeth::{RackParams, TeethError};
+use ncgear::teeth::{RackParams, TeethError, ToothingOptions};
 
 /// DXF flavour on the command line.
 #[derive(Debug, Clone, Copy, clap::ValueEnum)]
@@ -58,19 +58,14 @@ impl RackArgs {
     }
 
     /// Writes the validated rack and the given overrides (backlash, chord tolerance, mm) into
-    /// the options of a toothed design.
-    pub fn apply_to(
-        &self,
-        rack: &mut RackParams,
-        backlash_mm: &mut f64,
-        chord_tol_mm: &mut f64,
-    ) -> Result<(), TeethError> {
-        *rack = self.rack()?;
+    /// the toothing options of a toothed design.
+    pub fn apply_to(&self, toothing: &mut ToothingOptions) -> Result<(), TeethError> {
+        toothing.rack = self.rack()?;
         if let Some(b) = self.backlash {
-            *backlash_mm = b;
+            toothing.backlash_mm = b;
         }
         if let Some(c) = self.chord_tol {
-            *chord_tol_mm = c;
+            toothing.chord_tol_mm = c;
         }
         Ok(())
     }

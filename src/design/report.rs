@@ -49,10 +49,15 @@ pub struct DesignReport {
     pub warnings: Vec<String>,
     /// Wall-clock time per stage, ms.
     pub timings_ms: Timings,
-    /// Teeth of the final gears (`ncgear design --module M`): a
-    /// [`crate::design::train::TrainTeethReport`] as JSON; absent without a module.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub teeth: Option<serde_json::Value>,
+    /// Teeth of the final gears, filled by [`crate::design::train::attach_teeth`]; absent
+    /// without teeth. Written with sorted keys; a block that does not parse reads as absent.
+    #[serde(
+        default,
+        skip_serializing_if = "Option::is_none",
+        serialize_with = "crate::design::train::teeth_json::serialize",
+        deserialize_with = "crate::design::train::teeth_json::deserialize"
+    )]
+    pub teeth: Option<crate::design::train::TrainTeethReport>,
 }
 
 /// Units used in the report.

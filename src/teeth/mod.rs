@@ -6,6 +6,7 @@
 //!
 //! Public vocabulary:
 //! - [`RackParams`]: the basic rack (α, ha*, c*, ρf*), validated.
+//! - [`ToothingOptions`]: module, rack, backlash and tolerances shared by toothed designs.
 //! - [`tooth_count`] with a [`ToothPolicy`]: integer z and the scale factor applied to the curve.
 //! - [`generate_outline`]: one simple closed CCW outline (mm, body frame) per gear.
 //! - [`undercut_report`]: per-tooth undercut / concavity diagnostics.
@@ -15,17 +16,19 @@
 mod frame;
 mod inside;
 pub mod mesh;
+mod options;
 pub mod overlap;
-
 mod rack;
+mod shape;
 
 pub use frame::ArcFrame;
 pub mod outline;
+pub use options::ToothingOptions;
 pub use outline::{Outline, OutlineOptions, generate_outline};
 pub use rack::RackParams;
 
 use crate::geometry::pitch::PitchCurve;
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 /// Errors of tooth generation.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
@@ -87,7 +90,7 @@ pub enum TeethError {
 }
 
 /// How the tooth count is made an integer (spec §12.1, option 1: scale the centre distance).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 #[non_exhaustive]
 pub enum ToothPolicy {
     /// `z = ⌈L/(πm)⌉`, curve scaled up (never increases undercut risk).
@@ -196,7 +199,7 @@ pub struct FlankUndercut {
 }
 
 /// Per-tooth undercut report.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct UndercutReport {
     /// One entry per flank (2 per tooth).
     pub flanks: Vec<FlankUndercut>,
@@ -213,3 +216,47 @@ pub struct UndercutReport {
 }
 
 pub use outline::undercut_report;
+
+/// [`FlankUndercut`] as written (its `side` owned), checked when read.
+#[derive(Deserialize)]
+struct FlankFields {
+    tooth: usize,
+    side: String,
+    s_mm: f64,
+    min_rho_mm: f64,
+    cusp_depth_mm: f64,
+    flank_depth_mm: f64,
+    undercut: bool,
+    undercut_mm: f64,
+    concave: bool,
+}
+
+impl<'de> Deserialize<'de> for FlankUndercut {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        FlankFields::deserialize(d)?
+            .try_into()
+            .map_err(serde::de::Error::custom)
+    }
+}
+
+impl TryFrom<FlankFields> for FlankUndercut {
+    type Error = String;
+    fn try_from(f: FlankFields) -> Result<Self, String> {
+        let side = match f.side.as_str() {
+            "left" => "left",
+            "right" => "right",
+            other => return Err(format!("flank side `{other}`: expected `left` or `right`")),
+        };
+        Ok(Self {
+            tooth: f.tooth,
+            side,
+            s_mm: f.s_mm,
+            min_rho_mm: f.min_rho_mm,
+            cusp_depth_mm: f.cusp_depth_mm,
+            flank_depth_mm: f.flank_depth_mm,
+            undercut: f.undercut,
+            undercut_mm: f.undercut_mm,
+            concave: f.concave,
+        })
+    }
+}

@@ -16,17 +16,18 @@ use super::{FlankUndercut, RackParams, TeethError, UndercutReport};
 use crate::geometry::pitch::PitchCurve;
 use serde::Serialize;
 
-/// Options of [`generate_outline`].
+/// Options of [`generate_outline`]; the defaults are those of [`OutlineOptions::new`]`(0.0, 1e-3)`.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+#[non_exhaustive]
 pub struct OutlineOptions {
-    /// Arc-length position of the centre of tooth 0, mm (the mating phase).
+    /// Arc-length position of the centre of tooth 0, mm (the mating phase). Default 0.
     pub phase_mm: f64,
-    /// Thinning of the left (smaller-s) flank, mm of arc on the pitch curve.
+    /// Thinning of the left (smaller-s) flank, mm of arc on the pitch curve. Default 0.
     pub thin_left_mm: f64,
-    /// Thinning of the right (larger-s) flank, mm of arc on the pitch curve.
+    /// Thinning of the right (larger-s) flank, mm of arc on the pitch curve. Default 0.
     pub thin_right_mm: f64,
     /// Maximum chord sag of the polyline, mm (estimated with a radius of curvature ≥ m on flanks,
-    /// root and tip, and ρf on fillets).
+    /// root and tip, and ρf on fillets). Default 1e-3 (1e-3·m at m = 1 mm).
     pub chord_tol_mm: f64,
 }
 
@@ -40,6 +41,13 @@ impl OutlineOptions {
             thin_right_mm: 0.0,
             chord_tol_mm,
         }
+    }
+}
+
+impl Default for OutlineOptions {
+    /// Tooth 0 at arc length 0, no thinning, chord tolerance 1e-3 mm.
+    fn default() -> Self {
+        Self::new(0.0, 1e-3)
     }
 }
 

@@ -11,57 +11,13 @@
 //! polyline (found through the other outline's segment grid) and a piece counts when its midpoint
 //! lies inside the other outline. Restricted to chains of edges (the teeth near the contact), the
 //! sum is exact as long as the overlap lies within those chains.
-use super::mesh::{MeshError, Shape};
+use super::shape::{MeshError, Shape};
+use nalgebra::{Isometry2, Point2};
 
-/// A rigid motion `p ↦ R(θ)·p + t` of the plane (mm).
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub(crate) struct Rigid {
-    cos: f64,
-    sin: f64,
-    t: [f64; 2],
-}
-
-impl Rigid {
-    /// Rotation by `angle_rad` (CCW) then translation by `t_mm`.
-    pub(crate) fn new(angle_rad: f64, t_mm: [f64; 2]) -> Self {
-        let (sin, cos) = angle_rad.sin_cos();
-        Self { cos, sin, t: t_mm }
-    }
-
-    /// The identity.
-    pub(crate) fn identity() -> Self {
-        Self::new(0.0, [0.0, 0.0])
-    }
-
-    pub(crate) fn apply(&self, p: [f64; 2]) -> [f64; 2] {
-        [
-            self.cos * p[0] - self.sin * p[1] + self.t[0],
-            self.sin * p[0] + self.cos * p[1] + self.t[1],
-        ]
-    }
-
-    /// `self` after `first`: `p ↦ self(first(p))`.
-    pub(crate) fn after(&self, first: &Self) -> Self {
-        let t = self.apply(first.t);
-        Self {
-            cos: self.cos * first.cos - self.sin * first.sin,
-            sin: self.sin * first.cos + self.cos * first.sin,
-            t,
-        }
-    }
-
-    /// The inverse motion.
-    pub(crate) fn inverse(&self) -> Self {
-        let t = [
-            -(self.cos * self.t[0] + self.sin * self.t[1]),
-            self.sin * self.t[0] - self.cos * self.t[1],
-        ];
-        Self {
-            cos: self.cos,
-            sin: -self.sin,
-            t,
-        }
-    }
+/// `iso(p)` on plain `[x, y]` points (mm).
+fn apply(iso: &Isometry2<f64>, p: [f64; 2]) -> [f64; 2] {
+    let q = iso * Point2::new(p[0], p[1]);
+    [q.x, q.y]
 }
 
 fn cross(a: [f64; 2], b: [f64; 2]) -> f64 {
@@ -74,8 +30,8 @@ fn cross(a: [f64; 2], b: [f64; 2]) -> f64 {
 pub(crate) fn inside_term(
     a: &Shape,
     edges: &[usize],
-    a_to_b: &Rigid,
-    a_to_world: &Rigid,
+    a_to_b: &Isometry2<f64>,
+    a_to_world: &Isometry2<f64>,
     b: &Shape,
 ) -> f64 {
     let pa = a.points();
@@ -85,7 +41,7 @@ pub(crate) fn inside_term(
     let mut ts: Vec<f64> = Vec::new();
     for &i in edges {
         let (p0, p1) = (pa[i], pa[(i + 1) % n]);
-        let (p, q) = (a_to_b.apply(p0), a_to_b.apply(p1));
+        let (p, q) = (apply(a_to_b, p0), apply(a_to_b, p1));
         b.segments_near(p, q, &mut hits);
         ts.clear();
         ts.push(0.0);
@@ -115,7 +71,7 @@ pub(crate) fn inside_term(
             }
             let tm = 0.5 * (t0 + t1);
             if b.clearance([p[0] + tm * d[0], p[1] + tm * d[1]]) < 0.0 {
-                sum += 0.5 * cross(a_to_world.apply(at(t0)), a_to_world.apply(at(t1)));
+                sum += 0.5 * cross(apply(a_to_world, at(t0)), apply(a_to_world, at(t1)));
             }
         }
     }
@@ -150,7 +106,7 @@ pub fn polygon_overlap_area(p_mm: &[[f64; 2]], q_mm: &[[f64; 2]]) -> Result<f64,
     let c = cell(p_mm).max(cell(q_mm));
     let a = Shape::new(p_mm, c, "first polygon")?;
     let b = Shape::new(q_mm, c, "second polygon")?;
-    let id = Rigid::identity();
+    let id = Isometry2::identity();
     let all = |n: usize| (0..n).collect::<Vec<_>>();
     Ok(inside_term(&a, &all(p_mm.len()), &id, &id, &b)
         + inside_term(&b, &all(q_mm.len()), &id, &id, &a))
@@ -219,7 +175,8 @@ pub fn first_self_intersection(
 
 #[cfg(test)]
 mod tests {
-    use super::{Rigid, polygon_overlap_area};
+    use super::{apply, polygon_overlap_area};
+    use nalgebra::{Isometry2, Vector2};
     use std::f64::consts::PI;
 
     fn circle(c: [f64; 2], r: f64, n: usize) -> Vec<[f64; 2]> {
@@ -254,15 +211,63 @@ mod tests {
         assert!((nested - shoelace).abs() < 1e-12, "{nested} vs {shoelace}");
     }
 
+    /// The hand-written rigid motion this module used before nalgebra: composition, inverse and
+    /// application of `Isometry2` give the same bits.
     #[test]
-    fn rigid_motions_compose_and_invert() {
-        let a = Rigid::new(0.7, [1.0, -2.0]);
-        let b = Rigid::new(-1.9, [0.3, 4.0]);
-        let p = [2.5, -0.25];
-        let ab = a.after(&b).apply(p);
-        let want = a.apply(b.apply(p));
-        assert!((ab[0] - want[0]).abs() < 1e-12 && (ab[1] - want[1]).abs() < 1e-12);
-        let back = a.inverse().apply(a.apply(p));
-        assert!((back[0] - p[0]).abs() < 1e-12 && (back[1] - p[1]).abs() < 1e-12);
+    fn nalgebra_isometries_match_the_former_hand_written_motion_bit_for_bit() {
+        #[derive(Clone, Copy)]
+        struct Rigid {
+            cos: f64,
+            sin: f64,
+            t: [f64; 2],
+        }
+        impl Rigid {
+            fn new(angle: f64, t: [f64; 2]) -> Self {
+                let (sin, cos) = angle.sin_cos();
+                Self { cos, sin, t }
+            }
+            fn apply(&self, p: [f64; 2]) -> [f64; 2] {
+                [
+                    self.cos * p[0] - self.sin * p[1] + self.t[0],
+                    self.sin * p[0] + self.cos * p[1] + self.t[1],
+                ]
+            }
+            fn after(&self, first: &Self) -> Self {
+                Self {
+                    cos: self.cos * first.cos - self.sin * first.sin,
+                    sin: self.sin * first.cos + self.cos * first.sin,
+                    t: self.apply(first.t),
+                }
+            }
+            fn inverse(&self) -> Self {
+                let t = [
+                    -(self.cos * self.t[0] + self.sin * self.t[1]),
+                    self.sin * self.t[0] - self.cos * self.t[1],
+                ];
+                Self {
+                    cos: self.cos,
+                    sin: -self.sin,
+                    t,
+                }
+            }
+        }
+        let bits = |p: [f64; 2]| [p[0].to_bits(), p[1].to_bits()];
+        let mut x = 0.123_456_789_f64;
+        let mut next = || {
+            x = (x * 9301.0 + 0.49297).fract();
+            20.0 * x - 10.0
+        };
+        for _ in 0..2000 {
+            let (a1, a2) = (next(), next());
+            let (t1, t2) = ([next(), next()], [next(), 0.0]);
+            let p = [next(), next()];
+            let (r1, r2) = (Rigid::new(a1, t1), Rigid::new(a2, t2));
+            let i1 = Isometry2::new(Vector2::new(t1[0], t1[1]), a1);
+            let i2 = Isometry2::new(Vector2::new(t2[0], t2[1]), a2);
+            assert_eq!(bits(r1.apply(p)), bits(apply(&i1, p)));
+            let (rc, ic) = (r2.inverse().after(&r1), i2.inverse() * i1);
+            assert_eq!(bits(rc.apply(p)), bits(apply(&ic, p)));
+            assert_eq!(bits(r1.inverse().apply(p)), bits(apply(&i1.inverse(), p)));
+        }
     }
 }

@@ -1,11 +1,12 @@
 //! The basic rack (spec §12.3): pressure angle α, addendum ha*, clearance c*, tip-fillet radius ρf*.
 use super::TeethError;
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 /// Basic rack profile, in units of the module (dimensionless factors) and radians.
 ///
 /// Defaults (spec §12.3): α = 20°, ha* = 1, c* = 0.25, ρf* = 0.38.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(try_from = "RackFields")]
 pub struct RackParams {
     alpha_rad: f64,
     addendum: f64,
@@ -21,6 +22,22 @@ impl Default for RackParams {
             clearance: 0.25,
             fillet: 0.38,
         }
+    }
+}
+
+/// [`RackParams`] as written, validated by [`RackParams::new`] when read.
+#[derive(Deserialize)]
+struct RackFields {
+    alpha_rad: f64,
+    addendum: f64,
+    clearance: f64,
+    fillet: f64,
+}
+
+impl TryFrom<RackFields> for RackParams {
+    type Error = TeethError;
+    fn try_from(f: RackFields) -> Result<Self, TeethError> {
+        Self::new(f.alpha_rad, f.addendum, f.clearance, f.fillet)
     }
 }
 

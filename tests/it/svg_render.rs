@@ -150,9 +150,10 @@ fn train_sheet_renders_at_its_size_in_mm_with_ink_on_the_outlines() {
     let train = tooth_train(
         &d.assembly,
         &d.report.target_points,
-        &TrainTeethOptions {
-            verify_steps: 0,
-            ..TrainTeethOptions::new(2.0)
+        &{
+            let mut o = TrainTeethOptions::new(2.0);
+            o.verify_steps = 0;
+            o
         },
         &|_| {},
     )

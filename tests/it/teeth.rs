@@ -347,13 +347,11 @@ fn overlap_area_is_zero_for_the_pair_and_matches_full_clipping_when_clocked_wron
     use ncgear::teeth::mesh::{MeshCheck, verify_mesh};
     use ncgear::teeth::overlap::polygon_overlap_area;
     let law = Law::Motion(Expr::parse("phi - 0.08*sin(2*phi)").unwrap());
-    let d = design_pair(
-        &law,
-        &PairOptions {
-            verify_steps: 0,
-            ..PairOptions::new(Some(24), 1.5)
-        },
-    )
+    let d = design_pair(&law, &{
+        let mut o = PairOptions::new(Some(24), 1.5);
+        o.verify_steps = 0;
+        o
+    })
     .unwrap();
     let motion = Motion::from_law(&law, 4096).unwrap();
     let a = d.centre_distance_mm;
@@ -362,12 +360,11 @@ fn overlap_area_is_zero_for_the_pair_and_matches_full_clipping_when_clocked_wron
             &d.driver.points_mm,
             &d.driven.points_mm,
             &|f| motion.psi(f) + shift,
-            &MeshCheck {
-                centre_distance_mm: a,
-                steps: 24,
-                backlash_mm: 0.06,
-                module_mm: 1.5,
-                angle_tol_rad: 1e-13,
+            &{
+                let mut check = MeshCheck::new(a, 1.5);
+                check.steps = 24;
+                check.backlash_mm = 0.06;
+                check
             },
             &|_| {},
         )
@@ -407,9 +404,10 @@ fn overlap_area_is_zero_for_the_pair_and_matches_full_clipping_when_clocked_wron
 pub fn oracle_pair_unverified() -> ncgear::pair::PairDesign {
     design_pair(
         &Law::Motion(Expr::parse("phi - 0.08*sin(2*phi)").unwrap()),
-        &PairOptions {
-            verify_steps: 0,
-            ..PairOptions::new(Some(24), 1.5)
+        &{
+            let mut o = PairOptions::new(Some(24), 1.5);
+            o.verify_steps = 0;
+            o
         },
     )
     .unwrap()

@@ -1,6 +1,6 @@
 //! `ncgear design --module`: teeth on the designed planetary train (issue 3 on the design chain).
 use ncgear::design::train::{
-    Gear, TrainError, TrainPolicy, TrainTeethOptions, tooth_design, tooth_train,
+    Gear, TrainError, TrainPolicy, TrainTeethOptions, attach_teeth, tooth_design, tooth_train,
 };
 use ncgear::design::trajectory::Trajectory;
 use ncgear::design::{Design, DesignOptions, design};
@@ -21,11 +21,10 @@ fn g1_design() -> &'static Design {
 }
 
 fn no_mesh(module_mm: f64, policy: TrainPolicy) -> TrainTeethOptions {
-    TrainTeethOptions {
-        policy,
-        verify_steps: 0,
-        ..TrainTeethOptions::new(module_mm)
-    }
+    let mut opts = TrainTeethOptions::new(module_mm);
+    opts.policy = policy;
+    opts.verify_steps = 0;
+    opts
 }
 
 /// Spec §11/§12.1: the G1 sun at m = 2 has L = 140.57 mm → z = 23 after scaling up, no undercut
@@ -186,6 +185,43 @@ fn adjusting_the_module_keeps_the_trajectory() {
     assert_eq!(r.scale, 1.0);
     assert!(r.roundtrip.max_tip_shift_mm < 1e-12);
     assert!((r.roundtrip.max_deviation_mm - r.roundtrip.before_max_deviation_mm).abs() < 1e-12);
+}
+
+/// The library fills `design.report.teeth` (no CLI involved): `design.json` carries the train's
+/// report with every object's keys in sorted order, and reads back to the same report.
+#[test]
+fn attach_teeth_records_the_report_in_the_design_and_it_round_trips_through_json() {
+    let mut d = g1_design().clone();
+    assert!(d.report.teeth.is_none());
+    let accuracy_mm = 1e-9 * d.assembly.a_mm;
+    let t = attach_teeth(
+        &mut d,
+        &no_mesh(2.0, TrainPolicy::ScaleCenterDistance(ToothPolicy::ScaleUp)),
+        accuracy_mm,
+        &|_| {},
+    )
+    .unwrap();
+    assert_eq!(d.report.teeth.as_ref(), Some(&t.report));
+    let json = serde_json::to_value(&d.report).unwrap();
+    let teeth = json["teeth"].as_object().unwrap();
+    let keys: Vec<&String> = teeth.keys().collect();
+    let mut sorted = keys.clone();
+    sorted.sort();
+    assert_eq!(keys, sorted);
+    // The shared toothing options are flat in `options`, next to the train's own.
+    let options = teeth["options"].as_object().unwrap();
+    for k in [
+        "module_mm",
+        "policy",
+        "rack",
+        "backlash_mm",
+        "verify_steps",
+        "roundtrip_samples",
+    ] {
+        assert!(options.contains_key(k), "{k}");
+    }
+    let back: ncgear::design::DesignReport = serde_json::from_value(json.clone()).unwrap();
+    assert_eq!(back.teeth.as_ref(), Some(&t.report));
 }
 
 /// §12.1 option 2: a held fixed, the ratio amplitude rescaled so that L(λ) = zπm. For G1,

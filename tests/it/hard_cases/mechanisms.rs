@@ -319,10 +319,8 @@ fn eccentricity_sweep_teeth_until_they_stop_being_possible() {
                 continue;
             }
         };
-        let opts = TrainTeethOptions {
-            verify_steps: 24,
-            ..TrainTeethOptions::new(2.0)
-        };
+        let mut opts = TrainTeethOptions::new(2.0);
+        opts.verify_steps = 24;
         match tooth_design(&d, &opts, 1e-6, &|_| {}) {
             Ok(t) => {
                 let mesh = t.report.mesh.as_ref().expect("verified");
@@ -368,10 +366,8 @@ fn eccentricity_sweep_teeth_until_they_stop_being_possible() {
                         max_module_mm < 2.0 && min_teeth > z0,
                         "e = {e}, z = {z0}: {err}"
                     );
-                    let more = TrainTeethOptions {
-                        policy: TrainPolicy::ScaleCenterDistance(ToothPolicy::Exact(min_teeth)),
-                        ..opts
-                    };
+                    let mut more = opts;
+                    more.policy = TrainPolicy::ScaleCenterDistance(ToothPolicy::Exact(min_teeth));
                     let t = tooth_design(&d, &more, 1e-6, &|_| {});
                     let t = t.unwrap_or_else(|e2| panic!("e = {e}, z = {min_teeth}: {e2}"));
                     let mesh = t.report.mesh.expect("verified");

@@ -1,0 +1,289 @@
+//! Putting teeth on the train: integer tooth count, mating phases, rack-generated outlines,
+//! the verification of both meshes and the round trip of the scaled mechanism.
+use super::amplitude::rescale_ratio_amplitude;
+use super::{
+    ToothedTrain, TrainError, TrainMesh, TrainPolicy, TrainRoundTrip, TrainTeethOptions,
+    TrainTeethReport, TrainUndercut,
+};
+use crate::design::Design;
+use crate::geometry::assembly::Assembly;
+use crate::geometry::pitch::{PitchCurve, PitchError};
+use crate::math::periodic::bisect_root;
+use crate::math::polyline::{distances_to_polyline, hausdorff_mm};
+use crate::teeth::mesh::{MeshCheck, verify_mesh};
+use crate::teeth::{
+    ArcFrame, Outline, OutlineOptions, ToothPolicy, outline::generate_on, scale_curve, tooth_count,
+};
+use std::f64::consts::{PI, TAU};
+
+fn scaled(asm: &Assembly, s: f64) -> Result<Assembly, PitchError> {
+    Ok(Assembly {
+        a_mm: asm.a_mm * s,
+        sun: scale_curve(&asm.sun, s)?,
+        intermediate: scale_curve(&asm.intermediate, s)?,
+        planet: scale_curve(&asm.planet, s)?,
+        ..asm.clone()
+    })
+}
+
+/// Arc length (mm) from body angle 0 to `theta` (CCW, wrapped to `[0, 2π)`).
+fn arc_at(curve: &PitchCurve, theta: f64, accuracy_mm: f64) -> f64 {
+    curve.arc_length_between_mm(0.0, theta.rem_euclid(TAU), accuracy_mm)
+}
+
+fn max_tip_distance(traced: &[[f64; 2]], target: &[[f64; 2]]) -> f64 {
+    distances_to_polyline(traced, target)
+        .into_iter()
+        .fold(0.0, f64::max)
+}
+
+/// Puts teeth on an assembled train (world frame, as read from `design.json`): integer tooth
+/// count by scaling, rack-generated outlines with mating phases, undercut reports, the mesh
+/// verification of both meshes (`progress(1)` per verified position, `2·verify_steps` in all) and
+/// the round trip of the scaled mechanism against `target_mm` (the trajectory, world frame).
+///
+/// Errors: [`TrainError::Teeth`] naming the gear (undercut with the largest module that works,
+/// concave arc), [`TrainError::InvalidOption`].
+pub fn tooth_train(
+    asm: &Assembly,
+    target_mm: &[[f64; 2]],
+    opts: &TrainTeethOptions,
+    progress: &(dyn Fn(u64) + Sync),
+) -> Result<ToothedTrain, TrainError> {
+    train_from(asm, None, target_mm, opts, progress)
+}
+
+/// [`tooth_train`] on a fresh design, with every policy of §12.1 including
+/// [`TrainPolicy::RatioAmplitude`] (which rebuilds the mechanism with `i_λ = 1 + λ(i21 − 1)`, the
+/// same `a`, `l3` and γ, and `accuracy_mm` on the perimeter equation `L(λ) = zπm`).
+pub fn tooth_design(
+    design: &Design,
+    opts: &TrainTeethOptions,
+    accuracy_mm: f64,
+    progress: &(dyn Fn(u64) + Sync),
+) -> Result<ToothedTrain, TrainError> {
+    let target = &design.report.target_points;
+    if opts.policy != TrainPolicy::RatioAmplitude {
+        return tooth_train(&design.assembly, target, opts, progress);
+    }
+    let n = design.assembly.sun.len();
+    let fit = rescale_ratio_amplitude(&design.mechanism, opts.toothing.module_mm, n, accuracy_mm)?;
+    let asm = Assembly::from_mechanism(
+        &fit.mechanism,
+        design.assembly.center_mm,
+        design.assembly.direction,
+        n,
+    )?;
+    let exact = TrainTeethOptions {
+        policy: TrainPolicy::ScaleCenterDistance(ToothPolicy::Exact(fit.z)),
+        ..*opts
+    };
+    let mut train = train_from(&asm, Some(&design.assembly), target, &exact, progress)?;
+    train.report.options.policy = TrainPolicy::RatioAmplitude;
+    train.report.ratio_amplitude = fit.lambda;
+    Ok(train)
+}
+
+/// [`tooth_design`] recorded in the design: on success `design.report.teeth` holds the train's
+/// report (the `teeth` block of `design.json`); on error the design is left untouched. Write the
+/// CAD files with [`crate::output::files::write_teeth`], then [`ToothedTrain::record`] again to
+/// list them in the report.
+pub fn attach_teeth(
+    design: &mut Design,
+    opts: &TrainTeethOptions,
+    accuracy_mm: f64,
+    progress: &(dyn Fn(u64) + Sync),
+) -> Result<ToothedTrain, TrainError> {
+    let train = tooth_design(design, opts, accuracy_mm, progress)?;
+    train.record(design);
+    Ok(train)
+}
+
+fn train_from(
+    asm: &Assembly,
+    designed: Option<&Assembly>,
+    target_mm: &[[f64; 2]],
+    opts: &TrainTeethOptions,
+    progress: &(dyn Fn(u64) + Sync),
+) -> Result<ToothedTrain, TrainError> {
+    let m = opts.toothing.module_mm;
+    for (name, v) in [
+        ("module_mm", m),
+        ("backlash_mm", opts.toothing.backlash_mm),
+        ("chord_tol_mm", opts.toothing.chord_tol_mm),
+        ("verify_chord_tol_mm", opts.toothing.verify_chord_tol_mm),
+    ] {
+        if !(v.is_finite() && v > 0.0) {
+            return Err(TrainError::InvalidOption {
+                name,
+                value: v,
+                expected: "finite and > 0",
+            });
+        }
+    }
+    if opts.roundtrip_samples < 16 {
+        return Err(TrainError::InvalidOption {
+            name: "roundtrip_samples",
+            value: opts.roundtrip_samples as f64,
+            expected: "≥ 16",
+        });
+    }
+    let teeth_err = |gear: &'static str| move |source| TrainError::Teeth { gear, source };
+    let (rounding, adjust) = match opts.policy {
+        TrainPolicy::ScaleCenterDistance(p) => (p, false),
+        TrainPolicy::AdjustModule => (ToothPolicy::Nearest, true),
+        TrainPolicy::RatioAmplitude => {
+            return Err(TrainError::InvalidOption {
+                name: "policy",
+                value: f64::NAN,
+                expected: "scale-centre-distance or adjust-module here; the ratio-amplitude \
+                           policy needs the designed mechanism (tooth_design)",
+            });
+        }
+    };
+    let count = tooth_count(&asm.sun, m, rounding, 1e-10 * asm.a_mm).map_err(teeth_err("sun"))?;
+    let (s, m) = if adjust {
+        (1.0, count.perimeter_mm / (f64::from(count.z) * PI))
+    } else {
+        (count.scale, m)
+    };
+    let fin = scaled(asm, s)?;
+    let a = fin.a_mm;
+    let acc = 1e-12 * a;
+    let rebuilt = fin.rebuild();
+    let pose0 = rebuilt.pose(0.0);
+    let (th2_0, th3_0) = (pose0.intermediate_angle_rad, pose0.planet_angle_rad);
+
+    let frames = [
+        ArcFrame::new(&fin.sun),
+        ArcFrame::new(&fin.intermediate),
+        ArcFrame::new(&fin.planet),
+    ];
+    let p = frames[0].length_mm() / f64::from(count.z);
+    // Mating phases at φH = 0 (module doc).
+    let phase_sun = 0.0;
+    let s_mid_sun = arc_at(&fin.intermediate, PI - th2_0, acc);
+    let phase_mid = s_mid_sun + 0.5 * p;
+    let s_mid_planet = arc_at(&fin.intermediate, -th2_0, acc);
+    let delta = (s_mid_planet - phase_mid).rem_euclid(p);
+    let s_planet = arc_at(&fin.planet, PI - th3_0, acc);
+    let phase_planet = s_planet + delta + 0.5 * p;
+    let phases = [phase_sun, phase_mid, phase_planet];
+    let names = ["sun", "intermediate", "planet"];
+
+    let generate = |k: usize, tol: f64| {
+        generate_on(
+            &frames[k],
+            &opts.toothing.rack,
+            count.z,
+            m,
+            &OutlineOptions {
+                phase_mm: phases[k],
+                thin_left_mm: 0.5 * opts.toothing.backlash_mm,
+                thin_right_mm: 0.0,
+                chord_tol_mm: tol,
+            },
+        )
+        .map_err(teeth_err(names[k]))
+    };
+    let sun = generate(0, opts.toothing.chord_tol_mm)?;
+    let intermediate = generate(1, opts.toothing.chord_tol_mm)?;
+    let planet = generate(2, opts.toothing.chord_tol_mm)?;
+
+    let mesh = if opts.toothing.verify_steps > 0 {
+        let fine: Vec<Outline> = (0..3)
+            .map(|k| generate(k, opts.toothing.verify_chord_tol_mm))
+            .collect::<Result<_, _>>()?;
+        let check = MeshCheck {
+            centre_distance_mm: a,
+            steps: opts.toothing.verify_steps,
+            backlash_mm: opts.toothing.backlash_mm,
+            module_mm: m,
+            angle_tol_rad: 1e-13,
+        };
+        let theta2 = |phi_h: f64| rebuilt.pose(phi_h).intermediate_angle_rad;
+        // Sun → intermediate: φ = −φH.
+        let psi1 = |phi: f64| -phi - theta2(-phi);
+        let sun_intermediate = verify_mesh(
+            &fine[0].points_mm,
+            &fine[1].points_mm,
+            &psi1,
+            &check,
+            progress,
+        )
+        .map_err(|source| TrainError::Mesh {
+            pair: "sun-intermediate",
+            source,
+        })?;
+        // Intermediate → planet: φ = θ2(φH) − φH, increasing in φH; invert by bisection.
+        let phi2 = |phi_h: f64| theta2(phi_h) - phi_h;
+        let phi2_0 = phi2(0.0);
+        let psi2 = |phi: f64| {
+            let guess = phi - phi2_0;
+            let phi_h = bisect_root(|x| phi2(x) - phi, guess - 16.0, guess + 16.0, 1e-15);
+            let pose = rebuilt.pose(phi_h);
+            phi_h - pose.planet_angle_rad
+        };
+        let intermediate_planet = verify_mesh(
+            &fine[1].points_mm,
+            &fine[2].points_mm,
+            &psi2,
+            &check,
+            progress,
+        )
+        .map_err(|source| TrainError::Mesh {
+            pair: "intermediate-planet",
+            source,
+        })?;
+        Some(TrainMesh {
+            sun_intermediate,
+            intermediate_planet,
+        })
+    } else {
+        None
+    };
+
+    // Round trip of the final gears (and of the unscaled ones, for the comparison).
+    let n = opts.roundtrip_samples;
+    let before = designed.unwrap_or(asm).rebuild().traced(n);
+    let after = rebuilt.traced(n);
+    let shift = before
+        .iter()
+        .zip(&after)
+        .map(|(p, q)| (p[0] - q[0]).hypot(p[1] - q[1]))
+        .fold(0.0, f64::max);
+    let roundtrip = TrainRoundTrip {
+        before_max_deviation_mm: max_tip_distance(&before, target_mm),
+        max_deviation_mm: max_tip_distance(&after, target_mm),
+        hausdorff_mm: hausdorff_mm(&after, target_mm),
+        max_tip_shift_mm: shift,
+    };
+    let report = TrainTeethReport {
+        options: *opts,
+        z: count.z,
+        module_mm: m,
+        ratio_amplitude: 1.0,
+        z_raw: count.z_raw,
+        scale: s,
+        perimeter_mm: frames[0].length_mm(),
+        center_distance_mm: a,
+        l1_mm: 2.0 * a,
+        radial_shift_mm: (s - 1.0) * 2.0 * asm.a_mm,
+        roundtrip,
+        phase_mm: phases,
+        undercut: TrainUndercut {
+            sun: sun.undercut.clone(),
+            intermediate: intermediate.undercut.clone(),
+            planet: planet.undercut.clone(),
+        },
+        mesh,
+        files: Vec::new(),
+    };
+    Ok(ToothedTrain {
+        report,
+        assembly: fin,
+        sun,
+        intermediate,
+        planet,
+    })
+}

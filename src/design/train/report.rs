@@ -1,0 +1,103 @@
+//! The `teeth` block of `design.json`: the train's report types, and how the design report
+//! writes and reads them.
+use super::TrainTeethOptions;
+use crate::teeth::UndercutReport;
+use crate::teeth::mesh::MeshReport;
+use serde::{Deserialize, Serialize};
+
+/// Undercut reports of the three gears.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct TrainUndercut {
+    /// Sun.
+    pub sun: UndercutReport,
+    /// Intermediate.
+    pub intermediate: UndercutReport,
+    /// Planet.
+    pub planet: UndercutReport,
+}
+
+/// Mesh verification of both meshes over one carrier turn.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct TrainMesh {
+    /// Sun → intermediate.
+    pub sun_intermediate: MeshReport,
+    /// Intermediate → planet.
+    pub intermediate_planet: MeshReport,
+}
+
+/// Round trip of the final (scaled) mechanism against the target trajectory.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct TrainRoundTrip {
+    /// Max distance of the traced tip from the target polyline, mm (designed gears, before the
+    /// tooth-count policy).
+    pub before_max_deviation_mm: f64,
+    /// Max distance of the traced tip from the target polyline, mm (final gears).
+    pub max_deviation_mm: f64,
+    /// Hausdorff distance traced ↔ target, mm (final gears).
+    pub hausdorff_mm: f64,
+    /// Max synchronous displacement of the tip by the tooth-count policy, mm (closed form
+    /// `|s − 1|·l1` when scaling the centre distance).
+    pub max_tip_shift_mm: f64,
+}
+
+/// The `teeth` block of `design.json`.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct TrainTeethReport {
+    /// Options used.
+    pub options: TrainTeethOptions,
+    /// Tooth count of each gear (sun, intermediate, planet).
+    pub z: u32,
+    /// Module of the teeth, mm (the requested one, or the adjusted one with
+    /// [`super::TrainPolicy::AdjustModule`]).
+    pub module_mm: f64,
+    /// Ratio amplitude factor λ of [`super::TrainPolicy::RatioAmplitude`] (1 otherwise).
+    pub ratio_amplitude: f64,
+    /// `L/(πm)` before scaling.
+    pub z_raw: f64,
+    /// Scale factor `s = zπm/L` applied to the curves and the centre distance.
+    pub scale: f64,
+    /// Pitch-curve perimeter after scaling (= zπm), mm.
+    pub perimeter_mm: f64,
+    /// Centre distance after scaling, mm.
+    pub center_distance_mm: f64,
+    /// `l1 = 2a` after scaling, mm.
+    pub l1_mm: f64,
+    /// Radial displacement of every tip point by the scaling, `(s − 1)·l1`, mm.
+    pub radial_shift_mm: f64,
+    /// Round trip of the final gears.
+    pub roundtrip: TrainRoundTrip,
+    /// Arc-length position of tooth 0's centre on each gear (sun, intermediate, planet), mm.
+    pub phase_mm: [f64; 3],
+    /// Undercut and concavity per gear.
+    pub undercut: TrainUndercut,
+    /// Mesh verification (absent when `verify_steps` = 0).
+    pub mesh: Option<TrainMesh>,
+    /// Files written (filled by the writer).
+    pub files: Vec<String>,
+}
+
+/// (De)serialisation of [`crate::design::DesignReport::teeth`].
+pub(crate) mod teeth_json {
+    use super::TrainTeethReport;
+    use serde::{Deserialize, Deserializer, Serialize, Serializer};
+
+    /// Writes the block through a JSON value, i.e. with the keys of every object in sorted
+    /// order (the layout `design.json` has always had).
+    pub(crate) fn serialize<S: Serializer>(
+        teeth: &Option<TrainTeethReport>,
+        s: S,
+    ) -> Result<S::Ok, S::Error> {
+        serde_json::to_value(teeth)
+            .map_err(serde::ser::Error::custom)?
+            .serialize(s)
+    }
+
+    /// Reads the block; one that does not parse as a [`TrainTeethReport`] (e.g. a non-finite
+    /// number written as `null`) reads as absent rather than failing the whole report.
+    pub(crate) fn deserialize<'de, D: Deserializer<'de>>(
+        d: D,
+    ) -> Result<Option<TrainTeethReport>, D::Error> {
+        let v = Option::<serde_json::Value>::deserialize(d)?;
+        Ok(v.and_then(|v| TrainTeethReport::deserialize(v).ok()))
+    }
+}

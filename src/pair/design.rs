@@ -1,0 +1,288 @@
+//! Designing the toothed pair: options, scaled pitch curves with mating phases, rack-generated
+//! outlines, the mesh verification, and the assembly sheet.
+use super::{Law, Motion, PairError};
+use crate::export::{Contour, Marker, Sheet};
+use crate::geometry::pitch::PitchCurve;
+use crate::math::periodic::uniform_angles;
+use crate::teeth::mesh::{MeshCheck, MeshReport, verify_mesh};
+use crate::teeth::{ArcFrame, Outline, OutlineOptions, ToothingOptions, UndercutReport, outline};
+use serde::Serialize;
+use std::f64::consts::{PI, TAU};
+
+/// Options of [`design_pair`]; [`PairOptions::new`] and [`Default`] fill the defaults named on
+/// each field.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+#[non_exhaustive]
+pub struct PairOptions {
+    /// Tooth count (same on both gears); `None`: from the centrode's own size rounded up
+    /// (centrode only). Default `None`.
+    pub teeth: Option<u32>,
+    /// Module, basic rack, backlash, chord tolerances and verified positions (driver positions
+    /// over one turn; 0 skips the verification). Default [`ToothingOptions::new`] at the module:
+    /// 20° rack, backlash 0.04·m, chord 1e-3·m, verification at chord 1e-6·m over 90 steps.
+    #[serde(flatten)]
+    pub toothing: ToothingOptions,
+    /// Samples per turn of the law and of the pitch curves. Default 4096.
+    pub samples: usize,
+}
+
+impl PairOptions {
+    /// The defaults for `teeth` and `module_mm`: 20° rack, backlash 0.04·m, 4096 samples,
+    /// chord 1e-3·m, verification at chord 1e-6·m over 90 steps (every 4°).
+    #[must_use]
+    pub fn new(teeth: Option<u32>, module_mm: f64) -> Self {
+        Self {
+            teeth,
+            toothing: ToothingOptions::new(module_mm),
+            samples: 4096,
+        }
+    }
+}
+
+impl Default for PairOptions {
+    /// [`PairOptions::new`]`(None, 1.0)` (a centrode law sized by its own perimeter).
+    fn default() -> Self {
+        Self::new(None, 1.0)
+    }
+}
+
+impl std::ops::Deref for PairOptions {
+    type Target = ToothingOptions;
+    /// The shared toothing options: `opts.module_mm` reads `opts.toothing.module_mm`.
+    fn deref(&self) -> &ToothingOptions {
+        &self.toothing
+    }
+}
+
+impl std::ops::DerefMut for PairOptions {
+    fn deref_mut(&mut self) -> &mut ToothingOptions {
+        &mut self.toothing
+    }
+}
+
+/// A designed pair.
+#[derive(Debug, Clone, Serialize)]
+pub struct PairDesign {
+    /// Centre distance, mm.
+    pub centre_distance_mm: f64,
+    /// Tooth count of each gear.
+    pub z: u32,
+    /// Module, mm.
+    pub module_mm: f64,
+    /// Pitch-curve perimeter, mm (= zπm).
+    pub perimeter_mm: f64,
+    /// Ratio range `[min, max]` of i = dψ/dφ.
+    pub ratio_range: [f64; 2],
+    /// Driver outline (export tolerance).
+    pub driver: Outline,
+    /// Driven outline (export tolerance).
+    pub driven: Outline,
+    /// Undercut report of the driver.
+    pub driver_undercut: UndercutReport,
+    /// Undercut report of the driven gear.
+    pub driven_undercut: UndercutReport,
+    /// Mesh verification (if run).
+    pub mesh: Option<MeshReport>,
+    /// Driven rotation at φ = 0, ψ(0), rad.
+    pub psi0_rad: f64,
+    /// Driver pitch polyline (body frame), mm.
+    pub driver_pitch_mm: Vec<[f64; 2]>,
+    /// Driven pitch polyline (body frame), mm.
+    pub driven_pitch_mm: Vec<[f64; 2]>,
+}
+
+/// Designs the toothed pair: pitch curves scaled so that `L = zπm`, rack-generated outlines with
+/// the mating phase (driver tooth 0 centred at the contact of φ = 0, a driven space facing it),
+/// and the mesh verification over one turn.
+pub fn design_pair(law: &Law, opts: &PairOptions) -> Result<PairDesign, PairError> {
+    design_pair_with_progress(law, opts, &|_| {})
+}
+
+/// [`design_pair`] reporting mesh-verification progress (`progress(1)` per driver position).
+pub fn design_pair_with_progress(
+    law: &Law,
+    opts: &PairOptions,
+    progress: &(dyn Fn(u64) + Sync),
+) -> Result<PairDesign, PairError> {
+    let t = &opts.toothing;
+    let m = t.module_mm;
+    if !(m.is_finite() && m > 0.0) {
+        return Err(PairError::InvalidParameter {
+            name: "module_mm",
+            value: m,
+            expected: "finite and > 0",
+        });
+    }
+    if opts.samples < 64 {
+        return Err(PairError::InvalidParameter {
+            name: "samples",
+            value: opts.samples as f64,
+            expected: "≥ 64",
+        });
+    }
+    if !(t.backlash_mm.is_finite() && t.backlash_mm > 0.0) {
+        return Err(PairError::InvalidParameter {
+            name: "backlash_mm",
+            value: t.backlash_mm,
+            expected: "finite and > 0",
+        });
+    }
+    let motion = Motion::from_law(law, opts.samples)?;
+    let a1 = motion.unit_centre_distance;
+    let (c1, _) = motion.pitch_curves(a1, opts.samples)?;
+    let l1 = c1.perimeter_mm(1e-12 * a1);
+    let z = match (opts.teeth, law) {
+        (Some(z), _) => z,
+        (None, Law::Centrode(_)) => (l1 / (PI * m)).ceil() as u32,
+        (None, _) => {
+            return Err(PairError::InvalidParameter {
+                name: "teeth",
+                value: 0.0,
+                expected: "a tooth count for a motion or table law",
+            });
+        }
+    };
+    if z < 3 {
+        return Err(PairError::InvalidParameter {
+            name: "teeth",
+            value: f64::from(z),
+            expected: "≥ 3",
+        });
+    }
+    let a = a1 * f64::from(z) * PI * m / l1;
+    let (c1, c2) = motion.pitch_curves(a, opts.samples)?;
+    let f1 = ArcFrame::new(&c1);
+    let f2 = ArcFrame::new(&c2);
+    let p = f1.length_mm() / f64::from(z);
+    // Driven phase: a space faces driver tooth 0 at body angle π + ψ(0).
+    let th2 = (PI + motion.psi(0.0)).rem_euclid(TAU);
+    let s2 = c2.arc_length_between_mm(0.0, th2, 1e-12 * a);
+    let half = 0.5 * t.backlash_mm;
+    let mk = |phase: f64, tol: f64| OutlineOptions {
+        phase_mm: phase,
+        thin_left_mm: half,
+        thin_right_mm: 0.0,
+        chord_tol_mm: tol,
+    };
+    let o1 = mk(0.0, t.chord_tol_mm);
+    let o2 = mk(s2 + 0.5 * p, t.chord_tol_mm);
+    let driver = outline::generate_on(&f1, &t.rack, z, m, &o1)?;
+    let driven = outline::generate_on(&f2, &t.rack, z, m, &o2)?;
+    let mesh = if t.verify_steps > 0 {
+        let v1 = outline::generate_on(
+            &f1,
+            &t.rack,
+            z,
+            m,
+            &OutlineOptions {
+                chord_tol_mm: t.verify_chord_tol_mm,
+                ..o1
+            },
+        )?;
+        let v2 = outline::generate_on(
+            &f2,
+            &t.rack,
+            z,
+            m,
+            &OutlineOptions {
+                chord_tol_mm: t.verify_chord_tol_mm,
+                ..o2
+            },
+        )?;
+        let check = MeshCheck {
+            centre_distance_mm: a,
+            steps: t.verify_steps,
+            backlash_mm: t.backlash_mm,
+            module_mm: m,
+            angle_tol_rad: 1e-13,
+        };
+        let psi = |phi: f64| motion.psi(phi);
+        Some(verify_mesh(
+            &v1.points_mm,
+            &v2.points_mm,
+            &psi,
+            &check,
+            progress,
+        )?)
+    } else {
+        None
+    };
+    let ratios: Vec<f64> = uniform_angles(opts.samples)
+        .iter()
+        .map(|&f| motion.ratio(f))
+        .collect();
+    let pitch_poly = |c: &PitchCurve| {
+        uniform_angles(720)
+            .iter()
+            .map(|&t| c.point_mm(t))
+            .collect::<Vec<_>>()
+    };
+    Ok(PairDesign {
+        centre_distance_mm: a,
+        z,
+        module_mm: m,
+        perimeter_mm: f1.length_mm(),
+        ratio_range: [
+            ratios.iter().copied().fold(f64::INFINITY, f64::min),
+            ratios.iter().copied().fold(0.0, f64::max),
+        ],
+        driver_undercut: driver.undercut.clone(),
+        driven_undercut: driven.undercut.clone(),
+        driver,
+        driven,
+        mesh,
+        psi0_rad: motion.psi(0.0),
+        driver_pitch_mm: pitch_poly(&c1),
+        driven_pitch_mm: pitch_poly(&c2),
+    })
+}
+
+impl PairDesign {
+    /// The assembly sheet at φ = 0: driver at the origin, driven at `(a, 0)` rotated by ψ(0)
+    /// (driven body angle π + ψ(0) faces the driver), layers `DRIVER_OUTLINE`, `DRIVER_PITCH`,
+    /// `DRIVEN_OUTLINE`, `DRIVEN_PITCH`, `CENTRES`.
+    #[must_use]
+    pub fn assembly_sheet(&self) -> Sheet {
+        let a = self.centre_distance_mm;
+        let (s, c) = self.psi0_rad.sin_cos();
+        let place = |v: &[[f64; 2]]| {
+            v.iter()
+                .map(|p| [c * p[0] + s * p[1] + a, -s * p[0] + c * p[1]])
+                .collect::<Vec<_>>()
+        };
+        let contour = |name: &str, layer: &str, pts: Vec<[f64; 2]>| Contour {
+            name: name.into(),
+            layer: layer.into(),
+            points_mm: pts,
+            closed: true,
+        };
+        Sheet {
+            contours: vec![
+                contour(
+                    "driver_outline",
+                    "DRIVER_OUTLINE",
+                    self.driver.points_mm.clone(),
+                ),
+                contour("driver_pitch", "DRIVER_PITCH", self.driver_pitch_mm.clone()),
+                contour(
+                    "driven_outline",
+                    "DRIVEN_OUTLINE",
+                    place(&self.driven.points_mm),
+                ),
+                contour("driven_pitch", "DRIVEN_PITCH", place(&self.driven_pitch_mm)),
+            ],
+            markers: vec![
+                Marker {
+                    name: "driver_centre".into(),
+                    layer: "CENTRES".into(),
+                    at_mm: [0.0, 0.0],
+                },
+                Marker {
+                    name: "driven_centre".into(),
+                    layer: "CENTRES".into(),
+                    at_mm: [a, 0.0],
+                },
+            ],
+        }
+    }
+}

@@ -1,0 +1,243 @@
+//! One resolution of the mesh check: both outlines indexed, the candidate vertices near the
+//! contact, per-vertex clearances at a driven offset, and the pruned root search on them.
+use crate::teeth::shape::{MeshError, Shape};
+use std::f64::consts::PI;
+
+/// Driver angle `phi`, law angle `psi0` (rad) and centre distance `a` (mm) of one position.
+pub(super) struct Pose {
+    pub(super) phi: f64,
+    pub(super) psi0: f64,
+    pub(super) a: f64,
+}
+
+/// Both outlines at one resolution: exact shapes, a coarse copy for the first pruning, and the
+/// Lipschitz constant of the clearances in δ.
+pub(super) struct Level {
+    pub(super) h1: Shape,
+    pub(super) h2: Shape,
+    pub(super) k1: Shape,
+    pub(super) k2: Shape,
+    pub(super) reach: f64,
+    pub(super) lip: f64,
+    pub(super) module_mm: f64,
+}
+
+impl Level {
+    /// Both outlines, simplified to `simplify_mm` (Douglas–Peucker; 0 = all vertices), for teeth
+    /// of `module_mm` with the pair's nominal backlash `backlash_mm`.
+    pub(super) fn new(
+        driver: &[[f64; 2]],
+        driven: &[[f64; 2]],
+        cap: f64,
+        module_mm: f64,
+        backlash_mm: f64,
+        simplify_mm: f64,
+    ) -> Result<Self, MeshError> {
+        let m = module_mm;
+        let every = |v: &[[f64; 2]], k: usize| v.iter().step_by(k).copied().collect::<Vec<_>>();
+        let thin = |v: &[[f64; 2]]| {
+            if simplify_mm > 0.0 {
+                crate::math::polyline::simplify_closed(v, simplify_mm)
+            } else {
+                v.to_vec()
+            }
+        };
+        let (d1, d2) = (thin(driver), thin(driven));
+        let h1 = Shape::new(&d1, cap, "driver")?;
+        let h2 = Shape::new(&d2, cap, "driven")?;
+        let rmax = h1
+            .polar
+            .r
+            .iter()
+            .chain(h2.polar.r.iter())
+            .copied()
+            .fold(0.0, f64::max);
+        let r2min = h2
+            .polar
+            .r
+            .iter()
+            .copied()
+            .fold(f64::INFINITY, f64::min)
+            .max(m);
+        let lip = rmax + 2.0 * m;
+        let reach = 4.0 * backlash_mm / r2min * lip + 0.05 * m;
+        // Coarse copies (every 16th vertex) index the initial pruning at a larger reach.
+        let k1 = Shape::new(&every(&d1, 16), reach, "driver")?;
+        let k2 = Shape::new(&every(&d2, 16), reach, "driven")?;
+        Ok(Self {
+            h1,
+            h2,
+            k1,
+            k2,
+            reach,
+            lip,
+            module_mm: m,
+        })
+    }
+
+    /// Largest distance (mm) of this level's vertices from `other`'s polylines (both gears).
+    pub(super) fn deviation_from(&self, other: &Self) -> f64 {
+        let far = |pts: &[[f64; 2]], s: &Shape| {
+            pts.iter()
+                .map(|&p| s.clearance(p).abs())
+                .fold(0.0, f64::max)
+        };
+        far(&self.h1.pts, &other.h1).max(far(&self.h2.pts, &other.h2))
+    }
+
+    /// Per-vertex clearances at driven offset δ (rad): gear-1 vertices `set1` against gear 2 and
+    /// gear-2 vertices `set2` against gear 1 (polar indices), exact within `cap`.
+    pub(super) fn eval(
+        &self,
+        pose: &Pose,
+        delta: f64,
+        set1: &[usize],
+        set2: &[usize],
+    ) -> PerVertex {
+        self.eval_on(pose, delta, set1, set2, &self.h1, &self.h2)
+    }
+
+    fn eval_on(
+        &self,
+        pose: &Pose,
+        delta: f64,
+        set1: &[usize],
+        set2: &[usize],
+        s1: &Shape,
+        s2: &Shape,
+    ) -> PerVertex {
+        let (g1, g2) = (&self.h1.polar, &self.h2.polar);
+        let (phi, a) = (pose.phi, pose.a);
+        let ang2 = pose.psi0 + delta;
+        let (sn1, co1) = phi.sin_cos();
+        let (sn2, co2) = ang2.sin_cos();
+        let v2: Vec<f64> = set2
+            .iter()
+            .map(|&i| {
+                let b = g2.point(i);
+                let w = [co2 * b[0] + sn2 * b[1] + a, -sn2 * b[0] + co2 * b[1]];
+                s1.clearance([co1 * w[0] + sn1 * w[1], -sn1 * w[0] + co1 * w[1]])
+            })
+            .collect();
+        let v1: Vec<f64> = set1
+            .iter()
+            .map(|&i| {
+                let b = g1.point(i);
+                let w = [co1 * b[0] - sn1 * b[1] - a, sn1 * b[0] + co1 * b[1]];
+                s2.clearance([co2 * w[0] - sn2 * w[1], sn2 * w[0] + co2 * w[1]])
+            })
+            .collect();
+        (v1, v2)
+    }
+
+    /// The vertices (polar indices of both gears) that can touch the other gear for δ in the
+    /// backlash range: the contact windows (half-widths `w1`, `w2`, rad), pruned by the coarse
+    /// copies (every 16th window vertex; its ±16 neighbours are kept when it is within reach).
+    pub(super) fn candidates(&self, pose: &Pose, w1: f64, w2: f64) -> (Vec<usize>, Vec<usize>) {
+        let m = self.module_mm;
+        let c1 = self.h1.polar.window(-pose.phi, w1);
+        let c2 = self.h2.polar.window(PI + pose.psi0, w2);
+        let d1: Vec<usize> = c1.iter().step_by(16).copied().collect();
+        let d2: Vec<usize> = c2.iter().step_by(16).copied().collect();
+        let (p1, p2) = self.eval_on(pose, 0.0, &d1, &d2, &self.k1, &self.k2);
+        let expand = |c: &[usize], p: &[f64]| {
+            let mut flag = vec![false; c.len()];
+            for (j, v) in p.iter().enumerate() {
+                if *v < self.reach + 0.1 * m {
+                    let lo = (j * 16).saturating_sub(16);
+                    let hi = (j * 16 + 17).min(c.len());
+                    flag[lo..hi].iter_mut().for_each(|f| *f = true);
+                }
+            }
+            c.iter()
+                .zip(flag)
+                .filter(|(_, f)| *f)
+                .map(|(i, _)| *i)
+                .collect::<Vec<usize>>()
+        };
+        (expand(&c1, &p1), expand(&c2, &p2))
+    }
+}
+
+/// Minimum of all per-vertex clearances, mm.
+pub(super) fn min_of(v: &PerVertex) -> f64 {
+    v.0.iter()
+        .chain(v.1.iter())
+        .copied()
+        .fold(f64::INFINITY, f64::min)
+}
+
+pub(super) type PerVertex = (Vec<f64>, Vec<f64>);
+
+/// Per-vertex clearances at a driven offset δ (rad) for two vertex sets.
+type ClearanceFn<'a> = dyn Fn(f64, &[usize], &[usize]) -> PerVertex + 'a;
+
+/// Root of the minimum clearance on `[lo, hi]` (Illinois regula falsi), to `tol`, pruning after
+/// each evaluation the vertices that cannot be the minimiser anywhere in the bracket: a vertex's
+/// clearance changes by at most `lip·|Δδ|`, so it is dropped when `c_i(x) > min c(x) + 2·lip·(hi − lo)`.
+#[allow(clippy::too_many_arguments)]
+pub(super) fn root_pruned(
+    f: &ClearanceFn<'_>,
+    k1: &[usize],
+    k2: &[usize],
+    mut lo: f64,
+    mut hi: f64,
+    lip: f64,
+    tol: f64,
+) -> Option<f64> {
+    let mut s1 = k1.to_vec();
+    let mut s2 = k2.to_vec();
+    let min = |v: &PerVertex| {
+        v.0.iter()
+            .chain(v.1.iter())
+            .copied()
+            .fold(f64::INFINITY, f64::min)
+    };
+    let (mut flo, mut fhi) = (min(&f(lo, &s1, &s2)), min(&f(hi, &s1, &s2)));
+    if flo * fhi > 0.0 {
+        return None;
+    }
+    let mut side = 0i8;
+    for _ in 0..100 {
+        let x = (lo * fhi - hi * flo) / (fhi - flo);
+        let x = if x.is_finite() && x > lo && x < hi {
+            x
+        } else {
+            0.5 * (lo + hi)
+        };
+        let v = f(x, &s1, &s2);
+        let fx = min(&v);
+        if fx * fhi > 0.0 {
+            hi = x;
+            fhi = fx;
+            if side == 1 {
+                flo *= 0.5;
+            }
+            side = 1;
+        } else {
+            lo = x;
+            flo = fx;
+            if side == -1 {
+                fhi *= 0.5;
+            }
+            side = -1;
+        }
+        if hi - lo <= tol || fx.abs() <= 1e-11 {
+            return Some(x);
+        }
+        let thresh = fx + 2.0 * lip * (hi - lo);
+        s1 = s1
+            .iter()
+            .zip(&v.0)
+            .filter(|(_, c)| **c <= thresh)
+            .map(|(i, _)| *i)
+            .collect();
+        s2 = s2
+            .iter()
+            .zip(&v.1)
+            .filter(|(_, c)| **c <= thresh)
+            .map(|(i, _)| *i)
+            .collect();
+    }
+    Some(0.5 * (lo + hi))
+}

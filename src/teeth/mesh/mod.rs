@@ -1,0 +1,322 @@
+//! Mesh verification of two toothed outlines: roll them through a full cycle of the motion law
+//! and measure interference, backlash and transmission error (issue 3, "Verification").
+//!
+//! Setup: driver (gear 1) centre at the origin, rotated CCW by φ; driven (gear 2) centre at
+//! `(a, 0)`, rotated CW by `ψ(φ) + δ` (so its body angle `π + ψ` faces the driver). The clearance of
+//! a vertex of one outline against the other is its signed distance to the other polyline
+//! (negative inside; exact within `cap = 0.02·m` via a segment grid, clipped to `±cap` beyond).
+//! `f(δ)` is the minimum clearance over both outlines' vertices near the contact. Per φ:
+//! - working contact `ε(φ)`: the root of `f` with the working (larger-s) flanks touching; the
+//!   transmission error is `ε(φ)` (rad) — the driven angle error of the toothed pair;
+//! - coast contact `δc(φ)`: the other root; backlash on the pitch curve `(δc − ε)·r₂`, mm;
+//! - interference: `f < 0` for every δ (no free position), or penetration at `ε`; and the exact
+//!   overlap area of the outlines at δ = 0 (the law's position), see [`super::overlap`].
+//!
+//! Cost: both roots are first found on copies simplified to 1e-4·m (Douglas–Peucker), then
+//! polished on the given outlines in a bracket of ±η around them, η = 4·gap/(r₂/2) with `gap` the
+//! measured distance between the two polylines (widened ×8 until it holds a sign change). Vertices
+//! are pruned by the Lipschitz bound of the clearances in δ (`lip = r_max + 2m`), so a polish
+//! touches one full evaluation and a few dozen vertices. About 17 ms per position for a 24-tooth
+//! pair at 1e-6·m (≈ 4× faster than a single-level search, same roots to 1e-12 rad).
+mod level;
+
+pub use super::shape::{MeshError, Shape, StarShape};
+
+use super::overlap::inside_term;
+use level::{Level, PerVertex, Pose, min_of, root_pruned};
+use nalgebra::{Isometry2, Vector2};
+use rayon::prelude::*;
+use serde::{Deserialize, Serialize};
+use std::f64::consts::{PI, TAU};
+
+/// Parameters of [`verify_mesh`]; [`MeshCheck::new`] fills the defaults named on each field.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+#[non_exhaustive]
+pub struct MeshCheck {
+    /// Centre distance, mm (no default: given to [`MeshCheck::new`]).
+    pub centre_distance_mm: f64,
+    /// Number of driver positions over one turn. Default 90 (every 4°).
+    pub steps: usize,
+    /// Nominal circumferential backlash of the pair on the pitch curve, mm (> 0). Default 0.04·m.
+    pub backlash_mm: f64,
+    /// Module, mm (sets the contact window; no default: given to [`MeshCheck::new`]).
+    pub module_mm: f64,
+    /// Root-finding tolerance on δ, rad. Default 1e-13.
+    pub angle_tol_rad: f64,
+}
+
+impl MeshCheck {
+    /// A check of a pair at `centre_distance_mm` with teeth of `module_mm`; the other fields at
+    /// their defaults.
+    #[must_use]
+    pub fn new(centre_distance_mm: f64, module_mm: f64) -> Self {
+        Self {
+            centre_distance_mm,
+            steps: 90,
+            backlash_mm: 0.04 * module_mm,
+            module_mm,
+            angle_tol_rad: 1e-13,
+        }
+    }
+}
+
+/// Result of [`verify_mesh`] (all over the sampled cycle).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct MeshReport {
+    /// Driver positions checked.
+    pub steps: usize,
+    /// Positions with interference (no contact-free position of the driven gear).
+    pub interference_steps: usize,
+    /// Largest penetration found at the working contact position, mm (0 = none).
+    pub max_penetration_mm: f64,
+    /// Minimum clearance at the nominal position (ψ from the law), mm; ≈ 0 at the working contact.
+    pub min_nominal_clearance_mm: f64,
+    /// Minimum backlash on the pitch curve over the cycle, mm.
+    pub min_backlash_mm: f64,
+    /// Maximum backlash on the pitch curve over the cycle, mm.
+    pub max_backlash_mm: f64,
+    /// Largest overlap (interference) area of the two outlines at the motion law's position
+    /// (driven angle `ψ(φ)`, no correction), over the teeth within ±1.75 pitches of the contact,
+    /// mm² (0 = the outlines do not overlap; ~1e-9 mm² is the transmission error's touch).
+    pub max_overlap_area_mm2: f64,
+    /// Driver angle of the largest overlap, degrees.
+    pub max_overlap_at_deg: f64,
+    /// Maximum |transmission error| of the driven gear, degrees.
+    pub max_transmission_error_deg: f64,
+    /// Peak-to-peak transmission error, degrees.
+    pub transmission_error_p2p_deg: f64,
+}
+
+impl MeshReport {
+    /// One-line human summary (interference, overlap, backlash range, transmission error).
+    #[must_use]
+    pub fn summary(&self) -> String {
+        format!(
+            "{} interference steps of {}, max overlap {:.3e} mm², backlash {:.4}..{:.4} mm, \
+             max transmission error {:.2e}°",
+            self.interference_steps,
+            self.steps,
+            self.max_overlap_area_mm2,
+            self.min_backlash_mm,
+            self.max_backlash_mm,
+            self.max_transmission_error_deg
+        )
+    }
+}
+
+struct Sample {
+    overlap: f64,
+    eps: f64,
+    coast: f64,
+    nominal: f64,
+    r2: f64,
+    interference: bool,
+    penetration: f64,
+}
+
+impl Sample {
+    /// A position without a contact-free driven angle.
+    fn interference(overlap: f64, nominal: f64, r2: f64, penetration: f64) -> Self {
+        Self {
+            overlap,
+            eps: 0.0,
+            coast: 0.0,
+            nominal,
+            r2,
+            interference: true,
+            penetration,
+        }
+    }
+}
+
+/// Rolls `driver` (gear 1) and `driven` (gear 2) outlines (mm, CCW, body frames) through one driver
+/// turn with the motion law `psi(φ)` (driven CW rotation, rad; `psi(φ+2π) = psi(φ) + 2π`).
+///
+/// `progress(1)` is called after each driver position.
+///
+/// Complexity: O(steps · window vertices · root iterations); parallel over steps (rayon),
+/// deterministic.
+pub fn verify_mesh(
+    driver: &[[f64; 2]],
+    driven: &[[f64; 2]],
+    psi: &(dyn Fn(f64) -> f64 + Sync),
+    check: &MeshCheck,
+    progress: &(dyn Fn(u64) + Sync),
+) -> Result<MeshReport, MeshError> {
+    for (name, v) in [
+        ("centre_distance_mm", check.centre_distance_mm),
+        ("backlash_mm", check.backlash_mm),
+        ("module_mm", check.module_mm),
+        ("angle_tol_rad", check.angle_tol_rad),
+    ] {
+        if !(v.is_finite() && v > 0.0) {
+            return Err(MeshError::InvalidParameter {
+                name,
+                value: v,
+                expected: "finite and > 0",
+            });
+        }
+    }
+    if check.steps == 0 {
+        return Err(MeshError::InvalidParameter {
+            name: "steps",
+            value: 0.0,
+            expected: "≥ 1",
+        });
+    }
+    let a = check.centre_distance_mm;
+    let m = check.module_mm;
+    let cap = 0.02 * m;
+    let fine = Level::new(driver, driven, cap, m, check.backlash_mm, 0.0)?;
+    // A simplified copy (within 1e-4·m of the outlines) finds both contacts cheaply; the fine
+    // outlines then polish them in a narrow bracket.
+    let medium = Level::new(driver, driven, cap, m, check.backlash_mm, 1e-4 * m)?;
+    let g1 = &fine.h1.polar;
+    // Largest gap between the medium and fine polylines (mm): bounds |f_fine − f_medium|.
+    let dev = fine.deviation_from(&medium);
+    let lip = fine.lip;
+    let sample = |k: usize| {
+        let phi = TAU * k as f64 / check.steps as f64;
+        let psi0 = psi(phi);
+        let r1 = g1.radius_at(-phi);
+        let r2 = (a - r1).max(m);
+        // Candidate vertices near the contact (±1.75 pitches), pruned by the coarse copies.
+        let w1 = (1.75 * PI * m / r1).min(PI);
+        let w2 = (1.75 * PI * m / r2).min(PI);
+        let db = check.backlash_mm / r2;
+        let pose = Pose { phi, psi0, a };
+        let sets = fine.candidates(&pose, w1, w2);
+        let f = |d: f64, s1: &[usize], s2: &[usize]| fine.eval(&pose, d, s1, s2);
+        // The law's position δ = 0: every candidate's clearance (nominal clearance, overlap
+        // edges, and the pruning of the working-contact search).
+        let v0 = f(0.0, &sets.0, &sets.1);
+        let nominal = min_of(&v0);
+        // Overlap area at δ = 0 (world frame), over the edges that can reach into the other gear:
+        // an edge with a point inside it has an end inside or within one edge length of it.
+        let near_edges = |h: &Shape, set: &[usize], c: &[f64]| {
+            let n = h.pts.len();
+            let mut e: Vec<usize> = set
+                .iter()
+                .zip(c)
+                .filter(|(_, c)| **c < h.max_edge)
+                .flat_map(|(&i, _)| {
+                    let j = h.polar.orig[i] as usize;
+                    [(j + n - 1) % n, j]
+                })
+                .collect();
+            e.sort_unstable();
+            e.dedup();
+            e
+        };
+        let to_world1 = Isometry2::new(Vector2::zeros(), phi);
+        let to_world2 = Isometry2::new(Vector2::new(a, 0.0), -psi0);
+        let overlap = inside_term(
+            &fine.h1,
+            &near_edges(&fine.h1, &sets.0, &v0.0),
+            &(to_world2.inverse() * to_world1),
+            &to_world1,
+            &fine.h2,
+        ) + inside_term(
+            &fine.h2,
+            &near_edges(&fine.h2, &sets.1, &v0.1),
+            &(to_world1.inverse() * to_world2),
+            &to_world2,
+            &fine.h1,
+        );
+        // Medium level: is there a free position, and where are the two contacts?
+        let med_sets = medium.candidates(&pose, w1, w2);
+        let fm = |d: f64, s1: &[usize], s2: &[usize]| medium.eval(&pose, d, s1, s2);
+        let mid = 0.5 * db;
+        if min_of(&fm(mid, &med_sets.0, &med_sets.1)) <= 2.0 * dev {
+            // Too close to call at the medium level: decide on the fine outlines.
+            let fmid = min_of(&f(mid, &sets.0, &sets.1));
+            if fmid <= 0.0 {
+                return Sample::interference(overlap, nominal, r2, -fmid);
+            }
+        }
+        let tol = check.angle_tol_rad;
+        // Root on [lo, hi]: the medium root x, then the fine root within ±η of it (η from the
+        // polylines' gap over a clearance slope ≥ r₂/2), widening ×8 when the bracket misses.
+        // Vertices are pruned from a known evaluation (at 0, or at x) by the Lipschitz bound:
+        // vertex i can be the minimiser on [l, h] only if c_i(x₀) ≤ min c(x₀) + 2·lip·max|y − x₀|.
+        let polish = |lo: f64, hi: f64| -> Option<f64> {
+            if let Some(x) = root_pruned(&fm, &med_sets.0, &med_sets.1, lo, hi, lip, 1e-3 * db) {
+                let mut eta = (4.0 * dev / (0.5 * r2)).max(1e-4 * db);
+                let mut at_x: Option<PerVertex> = None;
+                while eta < hi - lo {
+                    let (l, h) = ((x - eta).max(lo), (x + eta).min(hi));
+                    let (x0, v) = if l.abs().max(h.abs()) <= 2.0 * (h - l) {
+                        (0.0, &v0)
+                    } else {
+                        (x, &*at_x.get_or_insert_with(|| f(x, &sets.0, &sets.1)))
+                    };
+                    let thresh = min_of(v) + 2.0 * lip * (l - x0).abs().max((h - x0).abs());
+                    let keep = |set: &[usize], c: &[f64]| -> Vec<usize> {
+                        set.iter()
+                            .zip(c)
+                            .filter(|(_, c)| **c <= thresh)
+                            .map(|(i, _)| *i)
+                            .collect()
+                    };
+                    let (s1, s2) = (keep(&sets.0, &v.0), keep(&sets.1, &v.1));
+                    if let Some(r) = root_pruned(&f, &s1, &s2, l, h, lip, tol) {
+                        return Some(r);
+                    }
+                    eta *= 8.0;
+                }
+            }
+            root_pruned(&f, &sets.0, &sets.1, lo, hi, lip, tol)
+        };
+        let (eps, coast) = match (polish(-db, mid), polish(mid, 3.0 * db)) {
+            (Some(e), Some(c)) => (e, c),
+            _ => return Sample::interference(overlap, nominal, r2, 0.0),
+        };
+        Sample {
+            overlap,
+            eps,
+            coast,
+            nominal,
+            r2,
+            interference: false,
+            penetration: 0.0,
+        }
+    };
+    let samples: Vec<Sample> = (0..check.steps)
+        .into_par_iter()
+        .map(|k| {
+            let s = sample(k);
+            progress(1);
+            s
+        })
+        .collect();
+    let ok: Vec<&Sample> = samples.iter().filter(|s| !s.interference).collect();
+    let te: Vec<f64> = ok.iter().map(|s| s.eps).collect();
+    let bl: Vec<f64> = ok.iter().map(|s| (s.coast - s.eps) * s.r2).collect();
+    let max = |v: &[f64]| v.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+    let min = |v: &[f64]| v.iter().copied().fold(f64::INFINITY, f64::min);
+    let (k_max, max_overlap) = samples
+        .iter()
+        .enumerate()
+        .fold((0, 0.0f64), |(kb, vb), (k, s)| {
+            if s.overlap > vb {
+                (k, s.overlap)
+            } else {
+                (kb, vb)
+            }
+        });
+    Ok(MeshReport {
+        steps: check.steps,
+        max_overlap_area_mm2: max_overlap,
+        max_overlap_at_deg: 360.0 * k_max as f64 / check.steps as f64,
+        interference_steps: samples.len() - ok.len(),
+        max_penetration_mm: samples.iter().map(|s| s.penetration).fold(0.0, f64::max),
+        min_nominal_clearance_mm: samples
+            .iter()
+            .map(|s| s.nominal)
+            .fold(f64::INFINITY, f64::min),
+        min_backlash_mm: min(&bl),
+        max_backlash_mm: max(&bl),
+        max_transmission_error_deg: te.iter().fold(0.0f64, |a, e| a.max(e.abs())).to_degrees(),
+        transmission_error_p2p_deg: (max(&te) - min(&te)).max(0.0).to_degrees(),
+    })
+}

@@ -1,0 +1,59 @@
+//! The toothing options shared by every toothed design (the pair and the planetary train):
+//! module, basic rack, backlash, export and verification tolerances.
+use super::RackParams;
+use serde::{Deserialize, Serialize};
+
+/// How the teeth of a toothed design are cut, exported and verified; embedded in
+/// [`crate::pair::PairOptions`] and [`crate::design::train::TrainTeethOptions`].
+///
+/// The length defaults scale with the module: [`ToothingOptions::new`] gives them at any module,
+/// [`Default`] at 1 mm.
+///
+/// ```
+/// use ncgear::teeth::ToothingOptions;
+/// let t = ToothingOptions::new(2.0);
+/// assert_eq!(t.backlash_mm, 0.08);
+/// assert_eq!(t.chord_tol_mm, 2e-3);
+/// assert_eq!(t.verify_steps, 90);
+/// assert_eq!(ToothingOptions::default(), ToothingOptions::new(1.0));
+/// ```
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[non_exhaustive]
+pub struct ToothingOptions {
+    /// Module, mm. Default 1.
+    pub module_mm: f64,
+    /// Basic rack (α, ha*, c*, ρf*). Default [`RackParams::default`]: 20°, 1, 0.25, 0.38.
+    pub rack: RackParams,
+    /// Circumferential backlash of each mesh on the pitch curve, mm: each gear's coast flank is
+    /// thinned by half of it, the working flanks stay exactly conjugate. Default 0.04·m.
+    pub backlash_mm: f64,
+    /// Chord tolerance of the exported outlines, mm. Default 1e-3·m.
+    pub chord_tol_mm: f64,
+    /// Chord tolerance of the outlines used by the mesh verification, mm. Default 1e-6·m.
+    pub verify_chord_tol_mm: f64,
+    /// Driver (or carrier) positions of the mesh verification over one turn, per mesh; 0 skips
+    /// it. Default 90 (every 4°); [`crate::design::train::TrainTeethOptions::new`] uses 72.
+    pub verify_steps: usize,
+}
+
+impl ToothingOptions {
+    /// The defaults (see each field) at `module_mm`.
+    #[must_use]
+    pub fn new(module_mm: f64) -> Self {
+        Self {
+            module_mm,
+            rack: RackParams::default(),
+            backlash_mm: 0.04 * module_mm,
+            chord_tol_mm: 1e-3 * module_mm,
+            verify_chord_tol_mm: 1e-6 * module_mm,
+            verify_steps: 90,
+        }
+    }
+}
+
+impl Default for ToothingOptions {
+    /// [`ToothingOptions::new`] at a module of 1 mm.
+    fn default() -> Self {
+        Self::new(1.0)
+    }
+}

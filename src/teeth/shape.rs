@@ -1,0 +1,261 @@
+//! The indexed outline of the mesh check and the overlap area: a closed polyline with a segment
+//! grid for exact signed distances near it ([`Shape`]) and a polar table ([`StarShape`]).
+use rustc_hash::FxHashMap;
+use std::f64::consts::TAU;
+
+/// Errors of mesh verification.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[non_exhaustive]
+pub enum MeshError {
+    /// An outline is not star-shaped about its centre (polar angle not increasing).
+    #[error("outline `{which}` is not star-shaped about its centre (vertex {index})")]
+    NotStarShaped {
+        /// Which outline.
+        which: &'static str,
+        /// First vertex where the polar angle decreases.
+        index: usize,
+    },
+    /// Bad parameter.
+    #[error("invalid mesh parameter `{name}` = {value}: {expected}")]
+    InvalidParameter {
+        /// Name.
+        name: &'static str,
+        /// Value.
+        value: f64,
+        /// Expectation.
+        expected: &'static str,
+    },
+}
+
+/// A star-shaped closed outline in polar form, for fast point-inside tests.
+#[derive(Debug, Clone)]
+pub struct StarShape {
+    theta: Vec<f64>,
+    /// Radius of each entry, mm.
+    pub(super) r: Vec<f64>,
+    /// Index of each entry in the original polyline.
+    pub(super) orig: Vec<u32>,
+}
+
+impl StarShape {
+    /// From a CCW closed polyline (mm) about the origin. Vertices are sorted by polar angle; a
+    /// polyline whose polar angle folds back slightly (flank bottoms of non-circular gears) is
+    /// accepted — the radial test is then only a coarse inside/outside sign far from the fold.
+    pub fn new(points_mm: &[[f64; 2]], which: &'static str) -> Result<Self, MeshError> {
+        if points_mm.len() < 3 {
+            return Err(MeshError::NotStarShaped {
+                which,
+                index: points_mm.len(),
+            });
+        }
+        let mut tr: Vec<(f64, f64, u32)> = points_mm
+            .iter()
+            .enumerate()
+            .map(|(i, p)| (p[1].atan2(p[0]), p[0].hypot(p[1]), i as u32))
+            .collect();
+        tr.sort_by(|a, b| a.0.total_cmp(&b.0));
+        tr.dedup_by(|a, b| a.0 <= b.0);
+        Ok(Self {
+            theta: tr.iter().map(|v| v.0).collect(),
+            r: tr.iter().map(|v| v.1).collect(),
+            orig: tr.iter().map(|v| v.2).collect(),
+        })
+    }
+
+    /// Boundary radius at polar angle `t` (rad), mm.
+    #[must_use]
+    pub fn radius_at(&self, t: f64) -> f64 {
+        let t0 = self.theta[0];
+        let x = t0 + (t - t0).rem_euclid(TAU);
+        let n = self.theta.len();
+        let j = self.theta.partition_point(|&v| v <= x);
+        let (ta, ra, tb, rb) = if j == 0 || j == n {
+            (
+                self.theta[n - 1] - if j == 0 { TAU } else { 0.0 },
+                self.r[n - 1],
+                self.theta[0] + if j == n { TAU } else { 0.0 },
+                self.r[0],
+            )
+        } else {
+            (self.theta[j - 1], self.r[j - 1], self.theta[j], self.r[j])
+        };
+        ra + (rb - ra) * (x - ta) / (tb - ta)
+    }
+
+    /// Indices of the vertices with polar angle within `half_width` of `t`.
+    pub(super) fn window(&self, t: f64, half_width: f64) -> Vec<usize> {
+        let t0 = self.theta[0];
+        let n = self.theta.len();
+        let lo = t0 + (t - half_width - t0).rem_euclid(TAU);
+        let hi = lo + 2.0 * half_width;
+        let mut out = Vec::new();
+        let a = self.theta.partition_point(|&v| v < lo);
+        let mut j = a;
+        while j < n && self.theta[j] <= hi {
+            out.push(j);
+            j += 1;
+        }
+        if hi > t0 + TAU {
+            let hi2 = hi - TAU;
+            let mut j = 0;
+            while j < a && self.theta[j] <= hi2 {
+                out.push(j);
+                j += 1;
+            }
+        }
+        out
+    }
+
+    pub(super) fn point(&self, i: usize) -> [f64; 2] {
+        let (s, c) = self.theta[i].sin_cos();
+        [self.r[i] * c, self.r[i] * s]
+    }
+}
+
+/// A closed CCW polyline with a uniform-grid segment index for signed distances near the
+/// boundary, and a polar table for the coarse inside/outside sign away from it.
+#[derive(Debug, Clone)]
+pub struct Shape {
+    pub(super) pts: Vec<[f64; 2]>,
+    pub(super) polar: StarShape,
+    bands: super::inside::Bands,
+    cell: f64,
+    grid: FxHashMap<(i64, i64), Vec<u32>>,
+    /// Longest edge, mm.
+    pub(super) max_edge: f64,
+}
+
+impl Shape {
+    /// Indexes `points_mm` with grid cell `cap_mm` (the largest distance reported exactly).
+    pub fn new(
+        points_mm: &[[f64; 2]],
+        cap_mm: f64,
+        which: &'static str,
+    ) -> Result<Self, MeshError> {
+        let polar = StarShape::new(points_mm, which)?;
+        let n = points_mm.len();
+        let mut grid: FxHashMap<(i64, i64), Vec<u32>> = FxHashMap::default();
+        for i in 0..n {
+            let (a, b) = (points_mm[i], points_mm[(i + 1) % n]);
+            let (x0, x1) = (
+                (a[0].min(b[0]) / cap_mm).floor() as i64,
+                (a[0].max(b[0]) / cap_mm).floor() as i64,
+            );
+            let (y0, y1) = (
+                (a[1].min(b[1]) / cap_mm).floor() as i64,
+                (a[1].max(b[1]) / cap_mm).floor() as i64,
+            );
+            for cx in x0..=x1 {
+                for cy in y0..=y1 {
+                    grid.entry((cx, cy)).or_default().push(i as u32);
+                }
+            }
+        }
+        Ok(Self {
+            pts: points_mm.to_vec(),
+            polar,
+            bands: super::inside::Bands::new(points_mm, cap_mm),
+            cell: cap_mm,
+            grid,
+            max_edge: (0..n)
+                .map(|i| {
+                    let (a, b) = (points_mm[i], points_mm[(i + 1) % n]);
+                    (b[0] - a[0]).hypot(b[1] - a[1])
+                })
+                .fold(0.0, f64::max),
+        })
+    }
+
+    /// The outline's vertices (body frame, mm), in order.
+    pub(crate) fn points(&self) -> &[[f64; 2]] {
+        &self.pts
+    }
+
+    /// Indices of the segments listed in the grid cells that the box of `p`–`q` touches
+    /// (sorted, without repeats) into `out`.
+    pub(crate) fn segments_near(&self, p: [f64; 2], q: [f64; 2], out: &mut Vec<u32>) {
+        out.clear();
+        let cell = |v: f64| (v / self.cell).floor() as i64;
+        let (x0, x1) = (cell(p[0].min(q[0])), cell(p[0].max(q[0])));
+        let (y0, y1) = (cell(p[1].min(q[1])), cell(p[1].max(q[1])));
+        let boxed = (x1 - x0 + 1).saturating_mul(y1 - y0 + 1);
+        if boxed > self.grid.len() as i64 {
+            // A long edge over a fine grid: scan the occupied cells instead of the box.
+            for (&(gx, gy), list) in &self.grid {
+                if (x0..=x1).contains(&gx) && (y0..=y1).contains(&gy) {
+                    out.extend_from_slice(list);
+                }
+            }
+        } else {
+            for gx in x0..=x1 {
+                for gy in y0..=y1 {
+                    if let Some(list) = self.grid.get(&(gx, gy)) {
+                        out.extend_from_slice(list);
+                    }
+                }
+            }
+        }
+        out.sort_unstable();
+        out.dedup();
+    }
+
+    /// Signed clearance of `x` (body frame, mm): distance to the outline, negative inside;
+    /// clipped to `±cap`.
+    #[must_use]
+    pub fn clearance(&self, x: [f64; 2]) -> f64 {
+        let n = self.pts.len();
+        let (cx, cy) = (
+            (x[0] / self.cell).floor() as i64,
+            (x[1] / self.cell).floor() as i64,
+        );
+        // Squared distances; one square root at the end.
+        let mut best = (f64::INFINITY, 0usize, 0.5);
+        for gx in cx - 1..=cx + 1 {
+            for gy in cy - 1..=cy + 1 {
+                if let Some(list) = self.grid.get(&(gx, gy)) {
+                    for &i in list {
+                        let (a, b) = (self.pts[i as usize], self.pts[(i as usize + 1) % n]);
+                        let (dx, dy) = (b[0] - a[0], b[1] - a[1]);
+                        let (px, py) = (x[0] - a[0], x[1] - a[1]);
+                        let t = ((px * dx + py * dy) / (dx * dx + dy * dy)).clamp(0.0, 1.0);
+                        let (ex, ey) = (px - t * dx, py - t * dy);
+                        let d2 = ex * ex + ey * ey;
+                        if d2 < best.0 {
+                            best = (d2, i as usize, t);
+                        }
+                    }
+                }
+            }
+        }
+        let best = (best.0.sqrt(), best.1, best.2);
+        if best.0 > self.cell {
+            // Far from the boundary: the exact crossing rule (a polar test would misread the
+            // pocket under a leaning, overhanging tooth).
+            return if self.bands.contains(x) {
+                -self.cell
+            } else {
+                self.cell
+            };
+        }
+        let (d, i, t) = best;
+        let left = |j: usize| {
+            let (a, b) = (self.pts[j % n], self.pts[(j + 1) % n]);
+            (b[0] - a[0]) * (x[1] - a[1]) - (b[1] - a[1]) * (x[0] - a[0]) > 0.0
+        };
+        let inside = if t > 0.0 && t < 1.0 {
+            left(i)
+        } else {
+            // Closest point is a vertex v between edges e1 = (u→v) and e2 = (v→w).
+            let v = if t >= 1.0 { (i + 1) % n } else { i };
+            let prev = (v + n - 1) % n;
+            let (u, vv, w) = (self.pts[prev], self.pts[v], self.pts[(v + 1) % n]);
+            let convex = (vv[0] - u[0]) * (w[1] - vv[1]) - (vv[1] - u[1]) * (w[0] - vv[0]) > 0.0;
+            if convex {
+                left(prev) && left(v)
+            } else {
+                left(prev) || left(v)
+            }
+        };
+        if inside { -d } else { d }
+    }
+}
