@@ -45,7 +45,7 @@ fn teeth_g1_module_2(b: divan::Bencher, steps: usize) {
     use ncgear::design::train::{TrainTeethOptions, tooth_train};
     let d = design(&load("g1_ellipse.csv"), &DesignOptions::default()).expect("G1");
     let mut opts = TrainTeethOptions::new(2.0);
-    opts.verify_steps = steps;
+    opts.toothing.verify_steps = steps;
     b.bench(|| {
         tooth_train(
             divan::black_box(&d.assembly),

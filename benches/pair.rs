@@ -16,21 +16,21 @@ fn law() -> Law {
 #[divan::bench(sample_count = 10)]
 fn design_no_verification() {
     let mut opts = PairOptions::new(Some(24), 1.5);
-    opts.verify_steps = 0;
+    opts.toothing.verify_steps = 0;
     divan::black_box(design_pair(&law(), &opts).expect("pair"));
 }
 
 #[divan::bench(sample_count = 3)]
 fn design_with_90_step_verification() {
     let mut opts = PairOptions::new(Some(24), 1.5);
-    opts.verify_steps = 90;
+    opts.toothing.verify_steps = 90;
     divan::black_box(design_pair(&law(), &opts).expect("pair"));
 }
 
 #[divan::bench(sample_count = 10)]
 fn exports_svg_dxf(bencher: divan::Bencher) {
     let mut opts = PairOptions::new(Some(24), 1.5);
-    opts.verify_steps = 0;
+    opts.toothing.verify_steps = 0;
     let d = design_pair(&law(), &opts).expect("pair");
     let sheet = d.assembly_sheet();
     let path = std::env::temp_dir().join("ncgear_bench_pair.dxf");

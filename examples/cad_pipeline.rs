@@ -54,7 +54,12 @@ fn main() -> Result<(), Box<dyn Error>> {
         let sheet = teeth.gear_sheet(g);
         let dxf = out.join(format!("{}.dxf", g.name()));
         let svg = out.join(format!("{}.svg", g.name()));
-        write_dxf(&sheet, &dxf, DxfVersion::R2010, t.options.chord_tol_mm)?;
+        write_dxf(
+            &sheet,
+            &dxf,
+            DxfVersion::R2010,
+            t.options.toothing.chord_tol_mm,
+        )?;
         write_svg(&sheet, &svg, 2.0 * t.module_mm)?;
         println!("wrote {} and {}", dxf.display(), svg.display());
     }

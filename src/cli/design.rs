@@ -293,7 +293,7 @@ fn toothed(
     module_mm: f64,
 ) -> Result<ncgear::design::train::ToothedTrain, super::Failure> {
     let mut opts = TrainTeethOptions::new(module_mm);
-    opts.verify_steps = args.verify_steps;
+    opts.toothing.verify_steps = args.verify_steps;
     args.rack
         .apply_to(&mut opts.toothing)
         .map_err(|e| input_error(miette::miette!("{e}")))?;
@@ -307,7 +307,7 @@ fn toothed(
         (None, ToothPolicyArg::RatioAmplitude) => TrainPolicy::RatioAmplitude,
         (None, ToothPolicyArg::AdjustModule) => TrainPolicy::AdjustModule,
     };
-    let pb = progress_bar(2 * opts.verify_steps as u64, "mesh check");
+    let pb = progress_bar(2 * opts.toothing.verify_steps as u64, "mesh check");
     let accuracy_mm = 1e-9 * d.assembly.a_mm;
     let t = attach_teeth(d, &opts, accuracy_mm, &|n| pb.inc(n));
     pb.finish_and_clear();

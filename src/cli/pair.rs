@@ -63,11 +63,11 @@ pub fn run(args: Args) -> CliResult {
         }
     };
     let mut opts = PairOptions::new(args.teeth, args.module);
-    opts.verify_steps = args.verify_steps;
+    opts.toothing.verify_steps = args.verify_steps;
     args.rack
         .apply_to(&mut opts.toothing)
         .map_err(input_error)?;
-    let pb = progress_bar(opts.verify_steps as u64, "mesh check");
+    let pb = progress_bar(opts.toothing.verify_steps as u64, "mesh check");
     let design = design_pair_with_progress(&law, &opts, &|n| pb.inc(n));
     pb.finish_and_clear();
     let design = design.map_err(|e| match e {
@@ -80,7 +80,7 @@ pub fn run(args: Args) -> CliResult {
     let version = DxfVersion::from(args.rack.dxf_version);
     let dxf = args.out.join("pair.dxf");
     let svg = args.out.join("pair.svg");
-    write_dxf(&sheet, &dxf, version, opts.chord_tol_mm).map_err(runtime_error)?;
+    write_dxf(&sheet, &dxf, version, opts.toothing.chord_tol_mm).map_err(runtime_error)?;
     write_svg(&sheet, &svg, 2.0 * args.module).map_err(runtime_error)?;
     let mut files = write_points(&sheet, &args.out, "pair_points").map_err(runtime_error)?;
     files.push(dxf);

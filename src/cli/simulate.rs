@@ -106,7 +106,7 @@ pub fn run(args: Args) -> CliResult {
         Some((m, policy)) => {
             let mut opts = TrainTeethOptions::new(m);
             opts.policy = policy;
-            opts.verify_steps = 0;
+            opts.toothing.verify_steps = 0;
             let train = tooth_train(&asm, &target, &opts, &|_| {})
                 .map_err(|e| input_error(miette::miette!("--module {m}: {e}")))?;
             Simulation::toothed(&train)

@@ -654,7 +654,7 @@ pub fn write_teeth(
         path: dir.display().to_string(),
         message: e.to_string(),
     })?;
-    let tol = train.report.options.chord_tol_mm;
+    let tol = train.report.options.toothing.chord_tol_mm;
     let margin = 2.0 * train.report.module_mm;
     let mut written = Vec::new();
     let mut sheets = vec![("train".to_string(), train.sheet(0.0))];

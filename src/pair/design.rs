@@ -46,20 +46,6 @@ impl Default for PairOptions {
     }
 }
 
-impl std::ops::Deref for PairOptions {
-    type Target = ToothingOptions;
-    /// The shared toothing options: `opts.module_mm` reads `opts.toothing.module_mm`.
-    fn deref(&self) -> &ToothingOptions {
-        &self.toothing
-    }
-}
-
-impl std::ops::DerefMut for PairOptions {
-    fn deref_mut(&mut self) -> &mut ToothingOptions {
-        &mut self.toothing
-    }
-}
-
 /// A designed pair.
 #[derive(Debug, Clone, Serialize)]
 pub struct PairDesign {

@@ -152,7 +152,7 @@ fn train_sheet_renders_at_its_size_in_mm_with_ink_on_the_outlines() {
         &d.report.target_points,
         &{
             let mut o = TrainTeethOptions::new(2.0);
-            o.verify_steps = 0;
+            o.toothing.verify_steps = 0;
             o
         },
         &|_| {},

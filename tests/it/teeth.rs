@@ -349,7 +349,7 @@ fn overlap_area_is_zero_for_the_pair_and_matches_full_clipping_when_clocked_wron
     let law = Law::Motion(Expr::parse("phi - 0.08*sin(2*phi)").unwrap());
     let d = design_pair(&law, &{
         let mut o = PairOptions::new(Some(24), 1.5);
-        o.verify_steps = 0;
+        o.toothing.verify_steps = 0;
         o
     })
     .unwrap();
@@ -406,7 +406,7 @@ pub fn oracle_pair_unverified() -> ncgear::pair::PairDesign {
         &Law::Motion(Expr::parse("phi - 0.08*sin(2*phi)").unwrap()),
         &{
             let mut o = PairOptions::new(Some(24), 1.5);
-            o.verify_steps = 0;
+            o.toothing.verify_steps = 0;
             o
         },
     )

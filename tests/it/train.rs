@@ -23,7 +23,7 @@ fn g1_design() -> &'static Design {
 fn no_mesh(module_mm: f64, policy: TrainPolicy) -> TrainTeethOptions {
     let mut opts = TrainTeethOptions::new(module_mm);
     opts.policy = policy;
-    opts.verify_steps = 0;
+    opts.toothing.verify_steps = 0;
     opts
 }
 
@@ -35,7 +35,7 @@ fn no_mesh(module_mm: f64, policy: TrainPolicy) -> TrainTeethOptions {
 fn g1_train_at_module_2_has_23_teeth_meshes_and_moves_the_tip_by_the_closed_form() {
     let d = g1_design();
     let mut opts = TrainTeethOptions::new(2.0);
-    opts.verify_steps = 24;
+    opts.toothing.verify_steps = 24;
     let t = tooth_train(&d.assembly, &d.report.target_points, &opts, &|_| {}).unwrap();
     let r = &t.report;
     assert_eq!(r.z, 23);
@@ -402,7 +402,7 @@ fn leaning_teeth_of_the_kidney_design_mesh_without_interference() {
     refined.fit_to_points = false;
     let d = design(&t, &refined).unwrap();
     let mut opts = TrainTeethOptions::new(1.5);
-    opts.verify_steps = 36;
+    opts.toothing.verify_steps = 36;
     let train = tooth_train(&d.assembly, &d.report.target_points, &opts, &|_| {}).unwrap();
     let r = &train.report;
     assert_eq!(r.z, 30);
@@ -439,7 +439,7 @@ fn clockwise_asymmetric_design_meshes() {
     .unwrap();
     assert_eq!(d.assembly.direction, -1);
     let mut opts = TrainTeethOptions::new(1.25);
-    opts.verify_steps = 18;
+    opts.toothing.verify_steps = 18;
     let train = tooth_train(&d.assembly, &d.report.target_points, &opts, &|_| {}).unwrap();
     let r = &train.report;
     assert_eq!(r.z, 34);

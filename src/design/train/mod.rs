@@ -137,17 +137,3 @@ impl Default for TrainTeethOptions {
         Self::new(2.0)
     }
 }
-
-impl std::ops::Deref for TrainTeethOptions {
-    type Target = ToothingOptions;
-    /// The shared toothing options: `opts.module_mm` reads `opts.toothing.module_mm`.
-    fn deref(&self) -> &ToothingOptions {
-        &self.toothing
-    }
-}
-
-impl std::ops::DerefMut for TrainTeethOptions {
-    fn deref_mut(&mut self) -> &mut ToothingOptions {
-        &mut self.toothing
-    }
-}

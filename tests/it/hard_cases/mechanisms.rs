@@ -320,7 +320,7 @@ fn eccentricity_sweep_teeth_until_they_stop_being_possible() {
             }
         };
         let mut opts = TrainTeethOptions::new(2.0);
-        opts.verify_steps = 24;
+        opts.toothing.verify_steps = 24;
         match tooth_design(&d, &opts, 1e-6, &|_| {}) {
             Ok(t) => {
                 let mesh = t.report.mesh.as_ref().expect("verified");

@@ -100,7 +100,7 @@ fn extreme_pair_laws_give_a_pair_or_the_typed_error_their_geometry_dictates() {
         let e = Expr::parse(law).unwrap();
         // A short mesh verification (12 driver positions): the full one is in tests/it/teeth.rs.
         let mut opts = PairOptions::new(Some(teeth), 1.0);
-        opts.verify_steps = 12;
+        opts.toothing.verify_steps = 12;
         let got = design_pair(&Law::Motion(e), &opts);
         match (want, got) {
             (Want::Pair, Ok(d)) => {
