@@ -1,6 +1,7 @@
 //! `ncgear design TRAJ --out DIR`.
 use super::teeth_args::RackArgs;
 use super::{CliResult, input_error, print_json, progress_bar, runtime_error};
+use ncgear::design::inverse::InverseError;
 use ncgear::design::segmented::Route;
 use ncgear::design::train::{TrainError, TrainPolicy, TrainTeethOptions, attach_teeth};
 use ncgear::design::trajectory::Trajectory;
@@ -169,8 +170,18 @@ pub fn run(args: Args) -> CliResult {
     opts.refine_options.ratio_bounds = args.ratio_bounds;
     opts.refine_options.convexity_penalty = args.convexity;
     let file = args.trajectory.display().to_string();
-    let d = design(&traj, &opts).map_err(|e| match e {
+    let d = design(&traj, &opts).map_err(|e| match &e {
         DesignError::Internal(_) => runtime_error(miette::miette!("{file}: {e}")),
+        DesignError::BadOption { option, .. } => match flag_of(option) {
+            Some(flag) => input_error(miette::miette!(help = format!("set by {flag}"), "{e}")),
+            None => input_error(miette::miette!("{e}")),
+        },
+        DesignError::Inverse(
+            InverseError::AxisInsideLoop { .. } | InverseError::TooCloseToAxis { .. },
+        ) => input_error(miette::miette!(
+            help = "the carrier axis is set by --center X,Y (mm)",
+            "{file}: {e}"
+        )),
         _ => input_error(miette::miette!("{file}: {e}")),
     })?;
     let mut d = d;
@@ -316,5 +327,22 @@ fn toothed(
             input_error(miette::miette!("--module {module_mm}: {e}"))
         }
         _ => runtime_error(miette::miette!("{e}")),
+    })
+}
+
+/// The flag that sets a [`DesignOptions`] field named in a library error.
+fn flag_of(option: &str) -> Option<&'static str> {
+    Some(match option {
+        "order" => "--order",
+        "smoothing" => "--smooth",
+        "tol_tip_mm" => "--tol-mm",
+        "inverse.grid" => "--grid",
+        "inverse.dense_samples" => "--dense",
+        "curve_samples" => "--samples",
+        "refine_options.ratio_bounds" => "--ratio-bounds",
+        "center_mm" => "--center",
+        "segmented.w1" => "--w1",
+        "refine_order" => "--refine-order",
+        _ => return None,
     })
 }

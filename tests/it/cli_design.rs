@@ -271,12 +271,22 @@ fn bad_inputs_exit_2_with_a_clear_message() {
     expect_input_error(
         &["--center", "60,-140"],
         Some(("inside.csv", &g1)),
-        &["inside.csv", "winding"],
+        // The library names the field; the CLI adds the flag as a hint.
+        &["inside.csv", "winding", "center_mm", "--center X,Y"],
     );
     expect_input_error(
         &[],
         Some(("bad.json", r#"{"units": "mm", "pts": []}"#)),
         &["bad.json", "pts"],
     );
-    expect_input_error(&["--order", "0"], Some(("g1.csv", &g1)), &["order"]);
+    expect_input_error(
+        &["--order", "0"],
+        Some(("g1.csv", &g1)),
+        &["option `order`", "set by --order"],
+    );
+    expect_input_error(
+        &["--tol-mm", "0"],
+        Some(("g1.csv", &g1)),
+        &["option `tol_tip_mm`", "set by --tol-mm"],
+    );
 }
