@@ -415,11 +415,13 @@ fn fit_stage(
     if !run_fit {
         return Ok(kept(None));
     }
-    let mut fit_opts = FitOptions::default();
-    fit_opts.order = opts.order;
-    fit_opts.ratio_bounds = opts.refine_options.ratio_bounds;
-    fit_opts.tol_mm = FIT_TOL_FRACTION * opts.tol_tip_mm;
-    fit_opts.noise_sigma_mm = noise_sigma;
+    let fit_opts = FitOptions {
+        order: opts.order,
+        ratio_bounds: opts.refine_options.ratio_bounds,
+        tol_mm: FIT_TOL_FRACTION * opts.tol_tip_mm,
+        noise_sigma_mm: noise_sigma,
+        ..FitOptions::default()
+    };
     let restarts = [2]
         .into_iter()
         .filter_map(|k| {
