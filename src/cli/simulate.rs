@@ -115,7 +115,7 @@ pub fn run(args: Args) -> CliResult {
         }
         None => Simulation::new(asm),
     };
-    let report = ncgear::output::files::write_simulation(&sim, &target, &opts, &anim, &args.out)
+    let report = ncgear::output::write_simulation(&sim, &target, &opts, &anim, &args.out)
         .map_err(|e| match e {
             SimulateError::BadOption { option: "out", .. } => runtime_error(miette::miette!("{e}")),
             _ => input(e),
