@@ -115,10 +115,14 @@ pub fn run(args: Args) -> CliResult {
         }
         None => Simulation::new(asm),
     };
-    let report = ncgear::output::write_simulation(&sim, &target, &opts, &anim, &args.out)
-        .map_err(|e| match e {
-            SimulateError::BadOption { option: "out", .. } => runtime_error(miette::miette!("{e}")),
-            _ => input(e),
+    let report =
+        ncgear::output::write_simulation(&sim, &target, &opts, &anim, &args.out).map_err(|e| {
+            match e {
+                SimulateError::BadOption { option: "out", .. } => {
+                    runtime_error(miette::miette!("{e}"))
+                }
+                _ => input(e),
+            }
         })?;
     let json =
         serde_json::to_string_pretty(&report).map_err(|e| runtime_error(miette::miette!("{e}")))?;

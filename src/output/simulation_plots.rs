@@ -189,7 +189,10 @@ pub(super) fn write_plots(
     // The agronomic features drawn on the static path: taking and planting instants with the
     // needle, the soil level at the planting depth, the hole width on the dynamic stroke.
     let f = features;
-    let at = |deg: f64| sim.pose(f64::from(sim.assembly.direction) * deg.to_radians()).arm1;
+    let at = |deg: f64| {
+        sim.pose(f64::from(sim.assembly.direction) * deg.to_radians())
+            .arm1
+    };
     let (take, plant) = (at(f.take_carrier_deg), at(f.plant_carrier_deg));
     let level = f.bbox_mm[2] + feat_opts.planting_depth_mm;
     both(
@@ -197,7 +200,11 @@ pub(super) fn write_plots(
         &ChartLabels {
             title: format!(
                 "H = {:.1} mm, hole {:.1} mm at {:.0} mm depth, needle {:.1}° taking / {:.1}° planting",
-                f.height_mm, f.hole_width_mm, feat_opts.planting_depth_mm, f.needle_angle_take_deg, f.needle_angle_plant_deg
+                f.height_mm,
+                f.hole_width_mm,
+                feat_opts.planting_depth_mm,
+                f.needle_angle_take_deg,
+                f.needle_angle_plant_deg
             ),
             x: "x (mm)".into(),
             y: "y (mm)".into(),
@@ -205,9 +212,18 @@ pub(super) fn write_plots(
         },
         &[
             Series::line("static path", xy(&arm1)),
-            Series::line("needle at taking", xy(&[take.planet_center_mm, take.tip_mm])),
-            Series::line("needle at planting", xy(&[plant.planet_center_mm, plant.tip_mm])),
-            Series::line("soil level (planting depth)", vec![(f.bbox_mm[0], level), (f.bbox_mm[1], level)]),
+            Series::line(
+                "needle at taking",
+                xy(&[take.planet_center_mm, take.tip_mm]),
+            ),
+            Series::line(
+                "needle at planting",
+                xy(&[plant.planet_center_mm, plant.tip_mm]),
+            ),
+            Series::line(
+                "soil level (planting depth)",
+                vec![(f.bbox_mm[0], level), (f.bbox_mm[1], level)],
+            ),
             Series::markers("taking / planting points", xy(&[take.tip_mm, plant.tip_mm])),
         ],
         (1000, 800),
