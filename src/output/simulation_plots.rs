@@ -63,7 +63,7 @@ pub(super) fn write_plots(
                 y: "deviation (mm)".into(),
                 equal_aspect: false,
             },
-            &[Series::line("arm 1", pts(&dev))],
+            &[Series::line("arm 1", pts(dev))],
             (900, 450),
             written,
         )?;
@@ -211,7 +211,7 @@ pub(super) fn write_plots(
             equal_aspect: true,
         },
         &[
-            Series::line("static path", xy(&arm1)),
+            Series::line("static path", xy(arm1)),
             Series::line(
                 "needle at taking",
                 xy(&[take.planet_center_mm, take.tip_mm]),
