@@ -16,7 +16,9 @@ cargo run --release --quiet -- design assets/trajectories/g1_ellipse.csv --out "
 cargo run --release --quiet -- simulate "$out/design/design.json" --out "$out/sim" > /dev/null
 svg="$out/sim/animation.svg"
 # Size in mm → CSS px (96/25.4), rendered at 0.5 device scale.
-read -r w h < <(head -c 400 "$svg" | sed -n 's/.*width="\([0-9.]*\)mm" height="\([0-9.]*\)mm".*/\1 \2/p')
+root=$(tr '\n' ' ' < "$svg" | grep -o '<svg[^>]*>' | head -1)
+w=$(sed -n 's/.* width="\([0-9.]*\)mm".*/\1/p' <<< "$root")
+h=$(sed -n 's/.* height="\([0-9.]*\)mm".*/\1/p' <<< "$root")
 pw=$(awk -v v="$w" 'BEGIN{printf "%d", v*96/25.4*0.5+2}')
 ph=$(awk -v v="$h" 'BEGIN{printf "%d", v*96/25.4*0.5+2}')
 for t in 100 1500; do

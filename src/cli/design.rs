@@ -192,13 +192,13 @@ pub fn run(args: Args) -> CliResult {
             let mut t = match toothed(&args, &mut d, m) {
                 Ok(t) => t,
                 Err(e) => {
-                    ncgear::output::files::write_design(&d, &args.out)
+                    ncgear::output::write_design(&d, &args.out)
                         .map_err(|e| runtime_error(miette::miette!("{e}")))?;
                     return Err(e);
                 }
             };
             teeth_files =
-                ncgear::output::files::write_teeth(&mut t, &args.out, args.rack.dxf_version.into())
+                ncgear::output::write_teeth(&mut t, &args.out, args.rack.dxf_version.into())
                     .map_err(|e| runtime_error(miette::miette!("{e}")))?;
             // The report now lists the CAD files.
             t.record(&mut d);
@@ -206,7 +206,7 @@ pub fn run(args: Args) -> CliResult {
         }
         None => None,
     };
-    let mut written = ncgear::output::files::write_design(&d, &args.out)
+    let mut written = ncgear::output::write_design(&d, &args.out)
         .map_err(|e| runtime_error(miette::miette!("{e}")))?;
     written.extend(teeth_files);
     if args.json {

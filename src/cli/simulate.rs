@@ -3,6 +3,7 @@ use super::{CliResult, input_error, print_json, runtime_error};
 use ncgear::design::train::{TrainPolicy, TrainTeethOptions, tooth_train};
 use ncgear::design::trajectory::Trajectory;
 use ncgear::output::animate::AnimationOptions;
+use ncgear::output::write_simulation;
 use ncgear::simulate::{DesignFile, FeatureOptions, SimulateError, Simulation};
 use ncgear::teeth::ToothPolicy;
 use std::path::PathBuf;
@@ -113,11 +114,10 @@ pub fn run(args: Args) -> CliResult {
         }
         None => Simulation::new(asm),
     };
-    let report = ncgear::output::files::write_simulation(&sim, &target, &opts, &anim, &args.out)
-        .map_err(|e| match e {
-            SimulateError::BadOption { option: "out", .. } => runtime_error(miette::miette!("{e}")),
-            _ => input(e),
-        })?;
+    let report = write_simulation(&sim, &target, &opts, &anim, &args.out).map_err(|e| match e {
+        SimulateError::BadOption { option: "out", .. } => runtime_error(miette::miette!("{e}")),
+        _ => input(e),
+    })?;
     let json =
         serde_json::to_string_pretty(&report).map_err(|e| runtime_error(miette::miette!("{e}")))?;
     std::fs::write(args.out.join("simulate.json"), &json)

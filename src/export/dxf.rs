@@ -23,6 +23,65 @@ pub enum DxfVersion {
     R12,
 }
 
+/// `$TDCREATE`/`$TDUCREATE`/`$TDUPDATE`/`$TDUUPDATE` (Julian day 2451545.0, 2000-01-01 12:00) and
+/// `$FINGERPRINTGUID`/`$VERSIONGUID` (fixed, not random) of every R2010 file: the same sheet gives
+/// the same bytes. Read by the `dxf` crate itself, so the values need no date/UUID types here.
+const FIXED_HEADER: &str = "  0\nSECTION\n  2\nHEADER\n\
+  9\n$TDCREATE\n 40\n2451545.0\n  9\n$TDUCREATE\n 40\n2451545.0\n\
+  9\n$TDUPDATE\n 40\n2451545.0\n  9\n$TDUUPDATE\n 40\n2451545.0\n\
+  9\n$FINGERPRINTGUID\n  2\n6e636765-6172-4000-8000-000000000001\n\
+  9\n$VERSIONGUID\n  2\n6e636765-6172-4000-8000-000000000002\n\
+  0\nENDSEC\n  0\nEOF\n";
+
+/// The R2010 drawing of `contours` (`(layer, points mm, closed)`) and the sheet's markers, with the
+/// fixed header stamps of [`FIXED_HEADER`].
+fn r2010(sheet: &Sheet, contours: Vec<(String, Vec<[f64; 2]>, bool)>) -> Drawing {
+    let mut d = Drawing::new();
+    // The template is a constant and valid; on a parse failure the crate's defaults stay.
+    if let Ok(fixed) = Drawing::load(&mut FIXED_HEADER.as_bytes()) {
+        let (h, f) = (&mut d.header, fixed.header);
+        h.creation_date = f.creation_date;
+        h.creation_date_universal = f.creation_date_universal;
+        h.update_date = f.update_date;
+        h.update_date_universal = f.update_date_universal;
+        h.fingerprint_guid = f.fingerprint_guid;
+        h.version_guid = f.version_guid;
+    }
+    d.header.version = AcadVersion::R2010;
+    d.header.default_drawing_units = Units::Millimeters;
+    d.header.drawing_units = DrawingUnits::Metric;
+    for name in sheet.layers() {
+        let layer = Layer {
+            name,
+            ..Default::default()
+        };
+        d.add_layer(layer);
+    }
+    for (layer, pts, closed) in contours {
+        let mut pl = LwPolyline::default();
+        pl.set_is_closed(closed);
+        pl.vertices = pts
+            .iter()
+            .map(|p| LwPolylineVertex {
+                x: p[0],
+                y: p[1],
+                ..Default::default()
+            })
+            .collect();
+        let mut e = Entity::new(EntityType::LwPolyline(pl));
+        e.common.layer = layer;
+        d.add_entity(e);
+    }
+    for m in &sheet.markers {
+        let mut e = Entity::new(EntityType::ModelPoint(ModelPoint::new(Point::new(
+            m.at_mm[0], m.at_mm[1], 0.0,
+        ))));
+        e.common.layer = m.layer.clone();
+        d.add_entity(e);
+    }
+    d
+}
+
 /// Writes `sheet` as DXF; each closed contour is simplified to chord tolerance `chord_tol_mm`.
 pub fn write_dxf(
     sheet: &Sheet,
@@ -52,43 +111,12 @@ pub fn write_dxf(
         .collect();
     match version {
         DxfVersion::R2010 => {
-            let mut d = Drawing::new();
-            d.header.version = AcadVersion::R2010;
-            d.header.default_drawing_units = Units::Millimeters;
-            d.header.drawing_units = DrawingUnits::Metric;
-            for name in sheet.layers() {
-                let layer = Layer {
-                    name,
-                    ..Default::default()
-                };
-                d.add_layer(layer);
-            }
-            for (layer, pts, closed) in simplified {
-                let mut pl = LwPolyline::default();
-                pl.set_is_closed(closed);
-                pl.vertices = pts
-                    .iter()
-                    .map(|p| LwPolylineVertex {
-                        x: p[0],
-                        y: p[1],
-                        ..Default::default()
-                    })
-                    .collect();
-                let mut e = Entity::new(EntityType::LwPolyline(pl));
-                e.common.layer = layer;
-                d.add_entity(e);
-            }
-            for m in &sheet.markers {
-                let mut e = Entity::new(EntityType::ModelPoint(ModelPoint::new(Point::new(
-                    m.at_mm[0], m.at_mm[1], 0.0,
-                ))));
-                e.common.layer = m.layer.clone();
-                d.add_entity(e);
-            }
-            d.save_file(path).map_err(|e| ExportError::Dxf {
-                path: path.display().to_string(),
-                message: e.to_string(),
-            })
+            r2010(sheet, simplified)
+                .save_file(path)
+                .map_err(|e| ExportError::Dxf {
+                    path: path.display().to_string(),
+                    message: e.to_string(),
+                })
         }
         DxfVersion::R12 => {
             let mut s = String::new();
@@ -148,5 +176,53 @@ pub fn write_dxf(
             pair(0, "EOF");
             std::fs::write(path, s).map_err(|e| io_err(path, e))
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::export::{Contour, Marker};
+
+    fn sheet() -> Sheet {
+        Sheet {
+            contours: vec![Contour {
+                name: "square".into(),
+                layer: "OUTLINE".into(),
+                points_mm: vec![[0.0, 0.0], [10.0, 0.0], [10.0, 10.0], [0.0, 10.0]],
+                closed: true,
+            }],
+            markers: vec![Marker {
+                name: "O".into(),
+                layer: "CENTRES".into(),
+                at_mm: [5.0, 5.0],
+            }],
+        }
+    }
+
+    #[test]
+    fn same_sheet_gives_the_same_bytes_with_fixed_stamps() {
+        let dir = std::env::temp_dir().join(format!("ncgear_dxf_det_{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let (a, b) = (dir.join("a.dxf"), dir.join("b.dxf"));
+        write_dxf(&sheet(), &a, DxfVersion::R2010, 0.0).unwrap();
+        std::thread::sleep(std::time::Duration::from_millis(1100));
+        write_dxf(&sheet(), &b, DxfVersion::R2010, 0.0).unwrap();
+        let (ta, tb) = (std::fs::read(&a).unwrap(), std::fs::read(&b).unwrap());
+        assert_eq!(ta, tb, "two writes of the same sheet differ");
+        let text = String::from_utf8(ta).unwrap();
+        for stamp in [
+            "$TDCREATE\n 40\n2451545.0",
+            "$TDUUPDATE\n 40\n2451545.0",
+            "$FINGERPRINTGUID\n  2\n6e636765-6172-4000-8000-000000000001",
+            "$VERSIONGUID\n  2\n6e636765-6172-4000-8000-000000000002",
+        ] {
+            let stamp = stamp.replace('\n', "\r\n");
+            assert!(
+                text.contains(stamp.as_str()) || text.contains(&stamp.replace("\r\n", "\n")),
+                "missing {stamp:?}"
+            );
+        }
+        let _ = std::fs::remove_dir_all(&dir);
     }
 }

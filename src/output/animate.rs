@@ -1,12 +1,17 @@
 //! Animated SVG of the whole mechanism over one carrier turn (SMIL `animateTransform`: plays in a
 //! browser with no script), and a static multi-frame sheet. 1 SVG user unit = 1 mm; the world
 //! frame is drawn with y up (one `scale(1,−1)` group), so rotations are CCW-positive as in the
-//! design file.
+//! design file. Documents are built with the `svg` crate; numbers are formatted here (mm with 3
+//! decimals, degrees with 4) to keep the precision.
 
 use crate::geometry::pitch::PitchCurve;
-use crate::simulate::Simulation;
+use crate::simulate::{Simulation, TwoArms};
 use std::f64::consts::TAU;
 use std::fmt::Write as _;
+use svg::Document;
+use svg::node::element::{
+    AnimateTransform, Circle, Definitions, Group, Path as SvgPath, Rectangle, Text, Use,
+};
 
 /// Options of the animation.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -29,6 +34,7 @@ impl Default for AnimationOptions {
     }
 }
 
+/// SVG path data of a pitch curve in its body frame, `n` points uniform in θ, 3 decimals, mm.
 fn body_path(curve: &PitchCurve, n: usize) -> String {
     let mut d = String::new();
     for k in 0..n {
@@ -46,6 +52,7 @@ fn body_path(curve: &PitchCurve, n: usize) -> String {
     d
 }
 
+/// SVG path data `M x,y L x,y … [Z]` of a polyline (y up, world or body frame), 3 decimals, mm.
 fn polyline(pts: &[[f64; 2]], close: bool) -> String {
     let mut d = String::new();
     for (k, p) in pts.iter().enumerate() {
@@ -88,64 +95,112 @@ fn extent(sim: &Simulation, target: &[[f64; 2]], n: usize) -> [f64; 4] {
     [b[0] - m, b[1] - m, b[2] + m, b[3] + m]
 }
 
-fn header(s: &mut String, b: [f64; 4], scale: f64) {
+/// The document: `width`/`height` = extent × `scale` (mm), a viewBox over `b` with y flipped
+/// (`[xmin, ymin, xmax, ymax]`, mm, 3 decimals) and a white background.
+fn document(b: [f64; 4], scale: f64) -> Document {
     let (w, h) = (b[2] - b[0], b[3] - b[1]);
-    let _ = writeln!(
-        s,
-        r#"<svg xmlns="http://www.w3.org/2000/svg" xmlns:xlink="http://www.w3.org/1999/xlink" width="{:.2}mm" height="{:.2}mm" viewBox="{:.3} {:.3} {w:.3} {h:.3}">"#,
-        w * scale,
-        h * scale,
-        b[0],
-        -b[3]
-    );
-    let _ = writeln!(
-        s,
-        r##"<rect x="{:.3}" y="{:.3}" width="{w:.3}" height="{h:.3}" fill="#ffffff"/>"##,
-        b[0], -b[3]
-    );
+    let (x, y) = (format!("{:.3}", b[0]), format!("{:.3}", -b[3]));
+    Document::new()
+        .set("xmlns:xlink", "http://www.w3.org/1999/xlink")
+        .set("width", format!("{:.2}mm", w * scale))
+        .set("height", format!("{:.2}mm", h * scale))
+        .set("viewBox", format!("{x} {y} {w:.3} {h:.3}"))
+        .add(
+            Rectangle::new()
+                .set("x", x)
+                .set("y", y)
+                .set("width", format!("{w:.3}"))
+                .set("height", format!("{h:.3}"))
+                .set("fill", "#ffffff"),
+        )
 }
 
-fn defs(s: &mut String, sim: &Simulation, n: usize) {
+/// A `<use>` of the definition `id` (both `xlink:href` and `href`, for old and new viewers).
+fn use_of(id: &str) -> Use {
+    Use::new()
+        .set("xlink:href", format!("#{id}"))
+        .set("href", format!("#{id}"))
+}
+
+/// The gear shapes (body frames, mm): `sun`, `intermediate` and `planet` (with the needle A → B
+/// at the needle angle γ and the tip marked).
+fn defs(sim: &Simulation, n: usize) -> Definitions {
     let asm = &sim.assembly;
     let shape = |k: usize, c: &PitchCurve| match &sim.outlines {
         Some(o) => polyline(&o[k], true),
         None => body_path(c, n),
     };
-    let _ = writeln!(s, "<defs>");
-    let _ = writeln!(
-        s,
-        r##"<path id="sun" d="{}" fill="#dbe9f6" stroke="#1f77b4" stroke-width="0.5"/>"##,
-        shape(0, &asm.sun)
-    );
-    let _ = writeln!(
-        s,
-        r##"<path id="intermediate" d="{}" fill="#dff2df" stroke="#2ca02c" stroke-width="0.5"/>"##,
-        shape(1, &asm.intermediate)
-    );
-    // The planet carries the needle (A → B at the needle angle γ) and marks the tip.
     let g = asm.needle_angle_rad;
-    let (bx, by) = (asm.l3_mm * g.cos(), asm.l3_mm * g.sin());
-    let _ = writeln!(
-        s,
-        r##"<g id="planet"><path d="{}" fill="#ece2f4" stroke="#9467bd" stroke-width="0.5"/><path d="M0,0 L{bx:.3},{by:.3}" stroke="#ff7f0e" stroke-width="1.5"/><circle cx="{bx:.3}" cy="{by:.3}" r="1.8" fill="#d62728"/></g>"##,
-        shape(2, &asm.planet)
+    let (bx, by) = (
+        format!("{:.3}", asm.l3_mm * g.cos()),
+        format!("{:.3}", asm.l3_mm * g.sin()),
     );
-    let _ = writeln!(s, "</defs>");
+    Definitions::new()
+        .add(
+            SvgPath::new()
+                .set("id", "sun")
+                .set("d", shape(0, &asm.sun))
+                .set("fill", "#dbe9f6")
+                .set("stroke", "#1f77b4")
+                .set("stroke-width", "0.5"),
+        )
+        .add(
+            SvgPath::new()
+                .set("id", "intermediate")
+                .set("d", shape(1, &asm.intermediate))
+                .set("fill", "#dff2df")
+                .set("stroke", "#2ca02c")
+                .set("stroke-width", "0.5"),
+        )
+        .add(
+            Group::new()
+                .set("id", "planet")
+                .add(
+                    SvgPath::new()
+                        .set("d", shape(2, &asm.planet))
+                        .set("fill", "#ece2f4")
+                        .set("stroke", "#9467bd")
+                        .set("stroke-width", "0.5"),
+                )
+                .add(
+                    SvgPath::new()
+                        .set("d", format!("M0,0 L{bx},{by}"))
+                        .set("stroke", "#ff7f0e")
+                        .set("stroke-width", "1.5"),
+                )
+                .add(
+                    Circle::new()
+                        .set("cx", bx)
+                        .set("cy", by)
+                        .set("r", "1.8")
+                        .set("fill", "#d62728"),
+                ),
+        )
 }
 
-fn static_layers(s: &mut String, target: &[[f64; 2]], traced: &[[f64; 2]]) {
+/// The target (when given) and the traced path, world frame, mm.
+fn static_layers(target: &[[f64; 2]], traced: &[[f64; 2]]) -> Vec<SvgPath> {
+    let mut layers = Vec::new();
     if !target.is_empty() {
-        let _ = writeln!(
-            s,
-            r##"<path id="target" d="{}" fill="none" stroke="#888888" stroke-width="1.2"/>"##,
-            polyline(target, true)
+        layers.push(
+            SvgPath::new()
+                .set("id", "target")
+                .set("d", polyline(target, true))
+                .set("fill", "none")
+                .set("stroke", "#888888")
+                .set("stroke-width", "1.2"),
         );
     }
-    let _ = writeln!(
-        s,
-        r##"<path id="traced" d="{}" fill="none" stroke="#d62728" stroke-width="0.4" stroke-dasharray="2 1"/>"##,
-        polyline(traced, true)
+    layers.push(
+        SvgPath::new()
+            .set("id", "traced")
+            .set("d", polyline(traced, true))
+            .set("fill", "none")
+            .set("stroke", "#d62728")
+            .set("stroke-width", "0.4")
+            .set("stroke-dasharray", "2 1"),
     );
+    layers
 }
 
 /// The animated SVG: carrier, sun, both intermediates and planets, needles, target and traced
@@ -158,19 +213,25 @@ pub fn animated_svg(sim: &Simulation, target: &[[f64; 2]], opts: &AnimationOptio
         .collect();
     let traced: Vec<[f64; 2]> = turn[..n].iter().map(|t| t.arm1.tip_mm).collect();
     let b = extent(sim, target, 90);
-    let mut s = String::new();
-    header(&mut s, b, 1.0);
-    let _ = writeln!(s, r#"<g transform="scale(1,-1)">"#);
-    defs(&mut s, sim, opts.outline_points);
-    static_layers(&mut s, target, &traced);
+    let mut world = Group::new()
+        .set("transform", "scale(1,-1)")
+        .add(defs(sim, opts.outline_points));
+    for layer in static_layers(target, &traced) {
+        world = world.add(layer);
+    }
     let o = sim.assembly.center_mm;
     let dur = format!("{:.3}s", opts.seconds);
+    // Linear interpolation of `values` (key frames, `;`-separated) over one turn, looping.
     let anim = |kind: &str, values: String| {
-        format!(
-            r#"<animateTransform attributeName="transform" type="{kind}" values="{values}" dur="{dur}" repeatCount="indefinite" calcMode="linear"/>"#
-        )
+        AnimateTransform::new()
+            .set("attributeName", "transform")
+            .set("type", kind)
+            .set("values", values)
+            .set("dur", dur.as_str())
+            .set("repeatCount", "indefinite")
+            .set("calcMode", "linear")
     };
-    // Carrier: a bar through O along the two arms.
+    // Carrier: a bar through O along the two arms (rotation in degrees about O).
     let a2 = 2.0 * sim.assembly.a_mm;
     let phis: Vec<String> = turn
         .iter()
@@ -183,22 +244,32 @@ pub fn animated_svg(sim: &Simulation, target: &[[f64; 2]], opts: &AnimationOptio
             )
         })
         .collect();
-    let _ = writeln!(
-        s,
-        r##"<g id="carrier">{}<path d="M{:.3},{:.3} L{:.3},{:.3}" stroke="#444444" stroke-width="3" stroke-linecap="round" opacity="0.6"/></g>"##,
-        anim("rotate", phis.join(";")),
-        o[0] - a2,
-        o[1],
-        o[0] + a2,
-        o[1]
-    );
-    let _ = writeln!(
-        s,
-        r##"<use xlink:href="#sun" href="#sun" transform="translate({:.3},{:.3})"/>"##,
-        o[0], o[1]
-    );
+    world = world
+        .add(
+            Group::new()
+                .set("id", "carrier")
+                .add(anim("rotate", phis.join(";")))
+                .add(
+                    SvgPath::new()
+                        .set(
+                            "d",
+                            format!(
+                                "M{:.3},{:.3} L{:.3},{:.3}",
+                                o[0] - a2,
+                                o[1],
+                                o[0] + a2,
+                                o[1]
+                            ),
+                        )
+                        .set("stroke", "#444444")
+                        .set("stroke-width", "3")
+                        .set("stroke-linecap", "round")
+                        .set("opacity", "0.6"),
+                ),
+        )
+        .add(use_of("sun").set("transform", format!("translate({:.3},{:.3})", o[0], o[1])));
     for arm in 0..2 {
-        let pose = |t: &crate::simulate::TwoArms| if arm == 0 { t.arm1 } else { t.arm2 };
+        let pose = |t: &TwoArms| if arm == 0 { t.arm1 } else { t.arm2 };
         for (id, centre, angle) in [
             (
                 "intermediate",
@@ -215,6 +286,7 @@ pub fn animated_svg(sim: &Simulation, target: &[[f64; 2]], opts: &AnimationOptio
                 turn.iter().map(|t| pose(t).planet_angle_rad).collect(),
             ),
         ] {
+            // Centre translation (mm) outside, body rotation (degrees) inside.
             let tr: Vec<String> = centre
                 .iter()
                 .map(|c| format!("{:.3},{:.3}", c[0], c[1]))
@@ -223,23 +295,26 @@ pub fn animated_svg(sim: &Simulation, target: &[[f64; 2]], opts: &AnimationOptio
                 .iter()
                 .map(|a| format!("{:.4}", a.to_degrees()))
                 .collect();
-            let _ = writeln!(
-                s,
-                r##"<g id="{id}{}">{}<g>{}<use xlink:href="#{id}" href="#{id}"/></g></g>"##,
-                arm + 1,
-                anim("translate", tr.join(";")),
-                anim("rotate", rot.join(";"))
+            world = world.add(
+                Group::new()
+                    .set("id", format!("{id}{}", arm + 1))
+                    .add(anim("translate", tr.join(";")))
+                    .add(
+                        Group::new()
+                            .add(anim("rotate", rot.join(";")))
+                            .add(use_of(id)),
+                    ),
             );
         }
     }
-    let _ = writeln!(
-        s,
-        r##"<circle cx="{:.3}" cy="{:.3}" r="1.5" fill="#000000"/>"##,
-        o[0], o[1]
+    world = world.add(
+        Circle::new()
+            .set("cx", format!("{:.3}", o[0]))
+            .set("cy", format!("{:.3}", o[1]))
+            .set("r", "1.5")
+            .set("fill", "#000000"),
     );
-    let _ = writeln!(s, "</g>");
-    s.push_str("</svg>\n");
-    s
+    format!("{}\n", document(b, 1.0).add(world))
 }
 
 /// A static sheet of `cols × rows` frames at equal carrier-angle steps, each with both arms.
@@ -256,29 +331,35 @@ pub fn frame_sheet(
     let b = extent(sim, target, 90);
     let (w, h) = (b[2] - b[0], b[3] - b[1]);
     let sheet = [b[0], b[1], b[0] + w * cols as f64, b[1] + h * rows as f64];
-    let mut s = String::new();
-    header(&mut s, sheet, 0.5);
-    let _ = writeln!(s, r#"<g transform="scale(1,-1)">"#);
-    defs(&mut s, sim, outline_points);
+    let mut world = Group::new()
+        .set("transform", "scale(1,-1)")
+        .add(defs(sim, outline_points));
     for k in 0..frames {
         let (c, r) = (k % cols, k / cols);
         let dx = c as f64 * w;
         let dy = (rows - 1 - r) as f64 * h;
         let f = k as f64 / frames as f64;
         let t = sim.pose(sim.angle_at(f));
-        let _ = writeln!(s, r#"<g transform="translate({dx:.3},{dy:.3})">"#);
-        static_layers(&mut s, target, &traced);
+        let mut frame = Group::new().set("transform", format!("translate({dx:.3},{dy:.3})"));
+        for layer in static_layers(target, &traced) {
+            frame = frame.add(layer);
+        }
         let o = sim.assembly.center_mm;
-        let _ = writeln!(
-            s,
-            r##"<use xlink:href="#sun" href="#sun" transform="translate({:.3},{:.3})"/>"##,
-            o[0], o[1]
-        );
+        frame = frame
+            .add(use_of("sun").set("transform", format!("translate({:.3},{:.3})", o[0], o[1])));
         for p in [t.arm1, t.arm2] {
-            let _ = writeln!(
-                s,
-                r##"<path d="M{:.3},{:.3} L{:.3},{:.3}" stroke="#444444" stroke-width="3" opacity="0.6"/>"##,
-                o[0], o[1], p.planet_center_mm[0], p.planet_center_mm[1]
+            frame = frame.add(
+                SvgPath::new()
+                    .set(
+                        "d",
+                        format!(
+                            "M{:.3},{:.3} L{:.3},{:.3}",
+                            o[0], o[1], p.planet_center_mm[0], p.planet_center_mm[1]
+                        ),
+                    )
+                    .set("stroke", "#444444")
+                    .set("stroke-width", "3")
+                    .set("opacity", "0.6"),
             );
             for (id, c, a) in [
                 (
@@ -288,25 +369,29 @@ pub fn frame_sheet(
                 ),
                 ("planet", p.planet_center_mm, p.planet_angle_rad),
             ] {
-                let _ = writeln!(
-                    s,
-                    r##"<use xlink:href="#{id}" href="#{id}" transform="translate({:.3},{:.3}) rotate({:.4})"/>"##,
-                    c[0],
-                    c[1],
-                    a.to_degrees()
-                );
+                frame = frame.add(use_of(id).set(
+                    "transform",
+                    format!(
+                        "translate({:.3},{:.3}) rotate({:.4})",
+                        c[0],
+                        c[1],
+                        a.to_degrees()
+                    ),
+                ));
             }
         }
-        let _ = writeln!(
-            s,
-            r##"<g transform="scale(1,-1)"><text x="{:.3}" y="{:.3}" font-family="sans-serif" font-size="8" fill="#222222">φH = {:.0}°</text></g>"##,
-            b[0] + 4.0,
-            -(b[3] - 10.0),
-            sim.angle_at(f).to_degrees()
+        // The label, upright again (y down) in the frame's top-left corner.
+        frame = frame.add(
+            Group::new().set("transform", "scale(1,-1)").add(
+                Text::new(format!("φH = {:.0}°", sim.angle_at(f).to_degrees()))
+                    .set("x", format!("{:.3}", b[0] + 4.0))
+                    .set("y", format!("{:.3}", -(b[3] - 10.0)))
+                    .set("font-family", "sans-serif")
+                    .set("font-size", "8")
+                    .set("fill", "#222222"),
+            ),
         );
-        let _ = writeln!(s, "</g>");
+        world = world.add(frame);
     }
-    let _ = writeln!(s, "</g>");
-    s.push_str("</svg>\n");
-    s
+    format!("{}\n", document(sheet, 0.5).add(world))
 }

@@ -1,5 +1,17 @@
-//! What a design run writes: the design's files, charts and the animation.
+//! What a design or simulation run writes: the design's files, the simulation's files, the CAD
+//! files of a toothed train, charts and the animation.
 
 pub mod animate;
-pub mod files;
+mod design_files;
+mod error;
+mod mechanism_preview;
 pub mod plot;
+mod simulation_files;
+mod simulation_plots;
+mod teeth_files;
+
+pub use design_files::{pitch_csv, ratio_plot, write_design};
+pub use error::OutputError;
+pub use mechanism_preview::{mechanism_chart, mechanism_svg};
+pub use simulation_files::{SimulationReport, write_simulation};
+pub use teeth_files::write_teeth;

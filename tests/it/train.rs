@@ -342,7 +342,20 @@ fn design_cli_with_module_writes_cad_files_and_refuses_undercut() {
     assert_eq!(closed, 6, "3 outlines + 3 pitch curves");
     // SVG in mm.
     let svg = std::fs::read_to_string(out.join("teeth/train.svg")).unwrap();
-    assert!(svg.contains("mm\" height=\"") && svg.contains("id=\"PLANET_OUTLINE\""));
+    // The root element's width and height are lengths in mm (attribute order is the writer's).
+    let root = svg
+        .split("<svg")
+        .nth(1)
+        .and_then(|r| r.split('>').next())
+        .unwrap_or("");
+    let mm = |name: &str| {
+        root.split(&format!(" {name}=\""))
+            .nth(1)
+            .and_then(|r| r.split('"').next())
+            .and_then(|v| v.strip_suffix("mm"))
+            .is_some_and(|v| v.parse::<f64>().is_ok_and(|x| x > 0.0))
+    };
+    assert!(mm("width") && mm("height") && svg.contains("id=\"PLANET_OUTLINE\""));
 
     // `ncgear simulate` on that file animates the final, toothed gears: the sun is drawn with its
     // teeth, and the tip's distance from the target is the teeth round trip's.

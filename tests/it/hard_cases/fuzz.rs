@@ -95,7 +95,7 @@ fn design_json() -> &'static str {
         let d = ncgear::design::design(&t, &ncgear::design::DesignOptions::default()).expect("G1");
         let dir = std::env::temp_dir().join(format!("ncgear_fuzz_{}", std::process::id()));
         let _ = std::fs::create_dir_all(&dir);
-        ncgear::output::files::write_design(&d, &dir).expect("write");
+        ncgear::output::write_design(&d, &dir).expect("write");
         let text = std::fs::read_to_string(dir.join("design.json")).expect("design.json");
         let _ = std::fs::remove_dir_all(&dir);
         text

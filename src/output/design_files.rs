@@ -1,0 +1,129 @@
+//! Files written by `ncgear design`: `design.json`, the pitch tables (CSV, mm and degrees), the
+//! traced path, the mechanism preview and the ratio plot.
+
+use super::error::{OutputError, create_dir, write};
+use super::mechanism_preview::{mechanism_chart, mechanism_svg};
+use super::plot::{ChartLabels, Series, line_chart};
+use crate::design::Design;
+use crate::geometry::pitch::PitchCurve;
+use std::f64::consts::TAU;
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+
+/// A pitch table as CSV: header `theta_deg,r_mm,x_mm,y_mm`, body frame, `n` uniform samples.
+#[must_use]
+pub fn pitch_csv(curve: &PitchCurve, n: usize) -> String {
+    let mut s = String::from("theta_deg,r_mm,x_mm,y_mm\n");
+    for k in 0..n {
+        let th = TAU * k as f64 / n as f64;
+        let r = curve.radius_mm(th);
+        let _ = writeln!(
+            s,
+            "{:.6},{:.9},{:.9},{:.9}",
+            th.to_degrees(),
+            r,
+            r * th.cos(),
+            r * th.sin()
+        );
+    }
+    s
+}
+
+/// Writes every design output into `dir` (created if needed); returns the paths written.
+pub fn write_design(design: &Design, dir: &Path) -> Result<Vec<PathBuf>, OutputError> {
+    create_dir(dir)?;
+    let mut written = Vec::new();
+    let json = serde_json::to_string_pretty(&design.report).map_err(|e| OutputError::Io {
+        path: "design.json".into(),
+        message: e.to_string(),
+    })?;
+    let p = dir.join("design.json");
+    write(&p, &json)?;
+    written.push(p);
+    let n = design.report.gears.sun.pitch.len();
+    let asm = &design.assembly;
+    for (name, curve) in [
+        ("sun", &asm.sun),
+        ("intermediate", &asm.intermediate),
+        ("planet", &asm.planet),
+    ] {
+        let p = dir.join(format!("{name}.csv"));
+        write(&p, &pitch_csv(curve, n))?;
+        written.push(p);
+    }
+    let mut traced = String::from("x_mm,y_mm\n");
+    for q in &design.traced_mm {
+        let _ = writeln!(traced, "{:.9},{:.9}", q[0], q[1]);
+    }
+    let p = dir.join("traced.csv");
+    write(&p, &traced)?;
+    written.push(p);
+    let target: Vec<[f64; 2]> = design
+        .inversion
+        .points
+        .iter()
+        .map(|q| {
+            [
+                asm.center_mm[0] + q[0],
+                asm.center_mm[1] + f64::from(asm.direction) * q[1],
+            ]
+        })
+        .collect();
+    let p = dir.join("design.svg");
+    write(&p, &mechanism_svg(asm, &target, &design.traced_mm, 0.0))?;
+    written.push(p);
+    let p = dir.join("design.png");
+    mechanism_chart(asm, &target, &design.traced_mm, 0.0, &p)?;
+    written.push(p);
+    let p = dir.join("ratio.svg");
+    ratio_plot(design, &p)?;
+    written.push(p);
+    Ok(written)
+}
+
+/// Plot of i21 and i31 against the sun angle / carrier angle (degrees after the reference ray).
+pub fn ratio_plot(design: &Design, path: &Path) -> Result<(), OutputError> {
+    let m = &design.mechanism;
+    let n = 720;
+    let i21: Vec<(f64, f64)> = (0..=n)
+        .map(|k| {
+            let t = TAU * k as f64 / n as f64;
+            (t.to_degrees(), m.ratio.value(t))
+        })
+        .collect();
+    let i31: Vec<(f64, f64)> = (0..=n)
+        .map(|k| {
+            let t = TAU * k as f64 / n as f64;
+            (
+                t.to_degrees(),
+                m.ratio.value(t) / m.ratio.value(m.half_turn_map(t)),
+            )
+        })
+        .collect();
+    let target: Vec<(f64, f64)> = {
+        let law = &design.inversion.law;
+        let tau = m.sun_phase_rad - design.inversion.phi_h0_rad;
+        (0..=n)
+            .map(|k| {
+                let t = TAU * k as f64 / n as f64;
+                (t.to_degrees(), law.i31(t + tau))
+            })
+            .collect()
+    };
+    line_chart(
+        path,
+        &ChartLabels {
+            title: "Gear ratios over one turn".into(),
+            x: "sun angle from the design reference ray (deg)".into(),
+            y: "ratio (-)".into(),
+            equal_aspect: false,
+        },
+        &[
+            Series::line("i21 (sun → intermediate)", i21),
+            Series::line("i31 (design)", i31),
+            Series::line("i31 (target)", target),
+        ],
+        (900, 500),
+    )?;
+    Ok(())
+}

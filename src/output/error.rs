@@ -1,0 +1,39 @@
+//! Why an output file could not be written, and the helpers that write a text file or create a directory.
+
+use std::path::Path;
+
+/// Why an output file could not be written.
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum OutputError {
+    /// File system error.
+    #[error("cannot write {path}: {message}")]
+    Io {
+        /// Path.
+        path: String,
+        /// OS message.
+        message: String,
+    },
+    /// Plotting failed.
+    #[error(transparent)]
+    Plot(#[from] super::plot::PlotError),
+    /// A CAD export failed.
+    #[error(transparent)]
+    Export(#[from] crate::export::ExportError),
+}
+
+/// Writes `text` to `path`.
+pub(super) fn write(path: &Path, text: &str) -> Result<(), OutputError> {
+    std::fs::write(path, text).map_err(|e| OutputError::Io {
+        path: path.display().to_string(),
+        message: e.to_string(),
+    })
+}
+
+/// Creates `dir` and its parents.
+pub(super) fn create_dir(dir: &Path) -> Result<(), OutputError> {
+    std::fs::create_dir_all(dir).map_err(|e| OutputError::Io {
+        path: dir.display().to_string(),
+        message: e.to_string(),
+    })
+}

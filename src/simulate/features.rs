@@ -1,0 +1,257 @@
+//! The agronomic features of one carrier turn (definitions in [`crate::simulate`]) and the
+//! distance of a traced path from its target, mm, deg, mm/s.
+
+use super::{SimulateError, Simulation, TwoArms};
+use serde::{Deserialize, Serialize};
+use std::f64::consts::TAU;
+
+/// Inputs of the agronomic features.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct FeatureOptions {
+    /// Carrier speed, rpm.
+    pub rpm: f64,
+    /// Forward speed of the machine, mm/s (≥ 0).
+    pub forward_mm_s: f64,
+    /// Planting depth d, mm: the soil surface is taken at `min y + d`.
+    pub planting_depth_mm: f64,
+    /// Taking level y_t (mm), or the highest point.
+    pub take_level_mm: Option<f64>,
+    /// Planting level y_p (mm), or the lowest point.
+    pub plant_level_mm: Option<f64>,
+    /// Samples per turn.
+    pub samples: usize,
+}
+
+impl Default for FeatureOptions {
+    fn default() -> Self {
+        Self {
+            rpm: 300.0,
+            forward_mm_s: 1000.0,
+            planting_depth_mm: 30.0,
+            take_level_mm: None,
+            plant_level_mm: None,
+            samples: 3600,
+        }
+    }
+}
+
+impl FeatureOptions {
+    /// Forward speed (mm/s) that gives plant spacing `s` mm with two arms: one plant per half turn.
+    #[must_use]
+    pub fn forward_for_spacing(spacing_mm: f64, rpm: f64) -> f64 {
+        2.0 * spacing_mm * rpm / 60.0
+    }
+}
+
+/// Agronomic features of a mechanism (definitions in [`crate::simulate`]).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Features {
+    /// Trajectory height H, mm.
+    pub height_mm: f64,
+    /// Static trajectory bounding box `[xmin, xmax, ymin, ymax]`, mm.
+    pub bbox_mm: [f64; 4],
+    /// Largest and smallest tip distance from O, mm.
+    pub rho_range_mm: [f64; 2],
+    /// Carrier angle of the taking instant, deg (world).
+    pub take_carrier_deg: f64,
+    /// Needle angle at taking, deg.
+    pub needle_angle_take_deg: f64,
+    /// Carrier angle of the planting instant, deg (world).
+    pub plant_carrier_deg: f64,
+    /// Needle angle at planting, deg.
+    pub needle_angle_plant_deg: f64,
+    /// Static loop width at the planting depth, mm.
+    pub static_width_at_depth_mm: f64,
+    /// Hole width (dynamic trajectory) at the planting depth, mm.
+    pub hole_width_mm: f64,
+    /// Max tip speed on the static path, mm/s.
+    pub max_tip_speed_mm_s: f64,
+    /// Tip speed on the static path at planting, mm/s.
+    pub tip_speed_at_plant_mm_s: f64,
+    /// Max tip speed on the dynamic path, mm/s.
+    pub max_dynamic_tip_speed_mm_s: f64,
+    /// Minimum distance between the two needles over a turn, mm.
+    pub min_arm_clearance_mm: f64,
+    /// Plant spacing for the given speeds (two plants per turn), mm.
+    pub plant_spacing_mm: f64,
+}
+
+fn seg_seg(p1: [f64; 2], p2: [f64; 2], q1: [f64; 2], q2: [f64; 2]) -> f64 {
+    let pd = crate::math::polyline::seg_dist;
+    let cross = |o: [f64; 2], a: [f64; 2], b: [f64; 2]| {
+        (a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0])
+    };
+    let (d1, d2, d3, d4) = (
+        cross(q1, q2, p1),
+        cross(q1, q2, p2),
+        cross(p1, p2, q1),
+        cross(p1, p2, q2),
+    );
+    if d1 * d2 < 0.0 && d3 * d4 < 0.0 {
+        return 0.0;
+    }
+    pd(p1, q1, q2)
+        .min(pd(p2, q1, q2))
+        .min(pd(q1, p1, p2))
+        .min(pd(q2, p1, p2))
+}
+
+/// Horizontal extent of the points below level `y`, or 0.
+fn width_below(pts: &[[f64; 2]], y: f64) -> f64 {
+    let xs: Vec<f64> = pts.iter().filter(|p| p[1] <= y).map(|p| p[0]).collect();
+    if xs.is_empty() {
+        return 0.0;
+    }
+    xs.iter().fold(f64::MIN, |a, b| a.max(*b)) - xs.iter().fold(f64::MAX, |a, b| a.min(*b))
+}
+
+/// Computes the agronomic features.
+pub fn features(sim: &Simulation, opts: &FeatureOptions) -> Result<Features, SimulateError> {
+    let n = opts.samples.max(360);
+    features_of_turn(
+        &sim.turn(n),
+        sim.assembly.center_mm,
+        sim.assembly.direction,
+        opts,
+    )
+}
+
+/// The agronomic features of one carrier turn given as poses of both arms at `turn.len()` (≥ 8)
+/// instants uniform in time (carrier angle `direction·2πk/n`, rad), e.g. a perturbed train
+/// ([`crate::analysis::transplanter`]); `center_mm` is the carrier axis O (mm). `opts.samples` is
+/// not used (the turn sets the sampling).
+pub fn features_of_turn(
+    turn: &[TwoArms],
+    center_mm: [f64; 2],
+    direction: i8,
+    opts: &FeatureOptions,
+) -> Result<Features, SimulateError> {
+    let n = turn.len();
+    if n < 8 {
+        return Err(SimulateError::BadOption {
+            option: "samples",
+            message: format!("{n} poses per turn; at least 8 are needed"),
+        });
+    }
+    if !(opts.rpm.is_finite() && opts.rpm > 0.0) {
+        return Err(SimulateError::BadOption {
+            option: "rpm",
+            message: format!("{} must be a positive carrier speed in rpm", opts.rpm),
+        });
+    }
+    if !(opts.forward_mm_s.is_finite() && opts.forward_mm_s >= 0.0) {
+        return Err(SimulateError::BadOption {
+            option: "forward speed",
+            message: "must be ≥ 0".into(),
+        });
+    }
+    if !(opts.planting_depth_mm.is_finite() && opts.planting_depth_mm > 0.0) {
+        return Err(SimulateError::BadOption {
+            option: "depth",
+            message: "must be a positive depth in mm".into(),
+        });
+    }
+    let angle_at = |f: f64| f64::from(direction.signum()) * TAU * f;
+    let tips: Vec<[f64; 2]> = turn.iter().map(|p| p.arm1.tip_mm).collect();
+    let (mut xmin, mut xmax, mut ymin, mut ymax) = (f64::MAX, f64::MIN, f64::MAX, f64::MIN);
+    let (mut jlo, mut jhi) = (0, 0);
+    for (j, p) in tips.iter().enumerate() {
+        xmin = xmin.min(p[0]);
+        xmax = xmax.max(p[0]);
+        if p[1] < ymin {
+            ymin = p[1];
+            jlo = j;
+        }
+        if p[1] > ymax {
+            ymax = p[1];
+            jhi = j;
+        }
+    }
+    let o = center_mm;
+    let rho: Vec<f64> = tips
+        .iter()
+        .map(|p| (p[0] - o[0]).hypot(p[1] - o[1]))
+        .collect();
+    let level_crossing =
+        |level: Option<f64>, from: usize, default: usize| -> Result<usize, SimulateError> {
+            let Some(y) = level else { return Ok(default) };
+            if !(y > ymin && y < ymax) {
+                return Err(SimulateError::BadOption {
+                    option: "level",
+                    message: format!(
+                        "level {y} mm is outside the trajectory's height [{ymin:.3}, {ymax:.3}] mm"
+                    ),
+                });
+            }
+            (0..n)
+                .map(|k| (from + k) % n)
+                .find(|&j| tips[j][1] >= y && tips[(j + 1) % n][1] < y)
+                .ok_or(SimulateError::BadOption {
+                    option: "level",
+                    message: format!("the tip never crosses y = {y} mm downwards"),
+                })
+        };
+    let j_take = level_crossing(opts.take_level_mm, jlo, jhi)?;
+    let j_plant = level_crossing(opts.plant_level_mm, jhi, jlo)?;
+    let omega = TAU * opts.rpm / 60.0; // rad/s
+    let dphi = TAU / n as f64;
+    let speed = |j: usize| {
+        let (a, b) = (tips[(j + n - 1) % n], tips[(j + 1) % n]);
+        (b[0] - a[0]).hypot(b[1] - a[1]) / (2.0 * dphi) * omega
+    };
+    let v = opts.forward_mm_s;
+    let dyn_speed = |j: usize| {
+        let (a, b) = (tips[(j + n - 1) % n], tips[(j + 1) % n]);
+        let vx = (b[0] - a[0]) / (2.0 * dphi) * omega - v;
+        let vy = (b[1] - a[1]) / (2.0 * dphi) * omega;
+        vx.hypot(vy)
+    };
+    let depth_level = ymin + opts.planting_depth_mm;
+    // One planting stroke of the dynamic path: half a turn centred on the lowest point.
+    let period = 60.0 / opts.rpm;
+    let stroke: Vec<[f64; 2]> = (0..n)
+        .map(|k| {
+            let j = (jlo + n - n / 2 + k) % n;
+            let steps = k as f64 - (n / 2) as f64;
+            [tips[j][0] - v * steps / n as f64 * period, tips[j][1]]
+        })
+        .collect();
+    let clearance = turn
+        .iter()
+        .map(|p| {
+            seg_seg(
+                p.arm1.planet_center_mm,
+                p.arm1.tip_mm,
+                p.arm2.planet_center_mm,
+                p.arm2.tip_mm,
+            )
+        })
+        .fold(f64::INFINITY, f64::min);
+    let deg = |x: f64| x.to_degrees();
+    let carrier_deg = |j: usize| deg(angle_at(j as f64 / n as f64)).rem_euclid(360.0);
+    Ok(Features {
+        height_mm: ymax - ymin,
+        bbox_mm: [xmin, xmax, ymin, ymax],
+        rho_range_mm: [
+            rho.iter().fold(f64::MIN, |a, b| a.max(*b)),
+            rho.iter().fold(f64::MAX, |a, b| a.min(*b)),
+        ],
+        take_carrier_deg: carrier_deg(j_take),
+        needle_angle_take_deg: deg(Simulation::needle_angle(&turn[j_take].arm1)),
+        plant_carrier_deg: carrier_deg(j_plant),
+        needle_angle_plant_deg: deg(Simulation::needle_angle(&turn[j_plant].arm1)),
+        static_width_at_depth_mm: width_below(&tips, depth_level),
+        hole_width_mm: width_below(&stroke, depth_level),
+        max_tip_speed_mm_s: (0..n).map(speed).fold(0.0, f64::max),
+        tip_speed_at_plant_mm_s: speed(j_plant),
+        max_dynamic_tip_speed_mm_s: (0..n).map(dyn_speed).fold(0.0, f64::max),
+        min_arm_clearance_mm: clearance,
+        plant_spacing_mm: v * period / 2.0,
+    })
+}
+
+/// Distance from each point to a closed polyline, mm.
+#[must_use]
+pub fn deviation_along(points: &[[f64; 2]], target: &[[f64; 2]]) -> Vec<f64> {
+    crate::math::polyline::distances_to_polyline(points, target)
+}
