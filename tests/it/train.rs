@@ -374,9 +374,12 @@ fn design_cli_with_module_writes_cad_files_and_refuses_undercut() {
         String::from_utf8_lossy(&sim.stderr)
     );
     let anim = std::fs::read_to_string(sim_out.join("animation.svg")).unwrap();
+    // The `d` of the `<path id="sun" …>` element, whatever the attribute order.
     let sun = anim
-        .split("<path id=\"sun\" d=\"")
-        .nth(1)
+        .split("<path")
+        .filter_map(|t| t.split('>').next())
+        .find(|attrs| attrs.contains(" id=\"sun\""))
+        .and_then(|attrs| attrs.split(" d=\"").nth(1))
         .and_then(|t| t.split('"').next())
         .unwrap();
     assert!(sun.matches('L').count() > 23 * 8, "a toothed sun outline");

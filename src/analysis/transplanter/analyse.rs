@@ -2,97 +2,18 @@
 //! assembly, and the assembly of the report from its parts (spec C.6 items 3, 4, 6).
 
 use super::best_assembly::optimise_assembly;
+use super::common::{TransplanterOptions, UM, exact_max, mc_error, rng_for};
 use super::envelope::envelope;
 use super::features::feature_deviations;
-use super::model::{ExactModel, FdSteps, LinearModel};
+use super::model::{ExactModel, LinearModel};
 use super::ranking::ranking;
 use super::report::{TransplanterReport, Validation};
 use super::{ErrorVector, Inventory, N_COORDS, TransplanterError};
-use crate::analysis::montecarlo::{self, McError, McOptions};
+use crate::analysis::montecarlo::{self};
 use crate::analysis::tolerance::ARCSEC_PER_RAD;
 use crate::geometry::assembly::Assembly;
 use crate::math::periodic::wrap_pi;
-use crate::simulate::FeatureOptions;
-use rand::SeedableRng;
-use rand::rngs::ChaCha8Rng;
 use rayon::prelude::*;
-
-/// µm per mm.
-pub(super) const UM: f64 = 1e3;
-
-/// Options of [`analyse`].
-#[derive(Debug, Clone, Copy, PartialEq)]
-#[non_exhaustive]
-pub struct TransplanterOptions {
-    /// Monte Carlo of random assembly: samples (≥ 2), seed, histogram bins (default
-    /// [`McOptions::default`]: 50 000 samples, seed 1, 60 bins).
-    pub mc: McOptions,
-    /// Samples at 3σ used to validate the linear model against the exact one (spec and default:
-    /// 100).
-    pub validation_samples: usize,
-    /// Largest accepted relative error of the linear model; above it the Monte Carlo uses the
-    /// exact model (spec and default: 0.05).
-    pub linear_tolerance: f64,
-    /// Exact-model samples of the agronomic-feature distributions (0: skip; default 200).
-    pub feature_samples: usize,
-    /// Random starts of the joint assembly optimiser (Nelder–Mead), besides the greedy directions
-    /// (default 16).
-    pub starts: usize,
-    /// Finite-difference steps of the linear model (default [`FdSteps::default`]: 1 µm, 10 µrad).
-    pub fd_steps: FdSteps,
-    /// Options of the agronomic features (speeds, planting depth; default
-    /// [`FeatureOptions::default`]).
-    pub features: FeatureOptions,
-}
-
-impl Default for TransplanterOptions {
-    fn default() -> Self {
-        Self {
-            mc: McOptions::default(),
-            validation_samples: 100,
-            linear_tolerance: 0.05,
-            feature_samples: 200,
-            starts: 16,
-            fd_steps: FdSteps::default(),
-            features: FeatureOptions::default(),
-        }
-    }
-}
-
-/// `max_φ |ΔB|` (mm) of the exact model against the linear model's nominal tips.
-pub(super) fn exact_max(
-    model: &ExactModel,
-    lin: &LinearModel,
-    x: &ErrorVector,
-) -> Result<f64, TransplanterError> {
-    let mut m: f64 = 0.0;
-    for (p, b0) in lin.phis_rad.iter().zip(&lin.nominal_tips_mm) {
-        let b = model.state(*p, x)?.tip_mm;
-        m = m.max((b[0] - b0[0]).hypot(b[1] - b0[1]));
-    }
-    Ok(m)
-}
-
-/// Maps a Monte Carlo failure of the named quantity to a [`TransplanterError`].
-pub(super) fn mc_error(what: &'static str) -> impl Fn(McError) -> TransplanterError {
-    move |e| match e {
-        McError::BadOption {
-            name,
-            value,
-            expected,
-        } => TransplanterError::BadOption {
-            option: match name {
-                "samples" => "mc.samples",
-                "bins" => "mc.bins",
-                other => other,
-            },
-            message: format!("{value}: expected {expected}"),
-        },
-        McError::NonFinite { index } => {
-            TransplanterError::Numerical(format!("Monte Carlo sample {index} of the {what}"))
-        }
-    }
-}
 
 /// `max_φ |Δθ3|` (rad) of the exact model.
 fn exact_max_angle(
@@ -125,13 +46,6 @@ fn linear_error(
         peak = peak.max(d[0].hypot(d[1]));
     }
     Ok((if peak > 0.0 { worst / peak } else { 0.0 }, worst))
-}
-
-/// Sample `i` of a sub-analysis with its own seed stream family.
-pub(super) fn rng_for(seed: u64, family: u64, i: usize) -> ChaCha8Rng {
-    let mut r = ChaCha8Rng::seed_from_u64(seed ^ family.wrapping_mul(0x9E37_79B9_7F4A_7C15));
-    r.set_stream(i as u64);
-    r
 }
 
 /// Runs the transplanter tolerance analysis of one arm of `asm` with the error inventory `inv`.

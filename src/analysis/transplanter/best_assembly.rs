@@ -1,7 +1,7 @@
 //! Best assembly of the free runout orientations: greedy (C.3), joint (exhaustive over keyed
 //! positions or multistart Nelder–Mead) and the random-assembly distribution to compare with.
 
-use super::analyse::{TransplanterOptions, UM, exact_max, mc_error, rng_for};
+use super::common::{TransplanterOptions, UM, exact_max, mc_error, rng_for};
 use super::report::{AssemblyOptimum, GreedyChoice};
 use super::{ExactModel, GEARS, Inventory, LinearModel, TransplanterError, ecc_index};
 use crate::analysis::montecarlo;

@@ -1,7 +1,7 @@
 //! The tip-deviation envelope `|mean| + 3σ` along the trajectory (linear model, moments of the
 //! random assembly).
 
-use super::analyse::UM;
+use super::common::UM;
 use super::report::EnvelopePoint;
 use super::{Inventory, LinearModel, N_COORDS};
 

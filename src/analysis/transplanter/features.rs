@@ -1,7 +1,7 @@
 //! Agronomic features of the perturbed train (exact model) and their deviation distributions
 //! over random assemblies.
 
-use super::analyse::{TransplanterOptions, mc_error, rng_for};
+use super::common::{TransplanterOptions, mc_error, rng_for};
 use super::report::FeatureDeviations;
 use super::{
     ErrorVector, ExactModel, Inventory, LinearModel, N_COORDS, TrainState, TransplanterError,

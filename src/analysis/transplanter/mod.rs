@@ -62,6 +62,7 @@
 
 mod analyse;
 mod best_assembly;
+mod common;
 mod envelope;
 mod features;
 mod inventory;
@@ -70,7 +71,8 @@ mod ranking;
 mod report;
 mod schema;
 
-pub use analyse::{TransplanterOptions, analyse};
+pub use analyse::analyse;
+pub use common::TransplanterOptions;
 pub use inventory::{Eccentricity, Inventory, Spread};
 pub use model::{ExactModel, FdSteps, LinearModel, TrainState};
 pub use report::{

@@ -1,6 +1,6 @@
 //! Sensitivity ranking: each error's contribution to `max_φ |ΔB|` at its 3σ value.
 
-use super::analyse::UM;
+use super::common::UM;
 use super::report::Contribution;
 use super::{ARM, BACKLASH, GEARS, Inventory, LinearModel, PIN_A, PIN_D, clock_index, ecc_index};
 

@@ -7,6 +7,7 @@
 //! effect, in `mesh` (stiffness law, STE, backlash, tip relief) and `terms` (the other effects).
 
 mod build;
+mod layout;
 mod mesh;
 pub mod schema;
 pub mod settings;

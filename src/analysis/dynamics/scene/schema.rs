@@ -2,7 +2,7 @@
 //! of the file (mm, µm, degrees, rpm); effects with several forms are tagged enums keyed by their
 //! `kind` / `law` / `direction` string.
 
-use super::settings::{OutputSpec, SolverSpec};
+use super::settings::{OutputSpec, SolverSpec, yes};
 use serde::{Deserialize, Serialize};
 
 /// `[scene]`.
@@ -175,10 +175,6 @@ pub struct BacklashSpec {
     /// Clamp pulling forces (default false).
     #[serde(default)]
     pub no_tension: bool,
-}
-
-pub(super) fn yes() -> bool {
-    true
 }
 
 /// `effects.tip_relief`.

@@ -2,7 +2,6 @@
 //! recorded window) and the `[output]` table (signals, sampling, spectrum, orbits), with their
 //! defaults.
 
-use super::schema::yes;
 use serde::{Deserialize, Serialize};
 
 /// `[solver]`.
@@ -174,4 +173,8 @@ fn signals() -> Vec<String> {
 }
 fn spm() -> u32 {
     64
+}
+
+pub(super) fn yes() -> bool {
+    true
 }

@@ -2,7 +2,7 @@
 //! torques, sliding friction (B.4), shafts (torsion and bending), bearings (linear or Hertz, B.5),
 //! mass unbalance and gravity. Each validates its table (key path in the error) first.
 
-use super::build::Layout;
+use super::layout::Layout;
 use super::{
     BearingSpec, EccKind, EccentricitySpec, FrictionSpec, GravitySpec, SceneError, ShaftSpec,
 };

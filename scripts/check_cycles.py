@@ -1,0 +1,75 @@
+#!/usr/bin/env python3
+"""Import cycles between sibling modules of src/ (a `use` of crate:: or super:: paths outside
+tests): prints each cycle and exits 1 when there is one. The CLI (src/cli) is left out."""
+import os, re, sys
+root=os.path.join(os.path.dirname(os.path.abspath(__file__)), '..', 'src')
+mods={}
+for dp,_,fs in os.walk(root):
+    for f in fs:
+        if not f.endswith('.rs') or f in ('main.rs','lib.rs'): continue
+        p=os.path.join(dp,f)
+        rel=os.path.relpath(p,root)[:-3].split(os.sep)
+        if rel[-1]=='mod': rel=rel[:-1]
+        mods['::'.join(rel)]=open(p).read()
+def resolve(cur, ref):
+    # ref like crate::a::b::c or super::x
+    return ref
+edges=set()
+for m,src in mods.items():
+    if m.startswith('cli'): continue
+    # strip comments
+    code='\n'.join(l for l in src.split('\n') if not l.strip().startswith('//'))
+    # cut tests
+    i=code.find('#[cfg(test)]')
+    if i>=0: code=code[:i]
+    parts=m.split('::')
+    for r in re.findall(r'crate::((?:[a-z_]+::)*[a-z_]+)', code):
+        segs=r.split('::')
+        edges.add((m, '::'.join(segs)))
+    for r in re.findall(r'\bsuper::((?:[a-z_]+::)*[a-z_]+)', code):
+        base=parts[:-1]
+        edges.add((m, '::'.join(base+r.split('::'))))
+# for each parent, sibling graph
+def sib_graph():
+    g={}
+    for a,b in edges:
+        A=a.split('::'); B=b.split('::')
+        # common prefix
+        k=0
+        while k<min(len(A),len(B)) and A[k]==B[k]: k+=1
+        if k<len(A) and k<len(B):
+            pa='::'.join(A[:k]); x=A[k]; y=B[k]
+            if '::'.join(B[:k+1]) in mods or True:
+                g.setdefault(pa,{}).setdefault(x,set()).add(y)
+        elif k==len(B) and k<len(A):
+            # child referencing ancestor module item: child -> parent
+            g.setdefault('::'.join(B[:-1]) if len(B)>1 else '',{}).setdefault(A[len(B)-1] if len(B)-1 < len(A) else A[-1],set())
+    return g
+g=sib_graph()
+def find_cycles(adj):
+    cyc=[]
+    nodes=list(adj)
+    for n in nodes:
+        # DFS for cycle back to n
+        stack=[(n,[n])]
+        seen=set()
+        while stack:
+            v,path=stack.pop()
+            for w in adj.get(v,()):
+                if w==n and len(path)>1: cyc.append(path+[n])
+                elif w not in path and (w,len(path)) not in seen and len(path)<6:
+                    seen.add((w,len(path)))
+                    stack.append((w,path+[w]))
+    return cyc
+found=False
+for parent,adj in sorted(g.items()):
+    adj={k:{x for x in v if x!=k} for k,v in adj.items()}
+    cs=find_cycles(adj)
+    uniq=set()
+    for c in cs:
+        key=frozenset(c)
+        if key in uniq: continue
+        uniq.add(key)
+        print(f"cycle in `{parent or 'crate'}`: {' -> '.join(c)}"); found=True
+print('no import cycles between sibling modules' if not found else '')
+sys.exit(1 if found else 0)
