@@ -81,19 +81,15 @@ pub fn run(args: Args) -> CliResult {
             "--duration must be > 0 s and --frames ≥ 8"
         )));
     }
-    let opts = FeatureOptions {
-        rpm: args.rpm,
-        forward_mm_s,
-        planting_depth_mm: args.depth,
-        take_level_mm: args.take_level,
-        plant_level_mm: args.plant_level,
-        ..FeatureOptions::default()
-    };
-    let anim = AnimationOptions {
-        frames: args.frames,
-        seconds: args.duration,
-        ..AnimationOptions::default()
-    };
+    let mut opts = FeatureOptions::default();
+    opts.rpm = args.rpm;
+    opts.forward_mm_s = forward_mm_s;
+    opts.planting_depth_mm = args.depth;
+    opts.take_level_mm = args.take_level;
+    opts.plant_level_mm = args.plant_level;
+    let mut anim = AnimationOptions::default();
+    anim.frames = args.frames;
+    anim.seconds = args.duration;
     // Toothed outlines: --module, or the z and module of the design file's `teeth` block.
     let policy = match (args.module, file.teeth) {
         (Some(m), _) => Some((m, TrainPolicy::ScaleCenterDistance(ToothPolicy::ScaleUp))),

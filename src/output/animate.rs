@@ -15,12 +15,13 @@ use svg::node::element::{
 
 /// Options of the animation.
 #[derive(Debug, Clone, Copy, PartialEq)]
+#[non_exhaustive]
 pub struct AnimationOptions {
-    /// Key frames per turn (linear interpolation in between).
+    /// Key frames per turn (linear interpolation in between). Default 360.
     pub frames: usize,
-    /// Duration of one carrier turn, s.
+    /// Duration of one carrier turn, s. Default 6.
     pub seconds: f64,
-    /// Points per pitch-curve outline (toothed outlines are drawn as generated).
+    /// Points per pitch-curve outline (toothed outlines are drawn as generated). Default 720.
     pub outline_points: usize,
 }
 

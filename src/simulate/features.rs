@@ -7,18 +7,19 @@ use std::f64::consts::TAU;
 
 /// Inputs of the agronomic features.
 #[derive(Debug, Clone, Copy, PartialEq)]
+#[non_exhaustive]
 pub struct FeatureOptions {
-    /// Carrier speed, rpm.
+    /// Carrier speed, rpm. Default 300.
     pub rpm: f64,
-    /// Forward speed of the machine, mm/s (≥ 0).
+    /// Forward speed of the machine, mm/s (≥ 0). Default 1000.
     pub forward_mm_s: f64,
-    /// Planting depth d, mm: the soil surface is taken at `min y + d`.
+    /// Planting depth d, mm: the soil surface is taken at `min y + d`. Default 30.
     pub planting_depth_mm: f64,
-    /// Taking level y_t (mm), or the highest point.
+    /// Taking level y_t (mm), or the highest point (default `None`).
     pub take_level_mm: Option<f64>,
-    /// Planting level y_p (mm), or the lowest point.
+    /// Planting level y_p (mm), or the lowest point (default `None`).
     pub plant_level_mm: Option<f64>,
-    /// Samples per turn.
+    /// Samples per turn. Default 3600.
     pub samples: usize,
 }
 

@@ -55,13 +55,11 @@ fn feature_distributions_start_from_the_simulated_features() {
     let r = run(4, 2000, 16);
     let f = r.features.as_ref().unwrap();
     let sim = Simulation::new(g1(1));
-    let nominal = features(
-        &sim,
-        &FeatureOptions {
-            samples: 720,
-            ..FeatureOptions::default()
-        },
-    )
+    let nominal = features(&sim, &{
+        let mut o = FeatureOptions::default();
+        o.samples = 720;
+        o
+    })
     .unwrap();
     assert!((f.nominal.height_mm - nominal.height_mm).abs() < 1e-6);
     assert!((f.nominal.hole_width_mm - nominal.hole_width_mm).abs() < 1e-6);
