@@ -302,7 +302,7 @@ fn evaluation(o: &MeasureOpts) -> Result<Evaluation, super::Failure> {
 }
 
 fn run_measure(path: &Path, ev: &mut Evaluation) -> Result<(Record, Measurement), super::Failure> {
-    let rec = Record::from_csv_path(path).map_err(input_error)?;
+    let rec = Record::from_path(path).map_err(input_error)?;
     if ev.estimates_frequency() {
         let pb = super::progress_bar(ev.refine_iterations(&rec), "ω_p refine");
         ev.refine_frequency(&rec, &|k| pb.set_position(k))

@@ -58,7 +58,7 @@ fn input(e: SimulateError) -> super::Failure {
 
 /// Runs `ncgear simulate`.
 pub fn run(args: Args) -> CliResult {
-    let (file, asm) = DesignFile::read(&args.design).map_err(input)?;
+    let (file, asm) = DesignFile::from_path(&args.design).map_err(input)?;
     let target = match &args.target {
         Some(p) => Trajectory::from_path(p)
             .map_err(|e| input_error(miette::miette!("{e}")))?

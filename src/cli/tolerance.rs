@@ -168,7 +168,7 @@ fn flag_of(option: &str) -> Option<&'static str> {
 
 fn run_transplanter(args: &Args, inventory: &Path) -> CliResult {
     let (_, asm) =
-        DesignFile::read(&args.errors).map_err(|e| input_error(miette::miette!("{e}")))?;
+        DesignFile::from_path(&args.errors).map_err(|e| input_error(miette::miette!("{e}")))?;
     let inv =
         ErrorInventory::from_path(inventory).map_err(|e| input_error(miette::miette!("{e}")))?;
     let mut opts = TransplanterOptions::default();

@@ -69,7 +69,7 @@ pub struct GearFile {
 
 impl DesignFile {
     /// Reads and validates a design file.
-    pub fn read(path: &Path) -> Result<(Self, Assembly), SimulateError> {
+    pub fn from_path(path: &Path) -> Result<(Self, Assembly), SimulateError> {
         let file = path.display().to_string();
         let text = std::fs::read_to_string(path).map_err(|e| SimulateError::Unreadable {
             file: file.clone(),

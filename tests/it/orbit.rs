@@ -766,9 +766,9 @@ fn csv_errors_name_file_line_and_column() {
         text.push_str(&format!("{},{},{}\n", 0.01 * k as f64, k, -k));
     }
     let ok = temp_csv("ok", &text);
-    assert_eq!(Record::from_csv_path(&ok).unwrap().len(), 20);
+    assert_eq!(Record::from_path(&ok).unwrap().len(), 20);
     let bad = temp_csv("bad", &text.replace("0.05,5,-5", "0.05,5,abc"));
-    let e = Record::from_csv_path(&bad).unwrap_err().to_string();
+    let e = Record::from_path(&bad).unwrap_err().to_string();
     assert!(
         e.contains(&bad.display().to_string())
             && e.contains(":7:")
@@ -777,20 +777,20 @@ fn csv_errors_name_file_line_and_column() {
         "{e}"
     );
     let unk = temp_csv("unk", &text.replace("t_s,x_um,y_um", "t_s,x_um,y_um,z_um"));
-    let e = Record::from_csv_path(&unk).unwrap_err().to_string();
+    let e = Record::from_path(&unk).unwrap_err().to_string();
     assert!(
         e.contains(":1:") && e.contains("`z_um`") && e.contains("unknown column"),
         "{e}"
     );
     let miss = temp_csv("miss", &text.replace("t_s,x_um,y_um", "t_s,x_um,q"));
     assert!(
-        Record::from_csv_path(&miss)
+        Record::from_path(&miss)
             .unwrap_err()
             .to_string()
             .contains("`q`")
     );
     let order = temp_csv("order", &text.replace("0.05,5,-5", "0.03,5,-5"));
-    let e = Record::from_csv_path(&order).unwrap_err().to_string();
+    let e = Record::from_path(&order).unwrap_err().to_string();
     assert!(
         e.contains(":7:") && e.contains("`t_s`") && e.contains("not after"),
         "{e}"
@@ -871,7 +871,7 @@ fn asset_signals_match_the_model_within_4x_crlb() {
     let p = ModelParams::from_path(&asset("model.toml")).unwrap();
     let set = p.planet_set().unwrap();
     let g = p.gear_speeds().unwrap().unwrap();
-    let rec = Record::from_csv_path(&asset("signals.csv")).unwrap();
+    let rec = Record::from_path(&asset("signals.csv")).unwrap();
     let crlb = (2.0 / rec.len() as f64).sqrt();
     let model = set.solve().orbit;
     for frame in [
@@ -1034,10 +1034,10 @@ fn tach_synchronous_average_corrects_a_wrong_nominal_speed() {
         ));
     }
     let p = temp_csv("tach", &text);
-    let r = Record::from_csv_path(&p).unwrap();
+    let r = Record::from_path(&p).unwrap();
     assert_eq!(r.tach_pulses_s().unwrap(), &[0.03, 0.13, 0.23, 0.33]);
     let bad_csv = temp_csv("tach_bad", &text.replace("0.05,5,-5,0", "0.05,5,-5,2"));
-    let e = Record::from_csv_path(&bad_csv).unwrap_err().to_string();
+    let e = Record::from_path(&bad_csv).unwrap_err().to_string();
     assert!(
         e.contains(":7:") && e.contains("`tach`") && e.contains("0 or 1"),
         "{e}"
@@ -1059,7 +1059,7 @@ fn library_reports_are_what_the_cli_prints() {
     let mut opts = MeasureOptions::default();
     opts.frame = SensorFrame::Derotate;
     let mut ev = Evaluation::new(Some(&p), &opts).unwrap();
-    let rec = Record::from_csv_path(&asset("signals.csv")).unwrap();
+    let rec = Record::from_path(&asset("signals.csv")).unwrap();
     assert!(ev.refine_frequency(&rec, &|_| {}).unwrap().is_none());
     let m = ev.extract(&rec).unwrap();
     let report = serde_json::to_value(ev.report(&m)).unwrap();

@@ -86,7 +86,7 @@ impl Record {
     /// # Errors
     /// [`OrbitError::Csv`] naming file, line and column; [`OrbitError::File`] when unreadable;
     /// [`OrbitError::Record`] for record-level problems.
-    pub fn from_csv_path(path: &Path) -> Result<Self, OrbitError> {
+    pub fn from_path(path: &Path) -> Result<Self, OrbitError> {
         let file = path.display().to_string();
         let f = std::fs::File::open(path).map_err(|e| OrbitError::File {
             file: file.clone(),
