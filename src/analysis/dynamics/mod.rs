@@ -9,7 +9,7 @@
 //!
 //! A newcomer's map: [`scene`] reads and validates a scene file and builds the [`model::Model`];
 //! [`options`] holds the integrator settings; [`simulation`] integrates (static state, transient,
-//! recorded window); [`linear`] holds the eigen- and frequency-response analyses; [`sweep`] the
+//! recorded window); [`linear`] holds the eigen- and frequency-response analyses; [`mod@sweep`] the
 //! frequency sweeps; [`report`] runs a whole scene as the CLI does and returns a serialisable
 //! [`DynamicsReport`]. [`ode`] and [`tvms`] are the integrators and the mesh-stiffness formulas.
 

@@ -86,7 +86,7 @@ pub fn tooth_design(
 
 /// [`tooth_design`] recorded in the design: on success `design.report.teeth` holds the train's
 /// report (the `teeth` block of `design.json`); on error the design is left untouched. Write the
-/// CAD files with [`crate::output::files::write_teeth`], then [`ToothedTrain::record`] again to
+/// CAD files with [`crate::output::write_teeth`], then [`ToothedTrain::record`] again to
 /// list them in the report.
 pub fn attach_teeth(
     design: &mut Design,

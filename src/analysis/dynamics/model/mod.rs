@@ -1,7 +1,7 @@
 //! The assembled model: DOF set, diagonal mass, and the list of force terms built once from a
 //! scene (spec B.6, B.10). The right-hand side loops over the terms; it never tests switches.
 //!
-//! [`mesh`] holds the mesh kernel (stiffness law, STE, backlash, tip relief), [`terms`] the other
+//! `mesh` holds the mesh kernel (stiffness law, STE, backlash, tip relief), `terms` the other
 //! force terms (constant forces, springs, friction, unbalance, Hertz bearings).
 
 mod mesh;

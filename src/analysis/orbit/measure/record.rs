@@ -95,10 +95,10 @@ impl Record {
         Self::from_csv_reader(std::io::BufReader::new(f), &file)
     }
 
-    /// As [`Record::from_csv_path`] from any reader; `file` names the source in errors.
+    /// As [`Record::from_path`] from any reader; `file` names the source in errors.
     ///
     /// # Errors
-    /// As [`Record::from_csv_path`].
+    /// As [`Record::from_path`].
     pub fn from_csv_reader(reader: impl std::io::Read, file: &str) -> Result<Self, OrbitError> {
         let mut rdr = csv::ReaderBuilder::new()
             .comment(Some(b'#'))
