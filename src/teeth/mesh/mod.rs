@@ -167,10 +167,13 @@ pub fn verify_mesh(
     let a = check.centre_distance_mm;
     let m = check.module_mm;
     let cap = 0.02 * m;
-    let fine = Level::new(driver, driven, cap, m, check.backlash_mm, 0.0)?;
     // A simplified copy (within 1e-4·m of the outlines) finds both contacts cheaply; the fine
     // outlines then polish them in a narrow bracket.
-    let medium = Level::new(driver, driven, cap, m, check.backlash_mm, 1e-4 * m)?;
+    let (fine, medium) = rayon::join(
+        || Level::new(driver, driven, cap, m, check.backlash_mm, 0.0),
+        || Level::new(driver, driven, cap, m, check.backlash_mm, 1e-4 * m),
+    );
+    let (fine, medium) = (fine?, medium?);
     let g1 = &fine.h1.polar;
     // Largest gap between the medium and fine polylines (mm): bounds |f_fine − f_medium|.
     let dev = fine.deviation_from(&medium);
@@ -186,10 +189,14 @@ pub fn verify_mesh(
         let db = check.backlash_mm / r2;
         let pose = Pose { phi, psi0, a };
         let sets = fine.candidates(&pose, w1, w2);
-        let f = |d: f64, s1: &[usize], s2: &[usize]| fine.eval(&pose, d, s1, s2);
+        let f = |d: f64, s1: &[usize], s2: &[usize]| {
+            fine.eval_bounded(&pose, d, s1, s2, f64::NEG_INFINITY)
+        };
         // The law's position δ = 0: every candidate's clearance (nominal clearance, overlap
         // edges, and the pruning of the working-contact search).
-        let v0 = f(0.0, &sets.0, &sets.1);
+        // Exact below the longest edge (the overlap's edges), bounded above it.
+        let edge = fine.h1.max_edge.max(fine.h2.max_edge);
+        let v0 = fine.eval_bounded(&pose, 0.0, &sets.0, &sets.1, edge);
         let nominal = min_of(&v0);
         // Overlap area at δ = 0 (world frame), over the edges that can reach into the other gear:
         // an edge with a point inside it has an end inside or within one edge length of it.
@@ -225,7 +232,9 @@ pub fn verify_mesh(
         );
         // Medium level: is there a free position, and where are the two contacts?
         let med_sets = medium.candidates(&pose, w1, w2);
-        let fm = |d: f64, s1: &[usize], s2: &[usize]| medium.eval(&pose, d, s1, s2);
+        let fm = |d: f64, s1: &[usize], s2: &[usize]| {
+            medium.eval_bounded(&pose, d, s1, s2, f64::NEG_INFINITY)
+        };
         let mid = 0.5 * db;
         if min_of(&fm(mid, &med_sets.0, &med_sets.1)) <= 2.0 * dev {
             // Too close to call at the medium level: decide on the fine outlines.
