@@ -172,6 +172,7 @@ impl Level {
         set1: &[usize],
         set2: &[usize],
         floor: f64,
+        cache: &BoundCache,
     ) -> PerVertex {
         let (g1, g2) = (&self.h1.polar, &self.h2.polar);
         let (phi, a) = (pose.phi, pose.a);
@@ -187,9 +188,12 @@ impl Level {
             let w = [co1 * b[0] - sn1 * b[1] - a, sn1 * b[0] + co1 * b[1]];
             [co2 * w[0] - sn2 * w[1], sn2 * w[0] + co2 * w[1]]
         };
-        // Runs of set entries in one block: (gear, first, end, lower bound).
-        let mut runs: Vec<(u8, usize, usize, f64)> = Vec::new();
-        let mut group = |gear: u8, set: &[usize]| {
+        // Runs of set entries in one block: (gear, first, end, cache key, bound, fresh). The
+        // bound is the block's last one in `cache`, moved by its speed (the distance of its
+        // centre from the driven centre, invariant under δ) times |Δδ|, or −∞.
+        let mut cache = cache.0.borrow_mut();
+        let mut runs: Vec<(u8, usize, usize, usize, f64, bool)> = Vec::new();
+        for (gear, set) in [(0u8, set1), (1u8, set2)] {
             let mut s = 0;
             while s < set.len() {
                 let b = set[s] / self.block;
@@ -197,49 +201,74 @@ impl Level {
                 while e < set.len() && set[e] / self.block == b {
                     e += 1;
                 }
-                let lb = if gear == 0 {
-                    let (c, r) = self.blocks1[b];
-                    self.b2.clearance(to2(c)) - r
+                let key = if gear == 0 { b } else { self.blocks1.len() + b };
+                let (at, lb, speed) = cache[key];
+                let (moved, fresh) = if at.is_nan() {
+                    (f64::NEG_INFINITY, false)
+                } else if at == delta {
+                    (lb, true)
                 } else {
-                    let (c, r) = self.blocks2[b];
-                    self.b1.clearance(to1(c)) - r
-                } - self.slack;
-                runs.push((gear, s, e, lb));
+                    (lb - speed * (delta - at).abs(), false)
+                };
+                runs.push((gear, s, e, key, moved, fresh));
                 s = e;
             }
-        };
-        group(0, set1);
-        group(1, set2);
-        runs.sort_by(|x, y| x.3.total_cmp(&y.3));
+        }
+        runs.sort_by(|x, y| x.4.total_cmp(&y.4));
         let mut v1 = vec![0.0; set1.len()];
         let mut v2 = vec![0.0; set2.len()];
         let mut best = f64::INFINITY;
-        let mut exact = true;
-        for &(gear, s, e, lb) in &runs {
-            if exact && lb > floor && lb >= best {
-                exact = false;
+        let mut done = false;
+        for &(gear, s, e, key, moved, fresh) in &runs {
+            let v = if gear == 0 {
+                &mut v1[s..e]
+            } else {
+                &mut v2[s..e]
+            };
+            // Sorted by the moved bounds: once one cannot matter, none of the rest can.
+            done = done || (moved > floor && moved >= best);
+            if done {
+                v.fill(moved);
+                continue;
+            }
+            if !fresh {
+                let (lb, speed) = if gear == 0 {
+                    let (c, r) = self.blocks1[key];
+                    let p = to2(c);
+                    (self.b2.clearance(p) - r, p[0].hypot(p[1]))
+                } else {
+                    let (c, r) = self.blocks2[key - self.blocks1.len()];
+                    (self.b1.clearance(to1(c)) - r, c[0].hypot(c[1]))
+                };
+                let lb = lb - self.slack;
+                cache[key] = (delta, lb, speed * (1.0 + 1e-9) + 1e-9 * self.module_mm);
+                if lb > floor && lb >= best {
+                    v.fill(lb);
+                    continue;
+                }
             }
             if gear == 0 {
-                for (v, &i) in v1[s..e].iter_mut().zip(&set1[s..e]) {
-                    *v = if exact {
-                        self.h2.clearance(to2(g1.point(i)))
-                    } else {
-                        lb
-                    };
-                    best = best.min(*v);
+                for (x, &i) in v.iter_mut().zip(&set1[s..e]) {
+                    *x = self.h2.clearance(to2(g1.point(i)));
+                    best = best.min(*x);
                 }
             } else {
-                for (v, &i) in v2[s..e].iter_mut().zip(&set2[s..e]) {
-                    *v = if exact {
-                        self.h1.clearance(to1(g2.point(i)))
-                    } else {
-                        lb
-                    };
-                    best = best.min(*v);
+                for (x, &i) in v.iter_mut().zip(&set2[s..e]) {
+                    *x = self.h1.clearance(to1(g2.point(i)));
+                    best = best.min(*x);
                 }
             }
         }
         (v1, v2)
+    }
+
+    /// An empty cache of block bounds for [`Self::eval_bounded`] at one pose.
+    pub(super) fn bound_cache(&self) -> BoundCache {
+        BoundCache(std::cell::RefCell::new(vec![
+            (f64::NAN, 0.0, 0.0);
+            self.blocks1.len()
+                + self.blocks2.len()
+        ]))
     }
 
     fn eval_on(
@@ -303,6 +332,10 @@ impl Level {
         (expand(&c1, &p1), expand(&c2, &p2))
     }
 }
+
+/// The last lower bound of each block (driven offset δ, bound mm, speed mm/rad) at one pose:
+/// a block's bound at another δ is that bound less speed × |Δδ|.
+pub(super) struct BoundCache(std::cell::RefCell<Vec<(f64, f64, f64)>>);
 
 /// Minimum of all per-vertex clearances, mm.
 pub(super) fn min_of(v: &PerVertex) -> f64 {

@@ -189,14 +189,16 @@ pub fn verify_mesh(
         let db = check.backlash_mm / r2;
         let pose = Pose { phi, psi0, a };
         let sets = fine.candidates(&pose, w1, w2);
+        // Block bounds of this pose, reused across the driven offsets.
+        let (fine_cache, medium_cache) = (fine.bound_cache(), medium.bound_cache());
         let f = |d: f64, s1: &[usize], s2: &[usize]| {
-            fine.eval_bounded(&pose, d, s1, s2, f64::NEG_INFINITY)
+            fine.eval_bounded(&pose, d, s1, s2, f64::NEG_INFINITY, &fine_cache)
         };
         // The law's position δ = 0: every candidate's clearance (nominal clearance, overlap
         // edges, and the pruning of the working-contact search).
         // Exact below the longest edge (the overlap's edges), bounded above it.
         let edge = fine.h1.max_edge.max(fine.h2.max_edge);
-        let v0 = fine.eval_bounded(&pose, 0.0, &sets.0, &sets.1, edge);
+        let v0 = fine.eval_bounded(&pose, 0.0, &sets.0, &sets.1, edge, &fine_cache);
         let nominal = min_of(&v0);
         // Overlap area at δ = 0 (world frame), over the edges that can reach into the other gear:
         // an edge with a point inside it has an end inside or within one edge length of it.
@@ -233,7 +235,7 @@ pub fn verify_mesh(
         // Medium level: is there a free position, and where are the two contacts?
         let med_sets = medium.candidates(&pose, w1, w2);
         let fm = |d: f64, s1: &[usize], s2: &[usize]| {
-            medium.eval_bounded(&pose, d, s1, s2, f64::NEG_INFINITY)
+            medium.eval_bounded(&pose, d, s1, s2, f64::NEG_INFINITY, &medium_cache)
         };
         let mid = 0.5 * db;
         if min_of(&fm(mid, &med_sets.0, &med_sets.1)) <= 2.0 * dev {
