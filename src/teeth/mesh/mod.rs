@@ -16,8 +16,12 @@
 //! polished on the given outlines in a bracket of ±η around them, η = 4·gap/(r₂/2) with `gap` the
 //! measured distance between the two polylines (widened ×8 until it holds a sign change). Vertices
 //! are pruned by the Lipschitz bound of the clearances in δ (`lip = r_max + 2m`), so a polish
-//! touches one full evaluation and a few dozen vertices. About 17 ms per position for a 24-tooth
-//! pair at 1e-6·m (≈ 4× faster than a single-level search, same roots to 1e-12 rad).
+//! touches one full evaluation and a few dozen vertices. Every evaluation is bounded: blocks of
+//! ≈ 0.04·m of outline are bounded below through copies simplified to 2e-3·m (clearance less the
+//! block radius and 3× the simplification), the bounds are kept per position and moved by each
+//! block's speed across driven offsets, and only the blocks that can reach the minimum (or the
+//! overlap's edges) are evaluated exactly — the minimum, hence every root and verdict, is the same
+//! bit for bit. About 3 ms per position (one core) for a 24-tooth pair at 1e-6·m.
 mod level;
 
 pub use super::shape::{MeshError, Shape, StarShape};
