@@ -160,11 +160,17 @@ impl Level {
 
     /// Per-vertex clearances at driven offset δ (rad): gear-1 vertices `set1` against gear 2 and
     /// gear-2 vertices `set2` against gear 1 (polar indices), exact within `cap` — or, for a
-    /// vertex whose clearance cannot matter, a lower bound of it that exceeds both `floor` and
-    /// the minimum. The blocks of `self.block` polar entries are bounded
-    /// below through `b1`/`b2` (minus the block radius and `slack`) and evaluated exactly in the order of their bounds, while
-    /// the bound is ≤ `floor` or below the least exact value so far. The minimum is the exact
-    /// one, bit for bit, every value is ≤ the exact clearance, and values ≤ `floor` are exact.
+    /// vertex whose clearance cannot matter, a lower bound of its unclipped signed distance that
+    /// exceeds both `floor` and the minimum. The blocks of `self.block` polar entries are bounded
+    /// below through `b1`/`b2` (minus the block radius and `slack`; bounds kept in `cache` and
+    /// moved by the block's speed across δ) and evaluated exactly in the order of their bounds
+    /// while the bound is ≤ `floor` or below the least exact value so far.
+    ///
+    /// The minimum is the exact one, bit for bit, and values ≤ `floor` are exact. A bounded value
+    /// `b` stands for a clearance ≥ min(`cap`, `b`): a filter `c ≤ t` on the values keeps every
+    /// vertex that can reach the minimum for `t` ≥ the minimum (a vertex it drops is at least
+    /// `cap` or above `t`), and `c < floor` selects exactly the vertices within `floor` of the
+    /// other outline when `floor` < `cap`, or a subset that drops only those farther than `floor`.
     pub(super) fn eval_bounded(
         &self,
         pose: &Pose,

@@ -200,7 +200,8 @@ pub fn verify_mesh(
         };
         // The law's position δ = 0: every candidate's clearance (nominal clearance, overlap
         // edges, and the pruning of the working-contact search).
-        // Exact below the longest edge (the overlap's edges), bounded above it.
+        // Exact below the longest edge (the overlap's edges), bounded above it: a vertex whose
+        // distance exceeds the longest edge has both its edges outside the other outline.
         let edge = fine.h1.max_edge.max(fine.h2.max_edge);
         let v0 = fine.eval_bounded(&pose, 0.0, &sets.0, &sets.1, edge, &fine_cache);
         let nominal = min_of(&v0);
