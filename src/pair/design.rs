@@ -155,26 +155,21 @@ pub fn design_pair_with_progress(
     let driver = outline::generate_on(&f1, &t.rack, z, m, &o1)?;
     let driven = outline::generate_on(&f2, &t.rack, z, m, &o2)?;
     let mesh = if t.verify_steps > 0 {
-        let v1 = outline::generate_on(
-            &f1,
-            &t.rack,
-            z,
-            m,
-            &OutlineOptions {
-                chord_tol_mm: t.verify_chord_tol_mm,
-                ..o1
-            },
-        )?;
-        let v2 = outline::generate_on(
-            &f2,
-            &t.rack,
-            z,
-            m,
-            &OutlineOptions {
-                chord_tol_mm: t.verify_chord_tol_mm,
-                ..o2
-            },
-        )?;
+        // The fine outlines of the check, built side by side.
+        let fine = |f: &ArcFrame, o: &OutlineOptions| {
+            outline::generate_on(
+                f,
+                &t.rack,
+                z,
+                m,
+                &OutlineOptions {
+                    chord_tol_mm: t.verify_chord_tol_mm,
+                    ..*o
+                },
+            )
+        };
+        let (v1, v2) = rayon::join(|| fine(&f1, &o1), || fine(&f2, &o2));
+        let (v1, v2) = (v1?, v2?);
         let check = MeshCheck {
             centre_distance_mm: a,
             steps: t.verify_steps,

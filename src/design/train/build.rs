@@ -14,6 +14,7 @@ use crate::teeth::mesh::{MeshCheck, verify_mesh};
 use crate::teeth::{
     ArcFrame, Outline, OutlineOptions, ToothPolicy, outline::generate_on, scale_curve, tooth_count,
 };
+use rayon::prelude::*;
 use std::f64::consts::{PI, TAU};
 
 fn scaled(asm: &Assembly, s: f64) -> Result<Assembly, PitchError> {
@@ -191,7 +192,9 @@ fn train_from(
     let planet = generate(2, opts.toothing.chord_tol_mm)?;
 
     let mesh = if opts.toothing.verify_steps > 0 {
+        // The fine outlines of the check, built side by side (collected in gear order).
         let fine: Vec<Outline> = (0..3)
+            .into_par_iter()
             .map(|k| generate(k, opts.toothing.verify_chord_tol_mm))
             .collect::<Result<_, _>>()?;
         let check = MeshCheck {

@@ -1,6 +1,7 @@
 //! One resolution of the mesh check: both outlines indexed, the candidate vertices near the
 //! contact, per-vertex clearances at a driven offset, and the pruned root search on them.
 use crate::teeth::shape::{MeshError, Shape};
+use rayon::prelude::*;
 use std::f64::consts::PI;
 
 /// Driver angle `phi`, law angle `psi0` (rad) and centre distance `a` (mm) of one position.
@@ -20,6 +21,49 @@ pub(super) struct Level {
     pub(super) reach: f64,
     pub(super) lip: f64,
     pub(super) module_mm: f64,
+    /// Bounding circles (body-frame centre, radius, mm) of the blocks of `block` consecutive
+    /// polar entries of `h1`, `h2`.
+    blocks1: Vec<([f64; 2], f64)>,
+    blocks2: Vec<([f64; 2], f64)>,
+    /// Polar entries per block (about 0.1·m of outline).
+    block: usize,
+    /// Copies simplified to `BOUND_TOL·m` (Douglas–Peucker), indexed at `reach`: their
+    /// clearances bound the exact ones below for the bounded evaluation.
+    b1: Shape,
+    b2: Shape,
+    /// Slack of a `b1`/`b2` clearance as a lower bound of the exact one, mm: 3× the Hausdorff
+    /// distance of the two polylines (a point between them is within it of both), plus a
+    /// rounding margin.
+    slack: f64,
+}
+
+/// Simplification of the bounding copies, in modules.
+const BOUND_TOL: f64 = 2e-3;
+
+/// Bounding circles of the blocks of `block` consecutive polar entries.
+fn block_circles(g: &crate::teeth::shape::StarShape, block: usize) -> Vec<([f64; 2], f64)> {
+    let n = g.r.len();
+    (0..n.div_ceil(block))
+        .map(|b| {
+            let pts: Vec<[f64; 2]> = (b * block..((b + 1) * block).min(n))
+                .map(|i| g.point(i))
+                .collect();
+            let (lo, hi) =
+                pts.iter()
+                    .fold(([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]), |(l, h), p| {
+                        (
+                            [l[0].min(p[0]), l[1].min(p[1])],
+                            [h[0].max(p[0]), h[1].max(p[1])],
+                        )
+                    });
+            let c = [0.5 * (lo[0] + hi[0]), 0.5 * (lo[1] + hi[1])];
+            let r = pts
+                .iter()
+                .map(|p| (p[0] - c[0]).hypot(p[1] - c[1]))
+                .fold(0.0, f64::max);
+            (c, r)
+        })
+        .collect()
 }
 
 impl Level {
@@ -64,7 +108,34 @@ impl Level {
         // Coarse copies (every 16th vertex) index the initial pruning at a larger reach.
         let k1 = Shape::new(&every(&d1, 16), reach, "driver")?;
         let k2 = Shape::new(&every(&d2, 16), reach, "driven")?;
+        // Douglas–Peucker keeps every removed vertex within the tolerance of its chord, so the
+        // polylines are within it of each other both ways.
+        let tol = BOUND_TOL * m;
+        let b1 = Shape::new(
+            &crate::math::polyline::simplify_closed(&d1, tol),
+            reach,
+            "driver",
+        )?;
+        let b2 = Shape::new(
+            &crate::math::polyline::simplify_closed(&d2, tol),
+            reach,
+            "driven",
+        )?;
+        let slack = 3.0 * tol + 1e-6 * m;
+        // Blocks of about 0.1·m of outline.
+        let perimeter: f64 = (0..d1.len())
+            .map(|i| {
+                let (p, q) = (d1[i], d1[(i + 1) % d1.len()]);
+                (q[0] - p[0]).hypot(q[1] - p[1])
+            })
+            .sum();
+        let block = ((0.04 * m * d1.len() as f64 / perimeter).round() as usize).clamp(4, 256);
         Ok(Self {
+            blocks1: block_circles(&h1.polar, block),
+            blocks2: block_circles(&h2.polar, block),
+            block,
+            b1,
+            b2,
             h1,
             h2,
             k1,
@@ -72,29 +143,138 @@ impl Level {
             reach,
             lip,
             module_mm: m,
+            slack,
         })
     }
 
     /// Largest distance (mm) of this level's vertices from `other`'s polylines (both gears).
     pub(super) fn deviation_from(&self, other: &Self) -> f64 {
+        // The maximum is independent of the order: parallel and deterministic.
         let far = |pts: &[[f64; 2]], s: &Shape| {
-            pts.iter()
+            pts.par_iter()
                 .map(|&p| s.clearance(p).abs())
-                .fold(0.0, f64::max)
+                .reduce(|| 0.0, f64::max)
         };
         far(&self.h1.pts, &other.h1).max(far(&self.h2.pts, &other.h2))
     }
 
     /// Per-vertex clearances at driven offset δ (rad): gear-1 vertices `set1` against gear 2 and
-    /// gear-2 vertices `set2` against gear 1 (polar indices), exact within `cap`.
-    pub(super) fn eval(
+    /// gear-2 vertices `set2` against gear 1 (polar indices), exact within `cap` — or, for a
+    /// vertex whose clearance cannot matter, a lower bound of its unclipped signed distance that
+    /// exceeds both `floor` and the minimum. The blocks of `self.block` polar entries are bounded
+    /// below through `b1`/`b2` (minus the block radius and `slack`; bounds kept in `cache` and
+    /// moved by the block's speed across δ) and evaluated exactly in the order of their bounds
+    /// while the bound is ≤ `floor` or below the least exact value so far.
+    ///
+    /// The minimum is the exact one, bit for bit, and values ≤ `floor` are exact. A bounded value
+    /// `b` stands for a clearance ≥ min(`cap`, `b`): a filter `c ≤ t` on the values keeps every
+    /// vertex that can reach the minimum for `t` ≥ the minimum (a vertex it drops is at least
+    /// `cap` or above `t`), and `c < floor` selects exactly the vertices within `floor` of the
+    /// other outline when `floor` < `cap`, or a subset that drops only those farther than `floor`.
+    pub(super) fn eval_bounded(
         &self,
         pose: &Pose,
         delta: f64,
         set1: &[usize],
         set2: &[usize],
+        floor: f64,
+        cache: &BoundCache,
     ) -> PerVertex {
-        self.eval_on(pose, delta, set1, set2, &self.h1, &self.h2)
+        let (g1, g2) = (&self.h1.polar, &self.h2.polar);
+        let (phi, a) = (pose.phi, pose.a);
+        let ang2 = pose.psi0 + delta;
+        let (sn1, co1) = phi.sin_cos();
+        let (sn2, co2) = ang2.sin_cos();
+        // Gear-2 body point → gear-1 body frame, and the reverse (the arithmetic of `eval_on`).
+        let to1 = |b: [f64; 2]| {
+            let w = [co2 * b[0] + sn2 * b[1] + a, -sn2 * b[0] + co2 * b[1]];
+            [co1 * w[0] + sn1 * w[1], -sn1 * w[0] + co1 * w[1]]
+        };
+        let to2 = |b: [f64; 2]| {
+            let w = [co1 * b[0] - sn1 * b[1] - a, sn1 * b[0] + co1 * b[1]];
+            [co2 * w[0] - sn2 * w[1], sn2 * w[0] + co2 * w[1]]
+        };
+        // Runs of set entries in one block: (gear, first, end, cache key, bound, fresh). The
+        // bound is the block's last one in `cache`, moved by its speed (the distance of its
+        // centre from the driven centre, invariant under δ) times |Δδ|, or −∞.
+        let mut cache = cache.0.borrow_mut();
+        let mut runs: Vec<(u8, usize, usize, usize, f64, bool)> = Vec::new();
+        for (gear, set) in [(0u8, set1), (1u8, set2)] {
+            let mut s = 0;
+            while s < set.len() {
+                let b = set[s] / self.block;
+                let mut e = s + 1;
+                while e < set.len() && set[e] / self.block == b {
+                    e += 1;
+                }
+                let key = if gear == 0 { b } else { self.blocks1.len() + b };
+                let (at, lb, speed) = cache[key];
+                let (moved, fresh) = if at.is_nan() {
+                    (f64::NEG_INFINITY, false)
+                } else if at == delta {
+                    (lb, true)
+                } else {
+                    (lb - speed * (delta - at).abs(), false)
+                };
+                runs.push((gear, s, e, key, moved, fresh));
+                s = e;
+            }
+        }
+        runs.sort_by(|x, y| x.4.total_cmp(&y.4));
+        let mut v1 = vec![0.0; set1.len()];
+        let mut v2 = vec![0.0; set2.len()];
+        let mut best = f64::INFINITY;
+        let mut done = false;
+        for &(gear, s, e, key, moved, fresh) in &runs {
+            let v = if gear == 0 {
+                &mut v1[s..e]
+            } else {
+                &mut v2[s..e]
+            };
+            // Sorted by the moved bounds: once one cannot matter, none of the rest can.
+            done = done || (moved > floor && moved >= best);
+            if done {
+                v.fill(moved);
+                continue;
+            }
+            if !fresh {
+                let (lb, speed) = if gear == 0 {
+                    let (c, r) = self.blocks1[key];
+                    let p = to2(c);
+                    (self.b2.clearance(p) - r, p[0].hypot(p[1]))
+                } else {
+                    let (c, r) = self.blocks2[key - self.blocks1.len()];
+                    (self.b1.clearance(to1(c)) - r, c[0].hypot(c[1]))
+                };
+                let lb = lb - self.slack;
+                cache[key] = (delta, lb, speed * (1.0 + 1e-9) + 1e-9 * self.module_mm);
+                if lb > floor && lb >= best {
+                    v.fill(lb);
+                    continue;
+                }
+            }
+            if gear == 0 {
+                for (x, &i) in v.iter_mut().zip(&set1[s..e]) {
+                    *x = self.h2.clearance(to2(g1.point(i)));
+                    best = best.min(*x);
+                }
+            } else {
+                for (x, &i) in v.iter_mut().zip(&set2[s..e]) {
+                    *x = self.h1.clearance(to1(g2.point(i)));
+                    best = best.min(*x);
+                }
+            }
+        }
+        (v1, v2)
+    }
+
+    /// An empty cache of block bounds for [`Self::eval_bounded`] at one pose.
+    pub(super) fn bound_cache(&self) -> BoundCache {
+        BoundCache(std::cell::RefCell::new(vec![
+            (f64::NAN, 0.0, 0.0);
+            self.blocks1.len()
+                + self.blocks2.len()
+        ]))
     }
 
     fn eval_on(
@@ -158,6 +338,10 @@ impl Level {
         (expand(&c1, &p1), expand(&c2, &p2))
     }
 }
+
+/// The last lower bound of each block (driven offset δ, bound mm, speed mm/rad) at one pose:
+/// a block's bound at another δ is that bound less speed × |Δδ|.
+pub(super) struct BoundCache(std::cell::RefCell<Vec<(f64, f64, f64)>>);
 
 /// Minimum of all per-vertex clearances, mm.
 pub(super) fn min_of(v: &PerVertex) -> f64 {
