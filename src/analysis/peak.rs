@@ -278,12 +278,18 @@ impl PeakGrid {
             .map(|(a, p)| (a * p.cos(), a * p.sin()))
             .unzip();
         // f on the grid; f′ from the same tables (d/dt sin(ωt+φ) = ω cos(ωt+φ)) where needed.
+        // Blocks of 256 points stay in L1 while the terms are added (same order of additions,
+        // term by term, as a plain loop: the sums are bit-identical).
+        const BLOCK: usize = 256;
         let mut f = vec![0.0; n];
-        for k in 0..amps.len() {
-            let (s, c) = (&self.sin[k], &self.cos[k]);
-            let (ck, sk) = (cs[k], sn[k]);
-            for ((fj, s), c) in f.iter_mut().zip(s).zip(c) {
-                *fj += ck * s + sk * c;
+        for (b, fb) in f.chunks_mut(BLOCK).enumerate() {
+            let r = b * BLOCK..b * BLOCK + fb.len();
+            for k in 0..amps.len() {
+                let (s, c) = (&self.sin[k][r.clone()], &self.cos[k][r.clone()]);
+                let (ck, sk) = (cs[k], sn[k]);
+                for ((fj, s), c) in fb.iter_mut().zip(s).zip(c) {
+                    *fj += ck * s + sk * c;
+                }
             }
         }
         let deriv = |j: usize| -> f64 {
@@ -322,16 +328,23 @@ impl PeakGrid {
             .fold(lanes.iter().copied().fold(0.0_f64, f64::max), |m, v| {
                 m.max(v.abs())
             });
-        // Intervals whose coarse bound reaches the best grid value (one pass, no bounds checks).
-        let mut cand: Vec<usize> = f
-            .windows(2)
-            .enumerate()
-            .filter(|(_, w)| w[0].abs().max(w[1].abs()) + loss >= gmax)
-            .map(|(j, _)| j)
-            .collect();
-        if f[n - 1].abs().max(f[0].abs()) + loss >= gmax {
-            cand.push(n - 1);
+        // Intervals whose coarse bound reaches the best grid value: `max(|f_j|, |f_j+1|) + loss
+        // ≥ gmax` holds exactly when an end point has `|f| + loss ≥ gmax` (rounded addition is
+        // monotone), so find those few points (blocks without one are skipped branch-free) and
+        // take the intervals on both sides, in increasing order.
+        let mut cand: Vec<usize> = Vec::new();
+        for (b, fb) in f.chunks(16).enumerate() {
+            if fb.iter().fold(false, |any, v| any | (v.abs() + loss >= gmax)) {
+                for (i, v) in fb.iter().enumerate() {
+                    if v.abs() + loss >= gmax {
+                        let p = b * 16 + i;
+                        cand.extend([if p == 0 { n - 1 } else { p - 1 }, p]);
+                    }
+                }
+            }
         }
+        cand.sort_unstable();
+        cand.dedup();
         let mut bounds: Vec<(f64, usize)> = cand
             .into_iter()
             .map(|j| {
