@@ -334,7 +334,10 @@ impl PeakGrid {
         // take the intervals on both sides, in increasing order.
         let mut cand: Vec<usize> = Vec::new();
         for (b, fb) in f.chunks(16).enumerate() {
-            if fb.iter().fold(false, |any, v| any | (v.abs() + loss >= gmax)) {
+            if fb
+                .iter()
+                .fold(false, |any, v| any | (v.abs() + loss >= gmax))
+            {
                 for (i, v) in fb.iter().enumerate() {
                     if v.abs() + loss >= gmax {
                         let p = b * 16 + i;
