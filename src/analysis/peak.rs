@@ -27,8 +27,7 @@ pub struct Sinusoid {
 pub struct PeakOptions {
     /// Grid points per shortest period `T_min` (≥ 20 certifies the bracket; default 20).
     pub samples_per_min_period: usize,
-    /// No longer used (default 8): refinement stops at the first interval whose certified bound
-    /// is below the best refined value, which gives the same result as refining more.
+    /// Local maxima refined (default 8).
     pub refine_top: usize,
     /// Refinement tolerance on t, relative to `T_min` (default 1e-12).
     pub tol_relative: f64,
@@ -391,10 +390,7 @@ impl PeakGrid {
         let tol = self.opts.tol_relative * TAU / wmax;
         let mut best = (f64::NEG_INFINITY, 0.0);
         for (rank, &(bound, j)) in bounds.iter().enumerate() {
-            // Bounds are sorted: once one is below the best refined value, no later interval can
-            // raise it (its refined value is at most its bound), so refining it would not change
-            // the result.
-            if rank >= 1 && bound < best.0 {
+            if rank >= self.opts.refine_top.max(1) && bound < best.0 {
                 break;
             }
             // The interval's maximum is at an end point or at a stationary point inside.
