@@ -202,17 +202,7 @@ pub(super) fn coverage(m: &Mechanism, q: &[[f64; 2]], phi: f64) -> (f64, [f64; 2
 mod tests {
     use super::*;
     use crate::design::fit::solver::{from_params, to_params};
-    use crate::geometry::fourier::SunRatio;
-
-    fn mech() -> Mechanism {
-        Mechanism {
-            a_mm: 44.0,
-            l3_mm: 172.0,
-            ratio: SunRatio::new(vec![0.25, 0.04, -0.02], vec![0.05, -0.03, 0.01]).unwrap(),
-            sun_phase_rad: 0.4,
-            needle_angle_rad: -1.1,
-        }
-    }
+    use crate::design::fit::tests::mech;
 
     #[test]
     fn jacobian_matches_finite_differences() {

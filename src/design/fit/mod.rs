@@ -356,7 +356,8 @@ mod tests {
     use super::*;
     use crate::geometry::fourier::SunRatio;
 
-    fn mech() -> Mechanism {
+    /// A three-harmonic train, the fixture of the fit's tests (also used by `curve`'s).
+    pub(super) fn mech() -> Mechanism {
         Mechanism {
             a_mm: 44.0,
             l3_mm: 172.0,
