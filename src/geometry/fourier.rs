@@ -212,8 +212,23 @@ impl SunRatio {
     /// `Φ⁻¹(y)` (rad): Newton with bisection safeguard to `tol_rad` (spec §14, "Φ⁻¹ robustness").
     #[must_use]
     pub fn inverse_integral(&self, y: f64, tol_rad: f64) -> f64 {
+        self.inverse_integral_from(y, y, tol_rad)
+    }
+
+    /// [`Self::inverse_integral`] started from `guess_rad` (clamped into the bracket
+    /// `y ± drift`): a nearby earlier solution saves most Newton steps along a curve.
+    #[must_use]
+    pub fn inverse_integral_from(&self, y: f64, guess_rad: f64, tol_rad: f64) -> f64 {
         let m = self.drift_bound;
-        invert_increasing(|x| self.integral_and_value(x), y, y - m, y + m, y, tol_rad)
+        let guess = if guess_rad.is_finite() { guess_rad } else { y };
+        invert_increasing(
+            |x| self.integral_and_value(x),
+            y,
+            y - m,
+            y + m,
+            guess,
+            tol_rad,
+        )
     }
 
     /// Planet contact map `S(t) = Φ⁻¹(Φ(t) + π)` (spec §6.2), rad.
@@ -319,6 +334,11 @@ mod tests {
             assert!((r.inverse_integral(r.integral(t), 1e-14) - t).abs() < 1e-12);
             let s = r.half_turn_map(r.half_turn_map(t, 1e-14), 1e-14);
             assert!((s - t - TAU).abs() < 1e-11);
+            // A warm start, near or wild (or not finite), converges to the same inverse.
+            for guess in [t + 1e-3, t - 2.5, t + 40.0, f64::NAN] {
+                let u = r.inverse_integral_from(r.integral(t), guess, 1e-14);
+                assert!((u - t).abs() < 1e-12, "guess {guess}: {u} vs {t}");
+            }
         }
     }
 

@@ -11,65 +11,164 @@ fn directed(p: &[[f64; 2]], q: &[[f64; 2]]) -> f64 {
     distances_to_polyline(p, q).into_iter().fold(0.0, f64::max)
 }
 
-/// Distance (mm) from each point of `p` to the closed polyline `q`, with the segments of `q` bucketed on a uniform grid so each
-/// query only visits nearby cells (exact: rings are searched until no closer segment can exist).
+/// Distance (mm) from each point of `p` to the closed polyline `q` (see [`SegmentGrid`]).
 #[must_use]
 pub fn distances_to_polyline(p: &[[f64; 2]], q: &[[f64; 2]]) -> Vec<f64> {
-    let n = q.len();
-    if n == 0 || p.is_empty() {
+    if q.is_empty() {
         return vec![0.0; p.len()];
     }
-    let (mut x0, mut y0, mut x1, mut y1) = (f64::MAX, f64::MAX, f64::MIN, f64::MIN);
-    for v in q.iter().chain(p) {
-        x0 = x0.min(v[0]);
-        y0 = y0.min(v[1]);
-        x1 = x1.max(v[0]);
-        y1 = y1.max(v[1]);
-    }
-    let cells = ((n as f64).sqrt().ceil() as usize).clamp(1, 256);
-    let h = ((x1 - x0).max(y1 - y0) / cells as f64).max(1e-12);
-    let (nx, ny) = (((x1 - x0) / h) as usize + 1, ((y1 - y0) / h) as usize + 1);
-    let cell = |v: f64, o: f64, m: usize| (((v - o) / h) as usize).min(m - 1);
-    let mut grid: Vec<Vec<usize>> = vec![Vec::new(); nx * ny];
-    for k in 0..n {
-        let (a, b) = (q[k], q[(k + 1) % n]);
-        let (cx0, cx1) = (cell(a[0].min(b[0]), x0, nx), cell(a[0].max(b[0]), x0, nx));
-        let (cy0, cy1) = (cell(a[1].min(b[1]), y0, ny), cell(a[1].max(b[1]), y0, ny));
-        for cx in cx0..=cx1 {
-            for cy in cy0..=cy1 {
-                grid[cy * nx + cx].push(k);
+    let grid = SegmentGrid::new(q);
+    p.iter().map(|x| grid.nearest(*x).distance_mm).collect()
+}
+
+/// The segments of a closed polyline bucketed on a uniform grid (about √n cells a side), so a
+/// nearest-segment query visits only nearby cells. Exact: rings of cells are searched outwards
+/// until no closer segment can exist (a segment in ring r is at least (r − 1)·h away).
+#[derive(Debug, Clone)]
+pub struct SegmentGrid<'a> {
+    q: &'a [[f64; 2]],
+    origin: [f64; 2],
+    /// Cell size, mm.
+    h: f64,
+    nx: usize,
+    ny: usize,
+    /// Segment indices of cell c: `items[starts[c]..starts[c + 1]]`.
+    starts: Vec<usize>,
+    items: Vec<usize>,
+}
+
+/// The point of a polyline nearest to a query.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Nearest {
+    /// Segment index k (from vertex k to vertex k + 1, cyclically).
+    pub segment: usize,
+    /// The nearest point, mm.
+    pub point: [f64; 2],
+    /// Its distance from the query, mm.
+    pub distance_mm: f64,
+}
+
+impl<'a> SegmentGrid<'a> {
+    /// Buckets the segments of the closed polyline `q` (mm; at least one vertex).
+    #[must_use]
+    pub fn new(q: &'a [[f64; 2]]) -> Self {
+        let n = q.len();
+        let (mut lo, mut hi) = ([f64::MAX; 2], [f64::MIN; 2]);
+        for v in q {
+            for c in 0..2 {
+                lo[c] = lo[c].min(v[c]);
+                hi[c] = hi[c].max(v[c]);
             }
         }
-    }
-    p.iter()
-        .map(|x| {
-            let (cx, cy) = (cell(x[0], x0, nx) as i64, cell(x[1], y0, ny) as i64);
-            let mut best = f64::INFINITY;
-            for ring in 0..(nx.max(ny) as i64 + 1) {
-                // Any segment in ring r or beyond is at least (r − 1)·h away.
-                if best <= (ring as f64 - 1.0) * h {
-                    break;
+        let cells = ((n as f64).sqrt().ceil() as usize).clamp(1, 256);
+        let h = ((hi[0] - lo[0]).max(hi[1] - lo[1]) / cells as f64).max(1e-12);
+        let nx = ((hi[0] - lo[0]) / h) as usize + 1;
+        let ny = ((hi[1] - lo[1]) / h) as usize + 1;
+        let mut grid = Self {
+            q,
+            origin: lo,
+            h,
+            nx,
+            ny,
+            starts: vec![0; nx * ny + 1],
+            items: Vec::new(),
+        };
+        let boxes: Vec<[usize; 4]> = (0..n)
+            .map(|k| {
+                let (a, b) = (q[k], q[(k + 1) % n]);
+                let [x0, y0] = grid.cell([a[0].min(b[0]), a[1].min(b[1])]);
+                let [x1, y1] = grid.cell([a[0].max(b[0]), a[1].max(b[1])]);
+                [x0, x1, y0, y1]
+            })
+            .collect();
+        for &[x0, x1, y0, y1] in &boxes {
+            for cy in y0..=y1 {
+                for cx in x0..=x1 {
+                    grid.starts[cy * nx + cx + 1] += 1;
                 }
+            }
+        }
+        for c in 0..nx * ny {
+            grid.starts[c + 1] += grid.starts[c];
+        }
+        let mut fill = grid.starts.clone();
+        grid.items = vec![0; grid.starts[nx * ny]];
+        for (k, &[x0, x1, y0, y1]) in boxes.iter().enumerate() {
+            for cy in y0..=y1 {
+                for cx in x0..=x1 {
+                    grid.items[fill[cy * nx + cx]] = k;
+                    fill[cy * nx + cx] += 1;
+                }
+            }
+        }
+        grid
+    }
+
+    /// Length of segment `k`, mm.
+    #[must_use]
+    pub fn segment_length_mm(&self, k: usize) -> f64 {
+        let (a, b) = (self.q[k], self.q[(k + 1) % self.q.len()]);
+        (b[0] - a[0]).hypot(b[1] - a[1])
+    }
+
+    /// Cell of `v`, clamped into the grid.
+    fn cell(&self, v: [f64; 2]) -> [usize; 2] {
+        let f = |x: f64, o: f64, m: usize| (((x - o) / self.h).max(0.0) as usize).min(m - 1);
+        [
+            f(v[0], self.origin[0], self.nx),
+            f(v[1], self.origin[1], self.ny),
+        ]
+    }
+
+    /// The point of the polyline nearest to `x` (mm).
+    #[must_use]
+    pub fn nearest(&self, x: [f64; 2]) -> Nearest {
+        let (q, n) = (self.q, self.q.len());
+        let [cx, cy] = self.cell(x).map(|c| c as i64);
+        let mut best = Nearest {
+            segment: 0,
+            point: q[0],
+            distance_mm: f64::INFINITY,
+        };
+        let mut best_d2 = f64::INFINITY;
+        for ring in 0..(self.nx.max(self.ny) as i64 + 1) {
+            let reach = (ring as f64 - 1.0) * self.h;
+            if reach > 0.0 && best_d2 <= reach * reach {
+                break;
+            }
+            for gy in (cy - ring)..=(cy + ring) {
                 for gx in (cx - ring)..=(cx + ring) {
-                    for gy in (cy - ring)..=(cy + ring) {
-                        let on_ring = (gx - cx).abs() == ring || (gy - cy).abs() == ring;
-                        if !on_ring || gx < 0 || gy < 0 || gx >= nx as i64 || gy >= ny as i64 {
-                            continue;
-                        }
-                        for &k in &grid[gy as usize * nx + gx as usize] {
-                            best = best.min(seg_dist(*x, q[k], q[(k + 1) % n]));
+                    let on_ring = (gx - cx).abs() == ring || (gy - cy).abs() == ring;
+                    if !on_ring || gx < 0 || gy < 0 || gx >= self.nx as i64 || gy >= self.ny as i64
+                    {
+                        continue;
+                    }
+                    let c = gy as usize * self.nx + gx as usize;
+                    for &k in &self.items[self.starts[c]..self.starts[c + 1]] {
+                        let (point, d2) = seg_nearest_sq(x, q[k], q[(k + 1) % n]);
+                        if d2 < best_d2 {
+                            best_d2 = d2;
+                            best.segment = k;
+                            best.point = point;
                         }
                     }
                 }
             }
-            best
-        })
-        .collect()
+        }
+        best.distance_mm = best_d2.sqrt();
+        best
+    }
 }
 
-/// Distance from `x` to the segment `ab`, mm.
+/// The point of the segment `ab` nearest to `x` and its distance, mm.
 #[must_use]
-pub fn seg_dist(x: [f64; 2], a: [f64; 2], b: [f64; 2]) -> f64 {
+pub fn seg_nearest(x: [f64; 2], a: [f64; 2], b: [f64; 2]) -> ([f64; 2], f64) {
+    let (c, d2) = seg_nearest_sq(x, a, b);
+    (c, d2.sqrt())
+}
+
+/// [`seg_nearest`] with the squared distance, mm².
+fn seg_nearest_sq(x: [f64; 2], a: [f64; 2], b: [f64; 2]) -> ([f64; 2], f64) {
     let (dx, dy) = (b[0] - a[0], b[1] - a[1]);
     let l2 = dx * dx + dy * dy;
     let t = if l2 > 0.0 {
@@ -77,7 +176,14 @@ pub fn seg_dist(x: [f64; 2], a: [f64; 2], b: [f64; 2]) -> f64 {
     } else {
         0.0
     };
-    (x[0] - a[0] - t * dx).hypot(x[1] - a[1] - t * dy)
+    let c = [a[0] + t * dx, a[1] + t * dy];
+    (c, (x[0] - c[0]).powi(2) + (x[1] - c[1]).powi(2))
+}
+
+/// Distance from `x` to the segment `ab`, mm.
+#[must_use]
+pub fn seg_dist(x: [f64; 2], a: [f64; 2], b: [f64; 2]) -> f64 {
+    seg_nearest(x, a, b).1
 }
 
 /// Simplifies a closed polyline so that no removed vertex deviates more than `tol_mm` from the
@@ -159,5 +265,34 @@ mod tests {
             })
             .fold(0.0, f64::max);
         assert!((directed(&a, &b) - brute).abs() < 1e-12);
+    }
+
+    #[test]
+    fn grid_nearest_equals_brute_force_inside_and_far_outside() {
+        // A kidney-like closed curve with unevenly spaced vertices; queries on a lattice that
+        // reaches far beyond its bounding box (the grid clamps them to border cells).
+        let q: Vec<[f64; 2]> = (0..300)
+            .map(|k| {
+                let t = TAU * (k as f64 / 300.0).powf(1.3);
+                let r = 60.0 + 15.0 * (2.0 * t).cos() + 5.0 * (3.0 * t).sin();
+                [r * t.cos() + 10.0, 0.6 * r * t.sin() - 4.0]
+            })
+            .collect();
+        let grid = SegmentGrid::new(&q);
+        for i in -12..=12 {
+            for j in -12..=12 {
+                let x = [17.0 * i as f64 + 0.3, 11.0 * j as f64 - 0.7];
+                let brute = (0..q.len())
+                    .map(|k| seg_dist(x, q[k], q[(k + 1) % q.len()]))
+                    .fold(f64::INFINITY, f64::min);
+                let near = grid.nearest(x);
+                assert!((near.distance_mm - brute).abs() < 1e-9, "{x:?}");
+                // The returned point lies on the returned segment, at that distance from x.
+                let k = near.segment;
+                assert!(seg_dist(near.point, q[k], q[(k + 1) % q.len()]) < 1e-9);
+                let d = (x[0] - near.point[0]).hypot(x[1] - near.point[1]);
+                assert!((d - near.distance_mm).abs() < 1e-9);
+            }
+        }
     }
 }

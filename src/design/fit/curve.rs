@@ -3,10 +3,12 @@
 //! gradient in the design parameters (formulas in the [`crate::design::fit`] module doc).
 
 use crate::geometry::mechanism::{INVERSE_TOL_RAD, Mechanism};
+use crate::math::polyline::SegmentGrid;
 use rayon::prelude::*;
 use std::f64::consts::{PI, TAU};
 
 /// Tip, velocity and acceleration w.r.t. φ, and the quantities the Jacobian needs.
+#[derive(Debug, Clone)]
 pub(super) struct TipEval {
     pub(super) b: [f64; 2],
     pub(super) v: [f64; 2],
@@ -21,7 +23,32 @@ pub(super) struct TipEval {
 pub(super) fn tip_eval(m: &Mechanism, phi: f64) -> TipEval {
     let t = phi - m.sun_phase_rad;
     let (fi_t, _) = m.ratio.integral_and_value(t);
-    let s = m.ratio.inverse_integral(fi_t + PI, INVERSE_TOL_RAD);
+    tip_eval_at(
+        m,
+        phi,
+        t,
+        m.ratio.inverse_integral(fi_t + PI, INVERSE_TOL_RAD),
+    )
+}
+
+/// [`tip_eval`] at `phi + step` from the evaluation `e` at `phi`: the contact angle `S` is solved
+/// from its first-order prediction `S + S′·step` (`S′ = i(t)/i(S)`), a step or two of Newton.
+pub(super) fn tip_eval_next(m: &Mechanism, e: &TipEval, step: f64) -> TipEval {
+    let phi = e.t + m.sun_phase_rad + step;
+    let t = phi - m.sun_phase_rad;
+    let (fi_t, _) = m.ratio.integral_and_value(t);
+    let guess = e.s + step * e.i_t / e.i_s;
+    tip_eval_at(
+        m,
+        phi,
+        t,
+        m.ratio
+            .inverse_integral_from(fi_t + PI, guess, INVERSE_TOL_RAD),
+    )
+}
+
+/// The evaluation at carrier angle `phi` (`t = phi − φ_ref`) with the contact angle `s = S(t)`.
+fn tip_eval_at(m: &Mechanism, phi: f64, t: f64, s: f64) -> TipEval {
     let [i_t, di_t, _] = m.ratio.eval3(t);
     let [i_s, di_s, _] = m.ratio.eval3(s);
     let beta = phi + PI - s + m.needle_angle_rad;
@@ -65,7 +92,7 @@ pub(super) fn project(m: &Mechanism, p: [f64; 2], mut phi: f64) -> (f64, TipEval
         };
         step = step.clamp(-0.2, 0.2);
         phi += step;
-        e = tip_eval(m, phi);
+        e = tip_eval_next(m, &e, step);
         let d2 = dist2(&e);
         if d2 < best.1 {
             best = (phi, d2);
@@ -131,21 +158,32 @@ pub(super) fn point_row(m: &Mechanism, e: &TipEval, n: [f64; 2], row: &mut [f64]
 /// lie on the other stretch: a fast tip spaces its own samples farther apart than the gap.)
 pub(super) fn initial_angles(m: &Mechanism, pts: &[[f64; 2]]) -> Vec<f64> {
     let n = 4096;
-    let curve: Vec<[f64; 2]> = (0..n).map(|k| m.tip(TAU * k as f64 / n as f64)).collect();
+    let curve = curve_samples(m, n);
     pts.par_iter()
         .map(|p| {
-            let d: Vec<f64> = curve
-                .iter()
-                .map(|q| (q[0] - p[0]).powi(2) + (q[1] - p[1]).powi(2))
-                .collect();
-            let mut minima: Vec<usize> = (0..n)
-                .filter(|&k| d[k] <= d[(k + n - 1) % n] && d[k] <= d[(k + 1) % n])
-                .collect();
-            minima.sort_by(|&a, &b| d[a].total_cmp(&d[b]));
+            let d = |k: usize| {
+                let q = curve[k % n];
+                (q[0] - p[0]).powi(2) + (q[1] - p[1]).powi(2)
+            };
+            // The CANDIDATES smallest local minima, in increasing distance.
+            let mut minima = [(f64::INFINITY, usize::MAX); CANDIDATES];
+            let (mut prev, mut cur) = (d(n - 1), d(0));
+            for k in 0..n {
+                let next = d(k + 1);
+                if cur <= prev && cur <= next && cur < minima[CANDIDATES - 1].0 {
+                    let at = minima
+                        .iter()
+                        .position(|m| cur < m.0)
+                        .unwrap_or(CANDIDATES - 1);
+                    minima.copy_within(at..CANDIDATES - 1, at + 1);
+                    minima[at] = (cur, k);
+                }
+                (prev, cur) = (cur, next);
+            }
             minima
                 .iter()
-                .take(CANDIDATES)
-                .map(|&k| {
+                .filter(|m| m.1 != usize::MAX)
+                .map(|&(_, k)| {
                     let (phi, e) = project(m, *p, TAU * k as f64 / n as f64);
                     (phi, (e.b[0] - p[0]).powi(2) + (e.b[1] - p[1]).powi(2))
                 })
@@ -155,38 +193,35 @@ pub(super) fn initial_angles(m: &Mechanism, pts: &[[f64; 2]]) -> Vec<f64> {
         .collect()
 }
 
+/// The tip at `n` uniform carrier angles `2πk/n` (mm), each contact angle solved from the
+/// previous one.
+pub(super) fn curve_samples(m: &Mechanism, n: usize) -> Vec<[f64; 2]> {
+    curve_evals(m, n).into_iter().map(|e| e.b).collect()
+}
+
+/// The evaluations at `n` uniform carrier angles `2πk/n`, each contact angle solved from the
+/// previous one.
+pub(super) fn curve_evals(m: &Mechanism, n: usize) -> Vec<TipEval> {
+    let h = TAU / n as f64;
+    let mut out: Vec<TipEval> = Vec::with_capacity(n);
+    out.push(tip_eval(m, 0.0));
+    for k in 1..n {
+        let e = tip_eval_next(m, &out[k - 1], h);
+        out.push(e);
+    }
+    out
+}
+
 /// Local minima of the sample distance tried per point by [`initial_angles`].
 const CANDIDATES: usize = 3;
 
-/// Nearest point of the closed polyline `q` to `p`, and the length of that segment (mm).
-pub(super) fn nearest_on_polyline(q: &[[f64; 2]], p: [f64; 2]) -> ([f64; 2], f64) {
-    let n = q.len();
-    let mut best = (q[0], f64::MAX, 0.0);
-    for k in 0..n {
-        let (a, b) = (q[k], q[(k + 1) % n]);
-        let ab = [b[0] - a[0], b[1] - a[1]];
-        let l2 = ab[0] * ab[0] + ab[1] * ab[1];
-        let t = if l2 > 0.0 {
-            (((p[0] - a[0]) * ab[0] + (p[1] - a[1]) * ab[1]) / l2).clamp(0.0, 1.0)
-        } else {
-            0.0
-        };
-        let c = [a[0] + t * ab[0], a[1] + t * ab[1]];
-        let d = (p[0] - c[0]).powi(2) + (p[1] - c[1]).powi(2);
-        if d < best.1 {
-            best = (c, d, l2.sqrt());
-        }
-    }
-    (best.0, best.2)
-}
-
-/// Distance (mm) of the traced curve's sample at `phi` from the target polyline beyond what the
+/// Distance (mm) of the traced curve's sample `e` from the target polyline beyond what the
 /// polyline's chords can explain (0.6 of the nearest chord: even round a sharp, coarsely sampled
 /// nose a smooth curve through two points bulges at most about half their distance beyond their
-/// chord), its gradient direction, and the tip evaluation.
-pub(super) fn coverage(m: &Mechanism, q: &[[f64; 2]], phi: f64) -> (f64, [f64; 2], TipEval) {
-    let e = tip_eval(m, phi);
-    let (c, chord) = nearest_on_polyline(q, e.b);
+/// chord), and its gradient direction.
+pub(super) fn coverage(q: &SegmentGrid, e: &TipEval) -> (f64, [f64; 2]) {
+    let near = q.nearest(e.b);
+    let (c, chord) = (near.point, q.segment_length_mm(near.segment));
     let r = [e.b[0] - c[0], e.b[1] - c[1]];
     let d = r[0].hypot(r[1]);
     let excess = (d - 0.6 * chord).max(0.0);
@@ -195,7 +230,7 @@ pub(super) fn coverage(m: &Mechanism, q: &[[f64; 2]], phi: f64) -> (f64, [f64; 2
     } else {
         [0.0, 0.0]
     };
-    (excess, u, e)
+    (excess, u)
 }
 
 #[cfg(test)]

@@ -56,10 +56,10 @@ pub const MEASURED_NOISE_MM: f64 = 0.002;
 pub use restarts::fit_with_restarts;
 
 use crate::geometry::mechanism::Mechanism;
-use curve::{initial_angles, nearest_on_polyline, project};
+use crate::math::polyline::SegmentGrid;
+use curve::{curve_samples, initial_angles, project};
 use rayon::prelude::*;
-use solver::{COVERAGE_SAMPLES, Lm, to_params, with_order};
-use std::f64::consts::TAU;
+use solver::{Lm, to_params, with_order};
 
 /// Orders the fit climbs through.
 pub const FIT_ORDERS: [usize; 7] = [6, 8, 12, 16, 24, 32, 40];
@@ -117,6 +117,11 @@ pub enum FitError {
     NotFinite(&'static str),
 }
 
+/// Carrier angles at which a fitted train's traced curve is measured against the points' polyline
+/// (the curve side of the Hausdorff distance that picks between fits): fine enough that a sharp
+/// nose of the traced curve is not stepped over.
+const MEASURE_COVERAGE_SAMPLES: usize = 1024;
+
 /// Result of [`fit_points`].
 #[derive(Debug, Clone)]
 pub struct Fitted {
@@ -130,7 +135,7 @@ pub struct Fitted {
     pub rms_mm: f64,
     /// Largest point distance, mm.
     pub max_mm: f64,
-    /// Largest distance of the traced curve (256 carrier angles) from the target polyline, mm:
+    /// Largest distance of the traced curve (1024 carrier angles) from the target polyline, mm:
     /// with `max_mm`, the Hausdorff distance to the points' polyline.
     pub coverage_mm: f64,
     /// Levenberg–Marquardt iterations over all orders.
@@ -225,7 +230,7 @@ pub struct Measured {
     pub rms_mm: f64,
     /// Largest point distance, mm.
     pub max_mm: f64,
-    /// Largest distance of the traced curve (256 carrier angles) from the points' polyline, mm.
+    /// Largest distance of the traced curve (1024 carrier angles) from the points' polyline, mm.
     pub coverage_mm: f64,
 }
 
@@ -260,13 +265,10 @@ fn measure_from(m: &Mechanism, points: &[[f64; 2]], tracked: Option<&[f64]>) -> 
     let rms_mm =
         (distances_mm.iter().map(|d| d * d).sum::<f64>() / distances_mm.len() as f64).sqrt();
     let max_mm = distances_mm.iter().copied().fold(0.0, f64::max);
-    let coverage_mm = (0..COVERAGE_SAMPLES)
+    let grid = SegmentGrid::new(points);
+    let coverage_mm = curve_samples(m, MEASURE_COVERAGE_SAMPLES)
         .into_par_iter()
-        .map(|c| {
-            let b = m.tip(TAU * c as f64 / COVERAGE_SAMPLES as f64);
-            let (q, _) = nearest_on_polyline(points, b);
-            (b[0] - q[0]).hypot(b[1] - q[1])
-        })
+        .map(|b| grid.nearest(b).distance_mm)
         .reduce(|| 0.0, f64::max);
     Measured {
         carrier_angles_rad,
@@ -355,6 +357,7 @@ fn subsample(points: &[[f64; 2]], opts: &FitOptions) -> (usize, Vec<[f64; 2]>) {
 mod tests {
     use super::*;
     use crate::geometry::fourier::SunRatio;
+    use std::f64::consts::TAU;
 
     /// A three-harmonic train, the fixture of the fit's tests (also used by `curve`'s).
     pub(super) fn mech() -> Mechanism {

@@ -3,9 +3,10 @@
 //! judged.
 
 use super::FitOptions;
-use super::curve::{coverage, normal_residual, point_row, project};
+use super::curve::{coverage, curve_evals, normal_residual, point_row, project};
 use crate::geometry::fourier::SunRatio;
 use crate::geometry::mechanism::Mechanism;
+use crate::math::polyline::SegmentGrid;
 use nalgebra::{DMatrix, DVector};
 use rayon::prelude::*;
 use std::f64::consts::TAU;
@@ -94,11 +95,11 @@ impl Lm<'_> {
         // Coverage: the traced curve may not leave the target where no point watches it (a
         // one-sided point-to-curve fit would allow a loop between two points).
         let m0 = self.pts.len();
-        let cov: Vec<(f64, Vec<f64>)> = (0..COVERAGE_SAMPLES)
+        let grid = SegmentGrid::new(self.pts);
+        let cov: Vec<(f64, Vec<f64>)> = curve_evals(m, COVERAGE_SAMPLES)
             .into_par_iter()
-            .map(|c| {
-                let phi = TAU * c as f64 / COVERAGE_SAMPLES as f64;
-                let (excess, u, e) = coverage(m, self.pts, phi);
+            .map(|e| {
+                let (excess, u) = coverage(&grid, &e);
                 let mut row = vec![0.0; np];
                 if !row.is_empty() && excess > 0.0 {
                     point_row(m, &e, [-u[0], -u[1]], &mut row);
@@ -151,6 +152,7 @@ impl Lm<'_> {
         let np = 4 + 2 * self.k;
         let mut jac = DMatrix::zeros(self.n_rows(), np);
         let mut r = self.evaluate(&m, phis, Some(&mut jac));
+        let mut trial_jac = jac.clone();
         let mut cost = r.norm_squared();
         let mut lambda = 1e-3;
         let mut iters = 0;
@@ -177,8 +179,10 @@ impl Lm<'_> {
                     lambda *= 4.0;
                     continue;
                 }
+                // The trial's Jacobian comes with its residuals (rows are cheap beside the
+                // projections), so an accepted step needs no second evaluation.
                 let mut trial_phis = phis.to_vec();
-                let rt = self.evaluate(&trial, &mut trial_phis, None);
+                let rt = self.evaluate(&trial, &mut trial_phis, Some(&mut trial_jac));
                 let ct = rt.norm_squared();
                 if ct.is_finite() && ct < cost {
                     let gain = (cost - ct) / cost.max(1e-300);
@@ -186,8 +190,9 @@ impl Lm<'_> {
                     phis.copy_from_slice(&trial_phis);
                     lambda = (lambda / 3.0).max(1e-12);
                     accepted = true;
-                    r = self.evaluate(&m, phis, Some(&mut jac));
-                    cost = r.norm_squared();
+                    std::mem::swap(&mut jac, &mut trial_jac);
+                    r = rt;
+                    cost = ct;
                     let rms =
                         (r.rows(0, self.pts.len()).norm_squared() / self.pts.len() as f64).sqrt();
                     if gain < 1e-4 || (self.weights.is_none() && rms < 0.01 * self.opts.tol_mm) {
