@@ -319,19 +319,21 @@ fn solve_frame(
     }
     // Parameter measured from s_max in travel order; σ = +1 until s_min.
     let s_min_rel = (s_min - s_max).rem_euclid(len);
-    let raw_phi = |u: f64| {
-        let p = spline.point(s_max + u);
+    let phi_of = |p: [f64; 2], u: f64| {
         let r = p[0].hypot(p[1]);
         let q = ((l1 * l1 + r * r - l3 * l3) / (2.0 * l1 * r)).clamp(-1.0, 1.0);
         let sigma = if u <= s_min_rel { 1.0 } else { -1.0 };
         p[1].atan2(p[0]) + sigma * q.acos()
     };
+    let raw_phi = |u: f64| phi_of(spline.point(s_max + u), u);
+    // The tip at the dense parameters u_j = j·ds from s_max (the last one a whole period on).
+    let u_at = |j: usize| if j == ns { len } else { j as f64 * ds };
+    let tips: Vec<[f64; 2]> = (0..=ns).map(|j| spline.point(s_max + u_at(j))).collect();
     let mut phi = Vec::with_capacity(ns + 1);
-    phi.push(raw_phi(0.0));
+    phi.push(phi_of(tips[0], 0.0));
     for j in 1..=ns {
-        let u = if j == ns { len } else { j as f64 * ds };
         let prev = phi[j - 1];
-        phi.push(prev + wrap_pi(raw_phi(u) - prev));
+        phi.push(prev + wrap_pi(phi_of(tips[j], u_at(j)) - prev));
     }
     let total = phi[ns] - phi[0];
     let phi0 = phi[0];
@@ -352,16 +354,13 @@ fn solve_frame(
         return Err(not_monotone);
     }
     // Needle direction and ψ3 on the dense samples: ψ3 must increase (i31 > 0).
-    let beta_at = |u: f64, ph: f64| {
-        let p = spline.point(s_max + u);
-        (p[1] - l1 * ph.sin()).atan2(p[0] - l1 * ph.cos())
-    };
+    let beta_of = |p: [f64; 2], ph: f64| (p[1] - l1 * ph.sin()).atan2(p[0] - l1 * ph.cos());
+    let beta_at = |u: f64, ph: f64| beta_of(spline.point(s_max + u), ph);
     let mut beta = Vec::with_capacity(ns + 1);
-    beta.push(beta_at(0.0, phi0));
+    beta.push(beta_of(tips[0], phi0));
     for j in 1..=ns {
-        let u = if j == ns { len } else { j as f64 * ds };
         let prev = beta[j - 1];
-        beta.push(prev + wrap_pi(beta_at(u, phi[j]) - prev));
+        beta.push(prev + wrap_pi(beta_of(tips[j], phi[j]) - prev));
     }
     let psi = |j: usize| (phi[j] - phi0) - (beta[j] - beta[0]);
     let bad = runs(ns, |j| psi(j + 1) <= psi(j));
