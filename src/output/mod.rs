@@ -15,5 +15,8 @@ pub use design_files::{pitch_csv, ratio_plot, write_design};
 pub use error::OutputError;
 pub use mechanism_preview::{mechanism_chart, mechanism_svg};
 pub use simulation_files::{SimulationReport, write_simulation};
-pub use step_files::{SolidOptions, gear_prism, pair_step, train_step, write_teeth_step};
+pub use step_files::{
+    SolidOptions, gear_prism, pair_step, train_step, train_step_models, write_step_models,
+    write_teeth_step,
+};
 pub use teeth_files::write_teeth;

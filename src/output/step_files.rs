@@ -127,28 +127,46 @@ pub fn pair_step(pair: &PairDesign, chord_tol_mm: f64, opts: &SolidOptions) -> S
     }
 }
 
-/// STEP files of a toothed train under `dir/teeth/`: `<gear>.step` (each gear about its rotation
-/// centre) and `train.step` ([`train_step`]). Returns the written paths.
+/// The STEP files of a toothed train as `(file name, model)`: `<gear>.step` (each gear about its
+/// rotation centre) and `train.step` ([`train_step`]).
+#[must_use]
+pub fn train_step_models(train: &ToothedTrain, opts: &SolidOptions) -> Vec<(String, StepModel)> {
+    let mut models: Vec<(String, StepModel)> = Gear::ALL
+        .iter()
+        .map(|&g| {
+            let model = StepModel {
+                name: g.name().into(),
+                parts: vec![gear_prism(train, g, opts)],
+                instances: Vec::new(),
+            };
+            (format!("{}.step", g.name()), model)
+        })
+        .collect();
+    models.push(("train.step".into(), train_step(train, opts)));
+    models
+}
+
+/// Writes [`train_step_models`] into `dir` (created if missing). Returns the written paths.
+pub fn write_step_models(
+    models: &[(String, StepModel)],
+    dir: &Path,
+) -> Result<Vec<PathBuf>, OutputError> {
+    create_dir(dir)?;
+    let mut written = Vec::with_capacity(models.len());
+    for (file, model) in models {
+        let path = dir.join(file);
+        write_step(model, &path)?;
+        written.push(path);
+    }
+    Ok(written)
+}
+
+/// STEP files of a toothed train under `dir/teeth/` ([`train_step_models`]). Returns the written
+/// paths.
 pub fn write_teeth_step(
     train: &ToothedTrain,
     dir: &Path,
     opts: &SolidOptions,
 ) -> Result<Vec<PathBuf>, OutputError> {
-    let dir = dir.join("teeth");
-    create_dir(&dir)?;
-    let mut written = Vec::new();
-    for g in Gear::ALL {
-        let model = StepModel {
-            name: g.name().into(),
-            parts: vec![gear_prism(train, g, opts)],
-            instances: Vec::new(),
-        };
-        let path = dir.join(format!("{}.step", g.name()));
-        write_step(&model, &path)?;
-        written.push(path);
-    }
-    let path = dir.join("train.step");
-    write_step(&train_step(train, opts), &path)?;
-    written.push(path);
-    Ok(written)
+    write_step_models(&train_step_models(train, opts), &dir.join("teeth"))
 }
