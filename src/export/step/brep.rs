@@ -42,8 +42,11 @@ fn line_edge(e: &mut Ents, (v0, p0): (usize, usize), v1: usize, dir: [f64; 3], l
     e.add(format!("EDGE_CURVE('',#{v0},#{v1},#{line},.T.)"))
 }
 
+/// A loop of `(edge, forward)`.
+type Loop = Vec<(usize, bool)>;
+
 /// A face on `surface` bounded by loops of `(edge, forward)` (the first loop is the outer one).
-fn face(e: &mut Ents, surface: usize, same_sense: bool, loops: &[Vec<(usize, bool)>]) -> usize {
+fn face(e: &mut Ents, surface: usize, same_sense: bool, loops: &[Loop]) -> usize {
     let mut bounds = Vec::with_capacity(loops.len());
     for (k, l) in loops.iter().enumerate() {
         let oriented: Vec<String> = l
@@ -75,7 +78,7 @@ fn vertex(e: &mut Ents, p: [f64; 3]) -> (usize, usize) {
 }
 
 /// The bore: its two cap loops `(bottom, top)` and its two half-cylinder faces.
-fn bore(e: &mut Ents, r: f64, w: f64) -> (Vec<(usize, bool)>, Vec<(usize, bool)>, [usize; 2]) {
+fn bore(e: &mut Ents, r: f64, w: f64) -> (Loop, Loop, [usize; 2]) {
     let z = [0.0, 0.0, 1.0];
     let (b0, pb0) = vertex(e, [r, 0.0, 0.0]);
     let (bp, _) = vertex(e, [-r, 0.0, 0.0]);
