@@ -19,7 +19,12 @@ use pyo3::prelude::*;
 use serde_json::Value;
 use std::path::{Path, PathBuf};
 
-create_exception!(_ncgear, NcgearError, PyValueError, "An ncgear input or design error.");
+create_exception!(
+    _ncgear,
+    NcgearError,
+    PyValueError,
+    "An ncgear input or design error."
+);
 
 fn err(e: impl std::fmt::Display) -> PyErr {
     NcgearError::new_err(e.to_string())
@@ -39,6 +44,32 @@ fn solids(face_width: Option<f64>, bore: f64) -> SolidOptions {
     s.face_width_mm = face_width;
     s.bore_mm = bore;
     s
+}
+
+/// `(occurrence, part, centre mm, angle rad)` of a STEP assembly.
+fn placements_of(m: &ncgear::export::step::StepModel) -> Vec<(String, String, [f64; 2], f64)> {
+    m.instances
+        .iter()
+        .map(|i| {
+            (
+                i.name.clone(),
+                m.parts[i.part].name.clone(),
+                i.centre_mm,
+                i.angle_rad,
+            )
+        })
+        .collect()
+}
+
+/// Outlines `(name, points mm)` simplified to the export chord tolerance `tol_mm`.
+fn outlines_of(
+    named: &[(&str, &ncgear::teeth::Outline)],
+    tol_mm: f64,
+) -> Vec<(String, Vec<[f64; 2]>)> {
+    named
+        .iter()
+        .map(|(n, o)| (n.to_string(), simplify_closed(&o.points_mm, tol_mm)))
+        .collect()
 }
 
 /// Design options from a JSON object of the Python keyword arguments.
@@ -89,15 +120,19 @@ impl DesignHandle {
     fn pitch_curves(&self) -> Vec<(String, Vec<[f64; 2]>)> {
         let a = &self.d.assembly;
         let n = 1440;
-        [("sun", &a.sun), ("intermediate", &a.intermediate), ("planet", &a.planet)]
-            .into_iter()
-            .map(|(name, c)| {
-                let pts = (0..n)
-                    .map(|k| c.point_mm(std::f64::consts::TAU * k as f64 / n as f64))
-                    .collect();
-                (name.to_string(), pts)
-            })
-            .collect()
+        [
+            ("sun", &a.sun),
+            ("intermediate", &a.intermediate),
+            ("planet", &a.planet),
+        ]
+        .into_iter()
+        .map(|(name, c)| {
+            let pts = (0..n)
+                .map(|k| c.point_mm(std::f64::consts::TAU * k as f64 / n as f64))
+                .collect();
+            (name.to_string(), pts)
+        })
+        .collect()
     }
     /// Distance of each target point to the path the designed gears trace (3600 carrier
     /// positions), mm.
@@ -143,25 +178,28 @@ impl TrainHandle {
     }
     /// Gear outlines `(name, points mm)` in body frames, as exported (export chord tolerance).
     fn outlines(&self) -> Vec<(String, Vec<[f64; 2]>)> {
-        let tol = self.t.report.options.toothing.chord_tol_mm;
-        [("sun", &self.t.sun), ("intermediate", &self.t.intermediate), ("planet", &self.t.planet)]
-            .into_iter()
-            .map(|(n, o)| (n.to_string(), simplify_closed(&o.points_mm, tol)))
-            .collect()
+        let t = &self.t;
+        let named = [
+            ("sun", &t.sun),
+            ("intermediate", &t.intermediate),
+            ("planet", &t.planet),
+        ];
+        outlines_of(&named, t.report.options.toothing.chord_tol_mm)
     }
     /// Placements at φH = 0 `(occurrence, part, centre mm, angle rad)`, as in `train.step`.
     fn placements(&self) -> Vec<(String, String, [f64; 2], f64)> {
-        let m = ncgear::output::train_step(&self.t, &SolidOptions::default());
-        m.instances
-            .iter()
-            .map(|i| (i.name.clone(), m.parts[i.part].name.clone(), i.centre_mm, i.angle_rad))
-            .collect()
+        placements_of(&ncgear::output::train_step(
+            &self.t,
+            &SolidOptions::default(),
+        ))
     }
     /// Writes `<gear>.step` and `train.step` into `dir`.
     #[pyo3(signature = (dir, face_width=None, bore=0.0))]
     fn write_step(&self, dir: &str, face_width: Option<f64>, bore: f64) -> PyResult<Vec<String>> {
         let models = train_step_models(&self.t, &solids(face_width, bore));
-        Ok(names(write_step_models(&models, Path::new(dir)).map_err(err)?))
+        Ok(names(
+            write_step_models(&models, Path::new(dir)).map_err(err)?,
+        ))
     }
     /// Writes `<gear>.dxf`/`.svg` (body frames) and `train.dxf`/`.svg` (φH = 0) into `dir`.
     fn write_sheets(&self, dir: &str, kind: &str) -> PyResult<Vec<String>> {
@@ -216,9 +254,11 @@ fn teeth(
         (None, "scale-down") => TrainPolicy::ScaleCenterDistance(ToothPolicy::ScaleDown),
         (None, "ratio-amplitude") => TrainPolicy::RatioAmplitude,
         (None, "adjust-module") => TrainPolicy::AdjustModule,
-        (None, p) => return Err(err(format!(
-            "policy `{p}`: scale-up, nearest, scale-down, ratio-amplitude or adjust-module"
-        ))),
+        (None, p) => {
+            return Err(err(format!(
+                "policy `{p}`: scale-up, nearest, scale-down, ratio-amplitude or adjust-module"
+            )));
+        }
     };
     // The CLI's accuracy: 1e-9 of the centre distance.
     let acc = 1e-9 * design.d.assembly.a_mm;
@@ -243,18 +283,18 @@ impl PairHandle {
     }
     /// `(name, points mm)`: driver and driven outlines in their body frames (export tolerance).
     fn outlines(&self) -> Vec<(String, Vec<[f64; 2]>)> {
-        [("driver", &self.p.driver), ("driven", &self.p.driven)]
-            .into_iter()
-            .map(|(n, o)| (n.to_string(), simplify_closed(&o.points_mm, self.chord_tol_mm)))
-            .collect()
+        outlines_of(
+            &[("driver", &self.p.driver), ("driven", &self.p.driven)],
+            self.chord_tol_mm,
+        )
     }
     /// Placements at the start `(occurrence, part, centre mm, angle rad)`, as in `pair.step`.
     fn placements(&self) -> Vec<(String, String, [f64; 2], f64)> {
-        let m = pair_step(&self.p, self.chord_tol_mm, &SolidOptions::default());
-        m.instances
-            .iter()
-            .map(|i| (i.name.clone(), m.parts[i.part].name.clone(), i.centre_mm, i.angle_rad))
-            .collect()
+        placements_of(&pair_step(
+            &self.p,
+            self.chord_tol_mm,
+            &SolidOptions::default(),
+        ))
     }
     /// Writes `pair.step` into `dir`.
     #[pyo3(signature = (dir, face_width=None, bore=0.0))]
@@ -270,7 +310,13 @@ impl PairHandle {
         std::fs::create_dir_all(dir).map_err(err)?;
         let p = Path::new(dir).join(format!("pair.{kind}"));
         let s = self.p.assembly_sheet();
-        Ok(vec![sheet(&s, &p, kind, self.chord_tol_mm, self.p.module_mm)?])
+        Ok(vec![sheet(
+            &s,
+            &p,
+            kind,
+            self.chord_tol_mm,
+            self.p.module_mm,
+        )?])
     }
 }
 

@@ -85,7 +85,8 @@ pub fn run(args: Args) -> CliResult {
     let mut files = write_points(&sheet, &args.out, "pair_points").map_err(runtime_error)?;
     let step = args.out.join("pair.step");
     let model = ncgear::output::pair_step(&design, opts.toothing.chord_tol_mm, &args.rack.solids());
-    ncgear::export::step::write_step(&model, &step).map_err(input_error)?;
+    ncgear::export::step::write_step(&model, &step)
+        .map_err(|e| super::teeth_args::step_failure(&e))?;
     files.push(step);
     files.push(dxf);
     files.push(svg);

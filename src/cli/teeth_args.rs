@@ -1,4 +1,5 @@
 //! Tooth and CAD-export options shared by `ncgear design --module` and `ncgear pair`.
+use ncgear::export::ExportError;
 use ncgear::export::dxf::DxfVersion;
 use ncgear::output::SolidOptions;
 use ncgear::teeth::{RackParams, TeethError, ToothingOptions};
@@ -83,5 +84,14 @@ impl RackArgs {
             toothing.chord_tol_mm = c;
         }
         Ok(())
+    }
+}
+
+/// A STEP export failure: a bad `--face-width`/`--bore` (or outline) is an input error (exit 2),
+/// a file that cannot be written a runtime one.
+pub fn step_failure(e: &ExportError) -> super::Failure {
+    match e {
+        ExportError::Io { .. } => super::runtime_error(miette::miette!("{e}")),
+        _ => super::input_error(miette::miette!("{e}")),
     }
 }

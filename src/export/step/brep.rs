@@ -8,24 +8,20 @@
 //! two faces, once in each direction.
 use super::{Ents, Prism, real};
 
+/// A `CARTESIAN_POINT` (mm) or a `DIRECTION` of three coordinates.
+fn triple(e: &mut Ents, kind: &str, p: [f64; 3]) -> usize {
+    let [x, y, z] = p.map(real);
+    e.add(format!("{kind}('',({x},{y},{z}))"))
+}
+
 /// A cartesian point `(x, y, z)`, mm.
 fn point(e: &mut Ents, p: [f64; 3]) -> usize {
-    e.add(format!(
-        "CARTESIAN_POINT('',({},{},{}))",
-        real(p[0]),
-        real(p[1]),
-        real(p[2])
-    ))
+    triple(e, "CARTESIAN_POINT", p)
 }
 
 /// A direction.
 fn direction(e: &mut Ents, d: [f64; 3]) -> usize {
-    e.add(format!(
-        "DIRECTION('',({},{},{}))",
-        real(d[0]),
-        real(d[1]),
-        real(d[2])
-    ))
+    triple(e, "DIRECTION", d)
 }
 
 /// An `AXIS2_PLACEMENT_3D` at `at` with axis `z` and reference direction `x` (entity ids).
