@@ -8,7 +8,8 @@ cd "$(dirname "$0")/.."
 venv=target/pyenv
 start=$(date +%s)
 [ -x "$venv/bin/python" ] || python3 -m venv "$venv"
-"$venv/bin/pip" install -q maturin pytest numpy build123d
+"$venv/bin/pip" install -q -r python/requirements-ci.txt
+cargo fmt --check --manifest-path python/Cargo.toml
 # The binding crate has its own target dir under target/ (pyo3 never enters the root build).
 CARGO_TARGET_DIR="$PWD/target/python" "$venv/bin/pip" install -q --force-reinstall --no-deps .
 NCGEAR_BIN="$PWD/target/release/ncgear" "$venv/bin/python" -m pytest -q -p no:cacheprovider python/tests

@@ -339,3 +339,20 @@ pub fn write_step(model: &StepModel, path: &Path) -> Result<StepStats, ExportErr
     std::fs::write(path, text).map_err(|e| io_err(path, e))?;
     Ok(stats)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::{quote, real};
+
+    #[test]
+    fn reals_have_a_point_and_an_upper_case_exponent_and_strings_are_escaped() {
+        let got: Vec<String> = [0.0, -0.0, 1.0, 10.0, -2.5, 0.1, 1e-7, -1.25e21, 123456.0]
+            .map(real)
+            .to_vec();
+        let want = [
+            "0.", "0.", "1.", "10.", "-2.5", "0.1", "1.E-7", "-1.25E21", "123456.",
+        ];
+        assert_eq!(got, want);
+        assert_eq!(quote("arm's gear µ"), "'arm''s gear _'");
+    }
+}
