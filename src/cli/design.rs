@@ -200,6 +200,15 @@ pub fn run(args: Args) -> CliResult {
             teeth_files =
                 ncgear::output::write_teeth(&mut t, &args.out, args.rack.dxf_version.into())
                     .map_err(|e| runtime_error(miette::miette!("{e}")))?;
+            let step = ncgear::output::write_teeth_step(&t, &args.out, &args.rack.solids())
+                .map_err(|e| match &e {
+                    ncgear::output::OutputError::Export(x) => super::teeth_args::step_failure(x),
+                    _ => runtime_error(miette::miette!("{e}")),
+                })?;
+            t.report
+                .files
+                .extend(step.iter().map(|p| p.display().to_string()));
+            teeth_files.extend(step);
             // The report now lists the CAD files.
             t.record(&mut d);
             Some(t)

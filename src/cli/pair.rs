@@ -83,6 +83,11 @@ pub fn run(args: Args) -> CliResult {
     write_dxf(&sheet, &dxf, version, opts.toothing.chord_tol_mm).map_err(runtime_error)?;
     write_svg(&sheet, &svg, 2.0 * args.module).map_err(runtime_error)?;
     let mut files = write_points(&sheet, &args.out, "pair_points").map_err(runtime_error)?;
+    let step = args.out.join("pair.step");
+    let model = ncgear::output::pair_step(&design, opts.toothing.chord_tol_mm, &args.rack.solids());
+    ncgear::export::step::write_step(&model, &step)
+        .map_err(|e| super::teeth_args::step_failure(&e))?;
+    files.push(step);
     files.push(dxf);
     files.push(svg);
     let report = serde_json::json!({

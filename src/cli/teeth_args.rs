@@ -1,5 +1,7 @@
 //! Tooth and CAD-export options shared by `ncgear design --module` and `ncgear pair`.
+use ncgear::export::ExportError;
 use ncgear::export::dxf::DxfVersion;
+use ncgear::output::SolidOptions;
 use ncgear::teeth::{RackParams, TeethError, ToothingOptions};
 
 /// DXF flavour on the command line.
@@ -44,9 +46,23 @@ pub struct RackArgs {
     /// DXF version.
     #[arg(long, value_enum, default_value = "r2010")]
     pub dxf_version: DxfFlavour,
+    /// Face width of the STEP solids, mm (default 10·m).
+    #[arg(long)]
+    pub face_width: Option<f64>,
+    /// Bore diameter of the STEP solids about each rotation centre, mm (0 = none).
+    #[arg(long, default_value_t = 0.0)]
+    pub bore: f64,
 }
 
 impl RackArgs {
+    /// Face width and bore of the STEP solids.
+    pub fn solids(&self) -> SolidOptions {
+        let mut s = SolidOptions::default();
+        s.face_width_mm = self.face_width;
+        s.bore_mm = self.bore;
+        s
+    }
+
     /// The validated basic rack.
     pub fn rack(&self) -> Result<RackParams, TeethError> {
         RackParams::new(
@@ -68,5 +84,14 @@ impl RackArgs {
             toothing.chord_tol_mm = c;
         }
         Ok(())
+    }
+}
+
+/// A STEP export failure: a bad `--face-width`/`--bore` (or outline) is an input error (exit 2),
+/// a file that cannot be written a runtime one.
+pub fn step_failure(e: &ExportError) -> super::Failure {
+    match e {
+        ExportError::Io { .. } => super::runtime_error(miette::miette!("{e}")),
+        _ => super::input_error(miette::miette!("{e}")),
     }
 }

@@ -1,5 +1,5 @@
 //! What a design or simulation run writes: the design's files, the simulation's files, the CAD
-//! files of a toothed train, charts and the animation.
+//! files of a toothed train (DXF, SVG, STEP), charts and the animation.
 
 pub mod animate;
 mod design_files;
@@ -8,10 +8,15 @@ mod mechanism_preview;
 pub mod plot;
 mod simulation_files;
 mod simulation_plots;
+mod step_files;
 mod teeth_files;
 
 pub use design_files::{pitch_csv, ratio_plot, write_design};
 pub use error::OutputError;
 pub use mechanism_preview::{mechanism_chart, mechanism_svg};
 pub use simulation_files::{SimulationReport, write_simulation};
+pub use step_files::{
+    SolidOptions, gear_prism, pair_step, train_step, train_step_models, write_step_models,
+    write_teeth_step,
+};
 pub use teeth_files::write_teeth;

@@ -10,6 +10,7 @@ mod layout;
 mod orbit;
 mod robust;
 mod simulate;
+mod step;
 mod svg_render;
 mod teeth;
 mod tolerance;

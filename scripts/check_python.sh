@@ -1,0 +1,17 @@
+#!/usr/bin/env bash
+# The Python package (issue 20): the wheel built by maturin (`pip install .`) into a venv under
+# target/, pytest over the Python API — the tests also read every STEP file they write back with
+# OCCT (cadquery-ocp, via build123d from PyPI) — then the build123d pipeline of examples/python.
+# Needs target/release/ncgear (built by `cargo test --release`). Usage: scripts/check_python.sh
+set -euo pipefail
+cd "$(dirname "$0")/.."
+venv=target/pyenv
+start=$(date +%s)
+[ -x "$venv/bin/python" ] || python3 -m venv "$venv"
+"$venv/bin/pip" install -q -r python/requirements-ci.txt
+cargo fmt --check --manifest-path python/Cargo.toml
+# The binding crate has its own target dir under target/ (pyo3 never enters the root build).
+CARGO_TARGET_DIR="$PWD/target/python" "$venv/bin/pip" install -q --force-reinstall --no-deps .
+NCGEAR_BIN="$PWD/target/release/ncgear" "$venv/bin/python" -m pytest -q -p no:cacheprovider python/tests
+"$venv/bin/python" examples/python/pipeline.py target/python-pipeline
+echo "check_python: $(($(date +%s) - start)) s"
