@@ -20,7 +20,7 @@ pub fn fit_with_restarts(
     fit_opts: &FitOptions,
     tol_tip_mm: f64,
 ) -> Result<Fitted, FitError> {
-    let mut f = fit_points(points, start, fit_opts)?;
+    let f = fit_points(points, start, fit_opts)?;
     let noise = fit_opts.noise_sigma_mm;
     if f.max_mm <= tol_tip_mm || f.rms_mm <= 2.0 * noise {
         return Ok(f);
@@ -52,28 +52,36 @@ pub fn fit_with_restarts(
         .par_iter()
         .filter_map(|s| fit_points(points, s, &screen).ok())
         .min_by(|a, b| score(a).total_cmp(&score(b)));
-    if let Some(g) = screened.filter(|g| score(g) < score(&f)) {
-        // On every point, at the screened order, with the screening's iteration budget.
-        let refit = FitOptions {
-            order: Some(g.mechanism.ratio.order()),
-            max_iterations: SCREEN_ITERATIONS,
-            ..fit_opts.clone()
-        };
-        // The refit minimises the RMS, which may raise the score: the better of the two is kept.
-        let g = match fit_points(points, &g.mechanism, &refit) {
-            Ok(r) if score(&r) < score(&g) => r,
-            _ => g,
-        };
-        if score(&g) < score(&f) {
-            f = g;
-        }
+    let Some(g) = screened else {
+        return Ok(if measured {
+            f
+        } else {
+            minimax(points, f, fit_opts)
+        });
+    };
+    // On every point, at the screened order, with the screening's iteration budget.
+    let refit = FitOptions {
+        order: Some(g.mechanism.ratio.order()),
+        max_iterations: SCREEN_ITERATIONS,
+        ..fit_opts.clone()
+    };
+    // The refit minimises the RMS, which may raise the score: the better of the two is kept.
+    let g = match fit_points(points, &g.mechanism, &refit) {
+        Ok(r) if score(&r) < score(&g) => r,
+        _ => g,
+    };
+    if measured {
+        return Ok(if score(&g) < score(&f) { g } else { f });
     }
     // Not traceable (and clean): trade RMS for the largest deviation, which is what the user
-    // sees. Never on measured points, where the largest distance is the noise's.
-    if !measured {
-        f = minimax(points, f, fit_opts);
-    }
-    Ok(f)
+    // sees (never on measured points, where the largest distance is the noise's). Both the
+    // first fit (often a higher order) and the best restart are finished, side by side; the
+    // better finish is kept.
+    let (a, b) = rayon::join(
+        || minimax(points, f, fit_opts),
+        || minimax(points, g, fit_opts),
+    );
+    Ok(if score(&b) < score(&a) { b } else { a })
 }
 
 /// Points and Levenberg–Marquardt iterations of a screening fit of a restart.
