@@ -44,6 +44,10 @@ pub struct RackArgs {
     /// DXF version.
     #[arg(long, value_enum, default_value = "r2010")]
     pub dxf_version: DxfFlavour,
+    /// Shaper-cutter tooth count for gears whose pitch curve has concave stretches (default: the
+    /// largest standard cutter that fits, 100 … 12 teeth; convex gears are rack-cut).
+    #[arg(long)]
+    pub cutter_teeth: Option<u32>,
 }
 
 impl RackArgs {
@@ -67,6 +71,22 @@ impl RackArgs {
         if let Some(c) = self.chord_tol {
             toothing.chord_tol_mm = c;
         }
+        toothing.cutter_teeth = self.cutter_teeth;
         Ok(())
+    }
+}
+
+/// One line on how a gear is cut, for the console summaries.
+pub fn process_line(p: &ncgear::teeth::process::GearProcess) -> String {
+    match (p.cutter_teeth, p.cutter_pitch_radius_mm) {
+        (Some(zc), Some(r0)) => format!(
+            "shaper cutter z_c = {zc} (pitch radius {r0:.2} mm < tightest concave radius {:.2} mm; \
+             tried {:?}), undercut flanks {}, narrowest tip {:.3} mm",
+            p.min_concave_rho_mm.unwrap_or(f64::NAN),
+            p.tried_cutter_teeth,
+            p.undercut_flanks,
+            p.min_tip_width_mm.unwrap_or(f64::NAN)
+        ),
+        _ => format!("rack/hob (convex), undercut flanks {}", p.undercut_flanks),
     }
 }

@@ -5,7 +5,12 @@
 //!
 //! **The cutter** is the basic rack wrapped on a circle: an involute gear with `z_c` teeth of the
 //! same module m and pressure angle α, pitch radius `r0 = z_c·m/2`, base radius `rb = r0·cos α`,
-//! tip radius `Rt = r0 + hf` (`hf = (ha* + c*)·m`) whose corners are rounded with `ρf = ρf*·m`.
+//! tip radius `Rt = r0 + hf` (`hf = (ha* + c*)·m`) whose corners are rounded with a radius `ρ`
+//! chosen so that its involute ends at the depth where the basic rack's straight flank ends
+//! (contact at `s − σ_f = h_straight/(sin α cos α)`): then every cutter cuts on the flanks exactly
+//! the points the rack cuts — both touch the gear on the same line of action through `P(s)` at
+//! the same distance `|s − σ_f|·cos α` — so a shaper-cut gear meshes with a rack-cut one as two
+//! rack-cut gears do; `ρ → ρf*·m` as `r0 → ∞`.
 //! When its pitch circle touches the pitch curve at `P(s)` its centre is `C(s) = P(s) + r0·N(s)`:
 //! on a convex stretch the circles touch externally; on a concave one (κ < 0, centre of curvature
 //! `P + |ρ|·N`) the cutter lies inside the osculating circle, which needs `r0 < |ρ|`.
@@ -62,30 +67,54 @@ impl Cutter {
         let r0 = 0.5 * f64::from(z_c) * m_mm;
         let rb = r0 * alpha.cos();
         let hf = (rack.addendum() + rack.clearance()) * m_mm;
-        let rho = rack.fillet() * m_mm;
-        let rc = r0 + hf - rho;
-        if z_c < 6 || rc <= rb * (1.0 + 1e-9) {
-            return Err(TeethError::InvalidParameter {
-                name: "cutter_teeth",
-                value: f64::from(z_c),
-                expected: "at least 6 and enough teeth for the tip-corner centre to lie outside \
-                           the cutter's base circle",
-            });
+        let rt = r0 + hf;
+        let tan_a = alpha.tan();
+        let bad = |expected: &'static str| TeethError::InvalidParameter {
+            name: "cutter_teeth",
+            value: f64::from(z_c),
+            expected,
+        };
+        if z_c < 6 {
+            return Err(bad("at least 6"));
+        }
+        // The involute must reach the rack's straight-flank depth: contact at
+        // s − σ_f = h_straight/(sin α cos α), i.e. roll length ℓ_ft = rb·(tan α + that/r0).
+        let l_ft = rb * (tan_a + rack.straight_depth() * m_mm / (alpha.sin() * alpha.cos()) / r0);
+        // Tip-corner radius ρ with √((Rt − ρ)² − rb²) + ρ = ℓ_ft (left side decreasing in ρ).
+        let gap = |rho: f64| ((rt - rho).powi(2) - rb * rb).max(0.0).sqrt() + rho - l_ft;
+        if gap(0.0) < 0.0 {
+            return Err(bad(
+                "enough teeth for the involute to reach the basic rack's flank depth",
+            ));
+        }
+        let (mut lo, mut hi) = (0.0, rack.fillet() * m_mm);
+        if gap(hi) > 0.0 {
+            hi = rt - rb;
+        }
+        for _ in 0..200 {
+            let mid = 0.5 * (lo + hi);
+            if gap(mid) > 0.0 { lo = mid } else { hi = mid }
+        }
+        let rho = 0.5 * (lo + hi);
+        let rc = rt - rho;
+        if rc <= rb * (1.0 + 1e-9) {
+            return Err(bad(
+                "enough teeth for the tip-corner centre to lie outside the base circle",
+            ));
         }
         let inv = |a: f64| a.tan() - a;
         let alpha_c = (rb / rc).acos();
-        let l_c = (rc * rc - rb * rb).sqrt();
         Ok(Self {
             z: z_c,
             r0,
             rb,
             alpha,
-            tan_a: alpha.tan(),
+            tan_a,
             hf,
             rho,
             rc,
             dc: inv(alpha_c) - inv(alpha) + rho / rb,
-            tan_ft: (l_c + rho) / rb,
+            tan_ft: l_ft / rb,
         })
     }
 }

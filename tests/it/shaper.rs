@@ -67,8 +67,8 @@ fn shaper_on_a_circle_cuts_the_involute() {
             "z_c {zc}: [{lo}, {hi}] vs {want}"
         );
     }
-    // A 12-tooth cutter would need its flank below its base circle to reach the 24-tooth gear's
-    // tip (contact beyond the interference point of the line of action): refused, named.
+    // A 12-tooth cutter's involute cannot reach the rack's flank depth inside its tip circle
+    // (√(Rt² − rb²) < rb·tan α + h/(sin α cos α)·cos α): refused, naming the option.
     let err = generate_with_cutter(
         &frame,
         &RackParams::default(),
@@ -88,4 +88,72 @@ fn shaper_on_a_circle_cuts_the_involute() {
         ),
         "{err}"
     );
+}
+
+/// Issue 18 acceptance: `exact_concave_sun.csv` (an exactly traceable target whose intermediate
+/// has concave stretches) gets teeth on all three gears at m = 1 and at the largest module that
+/// works (1.2: at 1.25 the convex sun undercuts, refused with the limit 1.21 mm). The intermediate
+/// is shaper-cut with the largest standard cutter (100 teeth, r0 = 50 mm < the tightest concave
+/// radius ≈ 98.6 mm), sun and planet stay rack-cut; both meshes roll through a carrier turn
+/// without an interference step. The DXF files are read back by ezdxf in `.ci/run`.
+#[test]
+fn concave_case_gets_teeth_on_all_three_gears() {
+    let case = std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("assets/cases/exact_concave_sun.csv");
+    // (module, max transmission error of each mesh in degrees as measured on 2026-11-23 + 20 %).
+    for (m, te_max) in [("1", [4.2e-3, 3.5e-3]), ("1.2", [1.7e-6, 1.2e-3])] {
+        let out = std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+            .join("target/test-dxf")
+            .join(format!("concave_sun_m{m}"));
+        let _ = std::fs::remove_dir_all(&out);
+        let run = std::process::Command::new(env!("CARGO_BIN_EXE_ncgear"))
+            .args(["design", case.to_str().unwrap(), "--module", m, "--out"])
+            .arg(&out)
+            .output()
+            .unwrap();
+        assert!(
+            run.status.success(),
+            "m = {m}: {}",
+            String::from_utf8_lossy(&run.stderr)
+        );
+        let json: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(out.join("design.json")).unwrap())
+                .unwrap();
+        let t = &json["teeth"];
+        let p = &t["process"];
+        assert_eq!(p["sun"]["process"], "rack", "m = {m}");
+        assert_eq!(p["planet"]["process"], "rack", "m = {m}");
+        let i = &p["intermediate"];
+        assert_eq!(i["process"], "shaper", "m = {m}");
+        assert_eq!(i["cutter_teeth"], 100, "m = {m}");
+        assert_eq!(i["tried_cutter_teeth"], serde_json::json!([100]), "m = {m}");
+        assert_eq!(i["undercut_flanks"], 0, "m = {m}");
+        let r0 = i["cutter_pitch_radius_mm"].as_f64().unwrap();
+        let rho = i["min_concave_rho_mm"].as_f64().unwrap();
+        assert!(r0 < rho && (90.0..110.0).contains(&rho), "m = {m}: {r0} {rho}");
+        assert!(t["undercut"]["intermediate"]["concave_flanks"].is_null());
+        assert!(
+            t["undercut"]["intermediate"]["concave_count"].as_u64().unwrap() > 0,
+            "m = {m}"
+        );
+        for (k, mesh) in ["sun_intermediate", "intermediate_planet"].iter().enumerate() {
+            let r = &t["mesh"][mesh];
+            assert_eq!(r["interference_steps"], 0, "m = {m} {mesh}: {r}");
+            assert!(r["min_backlash_mm"].as_f64().unwrap() > 0.0, "{r}");
+            let te = r["max_transmission_error_deg"].as_f64().unwrap();
+            assert!(te <= te_max[k], "m = {m} {mesh}: TE {te}°");
+        }
+        for f in ["train.dxf", "intermediate.dxf", "intermediate.svg"] {
+            assert!(out.join("teeth").join(f).exists(), "{f}");
+        }
+    }
+    // At 1.25 mm the convex sun undercuts (rack): refused, naming the gear and the limit.
+    let run = std::process::Command::new(env!("CARGO_BIN_EXE_ncgear"))
+        .args(["design", case.to_str().unwrap(), "--module", "1.25", "--out"])
+        .arg(std::env::temp_dir().join("ncgear_concave_m125"))
+        .output()
+        .unwrap();
+    assert_eq!(run.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&run.stderr);
+    assert!(err.contains("sun") && err.contains("undercut"), "{err}");
 }
