@@ -68,7 +68,7 @@ fn shaper_on_a_circle_cuts_the_involute() {
         );
     }
     // A 12-tooth cutter's involute cannot reach the rack's flank depth inside its tip circle
-    // (√(Rt² − rb²) < rb·tan α + h/(sin α cos α)·cos α): refused, naming the option.
+    // (roll length √(Rt² − rb²) < rb·(tan α + h/(r0·sin α cos α))): refused, naming the option.
     let err = generate_with_cutter(
         &frame,
         &RackParams::default(),
@@ -81,8 +81,8 @@ fn shaper_on_a_circle_cuts_the_involute() {
     assert!(
         matches!(
             err,
-            TeethError::Shaper {
-                cutter_teeth: 12,
+            TeethError::InvalidParameter {
+                name: "cutter_teeth",
                 ..
             }
         ),
@@ -130,13 +130,22 @@ fn concave_case_gets_teeth_on_all_three_gears() {
         assert_eq!(i["undercut_flanks"], 0, "m = {m}");
         let r0 = i["cutter_pitch_radius_mm"].as_f64().unwrap();
         let rho = i["min_concave_rho_mm"].as_f64().unwrap();
-        assert!(r0 < rho && (90.0..110.0).contains(&rho), "m = {m}: {r0} {rho}");
+        assert!(
+            r0 < rho && (90.0..110.0).contains(&rho),
+            "m = {m}: {r0} {rho}"
+        );
         assert!(t["undercut"]["intermediate"]["concave_flanks"].is_null());
         assert!(
-            t["undercut"]["intermediate"]["concave_count"].as_u64().unwrap() > 0,
+            t["undercut"]["intermediate"]["concave_count"]
+                .as_u64()
+                .unwrap()
+                > 0,
             "m = {m}"
         );
-        for (k, mesh) in ["sun_intermediate", "intermediate_planet"].iter().enumerate() {
+        for (k, mesh) in ["sun_intermediate", "intermediate_planet"]
+            .iter()
+            .enumerate()
+        {
             let r = &t["mesh"][mesh];
             assert_eq!(r["interference_steps"], 0, "m = {m} {mesh}: {r}");
             assert!(r["min_backlash_mm"].as_f64().unwrap() > 0.0, "{r}");
@@ -149,7 +158,13 @@ fn concave_case_gets_teeth_on_all_three_gears() {
     }
     // At 1.25 mm the convex sun undercuts (rack): refused, naming the gear and the limit.
     let run = std::process::Command::new(env!("CARGO_BIN_EXE_ncgear"))
-        .args(["design", case.to_str().unwrap(), "--module", "1.25", "--out"])
+        .args([
+            "design",
+            case.to_str().unwrap(),
+            "--module",
+            "1.25",
+            "--out",
+        ])
         .arg(std::env::temp_dir().join("ncgear_concave_m125"))
         .output()
         .unwrap();

@@ -2,8 +2,8 @@
 //! the verification of both meshes and the round trip of the scaled mechanism.
 use super::amplitude::rescale_ratio_amplitude;
 use super::{
-    ToothedTrain, TrainError, TrainMesh, TrainPolicy, TrainRoundTrip, TrainTeethOptions,
-    TrainProcess, TrainTeethReport, TrainUndercut,
+    ToothedTrain, TrainError, TrainMesh, TrainPolicy, TrainProcess, TrainRoundTrip,
+    TrainTeethOptions, TrainTeethReport, TrainUndercut,
 };
 use crate::design::Design;
 use crate::geometry::assembly::Assembly;
@@ -193,7 +193,11 @@ fn train_from(
     let (planet, planet_process) = generate(2, opts.toothing.chord_tol_mm, choice)?;
     let processes = [&sun_process, &intermediate_process, &planet_process];
     // The verification cuts each gear with the same process and cutter.
-    let same = |k: usize| processes[k].cutter_teeth.map_or(choice, CutterChoice::Teeth);
+    let same = |k: usize| {
+        processes[k]
+            .cutter_teeth
+            .map_or(choice, CutterChoice::Teeth)
+    };
 
     let mesh = if opts.toothing.verify_steps > 0 {
         // The fine outlines of the check, built side by side (collected in gear order).

@@ -2,8 +2,8 @@
 //! writes and reads them.
 use super::TrainTeethOptions;
 use crate::teeth::UndercutReport;
-use crate::teeth::process::GearProcess;
 use crate::teeth::mesh::MeshReport;
+use crate::teeth::process::GearProcess;
 use serde::{Deserialize, Serialize};
 
 /// Undercut reports of the three gears.
