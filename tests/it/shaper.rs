@@ -172,3 +172,62 @@ fn concave_case_gets_teeth_on_all_three_gears() {
     let err = String::from_utf8_lossy(&run.stderr);
     assert!(err.contains("sun") && err.contains("undercut"), "{err}");
 }
+
+/// On any pitch curve the shaper touches each flank at the point where the rack touches it — the
+/// same line of action through `P(s)`, the same distance `|s − s_f|·cos α` — so on a concave
+/// stretch (which no rack can cut) the shaper-cut flank is the rack-envelope closed form of
+/// §12.3, `P(s) + (s_f − s)·cos α·(cos α·T ± sin α·N)`: on a straight stretch the basic rack
+/// profile itself, on a concave circular arc the internal involute.
+#[test]
+fn shaper_flanks_on_a_concave_stretch_are_the_rack_envelope() {
+    // r = 20(1 + 0.12 cos 3θ): Δ = r² + 2r′² − r·r″ < 0 near θ = π/3 (ρ ≈ −78 mm).
+    let c = PitchCurve::from_fn(4096, |t| 20.0 * (1.0 + 0.12 * (3.0 * t).cos())).unwrap();
+    let m = 1.0;
+    let tc = tooth_count(&c, m, ToothPolicy::Nearest, 1e-10).unwrap();
+    let c = scale_curve(&c, tc.scale).unwrap();
+    let frame = ArcFrame::new(&c);
+    let rack = RackParams::default();
+    // A rack refuses it.
+    let err = generate_outline(&c, &rack, tc.z, m, &OutlineOptions::new(0.0, 1e-3)).unwrap_err();
+    assert!(matches!(err, TeethError::Concave { .. }), "{err}");
+    let opts = OutlineOptions::new(0.0, 1e-6);
+    let (o, proc_) =
+        generate_by_process(&frame, &rack, tc.z, m, &opts, CutterChoice::Auto).unwrap();
+    assert_eq!(proc_.process, Process::Shaper);
+    assert_eq!(proc_.cutter_teeth, Some(100));
+    assert_eq!(proc_.tried_cutter_teeth, vec![100]);
+    let rho = proc_.min_concave_rho_mm.unwrap();
+    assert!((60.0..100.0).contains(&rho), "{rho}");
+    assert_eq!(first_self_intersection(&o.points_mm).unwrap(), None);
+    // Closed-form flank points on every concave flank, from 0.8·ha above to 0.9·h_straight below
+    // the pitch curve (the tip trim on a concave stretch sits below ha in the rack's η), lie on the
+    // outline polyline within the chord tolerance.
+    let (sa, ca) = 20f64.to_radians().sin_cos();
+    let p = frame.length_mm() / f64::from(tc.z);
+    let hs = rack.straight_depth() * m;
+    let mut want = Vec::new();
+    for (k, f) in o.undercut.flanks.iter().enumerate() {
+        if !f.concave {
+            continue;
+        }
+        let sign = if f.side == "right" { 1.0 } else { -1.0 };
+        let sf = opts.phase_mm + (k / 2) as f64 * p + sign * 0.25 * p;
+        assert!((sf - f.s_mm).abs() < 1e-12);
+        for j in 0..=20 {
+            let eta = 0.8 * m - (0.8 * m + 0.9 * hs) * f64::from(j) / 20.0;
+            let s = sf - sign * eta / (sa * ca);
+            let fp = frame.at(s);
+            let d = (sf - s) * ca;
+            want.push([
+                fp.p[0] + d * ca * fp.t[0] + sign * d * sa * fp.n[0],
+                fp.p[1] + d * ca * fp.t[1] + sign * d * sa * fp.n[1],
+            ]);
+        }
+    }
+    assert!(want.len() > 100, "{}", want.len());
+    let mut closed = o.points_mm.clone();
+    closed.push(closed[0]);
+    let dist = ncgear::math::polyline::distances_to_polyline(&want, &closed);
+    let worst = dist.iter().copied().fold(0.0, f64::max);
+    assert!(worst < 1e-6, "worst {worst} mm");
+}
