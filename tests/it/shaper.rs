@@ -100,8 +100,12 @@ fn shaper_on_a_circle_cuts_the_involute() {
 fn concave_case_gets_teeth_on_all_three_gears() {
     let case = std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR"))
         .join("assets/cases/exact_concave_sun.csv");
-    // (module, max transmission error of each mesh in degrees as measured on 2026-11-23 + 20 %).
-    for (m, te_max) in [("1", [4.2e-3, 3.5e-3]), ("1.2", [1.7e-6, 1.2e-3])] {
+    // (module, bound on the max transmission error of each mesh, degrees). At m = 1 both meshes
+    // stay within the convex examples' 1e-5° (measured 8.8e-7°, 7.0e-7°). At m = 1.2 the
+    // rack-cut planet sits at its undercut limit (ρmin·sin²α ≈ h·m): its fillet trochoid shortens
+    // its flanks and intermediate → planet measures 9.4e-4° — the same with or without the
+    // shaper's tip topping, a rack-process effect left open (bound: measured + 25 %).
+    for (m, te_max) in [("1", [1e-5, 1e-5]), ("1.2", [1e-5, 1.2e-3])] {
         let out = std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR"))
             .join("target/test-dxf")
             .join(format!("concave_sun_m{m}"));
