@@ -1,5 +1,5 @@
 //! Which process cuts a gear (issue 18): a rack or hob when the pitch curve is convex (the rack
-//! envelope of [`super::outline::generate_on`], unchanged), a pinion-type shaper cutter when it has
+//! envelope, unchanged), a pinion-type shaper cutter when it has
 //! concave stretches — the largest standard cutter whose pitch radius is below the tightest
 //! concave radius of curvature, or the one forced — and otherwise none (wire EDM or printing,
 //! not implemented: a typed error says so).
@@ -165,9 +165,9 @@ pub fn generate_by_process(
 }
 
 /// The outline of `z` teeth cut on `frame` by a shaper cutter with `cutter_teeth` teeth, whatever
-/// the curve's convexity (on a circle it is the involute whatever the cutter, module doc of
-/// [`super::shaper`]). Errors as [`generate_by_process`] with a forced cutter; the outline is not
-/// checked for self-intersection here.
+/// the curve's convexity (on a circle it is the involute whatever the cutter). Errors as
+/// [`generate_by_process`] with a forced cutter; the outline is not checked for
+/// self-intersection here.
 pub fn generate_with_cutter(
     frame: &ArcFrame,
     rack: &RackParams,

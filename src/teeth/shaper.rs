@@ -221,7 +221,8 @@ pub(super) struct ShaperChecks {
 /// validation, chord tolerance and vertex order as [`super::outline::generate_on`].
 ///
 /// Errors: [`TeethError::Trim`] (flank misses the tip, pointed tooth), [`TeethError::Shaper`]
-/// (gear tip below the cutter's base circle, no flat on the cutter tip, undercut).
+/// (gear tip below the cutter's base circle, no flat on the cutter tip),
+/// [`TeethError::ShaperUndercut`].
 pub(super) fn generate_shaper(
     frame: &ArcFrame,
     rack: &RackParams,
