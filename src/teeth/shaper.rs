@@ -185,24 +185,19 @@ impl Shaper<'_> {
         let c = &self.c;
         (sf + g * c.r0 * c.dc, sf + g * c.r0 * (c.tan_ft - c.tan_a))
     }
-    /// Whether the generated flank (tip trim → corner centre) doubles back: a cusp, i.e. undercut.
+    /// Whether the generated involute flank (tip trim → corner junction) doubles back: an envelope
+    /// cusp, i.e. undercut — the rack's criterion of §12.4 (a looping corner trochoid shows as a
+    /// self-intersection of the outline, checked by the caller).
     fn undercut(&self, sf: f64, g: f64, s_tip: f64) -> bool {
-        let (s_c, s_ft) = self.ends(sf, g);
+        let (_, s_ft) = self.ends(sf, g);
         let n = 48;
         let pts: Vec<[f64; 2]> = (0..=n)
             .map(|j| s_tip + (s_ft - s_tip) * f64::from(j) / f64::from(n))
             .map(|s| self.flank(sf, g, s))
-            .chain(
-                (1..=n / 2)
-                    .map(|j| s_ft + (s_c - s_ft) * f64::from(j) / f64::from(n / 2))
-                    .map(|s| self.corner(sf, g, s)),
-            )
             .collect();
         pts.windows(3).any(|w| {
-            let (a, b) = (
-                [w[1][0] - w[0][0], w[1][1] - w[0][1]],
-                [w[2][0] - w[1][0], w[2][1] - w[1][1]],
-            );
+            let a = [w[1][0] - w[0][0], w[1][1] - w[0][1]];
+            let b = [w[2][0] - w[1][0], w[2][1] - w[1][1]];
             a[0] * b[0] + a[1] * b[1] < 0.0
         })
     }

@@ -235,3 +235,76 @@ fn shaper_flanks_on_a_concave_stretch_are_the_rack_envelope() {
     let worst = dist.iter().copied().fold(0.0, f64::max);
     assert!(worst < 1e-6, "worst {worst} mm");
 }
+
+/// Internal gear closed form: over an exactly circular concave arc (radius ρ about a centre C
+/// outside the body) the teeth point towards C and each flank is an involute of the base circle
+/// `ρ·cos α` about C: polar angle about C `φ = φ_f ± (inv α_r − inv α)` with `φ_f` where the flank
+/// crosses the pitch arc. Checked on the outline vertices of the flanks generated wholly on the arc.
+#[test]
+fn shaper_on_a_concave_circular_arc_cuts_the_internal_involute() {
+    // r(θ): the near side of the circle |X − (60, 0)| = 40 for |θ| ≤ 0.15, blended (quintic
+    // smoothstep over 0.15 … 0.45 rad) into a circle of radius 21 elsewhere; m = 0.3 (the blend is tightly curved).
+    let (d, rho) = (60.0f64, 40.0f64);
+    let arc = |t: f64| d * t.cos() - (rho * rho - (d * t.sin()).powi(2)).sqrt();
+    let f = |t: f64| {
+        let a = t.rem_euclid(std::f64::consts::TAU);
+        let a = a.min(std::f64::consts::TAU - a);
+        let x = ((a - 0.15) / 0.3).clamp(0.0, 1.0);
+        let w = 1.0 - x * x * x * (10.0 - 15.0 * x + 6.0 * x * x);
+        if w > 0.0 {
+            w * arc(a) + (1.0 - w) * 21.0
+        } else {
+            21.0
+        }
+    };
+    let c = PitchCurve::from_fn(8192, f).unwrap();
+    let m = 0.3;
+    let tc = tooth_count(&c, m, ToothPolicy::Nearest, 1e-10).unwrap();
+    let s = tc.scale;
+    let c = scale_curve(&c, s).unwrap();
+    let frame = ArcFrame::new(&c);
+    let opts = OutlineOptions::new(0.0, 1e-6);
+    let o = generate_with_cutter(&frame, &RackParams::default(), tc.z, m, 50, &opts).unwrap();
+    let (centre, rho) = ([d * s, 0.0], rho * s);
+    let alpha = 20f64.to_radians();
+    let rb = rho * alpha.cos();
+    let about = |q: [f64; 2]| (q[1] - centre[1]).atan2(q[0] - centre[0]);
+    // Flanks crossing the pitch curve within 0.04 rad of θ = 0 (their generation, ±3 m of arc,
+    // stays on the exact arc): pitch-crossing angle about C.
+    let p = frame.length_mm() / f64::from(tc.z);
+    let flanks: Vec<f64> = (0..tc.z)
+        .flat_map(|k| {
+            let sk = f64::from(k) * p;
+            [sk - 0.25 * p, sk + 0.25 * p]
+        })
+        .map(|sf| frame.at(sf).p)
+        .filter(|q| q[1].atan2(q[0]).abs() < 0.04)
+        .map(about)
+        .collect();
+    assert!(flanks.len() >= 2, "{}", flanks.len());
+    let mut n = 0;
+    for q in &o.points_mm {
+        let r = (q[0] - centre[0]).hypot(q[1] - centre[1]);
+        // Involute part: from 0.7·ha inside the pitch arc (tips point to C, topped to ≈ 0.8·ha
+        // here) to 0.9·h_s outside.
+        if q[1].atan2(q[0]).abs() > 0.035 || r < rho - 0.7 * m || r > rho + 0.9 * m {
+            continue;
+        }
+        let e = inv((rb / r).acos()) - inv(alpha);
+        let phi = about(*q);
+        let best = flanks
+            .iter()
+            .flat_map(|&pf| [(phi - pf - e).abs(), (phi - pf + e).abs()])
+            .fold(f64::INFINITY, f64::min);
+        // Vertices of the tip and root arcs match no involute; flank vertices match to 1e-9 rad.
+        if best < 1e-3 {
+            assert!(
+                best * rho < 1e-6,
+                "r = {r}: off the involute by {} mm",
+                best * rho
+            );
+            n += 1;
+        }
+    }
+    assert!(n > 50, "{n}");
+}
