@@ -279,6 +279,15 @@ pub fn run(args: Args) -> CliResult {
             t.roundtrip.max_deviation_mm,
             t.roundtrip.before_max_deviation_mm
         );
+        if let Some(p) = &t.process {
+            for (name, g) in [
+                ("sun", &p.sun),
+                ("intermediate", &p.intermediate),
+                ("planet", &p.planet),
+            ] {
+                println!("  {name}: {}", super::teeth_args::process_line(g));
+            }
+        }
         if let Some(mesh) = &t.mesh {
             for (name, m) in [
                 ("sun-intermediate", &mesh.sun_intermediate),

@@ -100,6 +100,8 @@ pub fn run(args: Args) -> CliResult {
         "ratio_range": design.ratio_range,
         "driver_undercut": summary(&design.driver_undercut),
         "driven_undercut": summary(&design.driven_undercut),
+        "driver_process": design.driver_process,
+        "driven_process": design.driven_process,
         "mesh": design.mesh,
         "files": files.iter().map(|p| p.display().to_string()).collect::<Vec<_>>(),
     });
@@ -118,6 +120,14 @@ pub fn run(args: Args) -> CliResult {
             design.module_mm,
             design.centre_distance_mm,
             args.out.display()
+        );
+        println!(
+            "driver: {}",
+            super::teeth_args::process_line(&design.driver_process)
+        );
+        println!(
+            "driven: {}",
+            super::teeth_args::process_line(&design.driven_process)
         );
         if let Some(m) = &design.mesh {
             println!("mesh: {}", m.summary());

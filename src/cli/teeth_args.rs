@@ -52,6 +52,10 @@ pub struct RackArgs {
     /// Bore diameter of the STEP solids about each rotation centre, mm (0 = none).
     #[arg(long, default_value_t = 0.0)]
     pub bore: f64,
+    /// Shaper-cutter tooth count for gears whose pitch curve has concave stretches (default: the
+    /// largest standard cutter that fits, 100 … 12 teeth; convex gears are rack-cut).
+    #[arg(long)]
+    pub cutter_teeth: Option<u32>,
 }
 
 impl RackArgs {
@@ -83,6 +87,7 @@ impl RackArgs {
         if let Some(c) = self.chord_tol {
             toothing.chord_tol_mm = c;
         }
+        toothing.cutter_teeth = self.cutter_teeth;
         Ok(())
     }
 }
@@ -93,5 +98,20 @@ pub fn step_failure(e: &ExportError) -> super::Failure {
     match e {
         ExportError::Io { .. } => super::runtime_error(miette::miette!("{e}")),
         _ => super::input_error(miette::miette!("{e}")),
+    }
+}
+
+/// One line on how a gear is cut, for the console summaries.
+pub fn process_line(p: &ncgear::teeth::process::GearProcess) -> String {
+    match (p.cutter_teeth, p.cutter_pitch_radius_mm) {
+        (Some(zc), Some(r0)) => format!(
+            "shaper cutter z_c = {zc} (pitch radius {r0:.2} mm < tightest concave radius {:.2} mm; \
+             tried {:?}), undercut flanks {}, narrowest tip {:.3} mm",
+            p.min_concave_rho_mm.unwrap_or(f64::NAN),
+            p.tried_cutter_teeth,
+            p.undercut_flanks,
+            p.min_tip_width_mm.unwrap_or(f64::NAN)
+        ),
+        _ => format!("rack/hob (convex), undercut flanks {}", p.undercut_flanks),
     }
 }

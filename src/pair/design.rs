@@ -5,7 +5,8 @@ use crate::export::{Contour, Marker, Sheet};
 use crate::geometry::pitch::PitchCurve;
 use crate::math::periodic::uniform_angles;
 use crate::teeth::mesh::{MeshCheck, MeshReport, verify_mesh};
-use crate::teeth::{ArcFrame, Outline, OutlineOptions, ToothingOptions, UndercutReport, outline};
+use crate::teeth::process::{CutterChoice, GearProcess, generate_by_process};
+use crate::teeth::{ArcFrame, Outline, OutlineOptions, ToothingOptions, UndercutReport};
 use serde::Serialize;
 use std::f64::consts::{PI, TAU};
 
@@ -67,6 +68,10 @@ pub struct PairDesign {
     pub driver_undercut: UndercutReport,
     /// Undercut report of the driven gear.
     pub driven_undercut: UndercutReport,
+    /// How the driver is cut (rack, or shaper with the chosen cutter; issue 18).
+    pub driver_process: GearProcess,
+    /// How the driven gear is cut.
+    pub driven_process: GearProcess,
     /// Mesh verification (if run).
     pub mesh: Option<MeshReport>,
     /// Driven rotation at φ = 0, ψ(0), rad.
@@ -152,12 +157,13 @@ pub fn design_pair_with_progress(
     };
     let o1 = mk(0.0, t.chord_tol_mm);
     let o2 = mk(s2 + 0.5 * p, t.chord_tol_mm);
-    let driver = outline::generate_on(&f1, &t.rack, z, m, &o1)?;
-    let driven = outline::generate_on(&f2, &t.rack, z, m, &o2)?;
+    let choice = t.cutter_choice();
+    let (driver, driver_process) = generate_by_process(&f1, &t.rack, z, m, &o1, choice)?;
+    let (driven, driven_process) = generate_by_process(&f2, &t.rack, z, m, &o2, choice)?;
     let mesh = if t.verify_steps > 0 {
-        // The fine outlines of the check, built side by side.
-        let fine = |f: &ArcFrame, o: &OutlineOptions| {
-            outline::generate_on(
+        // The fine outlines of the check, built side by side, each with its gear's cutter.
+        let fine = |f: &ArcFrame, o: &OutlineOptions, p: &GearProcess| {
+            generate_by_process(
                 f,
                 &t.rack,
                 z,
@@ -166,9 +172,14 @@ pub fn design_pair_with_progress(
                     chord_tol_mm: t.verify_chord_tol_mm,
                     ..*o
                 },
+                p.cutter_teeth.map_or(choice, CutterChoice::Teeth),
             )
+            .map(|g| g.0)
         };
-        let (v1, v2) = rayon::join(|| fine(&f1, &o1), || fine(&f2, &o2));
+        let (v1, v2) = rayon::join(
+            || fine(&f1, &o1, &driver_process),
+            || fine(&f2, &o2, &driven_process),
+        );
         let (v1, v2) = (v1?, v2?);
         let check = MeshCheck {
             centre_distance_mm: a,
@@ -211,6 +222,8 @@ pub fn design_pair_with_progress(
         driven_undercut: driven.undercut.clone(),
         driver,
         driven,
+        driver_process,
+        driven_process,
         mesh,
         psi0_rad: motion.psi(0.0),
         driver_pitch_mm: pitch_poly(&c1),

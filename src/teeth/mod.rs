@@ -10,6 +10,8 @@
 //! - [`tooth_count`] with a [`ToothPolicy`]: integer z and the scale factor applied to the curve.
 //! - [`generate_outline`]: one simple closed CCW outline (mm, body frame) per gear.
 //! - [`undercut_report`]: per-tooth undercut / concavity diagnostics.
+//! - [`process::generate_by_process`]: rack generation on convex curves, shaper-cutter generation
+//!   (the largest cutter that fits) on curves with concave stretches, with the process report.
 //! - [`mesh::verify_mesh`]: roll two outlines through a cycle (interference, backlash,
 //!   transmission error).
 
@@ -18,8 +20,10 @@ mod inside;
 pub mod mesh;
 mod options;
 pub mod overlap;
+pub mod process;
 mod rack;
 mod shape;
+mod shaper;
 
 pub use frame::ArcFrame;
 pub mod outline;
@@ -47,7 +51,7 @@ pub enum TeethError {
     /// The pitch curve is concave somewhere: a rack cannot cut a concave arc (spec §12.4).
     #[error(
         "pitch curve is concave near tooth {tooth} (min signed radius of curvature {min_rho_mm:.4} mm): \
-         a rack cannot cut a concave arc; a shaper cutter is not implemented"
+         a rack cannot cut a concave arc: generate it with a shaper cutter (teeth::process)"
     )]
     Concave {
         /// First tooth index on a concave stretch.
@@ -78,6 +82,38 @@ pub enum TeethError {
     NoRackTipFlat {
         /// Width of the rack tip flat, mm (negative).
         flat_mm: f64,
+    },
+    /// A shaper cutter cannot cut this gear (issue 18).
+    #[error("shaper cutter with {cutter_teeth} teeth: {what}")]
+    Shaper {
+        /// Cutter tooth count z_c.
+        cutter_teeth: u32,
+        /// What fails.
+        what: &'static str,
+    },
+    /// The shaper-cut flanks have an envelope cusp (undercut).
+    #[error(
+        "shaper cutter with {cutter_teeth} teeth undercuts {count} flank(s): use a larger \
+         cutter (--cutter-teeth) or a smaller module"
+    )]
+    ShaperUndercut {
+        /// Cutter tooth count z_c.
+        cutter_teeth: u32,
+        /// Undercut flanks.
+        count: usize,
+    },
+    /// The curve is concave and no shaper cutter fits (issue 18): wire EDM or printing would be
+    /// needed, which is not implemented.
+    #[error(
+        "pitch curve is concave (tightest concave radius of curvature {min_concave_rho_mm:.4} mm) \
+         and no shaper cutter fits ({tried}); it needs wire EDM or printing (not implemented): \
+         use a smaller module or a smoother pitch curve"
+    )]
+    NoCutter {
+        /// Smallest |ρ| of the concave stretches, mm.
+        min_concave_rho_mm: f64,
+        /// The cutters tried and why each failed.
+        tried: String,
     },
     /// A trimming step failed (flank did not meet the addendum curve).
     #[error("could not trim tooth {tooth}: {what}")]

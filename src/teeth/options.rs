@@ -15,6 +15,7 @@ use serde::{Deserialize, Serialize};
 /// assert_eq!(t.backlash_mm, 0.08);
 /// assert_eq!(t.chord_tol_mm, 2e-3);
 /// assert_eq!(t.verify_steps, 90);
+/// assert_eq!(t.cutter_teeth, None);
 /// assert_eq!(ToothingOptions::default(), ToothingOptions::new(1.0));
 /// ```
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
@@ -34,6 +35,11 @@ pub struct ToothingOptions {
     /// Driver (or carrier) positions of the mesh verification over one turn, per mesh; 0 skips
     /// it. Default 90 (every 4°); [`crate::design::train::TrainTeethOptions::new`] uses 72.
     pub verify_steps: usize,
+    /// Tooth count of the shaper cutter for gears with concave pitch-curve stretches; `None`
+    /// (default) tries [`crate::teeth::process::STANDARD_CUTTER_TEETH`] largest first. Convex
+    /// gears are rack-generated either way.
+    #[serde(default)]
+    pub cutter_teeth: Option<u32>,
 }
 
 impl ToothingOptions {
@@ -47,6 +53,7 @@ impl ToothingOptions {
             chord_tol_mm: 1e-3 * module_mm,
             verify_chord_tol_mm: 1e-6 * module_mm,
             verify_steps: 90,
+            cutter_teeth: None,
         }
     }
 }
@@ -55,5 +62,16 @@ impl Default for ToothingOptions {
     /// [`ToothingOptions::new`] at a module of 1 mm.
     fn default() -> Self {
         Self::new(1.0)
+    }
+}
+
+impl ToothingOptions {
+    /// The cutter choice of [`Self::cutter_teeth`].
+    #[must_use]
+    pub fn cutter_choice(&self) -> crate::teeth::process::CutterChoice {
+        self.cutter_teeth
+            .map_or(crate::teeth::process::CutterChoice::Auto, |z| {
+                crate::teeth::process::CutterChoice::Teeth(z)
+            })
     }
 }

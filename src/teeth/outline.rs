@@ -98,39 +98,50 @@ impl Gen<'_> {
     /// Solves flank(s) = tip(u) by Newton from the flat-rack guess.
     fn trim_tip(&self, sf: f64, sign: f64) -> Option<(f64, f64)> {
         let sc = self.sa * self.ca;
-        let mut s = sf - sign * self.ha / sc;
-        let mut u = s + (sf - s) * self.ca * self.ca;
-        for _ in 0..50 {
-            let q = self.flank(sf, sign, s);
-            let t = self.tip(u);
-            let r = [q[0] - t[0], q[1] - t[1]];
-            if r[0].hypot(r[1]) < 1e-13 {
-                return Some((s, u));
-            }
-            let h = 1e-6;
-            let qs = self.flank(sf, sign, s + h);
-            let tu = self.tip(u + h);
-            let a = [(qs[0] - q[0]) / h, (qs[1] - q[1]) / h];
-            let b = [-(tu[0] - t[0]) / h, -(tu[1] - t[1]) / h];
-            let det = a[0] * b[1] - a[1] * b[0];
-            if det.abs() < 1e-300 {
-                return None;
-            }
-            let ds = (r[0] * b[1] - r[1] * b[0]) / det;
-            let du = (a[0] * r[1] - a[1] * r[0]) / det;
-            s -= ds;
-            u -= du;
-            if !(s.is_finite() && u.is_finite()) {
-                return None;
-            }
-        }
-        let q = self.flank(sf, sign, s);
-        let t = self.tip(u);
-        ((q[0] - t[0]).hypot(q[1] - t[1]) < 1e-9).then_some((s, u))
+        let s = sf - sign * self.ha / sc;
+        let u = s + (sf - s) * self.ca * self.ca;
+        meet(|s| self.flank(sf, sign, s), |u| self.tip(u), s, u)
     }
 }
 
-fn push_piece(
+/// Solves `flank(s) = tip(u)` by 2-D Newton (forward-difference Jacobian, step 1e-6) from
+/// `(s, u)`; `None` if it does not converge to 1e-9 mm.
+pub(super) fn meet(
+    flank: impl Fn(f64) -> [f64; 2],
+    tip: impl Fn(f64) -> [f64; 2],
+    mut s: f64,
+    mut u: f64,
+) -> Option<(f64, f64)> {
+    for _ in 0..50 {
+        let q = flank(s);
+        let t = tip(u);
+        let r = [q[0] - t[0], q[1] - t[1]];
+        if r[0].hypot(r[1]) < 1e-13 {
+            return Some((s, u));
+        }
+        let h = 1e-6;
+        let qs = flank(s + h);
+        let tu = tip(u + h);
+        let a = [(qs[0] - q[0]) / h, (qs[1] - q[1]) / h];
+        let b = [-(tu[0] - t[0]) / h, -(tu[1] - t[1]) / h];
+        let det = a[0] * b[1] - a[1] * b[0];
+        if det.abs() < 1e-300 {
+            return None;
+        }
+        let ds = (r[0] * b[1] - r[1] * b[0]) / det;
+        let du = (a[0] * r[1] - a[1] * r[0]) / det;
+        s -= ds;
+        u -= du;
+        if !(s.is_finite() && u.is_finite()) {
+            return None;
+        }
+    }
+    let q = flank(s);
+    let t = tip(u);
+    ((q[0] - t[0]).hypot(q[1] - t[1]) < 1e-9).then_some((s, u))
+}
+
+pub(super) fn push_piece(
     out: &mut Vec<[f64; 2]>,
     from: f64,
     to: f64,
@@ -168,7 +179,7 @@ pub fn undercut_report(
     Ok(report_on(&frame, rack, z, module_mm, opts))
 }
 
-fn report_on(
+pub(super) fn report_on(
     frame: &ArcFrame,
     rack: &RackParams,
     z: u32,
@@ -241,36 +252,14 @@ fn report_on(
     }
 }
 
-/// Generates the toothed outline of `curve` with `z` teeth of module `module_mm` (spec §12.3).
-///
-/// Requirements: `L = z·π·m` to within 1e-6 relative (scale the curve with
-/// [`super::tooth_count`] first); the curve convex along every generating range; no undercut.
-/// Otherwise a typed error: [`TeethError::Concave`] (a rack cannot cut a concave arc) or
-/// [`TeethError::Undercut`] with the largest module that works.
-///
-/// Guarantees: the outline is the exact rack envelope sampled with chord sag ≤ `chord_tol_mm`
-/// (for curvature radii ≥ m on flanks), closed, CCW, no duplicate end vertex.
-/// Complexity: O(number of vertices).
-pub fn generate_outline(
-    curve: &PitchCurve,
-    rack: &RackParams,
-    z: u32,
-    module_mm: f64,
-    opts: &OutlineOptions,
-) -> Result<Outline, TeethError> {
-    let frame = ArcFrame::new(curve);
-    generate_on(&frame, rack, z, module_mm, opts)
-}
-
-/// [`generate_outline`] on a prebuilt [`ArcFrame`] (saves the arc-length table).
-pub fn generate_on(
+/// Checks the module, chord tolerance, tooth count (`L = zπm`) and thinnings of a generation;
+/// returns the pitch `p = L/z`, mm.
+pub(super) fn validate(
     frame: &ArcFrame,
-    rack: &RackParams,
     z: u32,
-    module_mm: f64,
+    m: f64,
     opts: &OutlineOptions,
-) -> Result<Outline, TeethError> {
-    let m = module_mm;
+) -> Result<f64, TeethError> {
     if !(m.is_finite() && m > 0.0) {
         return Err(TeethError::InvalidParameter {
             name: "module_mm",
@@ -307,6 +296,40 @@ pub fn generate_on(
             });
         }
     }
+    Ok(p)
+}
+
+/// Generates the toothed outline of `curve` with `z` teeth of module `module_mm` (spec §12.3).
+///
+/// Requirements: `L = z·π·m` to within 1e-6 relative (scale the curve with
+/// [`super::tooth_count`] first); the curve convex along every generating range; no undercut.
+/// Otherwise a typed error: [`TeethError::Concave`] (a rack cannot cut a concave arc) or
+/// [`TeethError::Undercut`] with the largest module that works.
+///
+/// Guarantees: the outline is the exact rack envelope sampled with chord sag ≤ `chord_tol_mm`
+/// (for curvature radii ≥ m on flanks), closed, CCW, no duplicate end vertex.
+/// Complexity: O(number of vertices).
+pub fn generate_outline(
+    curve: &PitchCurve,
+    rack: &RackParams,
+    z: u32,
+    module_mm: f64,
+    opts: &OutlineOptions,
+) -> Result<Outline, TeethError> {
+    let frame = ArcFrame::new(curve);
+    generate_on(&frame, rack, z, module_mm, opts)
+}
+
+/// [`generate_outline`] on a prebuilt [`ArcFrame`] (saves the arc-length table).
+pub fn generate_on(
+    frame: &ArcFrame,
+    rack: &RackParams,
+    z: u32,
+    module_mm: f64,
+    opts: &OutlineOptions,
+) -> Result<Outline, TeethError> {
+    let m = module_mm;
+    let p = validate(frame, z, m, opts)?;
     let report = report_on(frame, rack, z, m, opts);
     if let Some(f) = report.flanks.iter().find(|f| f.concave) {
         return Err(TeethError::Concave {
@@ -395,17 +418,22 @@ pub fn generate_on(
         let next_xcl = next_sl - g.hs * ta - g.rho * ca;
         push_piece(&mut out, xcr, next_xcl, step, |s| g.map(s, s, -g.hf));
     }
-    // Rotate so the first vertex is the start of tooth 0's left fillet; drop exact duplicates.
-    out.dedup_by(|a, b| (a[0] - b[0]).hypot(a[1] - b[1]) < 1e-12);
-    if let (Some(f), Some(l)) = (out.first(), out.last())
-        && (f[0] - l[0]).hypot(f[1] - l[1]) < 1e-12
-    {
-        out.pop();
-    }
+    close_outline(&mut out);
     Ok(Outline {
         points_mm: out,
         z,
         module_mm: m,
         undercut: report,
     })
+}
+
+/// Drops exact duplicate vertices (and a last vertex equal to the first): the outline starts at
+/// tooth 0's left fillet and closes implicitly.
+pub(super) fn close_outline(out: &mut Vec<[f64; 2]>) {
+    out.dedup_by(|a, b| (a[0] - b[0]).hypot(a[1] - b[1]) < 1e-12);
+    if let (Some(f), Some(l)) = (out.first(), out.last())
+        && (f[0] - l[0]).hypot(f[1] - l[1]) < 1e-12
+    {
+        out.pop();
+    }
 }

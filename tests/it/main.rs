@@ -9,6 +9,7 @@ mod hard_cases;
 mod layout;
 mod orbit;
 mod robust;
+mod shaper;
 mod simulate;
 mod step;
 mod svg_render;

@@ -2,8 +2,8 @@
 //! the verification of both meshes and the round trip of the scaled mechanism.
 use super::amplitude::rescale_ratio_amplitude;
 use super::{
-    ToothedTrain, TrainError, TrainMesh, TrainPolicy, TrainRoundTrip, TrainTeethOptions,
-    TrainTeethReport, TrainUndercut,
+    ToothedTrain, TrainError, TrainMesh, TrainPolicy, TrainProcess, TrainRoundTrip,
+    TrainTeethOptions, TrainTeethReport, TrainUndercut,
 };
 use crate::design::Design;
 use crate::geometry::assembly::Assembly;
@@ -11,9 +11,8 @@ use crate::geometry::pitch::{PitchCurve, PitchError};
 use crate::math::periodic::bisect_root;
 use crate::math::polyline::{distances_to_polyline, hausdorff_mm};
 use crate::teeth::mesh::{MeshCheck, verify_mesh};
-use crate::teeth::{
-    ArcFrame, Outline, OutlineOptions, ToothPolicy, outline::generate_on, scale_curve, tooth_count,
-};
+use crate::teeth::process::{CutterChoice, generate_by_process};
+use crate::teeth::{ArcFrame, Outline, OutlineOptions, ToothPolicy, scale_curve, tooth_count};
 use rayon::prelude::*;
 use std::f64::consts::{PI, TAU};
 
@@ -172,8 +171,8 @@ fn train_from(
     let phases = [phase_sun, phase_mid, phase_planet];
     let names = ["sun", "intermediate", "planet"];
 
-    let generate = |k: usize, tol: f64| {
-        generate_on(
+    let generate = |k: usize, tol: f64, choice: CutterChoice| {
+        generate_by_process(
             &frames[k],
             &opts.toothing.rack,
             count.z,
@@ -184,18 +183,27 @@ fn train_from(
                 thin_right_mm: 0.0,
                 chord_tol_mm: tol,
             },
+            choice,
         )
         .map_err(teeth_err(names[k]))
     };
-    let sun = generate(0, opts.toothing.chord_tol_mm)?;
-    let intermediate = generate(1, opts.toothing.chord_tol_mm)?;
-    let planet = generate(2, opts.toothing.chord_tol_mm)?;
+    let choice = opts.toothing.cutter_choice();
+    let (sun, sun_process) = generate(0, opts.toothing.chord_tol_mm, choice)?;
+    let (intermediate, intermediate_process) = generate(1, opts.toothing.chord_tol_mm, choice)?;
+    let (planet, planet_process) = generate(2, opts.toothing.chord_tol_mm, choice)?;
+    let processes = [&sun_process, &intermediate_process, &planet_process];
+    // The verification cuts each gear with the same process and cutter.
+    let same = |k: usize| {
+        processes[k]
+            .cutter_teeth
+            .map_or(choice, CutterChoice::Teeth)
+    };
 
     let mesh = if opts.toothing.verify_steps > 0 {
         // The fine outlines of the check, built side by side (collected in gear order).
         let fine: Vec<Outline> = (0..3)
             .into_par_iter()
-            .map(|k| generate(k, opts.toothing.verify_chord_tol_mm))
+            .map(|k| generate(k, opts.toothing.verify_chord_tol_mm, same(k)).map(|g| g.0))
             .collect::<Result<_, _>>()?;
         let check = MeshCheck {
             centre_distance_mm: a,
@@ -281,6 +289,11 @@ fn train_from(
         },
         mesh,
         files: Vec::new(),
+        process: Some(TrainProcess {
+            sun: sun_process,
+            intermediate: intermediate_process,
+            planet: planet_process,
+        }),
     };
     Ok(ToothedTrain {
         report,

@@ -37,7 +37,7 @@ mod sheet;
 pub use amplitude::{AmplitudeFit, rescale_ratio_amplitude};
 pub use build::{attach_teeth, tooth_design, tooth_train};
 pub(crate) use report::teeth_json;
-pub use report::{TrainMesh, TrainRoundTrip, TrainTeethReport, TrainUndercut};
+pub use report::{TrainMesh, TrainProcess, TrainRoundTrip, TrainTeethReport, TrainUndercut};
 pub use sheet::{Gear, ToothedTrain};
 
 use crate::geometry::pitch::PitchError;

@@ -3,6 +3,7 @@
 use super::TrainTeethOptions;
 use crate::teeth::UndercutReport;
 use crate::teeth::mesh::MeshReport;
+use crate::teeth::process::GearProcess;
 use serde::{Deserialize, Serialize};
 
 /// Undercut reports of the three gears.
@@ -74,6 +75,21 @@ pub struct TrainTeethReport {
     pub mesh: Option<TrainMesh>,
     /// Files written (filled by the writer).
     pub files: Vec<String>,
+    /// How each gear is cut (issue 18): rack, or shaper with the cutter chosen and the ones
+    /// tried (absent in reports written before it existed).
+    #[serde(default)]
+    pub process: Option<TrainProcess>,
+}
+
+/// Manufacturing process of the three gears.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct TrainProcess {
+    /// Sun.
+    pub sun: GearProcess,
+    /// Intermediate.
+    pub intermediate: GearProcess,
+    /// Planet.
+    pub planet: GearProcess,
 }
 
 /// (De)serialisation of [`crate::design::DesignReport::teeth`].

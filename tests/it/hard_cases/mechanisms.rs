@@ -342,7 +342,7 @@ fn eccentricity_sweep_teeth_until_they_stop_being_possible() {
                     matches!(
                         err,
                         TrainError::Teeth {
-                            source: TeethError::Concave { .. } | TeethError::Undercut { .. },
+                            source: TeethError::NoCutter { .. } | TeethError::Undercut { .. },
                             ..
                         }
                     ),

@@ -1,0 +1,310 @@
+//! Integration tests: shaper-cutter generation (issue 18) against closed forms — involutes on a
+//! circle (external gear) and on a concave circular arc (internal gear), the basic-rack profile
+//! on a straight stretch — and the process choice.
+use ncgear::geometry::pitch::PitchCurve;
+use ncgear::teeth::overlap::first_self_intersection;
+use ncgear::teeth::process::{CutterChoice, Process, generate_by_process, generate_with_cutter};
+use ncgear::teeth::{
+    ArcFrame, OutlineOptions, RackParams, TeethError, ToothPolicy, generate_outline, scale_curve,
+    tooth_count,
+};
+
+fn inv(a: f64) -> f64 {
+    a.tan() - a
+}
+
+/// Range `[min, max]` of `inv(α_r) + sign·polar angle` about `centre` over the outline vertices
+/// selected by `keep(radius, polar angle)`: a single value for an exact involute of the base
+/// circle `rb` (the sign chooses the flank's hand). Returns (min, max, count).
+fn involute_range(
+    pts: &[[f64; 2]],
+    centre: [f64; 2],
+    rb: f64,
+    sign: f64,
+    keep: impl Fn(f64, f64) -> bool,
+) -> (f64, f64, usize) {
+    let vals: Vec<f64> = pts
+        .iter()
+        .filter_map(|p| {
+            let (x, y) = (p[0] - centre[0], p[1] - centre[1]);
+            let (r, t) = (x.hypot(y), y.atan2(x));
+            keep(r, t).then(|| inv((rb / r).acos()) + sign * t)
+        })
+        .collect();
+    let lo = vals.iter().copied().fold(f64::INFINITY, f64::min);
+    let hi = vals.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+    (lo, hi, vals.len())
+}
+
+#[test]
+fn shaper_on_a_circle_cuts_the_involute() {
+    // Any involute cutter generates the involute of the gear's base circle r·cos α: the right
+    // flank of tooth 0 crosses the pitch circle at θp = p/4/r = π/48, so its vertices satisfy
+    // inv(α_r) + θ = θp + inv α (spec G5, the rack's closed form) — for every cutter size.
+    let (r0, m, z) = (24.0, 2.0, 24);
+    let c = PitchCurve::from_fn(256, |_| r0).unwrap();
+    let frame = ArcFrame::new(&c);
+    let alpha = 20f64.to_radians();
+    let rb = r0 * alpha.cos();
+    let want = std::f64::consts::PI / 48.0 + inv(alpha);
+    for zc in [34, 50, 100] {
+        let o = generate_with_cutter(
+            &frame,
+            &RackParams::default(),
+            z,
+            m,
+            zc,
+            &OutlineOptions::new(0.0, 1e-6),
+        )
+        .unwrap();
+        assert_eq!(first_self_intersection(&o.points_mm).unwrap(), None);
+        let (lo, hi, n) = involute_range(&o.points_mm, [0.0, 0.0], rb, 1.0, |r, t| {
+            t > 0.0 && t < 0.13 && r > rb * 1.01 && r > r0 - m && r < r0 + 0.99 * m
+        });
+        assert!(n > 50, "z_c {zc}: {n}");
+        assert!(
+            (lo - want).abs() < 1e-9 && (hi - want).abs() < 1e-9,
+            "z_c {zc}: [{lo}, {hi}] vs {want}"
+        );
+    }
+    // A 12-tooth cutter's involute cannot reach the rack's flank depth inside its tip circle
+    // (roll length √(Rt² − rb²) < rb·(tan α + h/(r0·sin α cos α))): refused, naming the option.
+    let err = generate_with_cutter(
+        &frame,
+        &RackParams::default(),
+        z,
+        m,
+        12,
+        &OutlineOptions::new(0.0, 1e-3),
+    )
+    .unwrap_err();
+    assert!(
+        matches!(
+            err,
+            TeethError::InvalidParameter {
+                name: "cutter_teeth",
+                ..
+            }
+        ),
+        "{err}"
+    );
+}
+
+/// Issue 18 acceptance: `exact_concave_sun.csv` (an exactly traceable target whose intermediate
+/// has concave stretches) gets teeth on all three gears at m = 1 and at the largest module that
+/// works (1.2: at 1.25 the convex sun undercuts, refused with the limit 1.21 mm). The intermediate
+/// is shaper-cut with the largest standard cutter (100 teeth, r0 = 50 mm < the tightest concave
+/// radius ≈ 98.6 mm), sun and planet stay rack-cut; both meshes roll through a carrier turn
+/// without an interference step. The DXF files are read back by ezdxf in `.ci/run`.
+#[test]
+fn concave_case_gets_teeth_on_all_three_gears() {
+    let case = std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("assets/cases/exact_concave_sun.csv");
+    // (module, bound on the max transmission error of each mesh, degrees). At m = 1 both meshes
+    // stay within the convex examples' 1e-5° (measured 8.8e-7°, 7.0e-7°). At m = 1.2 the
+    // rack-cut planet sits at its undercut limit (ρmin·sin²α ≈ h·m): its fillet trochoid shortens
+    // its flanks and intermediate → planet measures 9.4e-4° — the same with or without the
+    // shaper's tip topping, a rack-process effect left open (bound: measured + 25 %).
+    for (m, te_max) in [("1", [1e-5, 1e-5]), ("1.2", [1e-5, 1.2e-3])] {
+        let out = std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+            .join("target/test-dxf")
+            .join(format!("concave_sun_m{m}"));
+        let _ = std::fs::remove_dir_all(&out);
+        let run = std::process::Command::new(env!("CARGO_BIN_EXE_ncgear"))
+            .args(["design", case.to_str().unwrap(), "--module", m, "--out"])
+            .arg(&out)
+            .output()
+            .unwrap();
+        assert!(
+            run.status.success(),
+            "m = {m}: {}",
+            String::from_utf8_lossy(&run.stderr)
+        );
+        let json: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(out.join("design.json")).unwrap())
+                .unwrap();
+        let t = &json["teeth"];
+        let p = &t["process"];
+        assert_eq!(p["sun"]["process"], "rack", "m = {m}");
+        assert_eq!(p["planet"]["process"], "rack", "m = {m}");
+        let i = &p["intermediate"];
+        assert_eq!(i["process"], "shaper", "m = {m}");
+        assert_eq!(i["cutter_teeth"], 100, "m = {m}");
+        assert_eq!(i["tried_cutter_teeth"], serde_json::json!([100]), "m = {m}");
+        assert_eq!(i["undercut_flanks"], 0, "m = {m}");
+        let r0 = i["cutter_pitch_radius_mm"].as_f64().unwrap();
+        let rho = i["min_concave_rho_mm"].as_f64().unwrap();
+        assert!(
+            r0 < rho && (90.0..110.0).contains(&rho),
+            "m = {m}: {r0} {rho}"
+        );
+        assert!(t["undercut"]["intermediate"]["concave_flanks"].is_null());
+        assert!(
+            t["undercut"]["intermediate"]["concave_count"]
+                .as_u64()
+                .unwrap()
+                > 0,
+            "m = {m}"
+        );
+        for (k, mesh) in ["sun_intermediate", "intermediate_planet"]
+            .iter()
+            .enumerate()
+        {
+            let r = &t["mesh"][mesh];
+            assert_eq!(r["interference_steps"], 0, "m = {m} {mesh}: {r}");
+            assert!(r["min_backlash_mm"].as_f64().unwrap() > 0.0, "{r}");
+            let te = r["max_transmission_error_deg"].as_f64().unwrap();
+            assert!(te <= te_max[k], "m = {m} {mesh}: TE {te}°");
+        }
+        for f in ["train.dxf", "intermediate.dxf", "intermediate.svg"] {
+            assert!(out.join("teeth").join(f).exists(), "{f}");
+        }
+    }
+    // At 1.25 mm the convex sun undercuts (rack): refused, naming the gear and the limit.
+    let run = std::process::Command::new(env!("CARGO_BIN_EXE_ncgear"))
+        .args([
+            "design",
+            case.to_str().unwrap(),
+            "--module",
+            "1.25",
+            "--out",
+        ])
+        .arg(std::env::temp_dir().join("ncgear_concave_m125"))
+        .output()
+        .unwrap();
+    assert_eq!(run.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&run.stderr);
+    assert!(err.contains("sun") && err.contains("undercut"), "{err}");
+}
+
+/// On any pitch curve the shaper touches each flank at the point where the rack touches it — the
+/// same line of action through `P(s)`, the same distance `|s − s_f|·cos α` — so on a concave
+/// stretch (which no rack can cut) the shaper-cut flank is the rack-envelope closed form of
+/// §12.3, `P(s) + (s_f − s)·cos α·(cos α·T ± sin α·N)`: on a straight stretch the basic rack
+/// profile itself, on a concave circular arc the internal involute.
+#[test]
+fn shaper_flanks_on_a_concave_stretch_are_the_rack_envelope() {
+    // r = 20(1 + 0.12 cos 3θ): Δ = r² + 2r′² − r·r″ < 0 near θ = π/3 (ρ ≈ −78 mm).
+    let c = PitchCurve::from_fn(4096, |t| 20.0 * (1.0 + 0.12 * (3.0 * t).cos())).unwrap();
+    let m = 1.0;
+    let tc = tooth_count(&c, m, ToothPolicy::Nearest, 1e-10).unwrap();
+    let c = scale_curve(&c, tc.scale).unwrap();
+    let frame = ArcFrame::new(&c);
+    let rack = RackParams::default();
+    // A rack refuses it.
+    let err = generate_outline(&c, &rack, tc.z, m, &OutlineOptions::new(0.0, 1e-3)).unwrap_err();
+    assert!(matches!(err, TeethError::Concave { .. }), "{err}");
+    let opts = OutlineOptions::new(0.0, 1e-6);
+    let (o, proc_) =
+        generate_by_process(&frame, &rack, tc.z, m, &opts, CutterChoice::Auto).unwrap();
+    assert_eq!(proc_.process, Process::Shaper);
+    assert_eq!(proc_.cutter_teeth, Some(100));
+    assert_eq!(proc_.tried_cutter_teeth, vec![100]);
+    let rho = proc_.min_concave_rho_mm.unwrap();
+    assert!((60.0..100.0).contains(&rho), "{rho}");
+    assert_eq!(first_self_intersection(&o.points_mm).unwrap(), None);
+    // Closed-form flank points on every concave flank, from 0.8·ha above to 0.9·h_straight below
+    // the pitch curve (the tip trim on a concave stretch sits below ha in the rack's η), lie on the
+    // outline polyline within the chord tolerance.
+    let (sa, ca) = 20f64.to_radians().sin_cos();
+    let p = frame.length_mm() / f64::from(tc.z);
+    let hs = rack.straight_depth() * m;
+    let mut want = Vec::new();
+    for (k, f) in o.undercut.flanks.iter().enumerate() {
+        if !f.concave {
+            continue;
+        }
+        let sign = if f.side == "right" { 1.0 } else { -1.0 };
+        let sf = opts.phase_mm + (k / 2) as f64 * p + sign * 0.25 * p;
+        assert!((sf - f.s_mm).abs() < 1e-12);
+        for j in 0..=20 {
+            let eta = 0.8 * m - (0.8 * m + 0.9 * hs) * f64::from(j) / 20.0;
+            let s = sf - sign * eta / (sa * ca);
+            let fp = frame.at(s);
+            let d = (sf - s) * ca;
+            want.push([
+                fp.p[0] + d * ca * fp.t[0] + sign * d * sa * fp.n[0],
+                fp.p[1] + d * ca * fp.t[1] + sign * d * sa * fp.n[1],
+            ]);
+        }
+    }
+    assert!(want.len() > 100, "{}", want.len());
+    let mut closed = o.points_mm.clone();
+    closed.push(closed[0]);
+    let dist = ncgear::math::polyline::distances_to_polyline(&want, &closed);
+    let worst = dist.iter().copied().fold(0.0, f64::max);
+    assert!(worst < 1e-6, "worst {worst} mm");
+}
+
+/// Internal gear closed form: over an exactly circular concave arc (radius ρ about a centre C
+/// outside the body) the teeth point towards C and each flank is an involute of the base circle
+/// `ρ·cos α` about C: polar angle about C `φ = φ_f ± (inv α_r − inv α)` with `φ_f` where the flank
+/// crosses the pitch arc. Checked on the outline vertices of the flanks generated wholly on the arc.
+#[test]
+fn shaper_on_a_concave_circular_arc_cuts_the_internal_involute() {
+    // r(θ): the near side of the circle |X − (60, 0)| = 40 for |θ| ≤ 0.15, blended (quintic
+    // smoothstep over 0.15 … 0.45 rad) into a circle of radius 21 elsewhere; m = 0.3 (the blend is tightly curved).
+    let (d, rho) = (60.0f64, 40.0f64);
+    let arc = |t: f64| d * t.cos() - (rho * rho - (d * t.sin()).powi(2)).sqrt();
+    let f = |t: f64| {
+        let a = t.rem_euclid(std::f64::consts::TAU);
+        let a = a.min(std::f64::consts::TAU - a);
+        let x = ((a - 0.15) / 0.3).clamp(0.0, 1.0);
+        let w = 1.0 - x * x * x * (10.0 - 15.0 * x + 6.0 * x * x);
+        if w > 0.0 {
+            w * arc(a) + (1.0 - w) * 21.0
+        } else {
+            21.0
+        }
+    };
+    let c = PitchCurve::from_fn(8192, f).unwrap();
+    let m = 0.3;
+    let tc = tooth_count(&c, m, ToothPolicy::Nearest, 1e-10).unwrap();
+    let s = tc.scale;
+    let c = scale_curve(&c, s).unwrap();
+    let frame = ArcFrame::new(&c);
+    let opts = OutlineOptions::new(0.0, 1e-6);
+    let o = generate_with_cutter(&frame, &RackParams::default(), tc.z, m, 50, &opts).unwrap();
+    let (centre, rho) = ([d * s, 0.0], rho * s);
+    let alpha = 20f64.to_radians();
+    let rb = rho * alpha.cos();
+    let about = |q: [f64; 2]| (q[1] - centre[1]).atan2(q[0] - centre[0]);
+    // Flanks crossing the pitch curve within 0.04 rad of θ = 0 (their generation, ±3 m of arc,
+    // stays on the exact arc): pitch-crossing angle about C.
+    let p = frame.length_mm() / f64::from(tc.z);
+    let flanks: Vec<f64> = (0..tc.z)
+        .flat_map(|k| {
+            let sk = f64::from(k) * p;
+            [sk - 0.25 * p, sk + 0.25 * p]
+        })
+        .map(|sf| frame.at(sf).p)
+        .filter(|q| q[1].atan2(q[0]).abs() < 0.04)
+        .map(about)
+        .collect();
+    assert!(flanks.len() >= 2, "{}", flanks.len());
+    let mut n = 0;
+    for q in &o.points_mm {
+        let r = (q[0] - centre[0]).hypot(q[1] - centre[1]);
+        // Involute part: from 0.7·ha inside the pitch arc (tips point to C, topped to ≈ 0.8·ha
+        // here) to 0.9·h_s outside.
+        if q[1].atan2(q[0]).abs() > 0.035 || r < rho - 0.7 * m || r > rho + 0.9 * m {
+            continue;
+        }
+        let e = inv((rb / r).acos()) - inv(alpha);
+        let phi = about(*q);
+        let best = flanks
+            .iter()
+            .flat_map(|&pf| [(phi - pf - e).abs(), (phi - pf + e).abs()])
+            .fold(f64::INFINITY, f64::min);
+        // Vertices of the tip and root arcs match no involute; flank vertices match to 1e-9 rad.
+        if best < 1e-3 {
+            assert!(
+                best * rho < 1e-6,
+                "r = {r}: off the involute by {} mm",
+                best * rho
+            );
+            n += 1;
+        }
+    }
+    assert!(n > 50, "{n}");
+}
