@@ -192,8 +192,8 @@ pub(super) fn finish(
     ];
     if min_conv <= 0.0 {
         warnings.push(format!(
-            "a pitch curve is concave somewhere (min Δ = {min_conv:.3} mm²): a rack cannot cut it; a shaper cutter of radius below {:.2} mm is needed (C9)",
-            min_rho.abs()
+            "a pitch curve is concave somewhere (min Δ = {min_conv:.3} mm²): a rack cannot cut it; a shaper cutter of pitch radius below {:.2} mm (the tightest concave radius of curvature) is needed (C9)",
+            cs.min_concave_radius_mm.min(cm.min_concave_radius_mm)
         ));
     }
     for c in &checks {

@@ -180,6 +180,7 @@ impl PitchCurve {
             min_radius_of_curvature_mm: f64::INFINITY,
             max_pressure_deviation_rad: 0.0,
             concave_fraction: 0.0,
+            min_concave_radius_mm: f64::INFINITY,
         };
         let mut concave = 0usize;
         for th in uniform_angles(n_check) {
@@ -191,6 +192,9 @@ impl PitchCurve {
                     s.min_radius_of_curvature_mm.min(g.radius_of_curvature_mm());
             } else {
                 concave += 1;
+                s.min_concave_radius_mm = s
+                    .min_concave_radius_mm
+                    .min(g.radius_of_curvature_mm().abs());
             }
             s.max_pressure_deviation_rad = s
                 .max_pressure_deviation_rad
@@ -242,6 +246,9 @@ pub struct CurvatureSummary {
     pub max_pressure_deviation_rad: f64,
     /// Fraction of the checked angles where the curve is concave.
     pub concave_fraction: f64,
+    /// Smallest |radius of curvature| over the concave part, mm (∞ when the curve is convex): a
+    /// shaper cutter's pitch radius must stay below it.
+    pub min_concave_radius_mm: f64,
 }
 
 /// `∫ f` over `[lo, hi]` by 5-point Gauss–Legendre (exact for polynomials of degree ≤ 9).
@@ -271,6 +278,37 @@ pub(crate) fn gauss_legendre5(f: impl Fn(f64) -> f64, lo: f64, hi: f64) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn tightest_concave_radius_is_the_smallest_concave_curvature_radius() {
+        // r = 20(1 + 0.15 cos 3θ) is concave around θ = π/3 (Δ = r² + 2r_θ² − r·r_θθ < 0 there):
+        // at θ = π/3, r = 17, r_θ = 0, r_θθ = 27, so ρ = 17³/(17² − 17·27) = −28.9 mm.
+        let c = PitchCurve::from_fn(2048, |t| 20.0 * (1.0 + 0.15 * (3.0 * t).cos())).unwrap();
+        let s = c.curvature_extremes(4096);
+        let rho_mid = c
+            .geometry(std::f64::consts::PI / 3.0)
+            .radius_of_curvature_mm();
+        assert!((rho_mid + 28.9).abs() < 0.01, "{rho_mid}");
+        // Brute force on a 16× finer grid: the sampled minimum is within its sampling error.
+        let brute = (0..65536)
+            .map(|k| c.geometry(TAU * k as f64 / 65536.0))
+            .filter(|g| g.convexity_mm2() < 0.0)
+            .map(|g| g.radius_of_curvature_mm().abs())
+            .fold(f64::INFINITY, f64::min);
+        assert!(brute <= 28.9 + 0.01);
+        assert!(
+            (s.min_concave_radius_mm - brute).abs() < 1e-4 * brute,
+            "{} vs {brute}",
+            s.min_concave_radius_mm
+        );
+        assert!(s.concave_fraction > 0.0);
+        // A convex curve has none.
+        let e = PitchCurve::from_fn(512, focus_ellipse(30.0, 0.2)).unwrap();
+        assert_eq!(
+            e.curvature_extremes(1024).min_concave_radius_mm,
+            f64::INFINITY
+        );
+    }
 
     fn focus_ellipse(a: f64, e: f64) -> impl Fn(f64) -> f64 {
         move |t: f64| a * (1.0 - e * e) / (1.0 - e * t.cos())
