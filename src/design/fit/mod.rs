@@ -163,6 +163,7 @@ pub fn fit_points(
         return Err(FitError::NotFinite("start parameter"));
     }
     let (stride, sub) = subsample(points, opts);
+    let grid = SegmentGrid::new(&sub);
     let orders: Vec<usize> = match opts.order {
         Some(k) => vec![k.max(1)],
         None => {
@@ -192,6 +193,7 @@ pub fn fit_points(
             k,
             opts,
             weights: None,
+            grid: &grid,
         };
         let mut phis: Vec<f64> = phis_all.iter().step_by(stride).copied().collect();
         let (fitted, it) = lm.run(with_order(&m, k), &mut phis);
@@ -307,6 +309,7 @@ impl Fitted {
 #[must_use]
 pub fn minimax(points: &[[f64; 2]], fitted: Fitted, opts: &FitOptions) -> Fitted {
     let (stride, sub) = subsample(points, opts);
+    let grid = SegmentGrid::new(&sub);
     let k = fitted.mechanism.ratio.order();
     let mut best = fitted;
     let mut m = best.mechanism.clone();
@@ -328,6 +331,7 @@ pub fn minimax(points: &[[f64; 2]], fitted: Fitted, opts: &FitOptions) -> Fitted
             k,
             opts: &pass,
             weights: Some(&w),
+            grid: &grid,
         };
         let mut phis: Vec<f64> = phis_all.iter().step_by(stride).copied().collect();
         let (next, it) = lm.run(m, &mut phis);

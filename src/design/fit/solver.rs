@@ -49,6 +49,8 @@ pub(super) struct Lm<'a> {
     pub(super) opts: &'a FitOptions,
     /// Square roots of per-point weights (IRLS towards the minimax fit), or all ones.
     pub(super) weights: Option<&'a [f64]>,
+    /// The segments of `pts` (the target polyline of the coverage rows), bucketed once.
+    pub(super) grid: &'a SegmentGrid<'a>,
 }
 
 impl Lm<'_> {
@@ -95,11 +97,10 @@ impl Lm<'_> {
         // Coverage: the traced curve may not leave the target where no point watches it (a
         // one-sided point-to-curve fit would allow a loop between two points).
         let m0 = self.pts.len();
-        let grid = SegmentGrid::new(self.pts);
         let cov: Vec<(f64, Vec<f64>)> = curve_evals(m, COVERAGE_SAMPLES)
             .into_par_iter()
             .map(|e| {
-                let (excess, u) = coverage(&grid, &e);
+                let (excess, u) = coverage(self.grid, &e);
                 let mut row = vec![0.0; np];
                 if !row.is_empty() && excess > 0.0 {
                     point_row(m, &e, [-u[0], -u[1]], &mut row);
