@@ -5,7 +5,7 @@
 //! not implemented: a typed error says so).
 use super::frame::ArcFrame;
 use super::outline::{Outline, OutlineOptions, generate_on, report_on, validate};
-use super::shaper::{Cutter, generate_shaper};
+use super::shaper::{Cutter, cutter_pitch_radius_mm, generate_shaper};
 use super::{RackParams, TeethError};
 use serde::{Deserialize, Serialize};
 
@@ -105,14 +105,14 @@ pub fn generate_by_process(
         CutterChoice::Teeth(zc) => vec![zc],
         CutterChoice::Auto => STANDARD_CUTTER_TEETH
             .into_iter()
-            .filter(|&zc| 0.5 * f64::from(zc) * m < concave_rho)
+            .filter(|&zc| cutter_pitch_radius_mm(zc, m) < concave_rho)
             .collect(),
     };
     let mut tried = Vec::new();
     let mut rejected = Vec::new();
     for zc in candidates {
         tried.push(zc);
-        let r0 = 0.5 * f64::from(zc) * m;
+        let r0 = cutter_pitch_radius_mm(zc, m);
         let result = if r0 >= concave_rho {
             Err(TeethError::Shaper {
                 cutter_teeth: zc,
@@ -156,7 +156,7 @@ pub fn generate_by_process(
         tried: if rejected.is_empty() {
             format!(
                 "every standard cutter's pitch radius (≥ {:.3} mm) exceeds it",
-                0.5 * 12.0 * m
+                cutter_pitch_radius_mm(STANDARD_CUTTER_TEETH.into_iter().min().unwrap_or(0), m)
             )
         } else {
             rejected.join("; ")

@@ -67,12 +67,18 @@ pub(super) struct Cutter {
     tan_ft: f64,
 }
 
+/// Pitch radius `r0 = z_c·m/2` of a cutter with `z_c` teeth at module `m_mm`, mm.
+#[must_use]
+pub(super) fn cutter_pitch_radius_mm(z_c: u32, m_mm: f64) -> f64 {
+    0.5 * f64::from(z_c) * m_mm
+}
+
 impl Cutter {
     /// The cutter with `z_c` teeth for `rack` at module `m_mm`. Errors when the tip-corner centre
     /// falls inside the base circle (`Rc ≤ rb`: too few teeth for this rack).
     pub(super) fn new(z_c: u32, rack: &RackParams, m_mm: f64) -> Result<Self, TeethError> {
         let alpha = rack.alpha_rad();
-        let r0 = 0.5 * f64::from(z_c) * m_mm;
+        let r0 = cutter_pitch_radius_mm(z_c, m_mm);
         let rb = r0 * alpha.cos();
         let hf = (rack.addendum() + rack.clearance()) * m_mm;
         let rt = r0 + hf;
