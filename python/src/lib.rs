@@ -341,6 +341,8 @@ fn pair(
     let p = design_pair(&law, &o).map_err(err)?;
     let report = serde_json::json!({
         "z": p.z,
+        "z_driven": p.z_driven,
+        "cycle_advance_deg": p.advance_rad.to_degrees(),
         "module_mm": p.module_mm,
         "centre_distance_mm": p.centre_distance_mm,
         "perimeter_mm": p.perimeter_mm,

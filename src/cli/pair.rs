@@ -27,10 +27,16 @@ pub struct Args {
     /// solved for closure and the shape scaled to the teeth.
     #[arg(long, conflicts_with_all = ["law", "csv"])]
     pub centrode: Option<String>,
+    /// Driven rotation per driver turn that the centrode's centre distance is solved for, degrees
+    /// (360: equal gears; 180: the driven gear turns once per two driver turns, twice the teeth).
+    /// Motion laws bring their own advance ψ(2π) − ψ(0).
+    #[arg(long, default_value_t = 360.0, requires = "centrode")]
+    pub cycle_advance: f64,
     /// CSV law file with header `phi_deg,psi_deg` (one driver turn, degrees).
     #[arg(long, conflicts_with = "law")]
     pub csv: Option<PathBuf>,
-    /// Tooth count of each gear (required for a motion or CSV law).
+    /// Driver tooth count (required for a motion or CSV law); the driven gear gets z·360°/Δ with Δ
+    /// the law's advance per driver turn (equal counts for a 1:1 law).
     #[arg(long)]
     pub teeth: Option<u32>,
     /// Module, mm.
@@ -63,6 +69,7 @@ pub fn run(args: Args) -> CliResult {
         }
     };
     let mut opts = PairOptions::new(args.teeth, args.module);
+    opts.centrode_advance_rad = args.cycle_advance.to_radians();
     opts.toothing.verify_steps = args.verify_steps;
     args.rack
         .apply_to(&mut opts.toothing)
@@ -94,6 +101,8 @@ pub fn run(args: Args) -> CliResult {
         "tool": concat!("ncgear ", env!("CARGO_PKG_VERSION")),
         "options": opts,
         "z": design.z,
+        "z_driven": design.z_driven,
+        "cycle_advance_deg": design.advance_rad.to_degrees(),
         "module_mm": design.module_mm,
         "centre_distance_mm": design.centre_distance_mm,
         "perimeter_mm": design.perimeter_mm,
@@ -115,8 +124,9 @@ pub fn run(args: Args) -> CliResult {
         print_json(&report)?;
     } else {
         println!(
-            "z = {}, m = {} mm, a = {:.6} mm; outputs in {}",
+            "z = {}:{}, m = {} mm, a = {:.6} mm; outputs in {}",
             design.z,
+            design.z_driven,
             design.module_mm,
             design.centre_distance_mm,
             args.out.display()

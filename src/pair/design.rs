@@ -4,7 +4,7 @@ use super::{Law, Motion, PairError};
 use crate::export::{Contour, Marker, Sheet};
 use crate::geometry::pitch::PitchCurve;
 use crate::math::periodic::uniform_angles;
-use crate::teeth::mesh::{MeshCheck, MeshReport, verify_mesh};
+use crate::teeth::mesh::{MeshCheck, MeshReport, MeshSpan, verify_mesh};
 use crate::teeth::process::{CutterChoice, GearProcess, generate_by_process};
 use crate::teeth::{ArcFrame, Outline, OutlineOptions, ToothingOptions, UndercutReport};
 use serde::Serialize;
@@ -15,9 +15,13 @@ use std::f64::consts::{PI, TAU};
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 #[non_exhaustive]
 pub struct PairOptions {
-    /// Tooth count (same on both gears); `None`: from the centrode's own size rounded up
-    /// (centrode only). Default `None`.
+    /// Driver tooth count; the driven gear gets `z·2π/Δ` (Δ the cycle advance; equal counts for a
+    /// 1:1 law). `None`: from the centrode's own size rounded up to a count that the driven gear
+    /// can share (centrode only). Default `None`.
     pub teeth: Option<u32>,
+    /// Cycle advance Δ that a centrode's centre distance is solved for, rad (driven rotation per
+    /// driver turn: 2π for equal gears, π for 1:2). Motion laws bring their own. Default 2π.
+    pub centrode_advance_rad: f64,
     /// Module, basic rack, backlash, chord tolerances and verified positions (driver positions
     /// over one turn; 0 skips the verification). Default [`ToothingOptions::new`] at the module:
     /// 20° rack, backlash 0.04·m, chord 1e-3·m, verification at chord 1e-6·m over 90 steps.
@@ -34,6 +38,7 @@ impl PairOptions {
     pub fn new(teeth: Option<u32>, module_mm: f64) -> Self {
         Self {
             teeth,
+            centrode_advance_rad: TAU,
             toothing: ToothingOptions::new(module_mm),
             samples: 4096,
         }
@@ -52,12 +57,18 @@ impl Default for PairOptions {
 pub struct PairDesign {
     /// Centre distance, mm.
     pub centre_distance_mm: f64,
-    /// Tooth count of each gear.
+    /// Driver tooth count.
     pub z: u32,
+    /// Driven tooth count (`z` for a 1:1 law, `2z` for 1:2).
+    pub z_driven: u32,
+    /// Cycle advance Δ = ψ(φ + 2π) − ψ(φ), rad.
+    pub advance_rad: f64,
     /// Module, mm.
     pub module_mm: f64,
-    /// Pitch-curve perimeter, mm (= zπm).
+    /// Driver pitch-curve perimeter, mm (= zπm; the driven one is `z_driven·π·m`).
     pub perimeter_mm: f64,
+    /// Driven pitch-curve perimeter, mm (= z_driven·π·m when the driven gear closes).
+    pub driven_perimeter_mm: f64,
     /// Ratio range `[min, max]` of i = dψ/dφ.
     pub ratio_range: [f64; 2],
     /// Driver outline (export tolerance).
@@ -118,13 +129,33 @@ pub fn design_pair_with_progress(
             expected: "finite and > 0",
         });
     }
-    let motion = Motion::from_law(law, opts.samples)?;
+    let motion = Motion::from_law_advancing(law, opts.samples, opts.centrode_advance_rad)?;
+    let (p_turns, q_turns) = motion.turn_fraction().ok_or_else(|| {
+        PairError::Law(format!(
+            "the driven gear advances {:.9} turns per driver turn, not a fraction p/q with q ≤ 360: \
+             no closed pair has that ratio",
+            motion.turn_ratio()
+        ))
+    })?;
+    let defect = motion.driven_closure_defect_rad(p_turns, opts.samples);
+    if defect > 1e-8 {
+        return Err(PairError::Law(format!(
+            "the driven gear does not close: it turns {p_turns}/{q_turns} per driver turn, so \
+             ψ(φ) − {k:.6}·φ must repeat every {per:.4}°, but it changes by {defect:.3e} rad over \
+             that shift",
+            k = motion.turn_ratio(),
+            per = 360.0 / f64::from(p_turns)
+        )));
+    }
     let a1 = motion.unit_centre_distance;
     let (c1, _) = motion.pitch_curves(a1, opts.samples)?;
     let l1 = c1.perimeter_mm(1e-12 * a1);
     let z = match (opts.teeth, law) {
         (Some(z), _) => z,
-        (None, Law::Centrode(_)) => (l1 / (PI * m)).ceil() as u32,
+        // The driven count z·q/p must be whole: z a multiple of p.
+        (None, Law::Centrode(_)) => {
+            ((l1 / (PI * m)).ceil() as u32).div_ceil(p_turns) * p_turns
+        }
         (None, _) => {
             return Err(PairError::InvalidParameter {
                 name: "teeth",
@@ -140,12 +171,19 @@ pub fn design_pair_with_progress(
             expected: "≥ 3",
         });
     }
+    if z % p_turns != 0 {
+        return Err(PairError::Law(format!(
+            "with {z} driver teeth the driven gear would have {:.3} teeth (z·{q_turns}/{p_turns}): \
+             give a driver tooth count that is a multiple of {p_turns}",
+            f64::from(z) * f64::from(q_turns) / f64::from(p_turns)
+        )));
+    }
+    let z2 = z / p_turns * q_turns;
     let a = a1 * f64::from(z) * PI * m / l1;
     let (c1, c2) = motion.pitch_curves(a, opts.samples)?;
     let f1 = ArcFrame::new(&c1);
     let f2 = ArcFrame::new(&c2);
     let p = f1.length_mm() / f64::from(z);
-    // Driven phase: a space faces driver tooth 0 at body angle π + ψ(0).
     let th2 = (PI + motion.psi(0.0)).rem_euclid(TAU);
     let s2 = c2.arc_length_between_mm(0.0, th2, 1e-12 * a);
     let half = 0.5 * t.backlash_mm;
@@ -159,10 +197,10 @@ pub fn design_pair_with_progress(
     let o2 = mk(s2 + 0.5 * p, t.chord_tol_mm);
     let choice = t.cutter_choice();
     let (driver, driver_process) = generate_by_process(&f1, &t.rack, z, m, &o1, choice)?;
-    let (driven, driven_process) = generate_by_process(&f2, &t.rack, z, m, &o2, choice)?;
+    let (driven, driven_process) = generate_by_process(&f2, &t.rack, z2, m, &o2, choice)?;
     let mesh = if t.verify_steps > 0 {
         // The fine outlines of the check, built side by side, each with its gear's cutter.
-        let fine = |f: &ArcFrame, o: &OutlineOptions, p: &GearProcess| {
+        let fine = |f: &ArcFrame, z: u32, o: &OutlineOptions, p: &GearProcess| {
             generate_by_process(
                 f,
                 &t.rack,
@@ -177,16 +215,17 @@ pub fn design_pair_with_progress(
             .map(|g| g.0)
         };
         let (v1, v2) = rayon::join(
-            || fine(&f1, &o1, &driver_process),
-            || fine(&f2, &o2, &driven_process),
+            || fine(&f1, z, &o1, &driver_process),
+            || fine(&f2, z2, &o2, &driven_process),
         );
         let (v1, v2) = (v1?, v2?);
+        // The pair is back at its start after q driver turns: check them all, `verify_steps`
+        // positions per driver turn.
         let check = MeshCheck {
-            centre_distance_mm: a,
-            steps: t.verify_steps,
+            steps: t.verify_steps * q_turns as usize,
+            span: MeshSpan::Turns(q_turns),
             backlash_mm: t.backlash_mm,
-            module_mm: m,
-            angle_tol_rad: 1e-13,
+            ..MeshCheck::new(a, m)
         };
         let psi = |phi: f64| motion.psi(phi);
         Some(verify_mesh(
@@ -212,8 +251,11 @@ pub fn design_pair_with_progress(
     Ok(PairDesign {
         centre_distance_mm: a,
         z,
+        z_driven: z2,
+        advance_rad: motion.advance_rad,
         module_mm: m,
         perimeter_mm: f1.length_mm(),
+        driven_perimeter_mm: f2.length_mm(),
         ratio_range: [
             ratios.iter().copied().fold(f64::INFINITY, f64::min),
             ratios.iter().copied().fold(0.0, f64::max),

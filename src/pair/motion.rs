@@ -1,5 +1,10 @@
 //! The motion of a pair from its law: ψ(φ) and i(φ), the closing centre distance of a centrode,
 //! and the two pitch curves at a given centre distance.
+//!
+//! The law advances the driven gear by a constant `Δ = ψ(φ + 2π) − ψ(φ)` per driver turn (the
+//! *cycle advance*; `Δ = 2π` for equal gears, `π` for a 1:2 pair). With `Δ/2π = p/q` in lowest
+//! terms the driven gear closes after `q` driver turns of `p` driven turns, which needs
+//! `ψ(φ) − Δφ/2π` to repeat every `2π/p` (checked by [`Motion::driven_closure_defect_rad`]).
 use super::{Expr, Law, PairError};
 use crate::geometry::pitch::PitchCurve;
 use crate::math::periodic::{PeriodicSpline, invert_increasing, spectral_integral, uniform_angles};
@@ -8,8 +13,10 @@ use std::f64::consts::{PI, TAU};
 /// The motion of the pair: ψ(φ) and i(φ) at unit centre distance.
 #[derive(Debug, Clone)]
 pub struct Motion {
-    /// ψ(φ) − φ as a periodic spline, rad.
+    /// ψ(φ) − kφ as a periodic spline (k = Δ/2π), rad.
     excess: PeriodicSpline,
+    /// Cycle advance Δ = ψ(φ + 2π) − ψ(φ), rad (2π for equal gears).
+    pub advance_rad: f64,
     /// i(φ) samples source, when analytic.
     ratio: RatioSource,
     /// Centre distance for unit scale (centrode units; 1 for motion laws).
@@ -27,7 +34,13 @@ impl Motion {
     /// ψ(φ), rad.
     #[must_use]
     pub fn psi(&self, phi: f64) -> f64 {
-        phi + self.excess.value(phi)
+        self.turn_ratio() * phi + self.excess.value(phi)
+    }
+
+    /// Driven turns per driver turn, `k = Δ/2π` (mean of i).
+    #[must_use]
+    pub fn turn_ratio(&self) -> f64 {
+        self.advance_rad / TAU
     }
     /// i(φ) = dψ/dφ.
     #[must_use]
@@ -38,24 +51,43 @@ impl Motion {
                 let r = r.eval(phi.rem_euclid(TAU));
                 r / (a - r)
             }
-            RatioSource::Spline => 1.0 + self.excess.derivative(phi),
+            RatioSource::Spline => self.turn_ratio() + self.excess.derivative(phi),
         }
     }
 
-    /// Builds the motion from a law with `n` samples per turn.
+    /// Builds the motion from a law with `n` samples per turn; a centrode closes with one driven
+    /// turn per driver turn (see [`Motion::from_law_advancing`]).
     pub fn from_law(law: &Law, n: usize) -> Result<Self, PairError> {
+        Self::from_law_advancing(law, n, TAU)
+    }
+
+    /// [`Motion::from_law`] with the cycle advance `centrode_advance_rad` (Δ, rad) that a centrode's
+    /// centre distance is solved for: `mean over φ of r/(a − r) = Δ/2π`. A motion law brings its own
+    /// advance `ψ(2π) − ψ(0)` (any Δ > 0); a table law is one turn of equal gears (Δ = 2π).
+    pub fn from_law_advancing(
+        law: &Law,
+        n: usize,
+        centrode_advance_rad: f64,
+    ) -> Result<Self, PairError> {
         let phis = uniform_angles(n);
         match law {
             Law::Motion(e) => {
                 let d = e.derivative();
                 let p0 = e.eval(0.0);
                 let adv = e.eval(TAU) - p0;
-                if (adv - TAU).abs() > 1e-9 * TAU {
+                if !(adv.is_finite() && adv > 0.0) {
                     return Err(PairError::Law(format!(
-                        "ψ(2π) − ψ(0) = {:.6} rad; only one driven turn per driver turn (2π) is supported",
-                        adv
+                        "ψ(2π) − ψ(0) = {adv:.6} rad; the driven gear must advance (> 0) over a driver turn"
                     )));
                 }
+                let (i0, i1) = (d.eval(0.0), d.eval(TAU));
+                if (i1 - i0).abs() > 1e-9 * i0.abs().max(1.0) {
+                    return Err(PairError::Law(format!(
+                        "dψ/dφ is {i0:.9} at φ = 0 but {i1:.9} at φ = 360°: the ratio must repeat every \
+                         driver turn for the driver gear to close"
+                    )));
+                }
+                let k = adv / TAU;
                 let mut ex = Vec::with_capacity(n);
                 for &f in &phis {
                     let i = d.eval(f);
@@ -65,17 +97,26 @@ impl Motion {
                             f.to_degrees()
                         )));
                     }
-                    ex.push(e.eval(f) - f);
+                    ex.push(e.eval(f) - k * f);
                 }
                 let excess = PeriodicSpline::uniform(0.0, ex, TAU)
                     .map_err(|e| PairError::Law(e.to_string()))?;
                 Ok(Self {
                     excess,
+                    advance_rad: adv,
                     ratio: RatioSource::Expr(d),
                     unit_centre_distance: 1.0,
                 })
             }
             Law::Centrode(e) => {
+                if !(centrode_advance_rad.is_finite() && centrode_advance_rad > 0.0) {
+                    return Err(PairError::InvalidParameter {
+                        name: "centrode_advance_rad",
+                        value: centrode_advance_rad,
+                        expected: "finite and > 0",
+                    });
+                }
+                let k = centrode_advance_rad / TAU;
                 let r: Vec<f64> = phis.iter().map(|&f| e.eval(f)).collect();
                 if let Some((k, v)) = r
                     .iter()
@@ -88,7 +129,7 @@ impl Motion {
                     )));
                 }
                 let rmax = r.iter().copied().fold(0.0, f64::max);
-                let mean = |a: f64| r.iter().map(|v| v / (a - v)).sum::<f64>() / n as f64 - 1.0;
+                let mean = |a: f64| r.iter().map(|v| v / (a - v)).sum::<f64>() / n as f64 - k;
                 let (mut lo, mut hi) = (rmax * (1.0 + 1e-12), 2.0 * rmax);
                 while mean(hi) > 0.0 {
                     hi *= 2.0;
@@ -117,6 +158,7 @@ impl Motion {
                     .map_err(|e| PairError::Law(e.to_string()))?;
                 Ok(Self {
                     excess,
+                    advance_rad: centrode_advance_rad,
                     ratio: RatioSource::Centrode(e.clone(), a),
                     unit_centre_distance: a,
                 })
@@ -134,6 +176,7 @@ impl Motion {
                     .map_err(|e| PairError::Law(e.to_string()))?;
                 let m = Self {
                     excess,
+                    advance_rad: TAU,
                     ratio: RatioSource::Spline,
                     unit_centre_distance: 1.0,
                 };
@@ -146,6 +189,30 @@ impl Motion {
                 Ok(m)
             }
         }
+    }
+
+    /// The turn ratio as a fraction `k = Δ/2π = p/q` in lowest terms with `q ≤ 360`, within
+    /// 1e-9·k; `None` for an irrational-looking advance (no closed driven gear).
+    #[must_use]
+    pub fn turn_fraction(&self) -> Option<(u32, u32)> {
+        let k = self.turn_ratio();
+        (1..=360u32).find_map(|q| {
+            let p = (k * f64::from(q)).round();
+            ((p >= 1.0) && (k * f64::from(q) - p).abs() <= 1e-9 * k * f64::from(q))
+                .then_some((p as u32, q))
+        })
+    }
+
+    /// The driven gear's closure defect, rad: with `k = p/q` the driven gear turns once per `2π/k`
+    /// of φ, so it closes iff `ψ(φ) − kφ` repeats every `2π/p` (its period is already 2π);
+    /// returns `max_φ |ψ(φ + 2π/p) − ψ(φ) − 2πk/p|` over `n` samples (0 for p = 1).
+    #[must_use]
+    pub fn driven_closure_defect_rad(&self, p: u32, n: usize) -> f64 {
+        let shift = TAU / f64::from(p);
+        uniform_angles(n)
+            .iter()
+            .map(|&f| (self.excess.value(f + shift) - self.excess.value(f)).abs())
+            .fold(0.0, f64::max)
     }
 
     /// Driver and driven pitch curves (`n` samples each) at centre distance `a_mm`.
@@ -161,11 +228,13 @@ impl Motion {
         let r2: Vec<f64> = th
             .iter()
             .map(|&t| {
-                // Solve π + ψ(φ) = t (mod 2π) for φ.
-                let target = (t - PI - self.psi(0.0)).rem_euclid(TAU) + self.psi(0.0);
+                // Solve π + ψ(φ) = t (mod 2π) for φ within one driven turn (2π/k of φ).
+                let psi0 = self.psi(0.0);
+                let target = (t - PI - psi0).rem_euclid(TAU) + psi0;
                 let f = |x: f64| (self.psi(x), self.ratio(x));
-                let phi =
-                    invert_increasing(f, target, -TAU, 2.0 * TAU, target - self.psi(0.0), 1e-14);
+                let turn = TAU / self.turn_ratio();
+                let guess = (target - psi0) / self.turn_ratio();
+                let phi = invert_increasing(f, target, -turn, 2.0 * turn, guess, 1e-14);
                 a_mm / (1.0 + self.ratio(phi))
             })
             .collect();

@@ -8,6 +8,7 @@ mod dynamics;
 mod hard_cases;
 mod layout;
 mod orbit;
+mod pair_ratios;
 mod robust;
 mod shaper;
 mod simulate;

@@ -324,11 +324,11 @@ fn exports_are_closed_mm_polylines() {
 fn bad_law_inputs_are_typed_errors() {
     assert!(Expr::parse("phi + ").is_err());
     let e = design_pair(
-        &Law::Motion(Expr::parse("2*phi").unwrap()),
+        &Law::Motion(Expr::parse("phi + 0.01*phi^2").unwrap()),
         &PairOptions::new(Some(20), 1.0),
     )
     .unwrap_err();
-    assert!(e.to_string().contains("one driven turn"), "{e}");
+    assert!(e.to_string().contains("must repeat every driver turn"), "{e}");
     let e = design_pair(
         &Law::Motion(Expr::parse("phi - 0.8*sin(2*phi)").unwrap()),
         &PairOptions::new(Some(20), 1.0),

@@ -206,11 +206,9 @@ fn train_from(
             .map(|k| generate(k, opts.toothing.verify_chord_tol_mm, same(k)).map(|g| g.0))
             .collect::<Result<_, _>>()?;
         let check = MeshCheck {
-            centre_distance_mm: a,
             steps: opts.toothing.verify_steps,
             backlash_mm: opts.toothing.backlash_mm,
-            module_mm: m,
-            angle_tol_rad: 1e-13,
+            ..MeshCheck::new(a, m)
         };
         let theta2 = |phi_h: f64| rebuilt.pose(phi_h).intermediate_angle_rad;
         // Sun → intermediate: φ = −φH.

@@ -33,14 +33,46 @@ use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 use std::f64::consts::{PI, TAU};
 
+/// The driver positions a mesh check rolls through.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+#[non_exhaustive]
+pub enum MeshSpan {
+    /// Whole driver turns from φ = 0 (a closed pair with turn ratio p/q is back at its start after
+    /// q turns): positions `φ_k = 2π·turns·k/steps`.
+    Turns(u32),
+    /// An open sector's active driver interval, rad, both ends checked:
+    /// `φ_k = start + (end − start)·k/(steps − 1)`.
+    Interval {
+        /// First driver angle, rad.
+        start_rad: f64,
+        /// Last driver angle, rad (> start).
+        end_rad: f64,
+    },
+}
+
+impl MeshSpan {
+    /// Driver angle of position `k` of `steps`, rad.
+    #[must_use]
+    pub fn position_rad(&self, k: usize, steps: usize) -> f64 {
+        match *self {
+            Self::Turns(n) => TAU * f64::from(n) * k as f64 / steps as f64,
+            Self::Interval { start_rad, end_rad } => {
+                start_rad + (end_rad - start_rad) * k as f64 / (steps.max(2) - 1) as f64
+            }
+        }
+    }
+}
+
 /// Parameters of [`verify_mesh`]; [`MeshCheck::new`] fills the defaults named on each field.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 #[non_exhaustive]
 pub struct MeshCheck {
     /// Centre distance, mm (no default: given to [`MeshCheck::new`]).
     pub centre_distance_mm: f64,
-    /// Number of driver positions over one turn. Default 90 (every 4°).
+    /// Number of driver positions over the span. Default 90 (every 4° of one turn).
     pub steps: usize,
+    /// The driver positions rolled through. Default one turn, [`MeshSpan::Turns`]`(1)`.
+    pub span: MeshSpan,
     /// Nominal circumferential backlash of the pair on the pitch curve, mm (> 0). Default 0.04·m.
     pub backlash_mm: f64,
     /// Module, mm (sets the contact window; no default: given to [`MeshCheck::new`]).
@@ -57,6 +89,7 @@ impl MeshCheck {
         Self {
             centre_distance_mm,
             steps: 90,
+            span: MeshSpan::Turns(1),
             backlash_mm: 0.04 * module_mm,
             module_mm,
             angle_tol_rad: 1e-13,
@@ -83,7 +116,7 @@ pub struct MeshReport {
     /// (driven angle `ψ(φ)`, no correction), over the teeth within ±1.75 pitches of the contact,
     /// mm² (0 = the outlines do not overlap; ~1e-9 mm² is the transmission error's touch).
     pub max_overlap_area_mm2: f64,
-    /// Driver angle of the largest overlap, degrees.
+    /// Driver angle of the largest overlap, degrees (may exceed 360 when several turns are rolled).
     pub max_overlap_at_deg: f64,
     /// Maximum |transmission error| of the driven gear, degrees.
     pub max_transmission_error_deg: f64,
@@ -133,8 +166,9 @@ impl Sample {
     }
 }
 
-/// Rolls `driver` (gear 1) and `driven` (gear 2) outlines (mm, CCW, body frames) through one driver
-/// turn with the motion law `psi(φ)` (driven CW rotation, rad; `psi(φ+2π) = psi(φ) + 2π`).
+/// Rolls `driver` (gear 1) and `driven` (gear 2) outlines (mm, CCW, body frames) through the
+/// check's span (one driver turn by default) with the motion law `psi(φ)` (driven CW rotation,
+/// rad).
 ///
 /// `progress(1)` is called after each driver position.
 ///
@@ -168,6 +202,26 @@ pub fn verify_mesh(
             expected: "≥ 1",
         });
     }
+    match check.span {
+        MeshSpan::Turns(0) => {
+            return Err(MeshError::InvalidParameter {
+                name: "span",
+                value: 0.0,
+                expected: "at least one driver turn",
+            });
+        }
+        MeshSpan::Interval { start_rad, end_rad }
+            if !(start_rad.is_finite() && end_rad.is_finite() && end_rad > start_rad)
+                || check.steps < 2 =>
+        {
+            return Err(MeshError::InvalidParameter {
+                name: "span",
+                value: end_rad - start_rad,
+                expected: "a finite interval end > start, checked at ≥ 2 steps",
+            });
+        }
+        _ => {}
+    }
     let a = check.centre_distance_mm;
     let m = check.module_mm;
     let cap = 0.02 * m;
@@ -183,7 +237,7 @@ pub fn verify_mesh(
     let dev = fine.deviation_from(&medium);
     let lip = fine.lip;
     let sample = |k: usize| {
-        let phi = TAU * k as f64 / check.steps as f64;
+        let phi = check.span.position_rad(k, check.steps);
         let psi0 = psi(phi);
         let r1 = g1.radius_at(-phi);
         let r2 = (a - r1).max(m);
@@ -323,7 +377,7 @@ pub fn verify_mesh(
     Ok(MeshReport {
         steps: check.steps,
         max_overlap_area_mm2: max_overlap,
-        max_overlap_at_deg: 360.0 * k_max as f64 / check.steps as f64,
+        max_overlap_at_deg: check.span.position_rad(k_max, check.steps).to_degrees(),
         interference_steps: samples.len() - ok.len(),
         max_penetration_mm: samples.iter().map(|s| s.penetration).fold(0.0, f64::max),
         min_nominal_clearance_mm: samples
