@@ -32,6 +32,16 @@ pub struct Args {
     /// Motion laws bring their own advance ψ(2π) − ψ(0).
     #[arg(long, default_value_t = 360.0, requires = "centrode")]
     pub cycle_advance: f64,
+    /// An open (incomplete) pair: teeth only over the driver interval --drive-start..--drive-end,
+    /// with --teeth on that interval (motion laws only).
+    #[arg(long, requires_all = ["drive_start", "drive_end"])]
+    pub open: bool,
+    /// Start of the open sector's driver interval, degrees.
+    #[arg(long, requires = "open")]
+    pub drive_start: Option<f64>,
+    /// End of the open sector's driver interval, degrees.
+    #[arg(long, requires = "open")]
+    pub drive_end: Option<f64>,
     /// CSV law file with header `phi_deg,psi_deg` (one driver turn, degrees).
     #[arg(long, conflicts_with = "law")]
     pub csv: Option<PathBuf>,
@@ -70,6 +80,9 @@ pub fn run(args: Args) -> CliResult {
     };
     let mut opts = PairOptions::new(args.teeth, args.module);
     opts.centrode_advance_rad = args.cycle_advance.to_radians();
+    if let (true, Some(a), Some(b)) = (args.open, args.drive_start, args.drive_end) {
+        opts.open_sector_rad = Some([a.to_radians(), b.to_radians()]);
+    }
     opts.toothing.verify_steps = args.verify_steps;
     args.rack
         .apply_to(&mut opts.toothing)
@@ -112,6 +125,7 @@ pub fn run(args: Args) -> CliResult {
         "driver_process": design.driver_process,
         "driven_process": design.driven_process,
         "mesh": design.mesh,
+        "sector": design.sector,
         "files": files.iter().map(|p| p.display().to_string()).collect::<Vec<_>>(),
     });
     let json_path = args.out.join("pair.json");

@@ -1,5 +1,6 @@
 //! Designing the toothed pair: options, scaled pitch curves with mating phases, rack-generated
 //! outlines, the mesh verification, and the assembly sheet.
+use super::sector::SectorReport;
 use super::{Law, Motion, PairError};
 use crate::export::{Contour, Marker, Sheet};
 use crate::geometry::pitch::PitchCurve;
@@ -29,6 +30,9 @@ pub struct PairOptions {
     pub toothing: ToothingOptions,
     /// Samples per turn of the law and of the pitch curves. Default 4096.
     pub samples: usize,
+    /// An open (incomplete) pair over the driver interval `[start, end]`, rad, with `teeth` on
+    /// that interval (motion laws only; see [`super::sector`]). Default `None`: closed gears.
+    pub open_sector_rad: Option<[f64; 2]>,
 }
 
 impl PairOptions {
@@ -41,6 +45,7 @@ impl PairOptions {
             centrode_advance_rad: TAU,
             toothing: ToothingOptions::new(module_mm),
             samples: 4096,
+            open_sector_rad: None,
         }
     }
 }
@@ -91,6 +96,8 @@ pub struct PairDesign {
     pub driver_pitch_mm: Vec<[f64; 2]>,
     /// Driven pitch polyline (body frame), mm.
     pub driven_pitch_mm: Vec<[f64; 2]>,
+    /// The open sector, when the pair is incomplete (issue 19); `None` for closed gears.
+    pub sector: Option<SectorReport>,
 }
 
 /// Designs the toothed pair: pitch curves scaled so that `L = zπm`, rack-generated outlines with
@@ -129,6 +136,14 @@ pub fn design_pair_with_progress(
             expected: "finite and > 0",
         });
     }
+    if let Some(range) = opts.open_sector_rad {
+        return match law {
+            Law::Motion(e) => super::sector::design_open(e, range, opts, progress),
+            _ => Err(PairError::Law(
+                "an open sector takes a motion law ψ(φ) (not a centrode or a table)".into(),
+            )),
+        };
+    }
     let motion = Motion::from_law_advancing(law, opts.samples, opts.centrode_advance_rad)?;
     let (p_turns, q_turns) = motion.turn_fraction().ok_or_else(|| {
         PairError::Law(format!(
@@ -153,9 +168,7 @@ pub fn design_pair_with_progress(
     let z = match (opts.teeth, law) {
         (Some(z), _) => z,
         // The driven count z·q/p must be whole: z a multiple of p.
-        (None, Law::Centrode(_)) => {
-            ((l1 / (PI * m)).ceil() as u32).div_ceil(p_turns) * p_turns
-        }
+        (None, Law::Centrode(_)) => ((l1 / (PI * m)).ceil() as u32).div_ceil(p_turns) * p_turns,
         (None, _) => {
             return Err(PairError::InvalidParameter {
                 name: "teeth",
@@ -180,45 +193,8 @@ pub fn design_pair_with_progress(
     }
     let z2 = z / p_turns * q_turns;
     let a = a1 * f64::from(z) * PI * m / l1;
-    let (c1, c2) = motion.pitch_curves(a, opts.samples)?;
-    let f1 = ArcFrame::new(&c1);
-    let f2 = ArcFrame::new(&c2);
-    let p = f1.length_mm() / f64::from(z);
-    let th2 = (PI + motion.psi(0.0)).rem_euclid(TAU);
-    let s2 = c2.arc_length_between_mm(0.0, th2, 1e-12 * a);
-    let half = 0.5 * t.backlash_mm;
-    let mk = |phase: f64, tol: f64| OutlineOptions {
-        phase_mm: phase,
-        thin_left_mm: half,
-        thin_right_mm: 0.0,
-        chord_tol_mm: tol,
-    };
-    let o1 = mk(0.0, t.chord_tol_mm);
-    let o2 = mk(s2 + 0.5 * p, t.chord_tol_mm);
-    let choice = t.cutter_choice();
-    let (driver, driver_process) = generate_by_process(&f1, &t.rack, z, m, &o1, choice)?;
-    let (driven, driven_process) = generate_by_process(&f2, &t.rack, z2, m, &o2, choice)?;
+    let g = Toothed::new(&motion, [z, z2], a, opts)?;
     let mesh = if t.verify_steps > 0 {
-        // The fine outlines of the check, built side by side, each with its gear's cutter.
-        let fine = |f: &ArcFrame, z: u32, o: &OutlineOptions, p: &GearProcess| {
-            generate_by_process(
-                f,
-                &t.rack,
-                z,
-                m,
-                &OutlineOptions {
-                    chord_tol_mm: t.verify_chord_tol_mm,
-                    ..*o
-                },
-                p.cutter_teeth.map_or(choice, CutterChoice::Teeth),
-            )
-            .map(|g| g.0)
-        };
-        let (v1, v2) = rayon::join(
-            || fine(&f1, z, &o1, &driver_process),
-            || fine(&f2, z2, &o2, &driven_process),
-        );
-        let (v1, v2) = (v1?, v2?);
         // The pair is back at its start after q driver turns: check them all, `verify_steps`
         // positions per driver turn.
         let check = MeshCheck {
@@ -227,14 +203,9 @@ pub fn design_pair_with_progress(
             backlash_mm: t.backlash_mm,
             ..MeshCheck::new(a, m)
         };
+        let (v1, v2) = g.fine_outlines(opts)?;
         let psi = |phi: f64| motion.psi(phi);
-        Some(verify_mesh(
-            &v1.points_mm,
-            &v2.points_mm,
-            &psi,
-            &check,
-            progress,
-        )?)
+        Some(verify_mesh(&v1, &v2, &psi, &check, progress)?)
     } else {
         None
     };
@@ -242,39 +213,135 @@ pub fn design_pair_with_progress(
         .iter()
         .map(|&f| motion.ratio(f))
         .collect();
-    let pitch_poly = |c: &PitchCurve| {
-        uniform_angles(720)
-            .iter()
-            .map(|&t| c.point_mm(t))
-            .collect::<Vec<_>>()
-    };
-    Ok(PairDesign {
-        centre_distance_mm: a,
-        z,
-        z_driven: z2,
-        advance_rad: motion.advance_rad,
-        module_mm: m,
-        perimeter_mm: f1.length_mm(),
-        driven_perimeter_mm: f2.length_mm(),
-        ratio_range: [
-            ratios.iter().copied().fold(f64::INFINITY, f64::min),
-            ratios.iter().copied().fold(0.0, f64::max),
-        ],
-        driver_undercut: driver.undercut.clone(),
-        driven_undercut: driven.undercut.clone(),
-        driver,
-        driven,
-        driver_process,
-        driven_process,
-        mesh,
-        psi0_rad: motion.psi(0.0),
-        driver_pitch_mm: pitch_poly(&c1),
-        driven_pitch_mm: pitch_poly(&c2),
-    })
+    Ok(g.into_design(&motion, a, mesh, &ratios, None))
+}
+
+/// The toothed gears of a pair at centre distance `a`: scaled pitch curves with their arc frames,
+/// the mating phases, and the export outlines with their processes.
+pub(super) struct Toothed {
+    pub(super) c: [PitchCurve; 2],
+    pub(super) f: [ArcFrame; 2],
+    o: [OutlineOptions; 2],
+    pub(super) z: [u32; 2],
+    pub(super) driver: Outline,
+    pub(super) driven: Outline,
+    driver_process: GearProcess,
+    driven_process: GearProcess,
+}
+
+impl Toothed {
+    /// Pitch curves at `a_mm` with `z = [driver, driven]` teeth; driver tooth 0 centred at the
+    /// contact of φ = 0, a driven space facing it (body angle π + ψ(0)); both gears generated by
+    /// their process.
+    pub(super) fn new(
+        motion: &Motion,
+        z: [u32; 2],
+        a_mm: f64,
+        opts: &PairOptions,
+    ) -> Result<Self, PairError> {
+        let t = &opts.toothing;
+        let m = t.module_mm;
+        let (c1, c2) = motion.pitch_curves(a_mm, opts.samples)?;
+        let f = [ArcFrame::new(&c1), ArcFrame::new(&c2)];
+        let p = f[0].length_mm() / f64::from(z[0]);
+        let th2 = (PI + motion.psi(0.0)).rem_euclid(TAU);
+        let s2 = c2.arc_length_between_mm(0.0, th2, 1e-12 * a_mm);
+        let mk = |phase: f64| OutlineOptions {
+            phase_mm: phase,
+            thin_left_mm: 0.5 * t.backlash_mm,
+            thin_right_mm: 0.0,
+            chord_tol_mm: t.chord_tol_mm,
+        };
+        let o = [mk(0.0), mk(s2 + 0.5 * p)];
+        let choice = t.cutter_choice();
+        let (driver, driver_process) = generate_by_process(&f[0], &t.rack, z[0], m, &o[0], choice)?;
+        let (driven, driven_process) = generate_by_process(&f[1], &t.rack, z[1], m, &o[1], choice)?;
+        Ok(Self {
+            c: [c1, c2],
+            f,
+            o,
+            z,
+            driver,
+            driven,
+            driver_process,
+            driven_process,
+        })
+    }
+
+    /// The fine outlines of the mesh check (verification chord tolerance), built side by side,
+    /// each with its gear's cutter.
+    pub(super) fn fine_outlines(
+        &self,
+        opts: &PairOptions,
+    ) -> Result<(Vec<[f64; 2]>, Vec<[f64; 2]>), PairError> {
+        let t = &opts.toothing;
+        let fine = |k: usize, p: &GearProcess| {
+            generate_by_process(
+                &self.f[k],
+                &t.rack,
+                self.z[k],
+                t.module_mm,
+                &OutlineOptions {
+                    chord_tol_mm: t.verify_chord_tol_mm,
+                    ..self.o[k]
+                },
+                p.cutter_teeth
+                    .map_or(t.cutter_choice(), CutterChoice::Teeth),
+            )
+            .map(|g| g.0.points_mm)
+        };
+        let (v1, v2) = rayon::join(
+            || fine(0, &self.driver_process),
+            || fine(1, &self.driven_process),
+        );
+        Ok((v1?, v2?))
+    }
+
+    /// The design report; `ratios` are the samples of i whose range is reported.
+    pub(super) fn into_design(
+        self,
+        motion: &Motion,
+        a_mm: f64,
+        mesh: Option<MeshReport>,
+        ratios: &[f64],
+        sector: Option<SectorReport>,
+    ) -> PairDesign {
+        let pitch_poly = |c: &PitchCurve| {
+            uniform_angles(720)
+                .iter()
+                .map(|&t| c.point_mm(t))
+                .collect::<Vec<_>>()
+        };
+        PairDesign {
+            centre_distance_mm: a_mm,
+            z: self.z[0],
+            z_driven: self.z[1],
+            advance_rad: motion.advance_rad,
+            module_mm: self.driver.module_mm,
+            perimeter_mm: self.f[0].length_mm(),
+            driven_perimeter_mm: self.f[1].length_mm(),
+            ratio_range: [
+                ratios.iter().copied().fold(f64::INFINITY, f64::min),
+                ratios.iter().copied().fold(0.0, f64::max),
+            ],
+            driver_undercut: self.driver.undercut.clone(),
+            driven_undercut: self.driven.undercut.clone(),
+            driver: self.driver,
+            driven: self.driven,
+            driver_process: self.driver_process,
+            driven_process: self.driven_process,
+            mesh,
+            psi0_rad: motion.psi(0.0),
+            driver_pitch_mm: pitch_poly(&self.c[0]),
+            driven_pitch_mm: pitch_poly(&self.c[1]),
+            sector,
+        }
+    }
 }
 
 impl PairDesign {
-    /// The assembly sheet at φ = 0: driver at the origin, driven at `(a, 0)` rotated by ψ(0)
+    /// The assembly sheet at φ = 0 (an open sector: at its padded start,
+    /// [`SectorReport::assembly_at_deg`]): driver at the origin, driven at `(a, 0)` rotated by ψ(0)
     /// (driven body angle π + ψ(0) faces the driver), layers `DRIVER_OUTLINE`, `DRIVER_PITCH`,
     /// `DRIVEN_OUTLINE`, `DRIVEN_PITCH`, `CENTRES`.
     #[must_use]
@@ -290,7 +357,8 @@ impl PairDesign {
             name: name.into(),
             layer: layer.into(),
             points_mm: pts,
-            closed: true,
+            // An open sector's pitch curve is an arc.
+            closed: self.sector.is_none() || !layer.ends_with("PITCH"),
         };
         Sheet {
             contours: vec![

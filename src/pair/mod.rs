@@ -5,16 +5,20 @@
 //! Conventions (design-chain §5): driver centre at the origin, rotating CCW by φ; driven centre at
 //! `(a, 0)`, rotating CW by ψ; ratio `i = dψ/dφ > 0`. Contact on the centre line:
 //! `r1 = a·i/(1+i)` at driver body angle `−φ`, `r2 = a/(1+i)` at driven body angle `π + ψ`.
-//! One driven turn per driver turn: `ψ(φ+2π) = ψ(φ) + 2π` (equal tooth counts).
+//! A closed law advances the driven gear by a constant `Δ = ψ(φ+2π) − ψ(φ)` per driver turn
+//! (`2π`: equal tooth counts; `π`: 1:2); an open law is used over a driver interval only
+//! (an incomplete pair, [`SectorReport`]).
 mod design;
 pub mod expr;
 mod law;
 mod motion;
+mod sector;
 
 pub use design::{PairDesign, PairOptions, design_pair, design_pair_with_progress};
 pub use expr::{Expr, ExprError};
 pub use law::Law;
 pub use motion::Motion;
+pub use sector::SectorReport;
 
 use crate::teeth::TeethError;
 

@@ -9,6 +9,7 @@ mod hard_cases;
 mod layout;
 mod orbit;
 mod pair_ratios;
+mod pair_sector;
 mod robust;
 mod shaper;
 mod simulate;

@@ -20,7 +20,11 @@ fn check(law: &Law, z: u32, z_driven: u32, m: f64) -> ncgear::pair::PairDesign {
         assert_eq!(first_self_intersection(&o.points_mm).unwrap(), None);
     }
     let per = |n: u32| f64::from(n) * PI * m;
-    assert!((d.perimeter_mm - per(z)).abs() < 1e-9 * per(z), "{}", d.perimeter_mm);
+    assert!(
+        (d.perimeter_mm - per(z)).abs() < 1e-9 * per(z),
+        "{}",
+        d.perimeter_mm
+    );
     assert!(
         (d.driven_perimeter_mm - per(z_driven)).abs() < 1e-8 * per(z_driven),
         "driven perimeter {} vs {}",
@@ -40,7 +44,11 @@ fn check(law: &Law, z: u32, z_driven: u32, m: f64) -> ncgear::pair::PairDesign {
 #[test]
 fn constant_half_ratio_is_two_circles_at_the_closed_form_distance() {
     let d = check(&motion("0.5*phi"), 24, 48, 1.0);
-    assert!((d.centre_distance_mm - 36.0).abs() < 1e-9, "{}", d.centre_distance_mm);
+    assert!(
+        (d.centre_distance_mm - 36.0).abs() < 1e-9,
+        "{}",
+        d.centre_distance_mm
+    );
     assert!((d.advance_rad - PI).abs() < 1e-12);
     let mesh = d.mesh.unwrap();
     assert_eq!(mesh.steps, 180, "90 positions per driver turn over 2 turns");
@@ -53,7 +61,11 @@ fn constant_half_ratio_is_two_circles_at_the_closed_form_distance() {
 #[test]
 fn one_to_two_law_makes_24_48() {
     let d = check(&motion("0.5*phi + 0.05*sin(2*phi)"), 24, 48, 1.0);
-    assert!((d.centre_distance_mm - 35.5186).abs() < 5e-5, "{}", d.centre_distance_mm);
+    assert!(
+        (d.centre_distance_mm - 35.5186).abs() < 5e-5,
+        "{}",
+        d.centre_distance_mm
+    );
     // Ratio range of i = 0.5 + 0.1 cos 2φ.
     assert!((d.ratio_range[0] - 0.4).abs() < 1e-9 && (d.ratio_range[1] - 0.6).abs() < 1e-9);
 }
@@ -72,7 +84,11 @@ fn two_to_three_law_closes_after_three_driver_turns() {
 fn centrode_with_a_cycle_advance_solves_its_centre_distance() {
     let circle = Law::Centrode(Expr::parse("1").unwrap());
     let m = Motion::from_law_advancing(&circle, 256, PI).unwrap();
-    assert!((m.unit_centre_distance - 3.0).abs() < 1e-12, "{}", m.unit_centre_distance);
+    assert!(
+        (m.unit_centre_distance - 3.0).abs() < 1e-12,
+        "{}",
+        m.unit_centre_distance
+    );
     assert!((m.psi(1.0) - m.psi(0.0) - 0.5).abs() < 1e-12);
     let law = Law::Centrode(Expr::parse("1 + 0.08*cos(2*phi)").unwrap());
     let mut opts = PairOptions::new(Some(24), 1.0);
@@ -92,7 +108,10 @@ fn laws_without_a_closed_pair_are_refused_with_the_reason() {
     };
     // 2:3 with a one-lobe variation: the driven gear would not close.
     let e = err("2/3*phi + 0.04*sin(phi)", 24);
-    assert!(e.contains("does not close") && e.contains("180.0000°"), "{e}");
+    assert!(
+        e.contains("does not close") && e.contains("180.0000°"),
+        "{e}"
+    );
     // 2:3 needs an even driver count.
     let e = err("2/3*phi + 0.04*sin(2*phi)", 25);
     assert!(e.contains("multiple of 2"), "{e}");

@@ -328,7 +328,10 @@ fn bad_law_inputs_are_typed_errors() {
         &PairOptions::new(Some(20), 1.0),
     )
     .unwrap_err();
-    assert!(e.to_string().contains("must repeat every driver turn"), "{e}");
+    assert!(
+        e.to_string().contains("must repeat every driver turn"),
+        "{e}"
+    );
     let e = design_pair(
         &Law::Motion(Expr::parse("phi - 0.8*sin(2*phi)").unwrap()),
         &PairOptions::new(Some(20), 1.0),

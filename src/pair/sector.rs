@@ -1,0 +1,343 @@
+//! Open (incomplete) sector pairs (issue 19, item 2): teeth only where the law is given, over the
+//! driver interval `[φs, φe]`, with clean sector ends and the verification over that interval.
+//!
+//! Method (written by hand: it is the sector geometry of our field, no crate does it):
+//! 1. **Padding.** The law is used on `[u0, u1] = [φs − pad, φe + pad]`, `pad = 2.5` mean pitches
+//!    of driver angle (`2.5·(φe − φs)/z`), so that the ±1.75-pitch window of the mesh check sees
+//!    whole teeth at both ends of the active interval.
+//! 2. **Carrier.** The padded law is closed into one full turn of equal gears: on the rest of the
+//!    turn, `t ∈ [W, 2π]` (`t = φ − u0`, `W = u1 − u0`), the ratio is the quintic Hermite blend
+//!    of `i, i', i''` at the two ends plus `c·64τ³(1 − τ)³` (`τ = (t − W)/(2π − W)`), with `c`
+//!    chosen so that `∫ i dt = 2π` over the turn (the driven gear closes too). The carrier is C²
+//!    in the ratio, so its pitch curves are smooth and the ordinary closed machinery (rack or
+//!    shaper process, undercut, mating phase) generates its teeth.
+//! 3. **Scale.** The centre distance puts `≈ z` pitches on the active driver arc: `z·πm/arc` is
+//!    rounded so that the carrier's perimeter holds a whole number of teeth (the active interval
+//!    then holds `active_teeth`, reported, within half a tooth of `z`).
+//! 4. **Trim.** Each outline keeps the teeth of the padded interval and is cut at two space
+//!    centres (root, where the outline's polar angle is monotone), closed by radial lines and a
+//!    hub circle one module below the lowest kept root: a star-shaped simple outline.
+//! 5. **Check.** The trimmed fine outlines are rolled over the active interval
+//!    ([`MeshSpan::Interval`]), both ends included.
+use super::design::{PairDesign, PairOptions, Toothed};
+use super::{Expr, Law, Motion, PairError};
+use crate::teeth::UndercutReport;
+use crate::teeth::mesh::{MeshCheck, MeshSpan, verify_mesh};
+use serde::Serialize;
+use std::f64::consts::{PI, TAU};
+
+/// Padding beyond each end of the active interval, in mean pitches of driver angle.
+const PAD_PITCHES: f64 = 2.5;
+/// Smallest closing stretch of the carrier (driver and driven), rad: the padded sector may span
+/// at most 2π − 45° of either gear.
+const MIN_GAP_RAD: f64 = PI / 4.0;
+
+/// The open sector of an incomplete pair.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct SectorReport {
+    /// Active driver interval `[φs, φe]`, degrees (as given).
+    pub drive_deg: [f64; 2],
+    /// Driven rotation over the active interval, ψ(φe) − ψ(φs), degrees.
+    pub driven_advance_deg: f64,
+    /// Pitches on the active driver arc (arc / πm; within 0.5 of the requested teeth).
+    pub active_teeth: f64,
+    /// Whole teeth kept on each sector `[driver, driven]` (active teeth and padding).
+    pub kept_teeth: [u32; 2],
+    /// Hub radius of each gear's body beyond the sector, mm.
+    pub hub_radius_mm: [f64; 2],
+    /// Driver angle of the outlines' φ = 0 and of the assembly sheet (the padded start), degrees.
+    pub assembly_at_deg: f64,
+}
+
+/// The closed carrier of a padded open law: a table law in `t = φ − u0` over one turn.
+struct Carrier {
+    law: Law,
+    u0: f64,
+    width: f64,
+}
+
+/// Builds the carrier (module doc, steps 1–2) from the motion law `e` over `[start, end]` rad
+/// with `z` teeth on the active interval, sampled at `n` points per turn.
+fn carrier(e: &Expr, start: f64, end: f64, z: u32, n: usize) -> Result<Carrier, PairError> {
+    if !(start.is_finite() && end.is_finite() && end > start) {
+        return Err(PairError::InvalidParameter {
+            name: "open_sector_rad",
+            value: end - start,
+            expected: "a finite driver interval with end > start",
+        });
+    }
+    let d1 = e.derivative();
+    let d2 = d1.derivative();
+    let d3 = d2.derivative();
+    let pad = PAD_PITCHES * (end - start) / f64::from(z);
+    let (u0, u1) = (start - pad, end + pad);
+    let width = u1 - u0;
+    let dpsi = e.eval(u1) - e.eval(u0);
+    if width > TAU - MIN_GAP_RAD || !(dpsi > 0.0 && dpsi <= TAU - MIN_GAP_RAD) {
+        return Err(PairError::Law(format!(
+            "the open sector with its padding of {PAD_PITCHES} pitches at each end spans \
+             {:.2}° of the driver and {:.2}° of the driven gear; each must be > 0 and at most \
+             {:.0}°: shorten the interval or give more teeth",
+            width.to_degrees(),
+            dpsi.to_degrees(),
+            (TAU - MIN_GAP_RAD).to_degrees()
+        )));
+    }
+    for j in 0..=2048 {
+        let f = u0 + width * f64::from(j) / 2048.0;
+        let i = d1.eval(f);
+        if !(i.is_finite() && i > 0.0) {
+            return Err(PairError::Law(format!(
+                "dψ/dφ = {i} at φ = {:.4}° (open sector with padding): it must be finite and > 0",
+                f.to_degrees()
+            )));
+        }
+    }
+    let gap = TAU - width;
+    // Hermite data at τ = 0 (t = W, φ = u1) and τ = 1 (t = 2π, φ = u0 + 2π ≡ u0), in τ units.
+    let y0 = [d1.eval(u1), d2.eval(u1) * gap, d3.eval(u1) * gap * gap];
+    let y1 = [d1.eval(u0), d2.eval(u0) * gap, d3.eval(u0) * gap * gap];
+    let hermite = |t: f64| {
+        let (t2, t3) = (t * t, t * t * t);
+        let (t4, t5) = (t3 * t, t3 * t2);
+        y0[0] * (1.0 - 10.0 * t3 + 15.0 * t4 - 6.0 * t5)
+            + y0[1] * (t - 6.0 * t3 + 8.0 * t4 - 3.0 * t5)
+            + y0[2] * 0.5 * (t2 - 3.0 * t3 + 3.0 * t4 - t5)
+            + y1[0] * (10.0 * t3 - 15.0 * t4 + 6.0 * t5)
+            + y1[1] * (-4.0 * t3 + 7.0 * t4 - 3.0 * t5)
+            + y1[2] * 0.5 * (t3 - 2.0 * t4 + t5)
+    };
+    let bump = |t: f64| 64.0 * (t * (1.0 - t)).powi(3);
+    // ∫₀¹ of a polynomial of degree ≤ 9: 5-point Gauss–Legendre is exact.
+    let integral = |f: &dyn Fn(f64) -> f64, to: f64| gauss5(f, 0.0, to);
+    let c = ((TAU - dpsi) / gap - integral(&hermite, 1.0)) / integral(&bump, 1.0);
+    let ratio = |t: f64| hermite(t) + c * bump(t);
+    if let Some(j) = (0..=512).find(|&j| ratio(f64::from(j) / 512.0) <= 0.0) {
+        return Err(PairError::Law(format!(
+            "the open sector cannot be closed smoothly: the closing stretch would need a ratio \
+             ≤ 0 at {:.1}% of it; shorten the interval",
+            100.0 * f64::from(j) / 512.0
+        )));
+    }
+    let psi_u0 = e.eval(u0);
+    let rows = (0..n)
+        .map(|j| {
+            let t = TAU * j as f64 / n as f64;
+            let psi = if t <= width {
+                e.eval(u0 + t) - psi_u0
+            } else {
+                dpsi + gap * integral(&ratio, (t - width) / gap)
+            };
+            [t, psi]
+        })
+        .collect();
+    Ok(Carrier {
+        law: Law::Table(rows),
+        u0,
+        width,
+    })
+}
+
+/// 5-point Gauss–Legendre quadrature of `f` over `[a, b]`.
+fn gauss5(f: &dyn Fn(f64) -> f64, a: f64, b: f64) -> f64 {
+    const X: [f64; 5] = [
+        0.0,
+        -0.538_469_310_105_683,
+        0.538_469_310_105_683,
+        -0.906_179_845_938_664,
+        0.906_179_845_938_664,
+    ];
+    const W: [f64; 5] = [
+        0.568_888_888_888_889,
+        0.478_628_670_499_366,
+        0.478_628_670_499_366,
+        0.236_926_885_056_189,
+        0.236_926_885_056_189,
+    ];
+    let (h, m) = (0.5 * (b - a), 0.5 * (a + b));
+    h * X.iter().zip(W).map(|(x, w)| w * f(m + h * x)).sum::<f64>()
+}
+
+/// Designs the open sector pair of the motion law `e` over the driver interval `range` (rad),
+/// `opts.teeth` teeth on the active interval (module doc).
+pub(super) fn design_open(
+    e: &Expr,
+    range: [f64; 2],
+    opts: &PairOptions,
+    progress: &(dyn Fn(u64) + Sync),
+) -> Result<PairDesign, PairError> {
+    let t = &opts.toothing;
+    let m = t.module_mm;
+    let z = opts.teeth.ok_or(PairError::InvalidParameter {
+        name: "teeth",
+        value: 0.0,
+        expected: "the tooth count of the active interval of an open sector",
+    })?;
+    if z < 3 {
+        return Err(PairError::InvalidParameter {
+            name: "teeth",
+            value: f64::from(z),
+            expected: "≥ 3",
+        });
+    }
+    let cr = carrier(e, range[0], range[1], z, opts.samples)?;
+    let motion = Motion::from_law(&cr.law, opts.samples)?;
+    let (ta, tb) = (range[0] - cr.u0, range[1] - cr.u0);
+    let (c1, _) = motion.pitch_curves(1.0, opts.samples)?;
+    let l_unit = c1.perimeter_mm(1e-12);
+    // The driver contact of φ sits at body angle −φ: the active arc runs from −tb to −ta.
+    let active_unit = c1.arc_length_between_mm(-tb, -ta, 1e-12);
+    let p = PI * m;
+    let n_teeth = ((l_unit * f64::from(z) / active_unit).round() as u32).max(3);
+    let a = f64::from(n_teeth) * p / l_unit;
+    let g = Toothed::new(&motion, [n_teeth, n_teeth], a, opts)?;
+    // Driver tooth 0 is centred at the contact of t = 0; the contacts of t > 0 lie at negative
+    // arc length, teeth at −k·p, spaces at −(k + ½)p. Kept: teeth k = 1..K−1 of the padded arc.
+    let padded_arc = a * c1.arc_length_between_mm(-cr.width, 0.0, 1e-12);
+    let k_end = (padded_arc / p).floor() as u32;
+    let f1 = &g.f[0];
+    let driver_cut = [
+        f1.theta_at(-(f64::from(k_end) - 0.5) * p),
+        f1.theta_at(-0.5 * p),
+    ];
+    // Driven: its spaces face driver teeth, so it is cut where driver teeth 0 and K touch.
+    let t_at = |s: f64| (-f1.theta_at(s)).rem_euclid(TAU);
+    let driven_cut = [
+        PI + motion.psi(0.0),
+        PI + motion.psi(t_at(-f64::from(k_end) * p)),
+    ];
+    let hub = |pts: &[[f64; 2]], cut: [f64; 2]| {
+        let r = kept_min_radius(pts, cut);
+        (r - m).max(0.5 * r)
+    };
+    let hubs = [
+        hub(&g.driver.points_mm, driver_cut),
+        hub(&g.driven.points_mm, driven_cut),
+    ];
+    let mesh = if t.verify_steps > 0 {
+        let (v1, v2) = g.fine_outlines(opts)?;
+        let tol = t.verify_chord_tol_mm;
+        let v1 = sector_outline(&v1, driver_cut, hubs[0], tol);
+        let v2 = sector_outline(&v2, driven_cut, hubs[1], tol);
+        let check = MeshCheck {
+            steps: ((t.verify_steps as f64 * (tb - ta) / TAU).ceil() as usize + 1).max(2),
+            span: MeshSpan::Interval {
+                start_rad: ta,
+                end_rad: tb,
+            },
+            backlash_mm: t.backlash_mm,
+            ..MeshCheck::new(a, m)
+        };
+        let psi = |phi: f64| motion.psi(phi);
+        let mut r = verify_mesh(&v1, &v2, &psi, &check, progress)?;
+        // The check ran in t = φ − u0; report the driver angle φ.
+        r.max_overlap_at_deg += cr.u0.to_degrees();
+        Some(r)
+    } else {
+        None
+    };
+    let ratios: Vec<f64> = (0..=512)
+        .map(|j| motion.ratio(ta + (tb - ta) * f64::from(j) / 512.0))
+        .collect();
+    let kept_driver: Vec<usize> = (1..k_end)
+        .map(|k| ((n_teeth - k) % n_teeth) as usize)
+        .collect();
+    let kept_driven: Vec<usize> = (0..k_end as usize).collect();
+    let report = SectorReport {
+        drive_deg: [range[0].to_degrees(), range[1].to_degrees()],
+        driven_advance_deg: (e.eval(range[1]) - e.eval(range[0])).to_degrees(),
+        active_teeth: a * active_unit / p,
+        kept_teeth: [kept_driver.len() as u32, kept_driven.len() as u32],
+        hub_radius_mm: hubs,
+        assembly_at_deg: cr.u0.to_degrees(),
+    };
+    let chord = t.chord_tol_mm;
+    let mut d = g.into_design(&motion, a, mesh, &ratios, Some(report));
+    d.driver.points_mm = sector_outline(&d.driver.points_mm, driver_cut, hubs[0], chord);
+    d.driven.points_mm = sector_outline(&d.driven.points_mm, driven_cut, hubs[1], chord);
+    d.z = kept_driver.len() as u32;
+    d.z_driven = kept_driven.len() as u32;
+    d.driver.z = d.z;
+    d.driven.z = d.z_driven;
+    keep_flanks(&mut d.driver_undercut, &kept_driver);
+    keep_flanks(&mut d.driven_undercut, &kept_driven);
+    d.driver.undercut = d.driver_undercut.clone();
+    d.driven.undercut = d.driven_undercut.clone();
+    d.driver_pitch_mm = within(&d.driver_pitch_mm, driver_cut);
+    d.driven_pitch_mm = within(&d.driven_pitch_mm, driven_cut);
+    Ok(d)
+}
+
+/// `x` polar angle relative to `from`, in `[0, 2π)`.
+fn rel_angle(p: [f64; 2], from: f64) -> f64 {
+    (p[1].atan2(p[0]) - from).rem_euclid(TAU)
+}
+
+/// Points of `pts` whose polar angle lies in the CCW interval `cut = [from, to]`.
+fn within(pts: &[[f64; 2]], cut: [f64; 2]) -> Vec<[f64; 2]> {
+    let w = (cut[1] - cut[0]).rem_euclid(TAU);
+    pts.iter()
+        .copied()
+        .filter(|p| rel_angle(*p, cut[0]) <= w)
+        .collect()
+}
+
+/// Smallest radius of the outline within the CCW polar interval `cut`, mm.
+fn kept_min_radius(pts: &[[f64; 2]], cut: [f64; 2]) -> f64 {
+    within(pts, cut)
+        .iter()
+        .map(|p| p[0].hypot(p[1]))
+        .fold(f64::INFINITY, f64::min)
+}
+
+/// Keeps the flanks of the kept teeth and recounts the report.
+fn keep_flanks(u: &mut UndercutReport, teeth: &[usize]) {
+    u.flanks.retain(|f| teeth.contains(&f.tooth));
+    u.undercut_count = u.flanks.iter().filter(|f| f.undercut).count();
+    u.concave_count = u.flanks.iter().filter(|f| f.concave).count();
+    u.min_rho_mm = u
+        .flanks
+        .iter()
+        .map(|f| f.min_rho_mm)
+        .fold(f64::INFINITY, f64::min);
+}
+
+/// The sector outline: the run of the closed CCW star-shaped outline `pts` within the polar
+/// interval `cut = [from, to]` (CCW), cut exactly on the two rays, closed by radial lines and the
+/// hub circle of radius `hub_mm` (chord sag ≤ `chord_tol_mm`) around the rest of the turn.
+fn sector_outline(
+    pts: &[[f64; 2]],
+    cut: [f64; 2],
+    hub_mm: f64,
+    chord_tol_mm: f64,
+) -> Vec<[f64; 2]> {
+    let n = pts.len();
+    let w = (cut[1] - cut[0]).rem_euclid(TAU);
+    let inside = |i: usize| rel_angle(pts[i % n], cut[0]) <= w;
+    // First kept vertex: inside, its predecessor not.
+    let Some(first) = (0..n).find(|&i| inside(i) && !inside(i + n - 1)) else {
+        return pts.to_vec();
+    };
+    let on_ray = |a: [f64; 2], b: [f64; 2], th: f64| {
+        let d = [th.cos(), th.sin()];
+        let cross = |u: [f64; 2]| u[0] * d[1] - u[1] * d[0];
+        let den = cross([a[0] - b[0], a[1] - b[1]]);
+        let u = if den == 0.0 { 0.0 } else { cross(a) / den };
+        [a[0] + u * (b[0] - a[0]), a[1] + u * (b[1] - a[1])]
+    };
+    let mut out = vec![on_ray(pts[(first + n - 1) % n], pts[first], cut[0])];
+    let mut i = first;
+    while inside(i) && out.len() <= n {
+        out.push(pts[i % n]);
+        i += 1;
+    }
+    out.push(on_ray(pts[(i + n - 1) % n], pts[i % n], cut[1]));
+    // Hub: from `to` CCW round to `from` + 2π, radial lines at both ends.
+    let span = TAU - w;
+    let steps = ((span / (8.0 * chord_tol_mm / hub_mm).sqrt()).ceil() as usize).max(2);
+    for k in 0..=steps {
+        let th = cut[1] + span * k as f64 / steps as f64;
+        out.push([hub_mm * th.cos(), hub_mm * th.sin()]);
+    }
+    out
+}
