@@ -5,22 +5,27 @@
 //! 1. **Padding.** The law is used on `[u0, u1] = [φs − pad, φe + pad]`, `pad = 2.5` mean pitches
 //!    of driver angle (`2.5·(φe − φs)/z`), so that the ±1.75-pitch window of the mesh check sees
 //!    whole teeth at both ends of the active interval.
-//! 2. **Carrier.** The padded law is closed into one full turn of equal gears: on the rest of the
-//!    turn, `t ∈ [W, 2π]` (`t = φ − u0`, `W = u1 − u0`), the ratio is the quintic Hermite blend
-//!    of `i, i', i''` at the two ends plus `c·64τ³(1 − τ)³` (`τ = (t − W)/(2π − W)`), with `c`
-//!    chosen so that `∫ i dt = 2π` over the turn (the driven gear closes too). The carrier is C²
-//!    in the ratio, so its pitch curves are smooth and the ordinary closed machinery (rack or
-//!    shaper process, undercut, mating phase) generates its teeth.
-//! 3. **Scale.** The centre distance puts `≈ z` pitches on the active driver arc: `z·πm/arc` is
-//!    rounded so that the carrier's perimeter holds a whole number of teeth (the active interval
-//!    then holds `active_teeth`, reported, within half a tooth of `z`).
+//! 2. **Carrier.** The padded law is closed into one driver turn: on the rest of the turn,
+//!    `t ∈ [W, 2π]` (`t = φ − u0`, `W = u1 − u0`), the ratio is the quintic Hermite blend of
+//!    `i, i', i''` at the two ends plus `c·64τ³(1 − τ)³` (`τ = (t − W)/(2π − W)`), with `c`
+//!    chosen so that `∫ i dt = 2π/q` over the turn: the driven carrier closes after q driver
+//!    turns and holds q copies of the sector, `q ≈ W/Δψ` so that the closing stretch turns at
+//!    about the sector's mean ratio. The carrier is C² in the ratio, so its pitch curves are
+//!    smooth and the ordinary machinery (rack or shaper process, undercut, mating phase)
+//!    generates its teeth.
+//! 3. **Scale.** The centre distance puts exactly `z` pitches `πm` on the active driver arc;
+//!    each carrier takes as many whole teeth as fit, the last space absorbing the remainder
+//!    ([`crate::teeth::OutlineOptions::open_pitch_mm`]) — it lies on the closing stretch and is
+//!    trimmed away.
 //! 4. **Trim.** Each outline keeps the teeth of the padded interval and is cut at two space
 //!    centres (root, where the outline's polar angle is monotone), closed by radial lines and a
 //!    hub circle one module below the lowest kept root: a star-shaped simple outline.
 //! 5. **Check.** The trimmed fine outlines are rolled over the active interval
 //!    ([`MeshSpan::Interval`]), both ends included.
 use super::design::{PairDesign, PairOptions, Toothed};
-use super::{Expr, Law, Motion, PairError};
+use super::{Expr, PairError};
+use crate::geometry::pitch::PitchCurve;
+use crate::math::periodic::invert_increasing;
 use crate::teeth::UndercutReport;
 use crate::teeth::mesh::{MeshCheck, MeshSpan, verify_mesh};
 use serde::Serialize;
@@ -49,54 +54,124 @@ pub struct SectorReport {
     pub assembly_at_deg: f64,
 }
 
-/// The closed carrier of a padded open law: a table law in `t = φ − u0` over one turn.
-struct Carrier {
-    law: Law,
+/// The padded law of an open sector in `t = φ − u0 ∈ [0, W]`: ψ̃(t) = ψ(u0 + t) − ψ(u0) and its
+/// ratio with two derivatives.
+struct Padded {
+    psi: Expr,
+    d1: Expr,
+    d2: Expr,
+    d3: Expr,
     u0: f64,
     width: f64,
+    dpsi: f64,
 }
 
-/// Builds the carrier (module doc, steps 1–2) from the motion law `e` over `[start, end]` rad
-/// with `z` teeth on the active interval, sampled at `n` points per turn.
-fn carrier(e: &Expr, start: f64, end: f64, z: u32, n: usize) -> Result<Carrier, PairError> {
-    if !(start.is_finite() && end.is_finite() && end > start) {
-        return Err(PairError::InvalidParameter {
-            name: "open_sector_rad",
-            value: end - start,
-            expected: "a finite driver interval with end > start",
-        });
-    }
-    let d1 = e.derivative();
-    let d2 = d1.derivative();
-    let d3 = d2.derivative();
-    let pad = PAD_PITCHES * (end - start) / f64::from(z);
-    let (u0, u1) = (start - pad, end + pad);
-    let width = u1 - u0;
-    let dpsi = e.eval(u1) - e.eval(u0);
-    if width > TAU - MIN_GAP_RAD || !(dpsi > 0.0 && dpsi <= TAU - MIN_GAP_RAD) {
-        return Err(PairError::Law(format!(
-            "the open sector with its padding of {PAD_PITCHES} pitches at each end spans \
-             {:.2}° of the driver and {:.2}° of the driven gear; each must be > 0 and at most \
-             {:.0}°: shorten the interval or give more teeth",
-            width.to_degrees(),
-            dpsi.to_degrees(),
-            (TAU - MIN_GAP_RAD).to_degrees()
-        )));
-    }
-    for j in 0..=2048 {
-        let f = u0 + width * f64::from(j) / 2048.0;
-        let i = d1.eval(f);
-        if !(i.is_finite() && i > 0.0) {
+impl Padded {
+    /// Pads `[start, end]` (rad) by [`PAD_PITCHES`] mean pitches of `z` teeth and checks the
+    /// spans and the ratio (module doc, step 1).
+    fn new(e: &Expr, start: f64, end: f64, z: u32) -> Result<Self, PairError> {
+        if !(start.is_finite() && end.is_finite() && end > start) {
+            return Err(PairError::InvalidParameter {
+                name: "open_sector_rad",
+                value: end - start,
+                expected: "a finite driver interval with end > start",
+            });
+        }
+        let d1 = e.derivative();
+        let d2 = d1.derivative();
+        let d3 = d2.derivative();
+        let pad = PAD_PITCHES * (end - start) / f64::from(z);
+        let (u0, u1) = (start - pad, end + pad);
+        let width = u1 - u0;
+        let dpsi = e.eval(u1) - e.eval(u0);
+        if width > TAU - MIN_GAP_RAD || !(dpsi > 0.0 && dpsi <= TAU - MIN_GAP_RAD) {
             return Err(PairError::Law(format!(
-                "dψ/dφ = {i} at φ = {:.4}° (open sector with padding): it must be finite and > 0",
-                f.to_degrees()
+                "the open sector with its padding of {PAD_PITCHES} pitches at each end spans \
+                 {:.2}° of the driver and {:.2}° of the driven gear; each must be > 0 and at \
+                 most {:.0}°: shorten the interval or give more teeth",
+                width.to_degrees(),
+                dpsi.to_degrees(),
+                (TAU - MIN_GAP_RAD).to_degrees()
             )));
         }
+        for j in 0..=2048 {
+            let f = u0 + width * f64::from(j) / 2048.0;
+            let i = d1.eval(f);
+            if !(i.is_finite() && i > 0.0) {
+                return Err(PairError::Law(format!(
+                    "dψ/dφ = {i} at φ = {:.4}° (open sector with padding): it must be finite \
+                     and > 0",
+                    f.to_degrees()
+                )));
+            }
+        }
+        Ok(Self {
+            psi: e.clone(),
+            d1,
+            d2,
+            d3,
+            u0,
+            width,
+            dpsi,
+        })
     }
-    let gap = TAU - width;
-    // Hermite data at τ = 0 (t = W, φ = u1) and τ = 1 (t = 2π, φ = u0 + 2π ≡ u0), in τ units.
-    let y0 = [d1.eval(u1), d2.eval(u1) * gap, d3.eval(u1) * gap * gap];
-    let y1 = [d1.eval(u0), d2.eval(u0) * gap, d3.eval(u0) * gap * gap];
+
+    /// ψ̃(t), rad.
+    fn psi(&self, t: f64) -> f64 {
+        self.psi.eval(self.u0 + t) - self.psi.eval(self.u0)
+    }
+
+    /// `[i, i', i'']` at `t`.
+    fn ratio(&self, t: f64) -> [f64; 3] {
+        let f = self.u0 + t;
+        [self.d1.eval(f), self.d2.eval(f), self.d3.eval(f)]
+    }
+
+    /// The driver's pitch radius at the contact of `t` with `r`, `dr/dθ`, `d²r/dθ²` (body angle
+    /// θ = −t), at unit centre distance: `r = i/(1 + i)`.
+    fn driver_radius(&self, t: f64) -> [f64; 3] {
+        let [i, i1, i2] = self.ratio(t);
+        let u = 1.0 + i;
+        [
+            i / u,
+            -i1 / (u * u),
+            i2 / (u * u) - 2.0 * i1 * i1 / (u * u * u),
+        ]
+    }
+
+    /// The driven pitch radius at the contact of `t` with `dr/dθ₂`, `d²r/dθ₂²` (body angle
+    /// θ₂ = π + ψ̃), unit centre distance: `r = 1/(1 + i)`, `dθ₂/dt = i`.
+    fn driven_radius(&self, t: f64) -> [f64; 3] {
+        let [i, i1, i2] = self.ratio(t);
+        let u = 1.0 + i;
+        let g = -i1 / (i * u * u);
+        let dg = -(i2 * i * u * u - i1 * i1 * u * (1.0 + 3.0 * i)) / (i * i * u.powi(4));
+        [1.0 / u, g, dg / i]
+    }
+
+    /// `t` of the driven contact at body angle `π + x` for `x ∈ [0, Δψ]`.
+    fn t_of_driven(&self, x: f64) -> f64 {
+        let f = |t: f64| (self.psi(t), self.ratio(t)[0]);
+        invert_increasing(f, x, 0.0, self.width, x / self.dpsi * self.width, 1e-14)
+    }
+}
+
+/// A closed pitch curve (unit centre distance) from `n` uniform polar samples: on the sector
+/// `[θ0, θ0 + span]` the law's radius `on(θ − θ0)`, on the rest the quintic Hermite blend of
+/// `r, r', r''` between the sector's two ends (C², module doc step 2).
+fn carrier_curve(
+    n: usize,
+    theta0: f64,
+    span: f64,
+    on: &dyn Fn(f64) -> f64,
+    ends: [[f64; 3]; 2],
+) -> Result<PitchCurve, PairError> {
+    let gap = TAU - span;
+    let [a, b] = ends;
+    let (y0, y1) = (
+        [a[0], a[1] * gap, a[2] * gap * gap],
+        [b[0], b[1] * gap, b[2] * gap * gap],
+    );
     let hermite = |t: f64| {
         let (t2, t3) = (t * t, t * t * t);
         let (t4, t5) = (t3 * t, t3 * t2);
@@ -107,35 +182,23 @@ fn carrier(e: &Expr, start: f64, end: f64, z: u32, n: usize) -> Result<Carrier, 
             + y1[1] * (-4.0 * t3 + 7.0 * t4 - 3.0 * t5)
             + y1[2] * 0.5 * (t3 - 2.0 * t4 + t5)
     };
-    let bump = |t: f64| 64.0 * (t * (1.0 - t)).powi(3);
-    // ∫₀¹ of a polynomial of degree ≤ 9: 5-point Gauss–Legendre is exact.
-    let integral = |f: &dyn Fn(f64) -> f64, to: f64| gauss5(f, 0.0, to);
-    let c = ((TAU - dpsi) / gap - integral(&hermite, 1.0)) / integral(&bump, 1.0);
-    let ratio = |t: f64| hermite(t) + c * bump(t);
-    if let Some(j) = (0..=512).find(|&j| ratio(f64::from(j) / 512.0) <= 0.0) {
-        return Err(PairError::Law(format!(
-            "the open sector cannot be closed smoothly: the closing stretch would need a ratio \
-             ≤ 0 at {:.1}% of it; shorten the interval",
-            100.0 * f64::from(j) / 512.0
-        )));
-    }
-    let psi_u0 = e.eval(u0);
-    let rows = (0..n)
+    let r: Vec<f64> = (0..n)
         .map(|j| {
-            let t = TAU * j as f64 / n as f64;
-            let psi = if t <= width {
-                e.eval(u0 + t) - psi_u0
+            let x = (TAU * j as f64 / n as f64 - theta0).rem_euclid(TAU);
+            if x <= span {
+                on(x)
             } else {
-                dpsi + gap * integral(&ratio, (t - width) / gap)
-            };
-            [t, psi]
+                hermite((x - span) / gap)
+            }
         })
         .collect();
-    Ok(Carrier {
-        law: Law::Table(rows),
-        u0,
-        width,
-    })
+    if let Some(v) = r.iter().find(|v| !(v.is_finite() && **v > 0.0)) {
+        return Err(PairError::Law(format!(
+            "the open sector's pitch curve cannot be closed smoothly (radius {v} on the closing \
+             stretch): shorten the interval"
+        )));
+    }
+    PitchCurve::from_uniform_radii(r).map_err(|e| PairError::Law(e.to_string()))
 }
 
 /// 5-point Gauss–Legendre quadrature of `f` over `[a, b]`.
@@ -180,20 +243,50 @@ pub(super) fn design_open(
             expected: "≥ 3",
         });
     }
-    let cr = carrier(e, range[0], range[1], z, opts.samples)?;
-    let motion = Motion::from_law(&cr.law, opts.samples)?;
-    let (ta, tb) = (range[0] - cr.u0, range[1] - cr.u0);
-    let (c1, _) = motion.pitch_curves(1.0, opts.samples)?;
-    let l_unit = c1.perimeter_mm(1e-12);
-    // The driver contact of φ sits at body angle −φ: the active arc runs from −tb to −ta.
-    let active_unit = c1.arc_length_between_mm(-tb, -ta, 1e-12);
+    let law = Padded::new(e, range[0], range[1], z)?;
+    let (w, dpsi) = (law.width, law.dpsi);
+    let (ta, tb) = (range[0] - law.u0, range[1] - law.u0);
+    let speed = |t: f64| {
+        let [r, dr, _] = law.driver_radius(t);
+        r.hypot(dr)
+    };
+    // Arc of the driver between the contacts of t0 and t1 (unit centre distance).
+    let arc = |t0: f64, t1: f64| {
+        let k = 256;
+        let h = (t1 - t0) / f64::from(k);
+        (0..k)
+            .map(|j| gauss5(&speed, t0 + h * f64::from(j), t0 + h * f64::from(j + 1)))
+            .sum::<f64>()
+    };
     let p = PI * m;
-    let n_teeth = ((l_unit * f64::from(z) / active_unit).round() as u32).max(3);
-    let a = f64::from(n_teeth) * p / l_unit;
-    let g = Toothed::new(&motion, [n_teeth, n_teeth], a, opts)?;
-    // Driver tooth 0 is centred at the contact of t = 0; the contacts of t > 0 lie at negative
-    // arc length, teeth at −k·p, spaces at −(k + ½)p. Kept: teeth k = 1..K−1 of the padded arc.
-    let padded_arc = a * c1.arc_length_between_mm(-cr.width, 0.0, 1e-12);
+    // Exactly z pitches πm on the active driver arc.
+    let a = f64::from(z) * p / arc(ta, tb);
+    let n = opts.samples;
+    let scaled = |v: [f64; 3]| v.map(|x| a * x);
+    // Driver: the contact of t sits at body angle −t, so the sector is [−W, 0].
+    let c1 = carrier_curve(
+        n,
+        -w,
+        w,
+        &|x| a * law.driver_radius(w - x)[0],
+        [scaled(law.driver_radius(0.0)), scaled(law.driver_radius(w))],
+    )?;
+    // Driven: body angle π + ψ̃(t), the sector is [π, π + Δψ].
+    let c2 = carrier_curve(
+        n,
+        PI,
+        dpsi,
+        &|x| a * law.driven_radius(law.t_of_driven(x))[0],
+        [scaled(law.driven_radius(w)), scaled(law.driven_radius(0.0))],
+    )?;
+    // Whole teeth that fit on each carrier (the remainder is the closing space, trimmed away).
+    let fit = |c: &PitchCurve| (c.perimeter_mm(1e-12 * a) / p * (1.0 - 1e-12)).floor() as u32;
+    let counts = [fit(&c1), fit(&c2)];
+    let g = Toothed::new((c1, c2), 0.0, counts, Some(p), opts)?;
+    let n_teeth = g.z[0];
+    // The driver's teeth are centred at s = −j·p (tooth N − 1 − j), the contacts of t > 0 lie at
+    // negative arc length, spaces at −(j + ½)p. Kept: j = 1..K−1 of the padded arc.
+    let padded_arc = a * arc(0.0, w);
     let k_end = (padded_arc / p).floor() as u32;
     let f1 = &g.f[0];
     let driver_cut = [
@@ -202,10 +295,7 @@ pub(super) fn design_open(
     ];
     // Driven: its spaces face driver teeth, so it is cut where driver teeth 0 and K touch.
     let t_at = |s: f64| (-f1.theta_at(s)).rem_euclid(TAU);
-    let driven_cut = [
-        PI + motion.psi(0.0),
-        PI + motion.psi(t_at(-f64::from(k_end) * p)),
-    ];
+    let driven_cut = [PI, PI + law.psi(t_at(-f64::from(k_end) * p))];
     let hub = |pts: &[[f64; 2]], cut: [f64; 2]| {
         let r = kept_min_radius(pts, cut);
         (r - m).max(0.5 * r)
@@ -215,7 +305,7 @@ pub(super) fn design_open(
         hub(&g.driven.points_mm, driven_cut),
     ];
     let mesh = if t.verify_steps > 0 {
-        let (v1, v2) = g.fine_outlines(opts)?;
+        let [v1, v2] = g.fine_outlines(opts)?;
         let tol = t.verify_chord_tol_mm;
         let v1 = sector_outline(&v1, driver_cut, hubs[0], tol);
         let v2 = sector_outline(&v2, driven_cut, hubs[1], tol);
@@ -228,31 +318,30 @@ pub(super) fn design_open(
             backlash_mm: t.backlash_mm,
             ..MeshCheck::new(a, m)
         };
-        let psi = |phi: f64| motion.psi(phi);
+        let psi = |t: f64| law.psi(t);
         let mut r = verify_mesh(&v1, &v2, &psi, &check, progress)?;
         // The check ran in t = φ − u0; report the driver angle φ.
-        r.max_overlap_at_deg += cr.u0.to_degrees();
+        r.max_overlap_at_deg += law.u0.to_degrees();
         Some(r)
     } else {
         None
     };
+    let active_advance = e.eval(range[1]) - e.eval(range[0]);
     let ratios: Vec<f64> = (0..=512)
-        .map(|j| motion.ratio(ta + (tb - ta) * f64::from(j) / 512.0))
+        .map(|j| law.ratio(ta + (tb - ta) * f64::from(j) / 512.0)[0])
         .collect();
-    let kept_driver: Vec<usize> = (1..k_end)
-        .map(|k| ((n_teeth - k) % n_teeth) as usize)
-        .collect();
+    let kept_driver: Vec<usize> = (1..k_end).map(|j| (n_teeth - 1 - j) as usize).collect();
     let kept_driven: Vec<usize> = (0..k_end as usize).collect();
     let report = SectorReport {
         drive_deg: [range[0].to_degrees(), range[1].to_degrees()],
-        driven_advance_deg: (e.eval(range[1]) - e.eval(range[0])).to_degrees(),
-        active_teeth: a * active_unit / p,
+        driven_advance_deg: active_advance.to_degrees(),
+        active_teeth: a * arc(ta, tb) / p,
         kept_teeth: [kept_driver.len() as u32, kept_driven.len() as u32],
         hub_radius_mm: hubs,
-        assembly_at_deg: cr.u0.to_degrees(),
+        assembly_at_deg: law.u0.to_degrees(),
     };
     let chord = t.chord_tol_mm;
-    let mut d = g.into_design(&motion, a, mesh, &ratios, Some(report));
+    let mut d = g.into_design([0.0, active_advance], a, mesh, &ratios, Some(report));
     d.driver.points_mm = sector_outline(&d.driver.points_mm, driver_cut, hubs[0], chord);
     d.driven.points_mm = sector_outline(&d.driven.points_mm, driven_cut, hubs[1], chord);
     d.z = kept_driver.len() as u32;
@@ -340,4 +429,31 @@ fn sector_outline(
         out.push([hub_mm * th.cos(), hub_mm * th.sin()]);
     }
     out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The radius derivatives of both carriers against central differences in their own body
+    /// angle (driver θ = −t; driven θ₂ = π + ψ̃(t)).
+    #[test]
+    fn carrier_radius_derivatives_match_differences() {
+        let e = Expr::parse("0.6*phi + 0.05*sin(phi) + 0.02*cos(3*phi)").unwrap();
+        let law = Padded::new(&e, 0.5, 2.5, 10).unwrap();
+        let h = 1e-4;
+        for t in [0.3, 1.0, 2.0] {
+            let d = |f: &dyn Fn(f64) -> f64, x: f64| (f(x + h) - f(x - h)) / (2.0 * h);
+            let dd = |f: &dyn Fn(f64) -> f64, x: f64| (f(x + h) - 2.0 * f(x) + f(x - h)) / (h * h);
+            let r1 = |th: f64| law.driver_radius(-th)[0];
+            let v = law.driver_radius(t);
+            assert!((v[1] - d(&r1, -t)).abs() < 1e-7, "{v:?}");
+            assert!((v[2] - dd(&r1, -t)).abs() < 1e-5, "{v:?}");
+            let r2 = |x: f64| law.driven_radius(law.t_of_driven(x))[0];
+            let x = law.psi(t);
+            let v = law.driven_radius(t);
+            assert!((v[1] - d(&r2, x)).abs() < 1e-7, "{v:?} {}", d(&r2, x));
+            assert!((v[2] - dd(&r2, x)).abs() < 1e-5, "{v:?} {}", dd(&r2, x));
+        }
+    }
 }

@@ -29,6 +29,11 @@ pub struct OutlineOptions {
     /// Maximum chord sag of the polyline, mm (estimated with a radius of curvature ≥ m on flanks,
     /// root and tip, and ρf on fillets). Default 1e-3 (1e-3·m at m = 1 mm).
     pub chord_tol_mm: f64,
+    /// Tooth pitch on the closed carrier of an open sector, mm: `Some(p)` places `z` teeth at
+    /// pitch `p` from the phase on (`z·p ≤ L`) and lets the last space absorb `L − z·p` (it is
+    /// trimmed away with the sector, see `pair::sector`). Default `None`: `p = L/z`, with
+    /// `L = zπm` required.
+    pub open_pitch_mm: Option<f64>,
 }
 
 impl OutlineOptions {
@@ -40,6 +45,7 @@ impl OutlineOptions {
             thin_left_mm: 0.0,
             thin_right_mm: 0.0,
             chord_tol_mm,
+            open_pitch_mm: None,
         }
     }
 }
@@ -186,7 +192,9 @@ pub(super) fn report_on(
     m: f64,
     opts: &OutlineOptions,
 ) -> UndercutReport {
-    let p = frame.length_mm() / f64::from(z);
+    let p = opts
+        .open_pitch_mm
+        .unwrap_or(frame.length_mm() / f64::from(z));
     let (sa, ca) = rack.alpha_rad().sin_cos();
     let sc = sa * ca;
     let hs = rack.straight_depth() * m;
@@ -252,8 +260,9 @@ pub(super) fn report_on(
     }
 }
 
-/// Checks the module, chord tolerance, tooth count (`L = zπm`) and thinnings of a generation;
-/// returns the pitch `p = L/z`, mm.
+/// Checks the module, chord tolerance, tooth count (`L = zπm`, or `z·p ≤ L` with an open
+/// sector's pitch) and thinnings of a generation; returns the pitch `p` (`L/z`, or the open
+/// sector's), mm.
 pub(super) fn validate(
     frame: &ArcFrame,
     z: u32,
@@ -276,14 +285,24 @@ pub(super) fn validate(
     }
     let l = frame.length_mm();
     let zf = f64::from(z);
-    if z < 3 || ((l / (std::f64::consts::PI * m)) - zf).abs() > 1e-6 * zf {
-        return Err(TeethError::InvalidParameter {
-            name: "z",
-            value: zf,
-            expected: "L/(π·m) (scale the pitch curve to an integer tooth count first)",
-        });
-    }
-    let p = l / zf;
+    let p = match opts.open_pitch_mm {
+        Some(p) if p.is_finite() && p > 0.0 && z >= 1 && zf * p <= l * (1.0 + 1e-12) => p,
+        Some(p) => {
+            return Err(TeethError::InvalidParameter {
+                name: "open_pitch_mm",
+                value: p,
+                expected: "finite, > 0, with z·p ≤ the perimeter",
+            });
+        }
+        None if z < 3 || ((l / (std::f64::consts::PI * m)) - zf).abs() > 1e-6 * zf => {
+            return Err(TeethError::InvalidParameter {
+                name: "z",
+                value: zf,
+                expected: "L/(π·m) (scale the pitch curve to an integer tooth count first)",
+            });
+        }
+        None => l / zf,
+    };
     for (name, v) in [
         ("thin_left_mm", opts.thin_left_mm),
         ("thin_right_mm", opts.thin_right_mm),

@@ -182,6 +182,7 @@ fn train_from(
                 thin_left_mm: 0.5 * opts.toothing.backlash_mm,
                 thin_right_mm: 0.0,
                 chord_tol_mm: tol,
+                open_pitch_mm: None,
             },
             choice,
         )
