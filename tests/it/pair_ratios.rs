@@ -1,6 +1,8 @@
 //! Pairs with unequal tooth counts (issue 19, item 1): a law advancing the driven gear by
 //! Δ = ψ(φ + 2π) − ψ(φ) ≠ 2π per driver turn gives z : z·2π/Δ teeth; closure, phase and the mesh
 //! verification over the q driver turns after which the pair is back at its start.
+use ncgear::export::dxf::{DxfVersion, write_dxf};
+use ncgear::export::points::write_points;
 use ncgear::pair::{Expr, Law, Motion, PairOptions, design_pair};
 use ncgear::teeth::mesh::MeshSpan;
 use ncgear::teeth::overlap::first_self_intersection;
@@ -57,10 +59,21 @@ fn constant_half_ratio_is_two_circles_at_the_closed_form_distance() {
     assert!((r(&d.driven_pitch_mm) - 24.0).abs() < 1e-9);
 }
 
-/// The 1:2 law that ncgears 0.3.1 makes 24:48 with centre distance 35.5186 mm (issue 19).
+/// The 1:2 law that ncgears 0.3.1 makes 24:48 with centre distance 35.5186 mm (issue 19). Its
+/// DXF and point lists go to `target/test-dxf` for the ezdxf read-back in `.ci/run`.
 #[test]
 fn one_to_two_law_makes_24_48() {
     let d = check(&motion("0.5*phi + 0.05*sin(2*phi)"), 24, 48, 1.0);
+    let dir = crate::teeth::out_dir("test-dxf");
+    let sheet = d.assembly_sheet();
+    write_dxf(
+        &sheet,
+        &dir.join("pair_1to2_r2010.dxf"),
+        DxfVersion::R2010,
+        1e-3,
+    )
+    .unwrap();
+    write_points(&sheet, &dir.join("pair_1to2_points"), "pair_1to2").unwrap();
     assert!(
         (d.centre_distance_mm - 35.5186).abs() < 5e-5,
         "{}",

@@ -1,5 +1,7 @@
 //! Open (incomplete) sector pairs (issue 19, item 2): teeth over a driver interval only, clean
 //! sector ends, the verification over the interval.
+use ncgear::export::dxf::{DxfVersion, write_dxf};
+use ncgear::export::points::write_points;
 use ncgear::pair::{Expr, Law, PairDesign, PairOptions, design_pair};
 use ncgear::teeth::overlap::first_self_intersection;
 use std::f64::consts::PI;
@@ -65,11 +67,22 @@ fn half_turn_sector_of_a_period_pi_law_matches_the_closed_pair() {
     assert!((15..=17).contains(&s.kept_teeth[1]), "{:?}", s.kept_teeth);
 }
 
-/// An asymmetric sector of an unequal-ratio law: 0 interference over its interval.
+/// An asymmetric sector of an unequal-ratio law: 0 interference over its interval. Its DXF
+/// (R2010 and R12) and point lists go to `target/test-dxf` for the ezdxf read-back in `.ci/run`
+/// (outlines closed, pitch arcs open).
 #[test]
 fn asymmetric_sector_meshes_over_its_interval() {
     let d = open("0.6*phi + 0.05*sin(phi)", 10, 1.0, [30.0, 200.0]).unwrap();
     check(&d);
+    let dir = crate::teeth::out_dir("test-dxf");
+    let sheet = d.assembly_sheet();
+    for (name, v) in [
+        ("pair_sector_r2010.dxf", DxfVersion::R2010),
+        ("pair_sector_r12.dxf", DxfVersion::R12),
+    ] {
+        write_dxf(&sheet, &dir.join(name), v, 1e-3).unwrap();
+    }
+    write_points(&sheet, &dir.join("pair_sector_points"), "pair_sector").unwrap();
     let s = d.sector.unwrap();
     assert!((s.active_teeth - 10.0).abs() < 0.5, "{}", s.active_teeth);
     let want =

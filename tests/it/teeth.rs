@@ -14,7 +14,7 @@ fn focus_ellipse(a: f64, e: f64) -> impl Fn(f64) -> f64 {
     move |t: f64| a * (1.0 - e * e) / (1.0 - e * t.cos())
 }
 
-fn out_dir(sub: &str) -> PathBuf {
+pub(crate) fn out_dir(sub: &str) -> PathBuf {
     let d = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
         .join("target")
         .join(sub);
