@@ -144,11 +144,17 @@ def pair(
     module: float = 1.0,
     kind: str = "motion",
     verify_steps: int = 90,
+    cycle_advance: float = 360.0,
+    drive: Optional[Tuple[float, float]] = None,
 ) -> Pair:
     """A toothed non-circular pair (``ncgear pair``) from a motion law ψ(φ) (``kind="motion"``,
     e.g. ``"phi - 0.08*sin(2*phi)"``), a centrode r(φ) (``"centrode"``) or a CSV law file
-    (``"csv"``, ``law`` is its path). ``teeth`` is required for a motion or CSV law."""
-    h = _ncgear.pair(law, kind, teeth, float(module), int(verify_steps))
+    (``"csv"``, ``law`` is its path). ``teeth`` is required for a motion or CSV law: the driver's
+    count; the driven gear gets ``teeth·360°/Δ`` with Δ the law's advance per driver turn (a
+    centrode is solved for ``cycle_advance``, degrees). ``drive=(start, end)`` (degrees) makes an
+    open sector pair of a motion law with ``teeth`` on that driver interval."""
+    d = None if drive is None else (float(drive[0]), float(drive[1]))
+    h = _ncgear.pair(law, kind, teeth, float(module), int(verify_steps), float(cycle_advance), d)
     return Pair(
         outlines=_arrays(h.outlines()),
         placements=_placements(h.placements()),

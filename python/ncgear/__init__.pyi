@@ -48,6 +48,8 @@ def pair(
     module: float = ...,
     kind: str = ...,
     verify_steps: int = ...,
+    cycle_advance: float = ...,
+    drive: Optional[Tuple[float, float]] = ...,
 ) -> Pair: ...
 def simulate(
     design: Union[Design, Train],

@@ -320,15 +320,18 @@ impl PairHandle {
     }
 }
 
-/// `pair(law, kind, teeth, module, verify_steps)`; kind: motion, centrode or csv (law = path).
+/// `pair(law, kind, teeth, module, verify_steps, cycle_advance_deg, drive_deg)`; kind: motion,
+/// centrode or csv (law = path); `drive_deg`: an open sector's driver interval, degrees.
 #[pyfunction]
-#[pyo3(signature = (law, kind, teeth, module, verify_steps))]
+#[pyo3(signature = (law, kind, teeth, module, verify_steps, cycle_advance_deg, drive_deg))]
 fn pair(
     law: &str,
     kind: &str,
     teeth: Option<u32>,
     module: f64,
     verify_steps: usize,
+    cycle_advance_deg: f64,
+    drive_deg: Option<(f64, f64)>,
 ) -> PyResult<PairHandle> {
     let law = match kind {
         "motion" => Law::Motion(Expr::parse(law).map_err(err)?),
@@ -338,6 +341,8 @@ fn pair(
     };
     let mut o = PairOptions::new(teeth, module);
     o.toothing.verify_steps = verify_steps;
+    o.centrode_advance_rad = cycle_advance_deg.to_radians();
+    o.open_sector_rad = drive_deg.map(|(a, b)| [a.to_radians(), b.to_radians()]);
     let p = design_pair(&law, &o).map_err(err)?;
     let report = serde_json::json!({
         "z": p.z,
@@ -348,6 +353,7 @@ fn pair(
         "perimeter_mm": p.perimeter_mm,
         "ratio_range": p.ratio_range,
         "mesh": p.mesh,
+        "sector": p.sector,
     })
     .to_string();
     Ok(PairHandle {

@@ -60,6 +60,18 @@ def test_pair_outlines_and_cli_pair_step_agree(out):
     assert len(ncgear.write_dxf(p, out / "py_pair")) == 1 and len(ncgear.write_svg(p, out / "py_pair")) == 1
 
 
+def test_unequal_and_open_pairs_match_the_cli(out):
+    p = ncgear.pair("0.5*phi + 0.05*sin(2*phi)", teeth=24, verify_steps=0)
+    assert (p.report["z"], p.report["z_driven"]) == (24, 48)
+    assert abs(p.report["cycle_advance_deg"] - 180.0) < 1e-9
+    s = ncgear.pair("phi - 0.08*sin(2*phi)", teeth=12, module=1.5, drive=(0.0, 180.0), verify_steps=0)
+    assert abs(s.report["sector"]["active_teeth"] - 12.0) < 1e-6
+    cli("pair", "phi - 0.08*sin(2*phi)", "--teeth", 12, "--module", 1.5, "--verify-steps", 0,
+        "--open", "--drive-start", 0, "--drive-end", 180, "--out", out / "cli_sector")
+    [f] = ncgear.write_step(s, out / "py_sector")
+    assert open(f, "rb").read() == (out / "cli_sector" / "pair.step").read_bytes()
+
+
 def test_simulate_and_tolerance_return_the_cli_keys(g1, g1_train):
     f = ncgear.simulate(g1, spacing=140.0)
     assert 100.0 < f["height_mm"] < 150.0
