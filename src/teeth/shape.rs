@@ -208,22 +208,45 @@ impl Shape {
             (x[0] / self.cell).floor() as i64,
             (x[1] / self.cell).floor() as i64,
         );
-        // Squared distances; one square root at the end.
+        // Squared distances; one square root at the end. The own cell first, then the
+        // neighbours whose nearest point can still beat the best (the 3×3 block covers every
+        // segment within one cell of `x`, which is all the exact range needs).
         let mut best = (f64::INFINITY, 0usize, 0.5);
-        for gx in cx - 1..=cx + 1 {
-            for gy in cy - 1..=cy + 1 {
-                if let Some(list) = self.grid.get(&(gx, gy)) {
-                    for &i in list {
-                        let (a, b) = (self.pts[i as usize], self.pts[(i as usize + 1) % n]);
-                        let (dx, dy) = (b[0] - a[0], b[1] - a[1]);
-                        let (px, py) = (x[0] - a[0], x[1] - a[1]);
-                        let t = ((px * dx + py * dy) / (dx * dx + dy * dy)).clamp(0.0, 1.0);
-                        let (ex, ey) = (px - t * dx, py - t * dy);
-                        let d2 = ex * ex + ey * ey;
-                        if d2 < best.0 {
-                            best = (d2, i as usize, t);
-                        }
+        let scan = |gx: i64, gy: i64, best: &mut (f64, usize, f64)| {
+            if let Some(list) = self.grid.get(&(gx, gy)) {
+                for &i in list {
+                    let (a, b) = (self.pts[i as usize], self.pts[(i as usize + 1) % n]);
+                    let (dx, dy) = (b[0] - a[0], b[1] - a[1]);
+                    let (px, py) = (x[0] - a[0], x[1] - a[1]);
+                    let t = ((px * dx + py * dy) / (dx * dx + dy * dy)).clamp(0.0, 1.0);
+                    let (ex, ey) = (px - t * dx, py - t * dy);
+                    let d2 = ex * ex + ey * ey;
+                    if d2 < best.0 {
+                        *best = (d2, i as usize, t);
                     }
+                }
+            }
+        };
+        scan(cx, cy, &mut best);
+        // Distances from `x` to the own cell's lower and upper borders in x and y.
+        let (fx, fy) = (
+            x[0] - cx as f64 * self.cell,
+            x[1] - cy as f64 * self.cell,
+        );
+        let gap = |o: i64, f: f64| match o {
+            -1 => f,
+            1 => self.cell - f,
+            _ => 0.0,
+        };
+        for ox in -1..=1i64 {
+            for oy in -1..=1i64 {
+                if ox == 0 && oy == 0 {
+                    continue;
+                }
+                let (gx, gy) = (gap(ox, fx), gap(oy, fy));
+                // Every point of that cell is at least this far (squared) from `x`.
+                if gx * gx + gy * gy < best.0 {
+                    scan(cx + ox, cy + oy, &mut best);
                 }
             }
         }
