@@ -229,10 +229,7 @@ impl Shape {
         };
         scan(cx, cy, &mut best);
         // Distances from `x` to the own cell's lower and upper borders in x and y.
-        let (fx, fy) = (
-            x[0] - cx as f64 * self.cell,
-            x[1] - cy as f64 * self.cell,
-        );
+        let (fx, fy) = (x[0] - cx as f64 * self.cell, x[1] - cy as f64 * self.cell);
         let gap = |o: i64, f: f64| match o {
             -1 => f,
             1 => self.cell - f,
