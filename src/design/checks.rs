@@ -10,6 +10,7 @@ use crate::geometry::assembly::Assembly;
 use crate::geometry::mechanism::Mechanism;
 use crate::geometry::pitch::PitchCurve;
 use crate::math::polyline::hausdorff_mm;
+use rayon::prelude::*;
 use std::f64::consts::TAU;
 
 /// `n` points of the target curve through the points: a periodic cubic spline in the carrier
@@ -88,18 +89,21 @@ pub(super) fn finish(
     // Round trip from the tables only (C12), with mesh errors (C3, C4).
     let rebuilt = assembly.rebuild();
     let m = opts.check_samples;
+    // The poses are independent: evaluated in parallel (same values in the same order).
+    let poses: Vec<_> = (0..m)
+        .into_par_iter()
+        .map(|k| rebuilt.pose(sign * TAU * k as f64 / m as f64))
+        .collect();
     let mut mesh: [f64; 2] = [0.0, 0.0];
-    let mut traced = Vec::with_capacity(m);
-    for k in 0..m {
-        let pose = rebuilt.pose(sign * TAU * k as f64 / m as f64);
+    for pose in &poses {
         mesh[0] = mesh[0].max(pose.sun_mesh_error_mm.abs());
         mesh[1] = mesh[1].max(pose.planet_mesh_error_mm.abs());
-        traced.push(pose.tip_mm);
     }
+    let traced: Vec<[f64; 2]> = poses.iter().map(|p| p.tip_mm).collect();
     // Synchronous deviation at every target point, at the carrier angle the tip passes it.
     let dev: Vec<f64> = traj
         .points()
-        .iter()
+        .par_iter()
         .zip(angles)
         .map(|(p, &phi)| {
             let tip = rebuilt.pose(sign * phi).tip_mm;
@@ -118,13 +122,21 @@ pub(super) fn finish(
 
     // Geometry checks.
     let acc = 1e-9 * mech.a_mm;
-    let (ls, lm, lp) = (
-        sun.perimeter_mm(acc),
-        mid.perimeter_mm(acc),
-        planet.perimeter_mm(acc),
+    // Independent integrals, side by side.
+    let ((ls, lm), (lp, (cs, cm))) = rayon::join(
+        || rayon::join(|| sun.perimeter_mm(acc), || mid.perimeter_mm(acc)),
+        || {
+            rayon::join(
+                || planet.perimeter_mm(acc),
+                || {
+                    rayon::join(
+                        || sun.curvature_extremes(8 * n),
+                        || mid.curvature_extremes(8 * n),
+                    )
+                },
+            )
+        },
     );
-    let cs = sun.curvature_extremes(8 * n);
-    let cm = mid.curvature_extremes(8 * n);
     let means = rebuilt.ratio_means();
     let [imin, imax] = mech.ratio.range();
     let i31_min = (0..4096)

@@ -17,6 +17,7 @@
 use crate::design::law::NeedleLaw;
 use crate::design::trajectory::{ClosedSpline, Trajectory};
 use crate::math::periodic::{bisect_root, wrap_pi};
+use rayon::prelude::*;
 use std::f64::consts::TAU;
 
 /// Accuracy knobs of the inversion (spec §13).
@@ -249,7 +250,11 @@ fn solve_frame(
         let p = spline.point(s);
         p[0].hypot(p[1])
     };
-    let dense: Vec<f64> = (0..ns).map(|j| rho(j as f64 * ds)).collect();
+    // Independent samples: evaluated in parallel (same values, same order).
+    let dense: Vec<f64> = (0..ns)
+        .into_par_iter()
+        .map(|j| rho(j as f64 * ds))
+        .collect();
     let (jmax, _) = dense
         .iter()
         .enumerate()
@@ -328,7 +333,10 @@ fn solve_frame(
     let raw_phi = |u: f64| phi_of(spline.point(s_max + u), u);
     // The tip at the dense parameters u_j = j·ds from s_max (the last one a whole period on).
     let u_at = |j: usize| if j == ns { len } else { j as f64 * ds };
-    let tips: Vec<[f64; 2]> = (0..=ns).map(|j| spline.point(s_max + u_at(j))).collect();
+    let tips: Vec<[f64; 2]> = (0..=ns)
+        .into_par_iter()
+        .map(|j| spline.point(s_max + u_at(j)))
+        .collect();
     let mut phi = Vec::with_capacity(ns + 1);
     phi.push(phi_of(tips[0], 0.0));
     for j in 1..=ns {
@@ -374,21 +382,23 @@ fn solve_frame(
     }
     // Uniform resampling: solve φH(u) = φH0 + t_n on the interpolant.
     let n = opts.grid.max(16);
-    let mut samples = Vec::with_capacity(n);
-    for k in 0..n {
-        let t = TAU * k as f64 / n as f64;
-        let target = phi0 + t;
-        let j = phi.partition_point(|&v| v <= target).clamp(1, ns) - 1;
-        let (u_lo, u_hi) = (j as f64 * ds, ((j + 1) as f64 * ds).min(len));
-        let unwrap_near = |u: f64| phi[j] + wrap_pi(raw_phi(u) - phi[j]);
-        let u = if k == 0 {
-            0.0
-        } else {
-            bisect_root(|u| unwrap_near(u) - target, u_lo, u_hi, tol)
-        };
-        let b = beta[j] + wrap_pi(beta_at(u, target) - beta[j]);
-        samples.push(-(b - beta[0]));
-    }
+    let samples: Vec<f64> = (0..n)
+        .into_par_iter()
+        .map(|k| {
+            let t = TAU * k as f64 / n as f64;
+            let target = phi0 + t;
+            let j = phi.partition_point(|&v| v <= target).clamp(1, ns) - 1;
+            let (u_lo, u_hi) = (j as f64 * ds, ((j + 1) as f64 * ds).min(len));
+            let unwrap_near = |u: f64| phi[j] + wrap_pi(raw_phi(u) - phi[j]);
+            let u = if k == 0 {
+                0.0
+            } else {
+                bisect_root(|u| unwrap_near(u) - target, u_lo, u_hi, tol)
+            };
+            let b = beta[j] + wrap_pi(beta_at(u, target) - beta[j]);
+            -(b - beta[0])
+        })
+        .collect();
     Ok(Solved::Done(Box::new(Inversion {
         l1_mm: l1,
         l3_mm: l3,
