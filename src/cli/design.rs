@@ -288,6 +288,15 @@ pub fn run(args: Args) -> CliResult {
                 println!("  {name}: {}", super::teeth_args::process_line(g));
             }
         }
+        for (name, u) in [
+            ("sun", &t.undercut.sun),
+            ("intermediate", &t.undercut.intermediate),
+            ("planet", &t.undercut.planet),
+        ] {
+            if let Some(w) = super::teeth_args::undercut_line(name, u) {
+                println!("  {w}");
+            }
+        }
         if let Some(mesh) = &t.mesh {
             for (name, m) in [
                 ("sun-intermediate", &mesh.sun_intermediate),

@@ -153,6 +153,14 @@ pub fn run(args: Args) -> CliResult {
             "driven: {}",
             super::teeth_args::process_line(&design.driven_process)
         );
+        for (name, u) in [
+            ("driver", &design.driver_undercut),
+            ("driven", &design.driven_undercut),
+        ] {
+            if let Some(w) = super::teeth_args::undercut_line(name, u) {
+                println!("{w}");
+            }
+        }
         if let Some(m) = &design.mesh {
             println!("mesh: {}", m.summary());
         }
@@ -167,5 +175,8 @@ fn summary(u: &ncgear::teeth::UndercutReport) -> serde_json::Value {
         "min_rho_mm": u.min_rho_mm,
         "required_rho_mm": u.required_rho_mm,
         "max_module_mm": u.max_module_mm,
+        "max_undercut_mm": u.max_undercut_mm,
+        "max_contact_ratio_loss": u.max_contact_ratio_loss,
+        "min_root_thickness_mm": u.min_root_thickness_mm,
     })
 }

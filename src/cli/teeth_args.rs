@@ -56,6 +56,10 @@ pub struct RackArgs {
     /// largest standard cutter that fits, 100 … 12 teeth; convex gears are rack-cut).
     #[arg(long)]
     pub cutter_teeth: Option<u32>,
+    /// Refuse a gear that the rack undercuts (naming the largest module that works) instead of
+    /// cutting it as the rack does and reporting the undercut.
+    #[arg(long)]
+    pub no_undercut: bool,
 }
 
 impl RackArgs {
@@ -88,6 +92,7 @@ impl RackArgs {
             toothing.chord_tol_mm = c;
         }
         toothing.cutter_teeth = self.cutter_teeth;
+        toothing.refuse_undercut = self.no_undercut;
         Ok(())
     }
 }
@@ -99,6 +104,22 @@ pub fn step_failure(e: &ExportError) -> super::Failure {
         ExportError::Io { .. } => super::runtime_error(miette::miette!("{e}")),
         _ => super::input_error(miette::miette!("{e}")),
     }
+}
+
+/// The undercut warning of one gear for the console (`None` without undercut): the rack cuts
+/// it, and the numbers say what it costs.
+pub fn undercut_line(name: &str, u: &ncgear::teeth::UndercutReport) -> Option<String> {
+    (u.undercut_count > 0).then(|| {
+        format!(
+            "warning: {name}: the rack undercuts {} flank(s), cut as the rack cuts them: deepest \
+             {:.4} mm below the cusp, contact ratio lost up to {:.3}, thinnest tooth root {:.3} mm \
+             (--no-undercut refuses instead)",
+            u.undercut_count,
+            u.max_undercut_mm,
+            u.max_contact_ratio_loss,
+            u.min_root_thickness_mm.unwrap_or(f64::NAN)
+        )
+    })
 }
 
 /// One line on how a gear is cut, for the console summaries.

@@ -266,6 +266,7 @@ impl Toothed {
             thin_right_mm: 0.0,
             chord_tol_mm: t.chord_tol_mm,
             open_pitch_mm,
+            refuse_undercut: t.refuse_undercut,
         };
         // An open carrier's driver teeth run back from s = 0 (its sector lies at s ≤ 0) so that
         // the remainder space falls on the closing stretch.

@@ -15,6 +15,7 @@
 //! - [`mesh::verify_mesh`]: roll two outlines through a cycle (interference, backlash,
 //!   transmission error).
 
+mod crossing;
 mod frame;
 mod inside;
 pub mod mesh;
@@ -232,6 +233,17 @@ pub struct FlankUndercut {
     pub undercut_mm: f64,
     /// Whether the generating stretch is concave (κ < 0).
     pub concave: bool,
+    /// Depth below the pitch curve where the generated flank ends, mm: `h_straight` without
+    /// undercut; with undercut, the depth at which the rack tip's fillet trochoid cuts the flank
+    /// (the real form point; issue 19).
+    pub form_depth_mm: f64,
+    /// Loss of contact ratio against the basic rack: the flank's path of contact on the rack's
+    /// line of action shortened by `(h_straight − form_depth)/sin α`, over the base pitch
+    /// `πm·cos α`: `(h_straight − form_depth)/(πm·sin α·cos α)` (0 without undercut).
+    pub contact_ratio_loss: f64,
+    /// Tooth thickness at the root: the chord between the two flanks' form points of this
+    /// tooth, mm (known once the outline is generated).
+    pub root_thickness_mm: Option<f64>,
 }
 
 /// Per-tooth undercut report.
@@ -249,6 +261,30 @@ pub struct UndercutReport {
     pub undercut_count: usize,
     /// Number of flanks on a concave stretch.
     pub concave_count: usize,
+    /// Largest undercut depth over the flanks, mm (0: no undercut).
+    #[serde(default)]
+    pub max_undercut_mm: f64,
+    /// Largest loss of contact ratio over the flanks ([`FlankUndercut::contact_ratio_loss`]).
+    #[serde(default)]
+    pub max_contact_ratio_loss: f64,
+    /// Thinnest tooth root over the teeth, mm ([`FlankUndercut::root_thickness_mm`]).
+    #[serde(default)]
+    pub min_root_thickness_mm: Option<f64>,
+}
+
+impl UndercutReport {
+    /// Recomputes the counts and extremes from the flanks.
+    pub(crate) fn summarise(&mut self) {
+        let f = &self.flanks;
+        self.undercut_count = f.iter().filter(|f| f.undercut).count();
+        self.concave_count = f.iter().filter(|f| f.concave).count();
+        self.max_undercut_mm = f.iter().map(|f| f.undercut_mm).fold(0.0, f64::max);
+        self.max_contact_ratio_loss = f.iter().map(|f| f.contact_ratio_loss).fold(0.0, f64::max);
+        self.min_root_thickness_mm = f
+            .iter()
+            .filter_map(|f| f.root_thickness_mm)
+            .reduce(f64::min);
+    }
 }
 
 pub use outline::undercut_report;
@@ -265,6 +301,12 @@ struct FlankFields {
     undercut: bool,
     undercut_mm: f64,
     concave: bool,
+    #[serde(default)]
+    form_depth_mm: f64,
+    #[serde(default)]
+    contact_ratio_loss: f64,
+    #[serde(default)]
+    root_thickness_mm: Option<f64>,
 }
 
 impl<'de> Deserialize<'de> for FlankUndercut {
@@ -293,6 +335,9 @@ impl TryFrom<FlankFields> for FlankUndercut {
             undercut: f.undercut,
             undercut_mm: f.undercut_mm,
             concave: f.concave,
+            form_depth_mm: f.form_depth_mm,
+            contact_ratio_loss: f.contact_ratio_loss,
+            root_thickness_mm: f.root_thickness_mm,
         })
     }
 }

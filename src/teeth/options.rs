@@ -40,6 +40,11 @@ pub struct ToothingOptions {
     /// gears are rack-generated either way.
     #[serde(default)]
     pub cutter_teeth: Option<u32>,
+    /// Refuse undercut (the strict `--no-undercut`: a typed error naming the largest module
+    /// that works) instead of cutting it. Default `false`: an undercut flank is cut as the rack
+    /// cuts it and reported (depth, form depth, loss of contact ratio, root thickness; issue 19).
+    #[serde(default)]
+    pub refuse_undercut: bool,
 }
 
 impl ToothingOptions {
@@ -54,6 +59,7 @@ impl ToothingOptions {
             verify_chord_tol_mm: 1e-6 * module_mm,
             verify_steps: 90,
             cutter_teeth: None,
+            refuse_undercut: false,
         }
     }
 }

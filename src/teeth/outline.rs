@@ -11,6 +11,7 @@
 //!   intersection with the flanks (2-D Newton).
 //!
 //! Each point maps to the body frame by `P(s) + (ξ − s)T(s) + ηN(s)`.
+use super::crossing::cut_loops;
 use super::frame::{ArcFrame, FramePoint};
 use super::{FlankUndercut, RackParams, TeethError, UndercutReport};
 use crate::geometry::pitch::PitchCurve;
@@ -34,6 +35,10 @@ pub struct OutlineOptions {
     /// trimmed away with the sector, see `pair::sector`). Default `None`: `p = L/z`, with
     /// `L = zπm` required.
     pub open_pitch_mm: Option<f64>,
+    /// Refuse a flank with undercut ([`TeethError::Undercut`], naming the largest module that
+    /// works) instead of cutting it as the rack does. Default `false`: undercut is cut (the
+    /// fillet trochoid trims the flank; issue 19).
+    pub refuse_undercut: bool,
 }
 
 impl OutlineOptions {
@@ -46,6 +51,7 @@ impl OutlineOptions {
             thin_right_mm: 0.0,
             chord_tol_mm,
             open_pitch_mm: None,
+            refuse_undercut: false,
         }
     }
 }
@@ -147,13 +153,15 @@ pub(super) fn meet(
     ((q[0] - t[0]).hypot(q[1] - t[1]) < 1e-9).then_some((s, u))
 }
 
+/// Samples `f` on `(from, to]` with about `step_mm` between vertices into `out`; returns the
+/// number of vertices pushed `n` (vertex k at parameter `from + (to − from)·k/n`).
 pub(super) fn push_piece(
     out: &mut Vec<[f64; 2]>,
     from: f64,
     to: f64,
     step_mm: f64,
     f: impl Fn(f64) -> [f64; 2],
-) {
+) -> usize {
     // Estimate the spatial length with 8 chords, then sample uniformly in the parameter.
     let mut len = 0.0;
     let mut prev = f(from);
@@ -167,6 +175,7 @@ pub(super) fn push_piece(
     for k in 1..=n {
         out.push(f(from + (to - from) * k as f64 / n as f64));
     }
+    n
 }
 
 /// Undercut and concavity report of a toothed pitch curve (spec §12.4).
@@ -238,6 +247,9 @@ pub(super) fn report_on(
                 undercut,
                 undercut_mm: if undercut { (hs - cusp).max(0.0) } else { 0.0 },
                 concave: kmin <= 0.0,
+                form_depth_mm: hs,
+                contact_ratio_loss: 0.0,
+                root_thickness_mm: None,
             });
         }
     }
@@ -247,9 +259,9 @@ pub(super) fn report_on(
         .filter(|f| !f.concave)
         .map(|f| f.min_rho_mm)
         .fold(f64::INFINITY, f64::min);
-    UndercutReport {
-        undercut_count: flanks.iter().filter(|f| f.undercut).count(),
-        concave_count: flanks.iter().filter(|f| f.concave).count(),
+    let mut report = UndercutReport {
+        undercut_count: 0,
+        concave_count: 0,
         min_rho_mm: flanks
             .iter()
             .map(|f| f.min_rho_mm)
@@ -257,7 +269,12 @@ pub(super) fn report_on(
         required_rho_mm: required,
         max_module_mm: m * rho_convex / required,
         flanks,
-    }
+        max_undercut_mm: 0.0,
+        max_contact_ratio_loss: 0.0,
+        min_root_thickness_mm: None,
+    };
+    report.summarise();
+    report
 }
 
 /// Checks the module, chord tolerance, tooth count (`L = zπm`, or `z·p ≤ L` with an open
@@ -356,7 +373,8 @@ pub fn generate_on(
             min_rho_mm: report.min_rho_mm,
         });
     }
-    if report.undercut_count > 0 {
+    let mut report = report;
+    if report.undercut_count > 0 && opts.refuse_undercut {
         let worst = report
             .flanks
             .iter()
@@ -414,30 +432,70 @@ pub fn generate_on(
                 what: "pointed tooth (tip width ≤ 0)",
             });
         }
-        // Left fillet of tooth k: centre, span; then left flank from η = −hs up to the tip.
+        // Left fillet of tooth k (from the root up), then the left flank from η = −hs up to
+        // the tip. An undercut side is walked from the root with its loops cut
+        // ([`cut_loops`]): what the fillet trochoid cuts away and the flank envelope's
+        // swallowtail go, the form point is the last jump onto the flank.
         let xcl = sl - g.hs * ta - g.rho * ca;
-        // Root from the previous tooth's right fillet centre to this left fillet centre is emitted
-        // by the previous tooth; here: left fillet (s decreasing from xcl).
-        push_piece(&mut out, xcl, xcl - fillet_span, step_f, |s| {
+        let mut wl = vec![g.fillet(xcl, xcl)];
+        let nfl = push_piece(&mut wl, xcl, xcl - fillet_span, step_f, |s| {
             g.fillet(xcl, s)
         });
-        push_piece(&mut out, sl - g.hs / sc, s_tip_l, step, |s| {
-            g.flank(sl, -1.0, s)
-        });
+        let s_low_l = sl - g.hs / sc;
+        let nl = push_piece(&mut wl, s_low_l, s_tip_l, step, |s| g.flank(sl, -1.0, s));
+        let form_l = if report.flanks[2 * k].undercut {
+            let (kept, jumps) = cut_loops(&wl);
+            out.extend_from_slice(&kept[1..]);
+            // Flank parameter u ∈ [0, nl] of the highest jump landing on the flank.
+            match jumps.iter().rev().find(|j| j.to >= nfl as f64) {
+                Some(j) => {
+                    let u = (j.to - nfl as f64) / nl as f64;
+                    (j.point, (sl - (s_low_l + (s_tip_l - s_low_l) * u)) * sc)
+                }
+                None => (wl[nfl], g.hs),
+            }
+        } else {
+            out.extend_from_slice(&wl[1..]);
+            (wl[nfl], g.hs)
+        };
         push_piece(&mut out, ul, ur, step, |u| g.tip(u));
-        // Right flank from the tip down to η = −hs, then the right fillet, then the root.
-        push_piece(&mut out, s_tip_r, sr + g.hs / sc, step, |s| {
-            g.flank(sr, 1.0, s)
-        });
+        // Right flank from the tip down to η = −hs, then the right fillet down to the root; an
+        // undercut side is walked from the tip with its loops cut, the form point is the first
+        // jump off the flank.
+        let s_low_r = sr + g.hs / sc;
+        let mut wr = vec![out[out.len() - 1]];
+        let nr = push_piece(&mut wr, s_tip_r, s_low_r, step, |s| g.flank(sr, 1.0, s));
         let xcr = sr + g.hs * ta + g.rho * ca;
-        push_piece(&mut out, xcr + fillet_span, xcr, step_f, |s| {
+        push_piece(&mut wr, xcr + fillet_span, xcr, step_f, |s| {
             g.fillet(xcr, s)
         });
+        let form_r = if report.flanks[2 * k + 1].undercut {
+            let (kept, jumps) = cut_loops(&wr);
+            out.extend_from_slice(&kept[1..]);
+            match jumps.iter().find(|j| j.from <= nr as f64) {
+                Some(j) => {
+                    let u = j.from / nr as f64;
+                    (j.point, (s_tip_r + (s_low_r - s_tip_r) * u - sr) * sc)
+                }
+                None => (wr[nr], g.hs),
+            }
+        } else {
+            out.extend_from_slice(&wr[1..]);
+            (wr[nr], g.hs)
+        };
+        let root = (form_l.0[0] - form_r.0[0]).hypot(form_l.0[1] - form_r.0[1]);
+        for (f, depth) in [(2 * k, form_l.1), (2 * k + 1, form_r.1)] {
+            let fl = &mut report.flanks[f];
+            fl.form_depth_mm = depth;
+            fl.contact_ratio_loss = (g.hs - depth).max(0.0) / (std::f64::consts::PI * m * sc);
+            fl.root_thickness_mm = Some(root);
+        }
         let next_sl = sk + p - 0.25 * p + opts.thin_left_mm;
         let next_xcl = next_sl - g.hs * ta - g.rho * ca;
         push_piece(&mut out, xcr, next_xcl, step, |s| g.map(s, s, -g.hf));
     }
     close_outline(&mut out);
+    report.summarise();
     Ok(Outline {
         points_mm: out,
         z,

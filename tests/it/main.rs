@@ -19,3 +19,4 @@ mod teeth;
 mod tolerance;
 mod train;
 mod transplanter;
+mod undercut;

@@ -181,6 +181,7 @@ fn concave_case_gets_teeth_on_all_three_gears() {
             case.to_str().unwrap(),
             "--module",
             "1.25",
+            "--no-undercut",
             "--out",
         ])
         .arg(std::env::temp_dir().join("ncgear_concave_m125"))

@@ -98,7 +98,13 @@ fn undercut_caught_at_larger_module_with_rho_sin2_limit() {
     let m18 = l / (18.0 * std::f64::consts::PI);
     assert!(generate_outline(&sun, &rack, 18, m18, &OutlineOptions::new(0.0, 1e-3)).is_ok());
     let m17 = l / (17.0 * std::f64::consts::PI);
-    match generate_outline(&sun, &rack, 17, m17, &OutlineOptions::new(0.0, 1e-3)) {
+    // Cut as the rack cuts it by default (issue 19), with the undercut reported …
+    let cut = generate_outline(&sun, &rack, 17, m17, &OutlineOptions::new(0.0, 1e-3)).unwrap();
+    assert!(cut.undercut.undercut_count >= 1 && cut.undercut.max_undercut_mm > 0.0);
+    // … and refused, naming the largest module that works, with the strict option.
+    let mut strict = OutlineOptions::new(0.0, 1e-3);
+    strict.refuse_undercut = true;
+    match generate_outline(&sun, &rack, 17, m17, &strict) {
         Err(TeethError::Undercut {
             count,
             max_module_mm,
@@ -252,9 +258,15 @@ fn pair_centrode_solves_closure_and_meshes() {
         );
     }
     // ncgears' centrode example uses 20 teeth: its min ρc ≈ 0.83·r̄ makes the equivalent spur gear
-    // z ≈ 16.7 < 2/sin²20° = 17.1, so the rack undercuts; we refuse it with the largest module.
+    // z ≈ 16.7 < 2/sin²20° = 17.1, so the rack undercuts: cut and reported by default (issue 19),
+    // refused with the largest module under the strict option.
     let law = Law::Centrode(Expr::parse("1 + 0.08*cos(2*phi)").unwrap());
-    let err = design_pair(&law, &PairOptions::new(Some(20), 1.5)).unwrap_err();
+    let cut = design_pair(&law, &PairOptions::new(Some(20), 1.5)).unwrap();
+    assert!(cut.driver_undercut.undercut_count > 0);
+    assert_eq!(cut.mesh.unwrap().interference_steps, 0);
+    let mut strict = PairOptions::new(Some(20), 1.5);
+    strict.toothing.refuse_undercut = true;
+    let err = design_pair(&law, &strict).unwrap_err();
     assert!(err.to_string().contains("undercut"), "{err}");
     assert!(err.to_string().contains("at least 21 teeth"), "{err}");
     check_pair(law, 24, 1.5, "centrode");

@@ -135,13 +135,10 @@ fn g1_train_at_module_2_has_23_teeth_meshes_and_moves_the_tip_by_the_closed_form
 #[test]
 fn undercut_at_a_larger_module_is_refused_with_the_limit() {
     let d = g1_design();
-    let err = tooth_train(
-        &d.assembly,
-        &d.report.target_points,
-        &no_mesh(3.0, TrainPolicy::ScaleCenterDistance(ToothPolicy::ScaleUp)),
-        &|_| {},
-    )
-    .unwrap_err();
+    // The strict option (`--no-undercut`); by default the undercut is cut (tests/it/undercut.rs).
+    let mut strict = no_mesh(3.0, TrainPolicy::ScaleCenterDistance(ToothPolicy::ScaleUp));
+    strict.toothing.refuse_undercut = true;
+    let err = tooth_train(&d.assembly, &d.report.target_points, &strict, &|_| {}).unwrap_err();
     match &err {
         TrainError::Teeth {
             gear,
@@ -391,7 +388,13 @@ fn design_cli_with_module_writes_cad_files_and_refuses_undercut() {
     assert!((got - want).abs() < 0.01, "{got} vs {want}");
 
     let bad = Command::new(env!("CARGO_BIN_EXE_ncgear"))
-        .args(["design", traj.to_str().unwrap(), "--module", "3"])
+        .args([
+            "design",
+            traj.to_str().unwrap(),
+            "--module",
+            "3",
+            "--no-undercut",
+        ])
         .arg("--out")
         .arg(dxf_dir("design_g1_m3_refused"))
         .output()

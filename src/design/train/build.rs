@@ -183,6 +183,7 @@ fn train_from(
                 thin_right_mm: 0.0,
                 chord_tol_mm: tol,
                 open_pitch_mm: None,
+                refuse_undercut: opts.toothing.refuse_undercut,
             },
             choice,
         )

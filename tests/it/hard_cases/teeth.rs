@@ -95,6 +95,7 @@ fn extreme_pair_laws_give_a_pair_or_the_typed_error_their_geometry_dictates() {
         ("phi - 0.95*sin(phi)", 30, Want::NoCutter),
         ("phi + 0.2*sin(phi)^3", 24, Want::NoCutter),
         ("phi - 0.1*sin(8*phi)", 40, Want::NoCutter),
+        ("phi + 0.0*phi", 12, Want::Pair),
         ("phi + 0.0*phi", 12, Want::Undercut(18)),
         ("phi - 1.2*sin(phi)", 30, Want::Law),
     ] {
@@ -102,6 +103,8 @@ fn extreme_pair_laws_give_a_pair_or_the_typed_error_their_geometry_dictates() {
         // A short mesh verification (12 driver positions): the full one is in tests/it/teeth.rs.
         let mut opts = PairOptions::new(Some(teeth), 1.0);
         opts.toothing.verify_steps = 12;
+        // The undercut row is the strict option's refusal; the same circle is cut by default.
+        opts.toothing.refuse_undercut = matches!(want, Want::Undercut(_));
         let got = design_pair(&Law::Motion(e), &opts);
         match (want, got) {
             (Want::Pair, Ok(d)) => {
