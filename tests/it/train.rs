@@ -164,6 +164,26 @@ fn undercut_at_a_larger_module_is_refused_with_the_limit() {
     assert!(err.to_string().starts_with("sun: ") || err.to_string().contains("undercut"));
 }
 
+/// Without the strict option the same module is cut as the rack cuts it (issue 19): the sun's
+/// undercut is reported per flank and both meshes still roll through a carrier turn without
+/// interference.
+#[test]
+fn undercut_at_a_larger_module_is_cut_and_meshes() {
+    let d = g1_design();
+    let mut opts = TrainTeethOptions::new(3.0);
+    opts.toothing.verify_steps = 24;
+    let t = tooth_train(&d.assembly, &d.report.target_points, &opts, &|_| {}).unwrap();
+    let u = &t.report.undercut.sun;
+    assert!(u.undercut_count > 0 && u.max_undercut_mm > 0.0, "{u:?}");
+    assert!(u.max_contact_ratio_loss > 0.0 && u.min_root_thickness_mm.unwrap() > 0.0);
+    let mesh = t.report.mesh.unwrap();
+    for m in [&mesh.sun_intermediate, &mesh.intermediate_planet] {
+        assert_eq!(m.interference_steps, 0, "{m:?}");
+        assert!(m.max_overlap_area_mm2 <= 1e-9, "{m:?}");
+        assert!(m.max_transmission_error_deg <= 1e-5, "{m:?}");
+    }
+}
+
 /// §12.1 option 3: keep the gears, adjust the module — the trajectory does not move.
 #[test]
 fn adjusting_the_module_keeps_the_trajectory() {
