@@ -359,3 +359,70 @@ fn shaper_on_a_concave_circular_arc_cuts_the_internal_involute() {
     }
     assert!(n > 50, "{n}");
 }
+
+/// Issue 18's closed form on a literally straight pitch line: over the flat side of a
+/// D-shaped pitch curve (`r = d/cos θ` for |θ| ≤ 0.3, the line x = d) a shaper cutter of any
+/// size (forced: 40 and 100 teeth) cuts the rack's own straight flanks — every flank point of the
+/// basic rack profile, `P(s_f) + t·(sin α·T ∓ cos α·N)` from 0.8·ha above to 0.9·h_straight below
+/// the line, lies on the shaper-cut outline within the chord tolerance. (The blend into the circle
+/// is slightly concave, so only a shaper cuts this gear.)
+#[test]
+fn shaper_on_a_straight_pitch_line_cuts_the_rack_profile() {
+    let d = 20.0;
+    let smooth = |u: f64| {
+        let u = u.clamp(0.0, 1.0);
+        u * u * u * (10.0 - 15.0 * u + 6.0 * u * u)
+    };
+    // The flat side, blended (quintic smoothstep over 0.3 … 1.0 rad) into a circle of 25 mm
+    // (|ρ| ≥ 6 mm elsewhere: no undercut at this module).
+    let r = |t: f64| {
+        let t = (t + std::f64::consts::PI).rem_euclid(std::f64::consts::TAU) - std::f64::consts::PI;
+        let w = smooth((t.abs() - 0.3) / 0.7);
+        (1.0 - w) * d / t.cos().max(0.5) + w * 25.0
+    };
+    let c = PitchCurve::from_fn(8192, r).unwrap();
+    let m = 0.25;
+    let tc = tooth_count(&c, m, ToothPolicy::Nearest, 1e-10).unwrap();
+    let c = scale_curve(&c, tc.scale).unwrap();
+    let frame = ArcFrame::new(&c);
+    let rack = RackParams::default();
+    let opts = OutlineOptions::new(0.0, 1e-6);
+    let (sa, ca) = rack.alpha_rad().sin_cos();
+    let p = frame.length_mm() / f64::from(tc.z);
+    let hs = rack.straight_depth() * m;
+    let ha = rack.addendum() * m;
+    // The straight stretch in arc length: |θ| ≤ 0.3 on the line x = d·scale, tan θ·d·scale.
+    let half = (0.3f64).tan() * d * tc.scale;
+    for zc in [40u32, 100] {
+        let o = generate_with_cutter(&frame, &rack, tc.z, m, zc, &opts).unwrap();
+        let mut want = Vec::new();
+        for k in 0..tc.z as usize {
+            for sign in [-1.0, 1.0] {
+                let sf = (k as f64 * p + sign * 0.25 * p + 0.5 * frame.length_mm())
+                    .rem_euclid(frame.length_mm())
+                    - 0.5 * frame.length_mm();
+                // The whole generating range (the cutter's reach, ±(ha + hs)/(sin α cos α)) on
+                // the line.
+                if sf.abs() + (ha + hs) / (sa * ca) + 2.0 * m > half {
+                    continue;
+                }
+                let f = frame.at(sf);
+                for j in 0..=20 {
+                    let eta = 0.8 * ha - (0.8 * ha + 0.9 * hs) * f64::from(j) / 20.0;
+                    // Depth η along the normal, tangential offset −sign·η·tan α.
+                    let t_off = -sign * eta * sa / ca;
+                    want.push([
+                        f.p[0] + t_off * f.t[0] + eta * f.n[0],
+                        f.p[1] + t_off * f.t[1] + eta * f.n[1],
+                    ]);
+                }
+            }
+        }
+        assert!(want.len() >= 4 * 21, "z_c = {zc}: {} points", want.len());
+        let mut closed = o.points_mm.clone();
+        closed.push(closed[0]);
+        let dist = ncgear::math::polyline::distances_to_polyline(&want, &closed);
+        let worst = dist.iter().copied().fold(0.0, f64::max);
+        assert!(worst < 1e-6, "z_c = {zc}: worst {worst} mm");
+    }
+}
