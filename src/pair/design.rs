@@ -1,6 +1,5 @@
 //! Designing the toothed pair: options, scaled pitch curves with mating phases, rack-generated
 //! outlines, the mesh verification, and the assembly sheet.
-use super::sector::SectorReport;
 use super::{Law, Motion, PairError};
 use crate::export::{Contour, Marker, Sheet};
 use crate::geometry::pitch::PitchCurve;
@@ -11,7 +10,7 @@ use crate::teeth::{ArcFrame, Outline, OutlineOptions, ToothingOptions, UndercutR
 use serde::Serialize;
 use std::f64::consts::{PI, TAU};
 
-/// Options of [`design_pair`]; [`PairOptions::new`] and [`Default`] fill the defaults named on
+/// Options of [`super::design_pair`]; [`PairOptions::new`] and [`Default`] fill the defaults named on
 /// each field.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 #[non_exhaustive]
@@ -31,7 +30,7 @@ pub struct PairOptions {
     /// Samples per turn of the law and of the pitch curves. Default 4096.
     pub samples: usize,
     /// An open (incomplete) pair over the driver interval `[start, end]`, rad, with `teeth` on
-    /// that interval (motion laws only; see [`super::sector`]). Default `None`: closed gears.
+    /// that interval (motion laws only; see [`SectorReport`]). Default `None`: closed gears.
     pub open_sector_rad: Option<[f64; 2]>,
 }
 
@@ -55,6 +54,23 @@ impl Default for PairOptions {
     fn default() -> Self {
         Self::new(None, 1.0)
     }
+}
+
+/// The open sector of an incomplete pair.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct SectorReport {
+    /// Active driver interval `[φs, φe]`, degrees (as given).
+    pub drive_deg: [f64; 2],
+    /// Driven rotation over the active interval, ψ(φe) − ψ(φs), degrees.
+    pub driven_advance_deg: f64,
+    /// Pitches on the active driver arc (arc / πm; within 0.5 of the requested teeth).
+    pub active_teeth: f64,
+    /// Whole teeth kept on each sector `[driver, driven]` (active teeth and padding).
+    pub kept_teeth: [u32; 2],
+    /// Hub radius of each gear's body beyond the sector, mm.
+    pub hub_radius_mm: [f64; 2],
+    /// Driver angle of the outlines' φ = 0 and of the assembly sheet (the padded start), degrees.
+    pub assembly_at_deg: f64,
 }
 
 /// A designed pair.
@@ -100,19 +116,8 @@ pub struct PairDesign {
     pub sector: Option<SectorReport>,
 }
 
-/// Designs the toothed pair: pitch curves scaled so that `L = zπm`, rack-generated outlines with
-/// the mating phase (driver tooth 0 centred at the contact of φ = 0, a driven space facing it),
-/// and the mesh verification over one turn.
-pub fn design_pair(law: &Law, opts: &PairOptions) -> Result<PairDesign, PairError> {
-    design_pair_with_progress(law, opts, &|_| {})
-}
-
-/// [`design_pair`] reporting mesh-verification progress (`progress(1)` per driver position).
-pub fn design_pair_with_progress(
-    law: &Law,
-    opts: &PairOptions,
-    progress: &(dyn Fn(u64) + Sync),
-) -> Result<PairDesign, PairError> {
+/// Checks the options every pair needs: module, samples, backlash.
+pub(super) fn validate_options(opts: &PairOptions) -> Result<(), PairError> {
     let t = &opts.toothing;
     let m = t.module_mm;
     if !(m.is_finite() && m > 0.0) {
@@ -136,14 +141,18 @@ pub fn design_pair_with_progress(
             expected: "finite and > 0",
         });
     }
-    if let Some(range) = opts.open_sector_rad {
-        return match law {
-            Law::Motion(e) => super::sector::design_open(e, range, opts, progress),
-            _ => Err(PairError::Law(
-                "an open sector takes a motion law ψ(φ) (not a centrode or a table)".into(),
-            )),
-        };
-    }
+    Ok(())
+}
+
+/// The closed pair (module doc of [`super::entry`]): pitch curves scaled so that `L = zπm`,
+/// outlines with the mating phase, the mesh verification over the q driver turns of a cycle.
+pub(super) fn design_closed(
+    law: &Law,
+    opts: &PairOptions,
+    progress: &(dyn Fn(u64) + Sync),
+) -> Result<PairDesign, PairError> {
+    let t = &opts.toothing;
+    let m = t.module_mm;
     let motion = Motion::from_law_advancing(law, opts.samples, opts.centrode_advance_rad)?;
     let (p_turns, q_turns) = motion.turn_fraction().ok_or_else(|| {
         PairError::Law(format!(

@@ -9,16 +9,17 @@
 //! (`2π`: equal tooth counts; `π`: 1:2); an open law is used over a driver interval only
 //! (an incomplete pair, [`SectorReport`]).
 mod design;
+mod entry;
 pub mod expr;
 mod law;
 mod motion;
 mod sector;
 
-pub use design::{PairDesign, PairOptions, design_pair, design_pair_with_progress};
+pub use design::{PairDesign, PairOptions, SectorReport};
+pub use entry::{design_pair, design_pair_with_progress};
 pub use expr::{Expr, ExprError};
 pub use law::Law;
 pub use motion::Motion;
-pub use sector::SectorReport;
 
 use crate::teeth::TeethError;
 

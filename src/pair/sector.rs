@@ -22,13 +22,12 @@
 //!    hub circle one module below the lowest kept root: a star-shaped simple outline.
 //! 5. **Check.** The trimmed fine outlines are rolled over the active interval
 //!    ([`MeshSpan::Interval`]), both ends included.
-use super::design::{PairDesign, PairOptions, Toothed};
+use super::design::{PairDesign, PairOptions, SectorReport, Toothed};
 use super::{Expr, PairError};
 use crate::geometry::pitch::PitchCurve;
 use crate::math::periodic::invert_increasing;
 use crate::teeth::UndercutReport;
 use crate::teeth::mesh::{MeshCheck, MeshSpan, verify_mesh};
-use serde::Serialize;
 use std::f64::consts::{PI, TAU};
 
 /// Padding beyond each end of the active interval, in mean pitches of driver angle.
@@ -36,23 +35,6 @@ const PAD_PITCHES: f64 = 2.5;
 /// Smallest closing stretch of the carrier (driver and driven), rad: the padded sector may span
 /// at most 2π − 45° of either gear.
 const MIN_GAP_RAD: f64 = PI / 4.0;
-
-/// The open sector of an incomplete pair.
-#[derive(Debug, Clone, PartialEq, Serialize)]
-pub struct SectorReport {
-    /// Active driver interval `[φs, φe]`, degrees (as given).
-    pub drive_deg: [f64; 2],
-    /// Driven rotation over the active interval, ψ(φe) − ψ(φs), degrees.
-    pub driven_advance_deg: f64,
-    /// Pitches on the active driver arc (arc / πm; within 0.5 of the requested teeth).
-    pub active_teeth: f64,
-    /// Whole teeth kept on each sector `[driver, driven]` (active teeth and padding).
-    pub kept_teeth: [u32; 2],
-    /// Hub radius of each gear's body beyond the sector, mm.
-    pub hub_radius_mm: [f64; 2],
-    /// Driver angle of the outlines' φ = 0 and of the assembly sheet (the padded start), degrees.
-    pub assembly_at_deg: f64,
-}
 
 /// The padded law of an open sector in `t = φ − u0 ∈ [0, W]`: ψ̃(t) = ψ(u0 + t) − ψ(u0) and its
 /// ratio with two derivatives.

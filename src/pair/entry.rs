@@ -1,0 +1,34 @@
+//! The pair designer's entry points: check the options, then design the closed pair (equal or
+//! unequal tooth counts, [`super::design`]) or the open sector ([`super::sector`]).
+use super::design::{PairDesign, PairOptions, design_closed, validate_options};
+use super::{Law, PairError};
+
+/// Designs the toothed pair: pitch curves scaled so that `L = zπm` (an open sector: z pitches on
+/// its active arc), outlines with the mating phase (driver tooth 0 centred at the contact of
+/// φ = 0, a driven space facing it), and the mesh verification over a full cycle (the q driver
+/// turns of a p/q ratio) or over the sector's interval.
+///
+/// # Errors
+/// [`PairError`]: bad options, a law without a closed (or open) pair, teeth that cannot be cut.
+pub fn design_pair(law: &Law, opts: &PairOptions) -> Result<PairDesign, PairError> {
+    design_pair_with_progress(law, opts, &|_| {})
+}
+
+/// [`design_pair`] reporting mesh-verification progress (`progress(1)` per driver position).
+///
+/// # Errors
+/// As [`design_pair`].
+pub fn design_pair_with_progress(
+    law: &Law,
+    opts: &PairOptions,
+    progress: &(dyn Fn(u64) + Sync),
+) -> Result<PairDesign, PairError> {
+    validate_options(opts)?;
+    match (opts.open_sector_rad, law) {
+        (None, _) => design_closed(law, opts, progress),
+        (Some(range), Law::Motion(e)) => super::sector::design_open(e, range, opts, progress),
+        (Some(_), _) => Err(PairError::Law(
+            "an open sector takes a motion law ψ(φ) (not a centrode or a table)".into(),
+        )),
+    }
+}
