@@ -116,6 +116,11 @@ pub struct PairDesign {
     pub sector: Option<SectorReport>,
 }
 
+/// Largest change of ψ(φ) − kφ over the driven gear's period (rad) accepted as closing it: the
+/// spline of the law reproduces a periodic excess to ≈ 1e-12 rad, a non-closing law misses by
+/// its own amplitude.
+const DRIVEN_CLOSURE_TOL_RAD: f64 = 1e-8;
+
 /// Checks the options every pair needs: module, samples, backlash.
 pub(super) fn validate_options(opts: &PairOptions) -> Result<(), PairError> {
     let t = &opts.toothing;
@@ -162,7 +167,7 @@ pub(super) fn design_closed(
         ))
     })?;
     let defect = motion.driven_closure_defect_rad(p_turns, opts.samples);
-    if defect > 1e-8 {
+    if defect > DRIVEN_CLOSURE_TOL_RAD {
         return Err(PairError::Law(format!(
             "the driven gear does not close: it turns {p_turns}/{q_turns} per driver turn, so \
              ψ(φ) − {k:.6}·φ must repeat every {per:.4}°, but it changes by {defect:.3e} rad over \

@@ -10,6 +10,12 @@ use crate::geometry::pitch::PitchCurve;
 use crate::math::periodic::{PeriodicSpline, invert_increasing, spectral_integral, uniform_angles};
 use std::f64::consts::{PI, TAU};
 
+/// Largest relative mismatch of i(0) and i(2π) of a motion law that still closes the driver.
+const RATIO_PERIOD_TOL: f64 = 1e-9;
+/// Relative tolerance and largest denominator of the turn ratio read as a fraction p/q.
+const FRACTION_TOL: f64 = 1e-9;
+const FRACTION_MAX_DENOMINATOR: u32 = 360;
+
 /// The motion of the pair: ψ(φ) and i(φ) at unit centre distance.
 #[derive(Debug, Clone)]
 pub struct Motion {
@@ -81,7 +87,7 @@ impl Motion {
                     )));
                 }
                 let (i0, i1) = (d.eval(0.0), d.eval(TAU));
-                if (i1 - i0).abs() > 1e-9 * i0.abs().max(1.0) {
+                if (i1 - i0).abs() > RATIO_PERIOD_TOL * i0.abs().max(1.0) {
                     return Err(PairError::Law(format!(
                         "dψ/dφ is {i0:.9} at φ = 0 but {i1:.9} at φ = 360°: the ratio must repeat every \
                          driver turn for the driver gear to close"
@@ -196,9 +202,9 @@ impl Motion {
     #[must_use]
     pub fn turn_fraction(&self) -> Option<(u32, u32)> {
         let k = self.turn_ratio();
-        (1..=360u32).find_map(|q| {
+        (1..=FRACTION_MAX_DENOMINATOR).find_map(|q| {
             let p = (k * f64::from(q)).round();
-            ((p >= 1.0) && (k * f64::from(q) - p).abs() <= 1e-9 * k * f64::from(q))
+            ((p >= 1.0) && (k * f64::from(q) - p).abs() <= FRACTION_TOL * k * f64::from(q))
                 .then_some((p as u32, q))
         })
     }

@@ -35,6 +35,13 @@ const PAD_PITCHES: f64 = 2.5;
 /// Smallest closing stretch of the carrier (driver and driven), rad: the padded sector may span
 /// at most 2π − 45° of either gear.
 const MIN_GAP_RAD: f64 = PI / 4.0;
+/// Driver positions where the padded law's ratio is checked (> 0, finite), and where the
+/// active interval's ratio range is sampled for the report.
+const RATIO_CHECKS: u32 = 2048;
+const RATIO_RANGE_SAMPLES: u32 = 512;
+/// Gauss–Legendre pieces of the driver's arc-length integral (5 points each: the smooth speed is
+/// integrated to rounding).
+const ARC_PIECES: u32 = 256;
 
 /// The padded law of an open sector in `t = φ − u0 ∈ [0, W]`: ψ̃(t) = ψ(u0 + t) − ψ(u0) and its
 /// ratio with two derivatives.
@@ -76,8 +83,8 @@ impl Padded {
                 (TAU - MIN_GAP_RAD).to_degrees()
             )));
         }
-        for j in 0..=2048 {
-            let f = u0 + width * f64::from(j) / 2048.0;
+        for j in 0..=RATIO_CHECKS {
+            let f = u0 + width * f64::from(j) / f64::from(RATIO_CHECKS);
             let i = d1.eval(f);
             if !(i.is_finite() && i > 0.0) {
                 return Err(PairError::Law(format!(
@@ -234,7 +241,7 @@ pub(super) fn design_open(
     };
     // Arc of the driver between the contacts of t0 and t1 (unit centre distance).
     let arc = |t0: f64, t1: f64| {
-        let k = 256;
+        let k = ARC_PIECES;
         let h = (t1 - t0) / f64::from(k);
         (0..k)
             .map(|j| gauss5(&speed, t0 + h * f64::from(j), t0 + h * f64::from(j + 1)))
@@ -309,8 +316,8 @@ pub(super) fn design_open(
         None
     };
     let active_advance = e.eval(range[1]) - e.eval(range[0]);
-    let ratios: Vec<f64> = (0..=512)
-        .map(|j| law.ratio(ta + (tb - ta) * f64::from(j) / 512.0)[0])
+    let ratios: Vec<f64> = (0..=RATIO_RANGE_SAMPLES)
+        .map(|j| law.ratio(ta + (tb - ta) * f64::from(j) / f64::from(RATIO_RANGE_SAMPLES))[0])
         .collect();
     let kept_driver: Vec<usize> = (1..k_end).map(|j| (n_teeth - 1 - j) as usize).collect();
     let kept_driven: Vec<usize> = (0..k_end as usize).collect();
