@@ -371,13 +371,7 @@ fn kept_min_radius(pts: &[[f64; 2]], cut: [f64; 2]) -> f64 {
 /// Keeps the flanks of the kept teeth and recounts the report.
 fn keep_flanks(u: &mut UndercutReport, teeth: &[usize]) {
     u.flanks.retain(|f| teeth.contains(&f.tooth));
-    u.undercut_count = u.flanks.iter().filter(|f| f.undercut).count();
-    u.concave_count = u.flanks.iter().filter(|f| f.concave).count();
-    u.min_rho_mm = u
-        .flanks
-        .iter()
-        .map(|f| f.min_rho_mm)
-        .fold(f64::INFINITY, f64::min);
+    u.summarise();
 }
 
 /// The sector outline: the run of the closed CCW star-shaped outline `pts` within the polar

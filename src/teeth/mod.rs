@@ -273,9 +273,11 @@ pub struct UndercutReport {
 }
 
 impl UndercutReport {
-    /// Recomputes the counts and extremes from the flanks.
+    /// Recomputes the counts and extremes from the flanks (all but the rack's `required_rho_mm`
+    /// and `max_module_mm`, which come from the whole curve).
     pub(crate) fn summarise(&mut self) {
         let f = &self.flanks;
+        self.min_rho_mm = f.iter().map(|f| f.min_rho_mm).fold(f64::INFINITY, f64::min);
         self.undercut_count = f.iter().filter(|f| f.undercut).count();
         self.concave_count = f.iter().filter(|f| f.concave).count();
         self.max_undercut_mm = f.iter().map(|f| f.undercut_mm).fold(0.0, f64::max);

@@ -262,10 +262,7 @@ pub(super) fn report_on(
     let mut report = UndercutReport {
         undercut_count: 0,
         concave_count: 0,
-        min_rho_mm: flanks
-            .iter()
-            .map(|f| f.min_rho_mm)
-            .fold(f64::INFINITY, f64::min),
+        min_rho_mm: f64::INFINITY,
         required_rho_mm: required,
         max_module_mm: m * rho_convex / required,
         flanks,
