@@ -132,13 +132,25 @@ pub fn base_frequency(omegas: &[f64], max_den: u64) -> Option<f64> {
     (g > 0).then(|| w0 * g as f64 / lcm_q as f64)
 }
 
+/// Grid points summed per block (the block of `f` and its table windows stay in L1).
+const BLOCK: usize = 256;
+
 /// A reusable sampling grid for one set of frequencies (sin/cos tables precomputed), so that
 /// many phase/amplitude combinations can be evaluated fast (one table pass per evaluation).
+///
+/// With `ω_k = m_k·ω_g` and `n` points per period, `sin(ω_k t_j) = sin(2π (m_k j mod n)/n)`
+/// repeats every `p_k = n / gcd(m_k, n)` points (the paper's 525 rad/s term every 8 of 4 200):
+/// each table holds one repeat plus a block, so that any block of the grid reads a contiguous
+/// window starting at `j₀ mod p_k`, and the tables stay in cache instead of streaming `8n`
+/// values per evaluation. The angles are reduced exactly on integers before the sine.
 #[derive(Debug, Clone)]
 pub struct PeakGrid {
     omegas: Vec<f64>,
     period: f64,
     h: f64,
+    n: usize,
+    /// `p_k` of every term.
+    repeat: Vec<usize>,
     sin: Vec<Vec<f64>>,
     cos: Vec<Vec<f64>>,
     opts: PeakOptions,
@@ -171,22 +183,41 @@ impl PeakGrid {
             None => (1.0, 1),
         };
         let h = period / n as f64;
-        let (sin, cos) = if commensurate && wmax > 0.0 {
-            omegas
-                .iter()
-                .map(|w| {
-                    (0..n)
-                        .map(|j| (w * j as f64 * h).sin_cos())
-                        .unzip::<f64, f64, Vec<f64>, Vec<f64>>()
-                })
-                .unzip()
-        } else {
-            (Vec::new(), Vec::new())
+        let grid = commensurate && wmax > 0.0;
+        // m_k = ω_k/ω_g, an integer to the base's 1e-9 (zero for a constant term).
+        let multiples: Vec<u64> = match base {
+            Some(g) if grid => omegas.iter().map(|w| (w / g).round() as u64).collect(),
+            _ => Vec::new(),
         };
+        let nn = n as u64;
+        let repeat: Vec<usize> = multiples
+            .iter()
+            .map(|&m| (nn / gcd(u128::from(m % nn), u128::from(nn)) as u64) as usize)
+            .collect();
+        let (sin, cos) = multiples
+            .iter()
+            .zip(&repeat)
+            .map(|(&m, &p)| {
+                (0..p + BLOCK)
+                    .map(|i| {
+                        // (m·i mod n)/n of a turn, taken into [−½, ½) before the sine.
+                        let a = (m % nn) * (i as u64 % nn) % nn;
+                        let a = if 2 * a >= nn {
+                            a as f64 - n as f64
+                        } else {
+                            a as f64
+                        };
+                        (TAU * a / n as f64).sin_cos()
+                    })
+                    .unzip::<f64, f64, Vec<f64>, Vec<f64>>()
+            })
+            .unzip();
         Self {
             omegas: omegas.to_vec(),
             period,
             h,
+            n: if grid { n } else { 0 },
+            repeat,
             sin,
             cos,
             opts,
@@ -194,10 +225,17 @@ impl PeakGrid {
         }
     }
 
+    /// `(sin ω_k t_j, cos ω_k t_j)` from the tables.
+    fn table(&self, k: usize, j: usize) -> (f64, f64) {
+        // n < 2³² (at most 2·10⁷ points): a 32-bit division is several times faster.
+        let i = (j as u32 % self.repeat[k] as u32) as usize;
+        (self.sin[k][i], self.cos[k][i])
+    }
+
     /// Number of grid points.
     #[must_use]
     pub fn len(&self) -> usize {
-        self.sin.first().map_or(0, Vec::len)
+        self.n
     }
 
     /// True when there is no time grid (all frequencies zero or incommensurate).
@@ -206,11 +244,12 @@ impl PeakGrid {
         self.len() == 0
     }
 
-    /// Local maximum of |f| in `[t_j − h, t_j + h]`: Newton on f′ (f″ from the same sums), falling
+    /// Local maximum of |f| in `[t_j − h, t_j + h]` from `t_j + s0·h` (the interpolant's maximum,
+    /// or the middle): Newton on f′ (f″ from the same sums), falling
     /// back to golden-section search if a step leaves the bracket or f″ has the wrong sign.
-    fn refine(&self, amps: &[f64], phases: &[f64], j: usize, tol: f64) -> (f64, f64) {
+    fn refine(&self, amps: &[f64], phases: &[f64], j: usize, s0: f64, tol: f64) -> (f64, f64) {
         let (lo, hi) = ((j as f64 - 0.5) * self.h, (j as f64 + 1.5) * self.h);
-        let mut t = (j as f64 + 0.5) * self.h;
+        let mut t = (j as f64 + s0) * self.h;
         for _ in 0..30 {
             let (mut f, mut d1, mut d2) = (0.0, 0.0, 0.0);
             for ((a, p), w) in amps.iter().zip(phases).zip(&self.omegas) {
@@ -244,10 +283,140 @@ impl PeakGrid {
             .sum()
     }
 
+    /// The grid pass: `f` on every grid point (`f_j = Σ_k cs_k sin(ω_k t_j) + sn_k cos(ω_k t_j)`),
+    /// its largest magnitude, and the grid intervals (start index, increasing) with an end point
+    /// where `|f| + loss` reaches that maximum. Compiled twice: for the baseline target and, where
+    /// the CPU has it, for AVX2 (four lanes instead of two). Neither uses FMA and Rust never
+    /// contracts `a * b + c`, so both compute the same roundings in the same order: the values are
+    /// bit-identical on every machine.
+    fn grid_pass(&self, cs: &[f64], sn: &[f64], loss: f64, f: &mut [f64]) -> (f64, Vec<usize>) {
+        #[cfg(target_arch = "x86_64")]
+        if std::arch::is_x86_feature_detected!("avx2") {
+            // SAFETY: the CPU supports AVX2 (checked just above).
+            return unsafe { self.grid_pass_avx2(cs, sn, loss, f) };
+        }
+        self.grid_pass_body(cs, sn, loss, f)
+    }
+
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2")]
+    unsafe fn grid_pass_avx2(
+        &self,
+        cs: &[f64],
+        sn: &[f64],
+        loss: f64,
+        f: &mut [f64],
+    ) -> (f64, Vec<usize>) {
+        self.grid_pass_body(cs, sn, loss, f)
+    }
+
+    #[inline(always)]
+    fn grid_pass_body(
+        &self,
+        cs: &[f64],
+        sn: &[f64],
+        loss: f64,
+        f: &mut [f64],
+    ) -> (f64, Vec<usize>) {
+        let n = f.len();
+        match cs.len() {
+            1 => self.sum_terms::<1>(cs, sn, f),
+            2 => self.sum_terms::<2>(cs, sn, f),
+            3 => self.sum_terms::<3>(cs, sn, f),
+            4 => self.sum_terms::<4>(cs, sn, f),
+            5 => self.sum_terms::<5>(cs, sn, f),
+            6 => self.sum_terms::<6>(cs, sn, f),
+            _ => {
+                // Term by term over each block (the same additions in the same order as the
+                // fixed-count kernels: bit-identical sums).
+                for (b, fb) in f.chunks_mut(BLOCK).enumerate() {
+                    for k in 0..cs.len() {
+                        let o = b * BLOCK % self.repeat[k];
+                        let r = o..o + fb.len();
+                        let (s, c) = (&self.sin[k][r.clone()], &self.cos[k][r]);
+                        let (ck, sk) = (cs[k], sn[k]);
+                        for ((fj, s), c) in fb.iter_mut().zip(s).zip(c) {
+                            *fj += ck * s + sk * c;
+                        }
+                    }
+                }
+            }
+        }
+        // The largest |f| of every block of 16 points (four independent lanes, so that the
+        // maximum vectorises; the same value as a serial fold, the grid values being finite),
+        // then the best grid value.
+        const BLK: usize = 16;
+        // Plain loops, no closures: a closure would be compiled apart from the AVX2 caller.
+        let mut bmax = Vec::with_capacity(n.div_ceil(BLK));
+        for fb in f.chunks(BLK) {
+            let mut lanes = [0.0_f64; 4];
+            let mut quads = fb.chunks_exact(4);
+            for q in &mut quads {
+                for i in 0..4 {
+                    let a = q[i].abs();
+                    lanes[i] = if a > lanes[i] { a } else { lanes[i] };
+                }
+            }
+            let mut m = lanes[0].max(lanes[1]).max(lanes[2].max(lanes[3]));
+            for v in quads.remainder() {
+                m = m.max(v.abs());
+            }
+            bmax.push(m);
+        }
+        let gmax = bmax.iter().copied().fold(0.0_f64, f64::max);
+        // Intervals whose coarse bound reaches the best grid value: `max(|f_j|, |f_j+1|) + loss
+        // ≥ gmax` holds exactly when an end point has `|f| + loss ≥ gmax` (rounded addition is
+        // monotone), so find those few points (only in blocks whose largest value qualifies) and
+        // take the intervals on both sides, in increasing order.
+        let mut cand: Vec<usize> = Vec::new();
+        for (b, fb) in f.chunks(BLK).enumerate() {
+            if bmax[b] + loss >= gmax {
+                for (i, v) in fb.iter().enumerate() {
+                    if v.abs() + loss >= gmax {
+                        let p = b * BLK + i;
+                        cand.extend([if p == 0 { n - 1 } else { p - 1 }, p]);
+                    }
+                }
+            }
+        }
+        (gmax, cand)
+    }
+
+    /// `f_j = (…((0 + t_0j) + t_1j) + …) + t_(K−1)j` with `t_kj = cs_k sin(ω_k t_j) + sn_k cos(ω_k t_j)`,
+    /// the terms summed in a register per grid point (one store per point instead of one load
+    /// and store per term): the same additions in the same order as the blocked loop.
+    #[inline(always)]
+    fn sum_terms<const K: usize>(&self, cs: &[f64], sn: &[f64], f: &mut [f64]) {
+        let ck: [f64; K] = std::array::from_fn(|k| cs[k]);
+        let sk: [f64; K] = std::array::from_fn(|k| sn[k]);
+        for (b, fb) in f.chunks_mut(BLOCK).enumerate() {
+            let len = fb.len();
+            let o: [usize; K] = std::array::from_fn(|k| b * BLOCK % self.repeat[k]);
+            let s: [&[f64]; K] = std::array::from_fn(|k| &self.sin[k][o[k]..o[k] + len]);
+            let c: [&[f64]; K] = std::array::from_fn(|k| &self.cos[k][o[k]..o[k] + len]);
+            for (j, fj) in fb.iter_mut().enumerate() {
+                let mut acc = 0.0;
+                for k in 0..K {
+                    acc += ck[k] * s[k][j] + sk[k] * c[k][j];
+                }
+                *fj = acc;
+            }
+        }
+    }
+
     /// Certified `max_t |Σ A_k sin(ω_k t + φ_k)|` for amplitudes and phases matching the grid's
     /// frequencies.
     #[must_use]
     pub fn peak(&self, amps: &[f64], phases: &[f64]) -> Peak {
+        thread_local! {
+            // The grid values of the last evaluation on this thread: reused, not reallocated
+            // and zeroed per evaluation (every value is overwritten by the grid pass).
+            static GRID_VALUES: std::cell::RefCell<Vec<f64>> = const { std::cell::RefCell::new(Vec::new()) };
+        }
+        GRID_VALUES.with_borrow_mut(|f| self.peak_on(amps, phases, f))
+    }
+
+    fn peak_on(&self, amps: &[f64], phases: &[f64], f: &mut Vec<f64>) -> Peak {
         let wmax = self.omegas.iter().copied().fold(0.0, f64::max);
         let m2: f64 = amps
             .iter()
@@ -282,24 +451,16 @@ impl PeakGrid {
             .zip(phases)
             .map(|(a, p)| (a * p.cos(), a * p.sin()))
             .unzip();
-        // f on the grid; f′ from the same tables (d/dt sin(ωt+φ) = ω cos(ωt+φ)) where needed.
-        // Blocks of 256 points stay in L1 while the terms are added (same order of additions,
-        // term by term, as a plain loop: the sums are bit-identical).
-        const BLOCK: usize = 256;
-        let mut f = vec![0.0; n];
-        for (b, fb) in f.chunks_mut(BLOCK).enumerate() {
-            let r = b * BLOCK..b * BLOCK + fb.len();
-            for k in 0..amps.len() {
-                let (s, c) = (&self.sin[k][r.clone()], &self.cos[k][r.clone()]);
-                let (ck, sk) = (cs[k], sn[k]);
-                for ((fj, s), c) in fb.iter_mut().zip(s).zip(c) {
-                    *fj += ck * s + sk * c;
-                }
-            }
-        }
+        let h = self.h;
+        let loss = m2 * h * h / 8.0;
+        f.resize(n, 0.0);
+        let (gmax, mut cand) = self.grid_pass(&cs, &sn, loss, f);
         let deriv = |j: usize| -> f64 {
             (0..amps.len())
-                .map(|k| self.omegas[k] * (cs[k] * self.cos[k][j] - sn[k] * self.sin[k][j]))
+                .map(|k| {
+                    let (s, c) = self.table(k, j);
+                    self.omegas[k] * (cs[k] * c - sn[k] * s)
+                })
                 .sum()
         };
         // Every grid interval has an upper bound of |f| on it: max(|f_j|, |f_j+1|) + M2·h²/8
@@ -307,68 +468,63 @@ impl PeakGrid {
         // M4·h⁴/384 (fine, M4 = Σ|A|ω⁴). Only intervals whose coarse bound reaches the best grid
         // value get the fine bound; they are refined best bound first until the best refined
         // value exceeds every remaining bound, so the result is certified.
-        let h = self.h;
         let m4: f64 = amps
             .iter()
             .zip(&self.omegas)
             .map(|(a, w)| a.abs() * w.powi(4))
             .sum();
         let herm = m4 * h.powi(4) / 384.0;
-        let loss = m2 * h * h / 8.0;
         // `next(j)` = (j + 1) mod n without an integer division per grid point.
         let next = |j: usize| if j + 1 == n { 0 } else { j + 1 };
-        // Four independent lanes so the maximum vectorises (same value as a serial fold: the
-        // grid values are finite).
-        let mut lanes = [0.0_f64; 4];
-        let mut chunks = f.chunks_exact(4);
-        for c in &mut chunks {
-            for (m, v) in lanes.iter_mut().zip(c) {
-                let a = v.abs();
-                *m = if a > *m { a } else { *m };
-            }
-        }
-        let gmax = chunks
-            .remainder()
-            .iter()
-            .fold(lanes.iter().copied().fold(0.0_f64, f64::max), |m, v| {
-                m.max(v.abs())
-            });
-        // Intervals whose coarse bound reaches the best grid value: `max(|f_j|, |f_j+1|) + loss
-        // ≥ gmax` holds exactly when an end point has `|f| + loss ≥ gmax` (rounded addition is
-        // monotone), so find those few points (blocks without one are skipped branch-free) and
-        // take the intervals on both sides, in increasing order.
-        let mut cand: Vec<usize> = Vec::new();
-        for (b, fb) in f.chunks(16).enumerate() {
-            if fb
-                .iter()
-                .fold(false, |any, v| any | (v.abs() + loss >= gmax))
-            {
-                for (i, v) in fb.iter().enumerate() {
-                    if v.abs() + loss >= gmax {
-                        let p = b * 16 + i;
-                        cand.extend([if p == 0 { n - 1 } else { p - 1 }, p]);
-                    }
-                }
-            }
-        }
         cand.sort_unstable();
         cand.dedup();
-        let mut bounds: Vec<(f64, usize)> = cand
+        // A finer coarse bound from the same two values: with |f″| ≤ M2, f lies within
+        // (M2/2)(t − t_j)(t_j+1 − t) of its chord, so |f| ≤ max_s ±(y0 + d s) + c s(1 − s) with
+        // c = M2 h²/2 = 4·loss — at most, and mostly well below, max(|y0|, |y1|) + loss. An
+        // interval below the best grid value by this bound cannot hold the peak (a relative 1e-12
+        // covers the rounding).
+        let c = 4.0 * loss;
+        let chord_bound = |y0: f64, y1: f64| {
+            let g = |y0: f64, d: f64| {
+                let s = (d + c) / (2.0 * c);
+                if s > 0.0 && s < 1.0 {
+                    y0 + (d + c) * (d + c) / (4.0 * c)
+                } else {
+                    y0.max(y0 + d)
+                }
+            };
+            g(y0, y1 - y0).max(g(-y0, y0 - y1))
+        };
+        cand.retain(|&j| {
+            let b = chord_bound(f[j], f[next(j)]);
+            !(b + 1e-12 * gmax.abs() < gmax)
+        });
+        // f′ at the candidates' end points, each computed once (neighbouring intervals share one).
+        let mut last_deriv: (usize, f64) = (usize::MAX, 0.0);
+        let mut deriv_at = |j: usize| {
+            if last_deriv.0 != j {
+                last_deriv = (j, deriv(j));
+            }
+            last_deriv.1
+        };
+        let mut bounds: Vec<(f64, usize, f64)> = cand
             .into_iter()
             .map(|j| {
                 let k = next(j);
                 let (y0, y1) = (f[j], f[k]);
                 if y0 * y1 <= 0.0 {
-                    return (y0.abs().max(y1.abs()) + loss, j);
+                    return (y0.abs().max(y1.abs()) + loss, j, 0.5);
                 }
                 let sg = y0.signum();
-                let (y0, y1, m0, m1) = (sg * y0, sg * y1, sg * deriv(j) * h, sg * deriv(k) * h);
+                let d0 = deriv_at(j);
+                let d1 = deriv_at(k);
+                let (y0, y1, m0, m1) = (sg * y0, sg * y1, sg * d0 * h, sg * d1 * h);
                 let (c2, c3) = (
                     -3.0 * y0 - 2.0 * m0 + 3.0 * y1 - m1,
                     2.0 * y0 + m0 - 2.0 * y1 + m1,
                 );
                 let p = |s: f64| y0 + s * (m0 + s * (c2 + s * c3));
-                let mut mx = y0.max(y1);
+                let (mut mx, mut at) = if y0 >= y1 { (y0, 0.0) } else { (y1, 1.0) };
                 // p′(s) = m0 + 2c2 s + 3c3 s² = 0 in (0, 1).
                 let (qa, qb, qc) = (3.0 * c3, 2.0 * c2, m0);
                 let roots: [f64; 2] = if qa.abs() < 1e-300 {
@@ -385,22 +541,22 @@ impl PeakGrid {
                     }
                 };
                 for r in roots {
-                    if r > 0.0 && r < 1.0 {
-                        mx = mx.max(p(r));
+                    if r > 0.0 && r < 1.0 && p(r) > mx {
+                        (mx, at) = (p(r), r);
                     }
                 }
-                (mx.min(y0.max(y1) + loss) + herm, j)
+                (mx.min(y0.max(y1) + loss) + herm, j, at)
             })
             .collect();
         bounds.sort_by(|a, b| b.0.total_cmp(&a.0));
         let tol = self.opts.tol_relative * TAU / wmax;
         let mut best = (f64::NEG_INFINITY, 0.0);
-        for (rank, &(bound, j)) in bounds.iter().enumerate() {
+        for (rank, &(bound, j, s0)) in bounds.iter().enumerate() {
             if rank >= self.opts.refine_top.max(1) && bound < best.0 {
                 break;
             }
             // The interval's maximum is at an end point or at a stationary point inside.
-            let (t, v) = self.refine(amps, phases, j, tol);
+            let (t, v) = self.refine(amps, phases, j, s0, tol);
             let ends = f[j].abs().max(f[next(j)].abs());
             let (t, v) = if ends > v {
                 (

@@ -38,6 +38,11 @@ pub fn phasor_sum(terms: &[(f64, f64)]) -> (f64, f64) {
 pub struct Analysis {
     pub(super) terms: Vec<ErrorTerm>,
     pub(super) grid: PeakGrid,
+    /// `prefix[n − 1]`: the grid of the first `n < K` terms alone, for the scan's partial sums.
+    /// Their common period can be far shorter than the whole set's (the paper's first term alone
+    /// repeats 75 times in the full period), and a grid over the full period would hold that many
+    /// equal maxima, each refined for the certificate.
+    prefix: Vec<PeakGrid>,
     free: Vec<usize>,
 }
 
@@ -94,6 +99,9 @@ impl Analysis {
         Self {
             terms: file.terms.clone(),
             grid: PeakGrid::new(&omegas, opts),
+            prefix: (1..omegas.len())
+                .map(|n| PeakGrid::new(&omegas[..n], opts))
+                .collect(),
             free,
         }
     }
@@ -122,18 +130,20 @@ impl Analysis {
             .collect()
     }
 
-    /// Certified peak (µm) for assembly angles `betas`; `active` limits the sum to the first terms.
+    /// Certified peak (µm) for assembly angles `betas`; `active` limits the sum to the first terms
+    /// (its period is then the common period of those terms).
     #[must_use]
     pub fn peak(&self, betas: &[f64], active: Option<usize>) -> Peak {
         let ph = self.phases(betas);
-        let n = active.unwrap_or(self.terms.len());
-        let amps: Vec<f64> = self
-            .terms
-            .iter()
-            .enumerate()
-            .map(|(k, t)| if k < n { t.amplitude_um } else { 0.0 })
-            .collect();
-        self.grid.peak(&amps, &ph)
+        let mut amps: Vec<f64> = self.terms.iter().map(|t| t.amplitude_um).collect();
+        match active {
+            Some(n) if n > 0 && n < amps.len() => self.prefix[n - 1].peak(&amps[..n], &ph[..n]),
+            Some(0) => {
+                amps.fill(0.0);
+                self.grid.peak(&amps, &ph)
+            }
+            _ => self.grid.peak(&amps, &ph),
+        }
     }
 
     /// The paper's scan: the free term number `which` (0-based among the free terms) over

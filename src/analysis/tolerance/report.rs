@@ -92,16 +92,23 @@ pub fn analyse(
     let greedy = a.greedy(file.scan_steps);
     let betas: Vec<f64> = greedy.iter().map(|s| s.beta_rad).collect();
     let greedy_peak = a.peak(&betas, None).value;
-    let joint = a.joint(opts.joint_starts, opts.joint_seed, Some(&betas));
-    let (mc_um, p_beats) = match &opts.monte_carlo {
-        Some(o) => {
-            let (s, v) = a
-                .monte_carlo(o, progress)
-                .map_err(|e| ToleranceError::BadValue {
-                    file: "monte carlo".into(),
-                    key: "samples".into(),
-                    message: e.to_string(),
-                })?;
+    // The joint optimum and the Monte Carlo are independent: side by side (rayon), so that the
+    // starts that finish late overlap the samples instead of leaving a core idle.
+    let (joint, mc) = rayon::join(
+        || a.joint(opts.joint_starts, opts.joint_seed, Some(&betas)),
+        || {
+            opts.monte_carlo
+                .as_ref()
+                .map(|o| a.monte_carlo(o, progress))
+        },
+    );
+    let (mc_um, p_beats) = match mc {
+        Some(r) => {
+            let (s, v) = r.map_err(|e| ToleranceError::BadValue {
+                file: "monte carlo".into(),
+                key: "samples".into(),
+                message: e.to_string(),
+            })?;
             let p = v.iter().filter(|x| **x < greedy_peak).count() as f64 / v.len().max(1) as f64;
             (Some(s), Some(p))
         }
