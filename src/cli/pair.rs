@@ -100,13 +100,33 @@ pub fn run(args: Args) -> CliResult {
     let version = DxfVersion::from(args.rack.dxf_version);
     let dxf = args.out.join("pair.dxf");
     let svg = args.out.join("pair.svg");
-    write_dxf(&sheet, &dxf, version, opts.toothing.chord_tol_mm).map_err(runtime_error)?;
-    write_svg(&sheet, &svg, 2.0 * args.module).map_err(runtime_error)?;
-    let mut files = write_points(&sheet, &args.out, "pair_points").map_err(runtime_error)?;
     let step = args.out.join("pair.step");
-    let model = ncgear::output::pair_step(&design, opts.toothing.chord_tol_mm, &args.rack.solids());
-    ncgear::export::step::write_step(&model, &step)
-        .map_err(|e| super::teeth_args::step_failure(&e))?;
+    // The four exports are independent: written side by side (the STEP model is the longest).
+    let ((r_dxf, r_svg), (r_points, r_step)) = rayon::join(
+        || {
+            rayon::join(
+                || write_dxf(&sheet, &dxf, version, opts.toothing.chord_tol_mm),
+                || write_svg(&sheet, &svg, 2.0 * args.module),
+            )
+        },
+        || {
+            rayon::join(
+                || write_points(&sheet, &args.out, "pair_points"),
+                || {
+                    let model = ncgear::output::pair_step(
+                        &design,
+                        opts.toothing.chord_tol_mm,
+                        &args.rack.solids(),
+                    );
+                    ncgear::export::step::write_step(&model, &step)
+                },
+            )
+        },
+    );
+    r_dxf.map_err(runtime_error)?;
+    r_svg.map_err(runtime_error)?;
+    let mut files = r_points.map_err(runtime_error)?;
+    r_step.map_err(|e| super::teeth_args::step_failure(&e))?;
     files.push(step);
     files.push(dxf);
     files.push(svg);

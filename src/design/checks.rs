@@ -7,7 +7,7 @@ use crate::design::compat::Compatibility;
 use crate::design::inverse::Inversion;
 use crate::design::trajectory::{ClosedSpline, Trajectory};
 use crate::geometry::assembly::Assembly;
-use crate::geometry::mechanism::Mechanism;
+use crate::geometry::mechanism::{INVERSE_TOL_RAD, Mechanism};
 use crate::geometry::pitch::PitchCurve;
 use crate::math::polyline::hausdorff_mm;
 use rayon::prelude::*;
@@ -139,10 +139,21 @@ pub(super) fn finish(
     );
     let means = rebuilt.ratio_means();
     let [imin, imax] = mech.ratio.range();
+    // i31 = i(t)/i(S(t)) along the turn, each contact angle S = Φ⁻¹(Φ(t) + π) solved from the
+    // previous one (S′ = i(t)/i(S)): a step or two of Newton instead of a cold start.
+    let mut s_prev = f64::NAN;
     let i31_min = (0..4096)
         .map(|k| {
             let t = TAU * k as f64 / 4096.0;
-            mech.ratio.value(t) / mech.ratio.value(mech.half_turn_map(t))
+            let (fi, it) = mech.ratio.integral_and_value(t);
+            let s = mech.ratio.inverse_integral_from(
+                fi + std::f64::consts::PI,
+                s_prev,
+                INVERSE_TOL_RAD,
+            );
+            let is = mech.ratio.value(s);
+            s_prev = s + TAU / 4096.0 * it / is;
+            it / is
         })
         .fold(f64::INFINITY, f64::min);
     let min_conv = cs.min_convexity_mm2.min(cm.min_convexity_mm2);

@@ -6,6 +6,7 @@ use super::mechanism_preview::{mechanism_chart, mechanism_svg};
 use super::plot::{ChartLabels, Series, line_chart};
 use crate::design::Design;
 use crate::geometry::pitch::PitchCurve;
+use rayon::prelude::*;
 use std::f64::consts::TAU;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
@@ -32,32 +33,8 @@ pub fn pitch_csv(curve: &PitchCurve, n: usize) -> String {
 /// Writes every design output into `dir` (created if needed); returns the paths written.
 pub fn write_design(design: &Design, dir: &Path) -> Result<Vec<PathBuf>, OutputError> {
     create_dir(dir)?;
-    let mut written = Vec::new();
-    let json = serde_json::to_string_pretty(&design.report).map_err(|e| OutputError::Io {
-        path: "design.json".into(),
-        message: e.to_string(),
-    })?;
-    let p = dir.join("design.json");
-    write(&p, &json)?;
-    written.push(p);
     let n = design.report.gears.sun.pitch.len();
     let asm = &design.assembly;
-    for (name, curve) in [
-        ("sun", &asm.sun),
-        ("intermediate", &asm.intermediate),
-        ("planet", &asm.planet),
-    ] {
-        let p = dir.join(format!("{name}.csv"));
-        write(&p, &pitch_csv(curve, n))?;
-        written.push(p);
-    }
-    let mut traced = String::from("x_mm,y_mm\n");
-    for q in &design.traced_mm {
-        let _ = writeln!(traced, "{:.9},{:.9}", q[0], q[1]);
-    }
-    let p = dir.join("traced.csv");
-    write(&p, &traced)?;
-    written.push(p);
     let target: Vec<[f64; 2]> = design
         .inversion
         .points
@@ -69,16 +46,58 @@ pub fn write_design(design: &Design, dir: &Path) -> Result<Vec<PathBuf>, OutputE
             ]
         })
         .collect();
-    let p = dir.join("design.svg");
-    write(&p, &mechanism_svg(asm, &target, &design.traced_mm, 0.0))?;
-    written.push(p);
-    let p = dir.join("design.png");
-    mechanism_chart(asm, &target, &design.traced_mm, 0.0, &p)?;
-    written.push(p);
-    let p = dir.join("ratio.svg");
-    ratio_plot(design, &p)?;
-    written.push(p);
-    Ok(written)
+    type Job<'a> = Box<dyn Fn(&Path) -> Result<(), OutputError> + Sync + 'a>;
+    let jobs: Vec<(&str, Job<'_>)> = vec![
+        (
+            "design.json",
+            Box::new(|p| {
+                let json =
+                    serde_json::to_string_pretty(&design.report).map_err(|e| OutputError::Io {
+                        path: "design.json".into(),
+                        message: e.to_string(),
+                    })?;
+                write(p, &json)
+            }),
+        ),
+        ("sun.csv", Box::new(|p| write(p, &pitch_csv(&asm.sun, n)))),
+        (
+            "intermediate.csv",
+            Box::new(|p| write(p, &pitch_csv(&asm.intermediate, n))),
+        ),
+        (
+            "planet.csv",
+            Box::new(|p| write(p, &pitch_csv(&asm.planet, n))),
+        ),
+        (
+            "traced.csv",
+            Box::new(|p| {
+                let mut traced = String::from("x_mm,y_mm\n");
+                for q in &design.traced_mm {
+                    let _ = writeln!(traced, "{:.9},{:.9}", q[0], q[1]);
+                }
+                write(p, &traced)
+            }),
+        ),
+        (
+            "design.svg",
+            Box::new(|p| write(p, &mechanism_svg(asm, &target, &design.traced_mm, 0.0))),
+        ),
+        (
+            "design.png",
+            Box::new(|p| mechanism_chart(asm, &target, &design.traced_mm, 0.0, p)),
+        ),
+        ("ratio.svg", Box::new(|p| ratio_plot(design, p))),
+    ];
+    // The files are independent: formatted and written side by side (rayon); the list keeps
+    // this order, and the first error in it is returned.
+    jobs.par_iter()
+        .map(|(name, job)| {
+            let p = dir.join(name);
+            job(&p).map(|()| p)
+        })
+        .collect::<Vec<_>>()
+        .into_iter()
+        .collect()
 }
 
 /// Plot of i21 and i31 against the sun angle / carrier angle (degrees after the reference ray).

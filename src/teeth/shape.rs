@@ -112,6 +112,16 @@ impl StarShape {
     }
 }
 
+/// One segment `a → a + d` of the outline in a grid cell: `d2 = |d|²` (computed as the distance
+/// query computes it), `i` its index.
+#[derive(Debug, Clone, Copy)]
+struct SegEntry {
+    a: [f64; 2],
+    d: [f64; 2],
+    d2: f64,
+    i: u32,
+}
+
 /// A closed CCW polyline with a uniform-grid segment index for signed distances near the
 /// boundary, and a polar table for the coarse inside/outside sign away from it.
 #[derive(Debug, Clone)]
@@ -120,7 +130,11 @@ pub struct Shape {
     pub(super) polar: StarShape,
     bands: super::inside::Bands,
     cell: f64,
-    grid: FxHashMap<(i64, i64), Vec<u32>>,
+    /// Occupied cell → its run `(start, len)` in `entries`.
+    grid: FxHashMap<(i64, i64), (u32, u32)>,
+    /// The segments of every occupied cell, cell by cell, with their geometry inline (one
+    /// contiguous read per cell instead of an index list and two vertex look-ups per segment).
+    entries: Vec<SegEntry>,
     /// Longest edge, mm.
     pub(super) max_edge: f64,
 }
@@ -134,7 +148,7 @@ impl Shape {
     ) -> Result<Self, MeshError> {
         let polar = StarShape::new(points_mm, which)?;
         let n = points_mm.len();
-        let mut grid: FxHashMap<(i64, i64), Vec<u32>> = FxHashMap::default();
+        let mut lists: FxHashMap<(i64, i64), Vec<u32>> = FxHashMap::default();
         for i in 0..n {
             let (a, b) = (points_mm[i], points_mm[(i + 1) % n]);
             let (x0, x1) = (
@@ -147,9 +161,25 @@ impl Shape {
             );
             for cx in x0..=x1 {
                 for cy in y0..=y1 {
-                    grid.entry((cx, cy)).or_default().push(i as u32);
+                    lists.entry((cx, cy)).or_default().push(i as u32);
                 }
             }
+        }
+        let mut grid = FxHashMap::default();
+        grid.reserve(lists.len());
+        let mut entries = Vec::with_capacity(lists.values().map(Vec::len).sum());
+        for (key, list) in lists {
+            grid.insert(key, (entries.len() as u32, list.len() as u32));
+            entries.extend(list.into_iter().map(|i| {
+                let (a, b) = (points_mm[i as usize], points_mm[(i as usize + 1) % n]);
+                let d = [b[0] - a[0], b[1] - a[1]];
+                SegEntry {
+                    a,
+                    d,
+                    d2: d[0] * d[0] + d[1] * d[1],
+                    i,
+                }
+            }));
         }
         Ok(Self {
             pts: points_mm.to_vec(),
@@ -157,6 +187,7 @@ impl Shape {
             bands: super::inside::Bands::new(points_mm, cap_mm),
             cell: cap_mm,
             grid,
+            entries,
             max_edge: (0..n)
                 .map(|i| {
                     let (a, b) = (points_mm[i], points_mm[(i + 1) % n]);
@@ -171,6 +202,10 @@ impl Shape {
         &self.pts
     }
 
+    fn cell_entries(&self, (start, len): (u32, u32)) -> &[SegEntry] {
+        &self.entries[start as usize..(start + len) as usize]
+    }
+
     /// Indices of the segments listed in the grid cells that the box of `p`–`q` touches
     /// (sorted, without repeats) into `out`.
     pub(crate) fn segments_near(&self, p: [f64; 2], q: [f64; 2], out: &mut Vec<u32>) {
@@ -181,16 +216,16 @@ impl Shape {
         let boxed = (x1 - x0 + 1).saturating_mul(y1 - y0 + 1);
         if boxed > self.grid.len() as i64 {
             // A long edge over a fine grid: scan the occupied cells instead of the box.
-            for (&(gx, gy), list) in &self.grid {
+            for (&(gx, gy), &run) in &self.grid {
                 if (x0..=x1).contains(&gx) && (y0..=y1).contains(&gy) {
-                    out.extend_from_slice(list);
+                    out.extend(self.cell_entries(run).iter().map(|e| e.i));
                 }
             }
         } else {
             for gx in x0..=x1 {
                 for gy in y0..=y1 {
-                    if let Some(list) = self.grid.get(&(gx, gy)) {
-                        out.extend_from_slice(list);
+                    if let Some(&run) = self.grid.get(&(gx, gy)) {
+                        out.extend(self.cell_entries(run).iter().map(|e| e.i));
                     }
                 }
             }
@@ -213,16 +248,15 @@ impl Shape {
         // segment within one cell of `x`, which is all the exact range needs).
         let mut best = (f64::INFINITY, 0usize, 0.5);
         let scan = |gx: i64, gy: i64, best: &mut (f64, usize, f64)| {
-            if let Some(list) = self.grid.get(&(gx, gy)) {
-                for &i in list {
-                    let (a, b) = (self.pts[i as usize], self.pts[(i as usize + 1) % n]);
-                    let (dx, dy) = (b[0] - a[0], b[1] - a[1]);
-                    let (px, py) = (x[0] - a[0], x[1] - a[1]);
-                    let t = ((px * dx + py * dy) / (dx * dx + dy * dy)).clamp(0.0, 1.0);
+            if let Some(&run) = self.grid.get(&(gx, gy)) {
+                for e in self.cell_entries(run) {
+                    let ([ax, ay], [dx, dy]) = (e.a, e.d);
+                    let (px, py) = (x[0] - ax, x[1] - ay);
+                    let t = ((px * dx + py * dy) / e.d2).clamp(0.0, 1.0);
                     let (ex, ey) = (px - t * dx, py - t * dy);
                     let d2 = ex * ex + ey * ey;
                     if d2 < best.0 {
-                        *best = (d2, i as usize, t);
+                        *best = (d2, e.i as usize, t);
                     }
                 }
             }
