@@ -133,6 +133,12 @@ pub fn process_line(p: &ncgear::teeth::process::GearProcess) -> String {
             p.undercut_flanks,
             p.min_tip_width_mm.unwrap_or(f64::NAN)
         ),
+        _ if p.process == ncgear::teeth::process::Process::WireEdm => format!(
+            "wire EDM / printing: no cutter fits the tightest concave radius {:.2} mm; flanks swept \
+             by the mating gear, narrowest tip {:.3} mm",
+            p.min_concave_rho_mm.unwrap_or(f64::NAN),
+            p.min_tip_width_mm.unwrap_or(f64::NAN)
+        ),
         _ => format!("rack/hob (convex), undercut flanks {}", p.undercut_flanks),
     }
 }

@@ -1,12 +1,18 @@
 //! Designing the toothed pair: options, scaled pitch curves with mating phases, rack-generated
 //! outlines, the mesh verification, and the assembly sheet.
+use super::swept::{PairMotion, mate_pose, positions};
 use super::{Law, Motion, PairError};
 use crate::export::{Contour, Marker, Sheet};
 use crate::geometry::pitch::PitchCurve;
 use crate::math::periodic::uniform_angles;
+use crate::teeth::conjugate::Mate;
 use crate::teeth::mesh::{MeshCheck, MeshReport, MeshSpan, verify_mesh};
-use crate::teeth::process::{CutterChoice, GearProcess, generate_by_process};
-use crate::teeth::{ArcFrame, Outline, OutlineOptions, ToothingOptions, UndercutReport};
+use crate::teeth::process::{
+    CutterChoice, GearProcess, generate_by_process, generate_swept_by_process,
+};
+use crate::teeth::{
+    ArcFrame, Outline, OutlineOptions, TeethError, ToothingOptions, UndercutReport,
+};
 use serde::Serialize;
 use std::f64::consts::{PI, TAU};
 
@@ -207,11 +213,19 @@ pub(super) fn design_closed(
     }
     let z2 = z / p_turns * q_turns;
     let a = a1 * f64::from(z) * PI * m / l1;
+    let psi = |phi: f64| motion.psi(phi);
+    let pair_motion = PairMotion {
+        psi: &psi,
+        a_mm: a,
+        q_turns,
+        backlash_mm: t.backlash_mm,
+    };
     let g = Toothed::new(
         motion.pitch_curves(a, opts.samples)?,
         motion.psi(0.0),
         [z, z2],
         None,
+        Some(&pair_motion),
         opts,
     )?;
     let mesh = if t.verify_steps > 0 {
@@ -223,8 +237,7 @@ pub(super) fn design_closed(
             backlash_mm: t.backlash_mm,
             ..MeshCheck::new(a, m)
         };
-        let [v1, v2] = g.fine_outlines(opts)?;
-        let psi = |phi: f64| motion.psi(phi);
+        let [v1, v2] = g.fine_outlines(opts, Some(&pair_motion))?;
         Some(verify_mesh(&v1, &v2, &psi, &check, progress)?)
     } else {
         None
@@ -253,6 +266,8 @@ pub(super) struct Toothed {
     pub(super) driven: Outline,
     driver_process: GearProcess,
     driven_process: GearProcess,
+    /// The gear no cutter makes (0: driver, 1: driven), swept by its mate.
+    swept: Option<usize>,
 }
 
 impl Toothed {
@@ -266,6 +281,7 @@ impl Toothed {
         psi0_rad: f64,
         z: [u32; 2],
         open_pitch_mm: Option<f64>,
+        motion: Option<&PairMotion<'_>>,
         opts: &PairOptions,
     ) -> Result<Self, PairError> {
         let t = &opts.toothing;
@@ -287,8 +303,42 @@ impl Toothed {
         let driver_phase = open_pitch_mm.map_or(0.0, |p| -f64::from(z[0] - 1) * p);
         let o = [mk(driver_phase), mk(s2 + 0.5 * p)];
         let choice = t.cutter_choice();
-        let (driver, driver_process) = generate_by_process(&f[0], &t.rack, z[0], m, &o[0], choice)?;
-        let (driven, driven_process) = generate_by_process(&f[1], &t.rack, z[1], m, &o[1], choice)?;
+        let cut = |k: usize| generate_by_process(&f[k], &t.rack, z[k], m, &o[k], choice);
+        let (r1, r2) = rayon::join(|| cut(0), || cut(1));
+        // A gear no cutter can make is swept by its mate when the mate is cut (closed pairs).
+        let no_cutter = |r: &Result<_, TeethError>| matches!(r, Err(TeethError::NoCutter { .. }));
+        let sweep_gear = match motion {
+            Some(_) if no_cutter(&r1) && r2.is_ok() => Some(0),
+            Some(_) if no_cutter(&r2) && r1.is_ok() => Some(1),
+            _ => None,
+        };
+        let (r1, r2, swept) = match (sweep_gear, motion) {
+            (Some(k), Some(mm)) => {
+                let (mine, other) = if k == 0 { (r1, r2) } else { (r2, r1) };
+                let other = other?;
+                let c = [&c1, &c2];
+                let pose = |u: f64, set: usize| mate_pose(mm, &c1, m, k, u, set);
+                let mate = Mate {
+                    outline_mm: &other.0.points_mm,
+                    pitch: c[1 - k],
+                    pose: &pose,
+                    offsets: 2,
+                    positions: positions(mm, z[0]),
+                };
+                let swept = match mine {
+                    Err(e) => generate_swept_by_process(&f[k], &t.rack, z[k], m, &o[k], &mate, e)?,
+                    Ok(g) => g,
+                };
+                let pair = if k == 0 {
+                    (swept, other)
+                } else {
+                    (other, swept)
+                };
+                (pair.0, pair.1, Some(k))
+            }
+            _ => (r1?, r2?, None),
+        };
+        let ((driver, driver_process), (driven, driven_process)) = (r1, r2);
         Ok(Self {
             c: [c1, c2],
             f,
@@ -298,6 +348,7 @@ impl Toothed {
             driven,
             driver_process,
             driven_process,
+            swept,
         })
     }
 
@@ -306,6 +357,7 @@ impl Toothed {
     pub(super) fn fine_outlines(
         &self,
         opts: &PairOptions,
+        motion: Option<&PairMotion<'_>>,
     ) -> Result<[Vec<[f64; 2]>; 2], PairError> {
         let t = &opts.toothing;
         let fine = |k: usize, p: &GearProcess| {
@@ -323,6 +375,33 @@ impl Toothed {
             )
             .map(|g| g.0.points_mm)
         };
+        if let (Some(k), Some(mm)) = (self.swept, motion) {
+            // The cut gear first, then the swept one from it.
+            let procs = [&self.driver_process, &self.driven_process];
+            let other = fine(1 - k, procs[1 - k])?;
+            let pose = |u: f64, set: usize| mate_pose(mm, &self.c[0], t.module_mm, k, u, set);
+            let mate = Mate {
+                outline_mm: &other,
+                pitch: &self.c[1 - k],
+                pose: &pose,
+                offsets: 2,
+                positions: positions(mm, self.z[0]),
+            };
+            let mine = crate::teeth::conjugate::generate_swept(
+                &self.f[k],
+                &t.rack,
+                self.z[k],
+                t.module_mm,
+                &OutlineOptions {
+                    chord_tol_mm: t.verify_chord_tol_mm,
+                    ..self.o[k]
+                },
+                &mate,
+            )?
+            .0
+            .points_mm;
+            return Ok(if k == 0 { [mine, other] } else { [other, mine] });
+        }
         let (v1, v2) = rayon::join(
             || fine(0, &self.driver_process),
             || fine(1, &self.driven_process),

@@ -271,7 +271,7 @@ pub(super) fn design_open(
     // Whole teeth that fit on each carrier (the remainder is the closing space, trimmed away).
     let fit = |c: &PitchCurve| (c.perimeter_mm(1e-12 * a) / p * (1.0 - 1e-12)).floor() as u32;
     let counts = [fit(&c1), fit(&c2)];
-    let g = Toothed::new((c1, c2), 0.0, counts, Some(p), opts)?;
+    let g = Toothed::new((c1, c2), 0.0, counts, Some(p), None, opts)?;
     let n_teeth = g.z[0];
     // The driver's teeth are centred at s = −j·p (tooth N − 1 − j), the contacts of t > 0 lie at
     // negative arc length, spaces at −(j + ½)p. Kept: j = 1..K−1 of the padded arc.
@@ -294,7 +294,7 @@ pub(super) fn design_open(
         hub(&g.driven.points_mm, driven_cut),
     ];
     let mesh = if t.verify_steps > 0 {
-        let [v1, v2] = g.fine_outlines(opts)?;
+        let [v1, v2] = g.fine_outlines(opts, None)?;
         let tol = t.verify_chord_tol_mm;
         let v1 = sector_outline(&v1, driver_cut, hubs[0], tol);
         let v2 = sector_outline(&v2, driven_cut, hubs[1], tol);

@@ -15,6 +15,7 @@
 //! - [`mesh::verify_mesh`]: roll two outlines through a cycle (interference, backlash,
 //!   transmission error).
 
+pub mod conjugate;
 mod crossing;
 mod frame;
 mod inside;
@@ -103,18 +104,26 @@ pub enum TeethError {
         /// Undercut flanks.
         count: usize,
     },
-    /// The curve is concave and no shaper cutter fits (issue 18): wire EDM or printing would be
-    /// needed, which is not implemented.
+    /// The curve is concave and no shaper cutter fits (issue 18). A pair whose mate is cut makes
+    /// this gear by wire EDM or printing instead ([`conjugate`]); alone, or with a mate that
+    /// needs the same, it is an error.
     #[error(
         "pitch curve is concave (tightest concave radius of curvature {min_concave_rho_mm:.4} mm) \
-         and no shaper cutter fits ({tried}); it needs wire EDM or printing (not implemented): \
-         use a smaller module or a smoother pitch curve"
+         and no shaper cutter fits ({tried}); without a cutter the gear is swept by its mate (wire \
+         EDM or printing), which needs a mate that a rack or shaper can cut: use a smaller module \
+         or a smoother pitch curve"
     )]
     NoCutter {
         /// Smallest |ρ| of the concave stretches, mm.
         min_concave_rho_mm: f64,
         /// The cutters tried and why each failed.
         tried: String,
+    },
+    /// A gear made without a cutter (wire EDM, printing) cannot be swept by its mate (issue 18).
+    #[error("wire EDM / printing outline swept by the mate: {what}")]
+    Swept {
+        /// What fails.
+        what: String,
     },
     /// A trimming step failed (flank did not meet the addendum curve).
     #[error("could not trim tooth {tooth}: {what}")]

@@ -15,6 +15,7 @@ mod shaper;
 mod simulate;
 mod step;
 mod svg_render;
+mod swept;
 mod teeth;
 mod tolerance;
 mod train;
