@@ -75,8 +75,9 @@ proptest! {
 }
 
 /// Pair laws from mild to extreme: each gives the outcome its geometry dictates — a meshed pair
-/// with finite ratios, `NoCutter` where a centrode turns so tightly concave (or undercuts) that no
-/// shaper cutter fits (issue 18: wire EDM territory), `Undercut`
+/// with finite ratios; a pair whose concave gear no shaper cutter fits (it undercuts every cutter)
+/// swept by its rack-cut mate instead (wire EDM, issue 18), meshing without interference;
+/// `NoCutter` where both gears would need it or the concave radius is below 0.1 mm, `Undercut`
 /// for a circle with too few teeth (classical limit z ≥ 2h*/sin²α = 17.1 → 18 at α = 20°), or a
 /// `Law` error where the ratio would reverse.
 #[test]
@@ -84,6 +85,7 @@ fn extreme_pair_laws_give_a_pair_or_the_typed_error_their_geometry_dictates() {
     use ncgear::pair::PairError;
     enum Want {
         Pair,
+        Swept,
         NoCutter,
         Undercut(u32),
         Law,
@@ -93,7 +95,7 @@ fn extreme_pair_laws_give_a_pair_or_the_typed_error_their_geometry_dictates() {
         ("phi - 0.45*sin(phi)", 30, Want::Pair),
         ("phi - 0.3*sin(2*phi)", 30, Want::NoCutter),
         ("phi - 0.95*sin(phi)", 30, Want::NoCutter),
-        ("phi + 0.2*sin(phi)^3", 24, Want::NoCutter),
+        ("phi + 0.2*sin(phi)^3", 24, Want::Swept),
         ("phi - 0.1*sin(8*phi)", 40, Want::NoCutter),
         ("phi + 0.0*phi", 12, Want::Pair),
         ("phi + 0.0*phi", 12, Want::Undercut(18)),
@@ -119,6 +121,14 @@ fn extreme_pair_laws_give_a_pair_or_the_typed_error_their_geometry_dictates() {
                 );
                 let mesh = d.mesh.expect("verified");
                 assert_eq!(mesh.interference_steps, 0, "{law}: {mesh:?}");
+            }
+            (Want::Swept, Ok(d)) => {
+                use ncgear::teeth::process::Process;
+                assert_eq!(d.driver_process.process, Process::WireEdm, "{law}");
+                assert!(d.driver_process.min_tip_width_mm.unwrap() > 0.3, "{law}");
+                let mesh = d.mesh.expect("verified");
+                assert_eq!(mesh.interference_steps, 0, "{law}: {mesh:?}");
+                assert!(mesh.min_backlash_mm > 0.03, "{law}: {mesh:?}");
             }
             (
                 Want::NoCutter,
