@@ -1,11 +1,11 @@
 //! Designing the toothed pair: options, scaled pitch curves with mating phases, rack-generated
 //! outlines, the mesh verification, and the assembly sheet.
-use super::swept::{PairMotion, mate_pose, positions};
 use super::{Law, Motion, PairError};
 use crate::export::{Contour, Marker, Sheet};
 use crate::geometry::pitch::PitchCurve;
 use crate::math::periodic::uniform_angles;
 use crate::teeth::conjugate::Mate;
+use crate::teeth::mate_motion::{MeshMotion, POSITIONS_PER_PITCH};
 use crate::teeth::mesh::{MeshCheck, MeshReport, MeshSpan, verify_mesh};
 use crate::teeth::process::{
     CutterChoice, GearProcess, generate_by_process, generate_swept_by_process,
@@ -214,18 +214,26 @@ pub(super) fn design_closed(
     let z2 = z / p_turns * q_turns;
     let a = a1 * f64::from(z) * PI * m / l1;
     let psi = |phi: f64| motion.psi(phi);
-    let pair_motion = PairMotion {
-        psi: &psi,
+    let (c1, c2) = motion.pitch_curves(a, opts.samples)?;
+    let span = TAU * f64::from(q_turns);
+    let at = |u: f64| (span * u, motion.psi(span * u));
+    let mesh_motion = MeshMotion {
+        at: &at,
         a_mm: a,
-        q_turns,
         backlash_mm: t.backlash_mm,
+        driver_pitch: &c1,
+        module_mm: m,
+    };
+    let cycle = Cycle {
+        motion: &mesh_motion,
+        positions: z as usize * q_turns as usize * POSITIONS_PER_PITCH,
     };
     let g = Toothed::new(
-        motion.pitch_curves(a, opts.samples)?,
+        (c1.clone(), c2),
         motion.psi(0.0),
         [z, z2],
         None,
-        Some(&pair_motion),
+        Some(&cycle),
         opts,
     )?;
     let mesh = if t.verify_steps > 0 {
@@ -237,7 +245,7 @@ pub(super) fn design_closed(
             backlash_mm: t.backlash_mm,
             ..MeshCheck::new(a, m)
         };
-        let [v1, v2] = g.fine_outlines(opts, Some(&pair_motion))?;
+        let [v1, v2] = g.fine_outlines(opts, Some(&cycle))?;
         Some(verify_mesh(&v1, &v2, &psi, &check, progress)?)
     } else {
         None
@@ -253,6 +261,13 @@ pub(super) fn design_closed(
         &ratios,
         None,
     ))
+}
+
+/// A closed pair's mesh cycle, for sweeping a gear no cutter makes: its motion and the number of
+/// whole-outline mate positions.
+pub(super) struct Cycle<'a> {
+    motion: &'a MeshMotion<'a>,
+    positions: usize,
 }
 
 /// The toothed gears of a pair at centre distance `a`: scaled pitch curves with their arc frames,
@@ -281,7 +296,7 @@ impl Toothed {
         psi0_rad: f64,
         z: [u32; 2],
         open_pitch_mm: Option<f64>,
-        motion: Option<&PairMotion<'_>>,
+        cycle: Option<&Cycle<'_>>,
         opts: &PairOptions,
     ) -> Result<Self, PairError> {
         let t = &opts.toothing;
@@ -307,24 +322,24 @@ impl Toothed {
         let (r1, r2) = rayon::join(|| cut(0), || cut(1));
         // A gear no cutter can make is swept by its mate when the mate is cut (closed pairs).
         let no_cutter = |r: &Result<_, TeethError>| matches!(r, Err(TeethError::NoCutter { .. }));
-        let sweep_gear = match motion {
+        let sweep_gear = match cycle {
             Some(_) if no_cutter(&r1) && r2.is_ok() => Some(0),
             Some(_) if no_cutter(&r2) && r1.is_ok() => Some(1),
             _ => None,
         };
-        let (r1, r2, swept) = match (sweep_gear, motion) {
+        let (r1, r2, swept) = match (sweep_gear, cycle) {
             (Some(k), Some(mm)) => {
                 let (mine, other) = if k == 0 { (r1, r2) } else { (r2, r1) };
                 let other = other?;
                 let c = [&c1, &c2];
-                let pose = |u: f64, set: usize| mate_pose(mm, &c1, m, k, u, set);
-                let mate = Mate {
+                let pose = |u: f64, set: usize| mm.motion.mate_pose(k, u, set);
+                let mate = [Mate {
                     outline_mm: &other.0.points_mm,
                     pitch: c[1 - k],
                     pose: &pose,
                     offsets: 2,
-                    positions: positions(mm, z[0]),
-                };
+                    positions: mm.positions,
+                }];
                 let swept = match mine {
                     Err(e) => generate_swept_by_process(&f[k], &t.rack, z[k], m, &o[k], &mate, e)?,
                     Ok(g) => g,
@@ -357,7 +372,7 @@ impl Toothed {
     pub(super) fn fine_outlines(
         &self,
         opts: &PairOptions,
-        motion: Option<&PairMotion<'_>>,
+        cycle: Option<&Cycle<'_>>,
     ) -> Result<[Vec<[f64; 2]>; 2], PairError> {
         let t = &opts.toothing;
         let fine = |k: usize, p: &GearProcess| {
@@ -375,18 +390,18 @@ impl Toothed {
             )
             .map(|g| g.0.points_mm)
         };
-        if let (Some(k), Some(mm)) = (self.swept, motion) {
+        if let (Some(k), Some(mm)) = (self.swept, cycle) {
             // The cut gear first, then the swept one from it.
             let procs = [&self.driver_process, &self.driven_process];
             let other = fine(1 - k, procs[1 - k])?;
-            let pose = |u: f64, set: usize| mate_pose(mm, &self.c[0], t.module_mm, k, u, set);
-            let mate = Mate {
+            let pose = |u: f64, set: usize| mm.motion.mate_pose(k, u, set);
+            let mate = [Mate {
                 outline_mm: &other,
                 pitch: &self.c[1 - k],
                 pose: &pose,
                 offsets: 2,
-                positions: positions(mm, self.z[0]),
-            };
+                positions: mm.positions,
+            }];
             let mine = crate::teeth::conjugate::generate_swept(
                 &self.f[k],
                 &t.rack,

@@ -14,7 +14,6 @@ pub mod expr;
 mod law;
 mod motion;
 mod sector;
-mod swept;
 
 pub use design::{PairDesign, PairOptions, SectorReport};
 pub use entry::{design_pair, design_pair_with_progress};

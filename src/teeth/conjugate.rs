@@ -136,7 +136,8 @@ pub struct SweepChecks {
     pub rays: usize,
 }
 
-/// The outline of `z` teeth of module `module_mm` on `frame`'s pitch curve, swept by `mate`
+/// The outline of `z` teeth of module `module_mm` on `frame`'s pitch curve, swept by its `mates`
+/// (one, or two for the intermediate gear of a train)
 /// (module doc), simplified to `opts.chord_tol_mm`. `opts.phase_mm` and the thinning are unused:
 /// the mate's positions place and thin the teeth.
 ///
@@ -148,7 +149,7 @@ pub fn generate_swept(
     z: u32,
     module_mm: f64,
     opts: &OutlineOptions,
-    mate: &Mate<'_>,
+    mates: &[Mate<'_>],
 ) -> Result<(Outline, SweepChecks), TeethError> {
     let m = module_mm;
     super::outline::validate(frame, z, m, opts)?;
@@ -172,6 +173,110 @@ pub fn generate_swept(
     let dir: Vec<(f64, f64)> = (0..rays).map(|j| (j as f64 * dth).sin_cos()).collect();
     let r_blank: Vec<f64> = (0..rays).map(|j| blank.radius_at(j as f64 * dth)).collect();
 
+    // Every mate lowers the rays; the gear keeps what none of them reaches.
+    let mut swept = r_blank.clone();
+    for mate in mates {
+        let rays_mate = sweep_mate(mate, &Rays { dth, dir: &dir, r_blank: &r_blank }, ha, m, r_tip)?;
+        swept.iter_mut().zip(&rays_mate).for_each(|(x, y)| *x = x.min(*y));
+    }
+
+    // Bottom clearance: the swept root is the mate's tip path, at depth ha·m; the rays deeper
+    // than (ha* − RAMP)·m below the pitch curve (normal distance) are lowered radially by up to
+    // c*·m, reaching the full clearance at depth ha·m. Only the root bottom moves: the flank
+    // above that depth stays as the mate left it.
+    let c = rack.clearance() * m;
+    let grid = crate::math::polyline::SegmentGrid::new(&pitch);
+    let curve = frame.curve();
+    let r: Vec<f64> = swept
+        .par_iter()
+        .enumerate()
+        .map(|(j, &rj)| {
+            let th = j as f64 * dth;
+            let rp = curve.radius_mm(th);
+            if rj >= r_blank[j] || rj > rp - (ha - RAMP * m) {
+                return rj;
+            }
+            let (sn, cs) = dir[j];
+            let depth = grid.nearest([rj * cs, rj * sn]).distance_mm;
+            let w = ((depth - (ha - RAMP * m)) / (RAMP * m)).clamp(0.0, 1.0);
+            rj - c * w
+        })
+        .collect();
+    // Teeth: the runs of rays that kept the blank (tips).
+    let untouched: Vec<bool> = r.iter().zip(&r_blank).map(|(a, b)| a >= b).collect();
+    let Some(start) = (0..rays).find(|&j| !untouched[j]) else {
+        return Err(TeethError::Swept {
+            what: "the mate's positions never reach the gear".into(),
+        });
+    };
+    let mut widths = Vec::new();
+    let mut run = 0usize;
+    for k in 1..=rays {
+        let j = (start + k) % rays;
+        if untouched[j] {
+            run += 1;
+        } else if run > 0 {
+            widths.push(run as f64 * dth * r_blank[j]);
+            run = 0;
+        }
+    }
+    if widths.len() != z as usize {
+        return Err(TeethError::Swept {
+            what: format!(
+                "the sweep leaves {} tooth tips for {z} teeth (pointed or consumed teeth, or mate positions that do not match the gear)",
+                widths.len()
+            ),
+        });
+    }
+    let min_tip = widths.iter().copied().fold(f64::INFINITY, f64::min);
+    let pts: Vec<[f64; 2]> = (0..rays)
+        .map(|j| {
+            let (sn, cs) = dir[j];
+            [r[j] * cs, r[j] * sn]
+        })
+        .collect();
+    let points_mm = crate::math::polyline::simplify_closed(&pts, opts.chord_tol_mm);
+    let mut undercut = report_on(frame, rack, z, m, opts);
+    // No cutter, no cutter undercut: the flanks are what the mate leaves.
+    for f in &mut undercut.flanks {
+        f.undercut = false;
+        f.undercut_mm = 0.0;
+        f.contact_ratio_loss = 0.0;
+        f.form_depth_mm = f.flank_depth_mm;
+    }
+    undercut.summarise();
+    Ok((
+        Outline {
+            points_mm,
+            z,
+            module_mm: m,
+            undercut,
+        },
+        SweepChecks {
+            min_tip_width_mm: min_tip,
+            rays,
+        },
+    ))
+}
+
+/// The polar rays of a swept gear: spacing `dth` (rad), directions `(sin, cos)`, blank radii (mm).
+struct Rays<'a> {
+    dth: f64,
+    dir: &'a [(f64, f64)],
+    r_blank: &'a [f64],
+}
+
+/// The rays' radii (mm) after one mate's sweep (module doc); `ha`, `m` in mm, `r_tip` the largest
+/// blank radius, mm.
+fn sweep_mate(
+    mate: &Mate<'_>,
+    rays: &Rays<'_>,
+    ha: f64,
+    m: f64,
+    r_tip: f64,
+) -> Result<Vec<f64>, TeethError> {
+    let (dth, dir, r_blank) = (rays.dth, rays.dir, rays.r_blank);
+    let rays = dir.len();
     // The mate simplified to TOOL_TOL·m (its finest outlines carry far more vertices than the
     // sweep can resolve; the flank allowance of the positions covers the difference).
     let tool = &crate::math::polyline::simplify_closed(mate.outline_mm, TOOL_TOL * m);
@@ -276,7 +381,7 @@ pub fn generate_swept(
         .collect::<Vec<_>>()
         .par_chunks(chunk)
         .map(|ks| {
-            let mut r = r_blank.clone();
+            let mut r = r_blank.to_vec();
             let (mut edges, mut mark) = (Vec::new(), vec![0u32; nt]);
             let mut cache: Vec<Placed> = vec![(0, [0.0; 2], 0.0, f64::NAN); nt];
             for &k in ks {
@@ -285,88 +390,12 @@ pub fn generate_swept(
             r
         })
         .reduce(
-            || r_blank.clone(),
+            || r_blank.to_vec(),
             |mut a, b| {
                 a.iter_mut().zip(&b).for_each(|(x, y)| *x = x.min(*y));
                 a
             },
         );
 
-    // Bottom clearance: the swept root is the mate's tip path, at depth ha·m; the rays deeper
-    // than (ha* − RAMP)·m below the pitch curve (normal distance) are lowered radially by up to
-    // c*·m, reaching the full clearance at depth ha·m. Only the root bottom moves: the flank
-    // above that depth stays as the mate left it.
-    let c = rack.clearance() * m;
-    let grid = crate::math::polyline::SegmentGrid::new(&pitch);
-    let curve = frame.curve();
-    let r: Vec<f64> = swept
-        .par_iter()
-        .enumerate()
-        .map(|(j, &rj)| {
-            let th = j as f64 * dth;
-            let rp = curve.radius_mm(th);
-            if rj >= r_blank[j] || rj > rp - (ha - RAMP * m) {
-                return rj;
-            }
-            let (sn, cs) = dir[j];
-            let depth = grid.nearest([rj * cs, rj * sn]).distance_mm;
-            let w = ((depth - (ha - RAMP * m)) / (RAMP * m)).clamp(0.0, 1.0);
-            rj - c * w
-        })
-        .collect();
-    // Teeth: the runs of rays that kept the blank (tips).
-    let untouched: Vec<bool> = r.iter().zip(&r_blank).map(|(a, b)| a >= b).collect();
-    let Some(start) = (0..rays).find(|&j| !untouched[j]) else {
-        return Err(TeethError::Swept {
-            what: "the mate's positions never reach the gear".into(),
-        });
-    };
-    let mut widths = Vec::new();
-    let mut run = 0usize;
-    for k in 1..=rays {
-        let j = (start + k) % rays;
-        if untouched[j] {
-            run += 1;
-        } else if run > 0 {
-            widths.push(run as f64 * dth * r_blank[j]);
-            run = 0;
-        }
-    }
-    if widths.len() != z as usize {
-        return Err(TeethError::Swept {
-            what: format!(
-                "the sweep leaves {} tooth tips for {z} teeth (pointed or consumed teeth, or mate positions that do not match the gear)",
-                widths.len()
-            ),
-        });
-    }
-    let min_tip = widths.iter().copied().fold(f64::INFINITY, f64::min);
-    let pts: Vec<[f64; 2]> = (0..rays)
-        .map(|j| {
-            let (sn, cs) = dir[j];
-            [r[j] * cs, r[j] * sn]
-        })
-        .collect();
-    let points_mm = crate::math::polyline::simplify_closed(&pts, opts.chord_tol_mm);
-    let mut undercut = report_on(frame, rack, z, m, opts);
-    // No cutter, no cutter undercut: the flanks are what the mate leaves.
-    for f in &mut undercut.flanks {
-        f.undercut = false;
-        f.undercut_mm = 0.0;
-        f.contact_ratio_loss = 0.0;
-        f.form_depth_mm = f.flank_depth_mm;
-    }
-    undercut.summarise();
-    Ok((
-        Outline {
-            points_mm,
-            z,
-            module_mm: m,
-            undercut,
-        },
-        SweepChecks {
-            min_tip_width_mm: min_tip,
-            rays,
-        },
-    ))
+    Ok(swept)
 }

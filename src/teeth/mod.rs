@@ -19,6 +19,7 @@ pub mod conjugate;
 mod crossing;
 mod frame;
 mod inside;
+pub mod mate_motion;
 pub mod mesh;
 mod options;
 pub mod overlap;

@@ -185,7 +185,7 @@ pub fn generate_with_cutter(
 }
 
 /// The gear that no cutter can make ([`TeethError::NoCutter`] from [`generate_by_process`]),
-/// swept by its cut `mate` instead (wire EDM or printing, [`generate_swept`]); the report keeps the
+/// swept by its cut `mates` instead (wire EDM or printing, [`generate_swept`]); the report keeps the
 /// cutters' rejections. Any other error is returned unchanged.
 pub fn generate_swept_by_process(
     frame: &ArcFrame,
@@ -193,7 +193,7 @@ pub fn generate_swept_by_process(
     z: u32,
     module_mm: f64,
     opts: &OutlineOptions,
-    mate: &Mate<'_>,
+    mates: &[Mate<'_>],
     no_cutter: TeethError,
 ) -> Result<(Outline, GearProcess), TeethError> {
     let TeethError::NoCutter {
@@ -203,7 +203,7 @@ pub fn generate_swept_by_process(
     else {
         return Err(no_cutter);
     };
-    let (o, checks) = generate_swept(frame, rack, z, module_mm, opts, mate)?;
+    let (o, checks) = generate_swept(frame, rack, z, module_mm, opts, mates)?;
     Ok((
         o,
         GearProcess {

@@ -49,13 +49,13 @@ fn a_gear_swept_by_an_involute_mate_is_the_conjugate_involute() {
             shift_mm: [a * phi.cos(), -a * phi.sin()],
         }
     };
-    let mate = Mate {
+    let mate = [Mate {
         outline_mm: &driven.points_mm,
         pitch: &circle,
         pose: &pose,
         offsets: 2,
         positions: z as usize * 96,
-    };
+    }];
     let frame = ArcFrame::new(&circle);
     let (driver, checks) = generate_swept(
         &frame,
