@@ -176,8 +176,21 @@ pub fn generate_swept(
     // Every mate lowers the rays; the gear keeps what none of them reaches.
     let mut swept = r_blank.clone();
     for mate in mates {
-        let rays_mate = sweep_mate(mate, &Rays { dth, dir: &dir, r_blank: &r_blank }, ha, m, r_tip)?;
-        swept.iter_mut().zip(&rays_mate).for_each(|(x, y)| *x = x.min(*y));
+        let rays_mate = sweep_mate(
+            mate,
+            &Rays {
+                dth,
+                dir: &dir,
+                r_blank: &r_blank,
+            },
+            ha,
+            m,
+            r_tip,
+        )?;
+        swept
+            .iter_mut()
+            .zip(&rays_mate)
+            .for_each(|(x, y)| *x = x.min(*y));
     }
 
     // Bottom clearance: the swept root is the mate's tip path, at depth ha·m; the rays deeper

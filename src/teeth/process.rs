@@ -4,7 +4,7 @@
 //! concave radius of curvature, or the one forced — and otherwise no cutter: wire EDM or printing
 //! of the outline the mate sweeps ([`super::conjugate`]), when the mate is cut
 //! ([`generate_swept_by_process`]); alone, a typed error says so.
-use super::conjugate::{Mate, generate_swept};
+use super::conjugate::{Mate, SweepChecks, generate_swept};
 use super::frame::ArcFrame;
 use super::outline::{Outline, OutlineOptions, generate_on, report_on, validate};
 use super::shaper::{Cutter, cutter_pitch_radius_mm, generate_shaper};
@@ -196,6 +196,16 @@ pub fn generate_swept_by_process(
     mates: &[Mate<'_>],
     no_cutter: TeethError,
 ) -> Result<(Outline, GearProcess), TeethError> {
+    let (o, checks) = generate_swept(frame, rack, z, module_mm, opts, mates)?;
+    Ok((o, swept_process(no_cutter, checks)?))
+}
+
+/// The report of a gear swept by its mates (wire EDM / printing) instead of the cutters that
+/// `no_cutter` ([`TeethError::NoCutter`]) rejected; any other error is returned unchanged.
+pub fn swept_process(
+    no_cutter: TeethError,
+    checks: SweepChecks,
+) -> Result<GearProcess, TeethError> {
     let TeethError::NoCutter {
         min_concave_rho_mm,
         tried,
@@ -203,18 +213,14 @@ pub fn generate_swept_by_process(
     else {
         return Err(no_cutter);
     };
-    let (o, checks) = generate_swept(frame, rack, z, module_mm, opts, mates)?;
-    Ok((
-        o,
-        GearProcess {
-            process: Process::WireEdm,
-            cutter_teeth: None,
-            cutter_pitch_radius_mm: None,
-            min_concave_rho_mm: Some(min_concave_rho_mm),
-            tried_cutter_teeth: Vec::new(),
-            rejected: vec![tried],
-            undercut_flanks: 0,
-            min_tip_width_mm: Some(checks.min_tip_width_mm),
-        },
-    ))
+    Ok(GearProcess {
+        process: Process::WireEdm,
+        cutter_teeth: None,
+        cutter_pitch_radius_mm: None,
+        min_concave_rho_mm: Some(min_concave_rho_mm),
+        tried_cutter_teeth: Vec::new(),
+        rejected: vec![tried],
+        undercut_flanks: 0,
+        min_tip_width_mm: Some(checks.min_tip_width_mm),
+    })
 }

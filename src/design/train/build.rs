@@ -1,6 +1,7 @@
 //! Putting teeth on the train: integer tooth count, mating phases, rack-generated outlines,
 //! the verification of both meshes and the round trip of the scaled mechanism.
 use super::amplitude::rescale_ratio_amplitude;
+use super::swept::{TrainMeshes, sweep_gear, sweepable};
 use super::{
     ToothedTrain, TrainError, TrainMesh, TrainPolicy, TrainProcess, TrainRoundTrip,
     TrainTeethOptions, TrainTeethReport, TrainUndercut,
@@ -10,8 +11,10 @@ use crate::geometry::assembly::Assembly;
 use crate::geometry::pitch::{PitchCurve, PitchError};
 use crate::math::periodic::bisect_root;
 use crate::math::polyline::{distances_to_polyline, hausdorff_mm};
+use crate::teeth::TeethError;
+use crate::teeth::mate_motion::{MeshMotion, POSITIONS_PER_PITCH};
 use crate::teeth::mesh::{MeshCheck, verify_mesh};
-use crate::teeth::process::{CutterChoice, generate_by_process};
+use crate::teeth::process::{CutterChoice, generate_by_process, swept_process};
 use crate::teeth::{ArcFrame, Outline, OutlineOptions, ToothPolicy, scale_curve, tooth_count};
 use rayon::prelude::*;
 use std::f64::consts::{PI, TAU};
@@ -171,28 +174,91 @@ fn train_from(
     let phases = [phase_sun, phase_mid, phase_planet];
     let names = ["sun", "intermediate", "planet"];
 
+    let outline_opts = |k: usize, tol: f64| OutlineOptions {
+        phase_mm: phases[k],
+        thin_left_mm: 0.5 * opts.toothing.backlash_mm,
+        thin_right_mm: 0.0,
+        chord_tol_mm: tol,
+        open_pitch_mm: None,
+        refuse_undercut: opts.toothing.refuse_undercut,
+    };
     let generate = |k: usize, tol: f64, choice: CutterChoice| {
         generate_by_process(
             &frames[k],
             &opts.toothing.rack,
             count.z,
             m,
-            &OutlineOptions {
-                phase_mm: phases[k],
-                thin_left_mm: 0.5 * opts.toothing.backlash_mm,
-                thin_right_mm: 0.0,
-                chord_tol_mm: tol,
-                open_pitch_mm: None,
-                refuse_undercut: opts.toothing.refuse_undercut,
-            },
+            &outline_opts(k, tol),
             choice,
         )
-        .map_err(teeth_err(names[k]))
     };
+    // The meshes over a carrier turn (φH = 2πu), for sweeping a gear no cutter makes.
+    let theta2 = |phi_h: f64| rebuilt.pose(phi_h).intermediate_angle_rad;
+    let at1 = |u: f64| {
+        let phi_h = TAU * u;
+        (-phi_h, phi_h - theta2(phi_h))
+    };
+    let at2 = |u: f64| {
+        let pose = rebuilt.pose(TAU * u);
+        (
+            pose.intermediate_angle_rad - TAU * u,
+            TAU * u - pose.planet_angle_rad,
+        )
+    };
+    let meshes = TrainMeshes {
+        motions: [
+            MeshMotion {
+                at: &at1,
+                a_mm: a,
+                backlash_mm: opts.toothing.backlash_mm,
+                driver_pitch: &fin.sun,
+                module_mm: m,
+            },
+            MeshMotion {
+                at: &at2,
+                a_mm: a,
+                backlash_mm: opts.toothing.backlash_mm,
+                driver_pitch: &fin.intermediate,
+                module_mm: m,
+            },
+        ],
+        positions: count.z as usize * POSITIONS_PER_PITCH,
+    };
+    let pitches = [&fin.sun, &fin.intermediate, &fin.planet];
     let choice = opts.toothing.cutter_choice();
-    let (sun, sun_process) = generate(0, opts.toothing.chord_tol_mm, choice)?;
-    let (intermediate, intermediate_process) = generate(1, opts.toothing.chord_tol_mm, choice)?;
-    let (planet, planet_process) = generate(2, opts.toothing.chord_tol_mm, choice)?;
+    let mut results: Vec<_> = (0..3)
+        .into_par_iter()
+        .map(|k| generate(k, opts.toothing.chord_tol_mm, choice))
+        .collect();
+    // A gear no cutter fits is swept by its neighbours when they are cut.
+    let cut = [0, 1, 2].map(|k| results[k].is_ok());
+    let swept = [0, 1, 2]
+        .map(|k| matches!(results[k], Err(TeethError::NoCutter { .. })) && sweepable(k, cut));
+    for k in (0..3).filter(|&k| swept[k]) {
+        let outlines = [0, 1, 2].map(|j| {
+            results[j]
+                .as_ref()
+                .map_or(&[][..], |g| g.0.points_mm.as_slice())
+        });
+        let o = outline_opts(k, opts.toothing.chord_tol_mm);
+        let rack = &opts.toothing.rack;
+        let made = sweep_gear(k, outlines, pitches, &frames, &meshes, rack, count.z, m, &o);
+        let placeholder = Err(TeethError::Swept {
+            what: String::new(),
+        });
+        if let Err(no_cutter) = std::mem::replace(&mut results[k], placeholder) {
+            results[k] = made.and_then(|(outline, checks)| {
+                swept_process(no_cutter, checks).map(|p| (outline, p))
+            });
+        }
+    }
+    let mut gears = results
+        .into_iter()
+        .enumerate()
+        .map(|(k, r)| r.map_err(teeth_err(names[k])));
+    let (sun, sun_process) = gears.next().expect("three gears")?;
+    let (intermediate, intermediate_process) = gears.next().expect("three gears")?;
+    let (planet, planet_process) = gears.next().expect("three gears")?;
     let processes = [&sun_process, &intermediate_process, &planet_process];
     // The verification cuts each gear with the same process and cutter.
     let same = |k: usize| {
@@ -202,17 +268,46 @@ fn train_from(
     };
 
     let mesh = if opts.toothing.verify_steps > 0 {
-        // The fine outlines of the check, built side by side (collected in gear order).
-        let fine: Vec<Outline> = (0..3)
+        // The fine outlines of the check, built side by side (collected in gear order); the
+        // swept gears then from their neighbours' fine outlines.
+        let tol = opts.toothing.verify_chord_tol_mm;
+        let mut fine: Vec<Outline> = (0..3)
             .into_par_iter()
-            .map(|k| generate(k, opts.toothing.verify_chord_tol_mm, same(k)).map(|g| g.0))
+            .map(|k| {
+                if swept[k] {
+                    Ok(Outline {
+                        points_mm: Vec::new(),
+                        ..[&sun, &intermediate, &planet][k].clone()
+                    })
+                } else {
+                    generate(k, tol, same(k))
+                        .map(|g| g.0)
+                        .map_err(teeth_err(names[k]))
+                }
+            })
             .collect::<Result<_, _>>()?;
+        for k in (0..3).filter(|&k| swept[k]) {
+            let outlines = [0, 1, 2].map(|j| fine[j].points_mm.as_slice());
+            let o = outline_opts(k, tol);
+            let g = sweep_gear(
+                k,
+                outlines,
+                pitches,
+                &frames,
+                &meshes,
+                &opts.toothing.rack,
+                count.z,
+                m,
+                &o,
+            )
+            .map_err(teeth_err(names[k]))?;
+            fine[k] = g.0;
+        }
         let check = MeshCheck {
             steps: opts.toothing.verify_steps,
             backlash_mm: opts.toothing.backlash_mm,
             ..MeshCheck::new(a, m)
         };
-        let theta2 = |phi_h: f64| rebuilt.pose(phi_h).intermediate_angle_rad;
         // Sun → intermediate: φ = −φH.
         let psi1 = |phi: f64| -phi - theta2(-phi);
         let sun_intermediate = verify_mesh(

@@ -33,6 +33,7 @@ mod amplitude;
 mod build;
 mod report;
 mod sheet;
+mod swept;
 
 pub use amplitude::{AmplitudeFit, rescale_ratio_amplitude};
 pub use build::{attach_teeth, tooth_design, tooth_train};
