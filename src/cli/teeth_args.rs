@@ -135,7 +135,8 @@ pub fn process_line(p: &ncgear::teeth::process::GearProcess) -> String {
         ),
         _ if p.process == ncgear::teeth::process::Process::WireEdm => format!(
             "wire EDM / printing: no cutter fits the tightest concave radius {:.2} mm; flanks swept \
-             by the mating gear, narrowest tip {:.3} mm",
+             by the mating gear (experimental: not yet conjugate on strongly non-circular pairs, \
+             see the mesh line), narrowest tip {:.3} mm",
             p.min_concave_rho_mm.unwrap_or(f64::NAN),
             p.min_tip_width_mm.unwrap_or(f64::NAN)
         ),
