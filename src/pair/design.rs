@@ -4,12 +4,10 @@ use super::{Law, Motion, PairError};
 use crate::export::{Contour, Marker, Sheet};
 use crate::geometry::pitch::PitchCurve;
 use crate::math::periodic::uniform_angles;
-use crate::teeth::conjugate::Mate;
+use crate::teeth::conjugate::{Mate, SweepChecks, generate_swept};
 use crate::teeth::mate_motion::{MeshMotion, POSITIONS_PER_PITCH};
 use crate::teeth::mesh::{MeshCheck, MeshReport, MeshSpan, verify_mesh};
-use crate::teeth::process::{
-    CutterChoice, GearProcess, generate_by_process, generate_swept_by_process,
-};
+use crate::teeth::process::{CutterChoice, GearProcess, generate_by_process, swept_process};
 use crate::teeth::{
     ArcFrame, Outline, OutlineOptions, TeethError, ToothingOptions, UndercutReport,
 };
@@ -270,6 +268,33 @@ pub(super) struct Cycle<'a> {
     positions: usize,
 }
 
+impl Cycle<'_> {
+    /// Gear `k` (0 driver, 1 driven) on `frame` swept by its mate's `mate_outline` (body frame,
+    /// mm) over this cycle.
+    #[allow(clippy::too_many_arguments)]
+    fn sweep(
+        &self,
+        k: usize,
+        frame: &ArcFrame,
+        rack: &crate::teeth::RackParams,
+        z: u32,
+        module_mm: f64,
+        opts: &OutlineOptions,
+        mate_outline: &[[f64; 2]],
+        mate_pitch: &PitchCurve,
+    ) -> Result<(Outline, SweepChecks), TeethError> {
+        let pose = |u: f64, set: usize| self.motion.mate_pose(k, u, set);
+        let mate = [Mate {
+            outline_mm: mate_outline,
+            pitch: mate_pitch,
+            pose: &pose,
+            offsets: 2,
+            positions: self.positions,
+        }];
+        generate_swept(frame, rack, z, module_mm, opts, &mate)
+    }
+}
+
 /// The toothed gears of a pair at centre distance `a`: scaled pitch curves with their arc frames,
 /// the mating phases, and the export outlines with their processes.
 pub(super) struct Toothed {
@@ -332,16 +357,20 @@ impl Toothed {
                 let (mine, other) = if k == 0 { (r1, r2) } else { (r2, r1) };
                 let other = other?;
                 let c = [&c1, &c2];
-                let pose = |u: f64, set: usize| mm.motion.mate_pose(k, u, set);
-                let mate = [Mate {
-                    outline_mm: &other.0.points_mm,
-                    pitch: c[1 - k],
-                    pose: &pose,
-                    offsets: 2,
-                    positions: mm.positions,
-                }];
                 let swept = match mine {
-                    Err(e) => generate_swept_by_process(&f[k], &t.rack, z[k], m, &o[k], &mate, e)?,
+                    Err(e) => {
+                        let (outline, checks) = mm.sweep(
+                            k,
+                            &f[k],
+                            &t.rack,
+                            z[k],
+                            m,
+                            &o[k],
+                            &other.0.points_mm,
+                            c[1 - k],
+                        )?;
+                        (outline, swept_process(e, checks)?)
+                    }
                     Ok(g) => g,
                 };
                 let pair = if k == 0 {
@@ -375,16 +404,17 @@ impl Toothed {
         cycle: Option<&Cycle<'_>>,
     ) -> Result<[Vec<[f64; 2]>; 2], PairError> {
         let t = &opts.toothing;
+        let fine_opts = |k: usize| OutlineOptions {
+            chord_tol_mm: t.verify_chord_tol_mm,
+            ..self.o[k]
+        };
         let fine = |k: usize, p: &GearProcess| {
             generate_by_process(
                 &self.f[k],
                 &t.rack,
                 self.z[k],
                 t.module_mm,
-                &OutlineOptions {
-                    chord_tol_mm: t.verify_chord_tol_mm,
-                    ..self.o[k]
-                },
+                &fine_opts(k),
                 p.cutter_teeth
                     .map_or(t.cutter_choice(), CutterChoice::Teeth),
             )
@@ -394,27 +424,19 @@ impl Toothed {
             // The cut gear first, then the swept one from it.
             let procs = [&self.driver_process, &self.driven_process];
             let other = fine(1 - k, procs[1 - k])?;
-            let pose = |u: f64, set: usize| mm.motion.mate_pose(k, u, set);
-            let mate = [Mate {
-                outline_mm: &other,
-                pitch: &self.c[1 - k],
-                pose: &pose,
-                offsets: 2,
-                positions: mm.positions,
-            }];
-            let mine = crate::teeth::conjugate::generate_swept(
-                &self.f[k],
-                &t.rack,
-                self.z[k],
-                t.module_mm,
-                &OutlineOptions {
-                    chord_tol_mm: t.verify_chord_tol_mm,
-                    ..self.o[k]
-                },
-                &mate,
-            )?
-            .0
-            .points_mm;
+            let mine = mm
+                .sweep(
+                    k,
+                    &self.f[k],
+                    &t.rack,
+                    self.z[k],
+                    t.module_mm,
+                    &fine_opts(k),
+                    &other,
+                    &self.c[1 - k],
+                )?
+                .0
+                .points_mm;
             return Ok(if k == 0 { [mine, other] } else { [other, mine] });
         }
         let (v1, v2) = rayon::join(

@@ -55,6 +55,8 @@ const TIP_REFINE: usize = 8;
 /// ray spacing instead of being cut off by the chord between the rays (measured: 1.2e-3·m of
 /// penetration on a strongly non-circular pair without them).
 const SUB: usize = 8;
+/// Memory of the per-chunk copies of the rays, bytes (a large gear has ≈ 3·10⁵ rays).
+const MAX_CHUNK_BYTES: usize = 256 << 20;
 /// Simplification of the mate's outline before the sweep, in modules.
 const TOOL_TOL: f64 = 1e-5;
 /// Depth of the mate's tip region, in modules (module doc of [`TIP_REFINE`]).
@@ -164,7 +166,8 @@ pub fn generate_swept(
     super::outline::validate(frame, z, m, opts)?;
     let ha = rack.addendum() * m;
     let k_tip = (rack.straight_depth() * m / rack.alpha_rad().tan()).powi(2);
-    // The blank: the addendum curve, as a polar table.
+    // The blank: the addendum curve, as a polar table sampled every 0.05·m of pitch arc (chord
+    // sag ≈ (0.05·m)²/(8ρ), below 1e-4·m for ρ ≥ 3·m).
     let nb = (frame.length_mm() / (0.05 * m)).ceil().max(720.0) as usize;
     let (pitch, tip): (Vec<[f64; 2]>, Vec<[f64; 2]>) = (0..nb)
         .map(|k| {
@@ -326,6 +329,7 @@ fn sweep_mate(
         |v: [f64; 2]| v[0].hypot(v[1]) - mate.pitch.radius_mm(v[1].atan2(v[0])) > ha - TIP_BAND * m;
     let all = PolarIndex::new(tool, |_| true);
     let r_mate = tool.iter().map(|v| v[0].hypot(v[1])).fold(0.0, f64::max);
+    // Tool edges farther than one module beyond the blank cannot reach it.
     let reach2 = (r_tip + m) * (r_tip + m);
     let tips = PolarIndex::new(tool, |i| tip_vertex(tool[i]));
     // Position k of the fine sequence (`TIP_REFINE` per base position, all offsets): the whole
@@ -456,10 +460,12 @@ fn sweep_mate(
         }
     };
     let count = fine * mate.offsets;
-    // Four chunks per thread (each holds its own rays and sub-intervals, ≈ 6 MB).
-    let chunk = count
-        .div_ceil(rayon::current_num_threads().max(1) * 4)
-        .max(1);
+    // Four chunks per thread, each with its own rays and sub-intervals (16·SUB + 8 bytes per ray),
+    // at most MAX_CHUNK_BYTES in all: the minima merge in any order.
+    let per_chunk = rays * (16 * SUB + 8);
+    let chunks =
+        (rayon::current_num_threads().max(1) * 4).min((MAX_CHUNK_BYTES / per_chunk).max(1));
+    let chunk = count.div_ceil(chunks).max(1);
     let swept = (0..count)
         .collect::<Vec<_>>()
         .par_chunks(chunk)

@@ -2,9 +2,9 @@
 //! envelope, unchanged), a pinion-type shaper cutter when it has
 //! concave stretches — the largest standard cutter whose pitch radius is below the tightest
 //! concave radius of curvature, or the one forced — and otherwise no cutter: wire EDM or printing
-//! of the outline the mate sweeps ([`super::conjugate`]), when the mate is cut
-//! ([`generate_swept_by_process`]); alone, a typed error says so.
-use super::conjugate::{Mate, SweepChecks, generate_swept};
+//! of the outline the mate sweeps ([`super::conjugate`], reported by [`swept_process`]), when
+//! the mate is cut; alone, a typed error says so.
+use super::conjugate::SweepChecks;
 use super::frame::ArcFrame;
 use super::outline::{Outline, OutlineOptions, generate_on, report_on, validate};
 use super::shaper::{Cutter, cutter_pitch_radius_mm, generate_shaper};
@@ -184,24 +184,9 @@ pub fn generate_with_cutter(
     Ok(generate_shaper(frame, rack, z, module_mm, &cutter, opts)?.0)
 }
 
-/// The gear that no cutter can make ([`TeethError::NoCutter`] from [`generate_by_process`]),
-/// swept by its cut `mates` instead (wire EDM or printing, [`generate_swept`]); the report keeps the
-/// cutters' rejections. Any other error is returned unchanged.
-pub fn generate_swept_by_process(
-    frame: &ArcFrame,
-    rack: &RackParams,
-    z: u32,
-    module_mm: f64,
-    opts: &OutlineOptions,
-    mates: &[Mate<'_>],
-    no_cutter: TeethError,
-) -> Result<(Outline, GearProcess), TeethError> {
-    let (o, checks) = generate_swept(frame, rack, z, module_mm, opts, mates)?;
-    Ok((o, swept_process(no_cutter, checks)?))
-}
-
-/// The report of a gear swept by its mates (wire EDM / printing) instead of the cutters that
-/// `no_cutter` ([`TeethError::NoCutter`]) rejected; any other error is returned unchanged.
+/// The report of a gear swept by its mates (wire EDM / printing, [`super::conjugate`]) instead of
+/// the cutters that `no_cutter` ([`TeethError::NoCutter`] from [`generate_by_process`]) rejected;
+/// any other error is returned unchanged.
 pub fn swept_process(
     no_cutter: TeethError,
     checks: SweepChecks,
