@@ -61,7 +61,9 @@ impl PolarGeometry {
     /// Arc-length speed `ds/dθ = √(r² + r_θ²)`, mm/rad.
     #[must_use]
     pub fn speed_mm(&self) -> f64 {
-        self.r_mm.hypot(self.dr_mm)
+        // Radii in mm are far from overflow and underflow: the plain root is as accurate
+        // (≤ 1 ulp) as `hypot` and several times cheaper (arc-length tables take ~10⁵ calls).
+        (self.r_mm * self.r_mm + self.dr_mm * self.dr_mm).sqrt()
     }
 
     /// Deviation of the tangent from the normal to the radius, `π/2 − μ = atan(r_θ / r)`, rad.

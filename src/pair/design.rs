@@ -181,7 +181,8 @@ pub(super) fn design_closed(
         )));
     }
     let a1 = motion.unit_centre_distance;
-    let (c1, _) = motion.pitch_curves(a1, opts.samples)?;
+    let (unit1, unit2) = motion.unit_pitch_radii(opts.samples);
+    let (c1, _) = Motion::curves_at(&unit1, &unit2, a1)?;
     let l1 = c1.perimeter_mm(1e-12 * a1);
     let z = match (opts.teeth, law) {
         (Some(z), _) => z,
@@ -212,7 +213,7 @@ pub(super) fn design_closed(
     let z2 = z / p_turns * q_turns;
     let a = a1 * f64::from(z) * PI * m / l1;
     let psi = |phi: f64| motion.psi(phi);
-    let (c1, c2) = motion.pitch_curves(a, opts.samples)?;
+    let (c1, c2) = Motion::curves_at(&unit1, &unit2, a)?;
     let span = TAU * f64::from(q_turns);
     let at = |u: f64| (span * u, motion.psi(span * u));
     let mesh_motion = MeshMotion {
@@ -326,7 +327,8 @@ impl Toothed {
     ) -> Result<Self, PairError> {
         let t = &opts.toothing;
         let m = t.module_mm;
-        let f = [ArcFrame::new(&c1), ArcFrame::new(&c2)];
+        let f = rayon::join(|| ArcFrame::new(&c1), || ArcFrame::new(&c2));
+        let f = [f.0, f.1];
         let p = open_pitch_mm.unwrap_or(f[0].length_mm() / f64::from(z[0]));
         let th2 = (PI + psi0_rad).rem_euclid(TAU);
         let s2 = c2.arc_length_between_mm(0.0, th2, 1e-12 * f[1].length_mm());

@@ -223,27 +223,49 @@ impl Motion {
 
     /// Driver and driven pitch curves (`n` samples each) at centre distance `a_mm`.
     pub fn pitch_curves(&self, a_mm: f64, n: usize) -> Result<(PitchCurve, PitchCurve), PairError> {
+        let (r1, r2) = self.unit_pitch_radii(n);
+        Self::curves_at(&r1, &r2, a_mm)
+    }
+
+    /// Radii of the driver and driven pitch curves at unit centre distance, at the `n` uniform
+    /// polar angles of [`uniform_angles`]: `r₁(θ) = i(−θ)/(1 + i(−θ))` and `r₂(θ) = 1/(1 + i(φ))`
+    /// with `π + ψ(φ) = θ`. Every radius scales with the centre distance.
+    #[must_use]
+    pub fn unit_pitch_radii(&self, n: usize) -> (Vec<f64>, Vec<f64>) {
+        use rayon::prelude::*;
         let th = uniform_angles(n);
         let r1: Vec<f64> = th
             .iter()
             .map(|&t| {
                 let i = self.ratio(-t);
-                a_mm * i / (1.0 + i)
+                i / (1.0 + i)
             })
             .collect();
+        let psi0 = self.psi(0.0);
+        let turn = TAU / self.turn_ratio();
+        // One inversion per sample, independent of the others: side by side.
         let r2: Vec<f64> = th
-            .iter()
+            .par_iter()
             .map(|&t| {
                 // Solve π + ψ(φ) = t (mod 2π) for φ within one driven turn (2π/k of φ).
-                let psi0 = self.psi(0.0);
                 let target = (t - PI - psi0).rem_euclid(TAU) + psi0;
                 let f = |x: f64| (self.psi(x), self.ratio(x));
-                let turn = TAU / self.turn_ratio();
                 let guess = (target - psi0) / self.turn_ratio();
                 let phi = invert_increasing(f, target, -turn, 2.0 * turn, guess, 1e-14);
-                a_mm / (1.0 + self.ratio(phi))
+                1.0 / (1.0 + self.ratio(phi))
             })
             .collect();
+        (r1, r2)
+    }
+
+    /// The pitch curves of [`Self::unit_pitch_radii`] `(r1, r2)` at centre distance `a_mm`.
+    pub fn curves_at(
+        r1: &[f64],
+        r2: &[f64],
+        a_mm: f64,
+    ) -> Result<(PitchCurve, PitchCurve), PairError> {
+        let scale = |r: &[f64]| r.iter().map(|&x| a_mm * x).collect::<Vec<f64>>();
+        let (r1, r2) = (scale(r1), scale(r2));
         let bad = |e: crate::geometry::pitch::PitchError| PairError::Law(e.to_string());
         Ok((
             PitchCurve::from_uniform_radii(r1).map_err(bad)?,

@@ -82,14 +82,9 @@ impl ArcFrame {
         let turns = (s_mm / self.length).floor();
         let s = s_mm - turns * self.length;
         let n = self.s.len() - 1;
-        let mut j = ((s / self.length) * n as f64) as usize;
-        j = j.min(n - 1);
-        while j > 0 && self.s[j] > s {
-            j -= 1;
-        }
-        while j + 1 < n && self.s[j + 1] <= s {
-            j += 1;
-        }
+        // The last table interval starting at or before `s` (a bisection: on a curve of varying
+        // speed the uniform guess `s/L·n` can be thousands of entries off).
+        let j = self.s[..n].partition_point(|&v| v <= s).saturating_sub(1);
         let (s0, s1) = (self.s[j], self.s[j + 1]);
         let hs = s1 - s0;
         let u = (s - s0) / hs;

@@ -15,6 +15,7 @@
 //! - [`mesh::verify_mesh`]: roll two outlines through a cycle (interference, backlash,
 //!   transmission error).
 
+mod cells;
 pub mod conjugate;
 mod crossing;
 mod frame;

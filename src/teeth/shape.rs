@@ -1,6 +1,6 @@
 //! The indexed outline of the mesh check and the overlap area: a closed polyline with a segment
 //! grid for exact signed distances near it ([`Shape`]) and a polar table ([`StarShape`]).
-use rustc_hash::FxHashMap;
+use super::cells::{CellTable, FarMap, Side};
 use std::f64::consts::TAU;
 
 /// Errors of mesh verification.
@@ -35,6 +35,8 @@ pub struct StarShape {
     pub(super) r: Vec<f64>,
     /// Index of each entry in the original polyline.
     pub(super) orig: Vec<u32>,
+    /// Each entry's vertex (the original point, mm).
+    xy: Vec<[f64; 2]>,
 }
 
 impl StarShape {
@@ -59,6 +61,7 @@ impl StarShape {
             theta: tr.iter().map(|v| v.0).collect(),
             r: tr.iter().map(|v| v.1).collect(),
             orig: tr.iter().map(|v| v.2).collect(),
+            xy: tr.iter().map(|v| points_mm[v.2 as usize]).collect(),
         })
     }
 
@@ -106,10 +109,20 @@ impl StarShape {
         out
     }
 
+    /// The vertex of entry `i` (mm).
+    #[inline]
     pub(super) fn point(&self, i: usize) -> [f64; 2] {
-        let (s, c) = self.theta[i].sin_cos();
-        [self.r[i] * c, self.r[i] * s]
+        self.xy[i]
     }
+}
+
+/// `⌊v⌋` as a cell index: the same value as `v.floor() as i64` for every finite `v` (saturating
+/// like the cast beyond ±2⁶³), without the library call `floor` is on targets without SSE4.1 —
+/// the clearance query takes two per call.
+#[inline]
+fn cell_of(v: f64) -> i64 {
+    let t = v as i64;
+    if (t as f64) > v { t - 1 } else { t }
 }
 
 /// One segment `a → a + d` of the outline in a grid cell: `d2 = |d|²` (computed as the distance
@@ -131,7 +144,9 @@ pub struct Shape {
     bands: super::inside::Bands,
     cell: f64,
     /// Occupied cell → its run `(start, len)` in `entries`.
-    grid: FxHashMap<(i64, i64), (u32, u32)>,
+    grid: CellTable,
+    /// Coarse blocks farther than one cell from the outline, with their side.
+    far: FarMap,
     /// The segments of every occupied cell, cell by cell, with their geometry inline (one
     /// contiguous read per cell instead of an index list and two vertex look-ups per segment).
     entries: Vec<SegEntry>,
@@ -148,29 +163,32 @@ impl Shape {
     ) -> Result<Self, MeshError> {
         let polar = StarShape::new(points_mm, which)?;
         let n = points_mm.len();
-        let mut lists: FxHashMap<(i64, i64), Vec<u32>> = FxHashMap::default();
+        // (cell, segment) pairs, sorted by cell then segment: each cell's run lists its
+        // segments in outline order.
+        let mut pairs: Vec<((i64, i64), u32)> = Vec::with_capacity(n + n / 4);
         for i in 0..n {
             let (a, b) = (points_mm[i], points_mm[(i + 1) % n]);
             let (x0, x1) = (
-                (a[0].min(b[0]) / cap_mm).floor() as i64,
-                (a[0].max(b[0]) / cap_mm).floor() as i64,
+                cell_of(a[0].min(b[0]) / cap_mm),
+                cell_of(a[0].max(b[0]) / cap_mm),
             );
             let (y0, y1) = (
-                (a[1].min(b[1]) / cap_mm).floor() as i64,
-                (a[1].max(b[1]) / cap_mm).floor() as i64,
+                cell_of(a[1].min(b[1]) / cap_mm),
+                cell_of(a[1].max(b[1]) / cap_mm),
             );
             for cx in x0..=x1 {
                 for cy in y0..=y1 {
-                    lists.entry((cx, cy)).or_default().push(i as u32);
+                    pairs.push(((cx, cy), i as u32));
                 }
             }
         }
-        let mut grid = FxHashMap::default();
-        grid.reserve(lists.len());
-        let mut entries = Vec::with_capacity(lists.values().map(Vec::len).sum());
-        for (key, list) in lists {
-            grid.insert(key, (entries.len() as u32, list.len() as u32));
-            entries.extend(list.into_iter().map(|i| {
+        pairs.sort_unstable();
+        let cells = pairs.chunk_by(|p, q| p.0 == q.0).count();
+        let mut grid = CellTable::with_cells(cells);
+        let mut occupied = Vec::with_capacity(cells);
+        let entries: Vec<SegEntry> = pairs
+            .iter()
+            .map(|&(_, i)| {
                 let (a, b) = (points_mm[i as usize], points_mm[(i as usize + 1) % n]);
                 let d = [b[0] - a[0], b[1] - a[1]];
                 SegEntry {
@@ -179,14 +197,23 @@ impl Shape {
                     d2: d[0] * d[0] + d[1] * d[1],
                     i,
                 }
-            }));
+            })
+            .collect();
+        let mut start = 0u32;
+        for run in pairs.chunk_by(|p, q| p.0 == q.0) {
+            grid.insert(run[0].0, (start, run.len() as u32));
+            occupied.push(run[0].0);
+            start += run.len() as u32;
         }
+        let bands = super::inside::Bands::new(points_mm, cap_mm);
+        let far = FarMap::new(&occupied, cap_mm, |x| bands.contains(x));
         Ok(Self {
             pts: points_mm.to_vec(),
             polar,
-            bands: super::inside::Bands::new(points_mm, cap_mm),
+            bands,
             cell: cap_mm,
             grid,
+            far,
             entries,
             max_edge: (0..n)
                 .map(|i| {
@@ -210,13 +237,13 @@ impl Shape {
     /// (sorted, without repeats) into `out`.
     pub(crate) fn segments_near(&self, p: [f64; 2], q: [f64; 2], out: &mut Vec<u32>) {
         out.clear();
-        let cell = |v: f64| (v / self.cell).floor() as i64;
+        let cell = |v: f64| cell_of(v / self.cell);
         let (x0, x1) = (cell(p[0].min(q[0])), cell(p[0].max(q[0])));
         let (y0, y1) = (cell(p[1].min(q[1])), cell(p[1].max(q[1])));
         let boxed = (x1 - x0 + 1).saturating_mul(y1 - y0 + 1);
         if boxed > self.grid.len() as i64 {
             // A long edge over a fine grid: scan the occupied cells instead of the box.
-            for (&(gx, gy), &run) in &self.grid {
+            for ((gx, gy), run) in self.grid.iter() {
                 if (x0..=x1).contains(&gx) && (y0..=y1).contains(&gy) {
                     out.extend(self.cell_entries(run).iter().map(|e| e.i));
                 }
@@ -224,7 +251,7 @@ impl Shape {
         } else {
             for gx in x0..=x1 {
                 for gy in y0..=y1 {
-                    if let Some(&run) = self.grid.get(&(gx, gy)) {
+                    if let Some(run) = self.grid.get((gx, gy)) {
                         out.extend(self.cell_entries(run).iter().map(|e| e.i));
                     }
                 }
@@ -239,16 +266,20 @@ impl Shape {
     #[must_use]
     pub fn clearance(&self, x: [f64; 2]) -> f64 {
         let n = self.pts.len();
-        let (cx, cy) = (
-            (x[0] / self.cell).floor() as i64,
-            (x[1] / self.cell).floor() as i64,
-        );
+        let (cx, cy) = (cell_of(x[0] / self.cell), cell_of(x[1] / self.cell));
+        // Farther than one cell from the outline: the clip, with the side the scan and the
+        // crossing test below would give, from one array read.
+        match self.far.side((cx, cy)) {
+            Side::Inside => return -self.cell,
+            Side::Outside => return self.cell,
+            Side::Near => {}
+        }
         // Squared distances; one square root at the end. The own cell first, then the
         // neighbours whose nearest point can still beat the best (the 3×3 block covers every
         // segment within one cell of `x`, which is all the exact range needs).
         let mut best = (f64::INFINITY, 0usize, 0.5);
         let scan = |gx: i64, gy: i64, best: &mut (f64, usize, f64)| {
-            if let Some(&run) = self.grid.get(&(gx, gy)) {
+            if let Some(run) = self.grid.get((gx, gy)) {
                 for e in self.cell_entries(run) {
                     let ([ax, ay], [dx, dy]) = (e.a, e.d);
                     let (px, py) = (x[0] - ax, x[1] - ay);
@@ -311,5 +342,64 @@ impl Shape {
             }
         };
         if inside { -d } else { d }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::Shape;
+    use std::f64::consts::TAU;
+
+    /// Distance to the polyline and even–odd side, by brute force over every segment.
+    fn brute(pts: &[[f64; 2]], x: [f64; 2]) -> (f64, bool) {
+        let n = pts.len();
+        let mut d = f64::INFINITY;
+        let mut inside = false;
+        for i in 0..n {
+            let (a, b) = (pts[i], pts[(i + 1) % n]);
+            d = d.min(crate::math::polyline::seg_dist(x, a, b));
+            if (a[1] > x[1]) != (b[1] > x[1])
+                && a[0] + (x[1] - a[1]) * (b[0] - a[0]) / (b[1] - a[1]) > x[0]
+            {
+                inside = !inside;
+            }
+        }
+        (d, inside)
+    }
+
+    #[test]
+    fn clearance_equals_brute_force_near_far_inside_and_outside() {
+        // A 24-lobe "gear" whose lobes lean over (not star-shaped about the centre everywhere).
+        let pts: Vec<[f64; 2]> = (0..4800)
+            .map(|k| {
+                let t = TAU * f64::from(k) / 4800.0;
+                let r = 20.0 + 1.5 * (24.0 * t).sin();
+                let u = t + 0.02 * (24.0 * t).cos();
+                [r * u.cos(), r * u.sin()]
+            })
+            .collect();
+        let cap = 0.05;
+        let shape = Shape::new(&pts, cap, "test").expect("shape");
+        let mut checked = [0usize; 3];
+        for i in 0..120 {
+            for j in 0..120 {
+                let x = [
+                    -25.0 + 50.0 * f64::from(i) / 119.3,
+                    -25.0 + 50.0 * f64::from(j) / 119.7,
+                ];
+                let (d, inside) = brute(&pts, x);
+                let got = shape.clearance(x);
+                if d <= cap {
+                    let want = if inside { -d } else { d };
+                    assert!((got - want).abs() <= 1e-12, "{x:?}: {got} vs {want}");
+                    checked[0] += 1;
+                } else {
+                    assert_eq!(got, if inside { -cap } else { cap }, "{x:?}");
+                    checked[if inside { 1 } else { 2 }] += 1;
+                }
+            }
+        }
+        // Points near, far inside and far outside were all met.
+        assert!(checked.iter().all(|&c| c > 50), "{checked:?}");
     }
 }

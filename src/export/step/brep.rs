@@ -11,7 +11,7 @@ use super::{Ents, Prism, real};
 /// A `CARTESIAN_POINT` (mm) or a `DIRECTION` of three coordinates.
 fn triple(e: &mut Ents, kind: &str, p: [f64; 3]) -> usize {
     let [x, y, z] = p.map(real);
-    e.add(format!("{kind}('',({x},{y},{z}))"))
+    e.add(format_args!("{kind}('',({x},{y},{z}))"))
 }
 
 /// A cartesian point `(x, y, z)`, mm.
@@ -27,15 +27,15 @@ fn direction(e: &mut Ents, d: [f64; 3]) -> usize {
 /// An `AXIS2_PLACEMENT_3D` at `at` with axis `z` and reference direction `x` (entity ids).
 pub(super) fn placement(e: &mut Ents, at: [f64; 3], z: [f64; 3], x: [f64; 3]) -> usize {
     let (p, dz, dx) = (point(e, at), direction(e, z), direction(e, x));
-    e.add(format!("AXIS2_PLACEMENT_3D('',#{p},#{dz},#{dx})"))
+    e.add(format_args!("AXIS2_PLACEMENT_3D('',#{p},#{dz},#{dx})"))
 }
 
 /// A straight edge from vertex `v0` (at `p0`) to vertex `v1` along the unit `dir`, length `len`.
 fn line_edge(e: &mut Ents, (v0, p0): (usize, usize), v1: usize, dir: [f64; 3], len: f64) -> usize {
     let d = direction(e, dir);
-    let vec = e.add(format!("VECTOR('',#{d},{})", real(len)));
-    let line = e.add(format!("LINE('',#{p0},#{vec})"));
-    e.add(format!("EDGE_CURVE('',#{v0},#{v1},#{line},.T.)"))
+    let vec = e.add(format_args!("VECTOR('',#{d},{})", real(len)));
+    let line = e.add(format_args!("LINE('',#{p0},#{vec})"));
+    e.add(format_args!("EDGE_CURVE('',#{v0},#{v1},#{line},.T.)"))
 }
 
 /// A loop of `(edge, forward)`.
@@ -49,19 +49,22 @@ fn face(e: &mut Ents, surface: usize, same_sense: bool, loops: &[Loop]) -> usize
             .iter()
             .map(|&(edge, fwd)| {
                 let f = if fwd { ".T." } else { ".F." };
-                format!("#{}", e.add(format!("ORIENTED_EDGE('',*,*,#{edge},{f})")))
+                format!(
+                    "#{}",
+                    e.add(format_args!("ORIENTED_EDGE('',*,*,#{edge},{f})"))
+                )
             })
             .collect();
-        let lp = e.add(format!("EDGE_LOOP('',({}))", oriented.join(",")));
+        let lp = e.add(format_args!("EDGE_LOOP('',({}))", oriented.join(",")));
         let kind = if k == 0 {
             "FACE_OUTER_BOUND"
         } else {
             "FACE_BOUND"
         };
-        bounds.push(format!("#{}", e.add(format!("{kind}('',#{lp},.T.)"))));
+        bounds.push(format!("#{}", e.add(format_args!("{kind}('',#{lp},.T.)"))));
     }
     let s = if same_sense { ".T." } else { ".F." };
-    e.add(format!(
+    e.add(format_args!(
         "ADVANCED_FACE('',({}),#{surface},{s})",
         bounds.join(",")
     ))
@@ -70,7 +73,7 @@ fn face(e: &mut Ents, surface: usize, same_sense: bool, loops: &[Loop]) -> usize
 /// A vertex at `p`: `(vertex, point)` entity ids.
 fn vertex(e: &mut Ents, p: [f64; 3]) -> (usize, usize) {
     let pt = point(e, p);
-    (e.add(format!("VERTEX_POINT('',#{pt})")), pt)
+    (e.add(format_args!("VERTEX_POINT('',#{pt})")), pt)
 }
 
 /// The bore: its two cap loops `(bottom, top)` and its two half-cylinder faces.
@@ -83,17 +86,17 @@ fn bore(e: &mut Ents, r: f64, w: f64) -> (Loop, Loop, [usize; 2]) {
     let mut arcs = Vec::new();
     for h in [0.0, w] {
         let ax = placement(e, [0.0, 0.0, h], z, [1.0, 0.0, 0.0]);
-        let c = e.add(format!("CIRCLE('',#{ax},{})", real(r)));
+        let c = e.add(format_args!("CIRCLE('',#{ax},{})", real(r)));
         let (v0, vp) = if h == 0.0 { (b0, bp) } else { (t0, tp) };
-        arcs.push(e.add(format!("EDGE_CURVE('',#{v0},#{vp},#{c},.T.)")));
-        arcs.push(e.add(format!("EDGE_CURVE('',#{vp},#{v0},#{c},.T.)")));
+        arcs.push(e.add(format_args!("EDGE_CURVE('',#{v0},#{vp},#{c},.T.)")));
+        arcs.push(e.add(format_args!("EDGE_CURVE('',#{vp},#{v0},#{c},.T.)")));
     }
     let [cb1, cb2, ct1, ct2] = [arcs[0], arcs[1], arcs[2], arcs[3]];
     let l0 = line_edge(e, (b0, pb0), t0, z, w);
     // The seam at angle π runs down from the top (its line starts at the top point).
     let lp = line_edge(e, (tp, ptp), bp, [0.0, 0.0, -1.0], w);
     let ax = placement(e, [0.0, 0.0, 0.0], z, [1.0, 0.0, 0.0]);
-    let cyl = e.add(format!("CYLINDRICAL_SURFACE('',#{ax},{})", real(r)));
+    let cyl = e.add(format_args!("CYLINDRICAL_SURFACE('',#{ax},{})", real(r)));
     let half1 = face(
         e,
         cyl,
@@ -139,7 +142,7 @@ pub(super) fn solid(e: &mut Ents, prism: &Prism) -> (usize, usize) {
         let t = line_edge(e, top[i], top[j].0, d, len);
         // Outward normal of a CCW outline: the segment direction turned clockwise.
         let ax = placement(e, [pts[i][0], pts[i][1], 0.0], [d[1], -d[0], 0.0], d);
-        let plane = e.add(format!("PLANE('',#{ax})"));
+        let plane = e.add(format_args!("PLANE('',#{ax})"));
         faces.push(face(
             e,
             plane,
@@ -163,16 +166,16 @@ pub(super) fn solid(e: &mut Ents, prism: &Prism) -> (usize, usize) {
         faces.extend(halves);
     }
     let ax = placement(e, [0.0, 0.0, 0.0], [0.0, 0.0, -1.0], [1.0, 0.0, 0.0]);
-    let plane = e.add(format!("PLANE('',#{ax})"));
+    let plane = e.add(format_args!("PLANE('',#{ax})"));
     faces.push(face(e, plane, true, &bottom_loops));
     let ax = placement(e, [0.0, 0.0, w], z, [1.0, 0.0, 0.0]);
-    let plane = e.add(format!("PLANE('',#{ax})"));
+    let plane = e.add(format_args!("PLANE('',#{ax})"));
     faces.push(face(e, plane, true, &top_loops));
     let list: Vec<String> = faces.iter().map(|f| format!("#{f}")).collect();
-    let shell = e.add(format!("CLOSED_SHELL('',({}))", list.join(",")));
+    let shell = e.add(format_args!("CLOSED_SHELL('',({}))", list.join(",")));
     let name = super::quote(&prism.name);
     (
-        e.add(format!("MANIFOLD_SOLID_BREP({name},#{shell})")),
+        e.add(format_args!("MANIFOLD_SOLID_BREP({name},#{shell})")),
         faces.len(),
     )
 }

@@ -71,33 +71,81 @@ pub struct StepStats {
 
 /// The entity list of the DATA section, numbered from 1 in write order.
 pub(crate) struct Ents {
-    lines: Vec<String>,
+    /// The DATA section so far: one `#n=…;` line per entity.
+    data: String,
+    count: usize,
 }
 
 impl Ents {
-    /// Adds an entity (its text without `#n=` and `;`), returns its id.
-    pub(crate) fn add(&mut self, text: String) -> usize {
-        self.lines.push(text);
-        self.lines.len()
+    /// Adds an entity (its text without `#n=` and `;`), returns its id. Written straight into
+    /// the DATA text: no string per entity (a 24-tooth pair has ≈ 100 000 entities).
+    pub(crate) fn add(&mut self, text: std::fmt::Arguments<'_>) -> usize {
+        self.count += 1;
+        let _ = writeln!(self.data, "#{}={text};", self.count);
+        self.count
     }
 }
 
-/// A STEP real: shortest round-trip digits, always with a decimal point, `E` exponent, no `-0.`.
-pub(crate) fn real(x: f64) -> String {
-    if x == 0.0 {
-        return "0.".into();
+/// A STEP real: shortest round-trip digits, always with a decimal point, `E` exponent, no `-0.`
+/// (a value to format with `{}`; nothing is allocated).
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Real(f64);
+
+/// [`Real`] of `x`.
+pub(crate) fn real(x: f64) -> Real {
+    Real(x)
+}
+
+impl std::fmt::Display for Real {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        if self.0 == 0.0 {
+            return f.write_str("0.");
+        }
+        // Rust's `{:?}` of an f64 is the shortest round-trip form, at most 24 bytes.
+        let mut buf = Small::default();
+        let _ = write!(buf, "{:?}", self.0);
+        let s = buf.as_str();
+        let (mant, exp) = match s.split_once('e') {
+            Some((m, e)) => (m, Some(e)),
+            None => (s, None),
+        };
+        if mant.contains('.') {
+            f.write_str(mant.trim_end_matches('0'))?;
+        } else {
+            f.write_str(mant)?;
+            f.write_str(".")?;
+        }
+        match exp {
+            Some(e) => write!(f, "E{e}"),
+            None => Ok(()),
+        }
     }
-    let s = format!("{x:?}");
-    let (mant, exp) = match s.split_once('e') {
-        Some((m, e)) => (m.to_string(), format!("E{e}")),
-        None => (s, String::new()),
-    };
-    let mant = if mant.contains('.') {
-        mant.trim_end_matches('0').to_string()
-    } else {
-        format!("{mant}.")
-    };
-    format!("{mant}{exp}")
+}
+
+/// A 32-byte stack buffer for one formatted number.
+#[derive(Default)]
+struct Small {
+    bytes: [u8; 32],
+    len: usize,
+}
+
+impl Small {
+    fn as_str(&self) -> &str {
+        // Only whole `&str`s are appended, so the bytes are UTF-8.
+        std::str::from_utf8(&self.bytes[..self.len]).unwrap_or("")
+    }
+}
+
+impl std::fmt::Write for Small {
+    fn write_str(&mut self, s: &str) -> std::fmt::Result {
+        let end = self.len + s.len();
+        if end > self.bytes.len() {
+            return Err(std::fmt::Error);
+        }
+        self.bytes[self.len..end].copy_from_slice(s.as_bytes());
+        self.len = end;
+        Ok(())
+    }
 }
 
 /// A STEP string literal (apostrophes doubled, non-ASCII replaced by `_`).
@@ -218,11 +266,13 @@ const CTX: usize = 9;
 /// A product and its definition: returns `(product definition, product definition shape)`.
 fn product(e: &mut Ents, name: &str) -> (usize, usize) {
     let q = quote(name);
-    let p = e.add(format!("PRODUCT({q},{q},'',(#3))"));
-    e.add(format!("PRODUCT_RELATED_PRODUCT_CATEGORY('part',$,(#{p}))"));
-    let f = e.add(format!("PRODUCT_DEFINITION_FORMATION('','',#{p})"));
-    let d = e.add(format!("PRODUCT_DEFINITION('design','',#{f},#4)"));
-    let s = e.add(format!("PRODUCT_DEFINITION_SHAPE('','',#{d})"));
+    let p = e.add(format_args!("PRODUCT({q},{q},'',(#3))"));
+    e.add(format_args!(
+        "PRODUCT_RELATED_PRODUCT_CATEGORY('part',$,(#{p}))"
+    ));
+    let f = e.add(format_args!("PRODUCT_DEFINITION_FORMATION('','',#{p})"));
+    let d = e.add(format_args!("PRODUCT_DEFINITION('design','',#{f},#4)"));
+    let s = e.add(format_args!("PRODUCT_DEFINITION_SHAPE('','',#{d})"));
     (d, s)
 }
 
@@ -250,9 +300,12 @@ pub fn step_text(model: &StepModel) -> Result<(String, StepStats), ExportError> 
             what: "instance of a missing part or at a non-finite position",
         });
     }
-    let mut e = Ents { lines: Vec::new() };
+    let mut e = Ents {
+        data: String::new(),
+        count: 0,
+    };
     for c in CONTEXT {
-        e.add(c.to_string());
+        e.add(format_args!("{c}"));
     }
     let mut faces = 0;
     // Per part: (product definition, representation, its origin placement).
@@ -262,11 +315,13 @@ pub fn step_text(model: &StepModel) -> Result<(String, StepStats), ExportError> 
         let (brep, nf) = brep::solid(&mut e, p);
         faces += nf;
         let origin = brep::placement(&mut e, ORIGIN.0, ORIGIN.1, ORIGIN.2);
-        let rep = e.add(format!(
+        let rep = e.add(format_args!(
             "ADVANCED_BREP_SHAPE_REPRESENTATION({},(#{brep},#{origin}),#{CTX})",
             quote(&p.name)
         ));
-        e.add(format!("SHAPE_DEFINITION_REPRESENTATION(#{pds},#{rep})"));
+        e.add(format_args!(
+            "SHAPE_DEFINITION_REPRESENTATION(#{pds},#{rep})"
+        ));
         defs.push((pd, rep, origin));
     }
     if !model.instances.is_empty() {
@@ -281,29 +336,31 @@ pub fn step_text(model: &StepModel) -> Result<(String, StepStats), ExportError> 
             items.push(format!("#{pl}"));
             links.push((inst, pl));
         }
-        let arep = e.add(format!(
+        let arep = e.add(format_args!(
             "SHAPE_REPRESENTATION({},({}),#{CTX})",
             quote(&model.name),
             items.join(",")
         ));
-        e.add(format!("SHAPE_DEFINITION_REPRESENTATION(#{apds},#{arep})"));
+        e.add(format_args!(
+            "SHAPE_DEFINITION_REPRESENTATION(#{apds},#{arep})"
+        ));
         for (k, (inst, pl)) in links.into_iter().enumerate() {
             let (pd, rep, origin) = defs[inst.part];
-            let idt = e.add(format!(
+            let idt = e.add(format_args!(
                 "ITEM_DEFINED_TRANSFORMATION('','',#{origin},#{pl})"
             ));
-            let rr = e.add(format!(
+            let rr = e.add(format_args!(
                 "(REPRESENTATION_RELATIONSHIP('','',#{rep},#{arep})\
                  REPRESENTATION_RELATIONSHIP_WITH_TRANSFORMATION(#{idt})\
                  SHAPE_REPRESENTATION_RELATIONSHIP())"
             ));
             let q = quote(&inst.name);
-            let nauo = e.add(format!(
+            let nauo = e.add(format_args!(
                 "NEXT_ASSEMBLY_USAGE_OCCURRENCE('{}',{q},'',#{apd},#{pd},$)",
                 k + 1
             ));
-            let pds = e.add(format!("PRODUCT_DEFINITION_SHAPE({q},'',#{nauo})"));
-            e.add(format!(
+            let pds = e.add(format_args!("PRODUCT_DEFINITION_SHAPE({q},'',#{nauo})"));
+            e.add(format_args!(
                 "CONTEXT_DEPENDENT_SHAPE_REPRESENTATION(#{rr},#{pds})"
             ));
         }
@@ -311,9 +368,9 @@ pub fn step_text(model: &StepModel) -> Result<(String, StepStats), ExportError> 
     let stats = StepStats {
         solids: parts.len(),
         faces,
-        entities: e.lines.len(),
+        entities: e.count,
     };
-    let mut out = String::with_capacity(64 * e.lines.len() + 512);
+    let mut out = String::with_capacity(e.data.len() + 512);
     out.push_str("ISO-10303-21;\nHEADER;\n");
     let _ = writeln!(
         out,
@@ -326,9 +383,7 @@ pub fn step_text(model: &StepModel) -> Result<(String, StepStats), ExportError> 
         env!("CARGO_PKG_VERSION")
     );
     out.push_str("FILE_SCHEMA(('AUTOMOTIVE_DESIGN { 1 0 10303 214 1 1 1 1 }'));\nENDSEC;\nDATA;\n");
-    for (k, l) in e.lines.iter().enumerate() {
-        let _ = writeln!(out, "#{}={l};", k + 1);
-    }
+    out.push_str(&e.data);
     out.push_str("ENDSEC;\nEND-ISO-10303-21;\n");
     Ok((out, stats))
 }
@@ -347,7 +402,7 @@ mod tests {
     #[test]
     fn reals_have_a_point_and_an_upper_case_exponent_and_strings_are_escaped() {
         let got: Vec<String> = [0.0, -0.0, 1.0, 10.0, -2.5, 0.1, 1e-7, -1.25e21, 123456.0]
-            .map(real)
+            .map(|x| real(x).to_string())
             .to_vec();
         let want = [
             "0.", "0.", "1.", "10.", "-2.5", "0.1", "1.E-7", "-1.25E21", "123456.",

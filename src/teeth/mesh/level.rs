@@ -1,7 +1,6 @@
 //! One resolution of the mesh check: both outlines indexed, the candidate vertices near the
 //! contact, per-vertex clearances at a driven offset, and the pruned root search on them.
 use crate::teeth::shape::{MeshError, Shape};
-use rayon::prelude::*;
 use std::f64::consts::PI;
 
 /// Driver angle `phi`, law angle `psi0` (rad) and centre distance `a` (mm) of one position.
@@ -35,6 +34,9 @@ pub(super) struct Level {
     /// distance of the two polylines (a point between them is within it of both), plus a
     /// rounding margin.
     slack: f64,
+    /// Hausdorff bound of these polylines from the given outlines, mm (the simplification's
+    /// largest vertex-to-chord distance; 0 when not simplified).
+    pub(super) deviation_mm: f64,
 }
 
 /// Simplification of the bounding copies, in modules.
@@ -81,14 +83,18 @@ impl Level {
         let every = |v: &[[f64; 2]], k: usize| v.iter().step_by(k).copied().collect::<Vec<_>>();
         let thin = |v: &[[f64; 2]]| {
             if simplify_mm > 0.0 {
-                crate::math::polyline::simplify_closed(v, simplify_mm)
+                crate::math::polyline::simplify_closed_dev(v, simplify_mm)
             } else {
-                v.to_vec()
+                (v.to_vec(), 0.0)
             }
         };
-        let (d1, d2) = (thin(driver), thin(driven));
-        let h1 = Shape::new(&d1, cap, "driver")?;
-        let h2 = Shape::new(&d2, cap, "driven")?;
+        // The two gears' shapes are independent: built side by side at every stage.
+        let ((d1, e1), (d2, e2)) = rayon::join(|| thin(driver), || thin(driven));
+        let (h1, h2) = rayon::join(
+            || Shape::new(&d1, cap, "driver"),
+            || Shape::new(&d2, cap, "driven"),
+        );
+        let (h1, h2) = (h1?, h2?);
         let rmax = h1
             .polar
             .r
@@ -106,21 +112,26 @@ impl Level {
         let lip = rmax + 2.0 * m;
         let reach = 4.0 * backlash_mm / r2min * lip + 0.05 * m;
         // Coarse copies (every 16th vertex) index the initial pruning at a larger reach.
-        let k1 = Shape::new(&every(&d1, 16), reach, "driver")?;
-        let k2 = Shape::new(&every(&d2, 16), reach, "driven")?;
         // Douglas–Peucker keeps every removed vertex within the tolerance of its chord, so the
         // polylines are within it of each other both ways.
         let tol = BOUND_TOL * m;
-        let b1 = Shape::new(
-            &crate::math::polyline::simplify_closed(&d1, tol),
-            reach,
-            "driver",
-        )?;
-        let b2 = Shape::new(
-            &crate::math::polyline::simplify_closed(&d2, tol),
-            reach,
-            "driven",
-        )?;
+        let coarse_and_bound = |d: &[[f64; 2]], which| {
+            rayon::join(
+                || Shape::new(&every(d, 16), reach, which),
+                || {
+                    Shape::new(
+                        &crate::math::polyline::simplify_closed(d, tol),
+                        reach,
+                        which,
+                    )
+                },
+            )
+        };
+        let ((k1, b1), (k2, b2)) = rayon::join(
+            || coarse_and_bound(&d1, "driver"),
+            || coarse_and_bound(&d2, "driven"),
+        );
+        let (k1, b1, k2, b2) = (k1?, b1?, k2?, b2?);
         let slack = 3.0 * tol + 1e-6 * m;
         // Blocks of about 0.1·m of outline.
         let perimeter: f64 = (0..d1.len())
@@ -144,18 +155,8 @@ impl Level {
             lip,
             module_mm: m,
             slack,
+            deviation_mm: e1.max(e2),
         })
-    }
-
-    /// Largest distance (mm) of this level's vertices from `other`'s polylines (both gears).
-    pub(super) fn deviation_from(&self, other: &Self) -> f64 {
-        // The maximum is independent of the order: parallel and deterministic.
-        let far = |pts: &[[f64; 2]], s: &Shape| {
-            pts.par_iter()
-                .map(|&p| s.clearance(p).abs())
-                .reduce(|| 0.0, f64::max)
-        };
-        far(&self.h1.pts, &other.h1).max(far(&self.h2.pts, &other.h2))
     }
 
     /// Per-vertex clearances at driven offset δ (rad): gear-1 vertices `set1` against gear 2 and

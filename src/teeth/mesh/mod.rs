@@ -234,7 +234,7 @@ pub fn verify_mesh(
     let (fine, medium) = (fine?, medium?);
     let g1 = &fine.h1.polar;
     // Largest gap between the medium and fine polylines (mm): bounds |f_fine − f_medium|.
-    let dev = fine.deviation_from(&medium);
+    let dev = medium.deviation_mm;
     let lip = fine.lip;
     let sample = |k: usize| {
         let phi = check.span.position_rad(k, check.steps);
