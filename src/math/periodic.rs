@@ -35,6 +35,9 @@ pub struct PeriodicSpline {
     m: Vec<f64>,
     period: f64,
     uniform: bool,
+    /// Non-uniform knots: for each of `n` equal cells of the period, the last knot at or before
+    /// its start — the start of a short walk instead of a bisection (empty when uniform).
+    guide: Vec<u32>,
 }
 
 /// Why a periodic spline could not be built.
@@ -109,12 +112,27 @@ impl PeriodicSpline {
             d[i] = 6.0 * ((y[(i + 1) % n] - y[i]) / hp - (y[i] - y[(i + n - 1) % n]) / hm);
         }
         let m = solve_cyclic_tridiagonal(&a, &b, &c, &d);
+        let guide = if uniform {
+            Vec::new()
+        } else {
+            let mut i = 0usize;
+            (0..n)
+                .map(|k| {
+                    let start = x[0] + period * k as f64 / n as f64;
+                    while i + 1 < n && x[i + 1] <= start {
+                        i += 1;
+                    }
+                    i as u32
+                })
+                .collect()
+        };
         Ok(Self {
             x,
             y,
             m,
             period,
             uniform,
+            guide,
         })
     }
 
@@ -143,21 +161,34 @@ impl PeriodicSpline {
         &self.y
     }
 
+    #[inline]
     fn locate(&self, x: f64) -> (usize, f64, f64) {
         let n = self.x.len();
-        let mut u = (x - self.x[0]).rem_euclid(self.period);
-        if !u.is_finite() {
-            u = 0.0;
+        let mut u = x - self.x[0];
+        // Within the first period already (the common case): `rem_euclid` would return `u`
+        // itself, so skip its library `fmod`.
+        if !(u >= 0.0 && u < self.period) {
+            u = u.rem_euclid(self.period);
+            if !u.is_finite() {
+                u = 0.0;
+            }
         }
         let i = if self.uniform {
             let h = self.period / n as f64;
             ((u / h) as usize).min(n - 1)
         } else {
+            // The last knot at or before the target, walked to from the guide (the same
+            // index a bisection finds: the knots increase strictly).
             let target = self.x[0] + u;
-            match self.x.binary_search_by(|v| v.total_cmp(&target)) {
-                Ok(i) => i,
-                Err(i) => i.saturating_sub(1),
+            let k = ((u / self.period * n as f64) as usize).min(n - 1);
+            let mut i = self.guide[k] as usize;
+            while i > 0 && self.x[i] > target {
+                i -= 1;
             }
+            while i + 1 < n && self.x[i + 1] <= target {
+                i += 1;
+            }
+            i
         };
         let xi = self.x[i] - self.x[0];
         let h = if i + 1 < n {
@@ -170,10 +201,11 @@ impl PeriodicSpline {
 
     /// Value, first and second derivative at `x` (any real `x`: wrapped into the period).
     #[must_use]
+    #[inline]
     pub fn eval3(&self, x: f64) -> [f64; 3] {
         let n = self.x.len();
         let (i, t, h) = self.locate(x);
-        let j = (i + 1) % n;
+        let j = if i + 1 == n { 0 } else { i + 1 };
         let (yi, yj, mi, mj) = (self.y[i], self.y[j], self.m[i], self.m[j]);
         let s = h - t;
         let v = (mi * s * s * s + mj * t * t * t) / (6.0 * h)
@@ -186,12 +218,14 @@ impl PeriodicSpline {
 
     /// Value at `x`.
     #[must_use]
+    #[inline]
     pub fn value(&self, x: f64) -> f64 {
         self.eval3(x)[0]
     }
 
     /// First derivative at `x`.
     #[must_use]
+    #[inline]
     pub fn derivative(&self, x: f64) -> f64 {
         self.eval3(x)[1]
     }

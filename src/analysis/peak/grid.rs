@@ -8,6 +8,28 @@ use std::f64::consts::TAU;
 /// Grid points summed per block (the block of `f` and its table windows stay in L1).
 pub(super) const BLOCK: usize = 256;
 
+/// Longest repeat of a tabulated sum of leading terms, points.
+const PREFIX_MAX_REPEAT: usize = 2048;
+
+/// The longest run of leading terms (at least 2) whose repeats `p_k` have a least common
+/// multiple `P ≤ min(PREFIX_MAX_REPEAT, n/4)`, as `(count, P)`; `(0, 0)` when there is none.
+fn leading_repeat(repeat: &[usize], n: usize) -> (usize, usize) {
+    let limit = PREFIX_MAX_REPEAT.min(n / 4);
+    let mut best = (0, 0);
+    let mut p: u128 = 1;
+    for (k, &r) in repeat.iter().enumerate() {
+        let r = r as u128;
+        p = p / gcd(p, r) * r;
+        if p > limit as u128 {
+            break;
+        }
+        if k >= 1 {
+            best = (k + 1, p as usize);
+        }
+    }
+    best
+}
+
 /// A reusable sampling grid for one set of frequencies (sin/cos tables precomputed), so that
 /// many phase/amplitude combinations can be evaluated fast (one table pass per evaluation).
 ///
@@ -26,6 +48,10 @@ pub struct PeakGrid {
     pub(super) repeat: Vec<usize>,
     pub(super) sin: Vec<Vec<f64>>,
     pub(super) cos: Vec<Vec<f64>>,
+    /// The leading terms whose sum repeats within [`PREFIX_MAX_REPEAT`] points (their count, at
+    /// least 2, and that repeat, the lcm of their `p_k`), or `(0, 0)`: per evaluation their sum
+    /// is tabulated once over one repeat, and the grid pass adds only the other terms to it.
+    pub(super) prefix: (usize, usize),
     opts: PeakOptions,
     commensurate: bool,
 }
@@ -90,6 +116,7 @@ impl PeakGrid {
             period,
             h,
             n: if grid { n } else { 0 },
+            prefix: leading_repeat(&repeat, n),
             repeat,
             sin,
             cos,
@@ -120,17 +147,39 @@ impl PeakGrid {
     /// Local maximum of |f| in `[t_j − h, t_j + h]` from `t_j + s0·h` (the interpolant's maximum,
     /// or the middle): Newton on f′ (f″ from the same sums), falling
     /// back to golden-section search if a step leaves the bracket or f″ has the wrong sign.
-    fn refine(&self, amps: &[f64], phases: &[f64], j: usize, s0: f64, tol: f64) -> (f64, f64) {
+    ///
+    /// The terms `(sin ω_k t, cos ω_k t)` come from the tables at `t_j`, turned once by
+    /// `ω_k (t − t_j)` and then by each Newton step `ω_k δ` — for a step below [`SMALL_TURN`] rad
+    /// by its Taylor series, exact to rounding — so a refinement costs one `sin_cos` per term
+    /// instead of one per term and iteration.
+    #[allow(clippy::too_many_arguments)]
+    fn refine(
+        &self,
+        amps: &[f64],
+        phases: &[f64],
+        cs: &[f64],
+        sn: &[f64],
+        j: usize,
+        s0: f64,
+        tol: f64,
+    ) -> (f64, f64) {
         let (lo, hi) = ((j as f64 - 0.5) * self.h, (j as f64 + 1.5) * self.h);
         let mut t = (j as f64 + s0) * self.h;
-        for _ in 0..30 {
+        let mut terms: Vec<(f64, f64)> = (0..cs.len())
+            .map(|k| turn(self.table(k, j), self.omegas[k] * (s0 * self.h)))
+            .collect();
+        let sums = |terms: &[(f64, f64)]| {
             let (mut f, mut d1, mut d2) = (0.0, 0.0, 0.0);
-            for ((a, p), w) in amps.iter().zip(phases).zip(&self.omegas) {
-                let (s, c) = (w * t + p).sin_cos();
-                f += a * s;
-                d1 += a * w * c;
-                d2 -= a * w * w * s;
+            for (k, &(s, c)) in terms.iter().enumerate() {
+                let w = self.omegas[k];
+                f += cs[k] * s + sn[k] * c;
+                d1 += w * (cs[k] * c - sn[k] * s);
+                d2 -= w * w * (cs[k] * s + sn[k] * c);
             }
+            (f, d1, d2)
+        };
+        for _ in 0..30 {
+            let (f, d1, d2) = sums(&terms);
             // A maximum of |f| needs f·f″ < 0.
             if !(f * d2 < 0.0) {
                 break;
@@ -141,8 +190,11 @@ impl PeakGrid {
                 break;
             }
             t = next;
+            for (k, sc) in terms.iter_mut().enumerate() {
+                *sc = turn(*sc, -self.omegas[k] * step);
+            }
             if step.abs() <= tol {
-                return (t, self.eval(amps, phases, t).abs());
+                return (t, sums(&terms).0.abs());
             }
         }
         golden_max(|t| self.eval(amps, phases, t).abs(), lo, hi, tol)
@@ -308,7 +360,7 @@ impl PeakGrid {
                 break;
             }
             // The interval's maximum is at an end point or at a stationary point inside.
-            let (t, v) = self.refine(amps, phases, j, s0, tol);
+            let (t, v) = self.refine(amps, phases, &cs, &sn, j, s0, tol);
             let ends = f[j].abs().max(f[next(j)].abs());
             let (t, v) = if ends > v {
                 (
@@ -338,6 +390,24 @@ impl PeakGrid {
 }
 
 /// Maximises a unimodal `g` on `[a, b]` by golden-section search to `tol`; returns `(t, g(t))`.
+/// Largest turn (rad) applied by its Taylor series in [`turn`]: the first omitted terms,
+/// `x¹¹/11!` and `x¹⁰/10!`, are below 1e-19 there.
+const SMALL_TURN: f64 = 0.05;
+
+/// `(sin(a + x), cos(a + x))` from `(sin a, cos a)`.
+fn turn((s, c): (f64, f64), x: f64) -> (f64, f64) {
+    let (sx, cx) = if x.abs() <= SMALL_TURN {
+        let x2 = x * x;
+        (
+            x * (1.0 - x2 / 6.0 * (1.0 - x2 / 20.0 * (1.0 - x2 / 42.0 * (1.0 - x2 / 72.0)))),
+            1.0 - x2 / 2.0 * (1.0 - x2 / 12.0 * (1.0 - x2 / 30.0 * (1.0 - x2 / 56.0))),
+        )
+    } else {
+        x.sin_cos()
+    };
+    (s * cx + c * sx, c * cx - s * sx)
+}
+
 fn golden_max(g: impl Fn(f64) -> f64, mut a: f64, mut b: f64, tol: f64) -> (f64, f64) {
     let r = 0.5 * (5f64.sqrt() - 1.0);
     let mut x1 = b - r * (b - a);

@@ -47,6 +47,38 @@ impl PeakGrid {
         f: &mut [f64],
     ) -> (f64, Vec<usize>) {
         let n = f.len();
+        let (lead, rep) = self.prefix;
+        if lead >= 2 && cs.len() >= lead && cs.len() - lead <= 4 {
+            // The leading terms' sum over one repeat (plus a block, for contiguous windows),
+            // with the additions of the full sum in the same order: bit-identical values.
+            let mut pre = vec![0.0; rep + BLOCK];
+            // Term by term (each term's table index wraps at its repeat, no division), the
+            // additions per point in term order as in the full sum.
+            for k in 0..lead {
+                let (ck, sk, p) = (cs[k], sn[k], self.repeat[k]);
+                let (s, c) = (&self.sin[k][..p], &self.cos[k][..p]);
+                for chunk in pre.chunks_mut(p) {
+                    for ((v, s), c) in chunk.iter_mut().zip(s).zip(c) {
+                        *v += ck * s + sk * c;
+                    }
+                }
+            }
+            match cs.len() - lead {
+                0 => self.add_terms::<0>(&pre, lead, cs, sn, f),
+                1 => self.add_terms::<1>(&pre, lead, cs, sn, f),
+                2 => self.add_terms::<2>(&pre, lead, cs, sn, f),
+                3 => self.add_terms::<3>(&pre, lead, cs, sn, f),
+                _ => self.add_terms::<4>(&pre, lead, cs, sn, f),
+            }
+        } else {
+            self.sum_all(cs, sn, f);
+        }
+        Self::max_and_candidates(f, loss, n)
+    }
+
+    /// Every term on every grid point, term after term per point.
+    #[inline(always)]
+    fn sum_all(&self, cs: &[f64], sn: &[f64], f: &mut [f64]) {
         match cs.len() {
             1 => self.sum_terms::<1>(cs, sn, f),
             2 => self.sum_terms::<2>(cs, sn, f),
@@ -70,6 +102,12 @@ impl PeakGrid {
                 }
             }
         }
+    }
+
+    /// The largest |f| over the grid values `f` (`n` of them) and the intervals whose coarse
+    /// bound, `|f| + loss` at an end point, reaches it.
+    #[inline(always)]
+    fn max_and_candidates(f: &[f64], loss: f64, n: usize) -> (f64, Vec<usize>) {
         // The largest |f| of every block of 16 points (four independent lanes, so that the
         // maximum vectorises; the same value as a serial fold, the grid values being finite),
         // then the best grid value.
@@ -110,6 +148,37 @@ impl PeakGrid {
         (gmax, cand)
     }
 
+    /// `f_j = pre_j + t_(lead)j + … + t_(lead+R−1)j`, in that order, `pre` holding the sum of the
+    /// first `lead` terms over one repeat of it (`self.prefix.1` points) plus a block.
+    #[inline(always)]
+    fn add_terms<const R: usize>(
+        &self,
+        pre: &[f64],
+        lead: usize,
+        cs: &[f64],
+        sn: &[f64],
+        f: &mut [f64],
+    ) {
+        let rep = self.prefix.1;
+        let ck: [f64; R] = std::array::from_fn(|k| cs[lead + k]);
+        let sk: [f64; R] = std::array::from_fn(|k| sn[lead + k]);
+        for (b, fb) in f.chunks_mut(BLOCK).enumerate() {
+            let len = fb.len();
+            let o = b * BLOCK % rep;
+            let p = &pre[o..o + len];
+            let oo: [usize; R] = std::array::from_fn(|k| b * BLOCK % self.repeat[lead + k]);
+            let s: [&[f64]; R] = std::array::from_fn(|k| &self.sin[lead + k][oo[k]..oo[k] + len]);
+            let c: [&[f64]; R] = std::array::from_fn(|k| &self.cos[lead + k][oo[k]..oo[k] + len]);
+            for (j, fj) in fb.iter_mut().enumerate() {
+                let mut acc = p[j];
+                for k in 0..R {
+                    acc += ck[k] * s[k][j] + sk[k] * c[k][j];
+                }
+                *fj = acc;
+            }
+        }
+    }
+
     /// `f_j = (…((0 + t_0j) + t_1j) + …) + t_(K−1)j` with `t_kj = cs_k sin(ω_k t_j) + sn_k cos(ω_k t_j)`,
     /// the terms summed in a register per grid point (one store per point instead of one load
     /// and store per term): the same additions in the same order as the blocked loop.
@@ -130,5 +199,34 @@ impl PeakGrid {
                 *fj = acc;
             }
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::{PeakGrid, PeakOptions};
+
+    /// The paper's four terms: the first three repeat every 168 of the 4 200 grid points, so
+    /// their sum is tabulated once; the grid values are the full sums, bit for bit.
+    #[test]
+    fn tabulated_leading_terms_give_the_full_sums_bit_for_bit() {
+        let g = PeakGrid::new(&[75.0, 525.0, 275.0, 63.0], PeakOptions::default());
+        assert_eq!((g.len(), g.prefix), (4200, (3, 168)));
+        let (cs, sn) = ([-0.7, -12.2, 3.1, -20.5], [0.01, -4.4, -8.7, 14.9]);
+        let mut with = vec![0.0; g.len()];
+        let (gmax, cand) = g.grid_pass(&cs, &sn, 1e-3, &mut with);
+        let mut full = vec![0.0; g.len()];
+        g.sum_all(&cs, &sn, &mut full);
+        assert!(
+            with.iter()
+                .zip(&full)
+                .all(|(a, b)| a.to_bits() == b.to_bits())
+        );
+        let want = full.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
+        assert_eq!(gmax.to_bits(), want.to_bits());
+        assert!(!cand.is_empty() && cand.iter().all(|&j| j < g.len()));
+        // A term order whose leading terms repeat only over the whole grid: no table.
+        let h = PeakGrid::new(&[63.0, 64.0, 525.0], PeakOptions::default());
+        assert_eq!(h.prefix, (0, 0));
     }
 }
