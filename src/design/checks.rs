@@ -111,7 +111,52 @@ pub(super) fn finish(
         })
         .collect();
     let sync = dev.iter().copied().fold(0.0, f64::max);
-    let haus = hausdorff_mm(&traced, &target_curve(traj.points(), angles, 2 * m));
+    // i31 = i(t)/i(S(t)) along the turn, each contact angle S = Φ⁻¹(Φ(t) + π) solved from the
+    // previous one (S′ = i(t)/i(S)): a step or two of Newton instead of a cold start. Serial,
+    // as is the Hausdorff distance: both run beside the geometry integrals below.
+    let i31_scan = || {
+        let mut s_prev = f64::NAN;
+        (0..4096)
+            .map(|k| {
+                let t = TAU * k as f64 / 4096.0;
+                let (fi, it) = mech.ratio.integral_and_value(t);
+                let s = mech.ratio.inverse_integral_from(
+                    fi + std::f64::consts::PI,
+                    s_prev,
+                    INVERSE_TOL_RAD,
+                );
+                let is = mech.ratio.value(s);
+                s_prev = s + TAU / 4096.0 * it / is;
+                it / is
+            })
+            .fold(f64::INFINITY, f64::min)
+    };
+    let acc = 1e-9 * mech.a_mm;
+    // Independent integrals and scans, side by side.
+    let (((ls, lm), (lp, (cs, cm))), (haus, i31_min)) = rayon::join(
+        || {
+            rayon::join(
+                || rayon::join(|| sun.perimeter_mm(acc), || mid.perimeter_mm(acc)),
+                || {
+                    rayon::join(
+                        || planet.perimeter_mm(acc),
+                        || {
+                            rayon::join(
+                                || sun.curvature_extremes(8 * n),
+                                || mid.curvature_extremes(8 * n),
+                            )
+                        },
+                    )
+                },
+            )
+        },
+        || {
+            rayon::join(
+                || hausdorff_mm(&traced, &target_curve(traj.points(), angles, 2 * m)),
+                i31_scan,
+            )
+        },
+    );
     let roundtrip = RoundTrip {
         max_deviation_mm: sync,
         rms_deviation_mm: rms(&dev),
@@ -121,41 +166,8 @@ pub(super) fn finish(
     };
 
     // Geometry checks.
-    let acc = 1e-9 * mech.a_mm;
-    // Independent integrals, side by side.
-    let ((ls, lm), (lp, (cs, cm))) = rayon::join(
-        || rayon::join(|| sun.perimeter_mm(acc), || mid.perimeter_mm(acc)),
-        || {
-            rayon::join(
-                || planet.perimeter_mm(acc),
-                || {
-                    rayon::join(
-                        || sun.curvature_extremes(8 * n),
-                        || mid.curvature_extremes(8 * n),
-                    )
-                },
-            )
-        },
-    );
     let means = rebuilt.ratio_means();
     let [imin, imax] = mech.ratio.range();
-    // i31 = i(t)/i(S(t)) along the turn, each contact angle S = Φ⁻¹(Φ(t) + π) solved from the
-    // previous one (S′ = i(t)/i(S)): a step or two of Newton instead of a cold start.
-    let mut s_prev = f64::NAN;
-    let i31_min = (0..4096)
-        .map(|k| {
-            let t = TAU * k as f64 / 4096.0;
-            let (fi, it) = mech.ratio.integral_and_value(t);
-            let s = mech.ratio.inverse_integral_from(
-                fi + std::f64::consts::PI,
-                s_prev,
-                INVERSE_TOL_RAD,
-            );
-            let is = mech.ratio.value(s);
-            s_prev = s + TAU / 4096.0 * it / is;
-            it / is
-        })
-        .fold(f64::INFINITY, f64::min);
     let min_conv = cs.min_convexity_mm2.min(cm.min_convexity_mm2);
     let min_rho = cs
         .min_radius_of_curvature_mm

@@ -168,9 +168,12 @@ pub fn invert(
     // Both senses are tried: the "elbow-flipped" arm (A reflected across OB) of a CW mechanism can
     // trace the same path CCW. When both are valid, the law that the train can realise best
     // (smaller compatibility residual, spec §6.4) wins and the other is flagged.
-    let ccw = solve_frame(&pts, opts, 1, center);
+    // The two senses are independent: solved side by side.
     let mirrored = traj.relative_to(center, true);
-    let cw = solve_frame(&mirrored, opts, -1, center);
+    let (ccw, cw) = rayon::join(
+        || solve_frame(&pts, opts, 1, center),
+        || solve_frame(&mirrored, opts, -1, center),
+    );
     match (ccw, cw) {
         (Ok(Solved::Done(mut a)), Ok(Solved::Done(mut b))) => {
             let ea = crate::design::compat::analyse(&a.law, 256, 1e-10).residual_rad;

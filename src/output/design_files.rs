@@ -2,6 +2,7 @@
 //! traced path, the mechanism preview and the ratio plot.
 
 use super::error::{OutputError, create_dir, write};
+use super::fixed::Fixed;
 use super::mechanism_preview::{mechanism_chart, mechanism_svg};
 use super::plot::{ChartLabels, Series, line_chart};
 use crate::design::Design;
@@ -18,13 +19,14 @@ pub fn pitch_csv(curve: &PitchCurve, n: usize) -> String {
     for k in 0..n {
         let th = TAU * k as f64 / n as f64;
         let r = curve.radius_mm(th);
+        let (sn, cs) = th.sin_cos();
         let _ = writeln!(
             s,
-            "{:.6},{:.9},{:.9},{:.9}",
-            th.to_degrees(),
-            r,
-            r * th.cos(),
-            r * th.sin()
+            "{},{},{},{}",
+            Fixed(th.to_degrees(), 6),
+            Fixed(r, 9),
+            Fixed(r * cs, 9),
+            Fixed(r * sn, 9)
         );
     }
     s
@@ -73,7 +75,7 @@ pub fn write_design(design: &Design, dir: &Path) -> Result<Vec<PathBuf>, OutputE
             Box::new(|p| {
                 let mut traced = String::from("x_mm,y_mm\n");
                 for q in &design.traced_mm {
-                    let _ = writeln!(traced, "{:.9},{:.9}", q[0], q[1]);
+                    let _ = writeln!(traced, "{},{}", Fixed(q[0], 9), Fixed(q[1], 9));
                 }
                 write(p, &traced)
             }),

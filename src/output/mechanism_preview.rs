@@ -3,6 +3,7 @@
 //! world flipped to SVG's y down) or as a chart (PNG or SVG, mm).
 
 use super::error::OutputError;
+use super::fixed::Fixed;
 use super::plot::{ChartLabels, Series, line_chart};
 use crate::geometry::assembly::Assembly;
 use crate::geometry::pitch::PitchCurve;
@@ -32,10 +33,10 @@ fn path_d(pts: &[[f64; 2]], close: bool) -> String {
     for (k, p) in pts.iter().enumerate() {
         let _ = write!(
             d,
-            "{}{:.4},{:.4} ",
+            "{}{},{} ",
             if k == 0 { "M" } else { "L" },
-            p[0],
-            -p[1]
+            Fixed(p[0], 4),
+            Fixed(-p[1], 4)
         );
     }
     if close {

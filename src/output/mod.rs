@@ -4,6 +4,7 @@
 pub mod animate;
 mod design_files;
 mod error;
+mod fixed;
 mod mechanism_preview;
 pub mod plot;
 mod simulation_files;
