@@ -261,7 +261,10 @@ impl Rebuilt {
     /// Tip positions (mm, world) at `n` uniform carrier angles over one turn, in travel order.
     #[must_use]
     pub fn traced(&self, n: usize) -> Vec<[f64; 2]> {
+        use rayon::prelude::*;
+        // Independent poses: side by side, collected in order.
         (0..n)
+            .into_par_iter()
             .map(|k| self.pose(self.sign * TAU * k as f64 / n as f64).tip_mm)
             .collect()
     }

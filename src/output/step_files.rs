@@ -6,6 +6,7 @@ use crate::design::train::{Gear, ToothedTrain};
 use crate::export::step::{Instance, Prism, StepModel, write_step};
 use crate::math::polyline::simplify_closed;
 use crate::pair::PairDesign;
+use rayon::prelude::*;
 use std::path::{Path, PathBuf};
 
 /// Face width and bore of the extruded gears; [`Default`]: face width 10·m, no bore.
@@ -152,13 +153,18 @@ pub fn write_step_models(
     dir: &Path,
 ) -> Result<Vec<PathBuf>, OutputError> {
     create_dir(dir)?;
-    let mut written = Vec::with_capacity(models.len());
-    for (file, model) in models {
-        let path = dir.join(file);
-        write_step(model, &path)?;
-        written.push(path);
-    }
-    Ok(written)
+    // Independent files: written side by side, listed in order (the first error in it is
+    // returned).
+    models
+        .par_iter()
+        .map(|(file, model)| {
+            let path = dir.join(file);
+            write_step(model, &path).map(|_| path)
+        })
+        .collect::<Vec<_>>()
+        .into_iter()
+        .map(|r| r.map_err(OutputError::from))
+        .collect()
 }
 
 /// STEP files of a toothed train under `dir/teeth/` ([`train_step_models`]). Returns the written

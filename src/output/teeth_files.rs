@@ -6,6 +6,7 @@ use crate::design::train::{Gear, ToothedTrain};
 use crate::export::dxf::{DxfVersion, write_dxf};
 use crate::export::points::write_points;
 use crate::export::svg::write_svg;
+use rayon::prelude::*;
 use std::path::{Path, PathBuf};
 
 /// CAD files of a toothed train (`ncgear design --module M`), under `dir/teeth/`:
@@ -25,25 +26,34 @@ pub fn write_teeth(
     create_dir(&dir)?;
     let tol = train.report.options.toothing.chord_tol_mm;
     let margin = 2.0 * train.report.module_mm;
-    let mut written = Vec::new();
     let mut sheets = vec![("train".to_string(), train.sheet(0.0))];
     for g in Gear::ALL {
         sheets.push((g.name().to_string(), train.gear_sheet(g)));
     }
-    for (k, (name, sheet)) in sheets.iter().enumerate() {
-        let svg = dir.join(format!("{name}.svg"));
-        write_svg(sheet, &svg, margin)?;
-        let dxf = dir.join(format!("{name}.dxf"));
-        write_dxf(sheet, &dxf, dxf_version, tol)?;
-        written.push(svg);
-        written.push(dxf);
-        if k > 0 {
-            written.extend(write_points(
-                sheet,
-                &dir.join(format!("{name}_points")),
-                "points",
-            )?);
-        }
+    // The sheets' files are independent: written side by side, listed in sheet order (the first
+    // error in that order is returned).
+    let per_sheet = sheets
+        .par_iter()
+        .enumerate()
+        .map(|(k, (name, sheet))| -> Result<Vec<PathBuf>, OutputError> {
+            let svg = dir.join(format!("{name}.svg"));
+            write_svg(sheet, &svg, margin)?;
+            let dxf = dir.join(format!("{name}.dxf"));
+            write_dxf(sheet, &dxf, dxf_version, tol)?;
+            let mut files = vec![svg, dxf];
+            if k > 0 {
+                files.extend(write_points(
+                    sheet,
+                    &dir.join(format!("{name}_points")),
+                    "points",
+                )?);
+            }
+            Ok(files)
+        })
+        .collect::<Vec<_>>();
+    let mut written = Vec::new();
+    for files in per_sheet {
+        written.extend(files?);
     }
     train.report.files = written.iter().map(|p| p.display().to_string()).collect();
     Ok(written)

@@ -157,11 +157,18 @@ fn train_from(
     let pose0 = rebuilt.pose(0.0);
     let (th2_0, th3_0) = (pose0.intermediate_angle_rad, pose0.planet_angle_rad);
 
-    let frames = [
-        ArcFrame::new(&fin.sun),
-        ArcFrame::new(&fin.intermediate),
-        ArcFrame::new(&fin.planet),
-    ];
+    let frames: [ArcFrame; 3] = {
+        let (sun, (intermediate, planet)) = rayon::join(
+            || ArcFrame::new(&fin.sun),
+            || {
+                rayon::join(
+                    || ArcFrame::new(&fin.intermediate),
+                    || ArcFrame::new(&fin.planet),
+                )
+            },
+        );
+        [sun, intermediate, planet]
+    };
     let p = frames[0].length_mm() / f64::from(count.z);
     // Mating phases at φH = 0 (module doc).
     let phase_sun = 0.0;
@@ -310,17 +317,6 @@ fn train_from(
         };
         // Sun → intermediate: φ = −φH.
         let psi1 = |phi: f64| -phi - theta2(-phi);
-        let sun_intermediate = verify_mesh(
-            &fine[0].points_mm,
-            &fine[1].points_mm,
-            &psi1,
-            &check,
-            progress,
-        )
-        .map_err(|source| TrainError::Mesh {
-            pair: "sun-intermediate",
-            source,
-        })?;
         // Intermediate → planet: φ = θ2(φH) − φH, increasing in φH; invert by bisection.
         let phi2 = |phi_h: f64| theta2(phi_h) - phi_h;
         let phi2_0 = phi2(0.0);
@@ -330,14 +326,32 @@ fn train_from(
             let pose = rebuilt.pose(phi_h);
             phi_h - pose.planet_angle_rad
         };
-        let intermediate_planet = verify_mesh(
-            &fine[1].points_mm,
-            &fine[2].points_mm,
-            &psi2,
-            &check,
-            progress,
-        )
-        .map_err(|source| TrainError::Mesh {
+        // The two meshes are independent: checked side by side.
+        let (sun_intermediate, intermediate_planet) = rayon::join(
+            || {
+                verify_mesh(
+                    &fine[0].points_mm,
+                    &fine[1].points_mm,
+                    &psi1,
+                    &check,
+                    progress,
+                )
+            },
+            || {
+                verify_mesh(
+                    &fine[1].points_mm,
+                    &fine[2].points_mm,
+                    &psi2,
+                    &check,
+                    progress,
+                )
+            },
+        );
+        let sun_intermediate = sun_intermediate.map_err(|source| TrainError::Mesh {
+            pair: "sun-intermediate",
+            source,
+        })?;
+        let intermediate_planet = intermediate_planet.map_err(|source| TrainError::Mesh {
             pair: "intermediate-planet",
             source,
         })?;
@@ -351,8 +365,10 @@ fn train_from(
 
     // Round trip of the final gears (and of the unscaled ones, for the comparison).
     let n = opts.roundtrip_samples;
-    let before = designed.unwrap_or(asm).rebuild().traced(n);
-    let after = rebuilt.traced(n);
+    let (before, after) = rayon::join(
+        || designed.unwrap_or(asm).rebuild().traced(n),
+        || rebuilt.traced(n),
+    );
     let shift = before
         .iter()
         .zip(&after)
