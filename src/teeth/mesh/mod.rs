@@ -21,7 +21,7 @@
 //! block radius and 3× the simplification), the bounds are kept per position and moved by each
 //! block's speed across driven offsets, and only the blocks that can reach the minimum (or the
 //! overlap's edges) are evaluated exactly — the minimum, hence every root and verdict, is the same
-//! bit for bit. About 3 ms per position (one core) for a 24-tooth pair at 1e-6·m.
+//! bit for bit. About 2 ms per position (one core) for a 24-tooth pair at 1e-6·m.
 mod level;
 
 pub use super::shape::{MeshError, Shape, StarShape};
