@@ -16,6 +16,7 @@
 mod brep;
 
 use super::{ExportError, io_err};
+use rayon::prelude::*;
 use std::fmt::Write as _;
 use std::path::Path;
 
@@ -73,15 +74,29 @@ pub struct StepStats {
 pub(crate) struct Ents {
     /// The DATA section so far: one `#n=…;` line per entity.
     data: String,
+    /// The last id given.
     count: usize,
+    /// False for a counting pass (ids only, no text).
+    write: bool,
 }
 
 impl Ents {
+    /// An empty list whose next entity gets id `after + 1`.
+    fn after(after: usize, write: bool) -> Self {
+        Self {
+            data: String::new(),
+            count: after,
+            write,
+        }
+    }
+
     /// Adds an entity (its text without `#n=` and `;`), returns its id. Written straight into
     /// the DATA text: no string per entity (a 24-tooth pair has ≈ 100 000 entities).
     pub(crate) fn add(&mut self, text: std::fmt::Arguments<'_>) -> usize {
         self.count += 1;
-        let _ = writeln!(self.data, "#{}={text};", self.count);
+        if self.write {
+            let _ = writeln!(self.data, "#{}={text};", self.count);
+        }
         self.count
     }
 }
@@ -101,10 +116,9 @@ impl std::fmt::Display for Real {
         if self.0 == 0.0 {
             return f.write_str("0.");
         }
-        // Rust's `{:?}` of an f64 is the shortest round-trip form, at most 24 bytes.
-        let mut buf = Small::default();
-        let _ = write!(buf, "{:?}", self.0);
-        let s = buf.as_str();
+        // The shortest round-trip digits (Ryū, as serde_json prints reals): "1.0", "1e-7".
+        let mut buf = ryu::Buffer::new();
+        let s = buf.format_finite(self.0);
         let (mant, exp) = match s.split_once('e') {
             Some((m, e)) => (m, Some(e)),
             None => (s, None),
@@ -119,32 +133,6 @@ impl std::fmt::Display for Real {
             Some(e) => write!(f, "E{e}"),
             None => Ok(()),
         }
-    }
-}
-
-/// A 32-byte stack buffer for one formatted number.
-#[derive(Default)]
-struct Small {
-    bytes: [u8; 32],
-    len: usize,
-}
-
-impl Small {
-    fn as_str(&self) -> &str {
-        // Only whole `&str`s are appended, so the bytes are UTF-8.
-        std::str::from_utf8(&self.bytes[..self.len]).unwrap_or("")
-    }
-}
-
-impl std::fmt::Write for Small {
-    fn write_str(&mut self, s: &str) -> std::fmt::Result {
-        let end = self.len + s.len();
-        if end > self.bytes.len() {
-            return Err(std::fmt::Error);
-        }
-        self.bytes[self.len..end].copy_from_slice(s.as_bytes());
-        self.len = end;
-        Ok(())
     }
 }
 
@@ -278,6 +266,9 @@ fn product(e: &mut Ents, name: &str) -> (usize, usize) {
 
 const ORIGIN: ([f64; 3], [f64; 3], [f64; 3]) = ([0.0; 3], [0.0, 0.0, 1.0], [1.0, 0.0, 0.0]);
 
+/// A part's product definition, shape representation and origin placement (entity ids).
+type PartIds = (usize, usize, usize);
+
 /// The STEP text of `model` and its counts. Every part is validated first.
 pub fn step_text(model: &StepModel) -> Result<(String, StepStats), ExportError> {
     let parts = model
@@ -300,21 +291,15 @@ pub fn step_text(model: &StepModel) -> Result<(String, StepStats), ExportError> 
             what: "instance of a missing part or at a non-finite position",
         });
     }
-    let mut e = Ents {
-        data: String::new(),
-        count: 0,
-    };
+    let mut e = Ents::after(0, true);
     for c in CONTEXT {
         e.add(format_args!("{c}"));
     }
-    let mut faces = 0;
-    // Per part: (product definition, representation, its origin placement).
-    let mut defs = Vec::with_capacity(parts.len());
-    for p in &parts {
-        let (pd, pds) = product(&mut e, &p.name);
-        let (brep, nf) = brep::solid(&mut e, p);
-        faces += nf;
-        let origin = brep::placement(&mut e, ORIGIN.0, ORIGIN.1, ORIGIN.2);
+    // Per part: (product definition, representation, its origin placement, faces).
+    let part = |e: &mut Ents, p: &Prism| {
+        let (pd, pds) = product(e, &p.name);
+        let (brep, nf) = brep::solid(e, p);
+        let origin = brep::placement(e, ORIGIN.0, ORIGIN.1, ORIGIN.2);
         let rep = e.add(format_args!(
             "ADVANCED_BREP_SHAPE_REPRESENTATION({},(#{brep},#{origin}),#{CTX})",
             quote(&p.name)
@@ -322,8 +307,36 @@ pub fn step_text(model: &StepModel) -> Result<(String, StepStats), ExportError> 
         e.add(format_args!(
             "SHAPE_DEFINITION_REPRESENTATION(#{pds},#{rep})"
         ));
-        defs.push((pd, rep, origin));
+        ((pd, rep, origin), nf)
+    };
+    // The parts' entities are numbered in part order: a counting pass (ids only) gives each
+    // part its first id, then the parts' texts are written side by side and joined in order —
+    // the same text as one pass.
+    let mut starts = Vec::with_capacity(parts.len());
+    let mut next = e.count;
+    for p in &parts {
+        starts.push(next);
+        let mut c = Ents::after(next, false);
+        part(&mut c, p);
+        next = c.count;
     }
+    let texts: Vec<(String, (PartIds, usize))> = parts
+        .par_iter()
+        .zip(&starts)
+        .map(|(p, &start)| {
+            let mut pe = Ents::after(start, true);
+            let r = part(&mut pe, p);
+            (pe.data, r)
+        })
+        .collect();
+    let mut faces = 0;
+    let mut defs = Vec::with_capacity(parts.len());
+    for (text, (def, nf)) in texts {
+        e.data.push_str(&text);
+        faces += nf;
+        defs.push(def);
+    }
+    e.count = next;
     if !model.instances.is_empty() {
         let (apd, apds) = product(&mut e, &model.name);
         let aorigin = brep::placement(&mut e, ORIGIN.0, ORIGIN.1, ORIGIN.2);
