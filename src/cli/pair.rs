@@ -14,7 +14,7 @@ use super::teeth_args::RackArgs;
 use ncgear::export::dxf::{DxfVersion, write_dxf};
 use ncgear::export::points::write_points;
 use ncgear::export::svg::write_svg;
-use ncgear::pair::{Expr, Law, PairError, PairOptions, design_pair_with_progress};
+use ncgear::pair::{Expr, Law, PairError, PairOptions, design_pair_deferred};
 use std::path::PathBuf;
 
 /// Arguments of `ncgear pair`.
@@ -87,13 +87,11 @@ pub fn run(args: Args) -> CliResult {
     args.rack
         .apply_to(&mut opts.toothing)
         .map_err(input_error)?;
-    let pb = progress_bar(opts.toothing.verify_steps as u64, "mesh check");
-    let design = design_pair_with_progress(&law, &opts, &|n| pb.inc(n));
-    pb.finish_and_clear();
-    let design = design.map_err(|e| match e {
+    let to_failure = |e: PairError| match e {
         PairError::Teeth(_) | PairError::Mesh(_) => runtime_error(e),
         _ => input_error(e),
-    })?;
+    };
+    let (mut design, pending) = design_pair_deferred(&law, &opts).map_err(to_failure)?;
     std::fs::create_dir_all(&args.out)
         .map_err(|e| runtime_error(format!("cannot create {}: {e}", args.out.display())))?;
     let sheet = design.assembly_sheet();
@@ -101,28 +99,37 @@ pub fn run(args: Args) -> CliResult {
     let dxf = args.out.join("pair.dxf");
     let svg = args.out.join("pair.svg");
     let step = args.out.join("pair.step");
-    // The four exports are independent: written side by side (the STEP model is the longest).
-    let ((r_dxf, r_svg), (r_points, r_step)) = rayon::join(
+    let pb = progress_bar(opts.toothing.verify_steps as u64, "mesh check");
+    // The mesh check and the four exports are independent: run side by side (the exports need
+    // only the outlines; the STEP model is the longest of them).
+    let (mesh, ((r_dxf, r_svg), (r_points, r_step))) = rayon::join(
+        || pending.map(|p| p.run(&|n| pb.inc(n))).transpose(),
         || {
             rayon::join(
-                || write_dxf(&sheet, &dxf, version, opts.toothing.chord_tol_mm),
-                || write_svg(&sheet, &svg, 2.0 * args.module),
-            )
-        },
-        || {
-            rayon::join(
-                || write_points(&sheet, &args.out, "pair_points"),
                 || {
-                    let model = ncgear::output::pair_step(
-                        &design,
-                        opts.toothing.chord_tol_mm,
-                        &args.rack.solids(),
-                    );
-                    ncgear::export::step::write_step(&model, &step)
+                    rayon::join(
+                        || write_dxf(&sheet, &dxf, version, opts.toothing.chord_tol_mm),
+                        || write_svg(&sheet, &svg, 2.0 * args.module),
+                    )
+                },
+                || {
+                    rayon::join(
+                        || write_points(&sheet, &args.out, "pair_points"),
+                        || {
+                            let model = ncgear::output::pair_step(
+                                &design,
+                                opts.toothing.chord_tol_mm,
+                                &args.rack.solids(),
+                            );
+                            ncgear::export::step::write_step(&model, &step)
+                        },
+                    )
                 },
             )
         },
     );
+    pb.finish_and_clear();
+    design.mesh = mesh.map_err(to_failure)?;
     r_dxf.map_err(runtime_error)?;
     r_svg.map_err(runtime_error)?;
     let mut files = r_points.map_err(runtime_error)?;

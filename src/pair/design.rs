@@ -158,8 +158,7 @@ pub(super) fn validate_options(opts: &PairOptions) -> Result<(), PairError> {
 pub(super) fn design_closed(
     law: &Law,
     opts: &PairOptions,
-    progress: &(dyn Fn(u64) + Sync),
-) -> Result<PairDesign, PairError> {
+) -> Result<(PairDesign, Option<PendingMesh>), PairError> {
     let t = &opts.toothing;
     let m = t.module_mm;
     let motion = Motion::from_law_advancing(law, opts.samples, opts.centrode_advance_rad)?;
@@ -212,7 +211,6 @@ pub(super) fn design_closed(
     }
     let z2 = z / p_turns * q_turns;
     let a = a1 * f64::from(z) * PI * m / l1;
-    let psi = |phi: f64| motion.psi(phi);
     let (c1, c2) = Motion::curves_at(&unit1, &unit2, a)?;
     let span = TAU * f64::from(q_turns);
     let at = |u: f64| (span * u, motion.psi(span * u));
@@ -244,8 +242,7 @@ pub(super) fn design_closed(
             backlash_mm: t.backlash_mm,
             ..MeshCheck::new(a, m)
         };
-        let [v1, v2] = g.fine_outlines(opts, Some(&cycle))?;
-        Some(verify_mesh(&v1, &v2, &psi, &check, progress)?)
+        Some((g.fine_outlines(opts, Some(&cycle))?, check))
     } else {
         None
     };
@@ -253,13 +250,52 @@ pub(super) fn design_closed(
         .iter()
         .map(|&f| motion.ratio(f))
         .collect();
-    Ok(g.into_design(
+    let design = g.into_design(
         [motion.psi(0.0), motion.advance_rad],
         a,
-        mesh,
+        None,
         &ratios,
         None,
-    ))
+    );
+    let pending = mesh.map(|(outlines, check)| PendingMesh {
+        outlines,
+        psi: Box::new(move |phi| motion.psi(phi)),
+        check,
+        at_offset_deg: 0.0,
+    });
+    Ok((design, pending))
+}
+
+/// A designed pair's mesh check, ready to run ([`super::design_pair_deferred`]): the outlines at
+/// the verification's chord tolerance, the motion law and the check's parameters. Running it
+/// while the design's files are written hides the writing's time.
+pub struct PendingMesh {
+    pub(super) outlines: [Vec<[f64; 2]>; 2],
+    pub(super) psi: Box<dyn Fn(f64) -> f64 + Send + Sync>,
+    pub(super) check: MeshCheck,
+    /// Added to the report's `max_overlap_at_deg` (an open sector is checked in `t = φ − u0`),
+    /// degrees.
+    pub(super) at_offset_deg: f64,
+}
+
+impl PendingMesh {
+    /// The check's parameters: positions, span, backlash, centre distance and module.
+    #[must_use]
+    pub fn check(&self) -> &MeshCheck {
+        &self.check
+    }
+
+    /// Rolls the pair through the check ([`verify_mesh`]); `progress(1)` after each driver
+    /// position.
+    ///
+    /// # Errors
+    /// [`PairError::Mesh`]: an outline the check cannot index.
+    pub fn run(&self, progress: &(dyn Fn(u64) + Sync)) -> Result<MeshReport, PairError> {
+        let [v1, v2] = &self.outlines;
+        let mut r = verify_mesh(v1, v2, &*self.psi, &self.check, progress)?;
+        r.max_overlap_at_deg += self.at_offset_deg;
+        Ok(r)
+    }
 }
 
 /// A closed pair's mesh cycle, for sweeping a gear no cutter makes: its motion and the number of

@@ -1,6 +1,6 @@
 //! The pair designer's entry points: check the options, then design the closed pair (equal or
 //! unequal tooth counts, [`super::design`]) or the open sector ([`super::sector`]).
-use super::design::{PairDesign, PairOptions, design_closed, validate_options};
+use super::design::{PairDesign, PairOptions, PendingMesh, design_closed, validate_options};
 use super::{Law, PairError};
 
 /// Designs the toothed pair: pitch curves scaled so that `L = zπm` (an open sector: z pitches on
@@ -23,10 +23,27 @@ pub fn design_pair_with_progress(
     opts: &PairOptions,
     progress: &(dyn Fn(u64) + Sync),
 ) -> Result<PairDesign, PairError> {
+    let (mut design, pending) = design_pair_deferred(law, opts)?;
+    if let Some(p) = pending {
+        design.mesh = Some(p.run(progress)?);
+    }
+    Ok(design)
+}
+
+/// [`design_pair`] without running the mesh check: the design (its `mesh` is `None`) and the
+/// check ready to run (`None` when `verify_steps` is 0). A caller that writes the design's files
+/// can run the check beside the writing and then set `design.mesh`.
+///
+/// # Errors
+/// As [`design_pair`], except the check's own.
+pub fn design_pair_deferred(
+    law: &Law,
+    opts: &PairOptions,
+) -> Result<(PairDesign, Option<PendingMesh>), PairError> {
     validate_options(opts)?;
     match (opts.open_sector_rad, law) {
-        (None, _) => design_closed(law, opts, progress),
-        (Some(range), Law::Motion(e)) => super::sector::design_open(e, range, opts, progress),
+        (None, _) => design_closed(law, opts),
+        (Some(range), Law::Motion(e)) => super::sector::design_open(e, range, opts),
         (Some(_), _) => Err(PairError::Law(
             "an open sector takes a motion law ψ(φ) (not a centrode or a table)".into(),
         )),

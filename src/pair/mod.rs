@@ -15,8 +15,8 @@ mod law;
 mod motion;
 mod sector;
 
-pub use design::{PairDesign, PairOptions, SectorReport};
-pub use entry::{design_pair, design_pair_with_progress};
+pub use design::{PairDesign, PairOptions, PendingMesh, SectorReport};
+pub use entry::{design_pair, design_pair_deferred, design_pair_with_progress};
 pub use expr::{Expr, ExprError};
 pub use law::Law;
 pub use motion::Motion;

@@ -22,12 +22,12 @@
 //!    hub circle one module below the lowest kept root: a star-shaped simple outline.
 //! 5. **Check.** The trimmed fine outlines are rolled over the active interval
 //!    ([`MeshSpan::Interval`]), both ends included.
-use super::design::{PairDesign, PairOptions, SectorReport, Toothed};
+use super::design::{PairDesign, PairOptions, PendingMesh, SectorReport, Toothed};
 use super::{Expr, PairError};
 use crate::geometry::pitch::PitchCurve;
 use crate::math::periodic::invert_increasing;
 use crate::teeth::UndercutReport;
-use crate::teeth::mesh::{MeshCheck, MeshSpan, verify_mesh};
+use crate::teeth::mesh::{MeshCheck, MeshSpan};
 use std::f64::consts::{PI, TAU};
 
 /// Padding beyond each end of the active interval, in mean pitches of driver angle.
@@ -216,8 +216,7 @@ pub(super) fn design_open(
     e: &Expr,
     range: [f64; 2],
     opts: &PairOptions,
-    progress: &(dyn Fn(u64) + Sync),
-) -> Result<PairDesign, PairError> {
+) -> Result<(PairDesign, Option<PendingMesh>), PairError> {
     let t = &opts.toothing;
     let m = t.module_mm;
     let z = opts.teeth.ok_or(PairError::InvalidParameter {
@@ -307,11 +306,7 @@ pub(super) fn design_open(
             backlash_mm: t.backlash_mm,
             ..MeshCheck::new(a, m)
         };
-        let psi = |t: f64| law.psi(t);
-        let mut r = verify_mesh(&v1, &v2, &psi, &check, progress)?;
-        // The check ran in t = φ − u0; report the driver angle φ.
-        r.max_overlap_at_deg += law.u0.to_degrees();
-        Some(r)
+        Some(([v1, v2], check))
     } else {
         None
     };
@@ -330,7 +325,7 @@ pub(super) fn design_open(
         assembly_at_deg: law.u0.to_degrees(),
     };
     let chord = t.chord_tol_mm;
-    let mut d = g.into_design([0.0, active_advance], a, mesh, &ratios, Some(report));
+    let mut d = g.into_design([0.0, active_advance], a, None, &ratios, Some(report));
     d.driver.points_mm = sector_outline(&d.driver.points_mm, driver_cut, hubs[0], chord);
     d.driven.points_mm = sector_outline(&d.driven.points_mm, driven_cut, hubs[1], chord);
     d.z = kept_driver.len() as u32;
@@ -343,7 +338,15 @@ pub(super) fn design_open(
     d.driven.undercut = d.driven_undercut.clone();
     d.driver_pitch_mm = within(&d.driver_pitch_mm, driver_cut);
     d.driven_pitch_mm = within(&d.driven_pitch_mm, driven_cut);
-    Ok(d)
+    // The check runs in t = φ − u0; its report gives the driver angle φ.
+    let at_offset_deg = law.u0.to_degrees();
+    let pending = mesh.map(|(outlines, check)| PendingMesh {
+        outlines,
+        psi: Box::new(move |t| law.psi(t)),
+        check,
+        at_offset_deg,
+    });
+    Ok((d, pending))
 }
 
 /// `x` polar angle relative to `from`, in `[0, 2π)`.

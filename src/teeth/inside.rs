@@ -8,7 +8,9 @@ pub(crate) struct Bands {
     pts: Vec<[f64; 2]>,
     y0: f64,
     h: f64,
-    bands: Vec<Vec<u32>>,
+    /// Band `k`'s edges are `edges[first[k]..first[k + 1]]`, in outline order.
+    first: Vec<u32>,
+    edges: Vec<u32>,
 }
 
 impl Bands {
@@ -22,32 +24,49 @@ impl Bands {
             });
         let h = band_mm.max((hi - lo) / 1.0e5).max(f64::MIN_POSITIVE);
         let count = (((hi - lo) / h).floor() as usize + 1).max(1);
-        let mut bands = vec![Vec::new(); count];
         let index = |y: f64| (((y - lo) / h).floor().max(0.0) as usize).min(count - 1);
-        for i in 0..n {
+        let span = |i: usize| {
             let (a, b) = (points_mm[i], points_mm[(i + 1) % n]);
-            let (k0, k1) = (index(a[1].min(b[1])), index(a[1].max(b[1])));
-            for band in &mut bands[k0..=k1] {
-                band.push(i as u32);
+            index(a[1].min(b[1]))..=index(a[1].max(b[1]))
+        };
+        // Counted, then filled: one flat array of edge indices instead of a vector per band.
+        let mut first = vec![0u32; count + 1];
+        for i in 0..n {
+            for k in span(i) {
+                first[k + 1] += 1;
+            }
+        }
+        for k in 0..count {
+            first[k + 1] += first[k];
+        }
+        let mut fill = first.clone();
+        let mut edges = vec![0u32; first[count] as usize];
+        for i in 0..n {
+            for k in span(i) {
+                edges[fill[k] as usize] = i as u32;
+                fill[k] += 1;
             }
         }
         Self {
             pts: points_mm.to_vec(),
             y0: lo,
             h,
-            bands,
+            first,
+            edges,
         }
     }
 
     /// Whether `x` lies inside the polygon (even–odd rule; boundary points either way).
     pub(crate) fn contains(&self, x: [f64; 2]) -> bool {
         let k = (x[1] - self.y0) / self.h;
-        if !(k >= 0.0) || k as usize >= self.bands.len() {
+        let count = self.first.len() - 1;
+        if !(k >= 0.0) || k as usize >= count {
             return false;
         }
+        let k = k as usize;
         let n = self.pts.len();
         let mut inside = false;
-        for &i in &self.bands[k as usize] {
+        for &i in &self.edges[self.first[k] as usize..self.first[k + 1] as usize] {
             let (a, b) = (self.pts[i as usize], self.pts[(i as usize + 1) % n]);
             if (a[1] > x[1]) != (b[1] > x[1]) {
                 let xc = a[0] + (x[1] - a[1]) * (b[0] - a[0]) / (b[1] - a[1]);

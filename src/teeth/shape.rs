@@ -55,8 +55,17 @@ impl StarShape {
             .enumerate()
             .map(|(i, p)| (p[1].atan2(p[0]), p[0].hypot(p[1]), i as u32))
             .collect();
-        tr.sort_by(|a, b| a.0.total_cmp(&b.0));
-        tr.dedup_by(|a, b| a.0 <= b.0);
+        // A generated outline is usually one increasing run of polar angles from its start
+        // vertex, wrapping once: then a rotation sorts it (the same order as the stable sort).
+        let mut descents = (1..tr.len()).filter(|&i| tr[i].0 <= tr[i - 1].0);
+        match (descents.next(), descents.next()) {
+            (None, _) => {}
+            (Some(k), None) if tr[tr.len() - 1].0 < tr[0].0 => tr.rotate_left(k),
+            _ => {
+                tr.sort_by(|a, b| a.0.total_cmp(&b.0));
+                tr.dedup_by(|a, b| a.0 <= b.0);
+            }
+        }
         Ok(Self {
             theta: tr.iter().map(|v| v.0).collect(),
             r: tr.iter().map(|v| v.1).collect(),
@@ -163,9 +172,11 @@ impl Shape {
     ) -> Result<Self, MeshError> {
         let polar = StarShape::new(points_mm, which)?;
         let n = points_mm.len();
-        // (cell, segment) pairs, sorted by cell then segment: each cell's run lists its
-        // segments in outline order.
-        let mut pairs: Vec<((i64, i64), u32)> = Vec::with_capacity(n + n / 4);
+        // Runs of consecutive segments in one cell, `(cell, first, end)`, sorted by cell then
+        // first segment: each cell's segments in outline order. The outline passes through a
+        // cell in one or two runs, so this sorts about a tenth as many items as (cell, segment)
+        // pairs would.
+        let mut runs: Vec<((i64, i64), u32, u32)> = Vec::with_capacity(n / 4 + 16);
         for i in 0..n {
             let (a, b) = (points_mm[i], points_mm[(i + 1) % n]);
             let (x0, x1) = (
@@ -176,34 +187,38 @@ impl Shape {
                 cell_of(a[1].min(b[1]) / cap_mm),
                 cell_of(a[1].max(b[1]) / cap_mm),
             );
+            let i = i as u32;
             for cx in x0..=x1 {
                 for cy in y0..=y1 {
-                    pairs.push(((cx, cy), i as u32));
+                    match runs.last_mut() {
+                        Some(r) if r.0 == (cx, cy) && r.2 == i => r.2 = i + 1,
+                        _ => runs.push(((cx, cy), i, i + 1)),
+                    }
                 }
             }
         }
-        pairs.sort_unstable();
-        let cells = pairs.chunk_by(|p, q| p.0 == q.0).count();
+        runs.sort_unstable_by_key(|r| (r.0, r.1));
+        let cells = runs.chunk_by(|p, q| p.0 == q.0).count();
         let mut grid = CellTable::with_cells(cells);
         let mut occupied = Vec::with_capacity(cells);
-        let entries: Vec<SegEntry> = pairs
-            .iter()
-            .map(|&(_, i)| {
-                let (a, b) = (points_mm[i as usize], points_mm[(i as usize + 1) % n]);
-                let d = [b[0] - a[0], b[1] - a[1]];
-                SegEntry {
-                    a,
-                    d,
-                    d2: d[0] * d[0] + d[1] * d[1],
-                    i,
-                }
-            })
-            .collect();
-        let mut start = 0u32;
-        for run in pairs.chunk_by(|p, q| p.0 == q.0) {
-            grid.insert(run[0].0, (start, run.len() as u32));
-            occupied.push(run[0].0);
-            start += run.len() as u32;
+        let mut entries: Vec<SegEntry> =
+            Vec::with_capacity(runs.iter().map(|r| (r.2 - r.1) as usize).sum());
+        for cell_runs in runs.chunk_by(|p, q| p.0 == q.0) {
+            let start = entries.len() as u32;
+            for &(_, first, end) in cell_runs {
+                entries.extend((first..end).map(|i| {
+                    let (a, b) = (points_mm[i as usize], points_mm[(i as usize + 1) % n]);
+                    let d = [b[0] - a[0], b[1] - a[1]];
+                    SegEntry {
+                        a,
+                        d,
+                        d2: d[0] * d[0] + d[1] * d[1],
+                        i,
+                    }
+                }));
+            }
+            grid.insert(cell_runs[0].0, (start, entries.len() as u32 - start));
+            occupied.push(cell_runs[0].0);
         }
         let bands = super::inside::Bands::new(points_mm, cap_mm);
         let far = FarMap::new(&occupied, cap_mm, |x| bands.contains(x));
