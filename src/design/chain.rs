@@ -14,7 +14,7 @@ use crate::design::fit::FitOptions;
 use crate::design::trajectory::Trajectory;
 use crate::geometry::fourier::SunRatio;
 use crate::geometry::mechanism::Mechanism;
-use std::f64::consts::{PI, TAU};
+use std::f64::consts::PI;
 use std::time::Instant;
 
 fn ms(t: Instant) -> f64 {
@@ -200,12 +200,7 @@ impl Trains<'_> {
             sun_phase_rad: inv.phi_h0_rad + tau_s,
             needle_angle_rad: 0.0,
         };
-        let phis: Vec<f64> = (0..samples)
-            .map(|k| TAU * k as f64 / samples as f64)
-            .collect();
-        let beta = |p: f64| inv.beta(p);
-        m.fit_needle_angle(&phis, beta);
-        let dev = m.synchronous_deviation_mm(samples, beta);
+        let dev = m.fit_needle_angle(samples, |p| inv.beta(p));
         (m, dev)
     }
 }

@@ -11,7 +11,7 @@
 //! and the origin with the smallest `E_c` is chosen (spec §15 item 5).
 
 use crate::design::law::NeedleLaw;
-use crate::math::periodic::bisect_root;
+use crate::math::periodic::bracketed_root;
 use std::f64::consts::{PI, TAU};
 
 /// Compatibility of a target with the train.
@@ -30,7 +30,7 @@ pub struct Compatibility {
 }
 
 /// Finds the half-closure origins and compatibility residuals on a grid of `n` carrier angles
-/// (roots refined by bisection to `tol_rad`).
+/// (roots refined by [`bracketed_root`] to `tol_rad`).
 #[must_use]
 pub fn analyse(law: &NeedleLaw, n: usize, tol_rad: f64) -> Compatibility {
     let d = |tau: f64| law.psi3(tau + PI) - law.psi3(tau) - PI;
@@ -47,7 +47,7 @@ pub fn analyse(law: &NeedleLaw, n: usize, tol_rad: f64) -> Compatibility {
             if a == 0.0 {
                 origins.push(grid[k]);
             } else if a * b < 0.0 {
-                let root = bisect_root(d, grid[k], grid[k] + TAU / n as f64, tol_rad);
+                let root = bracketed_root(d, grid[k], grid[k] + TAU / n as f64, tol_rad);
                 origins.push(root.rem_euclid(TAU));
             }
         }

@@ -16,7 +16,7 @@
 
 use crate::design::law::NeedleLaw;
 use crate::design::trajectory::{ClosedSpline, Trajectory};
-use crate::math::periodic::{bisect_root, wrap_pi};
+use crate::math::periodic::{bracketed_root, wrap_pi};
 use rayon::prelude::*;
 use std::f64::consts::TAU;
 
@@ -304,13 +304,13 @@ fn solve_frame(
         p[0] * d[0] + p[1] * d[1]
     };
     let tol = opts.tol_relative * len;
-    let s_max = bisect_root(
+    let s_max = bracketed_root(
         pdot,
         (jmax as f64 - 1.0) * ds,
         (jmax as f64 + 1.0) * ds,
         tol,
     );
-    let s_min = bisect_root(
+    let s_min = bracketed_root(
         pdot,
         (jmin as f64 - 1.0) * ds,
         (jmin as f64 + 1.0) * ds,
@@ -396,7 +396,7 @@ fn solve_frame(
             let u = if k == 0 {
                 0.0
             } else {
-                bisect_root(|u| unwrap_near(u) - target, u_lo, u_hi, tol)
+                bracketed_root(|u| unwrap_near(u) - target, u_lo, u_hi, tol)
             };
             let b = beta[j] + wrap_pi(beta_at(u, target) - beta[j]);
             -(b - beta[0])

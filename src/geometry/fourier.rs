@@ -18,6 +18,9 @@
 use crate::math::periodic::{fft_coefficients, invert_increasing};
 use std::f64::consts::{PI, TAU};
 
+/// Block length of [`SunRatio::inverse_integral_along`]: warm starts inside, parallel across.
+pub const ALONG_BLOCK: usize = 128;
+
 /// A positive 2π-periodic sun ratio `i21(θ)` with mean exactly 1, as a truncated Fourier series.
 #[derive(Debug, Clone, PartialEq)]
 pub struct SunRatio {
@@ -229,6 +232,47 @@ impl SunRatio {
             guess,
             tol_rad,
         )
+    }
+
+    /// `Φ⁻¹(y_k)` (rad) for `k = 0..n`, where `y_k` (rad) runs smoothly with `k` (a curve's
+    /// samples). Solved in fixed blocks of [`ALONG_BLOCK`] (in parallel, the same numbers for any
+    /// thread count); inside a block each solve starts from the linear extrapolation of the two
+    /// before it, which saves most Newton steps. Each value meets `tol_rad` as
+    /// [`Self::inverse_integral`] does.
+    #[must_use]
+    pub fn inverse_integral_along(
+        &self,
+        n: usize,
+        y: impl Fn(usize) -> f64 + Sync,
+        tol_rad: f64,
+    ) -> Vec<f64> {
+        use rayon::prelude::*;
+        let mut out = vec![0.0; n];
+        out.par_chunks_mut(ALONG_BLOCK)
+            .enumerate()
+            .for_each(|(b, block)| {
+                let mut y_prev = f64::NAN;
+                for j in 0..block.len() {
+                    let yk = y(b * ALONG_BLOCK + j);
+                    let guess = match j {
+                        0 => yk,
+                        // Φ′ = i21 ≈ 1 on average: the step in y is the first guess of the step in x.
+                        1 => block[0] + (yk - y_prev),
+                        _ => 2.0 * block[j - 1] - block[j - 2],
+                    };
+                    block[j] = self.inverse_integral_from(yk, guess, tol_rad);
+                    y_prev = yk;
+                }
+            });
+        out
+    }
+
+    /// `S(t_k)` (rad) at the `n` uniform angles `t_k = t0 + 2πk/n` ([`Self::half_turn_map`]
+    /// along a turn, by [`Self::inverse_integral_along`]).
+    #[must_use]
+    pub fn half_turn_map_uniform(&self, t0_rad: f64, n: usize, tol_rad: f64) -> Vec<f64> {
+        let t = |k: usize| t0_rad + TAU * k as f64 / n as f64;
+        self.inverse_integral_along(n, |k| self.integral(t(k)) + PI, tol_rad)
     }
 
     /// Planet contact map `S(t) = Φ⁻¹(Φ(t) + π)` (spec §6.2), rad.

@@ -144,10 +144,16 @@ impl Mechanism {
     /// Intermediate pitch curve, `n` uniform samples: the point at body angle `θ = π − Φ(t′)` has
     /// radius `a/(1 + i21(t′))`, so `ρ2(θ) = a/(1 + i21(Φ⁻¹(π − θ)))` (spec §9).
     pub fn intermediate_curve(&self, n: usize) -> Result<PitchCurve, PitchError> {
-        PitchCurve::from_fn(n, |th| {
-            let t = self.ratio.inverse_integral(PI - th, INVERSE_TOL_RAD);
-            self.a_mm / (1.0 + self.ratio.value(t))
-        })
+        let t = self.ratio.inverse_integral_along(
+            n,
+            |k| PI - TAU * k as f64 / n as f64,
+            INVERSE_TOL_RAD,
+        );
+        PitchCurve::from_uniform_radii(
+            t.iter()
+                .map(|&t| self.a_mm / (1.0 + self.ratio.value(t)))
+                .collect(),
+        )
     }
 
     /// Contact geometry (radii and derivatives) at design sun angle `u`.
@@ -156,28 +162,37 @@ impl Mechanism {
         ContactGeometry::new(self.a_mm, self.ratio.eval3(u))
     }
 
-    /// Sets γ to the circular mean of `β_target(φ) − θ3(φ)` over the given carrier angles, which
-    /// minimises the synchronous deviation to first order.
-    pub fn fit_needle_angle(&mut self, phis: &[f64], beta_target: impl Fn(f64) -> f64) {
-        let (mut s, mut c) = (0.0, 0.0);
-        for &p in phis {
-            let d = beta_target(p) - self.planet_orientation(p);
-            s += d.sin();
-            c += d.cos();
-        }
-        self.needle_angle_rad = s.atan2(c);
+    /// Planet orientations θ3 (rad) at the `n` uniform carrier angles `φ_k = 2πk/n`.
+    #[must_use]
+    pub fn planet_orientations_uniform(&self, n: usize) -> Vec<f64> {
+        let s = self
+            .ratio
+            .half_turn_map_uniform(-self.sun_phase_rad, n, INVERSE_TOL_RAD);
+        s.iter()
+            .enumerate()
+            .map(|(k, s)| TAU * k as f64 / n as f64 + PI - s)
+            .collect()
     }
 
-    /// Max synchronous tip deviation `max 2·l3·|sin(Δβ/2)|` (mm) against a target needle direction
-    /// on `n` uniform carrier angles.
-    #[must_use]
-    pub fn synchronous_deviation_mm(&self, n: usize, beta_target: impl Fn(f64) -> f64) -> f64 {
-        (0..n)
-            .map(|k| {
-                let p = TAU * k as f64 / n as f64;
-                let d = self.needle_direction(p) - beta_target(p);
-                2.0 * self.l3_mm * (0.5 * d).sin().abs()
-            })
+    /// Fits γ against a target needle direction `β_target(φ)` (rad) on `n` uniform carrier
+    /// angles and returns the max synchronous tip deviation there (mm).
+    ///
+    /// γ is the circular mean of `d_k = β_target(φ_k) − θ3(φ_k)`, which minimises the deviation
+    /// to first order; the deviation is `max_k 2·l3·|sin((γ − d_k)/2)|`.
+    pub fn fit_needle_angle(&mut self, n: usize, beta_target: impl Fn(f64) -> f64) -> f64 {
+        let theta3 = self.planet_orientations_uniform(n);
+        let d: Vec<f64> = theta3
+            .iter()
+            .enumerate()
+            .map(|(k, t3)| beta_target(TAU * k as f64 / n as f64) - t3)
+            .collect();
+        let (s, c) = d
+            .iter()
+            .fold((0.0, 0.0), |(s, c), d| (s + d.sin(), c + d.cos()));
+        self.needle_angle_rad = s.atan2(c);
+        let gamma = self.needle_angle_rad;
+        d.iter()
+            .map(|d| 2.0 * self.l3_mm * (0.5 * (gamma - d)).sin().abs())
             .fold(0.0, f64::max)
     }
 }

@@ -361,22 +361,59 @@ pub fn uniform_angles(n: usize) -> Vec<f64> {
     (0..n).map(|k| TAU * k as f64 / n as f64).collect()
 }
 
-/// Root of a continuous `g` on `[lo, hi]` with a sign change, by bisection to `tol`.
+/// Root of a continuous `g` on `[lo, hi]` with a sign change, to `tol` in `x`, by the ITP method
+/// (interpolate, truncate, project: Oliveira & Takahashi, ACM TOMS 47(1), 2020).
+///
+/// Each step takes the regula-falsi point, truncated towards the midpoint and projected into the
+/// minmax disc of radius `r_j = ε·2^(n_max − j) − (b − a)/2` (`ε = tol/2`, `n_max = ⌈log2((hi −
+/// lo)/tol)⌉ + 1`): never more than one step beyond bisection's count, and superlinear on smooth
+/// functions (a handful of evaluations where bisection needs 30–50). Without a sign change it
+/// still stops within `n_max` steps, at a point of the interval. Hand-written: the inner loop of
+/// step 1 and the train's angle solves, where a solver object per call would cost more than `g`.
 #[must_use]
-pub fn bisect_root(g: impl Fn(f64) -> f64, mut lo: f64, mut hi: f64, tol: f64) -> f64 {
-    let mut glo = g(lo);
+pub fn bracketed_root(g: impl Fn(f64) -> f64, mut lo: f64, mut hi: f64, tol: f64) -> f64 {
+    if hi - lo <= tol {
+        return 0.5 * (lo + hi);
+    }
+    // Orient g so that g(lo) ≤ 0 ≤ g(hi) (zero counts as the low side, as in bisection).
+    let g_lo = g(lo);
+    let sign = if g_lo > 0.0 { -1.0 } else { 1.0 };
+    let f = |x: f64| sign * g(x);
+    let (mut ya, mut yb) = (sign * g_lo, f(hi));
+    let eps = 0.5 * tol;
+    let n_max = ((hi - lo) / tol).log2().ceil().max(0.0) + 1.0;
+    let mut scaled = eps * n_max.exp2();
+    let k1 = 0.2 / (hi - lo);
     for _ in 0..200 {
         if hi - lo <= tol {
             break;
         }
         let mid = 0.5 * (lo + hi);
-        let gm = g(mid);
-        if (gm > 0.0) == (glo > 0.0) {
-            lo = mid;
-            glo = gm;
+        let r = scaled - 0.5 * (hi - lo);
+        let xf = (yb * lo - ya * hi) / (yb - ya);
+        let sigma = mid - xf;
+        let delta = k1 * (hi - lo) * (hi - lo);
+        let xt = if delta <= sigma.abs() {
+            xf + delta.copysign(sigma)
         } else {
-            hi = mid;
+            mid
+        };
+        let x = if (xt - mid).abs() <= r {
+            xt
+        } else {
+            mid - r.copysign(sigma)
+        };
+        let y = f(x);
+        if y > 0.0 {
+            hi = x;
+            yb = y;
+        } else if y < 0.0 || y.is_nan() {
+            lo = x;
+            ya = if y.is_nan() { ya } else { y };
+        } else {
+            return x;
         }
+        scaled *= 0.5;
     }
     0.5 * (lo + hi)
 }
@@ -404,6 +441,9 @@ pub fn invert_increasing(
     for _ in 0..200 {
         let (fx, dfx) = f(x);
         let r = fx - y;
+        if r == 0.0 {
+            return x;
+        }
         if r > 0.0 {
             hi = x;
         } else {
@@ -414,6 +454,12 @@ pub fn invert_increasing(
         } else {
             f64::NAN
         };
+        // A Newton step below `tol` that stays in the bracket is convergence, even where the
+        // residual sits at the rounding floor and no longer halves (a bisection there would only
+        // throw the converged iterate away).
+        if (next - x).abs() <= tol && next >= lo && next <= hi {
+            return next;
+        }
         if !(next > lo && next < hi) || r.abs() > 0.5 * r_prev {
             next = 0.5 * (lo + hi);
         }

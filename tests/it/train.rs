@@ -429,7 +429,10 @@ fn design_cli_with_module_writes_cad_files_and_refuses_undercut() {
 
 /// The designer-style kidney (refined design, effective pressure angle up to 37.8°): its leaning
 /// teeth overhang the root (the outline is not star-shaped about the centre), which a polar
-/// inside test misreads as interference. At m = 1.5 both meshes are clean.
+/// inside test misreads as interference. At m = 2 (z = 23) both meshes are clean. (The refined
+/// design sits in a flat valley of the §8.3 objective: Levenberg–Marquardt paths that differ by
+/// rounding end at different coefficients of the same deviation, with folds from 0.0011 to
+/// 0.0015 rad at m = 1.5; at m = 2 the fold, 0.0033 rad, is clear of the band either way.)
 #[test]
 fn leaning_teeth_of_the_kidney_design_mesh_without_interference() {
     let traj =
@@ -440,11 +443,12 @@ fn leaning_teeth_of_the_kidney_design_mesh_without_interference() {
     refined.refine = ncgear::design::RefineMode::On;
     refined.fit_to_points = false;
     let d = design(&t, &refined).unwrap();
-    let mut opts = TrainTeethOptions::new(1.5);
+    let module_mm = 2.0;
+    let mut opts = TrainTeethOptions::new(module_mm);
     opts.toothing.verify_steps = 36;
     let train = tooth_train(&d.assembly, &d.report.target_points, &opts, &|_| {}).unwrap();
     let r = &train.report;
-    assert_eq!(r.z, 30);
+    assert_eq!(r.z, 23);
     // The fold of the outline (backwards polar travel) exceeds the exact-distance band 0.02·m.
     let o = &train.sun.points_mm;
     let th: Vec<f64> = o.iter().map(|p| p[1].atan2(p[0])).collect();
@@ -454,7 +458,7 @@ fn leaning_teeth_of_the_kidney_design_mesh_without_interference() {
         run = if d < 0.0 { run + d } else { 0.0 };
         worst = worst.min(run);
     }
-    assert!(-worst * 20.0 > 0.02 * 1.5, "fold {worst} rad");
+    assert!(-worst * 20.0 > 0.02 * module_mm, "fold {worst} rad");
     let mesh = r.mesh.as_ref().unwrap();
     for m in [&mesh.sun_intermediate, &mesh.intermediate_planet] {
         assert_eq!(m.interference_steps, 0, "{m:?}");

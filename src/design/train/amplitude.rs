@@ -3,7 +3,7 @@
 use super::TrainError;
 use crate::geometry::fourier::SunRatio;
 use crate::geometry::mechanism::Mechanism;
-use crate::math::periodic::bisect_root;
+use crate::math::periodic::bracketed_root;
 use std::f64::consts::PI;
 
 /// Result of [`rescale_ratio_amplitude`].
@@ -89,7 +89,7 @@ pub fn rescale_ratio_amplitude(
             });
         if let Some((lam, _)) = best {
             // A failing sample (cannot happen for i_λ ≥ 0.05) reads as NaN and is caught below.
-            let lambda = bisect_root(
+            let lambda = bracketed_root(
                 |l| perimeter(l).map_or(f64::NAN, |v| v - target),
                 lam[0],
                 lam[1],

@@ -9,7 +9,7 @@ use super::{
 use crate::design::Design;
 use crate::geometry::assembly::Assembly;
 use crate::geometry::pitch::{PitchCurve, PitchError};
-use crate::math::periodic::bisect_root;
+use crate::math::periodic::bracketed_root;
 use crate::math::polyline::{distances_to_polyline, hausdorff_mm};
 use crate::teeth::TeethError;
 use crate::teeth::mate_motion::{MeshMotion, POSITIONS_PER_PITCH};
@@ -322,7 +322,7 @@ fn train_from(
         let phi2_0 = phi2(0.0);
         let psi2 = |phi: f64| {
             let guess = phi - phi2_0;
-            let phi_h = bisect_root(|x| phi2(x) - phi, guess - 16.0, guess + 16.0, 1e-15);
+            let phi_h = bracketed_root(|x| phi2(x) - phi, guess - 16.0, guess + 16.0, 1e-15);
             let pose = rebuilt.pose(phi_h);
             phi_h - pose.planet_angle_rad
         };
