@@ -3,7 +3,10 @@ use super::teeth_args::RackArgs;
 use super::{CliResult, input_error, print_json, progress_bar, runtime_error};
 use ncgear::design::inverse::InverseError;
 use ncgear::design::segmented::Route;
-use ncgear::design::train::{TrainError, TrainPolicy, TrainTeethOptions, attach_teeth};
+use ncgear::design::train::{
+    PendingTrainMesh, ToothedTrain, TrainError, TrainPolicy, TrainTeethOptions,
+    tooth_design_deferred,
+};
 use ncgear::design::trajectory::Trajectory;
 use ncgear::design::{DesignError, DesignOptions, RefineMode, design};
 use ncgear::teeth::ToothPolicy;
@@ -15,7 +18,8 @@ pub struct Args {
     /// Trajectory file: CSV (x,y in mm, optional header, `#` comments) or JSON
     /// (`{"units": "mm", "points": [[x, y], ...]}`), points in travel order.
     pub trajectory: PathBuf,
-    /// Output directory (design.json, sun/intermediate/planet.csv, design.svg, ratio.svg, traced.csv).
+    /// Output directory (design.json, sun/intermediate/planet.csv, design.svg, ratio.svg, traced.csv;
+    /// design.png with --png).
     #[arg(long, default_value = "out")]
     pub out: PathBuf,
     /// Carrier axis O as `X,Y` in mm.
@@ -66,6 +70,9 @@ pub struct Args {
     /// Smooth a measured or noisy trajectory to this many Fourier harmonics before the inversion.
     #[arg(long)]
     pub smooth: Option<usize>,
+    /// Also write design.png, a raster copy of the design.svg preview.
+    #[arg(long)]
+    pub png: bool,
     /// Print the report (design.json) to stdout instead of the summary.
     #[arg(long)]
     pub json: bool,
@@ -185,37 +192,64 @@ pub fn run(args: Args) -> CliResult {
         _ => input_error(miette::miette!("{file}: {e}")),
     })?;
     let mut d = d;
+    let mut files = ncgear::output::DesignFiles::default();
+    files.png = args.png;
     let mut teeth_files = Vec::new();
     let train = match args.module {
         Some(m) => {
             // The design files are written even when the teeth are refused.
-            let mut t = match toothed(&args, &mut d, m) {
+            let write_design = |d: &ncgear::design::Design| {
+                ncgear::output::write_design_with(d, &args.out, files)
+                    .map_err(|e| runtime_error(miette::miette!("{e}")))
+            };
+            let (mut t, pending) = match toothed(&args, &d, m) {
                 Ok(t) => t,
                 Err(e) => {
-                    ncgear::output::write_design(&d, &args.out)
-                        .map_err(|e| runtime_error(miette::miette!("{e}")))?;
+                    write_design(&d)?;
                     return Err(e);
                 }
             };
-            teeth_files =
-                ncgear::output::write_teeth(&mut t, &args.out, args.rack.dxf_version.into())
+            // The mesh check runs beside the CAD exports (they do not read it).
+            let pb = progress_bar(2 * args.verify_steps as u64, "mesh check");
+            let (mesh, exports) = rayon::join(
+                || pending.map(|p| p.run(&|n| pb.inc(n))).transpose(),
+                || -> Result<Vec<PathBuf>, super::Failure> {
+                    let mut files = ncgear::output::write_teeth(
+                        &mut t,
+                        &args.out,
+                        args.rack.dxf_version.into(),
+                    )
                     .map_err(|e| runtime_error(miette::miette!("{e}")))?;
-            let step = ncgear::output::write_teeth_step(&t, &args.out, &args.rack.solids())
-                .map_err(|e| match &e {
-                    ncgear::output::OutputError::Export(x) => super::teeth_args::step_failure(x),
-                    _ => runtime_error(miette::miette!("{e}")),
-                })?;
-            t.report
-                .files
-                .extend(step.iter().map(|p| p.display().to_string()));
-            teeth_files.extend(step);
+                    let step = ncgear::output::write_teeth_step(&t, &args.out, &args.rack.solids())
+                        .map_err(|e| match &e {
+                            ncgear::output::OutputError::Export(x) => {
+                                super::teeth_args::step_failure(x)
+                            }
+                            _ => runtime_error(miette::miette!("{e}")),
+                        })?;
+                    t.report
+                        .files
+                        .extend(step.iter().map(|p| p.display().to_string()));
+                    files.extend(step);
+                    Ok(files)
+                },
+            );
+            pb.finish_and_clear();
+            match mesh {
+                Ok(mesh) => t.report.mesh = mesh,
+                Err(e) => {
+                    write_design(&d)?;
+                    return Err(runtime_error(miette::miette!("{e}")));
+                }
+            }
+            teeth_files = exports?;
             // The report now lists the CAD files.
             t.record(&mut d);
             Some(t)
         }
         None => None,
     };
-    let mut written = ncgear::output::write_design(&d, &args.out)
+    let mut written = ncgear::output::write_design_with(&d, &args.out, files)
         .map_err(|e| runtime_error(miette::miette!("{e}")))?;
     written.extend(teeth_files);
     if args.json {
@@ -324,12 +358,12 @@ pub fn run(args: Args) -> CliResult {
     Ok(())
 }
 
-/// Teeth on the designed gears (`--module`).
+/// Teeth on the designed gears (`--module`), their mesh check still to run.
 fn toothed(
     args: &Args,
-    d: &mut ncgear::design::Design,
+    d: &ncgear::design::Design,
     module_mm: f64,
-) -> Result<ncgear::design::train::ToothedTrain, super::Failure> {
+) -> Result<(ToothedTrain, Option<PendingTrainMesh>), super::Failure> {
     let mut opts = TrainTeethOptions::new(module_mm);
     opts.toothing.verify_steps = args.verify_steps;
     args.rack
@@ -345,11 +379,8 @@ fn toothed(
         (None, ToothPolicyArg::RatioAmplitude) => TrainPolicy::RatioAmplitude,
         (None, ToothPolicyArg::AdjustModule) => TrainPolicy::AdjustModule,
     };
-    let pb = progress_bar(2 * opts.toothing.verify_steps as u64, "mesh check");
     let accuracy_mm = 1e-9 * d.assembly.a_mm;
-    let t = attach_teeth(d, &opts, accuracy_mm, &|n| pb.inc(n));
-    pb.finish_and_clear();
-    t.map_err(|e| match e {
+    tooth_design_deferred(d, &opts, accuracy_mm).map_err(|e| match e {
         TrainError::Teeth { .. } | TrainError::InvalidOption { .. } => {
             input_error(miette::miette!("--module {module_mm}: {e}"))
         }

@@ -170,10 +170,40 @@ pub fn invert(
     // (smaller compatibility residual, spec §6.4) wins and the other is flagged.
     // The two senses are independent: solved side by side.
     let mirrored = traj.relative_to(center, true);
-    let (ccw, cw) = rayon::join(
-        || solve_frame(&pts, opts, 1, center),
-        || solve_frame(&mirrored, opts, -1, center),
+    // A frame whose coarse pass already shows the carrier running backwards or the wrong way
+    // is left at that when the other frame succeeds; it is solved in full otherwise, for its
+    // diagnosis.
+    let (sa, sb) = rayon::join(
+        || ClosedSpline::through(&pts),
+        || ClosedSpline::through(&mirrored),
     );
+    let ns = opts.dense_samples.max(4 * pts.len());
+    let rejects = |s: &ClosedSpline| coarse_rejects(s, ns, opts.tol_relative * s.period());
+    let solve_a = || solve_frame(&sa, &pts, opts, 1, center);
+    let solve_b = || solve_frame(&sb, &mirrored, opts, -1, center);
+    let done = |r: &Result<Solved, InverseError>| matches!(r, Ok(Solved::Done(_)));
+    // A lone survivor is solved on its own, so that its parallel loops have every core.
+    let (ccw, cw) = match rayon::join(|| rejects(&sa), || rejects(&sb)) {
+        (false, true) => {
+            let a = solve_a();
+            let b = if done(&a) {
+                Ok(Solved::Skipped)
+            } else {
+                solve_b()
+            };
+            (a, b)
+        }
+        (true, false) => {
+            let b = solve_b();
+            let a = if done(&b) {
+                Ok(Solved::Skipped)
+            } else {
+                solve_a()
+            };
+            (a, b)
+        }
+        _ => rayon::join(solve_a, solve_b),
+    };
     match (ccw, cw) {
         (Ok(Solved::Done(mut a)), Ok(Solved::Done(mut b))) => {
             let ea = crate::design::compat::analyse(&a.law, 256, 1e-10).residual_rad;
@@ -187,6 +217,9 @@ pub fn invert(
         (Err(e), _) => Err(e),
         (Ok(Solved::WrongSense(_)), Err(e)) => Err(e),
         (Ok(Solved::WrongSense(e)), Ok(Solved::WrongSense(_))) => Err(e),
+        (Ok(Solved::Skipped), _) | (_, Ok(Solved::Skipped)) => {
+            unreachable!("a skipped frame is solved in full when the other one fails")
+        }
     }
 }
 
@@ -194,6 +227,72 @@ enum Solved {
     Done(Box<Inversion>),
     /// The carrier angle does not advance by +2π in this frame; carries the diagnosis.
     WrongSense(InverseError),
+    /// The coarse pass of [`coarse_rejects`] rejected the frame and the other frame succeeded:
+    /// not solved.
+    Skipped,
+}
+
+/// Samples of the coarse test: one in [`COARSE_DIVISOR`] of the dense samples.
+const COARSE_DIVISOR: usize = 16;
+
+/// A backwards stretch of the carrier angle the coarse test takes as clear, rad: far above the
+/// rounding of the angles it compares (the arm lengths come from refined extremes as in the
+/// full pass).
+const CLEAR_BACKWARDS_RAD: f64 = 1e-3;
+
+/// Whether a coarse pass (every [`COARSE_DIVISOR`]-th dense parameter) clearly rejects the
+/// frame: the carrier angle advances by other than +2π over the loop, or runs backwards by more
+/// than [`CLEAR_BACKWARDS_RAD`] on a stretch (the monotonicity criterion of spec §3.3 at a
+/// margin). A step of the unwrapping larger than π/2 (ambiguous) answers false, as does anything
+/// unclear: the frame is then solved in full.
+fn coarse_rejects(spline: &ClosedSpline, ns: usize, tol: f64) -> bool {
+    let n = (ns / COARSE_DIVISOR).max(64);
+    let len = spline.period();
+    let ds = len / n as f64;
+    let pts: Vec<[f64; 2]> = (0..n).map(|j| spline.point(j as f64 * ds)).collect();
+    let rho: Vec<f64> = pts.iter().map(|p| p[0].hypot(p[1])).collect();
+    let arg =
+        |f: fn(f64, f64) -> bool| (0..n).fold(0, |b, j| if f(rho[j], rho[b]) { j } else { b });
+    let (jmax, jmin) = (arg(|a, b| a > b), arg(|a, b| a < b));
+    // The extremes refined on d(ρ²)/ds = 0, as in the full pass.
+    let pdot = |s: f64| {
+        let [p, d, _] = spline.eval(s);
+        p[0] * d[0] + p[1] * d[1]
+    };
+    let refined = |j: usize| {
+        let s = bracketed_root(pdot, (j as f64 - 1.0) * ds, (j as f64 + 1.0) * ds, tol);
+        let p = spline.point(s);
+        (s, p[0].hypot(p[1]))
+    };
+    let ((s_max, r_max), (s_min, r_min)) = (refined(jmax), refined(jmin));
+    let (r_max, r_min) = (r_max.max(rho[jmax]), r_min.min(rho[jmin]));
+    let (l1, l3) = (0.5 * (r_max - r_min), 0.5 * (r_max + r_min));
+    if !(l1 > 0.0) {
+        return false;
+    }
+    let s_min_rel = (s_min - s_max).rem_euclid(len);
+    // The angle at parameter u from s_max (σ = +1 until s_min, as in the full pass).
+    let phi = |u: f64| {
+        let p = spline.point(s_max + u);
+        let r = p[0].hypot(p[1]);
+        let q = ((l1 * l1 + r * r - l3 * l3) / (2.0 * l1 * r)).clamp(-1.0, 1.0);
+        let sigma = if u <= s_min_rel { 1.0 } else { -1.0 };
+        p[1].atan2(p[0]) + sigma * q.acos()
+    };
+    let (mut total, mut prev, mut back) = (0.0, phi(0.0), 0.0f64);
+    let mut clear_backwards = false;
+    for i in 1..=n {
+        let u = if i == n { len } else { i as f64 * ds };
+        let step = wrap_pi(phi(u) - prev);
+        if step.abs() > 0.5 * std::f64::consts::PI {
+            return false;
+        }
+        back = if step < 0.0 { back + step } else { 0.0 };
+        clear_backwards |= back < -CLEAR_BACKWARDS_RAD;
+        total += step;
+        prev += step;
+    }
+    clear_backwards || (total - TAU).abs() > std::f64::consts::PI
 }
 
 /// Keeps the first `k` harmonics of uniform periodic samples.
@@ -239,13 +338,14 @@ fn runs(n: usize, bad: impl Fn(usize) -> bool) -> Vec<[usize; 2]> {
     out
 }
 
+/// Step 1 in one frame, on the closed spline through its points `pts`.
 fn solve_frame(
+    spline: &ClosedSpline,
     pts: &[[f64; 2]],
     opts: &InverseOptions,
     direction: i8,
     center: [f64; 2],
 ) -> Result<Solved, InverseError> {
-    let spline = ClosedSpline::through(pts);
     let len = spline.period();
     let ns = opts.dense_samples.max(4 * pts.len());
     let ds = len / ns as f64;
@@ -340,11 +440,16 @@ fn solve_frame(
         .into_par_iter()
         .map(|j| spline.point(s_max + u_at(j)))
         .collect();
+    // The raw angles are independent (computed in parallel); the unwrapping runs in order.
+    let raw: Vec<f64> = (0..=ns)
+        .into_par_iter()
+        .map(|j| phi_of(tips[j], u_at(j)))
+        .collect();
     let mut phi = Vec::with_capacity(ns + 1);
-    phi.push(phi_of(tips[0], 0.0));
+    phi.push(raw[0]);
     for j in 1..=ns {
         let prev = phi[j - 1];
-        phi.push(prev + wrap_pi(phi_of(tips[j], u_at(j)) - prev));
+        phi.push(prev + wrap_pi(raw[j] - prev));
     }
     let total = phi[ns] - phi[0];
     let phi0 = phi[0];
@@ -367,11 +472,15 @@ fn solve_frame(
     // Needle direction and ψ3 on the dense samples: ψ3 must increase (i31 > 0).
     let beta_of = |p: [f64; 2], ph: f64| (p[1] - l1 * ph.sin()).atan2(p[0] - l1 * ph.cos());
     let beta_at = |u: f64, ph: f64| beta_of(spline.point(s_max + u), ph);
+    let raw: Vec<f64> = (0..=ns)
+        .into_par_iter()
+        .map(|j| beta_of(tips[j], phi[j]))
+        .collect();
     let mut beta = Vec::with_capacity(ns + 1);
-    beta.push(beta_of(tips[0], phi0));
+    beta.push(raw[0]);
     for j in 1..=ns {
         let prev = beta[j - 1];
-        beta.push(prev + wrap_pi(beta_of(tips[j], phi[j]) - prev));
+        beta.push(prev + wrap_pi(raw[j] - prev));
     }
     let psi = |j: usize| (phi[j] - phi0) - (beta[j] - beta[0]);
     let bad = runs(ns, |j| psi(j + 1) <= psi(j));

@@ -21,7 +21,7 @@ pub fn distances_to_polyline(p: &[[f64; 2]], q: &[[f64; 2]]) -> Vec<f64> {
     p.iter().map(|x| grid.nearest(*x).distance_mm).collect()
 }
 
-/// The segments of a closed polyline bucketed on a uniform grid (about √n cells a side), so a
+/// The segments of a closed polyline bucketed on a uniform grid (about 2√n cells a side), so a
 /// nearest-segment query visits only nearby cells. Exact: rings of cells are searched outwards
 /// until no closer segment can exist (a segment in ring r is at least (r − 1)·h away).
 #[derive(Debug, Clone)]
@@ -60,7 +60,9 @@ impl<'a> SegmentGrid<'a> {
                 hi[c] = hi[c].max(v[c]);
             }
         }
-        let cells = ((n as f64).sqrt().ceil() as usize).clamp(1, 256);
+        // About 2√n cells a side (4n cells): a closed loop crosses few of them, so a query's
+        // first two rings hold a handful of segments each.
+        let cells = ((4.0 * n as f64).sqrt().ceil() as usize).clamp(1, 512);
         let h = ((hi[0] - lo[0]).max(hi[1] - lo[1]) / cells as f64).max(1e-12);
         let nx = ((hi[0] - lo[0]) / h) as usize + 1;
         let ny = ((hi[1] - lo[1]) / h) as usize + 1;

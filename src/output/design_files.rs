@@ -32,8 +32,28 @@ pub fn pitch_csv(curve: &PitchCurve, n: usize) -> String {
     s
 }
 
-/// Writes every design output into `dir` (created if needed); returns the paths written.
+/// Which optional design files to write ([`write_design_with`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+#[non_exhaustive]
+pub struct DesignFiles {
+    /// Also write `design.png`, a raster copy of the `design.svg` preview. Default false: the
+    /// SVG is the preview; the PNG takes longer to draw and encode than the rest of the files
+    /// together.
+    pub png: bool,
+}
+
+/// Writes the design outputs into `dir` (created if needed): `design.json`, the three pitch
+/// tables, `traced.csv`, `design.svg` and `ratio.svg`; returns the paths written.
 pub fn write_design(design: &Design, dir: &Path) -> Result<Vec<PathBuf>, OutputError> {
+    write_design_with(design, dir, DesignFiles::default())
+}
+
+/// [`write_design`] with the optional files of `files`.
+pub fn write_design_with(
+    design: &Design,
+    dir: &Path,
+    files: DesignFiles,
+) -> Result<Vec<PathBuf>, OutputError> {
     create_dir(dir)?;
     let n = design.report.gears.sun.pitch.len();
     let asm = &design.assembly;
@@ -49,7 +69,7 @@ pub fn write_design(design: &Design, dir: &Path) -> Result<Vec<PathBuf>, OutputE
         })
         .collect();
     type Job<'a> = Box<dyn Fn(&Path) -> Result<(), OutputError> + Sync + 'a>;
-    let jobs: Vec<(&str, Job<'_>)> = vec![
+    let mut jobs: Vec<(&str, Job<'_>)> = vec![
         (
             "design.json",
             Box::new(|p| {
@@ -84,12 +104,14 @@ pub fn write_design(design: &Design, dir: &Path) -> Result<Vec<PathBuf>, OutputE
             "design.svg",
             Box::new(|p| write(p, &mechanism_svg(asm, &target, &design.traced_mm, 0.0))),
         ),
-        (
-            "design.png",
-            Box::new(|p| mechanism_chart(asm, &target, &design.traced_mm, 0.0, p)),
-        ),
         ("ratio.svg", Box::new(|p| ratio_plot(design, p))),
     ];
+    if files.png {
+        jobs.push((
+            "design.png",
+            Box::new(|p| mechanism_chart(asm, &target, &design.traced_mm, 0.0, p)),
+        ));
+    }
     // The files are independent: formatted and written side by side (rayon); the list keeps
     // this order, and the first error in it is returned.
     jobs.par_iter()

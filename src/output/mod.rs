@@ -12,7 +12,7 @@ mod simulation_plots;
 mod step_files;
 mod teeth_files;
 
-pub use design_files::{pitch_csv, ratio_plot, write_design};
+pub use design_files::{DesignFiles, pitch_csv, ratio_plot, write_design, write_design_with};
 pub use error::OutputError;
 pub use mechanism_preview::{mechanism_chart, mechanism_svg};
 pub use simulation_files::{SimulationReport, write_simulation};

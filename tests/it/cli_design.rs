@@ -147,7 +147,7 @@ fn run_design(file: &str, extra: &[&str], dir: &Path) -> serde_json::Value {
 #[test]
 fn design_json_conventions_reproduce_the_target_independently() {
     for (file, extra) in [
-        ("g1_ellipse.csv", vec![]),
+        ("g1_ellipse.csv", vec!["--png"]),
         ("asymmetric_cw.json", vec!["--center", "250,400"]),
     ] {
         let dir = out_dir(&format!("cli_{file}"));
@@ -180,11 +180,20 @@ fn design_json_conventions_reproduce_the_target_independently() {
             "intermediate.csv",
             "planet.csv",
             "design.svg",
-            "design.png",
             "ratio.svg",
         ] {
             let meta = std::fs::metadata(dir.join(f)).unwrap();
             assert!(meta.len() > 1000, "{f}");
+        }
+        // The raster preview only with --png: a PNG signature and the chart's 900 × 800 pixels.
+        let png = std::fs::read(dir.join("design.png"));
+        if extra.contains(&"--png") {
+            let png = png.unwrap();
+            assert_eq!(&png[..8], b"\x89PNG\r\n\x1a\n");
+            let wh = |o: usize| u32::from_be_bytes(png[o..o + 4].try_into().unwrap());
+            assert_eq!((wh(16), wh(20)), (900, 800));
+        } else {
+            assert!(png.is_err(), "design.png written without --png");
         }
         let csv = std::fs::read_to_string(dir.join("sun.csv")).unwrap();
         assert!(csv.starts_with("theta_deg,r_mm,x_mm,y_mm\n"));

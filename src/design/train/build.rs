@@ -1,19 +1,19 @@
 //! Putting teeth on the train: integer tooth count, mating phases, rack-generated outlines,
 //! the verification of both meshes and the round trip of the scaled mechanism.
 use super::amplitude::rescale_ratio_amplitude;
+use super::pending::PendingTrainMesh;
 use super::swept::{TrainMeshes, sweep_gear, sweepable};
 use super::{
-    ToothedTrain, TrainError, TrainMesh, TrainPolicy, TrainProcess, TrainRoundTrip,
-    TrainTeethOptions, TrainTeethReport, TrainUndercut,
+    ToothedTrain, TrainError, TrainPolicy, TrainProcess, TrainRoundTrip, TrainTeethOptions,
+    TrainTeethReport, TrainUndercut,
 };
 use crate::design::Design;
 use crate::geometry::assembly::Assembly;
 use crate::geometry::pitch::{PitchCurve, PitchError};
-use crate::math::periodic::bracketed_root;
 use crate::math::polyline::{distances_to_polyline, hausdorff_mm};
 use crate::teeth::TeethError;
 use crate::teeth::mate_motion::{MeshMotion, POSITIONS_PER_PITCH};
-use crate::teeth::mesh::{MeshCheck, verify_mesh};
+use crate::teeth::mesh::MeshCheck;
 use crate::teeth::process::{CutterChoice, generate_by_process, swept_process};
 use crate::teeth::{ArcFrame, Outline, OutlineOptions, ToothPolicy, scale_curve, tooth_count};
 use rayon::prelude::*;
@@ -53,7 +53,7 @@ pub fn tooth_train(
     opts: &TrainTeethOptions,
     progress: &(dyn Fn(u64) + Sync),
 ) -> Result<ToothedTrain, TrainError> {
-    train_from(asm, None, target_mm, opts, progress)
+    verified(train_from(asm, None, target_mm, opts)?, progress)
 }
 
 /// [`tooth_train`] on a fresh design, with every policy of §12.1 including
@@ -65,9 +65,20 @@ pub fn tooth_design(
     accuracy_mm: f64,
     progress: &(dyn Fn(u64) + Sync),
 ) -> Result<ToothedTrain, TrainError> {
+    verified(tooth_design_deferred(design, opts, accuracy_mm)?, progress)
+}
+
+/// [`tooth_design`] without its mesh verification, which is returned to run later (for example
+/// beside the CAD exports, which do not read it): the train's `report.mesh` is `None` until the
+/// caller sets it from [`PendingTrainMesh::run`]; no pending check when `verify_steps` is 0.
+pub fn tooth_design_deferred(
+    design: &Design,
+    opts: &TrainTeethOptions,
+    accuracy_mm: f64,
+) -> Result<(ToothedTrain, Option<PendingTrainMesh>), TrainError> {
     let target = &design.report.target_points;
     if opts.policy != TrainPolicy::RatioAmplitude {
-        return tooth_train(&design.assembly, target, opts, progress);
+        return train_from(&design.assembly, None, target, opts);
     }
     let n = design.assembly.sun.len();
     let fit = rescale_ratio_amplitude(&design.mechanism, opts.toothing.module_mm, n, accuracy_mm)?;
@@ -81,10 +92,10 @@ pub fn tooth_design(
         policy: TrainPolicy::ScaleCenterDistance(ToothPolicy::Exact(fit.z)),
         ..*opts
     };
-    let mut train = train_from(&asm, Some(&design.assembly), target, &exact, progress)?;
+    let (mut train, pending) = train_from(&asm, Some(&design.assembly), target, &exact)?;
     train.report.options.policy = TrainPolicy::RatioAmplitude;
     train.report.ratio_amplitude = fit.lambda;
-    Ok(train)
+    Ok((train, pending))
 }
 
 /// [`tooth_design`] recorded in the design: on success `design.report.teeth` holds the train's
@@ -102,13 +113,23 @@ pub fn attach_teeth(
     Ok(train)
 }
 
+/// Runs a pending check (if any) into the train's report.
+fn verified(
+    (mut train, pending): (ToothedTrain, Option<PendingTrainMesh>),
+    progress: &(dyn Fn(u64) + Sync),
+) -> Result<ToothedTrain, TrainError> {
+    if let Some(p) = pending {
+        train.report.mesh = Some(p.run(progress)?);
+    }
+    Ok(train)
+}
+
 fn train_from(
     asm: &Assembly,
     designed: Option<&Assembly>,
     target_mm: &[[f64; 2]],
     opts: &TrainTeethOptions,
-    progress: &(dyn Fn(u64) + Sync),
-) -> Result<ToothedTrain, TrainError> {
+) -> Result<(ToothedTrain, Option<PendingTrainMesh>), TrainError> {
     let m = opts.toothing.module_mm;
     for (name, v) in [
         ("module_mm", m),
@@ -274,7 +295,7 @@ fn train_from(
             .map_or(choice, CutterChoice::Teeth)
     };
 
-    let mesh = if opts.toothing.verify_steps > 0 {
+    let pending = if opts.toothing.verify_steps > 0 {
         // The fine outlines of the check, built side by side (collected in gear order); the
         // swept gears then from their neighbours' fine outlines.
         let tol = opts.toothing.verify_chord_tol_mm;
@@ -310,54 +331,17 @@ fn train_from(
             .map_err(teeth_err(names[k]))?;
             fine[k] = g.0;
         }
-        let check = MeshCheck {
-            steps: opts.toothing.verify_steps,
-            backlash_mm: opts.toothing.backlash_mm,
-            ..MeshCheck::new(a, m)
-        };
-        // Sun → intermediate: φ = −φH.
-        let psi1 = |phi: f64| -phi - theta2(-phi);
-        // Intermediate → planet: φ = θ2(φH) − φH, increasing in φH; invert by bisection.
-        let phi2 = |phi_h: f64| theta2(phi_h) - phi_h;
-        let phi2_0 = phi2(0.0);
-        let psi2 = |phi: f64| {
-            let guess = phi - phi2_0;
-            let phi_h = bracketed_root(|x| phi2(x) - phi, guess - 16.0, guess + 16.0, 1e-15);
-            let pose = rebuilt.pose(phi_h);
-            phi_h - pose.planet_angle_rad
-        };
-        // The two meshes are independent: checked side by side.
-        let (sun_intermediate, intermediate_planet) = rayon::join(
-            || {
-                verify_mesh(
-                    &fine[0].points_mm,
-                    &fine[1].points_mm,
-                    &psi1,
-                    &check,
-                    progress,
-                )
+        let [sun_fine, mid_fine, planet_fine] = <[Outline; 3]>::try_from(fine)
+            .unwrap_or_else(|_| unreachable!("three gears"))
+            .map(|o| o.points_mm);
+        Some(PendingTrainMesh {
+            outlines: [sun_fine, mid_fine, planet_fine],
+            rebuilt: rebuilt.clone(),
+            check: MeshCheck {
+                steps: opts.toothing.verify_steps,
+                backlash_mm: opts.toothing.backlash_mm,
+                ..MeshCheck::new(a, m)
             },
-            || {
-                verify_mesh(
-                    &fine[1].points_mm,
-                    &fine[2].points_mm,
-                    &psi2,
-                    &check,
-                    progress,
-                )
-            },
-        );
-        let sun_intermediate = sun_intermediate.map_err(|source| TrainError::Mesh {
-            pair: "sun-intermediate",
-            source,
-        })?;
-        let intermediate_planet = intermediate_planet.map_err(|source| TrainError::Mesh {
-            pair: "intermediate-planet",
-            source,
-        })?;
-        Some(TrainMesh {
-            sun_intermediate,
-            intermediate_planet,
         })
     } else {
         None
@@ -398,7 +382,7 @@ fn train_from(
             intermediate: intermediate.undercut.clone(),
             planet: planet.undercut.clone(),
         },
-        mesh,
+        mesh: None,
         files: Vec::new(),
         process: Some(TrainProcess {
             sun: sun_process,
@@ -406,11 +390,12 @@ fn train_from(
             planet: planet_process,
         }),
     };
-    Ok(ToothedTrain {
+    let train = ToothedTrain {
         report,
         assembly: fin,
         sun,
         intermediate,
         planet,
-    })
+    };
+    Ok((train, pending))
 }

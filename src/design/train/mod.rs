@@ -31,12 +31,14 @@
 //! stay exactly conjugate.
 mod amplitude;
 mod build;
+mod pending;
 mod report;
 mod sheet;
 mod swept;
 
 pub use amplitude::{AmplitudeFit, rescale_ratio_amplitude};
-pub use build::{attach_teeth, tooth_design, tooth_train};
+pub use build::{attach_teeth, tooth_design, tooth_design_deferred, tooth_train};
+pub use pending::PendingTrainMesh;
 pub(crate) use report::teeth_json;
 pub use report::{TrainMesh, TrainProcess, TrainRoundTrip, TrainTeethReport, TrainUndercut};
 pub use sheet::{Gear, ToothedTrain};
