@@ -75,7 +75,7 @@ pub fn progress_bar(len: u64, what: &str) -> indicatif::ProgressBar {
 /// Writes `value` as pretty JSON to stdout.
 pub fn print_json(value: &impl serde::Serialize) -> CliResult {
     let s =
-        serde_json::to_string_pretty(value).map_err(|e| runtime_error(miette::miette!("{e}")))?;
+        ncgear::output::json::to_string(value).map_err(|e| runtime_error(miette::miette!("{e}")))?;
     println!("{s}");
     Ok(())
 }

@@ -158,7 +158,7 @@ pub fn run(args: Args) -> CliResult {
     let json_path = args.out.join("pair.json");
     std::fs::write(
         &json_path,
-        serde_json::to_string_pretty(&report).unwrap_or_default(),
+        ncgear::output::json::to_string(&report).unwrap_or_default(),
     )
     .map_err(|e| runtime_error(format!("cannot write {}: {e}", json_path.display())))?;
     if args.json {

@@ -115,7 +115,7 @@ pub fn run(args: Args) -> CliResult {
         _ => input(e),
     })?;
     let json =
-        serde_json::to_string_pretty(&report).map_err(|e| runtime_error(miette::miette!("{e}")))?;
+        ncgear::output::json::to_string(&report).map_err(|e| runtime_error(miette::miette!("{e}")))?;
     std::fs::write(args.out.join("simulate.json"), &json)
         .map_err(|e| runtime_error(miette::miette!("cannot write simulate.json: {e}")))?;
     if args.json {

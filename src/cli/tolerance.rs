@@ -143,7 +143,7 @@ fn create_dir(dir: &Path) -> CliResult {
 
 fn write_json(path: &Path, value: &impl serde::Serialize) -> CliResult {
     let json =
-        serde_json::to_string_pretty(value).map_err(|e| runtime_error(miette::miette!("{e}")))?;
+        ncgear::output::json::to_string(value).map_err(|e| runtime_error(miette::miette!("{e}")))?;
     std::fs::write(path, json)
         .map_err(|e| runtime_error(miette::miette!("cannot write {}: {e}", path.display())))
 }

@@ -74,7 +74,7 @@ pub fn write_design_with(
             "design.json",
             Box::new(|p| {
                 let json =
-                    serde_json::to_string_pretty(&design.report).map_err(|e| OutputError::Io {
+                    super::json::to_string(&design.report).map_err(|e| OutputError::Io {
                         path: "design.json".into(),
                         message: e.to_string(),
                     })?;

@@ -5,6 +5,7 @@ pub mod animate;
 mod design_files;
 mod error;
 mod fixed;
+pub mod json;
 mod mechanism_preview;
 pub mod plot;
 mod simulation_files;

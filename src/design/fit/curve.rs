@@ -157,8 +157,15 @@ pub(super) fn point_row(m: &Mechanism, e: &TipEval, n: [f64; 2], row: &mut [f64]
 /// projection kept. (Near a crossing or a close approach of two stretches, the nearest sample can
 /// lie on the other stretch: a fast tip spaces its own samples farther apart than the gap.)
 pub(super) fn initial_angles(m: &Mechanism, pts: &[[f64; 2]]) -> Vec<f64> {
-    let n = 4096;
-    let curve = curve_samples(m, n);
+    initial_angles_on(m, &curve_samples(m, INITIAL_SAMPLES), pts)
+}
+
+/// Samples of the traced curve that [`initial_angles`] scans.
+pub(super) const INITIAL_SAMPLES: usize = 4096;
+
+/// [`initial_angles`] on the traced curve's `curve` samples at uniform carrier angles.
+pub(super) fn initial_angles_on(m: &Mechanism, curve: &[[f64; 2]], pts: &[[f64; 2]]) -> Vec<f64> {
+    let n = curve.len();
     pts.par_iter()
         .map(|p| {
             let d = |k: usize| {
@@ -199,17 +206,27 @@ pub(super) fn curve_samples(m: &Mechanism, n: usize) -> Vec<[f64; 2]> {
     curve_evals(m, n).into_iter().map(|e| e.b).collect()
 }
 
+/// Samples per block of [`curve_evals`]: a cold solve starts each block, warm ones follow.
+const CURVE_BLOCK: usize = 256;
+
 /// The evaluations at `n` uniform carrier angles `2πk/n`, each contact angle solved from the
-/// previous one.
+/// previous one within blocks of [`CURVE_BLOCK`] (the blocks in parallel; the same numbers for
+/// any thread count).
 pub(super) fn curve_evals(m: &Mechanism, n: usize) -> Vec<TipEval> {
     let h = TAU / n as f64;
-    let mut out: Vec<TipEval> = Vec::with_capacity(n);
-    out.push(tip_eval(m, 0.0));
-    for k in 1..n {
-        let e = tip_eval_next(m, &out[k - 1], h);
-        out.push(e);
-    }
-    out
+    (0..n.div_ceil(CURVE_BLOCK))
+        .into_par_iter()
+        .flat_map_iter(|b| {
+            let (k0, k1) = (b * CURVE_BLOCK, ((b + 1) * CURVE_BLOCK).min(n));
+            let mut out: Vec<TipEval> = Vec::with_capacity(k1 - k0);
+            out.push(tip_eval(m, h * k0 as f64));
+            for j in 1..k1 - k0 {
+                let e = tip_eval_next(m, &out[j - 1], h);
+                out.push(e);
+            }
+            out
+        })
+        .collect()
 }
 
 /// Local minima of the sample distance tried per point by [`initial_angles`].

@@ -57,7 +57,7 @@ pub use restarts::fit_with_restarts;
 
 use crate::geometry::mechanism::Mechanism;
 use crate::math::polyline::SegmentGrid;
-use curve::{curve_samples, initial_angles, project};
+use curve::{INITIAL_SAMPLES, curve_samples, initial_angles, initial_angles_on, project};
 use rayon::prelude::*;
 use solver::{Lm, to_params, with_order};
 
@@ -247,7 +247,9 @@ pub fn measure(points: &[[f64; 2]], m: &Mechanism) -> Measured {
 /// projected angle (never the normal component, which an unconverged projection would understate), (the closer projection wins: near a cusp the
 /// nearest sample and the tracked angle can lead to different local minima).
 fn measure_from(m: &Mechanism, points: &[[f64; 2]], tracked: Option<&[f64]>) -> Measured {
-    let fresh = initial_angles(m, points);
+    // The scan's samples also give the coverage (every few of them).
+    let curve = curve_samples(m, INITIAL_SAMPLES);
+    let fresh = initial_angles_on(m, &curve, points);
     let (carrier_angles_rad, distances_mm): (Vec<f64>, Vec<f64>) = points
         .par_iter()
         .enumerate()
@@ -268,8 +270,10 @@ fn measure_from(m: &Mechanism, points: &[[f64; 2]], tracked: Option<&[f64]>) -> 
         (distances_mm.iter().map(|d| d * d).sum::<f64>() / distances_mm.len() as f64).sqrt();
     let max_mm = distances_mm.iter().copied().fold(0.0, f64::max);
     let grid = SegmentGrid::new(points);
-    let coverage_mm = curve_samples(m, MEASURE_COVERAGE_SAMPLES)
-        .into_par_iter()
+    let coverage_mm = curve
+        .par_iter()
+        .step_by(INITIAL_SAMPLES / MEASURE_COVERAGE_SAMPLES)
+        .copied()
         .map(|b| grid.nearest(b).distance_mm)
         .reduce(|| 0.0, f64::max);
     Measured {
