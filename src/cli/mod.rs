@@ -74,8 +74,8 @@ pub fn progress_bar(len: u64, what: &str) -> indicatif::ProgressBar {
 
 /// Writes `value` as pretty JSON to stdout.
 pub fn print_json(value: &impl serde::Serialize) -> CliResult {
-    let s =
-        ncgear::output::json::to_string(value).map_err(|e| runtime_error(miette::miette!("{e}")))?;
+    let s = ncgear::output::json::to_string(value)
+        .map_err(|e| runtime_error(miette::miette!("{e}")))?;
     println!("{s}");
     Ok(())
 }

@@ -114,8 +114,8 @@ pub fn run(args: Args) -> CliResult {
         SimulateError::BadOption { option: "out", .. } => runtime_error(miette::miette!("{e}")),
         _ => input(e),
     })?;
-    let json =
-        ncgear::output::json::to_string(&report).map_err(|e| runtime_error(miette::miette!("{e}")))?;
+    let json = ncgear::output::json::to_string(&report)
+        .map_err(|e| runtime_error(miette::miette!("{e}")))?;
     std::fs::write(args.out.join("simulate.json"), &json)
         .map_err(|e| runtime_error(miette::miette!("cannot write simulate.json: {e}")))?;
     if args.json {

@@ -142,8 +142,8 @@ fn create_dir(dir: &Path) -> CliResult {
 }
 
 fn write_json(path: &Path, value: &impl serde::Serialize) -> CliResult {
-    let json =
-        ncgear::output::json::to_string(value).map_err(|e| runtime_error(miette::miette!("{e}")))?;
+    let json = ncgear::output::json::to_string(value)
+        .map_err(|e| runtime_error(miette::miette!("{e}")))?;
     std::fs::write(path, json)
         .map_err(|e| runtime_error(miette::miette!("cannot write {}: {e}", path.display())))
 }

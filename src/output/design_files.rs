@@ -73,11 +73,10 @@ pub fn write_design_with(
         (
             "design.json",
             Box::new(|p| {
-                let json =
-                    super::json::to_string(&design.report).map_err(|e| OutputError::Io {
-                        path: "design.json".into(),
-                        message: e.to_string(),
-                    })?;
+                let json = super::json::to_string(&design.report).map_err(|e| OutputError::Io {
+                    path: "design.json".into(),
+                    message: e.to_string(),
+                })?;
                 write(p, &json)
             }),
         ),

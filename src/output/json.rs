@@ -61,7 +61,10 @@ impl RowFormatter {
         let Some(first) = self.pending.take() else {
             return Ok(());
         };
-        let layout = self.arrays.last_mut().expect("an element is inside an array");
+        let layout = self
+            .arrays
+            .last_mut()
+            .expect("an element is inside an array");
         if *layout == Layout::Undecided {
             *layout = if scalar {
                 Layout::Inline
@@ -194,15 +197,27 @@ mod tests {
             "nested": {"k": [1, 2, 3], "flag": true, "none": null, "deep": [{"x": 1}]}
         });
         let text = to_string(&v).unwrap();
-        assert!(text.contains("\n    [0.0, 26.5],\n    [0.1, -2e-9]\n  ]"), "{text}");
+        assert!(
+            text.contains("\n    [0.0, 26.5],\n    [0.1, -2e-9]\n  ]"),
+            "{text}"
+        );
         assert!(text.contains("\"k\": [1, 2, 3]"), "{text}");
-        assert!(text.contains("\"files\": [\n    \"a.svg\",\n    \"b.dxf\"\n  ]"), "{text}");
+        assert!(
+            text.contains("\"files\": [\n    \"a.svg\",\n    \"b.dxf\"\n  ]"),
+            "{text}"
+        );
         assert!(text.contains("\"empty\": []"), "{text}");
-        assert!(text.contains("\"deep\": [\n      {\n        \"x\": 1\n      }\n    ]"), "{text}");
+        assert!(
+            text.contains("\"deep\": [\n      {\n        \"x\": 1\n      }\n    ]"),
+            "{text}"
+        );
         let back: serde_json::Value = serde_json::from_str(&text).unwrap();
         assert_eq!(back, v);
         // Outside arrays the layout is serde_json's pretty one.
         let flat = json!({"a": 1, "b": {"c": "d"}});
-        assert_eq!(to_string(&flat).unwrap(), serde_json::to_string_pretty(&flat).unwrap());
+        assert_eq!(
+            to_string(&flat).unwrap(),
+            serde_json::to_string_pretty(&flat).unwrap()
+        );
     }
 }

@@ -68,19 +68,17 @@ fn block_circles(g: &crate::teeth::shape::StarShape, block: usize) -> Vec<([f64;
         .collect()
 }
 
-impl Level {
-    /// Both outlines, simplified to `simplify_mm` (Douglas–Peucker; 0 = all vertices), for teeth
-    /// of `module_mm` with the pair's nominal backlash `backlash_mm`.
-    pub(super) fn new(
-        driver: &[[f64; 2]],
-        driven: &[[f64; 2]],
-        cap: f64,
-        module_mm: f64,
-        backlash_mm: f64,
-        simplify_mm: f64,
-    ) -> Result<Self, MeshError> {
-        let m = module_mm;
-        let every = |v: &[[f64; 2]], k: usize| v.iter().step_by(k).copied().collect::<Vec<_>>();
+/// The outlines of one resolution: both polylines (mm) and their Hausdorff distance from the
+/// given outlines (mm; 0 for the given outlines themselves).
+pub(super) struct Polylines {
+    pub(super) driver: Vec<[f64; 2]>,
+    pub(super) driven: Vec<[f64; 2]>,
+    pub(super) deviation_mm: f64,
+}
+
+impl Polylines {
+    /// Both outlines simplified to `simplify_mm` (Douglas–Peucker, side by side; 0 = as given).
+    pub(super) fn new(driver: &[[f64; 2]], driven: &[[f64; 2]], simplify_mm: f64) -> Self {
         let thin = |v: &[[f64; 2]]| {
             if simplify_mm > 0.0 {
                 crate::math::polyline::simplify_closed_dev(v, simplify_mm)
@@ -88,11 +86,49 @@ impl Level {
                 (v.to_vec(), 0.0)
             }
         };
-        // The two gears' shapes are independent: built side by side at every stage.
         let ((d1, e1), (d2, e2)) = rayon::join(|| thin(driver), || thin(driven));
+        Self {
+            driver: d1,
+            driven: d2,
+            deviation_mm: e1.max(e2),
+        }
+    }
+
+    /// The copies the bounded evaluation bounds through: simplified to `BOUND_TOL·m − deviation`,
+    /// so that they are within `BOUND_TOL·m` of the given outlines and of these polylines (a
+    /// coarse simplification of an already simplified outline costs little).
+    pub(super) fn bound_copies(&self, module_mm: f64) -> Polylines {
+        let tol = BOUND_TOL * module_mm - self.deviation_mm;
+        let (b1, b2) = rayon::join(
+            || crate::math::polyline::simplify_closed(&self.driver, tol),
+            || crate::math::polyline::simplify_closed(&self.driven, tol),
+        );
+        Polylines {
+            driver: b1,
+            driven: b2,
+            deviation_mm: BOUND_TOL * module_mm,
+        }
+    }
+}
+
+impl Level {
+    /// One resolution of the check on `lines`, with the bounding copies `bounds` (within
+    /// `BOUND_TOL·m` of `lines`, see [`Polylines::bound_copies`]), for teeth of `module_mm` with
+    /// the pair's nominal backlash `backlash_mm`.
+    pub(super) fn new(
+        lines: &Polylines,
+        bounds: &Polylines,
+        cap: f64,
+        module_mm: f64,
+        backlash_mm: f64,
+    ) -> Result<Self, MeshError> {
+        let m = module_mm;
+        let every = |v: &[[f64; 2]], k: usize| v.iter().step_by(k).copied().collect::<Vec<_>>();
+        let (d1, d2) = (&lines.driver, &lines.driven);
+        // The two gears' shapes are independent: built side by side at every stage.
         let (h1, h2) = rayon::join(
-            || Shape::new(&d1, cap, "driver"),
-            || Shape::new(&d2, cap, "driven"),
+            || Shape::new(d1, cap, "driver"),
+            || Shape::new(d2, cap, "driven"),
         );
         let (h1, h2) = (h1?, h2?);
         let rmax = h1
@@ -114,25 +150,18 @@ impl Level {
         // Coarse copies (every 16th vertex) index the initial pruning at a larger reach.
         // Douglas–Peucker keeps every removed vertex within the tolerance of its chord, so the
         // polylines are within it of each other both ways.
-        let tol = BOUND_TOL * m;
-        let coarse_and_bound = |d: &[[f64; 2]], which| {
+        let coarse_and_bound = |d: &[[f64; 2]], b: &[[f64; 2]], which| {
             rayon::join(
                 || Shape::new(&every(d, 16), reach, which),
-                || {
-                    Shape::new(
-                        &crate::math::polyline::simplify_closed(d, tol),
-                        reach,
-                        which,
-                    )
-                },
+                || Shape::new(b, reach, which),
             )
         };
         let ((k1, b1), (k2, b2)) = rayon::join(
-            || coarse_and_bound(&d1, "driver"),
-            || coarse_and_bound(&d2, "driven"),
+            || coarse_and_bound(d1, &bounds.driver, "driver"),
+            || coarse_and_bound(d2, &bounds.driven, "driven"),
         );
         let (k1, b1, k2, b2) = (k1?, b1?, k2?, b2?);
-        let slack = 3.0 * tol + 1e-6 * m;
+        let slack = 3.0 * bounds.deviation_mm + 1e-6 * m;
         // Blocks of about 0.1·m of outline.
         let perimeter: f64 = (0..d1.len())
             .map(|i| {
@@ -155,7 +184,7 @@ impl Level {
             lip,
             module_mm: m,
             slack,
-            deviation_mm: e1.max(e2),
+            deviation_mm: lines.deviation_mm,
         })
     }
 

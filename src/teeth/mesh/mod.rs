@@ -27,7 +27,7 @@ mod level;
 pub use super::shape::{MeshError, Shape, StarShape};
 
 use super::overlap::inside_term;
-use level::{Level, PerVertex, Pose, min_of, root_pruned};
+use level::{Level, PerVertex, Polylines, Pose, min_of, root_pruned};
 use nalgebra::{Isometry2, Vector2};
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
@@ -227,9 +227,18 @@ pub fn verify_mesh(
     let cap = 0.02 * m;
     // A simplified copy (within 1e-4·m of the outlines) finds both contacts cheaply; the fine
     // outlines then polish them in a narrow bracket.
+    // The bounding copies of both levels are simplified from the medium copy (cheap) instead of
+    // from the given outlines.
+    let lines = Polylines::new(driver, driven, 1e-4 * m);
+    let bounds = lines.bound_copies(m);
+    let given = Polylines {
+        driver: driver.to_vec(),
+        driven: driven.to_vec(),
+        deviation_mm: 0.0,
+    };
     let (fine, medium) = rayon::join(
-        || Level::new(driver, driven, cap, m, check.backlash_mm, 0.0),
-        || Level::new(driver, driven, cap, m, check.backlash_mm, 1e-4 * m),
+        || Level::new(&given, &bounds, cap, m, check.backlash_mm),
+        || Level::new(&lines, &bounds, cap, m, check.backlash_mm),
     );
     let (fine, medium) = (fine?, medium?);
     let g1 = &fine.h1.polar;
