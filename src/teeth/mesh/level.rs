@@ -389,6 +389,7 @@ type ClearanceFn<'a> = dyn Fn(f64, &[usize], &[usize]) -> PerVertex + 'a;
 /// Root of the minimum clearance on `[lo, hi]` (Illinois regula falsi), to `tol`, pruning after
 /// each evaluation the vertices that cannot be the minimiser anywhere in the bracket: a vertex's
 /// clearance changes by at most `lip·|Δδ|`, so it is dropped when `c_i(x) > min c(x) + 2·lip·(hi − lo)`.
+/// Returns the root and the secant slope (mm/rad) of the last two evaluations.
 #[allow(clippy::too_many_arguments)]
 pub(super) fn root_pruned(
     f: &ClearanceFn<'_>,
@@ -398,7 +399,7 @@ pub(super) fn root_pruned(
     mut hi: f64,
     lip: f64,
     tol: f64,
-) -> Option<f64> {
+) -> Option<(f64, f64)> {
     let mut s1 = k1.to_vec();
     let mut s2 = k2.to_vec();
     let min = |v: &PerVertex| {
@@ -411,6 +412,9 @@ pub(super) fn root_pruned(
     if flo * fhi > 0.0 {
         return None;
     }
+    // The last two evaluations (Illinois scales the bracket's values; these are the true ones).
+    let mut last = [(lo, flo), (hi, fhi)];
+    let slope = |l: &[(f64, f64); 2]| (l[1].1 - l[0].1) / (l[1].0 - l[0].0);
     let mut side = 0i8;
     for _ in 0..100 {
         let x = (lo * fhi - hi * flo) / (fhi - flo);
@@ -421,6 +425,7 @@ pub(super) fn root_pruned(
         };
         let v = f(x, &s1, &s2);
         let fx = min(&v);
+        last = [last[1], (x, fx)];
         if fx * fhi > 0.0 {
             hi = x;
             fhi = fx;
@@ -437,7 +442,7 @@ pub(super) fn root_pruned(
             side = -1;
         }
         if hi - lo <= tol || fx.abs() <= 1e-11 {
-            return Some(x);
+            return Some((x, slope(&last)));
         }
         let thresh = fx + 2.0 * lip * (hi - lo);
         s1 = s1
@@ -453,5 +458,5 @@ pub(super) fn root_pruned(
             .map(|(i, _)| *i)
             .collect();
     }
-    Some(0.5 * (lo + hi))
+    Some((0.5 * (lo + hi), slope(&last)))
 }

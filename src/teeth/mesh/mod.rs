@@ -318,33 +318,74 @@ pub fn verify_mesh(
         // polylines' gap over a clearance slope ≥ r₂/2), widening ×8 when the bracket misses.
         // Vertices are pruned from a known evaluation (at 0, or at x) by the Lipschitz bound:
         // vertex i can be the minimiser on [l, h] only if c_i(x₀) ≤ min c(x₀) + 2·lip·max|y − x₀|.
+        let keep = |set: &[usize], c: &[f64], thresh: f64| -> Vec<usize> {
+            set.iter()
+                .zip(c)
+                .filter(|(_, c)| **c <= thresh)
+                .map(|(i, _)| *i)
+                .collect()
+        };
+        // Secant steps on the fine outlines from a known evaluation `v` at `x0` and the medium
+        // root's slope: each point's minimum is exact on the vertices the Lipschitz bound keeps
+        // from `v`; a point with |f| ≤ 1e-11 mm inside (lo, hi) is the root (as in
+        // `root_pruned`). None when three steps do not get there (the bracketed search then runs).
+        let secant = |x0: f64, v: &PerVertex, slope: f64, lo: f64, hi: f64| -> Option<f64> {
+            let (mut xa, mut fa) = (x0, min_of(v));
+            let mut s = slope;
+            for _ in 0..3 {
+                if !(s.is_finite() && s != 0.0) {
+                    return None;
+                }
+                let xb = xa - fa / s;
+                if !(xb > lo && xb < hi) {
+                    return None;
+                }
+                let thresh = min_of(v) + 2.0 * lip * (xb - x0).abs();
+                let fb = min_of(&f(
+                    xb,
+                    &keep(&sets.0, &v.0, thresh),
+                    &keep(&sets.1, &v.1, thresh),
+                ));
+                if fb.abs() <= 1e-11 {
+                    return Some(xb);
+                }
+                s = (fb - fa) / (xb - xa);
+                (xa, fa) = (xb, fb);
+            }
+            None
+        };
         let polish = |lo: f64, hi: f64| -> Option<f64> {
-            if let Some(x) = root_pruned(&fm, &med_sets.0, &med_sets.1, lo, hi, lip, 1e-3 * db) {
+            if let Some((x, slope)) =
+                root_pruned(&fm, &med_sets.0, &med_sets.1, lo, hi, lip, 1e-3 * db)
+            {
                 let mut eta = (4.0 * dev / (0.5 * r2)).max(1e-4 * db);
+                // The fine evaluation to start from: δ = 0 (known) when x is that close to it.
+                let near_zero = |l: f64, h: f64| l.abs().max(h.abs()) <= 2.0 * (h - l);
                 let mut at_x: Option<PerVertex> = None;
+                let (x0, v) = if near_zero((x - eta).max(lo), (x + eta).min(hi)) {
+                    (0.0, &v0)
+                } else {
+                    (x, &*at_x.get_or_insert_with(|| f(x, &sets.0, &sets.1)))
+                };
+                if let Some(r) = secant(x0, v, slope, lo, hi) {
+                    return Some(r);
+                }
                 while eta < hi - lo {
                     let (l, h) = ((x - eta).max(lo), (x + eta).min(hi));
-                    let (x0, v) = if l.abs().max(h.abs()) <= 2.0 * (h - l) {
+                    let (x0, v) = if near_zero(l, h) {
                         (0.0, &v0)
                     } else {
                         (x, &*at_x.get_or_insert_with(|| f(x, &sets.0, &sets.1)))
                     };
                     let thresh = min_of(v) + 2.0 * lip * (l - x0).abs().max((h - x0).abs());
-                    let keep = |set: &[usize], c: &[f64]| -> Vec<usize> {
-                        set.iter()
-                            .zip(c)
-                            .filter(|(_, c)| **c <= thresh)
-                            .map(|(i, _)| *i)
-                            .collect()
-                    };
-                    let (s1, s2) = (keep(&sets.0, &v.0), keep(&sets.1, &v.1));
-                    if let Some(r) = root_pruned(&f, &s1, &s2, l, h, lip, tol) {
+                    let (s1, s2) = (keep(&sets.0, &v.0, thresh), keep(&sets.1, &v.1, thresh));
+                    if let Some((r, _)) = root_pruned(&f, &s1, &s2, l, h, lip, tol) {
                         return Some(r);
                     }
                     eta *= 8.0;
                 }
             }
-            root_pruned(&f, &sets.0, &sets.1, lo, hi, lip, tol)
+            root_pruned(&f, &sets.0, &sets.1, lo, hi, lip, tol).map(|(r, _)| r)
         };
         let (eps, coast) = match (polish(-db, mid), polish(mid, 3.0 * db)) {
             (Some(e), Some(c)) => (e, c),
