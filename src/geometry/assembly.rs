@@ -119,16 +119,21 @@ impl Assembly {
                 Ok(mirrored(&c))
             }
         };
+        // The three tables are independent: sampled side by side.
+        let (sun, (intermediate, planet)) = rayon::join(
+            || m.sun_curve(n),
+            || rayon::join(|| m.intermediate_curve(n), || m.planet_curve(n)),
+        );
         Ok(Self {
             center_mm,
             direction: if direction >= 0 { 1 } else { -1 },
             a_mm: m.a_mm,
             l3_mm: m.l3_mm,
             needle_angle_rad: sign * m.needle_angle_rad,
-            sun: world(m.sun_curve(n)?)?,
-            intermediate: world(m.intermediate_curve(n)?)?,
+            sun: world(sun?)?,
+            intermediate: world(intermediate?)?,
             intermediate_angle_at_zero_rad: sign * m.intermediate_orientation(0.0),
-            planet: world(m.planet_curve(n)?)?,
+            planet: world(planet?)?,
             planet_angle_at_zero_rad: sign * m.planet_orientation(0.0),
         })
     }
@@ -151,8 +156,10 @@ impl Assembly {
             )
         };
         let sign = if ccw { 1.0 } else { -1.0 };
-        let sun_int = integral_of(&sun, self.a_mm);
-        let mid_int = integral_of(&mid, self.a_mm);
+        let (sun_int, mid_int) = rayon::join(
+            || integral_of(&sun, self.a_mm),
+            || integral_of(&mid, self.a_mm),
+        );
         Rebuilt {
             asm: self.clone(),
             sign,

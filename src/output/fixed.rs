@@ -21,17 +21,34 @@ impl fmt::Display for Fixed {
         }
         // Positive: the cast truncates, so this rounds half up.
         let v = (y + 0.5) as u64;
-        let sign = if x.is_sign_negative() { "-" } else { "" };
-        if n == 0 {
-            return write!(f, "{sign}{v}");
+        // Digits written backwards into a stack buffer, one `write_str` (the formatting
+        // machinery's padding costs more than the digits): at most 16 + 1 + 9 + sign bytes.
+        let mut buf = [0u8; 32];
+        let mut i = buf.len();
+        let (mut int, mut frac) = (v / scale, v % scale);
+        for _ in 0..n {
+            i -= 1;
+            buf[i] = b'0' + (frac % 10) as u8;
+            frac /= 10;
         }
-        write!(
-            f,
-            "{sign}{}.{:0width$}",
-            v / scale,
-            v % scale,
-            width = n as usize
-        )
+        if n > 0 {
+            i -= 1;
+            buf[i] = b'.';
+        }
+        loop {
+            i -= 1;
+            buf[i] = b'0' + (int % 10) as u8;
+            int /= 10;
+            if int == 0 {
+                break;
+            }
+        }
+        if x.is_sign_negative() {
+            i -= 1;
+            buf[i] = b'-';
+        }
+        // ASCII digits, point and sign only.
+        f.write_str(std::str::from_utf8(&buf[i..]).map_err(|_| fmt::Error)?)
     }
 }
 
