@@ -519,3 +519,28 @@ fn regression_181_points_single_strong_harmonic() {
         d.report.roundtrip.hausdorff_mm
     );
 }
+
+/// Step 1 tries both carrier senses; a sense whose coarse pass clearly runs backwards is not
+/// solved in full. The verdicts stay those of two full solves: G1 traces CCW only, its mirror
+/// image CW only, and the asymmetric CW file both ways (flagged, the better-realisable CW law
+/// kept).
+#[test]
+fn both_carrier_senses_are_judged_as_by_full_solves() {
+    let opts = InverseOptions::default();
+    let g1 = g1_trajectory();
+    let inv = invert(&g1, [0.0, 0.0], &opts).unwrap();
+    assert_eq!(inv.direction, 1);
+    assert!(!inv.other_sense_traceable);
+    let mirrored = traj_from(g1.points().iter().map(|p| [p[0], -p[1]]).collect());
+    let inv_m = invert(&mirrored, [0.0, 0.0], &opts).unwrap();
+    assert_eq!(inv_m.direction, -1);
+    assert!(!inv_m.other_sense_traceable);
+    // The same arm lengths either way (the mirror image of the same loop).
+    assert!((inv_m.l1_mm - inv.l1_mm).abs() < 1e-9 && (inv_m.l3_mm - inv.l3_mm).abs() < 1e-9);
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("assets/trajectories/asymmetric_cw.json");
+    let asym = Trajectory::from_path(&path).unwrap();
+    let inv_a = invert(&asym, [250.0, 400.0], &opts).unwrap();
+    assert_eq!(inv_a.direction, -1);
+    assert!(inv_a.other_sense_traceable);
+}
