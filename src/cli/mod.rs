@@ -89,6 +89,15 @@ pub fn main() -> ExitCode {
     unsafe {
         libc::signal(libc::SIGPIPE, libc::SIG_DFL);
     }
+    // glibc serves blocks above 128 KiB by fresh mmap, freed by munmap: the chain's arrays of
+    // tens of thousands of points then fault their pages in again at every stage. Kept on the
+    // heap instead, freed blocks are reused.
+    #[cfg(all(target_os = "linux", target_env = "gnu"))]
+    // SAFETY: mallopt only sets allocator parameters; called before any thread exists.
+    unsafe {
+        libc::mallopt(libc::M_MMAP_THRESHOLD, 256 << 20);
+        libc::mallopt(libc::M_TRIM_THRESHOLD, 512 << 20);
+    }
     let cli = Cli::parse();
     let result = match cli.command {
         Command::Design(a) => design::run(a),
