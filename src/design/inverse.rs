@@ -177,29 +177,26 @@ pub fn invert(
         || ClosedSpline::through(&pts),
         || ClosedSpline::through(&mirrored),
     );
-    let ns = opts.dense_samples.max(4 * pts.len());
+    let ns = dense_count(opts, pts.len());
     let rejects = |s: &ClosedSpline| coarse_rejects(s, ns, opts.tol_relative * s.period());
     let solve_a = || solve_frame(&sa, &pts, opts, 1, center);
     let solve_b = || solve_frame(&sb, &mirrored, opts, -1, center);
-    let done = |r: &Result<Solved, InverseError>| matches!(r, Ok(Solved::Done(_)));
-    // A lone survivor is solved on its own, so that its parallel loops have every core.
+    // A lone survivor is solved on its own, so that its parallel loops have every core; the
+    // rejected frame only when the survivor fails (for its diagnosis).
+    type Frame = Result<Solved, InverseError>;
+    let survivor_first = |first: &dyn Fn() -> Frame, other: &dyn Fn() -> Frame| {
+        let f = first();
+        let o = if matches!(f, Ok(Solved::Done(_))) {
+            Ok(Solved::Skipped)
+        } else {
+            other()
+        };
+        (f, o)
+    };
     let (ccw, cw) = match rayon::join(|| rejects(&sa), || rejects(&sb)) {
-        (false, true) => {
-            let a = solve_a();
-            let b = if done(&a) {
-                Ok(Solved::Skipped)
-            } else {
-                solve_b()
-            };
-            (a, b)
-        }
+        (false, true) => survivor_first(&solve_a, &solve_b),
         (true, false) => {
-            let b = solve_b();
-            let a = if done(&b) {
-                Ok(Solved::Skipped)
-            } else {
-                solve_a()
-            };
+            let (b, a) = survivor_first(&solve_b, &solve_a);
             (a, b)
         }
         _ => rayon::join(solve_a, solve_b),
@@ -232,6 +229,31 @@ enum Solved {
     Skipped,
 }
 
+/// Dense samples of the interpolant for `points` trajectory points: the option, at least four
+/// per point.
+fn dense_count(opts: &InverseOptions, points: usize) -> usize {
+    opts.dense_samples.max(4 * points)
+}
+
+/// The extreme of ρ(s) = |P(s)| near grid sample `j` of step `ds` (mm of chord): the root of
+/// d(ρ²)/ds = 2 P·P′ within one step either side, to `tol` (mm), on the interpolant (§3.5a).
+fn refine_extreme(spline: &ClosedSpline, j: usize, ds: f64, tol: f64) -> f64 {
+    let pdot = |s: f64| {
+        let [p, d, _] = spline.eval(s);
+        p[0] * d[0] + p[1] * d[1]
+    };
+    bracketed_root(pdot, (j as f64 - 1.0) * ds, (j as f64 + 1.0) * ds, tol)
+}
+
+/// Carrier angle φH (rad, not unwrapped) at which an arm of `l1`, `l3` (mm) reaches tip `p`
+/// (mm, relative to O): `atan2 P + σ·arccos((l1² + ρ² − l3²)/(2 l1 ρ))` (§3.3), the cosine
+/// clamped into [−1, 1] against rounding at the extremes (where it is ±1).
+fn carrier_angle(p: [f64; 2], l1: f64, l3: f64, sigma: f64) -> f64 {
+    let r = p[0].hypot(p[1]);
+    let q = ((l1 * l1 + r * r - l3 * l3) / (2.0 * l1 * r)).clamp(-1.0, 1.0);
+    p[1].atan2(p[0]) + sigma * q.acos()
+}
+
 /// Samples of the coarse test: one in [`COARSE_DIVISOR`] of the dense samples.
 const COARSE_DIVISOR: usize = 16;
 
@@ -254,13 +276,9 @@ fn coarse_rejects(spline: &ClosedSpline, ns: usize, tol: f64) -> bool {
     let arg =
         |f: fn(f64, f64) -> bool| (0..n).fold(0, |b, j| if f(rho[j], rho[b]) { j } else { b });
     let (jmax, jmin) = (arg(|a, b| a > b), arg(|a, b| a < b));
-    // The extremes refined on d(ρ²)/ds = 0, as in the full pass.
-    let pdot = |s: f64| {
-        let [p, d, _] = spline.eval(s);
-        p[0] * d[0] + p[1] * d[1]
-    };
+    // The extremes refined as in the full pass.
     let refined = |j: usize| {
-        let s = bracketed_root(pdot, (j as f64 - 1.0) * ds, (j as f64 + 1.0) * ds, tol);
+        let s = refine_extreme(spline, j, ds, tol);
         let p = spline.point(s);
         (s, p[0].hypot(p[1]))
     };
@@ -273,11 +291,8 @@ fn coarse_rejects(spline: &ClosedSpline, ns: usize, tol: f64) -> bool {
     let s_min_rel = (s_min - s_max).rem_euclid(len);
     // The angle at parameter u from s_max (σ = +1 until s_min, as in the full pass).
     let phi = |u: f64| {
-        let p = spline.point(s_max + u);
-        let r = p[0].hypot(p[1]);
-        let q = ((l1 * l1 + r * r - l3 * l3) / (2.0 * l1 * r)).clamp(-1.0, 1.0);
         let sigma = if u <= s_min_rel { 1.0 } else { -1.0 };
-        p[1].atan2(p[0]) + sigma * q.acos()
+        carrier_angle(spline.point(s_max + u), l1, l3, sigma)
     };
     let (mut total, mut prev, mut back) = (0.0, phi(0.0), 0.0f64);
     let mut clear_backwards = false;
@@ -347,7 +362,7 @@ fn solve_frame(
     center: [f64; 2],
 ) -> Result<Solved, InverseError> {
     let len = spline.period();
-    let ns = opts.dense_samples.max(4 * pts.len());
+    let ns = dense_count(opts, pts.len());
     let ds = len / ns as f64;
     let rho = |s: f64| {
         let p = spline.point(s);
@@ -399,22 +414,10 @@ fn solve_frame(
         });
     }
     // Refine the extremes: d(ρ²)/ds = 2 P·P′ = 0 (Brent/bisection on the same interpolant, §3.5a).
-    let pdot = |s: f64| {
-        let [p, d, _] = spline.eval(s);
-        p[0] * d[0] + p[1] * d[1]
-    };
     let tol = opts.tol_relative * len;
-    let s_max = bracketed_root(
-        pdot,
-        (jmax as f64 - 1.0) * ds,
-        (jmax as f64 + 1.0) * ds,
-        tol,
-    );
-    let s_min = bracketed_root(
-        pdot,
-        (jmin as f64 - 1.0) * ds,
-        (jmin as f64 + 1.0) * ds,
-        tol,
+    let (s_max, s_min) = (
+        refine_extreme(spline, jmax, ds, tol),
+        refine_extreme(spline, jmin, ds, tol),
     );
     let (rho_max, rho_min) = (rho(s_max).max(rmax_dense), rho(s_min).min(dense[jmin]));
     let l1 = 0.5 * (rho_max - rho_min);
@@ -427,12 +430,8 @@ fn solve_frame(
     }
     // Parameter measured from s_max in travel order; σ = +1 until s_min.
     let s_min_rel = (s_min - s_max).rem_euclid(len);
-    let phi_of = |p: [f64; 2], u: f64| {
-        let r = p[0].hypot(p[1]);
-        let q = ((l1 * l1 + r * r - l3 * l3) / (2.0 * l1 * r)).clamp(-1.0, 1.0);
-        let sigma = if u <= s_min_rel { 1.0 } else { -1.0 };
-        p[1].atan2(p[0]) + sigma * q.acos()
-    };
+    let phi_of =
+        |p: [f64; 2], u: f64| carrier_angle(p, l1, l3, if u <= s_min_rel { 1.0 } else { -1.0 });
     let raw_phi = |u: f64| phi_of(spline.point(s_max + u), u);
     // The tip at the dense parameters u_j = j·ds from s_max (the last one a whole period on).
     let u_at = |j: usize| if j == ns { len } else { j as f64 * ds };

@@ -27,7 +27,7 @@ mod level;
 pub use super::shape::{MeshError, Shape, StarShape};
 
 use super::overlap::inside_term;
-use level::{Level, PerVertex, Polylines, Pose, min_of, root_pruned};
+use level::{Level, PerVertex, Polylines, Pose, ROOT_VALUE_MM, min_of, root_pruned};
 use nalgebra::{Isometry2, Vector2};
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
@@ -327,7 +327,7 @@ pub fn verify_mesh(
         };
         // Secant steps on the fine outlines from a known evaluation `v` at `x0` and the medium
         // root's slope: each point's minimum is exact on the vertices the Lipschitz bound keeps
-        // from `v`; a point with |f| ≤ 1e-11 mm inside (lo, hi) is the root (as in
+        // from `v`; a point with |f| ≤ ROOT_VALUE_MM inside (lo, hi) is the root (as in
         // `root_pruned`). None when three steps do not get there (the bracketed search then runs).
         let secant = |x0: f64, v: &PerVertex, slope: f64, lo: f64, hi: f64| -> Option<f64> {
             let (mut xa, mut fa) = (x0, min_of(v));
@@ -346,7 +346,7 @@ pub fn verify_mesh(
                     &keep(&sets.0, &v.0, thresh),
                     &keep(&sets.1, &v.1, thresh),
                 ));
-                if fb.abs() <= 1e-11 {
+                if fb.abs() <= ROOT_VALUE_MM {
                     return Some(xb);
                 }
                 s = (fb - fa) / (xb - xa);
