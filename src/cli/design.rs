@@ -322,12 +322,17 @@ pub fn run(args: Args) -> CliResult {
                 println!("  {name}: {}", super::teeth_args::process_line(g));
             }
         }
-        for (name, u) in [
-            ("sun", &t.undercut.sun),
-            ("intermediate", &t.undercut.intermediate),
-            ("planet", &t.undercut.planet),
+        let p = t.process.as_ref();
+        for (name, u, g) in [
+            ("sun", &t.undercut.sun, p.map(|p| &p.sun)),
+            (
+                "intermediate",
+                &t.undercut.intermediate,
+                p.map(|p| &p.intermediate),
+            ),
+            ("planet", &t.undercut.planet, p.map(|p| &p.planet)),
         ] {
-            if let Some(w) = super::teeth_args::undercut_line(name, u) {
+            if let Some(w) = super::teeth_args::undercut_line(name, u, g) {
                 println!("  {w}");
             }
         }

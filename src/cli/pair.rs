@@ -180,11 +180,11 @@ pub fn run(args: Args) -> CliResult {
             "driven: {}",
             super::teeth_args::process_line(&design.driven_process)
         );
-        for (name, u) in [
-            ("driver", &design.driver_undercut),
-            ("driven", &design.driven_undercut),
+        for (name, u, p) in [
+            ("driver", &design.driver_undercut, &design.driver_process),
+            ("driven", &design.driven_undercut, &design.driven_process),
         ] {
-            if let Some(w) = super::teeth_args::undercut_line(name, u) {
+            if let Some(w) = super::teeth_args::undercut_line(name, u, Some(p)) {
                 println!("{w}");
             }
         }

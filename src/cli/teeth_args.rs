@@ -106,20 +106,37 @@ pub fn step_failure(e: &ExportError) -> super::Failure {
     }
 }
 
-/// The undercut warning of one gear for the console (`None` without undercut): the rack cuts
-/// it, and the numbers say what it costs.
-pub fn undercut_line(name: &str, u: &ncgear::teeth::UndercutReport) -> Option<String> {
-    (u.undercut_count > 0).then(|| {
-        format!(
-            "warning: {name}: the rack undercuts {} flank(s), cut as the rack cuts them: deepest \
-             {:.4} mm below the cusp, contact ratio lost up to {:.3}, thinnest tooth root {:.3} mm \
-             (--no-undercut refuses instead)",
-            u.undercut_count,
-            u.max_undercut_mm,
-            u.max_contact_ratio_loss,
-            u.min_root_thickness_mm.unwrap_or(f64::NAN)
-        )
-    })
+/// The undercut warning of one gear for the console (`None` without undercut): the tool that
+/// cuts it (the rack's numbers from its report; a shaper cutter's flank count from `process`),
+/// and what it costs. A swept gear has no cutter to undercut it.
+pub fn undercut_line(
+    name: &str,
+    u: &ncgear::teeth::UndercutReport,
+    process: Option<&ncgear::teeth::process::GearProcess>,
+) -> Option<String> {
+    use ncgear::teeth::process::Process;
+    match process.map(|p| (p.process, p)) {
+        Some((Process::Shaper, p)) => (p.undercut_flanks > 0).then(|| {
+            format!(
+                "warning: {name}: the shaper cutter (z_c = {}) undercuts {} flank(s), cut as it \
+                 cuts them (--no-undercut refuses instead)",
+                p.cutter_teeth.unwrap_or(0),
+                p.undercut_flanks
+            )
+        }),
+        Some((Process::WireEdm, _)) => None,
+        _ => (u.undercut_count > 0).then(|| {
+            let root = u.min_root_thickness_mm.map_or(String::new(), |r| {
+                format!(", thinnest tooth root {r:.3} mm")
+            });
+            format!(
+                "warning: {name}: the rack undercuts {} flank(s), cut as the rack cuts them: \
+                 deepest {:.4} mm below the cusp, contact ratio lost up to {:.3}{root} \
+                 (--no-undercut refuses instead)",
+                u.undercut_count, u.max_undercut_mm, u.max_contact_ratio_loss,
+            )
+        }),
+    }
 }
 
 /// One line on how a gear is cut, for the console summaries.
@@ -127,11 +144,19 @@ pub fn process_line(p: &ncgear::teeth::process::GearProcess) -> String {
     match (p.cutter_teeth, p.cutter_pitch_radius_mm) {
         (Some(zc), Some(r0)) => format!(
             "shaper cutter z_c = {zc} (pitch radius {r0:.2} mm < tightest concave radius {:.2} mm; \
-             tried {:?}), undercut flanks {}, narrowest tip {:.3} mm",
+             tried {:?}), undercut flanks {}, narrowest tip {:.3} mm{}",
             p.min_concave_rho_mm.unwrap_or(f64::NAN),
             p.tried_cutter_teeth,
             p.undercut_flanks,
-            p.min_tip_width_mm.unwrap_or(f64::NAN)
+            p.min_tip_width_mm.unwrap_or(f64::NAN),
+            if p.relieved_teeth > 0 {
+                format!(
+                    ", tip relief on {} teeth (up to {:.4} mm) to clear the mates' fillets",
+                    p.relieved_teeth, p.max_tip_relief_mm
+                )
+            } else {
+                String::new()
+            }
         ),
         _ if p.process == ncgear::teeth::process::Process::WireEdm => format!(
             "wire EDM / printing: no cutter fits the tightest concave radius {:.2} mm; flanks swept \

@@ -7,7 +7,7 @@ use crate::math::periodic::uniform_angles;
 use crate::teeth::conjugate::{Mate, SweepChecks, generate_swept};
 use crate::teeth::mate_motion::{MeshMotion, POSITIONS_PER_PITCH};
 use crate::teeth::mesh::{MeshCheck, MeshReport, MeshSpan, verify_mesh};
-use crate::teeth::process::{CutterChoice, GearProcess, generate_by_process, swept_process};
+use crate::teeth::process::{GearProcess, generate_as, generate_by_process, swept_process};
 use crate::teeth::{
     ArcFrame, Outline, OutlineOptions, TeethError, ToothingOptions, UndercutReport,
 };
@@ -225,7 +225,7 @@ pub(super) fn design_closed(
         motion: &mesh_motion,
         positions: z as usize * q_turns as usize * POSITIONS_PER_PITCH,
     };
-    let g = Toothed::new(
+    let mut g = Toothed::new(
         (c1.clone(), c2),
         motion.psi(0.0),
         [z, z2],
@@ -233,18 +233,27 @@ pub(super) fn design_closed(
         Some(&cycle),
         opts,
     )?;
-    let mesh = if t.verify_steps > 0 {
-        // The pair is back at its start after q driver turns: check them all, `verify_steps`
-        // positions per driver turn.
-        let check = MeshCheck {
-            steps: t.verify_steps * q_turns as usize,
-            span: MeshSpan::Turns(q_turns),
-            backlash_mm: t.backlash_mm,
-            ..MeshCheck::new(a, m)
-        };
-        Some((g.fine_outlines(opts, Some(&cycle))?, check))
+    // The fine outlines: for the mesh check, and for the tip relief of shaper-cut gears.
+    let fine = if t.verify_steps > 0 || g.has_shaper() {
+        let mut fine = g.fine_outlines(opts, Some(&cycle))?;
+        g.relieve(opts, &mesh_motion, &mut fine, (z * q_turns) as usize)?;
+        Some(fine)
     } else {
         None
+    };
+    let mesh = match fine {
+        Some(fine) if t.verify_steps > 0 => {
+            // The pair is back at its start after q driver turns: check them all,
+            // `verify_steps` positions per driver turn.
+            let check = MeshCheck {
+                steps: t.verify_steps * q_turns as usize,
+                span: MeshSpan::Turns(q_turns),
+                backlash_mm: t.backlash_mm,
+                ..MeshCheck::new(a, m)
+            };
+            Some((fine, check))
+        }
+        _ => None,
     };
     let ratios: Vec<f64> = uniform_angles(opts.samples)
         .iter()
@@ -337,12 +346,12 @@ impl Cycle<'_> {
 pub(super) struct Toothed {
     pub(super) c: [PitchCurve; 2],
     pub(super) f: [ArcFrame; 2],
-    o: [OutlineOptions; 2],
+    pub(super) o: [OutlineOptions; 2],
     pub(super) z: [u32; 2],
     pub(super) driver: Outline,
     pub(super) driven: Outline,
-    driver_process: GearProcess,
-    driven_process: GearProcess,
+    pub(super) driver_process: GearProcess,
+    pub(super) driven_process: GearProcess,
     /// The gear no cutter makes (0: driver, 1: driven), swept by its mate.
     swept: Option<usize>,
 }
@@ -447,16 +456,15 @@ impl Toothed {
             ..self.o[k]
         };
         let fine = |k: usize, p: &GearProcess| {
-            generate_by_process(
+            generate_as(
                 &self.f[k],
                 &t.rack,
                 self.z[k],
                 t.module_mm,
                 &fine_opts(k),
-                p.cutter_teeth
-                    .map_or(t.cutter_choice(), CutterChoice::Teeth),
+                p,
             )
-            .map(|g| g.0.points_mm)
+            .map(|g| g.points_mm)
         };
         if let (Some(k), Some(mm)) = (self.swept, cycle) {
             // The cut gear first, then the swept one from it.

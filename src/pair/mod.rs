@@ -13,6 +13,7 @@ mod entry;
 pub mod expr;
 mod law;
 mod motion;
+mod relief;
 mod sector;
 
 pub use design::{PairDesign, PairOptions, PendingMesh, SectorReport};

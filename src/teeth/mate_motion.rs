@@ -4,6 +4,7 @@
 //! (the coast flanks, so that the mesh keeps its backlash).
 use super::conjugate::MatePose;
 use crate::geometry::pitch::PitchCurve;
+use std::f64::consts::PI;
 
 /// Flank allowance of a swept gear, in modules: the mate is swept turned by this much (as arc at
 /// the contact) into each flank, so that the scallops between two positions and the rays' chords
@@ -40,17 +41,39 @@ impl MeshMotion<'_> {
     /// driven offset of the mesh check at which the coast flanks touch (r₂ = `a − r₁(−φ)`).
     #[must_use]
     pub fn mate_pose(&self, swept: usize, u: f64, set: usize) -> MatePose {
-        let a = self.a_mm;
-        let (phi, psi) = (self.at)(u);
-        let r2 = a - self.driver_pitch.radius_mm(-phi);
+        let (phi, _) = (self.at)(u);
+        let r2 = self.a_mm - self.driver_pitch.radius_mm(-phi);
         let margin = FLANK_MARGIN * self.module_mm;
         let delta = if set == 0 {
             -margin / r2
         } else {
             (self.backlash_mm + margin) / r2
         };
+        self.pose_at(swept, u, delta)
+    }
+
+    /// The mate in the body frame of gear `gear` (0: the driver, 1: the driven gear) at cycle
+    /// fraction `u`, at the law's position (driven offset δ = 0, where the working flanks touch).
+    #[must_use]
+    pub fn law_pose(&self, gear: usize, u: f64) -> MatePose {
+        self.pose_at(gear, u, 0.0)
+    }
+
+    /// Body angle of gear `gear` (0: driver, 1: driven) at which it touches the mate on the line
+    /// of centres at cycle fraction `u`, rad: `−φ` for the driver, `π + ψ` for the driven gear.
+    #[must_use]
+    pub fn contact_angle_rad(&self, gear: usize, u: f64) -> f64 {
+        let (phi, psi) = (self.at)(u);
+        if gear == 0 { -phi } else { PI + psi }
+    }
+
+    /// The mate in gear `gear`'s body frame at cycle fraction `u` with the driven gear turned by
+    /// `delta` rad beyond the law.
+    fn pose_at(&self, gear: usize, u: f64, delta: f64) -> MatePose {
+        let a = self.a_mm;
+        let (phi, psi) = (self.at)(u);
         let ang2 = psi + delta;
-        if swept == 0 {
+        if gear == 0 {
             // Driven body → driver body: R(−φ)(R(−ang2)x + (a, 0)).
             MatePose {
                 angle_rad: -phi - ang2,

@@ -26,6 +26,8 @@ mod options;
 pub mod overlap;
 pub mod process;
 mod rack;
+pub mod relief;
+pub mod secondary;
 mod shape;
 mod shaper;
 
@@ -105,6 +107,19 @@ pub enum TeethError {
         cutter_teeth: u32,
         /// Undercut flanks.
         count: usize,
+    },
+    /// The shaper cutter's other teeth cut into the gear while it rolls (secondary cutting,
+    /// [`secondary`]; issue 18).
+    #[error(
+        "shaper cutter with {cutter_teeth} teeth cuts into the gear with its other teeth while it \
+         rolls (secondary cutting at least {depth_mm:.4} mm deep, where a concave stretch nearly \
+         matches its pitch radius): use a smaller cutter (--cutter-teeth) or a smaller module"
+    )]
+    SecondaryCut {
+        /// Cutter tooth count z_c.
+        cutter_teeth: u32,
+        /// Deepest cut into the generated outline, mm (a lower bound beyond 0.05·m).
+        depth_mm: f64,
     },
     /// The curve is concave and no shaper cutter fits (issue 18). A pair whose mate is cut makes
     /// this gear by wire EDM or printing instead ([`conjugate`]); alone, or with a mate that

@@ -1,13 +1,16 @@
 //! Which process cuts a gear (issue 18): a rack or hob when the pitch curve is convex (the rack
 //! envelope, unchanged), a pinion-type shaper cutter when it has
 //! concave stretches — the largest standard cutter whose pitch radius is below the tightest
-//! concave radius of curvature, or the one forced — and otherwise no cutter: wire EDM or printing
+//! concave radius of curvature and that cuts a simple outline without undercut and without
+//! secondary cutting ([`super::secondary`]), or the largest of them with its undercut reported
+//! when every one undercuts, or the one forced — and otherwise no cutter: wire EDM or printing
 //! of the outline the mate sweeps ([`super::conjugate`], reported by [`swept_process`]), when
 //! the mate is cut; alone, a typed error says so.
 use super::conjugate::SweepChecks;
 use super::frame::ArcFrame;
 use super::outline::{Outline, OutlineOptions, generate_on, report_on, validate};
-use super::shaper::{Cutter, cutter_pitch_radius_mm, generate_shaper};
+use super::secondary::{SECONDARY_TOL, Spaces, secondary_cut_depth};
+use super::shaper::{Cutter, ShaperChecks, cutter_pitch_radius_mm, generate_shaper, tip_corners};
 use super::{RackParams, TeethError};
 use serde::{Deserialize, Serialize};
 
@@ -40,15 +43,34 @@ pub struct GearProcess {
     /// Smallest |ρ| of the concave stretches, mm (absent when the curve is convex): it bounds the
     /// cutter's pitch radius.
     pub min_concave_rho_mm: Option<f64>,
-    /// Cutter tooth counts tried, in order (the last one is chosen; empty for the rack).
+    /// Cutter tooth counts tried, in order (empty for the rack): the chosen one is the first
+    /// that cuts without undercut, or the first when all of them undercut.
     pub tried_cutter_teeth: Vec<u32>,
     /// Why each rejected cutter failed, `"z_c: reason"`.
     pub rejected: Vec<String>,
-    /// Flanks with undercut for the chosen process (0: a generation with undercut is refused).
+    /// Flanks with undercut for the chosen process: cut as the cutter cuts them, like the rack's
+    /// (`refuse_undercut` refuses them instead).
     pub undercut_flanks: usize,
     /// Narrowest tooth tip along the addendum curve of a shaper-cut or swept gear, mm of arc
     /// (pointed teeth are refused by every process; absent for the rack).
     pub min_tip_width_mm: Option<f64>,
+    /// Teeth whose tip is lowered to keep it off a mate's fillet ([`super::relief`]; 0 for the
+    /// rack, and for a gear designed alone).
+    #[serde(default)]
+    pub relieved_teeth: usize,
+    /// Largest tip relief of those teeth, mm (0 when none).
+    #[serde(default)]
+    pub max_tip_relief_mm: f64,
+}
+
+impl GearProcess {
+    /// Records a tip relief (mm per tooth, [`super::relief::tip_relief`]) and the narrowest tip
+    /// it leaves (mm of arc).
+    pub fn set_relief(&mut self, relief_mm: &[f64], min_tip_width_mm: f64) {
+        self.relieved_teeth = relief_mm.iter().filter(|r| **r > 0.0).count();
+        self.max_tip_relief_mm = relief_mm.iter().copied().fold(0.0, f64::max);
+        self.min_tip_width_mm = Some(min_tip_width_mm);
+    }
 }
 
 /// How the cutter is chosen.
@@ -67,7 +89,9 @@ pub enum CutterChoice {
 /// Convex curve: exactly [`generate_on`] (same outline, same errors: undercut refused with the
 /// largest module that works). Concave stretches: shaper cutters with pitch radius `z_c·m/2`
 /// below the smallest concave |ρ|, largest first; the first that generates a simple outline
-/// without undercut or pointed teeth is chosen.
+/// without undercut, pointed teeth or secondary cutting is chosen, or, when every cutter that
+/// fits undercuts, the largest of them with its undercut reported (as the rack cuts an undercut
+/// convex gear).
 ///
 /// Errors: those of [`generate_on`], [`TeethError::NoCutter`] (no cutter fits, listing why each
 /// tried one failed), [`TeethError::Shaper`] / [`TeethError::ShaperUndercut`] for a forced cutter.
@@ -102,6 +126,8 @@ pub fn generate_by_process(
                 rejected: Vec::new(),
                 undercut_flanks,
                 min_tip_width_mm: None,
+                relieved_teeth: 0,
+                max_tip_relief_mm: 0.0,
             },
         ));
     }
@@ -112,8 +138,27 @@ pub fn generate_by_process(
             .filter(|&zc| cutter_pitch_radius_mm(zc, m) < concave_rho)
             .collect(),
     };
+    let forced = matches!(choice, CutterChoice::Teeth(_));
+    let shaped = |o: Outline, checks: ShaperChecks, zc: u32, tried, rejected| {
+        (
+            o,
+            GearProcess {
+                process: Process::Shaper,
+                cutter_teeth: Some(zc),
+                cutter_pitch_radius_mm: Some(cutter_pitch_radius_mm(zc, m)),
+                min_concave_rho_mm: Some(concave_rho),
+                tried_cutter_teeth: tried,
+                rejected,
+                undercut_flanks: checks.undercut_flanks,
+                min_tip_width_mm: Some(checks.min_tip_width_mm),
+                relieved_teeth: 0,
+                max_tip_relief_mm: 0.0,
+            },
+        )
+    };
     let mut tried = Vec::new();
     let mut rejected = Vec::new();
+    let mut undercut = None;
     for zc in candidates {
         tried.push(zc);
         let r0 = cutter_pitch_radius_mm(zc, m);
@@ -123,37 +168,43 @@ pub fn generate_by_process(
                 what: "pitch radius not below the tightest concave radius of curvature",
             })
         } else {
-            Cutter::new(zc, rack, m)
-                .and_then(|c| generate_shaper(frame, rack, z, m, &c, opts))
-                .and_then(|(o, checks)| {
-                    match super::overlap::first_self_intersection(&o.points_mm) {
-                        Ok(None) => Ok((o, checks)),
-                        _ => Err(TeethError::Shaper {
-                            cutter_teeth: zc,
-                            what: "the generated outline intersects itself",
-                        }),
-                    }
-                })
+            Cutter::new(zc, rack, m).and_then(|c| {
+                let (o, checks) = generate_shaper(frame, rack, z, m, &c, opts, &[])?;
+                if !matches!(
+                    super::overlap::first_self_intersection(&o.points_mm),
+                    Ok(None)
+                ) {
+                    return Err(TeethError::Shaper {
+                        cutter_teeth: zc,
+                        what: "the generated outline intersects itself",
+                    });
+                }
+                check_secondary(frame, rack, z, m, &c, opts, &o.points_mm)?;
+                Ok((o, checks))
+            })
         };
         match result {
-            Ok((o, checks)) => {
-                return Ok((
-                    o,
-                    GearProcess {
-                        process: Process::Shaper,
-                        cutter_teeth: Some(zc),
-                        cutter_pitch_radius_mm: Some(r0),
-                        min_concave_rho_mm: Some(concave_rho),
-                        tried_cutter_teeth: tried,
-                        rejected,
-                        undercut_flanks: checks.undercut_flanks,
-                        min_tip_width_mm: Some(checks.min_tip_width_mm),
-                    },
-                ));
+            Ok((o, checks)) if checks.undercut_flanks == 0 || forced => {
+                return Ok(shaped(o, checks, zc, tried, rejected));
             }
-            Err(e) if matches!(choice, CutterChoice::Teeth(_)) => return Err(e),
+            Ok((o, checks)) => {
+                // Undercut (a rack would undercut these convex stretches too): kept as the
+                // fallback when no smaller cutter cuts the curve without it.
+                rejected.push(format!(
+                    "{zc}: undercuts {} flank(s)",
+                    checks.undercut_flanks
+                ));
+                undercut.get_or_insert((o, checks, zc));
+            }
+            Err(e) if forced => return Err(e),
             Err(e) => rejected.push(format!("{zc}: {e}")),
         }
+    }
+    if let Some((o, checks, zc)) = undercut {
+        // Every cutter that fits undercuts: the largest, with its undercut reported (cut as
+        // the rack cuts an undercut convex gear; `refuse_undercut` makes it an error instead).
+        rejected.retain(|r| !r.starts_with(&format!("{zc}: ")));
+        return Ok(shaped(o, checks, zc, tried, rejected));
     }
     Err(TeethError::NoCutter {
         min_concave_rho_mm: concave_rho,
@@ -168,6 +219,65 @@ pub fn generate_by_process(
     })
 }
 
+/// The outline of a gear cut again by the process `as_cut` recorded (another chord tolerance,
+/// the mesh check's): the rack, or the same shaper cutter, without choosing again and without
+/// the choice's checks (they hold for the same cutter on the same curve). A swept gear has no
+/// cutter: [`TeethError::Swept`].
+pub fn generate_as(
+    frame: &ArcFrame,
+    rack: &RackParams,
+    z: u32,
+    module_mm: f64,
+    opts: &OutlineOptions,
+    as_cut: &GearProcess,
+) -> Result<Outline, TeethError> {
+    match (as_cut.process, as_cut.cutter_teeth) {
+        (Process::Rack, _) => generate_on(frame, rack, z, module_mm, opts),
+        (Process::Shaper, Some(zc)) => generate_with_cutter(frame, rack, z, module_mm, zc, opts),
+        _ => Err(TeethError::Swept {
+            what: "a swept gear is made from its mate's outline, not by a cutter".to_string(),
+        }),
+    }
+}
+
+/// [`TeethError::SecondaryCut`] when `cutter`'s other teeth cut into `outline` (the gear's
+/// vertices, thinned to 0.02·m apart) deeper than [`SECONDARY_TOL`]·m while it rolls.
+#[allow(clippy::too_many_arguments)]
+fn check_secondary(
+    frame: &ArcFrame,
+    rack: &RackParams,
+    z: u32,
+    m: f64,
+    cutter: &Cutter,
+    opts: &OutlineOptions,
+    outline: &[[f64; 2]],
+) -> Result<(), TeethError> {
+    let p = validate(frame, z, m, opts)?;
+    let spaces = Spaces {
+        phase_mm: opts.phase_mm,
+        p_mm: p,
+        w_mm: 0.5 * p + opts.thin_left_mm + opts.thin_right_mm,
+        shift_mm: 0.5 * (opts.thin_left_mm - opts.thin_right_mm),
+    };
+    let mut thin: Vec<[f64; 2]> = Vec::with_capacity(outline.len());
+    for &q in outline {
+        if thin
+            .last()
+            .is_none_or(|l: &[f64; 2]| (q[0] - l[0]).hypot(q[1] - l[1]) >= 0.02 * m)
+        {
+            thin.push(q);
+        }
+    }
+    let depth = secondary_cut_depth(frame, rack, m, cutter, spaces, &thin)?;
+    if depth > SECONDARY_TOL * m {
+        return Err(TeethError::SecondaryCut {
+            cutter_teeth: cutter.z,
+            depth_mm: depth,
+        });
+    }
+    Ok(())
+}
+
 /// The outline of `z` teeth cut on `frame` by a shaper cutter with `cutter_teeth` teeth, whatever
 /// the curve's convexity (on a circle it is the involute whatever the cutter). Errors as
 /// [`generate_by_process`] with a forced cutter; the outline is not checked for
@@ -180,8 +290,40 @@ pub fn generate_with_cutter(
     cutter_teeth: u32,
     opts: &OutlineOptions,
 ) -> Result<Outline, TeethError> {
+    Ok(generate_relieved(frame, rack, z, module_mm, cutter_teeth, opts, &[])?.0)
+}
+
+/// [`generate_with_cutter`] with tooth `k`'s tip lowered by `tip_relief_mm[k]` along the
+/// pitch curve's normal (mm; none where the slice is shorter): the relief that keeps each tip
+/// off its mates' fillets ([`super::relief::tip_relief`]). Also returns the narrowest tooth tip,
+/// mm of arc.
+pub fn generate_relieved(
+    frame: &ArcFrame,
+    rack: &RackParams,
+    z: u32,
+    module_mm: f64,
+    cutter_teeth: u32,
+    opts: &OutlineOptions,
+    tip_relief_mm: &[f64],
+) -> Result<(Outline, f64), TeethError> {
     let cutter = Cutter::new(cutter_teeth, rack, module_mm)?;
-    Ok(generate_shaper(frame, rack, z, module_mm, &cutter, opts)?.0)
+    let (o, checks) = generate_shaper(frame, rack, z, module_mm, &cutter, opts, tip_relief_mm)?;
+    Ok((o, checks.min_tip_width_mm))
+}
+
+/// The tip corners `[left, right]` of every tooth of [`generate_relieved`]'s outline with the
+/// same arguments, body frame, mm.
+pub fn relieved_tip_corners(
+    frame: &ArcFrame,
+    rack: &RackParams,
+    z: u32,
+    module_mm: f64,
+    cutter_teeth: u32,
+    opts: &OutlineOptions,
+    tip_relief_mm: &[f64],
+) -> Result<Vec<[[f64; 2]; 2]>, TeethError> {
+    let cutter = Cutter::new(cutter_teeth, rack, module_mm)?;
+    tip_corners(frame, rack, z, module_mm, &cutter, opts, tip_relief_mm)
 }
 
 /// The report of a gear swept by its mates (wire EDM / printing, [`super::conjugate`]) instead of
@@ -207,5 +349,7 @@ pub fn swept_process(
         rejected: vec![tried],
         undercut_flanks: 0,
         min_tip_width_mm: Some(checks.min_tip_width_mm),
+        relieved_teeth: 0,
+        max_tip_relief_mm: 0.0,
     })
 }

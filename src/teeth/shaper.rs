@@ -11,6 +11,12 @@
 //! the points the rack cuts — both touch the gear on the same line of action through `P(s)` at
 //! the same distance `|s − σ_f|·cos α` — so a shaper-cut gear meshes with a rack-cut one as two
 //! rack-cut gears do; `ρ → ρf*·m` as `r0 → ∞`.
+//! A small cutter (fewer than about 30 teeth) whose standard tooth ends before its involute
+//! reaches that depth is made taller instead: tip radius `Rt = ρ + √((ℓ_ft − ρ)² + rb²)`, with
+//! `ℓ_ft = rb·(tan α + h_straight/(r0·sin α cos α))` the involute's roll length at that contact
+//! and `ρ` the rack's ρf*·m or the largest of its halvings that leaves the tooth a tip flat; it cuts
+//! the same flanks and a root deeper by the excess (tested on a circle: the involute to 1e-9 rad
+//! with 25 teeth).
 //! When its pitch circle touches the pitch curve at `P(s)` its centre is `C(s) = P(s) + r0·N(s)`:
 //! on a convex stretch the circles touch externally; on a concave one (κ < 0, centre of curvature
 //! `P + |ρ|·N`) the cutter lies inside the osculating circle, which needs `r0 < |ρ|`.
@@ -42,11 +48,18 @@
 //! mate's fillet trochoid, which on a tightly curved convex mate eats into the flank's end
 //! (measured on `exact_concave_sun.csv` at m = 1, sun → intermediate: transmission error
 //! 3.4e-3° untopped, 3.1e-4° with the exact-end topping, 8.8e-7° with this one).
+//! A tooth's tip may be lowered further by its tip relief ([`super::relief`]: per tooth, against
+//! the mates' fillets).
 //! Undercut (an envelope cusp, the flank doubling back) is detected per flank by the generated
-//! points reversing direction; a pointed tooth by the trimmed tip having no width.
+//! points reversing direction, and cut as the cutter cuts it: each side (corner trochoid, then
+//! flank up to the tip) is walked with its loops cut ([`cut_loops`]), as the rack's undercut
+//! sides are; a pointed tooth is refused (the trimmed tip has no width). Secondary cutting by the
+//! cutter's other teeth is checked by the caller ([`super::secondary`]).
+use super::crossing::cut_loops;
 use super::frame::ArcFrame;
 use super::outline::{Outline, OutlineOptions, close_outline, meet, push_piece, report_on};
 use super::{RackParams, TeethError};
+use std::f64::consts::PI;
 
 /// A pinion-type cutter derived from the basic rack (module doc), lengths in mm, angles in rad.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -80,8 +93,8 @@ impl Cutter {
         let alpha = rack.alpha_rad();
         let r0 = cutter_pitch_radius_mm(z_c, m_mm);
         let rb = r0 * alpha.cos();
-        let hf = (rack.addendum() + rack.clearance()) * m_mm;
-        let rt = r0 + hf;
+        let mut hf = (rack.addendum() + rack.clearance()) * m_mm;
+        let mut rt = r0 + hf;
         let tan_a = alpha.tan();
         let bad = |expected: &'static str| TeethError::InvalidParameter {
             name: "cutter_teeth",
@@ -95,12 +108,30 @@ impl Cutter {
         // s − σ_f = h_straight/(sin α cos α), i.e. roll length ℓ_ft = rb·(tan α + that/r0).
         let l_ft = rb * (tan_a + rack.straight_depth() * m_mm / (alpha.sin() * alpha.cos()) / r0);
         // Tip-corner radius ρ with √((Rt − ρ)² − rb²) + ρ = ℓ_ft (left side decreasing in ρ).
-        let gap = |rho: f64| ((rt - rho).powi(2) - rb * rb).max(0.0).sqrt() + rho - l_ft;
-        if gap(0.0) < 0.0 {
-            return Err(bad(
-                "enough teeth for the involute to reach the basic rack's flank depth",
-            ));
+        let gap = |rt: f64, rho: f64| ((rt - rho).powi(2) - rb * rb).max(0.0).sqrt() + rho - l_ft;
+        if gap(rt, 0.0) < 0.0 {
+            // A small cutter whose tooth, (ha* + c*)·m tall, ends before its involute reaches
+            // that depth: its tooth is made taller instead (`Rt = ρ + √((ℓ_ft − ρ)² + rb²)`),
+            // so it still cuts the rack's flank, and its tip cuts the root deeper by the excess
+            // (more clearance for the mate's tips). The corner radius ρ is the rack's ρf*·m, or
+            // half of it, a quarter, an eighth — the largest that leaves the taller tooth a tip
+            // flat at the standard tooth thickness πm/2 (half-angle πm/(4r0) on the pitch
+            // circle above the corner centre's angle `inv α_c − inv α + ρ/rb`).
+            let inv = |a: f64| a.tan() - a;
+            let corner_angle = |rho: f64| {
+                let rc = ((l_ft - rho).powi(2) + rb * rb).sqrt();
+                inv((rb / rc).acos()) - inv(alpha) + rho / rb
+            };
+            let half = PI * m_mm / (4.0 * r0);
+            let rho = [1.0, 0.5, 0.25, 0.125]
+                .map(|f| f * rack.fillet() * m_mm)
+                .into_iter()
+                .find(|&rho| corner_angle(rho) < half)
+                .unwrap_or(0.125 * rack.fillet() * m_mm);
+            rt = rho + ((l_ft - rho).powi(2) + rb * rb).sqrt();
+            hf = rt - r0;
         }
+        let gap = |rho: f64| gap(rt, rho);
         let (mut lo, mut hi) = (0.0, rack.fillet() * m_mm);
         if gap(hi) > 0.0 {
             hi = rt - rb;
@@ -130,6 +161,97 @@ impl Cutter {
             dc: inv(alpha_c) - inv(alpha) + rho / rb,
             tan_ft: l_ft / rb,
         })
+    }
+}
+
+impl Cutter {
+    /// The whole cutter outline in its own frame (mm, CCW, star-shaped about its centre), tooth 0
+    /// centred on the +x axis, its tooth `w_mm` thick on the pitch circle (the gear's space
+    /// width): involute flanks from the base circle (or the root circle `r0 − hf` when that is
+    /// above it) to the corner junction, corner circles of radius ρ, the tip arc at
+    /// `r0 + hf`, radial lines down to the root circle below the base circle, and root arcs;
+    /// every arc sampled to chord sag `chord_mm` (chords inside the cutter, so a point on its
+    /// boundary never reads as inside it).
+    pub(super) fn outline(&self, w_mm: f64, chord_mm: f64) -> Vec<[f64; 2]> {
+        let inv = |a: f64| a.tan() - a;
+        let hw = 0.5 * w_mm / self.r0;
+        let r_root = self.r0 - self.hf;
+        let rt = self.rc + self.rho;
+        let r_low = self.rb.max(r_root);
+        let r_ft = self.rb * self.tan_ft.hypot(1.0);
+        let inv_a = inv(self.alpha);
+        // Involute angle from the tooth's flank crossing, at radius r (≥ rb).
+        let inv_at = |r: f64| inv((self.rb / r).min(1.0).acos());
+        let polar = |r: f64, t: f64| [r * t.cos(), r * t.sin()];
+        let n_of = |len: f64, radius: f64| {
+            let step = (8.0 * chord_mm * radius.max(chord_mm)).sqrt();
+            ((len / step).ceil() as usize).clamp(2, 10_000)
+        };
+        let mut tooth = Vec::new();
+        // Left side, root → tip: radial, involute, corner.
+        let t_low = -hw + inv_at(r_low) - inv_a;
+        tooth.push(polar(r_root, t_low));
+        let nf = n_of(r_ft - r_low, self.r0);
+        for i in 0..=nf {
+            let r = r_low + (r_ft - r_low) * i as f64 / nf as f64;
+            tooth.push(polar(r, -hw + inv_at(r) - inv_a));
+        }
+        let corner = |tc: f64, from: [f64; 2], out: &mut Vec<[f64; 2]>, rising: bool| {
+            let c = polar(self.rc, tc);
+            let tip = polar(rt, tc);
+            let (a0, a1) = if rising {
+                ((from[1] - c[1]).atan2(from[0] - c[0]), tc)
+            } else {
+                (tc, (from[1] - c[1]).atan2(from[0] - c[0]))
+            };
+            let mut d = a1 - a0;
+            d -= std::f64::consts::TAU * (d / std::f64::consts::TAU).round();
+            let n = n_of(d.abs() * self.rho, self.rho);
+            for i in 1..n {
+                let a = a0 + d * i as f64 / n as f64;
+                out.push([c[0] + self.rho * a.cos(), c[1] + self.rho * a.sin()]);
+            }
+            if rising {
+                out.push(tip);
+            } else {
+                out.push(from);
+            }
+        };
+        let junction_l = *tooth.last().unwrap_or(&[0.0, 0.0]);
+        let (tl, tr) = (-hw + self.dc, hw - self.dc);
+        corner(tl, junction_l, &mut tooth, true);
+        let nt = n_of((tr - tl).abs() * rt, rt);
+        for i in 1..nt {
+            tooth.push(polar(rt, tl + (tr - tl) * i as f64 / nt as f64));
+        }
+        tooth.push(polar(rt, tr));
+        let junction_r = polar(r_ft, hw - (inv_at(r_ft) - inv_a));
+        corner(tr, junction_r, &mut tooth, false);
+        for i in 1..=nf {
+            let r = r_ft - (r_ft - r_low) * i as f64 / nf as f64;
+            tooth.push(polar(r, hw - (inv_at(r) - inv_a)));
+        }
+        let t_high = hw - (inv_at(r_low) - inv_a);
+        tooth.push(polar(r_root, t_high));
+        // The teeth around the cutter, root arcs between them.
+        let pitch = std::f64::consts::TAU / f64::from(self.z);
+        let gap = pitch - (t_high - t_low);
+        let nr = n_of(gap.abs() * r_root, r_root);
+        let mut out = Vec::with_capacity(self.z as usize * (tooth.len() + nr));
+        for j in 0..self.z {
+            let (sj, cj) = (f64::from(j) * pitch).sin_cos();
+            out.extend(
+                tooth
+                    .iter()
+                    .map(|p| [cj * p[0] - sj * p[1], sj * p[0] + cj * p[1]]),
+            );
+            let t0 = t_high + f64::from(j) * pitch;
+            for i in 1..nr {
+                out.push(polar(r_root, t0 + gap * i as f64 / nr as f64));
+            }
+        }
+        out.dedup_by(|a, b| (a[0] - b[0]).hypot(a[1] - b[1]) < 1e-12);
+        out
     }
 }
 
@@ -178,11 +300,11 @@ impl Shaper<'_> {
         let f = self.frame.at(s);
         [f.p[0] - self.c.hf * f.n[0], f.p[1] - self.c.hf * f.n[1]]
     }
-    /// Addendum curve `P(u) + h(u)·N(u)`, `h = ha + min(0, κ)·k_tip` (module doc: topping on
-    /// concave stretches).
-    fn tip(&self, u: f64) -> [f64; 2] {
+    /// Addendum curve `P(u) + h(u)·N(u)`, `h = ha + min(0, κ)·k_tip − relief` (module doc:
+    /// topping on concave stretches; `relief_mm` the tooth's tip relief, [`super::relief`]).
+    fn tip(&self, u: f64, relief_mm: f64) -> [f64; 2] {
         let f = self.frame.at(u);
-        let h = self.ha + f.kappa.min(0.0) * self.k_tip;
+        let h = self.ha + f.kappa.min(0.0) * self.k_tip - relief_mm;
         [f.p[0] + h * f.n[0], f.p[1] + h * f.n[1]]
     }
     /// Contact positions of a flank crossing the pitch curve at `sf`: corner centre (root end),
@@ -218,12 +340,122 @@ pub(super) struct ShaperChecks {
     pub min_tip_width_mm: f64,
 }
 
+/// The generation of one gear by one cutter: the envelope, the tooth pitch and the tip trim.
+struct Generation<'a> {
+    g: Shaper<'a>,
+    /// Tooth pitch on the pitch curve, mm.
+    p: f64,
+    opts: &'a OutlineOptions,
+    /// Per-tooth tip relief, mm (empty: none).
+    relief_mm: &'a [f64],
+}
+
+/// Where the flanks of one tooth cross the pitch curve and meet its tip: `(s_f, s_tip, u)` for
+/// the left and the right flank (`s_tip` the flank's contact position at the tip corner, `u` the
+/// tip curve's parameter there).
+type ToothTrim = [(f64, f64, f64); 2];
+
+impl Generation<'_> {
+    fn relief(&self, k: usize) -> f64 {
+        self.relief_mm.get(k).copied().unwrap_or(0.0)
+    }
+
+    /// The flanks of tooth `k` trimmed at its (relieved) tip (2-D Newton from the flat-rack
+    /// guess). Errors: [`TeethError::Trim`] (a flank misses the tip, pointed tooth),
+    /// [`TeethError::Shaper`] (tip generated below the cutter's base circle).
+    fn trim(&self, k: usize) -> Result<ToothTrim, TeethError> {
+        let g = &self.g;
+        let (sa, ca) = g.c.alpha.sin_cos();
+        let sk = self.opts.phase_mm + k as f64 * self.p;
+        let sl = sk - 0.25 * self.p + self.opts.thin_left_mm;
+        let sr = sk + 0.25 * self.p - self.opts.thin_right_mm;
+        let rel = self.relief(k);
+        let one = |sf: f64, sign: f64| {
+            let s = sf - sign * (g.ha - rel) / (sa * ca);
+            let u = s + (sf - s) * ca * ca;
+            let (s_tip, u) = meet(|s| g.flank(sf, sign, s), |u| g.tip(u, rel), s, u).ok_or(
+                TeethError::Trim {
+                    tooth: k,
+                    what: if sign < 0.0 {
+                        "left flank meets no tip"
+                    } else {
+                        "right flank meets no tip"
+                    },
+                },
+            )?;
+            if g.tan_r(sf, sign, s_tip) <= 0.0 {
+                return Err(TeethError::Shaper {
+                    cutter_teeth: g.c.z,
+                    what: "the gear tip is generated below the cutter's base circle (use a \
+                           larger cutter)",
+                });
+            }
+            Ok((sf, s_tip, u))
+        };
+        let (l, r) = (one(sl, -1.0)?, one(sr, 1.0)?);
+        if r.2 <= l.2 {
+            return Err(TeethError::Trim {
+                tooth: k,
+                what: "pointed tooth (tip width ≤ 0)",
+            });
+        }
+        Ok([l, r])
+    }
+}
+
+fn generation<'a>(
+    frame: &'a ArcFrame,
+    rack: &RackParams,
+    z: u32,
+    module_mm: f64,
+    cutter: &Cutter,
+    opts: &'a OutlineOptions,
+    relief_mm: &'a [f64],
+) -> Result<Generation<'a>, TeethError> {
+    let m = module_mm;
+    Ok(Generation {
+        p: super::outline::validate(frame, z, m, opts)?,
+        g: Shaper {
+            frame,
+            c: *cutter,
+            ha: rack.addendum() * m,
+            k_tip: (rack.straight_depth() * m / rack.alpha_rad().tan()).powi(2),
+        },
+        opts,
+        relief_mm,
+    })
+}
+
+/// The tip corners `[left, right]` of every tooth of the outline [`generate_shaper`] cuts with
+/// the same arguments (body frame, mm): where each flank meets the relieved tip.
+pub(super) fn tip_corners(
+    frame: &ArcFrame,
+    rack: &RackParams,
+    z: u32,
+    module_mm: f64,
+    cutter: &Cutter,
+    opts: &OutlineOptions,
+    relief_mm: &[f64],
+) -> Result<Vec<[[f64; 2]; 2]>, TeethError> {
+    let gen_ = generation(frame, rack, z, module_mm, cutter, opts, relief_mm)?;
+    (0..z as usize)
+        .map(|k| {
+            let [l, r] = gen_.trim(k)?;
+            Ok([
+                gen_.g.tip(l.2, gen_.relief(k)),
+                gen_.g.tip(r.2, gen_.relief(k)),
+            ])
+        })
+        .collect()
+}
+
 /// The outline of `z` teeth cut by `cutter` on `frame` (module doc), with the same options,
-/// validation, chord tolerance and vertex order as [`super::outline::generate_on`].
+/// validation, chord tolerance and vertex order as [`super::outline::generate_on`]; tooth `k`'s
+/// tip lowered by `relief_mm[k]` (none where the slice is shorter).
 ///
 /// Errors: [`TeethError::Trim`] (flank misses the tip, pointed tooth), [`TeethError::Shaper`]
 /// (gear tip below the cutter's base circle, no flat on the cutter tip),
-/// [`TeethError::ShaperUndercut`].
+/// [`TeethError::ShaperUndercut`] (undercut with `opts.refuse_undercut`).
 pub(super) fn generate_shaper(
     frame: &ArcFrame,
     rack: &RackParams,
@@ -231,46 +463,17 @@ pub(super) fn generate_shaper(
     module_mm: f64,
     cutter: &Cutter,
     opts: &OutlineOptions,
+    relief_mm: &[f64],
 ) -> Result<(Outline, ShaperChecks), TeethError> {
     let m = module_mm;
-    let p = super::outline::validate(frame, z, m, opts)?;
+    let gen_ = generation(frame, rack, z, m, cutter, opts, relief_mm)?;
+    let (g, p) = (&gen_.g, gen_.p);
     let report = report_on(frame, rack, z, m, opts);
-    let g = Shaper {
-        frame,
-        c: *cutter,
-        ha: rack.addendum() * m,
-        k_tip: (rack.straight_depth() * m / rack.alpha_rad().tan()).powi(2),
-    };
-    let shaper_err = |what: &'static str| TeethError::Shaper {
-        cutter_teeth: cutter.z,
-        what,
-    };
-    let (sa, ca) = rack.alpha_rad().sin_cos();
-    let sc = sa * ca;
     let step = (8.0 * opts.chord_tol_mm * m).sqrt();
     let step_f = if g.c.rho > 0.0 {
         (8.0 * opts.chord_tol_mm * g.c.rho).sqrt()
     } else {
         step
-    };
-    let trim = |sf: f64, sign: f64, k: usize| {
-        let s = sf - sign * g.ha / sc;
-        let u = s + (sf - s) * ca * ca;
-        let (s_tip, u) =
-            meet(|s| g.flank(sf, sign, s), |u| g.tip(u), s, u).ok_or(TeethError::Trim {
-                tooth: k,
-                what: if sign < 0.0 {
-                    "left flank meets no tip"
-                } else {
-                    "right flank meets no tip"
-                },
-            })?;
-        if g.tan_r(sf, sign, s_tip) <= 0.0 {
-            return Err(shaper_err(
-                "the gear tip is generated below the cutter's base circle (use a larger cutter)",
-            ));
-        }
-        Ok((s_tip, u))
     };
     let mut out = Vec::new();
     let mut checks = ShaperChecks {
@@ -279,37 +482,37 @@ pub(super) fn generate_shaper(
     };
     for k in 0..z as usize {
         let sk = opts.phase_mm + k as f64 * p;
-        let sl = sk - 0.25 * p + opts.thin_left_mm;
-        let sr = sk + 0.25 * p - opts.thin_right_mm;
-        let (s_tip_l, ul) = trim(sl, -1.0, k)?;
-        let (s_tip_r, ur) = trim(sr, 1.0, k)?;
-        if ur <= ul {
-            return Err(TeethError::Trim {
-                tooth: k,
-                what: "pointed tooth (tip width ≤ 0)",
-            });
-        }
+        let rel = gen_.relief(k);
+        let [(sl, s_tip_l, ul), (sr, s_tip_r, ur)] = gen_.trim(k)?;
         checks.min_tip_width_mm = checks.min_tip_width_mm.min(ur - ul);
         for (sf, sign, s_tip) in [(sl, -1.0, s_tip_l), (sr, 1.0, s_tip_r)] {
             checks.undercut_flanks += usize::from(g.undercut(sf, sign, s_tip));
         }
         let (xcl, ftl) = g.ends(sl, -1.0);
         let (xcr, ftr) = g.ends(sr, 1.0);
-        push_piece(&mut out, xcl, ftl, step_f, |s| g.corner(sl, -1.0, s));
-        push_piece(&mut out, ftl, s_tip_l, step, |s| g.flank(sl, -1.0, s));
-        push_piece(&mut out, ul, ur, step, |u| g.tip(u));
-        push_piece(&mut out, s_tip_r, ftr, step, |s| g.flank(sr, 1.0, s));
-        push_piece(&mut out, ftr, xcr, step_f, |s| g.corner(sr, 1.0, s));
+        // Each side is walked root → tip (left) or tip → root (right) with its loops cut
+        // ([`cut_loops`]), as the rack's undercut sides are: the stretch of an undercut flank
+        // that the corner trochoid cuts away, and the swallowtail of its envelope, are loops.
+        let mut wl = vec![g.corner(sl, -1.0, xcl)];
+        push_piece(&mut wl, xcl, ftl, step_f, |s| g.corner(sl, -1.0, s));
+        push_piece(&mut wl, ftl, s_tip_l, step, |s| g.flank(sl, -1.0, s));
+        out.extend_from_slice(&cut_loops(&wl).0[1..]);
+        push_piece(&mut out, ul, ur, step, |u| g.tip(u, rel));
+        let mut wr = vec![g.tip(ur, rel)];
+        push_piece(&mut wr, s_tip_r, ftr, step, |s| g.flank(sr, 1.0, s));
+        push_piece(&mut wr, ftr, xcr, step_f, |s| g.corner(sr, 1.0, s));
+        out.extend_from_slice(&cut_loops(&wr).0[1..]);
         let next_sl = sk + p - 0.25 * p + opts.thin_left_mm;
         let (next_xcl, _) = g.ends(next_sl, -1.0);
         if next_xcl <= xcr {
-            return Err(shaper_err(
-                "the cutter tooth has no tip flat (reduce ρf* or the backlash)",
-            ));
+            return Err(TeethError::Shaper {
+                cutter_teeth: cutter.z,
+                what: "the cutter tooth has no tip flat (reduce ρf* or the backlash)",
+            });
         }
         push_piece(&mut out, xcr, next_xcl, step, |s| g.root(s));
     }
-    if checks.undercut_flanks > 0 {
+    if checks.undercut_flanks > 0 && opts.refuse_undercut {
         return Err(TeethError::ShaperUndercut {
             cutter_teeth: cutter.z,
             count: checks.undercut_flanks,

@@ -2,6 +2,7 @@
 //! the verification of both meshes and the round trip of the scaled mechanism.
 use super::amplitude::rescale_ratio_amplitude;
 use super::pending::PendingTrainMesh;
+use super::relief::relieve_gear;
 use super::swept::{TrainMeshes, sweep_gear, sweepable};
 use super::{
     ToothedTrain, TrainError, TrainPolicy, TrainProcess, TrainRoundTrip, TrainTeethOptions,
@@ -14,7 +15,9 @@ use crate::math::polyline::{distances_to_polyline, hausdorff_mm};
 use crate::teeth::TeethError;
 use crate::teeth::mate_motion::{MeshMotion, POSITIONS_PER_PITCH};
 use crate::teeth::mesh::MeshCheck;
-use crate::teeth::process::{CutterChoice, generate_by_process, swept_process};
+use crate::teeth::process::{
+    CutterChoice, GearProcess, Process, generate_as, generate_by_process, swept_process,
+};
 use crate::teeth::{ArcFrame, Outline, OutlineOptions, ToothPolicy, scale_curve, tooth_count};
 use rayon::prelude::*;
 use std::f64::consts::{PI, TAU};
@@ -287,17 +290,14 @@ fn train_from(
     let (sun, sun_process) = gears.next().expect("three gears")?;
     let (intermediate, intermediate_process) = gears.next().expect("three gears")?;
     let (planet, planet_process) = gears.next().expect("three gears")?;
-    let processes = [&sun_process, &intermediate_process, &planet_process];
-    // The verification cuts each gear with the same process and cutter.
-    let same = |k: usize| {
-        processes[k]
-            .cutter_teeth
-            .map_or(choice, CutterChoice::Teeth)
-    };
+    let mut gears = [sun, intermediate, planet];
+    let mut processes = [sun_process, intermediate_process, planet_process];
+    let shaped = |p: &GearProcess| p.process == Process::Shaper;
 
-    let pending = if opts.toothing.verify_steps > 0 {
-        // The fine outlines of the check, built side by side (collected in gear order); the
-        // swept gears then from their neighbours' fine outlines.
+    // The fine outlines: for the mesh check, and for the tip relief of shaper-cut gears.
+    let fine = if opts.toothing.verify_steps > 0 || processes.iter().any(shaped) {
+        // Built side by side (collected in gear order); the swept gears then from their
+        // neighbours' fine outlines.
         let tol = opts.toothing.verify_chord_tol_mm;
         let mut fine: Vec<Outline> = (0..3)
             .into_par_iter()
@@ -305,12 +305,19 @@ fn train_from(
                 if swept[k] {
                     Ok(Outline {
                         points_mm: Vec::new(),
-                        ..[&sun, &intermediate, &planet][k].clone()
+                        ..gears[k].clone()
                     })
                 } else {
-                    generate(k, tol, same(k))
-                        .map(|g| g.0)
-                        .map_err(teeth_err(names[k]))
+                    // The same process and cutter as the export outline.
+                    generate_as(
+                        &frames[k],
+                        &opts.toothing.rack,
+                        count.z,
+                        m,
+                        &outline_opts(k, tol),
+                        &processes[k],
+                    )
+                    .map_err(teeth_err(names[k]))
                 }
             })
             .collect::<Result<_, _>>()?;
@@ -331,21 +338,54 @@ fn train_from(
             .map_err(teeth_err(names[k]))?;
             fine[k] = g.0;
         }
-        let [sun_fine, mid_fine, planet_fine] = <[Outline; 3]>::try_from(fine)
+        let mut fine = <[Outline; 3]>::try_from(fine)
             .unwrap_or_else(|_| unreachable!("three gears"))
             .map(|o| o.points_mm);
-        Some(PendingTrainMesh {
-            outlines: [sun_fine, mid_fine, planet_fine],
+        // Tip relief of the shaper-cut gears against their neighbours, all found on the
+        // unrelieved outlines (a relief moves only tips, never a fillet).
+        let relieved = (0..3)
+            .into_par_iter()
+            .map(
+                |k| match processes[k].cutter_teeth.filter(|_| shaped(&processes[k])) {
+                    Some(zc) => relieve_gear(
+                        k,
+                        &fine,
+                        &frames,
+                        &meshes,
+                        &opts.toothing,
+                        count.z,
+                        m,
+                        zc,
+                        &outline_opts(k, opts.toothing.chord_tol_mm),
+                    ),
+                    None => Ok(None),
+                },
+            )
+            .collect::<Result<Vec<_>, _>>()?;
+        for (k, r) in relieved.into_iter().enumerate() {
+            if let Some(r) = r {
+                gears[k] = r.export;
+                fine[k] = r.fine_mm;
+                processes[k].set_relief(&r.relief_mm, r.min_tip_width_mm);
+            }
+        }
+        Some(fine)
+    } else {
+        None
+    };
+    let pending = fine
+        .filter(|_| opts.toothing.verify_steps > 0)
+        .map(|outlines| PendingTrainMesh {
+            outlines,
             rebuilt: rebuilt.clone(),
             check: MeshCheck {
                 steps: opts.toothing.verify_steps,
                 backlash_mm: opts.toothing.backlash_mm,
                 ..MeshCheck::new(a, m)
             },
-        })
-    } else {
-        None
-    };
+        });
+    let [sun, intermediate, planet] = gears;
+    let [sun_process, intermediate_process, planet_process] = processes;
 
     // Round trip of the final gears (and of the unscaled ones, for the comparison).
     let n = opts.roundtrip_samples;

@@ -32,6 +32,7 @@
 mod amplitude;
 mod build;
 mod pending;
+mod relief;
 mod report;
 mod sheet;
 mod swept;

@@ -15,7 +15,7 @@ pub(super) struct TrainMeshes<'a> {
 
 /// The gears each gear meshes with: `(neighbour, mesh, this gear's role in that mesh)` with role
 /// 0 = driver, 1 = driven.
-fn neighbours(k: usize) -> &'static [(usize, usize, usize)] {
+pub(super) fn neighbours(k: usize) -> &'static [(usize, usize, usize)] {
     match k {
         0 => &[(1, 0, 0)],
         1 => &[(0, 0, 1), (2, 1, 0)],

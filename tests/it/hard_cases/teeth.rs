@@ -75,9 +75,10 @@ proptest! {
 }
 
 /// Pair laws from mild to extreme: each gives the outcome its geometry dictates — a meshed pair
-/// with finite ratios; a pair whose concave gear no shaper cutter fits (it undercuts every cutter)
-/// swept by its rack-cut mate instead (wire EDM, issue 18), meshing without interference;
-/// `NoCutter` where both gears would need it or the concave radius is below 0.1 mm, `Undercut`
+/// with finite ratios; a pair whose concave gear every cutter undercuts, shaper-cut with its
+/// undercut reported (as a rack cuts an undercut convex gear; issue 18) and meshing within the
+/// convex examples' 1e-5°; `NoCutter` where both gears would need it or the concave radius is
+/// below 0.1 mm, `Undercut`
 /// for a circle with too few teeth (classical limit z ≥ 2h*/sin²α = 17.1 → 18 at α = 20°), or a
 /// `Law` error where the ratio would reverse.
 #[test]
@@ -85,7 +86,7 @@ fn extreme_pair_laws_give_a_pair_or_the_typed_error_their_geometry_dictates() {
     use ncgear::pair::PairError;
     enum Want {
         Pair,
-        Swept,
+        UndercutShaper,
         NoCutter,
         Undercut(u32),
         Law,
@@ -95,7 +96,7 @@ fn extreme_pair_laws_give_a_pair_or_the_typed_error_their_geometry_dictates() {
         ("phi - 0.45*sin(phi)", 30, Want::Pair),
         ("phi - 0.3*sin(2*phi)", 30, Want::NoCutter),
         ("phi - 0.95*sin(phi)", 30, Want::NoCutter),
-        ("phi + 0.2*sin(phi)^3", 24, Want::Swept),
+        ("phi + 0.2*sin(phi)^3", 24, Want::UndercutShaper),
         ("phi - 0.1*sin(8*phi)", 40, Want::NoCutter),
         ("phi + 0.0*phi", 12, Want::Pair),
         ("phi + 0.0*phi", 12, Want::Undercut(18)),
@@ -122,12 +123,15 @@ fn extreme_pair_laws_give_a_pair_or_the_typed_error_their_geometry_dictates() {
                 let mesh = d.mesh.expect("verified");
                 assert_eq!(mesh.interference_steps, 0, "{law}: {mesh:?}");
             }
-            (Want::Swept, Ok(d)) => {
+            (Want::UndercutShaper, Ok(d)) => {
                 use ncgear::teeth::process::Process;
-                assert_eq!(d.driver_process.process, Process::WireEdm, "{law}");
-                assert!(d.driver_process.min_tip_width_mm.unwrap() > 0.3, "{law}");
+                let p = &d.driver_process;
+                assert_eq!(p.process, Process::Shaper, "{law}");
+                assert!(p.undercut_flanks > 0, "{law}: {p:?}");
+                assert!(p.min_tip_width_mm.unwrap() > 0.3, "{law}");
                 let mesh = d.mesh.expect("verified");
                 assert_eq!(mesh.interference_steps, 0, "{law}: {mesh:?}");
+                assert!(mesh.max_transmission_error_deg <= 1e-5, "{law}: {mesh:?}");
                 assert!(mesh.min_backlash_mm > 0.03, "{law}: {mesh:?}");
             }
             (
@@ -153,14 +157,17 @@ fn extreme_pair_laws_give_a_pair_or_the_typed_error_their_geometry_dictates() {
     }
 }
 
-/// Issue 18: random mixed convex/concave centrodes `r = 1 + ε cos(kφ + φ0) + ε₂ cos(k₂φ)` (seeded
-/// LCG, 10 draws, z = 40…80 at m = 1) go through teeth and the mesh verification: a pair whose
-/// concave gears are shaper-cut (simple outlines, no interference step, transmission error within
-/// the convex examples' 1e-5° when the tightest concave radius is at least twice the cutter's),
-/// or a typed refusal — never a panic.
+/// Issue 18: random mixed convex/concave centrodes `r = 1 + ε cos(kφ + φ0) + ε₂ cos(5φ)` (k = 2…4,
+/// k²ε = 0.6…1.2 so that every curve has concave stretches or nearly straight ones, seeded LCG,
+/// 30 draws, z = 40…80 at m = 1) all get teeth and mesh as the convex examples do: simple
+/// outlines, no interference step over 36 driver positions, transmission error within 1e-5°.
+/// The concave gears are shaper-cut (undercut cut and reported where every cutter undercuts),
+/// and the tips that would graze a tightly curved mate's fillet are relieved. Measured on this
+/// family (2026-11-26) before those two changes: 4 of the 30 pairs had a transmission error of
+/// 2e-4°…5e-3° (tips on the mate's fillet), 1 was swept (wire EDM, 2.7e-4°), 1 was refused (a
+/// 100-tooth cutter's outline with a loop).
 #[test]
 fn random_mixed_centrodes_get_shaper_teeth_and_mesh() {
-    use ncgear::pair::PairError;
     use ncgear::teeth::process::Process;
     let mut state = 0x1818_u64;
     let mut next = || {
@@ -169,52 +176,45 @@ fn random_mixed_centrodes_get_shaper_teeth_and_mesh() {
             .wrapping_add(1_442_695_040_888_963_407);
         (state >> 11) as f64 / (1u64 << 53) as f64
     };
-    let mut shaped = 0;
-    for _ in 0..10 {
+    let (mut shaped, mut relieved) = (0, 0);
+    for _ in 0..30 {
         let k = 2 + (next() * 3.0) as u32;
         let eps = (0.6 + 0.6 * next()) / f64::from(k * k);
         let (ph, eps2) = (TAU * next(), 0.02 * next());
         let z = 40 + (next() * 40.0) as u32;
         let law = format!("1 + {eps}*cos({k}*phi + {ph}) + {eps2}*cos(5*phi)");
         let mut opts = PairOptions::new(Some(z), 1.0);
-        opts.toothing.verify_steps = 12;
-        match design_pair(&Law::Centrode(Expr::parse(&law).unwrap()), &opts) {
-            Ok(d) => {
-                let mesh = d.mesh.expect("verified");
-                assert_eq!(mesh.interference_steps, 0, "{law} z {z}: {mesh:?}");
-                for (o, p) in [
-                    (&d.driver, &d.driver_process),
-                    (&d.driven, &d.driven_process),
-                ] {
-                    assert_eq!(
-                        ncgear::teeth::overlap::first_self_intersection(&o.points_mm).unwrap(),
-                        None,
-                        "{law}"
-                    );
-                    if p.process == Process::Shaper {
-                        shaped += 1;
-                        let (r0, rho) = (
-                            p.cutter_pitch_radius_mm.unwrap(),
-                            p.min_concave_rho_mm.unwrap(),
-                        );
-                        assert!(r0 < rho, "{law}");
-                        if rho >= 2.0 * r0 {
-                            assert!(
-                                mesh.max_transmission_error_deg <= 1e-5,
-                                "{law} z {z}: {mesh:?}"
-                            );
-                        }
-                    }
-                }
+        opts.toothing.verify_steps = 36;
+        let d = design_pair(&Law::Centrode(Expr::parse(&law).unwrap()), &opts)
+            .unwrap_or_else(|e| panic!("{law} z {z}: {e}"));
+        let mesh = d.mesh.expect("verified");
+        assert_eq!(mesh.interference_steps, 0, "{law} z {z}: {mesh:?}");
+        assert!(
+            mesh.max_transmission_error_deg <= 1e-5,
+            "{law} z {z}: {mesh:?}"
+        );
+        for (o, p) in [
+            (&d.driver, &d.driver_process),
+            (&d.driven, &d.driven_process),
+        ] {
+            assert_eq!(
+                ncgear::teeth::overlap::first_self_intersection(&o.points_mm).unwrap(),
+                None,
+                "{law}"
+            );
+            assert_ne!(p.process, Process::WireEdm, "{law} z {z}");
+            if p.process == Process::Shaper {
+                shaped += 1;
+                let (r0, rho) = (
+                    p.cutter_pitch_radius_mm.unwrap(),
+                    p.min_concave_rho_mm.unwrap(),
+                );
+                assert!(r0 < rho, "{law}");
+                relieved += usize::from(p.relieved_teeth > 0);
+                assert!(p.max_tip_relief_mm <= 0.16 + 1e-12, "{law}: {p:?}");
             }
-            Err(PairError::Teeth(
-                TeethError::NoCutter { .. }
-                | TeethError::Undercut { .. }
-                | TeethError::Trim { .. }
-                | TeethError::NoRackTipFlat { .. },
-            )) => {}
-            Err(e) => panic!("{law} z {z}: unexpected {e}"),
         }
     }
-    assert!(shaped >= 3, "only {shaped} shaper-cut gears");
+    assert!(shaped >= 20, "only {shaped} shaper-cut gears");
+    assert!(relieved >= 4, "only {relieved} relieved gears");
 }

@@ -1,0 +1,63 @@
+//! Tip relief of the train's shaper-cut gears (issue 18, [`crate::teeth::relief`]): each is
+//! checked against every neighbour it meshes with — the sun and the planet against the
+//! intermediate gear, the intermediate gear against both — and relieved tooth by tooth.
+use super::TrainError;
+use super::swept::{TrainMeshes, neighbours};
+use crate::teeth::mesh::Shape;
+use crate::teeth::relief::{self, ReliefMesh, Relieved, relieve_shaper_gear};
+use crate::teeth::{ArcFrame, OutlineOptions, ToothingOptions};
+
+/// Gear `k` (0 sun, 1 intermediate, 2 planet), cut with `opts` by a shaper of `cutter_teeth`
+/// teeth, relieved against its neighbours' `fine` outlines (body frames, mm) over one carrier
+/// turn (each mesh's contact runs `z` pitches per turn); `None` when no tooth needs it.
+///
+/// Errors: [`TrainError::Mesh`] (a neighbour's outline cannot be indexed),
+/// [`TrainError::Teeth`] (the relieved gear cannot be generated).
+#[allow(clippy::too_many_arguments)]
+pub(super) fn relieve_gear(
+    k: usize,
+    fine: &[Vec<[f64; 2]>; 3],
+    frames: &[ArcFrame; 3],
+    meshes: &TrainMeshes<'_>,
+    toothing: &ToothingOptions,
+    z: u32,
+    module_mm: f64,
+    cutter_teeth: u32,
+    opts: &OutlineOptions,
+) -> Result<Option<Relieved>, TrainError> {
+    const NAMES: [&str; 3] = ["sun", "intermediate", "planet"];
+    const MESHES: [&str; 2] = ["sun-intermediate", "intermediate-planet"];
+    let shapes = neighbours(k)
+        .iter()
+        .map(|&(nb, mesh, _)| {
+            Shape::new(&fine[nb], 0.02 * module_mm, NAMES[nb]).map_err(|source| TrainError::Mesh {
+                pair: MESHES[mesh],
+                source,
+            })
+        })
+        .collect::<Result<Vec<_>, _>>()?;
+    let checks: Vec<ReliefMesh<'_>> = neighbours(k)
+        .iter()
+        .zip(&shapes)
+        .map(|(&(_, mesh, role), mate)| ReliefMesh {
+            mate,
+            motion: &meshes.motions[mesh],
+            gear: role,
+            positions: z as usize * relief::POSITIONS_PER_PITCH,
+        })
+        .collect();
+    relieve_shaper_gear(
+        &frames[k],
+        &toothing.rack,
+        z,
+        module_mm,
+        cutter_teeth,
+        opts,
+        toothing.verify_chord_tol_mm,
+        &checks,
+    )
+    .map_err(|source| TrainError::Teeth {
+        gear: NAMES[k],
+        source,
+    })
+}

@@ -1,0 +1,208 @@
+//! Tip relief against the mate's fillets (issue 18): the tooth tips of a gear with concave
+//! stretches are lowered, tooth by tooth, until no tip corner enters its mate at the law's
+//! position anywhere in the mesh cycle.
+//!
+//! **Why.** The basic rack's straight flank ends exactly at the addendum depth
+//! (`(ha* + c* − ρf*(1 − sin α))·m = ha*·m` for the ISO 53 profile A), so a gear's tip corner
+//! meets its mate's flank at its form point with no margin when the gear's pitch curve is flat
+//! there: a straight rack moves exactly like the rack that generated the mate, and its corner
+//! traces the path of the generating rack's form point, which never enters the mate. A convex
+//! gear's tips meet the mate's flank `ha²·cot²α/(2ρ)` short of the form point (a margin that
+//! grows with its curvature); a concave stretch meets it beyond (the shaper's topping of concave
+//! tips takes that back). Near an inflection, where a mixed convex/concave pitch
+//! curve is nearly straight over a tooth while the mate is tightly curved (its radius of
+//! curvature near the undercut limit `h·m/sin²α`), the corner's path departs from the generating
+//! rack's at second order in the rolling — by `≈ Δs²/(2ρ)` over a roll `Δs` — and grazes the
+//! mate's fillet trochoid: measured on random mixed centrodes at m = 1 (r = 1 + ε cos(kφ + φ0) +
+//! ε₂ cos 5φ, k = 2…4, k²ε = 0.6…1.2, z = 40…80; 2026-11-26), 19 of 100 pairs had a transmission
+//! error of 4e-5°…1.2e-2° from such contacts (overlap up to 3e-5 mm² at the law's position) where
+//! the others mesh within 1e-6°; a uniform topping of 0.05·m left 6 of them, this check none (of
+//! 200). A per-tooth check settles it instead of a formula.
+//!
+//! **Check.** For every mesh of the gear, the mate's outline (at the verification's chord
+//! tolerance, indexed as a [`Shape`]) is placed at the law's position ([`MeshMotion::law_pose`])
+//! at `positions` cycle fractions; at each, the tip corners of the teeth within two pitches of
+//! the contact are mapped into the mate's frame and their signed clearance taken. A tooth whose
+//! corner goes deeper than [`PENETRATION_TOL`]·m into a mate gets the next relief of
+//! [`RELIEF_LADDER`] (its corners recomputed on the lowered tip), until none does or the ladder
+//! ends (the mesh verification then shows what is left). Relief only shortens a tip: the
+//! working flanks, the fillets and the mates are unchanged, so the meshes' checks are
+//! independent and one pass suffices.
+use super::frame::ArcFrame;
+use super::mate_motion::MeshMotion;
+use super::outline::{Outline, OutlineOptions};
+use super::process::{generate_relieved, relieved_tip_corners};
+use super::shape::Shape;
+use super::{RackParams, TeethError};
+use rayon::prelude::*;
+use std::f64::consts::{PI, TAU};
+
+/// Tip reliefs tried, in modules, in order (a tooth moves to the next while a corner enters a
+/// mate).
+pub const RELIEF_LADDER: [f64; 7] = [0.0, 0.005, 0.01, 0.02, 0.04, 0.08, 0.16];
+
+/// Depth a tip corner may reach into a mate, in modules: twice the verification's chord
+/// tolerance (a corner on the mate's working flank touches it, within that tolerance). Measured:
+/// a corner 9.5e-6·m deep in an undercut mate flank gave a transmission error of 2.5e-5°.
+pub const PENETRATION_TOL: f64 = 2e-6;
+
+/// Cycle positions per tooth pitch at which the corners are checked: the contacts this guards
+/// against last about a quarter of a pitch (measured), so each is seen about ten times.
+pub const POSITIONS_PER_PITCH: usize = 48;
+
+/// The tip corners `[left, right]` of every tooth (body frame, mm) with tooth `k`'s tip lowered
+/// by `relief[k]` (mm).
+pub type TipCorners<'a> = dyn Fn(&[f64]) -> Result<Vec<[[f64; 2]; 2]>, TeethError> + Sync + 'a;
+
+/// One mesh of the relieved gear.
+#[derive(Clone, Copy)]
+pub struct ReliefMesh<'a> {
+    /// The mate's outline at the verification's chord tolerance, indexed, its body frame, mm.
+    pub mate: &'a Shape,
+    /// The mesh's motion over its cycle.
+    pub motion: &'a MeshMotion<'a>,
+    /// Which gear of the mesh the relieved one is (0: driver, 1: driven).
+    pub gear: usize,
+    /// Positions over the cycle (use [`POSITIONS_PER_PITCH`] per pitch of the cycle).
+    pub positions: usize,
+}
+
+/// The tip relief of each tooth, mm (module doc): `corners(relief)` gives the `[left, right]`
+/// tip corners of every tooth (body frame, mm) with tooth `k`'s tip lowered by `relief[k]`.
+///
+/// Errors: those of `corners` (a relief that makes a tooth pointed).
+pub fn tip_relief(
+    corners: &TipCorners<'_>,
+    meshes: &[ReliefMesh<'_>],
+    module_mm: f64,
+) -> Result<Vec<f64>, TeethError> {
+    let mut level: Vec<usize> = Vec::new();
+    loop {
+        let relief: Vec<f64> = level
+            .iter()
+            .map(|&l| RELIEF_LADDER[l] * module_mm)
+            .collect();
+        let c = corners(&relief)?;
+        if level.is_empty() {
+            level = vec![0; c.len()];
+        }
+        let deepest = deepest_corners(&c, meshes, module_mm);
+        let mut moved = false;
+        for (l, d) in level.iter_mut().zip(&deepest) {
+            if *d < -PENETRATION_TOL * module_mm && *l + 1 < RELIEF_LADDER.len() {
+                *l += 1;
+                moved = true;
+            }
+        }
+        if !moved {
+            return Ok(relief_or_zeros(relief, c.len()));
+        }
+    }
+}
+
+fn relief_or_zeros(relief: Vec<f64>, z: usize) -> Vec<f64> {
+    if relief.is_empty() {
+        vec![0.0; z]
+    } else {
+        relief
+    }
+}
+
+/// Smallest signed clearance of each tooth's corners in any mate over the cycles, mm (positive
+/// far from every contact: clipped at the mate shapes' cap).
+fn deepest_corners(corners: &[[[f64; 2]; 2]], meshes: &[ReliefMesh<'_>], m: f64) -> Vec<f64> {
+    let z = corners.len();
+    // Polar angle and the window half-width (two pitches of arc at the corner's radius) of each
+    // tooth, from its left corner.
+    let teeth: Vec<(f64, f64)> = corners
+        .iter()
+        .map(|[l, _]| (l[1].atan2(l[0]), (2.0 * PI * m / l[0].hypot(l[1])).min(PI)))
+        .collect();
+    let per_mesh = |mesh: &ReliefMesh<'_>| {
+        (0..mesh.positions)
+            .into_par_iter()
+            .fold(
+                || vec![f64::INFINITY; z],
+                |mut best, j| {
+                    let u = j as f64 / mesh.positions as f64;
+                    let theta = mesh.motion.contact_angle_rad(mesh.gear, u);
+                    let pose = mesh.motion.law_pose(mesh.gear, u);
+                    // Gear body → mate body: the inverse of x ↦ R(a)·x + t.
+                    let (s, c) = pose.angle_rad.sin_cos();
+                    let to_mate = |x: [f64; 2]| {
+                        let (dx, dy) = (x[0] - pose.shift_mm[0], x[1] - pose.shift_mm[1]);
+                        [c * dx + s * dy, -s * dx + c * dy]
+                    };
+                    for (k, &(angle, half)) in teeth.iter().enumerate() {
+                        let off = (angle - theta + PI).rem_euclid(TAU) - PI;
+                        if off.abs() <= half {
+                            for x in corners[k] {
+                                best[k] = best[k].min(mesh.mate.clearance(to_mate(x)));
+                            }
+                        }
+                    }
+                    best
+                },
+            )
+            .reduce(
+                || vec![f64::INFINITY; z],
+                |a, b| a.iter().zip(&b).map(|(x, y)| x.min(*y)).collect(),
+            )
+    };
+    meshes
+        .iter()
+        .map(per_mesh)
+        .fold(vec![f64::INFINITY; z], |a, b| {
+            a.iter().zip(&b).map(|(x, y)| x.min(*y)).collect()
+        })
+}
+
+/// A shaper-cut gear after its tip relief: the export and fine outlines regenerated.
+#[derive(Debug, Clone)]
+pub struct Relieved {
+    /// The outline at the export chord tolerance.
+    pub export: Outline,
+    /// The outline at the verification's chord tolerance, mm.
+    pub fine_mm: Vec<[f64; 2]>,
+    /// Tip relief of each tooth, mm.
+    pub relief_mm: Vec<f64>,
+    /// Narrowest tooth tip after the relief, mm of arc.
+    pub min_tip_width_mm: f64,
+}
+
+/// The tip relief ([`tip_relief`]) of a gear cut by a shaper with `cutter_teeth` teeth, with
+/// `opts` (its export chord tolerance) and its outline regenerated at both tolerances; `None`
+/// when no tooth needs one (the outlines stay as they are).
+///
+/// Errors: those of the generation with the relief (a tooth made pointed).
+#[allow(clippy::too_many_arguments)]
+pub fn relieve_shaper_gear(
+    frame: &ArcFrame,
+    rack: &RackParams,
+    z: u32,
+    module_mm: f64,
+    cutter_teeth: u32,
+    opts: &OutlineOptions,
+    fine_chord_tol_mm: f64,
+    meshes: &[ReliefMesh<'_>],
+) -> Result<Option<Relieved>, TeethError> {
+    let m = module_mm;
+    let corners = |r: &[f64]| relieved_tip_corners(frame, rack, z, m, cutter_teeth, opts, r);
+    let relief_mm = tip_relief(&corners, meshes, m)?;
+    if relief_mm.iter().all(|r| *r == 0.0) {
+        return Ok(None);
+    }
+    let fine_opts = OutlineOptions {
+        chord_tol_mm: fine_chord_tol_mm,
+        ..*opts
+    };
+    let cut =
+        |o: &OutlineOptions| generate_relieved(frame, rack, z, m, cutter_teeth, o, &relief_mm);
+    let ((export, min_tip_width_mm), (fine, _)) = (cut(opts)?, cut(&fine_opts)?);
+    Ok(Some(Relieved {
+        export,
+        fine_mm: fine.points_mm,
+        relief_mm,
+        min_tip_width_mm,
+    }))
+}
