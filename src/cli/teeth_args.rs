@@ -139,6 +139,25 @@ pub fn undercut_line(
     }
 }
 
+/// The tip changes of a cut gear for its console line: teeth lowered where a small cutter does
+/// not reach, and the tip relief against the mates' fillets.
+fn tip_notes(p: &ncgear::teeth::process::GearProcess) -> String {
+    let mut s = String::new();
+    if p.reach_topped_teeth > 0 {
+        s += &format!(
+            ", {} tips lowered to where the cutter's involute reaches",
+            p.reach_topped_teeth
+        );
+    }
+    if p.relieved_teeth > 0 {
+        s += &format!(
+            ", tip relief on {} teeth (up to {:.4} mm) to clear the mates' fillets",
+            p.relieved_teeth, p.max_tip_relief_mm
+        );
+    }
+    s
+}
+
 /// One line on how a gear is cut, for the console summaries.
 pub fn process_line(p: &ncgear::teeth::process::GearProcess) -> String {
     match (p.cutter_teeth, p.cutter_pitch_radius_mm) {
@@ -149,14 +168,7 @@ pub fn process_line(p: &ncgear::teeth::process::GearProcess) -> String {
             p.tried_cutter_teeth,
             p.undercut_flanks,
             p.min_tip_width_mm.unwrap_or(f64::NAN),
-            if p.relieved_teeth > 0 {
-                format!(
-                    ", tip relief on {} teeth (up to {:.4} mm) to clear the mates' fillets",
-                    p.relieved_teeth, p.max_tip_relief_mm
-                )
-            } else {
-                String::new()
-            }
+            tip_notes(p)
         ),
         _ if p.process == ncgear::teeth::process::Process::WireEdm => format!(
             "wire EDM / printing: no cutter fits the tightest concave radius {:.2} mm; flanks swept \
@@ -165,6 +177,10 @@ pub fn process_line(p: &ncgear::teeth::process::GearProcess) -> String {
             p.min_concave_rho_mm.unwrap_or(f64::NAN),
             p.min_tip_width_mm.unwrap_or(f64::NAN)
         ),
-        _ => format!("rack/hob (convex), undercut flanks {}", p.undercut_flanks),
+        _ => format!(
+            "rack/hob (convex), undercut flanks {}{}",
+            p.undercut_flanks,
+            tip_notes(p)
+        ),
     }
 }

@@ -5,17 +5,18 @@ use super::design::{PairOptions, Toothed};
 use crate::teeth::mate_motion::MeshMotion;
 use crate::teeth::mesh::Shape;
 use crate::teeth::process::Process;
-use crate::teeth::relief::{self, ReliefMesh, Relieved, relieve_shaper_gear};
+use crate::teeth::relief::{self, ReliefMesh, Relieved, relieve_gear};
 
 /// The pair's gears, as named in errors.
 const GEAR_NAMES: [&str; 2] = ["driver", "driven"];
 
 impl Toothed {
-    /// Tip relief of the shaper-cut gears against their mate's fine outline
-    /// ([`crate::teeth::relief`]) over the mesh `motion`, whose cycle spans `cycle_pitches`
-    /// driver pitches: the relieved gears' export and `fine` outlines are regenerated and their
-    /// process reports record it. Both reliefs are found on the unrelieved outlines (a relief
-    /// moves only tips, never a fillet).
+    /// Tip relief of both cut gears of a pair with a shaper-cut gear against their mate's fine
+    /// outline ([`crate::teeth::relief`]) over the mesh `motion`, whose cycle spans
+    /// `cycle_pitches` driver pitches: the relieved gears' export and `fine` outlines are
+    /// regenerated and their process reports record it. Both reliefs are found on the unrelieved
+    /// outlines (a relief moves only tips, never a fillet). A pair of rack-cut (convex) gears is
+    /// left as it is: a convex gear's tips keep a margin short of the mate's form point.
     pub(super) fn relieve(
         &mut self,
         opts: &PairOptions,
@@ -26,13 +27,11 @@ impl Toothed {
         let t = &opts.toothing;
         let m = t.module_mm;
         let procs = [&self.driver_process, &self.driven_process];
+        let shaped = procs.iter().any(|p| p.process == Process::Shaper);
         let relieve = |k: usize| -> Result<Option<Relieved>, PairError> {
-            let Some(zc) = procs[k]
-                .cutter_teeth
-                .filter(|_| procs[k].process == Process::Shaper)
-            else {
+            if !shaped || procs[k].process == Process::WireEdm {
                 return Ok(None);
-            };
+            }
             let mate = Shape::new(&fine[1 - k], 0.02 * m, GEAR_NAMES[1 - k])?;
             let mesh = ReliefMesh {
                 mate: &mate,
@@ -40,12 +39,12 @@ impl Toothed {
                 gear: k,
                 positions: cycle_pitches * relief::POSITIONS_PER_PITCH,
             };
-            Ok(relieve_shaper_gear(
+            Ok(relieve_gear(
                 &self.f[k],
                 &t.rack,
                 self.z[k],
                 m,
-                zc,
+                procs[k],
                 &self.o[k],
                 t.verify_chord_tol_mm,
                 &[mesh],

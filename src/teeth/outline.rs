@@ -103,17 +103,83 @@ impl Gen<'_> {
         let l = dx.hypot(dy);
         self.map(s, xc + self.rho * dx / l, ec + self.rho * dy / l)
     }
-    fn tip(&self, u: f64) -> [f64; 2] {
+    /// Addendum curve lowered by the tooth's tip relief `rel` (mm, [`super::relief`]).
+    fn tip(&self, u: f64, rel: f64) -> [f64; 2] {
         let f = self.frame.at(u);
-        [f.p[0] + self.ha * f.n[0], f.p[1] + self.ha * f.n[1]]
+        let h = self.ha - rel;
+        [f.p[0] + h * f.n[0], f.p[1] + h * f.n[1]]
     }
     /// Solves flank(s) = tip(u) by Newton from the flat-rack guess.
-    fn trim_tip(&self, sf: f64, sign: f64) -> Option<(f64, f64)> {
+    fn trim_tip(&self, sf: f64, sign: f64, rel: f64) -> Option<(f64, f64)> {
         let sc = self.sa * self.ca;
-        let s = sf - sign * self.ha / sc;
+        let s = sf - sign * (self.ha - rel) / sc;
         let u = s + (sf - s) * self.ca * self.ca;
-        meet(|s| self.flank(sf, sign, s), |u| self.tip(u), s, u)
+        meet(|s| self.flank(sf, sign, s), |u| self.tip(u, rel), s, u)
     }
+    /// Tooth `k`'s flank crossings `(sl, sr)` and both flanks trimmed at its tip relieved by
+    /// `rel`: `(s_tip, u)` left and right. Errors: [`TeethError::Trim`].
+    #[allow(clippy::type_complexity)]
+    fn trim_tooth(
+        &self,
+        k: usize,
+        p: f64,
+        opts: &OutlineOptions,
+        rel: f64,
+    ) -> Result<((f64, f64), (f64, f64), (f64, f64)), TeethError> {
+        let sk = opts.phase_mm + k as f64 * p;
+        let sl = sk - 0.25 * p + opts.thin_left_mm;
+        let sr = sk + 0.25 * p - opts.thin_right_mm;
+        let left = self.trim_tip(sl, -1.0, rel).ok_or(TeethError::Trim {
+            tooth: k,
+            what: "left flank meets no tip",
+        })?;
+        let right = self.trim_tip(sr, 1.0, rel).ok_or(TeethError::Trim {
+            tooth: k,
+            what: "right flank meets no tip",
+        })?;
+        if right.1 <= left.1 {
+            return Err(TeethError::Trim {
+                tooth: k,
+                what: "pointed tooth (tip width ≤ 0)",
+            });
+        }
+        Ok(((sl, sr), left, right))
+    }
+}
+
+/// The rack's generation parameters at module `m` on `frame`.
+fn rack_gen<'a>(frame: &'a ArcFrame, rack: &RackParams, m: f64) -> Gen<'a> {
+    let (sa, ca) = rack.alpha_rad().sin_cos();
+    Gen {
+        frame,
+        ha: rack.addendum() * m,
+        hf: (rack.addendum() + rack.clearance()) * m,
+        rho: rack.fillet() * m,
+        hs: rack.straight_depth() * m,
+        sa,
+        ca,
+    }
+}
+
+/// The tip corners `[left, right]` of every tooth of [`generate_relieved_on`]'s outline with the
+/// same arguments, body frame, mm.
+pub(super) fn rack_tip_corners(
+    frame: &ArcFrame,
+    rack: &RackParams,
+    z: u32,
+    module_mm: f64,
+    opts: &OutlineOptions,
+    relief_mm: &[f64],
+) -> Result<Vec<[[f64; 2]; 2]>, TeethError> {
+    let p = validate(frame, z, module_mm, opts)?;
+    let g = rack_gen(frame, rack, module_mm);
+    (0..z as usize)
+        .map(|k| {
+            let rel = relief_mm.get(k).copied().unwrap_or(0.0);
+            let (_, (_, ul), (_, ur)) = g.trim_tooth(k, p, opts, rel)?;
+            Ok([g.tip(ul, rel), g.tip(ur, rel)])
+        })
+        .collect()
 }
 
 /// Solves `flank(s) = tip(u)` by 2-D Newton (forward-difference Jacobian, step 1e-6) from
@@ -361,6 +427,20 @@ pub fn generate_on(
     module_mm: f64,
     opts: &OutlineOptions,
 ) -> Result<Outline, TeethError> {
+    generate_relieved_on(frame, rack, z, module_mm, opts, &[])
+}
+
+/// [`generate_on`] with tooth `k`'s tip lowered by `relief_mm[k]` along the pitch curve's normal
+/// (mm; none where the slice is shorter): the relief that keeps each tip off its mates'
+/// fillets ([`super::relief`]).
+pub fn generate_relieved_on(
+    frame: &ArcFrame,
+    rack: &RackParams,
+    z: u32,
+    module_mm: f64,
+    opts: &OutlineOptions,
+    relief_mm: &[f64],
+) -> Result<Outline, TeethError> {
     let m = module_mm;
     let p = validate(frame, z, m, opts)?;
     let report = report_on(frame, rack, z, m, opts);
@@ -385,16 +465,8 @@ pub fn generate_on(
             min_teeth: (f64::from(z) * m / report.max_module_mm).ceil() as u32,
         });
     }
-    let (sa, ca) = rack.alpha_rad().sin_cos();
-    let g = Gen {
-        frame,
-        ha: rack.addendum() * m,
-        hf: (rack.addendum() + rack.clearance()) * m,
-        rho: rack.fillet() * m,
-        hs: rack.straight_depth() * m,
-        sa,
-        ca,
-    };
+    let g = rack_gen(frame, rack, m);
+    let (sa, ca) = (g.sa, g.ca);
     let sc = sa * ca;
     let ta = sa / ca;
     let step = (8.0 * opts.chord_tol_mm * m).sqrt();
@@ -413,22 +485,8 @@ pub fn generate_on(
     let mut out = Vec::new();
     for k in 0..z as usize {
         let sk = opts.phase_mm + k as f64 * p;
-        let sl = sk - 0.25 * p + opts.thin_left_mm;
-        let sr = sk + 0.25 * p - opts.thin_right_mm;
-        let (s_tip_l, ul) = g.trim_tip(sl, -1.0).ok_or(TeethError::Trim {
-            tooth: k,
-            what: "left flank meets no tip",
-        })?;
-        let (s_tip_r, ur) = g.trim_tip(sr, 1.0).ok_or(TeethError::Trim {
-            tooth: k,
-            what: "right flank meets no tip",
-        })?;
-        if ur <= ul {
-            return Err(TeethError::Trim {
-                tooth: k,
-                what: "pointed tooth (tip width ≤ 0)",
-            });
-        }
+        let rel = relief_mm.get(k).copied().unwrap_or(0.0);
+        let ((sl, sr), (s_tip_l, ul), (s_tip_r, ur)) = g.trim_tooth(k, p, opts, rel)?;
         // Left fillet of tooth k (from the root up), then the left flank from η = −hs up to
         // the tip. An undercut side is walked from the root with its loops cut
         // ([`cut_loops`]): what the fillet trochoid cuts away and the flank envelope's
@@ -455,7 +513,7 @@ pub fn generate_on(
             out.extend_from_slice(&wl[1..]);
             (wl[nfl], g.hs)
         };
-        push_piece(&mut out, ul, ur, step, |u| g.tip(u));
+        push_piece(&mut out, ul, ur, step, |u| g.tip(u, rel));
         // Right flank from the tip down to η = −hs, then the right fillet down to the root; an
         // undercut side is walked from the tip with its loops cut, the form point is the first
         // jump off the flank.

@@ -8,7 +8,10 @@
 //! the mate is cut; alone, a typed error says so.
 use super::conjugate::SweepChecks;
 use super::frame::ArcFrame;
-use super::outline::{Outline, OutlineOptions, generate_on, report_on, validate};
+use super::outline::{
+    Outline, OutlineOptions, generate_on, generate_relieved_on, rack_tip_corners, report_on,
+    validate,
+};
 use super::secondary::{SECONDARY_TOL, Spaces, secondary_cut_depth};
 use super::shaper::{Cutter, ShaperChecks, cutter_pitch_radius_mm, generate_shaper, tip_corners};
 use super::{RackParams, TeethError};
@@ -61,15 +64,21 @@ pub struct GearProcess {
     /// Largest tip relief of those teeth, mm (0 when none).
     #[serde(default)]
     pub max_tip_relief_mm: f64,
+    /// Teeth of a shaper-cut gear whose tip is lowered because the cutter's involute does not
+    /// reach it (a small cutter on a tightly convex stretch; what a shop does with the blank).
+    #[serde(default)]
+    pub reach_topped_teeth: usize,
 }
 
 impl GearProcess {
-    /// Records a tip relief (mm per tooth, [`super::relief::tip_relief`]) and the narrowest tip
-    /// it leaves (mm of arc).
-    pub fn set_relief(&mut self, relief_mm: &[f64], min_tip_width_mm: f64) {
+    /// Records a tip relief (mm per tooth, [`super::relief::tip_relief`]) and, for a shaper-cut
+    /// gear, the narrowest tip it leaves (mm of arc).
+    pub fn set_relief(&mut self, relief_mm: &[f64], min_tip_width_mm: Option<f64>) {
         self.relieved_teeth = relief_mm.iter().filter(|r| **r > 0.0).count();
         self.max_tip_relief_mm = relief_mm.iter().copied().fold(0.0, f64::max);
-        self.min_tip_width_mm = Some(min_tip_width_mm);
+        if min_tip_width_mm.is_some() {
+            self.min_tip_width_mm = min_tip_width_mm;
+        }
     }
 }
 
@@ -128,6 +137,7 @@ pub fn generate_by_process(
                 min_tip_width_mm: None,
                 relieved_teeth: 0,
                 max_tip_relief_mm: 0.0,
+                reach_topped_teeth: 0,
             },
         ));
     }
@@ -153,6 +163,7 @@ pub fn generate_by_process(
                 min_tip_width_mm: Some(checks.min_tip_width_mm),
                 relieved_teeth: 0,
                 max_tip_relief_mm: 0.0,
+                reach_topped_teeth: checks.reach_topped_teeth,
             },
         )
     };
@@ -231,9 +242,56 @@ pub fn generate_as(
     opts: &OutlineOptions,
     as_cut: &GearProcess,
 ) -> Result<Outline, TeethError> {
+    Ok(generate_as_relieved(frame, rack, z, module_mm, opts, as_cut, &[])?.0)
+}
+
+/// [`generate_as`] with tooth `k`'s tip lowered by `tip_relief_mm[k]` along the pitch curve's
+/// normal (mm; none where the slice is shorter): the relief that keeps each tip off its mates'
+/// fillets ([`super::relief::tip_relief`]). Also returns the narrowest tooth tip of a shaper-cut
+/// gear, mm of arc.
+pub fn generate_as_relieved(
+    frame: &ArcFrame,
+    rack: &RackParams,
+    z: u32,
+    module_mm: f64,
+    opts: &OutlineOptions,
+    as_cut: &GearProcess,
+    tip_relief_mm: &[f64],
+) -> Result<(Outline, Option<f64>), TeethError> {
     match (as_cut.process, as_cut.cutter_teeth) {
-        (Process::Rack, _) => generate_on(frame, rack, z, module_mm, opts),
-        (Process::Shaper, Some(zc)) => generate_with_cutter(frame, rack, z, module_mm, zc, opts),
+        (Process::Rack, _) => Ok((
+            generate_relieved_on(frame, rack, z, module_mm, opts, tip_relief_mm)?,
+            None,
+        )),
+        (Process::Shaper, Some(zc)) => {
+            let cutter = Cutter::new(zc, rack, module_mm)?;
+            let (o, checks) =
+                generate_shaper(frame, rack, z, module_mm, &cutter, opts, tip_relief_mm)?;
+            Ok((o, Some(checks.min_tip_width_mm)))
+        }
+        _ => Err(TeethError::Swept {
+            what: "a swept gear is made from its mate's outline, not by a cutter".to_string(),
+        }),
+    }
+}
+
+/// The tip corners `[left, right]` of every tooth of [`generate_as_relieved`]'s outline with
+/// the same arguments, body frame, mm.
+pub fn tip_corners_as(
+    frame: &ArcFrame,
+    rack: &RackParams,
+    z: u32,
+    module_mm: f64,
+    opts: &OutlineOptions,
+    as_cut: &GearProcess,
+    tip_relief_mm: &[f64],
+) -> Result<Vec<[[f64; 2]; 2]>, TeethError> {
+    match (as_cut.process, as_cut.cutter_teeth) {
+        (Process::Rack, _) => rack_tip_corners(frame, rack, z, module_mm, opts, tip_relief_mm),
+        (Process::Shaper, Some(zc)) => {
+            let cutter = Cutter::new(zc, rack, module_mm)?;
+            tip_corners(frame, rack, z, module_mm, &cutter, opts, tip_relief_mm)
+        }
         _ => Err(TeethError::Swept {
             what: "a swept gear is made from its mate's outline, not by a cutter".to_string(),
         }),
@@ -290,40 +348,8 @@ pub fn generate_with_cutter(
     cutter_teeth: u32,
     opts: &OutlineOptions,
 ) -> Result<Outline, TeethError> {
-    Ok(generate_relieved(frame, rack, z, module_mm, cutter_teeth, opts, &[])?.0)
-}
-
-/// [`generate_with_cutter`] with tooth `k`'s tip lowered by `tip_relief_mm[k]` along the
-/// pitch curve's normal (mm; none where the slice is shorter): the relief that keeps each tip
-/// off its mates' fillets ([`super::relief::tip_relief`]). Also returns the narrowest tooth tip,
-/// mm of arc.
-pub fn generate_relieved(
-    frame: &ArcFrame,
-    rack: &RackParams,
-    z: u32,
-    module_mm: f64,
-    cutter_teeth: u32,
-    opts: &OutlineOptions,
-    tip_relief_mm: &[f64],
-) -> Result<(Outline, f64), TeethError> {
     let cutter = Cutter::new(cutter_teeth, rack, module_mm)?;
-    let (o, checks) = generate_shaper(frame, rack, z, module_mm, &cutter, opts, tip_relief_mm)?;
-    Ok((o, checks.min_tip_width_mm))
-}
-
-/// The tip corners `[left, right]` of every tooth of [`generate_relieved`]'s outline with the
-/// same arguments, body frame, mm.
-pub fn relieved_tip_corners(
-    frame: &ArcFrame,
-    rack: &RackParams,
-    z: u32,
-    module_mm: f64,
-    cutter_teeth: u32,
-    opts: &OutlineOptions,
-    tip_relief_mm: &[f64],
-) -> Result<Vec<[[f64; 2]; 2]>, TeethError> {
-    let cutter = Cutter::new(cutter_teeth, rack, module_mm)?;
-    tip_corners(frame, rack, z, module_mm, &cutter, opts, tip_relief_mm)
+    Ok(generate_shaper(frame, rack, z, module_mm, &cutter, opts, &[])?.0)
 }
 
 /// The report of a gear swept by its mates (wire EDM / printing, [`super::conjugate`]) instead of
@@ -351,5 +377,6 @@ pub fn swept_process(
         min_tip_width_mm: Some(checks.min_tip_width_mm),
         relieved_teeth: 0,
         max_tip_relief_mm: 0.0,
+        reach_topped_teeth: 0,
     })
 }

@@ -1,5 +1,5 @@
-//! Tip relief against the mate's fillets (issue 18): the tooth tips of a gear with concave
-//! stretches are lowered, tooth by tooth, until no tip corner enters its mate at the law's
+//! Tip relief against the mate's fillets (issue 18): the tooth tips of the gears of a mesh with a
+//! shaper-cut gear are lowered, tooth by tooth, until no tip corner enters its mate at the law's
 //! position anywhere in the mesh cycle.
 //!
 //! **Why.** The basic rack's straight flank ends exactly at the addendum depth
@@ -17,7 +17,9 @@
 //! ε₂ cos 5φ, k = 2…4, k²ε = 0.6…1.2, z = 40…80; 2026-11-26), 19 of 100 pairs had a transmission
 //! error of 4e-5°…1.2e-2° from such contacts (overlap up to 3e-5 mm² at the law's position) where
 //! the others mesh within 1e-6°; a uniform topping of 0.05·m left 6 of them, this check none (of
-//! 200). A per-tooth check settles it instead of a formula.
+//! 200). A per-tooth check settles it instead of a formula. The rack-cut mate of a
+//! shaper-cut gear is checked too (a small cutter's fillets can sit higher than a rack's); two
+//! rack-cut gears keep their outlines (a convex tip keeps its margin).
 //!
 //! **Check.** For every mesh of the gear, the mate's outline (at the verification's chord
 //! tolerance, indexed as a [`Shape`]) is placed at the law's position ([`MeshMotion::law_pose`])
@@ -31,7 +33,7 @@
 use super::frame::ArcFrame;
 use super::mate_motion::MeshMotion;
 use super::outline::{Outline, OutlineOptions};
-use super::process::{generate_relieved, relieved_tip_corners};
+use super::process::{GearProcess, generate_as_relieved, tip_corners_as};
 use super::shape::Shape;
 use super::{RackParams, TeethError};
 use rayon::prelude::*;
@@ -157,7 +159,7 @@ fn deepest_corners(corners: &[[[f64; 2]; 2]], meshes: &[ReliefMesh<'_>], m: f64)
         })
 }
 
-/// A shaper-cut gear after its tip relief: the export and fine outlines regenerated.
+/// A gear after its tip relief: the export and fine outlines regenerated.
 #[derive(Debug, Clone)]
 pub struct Relieved {
     /// The outline at the export chord tolerance.
@@ -166,28 +168,29 @@ pub struct Relieved {
     pub fine_mm: Vec<[f64; 2]>,
     /// Tip relief of each tooth, mm.
     pub relief_mm: Vec<f64>,
-    /// Narrowest tooth tip after the relief, mm of arc.
-    pub min_tip_width_mm: f64,
+    /// Narrowest tooth tip after the relief of a shaper-cut gear, mm of arc.
+    pub min_tip_width_mm: Option<f64>,
 }
 
-/// The tip relief ([`tip_relief`]) of a gear cut by a shaper with `cutter_teeth` teeth, with
+/// The tip relief ([`tip_relief`]) of a gear cut as `as_cut` records (rack or shaper), with
 /// `opts` (its export chord tolerance) and its outline regenerated at both tolerances; `None`
 /// when no tooth needs one (the outlines stay as they are).
 ///
-/// Errors: those of the generation with the relief (a tooth made pointed).
+/// Errors: those of the generation with the relief (a tooth made pointed), and
+/// [`TeethError::Swept`] for a swept gear (it has no cutter to relieve).
 #[allow(clippy::too_many_arguments)]
-pub fn relieve_shaper_gear(
+pub fn relieve_gear(
     frame: &ArcFrame,
     rack: &RackParams,
     z: u32,
     module_mm: f64,
-    cutter_teeth: u32,
+    as_cut: &GearProcess,
     opts: &OutlineOptions,
     fine_chord_tol_mm: f64,
     meshes: &[ReliefMesh<'_>],
 ) -> Result<Option<Relieved>, TeethError> {
     let m = module_mm;
-    let corners = |r: &[f64]| relieved_tip_corners(frame, rack, z, m, cutter_teeth, opts, r);
+    let corners = |r: &[f64]| tip_corners_as(frame, rack, z, m, opts, as_cut, r);
     let relief_mm = tip_relief(&corners, meshes, m)?;
     if relief_mm.iter().all(|r| *r == 0.0) {
         return Ok(None);
@@ -196,8 +199,7 @@ pub fn relieve_shaper_gear(
         chord_tol_mm: fine_chord_tol_mm,
         ..*opts
     };
-    let cut =
-        |o: &OutlineOptions| generate_relieved(frame, rack, z, m, cutter_teeth, o, &relief_mm);
+    let cut = |o: &OutlineOptions| generate_as_relieved(frame, rack, z, m, o, as_cut, &relief_mm);
     let ((export, min_tip_width_mm), (fine, _)) = (cut(opts)?, cut(&fine_opts)?);
     Ok(Some(Relieved {
         export,

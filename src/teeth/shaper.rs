@@ -49,7 +49,9 @@
 //! (measured on `exact_concave_sun.csv` at m = 1, sun → intermediate: transmission error
 //! 3.4e-3° untopped, 3.1e-4° with the exact-end topping, 8.8e-7° with this one).
 //! A tooth's tip may be lowered further by its tip relief ([`super::relief`]: per tooth, against
-//! the mates' fillets).
+//! the mates' fillets), and where a small cutter's involute would have to reach below its base
+//! circle to generate a tip corner (a tightly convex stretch), down to where it reaches
+//! (`tan α_R ≥ 0.05`, bisection on the tip height).
 //! Undercut (an envelope cusp, the flank doubling back) is detected per flank by the generated
 //! points reversing direction, and cut as the cutter cuts it: each side (corner trochoid, then
 //! flank up to the tip) is walked with its loops cut ([`cut_loops`]), as the rack's undercut
@@ -338,7 +340,13 @@ pub(super) struct ShaperChecks {
     pub undercut_flanks: usize,
     /// Narrowest tooth tip along the addendum curve, mm of arc.
     pub min_tip_width_mm: f64,
+    /// Teeth whose tip is lowered because the cutter's involute does not reach it.
+    pub reach_topped_teeth: usize,
 }
+
+/// Smallest `tan α_R` at which the cutter's involute generates a tip corner (just above its base
+/// circle, where the involute's radius of curvature `rb·tan α_R` is 5 % of `rb`).
+const REACH_TAN: f64 = 0.05;
 
 /// The generation of one gear by one cutter: the envelope, the tooth pitch and the tip trim.
 struct Generation<'a> {
@@ -361,16 +369,19 @@ impl Generation<'_> {
     }
 
     /// The flanks of tooth `k` trimmed at its (relieved) tip (2-D Newton from the flat-rack
-    /// guess). Errors: [`TeethError::Trim`] (a flank misses the tip, pointed tooth),
-    /// [`TeethError::Shaper`] (tip generated below the cutter's base circle).
-    fn trim(&self, k: usize) -> Result<ToothTrim, TeethError> {
+    /// guess), and the relief that tip got, mm: the tooth's relief, or more where the cutter's
+    /// involute would have to reach below its base circle to generate the tip corner (a small
+    /// cutter on a tightly convex stretch): the tip is then lowered (bisection) until both
+    /// corners are generated at `tan α_R ≥` [`REACH_TAN`] — what a shop does with the blank.
+    /// Errors: [`TeethError::Trim`] (a flank misses the tip, pointed tooth),
+    /// [`TeethError::Shaper`] (no tip height the cutter reaches).
+    fn trim(&self, k: usize) -> Result<(ToothTrim, f64), TeethError> {
         let g = &self.g;
         let (sa, ca) = g.c.alpha.sin_cos();
         let sk = self.opts.phase_mm + k as f64 * self.p;
         let sl = sk - 0.25 * self.p + self.opts.thin_left_mm;
         let sr = sk + 0.25 * self.p - self.opts.thin_right_mm;
-        let rel = self.relief(k);
-        let one = |sf: f64, sign: f64| {
+        let one = |sf: f64, sign: f64, rel: f64| {
             let s = sf - sign * (g.ha - rel) / (sa * ca);
             let u = s + (sf - s) * ca * ca;
             let (s_tip, u) = meet(|s| g.flank(sf, sign, s), |u| g.tip(u, rel), s, u).ok_or(
@@ -383,23 +394,45 @@ impl Generation<'_> {
                     },
                 },
             )?;
-            if g.tan_r(sf, sign, s_tip) <= 0.0 {
-                return Err(TeethError::Shaper {
-                    cutter_teeth: g.c.z,
-                    what: "the gear tip is generated below the cutter's base circle (use a \
-                           larger cutter)",
-                });
-            }
             Ok((sf, s_tip, u))
         };
-        let (l, r) = (one(sl, -1.0)?, one(sr, 1.0)?);
-        if r.2 <= l.2 {
+        // Both corners at relief `rel`, and whether the cutter's involute reaches them.
+        let both = |rel: f64| -> Result<(ToothTrim, bool), TeethError> {
+            let (l, r) = (one(sl, -1.0, rel)?, one(sr, 1.0, rel)?);
+            let reach = g.tan_r(l.0, -1.0, l.1) >= REACH_TAN && g.tan_r(r.0, 1.0, r.1) >= REACH_TAN;
+            Ok(([l, r], reach))
+        };
+        let rel0 = self.relief(k);
+        let (mut t, reach) = both(rel0)?;
+        let mut rel = rel0;
+        if !reach {
+            let (mut lo, mut hi) = (0.0, g.ha);
+            match both(rel0 + hi) {
+                Ok((th, true)) => t = th,
+                _ => {
+                    return Err(TeethError::Shaper {
+                        cutter_teeth: g.c.z,
+                        what: "the gear tip is generated below the cutter's base circle at \
+                               every tip height (use a larger cutter)",
+                    });
+                }
+            }
+            for _ in 0..40 {
+                let mid = 0.5 * (lo + hi);
+                match both(rel0 + mid) {
+                    Ok((tm, true)) => (t, hi) = (tm, mid),
+                    _ => lo = mid,
+                }
+            }
+            rel = rel0 + hi;
+        }
+        if t[1].2 <= t[0].2 {
             return Err(TeethError::Trim {
                 tooth: k,
                 what: "pointed tooth (tip width ≤ 0)",
             });
         }
-        Ok([l, r])
+        Ok((t, rel))
     }
 }
 
@@ -440,11 +473,8 @@ pub(super) fn tip_corners(
     let gen_ = generation(frame, rack, z, module_mm, cutter, opts, relief_mm)?;
     (0..z as usize)
         .map(|k| {
-            let [l, r] = gen_.trim(k)?;
-            Ok([
-                gen_.g.tip(l.2, gen_.relief(k)),
-                gen_.g.tip(r.2, gen_.relief(k)),
-            ])
+            let ([l, r], rel) = gen_.trim(k)?;
+            Ok([gen_.g.tip(l.2, rel), gen_.g.tip(r.2, rel)])
         })
         .collect()
 }
@@ -479,11 +509,12 @@ pub(super) fn generate_shaper(
     let mut checks = ShaperChecks {
         undercut_flanks: 0,
         min_tip_width_mm: f64::INFINITY,
+        reach_topped_teeth: 0,
     };
     for k in 0..z as usize {
         let sk = opts.phase_mm + k as f64 * p;
-        let rel = gen_.relief(k);
-        let [(sl, s_tip_l, ul), (sr, s_tip_r, ur)] = gen_.trim(k)?;
+        let ([(sl, s_tip_l, ul), (sr, s_tip_r, ur)], rel) = gen_.trim(k)?;
+        checks.reach_topped_teeth += usize::from(rel > gen_.relief(k));
         checks.min_tip_width_mm = checks.min_tip_width_mm.min(ur - ul);
         for (sf, sign, s_tip) in [(sl, -1.0, s_tip_l), (sr, 1.0, s_tip_r)] {
             checks.undercut_flanks += usize::from(g.undercut(sf, sign, s_tip));

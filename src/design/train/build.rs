@@ -3,7 +3,7 @@
 use super::amplitude::rescale_ratio_amplitude;
 use super::pending::PendingTrainMesh;
 use super::relief::relieve_gear;
-use super::swept::{TrainMeshes, sweep_gear, sweepable};
+use super::swept::{TrainMeshes, neighbours, sweep_gear, sweepable};
 use super::{
     ToothedTrain, TrainError, TrainPolicy, TrainProcess, TrainRoundTrip, TrainTeethOptions,
     TrainTeethReport, TrainUndercut,
@@ -341,26 +341,34 @@ fn train_from(
         let mut fine = <[Outline; 3]>::try_from(fine)
             .unwrap_or_else(|_| unreachable!("three gears"))
             .map(|o| o.points_mm);
-        // Tip relief of the shaper-cut gears against their neighbours, all found on the
-        // unrelieved outlines (a relief moves only tips, never a fillet).
+        // Tip relief of the cut gears of every mesh with a shaper-cut gear, against their
+        // neighbours, all found on the unrelieved outlines (a relief moves only tips, never a
+        // fillet); the meshes of two rack-cut (convex) gears keep their outlines.
+        let relieve = |k: usize| {
+            let mesh_has_shaper = shaped(&processes[k])
+                || neighbours(k)
+                    .iter()
+                    .any(|&(nb, _, _)| shaped(&processes[nb]));
+            !swept[k] && mesh_has_shaper
+        };
         let relieved = (0..3)
             .into_par_iter()
-            .map(
-                |k| match processes[k].cutter_teeth.filter(|_| shaped(&processes[k])) {
-                    Some(zc) => relieve_gear(
-                        k,
-                        &fine,
-                        &frames,
-                        &meshes,
-                        &opts.toothing,
-                        count.z,
-                        m,
-                        zc,
-                        &outline_opts(k, opts.toothing.chord_tol_mm),
-                    ),
-                    None => Ok(None),
-                },
-            )
+            .map(|k| {
+                if !relieve(k) {
+                    return Ok(None);
+                }
+                relieve_gear(
+                    k,
+                    &fine,
+                    &frames,
+                    &meshes,
+                    &opts.toothing,
+                    count.z,
+                    m,
+                    &processes[k],
+                    &outline_opts(k, opts.toothing.chord_tol_mm),
+                )
+            })
             .collect::<Result<Vec<_>, _>>()?;
         for (k, r) in relieved.into_iter().enumerate() {
             if let Some(r) = r {

@@ -4,12 +4,13 @@
 use super::TrainError;
 use super::swept::{TrainMeshes, neighbours};
 use crate::teeth::mesh::Shape;
-use crate::teeth::relief::{self, ReliefMesh, Relieved, relieve_shaper_gear};
+use crate::teeth::process::GearProcess;
+use crate::teeth::relief::{self, ReliefMesh, Relieved};
 use crate::teeth::{ArcFrame, OutlineOptions, ToothingOptions};
 
-/// Gear `k` (0 sun, 1 intermediate, 2 planet), cut with `opts` by a shaper of `cutter_teeth`
-/// teeth, relieved against its neighbours' `fine` outlines (body frames, mm) over one carrier
-/// turn (each mesh's contact runs `z` pitches per turn); `None` when no tooth needs it.
+/// Gear `k` (0 sun, 1 intermediate, 2 planet), cut with `opts` as `as_cut` records, relieved
+/// against its neighbours' `fine` outlines (body frames, mm) over one carrier turn (each mesh's
+/// contact runs `z` pitches per turn); `None` when no tooth needs it.
 ///
 /// Errors: [`TrainError::Mesh`] (a neighbour's outline cannot be indexed),
 /// [`TrainError::Teeth`] (the relieved gear cannot be generated).
@@ -22,7 +23,7 @@ pub(super) fn relieve_gear(
     toothing: &ToothingOptions,
     z: u32,
     module_mm: f64,
-    cutter_teeth: u32,
+    as_cut: &GearProcess,
     opts: &OutlineOptions,
 ) -> Result<Option<Relieved>, TrainError> {
     const NAMES: [&str; 3] = ["sun", "intermediate", "planet"];
@@ -46,12 +47,12 @@ pub(super) fn relieve_gear(
             positions: z as usize * relief::POSITIONS_PER_PITCH,
         })
         .collect();
-    relieve_shaper_gear(
+    relief::relieve_gear(
         &frames[k],
         &toothing.rack,
         z,
         module_mm,
-        cutter_teeth,
+        as_cut,
         opts,
         toothing.verify_chord_tol_mm,
         &checks,
