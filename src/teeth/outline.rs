@@ -116,16 +116,18 @@ impl Gen<'_> {
         let u = s + (sf - s) * self.ca * self.ca;
         meet(|s| self.flank(sf, sign, s), |u| self.tip(u, rel), s, u)
     }
-    /// Tooth `k`'s flank crossings `(sl, sr)` and both flanks trimmed at its tip relieved by
-    /// `rel`: `(s_tip, u)` left and right. Errors: [`TeethError::Trim`].
+    /// Tooth `k`'s tip relief from `relief_mm` (mm), its flank crossings `(sl, sr)` and both
+    /// flanks trimmed at its relieved tip: `(s_tip, u)` left and right. Errors:
+    /// [`TeethError::Trim`].
     #[allow(clippy::type_complexity)]
     fn trim_tooth(
         &self,
         k: usize,
         p: f64,
         opts: &OutlineOptions,
-        rel: f64,
-    ) -> Result<((f64, f64), (f64, f64), (f64, f64)), TeethError> {
+        relief_mm: &[f64],
+    ) -> Result<(f64, (f64, f64), (f64, f64), (f64, f64)), TeethError> {
+        let rel = tooth_relief(relief_mm, k);
         let sk = opts.phase_mm + k as f64 * p;
         let sl = sk - 0.25 * p + opts.thin_left_mm;
         let sr = sk + 0.25 * p - opts.thin_right_mm;
@@ -143,8 +145,13 @@ impl Gen<'_> {
                 what: "pointed tooth (tip width ≤ 0)",
             });
         }
-        Ok(((sl, sr), left, right))
+        Ok((rel, (sl, sr), left, right))
     }
+}
+
+/// Tooth `k`'s tip relief in a per-tooth list, mm (0 where the list is shorter).
+pub(super) fn tooth_relief(relief_mm: &[f64], k: usize) -> f64 {
+    relief_mm.get(k).copied().unwrap_or(0.0)
 }
 
 /// The rack's generation parameters at module `m` on `frame`.
@@ -175,8 +182,7 @@ pub(super) fn rack_tip_corners(
     let g = rack_gen(frame, rack, module_mm);
     (0..z as usize)
         .map(|k| {
-            let rel = relief_mm.get(k).copied().unwrap_or(0.0);
-            let (_, (_, ul), (_, ur)) = g.trim_tooth(k, p, opts, rel)?;
+            let (rel, _, (_, ul), (_, ur)) = g.trim_tooth(k, p, opts, relief_mm)?;
             Ok([g.tip(ul, rel), g.tip(ur, rel)])
         })
         .collect()
@@ -485,8 +491,7 @@ pub fn generate_relieved_on(
     let mut out = Vec::new();
     for k in 0..z as usize {
         let sk = opts.phase_mm + k as f64 * p;
-        let rel = relief_mm.get(k).copied().unwrap_or(0.0);
-        let ((sl, sr), (s_tip_l, ul), (s_tip_r, ur)) = g.trim_tooth(k, p, opts, rel)?;
+        let (rel, (sl, sr), (s_tip_l, ul), (s_tip_r, ur)) = g.trim_tooth(k, p, opts, relief_mm)?;
         // Left fillet of tooth k (from the root up), then the left flank from η = −hs up to
         // the tip. An undercut side is walked from the root with its loops cut
         // ([`cut_loops`]): what the fillet trochoid cuts away and the flank envelope's

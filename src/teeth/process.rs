@@ -258,21 +258,17 @@ pub fn generate_as_relieved(
     as_cut: &GearProcess,
     tip_relief_mm: &[f64],
 ) -> Result<(Outline, Option<f64>), TeethError> {
-    match (as_cut.process, as_cut.cutter_teeth) {
-        (Process::Rack, _) => Ok((
-            generate_relieved_on(frame, rack, z, module_mm, opts, tip_relief_mm)?,
+    let m = module_mm;
+    Ok(match recorded_cutter(as_cut, rack, m)? {
+        None => (
+            generate_relieved_on(frame, rack, z, m, opts, tip_relief_mm)?,
             None,
-        )),
-        (Process::Shaper, Some(zc)) => {
-            let cutter = Cutter::new(zc, rack, module_mm)?;
-            let (o, checks) =
-                generate_shaper(frame, rack, z, module_mm, &cutter, opts, tip_relief_mm)?;
-            Ok((o, Some(checks.min_tip_width_mm)))
+        ),
+        Some(c) => {
+            let (o, checks) = generate_shaper(frame, rack, z, m, &c, opts, tip_relief_mm)?;
+            (o, Some(checks.min_tip_width_mm))
         }
-        _ => Err(TeethError::Swept {
-            what: "a swept gear is made from its mate's outline, not by a cutter".to_string(),
-        }),
-    }
+    })
 }
 
 /// The tip corners `[left, right]` of every tooth of [`generate_as_relieved`]'s outline with
@@ -286,12 +282,22 @@ pub fn tip_corners_as(
     as_cut: &GearProcess,
     tip_relief_mm: &[f64],
 ) -> Result<Vec<[[f64; 2]; 2]>, TeethError> {
+    match recorded_cutter(as_cut, rack, module_mm)? {
+        None => rack_tip_corners(frame, rack, z, module_mm, opts, tip_relief_mm),
+        Some(c) => tip_corners(frame, rack, z, module_mm, &c, opts, tip_relief_mm),
+    }
+}
+
+/// The shaper cutter `as_cut` records (`None`: the rack). A swept gear has no cutter:
+/// [`TeethError::Swept`].
+fn recorded_cutter(
+    as_cut: &GearProcess,
+    rack: &RackParams,
+    module_mm: f64,
+) -> Result<Option<Cutter>, TeethError> {
     match (as_cut.process, as_cut.cutter_teeth) {
-        (Process::Rack, _) => rack_tip_corners(frame, rack, z, module_mm, opts, tip_relief_mm),
-        (Process::Shaper, Some(zc)) => {
-            let cutter = Cutter::new(zc, rack, module_mm)?;
-            tip_corners(frame, rack, z, module_mm, &cutter, opts, tip_relief_mm)
-        }
+        (Process::Rack, _) => Ok(None),
+        (Process::Shaper, Some(zc)) => Cutter::new(zc, rack, module_mm).map(Some),
         _ => Err(TeethError::Swept {
             what: "a swept gear is made from its mate's outline, not by a cutter".to_string(),
         }),

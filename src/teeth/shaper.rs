@@ -59,7 +59,9 @@
 //! cutter's other teeth is checked by the caller ([`super::secondary`]).
 use super::crossing::cut_loops;
 use super::frame::ArcFrame;
-use super::outline::{Outline, OutlineOptions, close_outline, meet, push_piece, report_on};
+use super::outline::{
+    Outline, OutlineOptions, close_outline, meet, push_piece, report_on, tooth_relief,
+};
 use super::{RackParams, TeethError};
 use std::f64::consts::PI;
 
@@ -365,7 +367,7 @@ type ToothTrim = [(f64, f64, f64); 2];
 
 impl Generation<'_> {
     fn relief(&self, k: usize) -> f64 {
-        self.relief_mm.get(k).copied().unwrap_or(0.0)
+        tooth_relief(self.relief_mm, k)
     }
 
     /// The flanks of tooth `k` trimmed at its (relieved) tip (2-D Newton from the flat-rack

@@ -36,6 +36,31 @@ fn involute_range(
     (lo, hi, vals.len())
 }
 
+/// Runs `ncgear design assets/cases/<case> <args> --out <out>`, asserts it succeeds, and returns
+/// its `design.json` and console output.
+fn design_case(case: &str, args: &[&str], out: &std::path::Path) -> (serde_json::Value, String) {
+    let path = std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("assets/cases")
+        .join(case);
+    let _ = std::fs::remove_dir_all(out);
+    let run = std::process::Command::new(env!("CARGO_BIN_EXE_ncgear"))
+        .arg("design")
+        .arg(&path)
+        .args(args)
+        .arg("--out")
+        .arg(out)
+        .output()
+        .unwrap();
+    assert!(
+        run.status.success(),
+        "{case} {args:?}: {}",
+        String::from_utf8_lossy(&run.stderr)
+    );
+    let json =
+        serde_json::from_str(&std::fs::read_to_string(out.join("design.json")).unwrap()).unwrap();
+    (json, String::from_utf8_lossy(&run.stdout).into_owned())
+}
+
 #[test]
 fn shaper_on_a_circle_cuts_the_involute() {
     // Any involute cutter generates the involute of the gear's base circle r·cos α: the right
@@ -115,28 +140,11 @@ fn concave_case_gets_teeth_on_all_three_gears() {
         let out = std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR"))
             .join("target/test-dxf")
             .join(format!("concave_sun_m{m}_ha{ha}"));
-        let _ = std::fs::remove_dir_all(&out);
-        let run = std::process::Command::new(env!("CARGO_BIN_EXE_ncgear"))
-            .args([
-                "design",
-                case.to_str().unwrap(),
-                "--module",
-                m,
-                "--addendum",
-                ha,
-            ])
-            .arg("--out")
-            .arg(&out)
-            .output()
-            .unwrap();
-        assert!(
-            run.status.success(),
-            "m = {m}: {}",
-            String::from_utf8_lossy(&run.stderr)
+        let (json, _) = design_case(
+            "exact_concave_sun.csv",
+            &["--module", m, "--addendum", ha],
+            &out,
         );
-        let json: serde_json::Value =
-            serde_json::from_str(&std::fs::read_to_string(out.join("design.json")).unwrap())
-                .unwrap();
         let t = &json["teeth"];
         let p = &t["process"];
         assert_eq!(p["sun"]["process"], "rack", "m = {m}");
@@ -206,23 +214,9 @@ fn concave_case_gets_teeth_on_all_three_gears() {
 /// run within 1e-5° without overlap.
 #[test]
 fn standard_rack_at_1_2_relieves_the_tip_that_grazes_the_fillet() {
-    let case = std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-        .join("assets/cases/exact_concave_sun.csv");
     let out = std::env::temp_dir().join("ncgear_concave_m12_standard");
-    let run = std::process::Command::new(env!("CARGO_BIN_EXE_ncgear"))
-        .args(["design", case.to_str().unwrap(), "--module", "1.2", "--out"])
-        .arg(&out)
-        .output()
-        .unwrap();
-    assert!(
-        run.status.success(),
-        "{}",
-        String::from_utf8_lossy(&run.stderr)
-    );
-    let stdout = String::from_utf8_lossy(&run.stdout);
+    let (json, stdout) = design_case("exact_concave_sun.csv", &["--module", "1.2"], &out);
     assert!(stdout.contains("tip relief on 1 teeth"), "{stdout}");
-    let json: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(out.join("design.json")).unwrap()).unwrap();
     let i = &json["teeth"]["process"]["intermediate"];
     assert_eq!(i["relieved_teeth"], 1, "{i}");
     // A step of the ladder (0.02·m): 0.024 mm.
@@ -473,21 +467,8 @@ fn a_tight_hollow_is_cut_by_a_taller_small_cutter() {
 /// interference within 1e-5° (the gear was swept before, wire EDM, with 0.05°–0.08°).
 #[test]
 fn small_cutter_tips_are_lowered_to_its_reach_and_the_train_meshes() {
-    let case = std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-        .join("assets/cases/exact_sparse_200.csv");
     let out = std::env::temp_dir().join("ncgear_sparse_m1_teeth");
-    let run = std::process::Command::new(env!("CARGO_BIN_EXE_ncgear"))
-        .args(["design", case.to_str().unwrap(), "--module", "1", "--out"])
-        .arg(&out)
-        .output()
-        .unwrap();
-    assert!(
-        run.status.success(),
-        "{}",
-        String::from_utf8_lossy(&run.stderr)
-    );
-    let json: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(out.join("design.json")).unwrap()).unwrap();
+    let (json, _) = design_case("exact_sparse_200.csv", &["--module", "1"], &out);
     let t = &json["teeth"];
     for g in ["sun", "planet"] {
         let p = &t["process"][g];
