@@ -199,13 +199,17 @@ pub fn generate_by_process(
                 return Ok(shaped(o, checks, zc, tried, rejected));
             }
             Ok((o, checks)) => {
-                // Undercut (a rack would undercut these convex stretches too): kept as the
-                // fallback when no smaller cutter cuts the curve without it.
-                rejected.push(format!(
-                    "{zc}: undercuts {} flank(s)",
-                    checks.undercut_flanks
-                ));
-                undercut.get_or_insert((o, checks, zc));
+                // Undercut (a rack would undercut these convex stretches too): the first, largest
+                // such cutter is kept as the fallback when no smaller one cuts without it; the
+                // others are rejected.
+                if undercut.is_none() {
+                    undercut = Some((o, checks, zc));
+                } else {
+                    rejected.push(format!(
+                        "{zc}: undercuts {} flank(s)",
+                        checks.undercut_flanks
+                    ));
+                }
             }
             Err(e) if forced => return Err(e),
             Err(e) => rejected.push(format!("{zc}: {e}")),
@@ -214,7 +218,6 @@ pub fn generate_by_process(
     if let Some((o, checks, zc)) = undercut {
         // Every cutter that fits undercuts: the largest, with its undercut reported (cut as
         // the rack cuts an undercut convex gear; `refuse_undercut` makes it an error instead).
-        rejected.retain(|r| !r.starts_with(&format!("{zc}: ")));
         return Ok(shaped(o, checks, zc, tried, rejected));
     }
     Err(TeethError::NoCutter {

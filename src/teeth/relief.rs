@@ -78,16 +78,9 @@ pub fn tip_relief(
     meshes: &[ReliefMesh<'_>],
     module_mm: f64,
 ) -> Result<Vec<f64>, TeethError> {
-    let mut level: Vec<usize> = Vec::new();
+    let mut c = corners(&[])?;
+    let mut level = vec![0usize; c.len()];
     loop {
-        let relief: Vec<f64> = level
-            .iter()
-            .map(|&l| RELIEF_LADDER[l] * module_mm)
-            .collect();
-        let c = corners(&relief)?;
-        if level.is_empty() {
-            level = vec![0; c.len()];
-        }
         let deepest = deepest_corners(&c, meshes, module_mm);
         let mut moved = false;
         for (l, d) in level.iter_mut().zip(&deepest) {
@@ -96,17 +89,14 @@ pub fn tip_relief(
                 moved = true;
             }
         }
+        let relief: Vec<f64> = level
+            .iter()
+            .map(|&l| RELIEF_LADDER[l] * module_mm)
+            .collect();
         if !moved {
-            return Ok(relief_or_zeros(relief, c.len()));
+            return Ok(relief);
         }
-    }
-}
-
-fn relief_or_zeros(relief: Vec<f64>, z: usize) -> Vec<f64> {
-    if relief.is_empty() {
-        vec![0.0; z]
-    } else {
-        relief
+        c = corners(&relief)?;
     }
 }
 

@@ -88,6 +88,8 @@ pub(super) fn secondary_cut_depth(
         .map(|j| {
             let s = l * j as f64 / n as f64;
             let f = frame.at(s);
+            // A cutter no smaller than the hollow (bend ≤ 0) reaches its whole half-turn: the
+            // floor only keeps the square root finite before the cap at π·r0.
             let bend = (1.0 / r0 + k_min[j]).max(1e-12);
             let d = (2.0 * reach_sum / bend).sqrt().min(PI * r0) + m;
             let (px, py) = (f.p[0], f.p[1]);

@@ -65,6 +65,11 @@ use super::outline::{
 use super::{RackParams, TeethError};
 use std::f64::consts::PI;
 
+/// The involute function `inv a = tan a − a`, rad.
+fn inv(a: f64) -> f64 {
+    a.tan() - a
+}
+
 /// A pinion-type cutter derived from the basic rack (module doc), lengths in mm, angles in rad.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub(super) struct Cutter {
@@ -111,6 +116,9 @@ impl Cutter {
         // The involute must reach the rack's straight-flank depth: contact at
         // s − σ_f = h_straight/(sin α cos α), i.e. roll length ℓ_ft = rb·(tan α + that/r0).
         let l_ft = rb * (tan_a + rack.straight_depth() * m_mm / (alpha.sin() * alpha.cos()) / r0);
+        // Angle of a tip-corner centre at radius rc (corner radius ρ) from the flank's pitch
+        // crossing: `inv α_c − inv α + ρ/rb`, `cos α_c = rb/rc`.
+        let corner_angle = |rc: f64, rho: f64| inv((rb / rc).acos()) - inv(alpha) + rho / rb;
         // Tip-corner radius ρ with √((Rt − ρ)² − rb²) + ρ = ℓ_ft (left side decreasing in ρ).
         let gap = |rt: f64, rho: f64| ((rt - rho).powi(2) - rb * rb).max(0.0).sqrt() + rho - l_ft;
         if gap(rt, 0.0) < 0.0 {
@@ -121,16 +129,11 @@ impl Cutter {
             // half of it, a quarter, an eighth — the largest that leaves the taller tooth a tip
             // flat at the standard tooth thickness πm/2 (half-angle πm/(4r0) on the pitch
             // circle above the corner centre's angle `inv α_c − inv α + ρ/rb`).
-            let inv = |a: f64| a.tan() - a;
-            let corner_angle = |rho: f64| {
-                let rc = ((l_ft - rho).powi(2) + rb * rb).sqrt();
-                inv((rb / rc).acos()) - inv(alpha) + rho / rb
-            };
             let half = PI * m_mm / (4.0 * r0);
             let rho = [1.0, 0.5, 0.25, 0.125]
                 .map(|f| f * rack.fillet() * m_mm)
                 .into_iter()
-                .find(|&rho| corner_angle(rho) < half)
+                .find(|&rho| corner_angle(((l_ft - rho).powi(2) + rb * rb).sqrt(), rho) < half)
                 .unwrap_or(0.125 * rack.fillet() * m_mm);
             rt = rho + ((l_ft - rho).powi(2) + rb * rb).sqrt();
             hf = rt - r0;
@@ -151,8 +154,6 @@ impl Cutter {
                 "enough teeth for the tip-corner centre to lie outside the base circle",
             ));
         }
-        let inv = |a: f64| a.tan() - a;
-        let alpha_c = (rb / rc).acos();
         Ok(Self {
             z: z_c,
             r0,
@@ -162,7 +163,7 @@ impl Cutter {
             hf,
             rho,
             rc,
-            dc: inv(alpha_c) - inv(alpha) + rho / rb,
+            dc: corner_angle(rc, rho),
             tan_ft: l_ft / rb,
         })
     }
@@ -177,7 +178,6 @@ impl Cutter {
     /// every arc sampled to chord sag `chord_mm` (chords inside the cutter, so a point on its
     /// boundary never reads as inside it).
     pub(super) fn outline(&self, w_mm: f64, chord_mm: f64) -> Vec<[f64; 2]> {
-        let inv = |a: f64| a.tan() - a;
         let hw = 0.5 * w_mm / self.r0;
         let r_root = self.r0 - self.hf;
         let rt = self.rc + self.rho;
