@@ -220,7 +220,16 @@ impl Shape {
             grid.insert(cell_runs[0].0, (start, entries.len() as u32 - start));
             occupied.push(cell_runs[0].0);
         }
-        let bands = super::inside::Bands::new(points_mm, cap_mm);
+        // Edge lengths (no overflow or underflow at gear sizes: a square root, not `hypot`).
+        let (sum_edge, max_edge) = (0..n).fold((0.0, 0.0f64), |(sum, max), i| {
+            let (a, b) = (points_mm[i], points_mm[(i + 1) % n]);
+            let l = ((b[0] - a[0]).powi(2) + (b[1] - a[1]).powi(2)).sqrt();
+            (sum + l, max.max(l))
+        });
+        // Bands about one mean edge tall: a band then lists one or two edges per crossing of
+        // the outline, where bands as tall as a grid cell list a dozen on the fine outlines.
+        let mean_edge = sum_edge / n as f64;
+        let bands = super::inside::Bands::new(points_mm, mean_edge.clamp(cap_mm / 64.0, cap_mm));
         let far = FarMap::new(&occupied, cap_mm, |x| bands.contains(x));
         Ok(Self {
             pts: points_mm.to_vec(),
@@ -230,12 +239,7 @@ impl Shape {
             grid,
             far,
             entries,
-            max_edge: (0..n)
-                .map(|i| {
-                    let (a, b) = (points_mm[i], points_mm[(i + 1) % n]);
-                    (b[0] - a[0]).hypot(b[1] - a[1])
-                })
-                .fold(0.0, f64::max),
+            max_edge,
         })
     }
 

@@ -1,5 +1,6 @@
 //! One resolution of the mesh check: both outlines indexed, the candidate vertices near the
 //! contact, per-vertex clearances at a driven offset, and the pruned root search on them.
+use super::root::PerVertex;
 use crate::teeth::shape::{MeshError, Shape};
 use std::f64::consts::PI;
 
@@ -10,13 +11,14 @@ pub(super) struct Pose {
     pub(super) a: f64,
 }
 
-/// Both outlines at one resolution: exact shapes, a coarse copy for the first pruning, and the
+/// Both outlines at one resolution: exact shapes, the candidates' first pruning, and the
 /// Lipschitz constant of the clearances in δ.
 pub(super) struct Level {
     pub(super) h1: Shape,
     pub(super) h2: Shape,
-    pub(super) k1: Shape,
-    pub(super) k2: Shape,
+    /// Coarse copies (every 16th vertex) for the candidates' pruning, when the blocks are too
+    /// large to prune with (`None`: the blocks' bounds prune, see [`Self::candidates`]).
+    coarse: Option<(Shape, Shape)>,
     pub(super) reach: f64,
     pub(super) lip: f64,
     pub(super) module_mm: f64,
@@ -38,6 +40,9 @@ pub(super) struct Level {
     /// largest vertex-to-chord distance; 0 when not simplified).
     pub(super) deviation_mm: f64,
 }
+
+/// The candidates' reach beyond the farthest a vertex moves over the backlash range, in modules.
+const REACH_MARGIN: f64 = 0.05;
 
 /// Simplification of the bounding copies, in modules.
 const BOUND_TOL: f64 = 2e-3;
@@ -61,7 +66,7 @@ fn block_circles(g: &crate::teeth::shape::StarShape, block: usize) -> Vec<([f64;
             let c = [0.5 * (lo[0] + hi[0]), 0.5 * (lo[1] + hi[1])];
             let r = pts
                 .iter()
-                .map(|p| (p[0] - c[0]).hypot(p[1] - c[1]))
+                .map(|p| ((p[0] - c[0]).powi(2) + (p[1] - c[1]).powi(2)).sqrt())
                 .fold(0.0, f64::max);
             (c, r)
         })
@@ -94,13 +99,12 @@ impl Polylines {
         }
     }
 
-    /// The copies the bounded evaluation bounds through: simplified to `BOUND_TOL·m − deviation`,
-    /// so that they are within `BOUND_TOL·m` of the given outlines and of these polylines (a
-    /// coarse simplification of an already simplified outline costs little).
-    pub(super) fn bound_copies(&self, module_mm: f64) -> Polylines {
-        // The medium copy's tolerance (1e-4·m) is far below BOUND_TOL·m.
-        debug_assert!(self.deviation_mm < 0.5 * BOUND_TOL * module_mm);
-        let tol = BOUND_TOL * module_mm - self.deviation_mm;
+    /// The copies the bounded evaluation bounds through: simplified to `BOUND_TOL·m` less this
+    /// copy's deviation and `other_mm`, so that they are within `BOUND_TOL·m` of the given
+    /// outlines, of these polylines and of any copy within `other_mm` of these.
+    pub(super) fn bound_copies(&self, module_mm: f64, other_mm: f64) -> Polylines {
+        let tol = BOUND_TOL * module_mm - self.deviation_mm - other_mm;
+        debug_assert!(tol > 0.5 * BOUND_TOL * module_mm);
         let (b1, b2) = rayon::join(
             || crate::math::polyline::simplify_closed(&self.driver, tol),
             || crate::math::polyline::simplify_closed(&self.driven, tol),
@@ -148,40 +152,59 @@ impl Level {
             .fold(f64::INFINITY, f64::min)
             .max(m);
         let lip = rmax + 2.0 * m;
-        let reach = 4.0 * backlash_mm / r2min * lip + 0.05 * m;
-        // Coarse copies (every 16th vertex) index the initial pruning at a larger reach.
-        // Douglas–Peucker keeps every removed vertex within the tolerance of its chord, so the
-        // polylines are within it of each other both ways.
-        let coarse_and_bound = |d: &[[f64; 2]], b: &[[f64; 2]], which| {
+        let reach = 4.0 * backlash_mm / r2min * lip + REACH_MARGIN * m;
+        let bound_shapes = || {
             rayon::join(
-                || Shape::new(&every(d, 16), reach, which),
-                || Shape::new(b, reach, which),
+                || Shape::new(&bounds.driver, reach, "driver"),
+                || Shape::new(&bounds.driven, reach, "driven"),
             )
         };
-        let ((k1, b1), (k2, b2)) = rayon::join(
-            || coarse_and_bound(d1, &bounds.driver, "driver"),
-            || coarse_and_bound(d2, &bounds.driven, "driven"),
-        );
-        let (k1, b1, k2, b2) = (k1?, b1?, k2?, b2?);
         let slack = 3.0 * bounds.deviation_mm + 1e-6 * m;
-        // Blocks of about 0.1·m of outline.
+        // Blocks of about 0.04·m of outline.
         let perimeter: f64 = (0..d1.len())
             .map(|i| {
                 let (p, q) = (d1[i], d1[(i + 1) % d1.len()]);
-                (q[0] - p[0]).hypot(q[1] - p[1])
+                ((q[0] - p[0]).powi(2) + (q[1] - p[1]).powi(2)).sqrt()
             })
             .sum();
         let block = ((0.04 * m * d1.len() as f64 / perimeter).round() as usize).clamp(4, 256);
+        let (blocks1, blocks2) = (
+            block_circles(&h1.polar, block),
+            block_circles(&h2.polar, block),
+        );
+        // Blocks narrower than the reach's margin (radius plus slack) can be dropped by their
+        // bounds; wider ones are always kept (see `candidates`).
+        let total = blocks1.len() + blocks2.len();
+        let narrow = blocks1
+            .iter()
+            .chain(&blocks2)
+            .filter(|b| b.1 + slack < REACH_MARGIN * m)
+            .count();
+        // The blocks prune the candidates when nearly all are narrow (the given outlines, dense
+        // and even); otherwise coarse copies (every 16th vertex, indexed at the reach) do — a
+        // simplified copy's blocks of four long chords are mostly wide, and kept.
+        let ((b1, b2), coarse) = if narrow * 10 >= total * 9 {
+            (bound_shapes(), None)
+        } else {
+            let coarse = || {
+                rayon::join(
+                    || Shape::new(&every(d1, 16), reach, "driver"),
+                    || Shape::new(&every(d2, 16), reach, "driven"),
+                )
+            };
+            let (b, (k1, k2)) = rayon::join(bound_shapes, coarse);
+            (b, Some((k1?, k2?)))
+        };
+        let (b1, b2) = (b1?, b2?);
         Ok(Self {
-            blocks1: block_circles(&h1.polar, block),
-            blocks2: block_circles(&h2.polar, block),
+            blocks1,
+            blocks2,
             block,
             b1,
             b2,
             h1,
             h2,
-            k1,
-            k2,
+            coarse,
             reach,
             lip,
             module_mm: m,
@@ -213,24 +236,56 @@ impl Level {
         cache: &BoundCache,
     ) -> PerVertex {
         let (g1, g2) = (&self.h1.polar, &self.h2.polar);
-        let (phi, a) = (pose.phi, pose.a);
-        let ang2 = pose.psi0 + delta;
-        let (sn1, co1) = phi.sin_cos();
-        let (sn2, co2) = ang2.sin_cos();
-        // Gear-2 body point → gear-1 body frame, and the reverse (the arithmetic of `eval_on`).
-        let to1 = |b: [f64; 2]| {
-            let w = [co2 * b[0] + sn2 * b[1] + a, -sn2 * b[0] + co2 * b[1]];
-            [co1 * w[0] + sn1 * w[1], -sn1 * w[0] + co1 * w[1]]
-        };
-        let to2 = |b: [f64; 2]| {
-            let w = [co1 * b[0] - sn1 * b[1] - a, sn1 * b[0] + co1 * b[1]];
-            [co2 * w[0] - sn2 * w[1], sn2 * w[0] + co2 * w[1]]
-        };
-        // Runs of set entries in one block: (gear, first, end, cache key, bound, fresh). The
-        // bound is the block's last one in `cache`, moved by its speed (the distance of its
-        // centre from the driven centre, invariant under δ) times |Δδ|, or −∞.
+        let fr = Frames::new(pose, delta);
         let mut cache = cache.0.borrow_mut();
-        let mut runs: Vec<(u8, usize, usize, usize, f64, bool)> = Vec::new();
+        let runs = self.runs(delta, set1, set2, &cache);
+        let mut v1 = vec![0.0; set1.len()];
+        let mut v2 = vec![0.0; set2.len()];
+        let mut best = f64::INFINITY;
+        let mut done = false;
+        for &(gear, s, e, key, moved, fresh) in &runs {
+            let v = if gear == 0 {
+                &mut v1[s..e]
+            } else {
+                &mut v2[s..e]
+            };
+            // Sorted by the moved bounds: once one cannot matter, none of the rest can.
+            done = done || (moved > floor && moved >= best);
+            if done {
+                v.fill(moved);
+                continue;
+            }
+            if !fresh {
+                let lb = self.block_bound(key, &fr, delta, &mut cache);
+                if lb > floor && lb >= best {
+                    v.fill(lb);
+                    continue;
+                }
+            }
+            let margin = 1e-12 * self.module_mm;
+            if gear == 0 {
+                let eval = |i: usize| self.h2.clearance(fr.to2(g1.point(i)));
+                exact_run(&set1[s..e], g1, eval, v, &mut best, floor, margin);
+            } else {
+                let eval = |i: usize| self.h1.clearance(fr.to1(g2.point(i)));
+                exact_run(&set2[s..e], g2, eval, v, &mut best, floor, margin);
+            }
+        }
+        (v1, v2)
+    }
+
+    /// Runs of set entries in one block, sorted by their bounds: (gear, first, end, cache key,
+    /// bound, fresh). The bound is the block's last one in `cache`, moved by its speed (the
+    /// distance of its centre from the driven centre, invariant under δ) times |Δδ|, or −∞;
+    /// fresh when it was computed at this δ.
+    fn runs(
+        &self,
+        delta: f64,
+        set1: &[usize],
+        set2: &[usize],
+        cache: &[(f64, f64, f64)],
+    ) -> Vec<(u8, usize, usize, usize, f64, bool)> {
+        let mut runs = Vec::new();
         for (gear, set) in [(0u8, set1), (1u8, set2)] {
             let mut s = 0;
             while s < set.len() {
@@ -252,52 +307,78 @@ impl Level {
                 s = e;
             }
         }
-        runs.sort_by(|x, y| x.4.total_cmp(&y.4));
-        let mut v1 = vec![0.0; set1.len()];
-        let mut v2 = vec![0.0; set2.len()];
+        runs.sort_unstable_by(|x, y| x.4.total_cmp(&y.4));
+        runs
+    }
+
+    /// Whether some vertex of `set1` (gear 1) or `set2` (gear 2) has a clearance ≤ `t` (mm) at
+    /// driven offset δ (rad): a decision, not a minimum — blocks whose bound exceeds `t` are not
+    /// evaluated, and the search stops at the first such vertex.
+    pub(super) fn any_at_most(
+        &self,
+        pose: &Pose,
+        delta: f64,
+        set1: &[usize],
+        set2: &[usize],
+        t: f64,
+        cache: &BoundCache,
+    ) -> bool {
+        let (g1, g2) = (&self.h1.polar, &self.h2.polar);
+        let fr = Frames::new(pose, delta);
+        let mut cache = cache.0.borrow_mut();
         let mut best = f64::INFINITY;
-        let mut done = false;
-        for &(gear, s, e, key, moved, fresh) in &runs {
-            let v = if gear == 0 {
-                &mut v1[s..e]
+        let mut v = Vec::new();
+        let margin = 1e-12 * self.module_mm;
+        for (gear, s, e, key, moved, fresh) in self.runs(delta, set1, set2, &cache) {
+            // Sorted by the moved bounds: none of the rest can reach `t`.
+            if moved > t {
+                break;
+            }
+            let lb = if fresh {
+                moved
             } else {
-                &mut v2[s..e]
+                self.block_bound(key, &fr, delta, &mut cache)
             };
-            // Sorted by the moved bounds: once one cannot matter, none of the rest can.
-            done = done || (moved > floor && moved >= best);
-            if done {
-                v.fill(moved);
+            if lb > t {
                 continue;
             }
-            if !fresh {
-                let (lb, speed) = if gear == 0 {
-                    let (c, r) = self.blocks1[key];
-                    let p = to2(c);
-                    (self.b2.clearance(p) - r, p[0].hypot(p[1]))
-                } else {
-                    let (c, r) = self.blocks2[key - self.blocks1.len()];
-                    (self.b1.clearance(to1(c)) - r, c[0].hypot(c[1]))
-                };
-                let lb = lb - self.slack;
-                cache[key] = (delta, lb, speed * (1.0 + 1e-9) + 1e-9 * self.module_mm);
-                if lb > floor && lb >= best {
-                    v.fill(lb);
-                    continue;
-                }
-            }
+            v.resize(e - s, 0.0);
             if gear == 0 {
-                for (x, &i) in v.iter_mut().zip(&set1[s..e]) {
-                    *x = self.h2.clearance(to2(g1.point(i)));
-                    best = best.min(*x);
-                }
+                let eval = |i: usize| self.h2.clearance(fr.to2(g1.point(i)));
+                exact_run(&set1[s..e], g1, eval, &mut v, &mut best, t, margin);
             } else {
-                for (x, &i) in v.iter_mut().zip(&set2[s..e]) {
-                    *x = self.h1.clearance(to1(g2.point(i)));
-                    best = best.min(*x);
-                }
+                let eval = |i: usize| self.h1.clearance(fr.to1(g2.point(i)));
+                exact_run(&set2[s..e], g2, eval, &mut v, &mut best, t, margin);
+            }
+            if best <= t {
+                return true;
             }
         }
-        (v1, v2)
+        false
+    }
+
+    /// The lower bound of block `key` (gear 1's blocks, then gear 2's) at driven offset `delta`
+    /// in the frames `fr`, mm: its centre's clearance on the bounding copy of the other gear less
+    /// its radius and `slack`; kept in `cache` with its speed (the distance of its centre from the
+    /// driven centre, invariant under δ, mm/rad).
+    fn block_bound(
+        &self,
+        key: usize,
+        fr: &Frames,
+        delta: f64,
+        cache: &mut [(f64, f64, f64)],
+    ) -> f64 {
+        let (lb, speed) = if key < self.blocks1.len() {
+            let (c, r) = self.blocks1[key];
+            let p = fr.to2(c);
+            (self.b2.clearance(p) - r, p[0].hypot(p[1]))
+        } else {
+            let (c, r) = self.blocks2[key - self.blocks1.len()];
+            (self.b1.clearance(fr.to1(c)) - r, c[0].hypot(c[1]))
+        };
+        let lb = lb - self.slack;
+        cache[key] = (delta, lb, speed * (1.0 + 1e-9) + 1e-9 * self.module_mm);
+        lb
     }
 
     /// An empty cache of block bounds for [`Self::eval_bounded`] at one pose.
@@ -319,39 +400,57 @@ impl Level {
         s2: &Shape,
     ) -> PerVertex {
         let (g1, g2) = (&self.h1.polar, &self.h2.polar);
-        let (phi, a) = (pose.phi, pose.a);
-        let ang2 = pose.psi0 + delta;
-        let (sn1, co1) = phi.sin_cos();
-        let (sn2, co2) = ang2.sin_cos();
-        let v2: Vec<f64> = set2
-            .iter()
-            .map(|&i| {
-                let b = g2.point(i);
-                let w = [co2 * b[0] + sn2 * b[1] + a, -sn2 * b[0] + co2 * b[1]];
-                s1.clearance([co1 * w[0] + sn1 * w[1], -sn1 * w[0] + co1 * w[1]])
-            })
-            .collect();
-        let v1: Vec<f64> = set1
-            .iter()
-            .map(|&i| {
-                let b = g1.point(i);
-                let w = [co1 * b[0] - sn1 * b[1] - a, sn1 * b[0] + co1 * b[1]];
-                s2.clearance([co2 * w[0] - sn2 * w[1], sn2 * w[0] + co2 * w[1]])
-            })
-            .collect();
-        (v1, v2)
+        let fr = Frames::new(pose, delta);
+        let v2 = set2.iter().map(|&i| s1.clearance(fr.to1(g2.point(i))));
+        let v1 = set1.iter().map(|&i| s2.clearance(fr.to2(g1.point(i))));
+        (v1.collect(), v2.collect())
     }
 
     /// The vertices (polar indices of both gears) that can touch the other gear for δ in the
-    /// backlash range: the contact windows (half-widths `w1`, `w2`, rad), pruned by the coarse
-    /// copies (every 16th window vertex; its ±16 neighbours are kept when it is within reach).
-    pub(super) fn candidates(&self, pose: &Pose, w1: f64, w2: f64) -> (Vec<usize>, Vec<usize>) {
+    /// backlash range: the contact windows (half-widths `w1`, `w2`, rad), pruned at δ = 0.
+    ///
+    /// A vertex touches at δ only if its clearance at 0 is at most `lip·|δ|`, and the reach
+    /// exceeds that by `REACH_MARGIN·m` over the whole range (−db … 3·db). With blocks narrower
+    /// than that margin (radius plus slack), a block is dropped when its lower bound exceeds
+    /// `reach − REACH_MARGIN·m` — its centre is beyond the reach of the bounding copy, which the
+    /// copy's clip at the reach tells — and the bounds computed stay in `cache` for the
+    /// evaluation at δ = 0. Otherwise the coarse copies prune: every 16th window vertex, its
+    /// ±16 neighbours kept when it is within reach (plus 0.1·m for the copy's chords).
+    pub(super) fn candidates(
+        &self,
+        pose: &Pose,
+        w1: f64,
+        w2: f64,
+        cache: &BoundCache,
+    ) -> (Vec<usize>, Vec<usize>) {
         let m = self.module_mm;
         let c1 = self.h1.polar.window(-pose.phi, w1);
         let c2 = self.h2.polar.window(PI + pose.psi0, w2);
+        let Some((k1, k2)) = &self.coarse else {
+            let fr = Frames::new(pose, 0.0);
+            let limit = self.reach - REACH_MARGIN * m;
+            let mut cache = cache.0.borrow_mut();
+            // A block wider than the margin is kept: its bound is at most the clip at the reach
+            // less its radius and slack, which is ≤ the limit.
+            let mut keep = |c: &[usize], offset: usize| {
+                let mut out = Vec::with_capacity(c.len());
+                for run in c.chunk_by(|i, j| i / self.block == j / self.block) {
+                    let key = offset + run[0] / self.block;
+                    let lb = match cache[key] {
+                        (0.0, lb, _) => lb,
+                        _ => self.block_bound(key, &fr, 0.0, &mut cache),
+                    };
+                    if lb <= limit {
+                        out.extend_from_slice(run);
+                    }
+                }
+                out
+            };
+            return (keep(&c1, 0), keep(&c2, self.blocks1.len()));
+        };
         let d1: Vec<usize> = c1.iter().step_by(16).copied().collect();
         let d2: Vec<usize> = c2.iter().step_by(16).copied().collect();
-        let (p1, p2) = self.eval_on(pose, 0.0, &d1, &d2, &self.k1, &self.k2);
+        let (p1, p2) = self.eval_on(pose, 0.0, &d1, &d2, k1, k2);
         let expand = |c: &[usize], p: &[f64]| {
             let mut flag = vec![false; c.len()];
             for (j, v) in p.iter().enumerate() {
@@ -371,99 +470,101 @@ impl Level {
     }
 }
 
+/// The two body frames at one pose and driven offset: the driver turned by φ about the origin,
+/// the driven gear by `ψ₀ + δ` (clockwise) about `(a, 0)`.
+struct Frames {
+    sn1: f64,
+    co1: f64,
+    sn2: f64,
+    co2: f64,
+    a: f64,
+}
+
+impl Frames {
+    fn new(pose: &Pose, delta: f64) -> Self {
+        let (sn1, co1) = pose.phi.sin_cos();
+        let (sn2, co2) = (pose.psi0 + delta).sin_cos();
+        Self {
+            sn1,
+            co1,
+            sn2,
+            co2,
+            a: pose.a,
+        }
+    }
+
+    /// A gear-2 body point (mm) in gear 1's body frame.
+    #[inline]
+    fn to1(&self, b: [f64; 2]) -> [f64; 2] {
+        let Self {
+            sn1,
+            co1,
+            sn2,
+            co2,
+            a,
+        } = *self;
+        let w = [co2 * b[0] + sn2 * b[1] + a, -sn2 * b[0] + co2 * b[1]];
+        [co1 * w[0] + sn1 * w[1], -sn1 * w[0] + co1 * w[1]]
+    }
+
+    /// A gear-1 body point (mm) in gear 2's body frame.
+    #[inline]
+    fn to2(&self, b: [f64; 2]) -> [f64; 2] {
+        let Self {
+            sn1,
+            co1,
+            sn2,
+            co2,
+            a,
+        } = *self;
+        let w = [co1 * b[0] - sn1 * b[1] - a, sn1 * b[0] + co1 * b[1]];
+        [co2 * w[0] - sn2 * w[1], sn2 * w[0] + co2 * w[1]]
+    }
+}
+
+/// Entries of a block evaluated first in [`exact_run`]: every `STRIDE`-th one.
+const STRIDE: usize = 4;
+
+/// Clearances `out` of the polar entries `idx` of one block of `g` (`eval` gives an entry's
+/// clearance), exact — or, for an entry that cannot matter, a lower bound above `floor` and the
+/// least value so far (`best`, updated). Every `STRIDE`-th entry and the last are evaluated
+/// first; an entry between two of them takes the larger of their 1-Lipschitz bounds
+/// `c_k − |p − p_k| − margin` (a signed distance, clipped or not, changes no faster than the
+/// point moves; `margin` covers the rounding) when that exceeds `floor` and `best`, and is
+/// evaluated otherwise. Near a contact most entries are then bounded by a neighbour within
+/// `STRIDE/2` edges instead of evaluated.
+fn exact_run(
+    idx: &[usize],
+    g: &crate::teeth::shape::StarShape,
+    eval: impl Fn(usize) -> f64,
+    out: &mut [f64],
+    best: &mut f64,
+    floor: f64,
+    margin: f64,
+) {
+    let n = idx.len();
+    let sampled = |k: usize| k.is_multiple_of(STRIDE) || k + 1 == n;
+    for k in (0..n).filter(|&k| sampled(k)) {
+        out[k] = eval(idx[k]);
+        *best = best.min(out[k]);
+    }
+    for k in (0..n).filter(|&k| !sampled(k)) {
+        let p = g.point(idx[k]);
+        let from = |j: usize| {
+            let q = g.point(idx[j]);
+            out[j] - ((p[0] - q[0]).powi(2) + (p[1] - q[1]).powi(2)).sqrt() - margin
+        };
+        let lb = from(k - k % STRIDE).max(from(((k / STRIDE + 1) * STRIDE).min(n - 1)));
+        out[k] = if lb > floor && lb >= *best {
+            lb
+        } else {
+            let c = eval(idx[k]);
+            *best = best.min(c);
+            c
+        };
+    }
+}
+
 /// The last lower bound of each block (driven offset δ, bound mm, speed mm/rad) at one pose:
 /// a block's bound at another δ is that bound less speed × |Δδ|.
 pub(super) struct BoundCache(std::cell::RefCell<Vec<(f64, f64, f64)>>);
-
-/// Minimum of all per-vertex clearances, mm.
-pub(super) fn min_of(v: &PerVertex) -> f64 {
-    v.0.iter()
-        .chain(v.1.iter())
-        .copied()
-        .fold(f64::INFINITY, f64::min)
-}
-
-pub(super) type PerVertex = (Vec<f64>, Vec<f64>);
-
-/// Per-vertex clearances at a driven offset δ (rad) for two vertex sets.
-type ClearanceFn<'a> = dyn Fn(f64, &[usize], &[usize]) -> PerVertex + 'a;
-
-/// A driven offset whose minimum clearance is within this of 0 (mm) is a contact root: far below
-/// the backlash and clearances reported (µm); about 2e-12 rad of transmission error at a clearance
-/// slope of 6 mm/rad.
-pub(super) const ROOT_VALUE_MM: f64 = 1e-11;
-
-/// Root of the minimum clearance on `[lo, hi]` (Illinois regula falsi), to `tol`, pruning after
-/// each evaluation the vertices that cannot be the minimiser anywhere in the bracket: a vertex's
-/// clearance changes by at most `lip·|Δδ|`, so it is dropped when `c_i(x) > min c(x) + 2·lip·(hi − lo)`.
-/// Returns the root and the secant slope (mm/rad) of the last two evaluations.
-#[allow(clippy::too_many_arguments)]
-pub(super) fn root_pruned(
-    f: &ClearanceFn<'_>,
-    k1: &[usize],
-    k2: &[usize],
-    mut lo: f64,
-    mut hi: f64,
-    lip: f64,
-    tol: f64,
-) -> Option<(f64, f64)> {
-    let mut s1 = k1.to_vec();
-    let mut s2 = k2.to_vec();
-    let min = |v: &PerVertex| {
-        v.0.iter()
-            .chain(v.1.iter())
-            .copied()
-            .fold(f64::INFINITY, f64::min)
-    };
-    let (mut flo, mut fhi) = (min(&f(lo, &s1, &s2)), min(&f(hi, &s1, &s2)));
-    if flo * fhi > 0.0 {
-        return None;
-    }
-    // The last two evaluations (Illinois scales the bracket's values; these are the true ones).
-    let mut last = [(lo, flo), (hi, fhi)];
-    let slope = |l: &[(f64, f64); 2]| (l[1].1 - l[0].1) / (l[1].0 - l[0].0);
-    let mut side = 0i8;
-    for _ in 0..100 {
-        let x = (lo * fhi - hi * flo) / (fhi - flo);
-        let x = if x.is_finite() && x > lo && x < hi {
-            x
-        } else {
-            0.5 * (lo + hi)
-        };
-        let v = f(x, &s1, &s2);
-        let fx = min(&v);
-        last = [last[1], (x, fx)];
-        if fx * fhi > 0.0 {
-            hi = x;
-            fhi = fx;
-            if side == 1 {
-                flo *= 0.5;
-            }
-            side = 1;
-        } else {
-            lo = x;
-            flo = fx;
-            if side == -1 {
-                fhi *= 0.5;
-            }
-            side = -1;
-        }
-        if hi - lo <= tol || fx.abs() <= ROOT_VALUE_MM {
-            return Some((x, slope(&last)));
-        }
-        let thresh = fx + 2.0 * lip * (hi - lo);
-        s1 = s1
-            .iter()
-            .zip(&v.0)
-            .filter(|(_, c)| **c <= thresh)
-            .map(|(i, _)| *i)
-            .collect();
-        s2 = s2
-            .iter()
-            .zip(&v.1)
-            .filter(|(_, c)| **c <= thresh)
-            .map(|(i, _)| *i)
-            .collect();
-    }
-    Some((0.5 * (lo + hi), slope(&last)))
-}

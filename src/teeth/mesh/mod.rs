@@ -12,26 +12,37 @@
 //! - interference: `f < 0` for every δ (no free position), or penetration at `ε`; and the exact
 //!   overlap area of the outlines at δ = 0 (the law's position), see [`super::overlap`].
 //!
-//! Cost: both roots are first found on copies simplified to 1e-4·m (Douglas–Peucker), then
-//! polished on the given outlines in a bracket of ±η around them, η = 4·gap/(r₂/2) with `gap` the
-//! measured distance between the two polylines (widened ×8 until it holds a sign change). Vertices
-//! are pruned by the Lipschitz bound of the clearances in δ (`lip = r_max + 2m`), so a polish
-//! touches one full evaluation and a few dozen vertices. Every evaluation is bounded: blocks of
-//! ≈ 0.04·m of outline are bounded below through copies simplified to 2e-3·m (clearance less the
-//! block radius and 3× the simplification), the bounds are kept per position and moved by each
-//! block's speed across driven offsets, and only the blocks that can reach the minimum (or the
-//! overlap's edges) are evaluated exactly — the minimum, hence every root and verdict, is the same
-//! bit for bit. About 2 ms per position (one core) for a 24-tooth pair at 1e-6·m.
+//! Cost: every evaluation is bounded — blocks of ≈ 0.04·m of outline are bounded below through
+//! copies simplified to 2e-3·m (clearance less the block radius and 3× the simplification), the
+//! bounds are kept per position and moved by each block's speed across driven offsets, only the
+//! blocks that can reach the minimum (or the overlap's edges) are evaluated, and within such a
+//! block every 4th vertex first, the others only where its 1-Lipschitz bound in position does not
+//! settle them: the minimum is exact, bit for bit. The candidates are the contact windows' blocks
+//! whose bound at δ = 0 is within the backlash range's reach. The working contact is reached by
+//! secant steps from δ = 0 (evaluated for the overlap anyway), the coast contact from one
+//! evaluation a nominal backlash beyond it, both from the slope of a contact on the driven pitch
+//! curve under a 20° pressure angle, with the vertices pruned by the Lipschitz bound of the
+//! clearances in δ (`lip = r_max + 2m`); a free position is decided at the middle of the backlash
+//! range. Where the steps miss (swept or far from conjugate teeth), both roots are bracketed on
+//! copies simplified to 1e-4·m (built on first need) and polished on the given outlines within
+//! ±η, η = 4·gap/(r₂/2) with `gap` the distance between the polylines (widened ×8 until it holds
+//! a sign change). A root is a δ with |f| ≤ 1e-11 mm. About 1.2 ms per position (one core) for a
+//! 24-tooth pair at 1e-6·m.
 mod level;
+mod root;
 
 pub use super::shape::{MeshError, Shape, StarShape};
 
 use super::overlap::inside_term;
-use level::{Level, PerVertex, Polylines, Pose, ROOT_VALUE_MM, min_of, root_pruned};
+use level::{Level, Polylines, Pose};
 use nalgebra::{Isometry2, Vector2};
 use rayon::prelude::*;
+use root::{PerVertex, ROOT_VALUE_MM, min_of, root_pruned};
 use serde::{Deserialize, Serialize};
 use std::f64::consts::{PI, TAU};
+
+/// Simplification of the medium copy, in modules.
+const MEDIUM_TOL: f64 = 1e-4;
 
 /// The driver positions a mesh check rolls through.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
@@ -225,25 +236,28 @@ pub fn verify_mesh(
     let a = check.centre_distance_mm;
     let m = check.module_mm;
     let cap = 0.02 * m;
-    // A simplified copy (within 1e-4·m of the outlines) finds both contacts cheaply; the fine
-    // outlines then polish them in a narrow bracket.
-    // The bounding copies of both levels are simplified from the medium copy (cheap) instead of
-    // from the given outlines.
-    let lines = Polylines::new(driver, driven, 1e-4 * m);
-    let bounds = lines.bound_copies(m);
+    // The given outlines, and the copies their blocks are bounded through (also within reach of
+    // the medium copy, MEDIUM_TOL·m from the given outlines).
     let given = Polylines {
         driver: driver.to_vec(),
         driven: driven.to_vec(),
         deviation_mm: 0.0,
     };
-    let (fine, medium) = rayon::join(
-        || Level::new(&given, &bounds, cap, m, check.backlash_mm),
-        || Level::new(&lines, &bounds, cap, m, check.backlash_mm),
-    );
-    let (fine, medium) = (fine?, medium?);
+    let bounds = given.bound_copies(m, MEDIUM_TOL * m);
+    let fine = Level::new(&given, &bounds, cap, m, check.backlash_mm)?;
+    // A copy simplified to MEDIUM_TOL·m brackets a contact where the secant steps on the given
+    // outlines do not reach it; built on first need (most checks never need it). Its gap from
+    // the given outlines bounds |f_fine − f_medium|.
+    let medium_level = std::sync::OnceLock::new();
+    let medium = || {
+        medium_level
+            .get_or_init(|| {
+                let lines = Polylines::new(driver, driven, MEDIUM_TOL * m);
+                Level::new(&lines, &bounds, cap, m, check.backlash_mm).ok()
+            })
+            .as_ref()
+    };
     let g1 = &fine.h1.polar;
-    // Largest gap between the medium and fine polylines (mm): bounds |f_fine − f_medium|.
-    let dev = medium.deviation_mm;
     let lip = fine.lip;
     let sample = |k: usize| {
         let phi = check.span.position_rad(k, check.steps);
@@ -255,9 +269,9 @@ pub fn verify_mesh(
         let w2 = (1.75 * PI * m / r2).min(PI);
         let db = check.backlash_mm / r2;
         let pose = Pose { phi, psi0, a };
-        let sets = fine.candidates(&pose, w1, w2);
         // Block bounds of this pose, reused across the driven offsets.
-        let (fine_cache, medium_cache) = (fine.bound_cache(), medium.bound_cache());
+        let fine_cache = fine.bound_cache();
+        let sets = fine.candidates(&pose, w1, w2, &fine_cache);
         let f = |d: f64, s1: &[usize], s2: &[usize]| {
             fine.eval_bounded(&pose, d, s1, s2, f64::NEG_INFINITY, &fine_cache)
         };
@@ -300,19 +314,26 @@ pub fn verify_mesh(
             &to_world2,
             &fine.h1,
         );
-        // Medium level: is there a free position, and where are the two contacts?
-        let med_sets = medium.candidates(&pose, w1, w2);
-        let fm = |d: f64, s1: &[usize], s2: &[usize]| {
-            medium.eval_bounded(&pose, d, s1, s2, f64::NEG_INFINITY, &medium_cache)
-        };
+        // Is there a free position? The fine clearance at the middle of the backlash range,
+        // decided by the block bounds (its value only when it is not positive).
         let mid = 0.5 * db;
-        if min_of(&fm(mid, &med_sets.0, &med_sets.1)) <= 2.0 * dev {
-            // Too close to call at the medium level: decide on the fine outlines.
+        if fine.any_at_most(&pose, mid, &sets.0, &sets.1, 0.0, &fine_cache) {
             let fmid = min_of(&f(mid, &sets.0, &sets.1));
-            if fmid <= 0.0 {
-                return Sample::interference(overlap, nominal, r2, -fmid);
-            }
+            return Sample::interference(overlap, nominal, r2, -fmid);
         }
+        // The medium level of this pose, on first need: its candidates, bounds and clearances.
+        let medium_pose = std::cell::OnceCell::new();
+        let medium_pose = || {
+            medium_pose
+                .get_or_init(|| {
+                    medium().map(|level| {
+                        let cache = level.bound_cache();
+                        let sets = level.candidates(&pose, w1, w2, &cache);
+                        (level, sets, cache)
+                    })
+                })
+                .as_ref()
+        };
         let tol = check.angle_tol_rad;
         // Root on [lo, hi]: the medium root x, then the fine root within ±η of it (η from the
         // polylines' gap over a clearance slope ≥ r₂/2), widening ×8 when the bracket misses.
@@ -329,10 +350,10 @@ pub fn verify_mesh(
         // root's slope: each point's minimum is exact on the vertices the Lipschitz bound keeps
         // from `v`; a point with |f| ≤ ROOT_VALUE_MM inside (lo, hi) is the root (as in
         // `root_pruned`). None when three steps do not get there (the bracketed search then runs).
-        let secant = |x0: f64, v: &PerVertex, slope: f64, lo: f64, hi: f64| -> Option<f64> {
+        let secant = |x0: f64, v: &PerVertex, slope: f64, lo: f64, hi: f64, steps: usize| {
             let (mut xa, mut fa) = (x0, min_of(v));
             let mut s = slope;
-            for _ in 0..3 {
+            for _ in 0..steps {
                 if !(s.is_finite() && s != 0.0) {
                     return None;
                 }
@@ -355,9 +376,15 @@ pub fn verify_mesh(
             None
         };
         let polish = |lo: f64, hi: f64| -> Option<f64> {
-            if let Some((x, slope)) =
+            let medium_root = medium_pose().and_then(|(level, med_sets, cache)| {
+                let fm = |d: f64, s1: &[usize], s2: &[usize]| {
+                    level.eval_bounded(&pose, d, s1, s2, f64::NEG_INFINITY, cache)
+                };
+                let dev = level.deviation_mm;
                 root_pruned(&fm, &med_sets.0, &med_sets.1, lo, hi, lip, 1e-3 * db)
-            {
+                    .map(|(x, slope)| (x, slope, dev))
+            });
+            if let Some((x, slope, dev)) = medium_root {
                 let mut eta = (4.0 * dev / (0.5 * r2)).max(1e-4 * db);
                 // The fine evaluation to start from: δ = 0 (known) when x is that close to it.
                 let near_zero = |l: f64, h: f64| l.abs().max(h.abs()) <= 2.0 * (h - l);
@@ -367,7 +394,7 @@ pub fn verify_mesh(
                 } else {
                     (x, &*at_x.get_or_insert_with(|| f(x, &sets.0, &sets.1)))
                 };
-                if let Some(r) = secant(x0, v, slope, lo, hi) {
+                if let Some(r) = secant(x0, v, slope, lo, hi, 3) {
                     return Some(r);
                 }
                 while eta < hi - lo {
@@ -387,7 +414,23 @@ pub fn verify_mesh(
             }
             root_pruned(&f, &sets.0, &sets.1, lo, hi, lip, tol).map(|(r, _)| r)
         };
-        let (eps, coast) = match (polish(-db, mid), polish(mid, 3.0 * db)) {
+        // The contacts without the medium level's brackets where secant steps get there: the
+        // working contact is within a rounding of the law's position on a conjugate pair, so
+        // the steps start from δ = 0 (evaluated), and the coast contact about one nominal
+        // backlash beyond it, with the slope of a contact on the driven pitch curve under a 20°
+        // pressure angle (positive on the working flanks, negative on the coast ones).
+        let slope = r2 * 20f64.to_radians().cos();
+        let Some(eps) = secant(0.0, &v0, slope, -db, mid, 6).or_else(|| polish(-db, mid)) else {
+            return Sample::interference(overlap, nominal, r2, 0.0);
+        };
+        let guess = eps + db;
+        let coast = if guess > mid && guess < 3.0 * db {
+            let v = f(guess, &sets.0, &sets.1);
+            secant(guess, &v, -slope, mid, 3.0 * db, 6)
+        } else {
+            None
+        };
+        let (eps, coast) = match (Some(eps), coast.or_else(|| polish(mid, 3.0 * db))) {
             (Some(e), Some(c)) => (e, c),
             _ => return Sample::interference(overlap, nominal, r2, 0.0),
         };
