@@ -1,6 +1,6 @@
 //! One resolution of the mesh check: both outlines indexed, the candidate vertices near the
 //! contact, per-vertex clearances at a driven offset, and the pruned root search on them.
-use super::root::PerVertex;
+use super::root::{PerVertex, VertexSets};
 use crate::teeth::shape::{MeshError, Shape};
 use std::f64::consts::PI;
 
@@ -422,7 +422,7 @@ impl Level {
         w1: f64,
         w2: f64,
         cache: &BoundCache,
-    ) -> (Vec<usize>, Vec<usize>) {
+    ) -> VertexSets {
         let m = self.module_mm;
         let c1 = self.h1.polar.window(-pose.phi, w1);
         let c2 = self.h2.polar.window(PI + pose.psi0, w2);

@@ -37,7 +37,7 @@ use super::overlap::inside_term;
 use level::{Level, Polylines, Pose};
 use nalgebra::{Isometry2, Vector2};
 use rayon::prelude::*;
-use root::{PerVertex, ROOT_VALUE_MM, min_of, root_pruned};
+use root::{PerVertex, ROOT_VALUE_MM, VertexSets, min_of, root_pruned};
 use serde::{Deserialize, Serialize};
 use std::f64::consts::{PI, TAU};
 
@@ -346,13 +346,16 @@ pub fn verify_mesh(
                 .map(|(i, _)| *i)
                 .collect()
         };
-        // Secant steps on the fine outlines from a known evaluation `v` at `x0` and the medium
-        // root's slope: each point's minimum is exact on the vertices the Lipschitz bound keeps
-        // from `v`; a point with |f| ≤ ROOT_VALUE_MM inside (lo, hi) is the root (as in
-        // `root_pruned`). None when three steps do not get there (the bracketed search then runs).
+        // Secant steps on the fine outlines from a known evaluation `v` at `x0` and a slope: each
+        // point's minimum is exact on the vertices the Lipschitz bound keeps from `v` — or, for
+        // a point no farther from `x0` than the last point whose set came from `v` (that set
+        // holds every vertex `v` keeps for it), from that point's evaluation, a narrower set;
+        // a point with |f| ≤ ROOT_VALUE_MM inside (lo, hi) is the root (as in `root_pruned`).
+        // None when `steps` steps do not get there (the bracketed search then runs).
         let secant = |x0: f64, v: &PerVertex, slope: f64, lo: f64, hi: f64, steps: usize| {
             let (mut xa, mut fa) = (x0, min_of(v));
             let mut s = slope;
+            let mut wide: Option<(f64, VertexSets, PerVertex)> = None;
             for _ in 0..steps {
                 if !(s.is_finite() && s != 0.0) {
                     return None;
@@ -361,12 +364,21 @@ pub fn verify_mesh(
                 if !(xb > lo && xb < hi) {
                     return None;
                 }
-                let thresh = min_of(v) + 2.0 * lip * (xb - x0).abs();
-                let fb = min_of(&f(
-                    xb,
-                    &keep(&sets.0, &v.0, thresh),
-                    &keep(&sets.1, &v.1, thresh),
-                ));
+                let fb = match &wide {
+                    Some((xw, sw, vw)) if (xb - x0).abs() <= (xw - x0).abs() => {
+                        let thresh = min_of(vw) + 2.0 * lip * (xb - xw).abs();
+                        let (s1, s2) = (keep(&sw.0, &vw.0, thresh), keep(&sw.1, &vw.1, thresh));
+                        min_of(&f(xb, &s1, &s2))
+                    }
+                    _ => {
+                        let thresh = min_of(v) + 2.0 * lip * (xb - x0).abs();
+                        let set = (keep(&sets.0, &v.0, thresh), keep(&sets.1, &v.1, thresh));
+                        let vb = f(xb, &set.0, &set.1);
+                        let fb = min_of(&vb);
+                        wide = Some((xb, set, vb));
+                        fb
+                    }
+                };
                 if fb.abs() <= ROOT_VALUE_MM {
                     return Some(xb);
                 }

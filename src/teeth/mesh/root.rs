@@ -11,6 +11,9 @@ pub(super) fn min_of(v: &PerVertex) -> f64 {
 
 pub(super) type PerVertex = (Vec<f64>, Vec<f64>);
 
+/// Vertex sets of both gears (polar indices).
+pub(super) type VertexSets = (Vec<usize>, Vec<usize>);
+
 /// Per-vertex clearances at a driven offset δ (rad) for two vertex sets.
 type ClearanceFn<'a> = dyn Fn(f64, &[usize], &[usize]) -> PerVertex + 'a;
 
