@@ -9,25 +9,23 @@ use crate::design::Design;
 use crate::geometry::pitch::PitchCurve;
 use rayon::prelude::*;
 use std::f64::consts::TAU;
-use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
 /// A pitch table as CSV: header `theta_deg,r_mm,x_mm,y_mm`, body frame, `n` uniform samples.
 #[must_use]
 pub fn pitch_csv(curve: &PitchCurve, n: usize) -> String {
-    let mut s = String::from("theta_deg,r_mm,x_mm,y_mm\n");
+    let mut s = String::with_capacity(52 * n + 32);
+    s.push_str("theta_deg,r_mm,x_mm,y_mm\n");
     for k in 0..n {
         let th = TAU * k as f64 / n as f64;
         let r = curve.radius_mm(th);
         let (sn, cs) = th.sin_cos();
-        let _ = writeln!(
-            s,
-            "{},{},{},{}",
-            Fixed(th.to_degrees(), 6),
-            Fixed(r, 9),
-            Fixed(r * cs, 9),
-            Fixed(r * sn, 9)
-        );
+        Fixed(th.to_degrees(), 6).push_to(&mut s);
+        for v in [r, r * cs, r * sn] {
+            s.push(',');
+            Fixed(v, 9).push_to(&mut s);
+        }
+        s.push('\n');
     }
     s
 }
@@ -92,9 +90,13 @@ pub fn write_design_with(
         (
             "traced.csv",
             Box::new(|p| {
-                let mut traced = String::from("x_mm,y_mm\n");
+                let mut traced = String::with_capacity(28 * design.traced_mm.len() + 16);
+                traced.push_str("x_mm,y_mm\n");
                 for q in &design.traced_mm {
-                    let _ = writeln!(traced, "{},{}", Fixed(q[0], 9), Fixed(q[1], 9));
+                    Fixed(q[0], 9).push_to(&mut traced);
+                    traced.push(',');
+                    Fixed(q[1], 9).push_to(&mut traced);
+                    traced.push('\n');
                 }
                 write(p, &traced)
             }),

@@ -11,19 +11,19 @@ use std::fmt;
 #[derive(Debug, Clone, Copy)]
 pub(crate) struct Fixed(pub f64, pub u32);
 
-impl fmt::Display for Fixed {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+impl Fixed {
+    /// The digits of `x·10ᴺ` rounded half away from zero, written backwards into `buf`: the
+    /// text, or `None` outside `|x·10ᴺ| < 9·10¹⁵` (the caller then takes `{:.N}`). At most
+    /// 16 + 1 + 9 + sign bytes.
+    fn digits(self, buf: &mut [u8; 32]) -> Option<&str> {
         let (x, n) = (self.0, self.1.min(9));
         let scale = 10u64.pow(n);
         let y = (x * scale as f64).abs();
         if !(y < 9.0e15) {
-            return write!(f, "{:.*}", n as usize, x);
+            return None;
         }
         // Positive: the cast truncates, so this rounds half up.
         let v = (y + 0.5) as u64;
-        // Digits written backwards into a stack buffer, one `write_str` (the formatting
-        // machinery's padding costs more than the digits): at most 16 + 1 + 9 + sign bytes.
-        let mut buf = [0u8; 32];
         let mut i = buf.len();
         let (mut int, mut frac) = (v / scale, v % scale);
         for _ in 0..n {
@@ -48,7 +48,31 @@ impl fmt::Display for Fixed {
             buf[i] = b'-';
         }
         // ASCII digits, point and sign only.
-        f.write_str(std::str::from_utf8(&buf[i..]).map_err(|_| fmt::Error)?)
+        std::str::from_utf8(&buf[i..]).ok()
+    }
+
+    /// Appends the text to `out` — the same as through `Display`, without the formatting
+    /// machinery's per-argument cost (the tables print four numbers a row).
+    pub(crate) fn push_to(self, out: &mut String) {
+        let mut buf = [0u8; 32];
+        match self.digits(&mut buf) {
+            Some(t) => out.push_str(t),
+            None => {
+                use fmt::Write as _;
+                let _ = write!(out, "{:.*}", self.1.min(9) as usize, self.0);
+            }
+        }
+    }
+}
+
+impl fmt::Display for Fixed {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let mut buf = [0u8; 32];
+        match self.digits(&mut buf) {
+            // One `write_str`: the formatting machinery's padding costs more than the digits.
+            Some(t) => f.write_str(t),
+            None => write!(f, "{:.*}", self.1.min(9) as usize, self.0),
+        }
     }
 }
 
@@ -75,5 +99,19 @@ mod tests {
         assert_eq!(Fixed(12.5, 0).to_string(), "13");
         assert_eq!(Fixed(1e300, 3).to_string(), format!("{:.3}", 1e300));
         assert_eq!(Fixed(f64::NAN, 3).to_string(), "NaN");
+        // `push_to` writes the same text.
+        for x in [
+            0.0,
+            -0.0,
+            1.5,
+            -2.25e-7,
+            123_456.789_012_345,
+            1e300,
+            f64::NAN,
+        ] {
+            let mut s = String::from("a");
+            Fixed(x, 6).push_to(&mut s);
+            assert_eq!(s, format!("a{}", Fixed(x, 6)));
+        }
     }
 }

@@ -8,7 +8,6 @@ use super::plot::{ChartLabels, Series, line_chart};
 use crate::geometry::assembly::Assembly;
 use crate::geometry::pitch::PitchCurve;
 use std::f64::consts::TAU;
-use std::fmt::Write as _;
 use std::path::Path;
 use svg::Document;
 use svg::node::element::{Circle, Group, Path as SvgPath, Rectangle, Text};
@@ -29,15 +28,13 @@ fn placed(curve: &PitchCurve, center: [f64; 2], angle: f64, n: usize) -> Vec<[f6
 
 /// SVG path data `M x,y L x,y … [Z]` of a polyline, y negated (SVG y down), 4 decimals, mm.
 fn path_d(pts: &[[f64; 2]], close: bool) -> String {
-    let mut d = String::new();
+    let mut d = String::with_capacity(24 * pts.len() + 1);
     for (k, p) in pts.iter().enumerate() {
-        let _ = write!(
-            d,
-            "{}{},{} ",
-            if k == 0 { "M" } else { "L" },
-            Fixed(p[0], 4),
-            Fixed(-p[1], 4)
-        );
+        d.push(if k == 0 { 'M' } else { 'L' });
+        Fixed(p[0], 4).push_to(&mut d);
+        d.push(',');
+        Fixed(-p[1], 4).push_to(&mut d);
+        d.push(' ');
     }
     if close {
         d.push('Z');
