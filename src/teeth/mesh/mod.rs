@@ -247,7 +247,9 @@ pub fn verify_mesh(
     let fine = Level::new(&given, &bounds, cap, m, check.backlash_mm)?;
     // A copy simplified to MEDIUM_TOL·m brackets a contact where the secant steps on the given
     // outlines do not reach it; built on first need (most checks never need it). Its gap from
-    // the given outlines bounds |f_fine − f_medium|.
+    // the given outlines bounds |f_fine − f_medium|. A copy that could not be indexed (fewer
+    // than three vertices; not met from indexed given outlines) leaves the bracketed search to
+    // the given outlines.
     let medium_level = std::sync::OnceLock::new();
     let medium = || {
         medium_level
@@ -264,7 +266,7 @@ pub fn verify_mesh(
         let psi0 = psi(phi);
         let r1 = g1.radius_at(-phi);
         let r2 = (a - r1).max(m);
-        // Candidate vertices near the contact (±1.75 pitches), pruned by the coarse copies.
+        // Candidate vertices near the contact (±1.75 pitches), pruned by the block bounds.
         let w1 = (1.75 * PI * m / r1).min(PI);
         let w2 = (1.75 * PI * m / r2).min(PI);
         let db = check.backlash_mm / r2;
