@@ -235,7 +235,6 @@ impl Level {
         floor: f64,
         cache: &BoundCache,
     ) -> PerVertex {
-        let (g1, g2) = (&self.h1.polar, &self.h2.polar);
         let fr = Frames::new(pose, delta);
         let mut cache = cache.0.borrow_mut();
         let runs = self.runs(delta, set1, set2, &cache);
@@ -262,14 +261,8 @@ impl Level {
                     continue;
                 }
             }
-            let margin = 1e-12 * self.module_mm;
-            if gear == 0 {
-                let eval = |i: usize| self.h2.clearance(fr.to2(g1.point(i)));
-                exact_run(&set1[s..e], g1, eval, v, &mut best, floor, margin);
-            } else {
-                let eval = |i: usize| self.h1.clearance(fr.to1(g2.point(i)));
-                exact_run(&set2[s..e], g2, eval, v, &mut best, floor, margin);
-            }
+            let idx = if gear == 0 { &set1[s..e] } else { &set2[s..e] };
+            self.exact_block(gear, &fr, idx, v, &mut best, floor);
         }
         (v1, v2)
     }
@@ -323,12 +316,10 @@ impl Level {
         t: f64,
         cache: &BoundCache,
     ) -> bool {
-        let (g1, g2) = (&self.h1.polar, &self.h2.polar);
         let fr = Frames::new(pose, delta);
         let mut cache = cache.0.borrow_mut();
         let mut best = f64::INFINITY;
         let mut v = Vec::new();
-        let margin = 1e-12 * self.module_mm;
         for (gear, s, e, key, moved, fresh) in self.runs(delta, set1, set2, &cache) {
             // Sorted by the moved bounds: none of the rest can reach `t`.
             if moved > t {
@@ -343,18 +334,37 @@ impl Level {
                 continue;
             }
             v.resize(e - s, 0.0);
-            if gear == 0 {
-                let eval = |i: usize| self.h2.clearance(fr.to2(g1.point(i)));
-                exact_run(&set1[s..e], g1, eval, &mut v, &mut best, t, margin);
-            } else {
-                let eval = |i: usize| self.h1.clearance(fr.to1(g2.point(i)));
-                exact_run(&set2[s..e], g2, eval, &mut v, &mut best, t, margin);
-            }
+            let idx = if gear == 0 { &set1[s..e] } else { &set2[s..e] };
+            self.exact_block(gear, &fr, idx, &mut v, &mut best, t);
             if best <= t {
                 return true;
             }
         }
         false
+    }
+
+    /// Clearances `out` of the polar entries `idx` of one block of gear `gear` (0: driver,
+    /// against the driven gear; 1: the reverse) in the frames `fr`, exact or bounded above
+    /// `floor` and `best` as [`exact_run`] tells; the bounds' rounding margin is 1e-12·m.
+    fn exact_block(
+        &self,
+        gear: u8,
+        fr: &Frames,
+        idx: &[usize],
+        out: &mut [f64],
+        best: &mut f64,
+        floor: f64,
+    ) {
+        let margin = 1e-12 * self.module_mm;
+        if gear == 0 {
+            let g = &self.h1.polar;
+            let eval = |i: usize| self.h2.clearance(fr.to2(g.point(i)));
+            exact_run(idx, g, eval, out, best, floor, margin);
+        } else {
+            let g = &self.h2.polar;
+            let eval = |i: usize| self.h1.clearance(fr.to1(g.point(i)));
+            exact_run(idx, g, eval, out, best, floor, margin);
+        }
     }
 
     /// The lower bound of block `key` (gear 1's blocks, then gear 2's) at driven offset `delta`

@@ -14,6 +14,16 @@ pub(super) type PerVertex = (Vec<f64>, Vec<f64>);
 /// Vertex sets of both gears (polar indices).
 pub(super) type VertexSets = (Vec<usize>, Vec<usize>);
 
+/// The entries of `set` whose clearance `c` (same order, mm) is at most `thresh`: the Lipschitz
+/// pruning of the root searches.
+pub(super) fn keep(set: &[usize], c: &[f64], thresh: f64) -> Vec<usize> {
+    set.iter()
+        .zip(c)
+        .filter(|(_, c)| **c <= thresh)
+        .map(|(i, _)| *i)
+        .collect()
+}
+
 /// Per-vertex clearances at a driven offset δ (rad) for two vertex sets.
 type ClearanceFn<'a> = dyn Fn(f64, &[usize], &[usize]) -> PerVertex + 'a;
 
@@ -75,18 +85,7 @@ pub(super) fn root_pruned(
             return Some((x, slope(&last)));
         }
         let thresh = fx + 2.0 * lip * (hi - lo);
-        s1 = s1
-            .iter()
-            .zip(&v.0)
-            .filter(|(_, c)| **c <= thresh)
-            .map(|(i, _)| *i)
-            .collect();
-        s2 = s2
-            .iter()
-            .zip(&v.1)
-            .filter(|(_, c)| **c <= thresh)
-            .map(|(i, _)| *i)
-            .collect();
+        (s1, s2) = (keep(&s1, &v.0, thresh), keep(&s2, &v.1, thresh));
     }
     Some((0.5 * (lo + hi), slope(&last)))
 }
