@@ -132,7 +132,7 @@ pub fn design(traj: &Trajectory, opts: &DesignOptions) -> Result<Design, DesignE
     )?;
     timings.outputs = ms(t0);
     timings.total = ms(t_all);
-    let (mechanism, assembly, traced, checks, roundtrip, gears) = out;
+    let mechanism = &out.mechanism;
     let report = DesignReport {
         units: Units {
             length: "mm".into(),
@@ -146,8 +146,8 @@ pub fn design(traj: &Trajectory, opts: &DesignOptions) -> Result<Design, DesignE
             center: opts.center_mm,
             direction: inv.direction,
         },
-        gears,
-        roundtrip,
+        gears: out.gears,
+        roundtrip: out.roundtrip,
         trajectory: trajectory_summary(traj, &inv, noise_sigma),
         compatibility: CompatSummary {
             tau_deg: compat.tau_rad.to_degrees(),
@@ -167,7 +167,7 @@ pub fn design(traj: &Trajectory, opts: &DesignOptions) -> Result<Design, DesignE
             sun_phase_deg: inv.file_angle_deg(mechanism.sun_phase_rad),
             i21_range: [imin, imax],
         },
-        checks,
+        checks: out.checks,
         target_points: traj.points().to_vec(),
         warnings,
         teeth: None,
@@ -175,10 +175,11 @@ pub fn design(traj: &Trajectory, opts: &DesignOptions) -> Result<Design, DesignE
     };
     Ok(Design {
         report,
-        mechanism,
-        assembly,
+        mechanism: out.mechanism,
+        assembly: out.assembly,
+        rebuilt: out.rebuilt,
         inversion: inv,
-        traced_mm: traced,
+        traced_mm: out.traced,
     })
 }
 
@@ -247,10 +248,7 @@ fn patent_route(
             Ok(r) => r,
             Err(_) => SunRatio::new_unchecked(vec![0.0; k], vec![0.0; k]),
         };
-        let (lo, hi) = (
-            ratio.sampled_extreme(4096, false).0,
-            ratio.sampled_extreme(4096, true).0,
-        );
+        let [(lo, _), (hi, _)] = ratio.sampled_extremes(4096);
         let [blo, bhi] = opts.refine_options.ratio_bounds;
         if lo < blo || hi > bhi {
             // Outside the admissible ratios (spec §14): not a candidate, but kept as the

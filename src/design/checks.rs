@@ -6,7 +6,7 @@ use super::report::*;
 use crate::design::compat::Compatibility;
 use crate::design::inverse::Inversion;
 use crate::design::trajectory::{ClosedSpline, Trajectory};
-use crate::geometry::assembly::Assembly;
+use crate::geometry::assembly::{Assembly, Rebuilt};
 use crate::geometry::mechanism::{INVERSE_TOL_RAD, Mechanism};
 use crate::geometry::pitch::PitchCurve;
 use crate::math::polyline::hausdorff_mm;
@@ -59,14 +59,18 @@ fn rms(v: &[f64]) -> f64 {
     (v.iter().map(|d| d * d).sum::<f64>() / v.len().max(1) as f64).sqrt()
 }
 
-pub(super) type Finished = (
-    Mechanism,
-    Assembly,
-    Vec<[f64; 2]>,
-    Vec<Check>,
-    RoundTrip,
-    Gears,
-);
+/// What [`finish`] hands back to the chain.
+pub(super) struct Finished {
+    pub mechanism: Mechanism,
+    pub assembly: Assembly,
+    /// The kinematics rebuilt from the tables (the round trip).
+    pub rebuilt: Rebuilt,
+    /// The traced tip path, world frame, mm.
+    pub traced: Vec<[f64; 2]>,
+    pub checks: Vec<Check>,
+    pub roundtrip: RoundTrip,
+    pub gears: Gears,
+}
 
 /// Pitch curves, assembly, checks C1–C12 and the round trip from the output tables.
 pub(super) fn finish(
@@ -107,7 +111,7 @@ pub(super) fn finish(
         .zip(angles)
         .map(|(p, &phi)| {
             let tip = rebuilt.pose(sign * phi).tip_mm;
-            (tip[0] - p[0]).hypot(tip[1] - p[1])
+            crate::math::norm([tip[0] - p[0], tip[1] - p[1]])
         })
         .collect();
     let sync = dev.iter().copied().fold(0.0, f64::max);
@@ -261,5 +265,13 @@ pub(super) fn finish(
             cs.min_radius_of_curvature_mm,
         ),
     };
-    Ok((mech, assembly, traced, checks, roundtrip, gears))
+    Ok(Finished {
+        mechanism: mech,
+        assembly,
+        rebuilt,
+        traced,
+        checks,
+        roundtrip,
+        gears,
+    })
 }

@@ -16,7 +16,8 @@
 
 use crate::design::law::NeedleLaw;
 use crate::design::trajectory::{ClosedSpline, Trajectory};
-use crate::math::periodic::{bracketed_root, wrap_pi};
+use crate::math::norm;
+use crate::math::periodic::{bracketed_root, secant_root, wrap_pi};
 use rayon::prelude::*;
 use std::f64::consts::TAU;
 
@@ -193,7 +194,8 @@ pub fn invert(
         };
         (f, o)
     };
-    let (ccw, cw) = match rayon::join(|| rejects(&sa), || rejects(&sb)) {
+    let rj = rayon::join(|| rejects(&sa), || rejects(&sb));
+    let (ccw, cw) = match rj {
         (false, true) => survivor_first(&solve_a, &solve_b),
         (true, false) => {
             let (b, a) = survivor_first(&solve_b, &solve_a);
@@ -245,13 +247,23 @@ fn refine_extreme(spline: &ClosedSpline, j: usize, ds: f64, tol: f64) -> f64 {
     bracketed_root(pdot, (j as f64 - 1.0) * ds, (j as f64 + 1.0) * ds, tol)
 }
 
-/// Carrier angle φH (rad, not unwrapped) at which an arm of `l1`, `l3` (mm) reaches tip `p`
-/// (mm, relative to O): `atan2 P + σ·arccos((l1² + ρ² − l3²)/(2 l1 ρ))` (§3.3), the cosine
-/// clamped into [−1, 1] against rounding at the extremes (where it is ±1).
-fn carrier_angle(p: [f64; 2], l1: f64, l3: f64, sigma: f64) -> f64 {
-    let r = p[0].hypot(p[1]);
+/// Unit direction `e(φH)` of the carrier arm at which an arm of `l1`, `l3` (mm) reaches tip `p`
+/// (mm, relative to O): `P/ρ` turned by `σ·δ`, `cos δ = q = (l1² + ρ² − l3²)/(2 l1 ρ)` (§3.3),
+/// `sin δ = √((1 − q)(1 + q))`; the cosine clamped into [−1, 1] against rounding at the extremes
+/// (where it is ±1). Algebraic: no angle is taken, so the elbow `A = l1·e` costs no sine or cosine.
+fn arm_direction(p: [f64; 2], l1: f64, l3: f64, sigma: f64) -> [f64; 2] {
+    let r = norm(p);
     let q = ((l1 * l1 + r * r - l3 * l3) / (2.0 * l1 * r)).clamp(-1.0, 1.0);
-    p[1].atan2(p[0]) + sigma * q.acos()
+    let sd = sigma * ((1.0 - q) * (1.0 + q)).sqrt();
+    let (c, s) = (p[0] / r, p[1] / r);
+    [c * q - s * sd, s * q + c * sd]
+}
+
+/// Carrier angle φH (rad, in (−π, π], not unwrapped) of [`arm_direction`]:
+/// `atan2 P + σ·arccos q` as one `atan2`.
+fn carrier_angle(p: [f64; 2], l1: f64, l3: f64, sigma: f64) -> f64 {
+    let e = arm_direction(p, l1, l3, sigma);
+    e[1].atan2(e[0])
 }
 
 /// Samples of the coarse test: one in [`COARSE_DIVISOR`] of the dense samples.
@@ -272,7 +284,7 @@ fn coarse_rejects(spline: &ClosedSpline, ns: usize, tol: f64) -> bool {
     let len = spline.period();
     let ds = len / n as f64;
     let pts: Vec<[f64; 2]> = (0..n).map(|j| spline.point(j as f64 * ds)).collect();
-    let rho: Vec<f64> = pts.iter().map(|p| p[0].hypot(p[1])).collect();
+    let rho: Vec<f64> = pts.iter().map(|&p| norm(p)).collect();
     let arg =
         |f: fn(f64, f64) -> bool| (0..n).fold(0, |b, j| if f(rho[j], rho[b]) { j } else { b });
     let (jmax, jmin) = (arg(|a, b| a > b), arg(|a, b| a < b));
@@ -280,7 +292,7 @@ fn coarse_rejects(spline: &ClosedSpline, ns: usize, tol: f64) -> bool {
     let refined = |j: usize| {
         let s = refine_extreme(spline, j, ds, tol);
         let p = spline.point(s);
-        (s, p[0].hypot(p[1]))
+        (s, norm(p))
     };
     let ((s_max, r_max), (s_min, r_min)) = (refined(jmax), refined(jmin));
     let (r_max, r_min) = (r_max.max(rho[jmax]), r_min.min(rho[jmin]));
@@ -364,10 +376,7 @@ fn solve_frame(
     let len = spline.period();
     let ns = dense_count(opts, pts.len());
     let ds = len / ns as f64;
-    let rho = |s: f64| {
-        let p = spline.point(s);
-        p[0].hypot(p[1])
-    };
+    let rho = |s: f64| norm(spline.point(s));
     // Independent samples: evaluated in parallel (same values, same order).
     let dense: Vec<f64> = (0..ns)
         .into_par_iter()
@@ -430,26 +439,40 @@ fn solve_frame(
     }
     // Parameter measured from s_max in travel order; σ = +1 until s_min.
     let s_min_rel = (s_min - s_max).rem_euclid(len);
-    let phi_of =
-        |p: [f64; 2], u: f64| carrier_angle(p, l1, l3, if u <= s_min_rel { 1.0 } else { -1.0 });
-    let raw_phi = |u: f64| phi_of(spline.point(s_max + u), u);
+    let sigma_at = |u: f64| if u <= s_min_rel { 1.0 } else { -1.0 };
+    let raw_phi = |u: f64| carrier_angle(spline.point(s_max + u), l1, l3, sigma_at(u));
     // The tip at the dense parameters u_j = j·ds from s_max (the last one a whole period on).
     let u_at = |j: usize| if j == ns { len } else { j as f64 * ds };
-    let tips: Vec<[f64; 2]> = (0..=ns)
+    // The needle direction at the tip of parameter u for carrier angle ph (rad).
+    let beta_at = |u: f64, ph: f64| {
+        let p = spline.point(s_max + u);
+        (p[1] - l1 * ph.sin()).atan2(p[0] - l1 * ph.cos())
+    };
+    // The raw carrier and needle angles at the dense tips (the needle from the elbow
+    // A = l1·e(φH)) are independent: computed in one parallel pass; the unwrapping runs in order.
+    let angles: Vec<[f64; 2]> = (0..=ns)
         .into_par_iter()
-        .map(|j| spline.point(s_max + u_at(j)))
+        .map(|j| {
+            let (u, tip) = (u_at(j), spline.point(s_max + u_at(j)));
+            let e = arm_direction(tip, l1, l3, sigma_at(u));
+            [
+                e[1].atan2(e[0]),
+                (tip[1] - l1 * e[1]).atan2(tip[0] - l1 * e[0]),
+            ]
+        })
         .collect();
-    // The raw angles are independent (computed in parallel); the unwrapping runs in order.
-    let raw: Vec<f64> = (0..=ns)
-        .into_par_iter()
-        .map(|j| phi_of(tips[j], u_at(j)))
-        .collect();
-    let mut phi = Vec::with_capacity(ns + 1);
-    phi.push(raw[0]);
-    for j in 1..=ns {
-        let prev = phi[j - 1];
-        phi.push(prev + wrap_pi(raw[j] - prev));
-    }
+    let raw: Vec<f64> = angles.iter().map(|a| a[0]).collect();
+    let raw_beta: Vec<f64> = angles.iter().map(|a| a[1]).collect();
+    let unwrapped = |raw: &[f64]| {
+        let mut out = Vec::with_capacity(raw.len());
+        out.push(raw[0]);
+        for j in 1..raw.len() {
+            let prev = out[j - 1];
+            out.push(prev + wrap_pi(raw[j] - prev));
+        }
+        out
+    };
+    let phi = unwrapped(&raw);
     let total = phi[ns] - phi[0];
     let phi0 = phi[0];
     let to_deg = |a: f64| (f64::from(direction) * a).to_degrees().rem_euclid(360.0);
@@ -469,18 +492,7 @@ fn solve_frame(
         return Err(not_monotone);
     }
     // Needle direction and ψ3 on the dense samples: ψ3 must increase (i31 > 0).
-    let beta_of = |p: [f64; 2], ph: f64| (p[1] - l1 * ph.sin()).atan2(p[0] - l1 * ph.cos());
-    let beta_at = |u: f64, ph: f64| beta_of(spline.point(s_max + u), ph);
-    let raw: Vec<f64> = (0..=ns)
-        .into_par_iter()
-        .map(|j| beta_of(tips[j], phi[j]))
-        .collect();
-    let mut beta = Vec::with_capacity(ns + 1);
-    beta.push(raw[0]);
-    for j in 1..=ns {
-        let prev = beta[j - 1];
-        beta.push(prev + wrap_pi(raw[j] - prev));
-    }
+    let beta = unwrapped(&raw_beta);
     let psi = |j: usize| (phi[j] - phi0) - (beta[j] - beta[0]);
     let bad = runs(ns, |j| psi(j + 1) <= psi(j));
     if !bad.is_empty() {
@@ -501,10 +513,18 @@ fn solve_frame(
             let j = phi.partition_point(|&v| v <= target).clamp(1, ns) - 1;
             let (u_lo, u_hi) = (j as f64 * ds, ((j + 1) as f64 * ds).min(len));
             let unwrap_near = |u: f64| phi[j] + wrap_pi(raw_phi(u) - phi[j]);
+            // The ends are dense samples: their angles are known.
             let u = if k == 0 {
                 0.0
             } else {
-                bracketed_root(|u| unwrap_near(u) - target, u_lo, u_hi, tol)
+                secant_root(
+                    |u| unwrap_near(u) - target,
+                    u_lo,
+                    u_hi,
+                    phi[j] - target,
+                    phi[j + 1] - target,
+                    tol,
+                )
             };
             let b = beta[j] + wrap_pi(beta_at(u, target) - beta[j]);
             -(b - beta[0])
@@ -524,4 +544,34 @@ fn solve_frame(
         points: pts.to_vec(),
         other_sense_traceable: false,
     })))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn algebraic_arm_direction_is_the_two_circle_solution() {
+        // The elbow A = l1·e(φH) lies l1 from O and l3 from the tip, on the side σ says, and φH
+        // is the closed form atan2 P + σ·arccos q of spec §3.3.
+        let (l1, l3) = (60.0, 200.0);
+        for k in 0..2000 {
+            let t = TAU * f64::from(k) / 2000.0;
+            let rho = 150.0 + 100.0 * (0.5 + 0.5 * (3.0 * t).sin()); // within [l3 − l1, l3 + l1]
+            let p = [rho * t.cos(), rho * t.sin()];
+            for sigma in [1.0, -1.0] {
+                let e = arm_direction(p, l1, l3, sigma);
+                let a = [l1 * e[0], l1 * e[1]];
+                assert!((norm(e) - 1.0).abs() < 1e-14);
+                assert!((norm([p[0] - a[0], p[1] - a[1]]) - l3).abs() < 1e-11);
+                let q = ((l1 * l1 + rho * rho - l3 * l3) / (2.0 * l1 * rho)).clamp(-1.0, 1.0);
+                let closed = p[1].atan2(p[0]) + sigma * q.acos();
+                assert!(wrap_pi(carrier_angle(p, l1, l3, sigma) - closed).abs() < 1e-12);
+            }
+        }
+        // At the extremes (q = ±1) both sides meet on the ray through the tip.
+        let e = arm_direction([260.0, 0.0], l1, l3, 1.0);
+        assert_eq!(e, arm_direction([260.0, 0.0], l1, l3, -1.0));
+        assert!((e[0] - 1.0).abs() < 1e-15 && e[1].abs() < 1e-15);
+    }
 }

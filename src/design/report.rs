@@ -1,7 +1,7 @@
 //! `design.json`: the design report and the design it describes (mm and degrees).
 
 use crate::design::inverse::Inversion;
-use crate::geometry::assembly::Assembly;
+use crate::geometry::assembly::{Assembly, Rebuilt};
 use crate::geometry::mechanism::Mechanism;
 use serde::{Deserialize, Serialize};
 
@@ -263,6 +263,9 @@ pub struct Design {
     pub mechanism: Mechanism,
     /// The assembled gears, world frame.
     pub assembly: Assembly,
+    /// The train's kinematics rebuilt from the pitch tables of `assembly` (the round trip of
+    /// check C12): poses at any carrier angle without rebuilding.
+    pub rebuilt: Rebuilt,
     /// Step-1 result.
     pub inversion: Inversion,
     /// Traced tip path from the round trip, mm, world frame.

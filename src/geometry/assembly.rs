@@ -176,6 +176,12 @@ impl Assembly {
 }
 
 impl Rebuilt {
+    /// The assembly whose tables were rebuilt.
+    #[must_use]
+    pub fn assembly(&self) -> &Assembly {
+        &self.asm
+    }
+
     /// Mean of `r/(a − r)` over the sun and the intermediate tables; both 1 for closed, conjugate
     /// curves (checks C1/C2 from the outputs).
     #[must_use]

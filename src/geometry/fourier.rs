@@ -308,8 +308,7 @@ impl SunRatio {
             let v = ratio.value(th);
             if max { best.max(v) } else { best.min(v) }
         };
-        let (lo, at_lo) = ratio.sampled_extreme(n, false);
-        let (hi, at_hi) = ratio.sampled_extreme(n, true);
+        let [(lo, at_lo), (hi, at_hi)] = ratio.sampled_extremes(n);
         [refine(at_lo, lo, false), refine(at_hi, hi, true)]
     }
 
@@ -339,22 +338,25 @@ impl SunRatio {
     /// Smallest (or, with `max = true`, largest) sampled ratio on `n` uniform angles, and where (rad).
     #[must_use]
     pub fn sampled_extreme(&self, n: usize, max: bool) -> (f64, f64) {
-        let mut best = (
-            if max {
-                f64::NEG_INFINITY
-            } else {
-                f64::INFINITY
-            },
-            0.0,
-        );
+        self.sampled_extremes(n)[usize::from(max)]
+    }
+
+    /// Both [`Self::sampled_extreme`]s from one pass over the `n` angles: `[(min, at), (max, at)]`
+    /// (values dimensionless, angles rad; the first angle of a tie, or of a NaN, is kept).
+    #[must_use]
+    pub fn sampled_extremes(&self, n: usize) -> [(f64, f64); 2] {
+        let (mut lo, mut hi) = ((f64::INFINITY, 0.0), (f64::NEG_INFINITY, 0.0));
         for j in 0..n {
             let th = TAU * j as f64 / n as f64;
             let v = self.value(th);
-            if (max && v > best.0) || (!max && v < best.0) || v.is_nan() {
-                best = (v, th);
+            if v < lo.0 || v.is_nan() {
+                lo = (v, th);
+            }
+            if v > hi.0 || v.is_nan() {
+                hi = (v, th);
             }
         }
-        best
+        [lo, hi]
     }
 }
 

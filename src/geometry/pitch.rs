@@ -54,7 +54,7 @@ impl PolarGeometry {
     /// Signed radius of curvature `ρc = (r² + r_θ²)^{3/2} / Δ` in mm (negative = concave).
     #[must_use]
     pub fn radius_of_curvature_mm(&self) -> f64 {
-        let ds = self.r_mm.hypot(self.dr_mm);
+        let ds = self.speed_mm();
         ds * ds * ds / self.convexity_mm2()
     }
 
@@ -199,7 +199,10 @@ impl PitchCurve {
             min_concave_radius_mm: f64::INFINITY,
         };
         let mut concave = 0usize;
-        for th in uniform_angles(n_check) {
+        // max |atan(r_θ/r)| = atan(max |r_θ/r|): atan increases, so one call at the end.
+        let mut max_slope = 0.0f64;
+        for k in 0..n_check {
+            let th = TAU * k as f64 / n_check as f64;
             let g = self.geometry(th);
             let d = g.convexity_mm2();
             s.min_convexity_mm2 = s.min_convexity_mm2.min(d);
@@ -212,20 +215,25 @@ impl PitchCurve {
                     .min_concave_radius_mm
                     .min(g.radius_of_curvature_mm().abs());
             }
-            s.max_pressure_deviation_rad = s
-                .max_pressure_deviation_rad
-                .max(g.pressure_deviation_rad().abs());
+            max_slope = max_slope.max((g.dr_mm / g.r_mm).abs());
         }
+        s.max_pressure_deviation_rad = max_slope.atan();
         s.concave_fraction = concave as f64 / n_check as f64;
         s
     }
 
-    /// Polar samples `(θ in degrees, r in mm)` at `n` uniform angles, for files.
+    /// Polar samples `(θ in degrees, r in mm)` at `n` uniform angles, for files (the stored
+    /// radii when `n` is the number of samples).
     #[must_use]
     pub fn polar_table_deg(&self, n: usize) -> Vec<[f64; 2]> {
+        let stored = (self.len() == n).then(|| self.radii_mm());
         uniform_angles(n)
             .into_iter()
-            .map(|t| [t.to_degrees(), self.radius_mm(t)])
+            .enumerate()
+            .map(|(k, t)| {
+                let r = stored.map_or_else(|| self.radius_mm(t), |r| r[k]);
+                [t.to_degrees(), r]
+            })
             .collect()
     }
 }

@@ -1,12 +1,13 @@
 //! Periodic functions sampled on a grid: periodic cubic splines, spectral (FFT) differentiation and
-//! integration, and monotone periodic inversion.
+//! integration, angle wrapping.
 //!
 //! Everything in the design chain is periodic in an angle (carrier angle, polar angle of a pitch
 //! curve), so this module is the shared numerical vocabulary of the crate. Angles are in radians.
 //!
-//! Reference: design-chain spec §3.1 (periodic C² interpolation), §3.3 (spectral i31),
-//! §14 (Φ⁻¹ robustness: Newton with a bisection safeguard).
+//! Reference: design-chain spec §3.1 (periodic C² interpolation), §3.3 (spectral i31). The root
+//! finders that used to live here are in [`super::roots`] and re-exported under their old paths.
 
+pub use super::roots::{bracketed_root, invert_increasing, secant_root};
 use realfft::RealFftPlanner;
 use realfft::num_complex::Complex;
 use std::f64::consts::TAU;
@@ -35,9 +36,19 @@ pub struct PeriodicSpline {
     m: Vec<f64>,
     period: f64,
     uniform: bool,
+    /// `n/period`, the reciprocal of the uniform knot spacing (unused when not uniform).
+    inv_h: f64,
     /// Non-uniform knots: for each of `n` equal cells of the period, the last knot at or before
     /// its start — the start of a short walk instead of a bisection (empty when uniform).
     guide: Vec<u32>,
+}
+
+/// A piece of a [`PeriodicSpline`]: knot index `i`, offset `t = x − x_i` and length `h` (unit of `x`).
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Piece {
+    i: usize,
+    t: f64,
+    h: f64,
 }
 
 /// Why a periodic spline could not be built.
@@ -132,6 +143,7 @@ impl PeriodicSpline {
             m,
             period,
             uniform,
+            inv_h: n as f64 / period,
             guide,
         })
     }
@@ -161,8 +173,10 @@ impl PeriodicSpline {
         &self.y
     }
 
+    /// The piece holding `x` (wrapped into the period): its knot index, `t = x − x_i` and its
+    /// length `h`.
     #[inline]
-    fn locate(&self, x: f64) -> (usize, f64, f64) {
+    pub(crate) fn locate(&self, x: f64) -> Piece {
         let n = self.x.len();
         let mut u = x - self.x[0];
         // Within the first period already (the common case): `rem_euclid` would return `u`
@@ -174,8 +188,7 @@ impl PeriodicSpline {
             }
         }
         let i = if self.uniform {
-            let h = self.period / n as f64;
-            ((u / h) as usize).min(n - 1)
+            ((u * self.inv_h) as usize).min(n - 1)
         } else {
             // The last knot at or before the target, walked to from the guide (the same
             // index a bisection finds: the knots increase strictly).
@@ -196,31 +209,59 @@ impl PeriodicSpline {
         } else {
             self.x[0] + self.period - self.x[i]
         };
-        (i, u - xi, h)
+        Piece { i, t: u - xi, h }
     }
 
     /// Value, first and second derivative at `x` (any real `x`: wrapped into the period).
+    ///
+    /// On the piece `[x_i, x_i + h]`, with `t = x − x_i` and `M` the knot second derivatives,
+    /// the spline is the cubic `y_i + b·t + (M_i/2)·t² + d·t³` with
+    /// `b = (y_{i+1} − y_i)/h − h(2M_i + M_{i+1})/6` and `d = (M_{i+1} − M_i)/(6h)`, evaluated by
+    /// Horner's rule with one reciprocal of `h` (the usual two-sided form takes seven divisions).
     #[must_use]
     #[inline]
     pub fn eval3(&self, x: f64) -> [f64; 3] {
+        self.eval3_on(self.locate(x))
+    }
+
+    /// The cubic of piece `p` (from [`Self::locate`]): `(y_i, b, M_i/2, d)` of
+    /// `y_i + b·t + (M_i/2)·t² + d·t³`.
+    #[inline]
+    fn cubic(&self, p: Piece) -> [f64; 4] {
         let n = self.x.len();
-        let (i, t, h) = self.locate(x);
+        let i = p.i;
         let j = if i + 1 == n { 0 } else { i + 1 };
         let (yi, yj, mi, mj) = (self.y[i], self.y[j], self.m[i], self.m[j]);
-        let s = h - t;
-        let v = (mi * s * s * s + mj * t * t * t) / (6.0 * h)
-            + (yi / h - mi * h / 6.0) * s
-            + (yj / h - mj * h / 6.0) * t;
-        let d1 = (-mi * s * s + mj * t * t) / (2.0 * h) + (yj - yi) / h - (mj - mi) * h / 6.0;
-        let d2 = (mi * s + mj * t) / h;
+        let inv_h = if self.uniform { self.inv_h } else { 1.0 / p.h };
+        let b = (yj - yi) * inv_h - p.h * (2.0 * mi + mj) * (1.0 / 6.0);
+        let d = (mj - mi) * inv_h * (1.0 / 6.0);
+        [yi, b, 0.5 * mi, d]
+    }
+
+    /// [`Self::eval3`] on a located piece (splines sharing their knots locate once).
+    #[inline]
+    pub(crate) fn eval3_on(&self, p: Piece) -> [f64; 3] {
+        let [a, b, c, d] = self.cubic(p);
+        let t = p.t;
+        let v = a + t * (b + t * (c + t * d));
+        let d1 = b + t * (2.0 * c + t * (3.0 * d));
+        let d2 = 2.0 * c + t * (6.0 * d);
         [v, d1, d2]
+    }
+
+    /// The value on a located piece.
+    #[inline]
+    pub(crate) fn value_on(&self, p: Piece) -> f64 {
+        let [a, b, c, d] = self.cubic(p);
+        let t = p.t;
+        a + t * (b + t * (c + t * d))
     }
 
     /// Value at `x`.
     #[must_use]
     #[inline]
     pub fn value(&self, x: f64) -> f64 {
-        self.eval3(x)[0]
+        self.value_on(self.locate(x))
     }
 
     /// First derivative at `x`.
@@ -351,6 +392,11 @@ pub fn spectral_integral(y: &[f64]) -> (f64, Vec<f64>) {
 /// ```
 #[must_use]
 pub fn wrap_pi(x: f64) -> f64 {
+    // Already in (−π, π] (the unwrapping of neighbouring samples): x itself, without the
+    // library `fmod` (and without the rounding of x + 2π − 2π for small negative x).
+    if x > -std::f64::consts::PI && x <= std::f64::consts::PI {
+        return x;
+    }
     let y = x.rem_euclid(TAU);
     if y > std::f64::consts::PI { y - TAU } else { y }
 }
@@ -359,117 +405,6 @@ pub fn wrap_pi(x: f64) -> f64 {
 #[must_use]
 pub fn uniform_angles(n: usize) -> Vec<f64> {
     (0..n).map(|k| TAU * k as f64 / n as f64).collect()
-}
-
-/// Root of a continuous `g` on `[lo, hi]` with a sign change, to `tol` in `x`, by the ITP method
-/// (interpolate, truncate, project: Oliveira & Takahashi, ACM TOMS 47(1), 2020).
-///
-/// Each step takes the regula-falsi point, truncated towards the midpoint and projected into the
-/// minmax disc of radius `r_j = ε·2^(n_max − j) − (b − a)/2` (`ε = tol/2`, `n_max = ⌈log2((hi −
-/// lo)/tol)⌉ + 1`): never more than one step beyond bisection's count, and superlinear on smooth
-/// functions (a handful of evaluations where bisection needs 30–50). Without a sign change it
-/// still stops within `n_max` steps, at a point of the interval. Hand-written: the inner loop of
-/// step 1 and the train's angle solves, where a solver object per call would cost more than `g`.
-#[must_use]
-pub fn bracketed_root(g: impl Fn(f64) -> f64, mut lo: f64, mut hi: f64, tol: f64) -> f64 {
-    if hi - lo <= tol {
-        return 0.5 * (lo + hi);
-    }
-    // Orient g so that g(lo) ≤ 0 ≤ g(hi) (zero counts as the low side, as in bisection).
-    let g_lo = g(lo);
-    let sign = if g_lo > 0.0 { -1.0 } else { 1.0 };
-    let f = |x: f64| sign * g(x);
-    let (mut ya, mut yb) = (sign * g_lo, f(hi));
-    let eps = 0.5 * tol;
-    let n_max = ((hi - lo) / tol).log2().ceil().max(0.0) + 1.0;
-    let mut scaled = eps * n_max.exp2();
-    let k1 = 0.2 / (hi - lo);
-    for _ in 0..200 {
-        if hi - lo <= tol {
-            break;
-        }
-        let mid = 0.5 * (lo + hi);
-        let r = scaled - 0.5 * (hi - lo);
-        let xf = (yb * lo - ya * hi) / (yb - ya);
-        let sigma = mid - xf;
-        let delta = k1 * (hi - lo) * (hi - lo);
-        let xt = if delta <= sigma.abs() {
-            xf + delta.copysign(sigma)
-        } else {
-            mid
-        };
-        let x = if (xt - mid).abs() <= r {
-            xt
-        } else {
-            mid - r.copysign(sigma)
-        };
-        let y = f(x);
-        if y > 0.0 {
-            hi = x;
-            yb = y;
-        } else if y < 0.0 || y.is_nan() {
-            lo = x;
-            ya = if y.is_nan() { ya } else { y };
-        } else {
-            return x;
-        }
-        scaled *= 0.5;
-    }
-    0.5 * (lo + hi)
-}
-
-/// Solves `f(x) = y` for a strictly increasing `f` on `[lo, hi]` with `f(lo) ≤ y ≤ f(hi)`:
-/// Newton steps with a bisection safeguard, to `tol` in `x`.
-///
-/// `f` returns `(value, derivative)`. Always converges for strictly increasing `f`
-/// (spec §14, "Φ⁻¹ robustness"). Returns the best bracketed estimate after `max_iter` steps.
-#[must_use]
-pub fn invert_increasing(
-    f: impl Fn(f64) -> (f64, f64),
-    y: f64,
-    mut lo: f64,
-    mut hi: f64,
-    guess: f64,
-    tol: f64,
-) -> f64 {
-    let mut x = guess.clamp(lo, hi);
-    // Newton, with bisection when the step leaves the bracket or when the residual did not at
-    // least halve since the last step: plain Newton can ping-pong between the two ends of a
-    // bracket that shrinks by a hair per step and stop unconverged. Where Newton converges
-    // normally (the residual falls quadratically) the path is plain Newton.
-    let mut r_prev = f64::INFINITY;
-    for _ in 0..200 {
-        let (fx, dfx) = f(x);
-        let r = fx - y;
-        if r == 0.0 {
-            return x;
-        }
-        if r > 0.0 {
-            hi = x;
-        } else {
-            lo = x;
-        }
-        let mut next = if dfx > 0.0 && dfx.is_finite() {
-            x - r / dfx
-        } else {
-            f64::NAN
-        };
-        // A Newton step below `tol` that stays in the bracket is convergence, even where the
-        // residual sits at the rounding floor and no longer halves (a bisection there would only
-        // throw the converged iterate away).
-        if (next - x).abs() <= tol && next >= lo && next <= hi {
-            return next;
-        }
-        if !(next > lo && next < hi) || r.abs() > 0.5 * r_prev {
-            next = 0.5 * (lo + hi);
-        }
-        r_prev = r.abs();
-        if (next - x).abs() <= tol || (hi - lo) <= tol {
-            return next;
-        }
-        x = next;
-    }
-    x
 }
 
 #[cfg(test)]
@@ -535,9 +470,52 @@ mod tests {
     }
 
     #[test]
-    fn newton_bisection_inverts() {
-        let f = |x: f64| (x + 0.5 * x.sin(), 1.0 + 0.5 * x.cos());
-        let x = invert_increasing(f, 2.0, 0.0, 4.0, 0.0, 1e-14);
-        assert!((f(x).0 - 2.0).abs() < 1e-13);
+    fn wrap_pi_fast_path_agrees_with_the_wrapped_definition() {
+        for k in 0..20_000 {
+            let x = (f64::from(k) * 0.754_877_666_246_692_7).sin() * 40.0;
+            let w = wrap_pi(x);
+            assert!(
+                w > -std::f64::consts::PI && w <= std::f64::consts::PI,
+                "{x} → {w}"
+            );
+            let turns = (x - w) / TAU;
+            assert!((turns - turns.round()).abs() < 1e-12, "{x} → {w}");
+        }
+        assert_eq!(wrap_pi(-1e-20), -1e-20);
+        assert_eq!(wrap_pi(std::f64::consts::PI), std::f64::consts::PI);
+    }
+
+    #[test]
+    fn horner_pieces_interpolate_and_match_the_two_sided_form() {
+        // The cubic of each piece passes through both knots, and its derivatives are the
+        // textbook two-sided expressions to rounding.
+        let x: Vec<f64> = (0..40)
+            .map(|k| TAU * (f64::from(k) + 0.3 * f64::from(k).sin()) / 40.0)
+            .collect();
+        let y: Vec<f64> = x.iter().map(|t| (2.0 * t).sin() + 0.1 * t.cos()).collect();
+        let s = PeriodicSpline::new(x.clone(), y.clone(), TAU).unwrap();
+        for k in 0..40 {
+            assert!((s.value(x[k]) - y[k]).abs() < 1e-14);
+            let (xi, xj) = (x[k], if k + 1 < 40 { x[k + 1] } else { x[0] + TAU });
+            let h = xj - xi;
+            let (mi, mj) = (s.m[k], s.m[(k + 1) % 40]);
+            let (yi, yj) = (y[k], y[(k + 1) % 40]);
+            for f in [0.1, 0.5, 0.9] {
+                let (t, u) = (f * h, (1.0 - f) * h);
+                let v = (mi * u * u * u + mj * t * t * t) / (6.0 * h)
+                    + (yi / h - mi * h / 6.0) * u
+                    + (yj / h - mj * h / 6.0) * t;
+                let d1 =
+                    (-mi * u * u + mj * t * t) / (2.0 * h) + (yj - yi) / h - (mj - mi) * h / 6.0;
+                let d2 = (mi * u + mj * t) / h;
+                let got = s.eval3(xi + t);
+                for (a, b) in got.iter().zip([v, d1, d2]) {
+                    assert!(
+                        (a - b).abs() < 1e-12 * (1.0 + b.abs()),
+                        "{k} {f}: {a} vs {b}"
+                    );
+                }
+            }
+        }
     }
 }

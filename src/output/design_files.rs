@@ -16,9 +16,11 @@ use std::path::{Path, PathBuf};
 pub fn pitch_csv(curve: &PitchCurve, n: usize) -> String {
     let mut s = String::with_capacity(52 * n + 32);
     s.push_str("theta_deg,r_mm,x_mm,y_mm\n");
+    // At the table's own angles the radii are the stored samples.
+    let stored = (curve.len() == n).then(|| curve.radii_mm());
     for k in 0..n {
         let th = TAU * k as f64 / n as f64;
-        let r = curve.radius_mm(th);
+        let r = stored.map_or_else(|| curve.radius_mm(th), |r| r[k]);
         let (sn, cs) = th.sin_cos();
         Fixed(th.to_degrees(), 6).push_to(&mut s);
         for v in [r, r * cs, r * sn] {
@@ -103,14 +105,19 @@ pub fn write_design_with(
         ),
         (
             "design.svg",
-            Box::new(|p| write(p, &mechanism_svg(asm, &target, &design.traced_mm, 0.0))),
+            Box::new(|p| {
+                write(
+                    p,
+                    &mechanism_svg(&design.rebuilt, &target, &design.traced_mm, 0.0),
+                )
+            }),
         ),
         ("ratio.svg", Box::new(|p| ratio_plot(design, p))),
     ];
     if files.png {
         jobs.push((
             "design.png",
-            Box::new(|p| mechanism_chart(asm, &target, &design.traced_mm, 0.0, p)),
+            Box::new(|p| mechanism_chart(&design.rebuilt, &target, &design.traced_mm, 0.0, p)),
         ));
     }
     // The files are independent: formatted and written side by side (rayon); the list keeps
@@ -135,13 +142,15 @@ pub fn ratio_plot(design: &Design, path: &Path) -> Result<(), OutputError> {
             (t.to_degrees(), m.ratio.value(t))
         })
         .collect();
+    // S(t) along the turn, each solve started from its neighbours' (i21 is periodic, so the
+    // closing point takes S(0)).
+    let s = m
+        .ratio
+        .half_turn_map_uniform(0.0, n, crate::geometry::mechanism::INVERSE_TOL_RAD);
     let i31: Vec<(f64, f64)> = (0..=n)
         .map(|k| {
             let t = TAU * k as f64 / n as f64;
-            (
-                t.to_degrees(),
-                m.ratio.value(t) / m.ratio.value(m.half_turn_map(t)),
-            )
+            (t.to_degrees(), m.ratio.value(t) / m.ratio.value(s[k % n]))
         })
         .collect();
     let target: Vec<(f64, f64)> = {

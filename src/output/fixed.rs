@@ -11,6 +11,14 @@ use std::fmt;
 #[derive(Debug, Clone, Copy)]
 pub(crate) struct Fixed(pub f64, pub u32);
 
+/// The decimal pairs `00`, `01`, …, `99`.
+const PAIRS: &[u8; 200] = b"\
+0001020304050607080910111213141516171819\
+2021222324252627282930313233343536373839\
+4041424344454647484950515253545556575859\
+6061626364656667686970717273747576777879\
+8081828384858687888990919293949596979899";
+
 impl Fixed {
     /// The digits of `x·10ᴺ` rounded half away from zero, written backwards into `buf`: the
     /// text, or `None` outside `|x·10ᴺ| < 9·10¹⁵` (the caller then takes `{:.N}`). At most
@@ -26,22 +34,33 @@ impl Fixed {
         let v = (y + 0.5) as u64;
         let mut i = buf.len();
         let (mut int, mut frac) = (v / scale, v % scale);
-        for _ in 0..n {
+        // Two digits per division, from a table of the pairs 00…99.
+        fn put(buf: &mut [u8; 32], i: &mut usize, pair: u64) {
+            let p = 2 * pair as usize;
+            *i -= 2;
+            buf[*i..*i + 2].copy_from_slice(&PAIRS[p..p + 2]);
+        }
+        for _ in 0..n / 2 {
+            put(buf, &mut i, frac % 100);
+            frac /= 100;
+        }
+        if n % 2 == 1 {
             i -= 1;
-            buf[i] = b'0' + (frac % 10) as u8;
-            frac /= 10;
+            buf[i] = b'0' + frac as u8;
         }
         if n > 0 {
             i -= 1;
             buf[i] = b'.';
         }
-        loop {
+        while int >= 100 {
+            put(buf, &mut i, int % 100);
+            int /= 100;
+        }
+        if int >= 10 {
+            put(buf, &mut i, int);
+        } else {
             i -= 1;
-            buf[i] = b'0' + (int % 10) as u8;
-            int /= 10;
-            if int == 0 {
-                break;
-            }
+            buf[i] = b'0' + int as u8;
         }
         if x.is_sign_negative() {
             i -= 1;

@@ -5,7 +5,9 @@
 use super::error::OutputError;
 use super::fixed::Fixed;
 use super::plot::{ChartLabels, Series, line_chart};
+#[cfg(doc)]
 use crate::geometry::assembly::Assembly;
+use crate::geometry::assembly::Rebuilt;
 use crate::geometry::pitch::PitchCurve;
 use std::f64::consts::TAU;
 use std::path::Path;
@@ -42,17 +44,17 @@ fn path_d(pts: &[[f64; 2]], close: bool) -> String {
     d
 }
 
-/// SVG preview (mm) of the mechanism at carrier angle `phi_h` (rad): the three pitch curves on
-/// the carrier, the needle, the target and the traced trajectory. One group per layer;
-/// coordinates with 3 decimals (path data 4), mm.
+/// SVG preview (mm) of the mechanism rebuilt from its tables ([`Assembly::rebuild`]) at carrier
+/// angle `phi_h` (rad): the three pitch curves on the carrier, the needle, the target and the
+/// traced trajectory. One group per layer; coordinates with 3 decimals (path data 4), mm.
 #[must_use]
 pub fn mechanism_svg(
-    asm: &Assembly,
+    rebuilt: &Rebuilt,
     target: &[[f64; 2]],
     traced: &[[f64; 2]],
     phi_h: f64,
 ) -> String {
-    let pose = asm.rebuild().pose(phi_h);
+    let (asm, pose) = (rebuilt.assembly(), rebuilt.pose(phi_h));
     let o = asm.center_mm;
     let n = 720;
     let sun = placed(&asm.sun, o, 0.0, n);
@@ -141,15 +143,16 @@ pub fn mechanism_svg(
     format!("{doc}\n")
 }
 
-/// The mechanism preview as a chart (PNG or SVG by extension, equal axes, mm).
+/// The mechanism preview of [`mechanism_svg`] as a chart (PNG or SVG by extension, equal axes,
+/// mm).
 pub fn mechanism_chart(
-    asm: &Assembly,
+    rebuilt: &Rebuilt,
     target: &[[f64; 2]],
     traced: &[[f64; 2]],
     phi_h: f64,
     path: &Path,
 ) -> Result<(), OutputError> {
-    let pose = asm.rebuild().pose(phi_h);
+    let (asm, pose) = (rebuilt.assembly(), rebuilt.pose(phi_h));
     let closed = |mut v: Vec<[f64; 2]>| {
         if let Some(f) = v.first().copied() {
             v.push(f);

@@ -3,6 +3,7 @@
 //! gradient in the design parameters (formulas in the [`crate::design::fit`] module doc).
 
 use crate::geometry::mechanism::{INVERSE_TOL_RAD, Mechanism};
+use crate::math::norm;
 use crate::math::polyline::SegmentGrid;
 use rayon::prelude::*;
 use std::f64::consts::{PI, TAU};
@@ -115,13 +116,13 @@ pub(super) fn project(m: &Mechanism, p: [f64; 2], mut phi: f64) -> (f64, TipEval
 /// tip is at rest and the tangent is undefined) it still is the true distance, never less.
 pub(super) fn normal_residual(e: &TipEval, p: [f64; 2]) -> (f64, [f64; 2]) {
     let r = [p[0] - e.b[0], p[1] - e.b[1]];
-    let rn = r[0].hypot(r[1]);
+    let rn = norm(r);
     let side = -e.v[1] * r[0] + e.v[0] * r[1];
     let s = if side < 0.0 { -1.0 } else { 1.0 };
     if rn > 0.0 {
         (s * rn, [s * r[0] / rn, s * r[1] / rn])
     } else {
-        let vn = e.v[0].hypot(e.v[1]).max(1e-300);
+        let vn = norm(e.v).max(1e-300);
         (0.0, [-e.v[1] / vn, e.v[0] / vn])
     }
 }
@@ -240,7 +241,7 @@ pub(super) fn coverage(q: &SegmentGrid, e: &TipEval) -> (f64, [f64; 2]) {
     let near = q.nearest(e.b);
     let (c, chord) = (near.point, q.segment_length_mm(near.segment));
     let r = [e.b[0] - c[0], e.b[1] - c[1]];
-    let d = r[0].hypot(r[1]);
+    let d = norm(r);
     let excess = (d - 0.6 * chord).max(0.0);
     let u = if d > 0.0 {
         [r[0] / d, r[1] / d]

@@ -56,6 +56,7 @@ pub const MEASURED_NOISE_MM: f64 = 0.002;
 pub use restarts::fit_with_restarts;
 
 use crate::geometry::mechanism::Mechanism;
+use crate::math::norm;
 use crate::math::polyline::SegmentGrid;
 use curve::{INITIAL_SAMPLES, curve_samples, initial_angles, initial_angles_on, project};
 use rayon::prelude::*;
@@ -255,11 +256,11 @@ fn measure_from(m: &Mechanism, points: &[[f64; 2]], tracked: Option<&[f64]>) -> 
         .enumerate()
         .map(|(j, p)| {
             let (a, ea) = project(m, *p, fresh[j]);
-            let da = (ea.b[0] - p[0]).hypot(ea.b[1] - p[1]);
+            let da = norm([ea.b[0] - p[0], ea.b[1] - p[1]]);
             match tracked {
                 Some(t) => {
                     let (b, eb) = project(m, *p, t[j]);
-                    let db = (eb.b[0] - p[0]).hypot(eb.b[1] - p[1]);
+                    let db = norm([eb.b[0] - p[0], eb.b[1] - p[1]]);
                     if db < da { (b, db) } else { (a, da) }
                 }
                 None => (a, da),

@@ -38,14 +38,16 @@ impl ClosedSpline {
     /// `(P, P′, P″)` at `s`.
     #[must_use]
     pub fn eval(&self, s: f64) -> [[f64; 2]; 3] {
-        let x = self.x.eval3(s);
-        let y = self.y.eval3(s);
+        // Both coordinates share their knots: one search for the piece.
+        let p = self.x.locate(s);
+        let (x, y) = (self.x.eval3_on(p), self.y.eval3_on(p));
         [[x[0], y[0]], [x[1], y[1]], [x[2], y[2]]]
     }
 
     /// `P(s)` in mm.
     #[must_use]
     pub fn point(&self, s: f64) -> [f64; 2] {
-        [self.x.value(s), self.y.value(s)]
+        let p = self.x.locate(s);
+        [self.x.value_on(p), self.y.value_on(p)]
     }
 }
