@@ -461,18 +461,18 @@ fn solve_frame(
             ]
         })
         .collect();
-    let raw: Vec<f64> = angles.iter().map(|a| a[0]).collect();
-    let raw_beta: Vec<f64> = angles.iter().map(|a| a[1]).collect();
-    let unwrapped = |raw: &[f64]| {
-        let mut out = Vec::with_capacity(raw.len());
-        out.push(raw[0]);
-        for j in 1..raw.len() {
-            let prev = out[j - 1];
-            out.push(prev + wrap_pi(raw[j] - prev));
+    // Angle c (0: carrier, 1: needle) unwrapped along the samples.
+    let unwrapped = |c: usize| {
+        let mut out = Vec::with_capacity(angles.len());
+        let mut prev = angles[0][c];
+        out.push(prev);
+        for a in &angles[1..] {
+            prev += wrap_pi(a[c] - prev);
+            out.push(prev);
         }
         out
     };
-    let phi = unwrapped(&raw);
+    let phi = unwrapped(0);
     let total = phi[ns] - phi[0];
     let phi0 = phi[0];
     let to_deg = |a: f64| (f64::from(direction) * a).to_degrees().rem_euclid(360.0);
@@ -492,7 +492,7 @@ fn solve_frame(
         return Err(not_monotone);
     }
     // Needle direction and ψ3 on the dense samples: ψ3 must increase (i31 > 0).
-    let beta = unwrapped(&raw_beta);
+    let beta = unwrapped(1);
     let psi = |j: usize| (phi[j] - phi0) - (beta[j] - beta[0]);
     let bad = runs(ns, |j| psi(j + 1) <= psi(j));
     if !bad.is_empty() {

@@ -165,20 +165,35 @@ impl SunRatio {
         &self.b
     }
 
+    /// The harmonics at `θ`: `(k, a_k, b_k, sin kθ, cos kθ)` for `k = 1..=K`, the sines and
+    /// cosines by the rotation recurrence from one `sin_cos` (every evaluation below walks them).
+    fn harmonics(&self, theta: f64) -> impl Iterator<Item = (f64, f64, f64, f64, f64)> + '_ {
+        let (s1, c1) = theta.sin_cos();
+        self.a
+            .iter()
+            .zip(&self.b)
+            .enumerate()
+            .scan((s1, c1), move |(s, c), (k, (&a, &b))| {
+                let term = ((k + 1) as f64, a, b, *s, *c);
+                (*s, *c) = (*s * c1 + *c * s1, *c * c1 - *s * s1);
+                Some(term)
+            })
+    }
+
+    /// `i21`, `i21′`, `i21″` from one harmonic.
+    #[inline]
+    fn add_eval3(out: &mut [f64; 3], (k, a, b, s, c): (f64, f64, f64, f64, f64)) {
+        out[0] += a * c + b * s;
+        out[1] += k * (b * c - a * s);
+        out[2] -= k * k * (a * c + b * s);
+    }
+
     /// `(i21, di21/dθ, d²i21/dθ²)` at `θ` (rad).
     #[must_use]
     pub fn eval3(&self, theta: f64) -> [f64; 3] {
-        let (s1, c1) = theta.sin_cos();
-        let (mut s, mut c) = (s1, c1);
         let mut out = [1.0, 0.0, 0.0];
-        for (k, (a, b)) in self.a.iter().zip(&self.b).enumerate() {
-            let kf = (k + 1) as f64;
-            out[0] += a * c + b * s;
-            out[1] += kf * (b * c - a * s);
-            out[2] -= kf * kf * (a * c + b * s);
-            let (sn, cn) = (s * c1 + c * s1, c * c1 - s * s1);
-            s = sn;
-            c = cn;
+        for h in self.harmonics(theta) {
+            Self::add_eval3(&mut out, h);
         }
         out
     }
@@ -198,18 +213,24 @@ impl SunRatio {
     /// `(Φ(θ), i21(θ))`.
     #[must_use]
     pub fn integral_and_value(&self, theta: f64) -> (f64, f64) {
-        let (s1, c1) = theta.sin_cos();
-        let (mut s, mut c) = (s1, c1);
         let (mut phi, mut i) = (theta, 1.0);
-        for (k, (a, b)) in self.a.iter().zip(&self.b).enumerate() {
-            let kf = (k + 1) as f64;
-            phi += (a * s + b * (1.0 - c)) / kf;
+        for (k, a, b, s, c) in self.harmonics(theta) {
+            phi += (a * s + b * (1.0 - c)) / k;
             i += a * c + b * s;
-            let (sn, cn) = (s * c1 + c * s1, c * c1 - s * s1);
-            s = sn;
-            c = cn;
         }
         (phi, i)
+    }
+
+    /// `(Φ(θ), [i21, i21′, i21″](θ))`: [`Self::integral`] and [`Self::eval3`] from one sine and
+    /// cosine and one pass over the harmonics.
+    #[must_use]
+    pub fn integral_and_eval3(&self, theta: f64) -> (f64, [f64; 3]) {
+        let (mut phi, mut out) = (theta, [1.0, 0.0, 0.0]);
+        for h @ (k, a, b, s, c) in self.harmonics(theta) {
+            phi += (a * s + b * (1.0 - c)) / k;
+            Self::add_eval3(&mut out, h);
+        }
+        (phi, out)
     }
 
     /// `Φ⁻¹(y)` (rad): Newton with bisection safeguard to `tol_rad` (spec §14, "Φ⁻¹ robustness").
@@ -398,7 +419,14 @@ mod tests {
             assert!((d1 - (r.value(t + h) - r.value(t - h)) / (2.0 * h)).abs() < 1e-8);
             let fd2 = (r.eval3(t + h)[1] - r.eval3(t - h)[1]) / (2.0 * h);
             assert!((d2 - fd2).abs() < 1e-7);
+            // The one-pass forms are the separate ones, bit for bit.
+            assert_eq!(r.integral_and_eval3(t), (r.integral(t), r.eval3(t)));
+            assert_eq!(r.integral_and_value(t).1, r.value(t));
         }
+        let [(lo, at_lo), (hi, at_hi)] = r.sampled_extremes(777);
+        assert_eq!((lo, at_lo), r.sampled_extreme(777, false));
+        assert_eq!((hi, at_hi), r.sampled_extreme(777, true));
+        assert!(lo < 1.0 && hi > 1.0);
     }
 
     #[test]

@@ -51,6 +51,31 @@ pub(crate) struct Piece {
     h: f64,
 }
 
+/// One piece of a [`PeriodicSpline`] as the cubic `a + b·t + c·t² + d·t³` in the offset `t` from
+/// its first knot.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Cubic([f64; 4]);
+
+impl Cubic {
+    /// Value, first and second derivative at offset `t` (Horner).
+    #[inline]
+    pub(crate) fn eval3(&self, t: f64) -> [f64; 3] {
+        let [a, b, c, d] = self.0;
+        [
+            a + t * (b + t * (c + t * d)),
+            b + t * (2.0 * c + t * (3.0 * d)),
+            2.0 * c + t * (6.0 * d),
+        ]
+    }
+
+    /// Value at offset `t`.
+    #[inline]
+    pub(crate) fn value(&self, t: f64) -> f64 {
+        let [a, b, c, d] = self.0;
+        a + t * (b + t * (c + t * d))
+    }
+}
+
 /// Why a periodic spline could not be built.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 #[non_exhaustive]
@@ -224,10 +249,9 @@ impl PeriodicSpline {
         self.eval3_on(self.locate(x))
     }
 
-    /// The cubic of piece `p` (from [`Self::locate`]): `(y_i, b, M_i/2, d)` of
-    /// `y_i + b·t + (M_i/2)·t² + d·t³`.
+    /// The cubic of the piece holding `p` (from [`Self::locate`]).
     #[inline]
-    fn cubic(&self, p: Piece) -> [f64; 4] {
+    fn cubic(&self, p: Piece) -> Cubic {
         let n = self.x.len();
         let i = p.i;
         let j = if i + 1 == n { 0 } else { i + 1 };
@@ -235,26 +259,32 @@ impl PeriodicSpline {
         let inv_h = if self.uniform { self.inv_h } else { 1.0 / p.h };
         let b = (yj - yi) * inv_h - p.h * (2.0 * mi + mj) * (1.0 / 6.0);
         let d = (mj - mi) * inv_h * (1.0 / 6.0);
-        [yi, b, 0.5 * mi, d]
+        Cubic([yi, b, 0.5 * mi, d])
+    }
+
+    /// Piece `i` (from knot `x_i` to the next): `(x_i, h, its cubic in t = x − x_i)`, for loops
+    /// that evaluate many points of one piece (quadrature, dense checks) without locating each.
+    #[inline]
+    pub(crate) fn piece(&self, i: usize) -> (f64, f64, Cubic) {
+        let n = self.x.len();
+        let h = if i + 1 < n {
+            self.x[i + 1] - self.x[i]
+        } else {
+            self.x[0] + self.period - self.x[i]
+        };
+        (self.x[i], h, self.cubic(Piece { i, t: 0.0, h }))
     }
 
     /// [`Self::eval3`] on a located piece (splines sharing their knots locate once).
     #[inline]
     pub(crate) fn eval3_on(&self, p: Piece) -> [f64; 3] {
-        let [a, b, c, d] = self.cubic(p);
-        let t = p.t;
-        let v = a + t * (b + t * (c + t * d));
-        let d1 = b + t * (2.0 * c + t * (3.0 * d));
-        let d2 = 2.0 * c + t * (6.0 * d);
-        [v, d1, d2]
+        self.cubic(p).eval3(p.t)
     }
 
     /// The value on a located piece.
     #[inline]
     pub(crate) fn value_on(&self, p: Piece) -> f64 {
-        let [a, b, c, d] = self.cubic(p);
-        let t = p.t;
-        a + t * (b + t * (c + t * d))
+        self.cubic(p).value(p.t)
     }
 
     /// Value at `x`.

@@ -23,11 +23,11 @@ pub(super) struct TipEval {
 
 pub(super) fn tip_eval(m: &Mechanism, phi: f64) -> TipEval {
     let t = phi - m.sun_phase_rad;
-    let (fi_t, _) = m.ratio.integral_and_value(t);
+    let (fi_t, i_t) = m.ratio.integral_and_eval3(t);
     tip_eval_at(
         m,
         phi,
-        t,
+        (t, i_t),
         m.ratio.inverse_integral(fi_t + PI, INVERSE_TOL_RAD),
     )
 }
@@ -37,20 +37,20 @@ pub(super) fn tip_eval(m: &Mechanism, phi: f64) -> TipEval {
 pub(super) fn tip_eval_next(m: &Mechanism, e: &TipEval, step: f64) -> TipEval {
     let phi = e.t + m.sun_phase_rad + step;
     let t = phi - m.sun_phase_rad;
-    let (fi_t, _) = m.ratio.integral_and_value(t);
+    let (fi_t, i_t) = m.ratio.integral_and_eval3(t);
     let guess = e.s + step * e.i_t / e.i_s;
     tip_eval_at(
         m,
         phi,
-        t,
+        (t, i_t),
         m.ratio
             .inverse_integral_from(fi_t + PI, guess, INVERSE_TOL_RAD),
     )
 }
 
-/// The evaluation at carrier angle `phi` (`t = phi − φ_ref`) with the contact angle `s = S(t)`.
-fn tip_eval_at(m: &Mechanism, phi: f64, t: f64, s: f64) -> TipEval {
-    let [i_t, di_t, _] = m.ratio.eval3(t);
+/// The evaluation at carrier angle `phi` (`t = phi − φ_ref`, with the ratio's `[i, i′, i″]`
+/// there) with the contact angle `s = S(t)`.
+fn tip_eval_at(m: &Mechanism, phi: f64, (t, [i_t, di_t, _]): (f64, [f64; 3]), s: f64) -> TipEval {
     let [i_s, di_s, _] = m.ratio.eval3(s);
     let beta = phi + PI - s + m.needle_angle_rad;
     let (sp, cp) = phi.sin_cos();
