@@ -194,8 +194,7 @@ pub fn invert(
         };
         (f, o)
     };
-    let rj = rayon::join(|| rejects(&sa), || rejects(&sb));
-    let (ccw, cw) = match rj {
+    let (ccw, cw) = match rayon::join(|| rejects(&sa), || rejects(&sb)) {
         (false, true) => survivor_first(&solve_a, &solve_b),
         (true, false) => {
             let (b, a) = survivor_first(&solve_b, &solve_a);

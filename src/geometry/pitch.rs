@@ -243,18 +243,28 @@ impl PitchCurve {
         s
     }
 
-    /// Polar samples `(θ in degrees, r in mm)` at `n` uniform angles, for files (the stored
-    /// radii when `n` is the number of samples).
+    /// Radii (mm) at `n` uniform angles `θ_k = 2πk/n`: the stored samples when `n` is their
+    /// number (the spline at its own knots), else the spline's values.
+    #[must_use]
+    pub fn radii_at_uniform_mm(&self, n: usize) -> std::borrow::Cow<'_, [f64]> {
+        if self.len() == n {
+            std::borrow::Cow::Borrowed(self.radii_mm())
+        } else {
+            uniform_angles(n)
+                .into_iter()
+                .map(|t| self.radius_mm(t))
+                .collect()
+        }
+    }
+
+    /// Polar samples `(θ in degrees, r in mm)` at `n` uniform angles, for files
+    /// ([`Self::radii_at_uniform_mm`]).
     #[must_use]
     pub fn polar_table_deg(&self, n: usize) -> Vec<[f64; 2]> {
-        let stored = (self.len() == n).then(|| self.radii_mm());
         uniform_angles(n)
             .into_iter()
-            .enumerate()
-            .map(|(k, t)| {
-                let r = stored.map_or_else(|| self.radius_mm(t), |r| r[k]);
-                [t.to_degrees(), r]
-            })
+            .zip(self.radii_at_uniform_mm(n).iter())
+            .map(|(t, &r)| [t.to_degrees(), r])
             .collect()
     }
 }

@@ -16,11 +16,8 @@ use std::path::{Path, PathBuf};
 pub fn pitch_csv(curve: &PitchCurve, n: usize) -> String {
     let mut s = String::with_capacity(52 * n + 32);
     s.push_str("theta_deg,r_mm,x_mm,y_mm\n");
-    // At the table's own angles the radii are the stored samples.
-    let stored = (curve.len() == n).then(|| curve.radii_mm());
-    for k in 0..n {
+    for (k, &r) in curve.radii_at_uniform_mm(n).iter().enumerate() {
         let th = TAU * k as f64 / n as f64;
-        let r = stored.map_or_else(|| curve.radius_mm(th), |r| r[k]);
         let (sn, cs) = th.sin_cos();
         Fixed(th.to_degrees(), 6).push_to(&mut s);
         for v in [r, r * cs, r * sn] {
