@@ -111,6 +111,8 @@ pub fn secant_root(
     let (mut a, mut b, mut fa, mut fb) = (lo, hi, g_lo, g_hi);
     let (mut x0, mut f0) = (a, fa);
     let mut x1 = a - fa * (b - a) / (fb - fa);
+    // Six steps: from a short bracket of a smooth g the secant settles in two or three; a
+    // seventh would mean g is not smooth there, and ITP's guarantee takes over.
     for _ in 0..6 {
         if !(x1 > a && x1 < b) {
             break;

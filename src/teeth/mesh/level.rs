@@ -506,13 +506,7 @@ impl Frames {
     /// A gear-2 body point (mm) in gear 1's body frame.
     #[inline]
     fn to1(&self, b: [f64; 2]) -> [f64; 2] {
-        let Self {
-            sn1,
-            co1,
-            sn2,
-            co2,
-            a,
-        } = *self;
+        let (sn1, co1, sn2, co2, a) = (self.sn1, self.co1, self.sn2, self.co2, self.a);
         let w = [co2 * b[0] + sn2 * b[1] + a, -sn2 * b[0] + co2 * b[1]];
         [co1 * w[0] + sn1 * w[1], -sn1 * w[0] + co1 * w[1]]
     }
@@ -520,13 +514,7 @@ impl Frames {
     /// A gear-1 body point (mm) in gear 2's body frame.
     #[inline]
     fn to2(&self, b: [f64; 2]) -> [f64; 2] {
-        let Self {
-            sn1,
-            co1,
-            sn2,
-            co2,
-            a,
-        } = *self;
+        let (sn1, co1, sn2, co2, a) = (self.sn1, self.co1, self.sn2, self.co2, self.a);
         let w = [co1 * b[0] - sn1 * b[1] - a, sn1 * b[0] + co1 * b[1]];
         [co2 * w[0] - sn2 * w[1], sn2 * w[0] + co2 * w[1]]
     }
