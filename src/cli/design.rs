@@ -64,8 +64,21 @@ pub struct Args {
     /// Keep the chain's result: skip the final fit of every parameter to the points.
     #[arg(long)]
     pub no_fit: bool,
-    /// Penalise concave pitch arcs in the refinement.
+    /// Gear limits as constraints of the design: on (default) keeps every pitch curve within
+    /// --max-pressure-angle and --min-concave-radius and the ratio within --ratio-bounds; off
+    /// keeps only the ratio bounds (research: the closest path whatever the gears; C9 and C10
+    /// are still checked).
+    #[arg(long, value_enum, default_value = "on")]
+    pub limits: LimitsArg,
+    /// Largest effective pressure angle α + max|atan(r_θ/r)| of every pitch curve, degrees.
+    #[arg(long, default_value_t = 45.0)]
+    pub max_pressure_angle: f64,
+    /// Smallest concave radius of curvature of a pitch curve, mm (default: the pitch radius of
+    /// a 20-tooth shaper cutter, 10·--module, 10 mm without a module).
     #[arg(long)]
+    pub min_concave_radius: Option<f64>,
+    /// Convex pitch curves only (cut by a rack): the same as an infinite --min-concave-radius.
+    #[arg(long, conflicts_with = "min_concave_radius")]
     pub convexity: bool,
     /// Smooth a measured or noisy trajectory to this many Fourier harmonics before the inversion.
     #[arg(long)]
@@ -80,8 +93,10 @@ pub struct Args {
     /// the CAD files under OUT/teeth/ (the `teeth` block of design.json).
     #[arg(long, help_heading = "Teeth")]
     pub module: Option<f64>,
-    /// How the tooth count is made an integer (spec §12.1).
-    #[arg(long, value_enum, default_value = "scale-up", help_heading = "Teeth")]
+    /// How the tooth count is made an integer: design (default) fits the train at the tooth
+    /// counts nearest its size, the perimeter zπm a constraint of the fit (the toothed train
+    /// traces what the report states); the others scale a design made without the module.
+    #[arg(long, value_enum, default_value = "design", help_heading = "Teeth")]
     pub tooth_policy: ToothPolicyArg,
     /// A given tooth count (scales the centre distance to fit; overrides --tooth-policy).
     #[arg(long, requires = "module", help_heading = "Teeth")]
@@ -97,6 +112,8 @@ pub struct Args {
 /// `--tooth-policy` values.
 #[derive(Debug, Clone, Copy, clap::ValueEnum)]
 pub enum ToothPolicyArg {
+    /// Design for the module: the tooth count a constraint of the fit.
+    Design,
     /// Scale the centre distance up to z = ⌈L/πm⌉ (tip moves radially by (s − 1)·l1).
     ScaleUp,
     /// Scale the centre distance to z = round(L/πm).
@@ -107,6 +124,15 @@ pub enum ToothPolicyArg {
     RatioAmplitude,
     /// Keep the gears; use the non-standard module L/(zπ), z = round(L/πm).
     AdjustModule,
+}
+
+/// `--limits` values.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum LimitsArg {
+    /// Design within the gear limits.
+    On,
+    /// The ratio bounds alone.
+    Off,
 }
 
 /// `--refine` values.
@@ -175,7 +201,26 @@ pub fn run(args: Args) -> CliResult {
     opts.inverse.dense_samples = args.dense;
     opts.curve_samples = args.samples;
     opts.refine_options.ratio_bounds = args.ratio_bounds;
-    opts.refine_options.convexity_penalty = args.convexity;
+    opts.gear_limits = args.limits == LimitsArg::On;
+    opts.pressure_angle_limit_rad = args.max_pressure_angle.to_radians();
+    opts.min_concave_radius_mm = if args.convexity {
+        Some(f64::INFINITY)
+    } else {
+        args.min_concave_radius
+    };
+    // --teeth or a scaling policy: the design is made without the module and scaled after;
+    // the concave-radius limit still follows the module's cutter.
+    match args.module {
+        Some(m) if args.teeth.is_none() && matches!(args.tooth_policy, ToothPolicyArg::Design) => {
+            opts.module_mm = Some(m)
+        }
+        Some(m) => {
+            opts.min_concave_radius_mm = opts
+                .min_concave_radius_mm
+                .or(Some(ncgear::design::SMALLEST_CUTTER_RADIUS_MODULES * m))
+        }
+        None => {}
+    }
     let file = args.trajectory.display().to_string();
     let d = design(&traj, &opts).map_err(|e| match &e {
         DesignError::Internal(_) => runtime_error(miette::miette!("{file}: {e}")),
@@ -283,6 +328,27 @@ pub fn run(args: Args) -> CliResult {
         "  round trip from the output curves ({}): max deviation {:.4} mm, Hausdorff {:.4} mm",
         r.chosen, r.roundtrip.max_deviation_mm, r.roundtrip.hausdorff_mm
     );
+    let l = &r.limits;
+    println!(
+        "  gear limits{}: pressure angle {:.2}° (≤ {}°), tightest concave radius {} (≥ {} mm), i21 in [{:.3}, {:.3}]{}",
+        if l.enabled {
+            ""
+        } else {
+            " (off: not constraints)"
+        },
+        l.pressure_angle_deg,
+        l.max_pressure_angle_deg,
+        l.tightest_concave_radius_mm
+            .map_or_else(|| "none (convex)".into(), |v| format!("{v:.2} mm")),
+        l.min_concave_radius_mm,
+        l.ratio_range[0],
+        l.ratio_range[1],
+        if l.binding.is_empty() {
+            String::new()
+        } else {
+            format!("; binding: {}", l.binding.join(", "))
+        }
+    );
     let failed: Vec<&str> = r
         .checks
         .iter()
@@ -383,6 +449,7 @@ fn toothed(
         }
         (None, ToothPolicyArg::RatioAmplitude) => TrainPolicy::RatioAmplitude,
         (None, ToothPolicyArg::AdjustModule) => TrainPolicy::AdjustModule,
+        (None, ToothPolicyArg::Design) => TrainPolicy::Designed,
     };
     let accuracy_mm = 1e-9 * d.assembly.a_mm;
     tooth_design_deferred(d, &opts, accuracy_mm).map_err(|e| match e {
@@ -405,6 +472,9 @@ fn flag_of(option: &str) -> Option<&'static str> {
         "refine_options.ratio_bounds" => "--ratio-bounds",
         "center_mm" => "--center",
         "segmented.w1" => "--w1",
+        "pressure_angle_limit_rad" => "--max-pressure-angle",
+        "min_concave_radius_mm" => "--min-concave-radius",
+        "module_mm" => "--module",
         "refine_order" => "--refine-order",
         _ => return None,
     })

@@ -4,6 +4,7 @@
 use super::checks::finish;
 use super::error::DesignError;
 use super::inverse::Inversion;
+use super::module::design_for_module;
 use super::options::{ADAPTIVE_ORDERS, DesignOptions, RefineMode, validate};
 use super::report::*;
 use super::segmented::Segmented;
@@ -13,6 +14,7 @@ use crate::design::compat::Compatibility;
 use crate::design::fit::FitOptions;
 use crate::design::trajectory::Trajectory;
 use crate::geometry::fourier::SunRatio;
+use crate::geometry::limits::GearLimits;
 use crate::geometry::mechanism::Mechanism;
 use std::f64::consts::PI;
 use std::time::Instant;
@@ -54,7 +56,11 @@ pub fn design(traj: &Trajectory, opts: &DesignOptions) -> Result<Design, DesignE
     let t0 = Instant::now();
     let compat: Compatibility = compat::analyse(&inv.law, n, 1e-13);
     timings.compat = ms(t0);
-    let trains = Trains { inv: &inv, opts };
+    let trains = Trains {
+        inv: &inv,
+        opts,
+        limits: opts.limits(),
+    };
 
     // The patent route, then the §8.3 refinement when asked for.
     let t0 = Instant::now();
@@ -85,6 +91,28 @@ pub fn design(traj: &Trajectory, opts: &DesignOptions) -> Result<Design, DesignE
     )?;
     timings.fit = ms(t0);
     let chosen = if fitted.replaced { "fit" } else { chosen };
+    // Designing for a module: the tooth count a constraint of one more fit.
+    let t0 = Instant::now();
+    let (fitted, module) = match opts.module_mm {
+        Some(m) => {
+            let points = traj.relative_to(opts.center_mm, inv.direction < 0);
+            let fm = design_for_module(
+                &points,
+                &fitted.mechanism,
+                m,
+                &fit_options(&trains, noise_sigma),
+            )?;
+            let fitted = FitStage {
+                mechanism: fm.mechanism,
+                angles: fm.angles,
+                ..fitted
+            };
+            (fitted, Some(fm.summary))
+        }
+        None => (fitted, None),
+    };
+    timings.module = ms(t0);
+    let chosen = if module.is_some() { "module" } else { chosen };
     let best_dev = fitted.summary.as_ref().map_or_else(
         || {
             refine_summary
@@ -167,6 +195,8 @@ pub fn design(traj: &Trajectory, opts: &DesignOptions) -> Result<Design, DesignE
             sun_phase_deg: inv.file_angle_deg(mechanism.sun_phase_rad),
             i21_range: [imin, imax],
         },
+        module,
+        limits: out.limits,
         checks: out.checks,
         target_points: traj.points().to_vec(),
         warnings,
@@ -188,16 +218,19 @@ pub fn design(traj: &Trajectory, opts: &DesignOptions) -> Result<Design, DesignE
 struct Trains<'a> {
     inv: &'a Inversion,
     opts: &'a DesignOptions,
+    limits: GearLimits,
 }
 
 impl Trains<'_> {
+    /// The train of `ratio` (made to satisfy the gear limits first) and sun phase `tau_s`.
     fn build(&self, ratio: SunRatio, tau_s: f64) -> (Mechanism, f64) {
         let inv = self.inv;
         let samples = self.opts.check_samples;
+        let a_mm = 0.5 * inv.l1_mm;
         let mut m = Mechanism {
-            a_mm: 0.5 * inv.l1_mm,
+            a_mm,
             l3_mm: inv.l3_mm,
-            ratio,
+            ratio: self.limits.project(&ratio, a_mm),
             sun_phase_rad: inv.phi_h0_rad + tau_s,
             needle_angle_rad: 0.0,
         };
@@ -381,12 +414,8 @@ fn fit_stage(
     noise_sigma: f64,
 ) -> Result<FitStage, DesignError> {
     let opts = trains.opts;
-    let [lo, hi] = opts.refine_options.ratio_bounds;
     let points = traj.relative_to(opts.center_mm, trains.inv.direction < 0);
-    let admissible = |m: &Mechanism| {
-        let [rlo, rhi] = m.ratio.range();
-        rlo >= lo && rhi <= hi
-    };
+    let admissible = |m: &Mechanism| trains.limits.contains(&m.ratio, m.a_mm);
     let start = fit::measure(&points, &mech);
     let (start_max, start_rms) = (start.max_mm, start.rms_mm);
     let run_fit = opts.fit_to_points
@@ -408,13 +437,7 @@ fn fit_stage(
     if !run_fit {
         return Ok(kept(None));
     }
-    let fit_opts = FitOptions {
-        order: opts.order,
-        ratio_bounds: opts.refine_options.ratio_bounds,
-        tol_mm: FIT_TOL_FRACTION * opts.tol_tip_mm,
-        noise_sigma_mm: noise_sigma,
-        ..FitOptions::default()
-    };
+    let fit_opts = fit_options(trains, noise_sigma);
     let restarts = [2]
         .into_iter()
         .filter_map(|k| {
@@ -450,6 +473,19 @@ fn fit_stage(
         })
     } else {
         Ok(kept(Some(summary)))
+    }
+}
+
+/// The options of the fit to the points: the chain's order, gear limits and noise level; aims at
+/// [`FIT_TOL_FRACTION`] of the tolerance.
+fn fit_options(trains: &Trains, noise_sigma: f64) -> FitOptions {
+    let opts = trains.opts;
+    FitOptions {
+        order: opts.order,
+        limits: trains.limits,
+        tol_mm: FIT_TOL_FRACTION * opts.tol_tip_mm,
+        noise_sigma_mm: noise_sigma,
+        ..FitOptions::default()
     }
 }
 

@@ -8,7 +8,7 @@ use crate::design::inverse::Inversion;
 use crate::design::trajectory::{ClosedSpline, Trajectory};
 use crate::geometry::assembly::{Assembly, Rebuilt};
 use crate::geometry::mechanism::{INVERSE_TOL_RAD, Mechanism};
-use crate::geometry::pitch::PitchCurve;
+use crate::geometry::pitch::{CurvatureSummary, PitchCurve};
 use crate::math::polyline::hausdorff_mm;
 use rayon::prelude::*;
 use std::f64::consts::TAU;
@@ -70,6 +70,7 @@ pub(super) struct Finished {
     pub checks: Vec<Check>,
     pub roundtrip: RoundTrip,
     pub gears: Gears,
+    pub limits: LimitsSummary,
 }
 
 /// Pitch curves, assembly, checks C1–C12 and the round trip from the output tables.
@@ -197,9 +198,11 @@ pub(super) fn finish(
     } else {
         0.0
     };
-    let concave = cs.concave_fraction.max(cm.concave_fraction);
     let effective = alpha + max_dev_mu;
     let limit_deg = opts.pressure_angle_limit_rad.to_degrees();
+    let concave_limit = opts.concave_radius_limit_mm();
+    // ∞ (written as null) when both curves are convex.
+    let tightest_concave = cs.min_concave_radius_mm.min(cm.min_concave_radius_mm);
     let compat_mm = compat.residual_rad * mech.l3_mm;
     let tol = opts.tol_tip_mm;
     #[rustfmt::skip]
@@ -220,8 +223,8 @@ pub(super) fn finish(
             min_conv, 0.0, true),
         check("C8", format!("undercut: largest rack module ρc,min·sin²α/ha* at α = {:.1}°, ha* = 1, mm", alpha.to_degrees()),
             rack_module, 0.0, true),
-        check("C9", "concave arcs (need a shaper cutter): fraction of the sun and intermediate that is concave".into(),
-            concave, 0.0, true),
+        check("C9", format!("concave arcs: tightest concave radius of curvature of the sun, intermediate and planet, mm (∞/null = convex; concave fraction {:.3}), at least the smallest shaper cutter's pitch radius", cs.concave_fraction.max(cm.concave_fraction)),
+            tightest_concave, concave_limit, tightest_concave >= concave_limit),
         check("C10", "max effective pressure angle α + max|atan(r_θ/r)|, deg".into(),
             effective.to_degrees(), limit_deg, effective <= opts.pressure_angle_limit_rad),
         check("C11", "compatibility l3·E_c, mm (report)".into(),
@@ -229,10 +232,9 @@ pub(super) fn finish(
         check("C12", "round trip from the output tables: max synchronous tip deviation, mm".into(),
             sync, tol, sync <= tol),
     ];
-    if min_conv <= 0.0 {
+    if min_conv <= 0.0 && tightest_concave >= concave_limit {
         warnings.push(format!(
-            "a pitch curve is concave somewhere (min Δ = {min_conv:.3} mm²): a rack cannot cut it; a shaper cutter of pitch radius below {:.2} mm (the tightest concave radius of curvature) is needed (C9)",
-            cs.min_concave_radius_mm.min(cm.min_concave_radius_mm)
+            "a pitch curve is concave somewhere (tightest concave radius {tightest_concave:.2} mm): a rack cannot cut it; a shaper cutter of pitch radius below that radius is needed"
         ));
     }
     for c in &checks {
@@ -244,27 +246,25 @@ pub(super) fn finish(
         }
     }
     let table = |c: &PitchCurve| c.polar_table_deg(n);
-    let gear = |c: &PitchCurve, angle: Option<f64>, perim: f64, rho: f64| Gear {
+    let gear = |c: &PitchCurve, angle: Option<f64>, perim: f64, k: &CurvatureSummary| Gear {
         pitch: table(c),
         angle_at_zero_deg: angle.map(|a| a.to_degrees().rem_euclid(360.0)),
         perimeter_mm: perim,
-        min_radius_of_curvature_mm: rho,
+        min_radius_of_curvature_mm: k.min_radius_of_curvature_mm,
+        min_concave_radius_mm: k
+            .min_concave_radius_mm
+            .is_finite()
+            .then_some(k.min_concave_radius_mm),
+        concave_fraction: k.concave_fraction,
+        max_pressure_angle_deg: (alpha + k.max_pressure_deviation_rad).to_degrees(),
     };
     let gears = Gears {
-        sun: gear(&sun, None, ls, cs.min_radius_of_curvature_mm),
-        intermediate: gear(
-            &mid,
-            Some(assembly.intermediate_angle_at_zero_rad),
-            lm,
-            cm.min_radius_of_curvature_mm,
-        ),
-        planet: gear(
-            &planet,
-            Some(assembly.planet_angle_at_zero_rad),
-            lp,
-            cs.min_radius_of_curvature_mm,
-        ),
+        sun: gear(&sun, None, ls, &cs),
+        intermediate: gear(&mid, Some(assembly.intermediate_angle_at_zero_rad), lm, &cm),
+        // The planet is the sun's copy: the same curvature.
+        planet: gear(&planet, Some(assembly.planet_angle_at_zero_rad), lp, &cs),
     };
+    let limits = limits_summary(opts, effective, tightest_concave, [imin, imax]);
     Ok(Finished {
         mechanism: mech,
         assembly,
@@ -273,5 +273,46 @@ pub(super) fn finish(
         checks,
         roundtrip,
         gears,
+        limits,
     })
+}
+
+/// Where the design stands against its gear limits, and which of them it sits on (within 1 %).
+fn limits_summary(
+    opts: &DesignOptions,
+    pressure_angle_rad: f64,
+    tightest_concave_mm: f64,
+    ratio_range: [f64; 2],
+) -> LimitsSummary {
+    let limits = opts.limits();
+    let [lo, hi] = limits.ratio_bounds();
+    let (pa_max, r_min) = (
+        opts.pressure_angle_limit_rad,
+        opts.concave_radius_limit_mm(),
+    );
+    let near = |v: f64, limit: f64| (v - limit).abs() <= 0.01 * limit;
+    let binding = [
+        ("pressure angle", near(pressure_angle_rad, pa_max)),
+        ("concave radius", near(tightest_concave_mm, r_min)),
+        (
+            "ratio bounds",
+            near(ratio_range[0], lo) || near(ratio_range[1], hi),
+        ),
+    ]
+    .into_iter()
+    .filter(|b| b.1)
+    .map(|b| b.0.to_string())
+    .collect();
+    LimitsSummary {
+        enabled: limits.limits_gears(),
+        max_pressure_angle_deg: pa_max.to_degrees(),
+        min_concave_radius_mm: r_min,
+        ratio_bounds: [lo, hi],
+        pressure_angle_deg: pressure_angle_rad.to_degrees(),
+        tightest_concave_radius_mm: tightest_concave_mm
+            .is_finite()
+            .then_some(tightest_concave_mm),
+        ratio_range,
+        binding,
+    }
 }

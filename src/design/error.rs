@@ -40,6 +40,20 @@ pub enum DesignError {
         /// Upper bound.
         hi: f64,
     },
+    /// The module leaves too few teeth on the pitch curves.
+    #[error(
+        "module {module_mm} mm leaves {:.1} teeth on pitch curves of perimeter {perimeter_mm:.2} mm; at least {min_teeth} are needed: choose a module of at most {:.3} mm",
+        perimeter_mm / (std::f64::consts::PI * module_mm),
+        perimeter_mm / (std::f64::consts::PI * f64::from(*min_teeth))
+    )]
+    ModuleTooLarge {
+        /// Module, mm.
+        module_mm: f64,
+        /// Perimeter of the free design's pitch curves, mm.
+        perimeter_mm: f64,
+        /// Fewest teeth admitted.
+        min_teeth: u32,
+    },
     /// Internal failure building a ratio or curve.
     #[error("internal: {0}")]
     Internal(String),

@@ -23,6 +23,7 @@ mod error;
 pub mod fit;
 pub mod inverse;
 pub mod law;
+mod module;
 mod options;
 pub mod refine;
 mod report;
@@ -33,8 +34,9 @@ pub mod trajectory;
 
 pub use chain::design;
 pub use error::DesignError;
-pub use options::{ADAPTIVE_ORDERS, DesignOptions, RefineMode};
+pub use module::{MIN_TEETH, ModuleSummary};
+pub use options::{ADAPTIVE_ORDERS, DesignOptions, RefineMode, SMALLEST_CUTTER_RADIUS_MODULES};
 pub use report::{
     Carrier, Check, CompatSummary, Design, DesignReport, FitSummary, FourierSummary, Gear, Gears,
-    RoundTrip, RouteSummary, Timings, TrajectorySummary, Units,
+    LimitsSummary, RoundTrip, RouteSummary, Timings, TrajectorySummary, Units,
 };

@@ -4,6 +4,7 @@ use super::error::DesignError;
 use crate::design::inverse::InverseOptions;
 use crate::design::refine::RefineOptions;
 use crate::design::segmented::SegmentedOptions;
+use crate::geometry::limits::GearLimits;
 use serde::{Deserialize, Serialize};
 
 /// Orders tried by the adaptive order choice (spec §8.2).
@@ -58,8 +59,53 @@ pub struct DesignOptions {
     pub check_samples: usize,
     /// Rack pressure angle α used by the pressure-angle check C10, rad. Default 20°.
     pub pressure_angle_rad: f64,
-    /// Limit on the effective pressure angle, rad (C10). Default 45°.
+    /// Limit on the effective pressure angle α + max|atan(r_θ/r)| of the three pitch curves,
+    /// rad (C10). Default 45°.
     pub pressure_angle_limit_rad: f64,
+    /// Design within the gear limits (default true): the effective pressure angle within
+    /// `pressure_angle_limit_rad`, every concave arc no tighter than the concave-radius limit,
+    /// the sun ratio within its bounds — constraints of every stage that chooses the curves
+    /// ([`crate::geometry::limits`]). False: the ratio bounds alone (research use; C9 and C10
+    /// are still checked).
+    pub gear_limits: bool,
+    /// Smallest admissible concave radius of curvature of a pitch curve, mm (C9). Default
+    /// `None`: the pitch radius of a 20-tooth shaper cutter, 10·m at module `m`
+    /// ([`Self::module_mm`]), 10 mm without one.
+    pub min_concave_radius_mm: Option<f64>,
+    /// Module the gears are designed for, mm (default `None`): the smallest concave radius
+    /// follows from it (see `min_concave_radius_mm`).
+    pub module_mm: Option<f64>,
+}
+
+/// Pitch radius of the smallest standard shaper cutter that cuts cleanly, in modules: 20 teeth.
+pub const SMALLEST_CUTTER_RADIUS_MODULES: f64 = 10.0;
+
+impl DesignOptions {
+    /// The concave-radius limit in force, mm: `min_concave_radius_mm`, or the pitch radius of a
+    /// 20-tooth shaper cutter at `module_mm` (1 mm when none is given).
+    #[must_use]
+    pub fn concave_radius_limit_mm(&self) -> f64 {
+        self.min_concave_radius_mm
+            .unwrap_or(SMALLEST_CUTTER_RADIUS_MODULES * self.module_mm.unwrap_or(1.0))
+    }
+
+    /// The gear limits the chain designs within ([`Self::gear_limits`]); the options must be
+    /// valid (as [`crate::design::design`] checks first).
+    #[must_use]
+    pub fn limits(&self) -> GearLimits {
+        let bounds = self.refine_options.ratio_bounds;
+        let limits = if self.gear_limits {
+            GearLimits::new(
+                bounds,
+                self.pressure_angle_rad,
+                self.pressure_angle_limit_rad,
+                self.concave_radius_limit_mm(),
+            )
+        } else {
+            GearLimits::ratio_only(bounds)
+        };
+        limits.expect("validated options")
+    }
 }
 
 impl Default for DesignOptions {
@@ -79,6 +125,9 @@ impl Default for DesignOptions {
             check_samples: 2048,
             pressure_angle_rad: 20f64.to_radians(),
             pressure_angle_limit_rad: 45f64.to_radians(),
+            gear_limits: true,
+            min_concave_radius_mm: None,
+            module_mm: None,
         }
     }
 }
@@ -90,8 +139,9 @@ pub(super) fn validate(opts: &DesignOptions) -> Result<(), DesignError> {
     let [lo, hi] = refine.ratio_bounds;
     let [cx, cy] = opts.center_mm;
     let show = |v: Option<usize>| v.map_or_else(|| "none".into(), |k| k.to_string());
+    let show_f = |v: Option<f64>| v.map_or_else(|| "none".into(), |k| k.to_string());
     // (valid, option, given value, what is expected), checked in this order.
-    let rules: [(bool, &'static str, String, &'static str); 18] = [
+    let rules: [(bool, &'static str, String, &'static str); 20] = [
         (
             opts.order.is_none_or(|k| (1..=64).contains(&k)),
             "order",
@@ -123,10 +173,10 @@ pub(super) fn validate(opts: &DesignOptions) -> Result<(), DesignError> {
             "at least 720 samples per pitch curve",
         ),
         (
-            lo > 0.0 && hi > lo && hi.is_finite(),
+            lo > 0.0 && lo < 1.0 && hi > 1.0 && hi.is_finite(),
             "refine_options.ratio_bounds",
             format!("{lo},{hi}"),
-            "0 < min < max",
+            "0 < min < 1 < max (the ratio's mean is 1)",
         ),
         (
             cx.is_finite() && cy.is_finite(),
@@ -195,10 +245,24 @@ pub(super) fn validate(opts: &DesignOptions) -> Result<(), DesignError> {
             "an angle in (0°, 90°)",
         ),
         (
-            angle(opts.pressure_angle_limit_rad),
+            angle(opts.pressure_angle_limit_rad)
+                && opts.pressure_angle_limit_rad > opts.pressure_angle_rad,
             "pressure_angle_limit_rad",
-            format!("{} rad", opts.pressure_angle_limit_rad),
-            "an angle in (0°, 90°)",
+            format!("{}°", opts.pressure_angle_limit_rad.to_degrees()),
+            "an angle above the rack's pressure angle (20°) and below 90°",
+        ),
+        (
+            opts.min_concave_radius_mm
+                .is_none_or(|r| r > 0.0 && !r.is_nan()),
+            "min_concave_radius_mm",
+            show_f(opts.min_concave_radius_mm),
+            "a radius > 0 mm (infinite: convex pitch curves only)",
+        ),
+        (
+            opts.module_mm.is_none_or(|m| (0.05..=50.0).contains(&m)),
+            "module_mm",
+            show_f(opts.module_mm),
+            "a module in [0.05, 50] mm",
         ),
     ];
     match rules.into_iter().find(|r| !r.0) {

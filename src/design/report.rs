@@ -36,11 +36,19 @@ pub struct DesignReport {
     /// The orthogonal-distance fit of the whole train to the points, when it ran.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub fit: Option<FitSummary>,
-    /// Which result the gears come from: "patent", "refined" (§8.3) or "fit".
+    /// Which result the gears come from: "patent", "refined" (§8.3), "fit" or "module" (the
+    /// fit at the module's tooth count).
     pub chosen: String,
     /// The final sun ratio `i21(u) = 1 + Σ a_k cos ku + b_k sin ku`, u = sun polar angle from the
     /// design reference ray, which points at world angle `sun_phase_deg`.
     pub fourier: FourierSummary,
+    /// The design made for a module ([`crate::design::DesignOptions::module_mm`]): its tooth
+    /// count and the neighbours tried; absent otherwise.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub module: Option<crate::design::ModuleSummary>,
+    /// The gear limits and where the design stands against them.
+    #[serde(default)]
+    pub limits: LimitsSummary,
     /// Checks C1–C12.
     pub checks: Vec<Check>,
     /// The target trajectory as read (world frame, mm, travel order).
@@ -99,8 +107,43 @@ pub struct Gear {
     pub angle_at_zero_deg: Option<f64>,
     /// Perimeter, mm.
     pub perimeter_mm: f64,
-    /// Smallest signed radius of curvature, mm (negative = concave).
+    /// Smallest radius of curvature over the convex part of the curve, mm.
     pub min_radius_of_curvature_mm: f64,
+    /// Tightest concave radius of curvature `|ρ|`, mm; absent (`null`) when the curve is convex.
+    #[serde(default)]
+    pub min_concave_radius_mm: Option<f64>,
+    /// Fraction of the curve (in its polar angle) that is concave.
+    #[serde(default)]
+    pub concave_fraction: f64,
+    /// Largest effective pressure angle `α + max|atan(r_θ/r)|` of the curve, degrees.
+    #[serde(default)]
+    pub max_pressure_angle_deg: f64,
+}
+
+/// The gear limits the design was made within, and where it stands against them (from the
+/// output tables, as checks C6, C9 and C10 measure it).
+#[derive(Debug, Clone, Default, Serialize, Deserialize)]
+pub struct LimitsSummary {
+    /// Whether the pressure-angle and concave-radius limits constrained the design (false: the
+    /// ratio bounds alone; C9 and C10 are checked either way).
+    pub enabled: bool,
+    /// Largest admissible effective pressure angle, degrees.
+    pub max_pressure_angle_deg: f64,
+    /// Smallest admissible concave radius of curvature, mm.
+    pub min_concave_radius_mm: f64,
+    /// Admissible sun ratios `[i_min, i_max]`.
+    pub ratio_bounds: [f64; 2],
+    /// The design's largest effective pressure angle over the three gears, degrees.
+    pub pressure_angle_deg: f64,
+    /// The design's tightest concave radius of curvature over the three gears, mm; absent when
+    /// every pitch curve is convex.
+    pub tightest_concave_radius_mm: Option<f64>,
+    /// The design's sun ratio range `[min, max]`.
+    pub ratio_range: [f64; 2],
+    /// The limits the design sits on (within 1 % of the limit): `"pressure angle"`,
+    /// `"concave radius"`, `"ratio bounds"`. A binding limit is what the design's deviation
+    /// from the target is traded for.
+    pub binding: Vec<String>,
 }
 
 /// Round-trip result.
@@ -248,6 +291,9 @@ pub struct Timings {
     /// Fit to the points.
     #[serde(default)]
     pub fit: f64,
+    /// The fit at the module's tooth counts.
+    #[serde(default)]
+    pub module: f64,
     /// Curves, checks and round trip.
     pub outputs: f64,
     /// Total.

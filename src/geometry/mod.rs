@@ -4,5 +4,7 @@
 pub mod assembly;
 pub mod fourier;
 pub mod golden;
+pub mod limits;
 pub mod mechanism;
+pub mod perimeter;
 pub mod pitch;

@@ -55,6 +55,7 @@ mod solver;
 pub const MEASURED_NOISE_MM: f64 = 0.002;
 pub use restarts::fit_with_restarts;
 
+use crate::geometry::limits::GearLimits;
 use crate::geometry::mechanism::Mechanism;
 use crate::math::norm;
 use crate::math::polyline::SegmentGrid;
@@ -74,8 +75,14 @@ pub struct FitOptions {
     pub order: Option<usize>,
     /// Highest order tried when climbing (default 40).
     pub max_order: usize,
-    /// Admissible sun ratios `[i_min, i_max]` (default `[0.3, 3.3]`, spec §14).
-    pub ratio_bounds: [f64; 2],
+    /// The gear limits every iterate satisfies (default: the sun ratio within `[0.3, 3.3]`
+    /// alone, [`GearLimits::ratio_only`]; the design chain adds the pressure-angle and
+    /// concave-radius limits).
+    pub limits: GearLimits,
+    /// The pitch perimeter the train must have, mm (default `None`): `z·π·m` for `z` teeth of
+    /// module `m`. The centre distance is then not a free parameter but `a = L/L̂(i)`
+    /// ([`crate::geometry::perimeter`]).
+    pub perimeter_mm: Option<f64>,
     /// The order stops rising once the largest point distance is below this, mm (default 0.0125).
     pub tol_mm: f64,
     /// Noise level of the points, mm (default 0): the order stops rising once the RMS distance is
@@ -96,7 +103,8 @@ impl Default for FitOptions {
         Self {
             order: None,
             max_order: 40,
-            ratio_bounds: [0.3, 3.3],
+            limits: GearLimits::ratio_only([0.3, 3.3]).expect("valid bounds"),
+            perimeter_mm: None,
             tol_mm: 0.0125,
             noise_sigma_mm: 0.0,
             max_iterations: 40,
@@ -147,7 +155,7 @@ pub struct Fitted {
 
 /// Fits the train to `points` (mm, relative to the carrier axis, solved frame: CCW) from `start`.
 ///
-/// Every iterate is admissible (ratio within `opts.ratio_bounds`); the start is made admissible
+/// Every iterate is admissible (within `opts.limits`); the start is made admissible
 /// first. See the module documentation for the model and the solver.
 pub fn fit_points(
     points: &[[f64; 2]],
@@ -183,7 +191,7 @@ pub fn fit_points(
         }
     };
     let mut m = with_order(start, orders[0]);
-    m.ratio = m.ratio.admissible(opts.ratio_bounds);
+    solver::admit(&mut m, opts);
     let mut phis_all = initial_angles(&m, points);
     let mut scan = Vec::new();
     let mut iterations = 0;

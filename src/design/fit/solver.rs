@@ -5,7 +5,9 @@
 use super::FitOptions;
 use super::curve::{coverage, curve_evals, normal_residual, point_row, project};
 use crate::geometry::fourier::SunRatio;
+use crate::geometry::limits::{PROJECTION_MARGIN, constraint_gradients, constraint_values};
 use crate::geometry::mechanism::Mechanism;
+use crate::geometry::perimeter::{unit_perimeter, unit_perimeter_gradient};
 use crate::math::polyline::SegmentGrid;
 use nalgebra::{DMatrix, DVector};
 use rayon::prelude::*;
@@ -37,8 +39,14 @@ pub(super) fn with_order(m: &Mechanism, k: usize) -> Mechanism {
     }
 }
 
-/// Angles at which the bound penalty is sampled.
-const BOUND_SAMPLES: usize = 256;
+/// Angles at which the limit penalty is sampled.
+const LIMIT_SAMPLES: usize = 512;
+
+/// Constraint values per angle ([`constraint_values`]).
+const LIMIT_ROWS: usize = 5;
+
+/// Relative margin at which the limit penalty starts: a little inside the projection's.
+const PENALTY_MARGIN: f64 = 3.0 * PROJECTION_MARGIN;
 
 /// Carrier angles at which the traced curve is held to the target (coverage rows).
 pub(super) const COVERAGE_SAMPLES: usize = 256;
@@ -55,7 +63,7 @@ pub(super) struct Lm<'a> {
 
 impl Lm<'_> {
     fn n_rows(&self) -> usize {
-        self.pts.len() + COVERAGE_SAMPLES + BOUND_SAMPLES + 2 * self.k
+        self.pts.len() + COVERAGE_SAMPLES + LIMIT_SAMPLES * LIMIT_ROWS + 2 * self.k
     }
 
     /// Residuals at `m` (points projected from `phis`, updated in place); with `jac`, also the
@@ -110,25 +118,45 @@ impl Lm<'_> {
             .collect();
         put_rows(&mut r, j.as_deref_mut(), m0, cov);
         let m0 = m0 + COVERAGE_SAMPLES;
-        // Bound penalty: w·dist(i21(θ_m), [i_min, i_max]).
+        // Limit penalty: w·max(0, −g) for each constraint value g of the gear limits (ratio
+        // bounds, pressure angle, concave radius) at LIMIT_SAMPLES angles, active a little inside
+        // the limits so the projection of the trials rarely has to act.
         let w = 10.0 * m.l3_mm.abs().max(1.0);
-        let [lo, hi] = self.opts.ratio_bounds;
-        for b in 0..BOUND_SAMPLES {
-            let th = TAU * b as f64 / BOUND_SAMPLES as f64;
-            let i = m.ratio.value(th);
-            let (viol, sign) = if i > hi {
-                (i - hi, 1.0)
-            } else if i < lo {
-                (lo - i, -1.0)
-            } else {
-                (0.0, 0.0)
-            };
-            r[m0 + b] = w * viol;
+        let limits = &self.opts.limits;
+        let rows: Vec<(usize, f64, Vec<f64>)> = (0..LIMIT_SAMPLES)
+            .into_par_iter()
+            .flat_map_iter(|b| {
+                let th = TAU * b as f64 / LIMIT_SAMPLES as f64;
+                let v = m.ratio.eval3(th);
+                let g = constraint_values(limits, v, m.a_mm, PENALTY_MARGIN);
+                let active: Vec<usize> = (0..LIMIT_ROWS).filter(|&c| g[c] < 0.0).collect();
+                let grads =
+                    (!active.is_empty() && np > 0).then(|| constraint_gradients(limits, v, m.a_mm));
+                active.into_iter().map(move |c| {
+                    let mut row = vec![0.0; np];
+                    if let Some(gr) = &grads {
+                        let [gi, gd, gdd, ga] = gr[c];
+                        row[0] = -w * ga;
+                        for kk in 0..k {
+                            let kf = (kk + 1) as f64;
+                            let (sn, cs) = (kf * th).sin_cos();
+                            row[4 + kk] = -w * (gi * cs - gd * kf * sn - gdd * kf * kf * cs);
+                            row[4 + k + kk] = -w * (gi * sn + gd * kf * cs - gdd * kf * kf * sn);
+                        }
+                    }
+                    (b * LIMIT_ROWS + c, -w * g[c], row)
+                })
+            })
+            .collect();
+        if let Some(j) = j.as_deref_mut() {
+            // Inactive rows are zero (the matrix is reused between evaluations).
+            j.rows_mut(m0, LIMIT_SAMPLES * LIMIT_ROWS).fill(0.0);
+        }
+        for (idx, value, row) in rows {
+            r[m0 + idx] = value;
             if let Some(j) = j.as_deref_mut() {
-                for kk in 0..k {
-                    let (s, c) = (((kk + 1) as f64) * th).sin_cos();
-                    j[(m0 + b, 4 + kk)] = w * sign * c;
-                    j[(m0 + b, 4 + k + kk)] = w * sign * s;
+                for (c, v) in row.into_iter().enumerate() {
+                    j[(m0 + idx, c)] = v;
                 }
             }
         }
@@ -137,12 +165,27 @@ impl Lm<'_> {
         let (ca, cb) = (m.ratio.cos_coefficients(), m.ratio.sin_coefficients());
         for kk in 0..k {
             let h = ((kk + 1) * (kk + 1)) as f64 * ws;
-            let row = m0 + BOUND_SAMPLES + 2 * kk;
+            let row = m0 + LIMIT_SAMPLES * LIMIT_ROWS + 2 * kk;
             r[row] = h * ca[kk];
             r[row + 1] = h * cb[kk];
             if let Some(j) = j.as_deref_mut() {
                 j[(row, 4 + kk)] = h;
                 j[(row + 1, 4 + k + kk)] = h;
+            }
+        }
+        if let (Some(_), Some(j)) = (self.opts.perimeter_mm, j) {
+            // a = L/L̂(c) is not free: its column moves onto the coefficients' by the chain rule,
+            // ∂a/∂c = −(a/L̂)·∂L̂/∂c (zero column: the damped step leaves a where it is).
+            let (l, grad) = unit_perimeter_gradient(&m.ratio);
+            let da: Vec<f64> = grad.iter().map(|g| -m.a_mm / l * g).collect();
+            for row in 0..j.nrows() {
+                let ja = j[(row, 0)];
+                if ja != 0.0 {
+                    for (c, d) in da.iter().enumerate() {
+                        j[(row, 4 + c)] += ja * d;
+                    }
+                    j[(row, 0)] = 0.0;
+                }
             }
         }
         r
@@ -175,11 +218,11 @@ impl Lm<'_> {
                 let delta = ch.solve(&(-&g));
                 let p: Vec<f64> = p0.iter().zip(delta.iter()).map(|(x, d)| x + d).collect();
                 let mut trial = from_params(&p, self.k);
-                trial.ratio = trial.ratio.admissible(self.opts.ratio_bounds);
                 if !(trial.a_mm > 0.0 && trial.l3_mm > 0.0) {
                     lambda *= 4.0;
                     continue;
                 }
+                admit(&mut trial, self.opts);
                 // The trial's Jacobian comes with its residuals (rows are cheap beside the
                 // projections), so an accepted step needs no second evaluation.
                 let mut trial_phis = phis.to_vec();
@@ -208,6 +251,18 @@ impl Lm<'_> {
             }
         }
         (m, iters)
+    }
+}
+
+/// Makes `m` admissible: its ratio within the gear limits, and with a given pitch perimeter its
+/// centre distance `a = L/L̂(i)` ([`crate::geometry::perimeter`]).
+pub(super) fn admit(m: &mut Mechanism, opts: &FitOptions) {
+    match opts.perimeter_mm {
+        Some(l) => {
+            m.ratio = opts.limits.project_at_perimeter(&m.ratio, l);
+            m.a_mm = l / unit_perimeter(&m.ratio);
+        }
+        None => m.ratio = opts.limits.project(&m.ratio, m.a_mm),
     }
 }
 

@@ -80,6 +80,25 @@ pub fn tooth_design_deferred(
     accuracy_mm: f64,
 ) -> Result<(ToothedTrain, Option<PendingTrainMesh>), TrainError> {
     let target = &design.report.target_points;
+    if opts.policy == TrainPolicy::Designed {
+        let m = opts.toothing.module_mm;
+        let z = match &design.report.module {
+            Some(d) if (d.module_mm - m).abs() <= 1e-12 * m => d.teeth,
+            other => {
+                return Err(TrainError::NotDesignedForModule {
+                    module_mm: m,
+                    designed_mm: other.as_ref().map(|d| d.module_mm),
+                });
+            }
+        };
+        let exact = TrainTeethOptions {
+            policy: TrainPolicy::ScaleCenterDistance(ToothPolicy::Exact(z)),
+            ..*opts
+        };
+        let (mut train, pending) = train_from(&design.assembly, None, target, &exact)?;
+        train.report.options.policy = TrainPolicy::Designed;
+        return Ok((train, pending));
+    }
     if opts.policy != TrainPolicy::RatioAmplitude {
         return train_from(&design.assembly, None, target, opts);
     }
@@ -159,12 +178,12 @@ fn train_from(
     let (rounding, adjust) = match opts.policy {
         TrainPolicy::ScaleCenterDistance(p) => (p, false),
         TrainPolicy::AdjustModule => (ToothPolicy::Nearest, true),
-        TrainPolicy::RatioAmplitude => {
+        TrainPolicy::RatioAmplitude | TrainPolicy::Designed => {
             return Err(TrainError::InvalidOption {
                 name: "policy",
                 value: f64::NAN,
                 expected: "scale-centre-distance or adjust-module here; the ratio-amplitude \
-                           policy needs the designed mechanism (tooth_design)",
+                           and designed policies need the design (tooth_design)",
             });
         }
     };

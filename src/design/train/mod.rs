@@ -73,6 +73,17 @@ pub enum TrainError {
     /// A scaled pitch curve is invalid.
     #[error(transparent)]
     Pitch(#[from] PitchError),
+    /// The designed policy on a design made for no module or another one.
+    #[error(
+        "the design was made for {}, not for module {module_mm} mm: design with the module (DesignOptions::module_mm), or choose a policy that scales the finished design",
+        designed_mm.map_or_else(|| "no module".to_string(), |d| format!("module {d} mm"))
+    )]
+    NotDesignedForModule {
+        /// The module asked for, mm.
+        module_mm: f64,
+        /// The module the design was made for, mm.
+        designed_mm: Option<f64>,
+    },
     /// An option is out of range.
     #[error("invalid option `{name}` = {value}: {expected}")]
     InvalidOption {
@@ -99,6 +110,11 @@ pub enum TrainPolicy {
     /// Option 3: keep the gears, z = round(L/(πm)) and the module adjusted to `L/(zπ)` (a
     /// non-standard module; the trajectory is unchanged).
     AdjustModule,
+    /// The design's own tooth count: a design made for this module
+    /// ([`crate::design::DesignOptions::module_mm`]) has pitch perimeters of exactly `zπm`, so
+    /// nothing is scaled and the toothed train traces the path the design states. Needs the
+    /// design ([`tooth_design`]); a design made for no module or another one is refused.
+    Designed,
 }
 
 /// Options of [`tooth_train`]; [`TrainTeethOptions::new`] and [`Default`] fill the defaults named

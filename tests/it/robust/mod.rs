@@ -207,7 +207,6 @@ macro_rules! fit_multistart_reference {
             unreachable!("designer cases use the focus ellipse")
         };
         let mut fo = FitOptions::default(); // order climbs 6 → 40 from the start's order
-        fo.ratio_bounds = [0.3, 3.3];
         let k = FIT_START_ORDER;
         let base = Mechanism {
             a_mm: case.train.a,

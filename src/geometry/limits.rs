@@ -1,0 +1,439 @@
+//! Gear-quality limits of a train: what makes its pitch curves cuttable and able to transmit
+//! motion, as constraints on the sun ratio `i(θ)` and the centre distance `a`.
+//!
+//! With `s = 1 + i`, the sun and intermediate pitch curves at one contact are (see
+//! [`ContactGeometry`]) `r1 = a·i/s` against the sun angle θ and `r2 = a/s` against the
+//! intermediate's own angle (`dθ2/dθ = i`); the planet is a copy of the sun. Three limits:
+//!
+//! ```text
+//! ratio bounds       i_min ≤ i(θ) ≤ i_max                        (so i31 = i(t)/i(S(t)) > 0)
+//! pressure angle     α + atan|r_θ/r| ≤ α_max,   |r1_θ/r1| = |r2_θ/r2| = |i′| / (i·s)
+//! concave radius     κ(θ) ≥ −1/R_min for sun and intermediate,   κ = Δ / (r² + r_θ²)^{3/2},
+//!                    Δ = r² + 2r_θ² − r·r_θθ   (concave where Δ < 0; |ρ| = 1/|κ| ≥ R_min)
+//! ```
+//!
+//! The pressure-angle limit is one on `i′/(i·s)`: the same for sun and intermediate, and
+//! independent of `a`. The curvature scales as `1/a`: with `κ̂` the curvature at `a = 1`, the
+//! concave limit reads `κ̂ ≥ −a/R_min`. Above `α_max ≈ 45°` the contact force turns a gear more
+//! than it drives it; a concave arc tighter than the pitch radius of the smallest shaper cutter
+//! that cuts cleanly cannot be generated.
+//!
+//! A ratio is made to satisfy the limits by [`GearLimits::project`]: the largest `λ ≤ 1` with
+//! `1 + λ(i − 1)` within them (a circle, `λ = 0`, always is). Shrinking `i − 1` keeps the closure
+//! `Φ(2π) = 2π` (the mean of the ratio stays 1).
+//!
+//! ```
+//! use ncgear::geometry::{fourier::SunRatio, limits::GearLimits};
+//! let limits = GearLimits::new([0.3, 3.3], 20f64.to_radians(), 45f64.to_radians(), 10.0).unwrap();
+//! // i = 1 + 0.6 cos 3θ: |i′|/(i(1+i)) reaches 0.8 > tan 25° — too steep.
+//! let steep = SunRatio::new(vec![0.0, 0.0, 0.6], vec![0.0; 3]).unwrap();
+//! assert!(limits.measure(&steep, 45.0).max_pressure_angle_rad > 45f64.to_radians());
+//! let ok = limits.project(&steep, 45.0);
+//! let m = limits.measure(&ok, 45.0);
+//! assert!(m.max_pressure_angle_rad <= 45f64.to_radians() && m.within);
+//! ```
+
+use crate::geometry::fourier::SunRatio;
+use crate::geometry::mechanism::ContactGeometry;
+use crate::geometry::perimeter::unit_speed;
+use serde::Serialize;
+use std::f64::consts::TAU;
+
+/// Relative margin kept inside each limit by [`GearLimits::project`]: the projected ratio is
+/// checked on a finite grid, the output tables on a finer one.
+pub const PROJECTION_MARGIN: f64 = 2e-3;
+
+/// The gear-quality limits of a train (see the module documentation).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct GearLimits {
+    ratio_bounds: [f64; 2],
+    rack_pressure_angle_rad: f64,
+    max_pressure_angle_rad: f64,
+    /// `tan(α_max − α)`; infinite without a pressure-angle limit.
+    max_slope: f64,
+    /// `1/R_min`, 1/mm; 0 for "convex only", infinite without a concave limit.
+    min_concave_radius_mm: f64,
+}
+
+/// Why a set of limits is invalid.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[non_exhaustive]
+pub enum LimitsError {
+    /// A limit is out of its range.
+    #[error("invalid gear limit `{name}` = {value}: expected {expected}")]
+    Invalid {
+        /// The limit's name.
+        name: &'static str,
+        /// The value given.
+        value: f64,
+        /// What is expected.
+        expected: &'static str,
+    },
+}
+
+/// How a ratio and centre distance stand against the limits ([`GearLimits::measure`]).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct LimitMeasure {
+    /// Smallest and largest sun ratio.
+    pub ratio_range: [f64; 2],
+    /// Largest effective pressure angle `α + atan max|r_θ/r|` of the three gears, rad.
+    pub max_pressure_angle_rad: f64,
+    /// Tightest concave radius of curvature of the sun (and planet), mm; `None` when convex.
+    pub sun_min_concave_radius_mm: Option<f64>,
+    /// Tightest concave radius of curvature of the intermediate, mm; `None` when convex.
+    pub intermediate_min_concave_radius_mm: Option<f64>,
+    /// Whether every limit holds.
+    pub within: bool,
+}
+
+/// The values `(i, i′, i″)` of `1 + λ(i − 1)` on a grid, from `(i − 1, i′, i″)` stored once.
+struct Grid {
+    h: Vec<[f64; 3]>,
+}
+
+impl Grid {
+    fn new(ratio: &SunRatio) -> Self {
+        let n = grid_size(ratio.order());
+        let h = (0..n)
+            .map(|j| {
+                let [i, d, dd] = ratio.eval3(TAU * j as f64 / n as f64);
+                [i - 1.0, d, dd]
+            })
+            .collect();
+        Self { h }
+    }
+
+    /// Unit perimeter of the sun at `λ` (trapezoid on the grid, [`crate::geometry::perimeter`]).
+    fn unit_perimeter(&self, lambda: f64) -> f64 {
+        let sum: f64 = self.scaled(lambda).map(|[i, d, _]| unit_speed(i, d)).sum();
+        sum * TAU / self.h.len() as f64
+    }
+
+    fn scaled(&self, lambda: f64) -> impl Iterator<Item = [f64; 3]> + '_ {
+        self.h
+            .iter()
+            .map(move |[h, d, dd]| [1.0 + lambda * h, lambda * d, lambda * dd])
+    }
+}
+
+/// Grid size of the limit scans for a ratio of order `k`: at least 32 samples per period of the
+/// highest harmonic.
+fn grid_size(k: usize) -> usize {
+    (32 * k).clamp(1024, 4096)
+}
+
+/// Signed curvature `Δ/(r² + r_θ²)^{3/2}` of a polar curve from `[r, r_θ, r_θθ]`.
+fn curvature([r, r1, r2]: [f64; 3]) -> f64 {
+    let q = r * r + r1 * r1;
+    (r * r + 2.0 * r1 * r1 - r * r2) / (q * q.sqrt())
+}
+
+/// The constraint values at one contact, each `≥ 0` when within (at the relative `margin`):
+/// `[i − i_min, i_max − i, T − |i′|/(i s), κ̂_sun + a/R, κ̂_int + a/R]`, dimensionless.
+/// Curvatures at unit centre distance (`κ̂ = a·κ`).
+pub(crate) fn constraint_values(
+    limits: &GearLimits,
+    [i, d, dd]: [f64; 3],
+    a_mm: f64,
+    margin: f64,
+) -> [f64; 5] {
+    let [lo, hi] = limits.ratio_bounds;
+    let m = 1.0 - margin;
+    let slope = d.abs() / (i * (1.0 + i));
+    let g = ContactGeometry::new(1.0, [i, d, dd]);
+    let floor = limits.curvature_floor(a_mm) * m;
+    [
+        i - lo * (1.0 + margin),
+        hi * m - i,
+        limits.max_slope * m - slope,
+        curvature(g.sun) - floor,
+        curvature(g.intermediate) - floor,
+    ]
+}
+
+/// Partial derivatives `[∂/∂i, ∂/∂i′, ∂/∂i″, ∂/∂a]` of each of [`constraint_values`] at the
+/// penalty's margin: central differences in `(i, i′, i″)` (steps 1e-7 relative), exact in `a`
+/// (only the curvature floor `−a/R_min` depends on it).
+pub(crate) fn constraint_gradients(limits: &GearLimits, v: [f64; 3], a_mm: f64) -> [[f64; 4]; 5] {
+    let mut out = [[0.0; 4]; 5];
+    for c in 0..3 {
+        let h = 1e-7 * (1.0 + v[c].abs());
+        let (mut up, mut down) = (v, v);
+        up[c] += h;
+        down[c] -= h;
+        let (gu, gd) = (
+            constraint_values(limits, up, a_mm, 0.0),
+            constraint_values(limits, down, a_mm, 0.0),
+        );
+        for (row, (u, d)) in out.iter_mut().zip(gu.iter().zip(&gd)) {
+            row[c] = if u.is_finite() && d.is_finite() {
+                (u - d) / (2.0 * h)
+            } else {
+                0.0
+            };
+        }
+    }
+    if limits.min_concave_radius_mm > 0.0 {
+        let da = 1.0 / limits.min_concave_radius_mm;
+        out[3][3] = da;
+        out[4][3] = da;
+    }
+    out
+}
+
+impl GearLimits {
+    /// Limits from the ratio bounds `[i_min, i_max]`, the rack pressure angle α and the largest
+    /// effective pressure angle `α_max` (rad), and the smallest concave radius of curvature
+    /// `R_min` (mm; `f64::INFINITY` admits convex curves only).
+    pub fn new(
+        ratio_bounds: [f64; 2],
+        rack_pressure_angle_rad: f64,
+        max_pressure_angle_rad: f64,
+        min_concave_radius_mm: f64,
+    ) -> Result<Self, LimitsError> {
+        let [lo, hi] = ratio_bounds;
+        let bad = |name, value, expected| {
+            Err(LimitsError::Invalid {
+                name,
+                value,
+                expected,
+            })
+        };
+        if !(lo > 0.0 && lo < 1.0 && hi > 1.0 && hi.is_finite()) {
+            return bad("ratio_bounds", lo, "0 < min < 1 < max");
+        }
+        let alpha = rack_pressure_angle_rad;
+        if !(alpha > 0.0 && alpha < std::f64::consts::FRAC_PI_2) {
+            return bad("rack_pressure_angle_rad", alpha, "an angle in (0°, 90°)");
+        }
+        let pa = max_pressure_angle_rad;
+        if !(pa > alpha && pa < std::f64::consts::FRAC_PI_2) {
+            return bad(
+                "max_pressure_angle_rad",
+                pa,
+                "an angle above the rack's pressure angle and below 90°",
+            );
+        }
+        if !(min_concave_radius_mm > 0.0) {
+            return bad(
+                "min_concave_radius_mm",
+                min_concave_radius_mm,
+                "a radius > 0 mm",
+            );
+        }
+        Ok(Self {
+            ratio_bounds,
+            rack_pressure_angle_rad: alpha,
+            max_pressure_angle_rad: pa,
+            max_slope: (pa - alpha).tan(),
+            min_concave_radius_mm,
+        })
+    }
+
+    /// The ratio bounds alone (no pressure-angle or curvature limit): research use.
+    pub fn ratio_only(ratio_bounds: [f64; 2]) -> Result<Self, LimitsError> {
+        let mut l = Self::new(ratio_bounds, 20f64.to_radians(), 45f64.to_radians(), 1.0)?;
+        l.max_slope = f64::INFINITY;
+        l.max_pressure_angle_rad = std::f64::consts::FRAC_PI_2;
+        l.min_concave_radius_mm = 0.0;
+        Ok(l)
+    }
+
+    /// `[i_min, i_max]`.
+    #[must_use]
+    pub fn ratio_bounds(&self) -> [f64; 2] {
+        self.ratio_bounds
+    }
+
+    /// Largest effective pressure angle, rad (90° when unlimited).
+    #[must_use]
+    pub fn max_pressure_angle_rad(&self) -> f64 {
+        self.max_pressure_angle_rad
+    }
+
+    /// Smallest admissible concave radius of curvature, mm (0 when unlimited).
+    #[must_use]
+    pub fn min_concave_radius_mm(&self) -> f64 {
+        self.min_concave_radius_mm
+    }
+
+    /// Whether the pressure angle and the curvature are limited (not [`Self::ratio_only`]).
+    #[must_use]
+    pub fn limits_gears(&self) -> bool {
+        self.max_slope.is_finite()
+    }
+
+    /// `−a/R_min`: the smallest admissible curvature at unit centre distance.
+    fn curvature_floor(&self, a_mm: f64) -> f64 {
+        if self.min_concave_radius_mm == 0.0 {
+            f64::NEG_INFINITY
+        } else {
+            -a_mm / self.min_concave_radius_mm
+        }
+    }
+
+    /// How `ratio` at centre distance `a_mm` stands against the limits, on a grid of at least
+    /// 32 samples per period of its highest harmonic (without margin).
+    #[must_use]
+    pub fn measure(&self, ratio: &SunRatio, a_mm: f64) -> LimitMeasure {
+        let grid = Grid::new(ratio);
+        let (mut lo, mut hi, mut slope) = (f64::INFINITY, f64::NEG_INFINITY, 0.0f64);
+        let (mut ks, mut km) = (f64::INFINITY, f64::INFINITY);
+        let mut within = true;
+        for v in grid.scaled(1.0) {
+            let [i, d, _] = v;
+            lo = lo.min(i);
+            hi = hi.max(i);
+            slope = slope.max(d.abs() / (i * (1.0 + i)));
+            let g = ContactGeometry::new(1.0, v);
+            ks = ks.min(curvature(g.sun));
+            km = km.min(curvature(g.intermediate));
+            within &= constraint_values(self, v, a_mm, 0.0)
+                .iter()
+                .all(|c| *c >= 0.0);
+        }
+        let concave = |k: f64| (k < 0.0).then(|| a_mm / -k);
+        LimitMeasure {
+            ratio_range: [lo, hi],
+            max_pressure_angle_rad: self.rack_pressure_angle_rad + slope.atan(),
+            sun_min_concave_radius_mm: concave(ks),
+            intermediate_min_concave_radius_mm: concave(km),
+            within,
+        }
+    }
+
+    /// Whether `ratio` at `a_mm` is within every limit (at the projection's margin).
+    #[must_use]
+    pub fn contains(&self, ratio: &SunRatio, a_mm: f64) -> bool {
+        self.shrink_factor(ratio, |_| a_mm) >= 1.0
+    }
+
+    /// The largest `λ ∈ [0, 1]` with `1 + λ(i − 1)` within the limits at centre distance
+    /// `a_of(λ)` (mm), to 1e-9 in λ, at the relative margin [`PROJECTION_MARGIN`]. Bisection from
+    /// the circle (`λ = 0`), which is always within.
+    pub fn shrink_factor(&self, ratio: &SunRatio, a_of: impl Fn(f64) -> f64) -> f64 {
+        self.shrink(&Grid::new(ratio), |_, lambda| a_of(lambda))
+    }
+
+    /// The bisection of [`Self::shrink_factor`] on a grid, with `a_of(grid, λ)`.
+    fn shrink(&self, grid: &Grid, a_of: impl Fn(&Grid, f64) -> f64) -> f64 {
+        let ok = |lambda: f64| {
+            let a = a_of(grid, lambda);
+            grid.scaled(lambda).all(|v| {
+                constraint_values(self, v, a, PROJECTION_MARGIN)
+                    .iter()
+                    .all(|c| *c >= 0.0)
+            })
+        };
+        if ok(1.0) {
+            return 1.0;
+        }
+        let (mut lo, mut hi) = (0.0, 1.0);
+        while hi - lo > 1e-9 {
+            let mid = 0.5 * (lo + hi);
+            if ok(mid) {
+                lo = mid;
+            } else {
+                hi = mid;
+            }
+        }
+        lo
+    }
+
+    /// `ratio` made to satisfy the limits when the centre distance follows from it through
+    /// the pitch perimeter `perimeter_mm` (`a = L/L̂(i)`, a tooth count at a module), by
+    /// shrinking `i − 1`; unchanged when it already does.
+    #[must_use]
+    pub fn project_at_perimeter(&self, ratio: &SunRatio, perimeter_mm: f64) -> SunRatio {
+        let lambda = self.shrink(&Grid::new(ratio), |g, l| perimeter_mm / g.unit_perimeter(l));
+        scale_ratio(ratio, lambda)
+    }
+
+    /// `ratio` made to satisfy the limits at centre distance `a_mm` by shrinking `i − 1`
+    /// ([`Self::shrink_factor`]); unchanged when it already does.
+    #[must_use]
+    pub fn project(&self, ratio: &SunRatio, a_mm: f64) -> SunRatio {
+        scale_ratio(ratio, self.shrink_factor(ratio, |_| a_mm))
+    }
+}
+
+/// `1 + λ(i − 1)`: every coefficient times λ (the same series when λ = 1).
+#[must_use]
+pub fn scale_ratio(ratio: &SunRatio, lambda: f64) -> SunRatio {
+    if lambda == 1.0 {
+        return ratio.clone();
+    }
+    let k = |v: &[f64]| v.iter().map(|x| x * lambda).collect();
+    SunRatio::new_unchecked(k(ratio.cos_coefficients()), k(ratio.sin_coefficients()))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::geometry::pitch::PitchCurve;
+
+    fn limits() -> GearLimits {
+        GearLimits::new([0.3, 3.3], 20f64.to_radians(), 45f64.to_radians(), 10.0).unwrap()
+    }
+
+    #[test]
+    fn slope_is_the_pitch_curves_pressure_deviation() {
+        // The sun's pitch curve sampled finely: max |atan(r_θ/r)| equals the ratio form.
+        let ratio = SunRatio::new(vec![0.1, 0.05], vec![0.02, 0.0]).unwrap();
+        let a = 40.0;
+        let sun = PitchCurve::from_fn(7200, |t| {
+            let i = ratio.value(t);
+            a * i / (1.0 + i)
+        })
+        .unwrap();
+        let c = sun.curvature_extremes(7200);
+        let m = limits().measure(&ratio, a);
+        let expected = 20f64.to_radians() + c.max_pressure_deviation_rad;
+        assert!((m.max_pressure_angle_rad - expected).abs() < 1e-6);
+    }
+
+    #[test]
+    fn concave_radius_matches_the_pitch_curve() {
+        // k²ε > 1: the sun is concave near θ = 0 (a dent at the radius minimum).
+        let ratio = SunRatio::new(vec![0.0, 0.0, -0.2], vec![0.0; 3]).unwrap();
+        let a = 45.0;
+        let sun = PitchCurve::from_fn(7200, |t| {
+            let i = ratio.value(t);
+            a * i / (1.0 + i)
+        })
+        .unwrap();
+        let c = sun.curvature_extremes(7200);
+        let m = GearLimits::ratio_only([0.3, 3.3])
+            .unwrap()
+            .measure(&ratio, a);
+        let r = m.sun_min_concave_radius_mm.expect("concave");
+        assert!(
+            (r - c.min_concave_radius_mm).abs() < 1e-3 * r,
+            "{r} vs {c:?}"
+        );
+    }
+
+    #[test]
+    fn projection_lands_on_the_binding_limit() {
+        let l = limits();
+        let steep = SunRatio::new(vec![0.0, 0.0, 0.6], vec![0.0; 3]).unwrap();
+        let p = l.project(&steep, 45.0);
+        let m = l.measure(&p, 45.0);
+        assert!(m.within);
+        // The pressure angle binds: within the margin of 45°, not far below.
+        let tan_max = 25f64.to_radians().tan();
+        let slope = (m.max_pressure_angle_rad - 20f64.to_radians()).tan();
+        assert!(slope <= tan_max && slope > tan_max * (1.0 - 3.0 * PROJECTION_MARGIN));
+        // A ratio within the limits is kept as it is.
+        let mild = SunRatio::new(vec![0.1], vec![0.0]).unwrap();
+        assert_eq!(l.project(&mild, 45.0), mild);
+    }
+
+    #[test]
+    fn invalid_limits_are_named() {
+        let e = GearLimits::new([0.3, 3.3], 0.35, 0.3, 10.0).unwrap_err();
+        assert!(e.to_string().contains("max_pressure_angle_rad"), "{e}");
+        assert!(GearLimits::new([1.2, 3.3], 0.35, 0.8, 10.0).is_err());
+        assert!(GearLimits::new([0.3, 3.3], 0.35, 0.8, 0.0).is_err());
+    }
+}
