@@ -43,6 +43,9 @@ use std::f64::consts::TAU;
 /// checked on a finite grid, the output tables on a finer one.
 pub const PROJECTION_MARGIN: f64 = 2e-3;
 
+/// Tolerance of the shrink factor λ of [`GearLimits::shrink_factor`].
+const SHRINK_TOL: f64 = 1e-7;
+
 /// The gear-quality limits of a train (see the module documentation).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct GearLimits {
@@ -315,29 +318,50 @@ impl GearLimits {
         self.shrink(&Grid::new(ratio), |_, lambda| a_of(lambda))
     }
 
-    /// The bisection of [`Self::shrink_factor`] on a grid, with `a_of(grid, λ)`.
+    /// The bisection of [`Self::shrink_factor`] on a grid, with `a_of(grid, λ)`: first on the
+    /// samples outside the limits at `λ = 1` (usually a few), then the whole grid verified at
+    /// the result and, should another sample leave the limits on the way, bisected whole.
     fn shrink(&self, grid: &Grid, a_of: impl Fn(&Grid, f64) -> f64) -> f64 {
-        let ok = |lambda: f64| {
-            let a = a_of(grid, lambda);
-            grid.scaled(lambda).all(|v| {
-                constraint_values(self, v, a, PROJECTION_MARGIN)
-                    .iter()
-                    .all(|c| *c >= 0.0)
-            })
+        let within = |v: [f64; 3], a: f64| {
+            constraint_values(self, v, a, PROJECTION_MARGIN)
+                .iter()
+                .all(|c| *c >= 0.0)
         };
-        if ok(1.0) {
+        let a1 = a_of(grid, 1.0);
+        let outside: Vec<[f64; 3]> = grid
+            .h
+            .iter()
+            .copied()
+            .filter(|&[h, d, dd]| !within([1.0 + h, d, dd], a1))
+            .collect();
+        if outside.is_empty() {
             return 1.0;
         }
-        let (mut lo, mut hi) = (0.0, 1.0);
-        while hi - lo > 1e-9 {
-            let mid = 0.5 * (lo + hi);
-            if ok(mid) {
-                lo = mid;
-            } else {
-                hi = mid;
+        let bisect = |samples: &[[f64; 3]], hi: f64| {
+            let ok = |lambda: f64| {
+                let a = a_of(grid, lambda);
+                samples
+                    .iter()
+                    .all(|&[h, d, dd]| within([1.0 + lambda * h, lambda * d, lambda * dd], a))
+            };
+            let (mut lo, mut hi) = (0.0, hi);
+            while hi - lo > SHRINK_TOL {
+                let mid = 0.5 * (lo + hi);
+                if ok(mid) {
+                    lo = mid;
+                } else {
+                    hi = mid;
+                }
             }
+            (lo, ok(lo))
+        };
+        let (lambda, _) = bisect(&outside, 1.0);
+        let a = a_of(grid, lambda);
+        if grid.scaled(lambda).all(|v| within(v, a)) {
+            lambda
+        } else {
+            bisect(&grid.h, lambda).0
         }
-        lo
     }
 
     /// `ratio` made to satisfy the limits when the centre distance follows from it through

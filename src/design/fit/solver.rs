@@ -137,9 +137,13 @@ impl Lm<'_> {
                     if let Some(gr) = &grads {
                         let [gi, gd, gdd, ga] = gr[c];
                         row[0] = -w * ga;
+                        let (s1, c1) = th.sin_cos();
+                        let (mut sn, mut cs) = (s1, c1);
                         for kk in 0..k {
                             let kf = (kk + 1) as f64;
-                            let (sn, cs) = (kf * th).sin_cos();
+                            if kk > 0 {
+                                (sn, cs) = (sn * c1 + cs * s1, cs * c1 - sn * s1);
+                            }
                             row[4 + kk] = -w * (gi * cs - gd * kf * sn - gdd * kf * kf * cs);
                             row[4 + k + kk] = -w * (gi * sn + gd * kf * cs - gdd * kf * kf * sn);
                         }
