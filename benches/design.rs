@@ -38,6 +38,25 @@ fn designer_with_refinement(b: divan::Bencher) {
     b.bench(|| design(divan::black_box(&t), &opts).expect("designer"));
 }
 
+/// What the gear limits cost in time: the full chain on G1 and on the designer kidney with the
+/// limits as constraints (default) and without (`gear_limits = false`).
+#[divan::bench(args = [("g1_ellipse.csv", true), ("g1_ellipse.csv", false), ("designer_kidney.csv", true), ("designer_kidney.csv", false)], sample_count = 5)]
+fn gear_limits_cost(b: divan::Bencher, (name, limits): (&str, bool)) {
+    let t = load(name);
+    let mut opts = DesignOptions::default();
+    opts.gear_limits = limits;
+    b.bench(|| design(divan::black_box(&t), &opts).expect("design"));
+}
+
+/// Designed for a module (the perimeter zπm a constraint of the fit at both neighbouring z).
+#[divan::bench(args = [1.5, 2.0], sample_count = 5)]
+fn designed_for_module_g1(b: divan::Bencher, module_mm: f64) {
+    let t = load("g1_ellipse.csv");
+    let mut opts = DesignOptions::default();
+    opts.module_mm = Some(module_mm);
+    b.bench(|| design(divan::black_box(&t), &opts).expect("G1"));
+}
+
 /// Teeth on the designed G1 train at m = 2 (z = 23): outlines of the three gears at the export
 /// chord tolerance 1e-3·m, with `steps` verified carrier positions per mesh (0 = none).
 #[divan::bench(args = [0, 12], sample_count = 5)]

@@ -91,7 +91,10 @@ def design(
     ``points``: an (N, 2) array of needle-tip points in mm in travel order, or the path of a
     trajectory file (CSV/JSON/TXT as the CLI reads). ``center``: the carrier axis O, mm.
     ``options``: ``order``, ``tol_mm``, ``smoothing``, ``fit`` (bool), ``samples``,
-    ``refine`` (``"auto"``, ``"on"``, ``"off"``) — the CLI's flags of the same names.
+    ``refine`` (``"auto"``, ``"on"``, ``"off"``), ``limits`` (bool, default True: design within
+    the gear limits), ``max_pressure_angle`` (deg, default 45), ``min_concave_radius`` (mm),
+    ``module`` (mm: design for the module, the tooth count a constraint of the fit) — the CLI's
+    flags of the same names.
     """
     if isinstance(points, (str, os.PathLike)):
         pts, path = None, os.fspath(points)
@@ -116,7 +119,7 @@ def design(
 def teeth(
     design: Design,
     module: float,
-    policy: str = "scale-up",
+    policy: Optional[str] = None,
     teeth: Optional[int] = None,
     backlash: Optional[float] = None,
     chord_tol: Optional[float] = None,
@@ -124,10 +127,15 @@ def teeth(
 ) -> Train:
     """Puts rack-generated teeth on the three gears of ``design`` (``ncgear design --module``).
 
-    ``policy``: ``scale-up`` (default), ``nearest``, ``scale-down``, ``ratio-amplitude``,
-    ``adjust-module``; ``teeth`` forces z. ``backlash`` and ``chord_tol`` in mm (defaults 0.04·m
+    ``policy``: ``design`` (the design's own tooth count: default for a design made with
+    ``module=`` this module; its perimeters are exactly zπm, nothing is scaled), ``scale-up``
+    (default otherwise), ``nearest``, ``scale-down``, ``ratio-amplitude``, ``adjust-module``;
+    ``teeth`` forces z. ``backlash`` and ``chord_tol`` in mm (defaults 0.04·m
     and 1e-3·m); ``verify_steps`` carrier positions of the mesh check (0 skips it).
     """
+    if policy is None:
+        made_for = (design.report.get("module") or {}).get("module_mm")
+        policy = "design" if made_for == float(module) and teeth is None else "scale-up"
     h = _ncgear.teeth(design._h, float(module), policy, teeth, backlash, chord_tol, int(verify_steps))
     return Train(
         outlines=_arrays(h.outlines()),

@@ -36,7 +36,7 @@ def design(
 def teeth(
     design: Design,
     module: float,
-    policy: str = ...,
+    policy: Optional[str] = ...,
     teeth: Optional[int] = ...,
     backlash: Optional[float] = ...,
     chord_tol: Optional[float] = ...,

@@ -94,9 +94,15 @@ fn design_options(center: [f64; 2], options: &str) -> PyResult<DesignOptions> {
                     _ => return Err(err(format!("option `refine` = {v}: auto, on or off"))),
                 }
             }
+            "limits" => o.gear_limits = v.as_bool().ok_or_else(bad)?,
+            "max_pressure_angle" => {
+                o.pressure_angle_limit_rad = v.as_f64().ok_or_else(bad)?.to_radians()
+            }
+            "min_concave_radius" => o.min_concave_radius_mm = Some(v.as_f64().ok_or_else(bad)?),
+            "module" => o.module_mm = if v.is_null() { None } else { Some(v.as_f64().ok_or_else(bad)?) },
             _ => {
                 return Err(err(format!(
-                    "unknown option `{k}` (order, tol_mm, smoothing, fit, samples, refine)"
+                    "unknown option `{k}` (order, tol_mm, smoothing, fit, samples, refine, limits, max_pressure_angle, min_concave_radius, module)"
                 )));
             }
         }
@@ -254,9 +260,10 @@ fn teeth(
         (None, "scale-down") => TrainPolicy::ScaleCenterDistance(ToothPolicy::ScaleDown),
         (None, "ratio-amplitude") => TrainPolicy::RatioAmplitude,
         (None, "adjust-module") => TrainPolicy::AdjustModule,
+        (None, "design") => TrainPolicy::Designed,
         (None, p) => {
             return Err(err(format!(
-                "policy `{p}`: scale-up, nearest, scale-down, ratio-amplitude or adjust-module"
+                "policy `{p}`: design, scale-up, nearest, scale-down, ratio-amplitude or adjust-module"
             )));
         }
     };

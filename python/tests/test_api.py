@@ -36,7 +36,8 @@ def test_design_from_points_equals_design_from_the_file(g1):
 
 
 def test_teeth_equal_the_cli_teeth_block_and_step_bytes(g1_train, out):
-    cli("design", G1, "--module", "2", "--bore", "10", "--out", out / "cli_teeth")
+    # The Python design was made without the module: the CLI's scaling policy gives its teeth.
+    cli("design", G1, "--module", "2", "--tooth-policy", "scale-up", "--bore", "10", "--out", out / "cli_teeth")
     ref = json.loads((out / "cli_teeth" / "design.json").read_text())["teeth"]
     assert _without(g1_train.report, "files", "timings_ms") == _without(ref, "files", "timings_ms")
     assert g1_train.report["z"] == 23
@@ -98,3 +99,12 @@ def test_errors_are_ncgear_errors_with_the_cli_message(g1_train, out, tmp_path):
         ncgear.design(G1, colour=1)
     with pytest.raises(ncgear.NcgearError, match="expected an \\(N, 2\\) array"):
         ncgear.design(np.zeros((5, 3)))
+
+
+def test_a_design_for_the_module_gets_its_own_teeth_unscaled():
+    d = ncgear.design(G1, module=2.0)
+    assert d.report["module"]["teeth"] == 23
+    assert d.report["limits"]["pressure_angle_deg"] <= 45.0
+    t = ncgear.teeth(d, module=2.0, verify_steps=0)  # policy "design" for a design made for m
+    assert t.report["z"] == 23 and abs(t.report["scale"] - 1.0) < 1e-9
+    assert abs(t.report["roundtrip"]["hausdorff_mm"] - d.report["roundtrip"]["hausdorff_mm"]) < 2e-3

@@ -101,6 +101,10 @@ pub struct Args {
     /// A given tooth count (scales the centre distance to fit; overrides --tooth-policy).
     #[arg(long, requires = "module", help_heading = "Teeth")]
     pub teeth: Option<u32>,
+    /// Sweep a gear no shaper cutter fits by its cut neighbours (wire EDM or printing) instead
+    /// of refusing it.
+    #[arg(long, requires = "module", help_heading = "Teeth")]
+    pub wire_edm: bool,
     /// Carrier positions of the mesh verification per mesh (0 = skip).
     #[arg(long, default_value_t = 72, help_heading = "Teeth")]
     pub verify_steps: usize,
@@ -439,6 +443,7 @@ fn toothed(
 ) -> Result<(ToothedTrain, Option<PendingTrainMesh>), super::Failure> {
     let mut opts = TrainTeethOptions::new(module_mm);
     opts.toothing.verify_steps = args.verify_steps;
+    opts.wire_edm = args.wire_edm;
     args.rack
         .apply_to(&mut opts.toothing)
         .map_err(|e| input_error(miette::miette!("{e}")))?;
@@ -455,7 +460,16 @@ fn toothed(
     };
     let accuracy_mm = 1e-9 * d.assembly.a_mm;
     tooth_design_deferred(d, &opts, accuracy_mm).map_err(|e| match e {
-        TrainError::Teeth { .. } | TrainError::InvalidOption { .. } => {
+        TrainError::Teeth {
+            source: ncgear::teeth::TeethError::NoCutter { .. },
+            ..
+        } if !args.wire_edm => input_error(miette::miette!(
+            help = "design within the gear limits (--limits on, the default; --min-concave-radius sets the hollow a cutter must fit), a smaller module, or --wire-edm to sweep the gear with its cut neighbours",
+            "--module {module_mm}: {e}"
+        )),
+        TrainError::Teeth { .. }
+        | TrainError::InvalidOption { .. }
+        | TrainError::NotDesignedForModule { .. } => {
             input_error(miette::miette!("--module {module_mm}: {e}"))
         }
         _ => runtime_error(miette::miette!("{e}")),

@@ -282,8 +282,9 @@ fn train_from(
         .collect();
     // A gear no cutter fits is swept by its neighbours when they are cut.
     let cut = [0, 1, 2].map(|k| results[k].is_ok());
-    let swept = [0, 1, 2]
-        .map(|k| matches!(results[k], Err(TeethError::NoCutter { .. })) && sweepable(k, cut));
+    let swept = [0, 1, 2].map(|k| {
+        opts.wire_edm && matches!(results[k], Err(TeethError::NoCutter { .. })) && sweepable(k, cut)
+    });
     for k in (0..3).filter(|&k| swept[k]) {
         let outlines = [0, 1, 2].map(|j| {
             results[j]

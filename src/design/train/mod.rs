@@ -133,6 +133,11 @@ pub struct TrainTeethOptions {
     pub toothing: ToothingOptions,
     /// Carrier positions of the round trip of the scaled mechanism. Default 3600.
     pub roundtrip_samples: usize,
+    /// Sweep a gear that no cutter fits by its cut neighbours (wire EDM or printing,
+    /// [`crate::teeth::conjugate`]). Default false: such a gear is refused, naming its tightest
+    /// concave radius (a design within the gear limits never needs it).
+    #[serde(default)]
+    pub wire_edm: bool,
 }
 
 impl TrainTeethOptions {
@@ -147,6 +152,7 @@ impl TrainTeethOptions {
             policy: TrainPolicy::ScaleCenterDistance(ToothPolicy::ScaleUp),
             toothing,
             roundtrip_samples: 3600,
+            wire_edm: false,
         }
     }
 }

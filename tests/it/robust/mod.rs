@@ -206,7 +206,7 @@ macro_rules! fit_multistart_reference {
         let SunLaw::FocusEllipse { e } = case.train.law else {
             unreachable!("designer cases use the focus ellipse")
         };
-        let mut fo = FitOptions::default(); // order climbs 6 → 40 from the start's order
+        let fo = FitOptions::default(); // order climbs 6 → 40 from the start's order
         let k = FIT_START_ORDER;
         let base = Mechanism {
             a_mm: case.train.a,

@@ -1,0 +1,220 @@
+//! Gear limits as constraints of the design, and designs made for a module: the gears satisfy
+//! the limits measured on the output tables, the limits cost what they must and no more, and a
+//! toothed train traces what its report states.
+use ncgear::design::train::{TrainError, TrainPolicy, TrainTeethOptions, tooth_design};
+use ncgear::design::trajectory::Trajectory;
+use ncgear::design::{Design, DesignError, DesignOptions, design};
+use ncgear::geometry::pitch::PitchCurve;
+use std::f64::consts::PI;
+use std::path::Path;
+
+fn traj(path: &str) -> Trajectory {
+    Trajectory::from_path(Path::new(path)).unwrap()
+}
+
+/// Effective pressure angle (deg) and tightest concave radius (mm, ∞ = convex) of a gear, from
+/// its `[θ_deg, r_mm]` table alone (8 curvature samples per table interval).
+fn table_quality(pitch: &[[f64; 2]]) -> (f64, f64) {
+    let c = PitchCurve::from_uniform_radii(pitch.iter().map(|p| p[1]).collect()).unwrap();
+    let k = c.curvature_extremes(8 * pitch.len());
+    (
+        20.0 + k.max_pressure_deviation_rad.to_degrees(),
+        k.min_concave_radius_mm,
+    )
+}
+
+/// Every gear of `d` within 45° and the concave-radius limit, by its table; C9 and C10 pass.
+fn assert_within(d: &Design, min_concave_mm: f64, what: &str) {
+    let g = &d.report.gears;
+    for (name, gear) in [
+        ("sun", &g.sun),
+        ("intermediate", &g.intermediate),
+        ("planet", &g.planet),
+    ] {
+        let (pa, rho) = table_quality(&gear.pitch);
+        assert!(pa <= 45.0, "{what}: {name} pressure angle {pa:.3}° > 45°");
+        assert!(
+            rho >= min_concave_mm,
+            "{what}: {name} concave radius {rho:.3} mm < {min_concave_mm} mm"
+        );
+    }
+    for id in ["C6", "C9", "C10"] {
+        let c = d.report.checks.iter().find(|c| c.id == id).unwrap();
+        assert!(c.pass, "{what}: {id} failed: {} = {}", c.name, c.value);
+    }
+}
+
+/// The bundled designer kidney, no options: gears within the limits (the unconstrained fit's
+/// sun reached 99° and a 0.1 mm hollow), at a cost in path of less than 10 % over the
+/// unconstrained fit, the binding limit named.
+#[test]
+fn designer_kidney_is_designed_within_the_limits_at_a_small_cost() {
+    let t = traj("assets/trajectories/designer_kidney.csv");
+    let d = design(&t, &DesignOptions::default()).unwrap();
+    assert_within(&d, 10.0, "designer_kidney");
+    let mut off = DesignOptions::default();
+    off.gear_limits = false;
+    let free = design(&t, &off).unwrap();
+    let (dev, free_dev) = (
+        d.report.roundtrip.max_deviation_mm,
+        free.report.roundtrip.max_deviation_mm,
+    );
+    // The unconstrained gears break the limits (C10 fails): the limits are real constraints.
+    assert!(free.report.limits.pressure_angle_deg > 45.0);
+    assert!(
+        !free
+            .report
+            .checks
+            .iter()
+            .find(|c| c.id == "C10")
+            .unwrap()
+            .pass
+    );
+    assert!(
+        dev >= free_dev * 0.98 && dev <= free_dev * 1.10,
+        "{dev} vs {free_dev}"
+    );
+    assert!(!d.report.limits.binding.is_empty(), "{:?}", d.report.limits);
+    assert!(
+        d.report
+            .warnings
+            .iter()
+            .any(|w| w.contains("gear limits bind")),
+        "{:?}",
+        d.report.warnings
+    );
+}
+
+/// An exactly traceable target whose gears are within the limits is reproduced as before
+/// (≤ 0.05 mm), and a concave sun with hollows wider than the limit stays concave.
+#[test]
+fn exact_targets_within_the_limits_are_unchanged() {
+    for (path, concave) in [
+        ("assets/trajectories/g1_ellipse.csv", false),
+        ("assets/cases/exact_concave_sun.csv", true),
+        ("assets/cases/exact_two_harmonic.csv", false),
+    ] {
+        let d = design(&traj(path), &DesignOptions::default()).unwrap();
+        assert!(d.report.roundtrip.max_deviation_mm <= 0.05, "{path}");
+        assert_within(&d, 10.0, path);
+        assert_eq!(
+            d.report.limits.tightest_concave_radius_mm.is_some(),
+            concave,
+            "{path}"
+        );
+    }
+}
+
+/// A tighter pressure-angle limit costs path; the design obeys each limit asked for.
+#[test]
+fn a_tighter_pressure_angle_limit_is_obeyed_and_costs_path() {
+    let t = traj("assets/cases/designer_odd3.csv");
+    let run = |deg: f64| {
+        let mut o = DesignOptions::default();
+        o.pressure_angle_limit_rad = deg.to_radians();
+        design(&t, &o).unwrap()
+    };
+    let (tight, loose) = (run(35.0), run(45.0));
+    assert!(tight.report.limits.pressure_angle_deg <= 35.0);
+    for g in [&tight.report.gears.sun, &tight.report.gears.intermediate] {
+        assert!(table_quality(&g.pitch).0 <= 35.0);
+    }
+    assert!(
+        tight.report.roundtrip.max_deviation_mm > loose.report.roundtrip.max_deviation_mm,
+        "{} vs {}",
+        tight.report.roundtrip.max_deviation_mm,
+        loose.report.roundtrip.max_deviation_mm
+    );
+}
+
+/// Designed for m = 1.5: the pitch perimeter is exactly zπm, the teeth go on unscaled, and the
+/// toothed train traces what the design states (G1: 0.0004 mm at z = 30, where scaling the
+/// finished design moves the tip by ≈ 0.5 mm).
+#[test]
+fn a_design_for_the_module_has_perimeter_z_pi_m_and_its_teeth_trace_the_stated_path() {
+    let mut o = DesignOptions::default();
+    o.module_mm = Some(1.5);
+    let d = design(&traj("assets/trajectories/g1_ellipse.csv"), &o).unwrap();
+    let m = d.report.module.as_ref().expect("module block");
+    let z = f64::from(m.teeth);
+    assert!((m.perimeter_mm - z * PI * 1.5).abs() < 1e-12 * m.perimeter_mm);
+    for g in [
+        &d.report.gears.sun,
+        &d.report.gears.intermediate,
+        &d.report.gears.planet,
+    ] {
+        assert!(
+            (g.perimeter_mm - z * PI * 1.5).abs() < 1e-7 * g.perimeter_mm,
+            "{} vs {}",
+            g.perimeter_mm,
+            z * PI * 1.5
+        );
+    }
+    assert!(d.report.roundtrip.max_deviation_mm <= 0.05);
+    assert_within(&d, 15.0, "g1 m1.5");
+    let mut to = TrainTeethOptions::new(1.5);
+    to.policy = TrainPolicy::Designed;
+    to.toothing.verify_steps = 0;
+    let t = tooth_design(&d, &to, 1e-9 * d.assembly.a_mm, &|_| {}).unwrap();
+    assert_eq!(t.report.z, m.teeth);
+    assert!((t.report.scale - 1.0).abs() < 1e-9, "{}", t.report.scale);
+    assert!(
+        (t.report.roundtrip.hausdorff_mm - d.report.roundtrip.hausdorff_mm).abs() < 2e-3,
+        "{} vs {}",
+        t.report.roundtrip.hausdorff_mm,
+        d.report.roundtrip.hausdorff_mm
+    );
+    // The scaling policy on the design made without the module moves the tip far more.
+    let free = design(
+        &traj("assets/trajectories/g1_ellipse.csv"),
+        &DesignOptions::default(),
+    )
+    .unwrap();
+    let mut up = to;
+    up.policy = TrainPolicy::ScaleCenterDistance(ncgear::teeth::ToothPolicy::ScaleUp);
+    let scaled = tooth_design(&free, &up, 1e-9 * free.assembly.a_mm, &|_| {}).unwrap();
+    assert!(scaled.report.roundtrip.hausdorff_mm > 10.0 * t.report.roundtrip.hausdorff_mm);
+}
+
+/// G1 at m = 2: the module design beats every scaling policy that keeps the standard module
+/// (scale-up 2.49 mm, nearest and scale-down 1.54 mm).
+#[test]
+fn g1_at_module_2_is_closer_than_the_scaling_policies() {
+    let mut o = DesignOptions::default();
+    o.module_mm = Some(2.0);
+    let d = design(&traj("assets/trajectories/g1_ellipse.csv"), &o).unwrap();
+    assert!(
+        d.report.roundtrip.hausdorff_mm < 1.0,
+        "{}",
+        d.report.roundtrip.hausdorff_mm
+    );
+    assert_within(&d, 20.0, "g1 m2");
+    let cands = &d.report.module.as_ref().unwrap().candidates;
+    assert_eq!(cands.len(), 2);
+    assert_eq!(
+        [cands[0][0], cands[1][0]],
+        [22.0, 23.0],
+        "both neighbours of L/(πm) = 22.38 are tried"
+    );
+}
+
+/// The designed policy refuses a design made for no module, naming the remedy; a module that
+/// leaves fewer than 8 teeth is refused before any fit.
+#[test]
+fn module_mismatches_and_oversized_modules_are_refused_clearly() {
+    let d = design(
+        &traj("assets/trajectories/g1_ellipse.csv"),
+        &DesignOptions::default(),
+    )
+    .unwrap();
+    let mut to = TrainTeethOptions::new(2.0);
+    to.policy = TrainPolicy::Designed;
+    let e = tooth_design(&d, &to, 1e-9, &|_| {}).unwrap_err();
+    assert!(matches!(e, TrainError::NotDesignedForModule { .. }), "{e}");
+    assert!(e.to_string().contains("no module"), "{e}");
+    let mut o = DesignOptions::default();
+    o.module_mm = Some(20.0);
+    let e = design(&traj("assets/trajectories/g1_ellipse.csv"), &o).unwrap_err();
+    assert!(matches!(e, DesignError::ModuleTooLarge { .. }), "{e}");
+    assert!(e.to_string().contains("choose a module of at most"), "{e}");
+}
