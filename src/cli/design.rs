@@ -228,20 +228,7 @@ pub fn run(args: Args) -> CliResult {
         None => {}
     }
     let file = args.trajectory.display().to_string();
-    let d = design(&traj, &opts).map_err(|e| match &e {
-        DesignError::Internal(_) => runtime_error(miette::miette!("{file}: {e}")),
-        DesignError::BadOption { option, .. } => match flag_of(option) {
-            Some(flag) => input_error(miette::miette!(help = format!("set by {flag}"), "{e}")),
-            None => input_error(miette::miette!("{e}")),
-        },
-        DesignError::Inverse(
-            InverseError::AxisInsideLoop { .. } | InverseError::TooCloseToAxis { .. },
-        ) => input_error(miette::miette!(
-            help = "the carrier axis is set by --center X,Y (mm)",
-            "{file}: {e}"
-        )),
-        _ => input_error(miette::miette!("{file}: {e}")),
-    })?;
+    let d = design(&traj, &opts).map_err(|e| design_failure(&file, &e))?;
     let mut d = d;
     let mut files = ncgear::output::DesignFiles::default();
     files.png = args.png;
@@ -433,6 +420,25 @@ pub fn run(args: Args) -> CliResult {
         }
     );
     Ok(())
+}
+
+/// The CLI failure for a design error on trajectory `file`: the flag behind a bad option, the
+/// `--center` hint when the axis does not fit the trajectory.
+pub(super) fn design_failure(file: &str, e: &DesignError) -> super::Failure {
+    match e {
+        DesignError::Internal(_) => runtime_error(miette::miette!("{file}: {e}")),
+        DesignError::BadOption { option, .. } => match flag_of(option) {
+            Some(flag) => input_error(miette::miette!(help = format!("set by {flag}"), "{e}")),
+            None => input_error(miette::miette!("{e}")),
+        },
+        DesignError::Inverse(
+            InverseError::AxisInsideLoop { .. } | InverseError::TooCloseToAxis { .. },
+        ) => input_error(miette::miette!(
+            help = "the carrier axis is set by --center X,Y (mm)",
+            "{file}: {e}"
+        )),
+        _ => input_error(miette::miette!("{file}: {e}")),
+    }
 }
 
 /// Teeth on the designed gears (`--module`), their mesh check still to run.

@@ -11,6 +11,7 @@ mod pair;
 mod simulate;
 mod teeth_args;
 mod tolerance;
+mod tradeoff;
 
 /// Non-circular gear design for rice-transplanter planting arms, and gear-train analyses.
 #[derive(Debug, Parser)]
@@ -24,6 +25,8 @@ struct Cli {
 enum Command {
     /// Design the sun and intermediate pitch curves from a needle-tip trajectory file.
     Design(design::Args),
+    /// What accuracy costs: the target designed under pressure-angle limits and modules, tabulated.
+    Tradeoff(tradeoff::Args),
     /// Design a single non-circular gear pair from a motion law or centrode, with teeth.
     Pair(pair::Args),
     /// Simulate a designed mechanism: traced trajectories, animation, agronomic features.
@@ -101,6 +104,7 @@ pub fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
         Command::Design(a) => design::run(a),
+        Command::Tradeoff(a) => tradeoff::run(a),
         Command::Pair(a) => pair::run(a),
         Command::Simulate(a) => simulate::run(a),
         Command::Tolerance(a) => tolerance::run(a),

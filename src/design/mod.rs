@@ -29,6 +29,7 @@ pub mod refine;
 mod report;
 pub mod segmented;
 mod start;
+pub mod tradeoff;
 pub mod train;
 pub mod trajectory;
 

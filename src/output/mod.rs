@@ -12,6 +12,7 @@ mod simulation_files;
 mod simulation_plots;
 mod step_files;
 mod teeth_files;
+mod tradeoff_files;
 
 pub use design_files::{DesignFiles, pitch_csv, ratio_plot, write_design, write_design_with};
 pub use error::OutputError;
@@ -22,3 +23,4 @@ pub use step_files::{
     write_teeth_step,
 };
 pub use teeth_files::write_teeth;
+pub use tradeoff_files::{tradeoff_plot, write_tradeoff};

@@ -102,13 +102,29 @@ pub fn line_chart(
     let is_png = path
         .extension()
         .is_some_and(|e| e.eq_ignore_ascii_case("png"));
+    let panels = [(labels.clone(), series.to_vec())];
     if is_png {
         let root = BitMapBackend::new(path, size_px).into_drawing_area();
-        draw(root, labels, series).map_err(err)
+        draw(root, &panels).map_err(err)
     } else {
         let root = SVGBackend::new(path, size_px).into_drawing_area();
-        draw(root, labels, series).map_err(err)
+        draw(root, &panels).map_err(err)
     }
+}
+
+/// Writes charts side by side (one panel each, left to right) to one SVG file at `path`. Size
+/// in pixels of the whole figure. Non-finite points are skipped.
+pub fn panels_svg(
+    path: &Path,
+    panels: &[(ChartLabels, Vec<Series>)],
+    size_px: (u32, u32),
+) -> Result<(), PlotError> {
+    register_font();
+    let root = SVGBackend::new(path, size_px).into_drawing_area();
+    draw(root, panels).map_err(|message| PlotError {
+        path: path.display().to_string(),
+        message,
+    })
 }
 
 fn bounds(series: &[Series], equal: bool) -> ((f64, f64), (f64, f64)) {
@@ -137,8 +153,27 @@ fn bounds(series: &[Series], equal: bool) -> ((f64, f64), (f64, f64)) {
     (xr, yr)
 }
 
+/// Fills `root` white, draws the panels side by side and presents the figure.
 fn draw<DB: DrawingBackend>(
     root: DrawingArea<DB, plotters::coord::Shift>,
+    panels: &[(ChartLabels, Vec<Series>)],
+) -> Result<(), String>
+where
+    DB::ErrorType: 'static,
+{
+    let e = |x: DrawingAreaErrorKind<DB::ErrorType>| x.to_string();
+    root.fill(&WHITE).map_err(e)?;
+    let areas = root.split_evenly((1, panels.len().max(1)));
+    for (area, (labels, series)) in areas.into_iter().zip(panels) {
+        draw_panel(&area, labels, series)?;
+    }
+    root.present().map_err(e)?;
+    Ok(())
+}
+
+/// One chart in `root`.
+fn draw_panel<DB: DrawingBackend>(
+    root: &DrawingArea<DB, plotters::coord::Shift>,
     labels: &ChartLabels,
     series: &[Series],
 ) -> Result<(), String>
@@ -146,9 +181,8 @@ where
     DB::ErrorType: 'static,
 {
     let e = |x: DrawingAreaErrorKind<DB::ErrorType>| x.to_string();
-    root.fill(&WHITE).map_err(e)?;
     let (xr, yr) = bounds(series, labels.equal_aspect);
-    let mut chart = ChartBuilder::on(&root)
+    let mut chart = ChartBuilder::on(root)
         .caption(&labels.title, ("sans-serif", 20))
         .margin(12)
         .x_label_area_size(40)
@@ -194,6 +228,5 @@ where
             .draw()
             .map_err(e)?;
     }
-    root.present().map_err(e)?;
     Ok(())
 }

@@ -19,6 +19,7 @@ mod svg_render;
 mod swept;
 mod teeth;
 mod tolerance;
+mod tradeoff;
 mod train;
 mod transplanter;
 mod undercut;

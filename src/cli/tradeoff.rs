@@ -1,0 +1,55 @@
+//! `ncgear tradeoff TRAJ --out DIR`: what accuracy costs, one design per limit and module.
+use super::design::{design_failure, parse_pair};
+use super::{CliResult, input_error, print_json, progress_bar, runtime_error};
+use ncgear::design::DesignOptions;
+use ncgear::design::tradeoff::{MODULES_MM, PRESSURE_ANGLE_LIMITS_DEG, trade_off};
+use ncgear::design::trajectory::Trajectory;
+use std::path::PathBuf;
+
+/// Arguments of `ncgear tradeoff`.
+#[derive(Debug, clap::Args)]
+pub struct Args {
+    /// Trajectory file (as for `ncgear design`).
+    pub trajectory: PathBuf,
+    /// Output directory (tradeoff.json, tradeoff.md, tradeoff.svg).
+    #[arg(long, default_value = "out")]
+    pub out: PathBuf,
+    /// Carrier axis O as `X,Y` in mm.
+    #[arg(long, value_parser = parse_pair, default_value = "0,0", allow_hyphen_values = true)]
+    pub center: [f64; 2],
+    /// Print the table (tradeoff.json) to stdout instead of the console table.
+    #[arg(long)]
+    pub json: bool,
+}
+
+/// Runs `ncgear tradeoff`.
+pub fn run(args: Args) -> CliResult {
+    let traj =
+        Trajectory::from_path(&args.trajectory).map_err(|e| input_error(miette::miette!("{e}")))?;
+    let mut opts = DesignOptions::default();
+    opts.center_mm = args.center;
+    let file = args.trajectory.display().to_string();
+    let rows = PRESSURE_ANGLE_LIMITS_DEG.len() + 1 + MODULES_MM.len();
+    let pb = progress_bar(rows as u64, "designs");
+    let start = std::time::Instant::now();
+    let t = trade_off(&traj, &opts, &|| pb.inc(1));
+    pb.finish_and_clear();
+    let t = t.map_err(|e| design_failure(&file, &e))?;
+    let written = ncgear::output::write_tradeoff(&t, &args.out)
+        .map_err(|e| runtime_error(miette::miette!("{e}")))?;
+    if args.json {
+        return print_json(&t);
+    }
+    println!("{file}: {} points, {rows} designs", t.points);
+    print!("{}", t.markdown(true));
+    println!(
+        "{:.1} ms; wrote {}",
+        1e3 * start.elapsed().as_secs_f64(),
+        written
+            .iter()
+            .map(|p| p.display().to_string())
+            .collect::<Vec<_>>()
+            .join(", ")
+    );
+    Ok(())
+}
