@@ -242,6 +242,18 @@ impl GearLimits {
         Ok(l)
     }
 
+    /// The same limits tightened for a continuation start: the pressure-angle limit 10° lower
+    /// (at least 5° above the rack's), convex pitch curves only. `None` for [`Self::ratio_only`].
+    #[must_use]
+    pub fn tightened(&self) -> Option<Self> {
+        if !self.limits_gears() {
+            return None;
+        }
+        let alpha = self.rack_pressure_angle_rad;
+        let pa = (self.max_pressure_angle_rad - 10f64.to_radians()).max(alpha + 5f64.to_radians());
+        Self::new(self.ratio_bounds, alpha, pa, f64::INFINITY).ok()
+    }
+
     /// `[i_min, i_max]`.
     #[must_use]
     pub fn ratio_bounds(&self) -> [f64; 2] {

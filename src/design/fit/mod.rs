@@ -315,8 +315,9 @@ impl Fitted {
 }
 
 /// Moves a least-squares fit towards the minimax fit (smallest largest deviation) for targets the
-/// train cannot trace exactly: iteratively reweighted least squares for `Σ |d_j|^p`,
-/// `p = 4, 8, 16` (weights `w_j = (|d_j|/max|d|)^(p−2)`, floored at 1e-6), at the fit's order.
+/// train cannot trace exactly: iteratively reweighted least squares with Lawson's weights
+/// (`w_j ← w_j·|d_j|/max|d|`, normalised, floored at 1e-6; [`MINIMAX_PASSES`] passes of
+/// [`MINIMAX_ITERATIONS`] iterations), at the fit's order.
 /// Keeps whichever result has the smaller `max(max_mm, coverage_mm)` (the Hausdorff distance to
 /// the points' polyline); every iterate stays admissible.
 #[must_use]
@@ -328,13 +329,18 @@ pub fn minimax(points: &[[f64; 2]], fitted: Fitted, opts: &FitOptions) -> Fitted
     let mut m = best.mechanism.clone();
     let mut phis_all = best.carrier_angles_rad.clone();
     let mut dists = best.distances_mm.clone();
-    for p in [4.0, 8.0, 16.0] {
-        let dmax = dists.iter().copied().fold(1e-300, f64::max);
-        let w: Vec<f64> = dists
-            .iter()
-            .step_by(stride)
-            .map(|d| ((d / dmax).powf(p - 2.0)).max(1e-6).sqrt())
-            .collect();
+    // Lawson's weights: each pass multiplies every point's weight by its distance (normalised),
+    // so the weight gathers on the points that stay farthest — the minimax fit's extremal set.
+    let mut weights = vec![1.0; sub.len()];
+    for _ in 0..MINIMAX_PASSES {
+        let sub_d: Vec<f64> = dists.iter().step_by(stride).copied().collect();
+        let dmax = sub_d.iter().copied().fold(1e-300, f64::max);
+        for (w, d) in weights.iter_mut().zip(&sub_d) {
+            *w *= d / dmax;
+        }
+        let wmax = weights.iter().copied().fold(1e-300, f64::max);
+        weights.iter_mut().for_each(|w| *w = (*w / wmax).max(1e-6));
+        let w: Vec<f64> = weights.iter().map(|w| w.sqrt()).collect();
         let pass = FitOptions {
             max_iterations: opts.max_iterations.min(MINIMAX_ITERATIONS),
             ..opts.clone()
@@ -362,7 +368,10 @@ pub fn minimax(points: &[[f64; 2]], fitted: Fitted, opts: &FitOptions) -> Fitted
 }
 
 /// Levenberg–Marquardt iterations per reweighting pass of [`minimax`].
-const MINIMAX_ITERATIONS: usize = 15;
+const MINIMAX_ITERATIONS: usize = 10;
+
+/// Reweighting passes of [`minimax`].
+const MINIMAX_PASSES: usize = 10;
 
 /// Every `stride`-th point, so that at most `opts.max_points` drive the iterations.
 fn subsample(points: &[[f64; 2]], opts: &FitOptions) -> (usize, Vec<[f64; 2]>) {

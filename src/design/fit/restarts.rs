@@ -77,11 +77,35 @@ pub fn fit_with_restarts(
     // sees (never on measured points, where the largest distance is the noise's). Both the
     // first fit (often a higher order) and the best restart are finished, side by side; the
     // better finish is kept.
-    let (a, b) = rayon::join(
-        || minimax(points, f, fit_opts),
-        || minimax(points, g, fit_opts),
+    let ((a, b), c) = rayon::join(
+        || {
+            rayon::join(
+                || minimax(points, f, fit_opts),
+                || minimax(points, g, fit_opts),
+            )
+        },
+        || continuation(points, start, fit_opts),
     );
-    Ok(if score(&b) < score(&a) { b } else { a })
+    let best = if score(&b) < score(&a) { b } else { a };
+    Ok(match c {
+        Some(c) if score(&c) < score(&best) => c,
+        _ => best,
+    })
+}
+
+/// Continuation in the gear limits: the fit under tightened limits
+/// ([`crate::geometry::limits::GearLimits::tightened`]: 10° less pressure angle, convex curves), whose landscape has
+/// fewer basins, refitted under the real ones from there and finished towards the minimax. A
+/// fit under the real limits can settle in a basin that a tighter design already beats (a
+/// concave hollow where a convex sun traces closer); this path starts on the other side.
+fn continuation(points: &[[f64; 2]], start: &Mechanism, opts: &FitOptions) -> Option<Fitted> {
+    let tight = FitOptions {
+        limits: opts.limits.tightened()?,
+        ..opts.clone()
+    };
+    let t = fit_points(points, start, &tight).ok()?;
+    let f = fit_points(points, &t.mechanism, opts).ok()?;
+    Some(minimax(points, f, opts))
 }
 
 /// Points and Levenberg–Marquardt iterations of a screening fit of a restart.
