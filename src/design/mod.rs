@@ -23,6 +23,7 @@ mod error;
 pub mod fit;
 pub mod inverse;
 pub mod law;
+pub mod noise;
 mod options;
 pub mod refine;
 mod report;

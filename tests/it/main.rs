@@ -7,6 +7,7 @@ mod design;
 mod dynamics;
 mod hard_cases;
 mod layout;
+mod noise;
 mod orbit;
 mod pair_ratios;
 mod pair_sector;
