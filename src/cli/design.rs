@@ -313,6 +313,14 @@ pub fn run(args: Args) -> CliResult {
             t.roundtrip.max_deviation_mm,
             t.roundtrip.before_max_deviation_mm
         );
+        if let Some(g) = t.needle_angle_deg {
+            println!(
+                "  needle angle γ re-fitted for the rescaled ratio: {g:.4}° (replaces the design's)"
+            );
+        }
+        for w in &t.warnings {
+            println!("  warning: {w}");
+        }
         if let Some(p) = &t.process {
             for (name, g) in [
                 ("sun", &p.sun),
