@@ -144,22 +144,28 @@ fn noise_sigma_of_the_shared_cases_and_of_exact_points() {
 }
 
 /// Designs noisy points and measures them against the clean truth: C12 passes, judged on the
-/// estimated deviation from the curve, which is within 0.01 mm of the true Hausdorff distance;
+/// estimated deviation from the curve, which is within −0.005/+0.015 mm of the true Hausdorff
+/// distance;
 /// the traced path is within 0.1 mm of the truth; no warning calls the target incompatible.
-fn check_noisy_design(what: &str, d: &Design, truth: &[[f64; 2]]) -> (f64, f64) {
+fn check_noisy_design(what: &str, d: &Design, truth: &[[f64; 2]]) {
     let r = &d.report;
     let true_mm = hausdorff(&d.traced_mm, truth);
     let est = r
         .roundtrip
         .estimated_curve_deviation_mm
         .unwrap_or_else(|| panic!("{what}: no estimate on noisy points"));
+    eprintln!(
+        "{what}: σ̂ = {:.4}, from the points {:.4}, estimated from the curve {est:.4}, true {true_mm:.4} mm",
+        r.trajectory.noise_sigma_mm, r.roundtrip.max_deviation_mm
+    );
     let c12 = r.checks.iter().find(|c| c.id == "C12").unwrap();
     assert!(c12.name.contains("estimated"), "{what}: {}", c12.name);
     assert_eq!(c12.value, est, "{what}");
     assert!(c12.pass && est <= 0.05, "{what}: C12 {est} mm");
     assert!(true_mm <= 0.1, "{what}: {true_mm} mm from the clean truth");
+    // An estimate of the expected largest value: at most 5 µm below the truth, 15 µm above.
     assert!(
-        (est - true_mm).abs() <= 0.01,
+        (-0.005..=0.015).contains(&(est - true_mm)),
         "{what}: estimate {est} mm, true {true_mm} mm"
     );
     // The deviation from the points is the noise's: several σ, far above the estimate.
@@ -173,7 +179,6 @@ fn check_noisy_design(what: &str, d: &Design, truth: &[[f64; 2]]) -> (f64, f64) 
             "{what}: {w}"
         );
     }
-    (est, true_mm)
 }
 
 #[test]
@@ -185,19 +190,17 @@ fn noisy_cases_pass_c12_on_the_estimated_curve_deviation() {
             .points()
             .to_vec();
         let d = design(&t, &DesignOptions::default()).unwrap();
-        let (est, h) = check_noisy_design(file, &d, &truth);
-        eprintln!(
-            "{file}: σ̂ = {:.4}, from the points {:.4}, estimated from the curve {est:.4}, true {h:.4} mm",
-            d.report.trajectory.noise_sigma_mm, d.report.roundtrip.max_deviation_mm
-        );
+        check_noisy_design(file, &d, &truth);
     }
-    for k in 0..4u64 {
-        let case = noisy_case(200 + k, [300, 600, 900, 1200][k as usize], 0.05);
+    for (k, (m, sigma)) in [(300, 0.02), (600, 0.03), (900, 0.04), (1200, 0.05)]
+        .into_iter()
+        .enumerate()
+    {
+        let case = noisy_case(200 + k as u64, m, sigma);
         let mut opts = DesignOptions::default();
         opts.center_mm = case.opts.center;
         let d = design(&trajectory(&case.points), &opts).unwrap();
-        let (est, h) = check_noisy_design(&case.describe(), &d, &case.truth);
-        eprintln!("case {k}: estimated {est:.4}, true {h:.4} mm");
+        check_noisy_design(&case.describe(), &d, &case.truth);
     }
 }
 
