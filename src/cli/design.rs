@@ -372,6 +372,14 @@ pub fn run(args: Args) -> CliResult {
             t.roundtrip.hausdorff_mm,
             r.roundtrip.hausdorff_mm
         );
+        if let Some(g) = t.needle_angle_deg {
+            println!(
+                "  needle angle γ re-fitted for the rescaled ratio: {g:.4}° (replaces the design's)"
+            );
+        }
+        for w in &t.warnings {
+            println!("  warning: {w}");
+        }
         if let Some(p) = &t.process {
             for (name, g) in [
                 ("sun", &p.sun),

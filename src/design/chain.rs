@@ -9,7 +9,7 @@ use super::options::{ADAPTIVE_ORDERS, DesignOptions, RefineMode, validate};
 use super::report::*;
 use super::segmented::Segmented;
 use super::start::invert_for_start;
-use super::{compat, fit, refine, segmented};
+use super::{compat, fit, noise, refine, segmented};
 use crate::design::compat::Compatibility;
 use crate::design::fit::FitOptions;
 use crate::design::trajectory::Trajectory;
@@ -65,7 +65,12 @@ pub fn design(traj: &Trajectory, opts: &DesignOptions) -> Result<Design, DesignE
     // The patent route, then the §8.3 refinement when asked for.
     let t0 = Instant::now();
     let seg = segmented::design(&inv.law, compat.tau_rad, n, &opts.segmented)?;
-    let patent = patent_route(&trains, &seg, &compat, n, &mut warnings)?;
+    // Warnings that the noise of measured points can explain wait for the round trip (C12), at
+    // the place they would have had.
+    let mut pending: Vec<(usize, String)> = Vec::new();
+    let incompatible_at = warnings.len();
+    let mut patent = patent_route(&trains, &seg, &compat, n, &mut warnings)?;
+    pending.extend(patent.incompatibility.take().map(|w| (incompatible_at, w)));
     timings.patent = ms(t0);
     let t0 = Instant::now();
     let refined = refine_route(&trains, &seg, compat.tau_rad, &mut warnings);
@@ -129,12 +134,12 @@ pub fn design(traj: &Trajectory, opts: &DesignOptions) -> Result<Design, DesignE
             }
         },
     );
-    if best_dev > opts.tol_tip_mm && noise_sigma < FIT_TOL_FRACTION * opts.tol_tip_mm {
-        warnings.push(format!(
+    if best_dev > opts.tol_tip_mm {
+        pending.push((warnings.len(), format!(
             "the best design deviates {best_dev:.3} mm from the target (tolerance {} mm): no train of this type traces it exactly (E_c·l3 = {:.3} mm); this is the closest admissible design found",
             opts.tol_tip_mm,
             compat.residual_rad * inv.l3_mm
-        ));
+        )));
     }
 
     // Outputs, checks, round trip.
@@ -158,6 +163,11 @@ pub fn design(traj: &Trajectory, opts: &DesignOptions) -> Result<Design, DesignE
         opts,
         &mut warnings,
     )?;
+    if !noise::explained_by_noise(out.roundtrip.estimated_curve_deviation_mm, opts.tol_tip_mm) {
+        for (at, w) in pending.into_iter().rev() {
+            warnings.insert(at, w);
+        }
+    }
     timings.outputs = ms(t0);
     timings.total = ms(t_all);
     if !out.limits.binding.is_empty() && out.roundtrip.max_deviation_mm > opts.tol_tip_mm {
@@ -245,10 +255,12 @@ impl Trains<'_> {
     }
 }
 
-/// The patent route's result: its best mechanism and summary.
+/// The patent route's result: its best mechanism and summary, and the warning that the junctions
+/// did not close (the target is not compatible with the train), if they did not.
 struct Patent {
     mechanism: Mechanism,
     summary: RouteSummary,
+    incompatibility: Option<String>,
 }
 
 /// The patent route (spec §7–§8.2): the segmented hypothesis fitted by a Fourier series at the
@@ -263,14 +275,14 @@ fn patent_route(
 ) -> Result<Patent, DesignError> {
     let opts = trains.opts;
     let tau = compat.tau_rad;
-    if !seg.converged {
-        warnings.push(format!(
+    let incompatibility = (!seg.converged).then(|| {
+        format!(
             "patent iteration did not close the junctions (J0 = {:.3e} after {} steps): the target is not compatible with the train (E_c·l3 = {:.3} mm)",
             seg.j0,
             seg.iterations,
             compat.residual_rad * trains.inv.l3_mm
-        ));
-    }
+        )
+    });
     let orders: Vec<usize> = match opts.order {
         Some(k) => vec![k],
         None => ADAPTIVE_ORDERS
@@ -341,7 +353,11 @@ fn patent_route(
             Vec::new()
         },
     };
-    Ok(Patent { mechanism, summary })
+    Ok(Patent {
+        mechanism,
+        summary,
+        incompatibility,
+    })
 }
 
 /// The refinement of §8.3 (only with [`RefineMode::On`]: the fit to the points is the default

@@ -24,6 +24,7 @@ pub mod fit;
 pub mod inverse;
 pub mod law;
 mod module;
+pub mod noise;
 mod options;
 pub mod refine;
 mod report;

@@ -161,6 +161,13 @@ pub struct RoundTrip {
     pub hausdorff_mm: f64,
     /// Largest `|r_sun + ρ2 − a|` / `|r_planet + ρ2 − a|` seen, mm.
     pub max_mesh_error_mm: f64,
+    /// On measured points (estimated noise σ above [`crate::design::fit::MEASURED_NOISE_MM`]):
+    /// the estimated largest distance of the traced path from the curve under the noise, mm,
+    /// `√(2 ln p)·√(σ²p/N + max(0, rms² − σ²(1 − p/N)))` with `p = 4 + 2K` fitted parameters
+    /// ([`crate::design::noise`]); check C12 judges it instead of `max_deviation_mm`. Absent on
+    /// exact points.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub estimated_curve_deviation_mm: Option<f64>,
     /// Carrier angles simulated.
     pub samples: usize,
 }
@@ -180,7 +187,8 @@ pub struct TrajectorySummary {
     pub needle_swing_deg: f64,
     /// i31 range over the turn.
     pub i31_range: [f64; 2],
-    /// Measurement noise σ estimated from the points (local cubic fits), mm.
+    /// Measurement noise σ per coordinate estimated from the points (4th differences in the point
+    /// index, trimmed mean; [`crate::design::trajectory::Trajectory::noise_sigma_mm`]), mm.
     #[serde(default)]
     pub noise_sigma_mm: f64,
 }
@@ -236,7 +244,7 @@ pub struct FitSummary {
     pub start_rms_mm: f64,
     /// Largest point distance of the start, mm.
     pub start_max_mm: f64,
-    /// Noise σ estimated from the points alone (local cubic fits), mm.
+    /// Noise σ estimated from the points alone (4th differences in the point index), mm.
     pub noise_sigma_mm: f64,
     /// Harmonics of the smoothed copy the start was taken from (measured points), if any.
     #[serde(default, skip_serializing_if = "Option::is_none")]

@@ -8,6 +8,7 @@ mod dynamics;
 mod hard_cases;
 mod layout;
 mod limits;
+mod noise;
 mod orbit;
 mod pair_ratios;
 mod pair_sector;

@@ -85,8 +85,8 @@ pub struct FitOptions {
     pub perimeter_mm: Option<f64>,
     /// The order stops rising once the largest point distance is below this, mm (default 0.0125).
     pub tol_mm: f64,
-    /// Noise level of the points, mm (default 0): the order stops rising once the RMS distance is
-    /// within 1.3× of it.
+    /// Noise level σ of the points, per coordinate, mm (default 0): the order stops rising once
+    /// the RMS distance is down to the noise a fit of p = 4 + 2K parameters keeps, `σ·√(1 − p/N)`.
     pub noise_sigma_mm: f64,
     /// Levenberg–Marquardt iterations per order (default 40).
     pub max_iterations: usize,
@@ -217,7 +217,7 @@ pub fn fit_points(
             best = Some((fitted.clone(), measured));
         }
         let done = max <= opts.tol_mm
-            || rms <= 1.3 * opts.noise_sigma_mm
+            || rms <= noise_floor_mm(opts.noise_sigma_mm, k, points.len())
             || prev_rms.is_some_and(|p| rms > 0.9 * p)
             || idx + 1 == orders.len();
         if done {
@@ -228,6 +228,14 @@ pub fn fit_points(
     }
     let (mechanism, measured) = best.expect("at least one order is tried");
     Ok(Fitted::new(mechanism, measured, iterations, scan))
+}
+
+/// The RMS point distance of a fit that follows the curve under noisy points exactly, mm: the
+/// residual keeps the noise the `p = 4 + 2K` parameters cannot follow, `σ·√(1 − p/N)` (σ per
+/// coordinate; [`crate::design::noise`]). 0 on exact points (σ = 0).
+fn noise_floor_mm(sigma_mm: f64, order: usize, points: usize) -> f64 {
+    let p = crate::design::noise::fitted_parameters(order) as f64;
+    sigma_mm * (1.0 - p / points.max(1) as f64).max(0.0).sqrt()
 }
 
 /// How far a train's traced curve is from the points.

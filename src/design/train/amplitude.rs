@@ -4,7 +4,9 @@ use super::TrainError;
 use crate::geometry::fourier::SunRatio;
 use crate::geometry::mechanism::Mechanism;
 use crate::math::periodic::bracketed_root;
-use std::f64::consts::PI;
+use crate::math::polyline::seg_dist;
+use rayon::prelude::*;
+use std::f64::consts::{PI, TAU};
 
 /// Result of [`rescale_ratio_amplitude`].
 #[derive(Debug, Clone, PartialEq)]
@@ -113,4 +115,108 @@ pub fn rescale_ratio_amplitude(
         expected: "a module for which some integer tooth count is reachable by rescaling the \
                    ratio amplitude (L(λ) ranges between the circle πa and the largest amplitude)",
     })
+}
+
+/// Sun phases and needle angles of the coarse grid of [`refit_needle_and_phase`] (10° apart).
+const GRID: usize = 36;
+/// Carrier angles traced, and at most as many target points used, per candidate of the coarse
+/// grid.
+const COARSE_SAMPLES: usize = 128;
+/// The same for the local search.
+const FINE_SAMPLES: usize = 512;
+/// Smallest step of the local search, rad (0.017 mm of tip motion on a 170 mm needle).
+const MIN_STEP_RAD: f64 = 1e-4;
+
+/// Hausdorff distance (mm) between the path `m` traces at `n` uniform carrier angles and the
+/// closed polyline `points` (solved frame), every point against every segment: the bucketed
+/// [`crate::math::polyline::hausdorff_mm`] slows down on curves tens of mm apart, which most
+/// candidates are.
+fn path_distance(m: &Mechanism, n: usize, points: &[[f64; 2]]) -> f64 {
+    let theta3 = m.planet_orientations_uniform(n);
+    let tips: Vec<[f64; 2]> = theta3
+        .iter()
+        .enumerate()
+        .map(|(k, t3)| {
+            let (phi, beta) = (TAU * k as f64 / n as f64, t3 + m.needle_angle_rad);
+            [
+                m.l1_mm() * phi.cos() + m.l3_mm * beta.cos(),
+                m.l1_mm() * phi.sin() + m.l3_mm * beta.sin(),
+            ]
+        })
+        .collect();
+    let directed = |p: &[[f64; 2]], q: &[[f64; 2]]| {
+        p.iter()
+            .map(|x| {
+                (0..q.len())
+                    .map(|j| seg_dist(*x, q[j], q[(j + 1) % q.len()]))
+                    .fold(f64::INFINITY, f64::min)
+            })
+            .fold(0.0, f64::max)
+    };
+    directed(&tips, points).max(directed(points, &tips))
+}
+
+/// Every `⌈len/n⌉`-th point: at most `n` of them, in order.
+fn thinned(points: &[[f64; 2]], n: usize) -> Vec<[f64; 2]> {
+    points
+        .iter()
+        .step_by(points.len().div_ceil(n).max(1))
+        .copied()
+        .collect()
+}
+
+/// The needle angle γ and the sun phase φ_ref of a mechanism whose ratio was rescaled
+/// ([`rescale_ratio_amplitude`]), re-fitted to the target points (mm, relative to the carrier
+/// axis, solved frame: CCW) with the ratio, `a` and `l3` kept.
+///
+/// Minimises the Hausdorff distance between the traced path and the points' closed polyline:
+/// a 10° grid over (φ_ref, γ) on 128 carrier angles and at most 128 of the points, then a
+/// compass search on 512 carrier angles and at most 512 points from the best cell, steps halved
+/// from 5° to 1e-4 rad. Returns the mechanism and its distance on those samples, mm (the
+/// toothed train's round trip measures the final path).
+#[must_use]
+pub fn refit_needle_and_phase(rescaled: &Mechanism, points: &[[f64; 2]]) -> (Mechanism, f64) {
+    let with = |phase: f64, gamma: f64| Mechanism {
+        sun_phase_rad: phase,
+        needle_angle_rad: gamma,
+        ..rescaled.clone()
+    };
+    let angle = |k: usize| TAU * k as f64 / GRID as f64;
+    let (coarse, fine) = (
+        thinned(points, COARSE_SAMPLES),
+        thinned(points, FINE_SAMPLES),
+    );
+    let cells: Vec<(usize, usize)> = (0..GRID)
+        .flat_map(|i| (0..GRID).map(move |j| (i, j)))
+        .collect();
+    let (_, start) = cells
+        .into_par_iter()
+        .map(|(i, j)| {
+            let m = with(
+                rescaled.sun_phase_rad + angle(i),
+                rescaled.needle_angle_rad + angle(j),
+            );
+            (path_distance(&m, COARSE_SAMPLES, &coarse), m)
+        })
+        .min_by(|x, y| x.0.total_cmp(&y.0))
+        .unwrap_or_else(|| (f64::INFINITY, rescaled.clone()));
+    let mut best = (start.clone(), path_distance(&start, FINE_SAMPLES, &fine));
+    let mut step = 5f64.to_radians();
+    while step > MIN_STEP_RAD {
+        let (p, g) = (best.0.sun_phase_rad, best.0.needle_angle_rad);
+        let improved = [(p + step, g), (p - step, g), (p, g + step), (p, g - step)]
+            .into_par_iter()
+            .map(|(p, g)| {
+                let m = with(p, g);
+                let s = path_distance(&m, FINE_SAMPLES, &fine);
+                (m, s)
+            })
+            .filter(|(_, s)| *s < best.1)
+            .min_by(|x, y| x.1.total_cmp(&y.1));
+        match improved {
+            Some(b) => best = b,
+            None => step *= 0.5,
+        }
+    }
+    best
 }

@@ -1,6 +1,6 @@
 //! Putting teeth on the train: integer tooth count, mating phases, rack-generated outlines,
 //! the verification of both meshes and the round trip of the scaled mechanism.
-use super::amplitude::rescale_ratio_amplitude;
+use super::amplitude::{refit_needle_and_phase, rescale_ratio_amplitude};
 use super::pending::PendingTrainMesh;
 use super::relief::relieve_gear;
 use super::swept::{TrainMeshes, neighbours, sweep_gear, sweepable};
@@ -104,20 +104,56 @@ pub fn tooth_design_deferred(
     }
     let n = design.assembly.sun.len();
     let fit = rescale_ratio_amplitude(&design.mechanism, opts.toothing.module_mm, n, accuracy_mm)?;
-    let asm = Assembly::from_mechanism(
-        &fit.mechanism,
-        design.assembly.center_mm,
-        design.assembly.direction,
-        n,
-    )?;
+    let (center, direction) = (design.assembly.center_mm, design.assembly.direction);
+    let sy = f64::from(direction.signum());
+    let solved: Vec<[f64; 2]> = target
+        .iter()
+        .map(|p| [p[0] - center[0], sy * (p[1] - center[1])])
+        .collect();
+    let (mechanism, _) = refit_needle_and_phase(&fit.mechanism, &solved);
+    let asm = Assembly::from_mechanism(&mechanism, center, direction, n)?;
     let exact = TrainTeethOptions {
         policy: TrainPolicy::ScaleCenterDistance(ToothPolicy::Exact(fit.z)),
         ..*opts
     };
     let (mut train, pending) = train_from(&asm, Some(&design.assembly), target, &exact)?;
-    train.report.options.policy = TrainPolicy::RatioAmplitude;
-    train.report.ratio_amplitude = fit.lambda;
+    let r = &mut train.report;
+    r.options.policy = TrainPolicy::RatioAmplitude;
+    r.ratio_amplitude = fit.lambda;
+    r.needle_angle_deg = Some(sy * mechanism.needle_angle_rad.to_degrees());
+    r.sun_phase_deg = Some(
+        (sy * mechanism.sun_phase_rad)
+            .to_degrees()
+            .rem_euclid(360.0),
+    );
+    r.z_raw = design.report.gears.sun.perimeter_mm / (PI * opts.toothing.module_mm);
+    let tol = design_tolerance_mm(design);
+    if r.roundtrip.max_deviation_mm > tol {
+        r.warnings.push(format!(
+            "ratio-amplitude policy: z = {} at m = {} mm needs the ratio amplitude × {:.4} (at a fixed centre distance the perimeter changes only to second order in the amplitude), so the toothed train traces a different path: {:.3} mm from the target after re-fitting the needle angle and sun phase (designed {:.4} mm, tolerance {tol} mm); scaling the centre distance (the default policy) keeps the path, or m = {:.4} mm keeps λ = 1 at z = {}",
+            fit.z,
+            opts.toothing.module_mm,
+            fit.lambda,
+            r.roundtrip.max_deviation_mm,
+            r.roundtrip.before_max_deviation_mm,
+            design.report.gears.sun.perimeter_mm / (PI * f64::from(fit.z)),
+            fit.z
+        ));
+    }
     Ok((train, pending))
+}
+
+/// The tip tolerance the design was judged against (check C12's limit), mm; the default
+/// `tol_tip_mm` when the report has no C12.
+fn design_tolerance_mm(design: &Design) -> f64 {
+    design
+        .report
+        .checks
+        .iter()
+        .find(|c| c.id == "C12")
+        .map_or(crate::design::DesignOptions::default().tol_tip_mm, |c| {
+            c.limit
+        })
 }
 
 /// [`tooth_design`] recorded in the design: on success `design.report.teeth` holds the train's
@@ -452,6 +488,9 @@ fn train_from(
         },
         mesh: None,
         files: Vec::new(),
+        needle_angle_deg: None,
+        sun_phase_deg: None,
+        warnings: Vec::new(),
         process: Some(TrainProcess {
             sun: sun_process,
             intermediate: intermediate_process,

@@ -37,7 +37,7 @@ mod report;
 mod sheet;
 mod swept;
 
-pub use amplitude::{AmplitudeFit, rescale_ratio_amplitude};
+pub use amplitude::{AmplitudeFit, refit_needle_and_phase, rescale_ratio_amplitude};
 pub use build::{attach_teeth, tooth_design, tooth_design_deferred, tooth_train};
 pub use pending::PendingTrainMesh;
 pub(crate) use report::teeth_json;

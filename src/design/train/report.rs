@@ -53,6 +53,19 @@ pub struct TrainTeethReport {
     pub module_mm: f64,
     /// Ratio amplitude factor λ of [`super::TrainPolicy::RatioAmplitude`] (1 otherwise).
     pub ratio_amplitude: f64,
+    /// With [`super::TrainPolicy::RatioAmplitude`]: the needle angle γ re-fitted to the rescaled
+    /// ratio (relative to the planet's body +x axis, file frame, degrees), which replaces the
+    /// design's `needle_angle_deg`; absent otherwise (the design's γ).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub needle_angle_deg: Option<f64>,
+    /// With [`super::TrainPolicy::RatioAmplitude`]: the re-fitted world angle of the sun's design
+    /// reference ray, degrees in [0, 360) (the sun table is drawn at it); absent otherwise.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub sun_phase_deg: Option<f64>,
+    /// What the tooth-count policy did to the trajectory when it moved the tip beyond the design
+    /// tolerance.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub warnings: Vec<String>,
     /// `L/(πm)` before scaling.
     pub z_raw: f64,
     /// Scale factor `s = zπm/L` applied to the curves and the centre distance.

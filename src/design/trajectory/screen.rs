@@ -25,50 +25,53 @@ pub(super) fn outlier(points: &[[f64; 2]]) -> Option<(usize, f64, f64, f64)> {
     })
 }
 
-/// Median over the points of the local cubic-fit residual (9-point windows, chord-length
-/// parameter, both coordinates, 10 degrees of freedom), corrected to a standard deviation: an
-/// estimate of the measurement noise σ (mm) that needs no model of the curve. On exact samples of a
-/// smooth curve it is the cubic's truncation error (µm for 200+ points on a transplanter loop).
-pub(super) fn local_cubic_noise_mm(points: &[[f64; 2]]) -> f64 {
+/// Order k of the index differences of [`difference_noise_mm`].
+const DIFF_ORDER: usize = 4;
+/// Binomial weights of the 4th difference, `(−1)^(k−i)·C(k, i)`.
+const DIFF_WEIGHTS: [f64; DIFF_ORDER + 1] = [1.0, -4.0, 6.0, -4.0, 1.0];
+/// `Σ w_i² = C(2k, k)` = 70 for k = 4: the variance gain of the difference on white noise.
+const DIFF_GAIN: f64 = 70.0;
+/// Cap of the trimmed mean, in units of the median-based first estimate.
+const TRIM_CAP: f64 = 6.0;
+
+/// Noise σ (mm, per coordinate) of points sampled along a smooth closed curve at a smooth spacing
+/// (uniform in arc length or in time): 4th differences in the point index, a trimmed mean.
+///
+/// ```text
+/// D_j = P_j − 4 P_{j+1} + 6 P_{j+2} − 4 P_{j+3} + P_{j+4}   (indices mod N, both coordinates)
+/// e_j = |D_j|² / (2·C(8, 4)) = |D_j|² / 140
+/// σ₀² = median_j(e_j) / ln 2
+/// σ²  = mean_j min(e_j, c·σ₀²) / (1 − e^(−c)),   c = 6
+/// ```
+///
+/// On Gaussian noise of σ on x and y, `e_j = σ²·χ²₂/2 ~ σ²·Exp(1)`: the median is `σ²·ln 2`, and
+/// the capped mean of `Exp(1)` is `1 − e^(−c)`, so both steps are unbiased for pure noise. The
+/// curve contributes `|Δ⁴c|² ≈ |h⁴ c⁽⁴⁾|²` (h the index spacing): negligible on a smoothly sampled
+/// loop (a harmonic n of N points is damped by `(2 sin(πn/N))⁴`), except where the spacing is
+/// coarse against the curvature (a sharp nose sampled uniformly in arc length): those few
+/// points exceed the cap and cannot lift the estimate. The index is the parameter (not the chord
+/// length, which absorbs the noise along the curve and would read only its normal half). Within
+/// ±13 % of the true σ over σ ∈ [0.005, 0.1] mm and 200–1200 points; a few µm or less on exact
+/// points (the 4th difference of the curve itself).
+pub(super) fn difference_noise_mm(points: &[[f64; 2]]) -> f64 {
     let n = points.len();
-    if n < 9 {
+    if n <= DIFF_ORDER {
         return 0.0;
     }
-    let mut rss: Vec<f64> = (0..n)
-        .map(|k| {
-            // Window k−4..k+4, parameter u = chord length from the centre, scaled to O(1).
-            let idx: Vec<usize> = (0..9).map(|j| (k + n + j - 4) % n).collect();
-            let mut u = [0.0; 9];
-            for j in 5..9 {
-                u[j] = u[j - 1] + dist(points[idx[j - 1]], points[idx[j]]);
+    let e: Vec<f64> = (0..n)
+        .map(|j| {
+            let mut d = [0.0, 0.0];
+            for (i, w) in DIFF_WEIGHTS.iter().enumerate() {
+                let p = points[(j + i) % n];
+                d[0] += w * p[0];
+                d[1] += w * p[1];
             }
-            for j in (0..4).rev() {
-                u[j] = u[j + 1] - dist(points[idx[j + 1]], points[idx[j]]);
-            }
-            let scale = (u[8] - u[0]).max(1e-300) / 2.0;
-            let mut a = nalgebra::Matrix4::<f64>::zeros();
-            let mut bx = nalgebra::Vector4::<f64>::zeros();
-            let mut by = nalgebra::Vector4::<f64>::zeros();
-            for j in 0..9 {
-                let t = u[j] / scale;
-                let v = nalgebra::Vector4::new(1.0, t, t * t, t * t * t);
-                a += v * v.transpose();
-                bx += v * points[idx[j]][0];
-                by += v * points[idx[j]][1];
-            }
-            let Some(ch) = a.cholesky() else { return 0.0 };
-            let (cx, cy) = (ch.solve(&bx), ch.solve(&by));
-            (0..9)
-                .map(|j| {
-                    let t = u[j] / scale;
-                    let v = nalgebra::Vector4::new(1.0, t, t * t, t * t * t);
-                    (points[idx[j]][0] - v.dot(&cx)).powi(2)
-                        + (points[idx[j]][1] - v.dot(&cy)).powi(2)
-                })
-                .sum::<f64>()
+            (d[0] * d[0] + d[1] * d[1]) / (2.0 * DIFF_GAIN)
         })
         .collect();
-    rss.sort_by(f64::total_cmp);
-    // Median of χ²₁₀/10 is 0.9342.
-    (rss[n / 2] / 10.0 / 0.9342).sqrt()
+    let mut sorted = e.clone();
+    sorted.sort_by(f64::total_cmp);
+    let cap = TRIM_CAP * sorted[n / 2] / std::f64::consts::LN_2;
+    let trimmed = e.iter().map(|v| v.min(cap)).sum::<f64>() / n as f64;
+    (trimmed / (1.0 - (-TRIM_CAP).exp())).sqrt()
 }
