@@ -10,6 +10,7 @@ mod layout;
 mod orbit;
 mod pair_ratios;
 mod pair_sector;
+mod quality;
 mod robust;
 mod shaper;
 mod simulate;
