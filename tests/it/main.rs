@@ -12,6 +12,7 @@ mod noise;
 mod orbit;
 mod pair_ratios;
 mod pair_sector;
+mod quality;
 mod robust;
 mod shaper;
 mod simulate;
