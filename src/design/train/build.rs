@@ -219,7 +219,7 @@ fn train_from(
                 name: "policy",
                 value: f64::NAN,
                 expected: "scale-centre-distance or adjust-module here; the ratio-amplitude \
-                           and designed policies need the design (tooth_design)",
+                           and designed policies need the designed mechanism (tooth_design)",
             });
         }
     };

@@ -161,6 +161,43 @@ impl Train {
         }
     }
 
+    /// How far the true gears are inside the default gear limits: `min` over 4096 angles of
+    /// `1 − slope/tan 25°` (effective pressure angle ≤ 45°) and `1 − 10 mm/|ρ|` on concave arcs of
+    /// sun and intermediate (`> 0`: within; the intermediate's polar derivatives from the
+    /// sun's ratio by `r2 = a/(1+i)`, `dθ2 = i·du`). Derivatives of i21 by central differences.
+    pub fn limit_margin(&self) -> f64 {
+        let h = 1e-4;
+        let mut margin = f64::INFINITY;
+        for k in 0..4096 {
+            let u = TAU * k as f64 / 4096.0;
+            let (im, i, ip) = (self.i21(u - h), self.i21(u), self.i21(u + h));
+            let (d, dd) = ((ip - im) / (2.0 * h), (ip - 2.0 * i + im) / (h * h));
+            let s = 1.0 + i;
+            margin = margin.min(1.0 - d.abs() / (i * s) / 25f64.to_radians().tan());
+            let a = self.a;
+            // Sun r1 = a i/s; intermediate against its own angle.
+            let sun = [
+                a * i / s,
+                a * d / (s * s),
+                a * (dd * s - 2.0 * d * d) / (s * s * s),
+            ];
+            let r2 = a / s;
+            let r2u = -a * d / (s * s);
+            let r2uu = -a * (dd * s - 2.0 * d * d) / (s * s * s);
+            // θ2′ = i: r_θ = r_u/i, r_θθ = (r_uu − r_θ·i′)/i².
+            let r2t = r2u / i;
+            let mid = [r2, r2t, (r2uu - r2t * d) / (i * i)];
+            for [r, r1, r2] in [sun, mid] {
+                let delta = r * r + 2.0 * r1 * r1 - r * r2;
+                if delta < 0.0 {
+                    let rho = (r * r + r1 * r1).powf(1.5) / -delta;
+                    margin = margin.min(1.0 - 10.0 / rho);
+                }
+            }
+        }
+        margin
+    }
+
     /// (min, max) of i21 on `n` uniform samples.
     pub fn ratio_range(&self, n: usize) -> [f64; 2] {
         (0..n)
