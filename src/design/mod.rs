@@ -37,7 +37,10 @@ pub mod trajectory;
 pub use chain::design;
 pub use error::DesignError;
 pub use module::{MIN_TEETH, ModuleSummary};
-pub use options::{ADAPTIVE_ORDERS, DesignOptions, RefineMode, SMALLEST_CUTTER_RADIUS_MODULES};
+pub use options::{
+    ADAPTIVE_ORDERS, DEFAULT_MIN_CONCAVE_RADIUS_MM, DesignOptions, RefineMode,
+    SMALLEST_CUTTER_RADIUS_MODULES,
+};
 pub use report::{
     Carrier, Check, CompatSummary, Design, DesignReport, FitSummary, FourierSummary, Gear, Gears,
     LimitsSummary, RoundTrip, RouteSummary, Timings, TrajectorySummary, Units,

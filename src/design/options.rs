@@ -69,24 +69,33 @@ pub struct DesignOptions {
     /// are still checked).
     pub gear_limits: bool,
     /// Smallest admissible concave radius of curvature of a pitch curve, mm (C9). Default
-    /// `None`: the pitch radius of a 20-tooth shaper cutter, 10·m at module `m`
-    /// ([`Self::module_mm`]), 10 mm without one.
+    /// `None`: 12.5·m at module `m` ([`Self::module_mm`], [`SMALLEST_CUTTER_RADIUS_MODULES`]),
+    /// 10 mm without one ([`DEFAULT_MIN_CONCAVE_RADIUS_MM`]).
     pub min_concave_radius_mm: Option<f64>,
     /// Module the gears are designed for, mm (default `None`): the smallest concave radius
     /// follows from it (see `min_concave_radius_mm`).
     pub module_mm: Option<f64>,
 }
 
-/// Pitch radius of the smallest standard shaper cutter that cuts cleanly, in modules: 20 teeth.
-pub const SMALLEST_CUTTER_RADIUS_MODULES: f64 = 10.0;
+/// Smallest concave radius of a design made for a module, in modules: the pitch radius of a
+/// 25-tooth shaper cutter. A 20-tooth cutter (10·m) cuts hollows down to its own pitch radius
+/// only where the tooth tips stay above its base circle; on hollows within a few per cent of
+/// 10·m it can fail, so the clean margin is one standard cutter size up.
+pub const SMALLEST_CUTTER_RADIUS_MODULES: f64 = 12.5;
+
+/// Smallest concave radius without a module, mm: a 20-tooth cutter at m = 1.
+pub const DEFAULT_MIN_CONCAVE_RADIUS_MM: f64 = 10.0;
 
 impl DesignOptions {
-    /// The concave-radius limit in force, mm: `min_concave_radius_mm`, or the pitch radius of a
-    /// 20-tooth shaper cutter at `module_mm` (1 mm when none is given).
+    /// The concave-radius limit in force, mm: `min_concave_radius_mm`, or 12.5·m at
+    /// `module_mm`, or 10 mm.
     #[must_use]
     pub fn concave_radius_limit_mm(&self) -> f64 {
-        self.min_concave_radius_mm
-            .unwrap_or(SMALLEST_CUTTER_RADIUS_MODULES * self.module_mm.unwrap_or(1.0))
+        self.min_concave_radius_mm.unwrap_or(
+            self.module_mm.map_or(DEFAULT_MIN_CONCAVE_RADIUS_MM, |m| {
+                SMALLEST_CUTTER_RADIUS_MODULES * m
+            }),
+        )
     }
 
     /// The gear limits the chain designs within ([`Self::gear_limits`]); the options must be

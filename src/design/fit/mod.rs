@@ -379,7 +379,7 @@ pub fn minimax(points: &[[f64; 2]], fitted: Fitted, opts: &FitOptions) -> Fitted
 const MINIMAX_ITERATIONS: usize = 10;
 
 /// Reweighting passes of [`minimax`].
-const MINIMAX_PASSES: usize = 10;
+const MINIMAX_PASSES: usize = 12;
 
 /// Every `stride`-th point, so that at most `opts.max_points` drive the iterations.
 fn subsample(points: &[[f64; 2]], opts: &FitOptions) -> (usize, Vec<[f64; 2]>) {
