@@ -73,8 +73,8 @@ pub struct Args {
     /// Largest effective pressure angle α + max|atan(r_θ/r)| of every pitch curve, degrees.
     #[arg(long, default_value_t = 45.0)]
     pub max_pressure_angle: f64,
-    /// Smallest concave radius of curvature of a pitch curve, mm (default: 12.5·--module, the
-    /// pitch radius of a 25-tooth shaper cutter; 10 mm without a module).
+    /// Smallest concave radius of curvature of a pitch curve, mm (default: 11·--module, a
+    /// 20-tooth shaper cutter's pitch radius plus an addendum; 10 mm without a module).
     #[arg(long)]
     pub min_concave_radius: Option<f64>,
     /// Convex pitch curves only (cut by a rack): the same as an infinite --min-concave-radius.
@@ -363,14 +363,15 @@ pub fn run(args: Args) -> CliResult {
         let t = &t.report;
         println!(
             "  teeth: z = {}, m = {:.4} mm, a = {:.6} mm (scale {:.6}, ratio amplitude {:.6}); \
-             the toothed train traces {:.4} mm from the target (Hausdorff; the design: {:.4} mm)",
+             the toothed train traces {:.4} mm from the target points' polyline (Hausdorff; the \
+             designed gears: {:.4} mm)",
             t.z,
             t.module_mm,
             t.center_distance_mm,
             t.scale,
             t.ratio_amplitude,
             t.roundtrip.hausdorff_mm,
-            r.roundtrip.hausdorff_mm
+            t.roundtrip.before_hausdorff_mm
         );
         if let Some(g) = t.needle_angle_deg {
             println!(

@@ -5,6 +5,7 @@ use ncgear::design::train::{TrainError, TrainPolicy, TrainTeethOptions, tooth_de
 use ncgear::design::trajectory::Trajectory;
 use ncgear::design::{Design, DesignError, DesignOptions, design};
 use ncgear::geometry::pitch::PitchCurve;
+use ncgear::teeth::ToothPolicy;
 use std::f64::consts::PI;
 use std::path::Path;
 
@@ -153,7 +154,8 @@ fn a_design_for_the_module_has_perimeter_z_pi_m_and_its_teeth_trace_the_stated_p
         );
     }
     assert!(d.report.roundtrip.max_deviation_mm <= 0.05);
-    assert_within(&d, 15.0, "g1 m1.5");
+    assert_within(&d, o.concave_radius_limit_mm(), "g1 m1.5");
+    assert_eq!(o.concave_radius_limit_mm(), 16.5);
     let mut to = TrainTeethOptions::new(1.5);
     to.policy = TrainPolicy::Designed;
     to.toothing.verify_steps = 0;
@@ -175,31 +177,56 @@ fn a_design_for_the_module_has_perimeter_z_pi_m_and_its_teeth_trace_the_stated_p
     )
     .unwrap();
     let mut up = to;
-    up.policy = TrainPolicy::ScaleCenterDistance(ncgear::teeth::ToothPolicy::ScaleUp);
+    up.policy = TrainPolicy::ScaleCenterDistance(ToothPolicy::ScaleUp);
     let scaled = tooth_design(&free, &up, 1e-9 * free.assembly.a_mm, &|_| {}).unwrap();
     assert!(scaled.report.roundtrip.hausdorff_mm > 10.0 * t.report.roundtrip.hausdorff_mm);
 }
 
 /// G1 at m = 2: the module design beats every scaling policy that keeps the standard module
-/// (scale-up 2.49 mm, nearest and scale-down 1.54 mm).
+/// (scale-up 2.49 mm, nearest and scale-down 1.54 mm) by a clear margin, and meshes.
 #[test]
 fn g1_at_module_2_is_closer_than_the_scaling_policies() {
+    let t = traj("assets/trajectories/g1_ellipse.csv");
     let mut o = DesignOptions::default();
     o.module_mm = Some(2.0);
-    let d = design(&traj("assets/trajectories/g1_ellipse.csv"), &o).unwrap();
-    assert!(
-        d.report.roundtrip.hausdorff_mm < 1.0,
-        "{}",
-        d.report.roundtrip.hausdorff_mm
-    );
-    assert_within(&d, 20.0, "g1 m2");
+    let d = design(&t, &o).unwrap();
+    assert_within(&d, 22.0, "g1 m2");
     let cands = &d.report.module.as_ref().unwrap().candidates;
-    assert_eq!(cands.len(), 2);
     assert_eq!(
         [cands[0][0], cands[1][0]],
         [22.0, 23.0],
         "both neighbours of L/(πm) = 22.38 are tried"
     );
+    let mut to = TrainTeethOptions::new(2.0);
+    to.policy = TrainPolicy::Designed;
+    to.toothing.verify_steps = 24;
+    let toothed = tooth_design(&d, &to, 1e-9 * d.assembly.a_mm, &|_| {}).unwrap();
+    let mesh = toothed.report.mesh.as_ref().unwrap();
+    for m in [&mesh.sun_intermediate, &mesh.intermediate_planet] {
+        assert_eq!(m.interference_steps, 0);
+        assert!(
+            m.max_transmission_error_deg <= 1e-5,
+            "{}",
+            m.max_transmission_error_deg
+        );
+    }
+    let free = design(&t, &DesignOptions::default()).unwrap();
+    for p in [
+        ToothPolicy::ScaleUp,
+        ToothPolicy::Nearest,
+        ToothPolicy::ScaleDown,
+    ] {
+        let mut so = TrainTeethOptions::new(2.0);
+        so.policy = TrainPolicy::ScaleCenterDistance(p);
+        so.toothing.verify_steps = 0;
+        let scaled = tooth_design(&free, &so, 1e-9 * free.assembly.a_mm, &|_| {}).unwrap();
+        assert!(
+            toothed.report.roundtrip.hausdorff_mm < 0.75 * scaled.report.roundtrip.hausdorff_mm,
+            "{p:?}: {} vs {}",
+            toothed.report.roundtrip.hausdorff_mm,
+            scaled.report.roundtrip.hausdorff_mm
+        );
+    }
 }
 
 /// The designed policy refuses a design made for no module, naming the remedy; a module that

@@ -466,6 +466,7 @@ fn train_from(
         before_max_deviation_mm: max_tip_distance(&before, target_mm),
         max_deviation_mm: max_tip_distance(&after, target_mm),
         hausdorff_mm: hausdorff_mm(&after, target_mm),
+        before_hausdorff_mm: hausdorff_mm(&before, target_mm),
         max_tip_shift_mm: shift,
     };
     let report = TrainTeethReport {

@@ -34,8 +34,12 @@ pub struct TrainRoundTrip {
     pub before_max_deviation_mm: f64,
     /// Max distance of the traced tip from the target polyline, mm (final gears).
     pub max_deviation_mm: f64,
-    /// Hausdorff distance traced ↔ target, mm (final gears).
+    /// Hausdorff distance traced ↔ target polyline, mm (final gears).
     pub hausdorff_mm: f64,
+    /// Hausdorff distance traced ↔ target polyline, mm (designed gears, before the tooth-count
+    /// policy): equal to `hausdorff_mm` for a design made for the module.
+    #[serde(default)]
+    pub before_hausdorff_mm: f64,
     /// Max synchronous displacement of the tip by the tooth-count policy, mm (closed form
     /// `|s − 1|·l1` when scaling the centre distance).
     pub max_tip_shift_mm: f64,
