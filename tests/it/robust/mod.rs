@@ -362,6 +362,12 @@ fn run_case(case: &Case) -> Outcome {
             }
             (!v.is_empty()).then(|| v.join("; "))
         }
+        (Ok(m), Family::Noisy) if case.train.limit_margin() < 0.01 => {
+            (!m.within_limits).then(|| {
+                "true gears beyond the limits: the design must be within them (C6, C9, C10)"
+                    .to_string()
+            })
+        }
         (Ok(m), Family::Noisy) => (!(m.hausdorff_mm <= NOISY_TOL_MM)).then(|| {
             format!(
                 "Hausdorff(traced, clean truth) = {:.4} mm > {NOISY_TOL_MM}",
