@@ -73,8 +73,8 @@ pub struct Args {
     /// Largest effective pressure angle α + max|atan(r_θ/r)| of every pitch curve, degrees.
     #[arg(long, default_value_t = 45.0)]
     pub max_pressure_angle: f64,
-    /// Smallest concave radius of curvature of a pitch curve, mm (default: 11·--module, a
-    /// 20-tooth shaper cutter's pitch radius plus an addendum; 10 mm without a module).
+    /// Smallest concave radius of curvature of a pitch curve, mm (default: 12.5·--module, a
+    /// 25-tooth shaper cutter's pitch radius; 10 mm without a module).
     #[arg(long)]
     pub min_concave_radius: Option<f64>,
     /// Convex pitch curves only (cut by a rack): the same as an infinite --min-concave-radius.

@@ -174,7 +174,10 @@ pub fn design(traj: &Trajectory, opts: &DesignOptions) -> Result<Design, DesignE
     }
     timings.outputs = ms(t0);
     timings.total = ms(t_all);
-    if !out.limits.binding.is_empty() && out.roundtrip.max_deviation_mm > opts.tol_tip_mm {
+    if out.limits.enabled
+        && !out.limits.binding.is_empty()
+        && out.roundtrip.max_deviation_mm > opts.tol_tip_mm
+    {
         warnings.push(format!(
             "the gear limits bind ({}): this is the closest design whose gears can be cut and run; `ncgear tradeoff` shows the deviation reached at other pressure-angle limits and modules",
             out.limits.binding.join(", ")

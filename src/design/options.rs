@@ -69,7 +69,7 @@ pub struct DesignOptions {
     /// are still checked).
     pub gear_limits: bool,
     /// Smallest admissible concave radius of curvature of a pitch curve, mm (C9). Default
-    /// `None`: 11·m at module `m` ([`Self::module_mm`], [`SMALLEST_CUTTER_RADIUS_MODULES`]),
+    /// `None`: 12.5·m at module `m` ([`Self::module_mm`], [`SMALLEST_CUTTER_RADIUS_MODULES`]),
     /// 10 mm without one ([`DEFAULT_MIN_CONCAVE_RADIUS_MM`]).
     pub min_concave_radius_mm: Option<f64>,
     /// Module the gears are designed for, mm (default `None`): the smallest concave radius
@@ -77,17 +77,18 @@ pub struct DesignOptions {
     pub module_mm: Option<f64>,
 }
 
-/// Smallest concave radius of a design made for a module, in modules: the pitch radius of the
-/// smallest standard shaper cutter, 20 teeth (10·m), plus one addendum (1·m). On a hollow within
-/// an addendum of the cutter's pitch radius the gear's tips are generated below the cutter's
-/// base circle and the cutter fails; beyond it the 20-tooth cutter cuts cleanly.
-pub const SMALLEST_CUTTER_RADIUS_MODULES: f64 = 11.0;
+/// Smallest concave radius of a design made for a module, in modules: the pitch radius of a
+/// 25-tooth shaper cutter. The smallest standard cutter, 20 teeth (10·m), fails on hollows
+/// within about a quarter of its radius of its own (its tips below its base circle, or its
+/// other teeth cutting into the gear: secondary cutting), so a hollow a cutter must fit has a
+/// 25 % margin over it.
+pub const SMALLEST_CUTTER_RADIUS_MODULES: f64 = 12.5;
 
 /// Smallest concave radius without a module, mm: a 20-tooth cutter at m = 1.
 pub const DEFAULT_MIN_CONCAVE_RADIUS_MM: f64 = 10.0;
 
 impl DesignOptions {
-    /// The concave-radius limit in force, mm: `min_concave_radius_mm`, or 11·m at
+    /// The concave-radius limit in force, mm: `min_concave_radius_mm`, or 12.5·m at
     /// `module_mm`, or 10 mm.
     #[must_use]
     pub fn concave_radius_limit_mm(&self) -> f64 {
