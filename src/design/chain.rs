@@ -2,6 +2,7 @@
 //! refinement, the fit to the points, then the tables, checks and report.
 
 use super::checks::finish;
+use super::ellipse::from_an_ellipse;
 use super::error::DesignError;
 use super::inverse::Inversion;
 use super::module::{check_module, design_for_module};
@@ -16,7 +17,6 @@ use crate::design::trajectory::Trajectory;
 use crate::geometry::fourier::SunRatio;
 use crate::geometry::limits::GearLimits;
 use crate::geometry::mechanism::Mechanism;
-use rayon::prelude::*;
 use std::f64::consts::PI;
 use std::time::Instant;
 
@@ -482,7 +482,13 @@ fn fit_stage(
         .collect();
     let f = fit::fit_with_restarts(&points, &mech, restarts, &fit_opts, opts.tol_tip_mm)
         .map_err(|e| DesignError::Internal(e.to_string()))?;
-    let f = from_an_ellipse(&points, trains, tau, &fit_opts, f);
+    let f = from_an_ellipse(
+        &points,
+        &|r| trains.build(r, tau),
+        opts.tol_tip_mm,
+        &fit_opts,
+        f,
+    );
     let summary = FitSummary {
         order: f.mechanism.ratio.order(),
         rms_mm: f.rms_mm,
@@ -504,67 +510,6 @@ fn fit_stage(
     } else {
         Ok(kept(Some(summary)))
     }
-}
-
-/// Eccentricities and orientations (rad) of the focus-pivoted elliptic suns scanned for
-/// restarts.
-const ELLIPSE_ECCENTRICITIES: [f64; 4] = [0.1, 0.15, 0.2, 0.3];
-const ELLIPSE_ORIENTATIONS: usize = 12;
-
-/// On a clean target the train does not trace, the whole fit again from the closest
-/// elliptic sun ([`ellipse_starts`]), finished towards the minimax; the closer of the two
-/// (largest point distance or coverage) is kept. Measured points and traced targets keep `f`.
-fn from_an_ellipse(
-    points: &[[f64; 2]],
-    trains: &Trains,
-    tau: f64,
-    opts: &FitOptions,
-    f: fit::Fitted,
-) -> fit::Fitted {
-    let clean = opts.noise_sigma_mm <= fit::MEASURED_NOISE_MM;
-    if !clean || f.max_mm <= trains.opts.tol_tip_mm {
-        return f;
-    }
-    let score = |g: &fit::Fitted| g.max_mm.max(g.coverage_mm);
-    let Some(start) = ellipse_starts(trains, tau, 1).into_iter().next() else {
-        return f;
-    };
-    match fit::fit_points(points, &start, opts) {
-        Ok(g) => {
-            let g = fit::minimax(points, g, opts);
-            if score(&g) < score(&f) { g } else { f }
-        }
-        Err(_) => f,
-    }
-}
-
-/// Restarts from the classical sun of these mechanisms, a focus-pivoted ellipse
-/// (`i = (1 − e²)/(1 − 2e·cos(θ − ψ) + e²) = 1 + Σ 2eᵏ cos k(θ − ψ)`, 8 harmonics), scanned over
-/// its eccentricity and orientation on step 1's arms, closest first by the needle motion's
-/// deviation from the needle law (the best `count`). A target no train traces has many basins; an elliptic sun is where
-/// designers start, and from there the fit often reaches a better one than from the patent
-/// route's ratio.
-fn ellipse_starts(trains: &Trains, tau: f64, count: usize) -> Vec<Mechanism> {
-    let mut scanned: Vec<(f64, Mechanism)> = ELLIPSE_ECCENTRICITIES
-        .iter()
-        .flat_map(|&e| {
-            (0..ELLIPSE_ORIENTATIONS).map(move |j| {
-                let psi = std::f64::consts::TAU * j as f64 / ELLIPSE_ORIENTATIONS as f64;
-                let amp = |k: usize| 2.0 * e.powi(k as i32);
-                let a = (1..=8).map(|k| amp(k) * (k as f64 * psi).cos()).collect();
-                let b = (1..=8).map(|k| amp(k) * (k as f64 * psi).sin()).collect();
-                SunRatio::new_unchecked(a, b)
-            })
-        })
-        .collect::<Vec<_>>()
-        .into_par_iter()
-        .map(|r| {
-            let (m, dev) = trains.build(r, tau);
-            (dev, m)
-        })
-        .collect();
-    scanned.sort_by(|a, b| a.0.total_cmp(&b.0));
-    scanned.into_iter().take(count).map(|(_, m)| m).collect()
 }
 
 /// The options of the fit to the points: the chain's order, gear limits and noise level; aims at

@@ -19,6 +19,7 @@
 mod chain;
 mod checks;
 pub mod compat;
+mod ellipse;
 mod error;
 pub mod fit;
 pub mod inverse;

@@ -25,12 +25,7 @@
 
 use super::fit::MEASURED_NOISE_MM;
 
-/// Parameters of a train fitted to the points with a sun ratio of Fourier order `order`:
-/// `4 + 2K` (a, l3, γ, the sun phase and the ratio's coefficients).
-#[must_use]
-pub fn fitted_parameters(order: usize) -> usize {
-    4 + 2 * order
-}
+pub use super::fit::fitted_parameters;
 
 /// Estimated largest distance (mm) of the traced path from the curve under noisy points (module
 /// docs: `δ_max = √(2 ln p)·√(σ²ν + max(0, rms² − σ²(1 − ν)))`, `ν = min(p, N − 1)/N`), from the

@@ -200,6 +200,10 @@ fn concave_case_gets_teeth_on_all_three_gears() {
             "--module",
             "1.25",
             "--no-undercut",
+            "--tooth-policy",
+            "scale-up",
+            "--limits",
+            "off",
             "--out",
         ])
         .arg(std::env::temp_dir().join("ncgear_concave_m125"))

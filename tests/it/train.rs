@@ -385,6 +385,8 @@ fn design_cli_with_module_writes_cad_files_and_refuses_undercut() {
             traj.to_str().unwrap(),
             "--module",
             "2",
+            "--tooth-policy",
+            "scale-up",
             "--verify-steps",
             "8",
         ])

@@ -63,6 +63,13 @@ use curve::{INITIAL_SAMPLES, curve_samples, initial_angles, initial_angles_on, p
 use rayon::prelude::*;
 use solver::{Lm, to_params, with_order};
 
+/// Parameters of a train fitted to the points with a sun ratio of Fourier order `order`:
+/// `4 + 2K` (a, l3, γ, the sun phase and the ratio's coefficients).
+#[must_use]
+pub fn fitted_parameters(order: usize) -> usize {
+    4 + 2 * order
+}
+
 /// Orders the fit climbs through.
 pub const FIT_ORDERS: [usize; 7] = [6, 8, 12, 16, 24, 32, 40];
 
@@ -234,7 +241,7 @@ pub fn fit_points(
 /// residual keeps the noise the `p = 4 + 2K` parameters cannot follow, `σ·√(1 − p/N)` (σ per
 /// coordinate; [`crate::design::noise`]). 0 on exact points (σ = 0).
 fn noise_floor_mm(sigma_mm: f64, order: usize, points: usize) -> f64 {
-    let p = crate::design::noise::fitted_parameters(order) as f64;
+    let p = fitted_parameters(order) as f64;
     sigma_mm * (1.0 - p / points.max(1) as f64).max(0.0).sqrt()
 }
 
