@@ -11,7 +11,7 @@ mod teeth;
 
 use ncgear::design::inverse::{InverseError, InverseOptions, invert};
 use ncgear::design::trajectory::{Origin, Trajectory};
-use ncgear::design::{DesignError, DesignOptions, design};
+use ncgear::design::{DesignOptions, design};
 use ncgear::geometry::fourier::SunRatio;
 use ncgear::geometry::mechanism::Mechanism;
 use proptest::prelude::*;

@@ -331,8 +331,8 @@ impl Fitted {
 
 /// Moves a least-squares fit towards the minimax fit (smallest largest deviation) for targets the
 /// train cannot trace exactly: iteratively reweighted least squares with Lawson's weights
-/// (`w_j ← w_j·|d_j|/max|d|`, normalised, floored at 1e-6; [`MINIMAX_PASSES`] passes of
-/// [`MINIMAX_ITERATIONS`] iterations), at the fit's order.
+/// (`w_j ← w_j·|d_j|/max|d|`, normalised, floored at 1e-6; 12 passes of 10 iterations), at the
+/// fit's order.
 /// Keeps whichever result has the smaller `max(max_mm, coverage_mm)` (the Hausdorff distance to
 /// the points' polyline); every iterate stays admissible.
 #[must_use]
