@@ -25,10 +25,12 @@
 //!
 //! Solved by Levenberg–Marquardt with Marquardt scaling (written here rather than with the
 //! `levenberg-marquardt` crate because every trial step must re-project the points and be made
-//! admissible before it is judged). The ratio bounds are constraints: a penalty row per sampled
-//! angle gives the solver the bound's gradient, and every iterate is made admissible by shrinking
-//! `i21 − 1` (which keeps the closure `Φ(2π) = 2π`) — so every start and every iterate is a
-//! realisable train.
+//! admissible before it is judged). The gear limits ([`FitOptions::limits`]: ratio bounds, and in
+//! the design chain the pressure angle and the concave radius) are constraints: penalty rows per
+//! sampled angle give the solver their gradients, and every iterate is made admissible by
+//! shrinking `i21 − 1` ([`crate::geometry::limits`]; the closure `Φ(2π) = 2π` is kept) — so every
+//! start and every iterate is a realisable train. With [`FitOptions::perimeter_mm`] the centre
+//! distance follows from the ratio (a tooth count at a module, [`crate::geometry::perimeter`]).
 //!
 //! The Fourier order rises (6, 8, 12, 16, 24, 32, 40) while the fit is above its tolerance, above
 //! the noise level and still improving.
