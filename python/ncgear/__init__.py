@@ -93,6 +93,7 @@ def design(
     ``options``: ``order``, ``tol_mm``, ``smoothing``, ``fit`` (bool), ``samples``,
     ``refine`` (``"auto"``, ``"on"``, ``"off"``), ``limits`` (bool, default True: design within
     the gear limits), ``max_pressure_angle`` (deg, default 45), ``min_concave_radius`` (mm),
+    ``min_convex_radius`` (mm: the undercut limit, default 7·module),
     ``module`` (mm: design for the module, the tooth count a constraint of the fit) — the CLI's
     flags of the same names.
     """

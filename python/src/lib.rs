@@ -99,6 +99,7 @@ fn design_options(center: [f64; 2], options: &str) -> PyResult<DesignOptions> {
                 o.pressure_angle_limit_rad = v.as_f64().ok_or_else(bad)?.to_radians()
             }
             "min_concave_radius" => o.min_concave_radius_mm = Some(v.as_f64().ok_or_else(bad)?),
+            "min_convex_radius" => o.min_convex_radius_mm = Some(v.as_f64().ok_or_else(bad)?),
             "module" => {
                 o.module_mm = if v.is_null() {
                     None
@@ -108,7 +109,7 @@ fn design_options(center: [f64; 2], options: &str) -> PyResult<DesignOptions> {
             }
             _ => {
                 return Err(err(format!(
-                    "unknown option `{k}` (order, tol_mm, smoothing, fit, samples, refine, limits, max_pressure_angle, min_concave_radius, module)"
+                    "unknown option `{k}` (order, tol_mm, smoothing, fit, samples, refine, limits, max_pressure_angle, min_concave_radius, min_convex_radius, module)"
                 )));
             }
         }

@@ -77,6 +77,10 @@ pub struct Args {
     /// 25-tooth shaper cutter's pitch radius; 10 mm without a module).
     #[arg(long)]
     pub min_concave_radius: Option<f64>,
+    /// Smallest convex radius of curvature of a pitch curve, mm: the undercut limit (default:
+    /// 7·--module, a 14-tooth gear's pitch radius; none without a module).
+    #[arg(long)]
+    pub min_convex_radius: Option<f64>,
     /// Convex pitch curves only (cut by a rack): the same as an infinite --min-concave-radius.
     #[arg(long, conflicts_with = "min_concave_radius")]
     pub convexity: bool,
@@ -214,8 +218,9 @@ pub fn run(args: Args) -> CliResult {
     } else {
         args.min_concave_radius
     };
+    opts.min_convex_radius_mm = args.min_convex_radius;
     // --teeth or a scaling policy: the design is made without the module and scaled after;
-    // the concave-radius limit still follows the module's cutter.
+    // the concave- and convex-radius limits still follow the module.
     match args.module {
         Some(m) if args.teeth.is_none() && matches!(args.tooth_policy, ToothPolicyArg::Design) => {
             opts.module_mm = Some(m)
@@ -223,7 +228,10 @@ pub fn run(args: Args) -> CliResult {
         Some(m) => {
             opts.min_concave_radius_mm = opts
                 .min_concave_radius_mm
-                .or(Some(ncgear::design::SMALLEST_CUTTER_RADIUS_MODULES * m))
+                .or(Some(ncgear::design::SMALLEST_CUTTER_RADIUS_MODULES * m));
+            opts.min_convex_radius_mm = opts
+                .min_convex_radius_mm
+                .or(Some(ncgear::design::UNDERCUT_RADIUS_MODULES * m))
         }
         None => {}
     }
@@ -323,7 +331,7 @@ pub fn run(args: Args) -> CliResult {
     );
     let l = &r.limits;
     println!(
-        "  gear limits{}: pressure angle {:.2}° (≤ {}°), tightest concave radius {} (≥ {} mm), i21 in [{:.3}, {:.3}]{}",
+        "  gear limits{}: pressure angle {:.2}° (≤ {}°), tightest concave radius {} (≥ {} mm), tightest convex radius {:.2} mm{}, i21 in [{:.3}, {:.3}]{}",
         if l.enabled {
             ""
         } else {
@@ -334,6 +342,9 @@ pub fn run(args: Args) -> CliResult {
         l.tightest_concave_radius_mm
             .map_or_else(|| "none (convex)".into(), |v| format!("{v:.2} mm")),
         l.min_concave_radius_mm,
+        l.tightest_convex_radius_mm,
+        l.min_convex_radius_mm
+            .map_or_else(String::new, |v| format!(" (≥ {v} mm)")),
         l.ratio_range[0],
         l.ratio_range[1],
         if l.binding.is_empty() {
@@ -505,6 +516,7 @@ fn flag_of(option: &str) -> Option<&'static str> {
         "segmented.w1" => "--w1",
         "pressure_angle_limit_rad" => "--max-pressure-angle",
         "min_concave_radius_mm" => "--min-concave-radius",
+        "min_convex_radius_mm" => "--min-convex-radius",
         "module_mm" => "--module",
         "refine_order" => "--refine-order",
         _ => return None,

@@ -207,6 +207,7 @@ pub(super) fn finish(
     let effective = alpha + max_dev_mu;
     let limit_deg = opts.pressure_angle_limit_rad.to_degrees();
     let concave_limit = opts.concave_radius_limit_mm();
+    let convex_limit = opts.convex_radius_limit_mm();
     // ∞ (written as null) when both curves are convex.
     let tightest_concave = cs.min_concave_radius_mm.min(cm.min_concave_radius_mm);
     let compat_mm = compat.residual_rad * mech.l3_mm;
@@ -228,8 +229,11 @@ pub(super) fn finish(
             imin, lo, imin >= lo && imax <= hi && i31_min > 0.0),
         check("C7", "convexity: min Δ = r² + 2r′² − r r″ of sun and intermediate, mm²".into(),
             min_conv, 0.0, true),
-        check("C8", format!("undercut: largest rack module ρc,min·sin²α/ha* at α = {:.1}°, ha* = 1, mm", alpha.to_degrees()),
-            rack_module, 0.0, true),
+        check("C8", match convex_limit {
+                Some(_) => format!("undercut: smallest convex radius of curvature of the sun, intermediate and planet, mm, at least the undercut limit (largest rack module without any undercut ρ·sin²α = {rack_module:.3} mm at α = {:.1}°)", alpha.to_degrees()),
+                None => format!("undercut: smallest convex radius of curvature, mm (report without a module: largest rack module without undercut ρ·sin²α = {rack_module:.3} mm at α = {:.1}°)", alpha.to_degrees()),
+            },
+            min_rho, convex_limit.unwrap_or(0.0), min_rho >= convex_limit.unwrap_or(0.0)),
         check("C9", format!("concave arcs: tightest concave radius of curvature of the sun, intermediate and planet, mm (∞/null = convex; concave fraction {:.3}), at least the smallest shaper cutter's pitch radius", cs.concave_fraction.max(cm.concave_fraction)),
             tightest_concave, concave_limit, tightest_concave >= concave_limit),
         check("C10", "max effective pressure angle α + max|atan(r_θ/r)|, deg".into(),
@@ -270,7 +274,7 @@ pub(super) fn finish(
         // The planet is the sun's copy: the same curvature.
         planet: gear(&planet, Some(assembly.planet_angle_at_zero_rad), lp, &cs),
     };
-    let limits = limits_summary(opts, effective, tightest_concave, [imin, imax]);
+    let limits = limits_summary(opts, effective, [tightest_concave, min_rho], [imin, imax]);
     Ok(Finished {
         mechanism: mech,
         assembly,
@@ -287,7 +291,7 @@ pub(super) fn finish(
 fn limits_summary(
     opts: &DesignOptions,
     pressure_angle_rad: f64,
-    tightest_concave_mm: f64,
+    [tightest_concave_mm, tightest_convex_mm]: [f64; 2],
     ratio_range: [f64; 2],
 ) -> LimitsSummary {
     let limits = opts.limits();
@@ -301,6 +305,11 @@ fn limits_summary(
         ("pressure angle", near(pressure_angle_rad, pa_max)),
         ("concave radius", near(tightest_concave_mm, r_min)),
         (
+            "convex radius (undercut)",
+            opts.convex_radius_limit_mm()
+                .is_some_and(|r| near(tightest_convex_mm, r)),
+        ),
+        (
             "ratio bounds",
             near(ratio_range[0], lo) || near(ratio_range[1], hi),
         ),
@@ -313,11 +322,13 @@ fn limits_summary(
         enabled: limits.limits_gears(),
         max_pressure_angle_deg: pa_max.to_degrees(),
         min_concave_radius_mm: r_min,
+        min_convex_radius_mm: opts.convex_radius_limit_mm(),
         ratio_bounds: [lo, hi],
         pressure_angle_deg: pressure_angle_rad.to_degrees(),
         tightest_concave_radius_mm: tightest_concave_mm
             .is_finite()
             .then_some(tightest_concave_mm),
+        tightest_convex_radius_mm: tightest_convex_mm,
         ratio_range,
         binding,
     }

@@ -40,7 +40,7 @@ pub use error::DesignError;
 pub use module::{MIN_TEETH, ModuleSummary};
 pub use options::{
     ADAPTIVE_ORDERS, DEFAULT_MIN_CONCAVE_RADIUS_MM, DesignOptions, RefineMode,
-    SMALLEST_CUTTER_RADIUS_MODULES,
+    SMALLEST_CUTTER_RADIUS_MODULES, UNDERCUT_RADIUS_MODULES,
 };
 pub use report::{
     Carrier, Check, CompatSummary, Design, DesignReport, FitSummary, FourierSummary, Gear, Gears,

@@ -9,7 +9,7 @@
 //! side) and the closer train is kept. The gear limits hold throughout, as in every fit.
 
 use super::error::DesignError;
-use crate::design::fit::{FitOptions, Fitted, MEASURED_NOISE_MM, fit_points, minimax};
+use crate::design::fit::{FitOptions, Fitted, MEASURED_NOISE_MM, admitted, fit_points, minimax};
 use crate::geometry::mechanism::Mechanism;
 use crate::geometry::perimeter::unit_perimeter;
 use rayon::prelude::*;
@@ -99,12 +99,19 @@ pub(super) fn design_for_module(
                 ..fit_opts.clone()
             };
             let f = fit_points(points, start, &opts).ok()?;
-            let f = if measured {
-                f
+            if measured {
+                return Some((z, f));
+            }
+            // The least-squares fit may trace farther (largest distance) than the free design
+            // merely resized to the perimeter (the `nearest` scaling): the minimax finish starts
+            // from the closer of the two, so the design for the module is never the worse.
+            let resized = admitted(points, start, &opts);
+            let f = if score(&resized) < score(&f) {
+                resized
             } else {
-                minimax(points, f, &opts)
+                f
             };
-            Some((z, f))
+            Some((z, minimax(points, f, &opts)))
         })
         .collect();
     let candidates = fits

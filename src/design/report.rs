@@ -131,6 +131,10 @@ pub struct LimitsSummary {
     pub max_pressure_angle_deg: f64,
     /// Smallest admissible concave radius of curvature, mm.
     pub min_concave_radius_mm: f64,
+    /// Smallest admissible convex radius of curvature (the undercut limit of the module), mm;
+    /// absent without a module.
+    #[serde(default)]
+    pub min_convex_radius_mm: Option<f64>,
     /// Admissible sun ratios `[i_min, i_max]`.
     pub ratio_bounds: [f64; 2],
     /// The design's largest effective pressure angle over the three gears, degrees.
@@ -138,10 +142,13 @@ pub struct LimitsSummary {
     /// The design's tightest concave radius of curvature over the three gears, mm; absent when
     /// every pitch curve is convex.
     pub tightest_concave_radius_mm: Option<f64>,
+    /// The design's tightest convex radius of curvature over the three gears, mm.
+    #[serde(default)]
+    pub tightest_convex_radius_mm: f64,
     /// The design's sun ratio range `[min, max]`.
     pub ratio_range: [f64; 2],
     /// The limits the design sits on (within 1 % of the limit): `"pressure angle"`,
-    /// `"concave radius"`, `"ratio bounds"`. A binding limit is what the design's deviation
+    /// `"concave radius"`, `"convex radius (undercut)"`, `"ratio bounds"`. A binding limit is what the design's deviation
     /// from the target is traded for.
     pub binding: Vec<String>,
 }

@@ -3,13 +3,15 @@
 //!
 //! With `s = 1 + i`, the sun and intermediate pitch curves at one contact are (see
 //! [`ContactGeometry`]) `r1 = a·i/s` against the sun angle θ and `r2 = a/s` against the
-//! intermediate's own angle (`dθ2/dθ = i`); the planet is a copy of the sun. Three limits:
+//! intermediate's own angle (`dθ2/dθ = i`); the planet is a copy of the sun. Four limits:
 //!
 //! ```text
 //! ratio bounds       i_min ≤ i(θ) ≤ i_max                        (so i31 = i(t)/i(S(t)) > 0)
 //! pressure angle     α + atan|r_θ/r| ≤ α_max,   |r1_θ/r1| = |r2_θ/r2| = |i′| / (i·s)
 //! concave radius     κ(θ) ≥ −1/R_min for sun and intermediate,   κ = Δ / (r² + r_θ²)^{3/2},
 //!                    Δ = r² + 2r_θ² − r·r_θθ   (concave where Δ < 0; |ρ| = 1/|κ| ≥ R_min)
+//! convex radius      κ(θ) ≤ 1/ρ_min for sun and intermediate (only when set: the undercut
+//!                    limit of a module, [`GearLimits::with_min_convex_radius`])
 //! ```
 //!
 //! The pressure-angle limit is one on `i′/(i·s)`: the same for sun and intermediate, and
@@ -56,6 +58,8 @@ pub struct GearLimits {
     max_slope: f64,
     /// `1/R_min`, 1/mm; 0 for "convex only", infinite without a concave limit.
     min_concave_radius_mm: f64,
+    /// Smallest convex radius of curvature ρ_min, mm; 0 without a convex limit.
+    min_convex_radius_mm: f64,
 }
 
 /// Why a set of limits is invalid.
@@ -85,6 +89,8 @@ pub struct LimitMeasure {
     pub sun_min_concave_radius_mm: Option<f64>,
     /// Tightest concave radius of curvature of the intermediate, mm; `None` when convex.
     pub intermediate_min_concave_radius_mm: Option<f64>,
+    /// Smallest convex radius of curvature of the sun and the intermediate, mm.
+    pub min_convex_radius_mm: f64,
     /// Whether every limit holds.
     pub within: bool,
 }
@@ -132,33 +138,36 @@ fn curvature([r, r1, r2]: [f64; 3]) -> f64 {
 }
 
 /// The constraint values at one contact, each `≥ 0` when within (at the relative `margin`):
-/// `[i − i_min, i_max − i, T − |i′|/(i s), κ̂_sun + a/R, κ̂_int + a/R]`, dimensionless.
-/// Curvatures at unit centre distance (`κ̂ = a·κ`).
+/// `[i − i_min, i_max − i, T − |i′|/(i s), κ̂_sun + a/R, κ̂_int + a/R, a/ρ − κ̂_sun,
+/// a/ρ − κ̂_int]`, dimensionless. Curvatures at unit centre distance (`κ̂ = a·κ`).
 pub(crate) fn constraint_values(
     limits: &GearLimits,
     [i, d, dd]: [f64; 3],
     a_mm: f64,
     margin: f64,
-) -> [f64; 5] {
+) -> [f64; 7] {
     let [lo, hi] = limits.ratio_bounds;
     let m = 1.0 - margin;
     let slope = d.abs() / (i * (1.0 + i));
     let g = ContactGeometry::new(1.0, [i, d, dd]);
     let floor = limits.curvature_floor(a_mm) * m;
+    let ceiling = limits.curvature_ceiling(a_mm) * m;
     [
         i - lo * (1.0 + margin),
         hi * m - i,
         limits.max_slope * m - slope,
         curvature(g.sun) - floor,
         curvature(g.intermediate) - floor,
+        ceiling - curvature(g.sun),
+        ceiling - curvature(g.intermediate),
     ]
 }
 
 /// Partial derivatives `[∂/∂i, ∂/∂i′, ∂/∂i″, ∂/∂a]` of each of [`constraint_values`] at the
 /// penalty's margin: central differences in `(i, i′, i″)` (steps 1e-7 relative), exact in `a`
-/// (only the curvature floor `−a/R_min` depends on it).
-pub(crate) fn constraint_gradients(limits: &GearLimits, v: [f64; 3], a_mm: f64) -> [[f64; 4]; 5] {
-    let mut out = [[0.0; 4]; 5];
+/// (only the curvature floor `−a/R_min` and ceiling `a/ρ_min` depend on it).
+pub(crate) fn constraint_gradients(limits: &GearLimits, v: [f64; 3], a_mm: f64) -> [[f64; 4]; 7] {
+    let mut out = [[0.0; 4]; 7];
     for c in 0..3 {
         let h = 1e-7 * (1.0 + v[c].abs());
         let (mut up, mut down) = (v, v);
@@ -180,6 +189,11 @@ pub(crate) fn constraint_gradients(limits: &GearLimits, v: [f64; 3], a_mm: f64) 
         let da = 1.0 / limits.min_concave_radius_mm;
         out[3][3] = da;
         out[4][3] = da;
+    }
+    let c = limits.curvature_ceiling(1.0);
+    if c.is_finite() {
+        out[5][3] = c;
+        out[6][3] = c;
     }
     out
 }
@@ -230,7 +244,26 @@ impl GearLimits {
             max_pressure_angle_rad: pa,
             max_slope: (pa - alpha).tan(),
             min_concave_radius_mm,
+            min_convex_radius_mm: 0.0,
         })
+    }
+
+    /// The same limits with every convex arc of the sun and intermediate no tighter than
+    /// `radius_mm` (> 0): the undercut limit of a module, under which a rack cuts too few
+    /// teeth on the arc to keep the contact ([`crate::design::UNDERCUT_RADIUS_MODULES`]).
+    /// Without gear limits ([`Self::ratio_only`]) unchanged.
+    pub fn with_min_convex_radius(mut self, radius_mm: f64) -> Result<Self, LimitsError> {
+        if !(radius_mm > 0.0 && radius_mm.is_finite()) {
+            return Err(LimitsError::Invalid {
+                name: "min_convex_radius_mm",
+                value: radius_mm,
+                expected: "a finite radius > 0 mm",
+            });
+        }
+        if self.limits_gears() {
+            self.min_convex_radius_mm = radius_mm;
+        }
+        Ok(self)
     }
 
     /// The ratio bounds alone (no pressure-angle or curvature limit): research use.
@@ -251,7 +284,9 @@ impl GearLimits {
         }
         let alpha = self.rack_pressure_angle_rad;
         let pa = (self.max_pressure_angle_rad - 10f64.to_radians()).max(alpha + 5f64.to_radians());
-        Self::new(self.ratio_bounds, alpha, pa, f64::INFINITY).ok()
+        let mut tight = Self::new(self.ratio_bounds, alpha, pa, f64::INFINITY).ok()?;
+        tight.min_convex_radius_mm = self.min_convex_radius_mm;
+        Some(tight)
     }
 
     /// `[i_min, i_max]`.
@@ -272,10 +307,26 @@ impl GearLimits {
         self.min_concave_radius_mm
     }
 
+    /// Smallest admissible convex radius of curvature, mm (`None` when unlimited).
+    #[must_use]
+    pub fn min_convex_radius_mm(&self) -> Option<f64> {
+        (self.min_convex_radius_mm > 0.0).then_some(self.min_convex_radius_mm)
+    }
+
     /// Whether the pressure angle and the curvature are limited (not [`Self::ratio_only`]).
     #[must_use]
     pub fn limits_gears(&self) -> bool {
         self.max_slope.is_finite()
+    }
+
+    /// `a/ρ_min`: the largest admissible curvature at unit centre distance (∞ without a
+    /// convex limit).
+    fn curvature_ceiling(&self, a_mm: f64) -> f64 {
+        if self.min_convex_radius_mm > 0.0 {
+            a_mm / self.min_convex_radius_mm
+        } else {
+            f64::INFINITY
+        }
     }
 
     /// `−a/R_min`: the smallest admissible curvature at unit centre distance.
@@ -294,6 +345,7 @@ impl GearLimits {
         let grid = Grid::new(ratio);
         let (mut lo, mut hi, mut slope) = (f64::INFINITY, f64::NEG_INFINITY, 0.0f64);
         let (mut ks, mut km) = (f64::INFINITY, f64::INFINITY);
+        let (mut ks_max, mut km_max) = (f64::NEG_INFINITY, f64::NEG_INFINITY);
         let mut within = true;
         for v in grid.scaled(1.0) {
             let [i, d, _] = v;
@@ -303,16 +355,20 @@ impl GearLimits {
             let g = ContactGeometry::new(1.0, v);
             ks = ks.min(curvature(g.sun));
             km = km.min(curvature(g.intermediate));
+            ks_max = ks_max.max(curvature(g.sun));
+            km_max = km_max.max(curvature(g.intermediate));
             within &= constraint_values(self, v, a_mm, 0.0)
                 .iter()
                 .all(|c| *c >= 0.0);
         }
         let concave = |k: f64| (k < 0.0).then(|| a_mm / -k);
+        let convex = |k: f64| if k > 0.0 { a_mm / k } else { f64::INFINITY };
         LimitMeasure {
             ratio_range: [lo, hi],
             max_pressure_angle_rad: self.rack_pressure_angle_rad + slope.atan(),
             sun_min_concave_radius_mm: concave(ks),
             intermediate_min_concave_radius_mm: concave(km),
+            min_convex_radius_mm: convex(ks_max).min(convex(km_max)),
             within,
         }
     }

@@ -231,6 +231,52 @@ fn g1_at_module_2_is_closer_than_the_scaling_policies() {
     }
 }
 
+/// A design for a module keeps every convex arc at or above the undercut limit 7·m (a 14-tooth
+/// gear's pitch radius), measured on the output tables: designer_odd3 at m = 1.5 reached 7.0 mm
+/// arcs without it, whose undercut teeth meshed with a 5.7e-3° transmission error; within the
+/// limit every mesh is free of interference and below 1e-5°.
+#[test]
+fn a_design_for_the_module_stays_above_the_undercut_radius_and_meshes() {
+    let mut o = DesignOptions::default();
+    o.module_mm = Some(1.5);
+    assert_eq!(o.convex_radius_limit_mm(), Some(10.5));
+    let d = design(&traj("assets/cases/designer_odd3.csv"), &o).unwrap();
+    let g = &d.report.gears;
+    for (name, gear) in [
+        ("sun", &g.sun),
+        ("intermediate", &g.intermediate),
+        ("planet", &g.planet),
+    ] {
+        let c = PitchCurve::from_uniform_radii(gear.pitch.iter().map(|p| p[1]).collect()).unwrap();
+        let rho = c
+            .curvature_extremes(8 * gear.pitch.len())
+            .min_radius_of_curvature_mm;
+        assert!(
+            rho >= 10.5 * (1.0 - 1e-3),
+            "{name}: convex radius {rho:.3} mm < 10.5 mm"
+        );
+    }
+    let c8 = d.report.checks.iter().find(|c| c.id == "C8").unwrap();
+    assert!(c8.pass && c8.limit == 10.5, "{c8:?}");
+    assert_within(&d, o.concave_radius_limit_mm(), "odd3 m1.5");
+    let mut to = TrainTeethOptions::new(1.5);
+    to.policy = TrainPolicy::Designed;
+    to.toothing.verify_steps = 36;
+    let toothed = tooth_design(&d, &to, 1e-9 * d.assembly.a_mm, &|_| {}).unwrap();
+    let mesh = toothed.report.mesh.as_ref().unwrap();
+    for m in [&mesh.sun_intermediate, &mesh.intermediate_planet] {
+        assert_eq!(m.interference_steps, 0);
+        assert!(
+            m.max_transmission_error_deg <= 1e-5,
+            "{}",
+            m.max_transmission_error_deg
+        );
+    }
+    // Without a module there is no undercut limit: C8 only reports.
+    let free = DesignOptions::default();
+    assert_eq!(free.convex_radius_limit_mm(), None);
+}
+
 /// The designed policy refuses a design made for no module, naming the remedy; a module that
 /// leaves fewer than 8 teeth is refused before any fit.
 #[test]

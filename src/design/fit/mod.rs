@@ -239,6 +239,16 @@ pub fn fit_points(
     Ok(Fitted::new(mechanism, measured, iterations, scan))
 }
 
+/// `start` made admissible (within `opts.limits`, at `opts.perimeter_mm` when set) and measured
+/// on `points`, unfitted: a fit of zero iterations, the baseline a fit from it must beat.
+#[must_use]
+pub fn admitted(points: &[[f64; 2]], start: &Mechanism, opts: &FitOptions) -> Fitted {
+    let mut m = start.clone();
+    solver::admit(&mut m, opts);
+    let measured = measure_from(&m, points, None);
+    Fitted::new(m, measured, 0, Vec::new())
+}
+
 /// The RMS point distance of a fit that follows the curve under noisy points exactly, mm: the
 /// residual keeps the noise the `p = 4 + 2K` parameters cannot follow, `σ·√(1 − p/N)` (σ per
 /// coordinate; [`crate::design::noise`]). 0 on exact points (σ = 0).

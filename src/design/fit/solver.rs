@@ -43,7 +43,7 @@ pub(super) fn with_order(m: &Mechanism, k: usize) -> Mechanism {
 const LIMIT_SAMPLES: usize = 512;
 
 /// Constraint values per angle ([`constraint_values`]).
-const LIMIT_ROWS: usize = 5;
+const LIMIT_ROWS: usize = 7;
 
 /// Relative margin at which the limit penalty starts: a little inside the projection's.
 const PENALTY_MARGIN: f64 = 3.0 * PROJECTION_MARGIN;
