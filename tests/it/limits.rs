@@ -45,6 +45,29 @@ fn assert_within(d: &Design, min_concave_mm: f64, what: &str) {
     }
 }
 
+/// Teeth on `d` as designed for `module_mm` (scale 1), meshed at `steps` positions: both meshes
+/// free of interference, transmission error ≤ 1e-5°.
+fn toothed_cleanly(
+    d: &Design,
+    module_mm: f64,
+    steps: usize,
+) -> ncgear::design::train::ToothedTrain {
+    let mut to = TrainTeethOptions::new(module_mm);
+    to.policy = TrainPolicy::Designed;
+    to.toothing.verify_steps = steps;
+    let toothed = tooth_design(d, &to, 1e-9 * d.assembly.a_mm, &|_| {}).unwrap();
+    let mesh = toothed.report.mesh.as_ref().unwrap();
+    for m in [&mesh.sun_intermediate, &mesh.intermediate_planet] {
+        assert_eq!(m.interference_steps, 0);
+        assert!(
+            m.max_transmission_error_deg <= 1e-5,
+            "{}",
+            m.max_transmission_error_deg
+        );
+    }
+    toothed
+}
+
 /// The bundled designer kidney, no options: gears within the limits (the unconstrained fit's
 /// sun reached 99° and a 0.1 mm hollow), at a cost in path of less than 10 % over the
 /// unconstrained fit, the binding limit named.
@@ -199,19 +222,7 @@ fn g1_at_module_2_is_closer_than_the_scaling_policies() {
         [22.0, 23.0],
         "both neighbours of L/(πm) = 22.38 are tried"
     );
-    let mut to = TrainTeethOptions::new(2.0);
-    to.policy = TrainPolicy::Designed;
-    to.toothing.verify_steps = 24;
-    let toothed = tooth_design(&d, &to, 1e-9 * d.assembly.a_mm, &|_| {}).unwrap();
-    let mesh = toothed.report.mesh.as_ref().unwrap();
-    for m in [&mesh.sun_intermediate, &mesh.intermediate_planet] {
-        assert_eq!(m.interference_steps, 0);
-        assert!(
-            m.max_transmission_error_deg <= 1e-5,
-            "{}",
-            m.max_transmission_error_deg
-        );
-    }
+    let toothed = toothed_cleanly(&d, 2.0, 24);
     let free = design(&t, &DesignOptions::default()).unwrap();
     for p in [
         ToothPolicy::ScaleUp,
@@ -259,19 +270,7 @@ fn a_design_for_the_module_stays_above_the_undercut_radius_and_meshes() {
     let c8 = d.report.checks.iter().find(|c| c.id == "C8").unwrap();
     assert!(c8.pass && c8.limit == 10.5, "{c8:?}");
     assert_within(&d, o.concave_radius_limit_mm(), "odd3 m1.5");
-    let mut to = TrainTeethOptions::new(1.5);
-    to.policy = TrainPolicy::Designed;
-    to.toothing.verify_steps = 36;
-    let toothed = tooth_design(&d, &to, 1e-9 * d.assembly.a_mm, &|_| {}).unwrap();
-    let mesh = toothed.report.mesh.as_ref().unwrap();
-    for m in [&mesh.sun_intermediate, &mesh.intermediate_planet] {
-        assert_eq!(m.interference_steps, 0);
-        assert!(
-            m.max_transmission_error_deg <= 1e-5,
-            "{}",
-            m.max_transmission_error_deg
-        );
-    }
+    toothed_cleanly(&d, 1.5, 36);
     // Without a module there is no undercut limit: C8 only reports.
     let free = DesignOptions::default();
     assert_eq!(free.convex_radius_limit_mm(), None);
