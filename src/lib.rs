@@ -37,6 +37,8 @@
 //! - [`export`], [`output`]: DXF, SVG and point files; the design's files, charts, animation.
 //! - [`simulate`], [`analysis`]: the designed mechanism in motion; orbit, dynamics, tolerance.
 //! - [`config`]: the TOML/JSON loader every input file goes through.
+//! - [`bounds`]: the admissible sizes of the work (tooth counts, steps, tolerances, memory).
+//! - [`verdict`]: whether a report passed its own verification (the exit code follows it).
 //!
 //! Units: files speak mm and degrees; the library works in mm and radians. Every public quantity
 //! carries its unit in its name or its doc comment.
@@ -56,6 +58,7 @@ use libc as _;
 use {clap as _, indicatif as _};
 
 pub mod analysis;
+pub mod bounds;
 pub mod config;
 pub mod design;
 pub mod export;
@@ -65,6 +68,7 @@ pub mod output;
 pub mod pair;
 pub mod simulate;
 pub mod teeth;
+pub mod verdict;
 
 pub use design::train::tooth_design;
 pub use design::trajectory::Trajectory;

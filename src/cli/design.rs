@@ -93,6 +93,10 @@ pub struct Args {
     /// Print the report (design.json) to stdout instead of the summary.
     #[arg(long)]
     pub json: bool,
+    /// Exit 0 even when a check or a mesh verification fails (its report still says so, in
+    /// `verdict`); without it such a run writes its files and exits with code 3.
+    #[arg(long)]
+    pub accept_failed: bool,
     /// Module in mm: put rack-generated teeth on the three gears, verify both meshes and write
     /// the CAD files under OUT/teeth/ (the `teeth` block of design.json).
     #[arg(long, help_heading = "Teeth")]
@@ -110,12 +114,20 @@ pub struct Args {
     #[arg(long, requires = "module", help_heading = "Teeth")]
     pub wire_edm: bool,
     /// Carrier positions of the mesh verification per mesh (0 = skip).
-    #[arg(long, default_value_t = 72, help_heading = "Teeth")]
+    #[arg(long, default_value_t = DEFAULT_VERIFY_STEPS, help_heading = "Teeth")]
     pub verify_steps: usize,
     /// Rack, backlash and export options.
     #[command(flatten, next_help_heading = "Teeth")]
     pub rack: RackArgs,
 }
+
+/// Milliseconds since `t0`.
+fn ms(t0: std::time::Instant) -> f64 {
+    t0.elapsed().as_secs_f64() * 1e3
+}
+
+/// Carrier positions of each mesh verification unless `--verify-steps` says otherwise.
+const DEFAULT_VERIFY_STEPS: usize = 72;
 
 /// `--tooth-policy` values.
 #[derive(Debug, Clone, Copy, clap::ValueEnum)]
@@ -182,6 +194,14 @@ pub fn parse_pair(s: &str) -> Result<[f64; 2], String> {
 pub fn run(args: Args) -> CliResult {
     // The printed time is the whole command's: design, teeth, checks and files.
     let started = std::time::Instant::now();
+    // Every option is checked before any work: the tooth and export options too.
+    let teeth_opts = match args.module {
+        Some(m) => Some(teeth_options(&args, m)?),
+        None => {
+            refuse_tooth_flags(&args)?;
+            None
+        }
+    };
     let traj =
         Trajectory::from_path(&args.trajectory).map_err(|e| input_error(miette::miette!("{e}")))?;
     let mut opts = DesignOptions::default();
@@ -248,39 +268,52 @@ pub fn run(args: Args) -> CliResult {
                 ncgear::output::write_design_with(d, &args.out, files)
                     .map_err(|e| runtime_error(miette::miette!("{e}")))
             };
-            let (mut t, pending) = match toothed(&args, &d, m) {
+            let teeth_opts = teeth_opts.as_ref().expect("built with the module");
+            let t0 = std::time::Instant::now();
+            let (mut t, pending) = match toothed(&args, &d, m, teeth_opts) {
                 Ok(t) => t,
                 Err(e) => {
                     write_design(&d)?;
                     return Err(e);
                 }
             };
+            d.report.timings_ms.teeth = ms(t0);
             // The mesh check runs beside the CAD exports (they do not read it).
             let pb = progress_bar(2 * args.verify_steps as u64, "mesh check");
-            let (mesh, exports) = rayon::join(
-                || pending.map(|p| p.run(&|n| pb.inc(n))).transpose(),
-                || -> Result<Vec<PathBuf>, super::Failure> {
-                    let mut files = ncgear::output::write_teeth(
-                        &mut t,
-                        &args.out,
-                        args.rack.dxf_version.into(),
-                    )
-                    .map_err(|e| runtime_error(miette::miette!("{e}")))?;
-                    let step = ncgear::output::write_teeth_step(&t, &args.out, &args.rack.solids())
-                        .map_err(|e| match &e {
-                            ncgear::output::OutputError::Export(x) => {
-                                super::teeth_args::step_failure(x)
-                            }
-                            _ => runtime_error(miette::miette!("{e}")),
-                        })?;
-                    t.report
-                        .files
-                        .extend(step.iter().map(|p| p.display().to_string()));
-                    files.extend(step);
-                    Ok(files)
+            let ((mesh, t_mesh), (exports, t_files)) = rayon::join(
+                || {
+                    let t0 = std::time::Instant::now();
+                    (pending.map(|p| p.run(&|n| pb.inc(n))).transpose(), ms(t0))
+                },
+                || {
+                    let t0 = std::time::Instant::now();
+                    let r = (|| -> Result<Vec<PathBuf>, super::Failure> {
+                        let mut files = ncgear::output::write_teeth(
+                            &mut t,
+                            &args.out,
+                            args.rack.dxf_version.into(),
+                        )
+                        .map_err(|e| runtime_error(miette::miette!("{e}")))?;
+                        let step =
+                            ncgear::output::write_teeth_step(&t, &args.out, &args.rack.solids())
+                                .map_err(|e| match &e {
+                                    ncgear::output::OutputError::Export(x) => {
+                                        super::teeth_args::step_failure(x)
+                                    }
+                                    _ => runtime_error(miette::miette!("{e}")),
+                                })?;
+                        t.report
+                            .files
+                            .extend(step.iter().map(|p| p.display().to_string()));
+                        files.extend(step);
+                        Ok(files)
+                    })();
+                    (r, ms(t0))
                 },
             );
             pb.finish_and_clear();
+            d.report.timings_ms.verification = t_mesh;
+            d.report.timings_ms.cad_files = t_files;
             match mesh {
                 Ok(mesh) => t.report.mesh = mesh,
                 Err(e) => {
@@ -295,11 +328,13 @@ pub fn run(args: Args) -> CliResult {
         }
         None => None,
     };
+    d.report.timings_ms.command = ms(started);
     let mut written = ncgear::output::write_design_with(&d, &args.out, files)
         .map_err(|e| runtime_error(miette::miette!("{e}")))?;
     written.extend(teeth_files);
     if args.json {
-        return print_json(&d.report);
+        print_json(&d.report)?;
+        return super::verdict_outcome(&d.report.verdict, args.accept_failed);
     }
     let r = &d.report;
     println!(
@@ -426,9 +461,16 @@ pub fn run(args: Args) -> CliResult {
     }
     let teeth_dir = args.out.join("teeth");
     let (teeth, rest): (Vec<_>, Vec<_>) = written.iter().partition(|p| p.starts_with(&teeth_dir));
+    let tm = &r.timings_ms;
     println!(
-        "  {:.1} ms; wrote {}{}",
-        started.elapsed().as_secs_f64() * 1e3,
+        "  {:.1} ms (design {:.1}, teeth {:.1}, verification {:.1} beside CAD files {:.1}, design \
+         files {:.1}); wrote {}{}",
+        ms(started),
+        tm.total,
+        tm.teeth,
+        tm.verification,
+        tm.cad_files,
+        ms(started) - tm.command,
         rest.iter()
             .map(|p| p.display().to_string())
             .collect::<Vec<_>>()
@@ -439,7 +481,7 @@ pub fn run(args: Args) -> CliResult {
             format!(" and {} CAD files in {}", teeth.len(), teeth_dir.display())
         }
     );
-    Ok(())
+    super::verdict_outcome(&r.verdict, args.accept_failed)
 }
 
 /// The CLI failure for a design error on trajectory `file`: the flag behind a bad option, the
@@ -447,10 +489,8 @@ pub fn run(args: Args) -> CliResult {
 pub(super) fn design_failure(file: &str, e: &DesignError) -> super::Failure {
     match e {
         DesignError::Internal(_) => runtime_error(miette::miette!("{file}: {e}")),
-        DesignError::BadOption { option, .. } => match flag_of(option) {
-            Some(flag) => input_error(miette::miette!(help = format!("set by {flag}"), "{e}")),
-            None => input_error(miette::miette!("{e}")),
-        },
+        DesignError::BadOption { option, .. } => super::option_error(Some(option), e),
+        DesignError::Bounds(b) => super::option_error(Some(&b.quantity), e),
         DesignError::Inverse(
             InverseError::AxisInsideLoop { .. } | InverseError::TooCloseToAxis { .. },
         ) => input_error(miette::miette!(
@@ -461,18 +501,26 @@ pub(super) fn design_failure(file: &str, e: &DesignError) -> super::Failure {
     }
 }
 
-/// Teeth on the designed gears (`--module`), their mesh check still to run.
-fn toothed(
-    args: &Args,
-    d: &ncgear::design::Design,
-    module_mm: f64,
-) -> Result<(ToothedTrain, Option<PendingTrainMesh>), super::Failure> {
+/// The tooth options of `--module` (rack, backlash, exports, policy), checked before any work.
+fn teeth_options(args: &Args, module_mm: f64) -> Result<TrainTeethOptions, super::Failure> {
     let mut opts = TrainTeethOptions::new(module_mm);
     opts.toothing.verify_steps = args.verify_steps;
     opts.wire_edm = args.wire_edm;
     args.rack
         .apply_to(&mut opts.toothing)
         .map_err(|e| input_error(miette::miette!("{e}")))?;
+    opts.toothing.validate().map_err(|e| match &e {
+        ncgear::teeth::TeethError::Bounds(b) => super::option_error(Some(&b.quantity), &e),
+        ncgear::teeth::TeethError::InvalidParameter { name, .. } => {
+            super::option_error(Some(name), &e)
+        }
+        _ => input_error(miette::miette!("{e}")),
+    })?;
+    if let Some(z) = args.teeth {
+        ncgear::bounds::check_teeth("teeth", z)
+            .map_err(|e| super::option_error(Some("teeth"), e))?;
+    }
+    args.rack.check_exports()?;
     opts.policy = match (args.teeth, args.tooth_policy) {
         (Some(z), _) => TrainPolicy::ScaleCenterDistance(ToothPolicy::Exact(z)),
         (None, ToothPolicyArg::ScaleUp) => TrainPolicy::ScaleCenterDistance(ToothPolicy::ScaleUp),
@@ -484,8 +532,40 @@ fn toothed(
         (None, ToothPolicyArg::AdjustModule) => TrainPolicy::AdjustModule,
         (None, ToothPolicyArg::Design) => TrainPolicy::Designed,
     };
+    Ok(opts)
+}
+
+/// Without `--module` no teeth are made: a tooth or export option given would do nothing.
+fn refuse_tooth_flags(args: &Args) -> Result<(), super::Failure> {
+    let flag = args.rack.first_given().or_else(|| {
+        [
+            (args.verify_steps != DEFAULT_VERIFY_STEPS, "--verify-steps"),
+            (
+                !matches!(args.tooth_policy, ToothPolicyArg::Design),
+                "--tooth-policy",
+            ),
+        ]
+        .into_iter()
+        .find_map(|(given, flag)| given.then_some(flag))
+    });
+    match flag {
+        Some(flag) => Err(input_error(miette::miette!(
+            help = "give --module M to put teeth on the gears, or leave the flag out",
+            "{flag} sets the teeth, and no teeth are made without --module"
+        ))),
+        None => Ok(()),
+    }
+}
+
+/// Teeth on the designed gears (`--module`), their mesh check still to run.
+fn toothed(
+    args: &Args,
+    d: &ncgear::design::Design,
+    module_mm: f64,
+    opts: &TrainTeethOptions,
+) -> Result<(ToothedTrain, Option<PendingTrainMesh>), super::Failure> {
     let accuracy_mm = 1e-9 * d.assembly.a_mm;
-    tooth_design_deferred(d, &opts, accuracy_mm).map_err(|e| match e {
+    tooth_design_deferred(d, opts, accuracy_mm).map_err(|e| match e {
         TrainError::Teeth {
             source: ncgear::teeth::TeethError::NoCutter { .. },
             ..
@@ -499,26 +579,5 @@ fn toothed(
             input_error(miette::miette!("--module {module_mm}: {e}"))
         }
         _ => runtime_error(miette::miette!("{e}")),
-    })
-}
-
-/// The flag that sets a [`DesignOptions`] field named in a library error.
-fn flag_of(option: &str) -> Option<&'static str> {
-    Some(match option {
-        "order" => "--order",
-        "smoothing" => "--smooth",
-        "tol_tip_mm" => "--tol-mm",
-        "inverse.grid" => "--grid",
-        "inverse.dense_samples" => "--dense",
-        "curve_samples" => "--samples",
-        "refine_options.ratio_bounds" => "--ratio-bounds",
-        "center_mm" => "--center",
-        "segmented.w1" => "--w1",
-        "pressure_angle_limit_rad" => "--max-pressure-angle",
-        "min_concave_radius_mm" => "--min-concave-radius",
-        "min_convex_radius_mm" => "--min-convex-radius",
-        "module_mm" => "--module",
-        "refine_order" => "--refine-order",
-        _ => return None,
     })
 }

@@ -9,15 +9,16 @@ use std::path::{Path, PathBuf};
 pub struct Args {
     /// Scene file (.toml or .json).
     pub scene: PathBuf,
-    /// Output directory for CSV files and plots.
+    /// Output directory: dynamics.json (always), CSV files and plots of a time-domain run.
     #[arg(long, default_value = "dynamics_out")]
     pub out: PathBuf,
-    /// Frequency sweep over Ω = ωe/ωn as START:END:STEP, run up and then down.
+    /// Frequency sweep over Ω = ωe/ωn as START:END:STEP, run up and then down (time-domain
+    /// solvers only: a `method = "linear"` scene is solved in closed form).
     #[arg(long)]
     pub sweep: Option<String>,
-    /// Plot format: svg or png.
-    #[arg(long, default_value = "svg")]
-    pub format: String,
+    /// Plot format of a time-domain run: svg (default) or png.
+    #[arg(long)]
+    pub format: Option<String>,
     /// Print a machine-readable summary to stdout.
     #[arg(long)]
     pub json: bool,
@@ -89,11 +90,27 @@ pub fn run(args: Args) -> CliResult {
     let file = args.scene.display().to_string();
     let scene = Scene::from_path(&args.scene).map_err(|e| input_error(miette::miette!("{e}")))?;
     let prepared = dy::Prepared::new(scene, &file).map_err(dyn_err)?;
-    if !matches!(args.format.as_str(), "svg" | "png") {
+    let format = args.format.as_deref().unwrap_or("svg");
+    if !matches!(format, "svg" | "png") {
         return Err(input_error(miette::miette!(
-            "--format `{}`: expected svg or png",
-            args.format
+            "--format `{format}`: expected svg or png"
         )));
+    }
+    // The linear path has no time history: a sweep or a plot format would do nothing.
+    if prepared.takes_linear_path() {
+        if let Some(flag) = [
+            (args.sweep.is_some(), "--sweep"),
+            (args.format.is_some(), "--format"),
+        ]
+        .into_iter()
+        .find_map(|(given, flag)| given.then_some(flag))
+        {
+            return Err(input_error(miette::miette!(
+                help = "set [solver] method to a time-domain solver (e.g. \"dopri5\") to run it",
+                "{flag} applies to a time-domain run, and this scene's `method = \"linear\"` is \
+                 solved in closed form at the mesh frequency (dynamics.json holds the result)"
+            )));
+        }
     }
     std::fs::create_dir_all(&args.out)
         .map_err(|e| runtime_error(miette::miette!("cannot create {}: {e}", args.out.display())))?;
@@ -129,8 +146,14 @@ pub fn run(args: Args) -> CliResult {
     }
     let out = Outputs {
         dir: &args.out,
-        ext: &args.format,
+        ext: format,
     };
+    // The report, whatever the path: --out always gets it.
+    let json_path = args.out.join("dynamics.json");
+    let text = ncgear::output::json::to_string(&report)
+        .map_err(|e| runtime_error(miette::miette!("{e}")))?;
+    std::fs::write(&json_path, text)
+        .map_err(|e| runtime_error(miette::miette!("cannot write {}: {e}", json_path.display())))?;
     if let (Some(up), Some(down)) = (&report.sweep_up, &report.sweep_down) {
         write_sweep(&out, &prepared, up, down)?;
     }
@@ -138,9 +161,7 @@ pub fn run(args: Args) -> CliResult {
         write_run(&out, &prepared, summary, rec)?;
     }
     if args.json {
-        let value =
-            serde_json::to_value(&report).map_err(|e| runtime_error(miette::miette!("{e}")))?;
-        print_json(&value)?;
+        print_json(&report)?;
     }
     Ok(())
 }

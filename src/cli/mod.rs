@@ -46,6 +46,9 @@ pub enum Failure {
     Input(miette::Report),
     /// Runtime failure (non-convergence, cannot write output): exit code 1.
     Runtime(miette::Report),
+    /// The files are written, but the result failed its own verification (a check, a mesh):
+    /// exit code 3, unless `--accept-failed`.
+    Verification(miette::Report),
 }
 
 /// Result of a subcommand.
@@ -59,6 +62,61 @@ pub fn input_error(e: impl Into<miette::Report>) -> Failure {
 /// Wraps a runtime error (exit code 1).
 pub fn runtime_error(e: impl Into<miette::Report>) -> Failure {
     Failure::Runtime(e.into())
+}
+
+/// The flag that sets an option field named in a library error (design, teeth, export).
+pub fn flag_of(option: &str) -> Option<&'static str> {
+    Some(match option {
+        "order" => "--order",
+        "smoothing" => "--smooth",
+        "tol_tip_mm" => "--tol-mm",
+        "inverse.grid" => "--grid",
+        "inverse.dense_samples" => "--dense",
+        "curve_samples" => "--samples",
+        "refine_options.ratio_bounds" => "--ratio-bounds",
+        "center_mm" => "--center",
+        "segmented.w1" => "--w1",
+        "segmented.k_max" => "--k-max",
+        "pressure_angle_limit_rad" => "--max-pressure-angle",
+        "min_concave_radius_mm" => "--min-concave-radius",
+        "min_convex_radius_mm" => "--min-convex-radius",
+        "module_mm" => "--module",
+        "refine_order" => "--refine-order",
+        "chord_tol_mm" => "--chord-tol",
+        "verify_steps" | "verify_steps × driver turns per cycle" => "--verify-steps",
+        "teeth" | "teeth of the driven gear (z·q/p)" => "--teeth",
+        "backlash_mm" => "--backlash",
+        "cutter_teeth" => "--cutter-teeth",
+        "bore" => "--bore",
+        "face_width" => "--face-width",
+        _ => return None,
+    })
+}
+
+/// The bad-input failure of a library error naming the option `field`: the error, and the flag
+/// that sets the field when there is one.
+pub fn option_error(field: Option<&str>, e: impl std::fmt::Display) -> Failure {
+    match field.and_then(flag_of) {
+        Some(flag) => input_error(miette::miette!(help = format!("set by {flag}"), "{e}")),
+        None => input_error(miette::miette!("{e}")),
+    }
+}
+
+/// Exit code of [`Failure::Verification`]: written, but the verification failed.
+pub const EXIT_VERIFICATION_FAILED: u8 = 3;
+
+/// The outcome of a written result: exit 0 when its verdict passed or the user accepts a failed
+/// one (`--accept-failed`), otherwise [`Failure::Verification`] listing what failed.
+pub fn verdict_outcome(v: &ncgear::verdict::Verdict, accept_failed: bool) -> CliResult {
+    if v.passed || accept_failed {
+        return Ok(());
+    }
+    Err(Failure::Verification(miette::miette!(
+        help = "the files are written and their report says `\"verdict\": {\"passed\": false}`; \
+                --accept-failed exits 0 with them as they are",
+        "verification failed:\n  {}",
+        v.failures.join("\n  ")
+    )))
 }
 
 /// A progress bar on stderr when stderr is a terminal; hidden (a no-op) when piped.
@@ -120,6 +178,10 @@ pub fn main() -> ExitCode {
         Err(Failure::Runtime(report)) => {
             eprintln!("{report:?}");
             ExitCode::from(1)
+        }
+        Err(Failure::Verification(report)) => {
+            eprintln!("{report:?}");
+            ExitCode::from(EXIT_VERIFICATION_FAILED)
         }
     }
 }

@@ -21,7 +21,9 @@ use std::path::PathBuf;
 #[derive(Debug, clap::Args)]
 pub struct Args {
     /// Motion law ψ(φ) in radians, e.g. "phi - 0.08*sin(2*phi)" (operators + - * / ^, phi, pi,
-    /// sin cos tan exp sqrt abs). Omit when using --centrode or --csv.
+    /// sin cos tan exp sqrt abs). Omit when using --centrode or --csv. A law may begin with a
+    /// minus sign ("-phi + …"); write `--` before it if it could be read as a flag.
+    #[arg(allow_hyphen_values = true)]
     pub law: Option<String>,
     /// Drive pitch radius at the contact r(φ), e.g. "1 + 0.08*cos(2*phi)"; the centre distance is
     /// solved for closure and the shape scaled to the teeth.
@@ -64,10 +66,16 @@ pub struct Args {
     /// Print the JSON report to stdout.
     #[arg(long)]
     pub json: bool,
+    /// Exit 0 even when the mesh verification fails (interference, a backlash that is not finite
+    /// or negative; pair.json still says so, in `verdict`); without it such a run writes its
+    /// files and exits with code 3.
+    #[arg(long)]
+    pub accept_failed: bool,
 }
 
 /// Runs `ncgear pair`.
 pub fn run(args: Args) -> CliResult {
+    args.rack.check_exports()?;
     let law = match (&args.law, &args.centrode, &args.csv) {
         (Some(e), None, None) => Law::Motion(Expr::parse(e).map_err(input_error)?),
         (None, Some(e), None) => Law::Centrode(Expr::parse(e).map_err(input_error)?),
@@ -87,7 +95,12 @@ pub fn run(args: Args) -> CliResult {
     args.rack
         .apply_to(&mut opts.toothing)
         .map_err(input_error)?;
-    let to_failure = |e: PairError| match e {
+    let to_failure = |e: PairError| match &e {
+        PairError::Teeth(ncgear::teeth::TeethError::Bounds(b)) | PairError::Bounds(b) => {
+            super::option_error(Some(&b.quantity), &e)
+        }
+        PairError::Teeth(ncgear::teeth::TeethError::InvalidParameter { name, .. })
+        | PairError::InvalidParameter { name, .. } => super::option_error(Some(name), &e),
         PairError::Teeth(_) | PairError::Mesh(_) => runtime_error(e),
         _ => input_error(e),
     };
@@ -137,6 +150,13 @@ pub fn run(args: Args) -> CliResult {
     files.push(step);
     files.push(dxf);
     files.push(svg);
+    let verdict = ncgear::verdict::Verdict::from_failures(
+        design
+            .mesh
+            .as_ref()
+            .map(|m| ncgear::verdict::mesh_failures("driver-driven", m))
+            .unwrap_or_default(),
+    );
     let report = serde_json::json!({
         "tool": concat!("ncgear ", env!("CARGO_PKG_VERSION")),
         "options": opts,
@@ -154,6 +174,7 @@ pub fn run(args: Args) -> CliResult {
         "mesh": design.mesh,
         "sector": design.sector,
         "files": files.iter().map(|p| p.display().to_string()).collect::<Vec<_>>(),
+        "verdict": verdict,
     });
     let json_path = args.out.join("pair.json");
     std::fs::write(
@@ -192,7 +213,7 @@ pub fn run(args: Args) -> CliResult {
             println!("mesh: {}", m.summary());
         }
     }
-    Ok(())
+    super::verdict_outcome(&verdict, args.accept_failed)
 }
 
 fn summary(u: &ncgear::teeth::UndercutReport) -> serde_json::Value {

@@ -72,6 +72,41 @@ impl RackArgs {
     }
 
     /// The validated basic rack.
+    /// Checks the export options before any work (face width, bore), naming the flag.
+    pub fn check_exports(&self) -> Result<(), super::Failure> {
+        self.solids().validate().map_err(|e| match &e {
+            ExportError::InvalidOption { name, .. } => super::option_error(Some(name), &e),
+            _ => super::input_error(miette::miette!("{e}")),
+        })
+    }
+
+    /// The first flag given that differs from its default (`None`: all at their defaults), for
+    /// refusing tooth options where no teeth are made.
+    pub fn first_given(&self) -> Option<&'static str> {
+        let d = <Self as clap::FromArgMatches>::from_arg_matches(
+            &<Self as clap::Args>::augment_args(clap::Command::new("x")).get_matches_from(["x"]),
+        )
+        .ok()?;
+        [
+            (self.pressure_angle != d.pressure_angle, "--pressure-angle"),
+            (self.addendum != d.addendum, "--addendum"),
+            (self.clearance != d.clearance, "--clearance"),
+            (self.fillet != d.fillet, "--fillet"),
+            (self.backlash.is_some(), "--backlash"),
+            (self.chord_tol.is_some(), "--chord-tol"),
+            (
+                !matches!(self.dxf_version, DxfFlavour::R2010),
+                "--dxf-version",
+            ),
+            (self.face_width.is_some(), "--face-width"),
+            (self.bore.to_bits() != d.bore.to_bits(), "--bore"),
+            (self.cutter_teeth.is_some(), "--cutter-teeth"),
+            (self.no_undercut, "--no-undercut"),
+        ]
+        .into_iter()
+        .find_map(|(given, flag)| given.then_some(flag))
+    }
+
     pub fn rack(&self) -> Result<RackParams, TeethError> {
         RackParams::new(
             self.pressure_angle.to_radians(),

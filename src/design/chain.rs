@@ -184,7 +184,7 @@ pub fn design(traj: &Trajectory, opts: &DesignOptions) -> Result<Design, DesignE
         ));
     }
     let mechanism = &out.mechanism;
-    let report = DesignReport {
+    let mut report = DesignReport {
         units: Units {
             length: "mm".into(),
             angle: "deg".into(),
@@ -225,7 +225,9 @@ pub fn design(traj: &Trajectory, opts: &DesignOptions) -> Result<Design, DesignE
         warnings,
         teeth: None,
         timings_ms: timings,
+        verdict: crate::verdict::Verdict::default(),
     };
+    report.update_verdict();
     Ok(Design {
         report,
         mechanism: out.mechanism,

@@ -10,6 +10,9 @@ use crate::geometry::pitch::PitchError;
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 #[non_exhaustive]
 pub enum DesignError {
+    /// A size of the work outside its admissible range ([`crate::bounds`]).
+    #[error(transparent)]
+    Bounds(#[from] crate::bounds::OutOfBounds),
     /// Step 1 failed: no constant-length arm traces the trajectory.
     #[error(transparent)]
     Inverse(#[from] InverseError),

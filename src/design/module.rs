@@ -43,12 +43,29 @@ pub(super) struct ForModule {
     pub summary: ModuleSummary,
 }
 
-/// Refuses a module that leaves fewer than [`MIN_TEETH`] − 1 teeth on `start`'s pitch curves
-/// (an early check on the patent route's train, before any fit: the fit changes the
-/// perimeter by far less than a tooth).
+/// Refuses a module that leaves fewer than [`MIN_TEETH`] − 1 teeth on `start`'s pitch curves,
+/// or more than [`crate::bounds::MAX_TEETH`] (an early check on the patent route's train,
+/// before any fit: the fit changes the perimeter by far less than a tooth).
 pub(super) fn check_module(start: &Mechanism, module_mm: f64) -> Result<(), DesignError> {
     let perimeter = start.a_mm * unit_perimeter(&start.ratio);
-    if perimeter / (PI * module_mm) < f64::from(MIN_TEETH) - 1.0 {
+    let teeth = perimeter / (PI * module_mm);
+    if teeth > f64::from(crate::bounds::MAX_TEETH) + 1.0 {
+        return Err(crate::bounds::OutOfBounds {
+            quantity: "module_mm".into(),
+            value: format!("{module_mm} mm"),
+            range: format!(
+                "≥ {:.4} mm for this trajectory",
+                perimeter / (PI * f64::from(crate::bounds::MAX_TEETH))
+            ),
+            why: format!(
+                "its pitch curves ({perimeter:.1} mm round) would carry {teeth:.0} teeth, more \
+                 than the {} teeth a gear may have",
+                crate::bounds::MAX_TEETH
+            ),
+        }
+        .into());
+    }
+    if teeth < f64::from(MIN_TEETH) - 1.0 {
         return Err(DesignError::ModuleTooLarge {
             module_mm,
             perimeter_mm: perimeter,
@@ -71,7 +88,7 @@ pub(super) fn design_for_module(
     let lo = free.floor().max(f64::from(MIN_TEETH));
     let counts: Vec<u32> = [lo, lo + 1.0]
         .into_iter()
-        .filter(|z| z.is_finite() && *z <= 2000.0)
+        .filter(|z| z.is_finite() && *z <= f64::from(crate::bounds::MAX_TEETH))
         .map(|z| z as u32)
         .collect();
     if free < f64::from(MIN_TEETH) - 1.0 || counts.is_empty() {

@@ -167,6 +167,12 @@ impl Default for DesignOptions {
     }
 }
 
+/// Most samples per output pitch curve ([`DesignOptions::curve_samples`]).
+pub const MAX_CURVE_SAMPLES: usize = 1 << 18;
+
+/// Most dense samples of the trajectory interpolant (`inverse.dense_samples`).
+pub const MAX_DENSE_SAMPLES: usize = 1 << 22;
+
 pub(super) fn validate(opts: &DesignOptions) -> Result<(), DesignError> {
     let positive = |v: f64| v.is_finite() && v > 0.0;
     let angle = |v: f64| positive(v) && v < std::f64::consts::FRAC_PI_2;
@@ -176,7 +182,7 @@ pub(super) fn validate(opts: &DesignOptions) -> Result<(), DesignError> {
     let show = |v: Option<usize>| v.map_or_else(|| "none".into(), |k| k.to_string());
     let show_f = |v: Option<f64>| v.map_or_else(|| "none".into(), |k| k.to_string());
     // (valid, option, given value, what is expected), checked in this order.
-    let rules: [(bool, &'static str, String, &'static str); 21] = [
+    let rules: [(bool, &'static str, String, &'static str); 22] = [
         (
             opts.order.is_none_or(|k| (1..=64).contains(&k)),
             "order",
@@ -202,10 +208,10 @@ pub(super) fn validate(opts: &DesignOptions) -> Result<(), DesignError> {
             "a grid size in 64..=65536",
         ),
         (
-            opts.curve_samples >= 720,
+            (720..=MAX_CURVE_SAMPLES).contains(&opts.curve_samples),
             "curve_samples",
             opts.curve_samples.to_string(),
-            "at least 720 samples per pitch curve",
+            "720..=262144 samples per pitch curve (time and files grow linearly: 1e7 took 27 s)",
         ),
         (
             lo > 0.0 && lo < 1.0 && hi > 1.0 && hi.is_finite(),
@@ -226,10 +232,10 @@ pub(super) fn validate(opts: &DesignOptions) -> Result<(), DesignError> {
             "a relative tolerance in (0, 0.01)",
         ),
         (
-            inv.dense_samples >= 64,
+            (64..=MAX_DENSE_SAMPLES).contains(&inv.dense_samples),
             "inverse.dense_samples",
             inv.dense_samples.to_string(),
-            "at least 64 dense samples",
+            "64..=4194304 dense samples (1e7 take 2.5 s, 1e9 run out of time and memory)",
         ),
         (
             inv.law_harmonics != Some(0),
@@ -242,6 +248,12 @@ pub(super) fn validate(opts: &DesignOptions) -> Result<(), DesignError> {
             "segmented.tol_j",
             seg.tol_j.to_string(),
             "a positive junction tolerance",
+        ),
+        (
+            seg.k_max <= 200,
+            "segmented.k_max",
+            seg.k_max.to_string(),
+            "at most 200 patent iterations (it converges in a few or not at all; 20 is the default)",
         ),
         (
             seg.w1 > 0.0 && seg.w1 <= 1.0,

@@ -66,6 +66,39 @@ pub struct DesignReport {
         deserialize_with = "crate::design::train::teeth_json::deserialize"
     )]
     pub teeth: Option<crate::design::train::TrainTeethReport>,
+    /// Whether the design passed its verification: every check C1–C12 and, with teeth, both
+    /// meshes ([`DesignReport::update_verdict`]).
+    #[serde(default)]
+    pub verdict: crate::verdict::Verdict,
+}
+
+impl DesignReport {
+    /// Recomputes [`DesignReport::verdict`] from the checks and the teeth's mesh verification
+    /// (called by the chain, and again when teeth are recorded).
+    pub fn update_verdict(&mut self) {
+        let mut failures: Vec<String> = self
+            .checks
+            .iter()
+            .filter(|c| !c.pass)
+            .map(|c| {
+                format!(
+                    "{}: {} = {:.4e} (limit {:.4e})",
+                    c.id, c.name, c.value, c.limit
+                )
+            })
+            .collect();
+        if let Some(mesh) = self.teeth.as_ref().and_then(|t| t.mesh.as_ref()) {
+            failures.extend(crate::verdict::mesh_failures(
+                "sun-intermediate",
+                &mesh.sun_intermediate,
+            ));
+            failures.extend(crate::verdict::mesh_failures(
+                "intermediate-planet",
+                &mesh.intermediate_planet,
+            ));
+        }
+        self.verdict = crate::verdict::Verdict::from_failures(failures);
+    }
 }
 
 /// Units used in the report.
@@ -313,8 +346,21 @@ pub struct Timings {
     pub module: f64,
     /// Curves, checks and round trip.
     pub outputs: f64,
-    /// Total.
+    /// Total of the design stages above.
     pub total: f64,
+    /// Teeth on the three gears (cutting, relief), set by whoever cuts them (0: none).
+    #[serde(default)]
+    pub teeth: f64,
+    /// The mesh verification of the toothed train (0: none; it may run beside `cad_files`).
+    #[serde(default)]
+    pub verification: f64,
+    /// The teeth's CAD files (DXF, STEP, points).
+    #[serde(default)]
+    pub cad_files: f64,
+    /// The whole command, from its start to the writing of this report (0 when the library was
+    /// called directly).
+    #[serde(default)]
+    pub command: f64,
 }
 
 /// Everything the chain produced: the report plus the objects behind it.

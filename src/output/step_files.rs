@@ -25,6 +25,16 @@ impl SolidOptions {
     pub fn face_width_at(&self, module_mm: f64) -> f64 {
         self.face_width_mm.unwrap_or(10.0 * module_mm)
     }
+
+    /// Checks the sizes before any work ([`crate::export::step::check_solid_sizes`]; the
+    /// default face width, 10 × the module, is always valid). Whether the bore fits a gear is
+    /// known only with its outline.
+    ///
+    /// # Errors
+    /// [`crate::export::ExportError::InvalidOption`] naming `face_width` or `bore`.
+    pub fn validate(&self) -> Result<(), crate::export::ExportError> {
+        crate::export::step::check_solid_sizes(self.face_width_mm.unwrap_or(1.0), self.bore_mm)
+    }
 }
 
 /// The part `name`: `outline` simplified to `tol_mm` (as the DXF), extruded per `opts`.

@@ -125,29 +125,22 @@ pub struct PairDesign {
 /// its own amplitude.
 const DRIVEN_CLOSURE_TOL_RAD: f64 = 1e-8;
 
-/// Checks the options every pair needs: module, samples, backlash.
+/// Most samples of the law per driver turn (memory and time grow linearly; 4096 is the default).
+const MAX_SAMPLES: usize = 1 << 20;
+
+/// Checks the options every pair needs before any work: the toothing
+/// ([`crate::teeth::ToothingOptions::validate`]: module, backlash, chord tolerance, verification
+/// steps), the tooth count ([`crate::bounds`]), the samples.
 pub(super) fn validate_options(opts: &PairOptions) -> Result<(), PairError> {
-    let t = &opts.toothing;
-    let m = t.module_mm;
-    if !(m.is_finite() && m > 0.0) {
-        return Err(PairError::InvalidParameter {
-            name: "module_mm",
-            value: m,
-            expected: "finite and > 0",
-        });
+    opts.toothing.validate()?;
+    if let Some(z) = opts.teeth {
+        crate::bounds::check_teeth("teeth", z)?;
     }
-    if opts.samples < 64 {
+    if !(64..=MAX_SAMPLES).contains(&opts.samples) {
         return Err(PairError::InvalidParameter {
             name: "samples",
             value: opts.samples as f64,
-            expected: "≥ 64",
-        });
-    }
-    if !(t.backlash_mm.is_finite() && t.backlash_mm > 0.0) {
-        return Err(PairError::InvalidParameter {
-            name: "backlash_mm",
-            value: t.backlash_mm,
-            expected: "finite and > 0",
+            expected: "in 64..=1048576",
         });
     }
     Ok(())
@@ -195,13 +188,7 @@ pub(super) fn design_closed(
             });
         }
     };
-    if z < 3 {
-        return Err(PairError::InvalidParameter {
-            name: "teeth",
-            value: f64::from(z),
-            expected: "≥ 3",
-        });
-    }
+    crate::bounds::check_teeth("teeth", z)?;
     if z % p_turns != 0 {
         return Err(PairError::Law(format!(
             "with {z} driver teeth the driven gear would have {:.3} teeth (z·{q_turns}/{p_turns}): \
@@ -210,6 +197,12 @@ pub(super) fn design_closed(
         )));
     }
     let z2 = z / p_turns * q_turns;
+    crate::bounds::check_teeth("teeth of the driven gear (z·q/p)", z2)?;
+    // The check rolls through the q driver turns of a cycle, `verify_steps` per turn.
+    crate::bounds::check_verify_steps(
+        "verify_steps × driver turns per cycle",
+        t.verify_steps * q_turns as usize,
+    )?;
     let a = a1 * f64::from(z) * PI * m / l1;
     let (c1, c2) = Motion::curves_at(&unit1, &unit2, a)?;
     let span = TAU * f64::from(q_turns);

@@ -47,6 +47,9 @@ pub enum PairError {
     /// Teeth.
     #[error(transparent)]
     Teeth(#[from] TeethError),
+    /// A size of the work outside its admissible range ([`crate::bounds`]).
+    #[error(transparent)]
+    Bounds(#[from] crate::bounds::OutOfBounds),
     /// Mesh check.
     #[error(transparent)]
     Mesh(#[from] crate::teeth::mesh::MeshError),

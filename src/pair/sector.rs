@@ -211,6 +211,22 @@ fn gauss5(f: &dyn Fn(f64) -> f64, a: f64, b: f64) -> f64 {
 }
 
 /// Designs the open sector pair of the motion law `e` over the driver interval `range` (rad),
+/// The error of an open sector too narrow for its teeth: the `what` carrier (spanning `span`
+/// rad with padding) would carry `teeth` on a whole turn.
+fn carrier_too_large(what: &str, teeth: f64, span_rad: f64) -> crate::bounds::OutOfBounds {
+    crate::bounds::OutOfBounds {
+        quantity: format!("teeth on a whole turn of the {what} carrier"),
+        value: format!("{teeth:.0}"),
+        range: format!("≤ {}", crate::bounds::MAX_TEETH),
+        why: format!(
+            "the open sector spans {:.4e}° of the {what} with its padding, so its teeth repeated \
+             round a turn make that many: widen the interval (--drive-start..--drive-end) or \
+             give fewer teeth",
+            span_rad.to_degrees()
+        ),
+    }
+}
+
 /// `opts.teeth` teeth on the active interval (module doc).
 pub(super) fn design_open(
     e: &Expr,
@@ -224,15 +240,18 @@ pub(super) fn design_open(
         value: 0.0,
         expected: "the tooth count of the active interval of an open sector",
     })?;
-    if z < 3 {
-        return Err(PairError::InvalidParameter {
-            name: "teeth",
-            value: f64::from(z),
-            expected: "≥ 3",
-        });
-    }
+    crate::bounds::check_teeth("teeth", z)?;
     let law = Padded::new(e, range[0], range[1], z)?;
     let (w, dpsi) = (law.width, law.dpsi);
+    // Each carrier is a whole pitch curve with the sector's teeth on part of it: its tooth
+    // count grows as the interval narrows (a 1e-9° interval would ask for ~1e13 teeth). An
+    // estimate from the spans, before any curve is built; the exact count is checked below.
+    for (what, span) in [("driver", w), ("driven", dpsi)] {
+        let full = (f64::from(z) + 2.0 * PAD_PITCHES) * TAU / span;
+        if !(full <= f64::from(crate::bounds::MAX_TEETH)) {
+            return Err(carrier_too_large(what, full, span).into());
+        }
+    }
     let (ta, tb) = (range[0] - law.u0, range[1] - law.u0);
     let speed = |t: f64| {
         let [r, dr, _] = law.driver_radius(t);
@@ -270,6 +289,11 @@ pub(super) fn design_open(
     // Whole teeth that fit on each carrier (the remainder is the closing space, trimmed away).
     let fit = |c: &PitchCurve| (c.perimeter_mm(1e-12 * a) / p * (1.0 - 1e-12)).floor() as u32;
     let counts = [fit(&c1), fit(&c2)];
+    for (what, n, span) in [("driver", counts[0], w), ("driven", counts[1], dpsi)] {
+        if n > crate::bounds::MAX_TEETH {
+            return Err(carrier_too_large(what, f64::from(n), span).into());
+        }
+    }
     let g = Toothed::new((c1, c2), 0.0, counts, Some(p), None, opts)?;
     let n_teeth = g.z[0];
     // The driver's teeth are centred at s = −j·p (tooth N − 1 − j), the contacts of t > 0 lie at

@@ -44,6 +44,9 @@ use serde::{Deserialize, Serialize};
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 #[non_exhaustive]
 pub enum TeethError {
+    /// A size of the work outside its admissible range ([`crate::bounds`]).
+    #[error(transparent)]
+    Bounds(#[from] crate::bounds::OutOfBounds),
     /// A parameter is out of range.
     #[error("invalid parameter `{name}` = {value}: {expected}")]
     InvalidParameter {

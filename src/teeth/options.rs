@@ -64,6 +64,32 @@ impl ToothingOptions {
     }
 }
 
+impl ToothingOptions {
+    /// Checks every field before any work: the module finite and > 0, the backlash finite and
+    /// > 0, the export chord tolerance and the verification steps within [`crate::bounds`].
+    ///
+    /// # Errors
+    /// [`super::TeethError::InvalidParameter`] or [`super::TeethError::Bounds`], naming the field.
+    pub fn validate(&self) -> Result<(), super::TeethError> {
+        let m = self.module_mm;
+        for (name, value) in [("module_mm", m), ("backlash_mm", self.backlash_mm)] {
+            if !(value.is_finite() && value > 0.0) {
+                return Err(super::TeethError::InvalidParameter {
+                    name,
+                    value,
+                    expected: "finite and > 0 mm",
+                });
+            }
+        }
+        crate::bounds::check_chord_tol("chord_tol_mm", self.chord_tol_mm, m)?;
+        crate::bounds::check_verify_steps("verify_steps", self.verify_steps)?;
+        if let Some(z) = self.cutter_teeth {
+            crate::bounds::check_teeth("cutter_teeth", z)?;
+        }
+        Ok(())
+    }
+}
+
 impl Default for ToothingOptions {
     /// [`ToothingOptions::new`] at a module of 1 mm.
     fn default() -> Self {

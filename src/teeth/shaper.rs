@@ -396,7 +396,7 @@ impl Generation<'_> {
                     },
                 },
             )?;
-            Ok((sf, s_tip, u))
+            Ok::<_, TeethError>((sf, s_tip, u))
         };
         // Both corners at relief `rel`, and whether the cutter's involute reaches them.
         let both = |rel: f64| -> Result<(ToothTrim, bool), TeethError> {

@@ -46,7 +46,8 @@ pub struct MeasureOptions {
     pub method: Method,
     /// Extra nuisance lines, signed Hz in the analysis frame. Default none.
     pub line_hz: Vec<f64>,
-    /// Mesh harmonics added as nuisance lines when the model has `[gears]`. Default 2.
+    /// Mesh harmonics added as nuisance lines when the model has `[gears]`, at most
+    /// [`MAX_MESH_HARMONICS`]. Default 2.
     pub mesh_harmonics: u32,
     /// Remove a linear drift (`true`) or only the mean (`false`). Default `true`.
     pub drift: bool,
@@ -73,6 +74,9 @@ impl Default for MeasureOptions {
     }
 }
 
+/// Most mesh harmonics of [`MeasureOptions::mesh_harmonics`] (two nuisance lines each).
+pub const MAX_MESH_HARMONICS: u32 = 32;
+
 /// Relative half-width of the ω_p search band of the frequency estimate.
 pub const SEARCH_REL: f64 = 0.1;
 
@@ -97,6 +101,13 @@ impl Evaluation {
     /// [`OrbitError::Invalid`] naming the missing or conflicting field (`planet_speed_rpm`,
     /// `carrier_speed_rpm`), a bad model, or an invalid extractor ([`Extractor::new`]).
     pub fn new(model: Option<&ModelParams>, opts: &MeasureOptions) -> Result<Self, OrbitError> {
+        if opts.mesh_harmonics > MAX_MESH_HARMONICS {
+            return Err(invalid(
+                "mesh_harmonics",
+                "at most 32: each harmonic adds two nuisance lines to the least-squares fit, and \
+                 harmonics beyond the first few lie above any record's bandwidth",
+            ));
+        }
         let model = model
             .map(|p| Ok::<_, OrbitError>((p.planet_set()?, p.gear_speeds()?)))
             .transpose()?;

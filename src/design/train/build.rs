@@ -224,6 +224,7 @@ fn train_from(
         }
     };
     let count = tooth_count(&asm.sun, m, rounding, 1e-10 * asm.a_mm).map_err(teeth_err("sun"))?;
+    crate::bounds::check_teeth("teeth", count.z).map_err(|e| teeth_err("sun")(e.into()))?;
     let (s, m) = if adjust {
         (1.0, count.perimeter_mm / (f64::from(count.z) * PI))
     } else {

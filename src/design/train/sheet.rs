@@ -85,6 +85,7 @@ impl ToothedTrain {
     /// `design.json`), replacing any earlier one.
     pub fn record(&self, design: &mut Design) {
         design.report.teeth = Some(self.report.clone());
+        design.report.update_verdict();
     }
 
     fn parts(&self, gear: Gear) -> (&Outline, &PitchCurve) {

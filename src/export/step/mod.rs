@@ -197,20 +197,7 @@ fn checked(p: &Prism) -> Result<Prism, ExportError> {
     if a2 == 0.0 {
         return Err(bad("zero area"));
     }
-    if !(p.face_width_mm > 0.0 && p.face_width_mm.is_finite()) {
-        return Err(ExportError::InvalidOption {
-            name: "face_width",
-            value: p.face_width_mm,
-            expected: "a positive face width in mm",
-        });
-    }
-    if !(p.bore_mm >= 0.0 && p.bore_mm.is_finite()) {
-        return Err(ExportError::InvalidOption {
-            name: "bore",
-            value: p.bore_mm,
-            expected: "a bore diameter ≥ 0 mm (0 = no bore)",
-        });
-    }
+    check_solid_sizes(p.face_width_mm, p.bore_mm)?;
     if p.bore_mm > 0.0 {
         let inner = (0..n)
             .map(|i| {
@@ -234,6 +221,29 @@ fn checked(p: &Prism) -> Result<Prism, ExportError> {
         q.outline_mm.reverse();
     }
     Ok(q)
+}
+
+/// Checks the sizes of an extruded part that need no outline: a finite face width > 0 mm and a
+/// finite bore diameter ≥ 0 mm (0 = none).
+///
+/// # Errors
+/// [`ExportError::InvalidOption`] naming `face_width` or `bore`.
+pub fn check_solid_sizes(face_width_mm: f64, bore_mm: f64) -> Result<(), ExportError> {
+    if !(face_width_mm > 0.0 && face_width_mm.is_finite()) {
+        return Err(ExportError::InvalidOption {
+            name: "face_width",
+            value: face_width_mm,
+            expected: "a positive face width in mm",
+        });
+    }
+    if !(bore_mm >= 0.0 && bore_mm.is_finite()) {
+        return Err(ExportError::InvalidOption {
+            name: "bore",
+            value: bore_mm,
+            expected: "a bore diameter ≥ 0 mm (0 = no bore)",
+        });
+    }
+    Ok(())
 }
 
 const CONTEXT: [&str; 9] = [
