@@ -8,7 +8,10 @@ The same library as the ``ncgear`` command line, called in-process::
     ncgear.write_step(t, "out/step", face_width=20.0, bore=10.0)  # sun/intermediate/planet/train.step
 
 Lengths in mm, angles in radians unless a name ends in ``_deg``. Every failure raises
-:class:`NcgearError` (a ``ValueError``) with the message the CLI prints.
+:class:`NcgearError` (a ``ValueError``) with the message the CLI prints. A result that is made
+but fails its own verification (a check C1–C12, interference or a bad backlash in a mesh) is
+returned, not raised: its ``verdict`` says ``{"passed": False, "failures": [...]}`` — where the
+CLI exits with code 3 — and its ``passed`` property is False.
 """
 from __future__ import annotations
 
@@ -57,6 +60,16 @@ class Design:
     deviations: np.ndarray
     _h: Any = field(repr=False, compare=False)
 
+    @property
+    def verdict(self) -> Dict[str, Any]:
+        """``{"passed": bool, "failures": [str]}``: every check C1–C12 passed, or what failed."""
+        return self.report["verdict"]
+
+    @property
+    def passed(self) -> bool:
+        """Whether the design passed its verification (``verdict["passed"]``)."""
+        return bool(self.verdict["passed"])
+
 
 @dataclass(frozen=True)
 class Train:
@@ -68,6 +81,14 @@ class Train:
     report: Dict[str, Any]
     design: Design = field(repr=False, compare=False)
     _h: Any = field(repr=False, compare=False)
+    verdict: Dict[str, Any] = field(default_factory=dict)
+    """``{"passed": bool, "failures": [str]}`` of both meshes (no interference, finite
+    non-negative backlash)."""
+
+    @property
+    def passed(self) -> bool:
+        """Whether both meshes passed their verification."""
+        return bool(self.verdict["passed"])
 
 
 @dataclass(frozen=True)
@@ -79,6 +100,16 @@ class Pair:
     placements: Dict[str, Dict[str, Any]]
     report: Dict[str, Any]
     _h: Any = field(repr=False, compare=False)
+
+    @property
+    def verdict(self) -> Dict[str, Any]:
+        """``{"passed": bool, "failures": [str]}`` of the mesh verification."""
+        return self.report["verdict"]
+
+    @property
+    def passed(self) -> bool:
+        """Whether the pair passed its mesh verification."""
+        return bool(self.verdict["passed"])
 
 
 def design(
@@ -144,6 +175,7 @@ def teeth(
         report=json.loads(h.report_json()),
         design=design,
         _h=h,
+        verdict=json.loads(h.verdict_json()),
     )
 
 

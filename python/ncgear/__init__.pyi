@@ -16,17 +16,28 @@ class Design:
     pitch_curves: Dict[str, npt.NDArray[np.float64]]
     report: Dict[str, Any]
     deviations: npt.NDArray[np.float64]
+    @property
+    def verdict(self) -> Dict[str, Any]: ...
+    @property
+    def passed(self) -> bool: ...
 
 class Train:
     outlines: Dict[str, npt.NDArray[np.float64]]
     placements: Dict[str, Dict[str, Any]]
     report: Dict[str, Any]
     design: Design
+    verdict: Dict[str, Any]
+    @property
+    def passed(self) -> bool: ...
 
 class Pair:
     outlines: Dict[str, npt.NDArray[np.float64]]
     placements: Dict[str, Dict[str, Any]]
     report: Dict[str, Any]
+    @property
+    def verdict(self) -> Dict[str, Any]: ...
+    @property
+    def passed(self) -> bool: ...
 
 def design(
     points: Union[PathLike, Sequence[Sequence[float]], npt.ArrayLike],

@@ -189,6 +189,10 @@ impl TrainHandle {
     fn report_json(&self) -> PyResult<String> {
         json(&self.t.report)
     }
+    /// The toothed train's verdict `{"passed", "failures"}` (both meshes), as JSON.
+    fn verdict_json(&self) -> PyResult<String> {
+        json(&self.t.report.verdict())
+    }
     /// Gear outlines `(name, points mm)` in body frames, as exported (export chord tolerance).
     fn outlines(&self) -> Vec<(String, Vec<[f64; 2]>)> {
         let t = &self.t;
@@ -368,6 +372,7 @@ fn pair(
         "ratio_range": p.ratio_range,
         "mesh": p.mesh,
         "sector": p.sector,
+        "verdict": p.verdict(),
     })
     .to_string();
     Ok(PairHandle {

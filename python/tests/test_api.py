@@ -108,3 +108,19 @@ def test_a_design_for_the_module_gets_its_own_teeth_unscaled():
     t = ncgear.teeth(d, module=2.0, verify_steps=0)  # policy "design" for a design made for m
     assert t.report["z"] == 22 and abs(t.report["scale"] - 1.0) < 1e-9
     assert abs(t.report["roundtrip"]["hausdorff_mm"] - d.report["roundtrip"]["hausdorff_mm"]) < 2e-3
+
+
+def test_a_failed_verification_is_returned_with_its_verdict_and_the_cli_exits_3(tmp_path):
+    from conftest import ROOT
+    kidney = ROOT / "assets" / "trajectories" / "designer_kidney.csv"
+    d = ncgear.design(kidney)
+    # No train traces this drawn loop within the default 0.05 mm: C12 fails, the rest pass.
+    assert not d.passed
+    assert [f.split(":")[0] for f in d.verdict["failures"]] == ["C12"]
+    p = cli("design", kidney, "--out", tmp_path / "k", check=False)
+    assert p.returncode == 3 and "C12" in p.stderr
+    written = json.loads((tmp_path / "k" / "design.json").read_text())
+    assert written["verdict"] == d.verdict
+    assert cli("design", kidney, "--out", tmp_path / "k2", "--accept-failed").returncode == 0
+    # A pair whose mesh verifies passes.
+    assert ncgear.pair("phi - 0.08*sin(2*phi)", teeth=24, module=1.5).passed

@@ -256,7 +256,10 @@ pub fn run(args: Args) -> CliResult {
         None => {}
     }
     let file = args.trajectory.display().to_string();
-    let d = design(&traj, &opts).map_err(|e| design_failure(&file, &e))?;
+    let pb = super::spinner("designing the gears");
+    let d = design(&traj, &opts).map_err(|e| design_failure(&file, &e));
+    pb.finish_and_clear();
+    let d = d?;
     let mut d = d;
     let mut files = ncgear::output::DesignFiles::default();
     files.png = args.png;
@@ -270,7 +273,10 @@ pub fn run(args: Args) -> CliResult {
             };
             let teeth_opts = teeth_opts.as_ref().expect("built with the module");
             let t0 = std::time::Instant::now();
-            let (mut t, pending) = match toothed(&args, &d, m, teeth_opts) {
+            let pb = super::spinner("cutting the teeth");
+            let cut = toothed(&args, &d, m, teeth_opts);
+            pb.finish_and_clear();
+            let (mut t, pending) = match cut {
                 Ok(t) => t,
                 Err(e) => {
                     write_design(&d)?;

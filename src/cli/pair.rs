@@ -150,13 +150,7 @@ pub fn run(args: Args) -> CliResult {
     files.push(step);
     files.push(dxf);
     files.push(svg);
-    let verdict = ncgear::verdict::Verdict::from_failures(
-        design
-            .mesh
-            .as_ref()
-            .map(|m| ncgear::verdict::mesh_failures("driver-driven", m))
-            .unwrap_or_default(),
-    );
+    let verdict = design.verdict();
     let report = serde_json::json!({
         "tool": concat!("ncgear ", env!("CARGO_PKG_VERSION")),
         "options": opts,

@@ -87,15 +87,8 @@ impl DesignReport {
                 )
             })
             .collect();
-        if let Some(mesh) = self.teeth.as_ref().and_then(|t| t.mesh.as_ref()) {
-            failures.extend(crate::verdict::mesh_failures(
-                "sun-intermediate",
-                &mesh.sun_intermediate,
-            ));
-            failures.extend(crate::verdict::mesh_failures(
-                "intermediate-planet",
-                &mesh.intermediate_planet,
-            ));
+        if let Some(t) = &self.teeth {
+            failures.extend(t.verdict().failures);
         }
         self.verdict = crate::verdict::Verdict::from_failures(failures);
     }

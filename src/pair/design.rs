@@ -529,6 +529,18 @@ impl Toothed {
 }
 
 impl PairDesign {
+    /// The verdict of the pair's mesh verification: no interference, a finite, non-negative
+    /// backlash ([`crate::verdict::mesh_failures`]; passed when not verified).
+    #[must_use]
+    pub fn verdict(&self) -> crate::verdict::Verdict {
+        crate::verdict::Verdict::from_failures(
+            self.mesh
+                .as_ref()
+                .map(|m| crate::verdict::mesh_failures("driver-driven", m))
+                .unwrap_or_default(),
+        )
+    }
+
     /// The assembly sheet at φ = 0 (an open sector: at its padded start,
     /// [`SectorReport::assembly_at_deg`]): driver at the origin, driven at `(a, 0)` rotated by ψ(0)
     /// (driven body angle π + ψ(0) faces the driver), layers `DRIVER_OUTLINE`, `DRIVER_PITCH`,

@@ -1,6 +1,7 @@
 //! The single integration-test crate (links once): one module per area.
 // `!(x <= tol)` is how the quality checks fail a NaN together with an out-of-range value.
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
+mod bounds;
 mod cli;
 mod cli_design;
 mod design;

@@ -98,6 +98,23 @@ pub struct TrainTeethReport {
     pub process: Option<TrainProcess>,
 }
 
+impl TrainTeethReport {
+    /// The verdict of the toothed train: both meshes without interference, with a finite,
+    /// non-negative backlash ([`crate::verdict::mesh_failures`]; passed when not verified).
+    #[must_use]
+    pub fn verdict(&self) -> crate::verdict::Verdict {
+        let failures = self.mesh.as_ref().map_or_else(Vec::new, |m| {
+            let mut f = crate::verdict::mesh_failures("sun-intermediate", &m.sun_intermediate);
+            f.extend(crate::verdict::mesh_failures(
+                "intermediate-planet",
+                &m.intermediate_planet,
+            ));
+            f
+        });
+        crate::verdict::Verdict::from_failures(failures)
+    }
+}
+
 /// Manufacturing process of the three gears.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct TrainProcess {
