@@ -51,6 +51,7 @@ head, rest = readme.split(begin, 1)
 _, tail = rest.split(end, 1)
 open("README.md", "w").write(head + begin + "\n" + table + "\n" + end + tail)
 PY
-"$bin" design "$traj" --out "$tmp/design" --png >/dev/null
+# The kidney misses the 0.05 mm tolerance (C12, exit 3): the picture is of that design.
+"$bin" design "$traj" --out "$tmp/design" --png --accept-failed >/dev/null
 cp "$tmp/design/design.png" assets/readme/designer_kidney.png
 echo "wrote $table and assets/readme/designer_kidney.png"

@@ -121,11 +121,6 @@ pub struct Args {
     pub rack: RackArgs,
 }
 
-/// Milliseconds since `t0`.
-fn ms(t0: std::time::Instant) -> f64 {
-    t0.elapsed().as_secs_f64() * 1e3
-}
-
 /// Carrier positions of each mesh verification unless `--verify-steps` says otherwise.
 const DEFAULT_VERIFY_STEPS: usize = 72;
 
@@ -283,13 +278,16 @@ pub fn run(args: Args) -> CliResult {
                     return Err(e);
                 }
             };
-            d.report.timings_ms.teeth = ms(t0);
+            d.report.timings_ms.teeth = super::ms_since(t0);
             // The mesh check runs beside the CAD exports (they do not read it).
             let pb = progress_bar(2 * args.verify_steps as u64, "mesh check");
             let ((mesh, t_mesh), (exports, t_files)) = rayon::join(
                 || {
                     let t0 = std::time::Instant::now();
-                    (pending.map(|p| p.run(&|n| pb.inc(n))).transpose(), ms(t0))
+                    (
+                        pending.map(|p| p.run(&|n| pb.inc(n))).transpose(),
+                        super::ms_since(t0),
+                    )
                 },
                 || {
                     let t0 = std::time::Instant::now();
@@ -314,7 +312,7 @@ pub fn run(args: Args) -> CliResult {
                         files.extend(step);
                         Ok(files)
                     })();
-                    (r, ms(t0))
+                    (r, super::ms_since(t0))
                 },
             );
             pb.finish_and_clear();
@@ -334,7 +332,7 @@ pub fn run(args: Args) -> CliResult {
         }
         None => None,
     };
-    d.report.timings_ms.command = ms(started);
+    d.report.timings_ms.command = super::ms_since(started);
     let mut written = ncgear::output::write_design_with(&d, &args.out, files)
         .map_err(|e| runtime_error(miette::miette!("{e}")))?;
     written.extend(teeth_files);
@@ -471,12 +469,12 @@ pub fn run(args: Args) -> CliResult {
     println!(
         "  {:.1} ms (design {:.1}, teeth {:.1}, verification {:.1} beside CAD files {:.1}, design \
          files {:.1}); wrote {}{}",
-        ms(started),
+        super::ms_since(started),
         tm.total,
         tm.teeth,
         tm.verification,
         tm.cad_files,
-        ms(started) - tm.command,
+        super::ms_since(started) - tm.command,
         rest.iter()
             .map(|p| p.display().to_string())
             .collect::<Vec<_>>()

@@ -145,6 +145,11 @@ pub fn spinner(what: &str) -> indicatif::ProgressBar {
     pb
 }
 
+/// Milliseconds since `t0`.
+pub fn ms_since(t0: std::time::Instant) -> f64 {
+    t0.elapsed().as_secs_f64() * 1e3
+}
+
 /// Writes `value` as pretty JSON to stdout.
 pub fn print_json(value: &impl serde::Serialize) -> CliResult {
     let s = ncgear::output::json::to_string(value)

@@ -75,6 +75,8 @@ pub struct Args {
 
 /// Runs `ncgear pair`.
 pub fn run(args: Args) -> CliResult {
+    // The printed time is the whole command's.
+    let started = std::time::Instant::now();
     args.rack.check_exports()?;
     let law = match (&args.law, &args.centrode, &args.csv) {
         (Some(e), None, None) => Law::Motion(Expr::parse(e).map_err(input_error)?),
@@ -105,6 +107,7 @@ pub fn run(args: Args) -> CliResult {
         _ => input_error(e),
     };
     let (mut design, pending) = design_pair_deferred(&law, &opts).map_err(to_failure)?;
+    let t_design = super::ms_since(started);
     std::fs::create_dir_all(&args.out)
         .map_err(|e| runtime_error(format!("cannot create {}: {e}", args.out.display())))?;
     let sheet = design.assembly_sheet();
@@ -115,8 +118,13 @@ pub fn run(args: Args) -> CliResult {
     let pb = progress_bar(opts.toothing.verify_steps as u64, "mesh check");
     // The mesh check and the four exports are independent: run side by side (the exports need
     // only the outlines; the STEP model is the longest of them).
-    let (mesh, ((r_dxf, r_svg), (r_points, r_step))) = rayon::join(
-        || pending.map(|p| p.run(&|n| pb.inc(n))).transpose(),
+    let t_files = std::time::Instant::now();
+    let ((mesh, t_mesh), ((r_dxf, r_svg), (r_points, r_step))) = rayon::join(
+        || {
+            let t0 = std::time::Instant::now();
+            let mesh = pending.map(|p| p.run(&|n| pb.inc(n))).transpose();
+            (mesh, super::ms_since(t0))
+        },
         || {
             rayon::join(
                 || {
@@ -142,6 +150,7 @@ pub fn run(args: Args) -> CliResult {
         },
     );
     pb.finish_and_clear();
+    let t_files = super::ms_since(t_files);
     design.mesh = mesh.map_err(to_failure)?;
     r_dxf.map_err(runtime_error)?;
     r_svg.map_err(runtime_error)?;
@@ -169,6 +178,12 @@ pub fn run(args: Args) -> CliResult {
         "sector": design.sector,
         "files": files.iter().map(|p| p.display().to_string()).collect::<Vec<_>>(),
         "verdict": verdict,
+        "timings_ms": {
+            "design": t_design,
+            "verification": t_mesh,
+            "verification_and_files": t_files,
+            "command": super::ms_since(started),
+        },
     });
     let json_path = args.out.join("pair.json");
     std::fs::write(
@@ -206,6 +221,11 @@ pub fn run(args: Args) -> CliResult {
         if let Some(m) = &design.mesh {
             println!("mesh: {}", m.summary());
         }
+        println!(
+            "{:.1} ms (teeth {t_design:.1}, verification {t_mesh:.1} beside the files, all \
+             {t_files:.1})",
+            super::ms_since(started)
+        );
     }
     super::verdict_outcome(&verdict, args.accept_failed)
 }

@@ -18,12 +18,14 @@ fn asset(rel: &str) -> PathBuf {
         .join(rel)
 }
 
-/// Runs `args`, returns (exit code, stderr).
+/// Runs `args`, returns (exit code, stderr with the message box's wrapping undone: single
+/// spaces, no frame characters).
 fn run(args: &[&str]) -> (Option<i32>, String) {
     let o = ncgear().args(args).output().expect("ncgear runs");
+    let err = String::from_utf8_lossy(&o.stderr).replace(['│', '×'], " ");
     (
         o.status.code(),
-        String::from_utf8_lossy(&o.stderr).into_owned(),
+        err.split_whitespace().collect::<Vec<_>>().join(" "),
     )
 }
 
