@@ -29,6 +29,9 @@ pub enum McError {
         /// What is expected.
         expected: &'static str,
     },
+    /// The samples would need more memory than [`crate::bounds::memory_ceiling_bytes`].
+    #[error(transparent)]
+    Memory(#[from] crate::bounds::OutOfBounds),
     /// The sampler returned a non-finite value (a bug of the sampler or of its input).
     #[error("Monte Carlo sample {index} is not finite")]
     NonFinite {
@@ -199,6 +202,9 @@ where
     check_bins(opts.bins)?;
     let chunk = 1024;
     let n = opts.samples;
+    // The samples are held three times at the peak (the chunks, their concatenation, the sorted
+    // copy of the quantiles), 8 bytes each.
+    crate::bounds::check_memory(&format!("{n} Monte Carlo samples"), 3.0 * 8.0 * n as f64)?;
     let done = std::sync::atomic::AtomicU64::new(0);
     let parts: Vec<Vec<f64>> = (0..n.div_ceil(chunk))
         .into_par_iter()

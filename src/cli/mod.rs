@@ -19,6 +19,9 @@ mod tradeoff;
 struct Cli {
     #[command(subcommand)]
     command: Command,
+    /// Memory a single computation may estimate for itself before it is refused, GB (default 4).
+    #[arg(long, global = true)]
+    max_memory_gb: Option<f64>,
 }
 
 #[derive(Debug, Subcommand)]
@@ -177,6 +180,16 @@ pub fn main() -> ExitCode {
         libc::mallopt(libc::M_TRIM_THRESHOLD, 512 << 20);
     }
     let cli = Cli::parse();
+    if let Some(gb) = cli.max_memory_gb {
+        if !(gb.is_finite() && gb > 0.0 && gb <= 1e6) {
+            eprintln!(
+                "{:?}",
+                miette::miette!("--max-memory-gb {gb}: expected a memory size in (0, 1e6] GB")
+            );
+            return ExitCode::from(2);
+        }
+        ncgear::bounds::set_memory_ceiling_bytes((gb * 1e9) as u64);
+    }
     let result = match cli.command {
         Command::Design(a) => design::run(a),
         Command::Tradeoff(a) => tradeoff::run(a),

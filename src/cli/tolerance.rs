@@ -55,8 +55,9 @@ pub fn run(args: Args) -> CliResult {
     opts.monte_carlo = (args.samples > 0).then(|| mc_options(&args));
     opts.joint_starts = args.starts;
     let pb = progress_bar(args.samples as u64, "Monte Carlo");
+    // Every error of the analysis is the input's (a value of the file, or --samples).
     let report = analyse(&file, &opts, &|d| pb.set_position(d)).map_err(|e| {
-        runtime_error(miette::miette!(
+        input_error(miette::miette!(
             help = "--samples sets the Monte Carlo sample count",
             "{e}"
         ))

@@ -82,6 +82,10 @@ pub(super) fn mc_error(what: &'static str) -> impl Fn(McError) -> TransplanterEr
         McError::NonFinite { index } => {
             TransplanterError::Numerical(format!("Monte Carlo sample {index} of the {what}"))
         }
+        McError::Memory(b) => TransplanterError::BadOption {
+            option: "mc.samples",
+            message: b.to_string(),
+        },
     }
 }
 
