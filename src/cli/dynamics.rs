@@ -97,20 +97,18 @@ pub fn run(args: Args) -> CliResult {
         )));
     }
     // The linear path has no time history: a sweep or a plot format would do nothing.
-    if prepared.takes_linear_path() {
-        if let Some(flag) = [
-            (args.sweep.is_some(), "--sweep"),
-            (args.format.is_some(), "--format"),
-        ]
-        .into_iter()
-        .find_map(|(given, flag)| given.then_some(flag))
-        {
-            return Err(input_error(miette::miette!(
-                help = "set [solver] method to a time-domain solver (e.g. \"dopri5\") to run it",
-                "{flag} applies to a time-domain run, and this scene's `method = \"linear\"` is \
-                 solved in closed form at the mesh frequency (dynamics.json holds the result)"
-            )));
-        }
+    let ignored = [
+        (args.sweep.is_some(), "--sweep"),
+        (args.format.is_some(), "--format"),
+    ]
+    .into_iter()
+    .find_map(|(given, flag)| given.then_some(flag));
+    if let (true, Some(flag)) = (prepared.takes_linear_path(), ignored) {
+        return Err(input_error(miette::miette!(
+            help = "set [solver] method to a time-domain solver (e.g. \"dopri5\") to run it",
+            "{flag} applies to a time-domain run, and this scene's `method = \"linear\"` is \
+             solved in closed form at the mesh frequency (dynamics.json holds the result)"
+        )));
     }
     std::fs::create_dir_all(&args.out)
         .map_err(|e| runtime_error(miette::miette!("cannot create {}: {e}", args.out.display())))?;
