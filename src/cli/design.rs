@@ -496,7 +496,9 @@ pub(super) fn design_failure(file: &str, e: &DesignError) -> super::Failure {
         DesignError::BadOption { option, .. } => super::option_error(Some(option), e),
         DesignError::Bounds(b) => super::option_error(Some(&b.quantity), e),
         DesignError::Inverse(
-            InverseError::AxisInsideLoop { .. } | InverseError::TooCloseToAxis { .. },
+            InverseError::AxisInsideLoop { .. }
+            | InverseError::TooCloseToAxis { .. }
+            | InverseError::AxisTooFar { .. },
         ) => input_error(miette::miette!(
             help = "the carrier axis is set by --center X,Y (mm)",
             "{file}: {e}"

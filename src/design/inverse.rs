@@ -53,6 +53,16 @@ impl Default for InverseOptions {
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 #[non_exhaustive]
 pub enum InverseError {
+    /// The carrier axis is too far from the trajectory.
+    #[error(
+        "the carrier axis O is {distance_mm:.4e} mm from the farthest trajectory point, more than {limit_mm:.1} mm (20 × the trajectory's size): check the carrier axis position (`center_mm`, in mm like the points)"
+    )]
+    AxisTooFar {
+        /// Largest distance of a point from O, mm.
+        distance_mm: f64,
+        /// The limit, mm.
+        limit_mm: f64,
+    },
     /// The carrier axis is inside the loop.
     #[error(
         "the carrier axis O lies inside the loop (winding number {winding}); a transplanter needs O outside the loop (l3 > l1): check the carrier axis position (`center_mm`)"
@@ -162,6 +172,16 @@ pub fn invert(
     opts: &InverseOptions,
 ) -> Result<Inversion, InverseError> {
     let pts = traj.relative_to(center, false);
+    // An axis far from the loop makes arms of metres for a loop of centimetres (and, farther,
+    // numbers past what a spline can hold): refused before any work.
+    let size = traj_size(&pts);
+    let far = pts.iter().map(|p| p[0].hypot(p[1])).fold(0.0, f64::max);
+    if !(far <= MAX_AXIS_DISTANCE_SIZES * size) {
+        return Err(InverseError::AxisTooFar {
+            distance_mm: far,
+            limit_mm: MAX_AXIS_DISTANCE_SIZES * size,
+        });
+    }
     let winding = winding_number(&pts);
     if winding != 0 {
         return Err(InverseError::AxisInsideLoop { winding });
@@ -342,6 +362,22 @@ fn winding_number(pts: &[[f64; 2]]) -> i64 {
         total += wrap_pi(b - a);
     }
     (total / TAU).round() as i64
+}
+
+/// Farthest a trajectory point may lie from the carrier axis, in trajectory sizes (the diagonal
+/// of its bounding box): a tenth of that is already an arm ten times the loop.
+pub const MAX_AXIS_DISTANCE_SIZES: f64 = 20.0;
+
+/// The diagonal of the bounding box of `pts`, mm.
+fn traj_size(pts: &[[f64; 2]]) -> f64 {
+    let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
+    for p in pts {
+        for k in 0..2 {
+            lo[k] = lo[k].min(p[k]);
+            hi[k] = hi[k].max(p[k]);
+        }
+    }
+    (hi[0] - lo[0]).hypot(hi[1] - lo[1])
 }
 
 /// Runs of indices where `bad(j)` holds, as `[first, last]` pairs.
