@@ -105,6 +105,25 @@ pub fn option_error(field: Option<&str>, e: impl std::fmt::Display) -> Failure {
     }
 }
 
+/// A parser of a count option in `lo..=hi` (refused by the argument parser, exit 2, before any
+/// work): the range keeps the work of the option within seconds.
+pub fn count_in(
+    lo: usize,
+    hi: usize,
+) -> impl Fn(&str) -> Result<usize, String> + Clone + Send + Sync + 'static {
+    move |s| {
+        let v: usize = s
+            .trim()
+            .parse()
+            .map_err(|_| format!("`{s}`: expected a whole number in {lo}..={hi}"))?;
+        if (lo..=hi).contains(&v) {
+            Ok(v)
+        } else {
+            Err(format!("{v} is outside the admissible range {lo}..={hi}"))
+        }
+    }
+}
+
 /// Exit code of [`Failure::Verification`]: written, but the verification failed.
 pub const EXIT_VERIFICATION_FAILED: u8 = 3;
 

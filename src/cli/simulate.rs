@@ -37,8 +37,8 @@ pub struct Args {
     /// Planting level y, mm (default: the lowest point).
     #[arg(long, allow_hyphen_values = true)]
     pub plant_level: Option<f64>,
-    /// Key frames of the animation per turn.
-    #[arg(long, default_value_t = 360)]
+    /// Key frames of the animation per turn (8..=3600).
+    #[arg(long, default_value_t = 360, value_parser = super::count_in(8, 3600))]
     pub frames: usize,
     /// Seconds per carrier turn in the animation.
     #[arg(long, default_value_t = 6.0)]

@@ -27,14 +27,16 @@ pub struct Args {
     /// Seed of the Monte Carlo.
     #[arg(long, default_value_t = 1)]
     pub seed: u64,
-    /// Starts of the joint phase / assembly optimiser.
-    #[arg(long, default_value_t = 24)]
+    /// Starts of the joint phase / assembly optimiser (1..=1000).
+    #[arg(long, default_value_t = 24, value_parser = super::count_in(1, 1000))]
     pub starts: usize,
-    /// Transplanter: exact-model samples for the agronomic-feature distributions (0: skip).
-    #[arg(long, default_value_t = 200)]
+    /// Transplanter: exact-model samples for the agronomic-feature distributions (0: skip;
+    /// at most 2000: 10 000 took 15 s).
+    #[arg(long, default_value_t = 200, value_parser = super::count_in(0, 2000))]
     pub feature_samples: usize,
-    /// Transplanter: samples at 3σ validating the linear model against the exact one.
-    #[arg(long, default_value_t = 100)]
+    /// Transplanter: samples at 3σ validating the linear model against the exact one (at most
+    /// 1000: 10 000 took 10 s).
+    #[arg(long, default_value_t = 100, value_parser = super::count_in(0, 1000))]
     pub validation_samples: usize,
     /// Output directory for the plots and tolerance.json / transplanter.json.
     #[arg(long, default_value = "out/tolerance")]
