@@ -77,15 +77,12 @@ pub struct OutOfBounds {
 /// # Errors
 /// [`OutOfBounds`] outside the range.
 pub fn check_teeth(quantity: &str, z: u32) -> Result<(), OutOfBounds> {
-    if (MIN_TEETH..=MAX_TEETH).contains(&z) {
-        return Ok(());
-    }
-    Err(OutOfBounds {
-        quantity: quantity.into(),
-        value: z.to_string(),
-        range: format!("{MIN_TEETH}..={MAX_TEETH}"),
-        why: "teeth per gear; more would take minutes to cut and verify".into(),
-    })
+    within(
+        quantity,
+        z,
+        MIN_TEETH..=MAX_TEETH,
+        "teeth per gear; more would take minutes to cut and verify",
+    )
 }
 
 /// Checks the positions of a mesh verification against 0..=[`MAX_VERIFY_STEPS`].
@@ -93,14 +90,29 @@ pub fn check_teeth(quantity: &str, z: u32) -> Result<(), OutOfBounds> {
 /// # Errors
 /// [`OutOfBounds`] above the limit.
 pub fn check_verify_steps(quantity: &str, steps: usize) -> Result<(), OutOfBounds> {
-    if steps <= MAX_VERIFY_STEPS {
+    within(
+        quantity,
+        steps,
+        0..=MAX_VERIFY_STEPS,
+        "positions per mesh check (3600 = every 0.1° of a turn)",
+    )
+}
+
+/// `value` within `range`, or the [`OutOfBounds`] that names `quantity` and says `why`.
+fn within<T: PartialOrd + std::fmt::Display>(
+    quantity: &str,
+    value: T,
+    range: std::ops::RangeInclusive<T>,
+    why: &str,
+) -> Result<(), OutOfBounds> {
+    if range.contains(&value) {
         return Ok(());
     }
     Err(OutOfBounds {
         quantity: quantity.into(),
-        value: steps.to_string(),
-        range: format!("0..={MAX_VERIFY_STEPS}"),
-        why: "positions per mesh check (3600 = every 0.1° of a turn)".into(),
+        value: value.to_string(),
+        range: format!("{}..={}", range.start(), range.end()),
+        why: why.into(),
     })
 }
 

@@ -174,7 +174,8 @@ pub fn invert(
     let pts = traj.relative_to(center, false);
     // An axis far from the loop makes arms of metres for a loop of centimetres (and, farther,
     // numbers past what a spline can hold): refused before any work.
-    let size = traj_size(&pts);
+    let [x0, y0, x1, y1] = crate::math::polyline::bbox(&pts);
+    let size = (x1 - x0).hypot(y1 - y0);
     let far = pts.iter().map(|p| p[0].hypot(p[1])).fold(0.0, f64::max);
     if !(far <= MAX_AXIS_DISTANCE_SIZES * size) {
         return Err(InverseError::AxisTooFar {
@@ -367,18 +368,6 @@ fn winding_number(pts: &[[f64; 2]]) -> i64 {
 /// Farthest a trajectory point may lie from the carrier axis, in trajectory sizes (the diagonal
 /// of its bounding box): a tenth of that is already an arm ten times the loop.
 pub const MAX_AXIS_DISTANCE_SIZES: f64 = 20.0;
-
-/// The diagonal of the bounding box of `pts`, mm.
-fn traj_size(pts: &[[f64; 2]]) -> f64 {
-    let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
-    for p in pts {
-        for k in 0..2 {
-            lo[k] = lo[k].min(p[k]);
-            hi[k] = hi[k].max(p[k]);
-        }
-    }
-    (hi[0] - lo[0]).hypot(hi[1] - lo[1])
-}
 
 /// Runs of indices where `bad(j)` holds, as `[first, last]` pairs.
 fn runs(n: usize, bad: impl Fn(usize) -> bool) -> Vec<[usize; 2]> {

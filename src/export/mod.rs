@@ -85,26 +85,12 @@ impl Sheet {
     /// Bounding box `[xmin, ymin, xmax, ymax]` of all contours and markers, mm.
     #[must_use]
     pub fn bbox_mm(&self) -> [f64; 4] {
-        let mut b = [
-            f64::INFINITY,
-            f64::INFINITY,
-            f64::NEG_INFINITY,
-            f64::NEG_INFINITY,
-        ];
-        let pts = self
-            .contours
-            .iter()
-            .flat_map(|c| c.points_mm.iter())
-            .chain(self.markers.iter().map(|m| &m.at_mm));
-        for p in pts {
-            b = [
-                b[0].min(p[0]),
-                b[1].min(p[1]),
-                b[2].max(p[0]),
-                b[3].max(p[1]),
-            ];
-        }
-        b
+        crate::math::polyline::bbox(
+            self.contours
+                .iter()
+                .flat_map(|c| c.points_mm.iter())
+                .chain(self.markers.iter().map(|m| &m.at_mm)),
+        )
     }
 
     pub(crate) fn validate(&self) -> Result<(), ExportError> {

@@ -213,6 +213,26 @@ impl<'a> SegmentGrid<'a> {
     }
 }
 
+/// Bounding box `[xmin, ymin, xmax, ymax]` of `pts`, mm (infinite, inverted, when empty).
+pub fn bbox<'a>(pts: impl IntoIterator<Item = &'a [f64; 2]>) -> [f64; 4] {
+    pts.into_iter().fold(
+        [
+            f64::INFINITY,
+            f64::INFINITY,
+            f64::NEG_INFINITY,
+            f64::NEG_INFINITY,
+        ],
+        |b, p| {
+            [
+                b[0].min(p[0]),
+                b[1].min(p[1]),
+                b[2].max(p[0]),
+                b[3].max(p[1]),
+            ]
+        },
+    )
+}
+
 /// The point of the segment `ab` nearest to `x` and its distance, mm.
 #[must_use]
 pub fn seg_nearest(x: [f64; 2], a: [f64; 2], b: [f64; 2]) -> ([f64; 2], f64) {
