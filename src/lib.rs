@@ -62,6 +62,7 @@ pub mod bounds;
 pub mod config;
 pub mod design;
 pub mod export;
+pub mod files;
 pub mod geometry;
 pub mod math;
 pub mod output;

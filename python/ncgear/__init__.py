@@ -45,8 +45,30 @@ def _placements(rows) -> Dict[str, Dict[str, Any]]:
     }
 
 
+class _Verified:
+    """A result with a ``verdict`` (``{"passed": bool, "failures": [str]}``)."""
+
+    verdict: Dict[str, Any]
+
+    @property
+    def passed(self) -> bool:
+        """Whether the result passed its verification (``verdict["passed"]``)."""
+        return bool(self.verdict["passed"])
+
+
+class _Reported(_Verified):
+    """A result whose ``report`` carries its ``verdict``."""
+
+    report: Dict[str, Any]
+
+    @property
+    def verdict(self) -> Dict[str, Any]:  # type: ignore[override]
+        """``{"passed": bool, "failures": [str]}`` of the report."""
+        return self.report["verdict"]
+
+
 @dataclass(frozen=True)
-class Design:
+class Design(_Reported):
     """A designed train: arm lengths, pitch curves (body frames, mm) and the report.
 
     ``report`` holds the keys and numbers of the CLI's ``design.json``; ``deviations`` is the
@@ -60,19 +82,9 @@ class Design:
     deviations: np.ndarray
     _h: Any = field(repr=False, compare=False)
 
-    @property
-    def verdict(self) -> Dict[str, Any]:
-        """``{"passed": bool, "failures": [str]}``: every check C1–C12 passed, or what failed."""
-        return self.report["verdict"]
-
-    @property
-    def passed(self) -> bool:
-        """Whether the design passed its verification (``verdict["passed"]``)."""
-        return bool(self.verdict["passed"])
-
 
 @dataclass(frozen=True)
-class Train:
+class Train(_Verified):
     """Teeth on a design: outlines (body frames, mm, as exported), placements at carrier angle 0
     (``arm1_*``, ``arm2_*``; centres mm, angles rad) and the ``teeth`` report block."""
 
@@ -85,14 +97,9 @@ class Train:
     """``{"passed": bool, "failures": [str]}`` of both meshes (no interference, finite
     non-negative backlash)."""
 
-    @property
-    def passed(self) -> bool:
-        """Whether both meshes passed their verification."""
-        return bool(self.verdict["passed"])
-
 
 @dataclass(frozen=True)
-class Pair:
+class Pair(_Reported):
     """A single toothed pair: driver and driven outlines (body frames, mm), their placements at
     the start (driver at the origin, driven at ``(a, 0)``) and the report."""
 
@@ -100,16 +107,6 @@ class Pair:
     placements: Dict[str, Dict[str, Any]]
     report: Dict[str, Any]
     _h: Any = field(repr=False, compare=False)
-
-    @property
-    def verdict(self) -> Dict[str, Any]:
-        """``{"passed": bool, "failures": [str]}`` of the mesh verification."""
-        return self.report["verdict"]
-
-    @property
-    def passed(self) -> bool:
-        """Whether the pair passed its mesh verification."""
-        return bool(self.verdict["passed"])
 
 
 def design(

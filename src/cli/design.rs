@@ -254,8 +254,9 @@ pub fn run(args: Args) -> CliResult {
     let pb = super::spinner("designing the gears");
     let d = design(&traj, &opts).map_err(|e| design_failure(&file, &e));
     pb.finish_and_clear();
-    let d = d?;
-    let mut d = d;
+    let mut d = d?;
+    // The report is written last; an earlier run's goes before any file (ncgear::files).
+    super::remove_stale_report(&args.out.join("design.json"))?;
     let mut files = ncgear::output::DesignFiles::default();
     files.png = args.png;
     let mut teeth_files = Vec::new();
@@ -514,14 +515,10 @@ fn teeth_options(args: &Args, module_mm: f64) -> Result<TrainTeethOptions, super
     opts.wire_edm = args.wire_edm;
     args.rack
         .apply_to(&mut opts.toothing)
-        .map_err(|e| input_error(miette::miette!("{e}")))?;
-    opts.toothing.validate().map_err(|e| match &e {
-        ncgear::teeth::TeethError::Bounds(b) => super::option_error(Some(&b.quantity), &e),
-        ncgear::teeth::TeethError::InvalidParameter { name, .. } => {
-            super::option_error(Some(name), &e)
-        }
-        _ => input_error(miette::miette!("{e}")),
-    })?;
+        .map_err(super::teeth_args::option_failure)?;
+    opts.toothing
+        .validate()
+        .map_err(super::teeth_args::option_failure)?;
     if let Some(z) = args.teeth {
         ncgear::bounds::check_teeth("teeth", z)
             .map_err(|e| super::option_error(Some("teeth"), e))?;

@@ -146,18 +146,20 @@ pub fn run(args: Args) -> CliResult {
         dir: &args.out,
         ext: format,
     };
-    // The report, whatever the path: --out always gets it.
+    // The report, whatever the path (--out always gets it), written last; an earlier run's
+    // goes first (ncgear::files).
     let json_path = args.out.join("dynamics.json");
-    let text = ncgear::output::json::to_string(&report)
-        .map_err(|e| runtime_error(miette::miette!("{e}")))?;
-    std::fs::write(&json_path, text)
-        .map_err(|e| runtime_error(miette::miette!("cannot write {}: {e}", json_path.display())))?;
+    super::remove_stale_report(&json_path)?;
     if let (Some(up), Some(down)) = (&report.sweep_up, &report.sweep_down) {
         write_sweep(&out, &prepared, up, down)?;
     }
     if let (Some(summary), Some(rec)) = (&report.run, &report.recording) {
         write_run(&out, &prepared, summary, rec)?;
     }
+    let text = ncgear::output::json::to_string(&report)
+        .map_err(|e| runtime_error(miette::miette!("{e}")))?;
+    ncgear::files::write_whole(&json_path, text)
+        .map_err(|e| runtime_error(miette::miette!("cannot write {}: {e}", json_path.display())))?;
     if args.json {
         print_json(&report)?;
     }

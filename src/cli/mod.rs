@@ -84,6 +84,10 @@ pub fn flag_of(option: &str) -> Option<&'static str> {
         "min_concave_radius_mm" => "--min-concave-radius",
         "min_convex_radius_mm" => "--min-convex-radius",
         "module_mm" => "--module",
+        "pressure_angle_deg" => "--pressure-angle",
+        "addendum" => "--addendum",
+        "clearance" => "--clearance",
+        "fillet" => "--fillet",
         "refine_order" => "--refine-order",
         "chord_tol_mm" => "--chord-tol",
         "verify_steps" | "verify_steps × driver turns per cycle" => "--verify-steps",
@@ -94,6 +98,14 @@ pub fn flag_of(option: &str) -> Option<&'static str> {
         "face_width" => "--face-width",
         _ => return None,
     })
+}
+
+/// Removes an earlier run's report at `path` before the first file of this run: the report is
+/// written last, so files of two runs never sit beside a report that vouches for them
+/// ([`ncgear::files`]).
+pub fn remove_stale_report(path: &std::path::Path) -> CliResult {
+    ncgear::files::remove_stale(path)
+        .map_err(|e| runtime_error(miette::miette!("cannot remove {}: {e}", path.display())))
 }
 
 /// The bad-input failure of a library error naming the option `field`: the error, and the flag

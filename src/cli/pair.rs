@@ -96,7 +96,7 @@ pub fn run(args: Args) -> CliResult {
     opts.toothing.verify_steps = args.verify_steps;
     args.rack
         .apply_to(&mut opts.toothing)
-        .map_err(input_error)?;
+        .map_err(super::teeth_args::option_failure)?;
     let to_failure = |e: PairError| match &e {
         PairError::Teeth(ncgear::teeth::TeethError::Bounds(b)) | PairError::Bounds(b) => {
             super::option_error(Some(&b.quantity), &e)
@@ -110,6 +110,9 @@ pub fn run(args: Args) -> CliResult {
     let t_design = super::ms_since(started);
     std::fs::create_dir_all(&args.out)
         .map_err(|e| runtime_error(format!("cannot create {}: {e}", args.out.display())))?;
+    // The report is written last; an earlier run's goes first (ncgear::files).
+    let json_path = args.out.join("pair.json");
+    super::remove_stale_report(&json_path)?;
     let sheet = design.assembly_sheet();
     let version = DxfVersion::from(args.rack.dxf_version);
     let dxf = args.out.join("pair.dxf");
@@ -185,8 +188,7 @@ pub fn run(args: Args) -> CliResult {
             "command": super::ms_since(started),
         },
     });
-    let json_path = args.out.join("pair.json");
-    std::fs::write(
+    ncgear::files::write_whole(
         &json_path,
         ncgear::output::json::to_string(&report).unwrap_or_default(),
     )

@@ -110,13 +110,16 @@ pub fn run(args: Args) -> CliResult {
         }
         None => Simulation::new(asm),
     };
+    // The report is written last; an earlier run's goes first (ncgear::files).
+    let json_path = args.out.join("simulate.json");
+    super::remove_stale_report(&json_path)?;
     let report = write_simulation(&sim, &target, &opts, &anim, &args.out).map_err(|e| match e {
         SimulateError::BadOption { option: "out", .. } => runtime_error(miette::miette!("{e}")),
         _ => input(e),
     })?;
     let json = ncgear::output::json::to_string(&report)
         .map_err(|e| runtime_error(miette::miette!("{e}")))?;
-    std::fs::write(args.out.join("simulate.json"), &json)
+    ncgear::files::write_whole(&json_path, &json)
         .map_err(|e| runtime_error(miette::miette!("cannot write simulate.json: {e}")))?;
     if args.json {
         return print_json(&report);

@@ -219,3 +219,15 @@ pub fn process_line(p: &ncgear::teeth::process::GearProcess) -> String {
         ),
     }
 }
+
+/// The bad-input failure of a tooth option the library refused: the error, and the flag that
+/// sets the option when there is one (exit 2).
+pub fn option_failure(e: ncgear::teeth::TeethError) -> super::Failure {
+    match &e {
+        ncgear::teeth::TeethError::Bounds(b) => super::option_error(Some(&b.quantity), &e),
+        ncgear::teeth::TeethError::InvalidParameter { name, .. } => {
+            super::option_error(Some(name), &e)
+        }
+        _ => super::input_error(miette::miette!("{e}")),
+    }
+}

@@ -66,7 +66,8 @@ pub fn run(args: Args) -> CliResult {
     })?;
     pb.finish_and_clear();
     create_dir(&args.out)?;
-    write_json(&args.out.join("tolerance.json"), &report)?;
+    let json_path = args.out.join("tolerance.json");
+    super::remove_stale_report(&json_path)?;
     if let Some(s) = &report.monte_carlo_arcsec {
         line_chart(
             &args.out.join("histogram.png"),
@@ -87,6 +88,7 @@ pub fn run(args: Args) -> CliResult {
         )
         .map_err(|e| runtime_error(miette::miette!("{e}")))?;
     }
+    write_json(&json_path, &report)?;
     if args.json {
         return print_json(&report);
     }
@@ -147,7 +149,7 @@ fn create_dir(dir: &Path) -> CliResult {
 fn write_json(path: &Path, value: &impl serde::Serialize) -> CliResult {
     let json = ncgear::output::json::to_string(value)
         .map_err(|e| runtime_error(miette::miette!("{e}")))?;
-    std::fs::write(path, json)
+    ncgear::files::write_whole(path, json)
         .map_err(|e| runtime_error(miette::miette!("cannot write {}: {e}", path.display())))
 }
 
@@ -191,8 +193,10 @@ fn run_transplanter(args: &Args, inventory: &Path) -> CliResult {
     )?;
     pb.finish_and_clear();
     create_dir(&args.out)?;
-    write_json(&args.out.join("transplanter.json"), &report)?;
+    let json_path = args.out.join("transplanter.json");
+    super::remove_stale_report(&json_path)?;
     transplanter_plots(&report, &args.out)?;
+    write_json(&json_path, &report)?;
     if args.json {
         return print_json(&report);
     }

@@ -111,12 +111,17 @@ pub fn write_dxf(
         .collect();
     match version {
         DxfVersion::R2010 => {
-            r2010(sheet, simplified)
-                .save_file(path)
-                .map_err(|e| ExportError::Dxf {
-                    path: path.display().to_string(),
-                    message: e.to_string(),
-                })
+            let drawing = r2010(sheet, simplified);
+            crate::files::write_whole_with(
+                path,
+                |tmp| {
+                    drawing.save_file(tmp).map_err(|e| ExportError::Dxf {
+                        path: path.display().to_string(),
+                        message: e.to_string(),
+                    })
+                },
+                |e| io_err(path, e),
+            )
         }
         DxfVersion::R12 => {
             let mut s = String::new();
@@ -174,7 +179,7 @@ pub fn write_dxf(
             }
             pair(0, "ENDSEC");
             pair(0, "EOF");
-            std::fs::write(path, s).map_err(|e| io_err(path, e))
+            crate::files::write_whole(path, s).map_err(|e| io_err(path, e))
         }
     }
 }

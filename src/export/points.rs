@@ -17,11 +17,11 @@ pub fn write_points(sheet: &Sheet, dir: &Path, name: &str) -> Result<Vec<PathBuf
             let _ = writeln!(txt, "{:.9} {:.9} 0", p[0], p[1]);
         }
         let path = dir.join(format!("{}.txt", c.name));
-        std::fs::write(&path, txt).map_err(|e| io_err(&path, e))?;
+        crate::files::write_whole(&path, txt).map_err(|e| io_err(&path, e))?;
         paths.push(path);
     }
     let path = dir.join(format!("{name}.csv"));
-    std::fs::write(&path, csv).map_err(|e| io_err(&path, e))?;
+    crate::files::write_whole(&path, csv).map_err(|e| io_err(&path, e))?;
     paths.push(path);
     Ok(paths)
 }

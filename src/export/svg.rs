@@ -82,5 +82,5 @@ pub fn to_svg_string(sheet: &Sheet, margin_mm: f64) -> String {
 /// Writes the SVG file.
 pub fn write_svg(sheet: &Sheet, path: &Path, margin_mm: f64) -> Result<(), ExportError> {
     sheet.validate()?;
-    std::fs::write(path, to_svg_string(sheet, margin_mm)).map_err(|e| io_err(path, e))
+    crate::files::write_whole(path, to_svg_string(sheet, margin_mm)).map_err(|e| io_err(path, e))
 }

@@ -1,7 +1,7 @@
 //! Files written by `ncgear design`: `design.json`, the pitch tables (CSV, mm and degrees), the
 //! traced path, the mechanism preview and the ratio plot.
 
-use super::error::{OutputError, create_dir, write};
+use super::error::{OutputError, create_dir, remove_stale, write};
 use super::fixed::Fixed;
 use super::mechanism_preview::{mechanism_chart, mechanism_svg};
 use super::plot::{ChartLabels, Series, line_chart};
@@ -40,7 +40,9 @@ pub struct DesignFiles {
 }
 
 /// Writes the design outputs into `dir` (created if needed): `design.json`, the three pitch
-/// tables, `traced.csv`, `design.svg` and `ratio.svg`; returns the paths written.
+/// tables, `traced.csv`, `design.svg` and `ratio.svg`; returns the paths written. Each file is
+/// written whole, `design.json` last (an earlier one removed first): an interrupted run leaves
+/// no report ([`crate::files`]).
 pub fn write_design(design: &Design, dir: &Path) -> Result<Vec<PathBuf>, OutputError> {
     write_design_with(design, dir, DesignFiles::default())
 }
@@ -66,17 +68,11 @@ pub fn write_design_with(
         })
         .collect();
     type Job<'a> = Box<dyn Fn(&Path) -> Result<(), OutputError> + Sync + 'a>;
+    // The report vouches for the files beside it: an earlier run's goes first, the new one is
+    // written last ([`crate::files`]).
+    let report = dir.join("design.json");
+    remove_stale(&report)?;
     let mut jobs: Vec<(&str, Job<'_>)> = vec![
-        (
-            "design.json",
-            Box::new(|p| {
-                let json = super::json::to_string(&design.report).map_err(|e| OutputError::Io {
-                    path: "design.json".into(),
-                    message: e.to_string(),
-                })?;
-                write(p, &json)
-            }),
-        ),
         ("sun.csv", Box::new(|p| write(p, &pitch_csv(&asm.sun, n)))),
         (
             "intermediate.csv",
@@ -119,14 +115,22 @@ pub fn write_design_with(
     }
     // The files are independent: formatted and written side by side (rayon); the list keeps
     // this order, and the first error in it is returned.
-    jobs.par_iter()
+    let written: Result<Vec<PathBuf>, OutputError> = jobs
+        .par_iter()
         .map(|(name, job)| {
             let p = dir.join(name);
             job(&p).map(|()| p)
         })
         .collect::<Vec<_>>()
         .into_iter()
-        .collect()
+        .collect();
+    let written = written?;
+    let json = super::json::to_string(&design.report).map_err(|e| OutputError::Io {
+        path: "design.json".into(),
+        message: e.to_string(),
+    })?;
+    write(&report, &json)?;
+    Ok(std::iter::once(report).chain(written).collect())
 }
 
 /// Plot of i21 and i31 against the sun angle / carrier angle (degrees after the reference ray).

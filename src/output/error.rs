@@ -24,7 +24,15 @@ pub enum OutputError {
 
 /// Writes `text` to `path`.
 pub(super) fn write(path: &Path, text: &str) -> Result<(), OutputError> {
-    std::fs::write(path, text).map_err(|e| OutputError::Io {
+    crate::files::write_whole(path, text).map_err(|e| OutputError::Io {
+        path: path.display().to_string(),
+        message: e.to_string(),
+    })
+}
+
+/// Removes an earlier run's report at `path` ([`crate::files::remove_stale`]).
+pub(super) fn remove_stale(path: &Path) -> Result<(), OutputError> {
+    crate::files::remove_stale(path).map_err(|e| OutputError::Io {
         path: path.display().to_string(),
         message: e.to_string(),
     })

@@ -103,13 +103,21 @@ pub fn line_chart(
         .extension()
         .is_some_and(|e| e.eq_ignore_ascii_case("png"));
     let panels = [(labels.clone(), series.to_vec())];
-    if is_png {
-        let root = BitMapBackend::new(path, size_px).into_drawing_area();
-        draw(root, &panels).map_err(err)
-    } else {
-        let root = SVGBackend::new(path, size_px).into_drawing_area();
-        draw(root, &panels).map_err(err)
-    }
+    crate::files::write_whole_with(
+        path,
+        |tmp| {
+            if is_png {
+                draw(
+                    BitMapBackend::new(tmp, size_px).into_drawing_area(),
+                    &panels,
+                )
+            } else {
+                draw(SVGBackend::new(tmp, size_px).into_drawing_area(), &panels)
+            }
+        },
+        |e| e.to_string(),
+    )
+    .map_err(err)
 }
 
 /// Writes charts side by side (one panel each, left to right) to one SVG file at `path`. Size
@@ -120,8 +128,12 @@ pub fn panels_svg(
     size_px: (u32, u32),
 ) -> Result<(), PlotError> {
     register_font();
-    let root = SVGBackend::new(path, size_px).into_drawing_area();
-    draw(root, panels).map_err(|message| PlotError {
+    crate::files::write_whole_with(
+        path,
+        |tmp| draw(SVGBackend::new(tmp, size_px).into_drawing_area(), panels),
+        |e| e.to_string(),
+    )
+    .map_err(|message| PlotError {
         path: path.display().to_string(),
         message,
     })

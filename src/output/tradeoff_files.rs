@@ -1,7 +1,7 @@
 //! Files written by `ncgear tradeoff`: `tradeoff.json`, `tradeoff.md` (the table, no times) and
 //! `tradeoff.svg` (deviation against the pressure-angle limit and against the module).
 
-use super::error::{OutputError, create_dir, write};
+use super::error::{OutputError, create_dir, remove_stale, write};
 use super::plot::{ChartLabels, Series, panels_svg};
 use crate::design::tradeoff::{RowNumbers, TradeOff, TradeOffRow};
 use std::path::{Path, PathBuf};
@@ -18,9 +18,11 @@ pub fn write_tradeoff(t: &TradeOff, dir: &Path) -> Result<Vec<PathBuf>, OutputEr
         .iter()
         .map(|f| dir.join(f))
         .collect();
-    write(&paths[0], &json)?;
+    // The report last, an earlier run's removed first ([`crate::files`]).
+    remove_stale(&paths[0])?;
     write(&paths[1], &t.markdown(false))?;
     tradeoff_plot(t, &paths[2])?;
+    write(&paths[0], &json)?;
     Ok(paths)
 }
 

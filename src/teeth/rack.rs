@@ -61,8 +61,13 @@ fn check(
     }
 }
 
+/// Smallest rack pressure angle, degrees: below it the undercut limit `2/sin²α` exceeds 66 teeth
+/// and the rack cuts the flanks of a usual gear away.
+pub const MIN_PRESSURE_ANGLE_DEG: f64 = 10.0;
+
 impl RackParams {
-    /// A validated rack. `alpha_rad` ∈ (0, π/4]; `addendum` ha* > 0; `clearance` c* ≥ 0;
+    /// A validated rack. `alpha_rad` ∈ [10°, 45°] (`MIN_PRESSURE_ANGLE_DEG`); `addendum` ha* > 0;
+    /// `clearance` c* ≥ 0;
     /// `fillet` ρf* ≥ 0 with the fillet fitting in the dedendum: `ρf*(1 − sin α) < ha* + c*`.
     pub fn new(
         alpha_rad: f64,
@@ -70,11 +75,13 @@ impl RackParams {
         clearance: f64,
         fillet: f64,
     ) -> Result<Self, TeethError> {
+        let alpha_deg = alpha_rad.to_degrees();
         check(
-            "alpha_rad",
-            alpha_rad,
-            alpha_rad > 0.0 && alpha_rad <= std::f64::consts::FRAC_PI_4,
-            "in (0, 45°]",
+            "pressure_angle_deg",
+            alpha_deg,
+            (MIN_PRESSURE_ANGLE_DEG..=45.0).contains(&alpha_deg),
+            "in [10°, 45°]: below 10° a rack undercuts every gear of fewer than 2/sin²α ≈ 66 \
+             teeth so deeply that whole flanks vanish (standard racks: 14.5°–25°)",
         )?;
         check(
             "addendum",

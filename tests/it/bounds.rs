@@ -37,7 +37,7 @@ fn options_outside_their_range_are_refused_before_any_work() {
     let o = out.to_str().unwrap();
     let g1 = asset("trajectories/g1_ellipse.csv");
     let g1 = g1.to_str().unwrap();
-    let cases: [(&[&str], &str); 9] = [
+    let cases: [(&[&str], &str); 10] = [
         (
             &[
                 "pair",
@@ -93,6 +93,10 @@ fn options_outside_their_range_are_refused_before_any_work() {
         (&["design", g1, "--bore", "3"], "--module"),
         (&["design", g1, "--k-max", "100000000"], "--k-max"),
         (&["design", g1, "--samples", "1000000000"], "--samples"),
+        (
+            &["pair", LAW, "--teeth", "20", "--pressure-angle", "1"],
+            "[10°, 45°]: below 10° a rack undercuts every gear of fewer than 2/sin²α ≈ 66 teeth so deeply that whole flanks vanish (standard racks: 14.5°–25°) help: set by --pressure-angle",
+        ),
     ];
     for (args, names) in cases {
         let mut full = args.to_vec();
@@ -225,4 +229,43 @@ fn a_law_beginning_with_a_minus_sign_is_read_as_the_law() {
     ]);
     assert_eq!(code, Some(0), "{err}");
     assert!(out.join("pair.json").exists());
+}
+
+/// Every file is written whole under its name and the report last: a run leaves no temporary
+/// (`.partial-*`) file, and a report of an earlier run in the same directory is replaced by this
+/// run's, never left beside the new files.
+#[test]
+fn files_are_written_whole_and_the_report_replaces_an_earlier_one() {
+    let out = out_dir("whole");
+    std::fs::create_dir_all(&out).unwrap();
+    let report = out.join("pair.json");
+    std::fs::write(&report, "{\"from\": \"an earlier run\"}").unwrap();
+    let (code, err) = run(&["pair", LAW, "--teeth", "20", "--out", out.to_str().unwrap()]);
+    assert_eq!(code, Some(0), "{err}");
+    let text = std::fs::read_to_string(&report).unwrap();
+    let v: serde_json::Value = serde_json::from_str(&text).unwrap();
+    assert_eq!(
+        v["verdict"]["passed"],
+        serde_json::Value::Bool(true),
+        "{text}"
+    );
+    let mut left = Vec::new();
+    let mut dirs = vec![out.clone()];
+    while let Some(d) = dirs.pop() {
+        for e in std::fs::read_dir(&d).unwrap() {
+            let p = e.unwrap().path();
+            if p.is_dir() {
+                dirs.push(p);
+            } else if p
+                .file_name()
+                .unwrap()
+                .to_string_lossy()
+                .starts_with(".partial-")
+            {
+                left.push(p);
+            }
+        }
+    }
+    assert!(left.is_empty(), "temporary files left: {left:?}");
+    assert!(out.join("pair.step").exists() && out.join("pair.dxf").exists());
 }

@@ -207,11 +207,17 @@ impl Prepared {
         } else if let Some(up) = &options.sweep {
             let (s, f, o) = (&self.scene, self.file.as_str(), &self.options);
             let down: Vec<f64> = up.iter().rev().copied().collect();
-            let res_up = sweep(s, f, up, o, None, progress)?;
-            let start = res_up.len() as u64;
-            let res_down = sweep(s, f, &down, o, None, &|k| progress(start + k))?;
-            report.sweep_up = Some(res_up);
-            report.sweep_down = Some(res_down);
+            // Both sweeps start from the static state: they run side by side (each in order,
+            // so the same numbers for any thread count); `progress` counts the points of both.
+            let done = std::sync::atomic::AtomicU64::new(0);
+            let tick =
+                |_: u64| progress(done.fetch_add(1, std::sync::atomic::Ordering::Relaxed) + 1);
+            let (res_up, res_down) = rayon::join(
+                || sweep(s, f, up, o, None, &tick),
+                || sweep(s, f, &down, o, None, &tick),
+            );
+            report.sweep_up = Some(res_up?);
+            report.sweep_down = Some(res_down?);
         } else {
             let (summary, recording) = self.record(progress)?;
             report.run = Some(summary);

@@ -3,7 +3,7 @@
 //! judged.
 
 use super::FitOptions;
-use super::curve::{coverage, curve_evals, normal_residual, point_row, project};
+use super::curve::{TipEval, coverage, curve_evals, normal_residual, point_row, project};
 use crate::geometry::fourier::SunRatio;
 use crate::geometry::limits::{PROJECTION_MARGIN, constraint_gradients, constraint_values};
 use crate::geometry::mechanism::Mechanism;
@@ -51,6 +51,26 @@ const PENALTY_MARGIN: f64 = 3.0 * PROJECTION_MARGIN;
 /// Carrier angles at which the traced curve is held to the target (coverage rows).
 pub(super) const COVERAGE_SAMPLES: usize = 256;
 
+/// A limit-penalty row in force at one evaluation.
+struct ActiveLimit {
+    /// Row within the limit block (`sample·LIMIT_ROWS + constraint`).
+    row: usize,
+    /// Sample angle, rad.
+    theta: f64,
+    /// The ratio's `[i, i′, i″]` there.
+    values: [f64; 3],
+    /// The constraint value (negative: inside the penalty margin or beyond).
+    value: f64,
+}
+
+/// What the Jacobian of one evaluation needs: each point's projection and normal, each coverage
+/// sample with its excess and direction, the limit rows in force.
+struct Linearisation {
+    points: Vec<(TipEval, [f64; 2])>,
+    coverage: Vec<(TipEval, f64, [f64; 2])>,
+    active: Vec<ActiveLimit>,
+}
+
 pub(super) struct Lm<'a> {
     pub(super) pts: &'a [[f64; 2]],
     pub(super) k: usize,
@@ -66,118 +86,153 @@ impl Lm<'_> {
         self.pts.len() + COVERAGE_SAMPLES + LIMIT_SAMPLES * LIMIT_ROWS + 2 * self.k
     }
 
-    /// Residuals at `m` (points projected from `phis`, updated in place); with `jac`, also the
-    /// Jacobian.
-    fn evaluate(
-        &self,
-        m: &Mechanism,
-        phis: &mut [f64],
-        jac: Option<&mut DMatrix<f64>>,
-    ) -> DVector<f64> {
-        let k = self.k;
-        let np = if jac.is_some() { 4 + 2 * k } else { 0 };
-        let rows: Vec<(f64, f64, Vec<f64>)> = self
+    /// Residuals at `m` (points projected from `phis`, updated in place), with what their
+    /// Jacobian needs ([`Self::jacobian`], asked for only where a step is accepted: three trials
+    /// in four are rejected, and their rows would be thrown away).
+    fn evaluate(&self, m: &Mechanism, phis: &mut [f64]) -> (DVector<f64>, Linearisation) {
+        let mut r = DVector::zeros(self.n_rows());
+        let projected: Vec<(f64, f64, TipEval, [f64; 2])> = self
             .pts
             .par_iter()
             .zip(phis.par_iter())
             .map(|(p, &phi0)| {
                 let (phi, e) = project(m, *p, phi0);
                 let (d, n) = normal_residual(&e, *p);
-                let mut row = vec![0.0; np];
-                if !row.is_empty() {
-                    point_row(m, &e, n, &mut row);
-                }
-                (phi, d, row)
+                (phi, d, e, n)
             })
             .collect();
-        let mut r = DVector::zeros(self.n_rows());
-        let mut j = jac;
-        let weighted: Vec<(f64, Vec<f64>)> = rows
-            .into_iter()
-            .enumerate()
-            .map(|(idx, (phi, d, row))| {
-                let w = self.weights.map_or(1.0, |w| w[idx]);
-                phis[idx] = phi;
-                (w * d, row.into_iter().map(|v| w * v).collect())
-            })
-            .collect();
-        put_rows(&mut r, j.as_deref_mut(), 0, weighted);
+        let mut points = Vec::with_capacity(projected.len());
+        for (idx, (phi, d, e, n)) in projected.into_iter().enumerate() {
+            phis[idx] = phi;
+            r[idx] = self.weight(idx) * d;
+            points.push((e, n));
+        }
         // Coverage: the traced curve may not leave the target where no point watches it (a
         // one-sided point-to-curve fit would allow a loop between two points).
         let m0 = self.pts.len();
-        let cov: Vec<(f64, Vec<f64>)> = curve_evals(m, COVERAGE_SAMPLES)
+        let coverage: Vec<(TipEval, f64, [f64; 2])> = curve_evals(m, COVERAGE_SAMPLES)
             .into_par_iter()
             .map(|e| {
                 let (excess, u) = coverage(self.grid, &e);
-                let mut row = vec![0.0; np];
-                if !row.is_empty() && excess > 0.0 {
-                    point_row(m, &e, [-u[0], -u[1]], &mut row);
-                }
-                (excess, row)
+                (e, excess, u)
             })
             .collect();
-        put_rows(&mut r, j.as_deref_mut(), m0, cov);
+        for (i, (_, excess, _)) in coverage.iter().enumerate() {
+            r[m0 + i] = *excess;
+        }
         let m0 = m0 + COVERAGE_SAMPLES;
         // Limit penalty: w·max(0, −g) for each constraint value g of the gear limits (ratio
         // bounds, pressure angle, concave radius) at LIMIT_SAMPLES angles, active a little inside
         // the limits so the projection of the trials rarely has to act.
-        let w = 10.0 * m.l3_mm.abs().max(1.0);
+        let w = self.limit_weight(m);
         let limits = &self.opts.limits;
-        let rows: Vec<(usize, f64, Vec<f64>)> = (0..LIMIT_SAMPLES)
+        let active: Vec<ActiveLimit> = (0..LIMIT_SAMPLES)
             .into_par_iter()
             .flat_map_iter(|b| {
                 let th = TAU * b as f64 / LIMIT_SAMPLES as f64;
                 let v = m.ratio.eval3(th);
                 let g = constraint_values(limits, v, m.a_mm, PENALTY_MARGIN);
-                let active: Vec<usize> = (0..LIMIT_ROWS).filter(|&c| g[c] < 0.0).collect();
-                let grads =
-                    (!active.is_empty() && np > 0).then(|| constraint_gradients(limits, v, m.a_mm));
-                active.into_iter().map(move |c| {
-                    let mut row = vec![0.0; np];
-                    if let Some(gr) = &grads {
-                        let [gi, gd, gdd, ga] = gr[c];
-                        row[0] = -w * ga;
-                        let (s1, c1) = th.sin_cos();
-                        let (mut sn, mut cs) = (s1, c1);
-                        for kk in 0..k {
-                            let kf = (kk + 1) as f64;
-                            if kk > 0 {
-                                (sn, cs) = (sn * c1 + cs * s1, cs * c1 - sn * s1);
-                            }
-                            row[4 + kk] = -w * (gi * cs - gd * kf * sn - gdd * kf * kf * cs);
-                            row[4 + k + kk] = -w * (gi * sn + gd * kf * cs - gdd * kf * kf * sn);
-                        }
-                    }
-                    (b * LIMIT_ROWS + c, -w * g[c], row)
-                })
+                (0..LIMIT_ROWS)
+                    .filter(move |&c| g[c] < 0.0)
+                    .map(move |c| ActiveLimit {
+                        row: b * LIMIT_ROWS + c,
+                        theta: th,
+                        values: v,
+                        value: g[c],
+                    })
             })
             .collect();
-        if let Some(j) = j.as_deref_mut() {
-            // Inactive rows are zero (the matrix is reused between evaluations).
-            j.rows_mut(m0, LIMIT_SAMPLES * LIMIT_ROWS).fill(0.0);
-        }
-        for (idx, value, row) in rows {
-            r[m0 + idx] = value;
-            if let Some(j) = j.as_deref_mut() {
-                for (c, v) in row.into_iter().enumerate() {
-                    j[(m0 + idx, c)] = v;
-                }
-            }
+        for a in &active {
+            r[m0 + a.row] = -w * a.value;
         }
         // Smoothness: √λ·l3·k²·(a_k, b_k).
         let ws = self.opts.smoothness * m.l3_mm.abs();
         let (ca, cb) = (m.ratio.cos_coefficients(), m.ratio.sin_coefficients());
-        for kk in 0..k {
+        for kk in 0..self.k {
             let h = ((kk + 1) * (kk + 1)) as f64 * ws;
             let row = m0 + LIMIT_SAMPLES * LIMIT_ROWS + 2 * kk;
             r[row] = h * ca[kk];
             r[row + 1] = h * cb[kk];
-            if let Some(j) = j.as_deref_mut() {
-                j[(row, 4 + kk)] = h;
-                j[(row + 1, 4 + k + kk)] = h;
+        }
+        let lin = Linearisation {
+            points,
+            coverage,
+            active,
+        };
+        (r, lin)
+    }
+
+    /// Square root of point `idx`'s weight (1 without weights).
+    fn weight(&self, idx: usize) -> f64 {
+        self.weights.map_or(1.0, |w| w[idx])
+    }
+
+    /// Weight of the limit-penalty rows, `10·l3` (mm per unit of constraint value).
+    fn limit_weight(&self, m: &Mechanism) -> f64 {
+        10.0 * m.l3_mm.abs().max(1.0)
+    }
+
+    /// The Jacobian of [`Self::evaluate`]'s residuals at `m` into `j` (every row rewritten).
+    fn jacobian(&self, m: &Mechanism, lin: &Linearisation, j: &mut DMatrix<f64>) {
+        let k = self.k;
+        let np = 4 + 2 * k;
+        let point_rows: Vec<Vec<f64>> = lin
+            .points
+            .par_iter()
+            .enumerate()
+            .map(|(idx, (e, n))| {
+                let mut row = vec![0.0; np];
+                point_row(m, e, *n, &mut row);
+                let w = self.weight(idx);
+                row.iter_mut().for_each(|v| *v *= w);
+                row
+            })
+            .collect();
+        let coverage_rows: Vec<Vec<f64>> = lin
+            .coverage
+            .par_iter()
+            .map(|(e, excess, u)| {
+                let mut row = vec![0.0; np];
+                if *excess > 0.0 {
+                    point_row(m, e, [-u[0], -u[1]], &mut row);
+                }
+                row
+            })
+            .collect();
+        for (i, row) in point_rows.into_iter().chain(coverage_rows).enumerate() {
+            for (c, v) in row.into_iter().enumerate() {
+                j[(i, c)] = v;
             }
         }
-        if let (Some(_), Some(j)) = (self.opts.perimeter_mm, j) {
+        let m0 = self.pts.len() + COVERAGE_SAMPLES;
+        // Inactive rows are zero (the matrix is reused between evaluations).
+        j.rows_mut(m0, LIMIT_SAMPLES * LIMIT_ROWS).fill(0.0);
+        let w = self.limit_weight(m);
+        let limits = &self.opts.limits;
+        for a in &lin.active {
+            let c = a.row % LIMIT_ROWS;
+            let [gi, gd, gdd, ga] = constraint_gradients(limits, a.values, m.a_mm)[c];
+            let row = m0 + a.row;
+            j[(row, 0)] = -w * ga;
+            let (s1, c1) = a.theta.sin_cos();
+            let (mut sn, mut cs) = (s1, c1);
+            for kk in 0..k {
+                let kf = (kk + 1) as f64;
+                if kk > 0 {
+                    (sn, cs) = (sn * c1 + cs * s1, cs * c1 - sn * s1);
+                }
+                j[(row, 4 + kk)] = -w * (gi * cs - gd * kf * sn - gdd * kf * kf * cs);
+                j[(row, 4 + k + kk)] = -w * (gi * sn + gd * kf * cs - gdd * kf * kf * sn);
+            }
+        }
+        let ws = self.opts.smoothness * m.l3_mm.abs();
+        for kk in 0..k {
+            let h = ((kk + 1) * (kk + 1)) as f64 * ws;
+            let row = m0 + LIMIT_SAMPLES * LIMIT_ROWS + 2 * kk;
+            j[(row, 4 + kk)] = h;
+            j[(row + 1, 4 + k + kk)] = h;
+        }
+        if self.opts.perimeter_mm.is_some() {
             // a = L/L̂(c) is not free: its column moves onto the coefficients' by the chain rule,
             // ∂a/∂c = −(a/L̂)·∂L̂/∂c (zero column: the damped step leaves a where it is).
             let (l, grad) = unit_perimeter_gradient(&m.ratio);
@@ -192,15 +247,14 @@ impl Lm<'_> {
                 }
             }
         }
-        r
     }
 
     /// Levenberg–Marquardt from `m`; returns the best admissible mechanism and iterations used.
     pub(super) fn run(&self, mut m: Mechanism, phis: &mut [f64]) -> (Mechanism, usize) {
         let np = 4 + 2 * self.k;
         let mut jac = DMatrix::zeros(self.n_rows(), np);
-        let mut r = self.evaluate(&m, phis, Some(&mut jac));
-        let mut trial_jac = jac.clone();
+        let (mut r, lin) = self.evaluate(&m, phis);
+        self.jacobian(&m, &lin, &mut jac);
         let mut cost = r.norm_squared();
         let mut lambda = 1e-3;
         let mut iters = 0;
@@ -227,10 +281,8 @@ impl Lm<'_> {
                     continue;
                 }
                 admit(&mut trial, self.opts);
-                // The trial's Jacobian comes with its residuals (rows are cheap beside the
-                // projections), so an accepted step needs no second evaluation.
                 let mut trial_phis = phis.to_vec();
-                let rt = self.evaluate(&trial, &mut trial_phis, Some(&mut trial_jac));
+                let (rt, lin) = self.evaluate(&trial, &mut trial_phis);
                 let ct = rt.norm_squared();
                 if ct.is_finite() && ct < cost {
                     let gain = (cost - ct) / cost.max(1e-300);
@@ -238,7 +290,6 @@ impl Lm<'_> {
                     phis.copy_from_slice(&trial_phis);
                     lambda = (lambda / 3.0).max(1e-12);
                     accepted = true;
-                    std::mem::swap(&mut jac, &mut trial_jac);
                     r = rt;
                     cost = ct;
                     let rms =
@@ -246,6 +297,7 @@ impl Lm<'_> {
                     if gain < 1e-4 || (self.weights.is_none() && rms < 0.01 * self.opts.tol_mm) {
                         return (m, iters);
                     }
+                    self.jacobian(&m, &lin, &mut jac);
                     break;
                 }
                 lambda *= 4.0;
@@ -267,22 +319,5 @@ pub(super) fn admit(m: &mut Mechanism, opts: &FitOptions) {
             m.a_mm = l / unit_perimeter(&m.ratio);
         }
         None => m.ratio = opts.limits.project(&m.ratio, m.a_mm),
-    }
-}
-
-/// Writes `(residual, Jacobian row)` pairs from row `offset` on (rows are empty without a Jacobian).
-fn put_rows(
-    r: &mut DVector<f64>,
-    mut jac: Option<&mut DMatrix<f64>>,
-    offset: usize,
-    rows: Vec<(f64, Vec<f64>)>,
-) {
-    for (i, (value, row)) in rows.into_iter().enumerate() {
-        r[offset + i] = value;
-        if let Some(j) = jac.as_deref_mut() {
-            for (c, v) in row.into_iter().enumerate() {
-                j[(offset + i, c)] = v;
-            }
-        }
     }
 }

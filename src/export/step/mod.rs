@@ -414,7 +414,7 @@ pub fn step_text(model: &StepModel) -> Result<(String, StepStats), ExportError> 
 /// Writes `model` to `path` (see [`step_text`]).
 pub fn write_step(model: &StepModel, path: &Path) -> Result<StepStats, ExportError> {
     let (text, stats) = step_text(model)?;
-    std::fs::write(path, text).map_err(|e| io_err(path, e))?;
+    crate::files::write_whole(path, text).map_err(|e| io_err(path, e))?;
     Ok(stats)
 }
 
