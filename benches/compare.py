@@ -1,4 +1,4 @@
-"""ncgear against the yardsticks a user would pick instead, back to back in one run (issue 17).
+"""ncgear against the yardsticks a user would pick instead, back to back in one run.
 
 Run by `bash benches/compare.sh` (it builds the release binary and the venv). Each row times the
 ncgear command (whole process, wall clock) and its yardstick alternately, `--repeat` times, and

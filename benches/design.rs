@@ -1,5 +1,5 @@
 //! Benchmarks of the design chain (divan). Run: `cargo bench --bench design`.
-//! The accuracy-vs-time table of the README comes from `cargo run --release --example accuracy -- design`.
+//! The accuracy-vs-time table of docs/accuracy.md comes from `cargo run --release --example accuracy -- design`.
 use ncgear::design::trajectory::Trajectory;
 use ncgear::design::{DesignOptions, RefineMode, design};
 
@@ -76,7 +76,7 @@ fn teeth_g1_module_2(b: divan::Bencher, steps: usize) {
     });
 }
 
-/// One case per family of issue 15 (`assets/cases/`, made by an independent forward model): the
+/// One case per family (`assets/cases/`, made by an independent forward model): the
 /// whole chain with default options, the fit to the points included. `exact_cw_offset` is CW
 /// with its carrier axis at the centre named in the file's `# center:` line.
 #[divan::bench(

@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
-# The comparison suite against the peer ncgears (issue 19): installs ncgears 0.3.1 (PyPI, pinned)
+# The comparison suite against the peer ncgears: installs ncgears 0.3.1 (PyPI, pinned)
 # into the venv target/pyvenv and runs scripts/compare_ncgears.py — every law made by both tools,
 # centre distances to 1e-9, tooth counts, areas within 1 %, ncgear's interference 0 and its
-# transmission error ≤ ncgears'. Prints the markdown table (the README's) and fails on any check.
+# transmission error ≤ ncgears'. Prints the markdown table (docs/performance.md's) and fails on any check.
 # Needs target/release/ncgear (built by `cargo test --release`). Usage: scripts/check_ncgears.sh
 set -euo pipefail
 cd "$(dirname "$0")/.."

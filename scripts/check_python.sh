@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The Python package (issue 20): the wheel built by maturin (`pip install .`) into a venv under
+# The Python package: the wheel built by maturin (`pip install .`) into a venv under
 # target/, pytest over the Python API — the tests also read every STEP file they write back with
 # OCCT (cadquery-ocp, via build123d from PyPI) — then the build123d pipeline of examples/python.
 # Needs target/release/ncgear (built by `cargo test --release`). Usage: scripts/check_python.sh

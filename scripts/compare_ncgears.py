@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""The comparison suite against the peer ncgears (issue 19): every law below is made by both
+"""The comparison suite against the peer ncgears: every law below is made by both
 tools, whole commands, and the results are compared; prints a markdown table and exits 1 when a
 check fails.
 

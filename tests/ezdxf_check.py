@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Independent check of the DXF files written by the tests (issue 3): every DXF under the given
+"""Independent check of the DXF files written by the tests: every DXF under the given
 directory (default target/test-dxf) must open with ezdxf, carry $INSUNITS = 4 (mm) when it is R2000+,
 and hold closed polylines (LWPOLYLINE for R2010, POLYLINE for R12) with >= 3 vertices and no
 duplicated end vertex (an open sector pair's pitch arcs, in files named `*sector*`, are open). If a `<name>_points/` CSV is next to it, the outline polylines must match
@@ -40,7 +40,7 @@ def check(path):
         assert doc.header.get("$INSUNITS") == 4, f"{path}: $INSUNITS = {doc.header.get('$INSUNITS')}"
         assert all(msp.query("LWPOLYLINE")), f"{path}: R2000+ file without LWPOLYLINE"
     for layer, pts, closed in polys:
-        # Only an open sector's pitch curve is an arc (issue 19); every outline is closed.
+        # Only an open sector's pitch curve is an arc; every outline is closed.
         sector_arc = "sector" in os.path.basename(path) and layer.endswith("_PITCH")
         assert closed or sector_arc, f"{path}: open polyline on {layer}"
         assert len(pts) >= 3, f"{path}: polyline on {layer} has {len(pts)} vertices"

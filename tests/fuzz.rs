@@ -1,4 +1,4 @@
-//! Seeded, bounded fuzzing of every `ncgear` subcommand (issue 33, item 7).
+//! Seeded, bounded fuzzing of every `ncgear` subcommand.
 //!
 //! `campaign` (ignored: `cargo test --release --test fuzz -- --ignored`) runs the built binary a
 //! few hundred times on valid baselines, mutated option values and mutated copies of the bundled
@@ -32,11 +32,11 @@ use rand::{RngExt, SeedableRng};
 
 const BIN: &str = env!("CARGO_BIN_EXE_ncgear");
 
-/// The per-run wall-clock limit of issue 33: no input may keep the CLI busy longer.
+/// The per-run wall-clock limit: no input may keep the CLI busy longer.
 const LIMIT: Duration = Duration::from_secs(10);
 
-/// The limit of a run that shows its progress on a terminal and can be interrupted (issue 33,
-/// item 3: a long run is bounded by its progress bar, not by 10 s): a dynamics sweep, a Monte
+/// The limit of a run that shows its progress on a terminal and can be interrupted (a long
+/// run is bounded by its progress bar, not by 10 s): a dynamics sweep, a Monte
 /// Carlo tolerance analysis, a trade-off table of ten designs.
 const PROGRESS_LIMIT: Duration = Duration::from_secs(60);
 
@@ -1740,7 +1740,7 @@ fn harness_flags_a_hang_a_bad_exit_and_unclean_json() {
 }
 
 // ---------------------------------------------------------------------------------------------
-// The regression corpus: the known reproducers of issue 33, each held to the invariants.
+// The regression corpus: the known reproducers of unbounded runs, each held to the invariants.
 
 /// Runs one reproducer in a fresh directory (`--out out` there) under the per-run limit and
 /// asserts the invariants, showing the command on failure; returns the outcome and directory.
@@ -1928,7 +1928,7 @@ fn orbit_measure_thousand_mesh_harmonics() {
     );
 }
 
-// Found by the campaign (seeds 1, 2, 100), beyond the reproducers listed in issue 33: one per cause.
+// Found by the campaign (seeds 1, 2, 100), beyond those reproducers: one per cause.
 
 #[test]
 fn design_far_carrier_axis_does_not_panic() {

@@ -1,4 +1,4 @@
-//! What accuracy costs in time, for every knob of the tool that trades the two (issue 8): one
+//! What accuracy costs in time, for every knob of the tool that trades the two: one
 //! module per area, each measuring its error against a reference (a closed form or a converged
 //! run) and the median wall time of a few runs. Writes `assets/accuracy/<area>.csv` (columns
 //! `knob,value,measure,error,time_ms`, no commas inside fields), prints one Markdown table per

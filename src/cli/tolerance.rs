@@ -14,7 +14,7 @@ use std::path::{Path, PathBuf};
 #[derive(Debug, clap::Args)]
 pub struct Args {
     /// Error file (TOML or JSON): terms A·sin(ωt + φ) in µm, rad/s, degrees; or, with `--errors`,
-    /// the design.json of a transplanter (see the README).
+    /// the design.json of a transplanter (see docs/transplanter.md).
     pub errors: PathBuf,
     /// Transplanter error inventory (TOML or JSON, µm and degrees): analyse the design file given
     /// as the positional argument (spec C.6).

@@ -104,7 +104,7 @@ pub struct PairDesign {
     pub driver_undercut: UndercutReport,
     /// Undercut report of the driven gear.
     pub driven_undercut: UndercutReport,
-    /// How the driver is cut (rack, or shaper with the chosen cutter; issue 18).
+    /// How the driver is cut (rack, or shaper with the chosen cutter).
     pub driver_process: GearProcess,
     /// How the driven gear is cut.
     pub driven_process: GearProcess,
@@ -116,7 +116,7 @@ pub struct PairDesign {
     pub driver_pitch_mm: Vec<[f64; 2]>,
     /// Driven pitch polyline (body frame), mm.
     pub driven_pitch_mm: Vec<[f64; 2]>,
-    /// The open sector, when the pair is incomplete (issue 19); `None` for closed gears.
+    /// The open sector, when the pair is incomplete; `None` for closed gears.
     pub sector: Option<SectorReport>,
 }
 

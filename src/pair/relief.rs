@@ -1,4 +1,4 @@
-//! Tip relief of a pair's shaper-cut gears (issue 18, [`crate::teeth::relief`]): each is checked
+//! Tip relief of a pair's shaper-cut gears ([`crate::teeth::relief`]): each is checked
 //! against its mate over the mesh cycle and relieved tooth by tooth.
 use super::PairError;
 use super::design::{PairOptions, Toothed};

@@ -1,4 +1,4 @@
-//! Open (incomplete) sector pairs (issue 19, item 2): teeth only where the law is given, over the
+//! Open (incomplete) sector pairs: teeth only where the law is given, over the
 //! driver interval `[φs, φe]`, with clean sector ends and the verification over that interval.
 //!
 //! Method (written by hand: it is the sector geometry of our field, no crate does it):

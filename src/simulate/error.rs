@@ -14,7 +14,7 @@ pub enum SimulateError {
     },
     /// JSON syntax or schema error.
     #[error(
-        "{file}: {message}; a design file is what `ncgear design` writes (design.json, see the README)"
+        "{file}: {message}; a design file is what `ncgear design` writes (design.json, see docs/design.md)"
     )]
     BadJson {
         /// File.

@@ -1,4 +1,4 @@
-//! Teeth made without a cutter (wire EDM, printing; issue 18): the gear is its blank minus
+//! Teeth made without a cutter (wire EDM, printing): the gear is its blank minus
 //! everything its mate sweeps through in the mesh, so its flanks are the envelope of the mate's
 //! teeth — the outline every mate position leaves free, whatever the curvature of the pitch curve.
 //! Written by hand: the sweep is the core of the field, no geometry library does it.
@@ -27,7 +27,7 @@
 //!
 //! **Status: experimental.** On an involute pair the swept flanks are the conjugate involutes
 //! (`tests/it/swept.rs`), but on strongly non-circular pairs the swept gear does not yet mesh as a
-//! cut one does (measured in the README: transmission error 0.1° where a shaper-cut gear gives
+//! cut one does (measured in docs/teeth.md: transmission error 0.1° where a shaper-cut gear gives
 //! 4e-6°); the console says so, and the mesh verification shows the verdict.
 //!
 //! Checks: every one of the `z` teeth keeps a stretch of its tip (a tooth consumed by the sweep —

@@ -1,5 +1,5 @@
 //! Where two open polylines cross: the cut between an undercut flank and the fillet trochoid
-//! that trims it (issue 19). Written by hand: a few hundred segments per piece, pruned by the
+//! that trims it. Written by hand: a few hundred segments per piece, pruned by the
 //! bounding boxes of runs of segments.
 
 /// A crossing of segment `ia` of polyline `a` with segment `ib` of polyline `b`.

@@ -1,4 +1,4 @@
-//! Where the mate of a swept gear is (issue 18, [`super::conjugate`]): a mesh's law rolled
+//! Where the mate of a swept gear is ([`super::conjugate`]): a mesh's law rolled
 //! through one whole cycle in the swept gear's body frame, once at the law's position less a
 //! flank allowance (the working flanks) and once turned by the backlash towards its coast side
 //! (the coast flanks, so that the mesh keeps its backlash).

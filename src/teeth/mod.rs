@@ -92,7 +92,7 @@ pub enum TeethError {
         /// Width of the rack tip flat, mm (negative).
         flat_mm: f64,
     },
-    /// A shaper cutter cannot cut this gear (issue 18).
+    /// A shaper cutter cannot cut this gear.
     #[error("shaper cutter with {cutter_teeth} teeth: {what}")]
     Shaper {
         /// Cutter tooth count z_c.
@@ -112,7 +112,7 @@ pub enum TeethError {
         count: usize,
     },
     /// The shaper cutter's other teeth cut into the gear while it rolls (secondary cutting,
-    /// [`secondary`]; issue 18).
+    /// [`secondary`]).
     #[error(
         "shaper cutter with {cutter_teeth} teeth cuts into the gear with its other teeth while it \
          rolls (secondary cutting at least {depth_mm:.4} mm deep, where a concave stretch nearly \
@@ -124,7 +124,7 @@ pub enum TeethError {
         /// Deepest cut into the generated outline, mm (a lower bound beyond 0.05·m).
         depth_mm: f64,
     },
-    /// The curve is concave and no shaper cutter fits (issue 18). A pair whose mate is cut makes
+    /// The curve is concave and no shaper cutter fits. A pair whose mate is cut makes
     /// this gear by wire EDM or printing instead ([`conjugate`]); alone, or with a mate that
     /// needs the same, it is an error.
     #[error(
@@ -139,7 +139,7 @@ pub enum TeethError {
         /// The cutters tried and why each failed.
         tried: String,
     },
-    /// A gear made without a cutter (wire EDM, printing) cannot be swept by its mate (issue 18).
+    /// A gear made without a cutter (wire EDM, printing) cannot be swept by its mate.
     #[error("wire EDM / printing outline swept by the mate: {what}")]
     Swept {
         /// What fails.
@@ -264,7 +264,7 @@ pub struct FlankUndercut {
     pub concave: bool,
     /// Depth below the pitch curve where the generated flank ends, mm: `h_straight` without
     /// undercut; with undercut, the depth at which the rack tip's fillet trochoid cuts the flank
-    /// (the real form point; issue 19).
+    /// (the real form point).
     pub form_depth_mm: f64,
     /// Loss of contact ratio against the basic rack: the flank's path of contact on the rack's
     /// line of action shortened by `(h_straight − form_depth)/sin α`, over the base pitch

@@ -42,7 +42,7 @@ pub struct ToothingOptions {
     pub cutter_teeth: Option<u32>,
     /// Refuse undercut (the strict `--no-undercut`: a typed error naming the largest module
     /// that works) instead of cutting it. Default `false`: an undercut flank is cut as the rack
-    /// cuts it and reported (depth, form depth, loss of contact ratio, root thickness; issue 19).
+    /// cuts it and reported (depth, form depth, loss of contact ratio, root thickness).
     #[serde(default)]
     pub refuse_undercut: bool,
 }

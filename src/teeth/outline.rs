@@ -37,7 +37,7 @@ pub struct OutlineOptions {
     pub open_pitch_mm: Option<f64>,
     /// Refuse a flank with undercut ([`TeethError::Undercut`], naming the largest module that
     /// works) instead of cutting it as the rack does. Default `false`: undercut is cut (the
-    /// fillet trochoid trims the flank; issue 19).
+    /// fillet trochoid trims the flank).
     pub refuse_undercut: bool,
 }
 

@@ -1,4 +1,4 @@
-//! Which process cuts a gear (issue 18): a rack or hob when the pitch curve is convex (the rack
+//! Which process cuts a gear: a rack or hob when the pitch curve is convex (the rack
 //! envelope, unchanged), a pinion-type shaper cutter when it has
 //! concave stretches — the largest standard cutter whose pitch radius is below the tightest
 //! concave radius of curvature and that cuts a simple outline without undercut and without
@@ -34,7 +34,7 @@ pub enum Process {
     WireEdm,
 }
 
-/// The process of one gear, as written in `design.json` / `pair.json` (issue 18).
+/// The process of one gear, as written in `design.json` / `pair.json`.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct GearProcess {
     /// The process.

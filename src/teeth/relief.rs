@@ -1,4 +1,4 @@
-//! Tip relief against the mate's fillets (issue 18): the tooth tips of the gears of a mesh with a
+//! Tip relief against the mate's fillets: the tooth tips of the gears of a mesh with a
 //! shaper-cut gear are lowered, tooth by tooth, until no tip corner enters its mate at the law's
 //! position anywhere in the mesh cycle.
 //!

@@ -1,4 +1,4 @@
-//! Secondary cutting (issue 18): whether a shaper cutter's other teeth cut into the gear while it
+//! Secondary cutting: whether a shaper cutter's other teeth cut into the gear while it
 //! rolls, which the envelope of the cutting tooth alone does not show. In a concave hollow whose
 //! radius of curvature is close to the cutter's pitch radius the cutter nearly conforms to the
 //! gear — an internal gear cut by a pinion with too small a tooth-count difference — and its

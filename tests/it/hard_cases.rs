@@ -1,4 +1,4 @@
-//! Hard cases (spec §14, issue 8): noisy measured trajectories, points near the carrier axis,
+//! Hard cases (spec §14): noisy measured trajectories, points near the carrier axis,
 //! cusps, extreme ratios here; random mechanisms, loops and non-finite options in [`mechanisms`];
 //! stiff dynamics, degenerate error lists and colliding orbit lines in [`analyses`]; every parser
 //! fed random and mutated bytes in [`fuzz`]; random and concave pitch curves and extreme pair

@@ -1,6 +1,6 @@
-//! The README's module list is the source tree: every module under `src/` with the first line of
+//! The module list of docs/layout.md is the source tree: every module under `src/` with the first line of
 //! its `//!` doc, in the order of the folders. `NCGEAR_BLESS=1 cargo test --release layout`
-//! rewrites the README block from the tree.
+//! rewrites the block from the tree. The README stays short: at most 250 lines.
 
 use std::fs;
 use std::path::{Path, PathBuf};
@@ -8,7 +8,7 @@ use std::path::{Path, PathBuf};
 const BEGIN: &str = "<!-- modules:begin (generated from the //! lines; tests/it/layout.rs) -->";
 const END: &str = "<!-- modules:end -->";
 
-/// Files over this many lines of code must be named in the README's layout section with a reason.
+/// Files over this many lines of code must be named in docs/layout.md with a reason.
 const MAX_LINES: usize = 500;
 
 fn root() -> PathBuf {
@@ -83,21 +83,21 @@ fn expected_block() -> String {
 
 #[test]
 fn readme_module_list_matches_the_source_tree() {
-    let readme_path = root().join("README.md");
-    let readme = fs::read_to_string(&readme_path).expect("README.md");
+    let readme_path = root().join("docs/layout.md");
+    let readme = fs::read_to_string(&readme_path).expect("docs/layout.md");
     let (Some(b), Some(e)) = (readme.find(BEGIN), readme.find(END)) else {
-        panic!("README.md has no generated module list ({BEGIN} … {END})");
+        panic!("docs/layout.md has no generated module list ({BEGIN} … {END})");
     };
     let current = &readme[b + BEGIN.len()..e];
     let want = format!("\n{}", expected_block());
     if current != want {
         if std::env::var_os("NCGEAR_BLESS").is_some() {
             let updated = format!("{}{BEGIN}{want}{}", &readme[..b], &readme[e..]);
-            fs::write(&readme_path, updated).expect("README.md writable");
+            fs::write(&readme_path, updated).expect("docs/layout.md writable");
             return;
         }
         panic!(
-            "README.md's module list is out of date; run NCGEAR_BLESS=1 cargo test --release layout. Expected:\n{want}"
+            "docs/layout.md's module list is out of date; run NCGEAR_BLESS=1 cargo test --release layout. Expected:\n{want}"
         );
     }
 }
@@ -119,7 +119,7 @@ fn every_module_says_what_it_is_for() {
 
 #[test]
 fn long_files_are_explained_in_the_readme() {
-    let readme = fs::read_to_string(root().join("README.md")).expect("README.md");
+    let readme = fs::read_to_string(root().join("docs/layout.md")).expect("docs/layout.md");
     let mut list = Vec::new();
     modules(&root().join("src"), "", &mut list);
     let unexplained: Vec<String> = list
@@ -130,6 +130,29 @@ fn long_files_are_explained_in_the_readme() {
         .collect();
     assert!(
         unexplained.is_empty(),
-        "files over {MAX_LINES} lines of code not explained in README.md: {unexplained:?}"
+        "files over {MAX_LINES} lines of code not explained in docs/layout.md: {unexplained:?}"
+    );
+}
+
+/// The README is the front door — what it is, the two commands, one example per command, links
+/// into docs/ — and stays short enough to read: at most 250 lines; every docs/ page it links exists.
+#[test]
+fn the_readme_is_short_and_its_links_resolve() {
+    let readme = fs::read_to_string(root().join("README.md")).expect("README.md");
+    let lines = readme.lines().count();
+    assert!(
+        lines <= 250,
+        "README.md has {lines} lines (at most 250: the rest belongs in docs/)"
+    );
+    let mut missing = Vec::new();
+    for part in readme.split("](").skip(1) {
+        let target = part.split([')', '#']).next().unwrap_or_default();
+        if !target.is_empty() && !target.starts_with("http") && !root().join(target).exists() {
+            missing.push(target.to_string());
+        }
+    }
+    assert!(
+        missing.is_empty(),
+        "README.md links to missing files: {missing:?}"
     );
 }

@@ -801,7 +801,7 @@ fn csv_errors_name_file_line_and_column() {
 }
 
 // ---------------------------------------------------------------------------------------------
-// Files under assets/orbit (the README quick start).
+// Files under assets/orbit (the examples of docs/orbit.md).
 
 use ncgear::analysis::orbit::model::ModelParams;
 

@@ -1,4 +1,4 @@
-//! Pairs with unequal tooth counts (issue 19, item 1): a law advancing the driven gear by
+//! Pairs with unequal tooth counts: a law advancing the driven gear by
 //! Δ = ψ(φ + 2π) − ψ(φ) ≠ 2π per driver turn gives z : z·2π/Δ teeth; closure, phase and the mesh
 //! verification over the q driver turns after which the pair is back at its start.
 use ncgear::export::dxf::{DxfVersion, write_dxf};
@@ -59,7 +59,7 @@ fn constant_half_ratio_is_two_circles_at_the_closed_form_distance() {
     assert!((r(&d.driven_pitch_mm) - 24.0).abs() < 1e-9);
 }
 
-/// The 1:2 law that ncgears 0.3.1 makes 24:48 with centre distance 35.5186 mm (issue 19). Its
+/// The 1:2 law that ncgears 0.3.1 makes 24:48 with centre distance 35.5186 mm. Its
 /// DXF and point lists go to `target/test-dxf` for the ezdxf read-back in `.ci/run`.
 #[test]
 fn one_to_two_law_makes_24_48() {

@@ -1,4 +1,4 @@
-//! Open (incomplete) sector pairs (issue 19, item 2): teeth over a driver interval only, clean
+//! Open (incomplete) sector pairs: teeth over a driver interval only, clean
 //! sector ends, the verification over the interval.
 use ncgear::export::dxf::{DxfVersion, write_dxf};
 use ncgear::export::points::write_points;

@@ -1,4 +1,4 @@
-//! Integration tests: shaper-cutter generation (issue 18) against closed forms — involutes on a
+//! Integration tests: shaper-cutter generation against closed forms — involutes on a
 //! circle (external gear) and on a concave circular arc (internal gear), the basic-rack profile
 //! on a straight stretch — and the process choice.
 use ncgear::geometry::pitch::PitchCurve;

@@ -1,4 +1,4 @@
-//! STEP solids (issue 20): the same model gives the same bytes, every shell is closed (each edge
+//! STEP solids: the same model gives the same bytes, every shell is closed (each edge
 //! bounds exactly two faces, once each way), the counts follow the outline, bad options are typed
 //! errors naming the option.
 use ncgear::export::ExportError;

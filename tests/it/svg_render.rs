@@ -1,4 +1,4 @@
-//! The SVG exports render in an independent SVG engine (resvg, issue 3): the document size is the
+//! The SVG exports render in an independent SVG engine (resvg): the document size is the
 //! sheet's size in mm, and the drawn pixels lie on the outlines (1 SVG unit = 1 mm, y up in the
 //! sheet, y down in SVG), not elsewhere.
 use ncgear::design::train::{TrainTeethOptions, tooth_train};

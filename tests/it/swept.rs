@@ -1,4 +1,4 @@
-//! Integration tests: gears made without a cutter (wire EDM, printing; issue 18) — the outline its
+//! Integration tests: gears made without a cutter (wire EDM, printing) — the outline its
 //! mate sweeps — against closed forms: an involute gear swept by an involute mate is the conjugate
 //! involute; and the process choice of a pair whose concave gear no cutter fits.
 use ncgear::geometry::pitch::PitchCurve;

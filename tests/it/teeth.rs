@@ -98,7 +98,7 @@ fn undercut_caught_at_larger_module_with_rho_sin2_limit() {
     let m18 = l / (18.0 * std::f64::consts::PI);
     assert!(generate_outline(&sun, &rack, 18, m18, &OutlineOptions::new(0.0, 1e-3)).is_ok());
     let m17 = l / (17.0 * std::f64::consts::PI);
-    // Cut as the rack cuts it by default (issue 19), with the undercut reported …
+    // Cut as the rack cuts it by default, with the undercut reported …
     let cut = generate_outline(&sun, &rack, 17, m17, &OutlineOptions::new(0.0, 1e-3)).unwrap();
     assert!(cut.undercut.undercut_count >= 1 && cut.undercut.max_undercut_mm > 0.0);
     // … and refused, naming the largest module that works, with the strict option.
@@ -258,7 +258,7 @@ fn pair_centrode_solves_closure_and_meshes() {
         );
     }
     // ncgears' centrode example uses 20 teeth: its min ρc ≈ 0.83·r̄ makes the equivalent spur gear
-    // z ≈ 16.7 < 2/sin²20° = 17.1, so the rack undercuts: cut and reported by default (issue 19),
+    // z ≈ 16.7 < 2/sin²20° = 17.1, so the rack undercuts: cut and reported by default,
     // refused with the largest module under the strict option.
     let law = Law::Centrode(Expr::parse("1 + 0.08*cos(2*phi)").unwrap());
     let cut = design_pair(&law, &PairOptions::new(Some(20), 1.5)).unwrap();
@@ -353,7 +353,7 @@ fn bad_law_inputs_are_typed_errors() {
     assert!(RackParams::new(0.0, 1.0, 0.25, 0.38).is_err());
 }
 
-/// Interference as overlap area (issue 3): zero for the designed pair at the law's position;
+/// Interference as overlap area: zero for the designed pair at the law's position;
 /// with the driven gear clocked 0.02 rad off (≈ 6 backlashes) the teeth overlap, and the
 /// windowed area found by the mesh check equals the area of the full outlines' intersection
 /// computed independently in the world frame.

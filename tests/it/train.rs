@@ -1,4 +1,4 @@
-//! `ncgear design --module`: teeth on the designed planetary train (issue 3 on the design chain).
+//! `ncgear design --module`: teeth on the designed planetary train.
 use ncgear::design::train::{
     Gear, TrainError, TrainPolicy, TrainTeethOptions, attach_teeth, tooth_design, tooth_train,
 };
@@ -164,7 +164,7 @@ fn undercut_at_a_larger_module_is_refused_with_the_limit() {
     assert!(err.to_string().starts_with("sun: ") || err.to_string().contains("undercut"));
 }
 
-/// Without the strict option the same module is cut as the rack cuts it (issue 19): the sun's
+/// Without the strict option the same module is cut as the rack cuts it: the sun's
 /// undercut is reported per flank and both meshes still roll through a carrier turn without
 /// interference.
 #[test]

@@ -1,4 +1,4 @@
-//! Undercut as cut, not refused (issue 19, item 3): the outline is what the rack really cuts —
+//! Undercut as cut, not refused: the outline is what the rack really cuts —
 //! on an undercut flank the rack tip's fillet trochoid trims the flank — checked against the
 //! closed forms of the rack-generated spur gear below the minimum tooth count, and on a pair
 //! that the peer ncgears makes and ncgear used to refuse.

@@ -1,4 +1,4 @@
-//! Tip relief of the train's shaper-cut gears (issue 18, [`crate::teeth::relief`]): each is
+//! Tip relief of the train's shaper-cut gears ([`crate::teeth::relief`]): each is
 //! checked against every neighbour it meshes with — the sun and the planet against the
 //! intermediate gear, the intermediate gear against both — and relieved tooth by tooth.
 use super::TrainError;

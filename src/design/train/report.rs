@@ -92,7 +92,7 @@ pub struct TrainTeethReport {
     pub mesh: Option<TrainMesh>,
     /// Files written (filled by the writer).
     pub files: Vec<String>,
-    /// How each gear is cut (issue 18): rack, or shaper with the cutter chosen and the ones
+    /// How each gear is cut: rack, or shaper with the cutter chosen and the ones
     /// tried (absent in reports written before it existed).
     #[serde(default)]
     pub process: Option<TrainProcess>,

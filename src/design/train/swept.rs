@@ -1,4 +1,4 @@
-//! Gears of the train that no cutter makes (issue 18): swept by their cut neighbours instead
+//! Gears of the train that no cutter makes: swept by their cut neighbours instead
 //! (wire EDM, printing; [`crate::teeth::conjugate`]) — the sun and the planet by the intermediate
 //! gear, the intermediate gear by both.
 use crate::geometry::pitch::PitchCurve;

@@ -1,5 +1,5 @@
 //! Mesh verification of two toothed outlines: roll them through a full cycle of the motion law
-//! and measure interference, backlash and transmission error (issue 3, "Verification").
+//! and measure interference, backlash and transmission error.
 //!
 //! Setup: driver (gear 1) centre at the origin, rotated CCW by φ; driven (gear 2) centre at
 //! `(a, 0)`, rotated CW by `ψ(φ) + δ` (so its body angle `π + ψ` faces the driver). The clearance of

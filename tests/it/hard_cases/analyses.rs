@@ -1,4 +1,4 @@
-//! Hard cases of the companion analyses (issue 8, item 3): stiff dynamics scenes (Hertz bearings
+//! Hard cases of the companion analyses: stiff dynamics scenes (Hertz bearings
 //! a thousand times stiffer, micrometre clearances and backlash), degenerate error lists (empty,
 //! zero amplitude, zero frequency, duplicates, huge counts), colliding and duplicated frequencies
 //! in orbit records, and NaN/∞ anywhere in the inputs. Each asserts an exact or bounded result or

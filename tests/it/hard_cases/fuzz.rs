@@ -1,4 +1,4 @@
-//! Parser fuzz (issue 8, item 4): every parser of the tool — trajectory CSV/JSON, design JSON,
+//! Parser fuzz: every parser of the tool — trajectory CSV/JSON, design JSON,
 //! dynamics scene TOML/JSON, tolerance error files TOML/JSON, orbit sensor CSV and model
 //! TOML/JSON, pair law CSV and pair expressions — fed random bytes and mutated copies of the
 //! bundled assets (tokens replaced by NaN/inf/huge/empty values, truncation, duplicated,

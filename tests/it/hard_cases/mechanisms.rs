@@ -1,4 +1,4 @@
-//! Hard cases of the design chain (issue 8, item 3): random traceable mechanisms (random closed
+//! Hard cases of the design chain: random traceable mechanisms (random closed
 //! Fourier suns up to the ratio bounds), trajectories with loops and near-tangencies, extreme
 //! ratios and non-finite options. Each asserts a bounded result or a typed error.
 use ncgear::design::inverse::InverseError;

@@ -1,4 +1,4 @@
-//! Hard cases of the teeth (issue 8, item 3): random pitch curves from convex to concave, modules
+//! Hard cases of the teeth: random pitch curves from convex to concave, modules
 //! from fine to undercut, random pair laws. Rack generation gives a finite simple outline whose
 //! vertices stay within an addendum/dedendum band of the pitch curve, or a typed error
 //! (`Concave`, `Undercut`, …) — never a panic or a NaN vertex.
@@ -76,7 +76,7 @@ proptest! {
 
 /// Pair laws from mild to extreme: each gives the outcome its geometry dictates — a meshed pair
 /// with finite ratios; a pair whose concave gear every cutter undercuts, shaper-cut with its
-/// undercut reported (as a rack cuts an undercut convex gear; issue 18) and meshing within the
+/// undercut reported (as a rack cuts an undercut convex gear) and meshing within the
 /// convex examples' 1e-5°; `NoCutter` where both gears would need it or the concave radius is
 /// below 0.1 mm, `Undercut`
 /// for a circle with too few teeth (classical limit z ≥ 2h*/sin²α = 17.1 → 18 at α = 20°), or a
