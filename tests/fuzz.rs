@@ -1928,7 +1928,23 @@ fn orbit_measure_thousand_mesh_harmonics() {
     );
 }
 
-// Found by the campaign (seeds 1, 2, 100), beyond those reproducers: one per cause.
+// Found by the campaign (seeds 1, 2, 7, 100), beyond those reproducers: one per cause.
+
+#[test]
+fn dynamics_astronomic_speed_is_refused_at_once() {
+    let (o, _) = reproduce(
+        "dynamics_speed_1e299",
+        &["dynamics", "full16.toml", "--out", "out"],
+        |dir| {
+            let scene = std::fs::read_to_string(asset_path("dynamics/full16.toml")).unwrap();
+            let scene = scene.replace("n1_rpm = 6000.0", "n1_rpm = 1e299");
+            assert!(scene.contains("1e299"), "the scene's speed line moved");
+            std::fs::write(dir.join("full16.toml"), scene).unwrap();
+        },
+    );
+    assert_refused(&o);
+    assert!(o.stderr.contains("operating.n1_rpm"), "{}", o.stderr);
+}
 
 #[test]
 fn design_far_carrier_axis_does_not_panic() {

@@ -166,11 +166,13 @@ impl Scene {
         nonneg(file, "effects.mesh_stiffness.zeta", ms.zeta())?;
         let c_m = 2.0 * ms.zeta() * (k_mean * m_e).sqrt();
         let n1 = self.operating.n1_rpm;
-        if !(n1.is_finite() && n1 > 0.0) {
+        if !(n1.is_finite() && n1 > 0.0 && n1 <= MAX_SPEED_RPM) {
             return Err(bad(
                 "operating.n1_rpm",
                 n1.to_string(),
-                "a positive speed in rpm",
+                "a positive speed in rpm, at most 1e6 (no gear drive turns faster; from about 1e11 \
+                 rpm the mesh period is below what the integrator can step, and at 1e200 it \
+                 never finished)",
             ));
         }
         let t1 = self.operating.input_torque_Nm;
@@ -235,6 +237,10 @@ impl Scene {
         })
     }
 }
+
+/// Fastest pinion speed a scene may ask for, rpm: 1e6 is beyond any gear drive (turbo gears run
+/// at up to about 1e5), and far below the speeds whose mesh period the integrator cannot step.
+pub const MAX_SPEED_RPM: f64 = 1e6;
 
 /// [`SceneError::Invalid`] for `key` in `file`.
 fn invalid(file: &str, key: &str, found: String, expected: &str) -> SceneError {
