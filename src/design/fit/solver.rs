@@ -146,11 +146,9 @@ impl Lm<'_> {
             r[m0 + a.row] = -w * a.value;
         }
         // Smoothness: √λ·l3·k²·(a_k, b_k).
-        let ws = self.opts.smoothness * m.l3_mm.abs();
         let (ca, cb) = (m.ratio.cos_coefficients(), m.ratio.sin_coefficients());
         for kk in 0..self.k {
-            let h = ((kk + 1) * (kk + 1)) as f64 * ws;
-            let row = m0 + LIMIT_SAMPLES * LIMIT_ROWS + 2 * kk;
+            let (row, h) = self.smoothness_row(m, kk);
             r[row] = h * ca[kk];
             r[row + 1] = h * cb[kk];
         }
@@ -165,6 +163,13 @@ impl Lm<'_> {
     /// Square root of point `idx`'s weight (1 without weights).
     fn weight(&self, idx: usize) -> f64 {
         self.weights.map_or(1.0, |w| w[idx])
+    }
+
+    /// The first of the two smoothness rows of harmonic `kk + 1` and its weight `√λ·l3·k²`.
+    fn smoothness_row(&self, m: &Mechanism, kk: usize) -> (usize, f64) {
+        let ws = self.opts.smoothness * m.l3_mm.abs();
+        let row = self.pts.len() + COVERAGE_SAMPLES + LIMIT_SAMPLES * LIMIT_ROWS + 2 * kk;
+        (row, ((kk + 1) * (kk + 1)) as f64 * ws)
     }
 
     /// Weight of the limit-penalty rows, `10·l3` (mm per unit of constraint value).
@@ -225,10 +230,8 @@ impl Lm<'_> {
                 j[(row, 4 + k + kk)] = -w * (gi * sn + gd * kf * cs - gdd * kf * kf * sn);
             }
         }
-        let ws = self.opts.smoothness * m.l3_mm.abs();
         for kk in 0..k {
-            let h = ((kk + 1) * (kk + 1)) as f64 * ws;
-            let row = m0 + LIMIT_SAMPLES * LIMIT_ROWS + 2 * kk;
+            let (row, h) = self.smoothness_row(m, kk);
             j[(row, 4 + kk)] = h;
             j[(row + 1, 4 + k + kk)] = h;
         }
