@@ -21,6 +21,14 @@ use std::f64::consts::{PI, TAU};
 /// Block length of [`SunRatio::inverse_integral_along`]: warm starts inside, parallel across.
 pub const ALONG_BLOCK: usize = 128;
 
+/// Largest Halley step (rad) [`SunRatio::inverse_integral_with_slopes`] takes without a second
+/// evaluation (the ratio's Taylor terms there stay accurate to ~1e-12).
+pub const HALLEY_ACCEPT_RAD: f64 = 1e-5;
+
+/// The Halley step is taken when its estimated error is below this fraction of the tolerance
+/// (the third derivative is estimated at the guess, not bounded).
+const HALLEY_SAFETY: f64 = 0.1;
+
 /// A positive 2π-periodic sun ratio `i21(θ)` with mean exactly 1, as a truncated Fourier series.
 #[derive(Debug, Clone, PartialEq)]
 pub struct SunRatio {
@@ -253,6 +261,42 @@ impl SunRatio {
             guess,
             tol_rad,
         )
+    }
+
+    /// `S = Φ⁻¹(y)` (rad) from a close `guess_rad`, with `[i21(S), i21′(S)]`: what a curve's
+    /// evaluation needs at the contact angle, from one pass over the harmonics where the guess
+    /// is close.
+    ///
+    /// At the guess `x₀` one pass gives `f = Φ(x₀) − y`, `f′ = i21`, `f″ = i21′` and `i21″`.
+    /// Halley's step `d = −2ff′/(2f′² − ff″)` has error `≈ (f‴/(6f′) − (f″/(2f′))²)·d³`
+    /// (`f‴ = i21″`): when that is below a tenth of `tol_rad` and `|d| ≤` [`HALLEY_ACCEPT_RAD`],
+    /// `S = x₀ + d` is taken, and the ratio there follows from its Taylor terms at `x₀`
+    /// (`i21 + i21′d + i21″d²/2`, `i21′ + i21″d`). A farther guess falls back to the safeguarded
+    /// solve ([`Self::inverse_integral_from`], to `tol_rad`) and one more pass for the ratio.
+    #[must_use]
+    pub fn inverse_integral_with_slopes(
+        &self,
+        y: f64,
+        guess_rad: f64,
+        tol_rad: f64,
+    ) -> (f64, [f64; 2]) {
+        if guess_rad.is_finite() {
+            let (phi, [i, di, ddi]) = self.integral_and_eval3(guess_rad);
+            let f = phi - y;
+            let den = 2.0 * i * i - f * di;
+            if i > 0.0 && den > 0.0 {
+                let d = -2.0 * f * i / den;
+                // Halley's error, `(f‴/(6f′) − (f″/(2f′))²)·d³`, with `f‴ = i21″` taken at x₀.
+                let c = ddi.abs() / (6.0 * i) + (di / (2.0 * i)).powi(2);
+                if d.abs() <= HALLEY_ACCEPT_RAD && c * d.abs().powi(3) <= HALLEY_SAFETY * tol_rad {
+                    let i_s = i + d * (di + 0.5 * d * ddi);
+                    return (guess_rad + d, [i_s, di + d * ddi]);
+                }
+            }
+        }
+        let s = self.inverse_integral_from(y, guess_rad, tol_rad);
+        let [i, di, _] = self.eval3(s);
+        (s, [i, di])
     }
 
     /// `Φ⁻¹(y_k)` (rad) for `k = 0..n`, where `y_k` (rad) runs smoothly with `k` (a curve's

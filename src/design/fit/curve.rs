@@ -33,25 +33,33 @@ pub(super) fn tip_eval(m: &Mechanism, phi: f64) -> TipEval {
 }
 
 /// [`tip_eval`] at `phi + step` from the evaluation `e` at `phi`: the contact angle `S` is solved
-/// from its first-order prediction `S + S′·step` (`S′ = i(t)/i(S)`), a step or two of Newton.
+/// from its first-order prediction `S + S′·step` (`S′ = i(t)/i(S)`): one Halley step where the
+/// prediction is close, else Newton ([`crate::geometry::fourier::SunRatio::inverse_integral_with_slopes`]).
 pub(super) fn tip_eval_next(m: &Mechanism, e: &TipEval, step: f64) -> TipEval {
     let phi = e.t + m.sun_phase_rad + step;
     let t = phi - m.sun_phase_rad;
     let (fi_t, i_t) = m.ratio.integral_and_eval3(t);
     let guess = e.s + step * e.i_t / e.i_s;
-    tip_eval_at(
-        m,
-        phi,
-        (t, i_t),
-        m.ratio
-            .inverse_integral_from(fi_t + PI, guess, INVERSE_TOL_RAD),
-    )
+    let (s, i_s) = m
+        .ratio
+        .inverse_integral_with_slopes(fi_t + PI, guess, INVERSE_TOL_RAD);
+    tip_eval_with(m, phi, (t, i_t), (s, i_s))
 }
 
 /// The evaluation at carrier angle `phi` (`t = phi − φ_ref`, with the ratio's `[i, i′, i″]`
 /// there) with the contact angle `s = S(t)`.
-fn tip_eval_at(m: &Mechanism, phi: f64, (t, [i_t, di_t, _]): (f64, [f64; 3]), s: f64) -> TipEval {
+fn tip_eval_at(m: &Mechanism, phi: f64, t: (f64, [f64; 3]), s: f64) -> TipEval {
     let [i_s, di_s, _] = m.ratio.eval3(s);
+    tip_eval_with(m, phi, t, (s, [i_s, di_s]))
+}
+
+/// [`tip_eval_at`] with the ratio and its slope at the contact angle `s` given.
+fn tip_eval_with(
+    m: &Mechanism,
+    phi: f64,
+    (t, [i_t, di_t, _]): (f64, [f64; 3]),
+    (s, [i_s, di_s]): (f64, [f64; 2]),
+) -> TipEval {
     let beta = phi + PI - s + m.needle_angle_rad;
     let (sp, cp) = phi.sin_cos();
     let (sb, cb) = beta.sin_cos();
