@@ -57,7 +57,7 @@ pub(super) fn from_an_ellipse(
     };
     match fit::fit_points(points, &g.mechanism, opts) {
         // On the 13 bundled targets at no module and modules 1.5, 2 and 3 (2026-11-27), no
-        // elliptic fit more than 1.3× behind here won after its finish; one that far behind is
+        // elliptic fit that won after its finish was more than 1.34× behind here; one beyond 1.4× is
         // not finished.
         Ok(g) if score(&g) <= ELLIPSE_FINISH_RATIO * score(&f) => {
             let g = fit::minimax(points, g, opts);
