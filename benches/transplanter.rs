@@ -1,4 +1,4 @@
-//! Transplanter tolerance analysis on G1 (spec C.6): one exact state (both meshes solved), the
+//! Transplanter tolerance analysis on G1 (docs/math/companion.md §C.6): one exact state (both meshes solved), the
 //! linear model build (720 carrier angles × 16 coordinates × central differences), one exact
 //! turn, and the linear Monte Carlo per 1000 samples. Run: `cargo bench --bench transplanter`.
 use ncgear::analysis::montecarlo::McOptions;

@@ -1,11 +1,11 @@
 //! Regenerates the bundled example trajectories under `assets/trajectories/` from the forward
-//! model (spec §2, §11):
+//! model (docs/math/chain.md §2, §11.1):
 //!
 //! - `g1_ellipse.csv`: the G1 mechanism (focus-pivoted ellipses, a = 45, l3 = 170 mm,
 //!   β_init = −70°), 360 points, one per carrier degree — exactly traceable.
 //! - `designer_kidney.csv`: G1 with the needle law perturbed by 0.03·sin(3t + 0.5) rad, as a
-//!   designer would draw it: no train traces it exactly (best achievable ≈ 3.8 mm, spec §6.4).
-//! - `asymmetric_cw.json`: an asymmetric sun (spec G4 family), clockwise carrier, carrier axis at
+//!   designer would draw it: no train traces it exactly (best achievable ≈ 3.8 mm, docs/math/chain.md §6.4).
+//! - `asymmetric_cw.json`: an asymmetric sun (docs/math/chain.md §11.4 (G4) family), clockwise carrier, carrier axis at
 //!   (250, 400) mm, 720 points, JSON format — exactly traceable.
 //!
 //! Run: `cargo run --release --example make_trajectories`

@@ -1,4 +1,4 @@
-//! Design chain: every knob of spec §13 that trades accuracy for time, measured against references
+//! Design chain: every knob of docs/math/chain.md §13 that trades accuracy for time, measured against references
 //! (closed forms of the G1 mechanism, the best achievable deviation of the designer-style target).
 use super::{Row, timed};
 use ncgear::design::inverse::{InverseOptions, invert};

@@ -1,4 +1,4 @@
-//! Dynamics (spec B.11): ODE tolerance and breakpoints. DOPRI5 with and without breakpoints and
+//! Dynamics (docs/math/companion.md §B.11): ODE tolerance and breakpoints. DOPRI5 with and without breakpoints and
 //! events, and fixed-step RK4 aligned / not aligned to the switches, on the SDOF physical model
 //! (6000 rpm, rectangular TVMS + backlash + STE), 120 mesh periods from the quasi-static state.
 //! Error = max |DTE − reference| / DTE peak-to-peak over the last 20 periods; reference = DOPRI5

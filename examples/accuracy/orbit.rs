@@ -1,4 +1,4 @@
-//! Orbit extraction (companion spec A.8): record length (= FFT size at a fixed sample rate) and
+//! Orbit extraction (docs/math/companion.md §A.8): record length (= FFT size at a fixed sample rate) and
 //! method, against the known true orbit of a synthetic record. The record holds the planet orbit
 //! (Z₊ = 6 + 2i µm, Z₋ = −3 + 4i µm at ω_p = 2π·3.37 rad/s), a 5 µm sun-runout line at 4.91 Hz,
 //! forward and backward mesh lines at 12·3.37 Hz, a DC offset and a linear drift, sampled at

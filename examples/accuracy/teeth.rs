@@ -1,5 +1,5 @@
-//! Tooth outlines (spec §12): the chord tolerance of the generated polyline and the sampling of
-//! the pitch curve. On a circle the rack generates an exact involute (spec G5), so the error is
+//! Tooth outlines (docs/math/teeth.md §12): the chord tolerance of the generated polyline and the sampling of
+//! the pitch curve. On a circle the rack generates an exact involute (docs/math/chain.md §11.5 (G5)), so the error is
 //! measured against the closed form: the largest distance from densely sampled exact involute
 //! flank points (tooth 0, right flank, pitch circle r = 24 mm, m = 2, α = 20°) to the polyline.
 //! On the G1 sun (non-circular) the reference is a converged outline (chord 1e-6 mm from a

@@ -1,4 +1,4 @@
-//! Tolerance analysis (companion spec C): the peak-search grid (certified vs a naive fixed grid)
+//! Tolerance analysis (docs/math/companion.md §C): the peak-search grid (certified vs a naive fixed grid)
 //! and the Monte Carlo sample count, measured against references (a 400-points-per-period
 //! certified peak; a 200 000-sample Monte Carlo mean).
 use super::Row;

@@ -1,4 +1,4 @@
-//! Companion analyses from the same field (spec `companion-methods.md`).
+//! Companion analyses from the same field (docs/math/companion.md).
 
 pub mod dynamics;
 pub mod montecarlo;

@@ -1,4 +1,4 @@
-//! Seeded, parallel Monte Carlo with summary statistics (companion spec C.5).
+//! Seeded, parallel Monte Carlo with summary statistics (docs/math/companion.md §C.5).
 //!
 //! Sample `i` draws from its own stream `ChaCha8Rng::seed_from_u64(seed)` with `set_stream(i)`,
 //! so results are identical for any thread count and any chunking. Mean and variance are

@@ -31,7 +31,7 @@ pub struct Args {
     /// Target max tip deviation, mm.
     #[arg(long, default_value_t = DesignOptions::default().tol_tip_mm)]
     pub tol_mm: f64,
-    /// Refinement: auto (the fit to the points when the chain's result misses 0.2·--tol-mm, leaves the ratio bounds or comes from noisy points), on (§8.3 tip-motion fit, then the fit to the points), off (the patent route only).
+    /// Refinement: auto (the fit to the points when the chain's result misses 0.2·--tol-mm, leaves the ratio bounds or comes from noisy points), on (docs/math/chain.md §8.3 tip-motion fit, then the fit to the points), off (the patent route only).
     #[arg(long, value_enum, default_value = "auto")]
     pub refine: RefineArg,
     /// Fourier order of the refinement when --order is not given.

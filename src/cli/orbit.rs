@@ -1,4 +1,4 @@
-//! `ncgear orbit`: floating sun-gear orbit under planet eccentricity (spec A). Thin shell over
+//! `ncgear orbit`: floating sun-gear orbit under planet eccentricity (docs/math/companion.md §A). Thin shell over
 //! `ncgear::analysis::orbit`.
 use super::{CliResult, input_error, print_json, runtime_error};
 use ncgear::analysis::orbit::evaluate::{Evaluation, MeasureOptions, SensorFrame};
@@ -18,7 +18,7 @@ pub struct Args {
 
 #[derive(Debug, clap::Subcommand)]
 enum Sub {
-    /// Kinematic model: planet eccentricities → sun orbit, ellipse, whirl, common mode (A.3–A.6).
+    /// Kinematic model: planet eccentricities → sun orbit, ellipse, whirl, common mode (docs/math/companion.md §A.3–§A.6).
     Model {
         /// Parameter file (TOML or JSON), see docs/orbit.md.
         params: PathBuf,
@@ -29,7 +29,7 @@ enum Sub {
         #[arg(long)]
         plot: Option<PathBuf>,
     },
-    /// Evaluate a sensor record (t_s, x_um, y_um[, carrier_deg]) at the planet frequency (A.7–A.8).
+    /// Evaluate a sensor record (t_s, x_um, y_um[, carrier_deg]) at the planet frequency (docs/math/companion.md §A.7–§A.8).
     Measure {
         /// Sensor CSV.
         signals: PathBuf,
@@ -45,7 +45,7 @@ enum Sub {
         #[arg(long)]
         png: bool,
     },
-    /// Planet eccentricity phasors from a measured orbit, up to the unobservable common mode (A.9).
+    /// Planet eccentricity phasors from a measured orbit, up to the unobservable common mode (docs/math/companion.md §A.9).
     Identify {
         /// Sensor CSV to evaluate (alternative to --sin-pair).
         #[arg(long, conflicts_with = "sin_pair")]

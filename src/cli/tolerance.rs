@@ -1,5 +1,5 @@
 //! `ncgear tolerance ERRORS` (error harmonics, phase compensation, Monte Carlo) and
-//! `ncgear tolerance DESIGN.json --errors ERRORS` (transplanter tolerance analysis, spec C.6).
+//! `ncgear tolerance DESIGN.json --errors ERRORS` (transplanter tolerance analysis, docs/math/companion.md §C.6).
 use super::{CliResult, input_error, print_json, progress_bar, runtime_error};
 use ncgear::analysis::montecarlo::{McOptions, McStats};
 use ncgear::analysis::tolerance::{ErrorFile, ToleranceOptions, analyse};
@@ -17,7 +17,7 @@ pub struct Args {
     /// the design.json of a transplanter (see docs/transplanter.md).
     pub errors: PathBuf,
     /// Transplanter error inventory (TOML or JSON, µm and degrees): analyse the design file given
-    /// as the positional argument (spec C.6).
+    /// as the positional argument (docs/math/companion.md §C.6).
     #[arg(long = "errors", value_name = "ERRORS")]
     pub inventory: Option<PathBuf>,
     /// Monte Carlo samples over random assemblies (0: no Monte Carlo; the transplanter analysis

@@ -1,4 +1,4 @@
-//! The design chain, stage by stage: step 1, compatibility, the patent route, the §8.3
+//! The design chain, stage by stage: step 1, compatibility, the patent route, the docs/math/chain.md §8.3
 //! refinement, the fit to the points, then the tables, checks and report.
 
 use super::checks::finish;
@@ -63,7 +63,7 @@ pub fn design(traj: &Trajectory, opts: &DesignOptions) -> Result<Design, DesignE
         limits: opts.limits(),
     };
 
-    // The patent route, then the §8.3 refinement when asked for.
+    // The patent route, then the docs/math/chain.md §8.3 refinement when asked for.
     let t0 = Instant::now();
     let seg = segmented::design(&inv.law, compat.tau_rad, n, &opts.segmented)?;
     // Warnings that the noise of measured points can explain wait for the round trip (C12), at
@@ -272,7 +272,7 @@ struct Patent {
     incompatibility: Option<String>,
 }
 
-/// The patent route (spec §7–§8.2): the segmented hypothesis fitted by a Fourier series at the
+/// The patent route (docs/math/chain.md §7–§8.2): the segmented hypothesis fitted by a Fourier series at the
 /// fixed order, or at the adaptive orders until the deviation is within tolerance; orders whose
 /// ratio leaves the bounds are not candidates (the first is kept as a last resort).
 fn patent_route(
@@ -311,7 +311,7 @@ fn patent_route(
         let [(lo, _), (hi, _)] = ratio.sampled_extremes(4096);
         let [blo, bhi] = opts.refine_options.ratio_bounds;
         if lo < blo || hi > bhi {
-            // Outside the admissible ratios (spec §14): not a candidate, but kept as the
+            // Outside the admissible ratios (docs/math/chain.md §14): not a candidate, but kept as the
             // refinement's last-resort start.
             if out_of_bounds.is_none() {
                 out_of_bounds = Some((trains.build(ratio, tau).0, k));
@@ -369,8 +369,8 @@ fn patent_route(
     })
 }
 
-/// The refinement of §8.3 (only with [`RefineMode::On`]: the fit to the points is the default
-/// refinement), from the patent route's ratio made admissible (spec §14).
+/// The refinement of docs/math/chain.md §8.3 (only with [`RefineMode::On`]: the fit to the points is the default
+/// refinement), from the patent route's ratio made admissible (docs/math/chain.md §14).
 fn refine_route(
     trains: &Trains,
     seg: &Segmented,

@@ -1,4 +1,4 @@
-//! Pitch tables, assembly, checks C1–C12 and the round trip from the output tables (spec §9–10).
+//! Pitch tables, assembly, checks C1–C12 and the round trip from the output tables (docs/math/chain.md §9–§10).
 
 use super::error::DesignError;
 use super::options::DesignOptions;
@@ -17,7 +17,7 @@ use std::f64::consts::TAU;
 /// `n` points of the target curve through the points: a periodic cubic spline in the carrier
 /// angle at which the designed tip passes each point (the mechanism's own time, in which the tip
 /// moves smoothly even round a sharp, coarsely sampled nose), or, when those angles do not advance
-/// monotonically, the chord-length spline of spec §3.1.
+/// monotonically, the chord-length spline of docs/math/chain.md §3.1.
 fn target_curve(points: &[[f64; 2]], angles: &[f64], n: usize) -> Vec<[f64; 2]> {
     let mut knots = Vec::with_capacity(angles.len());
     let mut acc = 0.0;

@@ -1,4 +1,4 @@
-//! Realizability of a target needle law by the patent's train (spec §6.4).
+//! Realizability of a target needle law by the patent's train (docs/math/chain.md §6.4).
 //!
 //! The train can produce `ψ3` exactly iff `S_c = ψ3 + c` satisfies `S_c∘S_c = shift by 2π`.
 //! Test: the half-closure origins τ are the roots of `D(τ) = ψ3(τ + π) − ψ3(τ) − π`; for each,
@@ -8,7 +8,7 @@
 //! E_c(τ) = max_u |Ψb(Ψf(u)) − u|            (rad; tip-equivalent ≈ l3·E_c mm)
 //! ```
 //!
-//! and the origin with the smallest `E_c` is chosen (spec §15 item 5).
+//! and the origin with the smallest `E_c` is chosen (docs/math/chain.md §15 item 5).
 
 use crate::design::law::NeedleLaw;
 use crate::math::periodic::bracketed_root;
@@ -39,7 +39,7 @@ pub fn analyse(law: &NeedleLaw, n: usize, tol_rad: f64) -> Compatibility {
     let scale = dv.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
     let mut origins = Vec::new();
     if scale < 1e-12 {
-        // D ≡ 0: every τ is a half-closure origin; use a coarse candidate set (spec §6.4).
+        // D ≡ 0: every τ is a half-closure origin; use a coarse candidate set (docs/math/chain.md §6.4).
         origins.extend((0..8).map(|k| TAU * k as f64 / 8.0));
     } else {
         for k in 0..n {

@@ -31,7 +31,7 @@ pub enum DesignError {
     },
     /// The best ratio found leaves the admissible bounds.
     #[error(
-        "the sun ratio i21 would span [{min:.3}, {max:.3}], outside the admissible bounds [{lo}, {hi}] (spec §14); with the refinement off nothing brings it back inside: let the fit to the points run (refine auto or on), which keeps every design within the bounds"
+        "the sun ratio i21 would span [{min:.3}, {max:.3}], outside the admissible bounds [{lo}, {hi}] (docs/math/chain.md §14); with the refinement off nothing brings it back inside: let the fit to the points run (refine auto or on), which keeps every design within the bounds"
     )]
     RatioOutOfBounds {
         /// Smallest ratio.

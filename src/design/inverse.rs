@@ -1,7 +1,7 @@
 //! Step 1: static trajectory → arm lengths `l1`, `l3`, the carrier angle of every trajectory point
-//! and the needle's relative rotation `ψ3(t)` (spec §3).
+//! and the needle's relative rotation `ψ3(t)` (docs/math/chain.md §3).
 //!
-//! Closed-form two-circle inversion (§3.3): with `ρ(s) = |P(s)|`, `θ(s) = atan2 P(s)`,
+//! Closed-form two-circle inversion (docs/math/chain.md §3.3): with `ρ(s) = |P(s)|`, `θ(s) = atan2 P(s)`,
 //!
 //! ```text
 //! q(s)  = (l1² + ρ² − l3²) / (2 l1 ρ),    δ(s) = arccos q(s) ∈ [0, π]
@@ -9,10 +9,10 @@
 //! β(s)  = atan2( P(s) − l1·e(φH(s)) ),     ψ3(t) = t − (β − β0),   t = φH − φH0
 //! ```
 //!
-//! `l1 = (ρmax − ρmin)/2`, `l3 = (ρmax + ρmin)/2` (winding number 0, §3.2). The reference instant
+//! `l1 = (ρmax − ρmin)/2`, `l3 = (ρmax + ρmin)/2` (winding number 0, docs/math/chain.md §3.2). The reference instant
 //! `t = 0` is the ρmax instant, where the needle is collinear with OA (`β0 = φH0`).
 //! `ψ3` is resampled on a uniform grid of `N` carrier angles by solving `φH(s) = φH0 + t_n` on the
-//! interpolant itself (no second interpolation), so its error is the spline's, O(h⁴) (§3.5).
+//! interpolant itself (no second interpolation), so its error is the spline's, O(h⁴) (docs/math/chain.md §3.5).
 
 use crate::design::law::NeedleLaw;
 use crate::design::trajectory::{ClosedSpline, Trajectory};
@@ -21,7 +21,7 @@ use crate::math::periodic::{bracketed_root, secant_root, wrap_pi};
 use rayon::prelude::*;
 use std::f64::consts::TAU;
 
-/// Accuracy knobs of the inversion (spec §13).
+/// Accuracy knobs of the inversion (docs/math/chain.md §13).
 #[derive(Debug, Clone, Copy, PartialEq)]
 #[non_exhaustive]
 pub struct InverseOptions {
@@ -33,7 +33,7 @@ pub struct InverseOptions {
     /// of the trajectory length. Default 1e-14.
     pub tol_relative: f64,
     /// Low-pass the needle law `ψ3 − t` to this many harmonics (for measured, noisy data: the
-    /// inversion amplifies noise near the extremes, spec §3.5); `None` (default) keeps it as computed.
+    /// inversion amplifies noise near the extremes, docs/math/chain.md §3.5); `None` (default) keeps it as computed.
     pub law_harmonics: Option<usize>,
 }
 
@@ -85,7 +85,7 @@ pub enum InverseError {
     },
     /// Some point is too close to the carrier axis.
     #[error(
-        "the trajectory comes within {rho_min_mm:.3} mm of the carrier axis, below 5 % of l3 ({limit_mm:.3} mm); the inversion is ill-conditioned there (spec §14): move the carrier axis (`center_mm`) or the trajectory"
+        "the trajectory comes within {rho_min_mm:.3} mm of the carrier axis, below 5 % of l3 ({limit_mm:.3} mm); the inversion is ill-conditioned there (docs/math/chain.md §14): move the carrier axis (`center_mm`) or the trajectory"
     )]
     TooCloseToAxis {
         /// ρmin, mm.
@@ -94,7 +94,7 @@ pub enum InverseError {
         limit_mm: f64,
     },
     /// The carrier angle is not monotone along the trajectory.
-    #[error("no arm with constant l1 = {l1_mm:.3} mm and l3 = {l3_mm:.3} mm can trace this path: the carrier angle would have to run backwards on {} stretch(es), carrier angles (deg) {stretches_deg:?} (monotonicity criterion, spec §3.3); redraw those parts (the points as read and smoothed copies of them were tried)", stretches_deg.len())]
+    #[error("no arm with constant l1 = {l1_mm:.3} mm and l3 = {l3_mm:.3} mm can trace this path: the carrier angle would have to run backwards on {} stretch(es), carrier angles (deg) {stretches_deg:?} (monotonicity criterion, docs/math/chain.md §3.3); redraw those parts (the points as read and smoothed copies of them were tried)", stretches_deg.len())]
     NotMonotone {
         /// l1, mm.
         l1_mm: f64,
@@ -114,7 +114,7 @@ pub enum InverseError {
 }
 
 /// Result of step 1, in the solved frame: relative to the carrier axis, mirrored when the carrier
-/// turns clockwise (spec §1: solve CCW, mirror back).
+/// turns clockwise (docs/math/chain.md §1: solve CCW, mirror back).
 #[derive(Debug, Clone)]
 pub struct Inversion {
     /// Carrier arm length `l1 = |OA|`, mm.
@@ -189,7 +189,7 @@ pub fn invert(
     }
     // Both senses are tried: the "elbow-flipped" arm (A reflected across OB) of a CW mechanism can
     // trace the same path CCW. When both are valid, the law that the train can realise best
-    // (smaller compatibility residual, spec §6.4) wins and the other is flagged.
+    // (smaller compatibility residual, docs/math/chain.md §6.4) wins and the other is flagged.
     // The two senses are independent: solved side by side.
     let mirrored = traj.relative_to(center, true);
     // A frame whose coarse pass already shows the carrier running backwards or the wrong way
@@ -258,7 +258,7 @@ fn dense_count(opts: &InverseOptions, points: usize) -> usize {
 }
 
 /// The extreme of ρ(s) = |P(s)| near grid sample `j` of step `ds` (mm of chord): the root of
-/// d(ρ²)/ds = 2 P·P′ within one step either side, to `tol` (mm), on the interpolant (§3.5a).
+/// d(ρ²)/ds = 2 P·P′ within one step either side, to `tol` (mm), on the interpolant (docs/math/chain.md §3.5a).
 fn refine_extreme(spline: &ClosedSpline, j: usize, ds: f64, tol: f64) -> f64 {
     let pdot = |s: f64| {
         let [p, d, _] = spline.eval(s);
@@ -268,7 +268,7 @@ fn refine_extreme(spline: &ClosedSpline, j: usize, ds: f64, tol: f64) -> f64 {
 }
 
 /// Unit direction `e(φH)` of the carrier arm at which an arm of `l1`, `l3` (mm) reaches tip `p`
-/// (mm, relative to O): `P/ρ` turned by `σ·δ`, `cos δ = q = (l1² + ρ² − l3²)/(2 l1 ρ)` (§3.3),
+/// (mm, relative to O): `P/ρ` turned by `σ·δ`, `cos δ = q = (l1² + ρ² − l3²)/(2 l1 ρ)` (docs/math/chain.md §3.3),
 /// `sin δ = √((1 − q)(1 + q))`; the cosine clamped into [−1, 1] against rounding at the extremes
 /// (where it is ±1). Algebraic: no angle is taken, so the elbow `A = l1·e` costs no sine or cosine.
 fn arm_direction(p: [f64; 2], l1: f64, l3: f64, sigma: f64) -> [f64; 2] {
@@ -296,7 +296,7 @@ const CLEAR_BACKWARDS_RAD: f64 = 1e-3;
 
 /// Whether a coarse pass (every [`COARSE_DIVISOR`]-th dense parameter) clearly rejects the
 /// frame: the carrier angle advances by other than +2π over the loop, or runs backwards by more
-/// than [`CLEAR_BACKWARDS_RAD`] on a stretch (the monotonicity criterion of spec §3.3 at a
+/// than [`CLEAR_BACKWARDS_RAD`] on a stretch (the monotonicity criterion of docs/math/chain.md §3.3 at a
 /// margin). A step of the unwrapping larger than π/2 (ambiguous) answers false, as does anything
 /// unclear: the frame is then solved in full.
 fn coarse_rejects(spline: &ClosedSpline, ns: usize, tol: f64) -> bool {
@@ -414,7 +414,7 @@ fn solve_frame(
         .iter()
         .enumerate()
         .fold((0, f64::MAX), |b, (j, &r)| if r < b.1 { (j, r) } else { b });
-    // Several separate global maxima (spec §3.2).
+    // Several separate global maxima (docs/math/chain.md §3.2).
     let rmax_dense = dense[jmax];
     let sep = ns / 20;
     let mut maxima = vec![jmax];
@@ -446,7 +446,7 @@ fn solve_frame(
                 .collect(),
         });
     }
-    // Refine the extremes: d(ρ²)/ds = 2 P·P′ = 0 (Brent/bisection on the same interpolant, §3.5a).
+    // Refine the extremes: d(ρ²)/ds = 2 P·P′ = 0 (Brent/bisection on the same interpolant, docs/math/chain.md §3.5a).
     let tol = opts.tol_relative * len;
     let (s_max, s_min) = (
         refine_extreme(spline, jmax, ds, tol),
@@ -577,7 +577,7 @@ mod tests {
     #[test]
     fn algebraic_arm_direction_is_the_two_circle_solution() {
         // The elbow A = l1·e(φH) lies l1 from O and l3 from the tip, on the side σ says, and φH
-        // is the closed form atan2 P + σ·arccos q of spec §3.3.
+        // is the closed form atan2 P + σ·arccos q of docs/math/chain.md §3.3.
         let (l1, l3) = (60.0, 200.0);
         for k in 0..2000 {
             let t = TAU * f64::from(k) / 2000.0;

@@ -1,4 +1,4 @@
-//! The needle law `ψ3(t)`: what step 1 produces and every later stage reads (spec §3.3–§4).
+//! The needle law `ψ3(t)`: what step 1 produces and every later stage reads (docs/math/chain.md §3.3–§4).
 //! On its own so that the stages that read it (compatibility, the patent route, the refinement)
 //! do not depend on step 1 itself.
 
@@ -37,7 +37,7 @@ impl NeedleLaw {
         t + self.p.value(t)
     }
 
-    /// `i31(t) = dψ3/dt = 1 − i3H` (spec §4).
+    /// `i31(t) = dψ3/dt = 1 − i3H` (docs/math/chain.md §4).
     #[must_use]
     pub fn i31(&self, t: f64) -> f64 {
         1.0 + self.p.derivative(t)
@@ -49,7 +49,7 @@ impl NeedleLaw {
         &self.samples
     }
 
-    /// `i31` on the sample grid, spectrally (spec §3.3).
+    /// `i31` on the sample grid, spectrally (docs/math/chain.md §3.3).
     #[must_use]
     pub fn i31_samples(&self) -> Vec<f64> {
         spectral_derivative(&self.samples)

@@ -1,13 +1,13 @@
-//! The whole design chain and its report (spec §3–§10).
+//! The whole design chain and its report (docs/math/chain.md §3–§10).
 //!
 //! `trajectory → inverse → compat → segmented → fourier → refine → mechanism → assembly`:
 //!
 //! 1. [`crate::design::inverse`]: l1, l3, ψ3, i31 (step 1–2);
-//! 2. [`crate::design::compat`]: half-closure origin τ and compatibility residual E_c (§6.4);
-//! 3. [`crate::design::segmented`]: Fourier hypothesis, mirror/weight iteration (§7);
-//! 4. [`crate::geometry::fourier`]: least-squares fit with exact closure, order fixed or adaptive (§8.1–8.2);
-//! 5. [`crate::design::refine`]: direct fit of the tip motion when the patent route misses the tolerance (§8.3);
-//! 6. pitch curves, assembly angles, checks C1–C12 and the round trip from the output tables (§9–10).
+//! 2. [`crate::design::compat`]: half-closure origin τ and compatibility residual E_c (docs/math/chain.md §6.4);
+//! 3. [`crate::design::segmented`]: Fourier hypothesis, mirror/weight iteration (docs/math/chain.md §7);
+//! 4. [`crate::geometry::fourier`]: least-squares fit with exact closure, order fixed or adaptive (docs/math/chain.md §8.1–§8.2);
+//! 5. [`crate::design::refine`]: direct fit of the tip motion when the patent route misses the tolerance (docs/math/chain.md §8.3);
+//! 6. pitch curves, assembly angles, checks C1–C12 and the round trip from the output tables (docs/math/chain.md §9–§10).
 //!
 //! ```no_run
 //! use ncgear::design::{design, DesignOptions, trajectory::Trajectory};

@@ -7,10 +7,10 @@ use crate::design::segmented::SegmentedOptions;
 use crate::geometry::limits::GearLimits;
 use serde::{Deserialize, Serialize};
 
-/// Orders tried by the adaptive order choice (spec §8.2).
+/// Orders tried by the adaptive order choice (docs/math/chain.md §8.2).
 pub const ADAPTIVE_ORDERS: [usize; 8] = [4, 6, 8, 12, 16, 24, 32, 40];
 
-/// When to run the refinement of §8.3.
+/// When to run the refinement of docs/math/chain.md §8.3.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
 #[serde(rename_all = "lowercase")]
 pub enum RefineMode {
@@ -40,13 +40,13 @@ pub struct DesignOptions {
     /// Fixed Fourier order K; `None` (default) = adaptive to `tol_tip_mm`.
     pub order: Option<usize>,
     /// Target max synchronous tip deviation, mm. Default 0.05: the round-trip acceptance bound
-    /// for exactly traceable targets (the spec suggests 0.1).
+    /// for exactly traceable targets (docs/math/chain.md §8.2 suggests 0.1).
     pub tol_tip_mm: f64,
     /// Refinement policy. Default [`RefineMode::Auto`].
     pub refine: RefineMode,
     /// Fit every parameter to the points as the last stage ([`crate::design::fit`]), when the chain's
     /// result is not within 0.2·`tol_tip_mm` of them, leaves the ratio bounds, or came from smoothed
-    /// points (default true). Off: the chain's result (patent route, or §8.3 with `refine: On`).
+    /// points (default true). Off: the chain's result (patent route, or docs/math/chain.md §8.3 with `refine: On`).
     pub fit_to_points: bool,
     /// Refinement knobs (ratio bounds are shared with check C6 and the fit). Default
     /// [`RefineOptions::default`].
@@ -187,7 +187,7 @@ pub(super) fn validate(opts: &DesignOptions) -> Result<(), DesignError> {
             opts.order.is_none_or(|k| (1..=64).contains(&k)),
             "order",
             show(opts.order),
-            "an integer in 1..=64 (40 is the recommended cap, spec §8.2)",
+            "an integer in 1..=64 (40 is the recommended cap, docs/math/chain.md §8.2)",
         ),
         (
             opts.smoothing.is_none_or(|h| (4..=512).contains(&h)),

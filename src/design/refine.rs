@@ -1,5 +1,5 @@
 //! Refinement beyond the patent: direct least-squares fit of the sun ratio to the target needle
-//! motion (spec §8.3).
+//! motion (docs/math/chain.md §8.3).
 //!
 //! Parameters `q = (a_1..a_K, b_1..b_K, τ_s, C)`; residuals at `J` uniform carrier angles
 //! `x_j` (rad from the reference instant):
@@ -21,13 +21,13 @@ use nalgebra::{DMatrix, DVector, Dyn, Owned};
 use rayon::prelude::*;
 use std::f64::consts::TAU;
 
-/// Options of the refinement (spec §8.3).
+/// Options of the refinement (docs/math/chain.md §8.3).
 #[derive(Debug, Clone, Copy, PartialEq)]
 #[non_exhaustive]
 pub struct RefineOptions {
     /// Residual samples `J` (at least 4K are used). Default 360.
     pub samples: usize,
-    /// Ratio bounds `[i_min, i_max]` (dimensionless; spec §14). Default [0.3, 3.3].
+    /// Ratio bounds `[i_min, i_max]` (dimensionless; docs/math/chain.md §14). Default [0.3, 3.3].
     pub ratio_bounds: [f64; 2],
     /// Penalise concave sun/intermediate arcs. Default false.
     pub convexity_penalty: bool,

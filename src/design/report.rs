@@ -27,7 +27,7 @@ pub struct DesignReport {
     pub roundtrip: RoundTrip,
     /// Step-1 summary.
     pub trajectory: TrajectorySummary,
-    /// Compatibility (§6.4, C11).
+    /// Compatibility (docs/math/chain.md §6.4, C11).
     pub compatibility: CompatSummary,
     /// The patent route's result.
     pub patent_route: RouteSummary,
@@ -36,7 +36,7 @@ pub struct DesignReport {
     /// The orthogonal-distance fit of the whole train to the points, when it ran.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub fit: Option<FitSummary>,
-    /// Which result the gears come from: "patent", "refined" (§8.3), "fit" or "module" (the
+    /// Which result the gears come from: "patent", "refined" (docs/math/chain.md §8.3), "fit" or "module" (the
     /// fit at the module's tooth count).
     pub chosen: String,
     /// The final sun ratio `i21(u) = 1 + Σ a_k cos ku + b_k sin ku`, u = sun polar angle from the
@@ -119,7 +119,7 @@ pub struct Gears {
     pub sun: Gear,
     /// Intermediate gear.
     pub intermediate: Gear,
-    /// Planet gear (congruent to the sun, spec §6.1).
+    /// Planet gear (congruent to the sun, docs/math/chain.md §6.1).
     pub planet: Gear,
 }
 
@@ -303,7 +303,7 @@ pub struct FourierSummary {
     pub i21_range: [f64; 2],
 }
 
-/// One verification check (spec §10).
+/// One verification check (docs/math/chain.md §10).
 #[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct Check {
     /// "C1".."C12".
@@ -329,7 +329,7 @@ pub struct Timings {
     pub compat: f64,
     /// Patent route incl. order choice.
     pub patent: f64,
-    /// Refinement (§8.3).
+    /// Refinement (docs/math/chain.md §8.3).
     pub refine: f64,
     /// Fit to the points.
     #[serde(default)]

@@ -1,10 +1,10 @@
-//! Steps 3–4: the patent's segmented-ratio design (spec §7), in the τ-shifted frame.
+//! Steps 3–4: the patent's segmented-ratio design (docs/math/chain.md §7), in the τ-shifted frame.
 //!
 //! Front segment `F(u) = Φ(u)`, back segment `G(v) = Φ(π + v) − π`, both on `[0, π]` with half
 //! closure `F(π) = G(π) = π`. From a Fourier hypothesis
 //! `F′₀(u) = 1 + Σ A_n sin(2n u + φ_n)` (ω = 2, so `∫_0^π F′₀ = π` exactly), route "ac" solves
 //! `G = F∘Ψf⁻¹`, i.e. `G′(u) = F′(h(u))·h′(u)` with `h = Ψf⁻¹`; route "bd" solves `G = F∘Ψb`.
-//! Then the mirror/weight iteration (§7.3):
+//! Then the mirror/weight iteration (docs/math/chain.md §7.3):
 //!
 //! ```text
 //! J0 = max(|F′(0) − G′(π)|, |F′(π) − G′(0)|);  stop at the first J0 ≤ tol_J
@@ -17,7 +17,7 @@ use crate::design::law::NeedleLaw;
 use crate::math::periodic::invert_increasing;
 use std::f64::consts::PI;
 
-/// Which three of the patent's four relations are solved exactly (spec §15 item 4).
+/// Which three of the patent's four relations are solved exactly (docs/math/chain.md §15 item 4).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize, serde::Deserialize)]
 #[serde(rename_all = "lowercase")]
 pub enum Route {
@@ -28,7 +28,7 @@ pub enum Route {
     Bd,
 }
 
-/// Parameters of the segmented design (spec §7).
+/// Parameters of the segmented design (docs/math/chain.md §7).
 #[derive(Debug, Clone, PartialEq)]
 #[non_exhaustive]
 pub struct SegmentedOptions {
@@ -78,7 +78,7 @@ pub struct Segmented {
     pub samples: Vec<f64>,
     /// Junction value mismatch of the returned iterate.
     pub j0: f64,
-    /// Junction slope mismatch (reported only, §7.3).
+    /// Junction slope mismatch (reported only, docs/math/chain.md §7.3).
     pub j1: f64,
     /// Iterations done.
     pub iterations: usize,

@@ -2,7 +2,7 @@
 //! duplicated end vertex, `$INSUNITS` = 4 mm, `$MEASUREMENT` = metric, a layer per contour kind,
 //! POINT entities for markers), or a hand-written minimal R12 (POLYLINE/VERTEX/SEQEND, no
 //! group-100 subclass markers) for old programs. No SPLINE entities. Contours are simplified to
-//! `chord_tol_mm` (Douglas–Peucker). Spec: peers-and-cad.md §6, §10.
+//! `chord_tol_mm` (Douglas–Peucker). Conventions: docs/math/cad.md §6, §10.
 use super::{ExportError, Sheet, io_err};
 use crate::math::polyline::simplify_closed;
 use ::dxf::LwPolylineVertex;

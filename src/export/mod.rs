@@ -1,6 +1,6 @@
 //! CAD exports of closed polylines in mm: SVG (mm-exact), DXF (R2010 LWPOLYLINE or R12 POLYLINE),
 //! point lists (CSV with header, header-less `x y 0` TXT) and STEP AP214 solids of the extruded
-//! gears. Spec: peers-and-cad.md §6, §8.
+//! gears. Conventions: docs/math/cad.md §6, §8.
 pub mod dxf;
 pub mod points;
 pub mod step;

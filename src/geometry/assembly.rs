@@ -1,6 +1,6 @@
 //! The assembled train as a CAD pipeline sees it: three polar pitch tables, two assembly angles,
 //! the needle angle and the carrier — exactly the content of `design.json` — and its kinematics
-//! rebuilt **from those tables only** (the round trip, spec §2 and check C12).
+//! rebuilt **from those tables only** (the round trip, docs/math/chain.md §2 and check C12).
 //!
 //! Conventions (world frame = the trajectory's; angles CCW, rad inside, degrees in files): at
 //! carrier angle φH the intermediate centre is `D = O + a·e(φH)`, the planet centre

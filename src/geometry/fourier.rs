@@ -1,11 +1,11 @@
-//! The sun ratio as a closed Fourier series (spec §8.1).
+//! The sun ratio as a closed Fourier series (docs/math/chain.md §8.1).
 //!
 //! ```text
 //! i21(θ) = 1 + Σ_{k=1}^{K} ( a_k cos kθ + b_k sin kθ )          (dimensionless, θ in rad)
 //! Φ(θ)   = ∫_0^θ i21 = θ + Σ ( a_k sin kθ + b_k (1 − cos kθ) ) / k
 //! ```
 //!
-//! The constant term is fixed to 1, so the closure `Φ(2π) = 2π` (equal tooth counts, spec §5) holds
+//! The constant term is fixed to 1, so the closure `Φ(2π) = 2π` (equal tooth counts, docs/math/chain.md §5) holds
 //! exactly for every coefficient vector (check C1).
 //!
 //! ```
@@ -118,7 +118,7 @@ impl SunRatio {
         Self { a, b, drift_bound }
     }
 
-    /// Least-squares fit of order `K` to uniform samples `y_n = i(2πn/N)` (spec §8.1): the truncated
+    /// Least-squares fit of order `K` to uniform samples `y_n = i(2πn/N)` (docs/math/chain.md §8.1): the truncated
     /// DFT with the mean forced to 1 (exact closure). Requires `N ≥ 2K + 1`.
     pub fn fit_uniform(samples: &[f64], order: usize) -> Result<Self, RatioError> {
         let (a, b) = Self::dft_coefficients(samples, order);
@@ -241,7 +241,7 @@ impl SunRatio {
         (phi, out)
     }
 
-    /// `Φ⁻¹(y)` (rad): Newton with bisection safeguard to `tol_rad` (spec §14, "Φ⁻¹ robustness").
+    /// `Φ⁻¹(y)` (rad): Newton with bisection safeguard to `tol_rad` (docs/math/chain.md §14, "Φ⁻¹ robustness").
     #[must_use]
     pub fn inverse_integral(&self, y: f64, tol_rad: f64) -> f64 {
         self.inverse_integral_from(y, y, tol_rad)
@@ -340,7 +340,7 @@ impl SunRatio {
         self.inverse_integral_along(n, |k| self.integral(t(k)) + PI, tol_rad)
     }
 
-    /// Planet contact map `S(t) = Φ⁻¹(Φ(t) + π)` (spec §6.2), rad.
+    /// Planet contact map `S(t) = Φ⁻¹(Φ(t) + π)` (docs/math/chain.md §6.2), rad.
     #[must_use]
     pub fn half_turn_map(&self, t: f64, tol_rad: f64) -> f64 {
         self.inverse_integral(self.integral(t) + PI, tol_rad)
@@ -439,7 +439,7 @@ mod tests {
             assert!((r.value(t) - f(t)).abs() < 1e-13);
         }
         assert!((r.integral(TAU) - TAU).abs() < 1e-13);
-        // Φ⁻¹ ∘ Φ = id and S∘S = shift by 2π (spec §6.2).
+        // Φ⁻¹ ∘ Φ = id and S∘S = shift by 2π (docs/math/chain.md §6.2).
         for j in 0..20 {
             let t = -3.0 + 0.41 * j as f64;
             assert!((r.inverse_integral(r.integral(t), 1e-14) - t).abs() < 1e-12);

@@ -1,9 +1,9 @@
-//! The analytic reference cases of spec §11, as ready-made values (for tests, benchmarks,
+//! The analytic reference cases of docs/math/chain.md §11, as ready-made values (for tests, benchmarks,
 //! examples and users who want a known-good mechanism to start from).
 //!
 //! ```
 //! let m = ncgear::geometry::golden::g1_mechanism();
-//! // ψ3 at t = 30° (spec §11: 52.252904°).
+//! // ψ3 at t = 30° (docs/math/chain.md §11.1: 52.252904°).
 //! assert!((m.psi3(30f64.to_radians()).to_degrees() - 52.252904).abs() < 1e-6);
 //! ```
 
@@ -21,7 +21,7 @@ pub fn ellipse_ratio(e: f64) -> SunRatio {
     )
 }
 
-/// The G1 mechanism (spec §11): A = 22.5 mm, e = 0.15, a = 45 mm, l3 = 170 mm, β_init = −70°,
+/// The G1 mechanism (docs/math/chain.md §11.1): A = 22.5 mm, e = 0.15, a = 45 mm, l3 = 170 mm, β_init = −70°,
 /// CCW carrier, the sun's far vertex facing D at φH = 0.
 #[must_use]
 pub fn g1_mechanism() -> Mechanism {
@@ -34,7 +34,7 @@ pub fn g1_mechanism() -> Mechanism {
     }
 }
 
-/// G4 generic asymmetric sun (spec §11): `1 + 0.25 cos(t + 0.3) + 0.08 sin(2t + 1.1) + 0.05 cos(3t − 0.4)`.
+/// G4 generic asymmetric sun (docs/math/chain.md §11.4): `1 + 0.25 cos(t + 0.3) + 0.08 sin(2t + 1.1) + 0.05 cos(3t − 0.4)`.
 #[must_use]
 pub fn g4_ratio() -> SunRatio {
     SunRatio::new_unchecked(

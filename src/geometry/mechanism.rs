@@ -1,4 +1,4 @@
-//! The planetary train as a forward model (spec §2, §6, §9).
+//! The planetary train as a forward model (docs/math/chain.md §2, §6, §9).
 //!
 //! A [`Mechanism`] is the design: centre distance `a` (so `l1 = 2a`), needle length `l3`, the sun
 //! ratio `i21(u)` as a function of the sun's *design* polar angle `u`, the world angle `φ_ref` of the
@@ -14,14 +14,14 @@
 //!
 //! Body frames (the JSON conventions of `design.json`): the sun's body frame is the world frame
 //! (its curve is the design curve rotated by `φ_ref`); the planet's body frame is the design frame
-//! (the planet is congruent to the sun, §6.1); the intermediate's body frame is the one in which its
+//! (the planet is congruent to the sun, docs/math/chain.md §6.1); the intermediate's body frame is the one in which its
 //! sun-side contact sits at `π − Φ(t′)`.
 
 use crate::geometry::fourier::SunRatio;
 use crate::geometry::pitch::{PitchCurve, PitchError};
 use std::f64::consts::{PI, TAU};
 
-/// Tolerance of the Φ⁻¹ solves, rad (spec §13: 1e-13).
+/// Tolerance of the Φ⁻¹ solves, rad (docs/math/chain.md §13: 1e-13).
 pub const INVERSE_TOL_RAD: f64 = 1e-13;
 
 /// A designed planetary train with non-circular gears.
@@ -40,7 +40,7 @@ pub struct Mechanism {
 }
 
 /// Pitch radius and its first two polar derivatives of the sun and the intermediate at one
-/// contact, from `(i, i′, i″)` (spec §5).
+/// contact, from `(i, i′, i″)` (docs/math/chain.md §5).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct ContactGeometry {
     /// Sun `(r1, dr1/dθ1, d²r1/dθ1²)`, mm.
@@ -89,7 +89,7 @@ impl Mechanism {
         self.ratio.half_turn_map(t, INVERSE_TOL_RAD)
     }
 
-    /// Planet relative rotation `ψ3(t′) = S(t′) − S(0)`, rad (spec §2).
+    /// Planet relative rotation `ψ3(t′) = S(t′) − S(0)`, rad (docs/math/chain.md §2).
     #[must_use]
     pub fn psi3(&self, t: f64) -> f64 {
         self.half_turn_map(t) - self.half_turn_map(0.0)
@@ -142,7 +142,7 @@ impl Mechanism {
     }
 
     /// Intermediate pitch curve, `n` uniform samples: the point at body angle `θ = π − Φ(t′)` has
-    /// radius `a/(1 + i21(t′))`, so `ρ2(θ) = a/(1 + i21(Φ⁻¹(π − θ)))` (spec §9).
+    /// radius `a/(1 + i21(t′))`, so `ρ2(θ) = a/(1 + i21(Φ⁻¹(π − θ)))` (docs/math/chain.md §9).
     pub fn intermediate_curve(&self, n: usize) -> Result<PitchCurve, PitchError> {
         let t = self.ratio.inverse_integral_along(
             n,
@@ -201,7 +201,7 @@ impl Mechanism {
 mod tests {
     use super::*;
 
-    /// Spec §11 G1: focus ellipse ratio `i = (1−e²)/(1 − 2e cos θ + e²) = 1 + 2Σ eᵏ cos kθ`.
+    /// docs/math/chain.md §11.1 (G1): focus ellipse ratio `i = (1−e²)/(1 − 2e cos θ + e²) = 1 + 2Σ eᵏ cos kθ`.
     fn g1() -> Mechanism {
         let e: f64 = 0.15;
         let a = (1..=30).map(|k| 2.0 * e.powi(k)).collect();
@@ -231,7 +231,7 @@ mod tests {
                     < 1e-12
             );
         }
-        // The sun and intermediate of G1 are the same ellipse (spec §11): ρ2(θ) = r1(θ).
+        // The sun and intermediate of G1 are the same ellipse (docs/math/chain.md §11.1): ρ2(θ) = r1(θ).
         let sun = m.planet_curve(720).unwrap();
         let mid = m.intermediate_curve(720).unwrap();
         let dev = sun

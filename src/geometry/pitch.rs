@@ -4,8 +4,8 @@
 //! uniformly in the body polar angle `θ_k = 2πk/n` (CCW, radians, about the gear's rotation centre)
 //! and interpolates them with a periodic C² cubic spline. Radii are in mm.
 //!
-//! Reference: design-chain spec §5 (polar derivatives, convexity `Δ = r² + 2r_θ² − r r_θθ`,
-//! radius of curvature `ρc = (r² + r_θ²)^{3/2}/Δ`, pressure-angle deviation `atan(r_θ/r)`), §9.
+//! Reference: docs/math/chain.md §5 (polar derivatives, convexity `Δ = r² + 2r_θ² − r r_θθ`,
+//! radius of curvature `ρc = (r² + r_θ²)^{3/2}/Δ`, pressure-angle deviation `atan(r_θ/r)`), docs/math/chain.md §9.
 
 use crate::math::periodic::{PeriodicSpline, uniform_angles};
 use std::f64::consts::TAU;
@@ -56,7 +56,7 @@ impl From<[f64; 3]> for PolarGeometry {
 }
 
 impl PolarGeometry {
-    /// Convexity indicator `Δ = r² + 2 r_θ² − r r_θθ` (mm²); convex where `Δ > 0` (spec §5).
+    /// Convexity indicator `Δ = r² + 2 r_θ² − r r_θθ` (mm²); convex where `Δ > 0` (docs/math/chain.md §5).
     #[must_use]
     pub fn convexity_mm2(&self) -> f64 {
         self.r_mm * self.r_mm + 2.0 * self.dr_mm * self.dr_mm - self.r_mm * self.ddr_mm
@@ -270,7 +270,7 @@ impl PitchCurve {
 }
 
 /// Centre distance `a` (mm) at which a driver curve `r(θ)` has a closed conjugate with the same
-/// number of teeth: the root of `(1/2π)∫ r/(a − r) dθ = 1` (spec §5, §11 G2), solved by bisection to
+/// number of teeth: the root of `(1/2π)∫ r/(a − r) dθ = 1` (docs/math/chain.md §5, §11.2 (G2)), solved by bisection to
 /// `tol_mm` on the curve's uniform samples (trapezoid = spectrally accurate for periodic data).
 #[must_use]
 pub fn conjugate_center_distance(curve: &PitchCurve, tol_mm: f64) -> f64 {
@@ -389,7 +389,7 @@ mod tests {
 
     #[test]
     fn ellipse_perimeter_and_curvature_match_golden() {
-        // Spec §11 G1: A = 22.5, e = 0.15 → L = 140.57306651 mm, min ρc = A(1−e²) = 21.99375 mm.
+        // docs/math/chain.md §11.1 (G1): A = 22.5, e = 0.15 → L = 140.57306651 mm, min ρc = A(1−e²) = 21.99375 mm.
         let c = PitchCurve::from_fn(4096, focus_ellipse(22.5, 0.15)).unwrap();
         assert!((c.perimeter_mm(1e-10) - 140.573_066_51).abs() < 1e-6);
         let s = c.curvature_extremes(4096);

@@ -4,7 +4,7 @@
 //! Everything in the design chain is periodic in an angle (carrier angle, polar angle of a pitch
 //! curve), so this module is the shared numerical vocabulary of the crate. Angles are in radians.
 //!
-//! Reference: design-chain spec §3.1 (periodic C² interpolation), §3.3 (spectral i31). The root
+//! Reference: docs/math/chain.md §3.1 (periodic C² interpolation), docs/math/chain.md §3.3 (spectral i31). The root
 //! finders that used to live here are in [`super::roots`] and re-exported under their old paths.
 
 pub use super::roots::{bracketed_root, invert_increasing, secant_root};

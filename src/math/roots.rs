@@ -5,8 +5,8 @@
 //! already, [`invert_increasing`] for `f(x) = y` with `f` increasing and its derivative at hand.
 //!
 //! Hand-written: they are the inner loops of step 1, the train's angle solves and Φ⁻¹, where a
-//! solver object per call would cost more than the function evaluated. Reference: design-chain
-//! spec §14 (Φ⁻¹ robustness).
+//! solver object per call would cost more than the function evaluated. Reference:
+//! docs/math/chain.md §14 (Φ⁻¹ robustness).
 
 /// Root of a continuous `g` on `[lo, hi]` with a sign change, to `tol` in `x`, by the ITP method
 /// (interpolate, truncate, project: Oliveira & Takahashi, ACM TOMS 47(1), 2020).
@@ -151,7 +151,7 @@ pub fn secant_root(
 /// Newton steps with a bisection safeguard, to `tol` in `x`.
 ///
 /// `f` returns `(value, derivative)`. Always converges for strictly increasing `f`
-/// (spec §14, "Φ⁻¹ robustness"). Returns the best bracketed estimate after `max_iter` steps.
+/// (docs/math/chain.md §14, "Φ⁻¹ robustness"). Returns the best bracketed estimate after `max_iter` steps.
 #[must_use]
 pub fn invert_increasing(
     f: impl Fn(f64) -> (f64, f64),

@@ -2,7 +2,7 @@
 //! a motion law `ψ(φ)`, a drive centrode `r(φ)` (centre distance solved for closure), or a CSV
 //! table of `(φ, ψ)` in degrees; then teeth, mesh verification and exports.
 //!
-//! Conventions (design-chain §5): driver centre at the origin, rotating CCW by φ; driven centre at
+//! Conventions (docs/math/chain.md §5): driver centre at the origin, rotating CCW by φ; driven centre at
 //! `(a, 0)`, rotating CW by ψ; ratio `i = dψ/dφ > 0`. Contact on the centre line:
 //! `r1 = a·i/(1+i)` at driver body angle `−φ`, `r2 = a/(1+i)` at driven body angle `π + ψ`.
 //! A closed law advances the driven gear by a constant `Δ = ψ(φ+2π) − ψ(φ)` per driver turn

@@ -1,5 +1,5 @@
 //! Forward kinematics of a designed transplanting mechanism from its design file, both arms, the
-//! dynamic trajectory and the agronomic features (spec §2).
+//! dynamic trajectory and the agronomic features (docs/math/chain.md §2).
 //!
 //! The design file is read through the documented `design.json` conventions only (see
 //! [`crate::geometry::assembly`]), so files written by other tools work too: `l3`, `center_distance`,
@@ -7,7 +7,7 @@
 //! `angle_at_zero_deg`. Unknown fields are ignored (design.json carries many report fields).
 //!
 //! Arm 2 (gears 4, 5; needle 8) is arm 1 half a turn later: at carrier angle φH its pose is arm 1's
-//! pose at `φH + π` (spec §2), so both needles trace the same static path.
+//! pose at `φH + π` (docs/math/chain.md §2), so both needles trace the same static path.
 //!
 //! ## Agronomic features (definitions)
 //!

@@ -1,4 +1,4 @@
-//! Arc-length frame of a pitch curve (spec §12.2): `P(s)`, unit tangent `T(s)`, outward normal
+//! Arc-length frame of a pitch curve (docs/math/teeth.md §12.2): `P(s)`, unit tangent `T(s)`, outward normal
 //! `N(s) = (T_y, −T_x)`, curvature `κ(s)` (> 0 convex), `s ∈ [0, L)` CCW from body angle 0.
 use crate::geometry::pitch::PitchCurve;
 use std::f64::consts::TAU;
@@ -118,7 +118,7 @@ impl ArcFrame {
     }
 
     /// Maps rack coordinates `(ξ, η)` (ξ along the rolling arc, η along the outward normal) with
-    /// the rack tangent at `P(s)` to the body frame: `P(s) + (ξ − s)T(s) + ηN(s)` (spec §12.3).
+    /// the rack tangent at `P(s)` to the body frame: `P(s) + (ξ − s)T(s) + ηN(s)` (docs/math/teeth.md §12.3).
     #[must_use]
     pub fn rack_to_body(f: &FramePoint, s_mm: f64, xi: f64, eta: f64) -> [f64; 2] {
         let u = xi - s_mm;

@@ -1,8 +1,8 @@
 //! Involute teeth on non-circular pitch curves, generated as the envelope of a basic rack rolling
 //! on the pitch curve, plus tooth count, undercut detection and mesh verification.
 //!
-//! Spec: design-chain §12 (12.1 tooth count, 12.2 arc-length frame, 12.3 rack generation,
-//! 12.4 undercut). Lengths in mm, angles in radians.
+//! The mathematics: docs/math/teeth.md §12.1, §12.2, §12.3, §12.4 (tooth count, arc-length
+//! frame, rack generation, undercut). Lengths in mm, angles in radians.
 //!
 //! Public vocabulary:
 //! - [`RackParams`]: the basic rack (α, ha*, c*, ρf*), validated.
@@ -57,7 +57,7 @@ pub enum TeethError {
         /// What is expected.
         expected: &'static str,
     },
-    /// The pitch curve is concave somewhere: a rack cannot cut a concave arc (spec §12.4).
+    /// The pitch curve is concave somewhere: a rack cannot cut a concave arc (docs/math/teeth.md §12.4).
     #[error(
         "pitch curve is concave near tooth {tooth} (min signed radius of curvature {min_rho_mm:.4} mm): \
          a rack cannot cut a concave arc: generate it with a shaper cutter (teeth::process)"
@@ -68,7 +68,7 @@ pub enum TeethError {
         /// Most negative radius of curvature, mm.
         min_rho_mm: f64,
     },
-    /// Undercut on at least one tooth (spec §12.4: no undercut iff ρc·sin²α ≥ h·m).
+    /// Undercut on at least one tooth (docs/math/teeth.md §12.4: no undercut iff ρc·sin²α ≥ h·m).
     #[error(
         "undercut on {count} tooth flank(s) (worst: tooth {worst_tooth}, {depth_mm:.4} mm deep); \
          at this pitch-curve size the largest module without undercut is {max_module_mm:.4} mm; \
@@ -155,7 +155,7 @@ pub enum TeethError {
     },
 }
 
-/// How the tooth count is made an integer (spec §12.1, option 1: scale the centre distance).
+/// How the tooth count is made an integer (docs/math/teeth.md §12.1, option 1: scale the centre distance).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 #[non_exhaustive]
 pub enum ToothPolicy {
@@ -182,7 +182,7 @@ pub struct ToothCount {
     pub scale: f64,
 }
 
-/// Tooth count of a pitch curve at `module_mm`: `L = z·π·m` (spec §12.1).
+/// Tooth count of a pitch curve at `module_mm`: `L = z·π·m` (docs/math/teeth.md §12.1).
 ///
 /// `accuracy_mm` is the perimeter accuracy. Errors if the module is not positive/finite or z < 3.
 ///
@@ -241,7 +241,7 @@ pub fn scale_curve(
     PitchCurve::from_uniform_radii(curve.radii_mm().iter().map(|r| r * factor).collect())
 }
 
-/// Undercut / concavity diagnostics of one tooth flank (spec §12.4).
+/// Undercut / concavity diagnostics of one tooth flank (docs/math/teeth.md §12.4).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct FlankUndercut {
     /// Tooth index (tooth k is centred at `s_k = s0 + k·p`).

@@ -1,4 +1,4 @@
-//! Rack-envelope tooth outline (spec §12.3) and undercut report (spec §12.4).
+//! Rack-envelope tooth outline (docs/math/teeth.md §12.3) and undercut report (docs/math/teeth.md §12.4).
 //!
 //! For tooth k centred at `s_k = s0 + k·p` (p = πm), the right (larger-s) flank crosses the pitch
 //! curve at `s_r = s_k + p/4 − t_r` and the left at `s_l = s_k − p/4 + t_l` (`t_*` = thinning for
@@ -250,7 +250,7 @@ pub(super) fn push_piece(
     n
 }
 
-/// Undercut and concavity report of a toothed pitch curve (spec §12.4).
+/// Undercut and concavity report of a toothed pitch curve (docs/math/teeth.md §12.4).
 ///
 /// For each flank the sign of `sin α + η κ(s)/sin α` (the envelope speed factor) is checked over
 /// the generating range below the pitch curve; a sign change is an undercut (cusp at depth
@@ -404,7 +404,7 @@ pub(super) fn validate(
     Ok(p)
 }
 
-/// Generates the toothed outline of `curve` with `z` teeth of module `module_mm` (spec §12.3).
+/// Generates the toothed outline of `curve` with `z` teeth of module `module_mm` (docs/math/teeth.md §12.3).
 ///
 /// Requirements: `L = z·π·m` to within 1e-6 relative (scale the curve with
 /// [`super::tooth_count`] first); the curve convex along every generating range; no undercut.

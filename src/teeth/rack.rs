@@ -1,10 +1,10 @@
-//! The basic rack (spec §12.3): pressure angle α, addendum ha*, clearance c*, tip-fillet radius ρf*.
+//! The basic rack (docs/math/teeth.md §12.3): pressure angle α, addendum ha*, clearance c*, tip-fillet radius ρf*.
 use super::TeethError;
 use serde::{Deserialize, Serialize};
 
 /// Basic rack profile, in units of the module (dimensionless factors) and radians.
 ///
-/// Defaults (spec §12.3): α = 20°, ha* = 1, c* = 0.25, ρf* = 0.38.
+/// Defaults (docs/math/teeth.md §12.3): α = 20°, ha* = 1, c* = 0.25, ρf* = 0.38.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(try_from = "RackFields")]
 pub struct RackParams {
@@ -134,13 +134,13 @@ impl RackParams {
         self.fillet
     }
     /// Depth of the straight flank below the pitch line `h_straight = (ha* + c* − ρf*(1 − sin α))`,
-    /// in modules (spec §12.3).
+    /// in modules (docs/math/teeth.md §12.3).
     #[must_use]
     pub fn straight_depth(&self) -> f64 {
         self.addendum + self.clearance - self.fillet * (1.0 - self.alpha_rad.sin())
     }
     /// Radius of curvature of the pitch curve needed for no undercut: `h_straight·m / sin²α`, mm
-    /// (spec §12.4, `ρc·sin²α ≥ ha*·m`; with the default rack `h_straight ≈ ha*`).
+    /// (docs/math/teeth.md §12.4, `ρc·sin²α ≥ ha*·m`; with the default rack `h_straight ≈ ha*`).
     #[must_use]
     pub fn undercut_limit_rho_mm(&self, module_mm: f64) -> f64 {
         self.straight_depth() * module_mm / self.alpha_rad.sin().powi(2)

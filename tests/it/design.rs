@@ -1,4 +1,4 @@
-//! The design chain: golden numbers of spec §11, round trips, designer-style targets, errors.
+//! The design chain: golden numbers of docs/math/chain.md §11 (G1–G5), round trips, designer-style targets, errors.
 use ncgear::design::compat;
 use ncgear::design::inverse::{InverseError, InverseOptions, invert};
 use ncgear::design::law::NeedleLaw;
@@ -19,7 +19,7 @@ const G1_I31: [f64; 7] = [
     1.83044983, 1.58144121, 1.15294002, 0.8414804, 0.66250796, 0.57325348, 0.5463138,
 ];
 
-/// The G1 mechanism of spec §11: a = 45, l3 = 170, β_init = −70°, far vertex faces D at φH = 0.
+/// The G1 mechanism of docs/math/chain.md §11.1: a = 45, l3 = 170, β_init = −70°, far vertex faces D at φH = 0.
 fn g1_mechanism() -> Mechanism {
     ncgear::geometry::golden::g1_mechanism()
 }
@@ -61,7 +61,7 @@ fn g1_forward_model_reproduces_the_golden_file_and_tables() {
         assert!((m.psi3(t).to_degrees() - g).abs() < 1e-6);
         assert!((m.psi3(t) - g1_closed_psi3(t)).abs() < 1e-12);
     }
-    // i21 range and i31 = i21(t)/i21(S(t)) (spec §6.2 (*)).
+    // i21 range and i31 = i21(t)/i21(S(t)) (docs/math/chain.md §6.2 (*)).
     let (lo, _) = m.ratio.sampled_extreme(3600, false);
     let (hi, _) = m.ratio.sampled_extreme(3600, true);
     assert!((lo - 0.7391304).abs() < 1e-7 && (hi - 1.3529412).abs() < 1e-7);
@@ -85,7 +85,7 @@ fn g1_step1_from_360_points_matches_golden_numbers() {
         "lmax at {}",
         t0.to_degrees()
     );
-    // ψ3 from the file equals the G1 law re-based at the ρmax instant (error O(h⁴), spec §3.5).
+    // ψ3 from the file equals the G1 law re-based at the ρmax instant (error O(h⁴), docs/math/chain.md §3.5).
     let mut worst: f64 = 0.0;
     for j in 0..72 {
         let t = TAU * j as f64 / 72.0;
@@ -119,7 +119,7 @@ fn g1_compatibility_origins_and_residual() {
         "{origins:?}"
     );
     // Golden 2.6e-7 (implementation dependent); E_c is bounded by about twice the O(h⁴) ψ3 error
-    // of step 1 at M = 360 (4.4e-6 rad, spec §3.5).
+    // of step 1 at M = 360 (4.4e-6 rad, docs/math/chain.md §3.5).
     assert!(c.residual_rad < 1e-5, "E_c = {:e}", c.residual_rad);
     assert!(
         (c.endpoint_product - 1.0).abs() < 1e-5,
@@ -130,7 +130,7 @@ fn g1_compatibility_origins_and_residual() {
 
 #[test]
 fn odd_harmonic_rule_of_compatibility() {
-    // ψ3 = t + ε sin(kt + 0.3): spec §6.4 measured E_c.
+    // ψ3 = t + ε sin(kt + 0.3): docs/math/chain.md §6.4 measured E_c.
     let ec = |k: f64, eps: f64| {
         let law = NeedleLaw::from_fn(1024, |t| t + eps * (k * t + 0.3).sin());
         compat::analyse(&law, 1024, 1e-13).residual_rad
@@ -230,7 +230,7 @@ fn g4_asymmetric_sun_is_compatible_with_known_origins() {
 #[test]
 fn g1_end_to_end_patent_route_orders_within_golden_bounds() {
     let traj = g1_trajectory();
-    // Golden §8.2 (360 points, hypothesis 1 + 0.1 sin(2u + 0.3)): 0.207, 0.042, 0.010 mm at K = 8, 16, 32.
+    // Golden docs/math/chain.md §8.2 (360 points, hypothesis 1 + 0.1 sin(2u + 0.3)): 0.207, 0.042, 0.010 mm at K = 8, 16, 32.
     for (k, bound) in [(8, 0.207), (16, 0.042), (32, 0.010)] {
         let mut opts = DesignOptions::default();
         opts.order = Some(k);
@@ -347,7 +347,7 @@ fn round_trip_on_exactly_traceable_random_mechanisms() {
     }
 }
 
-/// A designer-style target: G1 with ψ3 += 0.03 sin(3t + 0.5) (spec §6.4).
+/// A designer-style target: G1 with ψ3 += 0.03 sin(3t + 0.5) (docs/math/chain.md §6.4).
 fn designer_trajectory(eps: f64) -> Trajectory {
     let m = g1_mechanism();
     let pts = (0..360)
@@ -374,8 +374,8 @@ fn designer_style_target_patent_route_versus_refinement() {
         "E_c·l3 = {}",
         r.compatibility.tip_equivalent_mm
     );
-    // The fit to the points (all parameters free, minimax finish) does better than the spec's best
-    // synchronous deviation with l1, l3 fixed (3.82 mm, §6.4).
+    // The fit to the points (all parameters free, minimax finish) does better than the best
+    // synchronous deviation with l1, l3 fixed (3.82 mm, docs/math/chain.md §6.4).
     let fit = r
         .fit
         .as_ref()
@@ -392,7 +392,7 @@ fn designer_style_target_patent_route_versus_refinement() {
         r.roundtrip.max_deviation_mm,
         fit.max_mm
     );
-    // §8.3 on request: still better than the patent route, within 1.5× of its best 3.82 mm.
+    // docs/math/chain.md §8.3 on request: still better than the patent route, within 1.5× of its best 3.82 mm.
     let mut on = DesignOptions::default();
     on.refine = RefineMode::On;
     on.fit_to_points = false;
@@ -491,7 +491,7 @@ mod properties {
             let d = design(&traj, &{ let mut o = DesignOptions::default(); o.center_mm = [cx, cy]; o });
             let d = d.map_err(|e| TestCaseError::fail(format!("{e}")))?;
             let r = &d.report;
-            // l1 from the extremes of a 180-point file is good to ~0.01 mm (spec §3.5).
+            // l1 from the extremes of a 180-point file is good to ~0.01 mm (docs/math/chain.md §3.5).
             prop_assert!((r.l1 - 2.0 * a).abs() < 0.01, "l1 {} vs {}", r.l1, 2.0 * a);
             prop_assert!(r.roundtrip.hausdorff_mm <= 0.05, "Hausdorff {} mm", r.roundtrip.hausdorff_mm);
             prop_assert!(r.roundtrip.max_deviation_mm <= 0.05 + 1e-9, "sync {} mm", r.roundtrip.max_deviation_mm);

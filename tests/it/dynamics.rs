@@ -1,4 +1,4 @@
-//! Integration tests: dynamics (spec companion-methods.md part B, numbers of B.9).
+//! Integration tests: dynamics (docs/math/companion.md §B, numbers of docs/math/companion.md §B.9).
 use ncgear::analysis::dynamics::model::FrictionTerm;
 use ncgear::analysis::dynamics::tvms::{PairGeometry, RectangularTvms};
 use ncgear::analysis::dynamics::*;
@@ -15,7 +15,7 @@ fn rel(a: f64, b: f64) -> f64 {
     (a - b).abs() / b.abs()
 }
 
-/// The SDOF physical model of B.9-4 (6000 rpm, rectangular TVMS, b = 50 µm, er = 10 µm, T1 = 50 N·m).
+/// The SDOF physical model of docs/math/companion.md §B.9-4 (6000 rpm, rectangular TVMS, b = 50 µm, er = 10 µm, T1 = 50 N·m).
 const SDOF_6000: &str = r#"
 [scene]
 name = "sdof6000"
@@ -55,7 +55,7 @@ fn tvms_mean_harmonics_and_patent_double_count() {
     // the patent's kd = k0 + A0/2 double-counts: 4.1504e8 ≠ mean
     assert!(rel(r.patent_kd(), 4.1504e8) < 1e-4, "{}", r.patent_kd());
     assert!(rel(r.patent_kd(), r.mean()) > 0.08);
-    // the spec's harmonics were computed with ε rounded to 1.6626
+    // the harmonics of docs/math/companion.md §B.9 were computed with ε rounded to 1.6626
     let r = RectangularTvms { eps: 1.6626, ..r };
     let kn = [
         1.1107e8, -5.4302e7, -1.6263e6, 2.8343e7, -2.1195e7, -1.6251e6, 1.6502e7, -1.2899e7,
@@ -527,7 +527,7 @@ fn scene_errors_name_the_key_and_expected_form() {
     assert_eq!(m.n(), 1);
 }
 
-/// B.11 in miniature: max DTE error (µm) over mesh periods 40..60 vs a tight reference (SDOF 6000 rpm scene).
+/// docs/math/companion.md §B.11 in miniature: max DTE error (µm) over mesh periods 40..60 vs a tight reference (SDOF 6000 rpm scene).
 fn rk4_error(aligned: bool, steps: u32) -> f64 {
     let s = asset("sdof_6000.toml");
     let (m, _) = s.build("sdof").unwrap();

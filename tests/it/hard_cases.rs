@@ -1,4 +1,4 @@
-//! Hard cases (spec §14): noisy measured trajectories, points near the carrier axis,
+//! Hard cases (docs/math/chain.md §14): noisy measured trajectories, points near the carrier axis,
 //! cusps, extreme ratios here; random mechanisms, loops and non-finite options in [`mechanisms`];
 //! stiff dynamics, degenerate error lists and colliding orbit lines in [`analyses`]; every parser
 //! fed random and mutated bytes in [`fuzz`]; random and concave pitch curves and extreme pair
@@ -49,7 +49,7 @@ fn noisy_measured_trajectory_with_smoothing_stays_close_to_the_clean_path() {
             .collect();
         let t = traj(noisy).unwrap();
         // Raw noisy data: the inversion refuses it and says where (near the extremes of |OB|,
-        // carrier angles ≈ 318° and ≈ 76°, spec §3.5), never a panic.
+        // carrier angles ≈ 318° and ≈ 76°, docs/math/chain.md §3.5), never a panic.
         match invert(&t, [0.0, 0.0], &InverseOptions::default()) {
             Err(InverseError::NotMonotone { stretches_deg, .. }) => {
                 assert!(

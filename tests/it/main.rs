@@ -5,6 +5,7 @@ mod bounds;
 mod cli;
 mod cli_design;
 mod design;
+mod doc_refs;
 mod dynamics;
 mod hard_cases;
 mod layout;

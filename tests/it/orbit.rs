@@ -1,4 +1,4 @@
-//! Integration tests: orbit (spec companion-methods.md part A, table A.10).
+//! Integration tests: orbit (docs/math/companion.md §A, §A.10).
 use ncgear::analysis::orbit::identify::identify;
 use ncgear::analysis::orbit::model::{
     GearSpeeds, Hand, LineKind, PlanetSet, patent_abcd, patent_position_um,
@@ -23,7 +23,7 @@ fn ang(a: f64, b: f64, m: f64) -> f64 {
     d.min(m - d)
 }
 
-// Table A.10 values are printed with 6 decimals: they are checked to their printed precision
+// docs/math/companion.md §A.10 values are printed with 6 decimals: they are checked to their printed precision
 // (half a unit of the last digit); closed forms are checked to 1e-9 relative (or better).
 
 #[test]
@@ -49,7 +49,7 @@ fn a10_general_case_ellipse_and_whirl() {
     assert!((s.orbit.z_minus_um.norm() - 9.198685).abs() < 5e-7);
     assert_eq!(el.whirl, Whirl::Backward);
     assert_eq!(el.counter_clockwise, Some(false)); // ω_p > 0, backward ⇒ CW
-    // Group-8 closed form agrees with the full-spectrum form.
+    // Group-8 closed form (docs/math/companion.md §A.6 eq. A-7) agrees with the full-spectrum form (docs/math/companion.md §A.6 eq. A-8).
     let (rl, rs, a8) = ellipse_group8(&s.orbit.sin_pair());
     assert!(rel(rl, el.r_long_um) < 1e-12 && rel(rs, el.r_short_um) < 1e-10);
     assert!(ang(a8, al, PI) < 1e-12);
@@ -61,7 +61,7 @@ fn a10_general_case_ellipse_and_whirl() {
             p.a_x_um * p.a_y_um * (p.phi_y_rad - p.phi_x_rad).sin().abs()
         ) < 1e-12
     );
-    // The sampled orbit lies on the implicit ellipse, and its max/min radius are R_L/R_S.
+    // The sampled orbit lies on the implicit ellipse (docs/math/companion.md §A.6 eq. A-6), and its max/min radius are R_L/R_S.
     let (mut rmax, mut rmin) = (0.0f64, f64::INFINITY);
     for k in 0..20000 {
         let t = TAU * k as f64 / 20000.0;
@@ -309,7 +309,7 @@ fn model_rejects_bad_parameters() {
 }
 
 // ---------------------------------------------------------------------------------------------
-// Measurement (A.7–A.8) on synthetic records.
+// Measurement (docs/math/companion.md §A.7–§A.8) on synthetic records.
 
 use ncgear::analysis::orbit::OrbitError;
 use ncgear::analysis::orbit::measure::{
@@ -397,7 +397,7 @@ impl Synth {
         Record::new(t, x, y, carrier).unwrap()
     }
 
-    /// CRLB (A.8 step 5): std(A) ≈ σ√(2/N), std(φ) ≈ σ√(2/N)/A.
+    /// CRLB (docs/math/companion.md §A.8 step 5): std(A) ≈ σ√(2/N), std(φ) ≈ σ√(2/N)/A.
     fn crlb_amp(&self) -> f64 {
         self.sigma_um * (2.0 / self.samples as f64).sqrt()
     }
@@ -536,7 +536,7 @@ fn plain_fft_phase_error_contrast() {
     let hann = errors(&run(Method::HannDtft).orbit, &s.orbit);
     let sync = errors(&run(Method::Synchronous).orbit, &s.orbit);
     let ls = errors(&run(Method::LeastSquares).orbit, &s.orbit);
-    // Plain FFT bin on 26.185 periods: phase off by ≈ π·0.185 = 0.58 rad (spec A.8 table).
+    // Plain FFT bin on 26.185 periods: phase off by ≈ π·0.185 = 0.58 rad (docs/math/companion.md §A.8 table).
     assert!(
         fft[1].abs() > 0.5 && fft[3].abs() > 0.5,
         "plain FFT phase errors {fft:?}"

@@ -71,7 +71,7 @@ fn design_case(case: &str, args: &[&str], out: &std::path::Path) -> (serde_json:
 fn shaper_on_a_circle_cuts_the_involute() {
     // Any involute cutter generates the involute of the gear's base circle r·cos α: the right
     // flank of tooth 0 crosses the pitch circle at θp = p/4/r = π/48, so its vertices satisfy
-    // inv(α_r) + θ = θp + inv α (spec G5, the rack's closed form) — for every cutter size.
+    // inv(α_r) + θ = θp + inv α (docs/math/chain.md §11.5 (G5), the rack's closed form) — for every cutter size.
     let (r0, m, z) = (24.0, 2.0, 24);
     let c = PitchCurve::from_fn(256, |_| r0).unwrap();
     let frame = ArcFrame::new(&c);
@@ -249,7 +249,7 @@ fn standard_rack_at_1_2_relieves_the_tip_that_grazes_the_fillet() {
 /// On any pitch curve the shaper touches each flank at the point where the rack touches it — the
 /// same line of action through `P(s)`, the same distance `|s − s_f|·cos α` — so on a concave
 /// stretch (which no rack can cut) the shaper-cut flank is the rack-envelope closed form of
-/// §12.3, `P(s) + (s_f − s)·cos α·(cos α·T ± sin α·N)`: on a straight stretch the basic rack
+/// docs/math/teeth.md §12.3, `P(s) + (s_f − s)·cos α·(cos α·T ± sin α·N)`: on a straight stretch the basic rack
 /// profile itself, on a concave circular arc the internal involute.
 #[test]
 fn shaper_flanks_on_a_concave_stretch_are_the_rack_envelope() {

@@ -17,7 +17,7 @@ fn g1_points() -> Vec<[f64; 2]> {
         .collect()
 }
 
-/// The exact G1 mechanism (spec §11) assembled into design-file tables of 720 samples.
+/// The exact G1 mechanism (docs/math/chain.md §11.1) assembled into design-file tables of 720 samples.
 fn g1_sim() -> Simulation {
     let e: f64 = 0.15;
     let m = Mechanism {
@@ -62,13 +62,13 @@ fn g1_features_against_independent_values() {
     opts.rpm = 300.0;
     opts.forward_mm_s = 1000.0;
     let f = features(&sim, &opts).unwrap();
-    // Extreme tip distances are l1 + l3 = 260 and l3 − l1 = 80 (spec §11).
+    // Extreme tip distances are l1 + l3 = 260 and l3 − l1 = 80 (docs/math/chain.md §11.1).
     assert!(
         (f.rho_range_mm[0] - 260.0).abs() < 1e-4 && (f.rho_range_mm[1] - 80.0).abs() < 1e-4,
         "{:?}",
         f.rho_range_mm
     );
-    // Height and bounding box from the golden file's own points (1° resolution) and the spec's bbox.
+    // Height and bounding box from the golden file's own points (1° resolution) and the bbox of docs/math/chain.md §11.1.
     let pts = g1_points();
     let (ymin, ymax) = pts
         .iter()

@@ -32,7 +32,7 @@ fn area(p: &[[f64; 2]]) -> f64 {
 
 #[test]
 fn g1_sun_at_module_2_has_23_teeth_and_no_undercut() {
-    // Spec §11 G1: A = 22.5, e = 0.15, L = 140.57306651 → z = L/(2π) = 22.373 → 23 after scaling,
+    // docs/math/chain.md §11.1 (G1): A = 22.5, e = 0.15, L = 140.57306651 → z = L/(2π) = 22.373 → 23 after scaling,
     // A = 23.130664; undercut limit ρc ≥ 17.097 mm, min ρc = A(1 − e²).
     let sun = PitchCurve::from_fn(4096, focus_ellipse(22.5, 0.15)).unwrap();
     let tc = tooth_count(&sun, 2.0, ToothPolicy::ScaleUp, 1e-10).unwrap();
@@ -140,7 +140,7 @@ fn concave_pitch_curve_is_refused() {
 
 #[test]
 fn involute_on_a_circle() {
-    // Spec G5: rack generation on a circle gives an exact involute: inv(α_r) − inv(α) = polar angle
+    // docs/math/chain.md §11.5 (G5): rack generation on a circle gives an exact involute: inv(α_r) − inv(α) = polar angle
     // offset of the flank, constant along the flank. Check the flank points of tooth 0.
     let r0 = 24.0;
     let c = PitchCurve::from_fn(256, |_| r0).unwrap();
@@ -230,7 +230,7 @@ fn pair_motion_law_meshes_without_interference() {
 
 #[test]
 fn pair_centrode_solves_closure_and_meshes() {
-    // Closed form: focus ellipse centrode r = (1 − e²)/(1 − e cos φ) closes at a = 2 (spec G1).
+    // Closed form: focus ellipse centrode r = (1 − e²)/(1 − e cos φ) closes at a = 2 (docs/math/chain.md §11.1 (G1)).
     let m = Motion::from_law(
         &Law::Centrode(Expr::parse("(1 - 0.15^2)/(1 - 0.15*cos(phi))").unwrap()),
         2048,
@@ -241,7 +241,7 @@ fn pair_centrode_solves_closure_and_meshes() {
         "{}",
         m.unit_centre_distance
     );
-    // G1 ψ3 golden: the pair law is 2·atan2(k sin(φ/2), cos(φ/2)), k = (1+e)/(1−e) (spec §11).
+    // G1 ψ3 golden: the pair law is 2·atan2(k sin(φ/2), cos(φ/2)), k = (1+e)/(1−e) (docs/math/chain.md §11.1).
     let k = 1.15 / 0.85;
     for deg in [30.0f64, 100.0, 250.0] {
         let f = deg.to_radians();

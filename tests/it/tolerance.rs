@@ -1,5 +1,5 @@
-//! Coupling compensation and Monte Carlo (companion spec C): the paper's numbers with the spec's
-//! corrections, certified peaks, bounds, and seeded Monte Carlo.
+//! Coupling compensation and Monte Carlo (docs/math/companion.md §C): the paper's numbers with the
+//! corrections of docs/math/companion.md §C.4, certified peaks, bounds, and seeded Monte Carlo.
 use ncgear::analysis::montecarlo::McOptions;
 use ncgear::analysis::peak::{PeakOptions, Sinusoid, certified_peak, fixed_grid_peak};
 use ncgear::analysis::tolerance::{Analysis, ErrorFile, ToleranceError, arcsec, phasor_sum};
@@ -52,7 +52,7 @@ fn paper_scans_reproduce_the_corrected_numbers() {
         (ec[93] - p).abs() < 1e-9 * p,
         "i = 94 ties with the optimum"
     );
-    // Only 25 distinct peak values (time-shift invariance, spec C.2).
+    // Only 25 distinct peak values (time-shift invariance, docs/math/companion.md §C.2).
     let mut distinct: Vec<f64> = ec.clone();
     distinct.sort_by(f64::total_cmp);
     distinct.dedup_by(|x, y| (*x - *y).abs() < 1e-9 * *y);
@@ -77,7 +77,7 @@ fn arc_seconds_and_the_coarse_grid_artefact() {
         arcsec(46.0663, rb)
     );
     // The certified ec optimum vs a fixed coarse grid (dt = 1e-2 s over [0, 10] s): the grid
-    // under-estimates the peak (spec C.4: 45.8930).
+    // under-estimates the peak (docs/math/companion.md §C.4: 45.8930).
     let phases = [
         0.0,
         95.0 * PI / 50.0 + PI / 9.0,
@@ -97,7 +97,7 @@ fn arc_seconds_and_the_coarse_grid_artefact() {
     let exact = certified_peak(&terms, PeakOptions::default()).value;
     assert!((exact - 47.3847).abs() < 1e-4);
     // (Which member of the tie class is sampled changes the coarse value, so only the
-    // under-estimate is asserted; the spec measured 45.8930 on one member.)
+    // under-estimate is asserted; docs/math/companion.md §C.4 measured 45.8930 on one member.)
     for (dt, t_end) in [(1e-2, 10.0), (1e-3, PI), (5e-3, PI)] {
         let coarse = fixed_grid_peak(&terms, dt, t_end);
         assert!(
@@ -123,8 +123,8 @@ fn greedy_joint_and_bounds_are_ordered() {
         "{floor} {} {g} {sum}",
         joint.peak_um
     );
-    // Spec C.4: the joint optimum over all phases is 47.2806.
-    // Spec C.4 reports a joint optimum of 47.2806 at (βs, βpi, βI2) = (1.446, 5.958, 4.650); the
+    // docs/math/companion.md §C.4: the joint optimum over all phases is 47.2806.
+    // docs/math/companion.md §C.4 reports a joint optimum of 47.2806 at (βs, βpi, βI2) = (1.446, 5.958, 4.650); the
     // certified peak there is 47.280968 (checked independently with numpy on a 2e-6 s grid). The
     // multistart optimiser must do at least as well; it finds 47.2724 (numpy: 47.272377).
     assert!((a.peak(&[1.446, 5.958, 4.650], None).value - 47.280968).abs() < 1e-5);
@@ -197,7 +197,7 @@ fn monte_carlo_is_seeded_and_stable_between_seeds() {
     ] {
         assert!((x / y - 1.0).abs() < 0.01, "{x} vs {y}");
     }
-    // Spec C.4: random phases of the four harmonics give 207.6–212.3″ (mean 210.40″).
+    // docs/math/companion.md §C.4: random phases of the four harmonics give 207.6–212.3″ (mean 210.40″).
     let mean = arcsec(s1.mean, rb);
     assert!((mean - 210.40).abs() < 0.2, "{mean}");
     assert!(arcsec(s1.min, rb) > 207.0 && arcsec(s1.max, rb) < 212.4);

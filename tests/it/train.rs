@@ -27,7 +27,7 @@ fn no_mesh(module_mm: f64, policy: TrainPolicy) -> TrainTeethOptions {
     opts
 }
 
-/// Spec §11/§12.1: the G1 sun at m = 2 has L = 140.57 mm → z = 23 after scaling up, no undercut
+/// docs/math/chain.md §11.1 and docs/math/teeth.md §12.1: the G1 sun at m = 2 has L = 140.57 mm → z = 23 after scaling up, no undercut
 /// (ρmin·sin²α ≥ ha*·m). Both meshes roll through a carrier turn without interference, with
 /// positive backlash and a transmission error far below ncgears' 1e-5°. Scaling a by s moves every
 /// tip point radially by exactly (s − 1)·l1, and the round trip sees that.
@@ -54,7 +54,7 @@ fn g1_train_at_module_2_has_23_teeth_meshes_and_moves_the_tip_by_the_closed_form
     ] {
         assert_eq!((u.undercut_count, u.concave_count), (0, 0), "{name}");
         assert_eq!(u.flanks.len(), 46, "{name}: two flanks per tooth");
-        // The §12.4 limit itself: ρmin·sin²α ≥ h·m with h = ha* + c* − ρf*(1 − sin α) = 1.0 here.
+        // The docs/math/teeth.md §12.4 limit itself: ρmin·sin²α ≥ h·m with h = ha* + c* − ρf*(1 − sin α) = 1.0 here.
         let s2 = 20f64.to_radians().sin().powi(2);
         let h = 1.25 - 0.38 * (1.0 - 20f64.to_radians().sin());
         assert!(
@@ -184,7 +184,7 @@ fn undercut_at_a_larger_module_is_cut_and_meshes() {
     }
 }
 
-/// §12.1 option 3: keep the gears, adjust the module — the trajectory does not move.
+/// docs/math/teeth.md §12.1 option 3: keep the gears, adjust the module — the trajectory does not move.
 #[test]
 fn adjusting_the_module_keeps_the_trajectory() {
     let d = g1_design();
@@ -241,7 +241,7 @@ fn attach_teeth_records_the_report_in_the_design_and_it_round_trips_through_json
     assert_eq!(back.teeth.as_ref(), Some(&t.report));
 }
 
-/// §12.1 option 2: a held fixed, the ratio amplitude rescaled so that L(λ) = zπm. For G1,
+/// docs/math/teeth.md §12.1 option 2: a held fixed, the ratio amplitude rescaled so that L(λ) = zπm. For G1,
 /// L(1) = 140.57 < πa = 141.37 (the circle), so z = 23 is out of reach and z = 22 needs λ > 1.
 #[test]
 fn ratio_amplitude_policy_solves_the_perimeter_equation() {
@@ -513,7 +513,7 @@ fn design_cli_with_module_writes_cad_files_and_refuses_undercut() {
 /// The designer-style kidney (refined design, effective pressure angle up to 37.8°): its leaning
 /// teeth overhang the root (the outline is not star-shaped about the centre), which a polar
 /// inside test misreads as interference. At m = 2 (z = 23) both meshes are clean. (The refined
-/// design sits in a flat valley of the §8.3 objective: Levenberg–Marquardt paths that differ by
+/// design sits in a flat valley of the docs/math/chain.md §8.3 objective: Levenberg–Marquardt paths that differ by
 /// rounding end at different coefficients of the same deviation, with folds from 0.0011 to
 /// 0.0015 rad at m = 1.5; at m = 2 the fold, 0.0033 rad, is clear of the band either way.)
 #[test]
@@ -521,7 +521,7 @@ fn leaning_teeth_of_the_kidney_design_mesh_without_interference() {
     let traj =
         PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("assets/trajectories/designer_kidney.csv");
     let t = Trajectory::from_path(&traj).unwrap();
-    // The §8.3 refined design (fixed l1, l3), as this test was built on.
+    // The docs/math/chain.md §8.3 refined design (fixed l1, l3), as this test was built on.
     let mut refined = DesignOptions::default();
     refined.refine = ncgear::design::RefineMode::On;
     refined.fit_to_points = false;

@@ -1,4 +1,4 @@
-//! The linear analyses (B.10 fast path): natural frequencies of the mean-stiffness linearisation
+//! The linear analyses (docs/math/companion.md §B.10 fast path): natural frequencies of the mean-stiffness linearisation
 //! and the steady-state DTE amplitude of an LTI scene from its complex frequency response.
 
 use super::DynamicsError;
@@ -36,7 +36,7 @@ fn linear_or_err(model: &Model) -> Result<(DMatrix<f64>, DMatrix<f64>), Dynamics
     })
 }
 
-/// Linear fast path (B.10): steady-state DTE amplitude (m) of an LTI scene under its static-TE
+/// Linear fast path (docs/math/companion.md §B.10): steady-state DTE amplitude (m) of an LTI scene under its static-TE
 /// harmonic at the mesh frequency, from the complex frequency response
 /// `(K − ω²M + iωC) q̂ = (k + iωc_m) ê · c`, DTE = cᵀq̂ − ê.
 pub fn linear_dte_amplitude(model: &Model) -> Result<f64, DynamicsError> {

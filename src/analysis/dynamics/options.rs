@@ -1,4 +1,4 @@
-//! Run options: the time integrator (B.11), the Poincaré steady-state criterion and the recorded
+//! Run options: the time integrator (docs/math/companion.md §B.11), the Poincaré steady-state criterion and the recorded
 //! window, read from a scene's `[solver]` and `[output]` tables or set directly.
 
 use super::DynamicsError;
@@ -11,7 +11,7 @@ pub const MAX_RECORDED_SAMPLES: u64 = 2_000_000;
 /// Largest transient length, Poincaré periods.
 pub const MAX_TRANSIENT_PERIODS: u32 = 100_000;
 
-/// Time integrator choice (B.11).
+/// Time integrator choice (docs/math/companion.md §B.11).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Method {
     /// Adaptive DOPRI5 with dense output.

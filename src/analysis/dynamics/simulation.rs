@@ -1,5 +1,5 @@
 //! Time integration of a model: the static equilibrium, the transient until the Poincaré map
-//! settles, the recorded window ([`Run`]) with its DTE harmonics, and the energy audit (B.9-5).
+//! settles, the recorded window ([`Run`]) with its DTE harmonics, and the energy audit (docs/math/companion.md §B.9-5).
 
 use super::model::{self, Model, PairState};
 use super::ode::{self, Dopri5, OdeStats, OdeSystem};
@@ -339,7 +339,7 @@ fn poincare_change(prev: &[f64], y: &[f64]) -> f64 {
     part(0..n).max(part(n..2 * n))
 }
 
-/// Energy audit over `[0, t_end]` (B.9-5): integrates the model augmented with the energy source
+/// Energy audit over `[0, t_end]` (docs/math/companion.md §B.9-5): integrates the model augmented with the energy source
 /// `Σ(P + dV/dt)` and returns `(E(t_end) − E(0), ∫ sources, Σ jumps ΔV at the stiffness switches)`, J.
 pub fn energy_audit(
     model: &Model,

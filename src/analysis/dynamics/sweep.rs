@@ -1,4 +1,4 @@
-//! Frequency sweeps (B.7, B.9-3): the response over Ω = ωe/ωn, each point continuing from the
+//! Frequency sweeps (docs/math/companion.md §B.7, §B.9-3): the response over Ω = ωe/ωn, each point continuing from the
 //! previous one's final state so that the jump phenomenon shows, and the closed-form contact-loss
 //! ratio of the dimensionless backlash oscillator.
 
@@ -75,7 +75,7 @@ pub fn sweep(
     Ok(out)
 }
 
-/// Contact-loss (jump-up) frequency ratio of the dimensionless backlash oscillator (B.7, B.9-3):
+/// Contact-loss (jump-up) frequency ratio of the dimensionless backlash oscillator (docs/math/companion.md §B.7, §B.9-3):
 /// the smallest Ω where the linear branch amplitude `Fe Ω²/sqrt((1−Ω²)² + (2ζΩ)²)` reaches the
 /// mean load `Fm`, found by bisection to `tol`. `None` if it never does below Ω = 1.
 #[must_use]

@@ -1,4 +1,4 @@
-//! Time-varying mesh stiffness (spec B.2) and spur-pair contact geometry (B.4, B.8).
+//! Time-varying mesh stiffness (docs/math/companion.md §B.2) and spur-pair contact geometry (docs/math/companion.md §B.4, §B.8).
 
 use std::f64::consts::PI;
 
@@ -69,7 +69,7 @@ impl PairGeometry {
     }
 }
 
-/// Rectangular-wave mesh stiffness (B-1) with double contact during the first (ε−1)t0 of each
+/// Rectangular-wave mesh stiffness (docs/math/companion.md §B.2 eq. B-1) with double contact during the first (ε−1)t0 of each
 /// mesh period, N/m.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct RectangularTvms {
@@ -82,13 +82,13 @@ pub struct RectangularTvms {
 }
 
 impl RectangularTvms {
-    /// Mean stiffness `kmax(ε−1) + kmin(2−ε)`, N/m (B.2: the correct mean).
+    /// Mean stiffness `kmax(ε−1) + kmin(2−ε)`, N/m (docs/math/companion.md §B.2: the correct mean).
     #[must_use]
     pub fn mean(&self) -> f64 {
         self.kmax * (self.eps - 1.0) + self.kmin * (2.0 - self.eps)
     }
 
-    /// The patent's `kd = k0 + A0/2` with `A0 = 2Δ(2ε−3)`, which double-counts A0/2 (B.2).
+    /// The patent's `kd = k0 + A0/2` with `A0 = 2Δ(2ε−3)`, which double-counts A0/2 (docs/math/companion.md §B.2).
     /// Kept only to flag the inconsistency; never used by the simulator.
     #[must_use]
     pub fn patent_kd(&self) -> f64 {
@@ -114,7 +114,7 @@ impl RectangularTvms {
         }
     }
 
-    /// Single-pair stiffness (B-2) at local pair time `s` in mesh periods since the pair entered
+    /// Single-pair stiffness (docs/math/companion.md §B.2 eq. B-2) at local pair time `s` in mesh periods since the pair entered
     /// (`s ∈ [0, ε)`; 0 outside), N/m.
     #[must_use]
     pub fn pair(&self, s: f64) -> f64 {

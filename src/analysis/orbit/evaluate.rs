@@ -1,5 +1,5 @@
 //! Setting up the evaluation of sensor records from a model file or given speeds: ω_p, the sensor
-//! frame and the expected nuisance lines (A.7), the optional frequency refinement (A.8 step 3) and
+//! frame and the expected nuisance lines (docs/math/companion.md §A.7), the optional frequency refinement (docs/math/companion.md §A.8 step 3) and
 //! the [`MeasureReport`].
 //!
 //! ```

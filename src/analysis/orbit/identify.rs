@@ -1,4 +1,4 @@
-//! Inverse problem (A.9): planet eccentricity phasors from a measured sun orbit.
+//! Inverse problem (docs/math/companion.md §A.9): planet eccentricity phasors from a measured sun orbit.
 //!
 //! The model is complex-linear, `[P_x, P_y, P_c]ᵀ = G E` with a real 3×N matrix `G`
 //! ([`KinematicMap`]). The sun orbit gives only the first two rows; for three equally spaced

@@ -1,14 +1,14 @@
-//! Floating sun-gear orbit under planet eccentricity (spec `companion-methods.md` part A).
+//! Floating sun-gear orbit under planet eccentricity (docs/math/companion.md §A).
 //!
 //! Three stages, one submodule each:
 //!
-//! * [`model`] — kinematic model (A.3–A.6): planet eccentricity phasors → sun orbit in the carrier
+//! * [`model`] — kinematic model (docs/math/companion.md §A.3–§A.6): planet eccentricity phasors → sun orbit in the carrier
 //!   frame, its x/y sinusoids, the ellipse, forward/backward (full-spectrum) components, whirl
-//!   sense and the common-mode (transmission-error) part; gear speeds and expected lines (A.7).
-//! * [`measure`] — evaluation of sensor records (A.7–A.8): detrend, frame conversion, collision
+//!   sense and the common-mode (transmission-error) part; gear speeds and expected lines (docs/math/companion.md §A.7).
+//! * [`measure`] — evaluation of sensor records (docs/math/companion.md §A.7–§A.8): detrend, frame conversion, collision
 //!   check, least-squares extraction with nuisance lines (default), Hann-DTFT, plain FFT bin (for
 //!   contrast only) and synchronous resampling; uncertainty from the fit.
-//! * [`identify`] — planet eccentricity phasors from a measured orbit (A.9), up to the
+//! * [`identify`] — planet eccentricity phasors from a measured orbit (docs/math/companion.md §A.9), up to the
 //!   unobservable common mode unless a transmission-error channel is given.
 //!
 //! Two modules put the stages together as `ncgear orbit` does: [`evaluate`] derives ω_p, the frame
@@ -69,7 +69,7 @@ pub enum OrbitError {
         /// What went wrong.
         message: String,
     },
-    /// The regression matrix is too ill-conditioned: two analysed lines collide (A.7/A.8).
+    /// The regression matrix is too ill-conditioned: two analysed lines collide (docs/math/companion.md §A.7/§A.8).
     #[error(
         "colliding lines: least-squares condition number {condition:.3e} exceeds {limit:.1e} \
          ({detail}); separate the lines (longer record) or calibrate the interfering line away"
@@ -95,7 +95,7 @@ pub(crate) fn invalid(key: impl Into<String>, message: impl Into<String>) -> Orb
     }
 }
 
-/// Whirl sense of an elliptical orbit relative to the planet's relative spin ω_p (A.8).
+/// Whirl sense of an elliptical orbit relative to the planet's relative spin ω_p (docs/math/companion.md §A.8).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
 #[serde(rename_all = "snake_case")]
 pub enum Whirl {
@@ -107,7 +107,7 @@ pub enum Whirl {
     Line,
 }
 
-/// One same-frequency sinusoid pair `x = A_x sin(ωt + φ_x)`, `y = A_y sin(ωt + φ_y)` (A.5).
+/// One same-frequency sinusoid pair `x = A_x sin(ωt + φ_x)`, `y = A_y sin(ωt + φ_y)` (docs/math/companion.md §A.5).
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
 pub struct SinPair {
     /// A_sx, µm.
@@ -120,7 +120,7 @@ pub struct SinPair {
     pub phi_y_rad: f64,
 }
 
-/// Ellipse of an orbit (A.6–A.8).
+/// Ellipse of an orbit (docs/math/companion.md §A.6–§A.8).
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
 pub struct Ellipse {
     /// Semi-major axis R_L = |Z₊| + |Z₋|, µm.
@@ -137,7 +137,7 @@ pub struct Ellipse {
 }
 
 /// Sun motion at the planet frequency, carrier frame:
-/// `z(t) = x + i y = Z₊ e^{iω_p t} + Z₋ e^{−iω_p t}` (A.8), in µm.
+/// `z(t) = x + i y = Z₊ e^{iω_p t} + Z₋ e^{−iω_p t}` (docs/math/companion.md §A.8), in µm.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Orbit {
     /// Signed planet spin relative to the carrier ω_p, rad/s (non-zero).
@@ -162,7 +162,7 @@ pub(crate) fn wrap_half_pi(a: f64) -> f64 {
 
 impl Orbit {
     /// From the sine phasors `P_x`, `P_y` with `x(t) = Im(P_x e^{iω_p t}) = |P_x| sin(ω_p t + arg P_x)`:
-    /// `X = P_x/(2i)`, `Y = P_y/(2i)`, `Z₊ = X + iY`, `Z₋ = X̄ + iȲ` (A-8).
+    /// `X = P_x/(2i)`, `Y = P_y/(2i)`, `Z₊ = X + iY`, `Z₋ = X̄ + iȲ` (docs/math/companion.md §A.6 eq. A-8).
     #[must_use]
     pub fn from_sin_phasors(omega_p_rad_s: f64, p_x_um: C64, p_y_um: C64) -> Self {
         let two_i = C64::new(0.0, 2.0);
@@ -175,7 +175,7 @@ impl Orbit {
         }
     }
 
-    /// From `A_sx, φ_sx, A_sy, φ_sy` (A-8 with `X = A_sx e^{iφ_sx}/(2i)`).
+    /// From `A_sx, φ_sx, A_sy, φ_sy` (docs/math/companion.md §A.6 eq. A-8 with `X = A_sx e^{iφ_sx}/(2i)`).
     #[must_use]
     pub fn from_sin_pair(omega_p_rad_s: f64, s: &SinPair) -> Self {
         Self::from_sin_phasors(
@@ -195,7 +195,7 @@ impl Orbit {
         (2.0 * i * x, 2.0 * i * y)
     }
 
-    /// The x/y sinusoids (A.5): `A = |P|`, `φ = arg P`.
+    /// The x/y sinusoids (docs/math/companion.md §A.5): `A = |P|`, `φ = arg P`.
     #[must_use]
     pub fn sin_pair(&self) -> SinPair {
         let (px, py) = self.sin_phasors();
@@ -215,7 +215,7 @@ impl Orbit {
         (z.re, z.im)
     }
 
-    /// One planet period of the filtered orbit, `n` points (A.8 step 6), µm.
+    /// One planet period of the filtered orbit, `n` points (docs/math/companion.md §A.8 step 6), µm.
     #[must_use]
     pub fn trace_um(&self, n: usize) -> Vec<(f64, f64)> {
         let period = std::f64::consts::TAU / self.omega_p_rad_s.abs();
@@ -224,7 +224,7 @@ impl Orbit {
             .collect()
     }
 
-    /// Ellipse by the branch-free full-spectrum form (A-8):
+    /// Ellipse by the branch-free full-spectrum form (docs/math/companion.md §A.6 eq. A-8):
     /// `R_L = |Z₊|+|Z₋|`, `R_S = ||Z₊|−|Z₋||`, `α_L = (arg Z₊ + arg Z₋)/2 (mod π)`.
     /// A component below [`ZERO_COMPONENT_REL`]·R_L counts as zero (circle → `α_L = None`).
     #[must_use]
@@ -259,7 +259,7 @@ impl Orbit {
         }
     }
 
-    /// Residual of the implicit ellipse equation (A-6),
+    /// Residual of the implicit ellipse equation (docs/math/companion.md §A.6 eq. A-6),
     /// `x²/A_x² − 2xy cosΔ/(A_x A_y) + y²/A_y² − sin²Δ`, at the point `(x, y)` µm (dimensionless);
     /// `None` when A_x or A_y is zero (the implicit form is undefined for a degenerate orbit).
     #[must_use]
@@ -278,7 +278,7 @@ impl Orbit {
     }
 }
 
-/// Semi-axes and orientation by the Group-8 closed form (A-7), for cross-checking [`Orbit::ellipse`]:
+/// Semi-axes and orientation by the Group-8 closed form (docs/math/companion.md §A.6 eq. A-7), for cross-checking [`Orbit::ellipse`]:
 /// `S = √((A_x²−A_y²)² + 4A_x²A_y²cos²Δ)`, `R_L = √((A_x²+A_y²+S)/2)`,
 /// `R_S = √(max(0, (A_x²+A_y²−S)/2))`, `α_L = ½ atan2(2A_xA_y cosΔ, A_x²−A_y²)`; returns
 /// `(R_L µm, R_S µm, α_L rad)`.

@@ -64,7 +64,7 @@ impl From<&Ellipse> for EllipseSummary {
     }
 }
 
-/// An [`Orbit`] with its sinusoids (A.5), phasors and ellipse (A.6–A.8).
+/// An [`Orbit`] with its sinusoids (docs/math/companion.md §A.5), phasors and ellipse (docs/math/companion.md §A.6–§A.8).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct OrbitSummary {
     /// Signed planet spin relative to the carrier ω_p, rad/s.
@@ -122,14 +122,14 @@ pub struct CommonMode {
     pub phase_rad: f64,
 }
 
-/// Result of the kinematic model (A.3–A.7) for a parameter file.
+/// Result of the kinematic model (docs/math/companion.md §A.3–§A.7) for a parameter file.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct ModelReport {
     /// Sun orbit in the carrier frame.
     pub orbit: OrbitSummary,
     /// Common mode along the lines of action, µm.
     pub common_mode_um: CommonMode,
-    /// Whether the kinematic solution is the equal-stiffness one for any load (A.4).
+    /// Whether the kinematic solution is the equal-stiffness one for any load (docs/math/companion.md §A.4).
     pub load_independent: bool,
     /// Gear speeds when the file has `[gears]`.
     pub gear_speeds: Option<GearSpeeds>,
@@ -169,7 +169,7 @@ pub struct XyRms {
     pub y: f64,
 }
 
-/// Result of evaluating a sensor record (A.7–A.8), with the comparison to the model if any.
+/// Result of evaluating a sensor record (docs/math/companion.md §A.7–§A.8), with the comparison to the model if any.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct MeasureReport {
     /// Estimator used.
@@ -196,7 +196,7 @@ pub struct MeasureReport {
     pub record_length_s: f64,
     /// Number of samples.
     pub samples: usize,
-    /// Measured minus model (A.8 step 7), when a model is given.
+    /// Measured minus model (docs/math/companion.md §A.8 step 7), when a model is given.
     pub comparison_with_model: Option<Comparison>,
 }
 
@@ -239,7 +239,7 @@ pub struct PlanetPhasor {
     pub phase_deg: f64,
 }
 
-/// Result of the identification (A.9).
+/// Result of the identification (docs/math/companion.md §A.9).
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct IdentifyReport {
     /// Minimum-norm planet phasors, in planet order.

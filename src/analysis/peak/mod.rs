@@ -1,4 +1,4 @@
-//! Certified peak of a sum of sinusoids over its common period (companion spec C.2–C.3).
+//! Certified peak of a sum of sinusoids over its common period (docs/math/companion.md §C.2–§C.3).
 //!
 //! `f(t) = Σ_k A_k sin(ω_k t + φ_k)` (ω ≥ 0, rad/s; ω = 0 terms are the constant `A sin φ`).
 //! When all non-zero ω_k are rational multiples of a base, `f` has the period `T = 2π/ω_g` with
@@ -160,7 +160,7 @@ pub fn certified_peak(terms: &[Sinusoid], opts: PeakOptions) -> Peak {
 }
 
 /// Peak found on a fixed time grid `t = 0, dt, …, < t_end` with no refinement (what a naive
-/// evaluation does; it under-estimates, companion spec C.4).
+/// evaluation does; it under-estimates, docs/math/companion.md §C.4).
 #[must_use]
 pub fn fixed_grid_peak(terms: &[Sinusoid], dt_s: f64, t_end_s: f64) -> f64 {
     let n = (t_end_s / dt_s).floor() as usize + 1;

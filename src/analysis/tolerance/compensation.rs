@@ -1,5 +1,5 @@
-//! Peaks, bounds and phase compensation of an error set: same-frequency phasor sums (C-1), the
-//! paper's phase scan and greedy assembly (C.3), the joint optimum, `Σ|A|` and the
+//! Peaks, bounds and phase compensation of an error set: same-frequency phasor sums (docs/math/companion.md §C.2 eq. C-1), the
+//! paper's phase scan and greedy assembly (docs/math/companion.md §C.3), the joint optimum, `Σ|A|` and the
 //! phase-independent floor.
 
 use super::ErrorFile;
@@ -13,7 +13,7 @@ use rand::SeedableRng;
 use serde::Serialize;
 use std::f64::consts::TAU;
 
-/// The phasor sum of same-frequency terms (C-1).
+/// The phasor sum of same-frequency terms (docs/math/companion.md §C.2 eq. C-1).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct Phasor {
     /// ω, rad/s.
@@ -24,7 +24,7 @@ pub struct Phasor {
     pub phase_rad: f64,
 }
 
-/// Combines `A e^{iφ}` terms: `B e^{iξ} = Σ A_k e^{iφ_k}` (C-1).
+/// Combines `A e^{iφ}` terms: `B e^{iξ} = Σ A_k e^{iφ_k}` (docs/math/companion.md §C.2 eq. C-1).
 #[must_use]
 pub fn phasor_sum(terms: &[(f64, f64)]) -> (f64, f64) {
     let (c, s) = terms.iter().fold((0.0, 0.0), |(c, s), (a, p)| {
@@ -57,7 +57,7 @@ pub struct GreedyStep {
     pub beta_rad: f64,
     /// Certified peak with the terms assembled so far, µm.
     pub peak_um: f64,
-    /// All indices within 1e-9 relative of the best (ties from time-shift invariance, C.2).
+    /// All indices within 1e-9 relative of the best (ties from time-shift invariance, docs/math/companion.md §C.2).
     pub ties: Vec<usize>,
 }
 
@@ -162,7 +162,7 @@ impl Analysis {
             .collect()
     }
 
-    /// Greedy sequential assembly (C.3): each free term in order takes the scan's best angle.
+    /// Greedy sequential assembly (docs/math/companion.md §C.3): each free term in order takes the scan's best angle.
     #[must_use]
     pub fn greedy(&self, n: usize) -> Vec<GreedyStep> {
         let mut betas = Vec::new();
@@ -223,7 +223,7 @@ impl Analysis {
         }
     }
 
-    /// Same-frequency phasor sums (C-1) at assembly angles `betas`.
+    /// Same-frequency phasor sums (docs/math/companion.md §C.2 eq. C-1) at assembly angles `betas`.
     #[must_use]
     pub fn groups(&self, betas: &[f64]) -> Vec<Phasor> {
         let ph = self.phases(betas);

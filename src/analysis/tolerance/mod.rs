@@ -1,13 +1,13 @@
 //! Transmission-error harmonics, phase (coupling) compensation and Monte Carlo tolerance analysis
-//! (companion spec part C, seed 003).
+//! (docs/math/companion.md §C, seed 003).
 //!
 //! Each error term is an equivalent line-of-action error `e_k = A_k sin(ω_k t + φ_k)` (µm, rad/s).
 //! A term's phase is fixed, or free (an assembly choice): `φ_k = s_k·β_k + c_k` with the assembly
 //! angle β_k. The transmission error is `Δθ = e/r_b` (rad; ×206 264.806 for arc seconds).
 //!
-//! - same-frequency terms add as phasors (C-1); zero-frequency terms are constants `A sin φ`;
+//! - same-frequency terms add as phasors (docs/math/companion.md §C.2 eq. C-1); zero-frequency terms are constants `A sin φ`;
 //! - the peak of the sum is the **certified** peak over the common period ([`super::peak`]);
-//! - the paper's phase scan (n equal steps) and greedy sequential assembly (C.3), a joint
+//! - the paper's phase scan (n equal steps) and greedy sequential assembly (docs/math/companion.md §C.3), a joint
 //!   optimiser (multistart Nelder–Mead, argmin) for the gap to greedy;
 //! - always reported: the certified peak, the sum-of-amplitudes bound `Σ|A_k|` and the
 //!   phase-independent floor `sqrt(D_min² + Σ_j B_j,min²/2)` (RMS over a period; `B_j,min` the

@@ -1,5 +1,5 @@
 //! The transplanter tolerance analysis: linear-model validation at 3σ, Monte Carlo of random
-//! assembly, and the assembly of the report from its parts (spec C.6 items 3, 4, 6).
+//! assembly, and the assembly of the report from its parts (docs/math/companion.md §C.6 items 3, 4, 6).
 
 use super::best_assembly::optimise_assembly;
 use super::common::{TransplanterOptions, UM, exact_max, mc_error, rng_for};
@@ -78,7 +78,7 @@ pub fn analyse(
     }
     let model = ExactModel::new(asm, inv.pressure_angle_rad, inv.load_side)?;
     let lin = LinearModel::build(&model, inv.samples_per_turn, opts.fd_steps)?;
-    // Validation at 3σ (spec C.6 item 3).
+    // Validation at 3σ (docs/math/companion.md §C.6 item 3).
     let errs: Result<Vec<(f64, f64)>, TransplanterError> = (0..opts.validation_samples)
         .into_par_iter()
         .map(|i| {

@@ -1,4 +1,4 @@
-//! Best assembly of the free runout orientations: greedy (C.3), joint (exhaustive over keyed
+//! Best assembly of the free runout orientations: greedy (docs/math/companion.md §C.3), joint (exhaustive over keyed
 //! positions or multistart Nelder–Mead) and the random-assembly distribution to compare with.
 
 use super::common::{TransplanterOptions, UM, exact_max, mc_error, rng_for};
@@ -93,7 +93,7 @@ pub(super) fn optimise_assembly(
         .map(|&k| inv.eccentricity[k].direction_rad)
         .collect();
     let as_given = obj.value(&given, free.len());
-    // Greedy (C.3): each free gear in order takes the best scan position.
+    // Greedy (docs/math/companion.md §C.3): each free gear in order takes the best scan position.
     let mut chosen: Vec<f64> = Vec::new();
     let mut greedy = Vec::new();
     for (a, &k) in free.iter().enumerate() {

@@ -18,11 +18,11 @@ pub struct TransplanterOptions {
     /// Monte Carlo of random assembly: samples (≥ 2), seed, histogram bins (default
     /// [`McOptions::default`]: 50 000 samples, seed 1, 60 bins).
     pub mc: McOptions,
-    /// Samples at 3σ used to validate the linear model against the exact one (spec and default:
+    /// Samples at 3σ used to validate the linear model against the exact one (docs/math/companion.md §C.6 and default:
     /// 100).
     pub validation_samples: usize,
     /// Largest accepted relative error of the linear model; above it the Monte Carlo uses the
-    /// exact model (spec and default: 0.05).
+    /// exact model (docs/math/companion.md §C.6 and default: 0.05).
     pub linear_tolerance: f64,
     /// Exact-model samples of the agronomic-feature distributions (0: skip; default 200).
     pub feature_samples: usize,

@@ -1,4 +1,4 @@
-//! Tolerance analysis of the non-circular planetary transplanting mechanism (companion spec C.6):
+//! Tolerance analysis of the non-circular planetary transplanting mechanism (docs/math/companion.md §C.6):
 //! `ncgear tolerance DESIGN.json --errors ERRORS`.
 //!
 //! One arm (sun 1, intermediate 2, planet 3, needle) of a designed train ([`crate::geometry::assembly`]) is
@@ -45,9 +45,9 @@
 //! backlashes add up in the planet's lost motion. For zero errors this reproduces the rolling
 //! pitch curves exactly (the pitch points coincide on the line of centres); the flank is modelled
 //! by its tangent at the pitch point (the neglected flank curvature enters at second order in the
-//! µm-sized flank displacement). The first-order result is the spec's `Δθ_b = (ε·N)/ρ_b` with `ρ_b`
+//! µm-sized flank displacement). The first-order result is docs/math/companion.md §C.6's `Δθ_b = (ε·N)/ρ_b` with `ρ_b`
 //! the moment arm of N about the driven centre; for circular gears `ρ_b = r·cos α = r_b` and the
-//! planet error is the phasor sum of C.2 (tested).
+//! planet error is the phasor sum of docs/math/companion.md §C.2 (tested).
 //!
 //! Needle tip: `B = C_A + l3·e(θ3 + γ + Δγ)`. Clocking the intermediate is invisible (an idler has
 //! nothing keyed to it; tested); clocking the planet is the same as an arm mounting error of the

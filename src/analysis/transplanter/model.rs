@@ -306,8 +306,8 @@ pub struct LinearModel {
     pub nominal_tips_mm: Vec<[f64; 2]>,
     /// Per carrier angle, the column `S_j = ∂B/∂x_j` of every coordinate (mm per internal unit).
     pub jacobian: Vec<[[f64; 2]; N_COORDS]>,
-    /// Per carrier angle, `∂θ3/∂x_j`: the planet's angle error (the transmission error of spec
-    /// C), rad per internal unit.
+    /// Per carrier angle, `∂θ3/∂x_j`: the planet's angle error (the transmission error of
+    /// docs/math/companion.md §C.6), rad per internal unit.
     pub planet_angle_jacobian: Vec<[f64; N_COORDS]>,
 }
 

@@ -97,7 +97,7 @@ pub struct AssemblyOptimum {
     pub keyed_positions: Vec<usize>,
     /// `max_φ |ΔB|` with the directions as given in the file, µm.
     pub as_given_um: f64,
-    /// Greedy sequential choice (C.3).
+    /// Greedy sequential choice (docs/math/companion.md §C.3).
     pub greedy: Vec<GreedyChoice>,
     /// Greedy result, µm.
     pub greedy_um: f64,
@@ -138,7 +138,7 @@ pub struct TransplanterReport {
     pub seed: u64,
     /// `max_φ |ΔB|` over random assemblies, µm.
     pub max_deviation_um: McStats,
-    /// `max_φ |Δθ3|` of the planet (the transmission error of spec C) over the same random
+    /// `max_φ |Δθ3|` of the planet (the transmission error of docs/math/companion.md §C) over the same random
     /// assemblies, arc seconds.
     pub planet_angle_error_arcsec: McStats,
     /// Deviation envelope along the trajectory.

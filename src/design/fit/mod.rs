@@ -7,7 +7,7 @@
 //!
 //! ```text
 //! p = (a, l3, γ, φ_ref, a_1..a_K, b_1..b_K)           a, l3 in mm; γ, φ_ref in rad
-//! B(φ; p) = 2a·e(φ) + l3·e(β),   β = φ + π − S(φ − φ_ref) + γ,   S = Φ⁻¹(Φ + π)   (spec §2, §6.2)
+//! B(φ; p) = 2a·e(φ) + l3·e(β),   β = φ + π − S(φ − φ_ref) + γ,   S = Φ⁻¹(Φ + π)   (docs/math/chain.md §2, §6.2)
 //! min_p Σ_j dist(P_j, B(·; p))²   subject to   i21(θ) ∈ [i_min, i_max] for all θ
 //! ```
 //!
@@ -435,7 +435,7 @@ mod tests {
         start.sun_phase_rad += 0.02;
         start.ratio = SunRatio::new(vec![0.2, 0.0, 0.0], vec![0.0, 0.0, 0.0]).unwrap();
         // At the true order the fit is exact (to the smoothness term); above it the invisible
-        // re-timing directions (spec §6.3) slow the last digits, far below the tolerance.
+        // re-timing directions (docs/math/chain.md §6.3) slow the last digits, far below the tolerance.
         let exact = FitOptions {
             order: Some(3),
             tol_mm: 1e-7,

@@ -1,4 +1,4 @@
-//! Spec §12.1 option 2: an integer tooth count by rescaling the ratio amplitude of the designed
+//! docs/math/teeth.md §12.1 option 2: an integer tooth count by rescaling the ratio amplitude of the designed
 //! mechanism at a fixed centre distance.
 use super::TrainError;
 use crate::geometry::fourier::SunRatio;
@@ -32,7 +32,7 @@ pub(super) fn with_amplitude(mech: &Mechanism, lambda: f64) -> Mechanism {
     }
 }
 
-/// Spec §12.1 option 2: the amplitude λ of `i_λ = 1 + λ(i21 − 1)` with `a` held fixed such that
+/// docs/math/teeth.md §12.1 option 2: the amplitude λ of `i_λ = 1 + λ(i21 − 1)` with `a` held fixed such that
 /// the sun perimeter `L(λ) = zπm`, z the achievable integer nearest to `L(1)/(πm)`.
 ///
 /// `L(λ)` is sampled on `λ ∈ [0, λmax]` (`λmax` keeps `i_λ ≥ 0.05` and ≤ 4); the bracket

@@ -59,7 +59,7 @@ pub fn tooth_train(
     verified(train_from(asm, None, target_mm, opts)?, progress)
 }
 
-/// [`tooth_train`] on a fresh design, with every policy of §12.1 including
+/// [`tooth_train`] on a fresh design, with every policy of docs/math/teeth.md §12.1 including
 /// [`TrainPolicy::RatioAmplitude`] (which rebuilds the mechanism with `i_λ = 1 + λ(i21 − 1)`, the
 /// same `a`, `l3` and γ, and `accuracy_mm` on the perimeter equation `L(λ) = zπm`).
 pub fn tooth_design(

@@ -2,8 +2,8 @@
 //! (`ncgear design --module M`), with the tooth count made an integer, the mating phases, the mesh
 //! verification of both meshes and the round trip of the final, scaled mechanism.
 //!
-//! Spec: design-chain §12 (12.1 tooth count, 12.3 mating phase, 12.4 undercut) on the conventions
-//! of §2/§9 (the `design.json` conventions). Lengths in mm, angles in radians unless named `_deg`.
+//! The mathematics: docs/math/teeth.md §12.1, §12.3, §12.4 (tooth count, mating phase, undercut) on the conventions
+//! of docs/math/chain.md §2/§9 (the `design.json` conventions). Lengths in mm, angles in radians unless named `_deg`.
 //!
 //! # The two meshes as fixed-axis pairs
 //! In the frame that turns with the carrier (x′ along O→D), at carrier angle φH:
@@ -16,14 +16,14 @@
 //! Both are the convention of [`crate::teeth::mesh::verify_mesh`] (driver CCW by φ, contact at
 //! driver body angle −φ; driven CW by ψ, contact at driven body angle π + ψ).
 //!
-//! # Tooth count (§12.1)
+//! # Tooth count (docs/math/teeth.md §12.1)
 //! The three pitch curves have the same perimeter L (equal tooth counts: one relative turn each per
 //! carrier turn). `z` comes from `L/(πm)` with a [`ToothPolicy`]; the curves and the centre distance
 //! are scaled by `s = zπm/L`. Uniform scaling keeps every ratio `r/(a − r)`, hence θ2(φH) and
 //! θ3(φH); with `l3` and γ unchanged, every tip point moves radially by exactly `(s − 1)·l1`
 //! (`l1 = 2a`) — the consequence reported as `radial_shift_mm`, and measured by the round trip.
 //!
-//! # Mating phase (§12.3)
+//! # Mating phase (docs/math/teeth.md §12.3)
 //! Sun tooth 0 is centred on the contact with the intermediate at φH = 0 (sun body angle 0). For a
 //! driver whose contact lies `δ` (arc, mm) ahead of a tooth centre, the driven tooth 0 is centred
 //! at `s_n + δ + p/2` (`s_n` its contact arc position): a space faces the driver tooth. Every gear's
@@ -96,7 +96,7 @@ pub enum TrainError {
     },
 }
 
-/// How the tooth count is made an integer (spec §12.1).
+/// How the tooth count is made an integer (docs/math/teeth.md §12.1).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[non_exhaustive]
 pub enum TrainPolicy {

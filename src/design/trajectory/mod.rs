@@ -1,4 +1,4 @@
-//! Static needle-tip trajectories: reading, validating, and the periodic interpolant (spec §3.1).
+//! Static needle-tip trajectories: reading, validating, and the periodic interpolant (docs/math/chain.md §3.1).
 //!
 //! A [`Trajectory`] is a closed polyline of at least [`MIN_POINTS`] finite points in travel order,
 //! in mm, with no repeated end point and no duplicate consecutive points. Files:
@@ -256,7 +256,7 @@ impl Trajectory {
             .collect()
     }
 
-    /// Smooths a measured or noisy loop (spec §3.1, §14): the polyline is resampled at `4·harmonics`
+    /// Smooths a measured or noisy loop (docs/math/chain.md §3.1, §14): the polyline is resampled at `4·harmonics`
     /// (at least as many as it has points) uniform chord-length positions and `x(s)`, `y(s)` are
     /// truncated to their first `harmonics` Fourier harmonics. The result has the same number of
     /// points as the input, in the same travel order, starting at the same place.
@@ -309,7 +309,7 @@ impl Trajectory {
         Self { points }
     }
 
-    /// Chord-length periodic cubic spline through the points (spec §3.1).
+    /// Chord-length periodic cubic spline through the points (docs/math/chain.md §3.1).
     #[must_use]
     pub fn spline(points: &[[f64; 2]]) -> ClosedSpline {
         ClosedSpline::through(points)

@@ -1,4 +1,4 @@
-//! The closed chord-length spline through the points (spec §3.1).
+//! The closed chord-length spline through the points (docs/math/chain.md §3.1).
 
 use super::dist;
 use crate::math::periodic::PeriodicSpline;

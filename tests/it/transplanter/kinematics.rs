@@ -81,7 +81,7 @@ fn radial_pin_error_of_a_matches_the_closed_form() {
 
 /// Circular gears: the planet's angle error is the line-of-action sum of the eccentricities and
 /// backlashes over the base radius r_b = r·cos α (the non-circular ρ_b), and — every term having
-/// order 1 in φH — a single phasor (C-1) plus the accumulated lost motion.
+/// order 1 in φH — a single phasor (docs/math/companion.md §C.2 eq. C-1) plus the accumulated lost motion.
 #[test]
 fn circular_train_reduces_to_the_phasor_model() {
     let asm = circular();
@@ -155,7 +155,7 @@ fn circular_train_reduces_to_the_phasor_model() {
                 w = w.max((d - lost - b * (p + xi).sin() / rb).abs());
             }
             println!(
-                "phasor C-1: residual {w:.2e} rad of B/r_b = {:.2e} rad",
+                "phasor docs/math/companion.md §C.2 eq. C-1: residual {w:.2e} rad of B/r_b = {:.2e} rad",
                 b / rb
             );
             assert!(w < 1e-3 * b / rb, "phasor: {w} vs {}", b / rb);
@@ -246,7 +246,7 @@ fn linear_model_agrees_with_the_exact_model_at_three_sigma() {
 }
 
 /// Non-circular G1: a radial pin error δ of A changes the intermediate–planet centre distance;
-/// to first order (spec C.6 item 2) the planet turns by `Δθ3 = −δ·(u·N)/ρ_b`, with u the line of
+/// to first order (docs/math/companion.md §C.6 item 2) the planet turns by `Δθ3 = −δ·(u·N)/ρ_b`, with u the line of
 /// centres, N the line of action through the contact (pitch tangent t and normal n of the
 /// intermediate, `N = σ cos α t + sin α n`, σ = −load_side) and `ρ_b = (R⁺(W − A))·N` the moment
 /// arm about A; the tip moves by `δ·u + l3·Δθ3·e(β + π/2)`. Computed here from the pitch tables.

@@ -1,4 +1,4 @@
-//! Transplanter tolerance analysis (companion spec C.6): exact perturbed kinematics, closed forms,
+//! Transplanter tolerance analysis (docs/math/companion.md §C.6): exact perturbed kinematics, closed forms,
 //! the circular-gear phasor limit, linear vs exact, Monte Carlo stability, file errors.
 //! Shared fixtures here; [`kinematics`] tests the models, [`analysis`] the report, files and CLI.
 use ncgear::analysis::montecarlo::McOptions;

@@ -1,12 +1,12 @@
 //! The mesh kernel: stiffness law, static transmission error, backlash and tip relief per tooth
-//! pair (B-3..B-5), and the mesh force term acting along the line of action.
+//! pair (docs/math/companion.md §B.3 eq. B-3..B-5), and the mesh force term acting along the line of action.
 
 use super::{ForceTerm, StateEvent};
 use crate::analysis::dynamics::tvms::RectangularTvms;
 use nalgebra::DMatrix;
 use std::sync::Arc;
 
-/// How the mesh stiffness varies (B.2).
+/// How the mesh stiffness varies (docs/math/companion.md §B.2).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum StiffnessLaw {
     /// Constant k, N/m.
@@ -15,7 +15,7 @@ pub enum StiffnessLaw {
     Fourier(RectangularTvms, u32),
     /// Exact rectangular wave (one mesh).
     Rectangular(RectangularTvms),
-    /// Exact per-pair split (B-2).
+    /// Exact per-pair split (docs/math/companion.md §B.2 eq. B-2).
     Pairs(RectangularTvms),
 }
 
@@ -30,7 +30,7 @@ pub struct Ste {
     pub phase: f64,
 }
 
-/// Backlash dead zone (B-5).
+/// Backlash dead zone (docs/math/companion.md §B.3 eq. B-5).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Backlash {
     /// Half gap b, m.
@@ -41,7 +41,7 @@ pub struct Backlash {
     pub no_tension: bool,
 }
 
-/// Linear tip relief (B-4).
+/// Linear tip relief (docs/math/companion.md §B.3 eq. B-4).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Relief {
     /// Δmax, m.
@@ -50,7 +50,7 @@ pub struct Relief {
     pub length: f64,
 }
 
-/// Shared mesh kernel: per-pair deflections and forces (B-3..B-5).
+/// Shared mesh kernel: per-pair deflections and forces (docs/math/companion.md §B.3 eq. B-3..B-5).
 pub struct MeshCore {
     /// Geometric deflection coefficients (DOF index, coefficient) of `(y1−y2) + rb1θ1 − rb2θ2`.
     pub coeffs: Vec<(usize, f64)>,

@@ -1,5 +1,5 @@
 //! The assembled model: DOF set, diagonal mass, and the list of force terms built once from a
-//! scene (spec B.6, B.10). The right-hand side loops over the terms; it never tests switches.
+//! scene (docs/math/companion.md §B.6, §B.10). The right-hand side loops over the terms; it never tests switches.
 //!
 //! `mesh` holds the mesh kernel (stiffness law, STE, backlash, tip relief), `terms` the other
 //! force terms (constant forces, springs, friction, unbalance, Hertz bearings).
@@ -14,7 +14,7 @@ use super::ode::OdeSystem;
 use nalgebra::DMatrix;
 use std::sync::Arc;
 
-/// Names of the 16 generalized coordinates in the patent's order (B.1), plus `u`, the SDOF
+/// Names of the 16 generalized coordinates in the patent's order (docs/math/companion.md §B.1), plus `u`, the SDOF
 /// relative coordinate `rb1 θ1 − rb2 θ2` (m) used when the model reduces to one DOF.
 pub const DOF_NAMES: [&str; 17] = [
     "theta_p", "x1", "y1", "theta1", "x2", "y2", "theta2", "xb1", "yb1", "xb2", "yb2", "xb3",
@@ -24,7 +24,7 @@ pub const DOF_NAMES: [&str; 17] = [
 /// A state-event function `g(t, q)` (q: coordinates); its zeros are kinks of a force law.
 pub type StateEvent<'a> = Box<dyn Fn(f64, &[f64]) -> f64 + Send + Sync + 'a>;
 
-/// A generalized force contribution (B.10 term list). `q`, `v`: coordinates (m or rad) and
+/// A generalized force contribution (docs/math/companion.md §B.10 term list). `q`, `v`: coordinates (m or rad) and
 /// velocities; forces in N or N·m.
 pub trait ForceTerm: Send + Sync {
     /// Human-readable name for the run log.

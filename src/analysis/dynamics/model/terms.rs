@@ -1,5 +1,5 @@
 //! The force terms besides the mesh: constant forces, linear spring–dampers, sliding friction
-//! (B.4), mass unbalance and Hertz rolling-element bearings (B.5).
+//! (docs/math/companion.md §B.4), mass unbalance and Hertz rolling-element bearings (docs/math/companion.md §B.5).
 
 use super::ForceTerm;
 use super::mesh::{MeshCore, PairState, push_periodic};
@@ -72,7 +72,7 @@ impl ForceTerm for LinearSpring {
     }
 }
 
-/// Friction direction law (B.4).
+/// Friction direction law (docs/math/companion.md §B.4).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum FrictionDirection {
     /// λ = +1 before the pitch point, −1 after (breakpoints at the pitch-point times).
@@ -81,7 +81,7 @@ pub enum FrictionDirection {
     Tanh(f64),
 }
 
-/// Sliding friction with friction arms (B.4, B-6, B-7).
+/// Sliding friction with friction arms (docs/math/companion.md §B.4, §B.4 eq. B-6, docs/math/companion.md §B.6 eq. B-7).
 pub struct FrictionTerm {
     /// Mesh kernel.
     pub core: Arc<MeshCore>,
@@ -167,7 +167,7 @@ impl ForceTerm for FrictionTerm {
     }
 }
 
-/// Mass unbalance forcing `m ρ ω² (cos Φ, sin Φ)`, Φ = ω t + φ (B.5, kind = unbalance).
+/// Mass unbalance forcing `m ρ ω² (cos Φ, sin Φ)`, Φ = ω t + φ (docs/math/companion.md §B.5, kind = unbalance).
 pub struct UnbalanceTerm {
     /// Label.
     pub label: String,
@@ -193,7 +193,7 @@ impl ForceTerm for UnbalanceTerm {
     }
 }
 
-/// Hertz rolling-element bearing (B.5): force on the inner ring `−(Fbx, Fby)`,
+/// Hertz rolling-element bearing (docs/math/companion.md §B.5): force on the inner ring `−(Fbx, Fby)`,
 /// `Fbx = Kc Σ max(δj,0)^p cos θj`, `δj = x cos θj + y sin θj − γ0`, `θj = ωb t + 2π(j−1)/Nb`.
 pub struct HertzBearing {
     /// Label.

@@ -1,4 +1,4 @@
-//! Explicit integrators for the dynamics module (spec B.11): an adaptive Dormand–Prince 5(4)
+//! Explicit integrators for the dynamics module (docs/math/companion.md §B.11): an adaptive Dormand–Prince 5(4)
 //! with Hairer's 4th-order dense output, integration split at known breakpoints (the RK is
 //! restarted with a fresh first stage after every switch), state-event location on the dense
 //! output (Illinois false position), and a fixed-step classical RK4 whose steps can be aligned to

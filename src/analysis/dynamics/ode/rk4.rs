@@ -1,4 +1,4 @@
-//! Fixed-step classical RK4 (B.11), with steps optionally aligned to the breakpoints.
+//! Fixed-step classical RK4 (docs/math/companion.md §B.11), with steps optionally aligned to the breakpoints.
 
 use super::{NUDGE, OdeStats, OdeSystem};
 

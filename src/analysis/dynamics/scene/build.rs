@@ -1,4 +1,4 @@
-//! Scene → model: the DOF set the named effects need (B.10 pruning: 16 / 6 / 4 / 2 / 1), the
+//! Scene → model: the DOF set the named effects need (docs/math/companion.md §B.10 pruning: 16 / 6 / 4 / 2 / 1), the
 //! diagonal mass, the shared mesh kernel and the force-term list, in the run log's order (mesh,
 //! load, friction, shafts, bearings, eccentricity, gravity).
 

@@ -1,5 +1,5 @@
-//! The mesh effects of a scene turned into model parts: the stiffness law (B.2), the static
-//! transmission error, backlash (B-5) and tip relief (B-4), converted from file units (µm, mm,
+//! The mesh effects of a scene turned into model parts: the stiffness law (docs/math/companion.md §B.2), the static
+//! transmission error, backlash (docs/math/companion.md §B.3 eq. B-5) and tip relief (docs/math/companion.md §B.3 eq. B-4), converted from file units (µm, mm,
 //! degrees) to SI.
 
 use super::{BacklashSpec, MeshSpec, ReliefKind, ReliefSpec, SceneError, SteSpec};

@@ -1,4 +1,4 @@
-//! Scene files (TOML or JSON, spec B.10): every effect is off unless the scene names it. The
+//! Scene files (TOML or JSON, docs/math/companion.md §B.10): every effect is off unless the scene names it. The
 //! loader validates every value (key path + expected form in the error), prunes the DOF set and
 //! builds the force-term list once.
 //!

@@ -1,4 +1,4 @@
-//! The scene file schema (spec B.10): the serde types of every table and effect. Units are those
+//! The scene file schema (docs/math/companion.md §B.10): the serde types of every table and effect. Units are those
 //! of the file (mm, µm, degrees, rpm); effects with several forms are tagged enums keyed by their
 //! `kind` / `law` / `direction` string.
 
@@ -13,7 +13,7 @@ pub struct SceneMeta {
     pub name: String,
     /// Model kind: only `spur_pair`.
     pub model: ModelKind,
-    /// `auto` (prune DOFs, B.10) or `full` (keep every lateral DOF, e.g. for eigen-analysis);
+    /// `auto` (prune DOFs, docs/math/companion.md §B.10) or `full` (keep every lateral DOF, e.g. for eigen-analysis);
     /// default `auto`.
     #[serde(default)]
     pub dofs: DofSet,
@@ -310,7 +310,7 @@ pub enum BearingSpec {
         #[serde(default)]
         cb: f64,
     },
-    /// `hertz`: rolling elements with clearance (B.5).
+    /// `hertz`: rolling elements with clearance (docs/math/companion.md §B.5).
     Hertz {
         /// Hertz contact constant, N/m^p.
         Kc: f64,

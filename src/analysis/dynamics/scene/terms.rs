@@ -1,5 +1,5 @@
 //! The effects besides the mesh turned into force terms, one function per effect: drive and load
-//! torques, sliding friction (B.4), shafts (torsion and bending), bearings (linear or Hertz, B.5),
+//! torques, sliding friction (docs/math/companion.md §B.4), shafts (torsion and bending), bearings (linear or Hertz, docs/math/companion.md §B.5),
 //! mass unbalance and gravity. Each validates its table (key path in the error) first.
 
 use super::layout::Layout;

@@ -1,8 +1,8 @@
-//! Measured-minus-model comparison of two orbits (A.8 step 7).
+//! Measured-minus-model comparison of two orbits (docs/math/companion.md §A.8 step 7).
 
 use crate::analysis::orbit::{Orbit, wrap_half_pi};
 
-/// Measured-minus-model comparison (A.8 step 7).
+/// Measured-minus-model comparison (docs/math/companion.md §A.8 step 7).
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
 pub struct Comparison {
     /// ΔR_L, µm.

@@ -1,5 +1,5 @@
 //! The configured extractor (frame, estimator, nuisance lines, limits) and its result: the
-//! planet-frequency orbit of a record with uncertainty, condition number and warnings (A.7–A.8).
+//! planet-frequency orbit of a record with uncertainty, condition number and warnings (docs/math/companion.md §A.7–§A.8).
 
 use super::frame::{Frame, detrend, rotate};
 use super::record::Record;
@@ -8,7 +8,7 @@ use crate::analysis::orbit::model::{Line, LineKind};
 use crate::analysis::orbit::{C64, Orbit, OrbitError, invalid};
 use std::f64::consts::{PI, TAU};
 
-/// Estimator of the planet-frequency components (A.8).
+/// Estimator of the planet-frequency components (docs/math/companion.md §A.8).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
 #[serde(rename_all = "snake_case")]
 pub enum Method {
@@ -23,7 +23,7 @@ pub enum Method {
     PlainFft,
 }
 
-/// How an [`Extractor`] evaluates a record (A.7, A.8). Start from [`ExtractOptions::default`] and
+/// How an [`Extractor`] evaluates a record (docs/math/companion.md §A.7, §A.8). Start from [`ExtractOptions::default`] and
 /// set the fields that differ.
 #[derive(Debug, Clone, PartialEq)]
 #[non_exhaustive]

@@ -1,7 +1,7 @@
-//! The sensor frame (A.7) and the sample-wise conversions to the analysis frame: mean/drift
+//! The sensor frame (docs/math/companion.md §A.7) and the sample-wise conversions to the analysis frame: mean/drift
 //! removal and rotation by the carrier angle.
 
-/// Frame of the sensors and how to get to the carrier frame (A.7).
+/// Frame of the sensors and how to get to the carrier frame (docs/math/companion.md §A.7).
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
 #[serde(rename_all = "snake_case")]
 pub enum Frame {

@@ -1,5 +1,5 @@
 //! Estimate of the planet frequency from the record when it is only approximately known
-//! (A.8 step 3): interpolated Hann spectrum, then least-squares refinement.
+//! (docs/math/companion.md §A.8 step 3): interpolated Hann spectrum, then least-squares refinement.
 
 use super::extract::{Extractor, Method};
 use super::frame::Frame;
@@ -8,7 +8,7 @@ use super::spectrum::hann_fft;
 use crate::analysis::orbit::{OrbitError, invalid};
 use std::f64::consts::TAU;
 
-/// Estimate of the planet frequency when it is only approximately known (A.8 step 3).
+/// Estimate of the planet frequency when it is only approximately known (docs/math/companion.md §A.8 step 3).
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
 pub struct FrequencyEstimate {
     /// Coarse estimate from the Hann-windowed complex spectrum with 3-point (Grandke)

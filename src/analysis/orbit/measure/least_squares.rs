@@ -1,4 +1,4 @@
-//! The least-squares extraction (A.8, default method): regressors `[1, t, sin ω_k t, cos ω_k t …]`
+//! The least-squares extraction (docs/math/companion.md §A.8, default method): regressors `[1, t, sin ω_k t, cos ω_k t …]`
 //! for the planet line(s) and every nuisance line, solved by a blocked (TSQR) Householder QR, with
 //! the condition-number refusal and the covariance `σ̂² (MᵀM)⁻¹`; and its de-rotated variant.
 //!

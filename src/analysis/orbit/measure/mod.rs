@@ -1,8 +1,8 @@
-//! Evaluation of sun-displacement sensor records (spec A.7–A.8).
+//! Evaluation of sun-displacement sensor records (docs/math/companion.md §A.7–§A.8).
 //!
 //! Pipeline of [`Extractor::extract`]:
 //!
-//! 1. **Frame** (A.7): the model lives in the carrier frame. Housing-fixed sensors on a rotating
+//! 1. **Frame** (docs/math/companion.md §A.7): the model lives in the carrier frame. Housing-fixed sensors on a rotating
 //!    carrier are either de-rotated with the measured carrier angle, `z_c = e^{−iθ_c} z_r`
 //!    ([`Frame::HousingDerotate`]), or analysed in the full (complex) spectrum of `z_r = x_r + i y_r`,
 //!    reading Z₊ at the signed frequency `ω_c + ω_p` and Z₋ at `ω_c − ω_p`
@@ -15,7 +15,7 @@
 //!    (default; exact for any non-integer number of periods, with drift, and gives the covariance
 //!    `σ̂² (MᵀM)⁻¹`), or the Hann-windowed DTFT at the exact frequency, or synchronous resampling to
 //!    an integer number of planet revolutions, or — for contrast only — the nearest plain FFT bin.
-//! 4. Ellipse, sense and filtered orbit from the resulting [`Orbit`](super::Orbit) (A.6, A.8 step 6).
+//! 4. Ellipse, sense and filtered orbit from the resulting [`Orbit`](super::Orbit) (docs/math/companion.md §A.6, §A.8 step 6).
 //!
 //! One file per idea: `record` (the [`Record`] and its CSV), `frame` ([`Frame`], detrend,
 //! de-rotation), `extract` ([`ExtractOptions`], [`Extractor`], [`Measurement`]), `least_squares`

@@ -85,7 +85,7 @@ fn cubic_at(t0: f64, dt: f64, z: &[C64], tt: f64) -> C64 {
         + d * ((f + 1.0) * f * (f - 1.0) / 6.0)
 }
 
-/// Tach-driven synchronous average (A.8 step 4): the planet angle is `sign·2π·(r + s)` between
+/// Tach-driven synchronous average (docs/math/companion.md §A.8 step 4): the planet angle is `sign·2π·(r + s)` between
 /// pulses r and r+1 (linear in time within a revolution); z is resampled (cubic) at M points per
 /// revolution over all whole revolutions and the DFT bin at ±1 order taken. The result refers to
 /// the first pulse; it is moved to the time origin with the mean speed

@@ -1,11 +1,11 @@
-//! Kinematic model of the floating sun under planet eccentricity (spec A.2–A.7).
+//! Kinematic model of the floating sun under planet eccentricity (docs/math/companion.md §A.2–§A.7).
 //!
 //! Planet i sits at position angle φ_i in the carrier frame; its eccentricity vector, fixed in the
 //! planet body, is `e_pi (cos ψ_i, sin ψ_i)` in the planet frame with `ψ_i = ω_p t + θ_p0 + θ_pi`
-//! (A.2). The loaded flank normals `n_e = (sin α, h cos α)`, `n_i = (−sin α, h cos α)` (A.3) give
+//! (docs/math/companion.md §A.2). The loaded flank normals `n_e = (sin α, h cos α)`, `n_i = (−sin α, h cos α)` (docs/math/companion.md §A.3) give
 //! the mesh conditions
 //!
-//! `u_s · n_ei + c = q_i`, `q_i = e_pi · (n_ei + n_ii) = 2h cos α · e_pi sin ψ_i`
+//! `u_s · n_ei + c = q_i`, `q_i = e_pi · (n_ei + n_ii) = 2h cos α · e_pi sin ψ_i` (docs/math/companion.md §A.4 eq. A-1)
 //!
 //! in the unknowns sun translation `u_s = (x_s, y_s)` and common-mode (torsional / transmission-error)
 //! displacement `c`, with `n_ei` at polar angle `β_i = φ_i + h(π/2 − α)`. With phasors
@@ -13,7 +13,7 @@
 //! `x_s, y_s, c` are the (least-squares, for N ≠ 3) solution of `[cos β_i, sin β_i, 1]·[P_x, P_y, P_c]ᵀ
 //! = 2h cos α E_i`: a real 3×N [`KinematicMap`] applied to the complex vector E.
 //!
-//! Justification (A.4): a floating sun with three planets at 120° is only in force balance if the
+//! Justification (docs/math/companion.md §A.4): a floating sun with three planets at 120° is only in force balance if the
 //! three mesh forces are equal, so a static stiffness model with equal mesh springs reproduces this
 //! kinematic solution for any stiffness. For N ≠ 3 or unequal spacing the least-squares form equals
 //! the equal-stiffness elastic equilibrium only when `Σ n_ei = 0` (equally spaced planets); otherwise a
@@ -30,7 +30,7 @@ use nalgebra::{DMatrix, Matrix3};
 use serde::Deserialize;
 use std::f64::consts::{FRAC_PI_2, TAU};
 
-/// Rotation sense of the sun, `h` in A.3.
+/// Rotation sense of the sun, `h` in docs/math/companion.md §A.3.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize, serde::Serialize)]
 #[serde(rename_all = "snake_case")]
 pub enum Hand {
@@ -156,7 +156,7 @@ impl PlanetSet {
     }
 
     /// Three equally spaced planets at 0°, 120°, 240° with eccentricities `e_um` and phases
-    /// `theta_rad` (the A.10 test configuration when α = 20°, h = +1).
+    /// `theta_rad` (the docs/math/companion.md §A.10 test configuration when α = 20°, h = +1).
     ///
     /// # Errors
     /// As [`PlanetSet::new`].
@@ -212,7 +212,7 @@ impl PlanetSet {
         &self.planets
     }
 
-    /// External line-of-action angles `β_i = φ_i + h(π/2 − α)` (A.3), rad.
+    /// External line-of-action angles `β_i = φ_i + h(π/2 − α)` (docs/math/companion.md §A.3), rad.
     #[must_use]
     pub fn line_of_action_angles_rad(&self) -> Vec<f64> {
         let b0 = self.hand.h() * (FRAC_PI_2 - self.pressure_angle_rad);
@@ -238,7 +238,7 @@ impl PlanetSet {
         )
     }
 
-    /// Solves the kinematic model (A-1/A-2, least squares for N ≠ 3).
+    /// Solves the kinematic model (docs/math/companion.md §A.4 eq., least squares for N ≠ 3).
     #[must_use]
     pub fn solve(&self) -> KinematicSolution {
         let map = self.kinematic_map();
@@ -258,7 +258,7 @@ impl PlanetSet {
         }
     }
 
-    /// Closed form, valid for three equally spaced planets:
+    /// Closed form (docs/math/companion.md §A.4 eq. A-3), valid for three equally spaced planets:
     /// `z_s(t) = (4 cos α/3) · i · Σ e_pi sin ψ_i e^{i(φ_i − hα)}`, µm. For cross-checking
     /// [`PlanetSet::solve`].
     #[must_use]
@@ -278,7 +278,7 @@ impl PlanetSet {
     }
 }
 
-/// The patent's letters for three planets: `a = cos β₂ − cos β₁`, `b = sin β₂ − sin β₁`,
+/// The patent's letters (docs/math/companion.md §A.4 eq. A-4) for three planets: `a = cos β₂ − cos β₁`, `b = sin β₂ − sin β₁`,
 /// `c = cos β₃ − cos β₁`, `d = sin β₃ − sin β₁`; returns `[a, b, c, d]` (dimensionless).
 ///
 /// # Errors
@@ -299,7 +299,7 @@ pub fn patent_abcd(set: &PlanetSet) -> Result<[f64; 4], OrbitError> {
     ])
 }
 
-/// Group-5 form of the sun position for three planets, µm:
+/// Group-5 form (docs/math/companion.md §A.4 eq. A-4) of the sun position for three planets, µm:
 /// `x_s = 2h cos α/(bc−ad) [(d−b) q̃₁ − d q̃₂ + b q̃₃]`, `y_s = 2h cos α/(bc−ad) [(a−c) q̃₁ + c q̃₂ − a q̃₃]`,
 /// `q̃_i = e_pi sin ψ_i`.
 ///
@@ -331,11 +331,11 @@ pub struct KinematicSolution {
     pub common_mode_um: C64,
     /// `true` iff `Σ n_ei = 0` (equally spaced planets): the kinematic solution equals the
     /// equal-stiffness elastic one for any load. `false`: a load-dependent term exists and a
-    /// stiffness model is needed (A.4).
+    /// stiffness model is needed (docs/math/companion.md §A.4).
     pub load_independent: bool,
 }
 
-/// The real 3×N matrix `G` with `[P_x, P_y, P_c]ᵀ = G E` (A-1 solved by least squares):
+/// The real 3×N matrix `G` with `[P_x, P_y, P_c]ᵀ = G E` (docs/math/companion.md §A.4 eq. A-1 solved by least squares):
 /// `G = 2h cos α · (AᵀA)⁻¹Aᵀ`, rows of `A` = `[cos β_i, sin β_i, 1]`.
 #[derive(Debug, Clone, PartialEq)]
 pub struct KinematicMap {

@@ -42,7 +42,7 @@ pub struct ModelParams {
     /// Signed planet speed relative to the carrier, rpm (exclusive with `gears`).
     #[serde(default)]
     pub planet_speed_rpm: Option<f64>,
-    /// Fixed-ring tooth numbers and sun speed; gives ω_p and the expected lines (A.7).
+    /// Fixed-ring tooth numbers and sun speed; gives ω_p and the expected lines (docs/math/companion.md §A.7).
     #[serde(default)]
     pub gears: Option<GearParams>,
     /// The planets (≥ 3).

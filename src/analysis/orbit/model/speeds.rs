@@ -1,10 +1,10 @@
 //! Gear speeds of a fixed-ring planetary set and the spectral lines they put into the
-//! sun-displacement signal (A.2, A.7).
+//! sun-displacement signal (docs/math/companion.md §A.2, §A.7).
 
 use crate::analysis::orbit::{OrbitError, invalid};
 use std::f64::consts::TAU;
 
-/// Angular speeds of a planetary set with a fixed ring (A.2, A.7), rad/s, all signed
+/// Angular speeds of a planetary set with a fixed ring (docs/math/companion.md §A.2, §A.7), rad/s, all signed
 /// (CCW positive, sun speed given).
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
 pub struct GearSpeeds {
@@ -58,7 +58,7 @@ impl GearSpeeds {
         })
     }
 
-    /// Expected lines of the sun-displacement signal (A.7) in the chosen frame, signed rad/s:
+    /// Expected lines of the sun-displacement signal (docs/math/companion.md §A.7) in the chosen frame, signed rad/s:
     /// planet Z₊/Z₋, sun runout, twice the planet frequency, the carrier (housing frame only) and
     /// `mesh_harmonics` mesh harmonics. Housing frame: a carrier-frame line at ω appears at ω + ω_c.
     #[must_use]
