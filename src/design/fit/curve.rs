@@ -85,10 +85,30 @@ fn tip_eval_with(
 
 /// Closest point of the traced curve to `p` near carrier angle `phi` (Newton on `(B − P)·B′ = 0`
 /// with a Gauss–Newton fallback and a step cap). Returns `(φ, evaluation at φ)`.
-pub(super) fn project(m: &Mechanism, p: [f64; 2], mut phi: f64) -> (f64, TipEval) {
-    let mut e = tip_eval(m, phi);
+pub(super) fn project(m: &Mechanism, p: [f64; 2], phi: f64) -> (f64, TipEval) {
+    project_near(m, p, phi, f64::NAN)
+}
+
+/// [`project`] with a guess of the contact angle `S` at `phi` (rad; NaN: none): the contact angle
+/// an earlier, nearby train had there, which saves most of the first evaluation's solve.
+pub(super) fn project_near(
+    m: &Mechanism,
+    p: [f64; 2],
+    mut phi: f64,
+    contact_guess_rad: f64,
+) -> (f64, TipEval) {
+    let mut e = if contact_guess_rad.is_finite() {
+        let t = phi - m.sun_phase_rad;
+        let (fi_t, i_t) = m.ratio.integral_and_eval3(t);
+        let (s, i_s) =
+            m.ratio
+                .inverse_integral_with_slopes(fi_t + PI, contact_guess_rad, INVERSE_TOL_RAD);
+        tip_eval_with(m, phi, (t, i_t), (s, i_s))
+    } else {
+        tip_eval(m, phi)
+    };
     let dist2 = |e: &TipEval| (e.b[0] - p[0]).powi(2) + (e.b[1] - p[1]).powi(2);
-    let mut best = (phi, dist2(&e));
+    let mut best = (phi, dist2(&e), e.clone());
     for _ in 0..30 {
         let r = [e.b[0] - p[0], e.b[1] - p[1]];
         let g = r[0] * e.v[0] + r[1] * e.v[1];
@@ -104,7 +124,7 @@ pub(super) fn project(m: &Mechanism, p: [f64; 2], mut phi: f64) -> (f64, TipEval
         e = tip_eval_next(m, &e, step);
         let d2 = dist2(&e);
         if d2 < best.1 {
-            best = (phi, d2);
+            best = (phi, d2, e.clone());
         }
         if step.abs() < 1e-13 {
             break;
@@ -112,8 +132,7 @@ pub(super) fn project(m: &Mechanism, p: [f64; 2], mut phi: f64) -> (f64, TipEval
     }
     // Near a cusp (tip nearly at rest) Newton may wander: keep the closest point seen.
     if best.0 != phi {
-        phi = best.0;
-        e = tip_eval(m, phi);
+        return (best.0, best.2);
     }
     (phi, e)
 }
