@@ -673,3 +673,26 @@ fn library_run_reports_what_the_cli_prints() {
         "{e}"
     );
 }
+
+/// Without `steady_state.max_periods` the transient is 2000 mesh periods, however long the
+/// Poincaré period: the bundled 16-DOF scene (eccentricity on a 25/40 pair: the hunting period,
+/// lcm(25, 40) = 200 mesh periods) gets 10 Poincaré periods, a mesh-only scene 2000; a value the
+/// scene gives is kept.
+#[test]
+fn default_transient_is_counted_in_mesh_periods() {
+    let full16 = include_str!("../../assets/dynamics/full16.toml");
+    let line = "steady_state = { poincare_tol = 1e-6, max_periods = 20 }";
+    assert!(full16.contains(line));
+    let prepared = |text: &str| {
+        let scene = Scene::parse(text, "s.toml", Format::Toml).unwrap();
+        Prepared::new(scene, "s.toml").unwrap()
+    };
+    let p = prepared(&full16.replace(line, ""));
+    assert!((p.model.poincare_period / p.model.mesh.t0 - 200.0).abs() < 1e-9);
+    assert_eq!(p.options.max_periods, 10);
+    assert_eq!(default_transient_periods(&p.model), 10);
+    assert_eq!(prepared(full16).options.max_periods, 20);
+    let sdof = prepared(SDOF_6000);
+    assert!((sdof.model.poincare_period / sdof.model.mesh.t0 - 1.0).abs() < 1e-12);
+    assert_eq!(sdof.options.max_periods, DEFAULT_TRANSIENT_MESH_PERIODS);
+}

@@ -24,7 +24,10 @@ pub mod sweep;
 pub mod tvms;
 
 pub use linear::{linear_dte_amplitude, natural_frequencies_hz};
-pub use options::{MAX_RECORDED_SAMPLES, MAX_TRANSIENT_PERIODS, Method, RunOptions};
+pub use options::{
+    DEFAULT_TRANSIENT_MESH_PERIODS, MAX_RECORDED_SAMPLES, MAX_TRANSIENT_PERIODS, Method,
+    RunOptions, default_transient_periods,
+};
 pub use report::{
     AnalysisOptions, DynamicsReport, Prepared, Recording, ReportHeader, RunReport, run,
 };

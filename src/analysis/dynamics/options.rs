@@ -2,6 +2,7 @@
 //! window, read from a scene's `[solver]` and `[output]` tables or set directly.
 
 use super::DynamicsError;
+use super::model::Model;
 use super::ode::Dopri5;
 use super::scene::{Scene, SolverMethod};
 
@@ -51,6 +52,22 @@ pub struct RunOptions {
     pub samples_per_mesh: u32,
 }
 
+/// The longest transient a scene gets when it does not set `steady_state.max_periods`, in mesh
+/// periods. A scene whose Poincaré criterion is never met (friction lets the rigid-body rotation
+/// drift) runs its whole transient: counted in Poincaré periods, 2000 hunting periods of a
+/// 25/40 pair with eccentricity were 400 000 mesh periods, minutes of integration.
+pub const DEFAULT_TRANSIENT_MESH_PERIODS: u32 = 2000;
+
+/// The default transient of `model` in Poincaré periods: `⌈2000·t_mesh/T_Poincaré⌉`, at least 1
+/// ([`DEFAULT_TRANSIENT_MESH_PERIODS`]).
+#[must_use]
+pub fn default_transient_periods(model: &Model) -> u32 {
+    let per = (model.poincare_period / model.mesh.t0).round().max(1.0);
+    let n = (f64::from(DEFAULT_TRANSIENT_MESH_PERIODS) / per).ceil();
+    // `per` ≥ 1, so n ≤ 2000.
+    (n as u32).max(1)
+}
+
 impl Default for RunOptions {
     fn default() -> Self {
         Self {
@@ -70,11 +87,13 @@ impl Default for RunOptions {
 
 impl RunOptions {
     /// Options from the scene's `[solver]` and `[output]` tables (`auto` and `linear` integrate
-    /// with DOPRI5 when they integrate at all).
+    /// with DOPRI5 when they integrate at all), for the scene's built `model`: without
+    /// `steady_state.max_periods` the transient is at most [`DEFAULT_TRANSIENT_MESH_PERIODS`]
+    /// mesh periods ([`default_transient_periods`]).
     ///
     /// # Errors
     /// [`DynamicsError::BadOption`] naming the scene key.
-    pub fn from_scene(s: &Scene) -> Result<Self, DynamicsError> {
+    pub fn from_scene(s: &Scene, model: &Model) -> Result<Self, DynamicsError> {
         let v = &s.solver;
         let method = match v.method {
             SolverMethod::Auto | SolverMethod::Dopri5 | SolverMethod::Linear => Method::Dopri5 {
@@ -91,7 +110,10 @@ impl RunOptions {
         let o = Self {
             method,
             poincare_tol: v.steady_state.poincare_tol,
-            max_periods: v.steady_state.max_periods,
+            max_periods: v
+                .steady_state
+                .max_periods
+                .unwrap_or_else(|| default_transient_periods(model)),
             record_mesh_periods: v.record_mesh_periods,
             samples_per_mesh: s.output.samples_per_mesh,
         };

@@ -152,7 +152,7 @@ impl Prepared {
     /// [`DynamicsError::Scene`], [`DynamicsError::BadOption`].
     pub fn new(scene: Scene, file: &str) -> Result<Self, DynamicsError> {
         let (model, derived) = scene.build(file)?;
-        let options = RunOptions::from_scene(&scene)?;
+        let options = RunOptions::from_scene(&scene, &model)?;
         let header = ReportHeader {
             scene: scene.scene.name.clone(),
             dofs: model.dof_names().iter().map(|s| s.to_string()).collect(),

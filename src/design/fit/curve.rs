@@ -185,19 +185,19 @@ pub(super) fn point_row(m: &Mechanism, e: &TipEval, n: [f64; 2], row: &mut [f64]
 /// projection kept. (Near a crossing or a close approach of two stretches, the nearest sample can
 /// lie on the other stretch: a fast tip spaces its own samples farther apart than the gap.)
 pub(super) fn initial_angles(m: &Mechanism, pts: &[[f64; 2]]) -> Vec<f64> {
-    initial_angles_on(m, &curve_samples(m, INITIAL_SAMPLES), pts)
+    initial_angles_on(m, &curve_evals(m, INITIAL_SAMPLES), pts)
 }
 
 /// Samples of the traced curve that [`initial_angles`] scans.
 pub(super) const INITIAL_SAMPLES: usize = 4096;
 
 /// [`initial_angles`] on the traced curve's `curve` samples at uniform carrier angles.
-pub(super) fn initial_angles_on(m: &Mechanism, curve: &[[f64; 2]], pts: &[[f64; 2]]) -> Vec<f64> {
+pub(super) fn initial_angles_on(m: &Mechanism, curve: &[TipEval], pts: &[[f64; 2]]) -> Vec<f64> {
     let n = curve.len();
     pts.par_iter()
         .map(|p| {
             let d = |k: usize| {
-                let q = curve[k % n];
+                let q = curve[k % n].b;
                 (q[0] - p[0]).powi(2) + (q[1] - p[1]).powi(2)
             };
             // The CANDIDATES smallest local minima, in increasing distance.
@@ -219,19 +219,13 @@ pub(super) fn initial_angles_on(m: &Mechanism, curve: &[[f64; 2]], pts: &[[f64; 
                 .iter()
                 .filter(|m| m.1 != usize::MAX)
                 .map(|&(_, k)| {
-                    let (phi, e) = project(m, *p, TAU * k as f64 / n as f64);
+                    let (phi, e) = project_near(m, *p, TAU * k as f64 / n as f64, curve[k].s);
                     (phi, (e.b[0] - p[0]).powi(2) + (e.b[1] - p[1]).powi(2))
                 })
                 .fold((0.0, f64::MAX), |b, c| if c.1 < b.1 { c } else { b })
                 .0
         })
         .collect()
-}
-
-/// The tip at `n` uniform carrier angles `2πk/n` (mm), each contact angle solved from the
-/// previous one.
-pub(super) fn curve_samples(m: &Mechanism, n: usize) -> Vec<[f64; 2]> {
-    curve_evals(m, n).into_iter().map(|e| e.b).collect()
 }
 
 /// Samples per block of [`curve_evals`]: a cold solve starts each block, warm ones follow.

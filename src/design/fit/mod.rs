@@ -61,7 +61,7 @@ use crate::geometry::limits::GearLimits;
 use crate::geometry::mechanism::Mechanism;
 use crate::math::norm;
 use crate::math::polyline::SegmentGrid;
-use curve::{INITIAL_SAMPLES, curve_samples, initial_angles, initial_angles_on, project};
+use curve::{INITIAL_SAMPLES, curve_evals, initial_angles, initial_angles_on, project};
 use rayon::prelude::*;
 use solver::{Lm, to_params, with_order};
 
@@ -284,8 +284,9 @@ pub fn measure(points: &[[f64; 2]], m: &Mechanism) -> Measured {
 /// nearest sample and the tracked angle can lead to different local minima).
 fn measure_from(m: &Mechanism, points: &[[f64; 2]], tracked: Option<&[f64]>) -> Measured {
     // The scan's samples also give the coverage (every few of them).
-    let curve = curve_samples(m, INITIAL_SAMPLES);
-    let fresh = initial_angles_on(m, &curve, points);
+    let evals = curve_evals(m, INITIAL_SAMPLES);
+    let fresh = initial_angles_on(m, &evals, points);
+    let curve: Vec<[f64; 2]> = evals.iter().map(|e| e.b).collect();
     let (carrier_angles_rad, distances_mm): (Vec<f64>, Vec<f64>) = points
         .par_iter()
         .enumerate()

@@ -124,7 +124,10 @@ fn non_finite_and_extreme_scene_values_are_typed_errors() {
         assert_ne!(text, HERTZ, "{from}");
         let outcome = Scene::parse(&text, "h.toml", Format::Toml)
             .map_err(DynamicsError::from)
-            .and_then(|s| RunOptions::from_scene(&s).map(|_| s));
+            .and_then(|s| {
+                let (model, _) = s.build("h.toml")?;
+                RunOptions::from_scene(&s, &model).map(|_| s)
+            });
         match outcome {
             Err(e) => {
                 let msg = e.to_string();

@@ -277,11 +277,11 @@ fn check_scene(text: &str, json: bool) -> Result<(), TestCaseError> {
         ] {
             finite(v, w)?;
         }
-        let _ = RunOptions::from_scene(&s);
         // A short fixed window (RK4, one mesh period): finite samples or a typed error.
         let (model, _) = s
             .build("fuzz")
             .map_err(|e| TestCaseError::fail(format!("parsed scene, then build failed: {e}")))?;
+        let _ = RunOptions::from_scene(&s, &model);
         let opts = RunOptions::window(
             Method::Rk4 {
                 steps_per_mesh: 64,

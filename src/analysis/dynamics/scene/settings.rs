@@ -97,25 +97,25 @@ pub struct SteadySpec {
     /// Relative change of the Poincaré sample below which the run is steady (default 1e-7).
     #[serde(default = "ptol")]
     pub poincare_tol: f64,
-    /// Maximal transient, Poincaré periods (default 2000).
-    #[serde(default = "maxp")]
-    pub max_periods: u32,
+    /// Maximal transient, Poincaré periods (default: as many as make
+    /// [`crate::analysis::dynamics::DEFAULT_TRANSIENT_MESH_PERIODS`] mesh periods, at least one —
+    /// 2000 when the Poincaré period is one mesh period, 10 with eccentricity on a 25/40 pair,
+    /// whose Poincaré period is the hunting period of 200 mesh periods).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub max_periods: Option<u32>,
 }
 
 impl Default for SteadySpec {
     fn default() -> Self {
         Self {
             poincare_tol: ptol(),
-            max_periods: maxp(),
+            max_periods: None,
         }
     }
 }
 
 fn ptol() -> f64 {
     1e-7
-}
-fn maxp() -> u32 {
-    2000
 }
 
 /// `[output]`.
