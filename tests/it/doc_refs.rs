@@ -2,7 +2,8 @@
 //! repository and a section that exists there: `docs/math/chain.md §6.2` needs `docs/math/chain.md`
 //! with a heading `## 6.2 …` (any level). A reference list continues with the same file
 //! (`docs/math/chain.md §3.1, §14`, `§9–§10`, `§A.7/§A.8`). A section sign with no file before it
-//! is an error, except inside `docs/math/`, where it means the file itself.
+//! is an error, except inside `docs/math/`, where it means the file itself. No file names a work
+//! item ("issue" and a number).
 
 use std::fs;
 use std::path::{Path, PathBuf};
@@ -160,6 +161,17 @@ fn problems(rel: &Path, text: &str) -> Vec<String> {
             prev = Some((pos + SECTION.len_utf8() + id.len(), target));
         }
     }
+    // Work items are not part of the product: no "issue N" (any case) in what a newcomer reads.
+    let lower = text.to_ascii_lowercase();
+    for (i, _) in lower.match_indices("issue ") {
+        let rest = &lower[i + "issue ".len()..];
+        if rest.starts_with(|c: char| c.is_ascii_digit()) {
+            let line = text[..i].lines().count().max(1);
+            out.push(format!(
+                "{own}:{line}: names a work item (\"issue N\"): say what the code does instead"
+            ));
+        }
+    }
     // The documents the math pages replace are not part of the repository.
     for gone in [
         "design-chain.md",
@@ -212,4 +224,7 @@ fn the_reference_checker_catches_broken_references() {
     assert_eq!(p("// see docs/math/chain.md \u{a7}6.2; text, \u{a7}6.3"), 1);
     assert_eq!(p("// docs/math/companion.md \u{a7}B.10 and \u{a7}B.99"), 1);
     assert_eq!(p("// design-chain.md"), 1);
+    assert_eq!(p("// as Issue 18 asked"), 1);
+    assert_eq!(p("// the issue 7 reproducer"), 1);
+    assert_eq!(p("// an issue of units"), 0);
 }

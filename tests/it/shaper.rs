@@ -122,7 +122,7 @@ fn shaper_on_a_circle_cuts_the_involute() {
     );
 }
 
-/// Issue 18 acceptance: `exact_concave_sun.csv` (an exactly traceable target whose intermediate
+/// Concave stretches cut by a shaper: `exact_concave_sun.csv` (an exactly traceable target whose intermediate
 /// has concave stretches) gets teeth on all three gears at m = 1 and up to the largest module
 /// that meshes within the convex examples' 1e-5°, 2.4 mm (2.6 mm: 1.1e-5°). The intermediate is
 /// shaper-cut with the largest standard cutter whose pitch radius is below the tightest concave
@@ -378,7 +378,7 @@ fn shaper_on_a_concave_circular_arc_cuts_the_internal_involute() {
     assert!(n > 50, "{n}");
 }
 
-/// Issue 18's closed form on a literally straight pitch line: over the flat side of a
+/// The shaper's closed form on a literally straight pitch line: over the flat side of a
 /// D-shaped pitch curve (`r = d/cos θ` for |θ| ≤ 0.3, the line x = d) a shaper cutter of any
 /// size (forced: 40 and 100 teeth) cuts the rack's own straight flanks — every flank point of the
 /// basic rack profile, `P(s_f) + t·(sin α·T ∓ cos α·N)` from 0.8·ha above to 0.9·h_straight below

@@ -185,14 +185,22 @@ pub(super) fn point_row(m: &Mechanism, e: &TipEval, n: [f64; 2], row: &mut [f64]
 /// projection kept. (Near a crossing or a close approach of two stretches, the nearest sample can
 /// lie on the other stretch: a fast tip spaces its own samples farther apart than the gap.)
 pub(super) fn initial_angles(m: &Mechanism, pts: &[[f64; 2]]) -> Vec<f64> {
-    initial_angles_on(m, &curve_evals(m, INITIAL_SAMPLES), pts)
+    initial_projections_on(m, &curve_evals(m, INITIAL_SAMPLES), pts)
+        .into_iter()
+        .map(|(phi, _)| phi)
+        .collect()
 }
 
 /// Samples of the traced curve that [`initial_angles`] scans.
 pub(super) const INITIAL_SAMPLES: usize = 4096;
 
-/// [`initial_angles`] on the traced curve's `curve` samples at uniform carrier angles.
-pub(super) fn initial_angles_on(m: &Mechanism, curve: &[TipEval], pts: &[[f64; 2]]) -> Vec<f64> {
+/// [`initial_angles`] on the traced curve's `curve` samples at uniform carrier angles, with each
+/// projection's evaluation.
+pub(super) fn initial_projections_on(
+    m: &Mechanism,
+    curve: &[TipEval],
+    pts: &[[f64; 2]],
+) -> Vec<(f64, TipEval)> {
     let n = curve.len();
     pts.par_iter()
         .map(|p| {
@@ -220,10 +228,14 @@ pub(super) fn initial_angles_on(m: &Mechanism, curve: &[TipEval], pts: &[[f64; 2
                 .filter(|m| m.1 != usize::MAX)
                 .map(|&(_, k)| {
                     let (phi, e) = project_near(m, *p, TAU * k as f64 / n as f64, curve[k].s);
-                    (phi, (e.b[0] - p[0]).powi(2) + (e.b[1] - p[1]).powi(2))
+                    let d2 = (e.b[0] - p[0]).powi(2) + (e.b[1] - p[1]).powi(2);
+                    (phi, e, d2)
                 })
-                .fold((0.0, f64::MAX), |b, c| if c.1 < b.1 { c } else { b })
-                .0
+                .fold(None, |b: Option<(f64, TipEval, f64)>, c| match b {
+                    Some(b) if b.2 <= c.2 => Some(b),
+                    _ => Some(c),
+                })
+                .map_or_else(|| project(m, *p, 0.0), |(phi, e, _)| (phi, e))
         })
         .collect()
 }
@@ -249,6 +261,20 @@ pub(super) fn curve_evals(m: &Mechanism, n: usize) -> Vec<TipEval> {
             out
         })
         .collect()
+}
+
+/// A guess of the contact angle at carrier angle `phi` (rad) from the nearest of `curve`'s
+/// samples at the uniform angles `2πk/n` (a turn later the contact angle is 2π on):
+/// `S_k + (φ − φ_k)·i(t_k)/i(S_k)`, first order in a step of at most half a sample.
+pub(super) fn contact_guess(curve: &[TipEval], phi: f64) -> f64 {
+    let n = curve.len();
+    let h = TAU / n as f64;
+    let turns = phi.div_euclid(TAU);
+    let k = (phi.rem_euclid(TAU) / h).round();
+    let e = &curve[k as usize % n];
+    let wrapped = if k as usize >= n { TAU } else { 0.0 };
+    let d = phi - turns * TAU - k * h;
+    e.s + turns * TAU + wrapped + d * e.i_t / e.i_s
 }
 
 /// Local minima of the sample distance tried per point by [`initial_angles`].

@@ -61,7 +61,10 @@ use crate::geometry::limits::GearLimits;
 use crate::geometry::mechanism::Mechanism;
 use crate::math::norm;
 use crate::math::polyline::SegmentGrid;
-use curve::{INITIAL_SAMPLES, curve_evals, initial_angles, initial_angles_on, project};
+use curve::{
+    INITIAL_SAMPLES, contact_guess, curve_evals, initial_angles, initial_projections_on,
+    project_near,
+};
 use rayon::prelude::*;
 use solver::{Lm, to_params, with_order};
 
@@ -285,17 +288,17 @@ pub fn measure(points: &[[f64; 2]], m: &Mechanism) -> Measured {
 fn measure_from(m: &Mechanism, points: &[[f64; 2]], tracked: Option<&[f64]>) -> Measured {
     // The scan's samples also give the coverage (every few of them).
     let evals = curve_evals(m, INITIAL_SAMPLES);
-    let fresh = initial_angles_on(m, &evals, points);
+    let fresh = initial_projections_on(m, &evals, points);
     let curve: Vec<[f64; 2]> = evals.iter().map(|e| e.b).collect();
     let (carrier_angles_rad, distances_mm): (Vec<f64>, Vec<f64>) = points
         .par_iter()
+        .zip(fresh)
         .enumerate()
-        .map(|(j, p)| {
-            let (a, ea) = project(m, *p, fresh[j]);
+        .map(|(j, (p, (a, ea)))| {
             let da = norm([ea.b[0] - p[0], ea.b[1] - p[1]]);
             match tracked {
                 Some(t) => {
-                    let (b, eb) = project(m, *p, t[j]);
+                    let (b, eb) = project_near(m, *p, t[j], contact_guess(&evals, t[j]));
                     let db = norm([eb.b[0] - p[0], eb.b[1] - p[1]]);
                     if db < da { (b, db) } else { (a, da) }
                 }

@@ -157,7 +157,7 @@ fn extreme_pair_laws_give_a_pair_or_the_typed_error_their_geometry_dictates() {
     }
 }
 
-/// Issue 18: random mixed convex/concave centrodes `r = 1 + ε cos(kφ + φ0) + ε₂ cos(5φ)` (k = 2…4,
+/// Random mixed convex/concave centrodes `r = 1 + ε cos(kφ + φ0) + ε₂ cos(5φ)` (k = 2…4,
 /// k²ε = 0.6…1.2 so that every curve has concave stretches or nearly straight ones, seeded LCG,
 /// 30 draws, z = 40…80 at m = 1) all get teeth and mesh as the convex examples do: simple
 /// outlines, no interference step over 36 driver positions, transmission error within 1e-5°.
