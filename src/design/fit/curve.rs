@@ -22,38 +22,29 @@ pub(super) struct TipEval {
 }
 
 pub(super) fn tip_eval(m: &Mechanism, phi: f64) -> TipEval {
-    let t = phi - m.sun_phase_rad;
-    let (fi_t, i_t) = m.ratio.integral_and_eval3(t);
-    tip_eval_at(
-        m,
-        phi,
-        (t, i_t),
-        m.ratio.inverse_integral(fi_t + PI, INVERSE_TOL_RAD),
-    )
+    tip_eval_near(m, phi, f64::NAN)
 }
 
 /// [`tip_eval`] at `phi + step` from the evaluation `e` at `phi`: the contact angle `S` is solved
-/// from its first-order prediction `S + S′·step` (`S′ = i(t)/i(S)`): one Halley step where the
-/// prediction is close, else Newton ([`crate::geometry::fourier::SunRatio::inverse_integral_with_slopes`]).
+/// from its first-order prediction `S + S′·step` (`S′ = i(t)/i(S)`).
 pub(super) fn tip_eval_next(m: &Mechanism, e: &TipEval, step: f64) -> TipEval {
-    let phi = e.t + m.sun_phase_rad + step;
+    tip_eval_near(m, e.t + m.sun_phase_rad + step, e.s + step * e.i_t / e.i_s)
+}
+
+/// The evaluation at carrier angle `phi` with the contact angle `S` solved from
+/// `contact_guess_rad` (NaN: no guess, a cold solve): one Halley step where the guess is close,
+/// else Newton ([`crate::geometry::fourier::SunRatio::inverse_integral_with_slopes`]).
+fn tip_eval_near(m: &Mechanism, phi: f64, contact_guess_rad: f64) -> TipEval {
     let t = phi - m.sun_phase_rad;
     let (fi_t, i_t) = m.ratio.integral_and_eval3(t);
-    let guess = e.s + step * e.i_t / e.i_s;
-    let (s, i_s) = m
-        .ratio
-        .inverse_integral_with_slopes(fi_t + PI, guess, INVERSE_TOL_RAD);
+    let (s, i_s) =
+        m.ratio
+            .inverse_integral_with_slopes(fi_t + PI, contact_guess_rad, INVERSE_TOL_RAD);
     tip_eval_with(m, phi, (t, i_t), (s, i_s))
 }
 
 /// The evaluation at carrier angle `phi` (`t = phi − φ_ref`, with the ratio's `[i, i′, i″]`
-/// there) with the contact angle `s = S(t)`.
-fn tip_eval_at(m: &Mechanism, phi: f64, t: (f64, [f64; 3]), s: f64) -> TipEval {
-    let [i_s, di_s, _] = m.ratio.eval3(s);
-    tip_eval_with(m, phi, t, (s, [i_s, di_s]))
-}
-
-/// [`tip_eval_at`] with the ratio and its slope at the contact angle `s` given.
+/// there) with the contact angle `s = S(t)` and the ratio's `[i, i′]` there.
 fn tip_eval_with(
     m: &Mechanism,
     phi: f64,
@@ -97,16 +88,7 @@ pub(super) fn project_near(
     mut phi: f64,
     contact_guess_rad: f64,
 ) -> (f64, TipEval) {
-    let mut e = if contact_guess_rad.is_finite() {
-        let t = phi - m.sun_phase_rad;
-        let (fi_t, i_t) = m.ratio.integral_and_eval3(t);
-        let (s, i_s) =
-            m.ratio
-                .inverse_integral_with_slopes(fi_t + PI, contact_guess_rad, INVERSE_TOL_RAD);
-        tip_eval_with(m, phi, (t, i_t), (s, i_s))
-    } else {
-        tip_eval(m, phi)
-    };
+    let mut e = tip_eval_near(m, phi, contact_guess_rad);
     let dist2 = |e: &TipEval| (e.b[0] - p[0]).powi(2) + (e.b[1] - p[1]).powi(2);
     let mut best = (phi, dist2(&e), e.clone());
     for _ in 0..30 {
