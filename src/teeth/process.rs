@@ -181,6 +181,11 @@ pub fn generate_by_process(
         } else {
             Cutter::new(zc, rack, m).and_then(|c| {
                 let (o, checks) = generate_shaper(frame, rack, z, m, &c, opts, &[])?;
+                if checks.undercut_flanks > 0 && undercut.is_some() && !forced {
+                    // Rejected for its undercut whatever the checks below say: a larger
+                    // cutter is already the fallback.
+                    return Ok((o, checks));
+                }
                 if !matches!(
                     super::overlap::first_self_intersection(&o.points_mm),
                     Ok(None)

@@ -11,6 +11,8 @@
 //! mapped into the cutter's frame and their signed clearance taken. The true cut is the blank
 //! less every cutter position, so a correctly generated outline is nowhere inside the cutter:
 //! a vertex deeper than [`SECONDARY_TOL`]·m means the cutter removes material the outline keeps.
+//! A vertex farther from the cutter's centre than its outermost point (plus the shape's exact
+//! range) is outside it without a lookup.
 //!
 //! **Reach.** At arc distance `d` from the contact the cutter's pitch circle and the pitch curve
 //! are `≈ d²·(1/r0 + κ)/2` apart (κ < 0 on a concave stretch, the cutter inside it); the teeth
@@ -59,10 +61,15 @@ pub(super) fn secondary_cut_depth(
     let m = module_mm;
     let r0 = cutter.r0;
     let pts = cutter.outline(spaces.w_mm, 1e-4 * m);
-    let shape = Shape::new(&pts, 0.05 * m, "cutter").map_err(|_| TeethError::Shaper {
+    let cap = 0.05 * m;
+    let shape = Shape::new(&pts, cap, "cutter").map_err(|_| TeethError::Shaper {
         cutter_teeth: cutter.z,
         what: "its outline cannot be indexed (degenerate cutter)",
     })?;
+    // A vertex farther than `cap` beyond the cutter's outermost point is outside it by more
+    // than the shape's exact range: its clearance is `cap` without the lookup.
+    let r_out = pts.iter().map(|p| p[0].hypot(p[1])).fold(0.0, f64::max) + cap;
+    let r_out2 = r_out * r_out;
     let l = frame.length_mm();
     let n = ((l / spaces.p_mm).round() as usize).max(1) * POSITIONS_PER_PITCH;
     // Curvature at the positions, and its sliding minimum over half a cutter turn each side.
@@ -103,6 +110,10 @@ pub(super) fn secondary_cut_depth(
                 let a = by_angle.partition_point(|v| v.0 < lo);
                 for &(_, x) in by_angle[a..].iter().take_while(|v| v.0 <= hi) {
                     let v = [x[0] - c[0], x[1] - c[1]];
+                    if v[0] * v[0] + v[1] * v[1] > r_out2 {
+                        worst = worst.min(cap);
+                        continue;
+                    }
                     let (a1, b1) = (v[0] * e1[0] + v[1] * e1[1], v[0] * f.t[0] + v[1] * f.t[1]);
                     let q = [a1 * cr - b1 * sr, a1 * sr + b1 * cr];
                     worst = worst.min(shape.clearance(q));
