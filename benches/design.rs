@@ -102,3 +102,27 @@ fn family_case(b: divan::Bencher, name: &str) {
     opts.center_mm = center;
     b.bench(|| design(divan::black_box(&t), &opts).expect("designed"));
 }
+
+/// One edit of the interactive designer: the target moved by a bump of `amp` mm (Gaussian over
+/// ~10 points) and re-designed warm from the design before the edit
+/// (`ncgear::design::warm::redesign`, what `ncgear serve` runs on each drag).
+#[divan::bench(args = [0.2, 1.0, 3.0], sample_count = 20)]
+fn redesign_after_edit_g1(b: divan::Bencher, amp: f64) {
+    let t = load("g1_ellipse.csv");
+    let opts = DesignOptions::default();
+    let before = design(&t, &opts).expect("G1");
+    let moved: Vec<[f64; 2]> = t
+        .points()
+        .iter()
+        .enumerate()
+        .map(|(k, p)| {
+            let w = amp * (-((k as f64 - 90.0) / 10.0).powi(2)).exp();
+            [p[0] + 0.8 * w, p[1] + 0.6 * w]
+        })
+        .collect();
+    let moved = Trajectory::from_points(moved).expect("points");
+    b.bench(|| {
+        ncgear::design::warm::redesign(divan::black_box(&moved), &opts, &before.report)
+            .expect("redesigned")
+    });
+}

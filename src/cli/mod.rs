@@ -8,6 +8,7 @@ mod design;
 mod dynamics;
 mod orbit;
 mod pair;
+mod serve;
 mod simulate;
 mod teeth_args;
 mod tolerance;
@@ -40,6 +41,8 @@ enum Command {
     Orbit(orbit::Args),
     /// Scene-driven nonlinear spur-gear dynamics.
     Dynamics(dynamics::Args),
+    /// The interactive designer in the browser: drag the trajectory, watch the gears follow.
+    Serve(serve::Args),
 }
 
 /// How a command failed; decides the exit code.
@@ -229,6 +232,7 @@ pub fn main() -> ExitCode {
         Command::Tolerance(a) => tolerance::run(a),
         Command::Orbit(a) => orbit::run(a),
         Command::Dynamics(a) => dynamics::run(a),
+        Command::Serve(a) => serve::run(a),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -2,20 +2,19 @@
 //! refinement, the fit to the points, then the tables, checks and report.
 
 use super::checks::finish;
-use super::ellipse::from_an_ellipse;
 use super::error::DesignError;
+use super::fit_stage::{FitStage, FitStart, fit_options, fit_stage};
 use super::inverse::Inversion;
 use super::module::{check_module, design_for_module};
 use super::options::{ADAPTIVE_ORDERS, DesignOptions, RefineMode, validate};
 use super::report::*;
 use super::segmented::Segmented;
 use super::start::invert_for_start;
-use super::{compat, fit, noise, refine, segmented};
+use super::trains::Trains;
+use super::{compat, noise, refine, segmented, warm};
 use crate::design::compat::Compatibility;
-use crate::design::fit::FitOptions;
 use crate::design::trajectory::Trajectory;
 use crate::geometry::fourier::SunRatio;
-use crate::geometry::limits::GearLimits;
 use crate::geometry::mechanism::Mechanism;
 use std::f64::consts::PI;
 use std::time::Instant;
@@ -24,12 +23,17 @@ fn ms(t: Instant) -> f64 {
     t.elapsed().as_secs_f64() * 1e3
 }
 
-/// The fit aims at this fraction of `tol_tip_mm` on the points, and runs (refine auto) when the
-/// chain's result is farther: room for the table rebuild and for the curve between the points.
-const FIT_TOL_FRACTION: f64 = 0.2;
-
 /// Runs the whole chain on a trajectory.
 pub fn design(traj: &Trajectory, opts: &DesignOptions) -> Result<Design, DesignError> {
+    design_from(traj, opts, None)
+}
+
+/// The chain, its fit stage started from `warm`'s train when given ([`warm`]).
+pub(super) fn design_from(
+    traj: &Trajectory,
+    opts: &DesignOptions,
+    warm: Option<&DesignReport>,
+) -> Result<Design, DesignError> {
     validate(opts)?;
     let t_all = Instant::now();
     let mut timings = Timings::default();
@@ -87,14 +91,29 @@ pub fn design(traj: &Trajectory, opts: &DesignOptions) -> Result<Design, DesignE
     };
     let refine_summary = refined.map(|(_, r)| r);
 
-    // The final stage: every parameter fitted to the points themselves.
+    // The final stage: every parameter fitted to the points themselves. A warm start designed
+    // for the same module is refitted at its tooth count directly.
     let t0 = Instant::now();
+    let warm = warm.and_then(|r| {
+        let m = warm::start_mechanism(r, inv.direction)?;
+        let module = r
+            .module
+            .as_ref()
+            .filter(|s| Some(s.module_mm) == opts.module_mm);
+        Some((m, module.cloned()))
+    });
+    let warm_teeth = warm
+        .as_ref()
+        .and_then(|(_, s)| s.as_ref().map(|s| (s.teeth, s.module_mm)));
     let fitted = fit_stage(
         traj,
         &trains,
         &seg,
         compat.tau_rad,
-        mech,
+        FitStart {
+            chain: mech,
+            warm: warm.as_ref().map(|(m, _)| (m, warm_teeth)),
+        },
         start_smoothing,
         noise_sigma,
     )?;
@@ -102,7 +121,16 @@ pub fn design(traj: &Trajectory, opts: &DesignOptions) -> Result<Design, DesignE
     let chosen = if fitted.replaced { "fit" } else { chosen };
     // Designing for a module: the tooth count a constraint of one more fit.
     let t0 = Instant::now();
+    // Refitted at the warm start's tooth count: its summary, with this fit as the one candidate.
+    let warm_module = match (warm, &fitted.summary) {
+        (Some((_, Some(s))), Some(f)) if fitted.warm => Some(crate::design::ModuleSummary {
+            candidates: vec![[f64::from(s.teeth), f.max_mm, f.rms_mm]],
+            ..s
+        }),
+        _ => None,
+    };
     let (fitted, module) = match opts.module_mm {
+        Some(_) if warm_module.is_some() => (fitted, warm_module),
         Some(m) => {
             let points = traj.relative_to(opts.center_mm, inv.direction < 0);
             let fm = design_for_module(
@@ -236,32 +264,6 @@ pub fn design(traj: &Trajectory, opts: &DesignOptions) -> Result<Design, DesignE
         inversion: inv,
         traced_mm: out.traced,
     })
-}
-
-/// Trains built on step 1's arms: a ratio and a sun phase give a mechanism whose needle angle γ
-/// is fitted to the needle law, and its synchronous deviation (mm).
-struct Trains<'a> {
-    inv: &'a Inversion,
-    opts: &'a DesignOptions,
-    limits: GearLimits,
-}
-
-impl Trains<'_> {
-    /// The train of `ratio` (made to satisfy the gear limits first) and sun phase `tau_s`.
-    fn build(&self, ratio: SunRatio, tau_s: f64) -> (Mechanism, f64) {
-        let inv = self.inv;
-        let samples = self.opts.check_samples;
-        let a_mm = 0.5 * inv.l1_mm;
-        let mut m = Mechanism {
-            a_mm,
-            l3_mm: inv.l3_mm,
-            ratio: self.limits.project(&ratio, a_mm),
-            sun_phase_rad: inv.phi_h0_rad + tau_s,
-            needle_angle_rad: 0.0,
-        };
-        let dev = m.fit_needle_angle(samples, |p| inv.beta(p));
-        (m, dev)
-    }
 }
 
 /// The patent route's result: its best mechanism and summary, and the warning that the junctions
@@ -420,110 +422,6 @@ fn refine_route(
             ));
             None
         }
-    }
-}
-
-/// What the fit stage hands on: the mechanism, each point's carrier angle, and the summary.
-struct FitStage {
-    mechanism: Mechanism,
-    angles: Vec<f64>,
-    summary: Option<FitSummary>,
-    /// The fit's result replaced the chain's.
-    replaced: bool,
-}
-
-/// The last stage ([`crate::design::fit`]): every parameter fitted to the points as read, when
-/// the chain's result is not within [`FIT_TOL_FRACTION`]·tol of them, leaves the ratio bounds,
-/// or came from smoothed points (refine auto), with restarts from the patent route at order 2.
-fn fit_stage(
-    traj: &Trajectory,
-    trains: &Trains,
-    seg: &Segmented,
-    tau: f64,
-    mech: Mechanism,
-    start_smoothing: Option<usize>,
-    noise_sigma: f64,
-) -> Result<FitStage, DesignError> {
-    let opts = trains.opts;
-    let points = traj.relative_to(opts.center_mm, trains.inv.direction < 0);
-    let admissible = |m: &Mechanism| trains.limits.contains(&m.ratio, m.a_mm);
-    let start = fit::measure(&points, &mech);
-    let (start_max, start_rms) = (start.max_mm, start.rms_mm);
-    let run_fit = opts.fit_to_points
-        && match opts.refine {
-            RefineMode::Off => false,
-            RefineMode::On => true,
-            RefineMode::Auto => {
-                start_smoothing.is_some()
-                    || !admissible(&mech)
-                    || start_max > FIT_TOL_FRACTION * opts.tol_tip_mm
-            }
-        };
-    let kept = |summary| FitStage {
-        mechanism: mech.clone(),
-        angles: start.carrier_angles_rad.clone(),
-        summary,
-        replaced: false,
-    };
-    if !run_fit {
-        return Ok(kept(None));
-    }
-    let fit_opts = fit_options(trains, noise_sigma);
-    let restarts = [2]
-        .into_iter()
-        .filter_map(|k| {
-            SunRatio::fit_uniform(&seg.samples, k)
-                .or_else(|_| SunRatio::fit_uniform(&seg.samples, 1))
-                .ok()
-                .map(|r| {
-                    trains
-                        .build(r.admissible(opts.refine_options.ratio_bounds), tau)
-                        .0
-                })
-        })
-        .collect();
-    let f = fit::fit_with_restarts(&points, &mech, restarts, &fit_opts, opts.tol_tip_mm)
-        .map_err(|e| DesignError::Internal(e.to_string()))?;
-    let f = from_an_ellipse(
-        &points,
-        &|r| trains.build(r, tau),
-        opts.tol_tip_mm,
-        &fit_opts,
-        f,
-    );
-    let summary = FitSummary {
-        order: f.mechanism.ratio.order(),
-        rms_mm: f.rms_mm,
-        max_mm: f.max_mm,
-        start_rms_mm: start_rms,
-        start_max_mm: start_max,
-        noise_sigma_mm: noise_sigma,
-        start_smoothing_harmonics: start_smoothing,
-        iterations: f.iterations,
-        order_scan: f.order_scan.clone(),
-    };
-    if f.rms_mm < start_rms || !admissible(&mech) {
-        Ok(FitStage {
-            mechanism: f.mechanism,
-            angles: f.carrier_angles_rad,
-            summary: Some(summary),
-            replaced: true,
-        })
-    } else {
-        Ok(kept(Some(summary)))
-    }
-}
-
-/// The options of the fit to the points: the chain's order, gear limits and noise level; aims at
-/// [`FIT_TOL_FRACTION`] of the tolerance.
-fn fit_options(trains: &Trains, noise_sigma: f64) -> FitOptions {
-    let opts = trains.opts;
-    FitOptions {
-        order: opts.order,
-        limits: trains.limits,
-        tol_mm: FIT_TOL_FRACTION * opts.tol_tip_mm,
-        noise_sigma_mm: noise_sigma,
-        ..FitOptions::default()
     }
 }
 

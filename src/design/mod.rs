@@ -22,6 +22,7 @@ pub mod compat;
 mod ellipse;
 mod error;
 pub mod fit;
+mod fit_stage;
 pub mod inverse;
 pub mod law;
 mod module;
@@ -33,7 +34,9 @@ pub mod segmented;
 mod start;
 pub mod tradeoff;
 pub mod train;
+mod trains;
 pub mod trajectory;
+pub mod warm;
 
 pub use chain::design;
 pub use error::DesignError;

@@ -27,3 +27,4 @@ mod tradeoff;
 mod train;
 mod transplanter;
 mod undercut;
+mod warm;

@@ -353,6 +353,18 @@ impl Fitted {
 /// the points' polyline); every iterate stays admissible.
 #[must_use]
 pub fn minimax(points: &[[f64; 2]], fitted: Fitted, opts: &FitOptions) -> Fitted {
+    minimax_passes(points, fitted, opts, MINIMAX_PASSES)
+}
+
+/// [`minimax`] with `passes` reweighting passes instead of 12 (a shorter finish, e.g. for a
+/// warm re-design after a small edit).
+#[must_use]
+pub fn minimax_passes(
+    points: &[[f64; 2]],
+    fitted: Fitted,
+    opts: &FitOptions,
+    passes: usize,
+) -> Fitted {
     let (stride, sub) = subsample(points, opts);
     let grid = SegmentGrid::new(&sub);
     let k = fitted.mechanism.ratio.order();
@@ -363,7 +375,7 @@ pub fn minimax(points: &[[f64; 2]], fitted: Fitted, opts: &FitOptions) -> Fitted
     // Lawson's weights: each pass multiplies every point's weight by its distance (normalised),
     // so the weight gathers on the points that stay farthest — the minimax fit's extremal set.
     let mut weights = vec![1.0; sub.len()];
-    for _ in 0..MINIMAX_PASSES {
+    for _ in 0..passes {
         let sub_d: Vec<f64> = dists.iter().step_by(stride).copied().collect();
         let dmax = sub_d.iter().copied().fold(1e-300, f64::max);
         for (w, d) in weights.iter_mut().zip(&sub_d) {

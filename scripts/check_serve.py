@@ -1,0 +1,257 @@
+"""The interactive designer (`ncgear serve`) in a real browser, and its API under abuse.
+
+Drives Debian's Chromium with Playwright (PyPI): the page opens on a bundled example with no
+console error; a trajectory loaded through `open-file` shows the l1, l3 and deviation that
+`ncgear design` prints for the same file; dragging a handle re-designs (new deviation, server
+time shown); a module gives teeth; the design.json download equals the CLI's design of the same
+points; a malformed upload shows its error and the page keeps working. Then the API alone: warm
+edits of a bundled example a fraction of a millimetre to millimetres off it (p50/p95 server time
+printed, not asserted: speed lives in the benchmarks), an oversized body, and a few hundred
+malformed requests (seeded) — every answer JSON, never a 5xx, the server alive after each.
+
+Usage: python scripts/check_serve.py NCGEAR_BIN CHROMIUM [SCREENSHOT_DIR]
+"""
+
+import json
+import math
+import random
+import statistics
+import subprocess
+import sys
+import tempfile
+import time
+import urllib.error
+import urllib.request
+from pathlib import Path
+
+from playwright.sync_api import sync_playwright
+
+ROOT = Path(__file__).resolve().parent.parent
+BIN, CHROMIUM = sys.argv[1], sys.argv[2]
+SHOTS = Path(sys.argv[3]) if len(sys.argv) > 3 else None
+# A trajectory the page has not bundled, loaded through the file input.
+UPLOAD = ROOT / "assets/cases/designer_odd2.csv"
+
+
+def fail(msg):
+    print(f"check_serve: FAILED: {msg}", file=sys.stderr)
+    sys.exit(1)
+
+
+def request(url, method="GET", body=None, raw=None):
+    data = raw if raw is not None else (None if body is None else json.dumps(body).encode())
+    req = urllib.request.Request(url, data=data, method=method,
+                                 headers={"Content-Type": "application/json"})
+    try:
+        with urllib.request.urlopen(req, timeout=60) as r:
+            return r.status, r.read()
+    except urllib.error.HTTPError as e:
+        return e.code, e.read()
+
+
+def cli_design(points_or_file, *flags):
+    """`ncgear design … --json` on a file or on points written to a CSV."""
+    with tempfile.TemporaryDirectory() as tmp:
+        path = points_or_file
+        if not isinstance(points_or_file, Path):
+            path = Path(tmp) / "points.csv"
+            path.write_text("".join(f"{x!r},{y!r}\n" for x, y in points_or_file))
+        out = subprocess.run([BIN, "design", str(path), "--out", str(Path(tmp) / "out"), "--json",
+                              "--accept-failed", *flags], capture_output=True, text=True)
+        if out.returncode != 0:
+            fail(f"ncgear design {path} {flags}: {out.stderr}")
+        return json.loads(out.stdout)
+
+
+def start_server():
+    proc = subprocess.Popen([BIN, "serve", "--port", "0"], stdout=subprocess.PIPE, text=True)
+    line = proc.stdout.readline()
+    url = line.split()[2] if "http://" in line else None
+    if not url:
+        fail(f"no URL from ncgear serve: {line!r}")
+    return proc, url
+
+
+def wait_ready(page, timeout_ms=60000):
+    page.wait_for_function(
+        "() => { const s = document.querySelector('[data-testid=status]').textContent;"
+        " return s !== 'designing' && s !== 'loading'; }", timeout=timeout_ms)
+    status = page.get_by_test_id("status").text_content()
+    if status != "ready":
+        fail(f"the page says {status!r} instead of ready")
+
+
+def text(page, testid):
+    return page.get_by_test_id(testid).text_content()
+
+
+def browser_checks(url):
+    errors = []
+    with sync_playwright() as p:
+        browser = p.chromium.launch(executable_path=CHROMIUM, headless=True, args=[
+            "--no-sandbox", "--disable-gpu", "--disable-quic", "--no-first-run",
+            "--disable-background-networking", "--disable-component-update", "--disable-sync"])
+        page = browser.new_page(viewport={"width": 1400, "height": 900}, accept_downloads=True)
+        page.on("console", lambda m: errors.append(m.text) if m.type == "error" else None)
+        page.on("pageerror", lambda e: errors.append(str(e)))
+        page.goto(url)
+        wait_ready(page)
+        if not page.get_by_test_id("handle-0").count():
+            fail("no handle on the bundled example")
+        if errors:
+            fail(f"console errors on opening the page: {errors}")
+        # The agronomic figures at the page's plant spacing (140 mm): the spacing identity.
+        spacing = text(page, "feature-spacing-mm")
+        if spacing != "140.0 mm":
+            fail(f"plant spacing 140 mm set, the page reports {spacing!r}")
+        print(f"check_serve: opened on g1_ellipse; taking angle {text(page, 'feature-take-deg')}, "
+              f"pushing angle {text(page, 'feature-push-deg')}, height {text(page, 'feature-height-mm')}")
+        if SHOTS:
+            SHOTS.mkdir(parents=True, exist_ok=True)
+            page.screenshot(path=str(SHOTS / "designer.png"))
+
+        # A trajectory nobody bundled, through the file input: the CLI's numbers.
+        page.get_by_test_id("open-file").set_input_files(str(UPLOAD))
+        wait_ready(page)
+        want = cli_design(UPLOAD)
+        got = [text(page, t) for t in ("l1-mm", "l3-mm", "deviation-mm")]
+        exp = [f"{want['l1']:.6f}", f"{want['l3']:.6f}", f"{want['roundtrip']['max_deviation_mm']:.4f}"]
+        if got != exp:
+            fail(f"{UPLOAD.name}: the page shows l1, l3, deviation {got}, ncgear design {exp}")
+        print(f"check_serve: {UPLOAD.name} loaded: l1 {got[0]} mm, l3 {got[1]} mm, deviation {got[2]} mm (as the CLI)")
+
+        # Drag a handle: a new design within a second, its server time shown.
+        before = text(page, "deviation-mm")
+        box = page.get_by_test_id("handle-3").bounding_box()
+        x, y = box["x"] + box["width"] / 2, box["y"] + box["height"] / 2
+        t0 = time.time()
+        page.mouse.move(x, y)
+        page.mouse.down()
+        for k in range(1, 6):
+            page.mouse.move(x + 4 * k, y - 3 * k)
+        page.mouse.up()
+        page.wait_for_timeout(100)
+        wait_ready(page)
+        after, server_ms = text(page, "deviation-mm"), float(text(page, "server-ms"))
+        if after == before:
+            fail(f"dragging handle-3 left the deviation at {before} mm")
+        print(f"check_serve: drag re-designed in {time.time() - t0:.2f} s wall "
+              f"(server {server_ms:.0f} ms): deviation {before} → {after} mm")
+        if time.time() - t0 > 1.5:
+            fail("the drag took more than a second to show")
+
+        # A module: teeth on the gears, and the download is the CLI's design of these points.
+        page.get_by_test_id("module").fill("2")
+        page.get_by_test_id("module").dispatch_event("change")
+        wait_ready(page, 120000)
+        teeth = text(page, "teeth")
+        if not teeth.startswith("z = "):
+            fail(f"module 2: the page shows teeth {teeth!r}")
+        if SHOTS:
+            page.screenshot(path=str(SHOTS / "designer_teeth.png"))
+        points = page.evaluate("points()")
+        with page.expect_download() as dl:
+            page.get_by_test_id("download-json").click()
+        downloaded = json.loads(Path(dl.value.path()).read_text())
+        want = cli_design(points, "--module", "2")
+        for key in ("l1", "l3", "center_distance", "needle_angle_deg"):
+            if downloaded[key] != want[key]:
+                fail(f"download-json {key} = {downloaded[key]!r}, ncgear design {want[key]!r}")
+        for a, b in ((downloaded["roundtrip"], want["roundtrip"]), (downloaded["teeth"]["mesh"], want["teeth"]["mesh"])):
+            if json.dumps(a, sort_keys=True) != json.dumps(b, sort_keys=True):
+                fail("download-json differs from ncgear design in its round trip or mesh check")
+        print(f"check_serve: module 2 → {teeth}; design.json download equals ncgear design --module 2")
+
+        # A malformed upload: its error in the page, which keeps working.
+        page.get_by_test_id("open-file").set_input_files(
+            files=[{"name": "broken.csv", "mimeType": "text/csv", "buffer": b"x,y\n1,2\nnot,a number\n"}])
+        page.wait_for_function("() => document.querySelector('[data-testid=status]').classList.contains('error')")
+        err = text(page, "status")
+        if "broken.csv" not in err:
+            fail(f"the malformed upload's error does not name the file: {err!r}")
+        page.get_by_test_id("module").fill("")
+        page.get_by_test_id("example").select_option("g1_ellipse")
+        wait_ready(page)
+        print(f"check_serve: malformed upload → {err!r}; the page still designs")
+        browser.close()
+    # The one error allowed: Chromium's network log of the malformed upload's deliberate 400.
+    errors = [e for e in errors if "status of 400" not in e]
+    if errors:
+        fail(f"console errors: {errors}")
+
+
+def api_checks(url):
+    status, body = request(url + "api/examples/g1_ellipse")
+    pts = json.loads(body)["points"]
+    status, body = request(url + "api/design", "POST", {"points": pts})
+    cur = json.loads(body)
+    rng = random.Random(7)
+    times = []
+    base = [p[:] for p in pts]
+    for _ in range(60):
+        c, amp, w = rng.randrange(len(pts)), rng.uniform(-1.0, 1.0), rng.uniform(5, 25)
+        for j in range(len(pts)):
+            dj = min(abs(j - c), len(pts) - abs(j - c))
+            f = amp * math.exp(-(dj / w) ** 2)
+            base[j][0] += 0.6 * f
+            base[j][1] += 0.4 * f
+        status, body = request(url + "api/design", "POST", {"points": base, "start": cur, "view": True})
+        if status != 200:
+            fail(f"warm edit answered {status}: {body[:200]!r}")
+        d = json.loads(body)
+        times.append(d["server_ms"])
+        del d["view"], d["server_ms"]
+        cur = d
+    times.sort()
+    print(f"check_serve: 60 warm edits of g1_ellipse (each a bump of ≤ 1 mm, cumulative): server time "
+          f"p50 {statistics.median(times):.1f} ms, p95 {times[int(0.95 * len(times)) - 1]:.1f} ms")
+
+    status, body = request(url + "api/design", "POST", raw=b"[" + b"1," * (5 << 20) + b"1]")
+    if status != 413 or "error" not in json.loads(body):
+        fail(f"an oversized body got {status}")
+    # Seeded abuse: malformed JSON, wrong types, non-finite and absurd values, unknown paths.
+    rng = random.Random(11)
+    bad_values = [None, "x", -1, 0, 1e308, [], {}, [[0, 0]], [[float("nan"), 1]] * 10, True]
+    for k in range(300):
+        kind = k % 6
+        if kind == 0:
+            status, body = request(url + "api/design", "POST", raw=bytes(rng.randrange(256) for _ in range(rng.randrange(1, 200))))
+        elif kind == 1:
+            status, body = request(url + "api/design", "POST", {"points": rng.choice(bad_values)})
+        elif kind == 2:
+            opt = rng.choice(["tol_mm", "order", "module", "center", "max_pressure_angle", "min_concave_radius", "refine", "limits", "bogus"])
+            status, body = request(url + "api/design", "POST", {"points": pts, "options": {opt: rng.choice(bad_values + [1e-9, 500, "off"])}})
+        elif kind == 3:
+            status, body = request(url + "api/parse", "POST", {"name": rng.choice(["a.csv", "b.json", "c.txt", "../../etc/passwd"]), "text": rng.choice(["", "1,2", "{", "nan,nan\n" * 20, "x,y\n" + "1,1\n" * 30])})
+        elif kind == 4:
+            status, body = request(url + rng.choice(["api/export", "api/nothing", "../../etc/passwd", "assets/../Cargo.toml", "api/examples/%00"]), rng.choice(["GET", "POST", "PUT"]), {"points": pts, "format": rng.choice(["json", "exe", "dxf", None])})
+        else:
+            noisy = [[x + rng.gauss(0, 5), y + rng.gauss(0, 5)] for x, y in pts[:: rng.choice([1, 7, 40])]]
+            status, body = request(url + "api/design", "POST", {"points": noisy, "options": {"order": rng.choice([None, 2, 60])}})
+        if status >= 500 and status != 503:
+            fail(f"request {k} (kind {kind}) answered {status}: {body[:200]!r}")
+        if status != 200:
+            try:
+                e = json.loads(body)
+                assert isinstance(e.get("error"), str) and e["error"]
+            except Exception:
+                fail(f"request {k} (kind {kind}): a {status} without a JSON error: {body[:200]!r}")
+    status, _ = request(url + "api/examples")
+    if status != 200:
+        fail("the server stopped answering after the malformed requests")
+    print("check_serve: 300 malformed requests answered with JSON errors (no 5xx); oversized body → 413")
+
+
+def main():
+    proc, url = start_server()
+    try:
+        api_checks(url)
+        browser_checks(url)
+    finally:
+        proc.terminate()
+        proc.wait(timeout=10)
+    print("check_serve: passed")
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,192 @@
+//! The JSON API of the designer: requests, the design options by their CLI names, errors.
+//!
+//! `POST /api/design` takes `{"points": [[x, y], …], "options": {…}, "start": <design.json>,
+//! "view": true}` and answers the `design.json` object (with a `view` member, the drawing data of
+//! [`super::view`], when asked). `options` are the `ncgear design` flags by their JSON names
+//! (`--tol-mm` → `tol_mm`); every field is optional and takes the CLI's default. Errors are
+//! HTTP 400 `{"error": "…", "field": "…"}`.
+
+use ncgear::design::trajectory::Trajectory;
+use ncgear::design::{DesignError, DesignOptions, RefineMode};
+use serde::Deserialize;
+
+/// An error answered as JSON: HTTP status, message, and the request field it concerns.
+#[derive(Debug, Clone)]
+pub struct ApiError {
+    /// HTTP status code.
+    pub status: u16,
+    /// What went wrong and what to do.
+    pub error: String,
+    /// The request field at fault (`points`, `options.module`, `body`, …), if one.
+    pub field: Option<String>,
+}
+
+impl ApiError {
+    /// A 400 naming `field`.
+    pub fn bad(field: &str, error: impl Into<String>) -> Self {
+        Self {
+            status: 400,
+            error: error.into(),
+            field: Some(field.to_string()),
+        }
+    }
+
+    /// The JSON body `{"error": …, "field": …}`.
+    pub fn body(&self) -> String {
+        serde_json::json!({"error": self.error, "field": self.field}).to_string()
+    }
+}
+
+/// The design options a request may set: `ncgear design`'s flags by their JSON names.
+#[derive(Debug, Clone, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Options {
+    /// Carrier axis O `[x, y]`, mm (`--center`).
+    pub center: Option<[f64; 2]>,
+    /// Fixed Fourier order (`--order`).
+    pub order: Option<usize>,
+    /// Target max tip deviation, mm (`--tol-mm`).
+    pub tol_mm: Option<f64>,
+    /// `"auto"`, `"on"` or `"off"` (`--refine`).
+    pub refine: Option<String>,
+    /// `"on"` or `"off"` (`--limits`).
+    pub limits: Option<String>,
+    /// Largest effective pressure angle, degrees (`--max-pressure-angle`).
+    pub max_pressure_angle: Option<f64>,
+    /// Smallest concave radius of curvature, mm (`--min-concave-radius`).
+    pub min_concave_radius: Option<f64>,
+    /// Smallest convex radius of curvature, mm (`--min-convex-radius`).
+    pub min_convex_radius: Option<f64>,
+    /// Admissible sun ratio range `[min, max]` (`--ratio-bounds`).
+    pub ratio_bounds: Option<[f64; 2]>,
+    /// Smoothing harmonics (`--smooth`).
+    pub smooth: Option<usize>,
+    /// Module, mm (`--module`): the design is made for it and gets teeth.
+    pub module: Option<f64>,
+}
+
+impl Options {
+    /// The library options, as `ncgear design` builds them from the same flags.
+    pub fn design_options(&self) -> Result<DesignOptions, ApiError> {
+        let mut o = DesignOptions::default();
+        if let Some(c) = self.center {
+            o.center_mm = c;
+        }
+        o.order = self.order;
+        if let Some(t) = self.tol_mm {
+            o.tol_tip_mm = t;
+        }
+        o.refine = match self.refine.as_deref() {
+            None | Some("auto") => RefineMode::Auto,
+            Some("on") => RefineMode::On,
+            Some("off") => RefineMode::Off,
+            Some(v) => {
+                return Err(ApiError::bad(
+                    "options.refine",
+                    format!("`{v}`: expected \"auto\", \"on\" or \"off\""),
+                ));
+            }
+        };
+        o.gear_limits = match self.limits.as_deref() {
+            None | Some("on") => true,
+            Some("off") => false,
+            Some(v) => {
+                return Err(ApiError::bad(
+                    "options.limits",
+                    format!("`{v}`: expected \"on\" or \"off\""),
+                ));
+            }
+        };
+        if let Some(a) = self.max_pressure_angle {
+            o.pressure_angle_limit_rad = a.to_radians();
+        }
+        o.min_concave_radius_mm = self.min_concave_radius;
+        o.min_convex_radius_mm = self.min_convex_radius;
+        if let Some(b) = self.ratio_bounds {
+            o.refine_options.ratio_bounds = b;
+        }
+        o.smoothing = self.smooth;
+        o.module_mm = self.module;
+        Ok(o)
+    }
+}
+
+/// `POST /api/design` and `POST /api/export`.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct DesignRequest {
+    /// Target points `[x, y]` in travel order, mm.
+    pub points: Vec<[f64; 2]>,
+    /// Design options (CLI names).
+    #[serde(default)]
+    pub options: Options,
+    /// An earlier `design.json` to re-design from ([`ncgear::design::warm`]).
+    #[serde(default)]
+    pub start: Option<Box<ncgear::design::DesignReport>>,
+    /// Answer the drawing data too (`view`).
+    #[serde(default)]
+    pub view: bool,
+    /// Plant spacing of the agronomic figures in `view`, mm (two plants per carrier turn).
+    #[serde(default)]
+    pub spacing_mm: Option<f64>,
+    /// `POST /api/export` only: `"json"`, `"svg"`, `"dxf"` or `"step"`.
+    #[serde(default)]
+    pub format: Option<String>,
+}
+
+impl DesignRequest {
+    /// Parses a request body, naming the field at fault.
+    pub fn parse(body: &str) -> Result<Self, ApiError> {
+        serde_json::from_str(body).map_err(|e| {
+            let msg = e.to_string();
+            let field = ["points", "options", "start", "format", "view", "spacing_mm"]
+                .into_iter()
+                .find(|f| msg.contains(&format!("`{f}`")))
+                .unwrap_or("body");
+            ApiError::bad(field, format!("the request is not a design request: {msg}"))
+        })
+    }
+
+    /// The plant spacing, checked (positive and finite, mm).
+    pub fn spacing(&self) -> Result<Option<f64>, ApiError> {
+        match self.spacing_mm {
+            Some(s) if !(s > 0.0 && s.is_finite()) => Err(ApiError::bad(
+                "spacing_mm",
+                format!("{s}: the plant spacing must be a positive length in mm"),
+            )),
+            s => Ok(s),
+        }
+    }
+
+    /// The target, checked as the CLI checks a trajectory file.
+    pub fn trajectory(&self) -> Result<Trajectory, ApiError> {
+        Trajectory::from_points(self.points.clone())
+            .map_err(|e| ApiError::bad("points", e.to_string()))
+    }
+}
+
+/// `POST /api/parse`: a file's text as uploaded, parsed exactly as the CLI reads that file.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ParseRequest {
+    /// File name (its extension chooses the format, as on the command line).
+    pub name: String,
+    /// File contents.
+    pub text: String,
+}
+
+/// The HTTP answer for a design error: 400 naming the option, or 500 for an internal failure.
+pub fn design_error(e: &DesignError) -> ApiError {
+    match e {
+        DesignError::Internal(_) => ApiError {
+            status: 500,
+            error: e.to_string(),
+            field: None,
+        },
+        DesignError::BadOption { option, .. } => {
+            ApiError::bad(&format!("options.{option}"), e.to_string())
+        }
+        DesignError::Bounds(b) => ApiError::bad(&format!("options.{}", b.quantity), e.to_string()),
+        _ => ApiError::bad("points", e.to_string()),
+    }
+}

@@ -1,0 +1,449 @@
+// ncgear designer: the page. It draws what POST /api/design answers and edits the target as
+// the loaded points plus a smooth displacement: HANDLES control points at equal arc length, each
+// moving the path by a periodic Catmull–Rom (interpolating) blend, so a handle follows the pointer
+// exactly and the edit stays smooth. Plain JS, no build step, no library.
+"use strict";
+
+const HANDLES = 12;
+const DEBOUNCE_MS = 60;
+const SVG_NS = "http://www.w3.org/2000/svg";
+const $ = (id) => document.getElementById(id);
+
+const state = {
+  name: "", orig: [], u: [], nodes: [], disp: [],
+  design: null, phiIndex: 0, playing: false,
+  view: { cx: 0, cy: 0, w: 400 },
+  undo: [], redo: [], controller: null, timer: null,
+};
+
+// ---- status --------------------------------------------------------------------------------
+function setStatus(text, kind) {
+  const s = $("status");
+  s.textContent = text;
+  s.className = "status" + (kind ? " " + kind : "");
+  $("cancel").disabled = kind !== "busy";
+}
+
+async function api(path, body, signal) {
+  const r = await fetch(path, body === undefined ? { signal } : {
+    method: "POST", headers: { "Content-Type": "application/json" },
+    body: JSON.stringify(body), signal,
+  });
+  if (!r.ok) {
+    let msg = r.status + " " + r.statusText;
+    try { const e = await r.json(); msg = e.error + (e.field ? " (" + e.field + ")" : ""); } catch (_) { /* not JSON */ }
+    throw new Error(msg);
+  }
+  return r;
+}
+
+// ---- the edited path -------------------------------------------------------------------------
+function loadPoints(name, points) {
+  state.name = name;
+  state.orig = points;
+  const n = points.length;
+  const s = [0];
+  for (let j = 1; j <= n; j++) {
+    const a = points[j - 1], b = points[j % n];
+    s.push(s[j - 1] + Math.hypot(b[0] - a[0], b[1] - a[1]));
+  }
+  const total = s[n] || 1;
+  state.u = points.map((_, j) => HANDLES * s[j] / total);
+  state.nodes = [];
+  for (let k = 0; k < HANDLES; k++) {
+    let best = 0;
+    for (let j = 0; j < n; j++) if (Math.abs(state.u[j] - k) < Math.abs(state.u[best] - k)) best = j;
+    state.nodes.push(best);
+  }
+  // Node k sits at its point's own parameter: the blend is 1 there.
+  state.nodes.forEach((j, k) => { state.u[j] = k; });
+  state.disp = Array.from({ length: HANDLES }, () => [0, 0]);
+  state.undo = []; state.redo = [];
+  state.design = null;
+  fitView(points);
+}
+
+function blend(u) {
+  const i = Math.floor(u), t = u - i, t2 = t * t, t3 = t2 * t;
+  const w = [(-t3 + 2 * t2 - t) / 2, (3 * t3 - 5 * t2 + 2) / 2, (-3 * t3 + 4 * t2 + t) / 2, (t3 - t2) / 2];
+  return [-1, 0, 1, 2].map((o, q) => [((i + o) % HANDLES + HANDLES) % HANDLES, w[q]]);
+}
+
+function points() {
+  return state.orig.map((p, j) => {
+    let x = p[0], y = p[1];
+    for (const [k, w] of blend(state.u[j])) { x += w * state.disp[k][0]; y += w * state.disp[k][1]; }
+    return [x, y];
+  });
+}
+
+function handlePositions() {
+  const pts = points();
+  return state.nodes.map((j) => pts[j]);
+}
+
+// ---- options ---------------------------------------------------------------------------------
+function options() {
+  const num = (id) => { const v = $(id).value.trim(); return v === "" ? null : Number(v); };
+  const o = {
+    center: [num("center-x") || 0, num("center-y") || 0],
+    tol_mm: num("tol"),
+    order: num("order"),
+    limits: $("limits").value,
+    max_pressure_angle: num("max-pressure"),
+    min_concave_radius: num("min-concave"),
+    module: num("module"),
+  };
+  for (const k of Object.keys(o)) if (o[k] === null) delete o[k];
+  if (o.module === 0) delete o.module;
+  return o;
+}
+
+// ---- designing -------------------------------------------------------------------------------
+function startOf(d) {
+  if (!d) return undefined;
+  const s = Object.assign({}, d);
+  delete s.view; delete s.server_ms;
+  return s;
+}
+
+async function redesign(warm) {
+  if (state.controller) state.controller.abort();
+  const controller = new AbortController();
+  state.controller = controller;
+  setStatus("designing", "busy");
+  const spacing = Number($("spacing").value);
+  const body = { points: points(), options: options(), view: true };
+  if (spacing > 0) body.spacing_mm = spacing;
+  if (warm && state.design) body.start = startOf(state.design);
+  try {
+    const r = await api("/api/design", body, controller.signal);
+    const d = await r.json();
+    if (state.controller !== controller) return;
+    state.design = d;
+    state.controller = null;
+    render();
+    setStatus("ready");
+  } catch (e) {
+    if (e.name === "AbortError") return;
+    if (state.controller === controller) state.controller = null;
+    setStatus(e.message, "error");
+    render();
+  }
+}
+
+function scheduleWarm() {
+  setStatus("designing", "busy");
+  clearTimeout(state.timer);
+  state.timer = setTimeout(() => redesign(true), DEBOUNCE_MS);
+}
+
+function current() {
+  return { disp: state.disp.map((d) => d.slice()), options: formValues() };
+}
+
+function snapshot() {
+  state.undo.push(current());
+  state.redo = [];
+}
+
+// Undo (from = undo, to = redo) or redo: the state left is kept on the other stack.
+function travel(from, to) {
+  const s = from.pop();
+  if (!s) return;
+  to.push(current());
+  restore(s);
+}
+
+function formValues() {
+  const v = {};
+  for (const el of $("options").elements) v[el.id] = el.value;
+  return v;
+}
+
+function restore(s) {
+  state.disp = s.disp.map((d) => d.slice());
+  for (const [id, val] of Object.entries(s.options)) if ($(id)) $(id).value = val;
+  redesign(true);
+}
+
+// ---- drawing ---------------------------------------------------------------------------------
+function el(name, attrs, parent) {
+  const e = document.createElementNS(SVG_NS, name);
+  for (const [k, v] of Object.entries(attrs)) e.setAttribute(k, v);
+  if (parent) parent.appendChild(e);
+  return e;
+}
+
+const path = (pts, close) => pts.map((p, i) => (i ? "L" : "M") + p[0].toFixed(3) + "," + p[1].toFixed(3)).join("") + (close ? "Z" : "");
+
+function fitView(pts) {
+  const xs = pts.map((p) => p[0]).concat([0]), ys = pts.map((p) => p[1]).concat([0]);
+  const [x0, x1, y0, y1] = [Math.min(...xs), Math.max(...xs), Math.min(...ys), Math.max(...ys)];
+  state.view = { cx: (x0 + x1) / 2, cy: (y0 + y1) / 2, w: 1.3 * Math.max(x1 - x0, y1 - y0, 50) };
+}
+
+function pxPerMm() {
+  const r = $("canvas").getBoundingClientRect();
+  return Math.min(r.width, r.height) / state.view.w;
+}
+
+function render() {
+  const svg = $("canvas");
+  const r = svg.getBoundingClientRect();
+  const s = pxPerMm() || 1;
+  const w = r.width / s, h = r.height / s;
+  svg.setAttribute("viewBox", `${state.view.cx - w / 2} ${-state.view.cy - h / 2} ${w} ${h}`);
+  svg.textContent = "";
+  const world = el("g", { transform: "scale(1,-1)" }, svg);
+  const lw = (px) => (px / s).toFixed(4);
+  const d = state.design, v = d && d.view;
+  const pts = points();
+  // Gears and arms at the carrier angle of the slider.
+  if (v) {
+    const o = v.center_mm;
+    el("path", { d: path(v.gears_mm[0], true), transform: `translate(${o[0]},${o[1]})`, fill: "#dbe9f6", stroke: "#1f77b4", "stroke-width": lw(1), "data-testid": "gear-sun" }, world);
+    const pose = v.poses[state.phiIndex % v.poses.length];
+    pose.forEach((arm, a) => {
+      el("path", { d: path([o, arm.planet_mm]), stroke: "#444", "stroke-width": lw(4), opacity: a ? 0.35 : 0.6 }, world);
+      el("path", { d: path(v.gears_mm[1], true), transform: `translate(${arm.intermediate_mm[0]},${arm.intermediate_mm[1]}) rotate(${arm.intermediate_deg})`, fill: "#dff2df", stroke: "#2ca02c", "stroke-width": lw(1), opacity: a ? 0.5 : 1 }, world);
+      el("path", { d: path(v.gears_mm[2], true), transform: `translate(${arm.planet_mm[0]},${arm.planet_mm[1]}) rotate(${arm.planet_deg})`, fill: "#ece2f4", stroke: "#9467bd", "stroke-width": lw(1), opacity: a ? 0.5 : 1 }, world);
+      el("path", { d: path([arm.planet_mm, arm.tip_mm]), stroke: "#8c564b", "stroke-width": lw(3), opacity: a ? 0.5 : 1 }, world);
+      el("circle", { cx: arm.tip_mm[0], cy: arm.tip_mm[1], r: lw(4), fill: "#8c564b" }, world);
+    });
+    el("path", { d: path(v.traced_mm, true), fill: "none", stroke: "#1f77b4", "stroke-width": lw(2), "data-testid": "traced" }, world);
+  }
+  el("path", { d: path(pts, true), fill: "none", stroke: "#999", "stroke-width": lw(1.5), "stroke-dasharray": `${lw(4)} ${lw(3)}`, "data-testid": "target" }, world);
+  // The deviation along the path: each target point coloured by its distance from the traced path.
+  if (v && v.deviation_mm.length === pts.length) {
+    const tol = (d.checks && options().tol_mm) || 0.05;
+    pts.forEach((p, j) => {
+      const e = v.deviation_mm[j];
+      if (e <= tol) return;
+      el("circle", { cx: p[0], cy: p[1], r: lw(2 + Math.min(6, 2 * Math.log10(1 + e / tol))), fill: e > 10 * tol ? "#d62728" : "#ff9f1c", opacity: 0.8 }, world);
+    });
+  }
+  el("circle", { cx: 0, cy: 0, r: lw(3), fill: "#000", transform: v ? `translate(${v.center_mm[0]},${v.center_mm[1]})` : "" }, world);
+  handlePositions().forEach((p, k) => {
+    const c = el("circle", { cx: p[0], cy: p[1], r: lw(7), class: "handle", "data-testid": "handle-" + k, "data-k": k }, world);
+    c.addEventListener("pointerdown", startDrag);
+  });
+  renderReadouts();
+  renderRatio();
+}
+
+function renderRatio() {
+  const svg = $("ratio");
+  svg.textContent = "";
+  const v = state.design && state.design.view;
+  if (!v) return;
+  const is = v.ratio.map((p) => p[1]);
+  const lo = Math.min(...is), hi = Math.max(...is), span = Math.max(hi - lo, 1e-9);
+  el("path", { d: path(v.ratio.map((p) => [p[0], 95 - 90 * (p[1] - lo) / span])), fill: "none", stroke: "#1f77b4", "stroke-width": 1.5, "vector-effect": "non-scaling-stroke" }, svg);
+  $("ratio-label").textContent = `sun ratio i21 over the sun's polar angle 0…360°: ${lo.toFixed(3)} … ${hi.toFixed(3)}`;
+}
+
+function renderReadouts() {
+  const d = state.design;
+  const set = (id, t) => { $(id).textContent = t; };
+  if (!d) { ["l1-mm", "l3-mm", "deviation-mm", "pressure-deg", "concave-mm", "server-ms"].forEach((id) => set(id, "–")); return; }
+  set("l1-mm", d.l1.toFixed(6));
+  set("l3-mm", d.l3.toFixed(6));
+  set("deviation-mm", d.roundtrip.max_deviation_mm.toFixed(4));
+  set("pressure-deg", d.limits.pressure_angle_deg.toFixed(2));
+  set("concave-mm", d.limits.tightest_concave_radius_mm == null ? "none (convex)" : d.limits.tightest_concave_radius_mm.toFixed(2) + " mm");
+  set("server-ms", d.server_ms.toFixed(1));
+  set("teeth", d.teeth ? `z = ${d.teeth.z}, m = ${d.teeth.module_mm} mm` : "none");
+  set("binding", d.limits.binding.length ? "binding: " + d.limits.binding.join(", ") : "");
+  const checks = $("checks");
+  checks.textContent = "";
+  for (const c of d.checks) {
+    const li = document.createElement("li");
+    li.textContent = c.id + (c.pass ? " ✓" : " ✗");
+    li.title = c.name || c.description || "";
+    if (!c.pass) li.className = "fail";
+    checks.appendChild(li);
+  }
+  const table = $("features");
+  table.textContent = "";
+  const f = d.view && d.view.features;
+  const rows = f ? [
+    ["taking angle", f.needle_angle_take_deg.toFixed(1) + "°", "feature-take-deg"],
+    ["pushing angle", f.needle_angle_plant_deg.toFixed(1) + "°", "feature-push-deg"],
+    ["angle difference", (f.needle_angle_plant_deg - f.needle_angle_take_deg).toFixed(1) + "°", "feature-difference-deg"],
+    ["trajectory height", f.height_mm.toFixed(1) + " mm", "feature-height-mm"],
+    ["hole width at depth", f.hole_width_mm.toFixed(1) + " mm", "feature-hole-mm"],
+    ["arm clearance", f.min_arm_clearance_mm.toFixed(1) + " mm", "feature-clearance-mm"],
+    ["plant spacing", f.plant_spacing_mm.toFixed(1) + " mm", "feature-spacing-mm"],
+  ] : [["figures", (d.view && d.view.features_error) || "–", "feature-error"]];
+  for (const [name, value, id] of rows) {
+    const tr = document.createElement("tr");
+    const th = document.createElement("th"), td = document.createElement("td");
+    th.textContent = name; td.textContent = value; td.setAttribute("data-testid", id);
+    tr.append(th, td);
+    table.appendChild(tr);
+  }
+  const warnings = $("warnings");
+  warnings.textContent = "";
+  for (const w of d.warnings.concat(d.teeth ? d.teeth.warnings || [] : [])) {
+    const li = document.createElement("li");
+    li.textContent = w;
+    warnings.appendChild(li);
+  }
+}
+
+// ---- interaction -----------------------------------------------------------------------------
+function toWorld(ev) {
+  const svg = $("canvas");
+  const p = svg.createSVGPoint();
+  p.x = ev.clientX; p.y = ev.clientY;
+  const q = p.matrixTransform(svg.getScreenCTM().inverse());
+  return [q.x, -q.y];
+}
+
+function startDrag(ev) {
+  ev.stopPropagation();
+  ev.preventDefault();
+  const k = Number(ev.target.getAttribute("data-k"));
+  snapshot();
+  const start = toWorld(ev), d0 = state.disp[k].slice();
+  const move = (e) => {
+    const p = toWorld(e);
+    state.disp[k] = [d0[0] + p[0] - start[0], d0[1] + p[1] - start[1]];
+    render();
+    scheduleWarm();
+  };
+  const up = () => {
+    window.removeEventListener("pointermove", move);
+    window.removeEventListener("pointerup", up);
+  };
+  window.addEventListener("pointermove", move);
+  window.addEventListener("pointerup", up);
+}
+
+function startPan(ev) {
+  const s = pxPerMm(), x0 = ev.clientX, y0 = ev.clientY, v0 = Object.assign({}, state.view);
+  const move = (e) => { state.view.cx = v0.cx - (e.clientX - x0) / s; state.view.cy = v0.cy + (e.clientY - y0) / s; render(); };
+  const up = () => { window.removeEventListener("pointermove", move); window.removeEventListener("pointerup", up); };
+  window.addEventListener("pointermove", move);
+  window.addEventListener("pointerup", up);
+}
+
+// Loads the points a request answers (`{name, points}`), then runs the full design on them.
+async function openWith(request) {
+  setStatus("designing", "busy");
+  try {
+    const p = await (await request()).json();
+    loadPoints(p.name, p.points);
+    $("example").value = p.name;
+    await redesign(false);
+  } catch (e) { setStatus(e.message, "error"); }
+}
+
+const openExample = (name) => openWith(() => api("/api/examples/" + encodeURIComponent(name)));
+const openFile = (file) => openWith(async () => api("/api/parse", { name: file.name, text: await file.text() }));
+
+async function download(format) {
+  setStatus("designing", "busy");
+  try {
+    const r = await api("/api/export", { points: points(), options: options(), format });
+    const blob = await r.blob();
+    const disp = r.headers.get("Content-Disposition") || "";
+    const m = /filename="([^"]+)"/.exec(disp);
+    const a = document.createElement("a");
+    a.href = URL.createObjectURL(blob);
+    a.download = m ? m[1] : "design." + format;
+    document.body.appendChild(a);
+    a.click();
+    a.remove();
+    setStatus("ready");
+  } catch (e) { setStatus(e.message, "error"); }
+}
+
+function saveWork() {
+  const work = { ncgear_work: 1, name: state.name, points: state.orig, displacements_mm: state.disp, options: formValues() };
+  const a = document.createElement("a");
+  a.href = URL.createObjectURL(new Blob([JSON.stringify(work)], { type: "application/json" }));
+  a.download = (state.name || "work").replace(/\.[^.]*$/, "") + ".ncgear-work.json";
+  document.body.appendChild(a);
+  a.click();
+  a.remove();
+}
+
+async function loadWork(file) {
+  setStatus("designing", "busy");
+  try {
+    const w = JSON.parse(await file.text());
+    if (w.ncgear_work !== 1 || !Array.isArray(w.points) || !Array.isArray(w.displacements_mm) || w.displacements_mm.length !== HANDLES) {
+      throw new Error(file.name + ": not a saved ncgear work file");
+    }
+    loadPoints(w.name || file.name, w.points);
+    restore({ disp: w.displacements_mm, options: w.options || {} });
+  } catch (e) { setStatus(e.message, "error"); }
+}
+
+function init() {
+  $("canvas").addEventListener("pointerdown", startPan);
+  $("canvas").addEventListener("wheel", (e) => {
+    e.preventDefault();
+    state.view.w *= Math.exp(0.001 * e.deltaY);
+    render();
+  }, { passive: false });
+  $("spacing").addEventListener("change", () => redesign(true));
+  $("open-file").addEventListener("change", (e) => { if (e.target.files[0]) openFile(e.target.files[0]); e.target.value = ""; });
+  $("load-work").addEventListener("change", (e) => { if (e.target.files[0]) loadWork(e.target.files[0]); e.target.value = ""; });
+  $("example").addEventListener("change", (e) => openExample(e.target.value));
+  $("optimise").addEventListener("click", () => redesign(false));
+  $("cancel").addEventListener("click", () => {
+    if (state.controller) { state.controller.abort(); state.controller = null; }
+    setStatus("ready");
+  });
+  $("undo").addEventListener("click", () => travel(state.undo, state.redo));
+  $("redo").addEventListener("click", () => travel(state.redo, state.undo));
+  document.addEventListener("keydown", (e) => {
+    if ((e.ctrlKey || e.metaKey) && e.key === "z") $("undo").click();
+    if ((e.ctrlKey || e.metaKey) && e.key === "y") $("redo").click();
+  });
+  for (const input of $("options").elements) {
+    input.addEventListener("focus", () => snapshot());
+    input.addEventListener("change", () => redesign(false));
+  }
+  $("phi-slider").addEventListener("input", (e) => {
+    state.phiIndex = Number(e.target.value);
+    $("phi-deg").textContent = 2 * state.phiIndex + "°";
+    render();
+  });
+  $("play").addEventListener("click", () => {
+    state.playing = !state.playing;
+    $("play").textContent = state.playing ? "Pause" : "Play";
+    const step = () => {
+      if (!state.playing) return;
+      state.phiIndex = (state.phiIndex + 1) % 180;
+      $("phi-slider").value = state.phiIndex;
+      $("phi-deg").textContent = 2 * state.phiIndex + "°";
+      render();
+      setTimeout(() => requestAnimationFrame(step), 30);
+    };
+    step();
+  });
+  for (const f of ["json", "svg", "dxf", "step"]) $("download-" + f).addEventListener("click", () => download(f));
+  $("save-work").addEventListener("click", saveWork);
+  document.body.addEventListener("dragover", (e) => { e.preventDefault(); document.body.classList.add("drop"); });
+  document.body.addEventListener("dragleave", () => document.body.classList.remove("drop"));
+  document.body.addEventListener("drop", (e) => {
+    e.preventDefault();
+    document.body.classList.remove("drop");
+    if (e.dataTransfer.files[0]) openFile(e.dataTransfer.files[0]);
+  });
+  window.addEventListener("resize", render);
+  api("/api/examples").then((r) => r.json()).then((list) => {
+    for (const ex of list) {
+      const o = document.createElement("option");
+      o.value = ex.name; o.textContent = ex.file;
+      $("example").appendChild(o);
+    }
+    openExample(list[0].name);
+  }).catch((e) => setStatus(e.message, "error"));
+}
+
+init();

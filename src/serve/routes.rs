@@ -1,0 +1,181 @@
+//! The endpoints: the page, the bundled examples, parsing an upload, designing, exporting.
+
+use super::api::{ApiError, DesignRequest, ParseRequest, design_error};
+use super::{Reply, page, view};
+use ncgear::design::train::{ToothedTrain, TrainPolicy, TrainTeethOptions, tooth_design};
+use ncgear::design::trajectory::Trajectory;
+use ncgear::design::{Design, design, warm::redesign};
+use serde_json::Value;
+use std::sync::atomic::{AtomicUsize, Ordering};
+
+/// Answers one request.
+pub fn route(method: &str, url: &str, body: &str) -> Reply {
+    let path = url.split('?').next().unwrap_or("");
+    let result = match (method, path) {
+        ("GET", "/" | "/index.html") => Ok(page::asset("index.html")),
+        ("GET", p) if p.starts_with("/assets/") => page::asset_reply(&p["/assets/".len()..]),
+        ("GET", "/api/examples") => Ok(Reply::json(page::examples_json())),
+        ("GET", p) if p.starts_with("/api/examples/") => {
+            page::example(&p["/api/examples/".len()..])
+        }
+        ("POST", "/api/parse") => parse(body),
+        ("POST", "/api/design") => design_endpoint(body),
+        ("POST", "/api/export") => export(body),
+        (_, p) if p.starts_with("/api/") => Err(ApiError {
+            status: 404,
+            error: format!("no endpoint {method} {p}"),
+            field: None,
+        }),
+        _ => Err(ApiError {
+            status: 404,
+            error: format!("nothing at {path}"),
+            field: None,
+        }),
+    };
+    result.unwrap_or_else(|e| Reply::error(&e))
+}
+
+/// `POST /api/parse`: the points of an uploaded file, read as `ncgear design` reads that file.
+fn parse(body: &str) -> Result<Reply, ApiError> {
+    let req: ParseRequest = serde_json::from_str(body).map_err(|e| {
+        ApiError::bad(
+            "body",
+            format!("expected {{\"name\": …, \"text\": …}}: {e}"),
+        )
+    })?;
+    // The name is only a label and a format hint: nothing is read from or written to disk.
+    let label: String = req
+        .name
+        .chars()
+        .filter(|c| !c.is_control())
+        .take(200)
+        .collect();
+    let traj =
+        Trajectory::parse(&req.text, &label).map_err(|e| ApiError::bad("file", e.to_string()))?;
+    Ok(Reply::json(
+        serde_json::json!({"name": label, "points": traj.points()}).to_string(),
+    ))
+}
+
+/// A design and, with a module, its toothed train (mesh verified as by `ncgear design`).
+fn designed(req: &DesignRequest) -> Result<(Design, Option<ToothedTrain>), ApiError> {
+    let traj = req.trajectory()?;
+    let opts = req.options.design_options()?;
+    let d = match &req.start {
+        Some(start) => redesign(&traj, &opts, start),
+        None => design(&traj, &opts),
+    }
+    .map_err(|e| design_error(&e))?;
+    let Some(m) = opts.module_mm else {
+        return Ok((d, None));
+    };
+    let mut t = TrainTeethOptions::new(m);
+    t.policy = TrainPolicy::Designed;
+    let train = tooth_design(&d, &t, 1e-9 * d.assembly.a_mm, &|_| {})
+        .map_err(|e| ApiError::bad("options.module", format!("module {m} mm: {e}")))?;
+    let mut d = d;
+    train.record(&mut d);
+    Ok((d, Some(train)))
+}
+
+/// `POST /api/design`: the `design.json` object (with `view` when asked).
+fn design_endpoint(body: &str) -> Result<Reply, ApiError> {
+    let started = std::time::Instant::now();
+    let req = DesignRequest::parse(body)?;
+    let spacing = req.spacing()?;
+    let (d, train) = designed(&req)?;
+    let mut value = serde_json::to_value(&d.report).map_err(internal)?;
+    if req.view {
+        let v = view::view(&d, train.as_ref(), spacing);
+        value["view"] = serde_json::to_value(v).map_err(internal)?;
+    }
+    value["server_ms"] = Value::from(1e3 * started.elapsed().as_secs_f64());
+    Ok(Reply::json(value.to_string()))
+}
+
+/// `POST /api/export`: the file `ncgear design` writes for these points and options, its bytes
+/// (written by the same library calls into a private temporary folder, then read back).
+fn export(body: &str) -> Result<Reply, ApiError> {
+    let req = DesignRequest::parse(body)?;
+    let format = req.format.clone().unwrap_or_else(|| "json".into());
+    let module = req.options.module;
+    let file = match (format.as_str(), module) {
+        ("json", _) => "design.json",
+        ("svg", None) => "design.svg",
+        ("svg", Some(_)) => "teeth/train.svg",
+        ("dxf", Some(_)) => "teeth/train.dxf",
+        ("step", Some(_)) => "teeth/train.step",
+        ("dxf" | "step", None) => {
+            return Err(ApiError::bad(
+                "options.module",
+                format!("{format} files hold the toothed gears: set a module"),
+            ));
+        }
+        _ => {
+            return Err(ApiError::bad(
+                "format",
+                format!("`{format}`: expected \"json\", \"svg\", \"dxf\" or \"step\""),
+            ));
+        }
+    };
+    // The export is the CLI's design of these points: never a warm start.
+    let cold = DesignRequest { start: None, ..req };
+    let (mut d, train) = designed(&cold)?;
+    let dir = TempDir::new()?;
+    if let Some(mut t) = train {
+        let files =
+            ncgear::output::write_teeth(&mut t, &dir.0, ncgear::export::dxf::DxfVersion::R2010)
+                .map_err(internal)?;
+        let step =
+            ncgear::output::write_teeth_step(&t, &dir.0, &Default::default()).map_err(internal)?;
+        t.report
+            .files
+            .extend(step.iter().map(|p| p.display().to_string()));
+        drop(files);
+        t.record(&mut d);
+    }
+    ncgear::output::write_design_with(&d, &dir.0, Default::default()).map_err(internal)?;
+    let bytes = std::fs::read(dir.0.join(file)).map_err(internal)?;
+    let content_type = match format.as_str() {
+        "json" => "application/json",
+        "svg" => "image/svg+xml",
+        "dxf" => "application/dxf",
+        _ => "application/step",
+    };
+    Ok(Reply {
+        status: 200,
+        content_type,
+        body: bytes,
+        download: Some(file.rsplit('/').next().unwrap_or(file).to_string()),
+    })
+}
+
+fn internal(e: impl std::fmt::Display) -> ApiError {
+    ApiError {
+        status: 500,
+        error: e.to_string(),
+        field: None,
+    }
+}
+
+/// A private folder under the system's temporary directory, removed when dropped.
+struct TempDir(std::path::PathBuf);
+
+impl TempDir {
+    fn new() -> Result<Self, ApiError> {
+        static NEXT: AtomicUsize = AtomicUsize::new(0);
+        let dir = std::env::temp_dir().join(format!(
+            "ncgear-serve-{}-{}",
+            std::process::id(),
+            NEXT.fetch_add(1, Ordering::SeqCst)
+        ));
+        std::fs::create_dir_all(&dir).map_err(internal)?;
+        Ok(Self(dir))
+    }
+}
+
+impl Drop for TempDir {
+    fn drop(&mut self) {
+        let _ = std::fs::remove_dir_all(&self.0);
+    }
+}
