@@ -12,6 +12,7 @@ if [ -z "$browser" ]; then
   exit 0
 fi
 mkdir -p "$out"
+abs="$(cd "$out" && pwd)"   # OUT_DIR may be relative or absolute
 cargo run --release --quiet -- design assets/trajectories/g1_ellipse.csv --out "$out/design" > /dev/null
 cargo run --release --quiet -- simulate "$out/design/design.json" --out "$out/sim" > /dev/null
 svg="$out/sim/animation.svg"
@@ -24,7 +25,7 @@ ph=$(awk -v v="$h" 'BEGIN{printf "%d", v*96/25.4*0.5+2}')
 for t in 100 1500; do
   "$browser" --headless --no-sandbox --disable-gpu --hide-scrollbars --force-device-scale-factor=0.5 \
     --window-size="$((pw * 2)),$((ph * 2))" --virtual-time-budget="$t" \
-    --screenshot="$PWD/$out/frame_$t.png" "file://$PWD/$svg" > /dev/null 2>&1
+    --screenshot="$abs/frame_$t.png" "file://$abs/sim/animation.svg" > /dev/null 2>&1
   size=$(stat -c %s "$out/frame_$t.png")
   [ "$size" -gt 5000 ] || { echo "check_animation: frame at ${t} ms is empty ($size bytes)" >&2; exit 1; }
 done
