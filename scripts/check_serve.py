@@ -169,6 +169,14 @@ def browser_checks(url):
         err = text(page, "status")
         if "broken.csv" not in err:
             fail(f"the malformed upload's error does not name the file: {err!r}")
+        # An oversized file: refused in the page with its size, before any upload.
+        page.get_by_test_id("open-file").set_input_files(
+            files=[{"name": "huge.csv", "mimeType": "text/csv", "buffer": b"1.0,2.0\n" * (9 << 17)}])
+        page.wait_for_function("() => document.querySelector('[data-testid=status]').textContent.includes('huge.csv')")
+        huge = text(page, "status")
+        if "8 MB" not in huge:
+            fail(f"the oversized upload's error does not say the limit: {huge!r}")
+        print(f"check_serve: oversized upload → {huge!r}")
         page.get_by_test_id("module").fill("")
         page.get_by_test_id("example").select_option("g1_ellipse")
         wait_ready(page)

@@ -68,6 +68,7 @@ pub mod math;
 pub mod output;
 pub mod pair;
 pub mod simulate;
+pub mod synthesis;
 pub mod teeth;
 pub mod verdict;
 

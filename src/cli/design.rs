@@ -1,4 +1,5 @@
 //! `ncgear design TRAJ --out DIR`.
+use super::design_args::{LimitsArg, RefineArg, RouteArg, SenseArg, ToothPolicyArg, parse_pair};
 use super::teeth_args::RackArgs;
 use super::{CliResult, input_error, print_json, progress_bar, runtime_error};
 use ncgear::design::inverse::InverseError;
@@ -28,6 +29,10 @@ pub struct Args {
     /// Fixed Fourier order K (default: adaptive 4…40 until --tol-mm is met).
     #[arg(long)]
     pub order: Option<usize>,
+    /// Carrier sense: auto (the sense whose law the train realises best when both trace the
+    /// path), ccw or cw.
+    #[arg(long, value_enum, default_value = "auto")]
+    pub sense: SenseArg,
     /// Target max tip deviation, mm.
     #[arg(long, default_value_t = DesignOptions::default().tol_tip_mm)]
     pub tol_mm: f64,
@@ -124,67 +129,6 @@ pub struct Args {
 /// Carrier positions of each mesh verification unless `--verify-steps` says otherwise.
 const DEFAULT_VERIFY_STEPS: usize = 72;
 
-/// `--tooth-policy` values.
-#[derive(Debug, Clone, Copy, clap::ValueEnum)]
-pub enum ToothPolicyArg {
-    /// Design for the module: the tooth count a constraint of the fit.
-    Design,
-    /// Scale the centre distance up to z = ⌈L/πm⌉ (tip moves radially by (s − 1)·l1).
-    ScaleUp,
-    /// Scale the centre distance to z = round(L/πm).
-    Nearest,
-    /// Scale the centre distance down to z = ⌊L/πm⌋.
-    ScaleDown,
-    /// Keep the centre distance; rescale the ratio amplitude so that L = zπm.
-    RatioAmplitude,
-    /// Keep the gears; use the non-standard module L/(zπ), z = round(L/πm).
-    AdjustModule,
-}
-
-/// `--limits` values.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
-pub enum LimitsArg {
-    /// Design within the gear limits.
-    On,
-    /// The ratio bounds alone.
-    Off,
-}
-
-/// `--refine` values.
-#[derive(Debug, Clone, Copy, clap::ValueEnum)]
-pub enum RefineArg {
-    /// When the patent route misses the tolerance.
-    Auto,
-    /// Always.
-    On,
-    /// Never.
-    Off,
-}
-
-/// `--route` values.
-#[derive(Debug, Clone, Copy, clap::ValueEnum)]
-pub enum RouteArg {
-    /// Front half exact.
-    Ac,
-    /// Back half exact.
-    Bd,
-}
-
-/// Parses `X,Y`.
-pub fn parse_pair(s: &str) -> Result<[f64; 2], String> {
-    let v: Vec<&str> = s.split(',').map(str::trim).collect();
-    let num = |t: &str| t.parse::<f64>().ok().filter(|x| x.is_finite());
-    match v.as_slice() {
-        [a, b] => match (num(a), num(b)) {
-            (Some(x), Some(y)) => Ok([x, y]),
-            _ => Err(format!("`{s}`: expected two finite numbers `X,Y`")),
-        },
-        _ => Err(format!(
-            "`{s}`: expected two numbers separated by a comma, e.g. `0,0`"
-        )),
-    }
-}
-
 /// Runs `ncgear design`.
 pub fn run(args: Args) -> CliResult {
     // The printed time is the whole command's: design, teeth, checks and files.
@@ -223,6 +167,11 @@ pub fn run(args: Args) -> CliResult {
     opts.segmented.w1 = args.w1;
     opts.segmented.k_max = args.k_max;
     opts.inverse.grid = args.grid;
+    opts.inverse.sense = match args.sense {
+        SenseArg::Auto => None,
+        SenseArg::Ccw => Some(1),
+        SenseArg::Cw => Some(-1),
+    };
     opts.inverse.dense_samples = args.dense;
     opts.curve_samples = args.samples;
     opts.refine_options.ratio_bounds = args.ratio_bounds;

@@ -5,6 +5,7 @@ use std::io::IsTerminal;
 use std::process::ExitCode;
 
 mod design;
+mod design_args;
 mod dynamics;
 mod orbit;
 mod pair;
@@ -77,6 +78,7 @@ pub fn flag_of(option: &str) -> Option<&'static str> {
         "smoothing" => "--smooth",
         "tol_tip_mm" => "--tol-mm",
         "inverse.grid" => "--grid",
+        "inverse.sense" => "--sense",
         "inverse.dense_samples" => "--dense",
         "curve_samples" => "--samples",
         "refine_options.ratio_bounds" => "--ratio-bounds",

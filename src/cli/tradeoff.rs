@@ -1,5 +1,6 @@
 //! `ncgear tradeoff TRAJ --out DIR`: what accuracy costs, one design per limit and module.
-use super::design::{design_failure, parse_pair};
+use super::design::design_failure;
+use super::design_args::parse_pair;
 use super::{CliResult, input_error, print_json, progress_bar, runtime_error};
 use ncgear::design::DesignOptions;
 use ncgear::design::tradeoff::{MODULES_MM, PRESSURE_ANGLE_LIMITS_DEG, trade_off};

@@ -35,6 +35,9 @@ pub struct InverseOptions {
     /// Low-pass the needle law `ψ3 − t` to this many harmonics (for measured, noisy data: the
     /// inversion amplifies noise near the extremes, docs/math/chain.md §3.5); `None` (default) keeps it as computed.
     pub law_harmonics: Option<usize>,
+    /// Carrier sense to design for: `Some(1)` CCW, `Some(-1)` CW; `None` (default) tries both and
+    /// keeps the law the train realises best when both trace the path.
+    pub sense: Option<i8>,
 }
 
 impl Default for InverseOptions {
@@ -44,6 +47,7 @@ impl Default for InverseOptions {
             grid: 1024,
             tol_relative: 1e-14,
             law_harmonics: None,
+            sense: None,
         }
     }
 }
@@ -92,6 +96,15 @@ pub enum InverseError {
         rho_min_mm: f64,
         /// Limit, mm.
         limit_mm: f64,
+    },
+    /// The carrier sense asked for cannot trace the path.
+    #[error(
+        "a carrier turning {} cannot trace this path (in that sense the carrier angle does not advance steadily by one turn along the points), the other sense can: leave the sense to be chosen (`--sense auto`) or give the other one",
+        if *sense > 0 { "CCW" } else { "CW" }
+    )]
+    SenseNotTraceable {
+        /// The sense asked for: +1 CCW, −1 CW.
+        sense: i8,
     },
     /// The carrier angle is not monotone along the trajectory.
     #[error("no arm with constant l1 = {l1_mm:.3} mm and l3 = {l3_mm:.3} mm can trace this path: the carrier angle would have to run backwards on {} stretch(es), carrier angles (deg) {stretches_deg:?} (monotonicity criterion, docs/math/chain.md §3.3); redraw those parts (the points as read and smoothed copies of them were tried)", stretches_deg.len())]
@@ -201,11 +214,11 @@ pub fn invert(
     );
     let ns = dense_count(opts, pts.len());
     let rejects = |s: &ClosedSpline| coarse_rejects(s, ns, opts.tol_relative * s.period());
+    type Frame = Result<Solved, InverseError>;
     let solve_a = || solve_frame(&sa, &pts, opts, 1, center);
     let solve_b = || solve_frame(&sb, &mirrored, opts, -1, center);
     // A lone survivor is solved on its own, so that its parallel loops have every core; the
     // rejected frame only when the survivor fails (for its diagnosis).
-    type Frame = Result<Solved, InverseError>;
     let survivor_first = |first: &dyn Fn() -> Frame, other: &dyn Fn() -> Frame| {
         let f = first();
         let o = if matches!(f, Ok(Solved::Done(_))) {
@@ -215,6 +228,23 @@ pub fn invert(
         };
         (f, o)
     };
+    // A sense asked for: that frame alone, its own diagnosis when it fails.
+    // A sense asked for: that frame; when it fails and the other sense traces the path, the
+    // refusal names the sense, else the frame's own diagnosis.
+    if let Some(sense) = opts.sense {
+        let (mine, other): (&dyn Fn() -> Frame, &dyn Fn() -> Frame) = if sense > 0 {
+            (&solve_a, &solve_b)
+        } else {
+            (&solve_b, &solve_a)
+        };
+        let not_this_sense = InverseError::SenseNotTraceable { sense };
+        return match mine() {
+            Ok(Solved::Done(inv)) => Ok(*inv),
+            _ if matches!(other(), Ok(Solved::Done(_))) => Err(not_this_sense),
+            Ok(Solved::WrongSense(e)) | Err(e) => Err(e),
+            Ok(Solved::Skipped) => unreachable!("a frame solved on its own is never skipped"),
+        };
+    }
     let (ccw, cw) = match rayon::join(|| rejects(&sa), || rejects(&sb)) {
         (false, true) => survivor_first(&solve_a, &solve_b),
         (true, false) => {

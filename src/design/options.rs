@@ -182,7 +182,7 @@ pub(super) fn validate(opts: &DesignOptions) -> Result<(), DesignError> {
     let show = |v: Option<usize>| v.map_or_else(|| "none".into(), |k| k.to_string());
     let show_f = |v: Option<f64>| v.map_or_else(|| "none".into(), |k| k.to_string());
     // (valid, option, given value, what is expected), checked in this order.
-    let rules: [(bool, &'static str, String, &'static str); 22] = [
+    let rules: [(bool, &'static str, String, &'static str); 23] = [
         (
             opts.order.is_none_or(|k| (1..=64).contains(&k)),
             "order",
@@ -200,6 +200,12 @@ pub(super) fn validate(opts: &DesignOptions) -> Result<(), DesignError> {
             "tol_tip_mm",
             opts.tol_tip_mm.to_string(),
             "a positive length in mm",
+        ),
+        (
+            inv.sense.is_none_or(|d| d == 1 || d == -1),
+            "inverse.sense",
+            format!("{:?}", inv.sense),
+            "+1 (CCW), -1 (CW) or unset (either, the better one kept)",
         ),
         (
             (64..=1 << 16).contains(&inv.grid),

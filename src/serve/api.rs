@@ -63,6 +63,8 @@ pub struct Options {
     pub smooth: Option<usize>,
     /// Module, mm (`--module`): the design is made for it and gets teeth.
     pub module: Option<f64>,
+    /// Carrier sense `"auto"`, `"ccw"` or `"cw"` (`--sense`).
+    pub sense: Option<String>,
 }
 
 impl Options {
@@ -106,6 +108,17 @@ impl Options {
             o.refine_options.ratio_bounds = b;
         }
         o.smoothing = self.smooth;
+        o.inverse.sense = match self.sense.as_deref() {
+            None | Some("auto") => None,
+            Some("ccw") => Some(1),
+            Some("cw") => Some(-1),
+            Some(v) => {
+                return Err(ApiError::bad(
+                    "options.sense",
+                    format!("`{v}`: expected \"auto\", \"ccw\" or \"cw\""),
+                ));
+            }
+        };
         o.module_mm = self.module;
         Ok(o)
     }

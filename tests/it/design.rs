@@ -544,3 +544,39 @@ fn both_carrier_senses_are_judged_as_by_full_solves() {
     assert_eq!(inv_a.direction, -1);
     assert!(inv_a.other_sense_traceable);
 }
+
+/// A carrier sense asked for: the asymmetric loop, which both senses trace, is inverted CCW when
+/// CCW is asked for (the automatic choice is CW) and exactly as the automatic choice when CW is;
+/// the G1 loop, which only a CCW carrier traces, is refused CW with the sense named.
+#[test]
+fn a_carrier_sense_asked_for_is_kept_or_refused_by_name() {
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("assets/trajectories/asymmetric_cw.json");
+    let asym = Trajectory::from_path(&path).unwrap();
+    let center = [250.0, 400.0];
+    let auto = invert(&asym, center, &InverseOptions::default()).unwrap();
+    let mut opts = InverseOptions::default();
+    opts.sense = Some(-1);
+    let cw = invert(&asym, center, &opts).unwrap();
+    assert_eq!(
+        (cw.direction, cw.l1_mm, cw.l3_mm),
+        (auto.direction, auto.l1_mm, auto.l3_mm)
+    );
+    opts.sense = Some(1);
+    let ccw = invert(&asym, center, &opts).unwrap();
+    assert_eq!(ccw.direction, 1);
+    // Both arms reach the same farthest and nearest tip: l1 ± l3 are the same either way.
+    assert!((ccw.l1_mm + ccw.l3_mm - auto.l1_mm - auto.l3_mm).abs() < 1e-6);
+    opts.sense = Some(-1);
+    let err = invert(&g1_trajectory(), [0.0, 0.0], &opts).unwrap_err();
+    assert!(
+        matches!(err, InverseError::SenseNotTraceable { sense: -1 }),
+        "{err}"
+    );
+    assert!(err.to_string().contains("CW"), "{err}");
+    // Not ±1: refused by the design's option check, naming the field.
+    let mut d = DesignOptions::default();
+    d.inverse.sense = Some(2);
+    let e = design(&g1_trajectory(), &d).unwrap_err();
+    assert!(e.to_string().contains("inverse.sense"), "{e}");
+}

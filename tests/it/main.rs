@@ -21,6 +21,7 @@ mod simulate;
 mod step;
 mod svg_render;
 mod swept;
+mod synthesis;
 mod teeth;
 mod tolerance;
 mod tradeoff;

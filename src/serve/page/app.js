@@ -90,6 +90,7 @@ function options() {
     tol_mm: num("tol"),
     order: num("order"),
     limits: $("limits").value,
+    sense: $("sense").value,
     max_pressure_angle: num("max-pressure"),
     min_concave_radius: num("min-concave"),
     module: num("module"),
@@ -341,7 +342,13 @@ async function openWith(request) {
 }
 
 const openExample = (name) => openWith(() => api("/api/examples/" + encodeURIComponent(name)));
-const openFile = (file) => openWith(async () => api("/api/parse", { name: file.name, text: await file.text() }));
+const MAX_UPLOAD_BYTES = 8 << 20; // the server's body limit
+const openFile = (file) => openWith(async () => {
+  if (file.size > MAX_UPLOAD_BYTES) {
+    throw new Error(`${file.name}: ${(file.size / 1048576).toFixed(1)} MB, larger than the 8 MB a trajectory may have here (about 100 000 points): thin the points first`);
+  }
+  return api("/api/parse", { name: file.name, text: await file.text() });
+});
 
 async function download(format) {
   setStatus("designing", "busy");

@@ -1,0 +1,447 @@
+//! Stage A of the synthesis: the dyad O–A–B (carrier axis, carrier arm, needle) through key poses.
+//!
+//! A pose k gives the needle tip `B_k` and the needle's direction `θ_k` (the world direction of
+//! A → B). For a needle of length `l3` the planet axis is then
+//!
+//! ```text
+//! A_k(l3) = B_k − l3·e(θ_k),      e(θ) = (cos θ, sin θ),
+//! ```
+//!
+//! and the arm reaches every pose when all `A_k` lie on one circle about O, of radius `l1`:
+//! `|A_k − O| = l1` (an RR dyad; Burmester's counting). With O free there are four unknowns
+//! (O, l1, l3):
+//!
+//! - **three poses**: one circle through the three `A_k` for every `l3` — a one-parameter
+//!   family ([`DyadSolutions::Family`], sampled over `l3`);
+//! - **four poses**: the four `A_k` are concyclic where
+//!   `det[|A_k|², A_k,x, A_k,y, 1] = 0`, a polynomial of degree ≤ 4 in `l3` (the first column is
+//!   quadratic in `l3`, the next two linear): at most four arms, found as the sign changes of the
+//!   determinant over a scan of `l3`, each refined to the accuracy asked for;
+//! - **five or more**: least squares — the local minima over `l3` of the algebraic circle fit's
+//!   geometric residual, each refined by Levenberg–Marquardt on the geometric residuals
+//!   `r_k = |A_k(l3) − O| − l1` in `(O, l1, l3)`.
+//!
+//! With O fixed by the machine layout the unknowns are `(l1, l3)`: two poses suffice, more are
+//! fitted the same way. Written by hand: it is the synthesis's own geometry (a 4×4 normal matrix).
+
+use nalgebra::{Matrix3, Matrix4, Vector3, Vector4};
+use serde::{Deserialize, Serialize};
+
+/// One key pose of the needle.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct Pose {
+    /// Needle tip B, mm.
+    pub tip_mm: [f64; 2],
+    /// World direction of the line planet axis A → tip B, rad (counter-clockwise from +x).
+    pub needle_rad: f64,
+}
+
+impl Pose {
+    /// The planet axis `A = B − l3·e(θ)` for a needle of `l3_mm`, mm.
+    #[must_use]
+    pub fn planet_axis(&self, l3_mm: f64) -> [f64; 2] {
+        [
+            self.tip_mm[0] - l3_mm * self.needle_rad.cos(),
+            self.tip_mm[1] - l3_mm * self.needle_rad.sin(),
+        ]
+    }
+}
+
+/// An arm O–A–B: carrier axis, carrier arm, needle.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct Dyad {
+    /// Carrier axis O, mm.
+    pub center_mm: [f64; 2],
+    /// Carrier arm `l1 = |OA|`, mm.
+    pub l1_mm: f64,
+    /// Needle `l3 = |AB|`, mm.
+    pub l3_mm: f64,
+    /// Largest `| |A_k − O| − l1 |` over the poses, mm: 0 when the arm reaches every pose.
+    pub max_residual_mm: f64,
+}
+
+impl Dyad {
+    /// The dyad of needle `l3_mm` and circle (`center_mm`, `l1_mm`), its residual over `poses`.
+    fn new(poses: &[Pose], center_mm: [f64; 2], l1_mm: f64, l3_mm: f64) -> Self {
+        let max_residual_mm = poses
+            .iter()
+            .map(|p| {
+                let a = p.planet_axis(l3_mm);
+                ((a[0] - center_mm[0]).hypot(a[1] - center_mm[1]) - l1_mm).abs()
+            })
+            .fold(0.0, f64::max);
+        Self {
+            center_mm,
+            l1_mm,
+            l3_mm,
+            max_residual_mm,
+        }
+    }
+
+    /// The carrier angle at each pose, `arg(A_k − O)`, rad in (−π, π].
+    #[must_use]
+    pub fn carrier_angles_rad(&self, poses: &[Pose]) -> Vec<f64> {
+        poses
+            .iter()
+            .map(|p| {
+                let a = p.planet_axis(self.l3_mm);
+                (a[1] - self.center_mm[1]).atan2(a[0] - self.center_mm[0])
+            })
+            .collect()
+    }
+}
+
+/// How the dyads are searched.
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[non_exhaustive]
+pub struct DyadOptions {
+    /// Carrier axis fixed by the machine layout, mm; `None` (default): solved for.
+    pub center_mm: Option<[f64; 2]>,
+    /// Longest needle searched, mm (default 1000: planting arms are well below a metre).
+    pub max_l3_mm: f64,
+    /// Needle lengths scanned over `(0, max_l3_mm]` (default 4000).
+    pub samples: usize,
+    /// Accuracy of a solution's `l3` and residual, mm (default 1e-9).
+    pub accuracy_mm: f64,
+}
+
+impl Default for DyadOptions {
+    fn default() -> Self {
+        Self {
+            center_mm: None,
+            max_l3_mm: 1000.0,
+            samples: 4000,
+            accuracy_mm: 1e-9,
+        }
+    }
+}
+
+/// The arms through the poses.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum DyadSolutions {
+    /// Finitely many arms, best (smallest residual) first: the exact ones of four poses, or the
+    /// least-squares optima of more (or of O fixed).
+    Finite(Vec<Dyad>),
+    /// Three poses with O free: one arm per needle length, sampled in increasing `l3`.
+    Family(Vec<Dyad>),
+}
+
+/// Why no dyad could be searched for.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[non_exhaustive]
+pub enum DyadError {
+    /// Too few poses for the unknowns.
+    #[error(
+        "{given} pose(s) given; at least {needed} are needed {}",
+        if *needed == 3 { "with the carrier axis free (or fix it: then two)" } else { "with the carrier axis fixed" }
+    )]
+    TooFewPoses {
+        /// Poses given.
+        given: usize,
+        /// Poses needed.
+        needed: usize,
+    },
+    /// A pose or an option is not a finite number.
+    #[error("pose {index}: its tip and needle direction must be finite numbers")]
+    NotFinite {
+        /// Pose index (0-based).
+        index: usize,
+    },
+    /// An option out of range.
+    #[error("{field} = {value}: {expected}")]
+    BadOption {
+        /// Option name.
+        field: &'static str,
+        /// Value given.
+        value: String,
+        /// What is admissible.
+        expected: &'static str,
+    },
+}
+
+/// The dyads through `poses` (module documentation), best first.
+///
+/// ```
+/// use ncgear::geometry::golden::g1_mechanism;
+/// use ncgear::synthesis::{DyadOptions, DyadSolutions, Pose, solve_dyads};
+/// // Five poses of the G1 train (l1 = 90 mm, l3 = 170 mm, O at the origin).
+/// let g1 = g1_mechanism();
+/// let poses: Vec<Pose> = [0.0f64, 72.0, 144.0, 216.0, 288.0]
+///     .iter()
+///     .map(|t| Pose { tip_mm: g1.tip(t.to_radians()), needle_rad: g1.needle_direction(t.to_radians()) })
+///     .collect();
+/// let DyadSolutions::Finite(arms) = solve_dyads(&poses, &DyadOptions::default())? else { panic!() };
+/// let best = arms[0];
+/// assert!((best.l1_mm - 90.0).abs() < 1e-6 && (best.l3_mm - 170.0).abs() < 1e-6);
+/// assert!(best.center_mm[0].hypot(best.center_mm[1]) < 1e-6);
+/// # Ok::<(), ncgear::synthesis::DyadError>(())
+/// ```
+///
+/// Errors: [`DyadError`].
+pub fn solve_dyads(poses: &[Pose], opts: &DyadOptions) -> Result<DyadSolutions, DyadError> {
+    if let Some(index) = poses
+        .iter()
+        .position(|p| !(p.tip_mm.iter().all(|v| v.is_finite()) && p.needle_rad.is_finite()))
+    {
+        return Err(DyadError::NotFinite { index });
+    }
+    if !(opts.max_l3_mm > 0.0 && opts.max_l3_mm.is_finite()) {
+        return Err(DyadError::BadOption {
+            field: "max_l3_mm",
+            value: opts.max_l3_mm.to_string(),
+            expected: "a positive length in mm",
+        });
+    }
+    if !(16..=1_000_000).contains(&opts.samples) {
+        return Err(DyadError::BadOption {
+            field: "samples",
+            value: opts.samples.to_string(),
+            expected: "16..=1000000 needle lengths",
+        });
+    }
+    let needed = if opts.center_mm.is_some() { 2 } else { 3 };
+    if poses.len() < needed {
+        return Err(DyadError::TooFewPoses {
+            given: poses.len(),
+            needed,
+        });
+    }
+    let step = opts.max_l3_mm / opts.samples as f64;
+    let grid = (1..=opts.samples).map(|j| step * j as f64);
+    if let Some(o) = opts.center_mm {
+        // O fixed: the spread of the distances |A_k − O| is minimal at the arm.
+        let spread = |l3: f64| circle_about(poses, o, l3).1;
+        let starts = local_minima(grid.map(|l3| (l3, spread(l3))));
+        return Ok(DyadSolutions::Finite(ranked(
+            starts
+                .into_iter()
+                .map(|l3| {
+                    refine(
+                        poses,
+                        [o[0], o[1], circle_about(poses, o, l3).0, l3],
+                        true,
+                        opts,
+                    )
+                })
+                .collect(),
+            opts,
+        )));
+    }
+    if poses.len() == 3 {
+        let family = grid
+            .filter_map(|l3| {
+                let a: Vec<[f64; 2]> = poses.iter().map(|p| p.planet_axis(l3)).collect();
+                let (o, r) = circumcircle(a[0], a[1], a[2])?;
+                Some(Dyad::new(poses, o, r, l3))
+            })
+            .collect();
+        return Ok(DyadSolutions::Family(family));
+    }
+    let starts: Vec<f64> = if poses.len() == 4 {
+        // The concyclicity determinant changes sign at each arm.
+        let det = |l3: f64| concyclic_det(poses, l3);
+        let samples: Vec<(f64, f64)> = grid.map(|l3| (l3, det(l3))).collect();
+        samples
+            .windows(2)
+            .filter(|w| w[0].1 == 0.0 || w[0].1.signum() != w[1].1.signum())
+            .map(|w| bisect(&det, w[0].0, w[1].0, opts.accuracy_mm))
+            .collect()
+    } else {
+        local_minima(grid.map(|l3| (l3, kasa(poses, l3).map_or(f64::INFINITY, |c| c.2))))
+    };
+    let dyads = starts
+        .into_iter()
+        .filter_map(|l3| {
+            let (o, r, _) = kasa(poses, l3)?;
+            Some(refine(poses, [o[0], o[1], r, l3], false, opts))
+        })
+        .collect();
+    Ok(DyadSolutions::Finite(ranked(dyads, opts)))
+}
+
+/// `dyads` within the search, duplicates (same `l3` to 1e-6 mm) removed, best first.
+fn ranked(mut dyads: Vec<Dyad>, opts: &DyadOptions) -> Vec<Dyad> {
+    dyads.retain(|d| {
+        d.l3_mm > 0.0 && d.l3_mm <= opts.max_l3_mm && d.l1_mm > 0.0 && d.max_residual_mm.is_finite()
+    });
+    dyads.sort_by(|a, b| a.max_residual_mm.total_cmp(&b.max_residual_mm));
+    let mut out: Vec<Dyad> = Vec::new();
+    for d in dyads {
+        if out.iter().all(|k| (k.l3_mm - d.l3_mm).abs() > 1e-6) {
+            out.push(d);
+        }
+    }
+    out
+}
+
+/// `det[|A_k|², A_k,x, A_k,y, 1]` of the first four poses' planet axes at needle `l3`, scaled by
+/// the points' size so that its sign is meaningful at any scale.
+fn concyclic_det(poses: &[Pose], l3: f64) -> f64 {
+    let a: Vec<[f64; 2]> = poses.iter().take(4).map(|p| p.planet_axis(l3)).collect();
+    let c = [
+        a.iter().map(|p| p[0]).sum::<f64>() / 4.0,
+        a.iter().map(|p| p[1]).sum::<f64>() / 4.0,
+    ];
+    let s = a
+        .iter()
+        .map(|p| (p[0] - c[0]).hypot(p[1] - c[1]))
+        .fold(1e-300, f64::max);
+    let m = Matrix4::from_fn(|i, j| {
+        let (x, y) = ((a[i][0] - c[0]) / s, (a[i][1] - c[1]) / s);
+        [x * x + y * y, x, y, 1.0][j]
+    });
+    m.determinant()
+}
+
+/// The algebraic (Kåsa) circle through the planet axes at needle `l3`: centre, radius and the
+/// RMS geometric residual; `None` when they are collinear.
+fn kasa(poses: &[Pose], l3: f64) -> Option<([f64; 2], f64, f64)> {
+    let a: Vec<[f64; 2]> = poses.iter().map(|p| p.planet_axis(l3)).collect();
+    let (mut n, mut b) = (Matrix3::zeros(), Vector3::zeros());
+    for p in &a {
+        let row = Vector3::new(p[0], p[1], 1.0);
+        n += row * row.transpose();
+        b -= row * (p[0] * p[0] + p[1] * p[1]);
+    }
+    let s = n.try_inverse()? * b;
+    let o = [-0.5 * s[0], -0.5 * s[1]];
+    let r2 = o[0] * o[0] + o[1] * o[1] - s[2];
+    if !(r2 > 0.0 && r2.is_finite()) {
+        return None;
+    }
+    let r = r2.sqrt();
+    let rms = (a
+        .iter()
+        .map(|p| ((p[0] - o[0]).hypot(p[1] - o[1]) - r).powi(2))
+        .sum::<f64>()
+        / a.len() as f64)
+        .sqrt();
+    Some((o, r, rms))
+}
+
+/// Mean distance of the planet axes from `o` at needle `l3`, and their RMS spread about it.
+fn circle_about(poses: &[Pose], o: [f64; 2], l3: f64) -> (f64, f64) {
+    let d: Vec<f64> = poses
+        .iter()
+        .map(|p| {
+            let a = p.planet_axis(l3);
+            (a[0] - o[0]).hypot(a[1] - o[1])
+        })
+        .collect();
+    let mean = d.iter().sum::<f64>() / d.len() as f64;
+    let var = d.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / d.len() as f64;
+    (mean, var.sqrt())
+}
+
+/// The circle through three points, `None` when they are (nearly) collinear.
+fn circumcircle(a: [f64; 2], b: [f64; 2], c: [f64; 2]) -> Option<([f64; 2], f64)> {
+    let (bx, by, cx, cy) = (b[0] - a[0], b[1] - a[1], c[0] - a[0], c[1] - a[1]);
+    let d = 2.0 * (bx * cy - by * cx);
+    let scale = (bx * bx + by * by).max(cx * cx + cy * cy);
+    if d.abs() <= 1e-12 * scale {
+        return None;
+    }
+    let (b2, c2) = (bx * bx + by * by, cx * cx + cy * cy);
+    let ux = (cy * b2 - by * c2) / d;
+    let uy = (bx * c2 - cx * b2) / d;
+    Some(([a[0] + ux, a[1] + uy], ux.hypot(uy)))
+}
+
+/// The `x` of the local minima of sampled `(x, f(x))` (interior samples no larger than both
+/// neighbours, and finite).
+fn local_minima(samples: impl Iterator<Item = (f64, f64)>) -> Vec<f64> {
+    let s: Vec<(f64, f64)> = samples.collect();
+    s.windows(3)
+        .filter(|w| w[1].1.is_finite() && w[1].1 <= w[0].1 && w[1].1 <= w[2].1)
+        .map(|w| w[1].0)
+        .collect()
+}
+
+/// A root of `f` in `[lo, hi]` (a sign change) to `tol`.
+fn bisect(f: &dyn Fn(f64) -> f64, mut lo: f64, mut hi: f64, tol: f64) -> f64 {
+    let mut flo = f(lo);
+    for _ in 0..200 {
+        if hi - lo <= tol {
+            break;
+        }
+        let mid = 0.5 * (lo + hi);
+        let fm = f(mid);
+        if fm == 0.0 {
+            return mid;
+        }
+        if fm.signum() == flo.signum() {
+            (lo, flo) = (mid, fm);
+        } else {
+            hi = mid;
+        }
+    }
+    0.5 * (lo + hi)
+}
+
+/// Levenberg–Marquardt on the geometric residuals `r_k = |A_k(l3) − O| − l1` from
+/// `x = [Ox, Oy, l1, l3]`; with `center_fixed` O stays.
+fn refine(poses: &[Pose], mut x: [f64; 4], center_fixed: bool, opts: &DyadOptions) -> Dyad {
+    let residuals = |x: &[f64; 4]| -> (Vec<f64>, Vec<[f64; 4]>) {
+        poses
+            .iter()
+            .map(|p| {
+                let a = p.planet_axis(x[3]);
+                let d = [a[0] - x[0], a[1] - x[1]];
+                let n = d[0].hypot(d[1]).max(1e-300);
+                let u = [d[0] / n, d[1] / n];
+                let e = [p.needle_rad.cos(), p.needle_rad.sin()];
+                let row = if center_fixed {
+                    [0.0, 0.0, -1.0, -(u[0] * e[0] + u[1] * e[1])]
+                } else {
+                    [-u[0], -u[1], -1.0, -(u[0] * e[0] + u[1] * e[1])]
+                };
+                (n - x[2], row)
+            })
+            .unzip()
+    };
+    let cost = |r: &[f64]| r.iter().map(|v| v * v).sum::<f64>();
+    let (mut r, mut j) = residuals(&x);
+    let mut lambda = 1e-6;
+    for _ in 0..200 {
+        let (mut n, mut g) = (Matrix4::<f64>::zeros(), Vector4::<f64>::zeros());
+        for (rk, jk) in r.iter().zip(&j) {
+            let v = Vector4::from(*jk);
+            n += v * v.transpose();
+            g += v * *rk;
+        }
+        if center_fixed {
+            n[(0, 0)] = 1.0;
+            n[(1, 1)] = 1.0;
+        }
+        let mut improved = false;
+        for _ in 0..20 {
+            let mut damped = n;
+            for i in 0..4 {
+                damped[(i, i)] += lambda * n[(i, i)].max(1e-12);
+            }
+            let Some(step) = damped.try_inverse().map(|m| -(m * g)) else {
+                break;
+            };
+            let trial = [
+                x[0] + step[0],
+                x[1] + step[1],
+                x[2] + step[2],
+                x[3] + step[3],
+            ];
+            let (rt, jt) = residuals(&trial);
+            if cost(&rt) < cost(&r) {
+                let small = step.norm() <= opts.accuracy_mm;
+                (x, r, j) = (trial, rt, jt);
+                lambda = (lambda * 0.3).max(1e-12);
+                improved = !small;
+                break;
+            }
+            lambda *= 10.0;
+        }
+        if !improved {
+            break;
+        }
+    }
+    Dyad::new(poses, [x[0], x[1]], x[2], x[3])
+}

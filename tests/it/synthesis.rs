@@ -1,0 +1,207 @@
+//! Synthesis from key poses, Stage A: the dyads through the poses (`ncgear::synthesis::dyad`).
+use ncgear::geometry::golden::{g1_mechanism, g4_ratio};
+use ncgear::geometry::mechanism::Mechanism;
+use ncgear::synthesis::{Dyad, DyadError, DyadOptions, DyadSolutions, Pose, solve_dyads};
+
+/// Poses of `m` at carrier angles `t_deg`, carrier axis at `center`, mirrored in x for a CW
+/// carrier (`cw`).
+fn poses_of(m: &Mechanism, t_deg: &[f64], center: [f64; 2], cw: bool) -> Vec<Pose> {
+    t_deg
+        .iter()
+        .map(|t| {
+            let (b, beta) = (m.tip(t.to_radians()), m.needle_direction(t.to_radians()));
+            let (bx, beta) = if cw {
+                (-b[0], std::f64::consts::PI - beta)
+            } else {
+                (b[0], beta)
+            };
+            Pose {
+                tip_mm: [center[0] + bx, center[1] + b[1]],
+                needle_rad: beta,
+            }
+        })
+        .collect()
+}
+
+fn finite(s: DyadSolutions) -> Vec<Dyad> {
+    match s {
+        DyadSolutions::Finite(v) => v,
+        DyadSolutions::Family(_) => panic!("a family where finitely many arms were expected"),
+    }
+}
+
+/// The arm among `arms` within `tol` mm of (center, l1, l3), if any.
+fn found(arms: &[Dyad], center: [f64; 2], l1: f64, l3: f64, tol: f64) -> bool {
+    arms.iter().any(|d| {
+        (d.center_mm[0] - center[0]).abs() <= tol
+            && (d.center_mm[1] - center[1]).abs() <= tol
+            && (d.l1_mm - l1).abs() <= tol
+            && (d.l3_mm - l3).abs() <= tol
+    })
+}
+
+/// The G1 poses at t = 0, 72, …, 288° are the published table (B to 1e-6 mm, β to 1e-6°).
+#[test]
+fn g1_poses_are_the_published_table() {
+    let table = [
+        (148.143424, -159.747746, -70.000000),
+        (-13.655742, -79.269905, -104.118321),
+        (-60.564512, -116.657608, -85.868760),
+        (26.796673, -190.662083, -54.131240),
+        (165.550476, -185.234348, -35.881679),
+    ];
+    let poses = poses_of(
+        &g1_mechanism(),
+        &[0.0, 72.0, 144.0, 216.0, 288.0],
+        [0.0; 2],
+        false,
+    );
+    for (p, (x, y, beta)) in poses.iter().zip(table) {
+        assert!(
+            (p.tip_mm[0] - x).abs() < 2e-6 && (p.tip_mm[1] - y).abs() < 2e-6,
+            "{p:?}"
+        );
+        let d = (p.needle_rad.to_degrees() - beta + 180.0).rem_euclid(360.0) - 180.0;
+        assert!(d.abs() < 2e-6, "{p:?} vs {beta}");
+    }
+}
+
+/// Five exact poses of G1: the original arm is the best solution, to 1e-6 mm, residual ~0; its
+/// carrier angles are the poses' own.
+#[test]
+fn five_g1_poses_give_back_the_arm() {
+    let t = [0.0, 72.0, 144.0, 216.0, 288.0];
+    let poses = poses_of(&g1_mechanism(), &t, [0.0; 2], false);
+    let arms = finite(solve_dyads(&poses, &DyadOptions::default()).unwrap());
+    let best = arms[0];
+    assert!(found(&[best], [0.0, 0.0], 90.0, 170.0, 1e-6), "{arms:?}");
+    assert!(best.max_residual_mm < 1e-9, "{best:?}");
+    for (phi, t) in best.carrier_angles_rad(&poses).iter().zip(t) {
+        let d = (phi.to_degrees() - t + 180.0).rem_euclid(360.0) - 180.0;
+        assert!(d.abs() < 1e-6, "{phi} vs {t}");
+    }
+}
+
+/// Four poses determine finitely many arms (the roots of the concyclicity determinant): the
+/// original is among them, exact.
+#[test]
+fn four_poses_give_finitely_many_arms_among_them_the_original() {
+    let poses = poses_of(&g1_mechanism(), &[0.0, 72.0, 144.0, 216.0], [0.0; 2], false);
+    let arms = finite(solve_dyads(&poses, &DyadOptions::default()).unwrap());
+    assert!(!arms.is_empty() && arms.len() <= 4, "{arms:?}");
+    assert!(found(&arms, [0.0, 0.0], 90.0, 170.0, 1e-6), "{arms:?}");
+    assert!(arms.iter().all(|d| d.max_residual_mm < 1e-6), "{arms:?}");
+}
+
+/// Eight poses taken as approximate: the least-squares arm has a zero residual and is the original.
+#[test]
+fn eight_approximate_poses_have_a_zero_residual_arm() {
+    let t: Vec<f64> = (0..8).map(|k| 45.0 * f64::from(k)).collect();
+    let poses = poses_of(&g1_mechanism(), &t, [0.0; 2], false);
+    let arms = finite(solve_dyads(&poses, &DyadOptions::default()).unwrap());
+    assert!(found(&arms[..1], [0.0, 0.0], 90.0, 170.0, 1e-6), "{arms:?}");
+    assert!(arms[0].max_residual_mm < 1e-9);
+}
+
+/// Three poses leave a family, one arm per needle length; the member at l3 = 170 mm is G1's.
+#[test]
+fn three_poses_leave_a_family_through_the_original() {
+    let poses = poses_of(&g1_mechanism(), &[0.0, 120.0, 240.0], [0.0; 2], false);
+    let DyadSolutions::Family(family) = solve_dyads(&poses, &DyadOptions::default()).unwrap()
+    else {
+        panic!("three poses with O free are a family")
+    };
+    assert!(family.len() > 1000);
+    assert!(family.iter().all(|d| d.max_residual_mm < 1e-6));
+    let member = family
+        .iter()
+        .min_by(|a, b| (a.l3_mm - 170.0).abs().total_cmp(&(b.l3_mm - 170.0).abs()))
+        .unwrap();
+    assert!(
+        found(&[*member], [0.0, 0.0], 90.0, 170.0, 1e-6),
+        "{member:?}"
+    );
+}
+
+/// Trains the chain did not make: other arms, centres and carrier senses, 4, 5 and 8 poses. The
+/// original arm is among the solutions within 1e-6 mm.
+#[test]
+fn arms_of_other_trains_are_found() {
+    let trains = [
+        (
+            Mechanism {
+                a_mm: 40.0,
+                l3_mm: 150.0,
+                ratio: g4_ratio(),
+                sun_phase_rad: 0.4,
+                needle_angle_rad: -1.1,
+            },
+            [30.0, -20.0],
+            false,
+        ),
+        (
+            Mechanism {
+                a_mm: 52.0,
+                l3_mm: 185.0,
+                ratio: g4_ratio(),
+                sun_phase_rad: -0.7,
+                needle_angle_rad: 0.3,
+            },
+            [250.0, 400.0],
+            true,
+        ),
+        (
+            Mechanism {
+                l3_mm: 160.0,
+                ..g1_mechanism()
+            },
+            [-40.0, 15.0],
+            true,
+        ),
+    ];
+    for (m, center, cw) in trains {
+        for t in [
+            vec![10.0, 100.0, 190.0, 280.0],
+            vec![0.0, 60.0, 150.0, 230.0, 300.0],
+            (0..8).map(|k| 5.0 + 45.0 * f64::from(k)).collect(),
+        ] {
+            let poses = poses_of(&m, &t, center, cw);
+            let arms = finite(solve_dyads(&poses, &DyadOptions::default()).unwrap());
+            assert!(
+                found(&arms, center, m.l1_mm(), m.l3_mm, 1e-6),
+                "{} poses: {arms:?}",
+                t.len()
+            );
+        }
+    }
+}
+
+/// The carrier axis fixed by the machine: two poses suffice.
+#[test]
+fn a_fixed_axis_needs_two_poses() {
+    let poses = poses_of(&g1_mechanism(), &[0.0, 144.0], [0.0; 2], false);
+    let mut opts = DyadOptions::default();
+    opts.center_mm = Some([0.0, 0.0]);
+    let arms = finite(solve_dyads(&poses, &opts).unwrap());
+    assert!(found(&arms, [0.0, 0.0], 90.0, 170.0, 1e-6), "{arms:?}");
+}
+
+/// Too few poses and non-finite numbers are refused by name.
+#[test]
+fn too_few_or_non_finite_poses_are_refused() {
+    let poses = poses_of(&g1_mechanism(), &[0.0, 72.0], [0.0; 2], false);
+    let e = solve_dyads(&poses, &DyadOptions::default()).unwrap_err();
+    assert_eq!(
+        e,
+        DyadError::TooFewPoses {
+            given: 2,
+            needed: 3
+        }
+    );
+    let mut bad = poses_of(&g1_mechanism(), &[0.0, 72.0, 144.0], [0.0; 2], false);
+    bad[1].needle_rad = f64::NAN;
+    assert_eq!(
+        solve_dyads(&bad, &DyadOptions::default()).unwrap_err(),
+        DyadError::NotFinite { index: 1 }
+    );
+}
