@@ -11,6 +11,7 @@ mod orbit;
 mod pair;
 mod serve;
 mod simulate;
+mod synthesize;
 mod teeth_args;
 mod tolerance;
 mod tradeoff;
@@ -44,6 +45,8 @@ enum Command {
     Dynamics(dynamics::Args),
     /// The interactive designer in the browser: drag the trajectory, watch the gears follow.
     Serve(serve::Args),
+    /// Key poses of the needle (and target bands) → the mechanism and its gears.
+    Synthesize(synthesize::Args),
 }
 
 /// How a command failed; decides the exit code.
@@ -235,6 +238,7 @@ pub fn main() -> ExitCode {
         Command::Orbit(a) => orbit::run(a),
         Command::Dynamics(a) => dynamics::run(a),
         Command::Serve(a) => serve::run(a),
+        Command::Synthesize(a) => synthesize::run(a),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

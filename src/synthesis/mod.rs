@@ -8,9 +8,23 @@
 //! Stage A, the dyad ([`dyad`]): the carrier axis O, the carrier arm `l1 = |OA|` and the needle
 //! `l3 = |AB|` of every arm that puts the tip on each pose with the needle in its direction.
 //!
+//! Stage B, the timing ([`timing`]): the carrier sense and the carrier angle of each pose, then
+//! the smoothest sun ratio (with its phase and the needle angle) whose train turns the needle
+//! into each pose's direction — a train, so the design chain can make its gears.
+//!
+//! [`synthesize`] runs both for a [`Spec`] (`ncgear synthesize SPEC.toml`), hands each candidate
+//! train's path to the design chain, measures the poses on the resulting gears and reports the
+//! target bands ([`run`]).
+//!
 //! Frame and units as everywhere: world frame, y up, mm; a pose's needle direction is the world
 //! direction of the line planet axis A → needle tip B, rad (degrees in files).
 
 pub mod dyad;
+pub mod run;
+pub mod spec;
+pub mod timing;
 
 pub use dyad::{Dyad, DyadError, DyadOptions, DyadSolutions, Pose, solve_dyads};
+pub use run::{Synthesis, SynthesisError, SynthesisReport, synthesize};
+pub use spec::Spec;
+pub use timing::{POSE_TOL_RAD, Timing, TimingError, carrier_angles, fit_timing};

@@ -205,3 +205,172 @@ fn too_few_or_non_finite_poses_are_refused() {
         DyadError::NotFinite { index: 1 }
     );
 }
+
+/// Stage B on G1's five poses: the carrier angles are the poses' own (CCW), and the smoothest
+/// train of order 4 passes every pose within 1e-6 mm and 1e-6°; the same poses mirrored (a CW
+/// carrier) give the mirrored timing.
+#[test]
+fn the_timing_of_g1_poses_passes_every_pose() {
+    use ncgear::synthesis::{POSE_TOL_RAD, carrier_angles, fit_timing};
+    let t = [0.0, 72.0, 144.0, 216.0, 288.0];
+    for cw in [false, true] {
+        let poses = poses_of(&g1_mechanism(), &t, [10.0, -5.0], cw);
+        let arms = finite(solve_dyads(&poses, &DyadOptions::default()).unwrap());
+        let (direction, angles) = carrier_angles(&poses, &arms[0], None).unwrap();
+        assert_eq!(direction, if cw { -1 } else { 1 });
+        // The solved frame mirrors a CW carrier in y; the poses were mirrored in x: half a turn.
+        let turn = if cw { 180.0 } else { 0.0 };
+        for (phi, t) in angles.iter().zip(t) {
+            let d = (phi.to_degrees() - t - turn + 180.0).rem_euclid(360.0) - 180.0;
+            assert!(d.abs() < 1e-6, "{phi} vs {t}");
+        }
+        let timing = fit_timing(&poses, &arms[0], direction, &angles, 4, &[POSE_TOL_RAD; 5]);
+        for (k, (phi, p)) in angles.iter().zip(&poses).enumerate() {
+            let b = timing.mechanism.tip(*phi);
+            // Back to the world frame: mirrored in y for CW, then about O.
+            let s = f64::from(direction);
+            let w = [10.0 + b[0], -5.0 + s * b[1]];
+            let e = (w[0] - p.tip_mm[0]).hypot(w[1] - p.tip_mm[1]);
+            assert!(e < 1e-6, "pose {k}: {e} mm");
+            assert!(
+                timing.residuals_rad[k].abs().to_degrees() < 1e-6,
+                "{:?}",
+                timing.residuals_rad
+            );
+        }
+    }
+}
+
+/// Poses out of travel order are refused, naming the angles.
+#[test]
+fn poses_out_of_travel_order_are_refused() {
+    use ncgear::synthesis::{TimingError, carrier_angles};
+    let poses = poses_of(
+        &g1_mechanism(),
+        &[0.0, 144.0, 72.0, 216.0, 288.0],
+        [0.0; 2],
+        false,
+    );
+    let arms = finite(solve_dyads(&poses, &DyadOptions::default()).unwrap());
+    let e = carrier_angles(&poses, &arms[0], None).unwrap_err();
+    assert!(matches!(e, TimingError::TravelOrder { .. }), "{e}");
+}
+
+/// The whole synthesis on G1's five poses (the bundled spec): the original arm, every pose passed
+/// by the designed gears within 0.01 mm and 0.01°, gears within the limits, checks passed.
+#[test]
+fn g1_spec_synthesises_gears_that_pass_every_pose() {
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("assets/synthesis/g1_five_poses.toml");
+    let spec: ncgear::synthesis::Spec = ncgear::config::load(&path).unwrap();
+    let s = ncgear::synthesis::synthesize(&spec, &ncgear::DesignOptions::default()).unwrap();
+    let r = &s.report;
+    assert!(
+        found(&r.dyads, [0.0, 0.0], 90.0, 170.0, 1e-6),
+        "{:?}",
+        r.dyads
+    );
+    assert_eq!(r.carrier, "ccw");
+    for p in &r.poses {
+        assert!(p.error_mm < 0.01 && p.error_deg.abs() < 0.01, "{p:?}");
+    }
+    let d = &s.design.report;
+    assert!(d.verdict.passed, "{:?}", d.verdict);
+    assert!(d.limits.pressure_angle_deg <= d.limits.max_pressure_angle_deg);
+    assert!(r.targets.iter().all(|t| t.margin >= 0.0), "{:?}", r.targets);
+}
+
+/// Poses of trains the chain did not make (other arms, centres, CW, 4 and 8 poses, two of them
+/// approximate): the original arm among the dyads and every pose passed within 0.05 mm / 0.05°.
+#[test]
+fn other_trains_are_synthesised_from_their_poses() {
+    use ncgear::synthesis::spec::{PoseSpec, Spec};
+    let trains = [
+        (
+            Mechanism {
+                a_mm: 44.0,
+                l3_mm: 172.0,
+                ratio: ncgear::geometry::fourier::SunRatio::new(
+                    vec![0.12, 0.02],
+                    vec![0.03, -0.01],
+                )
+                .unwrap(),
+                sun_phase_rad: 0.4,
+                needle_angle_rad: -1.1,
+            },
+            [30.0, -20.0],
+            false,
+            vec![10.0, 100.0, 190.0, 280.0],
+        ),
+        (
+            Mechanism {
+                l3_mm: 160.0,
+                ..g1_mechanism()
+            },
+            [-40.0, 15.0],
+            true,
+            (0..8)
+                .map(|k| 5.0 + 45.0 * f64::from(k))
+                .collect::<Vec<f64>>(),
+        ),
+    ];
+    for (m, center, cw, t) in trains {
+        let poses = poses_of(&m, &t, center, cw);
+        let spec = Spec {
+            poses: poses
+                .iter()
+                .enumerate()
+                .map(|(k, p)| PoseSpec {
+                    x_mm: p.tip_mm[0],
+                    y_mm: p.tip_mm[1],
+                    needle_deg: p.needle_rad.to_degrees(),
+                    kind: (k % 4 == 3).then(|| "approximate".to_string()),
+                    tol_mm: Some(0.05),
+                    tol_deg: Some(0.05),
+                })
+                .collect(),
+            ..Spec::default()
+        };
+        let s = ncgear::synthesis::synthesize(&spec, &ncgear::DesignOptions::default()).unwrap();
+        assert!(
+            found(&s.report.dyads, center, m.l1_mm(), m.l3_mm, 1e-6),
+            "{:?}",
+            s.report.dyads
+        );
+        assert_eq!(s.report.carrier, if cw { "cw" } else { "ccw" });
+        for p in &s.report.poses {
+            assert!(
+                p.error_mm < 0.05 && p.error_deg.abs() < 0.05,
+                "{} poses: {p:?}",
+                t.len()
+            );
+        }
+    }
+}
+
+/// Poses out of travel order and contradicting bands are refused by name, fast; the plant-spacing
+/// identity (15 r/min, two plants per turn, 55 mm/s → 110 mm).
+#[test]
+fn infeasible_specs_are_refused_by_name() {
+    use ncgear::synthesis::spec::PoseSpec;
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("assets/synthesis/g1_five_poses.toml");
+    let mut spec: ncgear::synthesis::Spec = ncgear::config::load(&path).unwrap();
+    spec.poses.swap(1, 2);
+    let t0 = std::time::Instant::now();
+    let e = ncgear::synthesis::synthesize(&spec, &ncgear::DesignOptions::default()).unwrap_err();
+    assert!(e.to_string().contains("travel order"), "{e}");
+    assert!(t0.elapsed().as_secs_f64() < 1.0);
+    let mut spec: ncgear::synthesis::Spec = ncgear::config::load(&path).unwrap();
+    spec.targets.height_mm = Some([300.0, 250.0]);
+    let e = ncgear::synthesis::synthesize(&spec, &ncgear::DesignOptions::default()).unwrap_err();
+    assert!(e.to_string().contains("targets.height_mm"), "{e}");
+    let none = ncgear::synthesis::Spec {
+        poses: Vec::<PoseSpec>::new(),
+        ..spec
+    };
+    let e = ncgear::synthesis::synthesize(&none, &ncgear::DesignOptions::default()).unwrap_err();
+    assert!(e.to_string().contains("[[pose]]"), "{e}");
+    let v = ncgear::simulate::FeatureOptions::forward_for_spacing(110.0, 15.0);
+    assert!((v - 55.0).abs() < 1e-12, "{v}");
+}

@@ -13,7 +13,7 @@ const state = {
   name: "", orig: [], u: [], nodes: [], disp: [],
   design: null, phiIndex: 0, playing: false,
   view: { cx: 0, cy: 0, w: 400 },
-  undo: [], redo: [], controller: null, timer: null,
+  undo: [], redo: [], controller: null, timer: null, clock: null,
 };
 
 // ---- status --------------------------------------------------------------------------------
@@ -22,6 +22,13 @@ function setStatus(text, kind) {
   s.textContent = text;
   s.className = "status" + (kind ? " " + kind : "");
   $("cancel").disabled = kind !== "busy";
+  // Progress of a running request: the seconds it has taken so far, beside the status.
+  clearInterval(state.clock);
+  $("elapsed").textContent = "";
+  if (kind === "busy") {
+    const t0 = performance.now();
+    state.clock = setInterval(() => { $("elapsed").textContent = ((performance.now() - t0) / 1000).toFixed(1) + " s"; }, 100);
+  }
 }
 
 async function api(path, body, signal) {

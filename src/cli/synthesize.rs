@@ -1,0 +1,123 @@
+//! `ncgear synthesize SPEC.toml --out DIR`: key poses → mechanism and gears
+//! ([`ncgear::synthesis`]).
+use super::{CliResult, input_error, print_json, runtime_error};
+use ncgear::design::DesignOptions;
+use ncgear::synthesis::{Spec, SynthesisError, synthesize};
+use std::path::PathBuf;
+
+/// Arguments of `ncgear synthesize`.
+#[derive(Debug, clap::Args)]
+pub struct Args {
+    /// Spec file (TOML or JSON): `[machine]`, `[[pose]]` (x_mm, y_mm, needle_deg, kind), `[targets]`.
+    pub spec: PathBuf,
+    /// Output directory: the design's files (design.json, pitch curves, previews) and synthesis.json.
+    #[arg(long, default_value = "out")]
+    pub out: PathBuf,
+    /// Print synthesis.json to stdout instead of the summary.
+    #[arg(long)]
+    pub json: bool,
+    /// Exit 0 even when a pose is missed by more than 0.05 mm / 0.05° or the design fails a check.
+    #[arg(long)]
+    pub accept_failed: bool,
+}
+
+/// Largest pose error that counts as passed, mm and degrees.
+const POSE_PASS: (f64, f64) = (0.05, 0.05);
+
+/// Runs `ncgear synthesize`.
+pub fn run(args: Args) -> CliResult {
+    let started = std::time::Instant::now();
+    let file = args.spec.display().to_string();
+    let spec: Spec =
+        ncgear::config::load(&args.spec).map_err(|e| input_error(miette::miette!("{e}")))?;
+    let pb = super::spinner("synthesising");
+    let s = synthesize(&spec, &DesignOptions::default());
+    pb.finish_and_clear();
+    let s = s.map_err(|e| match e {
+        SynthesisError::NoDesign(_) => runtime_error(miette::miette!("{file}: {e}")),
+        _ => input_error(miette::miette!("{file}: {e}")),
+    })?;
+    super::remove_stale_report(&args.out.join("synthesis.json"))?;
+    let mut written = ncgear::output::write_design_with(&s.design, &args.out, Default::default())
+        .map_err(|e| runtime_error(miette::miette!("{e}")))?;
+    let path = args.out.join("synthesis.json");
+    let json = ncgear::output::json::to_string(&s.report)
+        .map_err(|e| runtime_error(miette::miette!("{e}")))?;
+    ncgear::files::write_whole(&path, json)
+        .map_err(|e| runtime_error(miette::miette!("{}: {e}", path.display())))?;
+    written.push(path);
+    let r = &s.report;
+    let missed: Vec<usize> = r
+        .poses
+        .iter()
+        .enumerate()
+        .filter(|(_, p)| p.error_mm > POSE_PASS.0 || p.error_deg.abs() > POSE_PASS.1)
+        .map(|(k, _)| k)
+        .collect();
+    if args.json {
+        print_json(r)?;
+    } else {
+        let c = &r.candidates[r.chosen];
+        println!(
+            "{file}: {} poses, {} arm(s) ({}), carrier {}",
+            r.poses.len(),
+            r.dyads.len(),
+            r.dyad_kind,
+            r.carrier.to_uppercase()
+        );
+        println!(
+            "  chosen: O = ({:.6}, {:.6}) mm, l1 = {:.6} mm, l3 = {:.6} mm (candidate {} of {})",
+            c.dyad.center_mm[0],
+            c.dyad.center_mm[1],
+            c.dyad.l1_mm,
+            c.dyad.l3_mm,
+            r.chosen + 1,
+            r.candidates.len()
+        );
+        for (k, p) in r.poses.iter().enumerate() {
+            println!(
+                "  pose {k}: at carrier {:.3}°, {:.6} mm and {:.6}° from the designed gears' tip and needle",
+                p.carrier_deg, p.error_mm, p.error_deg
+            );
+        }
+        for t in &r.targets {
+            println!(
+                "  {}: {:.3} in [{}, {}]: {}",
+                t.index,
+                t.value,
+                t.band[0],
+                t.band[1],
+                if t.margin >= 0.0 {
+                    format!("met, margin {:.3}", t.margin)
+                } else {
+                    format!("MISSED by {:.3}", -t.margin)
+                }
+            );
+        }
+        let d = &s.design.report;
+        println!(
+            "  gears: pressure angle {:.2}°, round trip {:.4} mm, checks {}",
+            d.limits.pressure_angle_deg,
+            d.roundtrip.max_deviation_mm,
+            if d.verdict.passed { "pass" } else { "FAILED" }
+        );
+        println!(
+            "  {:.1} ms; wrote {}",
+            super::ms_since(started),
+            written
+                .iter()
+                .map(|p| p.display().to_string())
+                .collect::<Vec<_>>()
+                .join(", ")
+        );
+    }
+    if !missed.is_empty() && !args.accept_failed {
+        return Err(super::Failure::Verification(miette::miette!(
+            help = "the files are written; --accept-failed exits 0 with them",
+            "pose(s) {missed:?} missed by more than {} mm or {}°",
+            POSE_PASS.0,
+            POSE_PASS.1
+        )));
+    }
+    super::verdict_outcome(&s.design.report.verdict, args.accept_failed)
+}

@@ -1,0 +1,244 @@
+//! Stage B of the synthesis: the carrier sense, the carrier angle of each pose, and the smoothest
+//! sun ratio whose train turns the needle into every pose's direction.
+//!
+//! With the dyad fixed, pose k is reached at carrier angle `φ_k = arg(A_k − O)`. The poses are
+//! in travel order, so the carrier sense is the one in which the `φ_k` advance by exactly one turn
+//! around the cycle (checked first: poses out of order are refused). In the solved frame (relative
+//! to O, CCW; a CW carrier is mirrored in y, angles negated) the train's needle direction is
+//! `β(φ) = φ + π − S(φ − u0) + γ` ([`Mechanism::needle_direction`], `S` the half-turn map of the
+//! sun ratio `i21 = 1 + Σ a_j cos ju + b_j sin ju`), so the pose equations are
+//!
+//! ```text
+//! β(φ_k) = θ_k  (mod 2π),   k = 1…K,
+//! ```
+//!
+//! in the unknowns `a_j, b_j` (j ≤ N), the sun phase `u0` and the needle angle `γ`: fewer
+//! equations than unknowns for the usual orders, so the ratio is chosen smoothest — the pose
+//! residuals divided by their tolerance (exact poses: [`POSE_TOL_RAD`]) and the smoothness rows
+//! `λ·j²·(a_j, b_j)` minimised together by Levenberg–Marquardt (numerical Jacobian), from four
+//! sun phases, the pose rows tightened in steps (a continuation: the smoothness rows steer while
+//! the poses are loose); the best is kept. Every candidate is a sun ratio, so every candidate is a train
+//! (docs/math/chain.md §6: the planet law follows from the sun), i21 > 0 by construction.
+
+use super::dyad::{Dyad, Pose};
+use crate::geometry::fourier::SunRatio;
+use crate::geometry::mechanism::Mechanism;
+use nalgebra::{DMatrix, DVector};
+use std::f64::consts::{PI, TAU};
+
+/// Needle-direction tolerance standing for an exact pose, rad (1e-6°).
+pub const POSE_TOL_RAD: f64 = 1e-6 * PI / 180.0;
+
+/// Weight λ of the smoothness rows `λ·j²·(a_j, b_j)`.
+const SMOOTHNESS: f64 = 1e-2;
+
+/// Floors of the pose tolerance, rad, one Levenberg–Marquardt run each: from 0.6° down to the
+/// exact poses' [`POSE_TOL_RAD`].
+const CONTINUATION_RAD: [f64; 5] = [1e-2, 1e-3, 1e-4, 1e-6, POSE_TOL_RAD];
+
+/// The timing of a train through the poses.
+#[derive(Debug, Clone)]
+pub struct Timing {
+    /// +1 CCW, −1 CW.
+    pub direction: i8,
+    /// Carrier angle of each pose in the solved frame (CCW from the first pose's), rad.
+    pub carrier_angles_rad: Vec<f64>,
+    /// The train, solved frame (relative to O, CCW).
+    pub mechanism: Mechanism,
+    /// Each pose's needle-direction residual of the fit, rad.
+    pub residuals_rad: Vec<f64>,
+}
+
+/// Why no timing could be found.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[non_exhaustive]
+pub enum TimingError {
+    /// The poses are not in travel order for any carrier sense.
+    #[error(
+        "the poses are not in travel order: their carrier angles (deg, in the order given) {angles_deg:?} go round the axis {turns} times counter-clockwise; reorder the poses along the path"
+    )]
+    TravelOrder {
+        /// Carrier angles of the poses, degrees.
+        angles_deg: Vec<f64>,
+        /// Turns made in the CCW reading.
+        turns: i64,
+    },
+    /// The sense asked for is not the poses' travel sense.
+    #[error("the poses run {found} round the carrier axis, but the carrier was set to {asked}")]
+    Sense {
+        /// The sense of the poses.
+        found: &'static str,
+        /// The sense asked for.
+        asked: &'static str,
+    },
+}
+
+/// The carrier sense of `poses` reached by `dyad` in travel order (`sense` asked for, or either),
+/// and the carrier angles in the solved frame, unwrapped from the first pose.
+pub fn carrier_angles(
+    poses: &[Pose],
+    dyad: &Dyad,
+    sense: Option<i8>,
+) -> Result<(i8, Vec<f64>), TimingError> {
+    let phi = dyad.carrier_angles_rad(poses);
+    let k = phi.len();
+    let step = |i: usize, s: f64| (s * (phi[(i + 1) % k] - phi[i])).rem_euclid(TAU);
+    let turns = |s: f64| ((0..k).map(|i| step(i, s)).sum::<f64>() / TAU).round() as i64;
+    let name = |d: i8| if d > 0 { "CCW" } else { "CW" };
+    let found = match (turns(1.0), turns(-1.0)) {
+        (1, _) => 1,
+        (_, 1) => -1,
+        (t, _) => {
+            return Err(TimingError::TravelOrder {
+                angles_deg: phi.iter().map(|p| p.to_degrees()).collect(),
+                turns: t,
+            });
+        }
+    };
+    let direction = match sense {
+        Some(s) if s != found && k != 2 => {
+            return Err(TimingError::Sense {
+                found: name(found),
+                asked: name(s),
+            });
+        }
+        Some(s) => s,
+        None => found,
+    };
+    let s = f64::from(direction);
+    let mut out = vec![0.0];
+    for i in 0..k - 1 {
+        out.push(out[i] + step(i, s));
+    }
+    // Solved frame: the first pose's angle, mirrored for CW.
+    let phi0 = s * phi[0];
+    Ok((direction, out.iter().map(|d| phi0 + d).collect()))
+}
+
+/// The smoothest train of Fourier order `order` through the poses (module documentation);
+/// `tolerances_rad[k]` is pose k's direction tolerance ([`POSE_TOL_RAD`] for an exact pose).
+#[must_use]
+pub fn fit_timing(
+    poses: &[Pose],
+    dyad: &Dyad,
+    direction: i8,
+    angles: &[f64],
+    order: usize,
+    tolerances_rad: &[f64],
+) -> Timing {
+    // Needle directions in the solved frame (a CW carrier mirrored in y: θ → −θ).
+    let theta: Vec<f64> = poses
+        .iter()
+        .map(|p| f64::from(direction) * p.needle_rad)
+        .collect();
+    let build = |x: &[f64]| -> Option<Mechanism> {
+        let ratio = SunRatio::new(x[2..2 + order].to_vec(), x[2 + order..].to_vec()).ok()?;
+        Some(Mechanism {
+            a_mm: 0.5 * dyad.l1_mm,
+            l3_mm: dyad.l3_mm,
+            ratio,
+            sun_phase_rad: x[0],
+            needle_angle_rad: x[1],
+        })
+    };
+    // Pose rows divided by max(tolerance, floor): the floor falls over CONTINUATION_RAD so that the
+    // smoothness rows steer the first steps (the pose equations alone leave most directions free).
+    let residuals_at = |x: &[f64], floor: f64| -> Option<DVector<f64>> {
+        let m = build(x)?;
+        let mut r: Vec<f64> = angles
+            .iter()
+            .zip(&theta)
+            .zip(tolerances_rad)
+            .map(|((phi, th), tol)| {
+                let d = (m.needle_direction(*phi) - th + PI).rem_euclid(TAU) - PI;
+                d / tol.max(floor)
+            })
+            .collect();
+        for j in 1..=order {
+            let w = SMOOTHNESS * (j * j) as f64;
+            r.push(w * x[1 + j]);
+            r.push(w * x[1 + order + j]);
+        }
+        Some(DVector::from_vec(r))
+    };
+    let cost =
+        |x: &[f64]| residuals_at(x, POSE_TOL_RAD).map_or(f64::INFINITY, |r| r.norm_squared());
+    let best = [0.0, 0.5 * PI, PI, 1.5 * PI]
+        .into_iter()
+        .map(|u0| {
+            // γ so that the circular train (i21 ≡ 1) meets the first pose.
+            let mut x = vec![0.0; 2 + 2 * order];
+            x[0] = u0;
+            let m0 = build(&x).expect("a circular ratio");
+            x[1] = theta[0] - (m0.needle_direction(angles[0]) - m0.needle_angle_rad);
+            for floor in CONTINUATION_RAD {
+                x = levenberg_marquardt(&|x: &[f64]| residuals_at(x, floor), x);
+            }
+            x
+        })
+        .min_by(|a, b| cost(a).total_cmp(&cost(b)))
+        .expect("four starts");
+    let m = build(&best).expect("the fit keeps an admissible ratio");
+    let residuals_rad = angles
+        .iter()
+        .zip(&theta)
+        .map(|(phi, th)| (m.needle_direction(*phi) - th + PI).rem_euclid(TAU) - PI)
+        .collect();
+    Timing {
+        direction,
+        carrier_angles_rad: angles.to_vec(),
+        mechanism: m,
+        residuals_rad,
+    }
+}
+
+/// Levenberg–Marquardt on `residuals` (None: inadmissible, rejected) from `x`, forward-difference
+/// Jacobian; at most 200 iterations.
+fn levenberg_marquardt(
+    residuals: &dyn Fn(&[f64]) -> Option<DVector<f64>>,
+    mut x: Vec<f64>,
+) -> Vec<f64> {
+    let Some(mut r) = residuals(&x) else {
+        return x;
+    };
+    let n = x.len();
+    let mut lambda = 1e-3;
+    for _ in 0..200 {
+        let mut j = DMatrix::zeros(r.len(), n);
+        for c in 0..n {
+            let h = 1e-7 * x[c].abs().max(1.0);
+            let mut xp = x.clone();
+            xp[c] += h;
+            let Some(rp) = residuals(&xp) else {
+                return x;
+            };
+            j.set_column(c, &((rp - &r) / h));
+        }
+        let jt = j.transpose();
+        let (a, g) = (&jt * &j, &jt * &r);
+        let mut accepted = false;
+        for _ in 0..30 {
+            let mut damped = a.clone();
+            for i in 0..n {
+                damped[(i, i)] += lambda * a[(i, i)].max(1e-12);
+            }
+            let Some(step) = damped.lu().solve(&(-&g)) else {
+                lambda *= 10.0;
+                continue;
+            };
+            let trial: Vec<f64> = x.iter().zip(step.iter()).map(|(a, b)| a + b).collect();
+            if let Some(rt) = residuals(&trial).filter(|rt| rt.norm_squared() < r.norm_squared()) {
+                let small = step.norm() < 1e-14;
+                (x, r) = (trial, rt);
+                lambda = (lambda * 0.3).max(1e-15);
+                accepted = !small;
+                break;
+            }
+            lambda *= 10.0;
+        }
+        if !accepted {
+            break;
+        }
+    }
+    x
+}
