@@ -169,6 +169,16 @@ def browser_checks(url):
         err = text(page, "status")
         if "broken.csv" not in err:
             fail(f"the malformed upload's error does not name the file: {err!r}")
+        # A synthesis spec through the poses panel: the arm and the poses on the gears.
+        page.get_by_test_id("open-poses").set_input_files(str(ROOT / "assets/synthesis/g1_five_poses.toml"))
+        wait_ready(page)
+        arm = text(page, "synthesis-arm")
+        if "l1 = 90.000 mm, l3 = 170.000 mm" not in arm:
+            fail(f"the poses panel shows {arm!r}")
+        errs = [text(page, f"pose-error-{k}") for k in range(5)]
+        if any(float(e.split()[0]) > 0.01 for e in errs) or page.get_by_test_id("pose").count() != 5:
+            fail(f"the five G1 poses on the synthesised gears: {errs}")
+        print(f"check_serve: poses panel: {arm}; pose errors {errs}")
         # An oversized file: refused in the page with its size, before any upload.
         page.get_by_test_id("open-file").set_input_files(
             files=[{"name": "huge.csv", "mimeType": "text/csv", "buffer": b"1.0,2.0\n" * (9 << 17)}])

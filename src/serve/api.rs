@@ -188,6 +188,27 @@ pub struct ParseRequest {
     pub text: String,
 }
 
+impl ParseRequest {
+    /// Parses an upload body; returns the file name made a safe label (no control characters, at
+    /// most 200 characters: only a label and a format hint, nothing is read from or written to
+    /// disk) and the request.
+    pub fn parse(body: &str) -> Result<(String, Self), ApiError> {
+        let req: Self = serde_json::from_str(body).map_err(|e| {
+            ApiError::bad(
+                "body",
+                format!("expected {{\"name\": …, \"text\": …}}: {e}"),
+            )
+        })?;
+        let label = req
+            .name
+            .chars()
+            .filter(|c| !c.is_control())
+            .take(200)
+            .collect();
+        Ok((label, req))
+    }
+}
+
 /// The HTTP answer for a design error: 400 naming the option, or 500 for an internal failure.
 pub fn design_error(e: &DesignError) -> ApiError {
     match e {

@@ -21,6 +21,7 @@ pub fn route(method: &str, url: &str, body: &str) -> Reply {
         ("POST", "/api/parse") => parse(body),
         ("POST", "/api/design") => design_endpoint(body),
         ("POST", "/api/export") => export(body),
+        ("POST", "/api/synthesize") => synthesize_endpoint(body),
         (_, p) if p.starts_with("/api/") => Err(ApiError {
             status: 404,
             error: format!("no endpoint {method} {p}"),
@@ -37,19 +38,7 @@ pub fn route(method: &str, url: &str, body: &str) -> Reply {
 
 /// `POST /api/parse`: the points of an uploaded file, read as `ncgear design` reads that file.
 fn parse(body: &str) -> Result<Reply, ApiError> {
-    let req: ParseRequest = serde_json::from_str(body).map_err(|e| {
-        ApiError::bad(
-            "body",
-            format!("expected {{\"name\": …, \"text\": …}}: {e}"),
-        )
-    })?;
-    // The name is only a label and a format hint: nothing is read from or written to disk.
-    let label: String = req
-        .name
-        .chars()
-        .filter(|c| !c.is_control())
-        .take(200)
-        .collect();
+    let (label, req) = ParseRequest::parse(body)?;
     let traj =
         Trajectory::parse(&req.text, &label).map_err(|e| ApiError::bad("file", e.to_string()))?;
     Ok(Reply::json(
@@ -91,6 +80,27 @@ fn design_endpoint(body: &str) -> Result<Reply, ApiError> {
     }
     value["server_ms"] = Value::from(1e3 * started.elapsed().as_secs_f64());
     Ok(Reply::json(value.to_string()))
+}
+
+/// `POST /api/synthesize`: a synthesis spec as uploaded (`{"name", "text"}`, TOML or JSON as
+/// `ncgear synthesize` reads it) → `{"synthesis": synthesis.json, "design": design.json with its
+/// view}`.
+fn synthesize_endpoint(body: &str) -> Result<Reply, ApiError> {
+    let started = std::time::Instant::now();
+    let (label, req) = ParseRequest::parse(body)?;
+    let format = ncgear::config::Format::detect(std::path::Path::new(&label), &req.text);
+    let spec: ncgear::synthesis::Spec = ncgear::config::parse(&req.text, &label, format)
+        .map_err(|e| ApiError::bad("file", e.to_string()))?;
+    let s = ncgear::synthesis::synthesize(&spec, &ncgear::design::DesignOptions::default())
+        .map_err(|e| ApiError::bad("file", format!("{label}: {e}")))?;
+    let mut design = serde_json::to_value(&s.design.report).map_err(internal)?;
+    design["view"] = serde_json::to_value(view::view(&s.design, None, spec.machine.spacing_mm))
+        .map_err(internal)?;
+    design["server_ms"] = Value::from(1e3 * started.elapsed().as_secs_f64());
+    let synthesis = serde_json::to_value(&s.report).map_err(internal)?;
+    Ok(Reply::json(
+        serde_json::json!({"name": label, "synthesis": synthesis, "design": design}).to_string(),
+    ))
 }
 
 /// `POST /api/export`: the file `ncgear design` writes for these points and options, its bytes

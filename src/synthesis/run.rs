@@ -7,8 +7,8 @@
 //! design): each pose's distance from the traced path, and the needle-direction error at the
 //! closest instant. The agronomic indices of the chosen design are those `ncgear simulate`
 //! reports (one implementation), compared with the target bands: reported with their margins, and
-//! used to choose between candidates that pass the poses equally well; they are not yet
-//! optimised for.
+//! used to choose between candidates that pass the poses equally well (then the most compact arm,
+//! smallest `l1 + l3`); they are not yet optimised for. Candidates are evaluated side by side.
 
 use super::dyad::{Dyad, DyadError, DyadOptions, DyadSolutions, Pose, solve_dyads};
 use super::spec::Spec;
@@ -16,11 +16,17 @@ use super::timing::{POSE_TOL_RAD, TimingError, carrier_angles, fit_timing};
 use crate::design::trajectory::Trajectory;
 use crate::design::{Design, DesignOptions, design};
 use crate::simulate::{FeatureOptions, Features, Simulation, features};
+use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 use std::f64::consts::{PI, TAU};
 
-/// Candidates taken from a one-parameter family (three poses), evenly over it.
-pub const FAMILY_CANDIDATES: usize = 12;
+/// Candidates taken from a one-parameter family (three poses), evenly over its members of
+/// [`FAMILY_L3_SPREADS`].
+pub const FAMILY_CANDIDATES: usize = 16;
+
+/// Needle lengths of the family members tried, in units of the poses' spread (the largest
+/// distance between two pose tips).
+pub const FAMILY_L3_SPREADS: [f64; 2] = [0.25, 2.5];
 
 /// Finite solutions tried, best residual first.
 pub const FINITE_CANDIDATES: usize = 4;
@@ -153,9 +159,31 @@ pub fn synthesize(spec: &Spec, opts: &DesignOptions) -> Result<Synthesis, Synthe
         DyadSolutions::Family(v) => ("family", v),
     };
     let pick: Vec<Dyad> = if kind == "family" {
-        let n = dyads.len();
+        // Members of a planting arm's proportions: needle between a quarter of the poses' spread
+        // and two and a half times it (else the whole family), evenly.
+        let spread = poses
+            .iter()
+            .flat_map(|p| {
+                poses
+                    .iter()
+                    .map(move |q| (p.tip_mm[0] - q.tip_mm[0]).hypot(p.tip_mm[1] - q.tip_mm[1]))
+            })
+            .fold(0.0, f64::max);
+        let plausible: Vec<Dyad> = dyads
+            .iter()
+            .filter(|d| {
+                d.l3_mm >= FAMILY_L3_SPREADS[0] * spread && d.l3_mm <= FAMILY_L3_SPREADS[1] * spread
+            })
+            .copied()
+            .collect();
+        let members = if plausible.is_empty() {
+            &dyads
+        } else {
+            &plausible
+        };
+        let n = members.len();
         (0..FAMILY_CANDIDATES.min(n))
-            .map(|k| dyads[(2 * k + 1) * n / (2 * FAMILY_CANDIDATES.min(n))])
+            .map(|k| members[(2 * k + 1) * n / (2 * FAMILY_CANDIDATES.min(n))])
             .collect()
     } else {
         let scale = 1e-6
@@ -176,9 +204,8 @@ pub fn synthesize(spec: &Spec, opts: &DesignOptions) -> Result<Synthesis, Synthe
             max_l3_mm: dopts.max_l3_mm,
         });
     }
-    let mut first_timing_error = None;
-    let mut tried: Vec<(Candidate, Option<Designed>)> = Vec::new();
-    for dyad in pick {
+    // Each candidate on its own (side by side): its timing, its gears, the poses on them.
+    let evaluate = |dyad: Dyad| -> (Candidate, Option<Designed>, Option<TimingError>) {
         let refused = |why: String| Candidate {
             dyad,
             max_pose_error_mm: None,
@@ -188,11 +215,7 @@ pub fn synthesize(spec: &Spec, opts: &DesignOptions) -> Result<Synthesis, Synthe
         };
         let (direction, angles) = match carrier_angles(&poses, &dyad, sense) {
             Ok(v) => v,
-            Err(e) => {
-                first_timing_error.get_or_insert(e.clone());
-                tried.push((refused(e.to_string()), None));
-                continue;
-            }
+            Err(e) => return (refused(e.to_string()), None, Some(e)),
         };
         let timing = fit_timing(&poses, &dyad, direction, &angles, TIMING_ORDER, &tol_rad);
         let s = f64::from(direction);
@@ -210,10 +233,7 @@ pub fn synthesize(spec: &Spec, opts: &DesignOptions) -> Result<Synthesis, Synthe
             .and_then(|t| design(&t, &o_opts).map_err(|e| e.to_string()))
         {
             Ok(d) => d,
-            Err(e) => {
-                tried.push((refused(e), None));
-                continue;
-            }
+            Err(e) => return (refused(e), None, None),
         };
         let sim = Simulation::new(d.assembly.clone());
         let measured: Vec<PoseResult> = poses.iter().map(|p| on_design(&sim, p)).collect();
@@ -233,9 +253,15 @@ pub fn synthesize(spec: &Spec, opts: &DesignOptions) -> Result<Synthesis, Synthe
             targets_missed: targets.iter().filter(|t| t.margin < 0.0).count(),
             refused: None,
         };
-        tried.push((cand, Some((d, direction, measured, targets))));
-    }
-    // Passes the poses best (to 1 µm), then misses the fewest bands.
+        (cand, Some((d, direction, measured, targets)), None)
+    };
+    let results: Vec<(Candidate, Option<Designed>, Option<TimingError>)> =
+        pick.into_par_iter().map(evaluate).collect();
+    let first_timing_error = results.iter().find_map(|r| r.2.clone());
+    let mut tried: Vec<(Candidate, Option<Designed>)> =
+        results.into_iter().map(|(c, d, _)| (c, d)).collect();
+    // Passes the poses best (to 1 µm), then misses the fewest bands, then the most compact arm
+    // (smallest l1 + l3: the smaller gearbox and planting arm).
     let chosen = tried
         .iter()
         .enumerate()
@@ -245,10 +271,13 @@ pub fn synthesize(spec: &Spec, opts: &DesignOptions) -> Result<Synthesis, Synthe
                 (
                     (c.max_pose_error_mm.unwrap_or(f64::INFINITY) * 1e3).round(),
                     c.targets_missed,
+                    c.dyad.l1_mm + c.dyad.l3_mm,
                 )
             };
             let (ka, kb) = (key(a.1), key(b.1));
-            ka.0.total_cmp(&kb.0).then(ka.1.cmp(&kb.1))
+            ka.0.total_cmp(&kb.0)
+                .then(ka.1.cmp(&kb.1))
+                .then(ka.2.total_cmp(&kb.2))
         })
         .map(|(k, _)| k);
     let Some(chosen) = chosen else {

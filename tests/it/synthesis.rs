@@ -374,3 +374,33 @@ fn infeasible_specs_are_refused_by_name() {
     let v = ncgear::simulate::FeatureOptions::forward_for_spacing(110.0, 15.0);
     assert!((v - 55.0).abs() < 1e-12, "{v}");
 }
+
+/// Three poses leave a family: a compact member (needle within 0.25–2.5 times the poses' spread)
+/// is chosen whose gears pass every pose within 0.01 mm / 0.01°, its checks passed.
+#[test]
+fn three_poses_synthesise_a_compact_arm_that_passes_them() {
+    use ncgear::synthesis::spec::{PoseSpec, Spec};
+    let poses = poses_of(&g1_mechanism(), &[0.0, 144.0, 288.0], [0.0; 2], false);
+    let spec = Spec {
+        poses: poses
+            .iter()
+            .map(|p| PoseSpec {
+                x_mm: p.tip_mm[0],
+                y_mm: p.tip_mm[1],
+                needle_deg: p.needle_rad.to_degrees(),
+                kind: None,
+                tol_mm: None,
+                tol_deg: None,
+            })
+            .collect(),
+        ..Spec::default()
+    };
+    let s = ncgear::synthesis::synthesize(&spec, &ncgear::DesignOptions::default()).unwrap();
+    assert_eq!(s.report.dyad_kind, "family");
+    let arm = s.report.candidates[s.report.chosen].dyad;
+    assert!(arm.l3_mm < 2.5 * 230.0 && arm.l1_mm < arm.l3_mm, "{arm:?}");
+    for p in &s.report.poses {
+        assert!(p.error_mm < 0.01 && p.error_deg.abs() < 0.01, "{p:?}");
+    }
+    assert!(s.design.report.verdict.passed);
+}

@@ -13,7 +13,7 @@ const state = {
   name: "", orig: [], u: [], nodes: [], disp: [],
   design: null, phiIndex: 0, playing: false,
   view: { cx: 0, cy: 0, w: 400 },
-  undo: [], redo: [], controller: null, timer: null, clock: null,
+  undo: [], redo: [], controller: null, timer: null, clock: null, synthesis: null,
 };
 
 // ---- status --------------------------------------------------------------------------------
@@ -67,6 +67,7 @@ function loadPoints(name, points) {
   state.disp = Array.from({ length: HANDLES }, () => [0, 0]);
   state.undo = []; state.redo = [];
   state.design = null;
+  state.synthesis = null;
   fitView(points);
 }
 
@@ -231,6 +232,14 @@ function render() {
       el("circle", { cx: p[0], cy: p[1], r: lw(2 + Math.min(6, 2 * Math.log10(1 + e / tol))), fill: e > 10 * tol ? "#d62728" : "#ff9f1c", opacity: 0.8 }, world);
     });
   }
+  // Key poses of a synthesis: the tip and the needle's direction (planet axis → tip).
+  if (state.synthesis) {
+    for (const p of state.synthesis.poses) {
+      const a = p.needle_deg * Math.PI / 180, l = 25 / s;
+      el("path", { d: path([[p.tip_mm[0] - l * Math.cos(a), p.tip_mm[1] - l * Math.sin(a)], p.tip_mm]), stroke: "#d62728", "stroke-width": lw(3) }, world);
+      el("circle", { cx: p.tip_mm[0], cy: p.tip_mm[1], r: lw(5), fill: "none", stroke: "#d62728", "stroke-width": lw(2), "data-testid": "pose" }, world);
+    }
+  }
   el("circle", { cx: 0, cy: 0, r: lw(3), fill: "#000", transform: v ? `translate(${v.center_mm[0]},${v.center_mm[1]})` : "" }, world);
   handlePositions().forEach((p, k) => {
     const c = el("circle", { cx: p[0], cy: p[1], r: lw(7), class: "handle", "data-testid": "handle-" + k, "data-k": k }, world);
@@ -238,6 +247,26 @@ function render() {
   });
   renderReadouts();
   renderRatio();
+}
+
+function renderPoses() {
+  const syn = state.synthesis;
+  $("poses-panel").hidden = !syn;
+  if (!syn) return;
+  const c = syn.candidates[syn.chosen].dyad;
+  $("synthesis-arm").textContent = `arm ${syn.chosen + 1} of ${syn.candidates.length} (${syn.dyad_kind}): O = (${c.center_mm[0].toFixed(3)}, ${c.center_mm[1].toFixed(3)}) mm, l1 = ${c.l1_mm.toFixed(3)} mm, l3 = ${c.l3_mm.toFixed(3)} mm, carrier ${syn.carrier.toUpperCase()}`;
+  const table = $("poses-table");
+  table.textContent = "";
+  const row = (name, value, id, bad) => {
+    const tr = document.createElement("tr");
+    const th = document.createElement("th"), td = document.createElement("td");
+    th.textContent = name; td.textContent = value; td.setAttribute("data-testid", id);
+    if (bad) td.style.color = "#8a1010";
+    tr.append(th, td);
+    table.appendChild(tr);
+  };
+  syn.poses.forEach((p, k) => row(`pose ${k}`, `${p.error_mm.toFixed(4)} mm, ${p.error_deg.toFixed(4)}°`, "pose-error-" + k, p.error_mm > 0.05 || Math.abs(p.error_deg) > 0.05));
+  for (const t of syn.targets) row(t.index, `${t.value.toFixed(2)} in [${t.band[0]}, ${t.band[1]}]` + (t.margin >= 0 ? "" : ` — missed by ${(-t.margin).toFixed(2)}`), "target-" + t.index, t.margin < 0);
 }
 
 function renderRatio() {
@@ -291,6 +320,7 @@ function renderReadouts() {
     tr.append(th, td);
     table.appendChild(tr);
   }
+  renderPoses();
   const warnings = $("warnings");
   warnings.textContent = "";
   for (const w of d.warnings.concat(d.teeth ? d.teeth.warnings || [] : [])) {
@@ -350,6 +380,25 @@ async function openWith(request) {
 
 const openExample = (name) => openWith(() => api("/api/examples/" + encodeURIComponent(name)));
 const MAX_UPLOAD_BYTES = 8 << 20; // the server's body limit
+
+// A synthesis spec: the arm, timing and gears through its poses; the traced path becomes the
+// target to edit further (the poses stay drawn until another path is opened).
+async function openPoses(file) {
+  setStatus("designing", "busy");
+  try {
+    const r = await api("/api/synthesize", { name: file.name, text: await file.text() });
+    const syn = await r.json();
+    loadPoints(syn.name, syn.design.target_points);
+    state.synthesis = syn.synthesis;
+    state.design = syn.design;
+    const o = syn.design.carrier.center;
+    $("center-x").value = o[0];
+    $("center-y").value = o[1];
+    fitView(syn.design.target_points);
+    render();
+    setStatus("ready");
+  } catch (e) { setStatus(e.message, "error"); }
+}
 const openFile = (file) => openWith(async () => {
   if (file.size > MAX_UPLOAD_BYTES) {
     throw new Error(`${file.name}: ${(file.size / 1048576).toFixed(1)} MB, larger than the 8 MB a trajectory may have here (about 100 000 points): thin the points first`);
@@ -405,6 +454,7 @@ function init() {
   }, { passive: false });
   $("spacing").addEventListener("change", () => redesign(true));
   $("open-file").addEventListener("change", (e) => { if (e.target.files[0]) openFile(e.target.files[0]); e.target.value = ""; });
+  $("open-poses").addEventListener("change", (e) => { if (e.target.files[0]) openPoses(e.target.files[0]); e.target.value = ""; });
   $("load-work").addEventListener("change", (e) => { if (e.target.files[0]) loadWork(e.target.files[0]); e.target.value = ""; });
   $("example").addEventListener("change", (e) => openExample(e.target.value));
   $("optimise").addEventListener("click", () => redesign(false));
