@@ -119,6 +119,12 @@ def browser_checks(url):
         if got != exp:
             fail(f"{UPLOAD.name}: the page shows l1, l3, deviation {got}, ncgear design {exp}")
         print(f"check_serve: {UPLOAD.name} loaded: l1 {got[0]} mm, l3 {got[1]} mm, deviation {got[2]} mm (as the CLI)")
+        # A warning about the deviation shows where on the path it holds.
+        page.locator(".warnings li.has-arc").first.click()
+        arc = page.get_by_test_id("warning-arc").locator("circle").count()
+        if arc == 0:
+            fail("clicking the deviation warning highlights no point of the path")
+        print(f"check_serve: the deviation warning highlights {arc} points of the path")
 
         # Drag a handle: a new design within a second, its server time shown.
         before = text(page, "deviation-mm")
@@ -148,6 +154,7 @@ def browser_checks(url):
         if not teeth.startswith("z = "):
             fail(f"module 2: the page shows teeth {teeth!r}")
         if SHOTS:
+            page.evaluate("window.scrollTo(0, 0)")
             page.screenshot(path=str(SHOTS / "designer_teeth.png"))
         points = page.evaluate("points()")
         with page.expect_download() as dl:

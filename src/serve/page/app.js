@@ -13,7 +13,7 @@ const state = {
   name: "", orig: [], u: [], nodes: [], disp: [],
   design: null, phiIndex: 0, playing: false,
   view: { cx: 0, cy: 0, w: 400 },
-  undo: [], redo: [], controller: null, timer: null, clock: null, synthesis: null,
+  undo: [], redo: [], controller: null, timer: null, clock: null, synthesis: null, highlight: null,
 };
 
 // ---- status --------------------------------------------------------------------------------
@@ -68,6 +68,7 @@ function loadPoints(name, points) {
   state.undo = []; state.redo = [];
   state.design = null;
   state.synthesis = null;
+  state.highlight = null;
   fitView(points);
 }
 
@@ -232,6 +233,12 @@ function render() {
       el("circle", { cx: p[0], cy: p[1], r: lw(2 + Math.min(6, 2 * Math.log10(1 + e / tol))), fill: e > 10 * tol ? "#d62728" : "#ff9f1c", opacity: 0.8 }, world);
     });
   }
+  // The points of the warning clicked, on the path.
+  const arc = state.highlight ? arcOf(state.highlight) : null;
+  if (arc) {
+    const g = el("g", { "data-testid": "warning-arc" }, world);
+    for (const j of arc) el("circle", { cx: pts[j][0], cy: pts[j][1], r: lw(6), fill: "#d62728", opacity: 0.35 }, g);
+  }
   // Key poses of a synthesis: the tip and the needle's direction (planet axis → tip).
   if (state.synthesis) {
     for (const p of state.synthesis.poses) {
@@ -323,11 +330,39 @@ function renderReadouts() {
   renderPoses();
   const warnings = $("warnings");
   warnings.textContent = "";
-  for (const w of d.warnings.concat(d.teeth ? d.teeth.warnings || [] : [])) {
+  d.warnings.concat(d.teeth ? d.teeth.warnings || [] : []).forEach((w, k) => {
     const li = document.createElement("li");
     li.textContent = w;
+    li.setAttribute("data-testid", "warning-" + k);
+    // A warning about the path: clicking it highlights the points it concerns.
+    if (arcOf(w)) {
+      li.className = "has-arc";
+      li.title = "click to show where on the path";
+      li.addEventListener("click", () => {
+        state.highlight = state.highlight === w ? null : w;
+        render();
+      });
+    }
     warnings.appendChild(li);
+  });
+}
+
+// The target points a warning concerns: those farther from the traced path than the tolerance
+// (deviation and round-trip warnings), or the points it names by number; null for the others.
+function arcOf(w) {
+  const v = state.design && state.design.view;
+  if (!v) return null;
+  if (/deviat|round trip|C12|traces/i.test(w)) {
+    const tol = options().tol_mm || 0.05;
+    const idx = v.deviation_mm.map((e, j) => (e > tol ? j : -1)).filter((j) => j >= 0);
+    return idx.length ? idx : null;
   }
+  const m = /points? ((?:\d+(?:, | and )?)+)/.exec(w);
+  if (m) {
+    const idx = m[1].split(/, | and /).map(Number).filter((j) => j < state.orig.length);
+    return idx.length ? idx : null;
+  }
+  return null;
 }
 
 // ---- interaction -----------------------------------------------------------------------------
