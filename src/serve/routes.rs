@@ -133,15 +133,13 @@ fn export(body: &str) -> Result<Reply, ApiError> {
     let (mut d, train) = designed(&cold)?;
     let dir = TempDir::new()?;
     if let Some(mut t) = train {
-        let files =
-            ncgear::output::write_teeth(&mut t, &dir.0, ncgear::export::dxf::DxfVersion::R2010)
-                .map_err(internal)?;
+        ncgear::output::write_teeth(&mut t, &dir.0, ncgear::export::dxf::DxfVersion::R2010)
+            .map_err(internal)?;
         let step =
             ncgear::output::write_teeth_step(&t, &dir.0, &Default::default()).map_err(internal)?;
         t.report
             .files
             .extend(step.iter().map(|p| p.display().to_string()));
-        drop(files);
         t.record(&mut d);
     }
     ncgear::output::write_design_with(&d, &dir.0, Default::default()).map_err(internal)?;

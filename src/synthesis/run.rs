@@ -237,10 +237,10 @@ pub fn synthesize(spec: &Spec, opts: &DesignOptions) -> Result<Synthesis, Synthe
         };
         let sim = Simulation::new(d.assembly.clone());
         let measured: Vec<PoseResult> = poses.iter().map(|p| on_design(&sim, p)).collect();
-        let targets = match features(&sim, &fopts) {
-            Ok(f) => target_results(spec, &f),
-            Err(_) => Vec::new(),
-        };
+        // Bands that cannot be evaluated (no planting level on this path) are said so, not dropped.
+        let targets = features(&sim, &fopts)
+            .map(|f| target_results(spec, &f))
+            .map_err(|e| e.to_string());
         let cand = Candidate {
             dyad,
             max_pose_error_mm: Some(measured.iter().map(|p| p.error_mm).fold(0.0, f64::max)),
@@ -250,7 +250,9 @@ pub fn synthesize(spec: &Spec, opts: &DesignOptions) -> Result<Synthesis, Synthe
                     .map(|p| p.error_deg.abs())
                     .fold(0.0, f64::max),
             ),
-            targets_missed: targets.iter().filter(|t| t.margin < 0.0).count(),
+            targets_missed: targets.as_ref().map_or(spec.targets.bands().len(), |t| {
+                t.iter().filter(|t| t.margin < 0.0).count()
+            }),
             refused: None,
         };
         (cand, Some((d, direction, measured, targets)), None)
@@ -299,16 +301,19 @@ pub fn synthesize(spec: &Spec, opts: &DesignOptions) -> Result<Synthesis, Synthe
     let candidates: Vec<Candidate> = tried.iter().map(|(c, _)| c.clone()).collect();
     let (d, direction, measured, targets) =
         tried.swap_remove(chosen).1.expect("a designed candidate");
-    let mut binding: Vec<String> = targets
-        .iter()
-        .filter(|t| t.margin < 0.0)
-        .map(|t| {
-            format!(
-                "{} {:.3} outside [{}, {}] by {:.3}",
-                t.index, t.value, t.band[0], t.band[1], -t.margin
-            )
-        })
-        .collect();
+    let mut binding = Vec::new();
+    let targets = targets.unwrap_or_else(|e| {
+        if !spec.targets.bands().is_empty() {
+            binding.push(format!("target bands not evaluated: {e}"));
+        }
+        Vec::new()
+    });
+    binding.extend(targets.iter().filter(|t| t.margin < 0.0).map(|t| {
+        format!(
+            "{} {:.3} outside [{}, {}] by {:.3}",
+            t.index, t.value, t.band[0], t.band[1], -t.margin
+        )
+    }));
     binding.extend(
         d.report
             .limits
@@ -337,7 +342,12 @@ pub fn synthesize(spec: &Spec, opts: &DesignOptions) -> Result<Synthesis, Synthe
 }
 
 /// A candidate's design: the design, its carrier sense, the poses and bands measured on it.
-type Designed = (Design, i8, Vec<PoseResult>, Vec<TargetResult>);
+type Designed = (
+    Design,
+    i8,
+    Vec<PoseResult>,
+    Result<Vec<TargetResult>, String>,
+);
 
 /// The poses, their direction tolerances (rad), the sense asked for and the feature options.
 type Checked = (Vec<Pose>, Vec<f64>, Option<i8>, FeatureOptions);
