@@ -186,6 +186,16 @@ def browser_checks(url):
         if any(float(e.split()[0]) > 0.01 for e in errs) or page.get_by_test_id("pose").count() != 5:
             fail(f"the five G1 poses on the synthesised gears: {errs}")
         print(f"check_serve: poses panel: {arm}; pose errors {errs}")
+        # Target bands alone through the same panel: every band met on the gears, no pose drawn.
+        page.get_by_test_id("open-poses").set_input_files(str(ROOT / "assets/synthesis/rice_targets.toml"))
+        wait_ready(page)
+        arm = text(page, "synthesis-arm")
+        bands = {k: text(page, f"target-{k}")
+                 for k in ("take_angle_deg", "push_angle_deg", "height_mm", "hole_width_mm")}
+        if "(targets)" not in arm or any("missed" in v for v in bands.values()) \
+                or page.get_by_test_id("pose").count() != 0:
+            fail(f"the rice target bands in the poses panel: {arm!r}, {bands}")
+        print(f"check_serve: target bands alone: {arm}; {bands}")
         # An oversized file: refused in the page with its size, before any upload.
         page.get_by_test_id("open-file").set_input_files(
             files=[{"name": "huge.csv", "mimeType": "text/csv", "buffer": b"1.0,2.0\n" * (9 << 17)}])

@@ -660,6 +660,8 @@ const CENTRODES: &[&str] = &[
     "",
 ];
 
+const SYNTHESIZE_OPTS: &[(&str, Kind)] = &[("--json", Kind::Flag), ("--accept-failed", Kind::Flag)];
+
 const SIMULATE_OPTS: &[(&str, Kind)] = &[
     ("--rpm", Kind::Float),
     ("--speed", Kind::Float),
@@ -799,7 +801,7 @@ const SCHEDULE: [&str; 20] = [
     "pair",
     "design",
     "orbit",
-    "pair",
+    "synthesize",
     "simulate",
     "tolerance",
     "dynamics",
@@ -900,6 +902,23 @@ fn baseline(sub: &str, rng: &mut ChaCha8Rng) -> (Spec, &'static [(&'static str, 
                 s.set("--json", None);
             }
             PAIR_OPTS
+        }
+        "synthesize" => {
+            // Poses (0.1 s) or target bands alone (2 s).
+            let (name, asset) = pick(
+                rng,
+                &[
+                    ("g1_five_poses.toml", "synthesis/g1_five_poses.toml"),
+                    ("rice_targets.toml", "synthesis/rice_targets.toml"),
+                ],
+            );
+            let f = s.file(name, asset);
+            s.sub = "synthesize";
+            s.args = vec![w("synthesize"), f, out()];
+            if rng.random_bool(0.3) {
+                s.set("--json", None);
+            }
+            SYNTHESIZE_OPTS
         }
         "simulate" => {
             let f = s.file("g1_design.json", "transplanter/g1_design.json");
@@ -1660,6 +1679,7 @@ fn same_seed_same_runs_and_every_subcommand_in_each_schedule_cycle() {
         "tolerance",
         "orbit",
         "dynamics",
+        "synthesize",
     ] {
         assert!(subs.contains(sub), "{sub} missing from the first 20 runs");
     }

@@ -141,8 +141,8 @@ pub fn run(args: Args) -> CliResult {
         f.height_mm, f.rho_range_mm[1], f.rho_range_mm[0]
     );
     println!(
-        "  needle angle: taking {:.2}°, planting {:.2}°",
-        f.needle_angle_take_deg, f.needle_angle_plant_deg
+        "  needle angle: taking {:.2}°, planting {:.2}° (to the horizontal: {:.2}°, {:.2}°)",
+        f.needle_angle_take_deg, f.needle_angle_plant_deg, f.take_angle_deg, f.push_angle_deg
     );
     println!(
         "  hole width at {} mm depth: {:.2} mm (static loop width {:.2} mm)",

@@ -1,4 +1,4 @@
-//! `ncgear synthesize SPEC.toml --out DIR`: key poses → mechanism and gears
+//! `ncgear synthesize SPEC.toml --out DIR`: key poses or target bands → mechanism and gears
 //! ([`ncgear::synthesis`]).
 use super::{CliResult, input_error, print_json, runtime_error};
 use ncgear::design::DesignOptions;
@@ -16,7 +16,8 @@ pub struct Args {
     /// Print synthesis.json to stdout instead of the summary.
     #[arg(long)]
     pub json: bool,
-    /// Exit 0 even when a pose is missed by more than 0.05 mm / 0.05° or the design fails a check.
+    /// Exit 0 even when a pose is missed by more than 0.05 mm / 0.05°, a target band is not met
+    /// or the design fails a check.
     #[arg(long)]
     pub accept_failed: bool,
 }
@@ -58,13 +59,21 @@ pub fn run(args: Args) -> CliResult {
         print_json(r)?;
     } else {
         let c = &r.candidates[r.chosen];
-        println!(
-            "{file}: {} poses, {} arm(s) ({}), carrier {}",
-            r.poses.len(),
-            r.dyads.len(),
-            r.dyad_kind,
-            r.carrier.to_uppercase()
-        );
+        if r.dyad_kind == "targets" {
+            println!(
+                "{file}: target bands only, {} candidate train(s), carrier {}",
+                r.candidates.len(),
+                r.carrier.to_uppercase()
+            );
+        } else {
+            println!(
+                "{file}: {} poses, {} arm(s) ({}), carrier {}",
+                r.poses.len(),
+                r.dyads.len(),
+                r.dyad_kind,
+                r.carrier.to_uppercase()
+            );
+        }
         println!(
             "  chosen: O = ({:.6}, {:.6}) mm, l1 = {:.6} mm, l3 = {:.6} mm (candidate {} of {})",
             c.dyad.center_mm[0],
@@ -94,6 +103,9 @@ pub fn run(args: Args) -> CliResult {
                 }
             );
         }
+        for b in r.binding.iter().filter(|b| b.starts_with("search box")) {
+            println!("  {b}");
+        }
         let d = &s.design.report;
         println!(
             "  gears: pressure angle {:.2}°, round trip {:.4} mm, checks {}",
@@ -110,6 +122,18 @@ pub fn run(args: Args) -> CliResult {
                 .collect::<Vec<_>>()
                 .join(", ")
         );
+    }
+    let bands_missed: Vec<&str> = r
+        .targets
+        .iter()
+        .filter(|t| t.margin < 0.0)
+        .map(|t| t.index.as_str())
+        .collect();
+    if !bands_missed.is_empty() && !args.accept_failed {
+        return Err(super::Failure::Verification(miette::miette!(
+            help = "the files are written (the nearest design found); synthesis.json lists each band's margin; --accept-failed exits 0 with them",
+            "target band(s) {bands_missed:?} not met"
+        )));
     }
     if !missed.is_empty() && !args.accept_failed {
         return Err(super::Failure::Verification(miette::miette!(

@@ -399,6 +399,10 @@ fn winding_number(pts: &[[f64; 2]]) -> i64 {
 /// of its bounding box): a tenth of that is already an arm ten times the loop.
 pub const MAX_AXIS_DISTANCE_SIZES: f64 = 20.0;
 
+/// Closest approach of the trajectory to the carrier axis, `ρ_min = l3 − l1`, in units of `l3`:
+/// nearer, the inversion is ill-conditioned (docs/math/chain.md §14) and refused.
+pub const MIN_AXIS_DISTANCE_L3: f64 = 0.05;
+
 /// Runs of indices where `bad(j)` holds, as `[first, last]` pairs.
 fn runs(n: usize, bad: impl Fn(usize) -> bool) -> Vec<[usize; 2]> {
     let mut out = Vec::new();
@@ -485,10 +489,10 @@ fn solve_frame(
     let (rho_max, rho_min) = (rho(s_max).max(rmax_dense), rho(s_min).min(dense[jmin]));
     let l1 = 0.5 * (rho_max - rho_min);
     let l3 = 0.5 * (rho_max + rho_min);
-    if rho_min < 0.05 * l3 {
+    if rho_min < MIN_AXIS_DISTANCE_L3 * l3 {
         return Err(InverseError::TooCloseToAxis {
             rho_min_mm: rho_min,
-            limit_mm: 0.05 * l3,
+            limit_mm: MIN_AXIS_DISTANCE_L3 * l3,
         });
     }
     // Parameter measured from s_max in travel order; σ = +1 until s_min.

@@ -100,6 +100,11 @@ pub const UNDERCUT_RADIUS_MODULES: f64 = 7.0;
 pub const DEFAULT_MIN_CONCAVE_RADIUS_MM: f64 = 10.0;
 
 impl DesignOptions {
+    /// Checks every option against its range, as [`crate::design::design`] does first.
+    pub fn validate(&self) -> Result<(), DesignError> {
+        validate(self)
+    }
+
     /// The concave-radius limit in force, mm: `min_concave_radius_mm`, or 12.5·m at
     /// `module_mm`, or 10 mm.
     #[must_use]

@@ -61,6 +61,12 @@ pub struct Features {
     pub plant_carrier_deg: f64,
     /// Needle angle at planting, deg.
     pub needle_angle_plant_deg: f64,
+    /// Taking angle α_T: the needle's angle to the horizontal at taking, deg, > 0 when the tip
+    /// points below the horizontal ([`angle_to_horizontal`]; 取秧角).
+    pub take_angle_deg: f64,
+    /// Pushing (planting) angle α_P: the needle's angle to the horizontal at planting, deg
+    /// ([`angle_to_horizontal`]; 推秧角). The angle difference is `α_P − α_T`.
+    pub push_angle_deg: f64,
     /// Static loop width at the planting depth, mm.
     pub static_width_at_depth_mm: f64,
     /// Hole width (dynamic trajectory) at the planting depth, mm.
@@ -95,6 +101,23 @@ fn seg_seg(p1: [f64; 2], p2: [f64; 2], q1: [f64; 2], q2: [f64; 2]) -> f64 {
         .min(pd(p2, q1, q2))
         .min(pd(q1, p1, p2))
         .min(pd(q2, p1, p2))
+}
+
+/// The angle of a needle of world direction `direction_rad` (planet axis → tip) to the
+/// horizontal: `α = atan2(−u_y, |u_x|)`, `u = (cos, sin)` of the direction, rad in (−π/2, π/2],
+/// positive when the tip points below the horizontal — the convention of the taking and pushing
+/// angles in the transplanter literature (the needle's side, left or right, does not count).
+///
+/// ```
+/// use ncgear::simulate::angle_to_horizontal;
+/// let deg = |d: f64| angle_to_horizontal(d.to_radians()).to_degrees();
+/// assert!((deg(-90.0) - 90.0).abs() < 1e-12); // straight down
+/// assert!((deg(-104.0) - 76.0).abs() < 1e-12); // down and to the left
+/// assert!((deg(20.0) + 20.0).abs() < 1e-12); // above the horizontal
+/// ```
+#[must_use]
+pub fn angle_to_horizontal(direction_rad: f64) -> f64 {
+    (-direction_rad.sin()).atan2(direction_rad.cos().abs())
 }
 
 /// Horizontal extent of the points below level `y`, or 0.
@@ -241,6 +264,12 @@ pub fn features_of_turn(
         needle_angle_take_deg: deg(Simulation::needle_angle(&turn[j_take].arm1)),
         plant_carrier_deg: carrier_deg(j_plant),
         needle_angle_plant_deg: deg(Simulation::needle_angle(&turn[j_plant].arm1)),
+        take_angle_deg: deg(angle_to_horizontal(Simulation::needle_angle(
+            &turn[j_take].arm1,
+        ))),
+        push_angle_deg: deg(angle_to_horizontal(Simulation::needle_angle(
+            &turn[j_plant].arm1,
+        ))),
         static_width_at_depth_mm: width_below(&tips, depth_level),
         hole_width_mm: width_below(&stroke, depth_level),
         max_tip_speed_mm_s: (0..n).map(speed).fold(0.0, f64::max),

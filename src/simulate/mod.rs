@@ -19,6 +19,10 @@
 //!   that of the highest point, or the first crossing of `y_t` downwards after the lowest point;
 //! - **needle angle** at an instant: the direction of the needle from A to the tip, measured from the
 //!   +x axis (travel direction of the tip at the bottom of a CCW loop is −x), degrees in (−180, 180];
+//! - **taking and pushing angles** `α_T`, `α_P`: the needle's angle to the horizontal at the taking
+//!   and planting instants, `α = atan2(−u_y, |u_x|)` with `u` the needle direction, degrees in
+//!   (−90, 90], > 0 when the tip points below the horizontal (the literature's 取秧角 and 推秧角;
+//!   [`angle_to_horizontal`]); the **angle difference** is `α_P − α_T`;
 //! - **hole width at planting depth d**: the horizontal extent (max x − min x) of the part of one
 //!   arm's dynamic trajectory (one planting stroke) that lies below `min y + d`, mm;
 //! - **static loop width at depth d**: the same on the static trajectory, mm;
@@ -33,6 +37,8 @@ mod file;
 mod kinematics;
 
 pub use error::SimulateError;
-pub use features::{FeatureOptions, Features, deviation_along, features, features_of_turn};
+pub use features::{
+    FeatureOptions, Features, angle_to_horizontal, deviation_along, features, features_of_turn,
+};
 pub use file::{CarrierFile, DesignFile, GearFile, GearsFile, TeethFile};
 pub use kinematics::{Simulation, TwoArms};

@@ -1,4 +1,5 @@
-//! Synthesis from key poses: the needle's prescribed positions and directions → the mechanism.
+//! Synthesis from key poses or target bands: the needle's prescribed positions and directions, or
+//! the agronomic indices' bands → the mechanism.
 //!
 //! The engineers of planting arms start from a few **key poses** of the needle (where, and at
 //! what angle, it takes the seedling, pushes it into the soil, returns) rather than from a whole
@@ -14,17 +15,23 @@
 //!
 //! [`synthesize`] runs both for a [`Spec`] (`ncgear synthesize SPEC.toml`), hands each candidate
 //! train's path to the design chain, measures the poses on the resulting gears and reports the
-//! target bands ([`run`]).
+//! target bands ([`run`]). A spec of target bands without poses is synthesised from the bands
+//! alone ([`targets`]): the train whose indices lie in them, within the gear limits.
 //!
 //! Frame and units as everywhere: world frame, y up, mm; a pose's needle direction is the world
 //! direction of the line planet axis A → needle tip B, rad (degrees in files).
 
 pub mod dyad;
+pub mod report;
 pub mod run;
 pub mod spec;
+pub mod targets;
 pub mod timing;
 
 pub use dyad::{Dyad, DyadError, DyadOptions, DyadSolutions, Pose, solve_dyads};
-pub use run::{Synthesis, SynthesisError, SynthesisReport, synthesize};
+pub use report::{Synthesis, SynthesisError, SynthesisReport};
+pub use run::synthesize;
 pub use spec::Spec;
-pub use timing::{POSE_TOL_RAD, Timing, TimingError, carrier_angles, fit_timing};
+pub use timing::{
+    POSE_TOL_RAD, Timing, TimingError, carrier_angles, check_planet_turns, fit_timing,
+};

@@ -8,16 +8,24 @@
 //! closest instant. The agronomic indices of the chosen design are those `ncgear simulate`
 //! reports (one implementation), compared with the target bands: reported with their margins, and
 //! used to choose between candidates that pass the poses equally well (then the most compact arm,
-//! smallest `l1 + l3`); they are not yet optimised for. Candidates are evaluated side by side.
+//! smallest `l1 + l3`). Candidates are evaluated side by side.
+//!
+//! A spec of bands without poses goes to the targets-only search ([`super::targets`]); its best
+//! trains go through the same design chain and are measured the same way.
 
-use super::dyad::{Dyad, DyadError, DyadOptions, DyadSolutions, Pose, solve_dyads};
-use super::spec::Spec;
-use super::timing::{POSE_TOL_RAD, TimingError, carrier_angles, fit_timing};
+use super::dyad::{Dyad, DyadOptions, DyadSolutions, Pose, solve_dyads};
+use super::report::{
+    Candidate, PoseResult, Synthesis, SynthesisError, SynthesisReport, TargetResult,
+};
+use super::spec::{Spec, checked, max_tol_mm};
+use super::targets::{DEFAULT_L1_MM, DEFAULT_L3_MM, TargetProblem, index_value};
+use super::timing::{Timing, TimingError, carrier_angles, check_planet_turns, fit_timing};
 use crate::design::trajectory::Trajectory;
 use crate::design::{Design, DesignOptions, design};
+use crate::geometry::limits::GearLimits;
+use crate::geometry::mechanism::Mechanism;
 use crate::simulate::{FeatureOptions, Features, Simulation, features};
 use rayon::prelude::*;
-use serde::{Deserialize, Serialize};
 use std::f64::consts::{PI, TAU};
 
 /// Candidates taken from a one-parameter family (three poses), evenly over its members of
@@ -28,6 +36,9 @@ pub const FAMILY_CANDIDATES: usize = 16;
 /// distance between two pose tips).
 pub const FAMILY_L3_SPREADS: [f64; 2] = [0.25, 2.5];
 
+/// Family members (of the [`FAMILY_CANDIDATES`] timed) handed to the design chain.
+pub const FAMILY_DESIGNED: usize = 4;
+
 /// Finite solutions tried, best residual first.
 pub const FINITE_CANDIDATES: usize = 4;
 
@@ -37,119 +48,21 @@ pub const TIMING_ORDER: usize = 6;
 /// Samples of the train's traced path handed to the design chain.
 const TRACE_POINTS: usize = 720;
 
-/// The synthesis report (`synthesis.json`).
-#[derive(Debug, Clone, Serialize, Deserialize)]
-pub struct SynthesisReport {
-    /// `"finite"`: finitely many arms; `"family"`: three poses, one arm per needle length.
-    pub dyad_kind: String,
-    /// The arms found (a family thinned to at most 200), best first for finite ones.
-    pub dyads: Vec<Dyad>,
-    /// Every candidate tried, in order.
-    pub candidates: Vec<Candidate>,
-    /// Index of the chosen candidate.
-    pub chosen: usize,
-    /// `"ccw"` or `"cw"`.
-    pub carrier: String,
-    /// Each pose, measured on the chosen design's gears.
-    pub poses: Vec<PoseResult>,
-    /// Each target band with the chosen design's value and margin.
-    pub targets: Vec<TargetResult>,
-    /// What binds: target bands missed, gear limits the design sits on.
-    pub binding: Vec<String>,
-}
-
-/// One candidate arm and how its design passes the poses.
-#[derive(Debug, Clone, Serialize, Deserialize)]
-pub struct Candidate {
-    /// The arm.
-    pub dyad: Dyad,
-    /// Largest pose distance from the designed gears' traced path, mm (`None`: refused).
-    pub max_pose_error_mm: Option<f64>,
-    /// Largest needle-direction error at the poses, degrees.
-    pub max_pose_error_deg: Option<f64>,
-    /// Target bands missed.
-    pub targets_missed: usize,
-    /// Why this candidate gave no design.
-    pub refused: Option<String>,
-}
-
-/// One pose on the chosen design.
-#[derive(Debug, Clone, Serialize, Deserialize)]
-pub struct PoseResult {
-    /// Pose tip, mm.
-    pub tip_mm: [f64; 2],
-    /// Pose needle direction, degrees.
-    pub needle_deg: f64,
-    /// Carrier angle at which the design's tip is closest, degrees (world, file frame).
-    pub carrier_deg: f64,
-    /// Distance of the pose from the traced path, mm.
-    pub error_mm: f64,
-    /// Needle-direction error there, degrees.
-    pub error_deg: f64,
-}
-
-/// One target band.
-#[derive(Debug, Clone, Serialize, Deserialize)]
-pub struct TargetResult {
-    /// Index name (the spec's key).
-    pub index: String,
-    /// Band `[min, max]`.
-    pub band: [f64; 2],
-    /// The design's value.
-    pub value: f64,
-    /// Distance inside the band (negative: outside by that much).
-    pub margin: f64,
-}
-
-/// A synthesis: its report and the chosen design.
-#[derive(Debug)]
-pub struct Synthesis {
-    /// `synthesis.json`.
-    pub report: SynthesisReport,
-    /// The chosen design (its `design.json` and files as `ncgear design` writes them).
-    pub design: Design,
-}
-
-/// Why a spec cannot be synthesised.
-#[derive(Debug, Clone, thiserror::Error)]
-#[non_exhaustive]
-pub enum SynthesisError {
-    /// A spec field out of range.
-    #[error("{field} = {value}: {expected}")]
-    BadField {
-        /// The spec key.
-        field: String,
-        /// Its value.
-        value: String,
-        /// What is admissible.
-        expected: String,
-    },
-    /// Stage A failed.
-    #[error(transparent)]
-    Dyad(#[from] DyadError),
-    /// Stage B's necessary conditions failed for every arm.
-    #[error(transparent)]
-    Timing(#[from] TimingError),
-    /// No arm reaches the poses.
-    #[error(
-        "no arm O–A–B reaches these poses within {max_l3_mm} mm of needle: check the poses' directions (planet axis → tip, degrees CCW from +x)"
-    )]
-    NoArm {
-        /// Longest needle searched, mm.
-        max_l3_mm: f64,
-    },
-    /// Every candidate was refused by the design chain.
-    #[error("no candidate arm gave a design: {0}")]
-    NoDesign(String),
-}
-
 /// Synthesises the mechanism and its gears for `spec`, the design chain run with `opts`
 /// (its `center_mm` is set from the arm).
 ///
-/// Errors: [`SynthesisError`] — a spec without poses (targets alone are not synthesised yet),
-/// bad fields, no arm, poses out of travel order for every arm, no design.
+/// A spec without poses is synthesised from its target bands alone ([`super::targets`]).
+///
+/// Errors: [`SynthesisError`] — a spec with neither poses nor bands, bad fields, bands that
+/// contradict each other, no arm, poses out of travel order for every arm, no design.
 pub fn synthesize(spec: &Spec, opts: &DesignOptions) -> Result<Synthesis, SynthesisError> {
     let (poses, tol_rad, sense, fopts) = checked(spec)?;
+    opts.validate()
+        .map_err(|e| SynthesisError::NoDesign(e.to_string()))?;
+    if poses.is_empty() {
+        return from_targets(spec, opts, sense, fopts);
+    }
+    let limits = opts.limits();
     let dopts = DyadOptions {
         center_mm: spec.machine.center_mm,
         ..DyadOptions::default()
@@ -204,63 +117,71 @@ pub fn synthesize(spec: &Spec, opts: &DesignOptions) -> Result<Synthesis, Synthe
             max_l3_mm: dopts.max_l3_mm,
         });
     }
-    // Each candidate on its own (side by side): its timing, its gears, the poses on them.
-    let evaluate = |dyad: Dyad| -> (Candidate, Option<Designed>, Option<TimingError>) {
-        let refused = |why: String| Candidate {
-            dyad,
-            max_pose_error_mm: None,
-            max_pose_error_deg: None,
-            targets_missed: 0,
-            refused: Some(why),
+    // Each candidate's timing on its own (side by side); a family's members first without the
+    // gear-limit rows (cheaper), the ones kept then again with them when they break a limit.
+    let timed = |dyad: Dyad, limits: Option<&GearLimits>| -> Result<Timing, TimingError> {
+        let (direction, angles) = carrier_angles(&poses, &dyad, sense)?;
+        check_planet_turns(&poses, direction, &angles, opts.refine_options.ratio_bounds)?;
+        Ok(fit_timing(
+            &poses,
+            &dyad,
+            direction,
+            &angles,
+            TIMING_ORDER,
+            &tol_rad,
+            limits,
+        ))
+    };
+    let family = kind == "family";
+    let first = (!family).then_some(&limits);
+    let mut timings: Vec<(Dyad, Result<Timing, TimingError>)> =
+        pick.into_par_iter().map(|d| (d, timed(d, first))).collect();
+    // The family's members that go on to the design chain: those whose timing passes the poses
+    // best (to 1e-6 rad), then keeps within the gear limits, then the most compact arm.
+    if family {
+        let key = |(dyad, t): &(Dyad, Result<Timing, TimingError>)| match t {
+            Ok(t) => (
+                (t.residuals_rad.iter().map(|r| r.abs()).fold(0.0, f64::max) * 1e6).round(),
+                !limits.contains(&t.mechanism.ratio, t.mechanism.a_mm),
+                dyad.l1_mm + dyad.l3_mm,
+            ),
+            Err(_) => (f64::INFINITY, true, f64::INFINITY),
         };
-        let (direction, angles) = match carrier_angles(&poses, &dyad, sense) {
-            Ok(v) => v,
-            Err(e) => return (refused(e.to_string()), None, Some(e)),
-        };
-        let timing = fit_timing(&poses, &dyad, direction, &angles, TIMING_ORDER, &tol_rad);
-        let s = f64::from(direction);
-        let o = dyad.center_mm;
-        let points: Vec<[f64; 2]> = (0..TRACE_POINTS)
-            .map(|j| {
-                let b = timing.mechanism.tip(TAU * j as f64 / TRACE_POINTS as f64);
-                [o[0] + b[0], o[1] + s * b[1]]
+        timings.sort_by(|a, b| {
+            let (ka, kb) = (key(a), key(b));
+            ka.0.total_cmp(&kb.0)
+                .then(ka.1.cmp(&kb.1))
+                .then(ka.2.total_cmp(&kb.2))
+        });
+        timings.truncate(FAMILY_DESIGNED);
+        timings = timings
+            .into_par_iter()
+            .map(|(d, t)| match t {
+                Ok(t) if !limits.contains(&t.mechanism.ratio, t.mechanism.a_mm) => {
+                    (d, timed(d, Some(&limits)))
+                }
+                t => (d, t),
             })
             .collect();
-        let mut o_opts = opts.clone();
-        o_opts.center_mm = o;
-        let d = match Trajectory::from_points(points)
-            .map_err(|e| e.to_string())
-            .and_then(|t| design(&t, &o_opts).map_err(|e| e.to_string()))
-        {
-            Ok(d) => d,
-            Err(e) => return (refused(e), None, None),
-        };
-        let sim = Simulation::new(d.assembly.clone());
-        let measured: Vec<PoseResult> = poses.iter().map(|p| on_design(&sim, p)).collect();
-        // Bands that cannot be evaluated (no planting level on this path) are said so, not dropped.
-        let targets = features(&sim, &fopts)
-            .map(|f| target_results(spec, &f))
-            .map_err(|e| e.to_string());
-        let cand = Candidate {
-            dyad,
-            max_pose_error_mm: Some(measured.iter().map(|p| p.error_mm).fold(0.0, f64::max)),
-            max_pose_error_deg: Some(
-                measured
-                    .iter()
-                    .map(|p| p.error_deg.abs())
-                    .fold(0.0, f64::max),
-            ),
-            targets_missed: targets.as_ref().map_or(spec.targets.bands().len(), |t| {
-                t.iter().filter(|t| t.margin < 0.0).count()
-            }),
-            refused: None,
-        };
-        (cand, Some((d, direction, measured, targets)), None)
-    };
-    let results: Vec<(Candidate, Option<Designed>, Option<TimingError>)> =
-        pick.into_par_iter().map(evaluate).collect();
-    let first_timing_error = results.iter().find_map(|r| r.2.clone());
-    let mut tried: Vec<(Candidate, Option<Designed>)> =
+    }
+    // Each candidate's gears on their own (side by side), the poses measured on them.
+    let results: Vec<(Candidate, Option<Designed>, Option<TimingError>)> = timings
+        .into_par_iter()
+        .map(|(dyad, t)| match t {
+            Err(e) => (Candidate::refused(dyad, e.to_string()), None, Some(e)),
+            Ok(t) => {
+                let (c, d) = on_gears(&t.mechanism, dyad, t.direction, &poses, spec, &fopts, opts);
+                (c, d, None)
+            }
+        })
+        .collect();
+    // Every arm refused by Stage B's necessary conditions: the spec's error, by name.
+    let timing_error = results
+        .iter()
+        .all(|r| r.2.is_some())
+        .then(|| results.iter().find_map(|r| r.2.clone()))
+        .flatten();
+    let tried: Vec<(Candidate, Option<Designed>)> =
         results.into_iter().map(|(c, d, _)| (c, d)).collect();
     // Passes the poses best (to 1 µm), then misses the fewest bands, then the most compact arm
     // (smallest l1 + l3: the smaller gearbox and planting arm).
@@ -283,13 +204,7 @@ pub fn synthesize(spec: &Spec, opts: &DesignOptions) -> Result<Synthesis, Synthe
         })
         .map(|(k, _)| k);
     let Some(chosen) = chosen else {
-        if let Some(e) = first_timing_error.filter(|_| {
-            tried.iter().all(|(c, _)| {
-                c.refused
-                    .as_deref()
-                    .is_some_and(|r| r.contains("travel order") || r.contains("carrier was set"))
-            })
-        }) {
+        if let Some(e) = timing_error {
             return Err(e.into());
         }
         let reasons: Vec<String> = tried
@@ -298,6 +213,150 @@ pub fn synthesize(spec: &Spec, opts: &DesignOptions) -> Result<Synthesis, Synthe
             .collect();
         return Err(SynthesisError::NoDesign(reasons.join("; ")));
     };
+    Ok(finish(kind, &dyads, tried, chosen, spec))
+}
+
+/// Candidates of the targets-only search handed to the design chain.
+pub const TARGET_CANDIDATES: usize = 3;
+
+/// Targets only ([`super::targets`]): the trains found for the bands, each through the design
+/// chain; kept: the one whose gears miss the fewest bands, then by the least total shortfall,
+/// then the search's order.
+fn from_targets(
+    spec: &Spec,
+    opts: &DesignOptions,
+    sense: Option<i8>,
+    fopts: FeatureOptions,
+) -> Result<Synthesis, SynthesisError> {
+    let center_mm = spec.machine.center_mm.unwrap_or([0.0, 0.0]);
+    let direction = sense.unwrap_or(1);
+    let problem = TargetProblem {
+        bands: spec.targets.bands(),
+        features: fopts,
+        limits: opts.limits(),
+        center_mm,
+        direction,
+        l1_mm: spec.machine.l1_mm.unwrap_or(DEFAULT_L1_MM),
+        l3_mm: spec.machine.l3_mm.unwrap_or(DEFAULT_L3_MM),
+    };
+    let found = problem.search();
+    let tried: Vec<(Candidate, Option<Designed>)> = found
+        .par_iter()
+        .take(TARGET_CANDIDATES)
+        .map(|f| {
+            let dyad = Dyad {
+                center_mm,
+                l1_mm: f.mechanism.l1_mm(),
+                l3_mm: f.mechanism.l3_mm,
+                max_residual_mm: 0.0,
+            };
+            on_gears(&f.mechanism, dyad, direction, &[], spec, &fopts, opts)
+        })
+        .collect();
+    let shortfall = |d: &Designed| {
+        d.3.as_ref().map_or(f64::INFINITY, |t| {
+            t.iter().map(|t| (-t.margin).max(0.0)).sum::<f64>()
+        })
+    };
+    let chosen = tried
+        .iter()
+        .enumerate()
+        .filter_map(|(k, (c, d))| d.as_ref().map(|d| (k, c.targets_missed, shortfall(d))))
+        .min_by(|a, b| a.1.cmp(&b.1).then(a.2.total_cmp(&b.2)).then(a.0.cmp(&b.0)))
+        .map(|(k, ..)| k);
+    let Some(chosen) = chosen else {
+        let reasons: Vec<String> = tried
+            .iter()
+            .filter_map(|(c, _)| c.refused.clone())
+            .collect();
+        return Err(SynthesisError::NoDesign(if reasons.is_empty() {
+            "the search found no train with these bands".into()
+        } else {
+            reasons.join("; ")
+        }));
+    };
+    let dyads: Vec<Dyad> = tried.iter().map(|(c, _)| c.dyad).collect();
+    let arm = dyads[chosen];
+    let mut out = finish("targets", &dyads, tried, chosen, spec);
+    for (name, key, v, r) in [
+        ("l1", "machine.l1_mm", arm.l1_mm, problem.l1_mm),
+        ("l3", "machine.l3_mm", arm.l3_mm, problem.l3_mm),
+    ] {
+        let edge = if v >= r[1] - 1e-3 * r[1] {
+            "largest"
+        } else if v <= r[0] + 1e-3 * r[0] {
+            "smallest"
+        } else {
+            continue;
+        };
+        out.report.binding.push(format!(
+            "search box: {name} = {v:.3} mm is the {edge} in {key} = [{}, {}]",
+            r[0], r[1]
+        ));
+    }
+    Ok(out)
+}
+
+/// The train `m` (solved frame) on arm `dyad` with carrier sense `direction`: its traced path
+/// ([`TRACE_POINTS`] carrier angles) through the design chain, which makes its gears within the
+/// gear limits; the poses and the target bands measured on those gears.
+fn on_gears(
+    m: &Mechanism,
+    dyad: Dyad,
+    direction: i8,
+    poses: &[Pose],
+    spec: &Spec,
+    fopts: &FeatureOptions,
+    opts: &DesignOptions,
+) -> (Candidate, Option<Designed>) {
+    let s = f64::from(direction);
+    let o = dyad.center_mm;
+    let points: Vec<[f64; 2]> = (0..TRACE_POINTS)
+        .map(|j| {
+            let b = m.tip(TAU * j as f64 / TRACE_POINTS as f64);
+            [o[0] + b[0], o[1] + s * b[1]]
+        })
+        .collect();
+    let mut o_opts = opts.clone();
+    o_opts.center_mm = o;
+    let d = match Trajectory::from_points(points)
+        .map_err(|e| e.to_string())
+        .and_then(|t| design(&t, &o_opts).map_err(|e| e.to_string()))
+    {
+        Ok(d) => d,
+        Err(e) => return (Candidate::refused(dyad, e), None),
+    };
+    let sim = Simulation::new(d.assembly.clone());
+    let measured: Vec<PoseResult> = poses.iter().map(|p| on_design(&sim, p)).collect();
+    // Bands that cannot be evaluated (no planting level on this path) are said so, not dropped.
+    let targets = features(&sim, fopts)
+        .map(|f| target_results(spec, &f))
+        .map_err(|e| e.to_string());
+    let cand = Candidate {
+        dyad,
+        max_pose_error_mm: Some(measured.iter().map(|p| p.error_mm).fold(0.0, f64::max)),
+        max_pose_error_deg: Some(
+            measured
+                .iter()
+                .map(|p| p.error_deg.abs())
+                .fold(0.0, f64::max),
+        ),
+        targets_missed: targets.as_ref().map_or(spec.targets.bands().len(), |t| {
+            t.iter().filter(|t| t.margin < 0.0).count()
+        }),
+        refused: None,
+    };
+    (cand, Some((d, direction, measured, targets)))
+}
+
+/// The report of the chosen candidate among those `tried`.
+fn finish(
+    kind: &str,
+    dyads: &[Dyad],
+    mut tried: Vec<(Candidate, Option<Designed>)>,
+    chosen: usize,
+    spec: &Spec,
+) -> Synthesis {
     let candidates: Vec<Candidate> = tried.iter().map(|(c, _)| c.clone()).collect();
     let (d, direction, measured, targets) =
         tried.swap_remove(chosen).1.expect("a designed candidate");
@@ -322,7 +381,7 @@ pub fn synthesize(spec: &Spec, opts: &DesignOptions) -> Result<Synthesis, Synthe
             .map(|b| format!("gear limit: {b}")),
     );
     let thin = (dyads.len() / 200).max(1);
-    Ok(Synthesis {
+    Synthesis {
         report: SynthesisReport {
             dyad_kind: kind.into(),
             dyads: dyads
@@ -338,7 +397,7 @@ pub fn synthesize(spec: &Spec, opts: &DesignOptions) -> Result<Synthesis, Synthe
             binding,
         },
         design: d,
-    })
+    }
 }
 
 /// A candidate's design: the design, its carrier sense, the poses and bands measured on it.
@@ -348,125 +407,6 @@ type Designed = (
     Vec<PoseResult>,
     Result<Vec<TargetResult>, String>,
 );
-
-/// The poses, their direction tolerances (rad), the sense asked for and the feature options.
-type Checked = (Vec<Pose>, Vec<f64>, Option<i8>, FeatureOptions);
-
-/// The spec's fields checked against their ranges, naming the first out of range.
-fn checked(spec: &Spec) -> Result<Checked, SynthesisError> {
-    let bad = |field: &str, value: String, expected: &str| SynthesisError::BadField {
-        field: field.into(),
-        value,
-        expected: expected.into(),
-    };
-    if spec.poses.is_empty() {
-        return Err(bad(
-            "pose",
-            "none".into(),
-            "at least three [[pose]] tables (two with machine.center_mm): synthesis from target bands alone is not available yet",
-        ));
-    }
-    let mut tol = Vec::new();
-    for (k, p) in spec.poses.iter().enumerate() {
-        match p.kind.as_deref() {
-            None | Some("exact") => tol.push(POSE_TOL_RAD),
-            Some("approximate") => {
-                let t = p.tol_deg.unwrap_or(0.5);
-                if !(t > 0.0 && t.is_finite()) {
-                    return Err(bad(
-                        &format!("pose[{k}].tol_deg"),
-                        t.to_string(),
-                        "a positive angle in degrees",
-                    ));
-                }
-                tol.push(t.to_radians());
-            }
-            Some(v) => {
-                return Err(bad(
-                    &format!("pose[{k}].kind"),
-                    format!("\"{v}\""),
-                    "\"exact\" or \"approximate\"",
-                ));
-            }
-        }
-    }
-    let sense = match spec.machine.carrier.as_deref() {
-        None => None,
-        Some("ccw") => Some(1),
-        Some("cw") => Some(-1),
-        Some(v) => {
-            return Err(bad(
-                "machine.carrier",
-                format!("\"{v}\""),
-                "\"ccw\" or \"cw\"",
-            ));
-        }
-    };
-    let mut f = FeatureOptions::default();
-    if let Some(r) = spec.machine.rpm {
-        if !(r > 0.0 && r.is_finite()) {
-            return Err(bad(
-                "machine.rpm",
-                r.to_string(),
-                "a positive speed in r/min",
-            ));
-        }
-        f.rpm = r;
-    }
-    match (spec.machine.spacing_mm, spec.machine.forward_speed_mm_s) {
-        (Some(_), Some(_)) => {
-            return Err(bad(
-                "machine.spacing_mm",
-                "with forward_speed_mm_s".into(),
-                "one of spacing_mm and forward_speed_mm_s",
-            ));
-        }
-        (Some(s), None) if s > 0.0 && s.is_finite() => {
-            f.forward_mm_s = FeatureOptions::forward_for_spacing(s, f.rpm)
-        }
-        (Some(s), None) => {
-            return Err(bad(
-                "machine.spacing_mm",
-                s.to_string(),
-                "a positive plant spacing in mm",
-            ));
-        }
-        (None, Some(v)) if v >= 0.0 && v.is_finite() => f.forward_mm_s = v,
-        (None, Some(v)) => {
-            return Err(bad(
-                "machine.forward_speed_mm_s",
-                v.to_string(),
-                "a speed ≥ 0 in mm/s",
-            ));
-        }
-        (None, None) => {}
-    }
-    if let Some(d) = spec.machine.depth_mm {
-        if !(d >= 0.0 && d.is_finite()) {
-            return Err(bad("machine.depth_mm", d.to_string(), "a depth ≥ 0 in mm"));
-        }
-        f.planting_depth_mm = d;
-    }
-    for (name, b) in spec.targets.bands() {
-        if !(b[0].is_finite() && b[1].is_finite() && b[0] <= b[1]) {
-            return Err(bad(
-                &format!("targets.{name}"),
-                format!("{b:?}"),
-                "a band [min, max] with min ≤ max",
-            ));
-        }
-    }
-    Ok((spec.poses.iter().map(|p| p.pose()).collect(), tol, sense, f))
-}
-
-/// The largest position tolerance of the approximate poses, mm (0 when all are exact).
-fn max_tol_mm(spec: &Spec) -> f64 {
-    spec.poses
-        .iter()
-        .filter(|p| p.approximate())
-        .map(|p| p.tol_mm.unwrap_or(0.5))
-        .fold(0.0, f64::max)
-}
 
 /// `p` on the designed train: the closest tip over a turn (3600 instants, then golden-section
 /// refinement) and the needle-direction error there.
@@ -515,14 +455,7 @@ fn target_results(spec: &Spec, f: &Features) -> Vec<TargetResult> {
         .bands()
         .into_iter()
         .map(|(name, band)| {
-            let value = match name {
-                "take_angle_deg" => f.needle_angle_take_deg,
-                "push_angle_deg" => f.needle_angle_plant_deg,
-                "angle_difference_deg" => f.needle_angle_plant_deg - f.needle_angle_take_deg,
-                "height_mm" => f.height_mm,
-                "hole_width_mm" => f.hole_width_mm,
-                _ => f.min_arm_clearance_mm,
-            };
+            let value = index_value(name, f);
             TargetResult {
                 index: name.into(),
                 band,

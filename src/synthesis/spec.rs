@@ -1,7 +1,11 @@
-//! The synthesis spec file (`ncgear synthesize SPEC.toml`): machine, key poses, target bands.
+//! The synthesis spec file (`ncgear synthesize SPEC.toml`): machine, key poses, target bands, and
+//! its fields checked against their ranges before any work.
 //! Files speak mm and degrees; every field's unit is in its name.
 
 use super::dyad::Pose;
+use super::report::SynthesisError;
+use super::timing::POSE_TOL_RAD;
+use crate::simulate::FeatureOptions;
 use serde::{Deserialize, Serialize};
 
 /// A whole spec.
@@ -35,6 +39,12 @@ pub struct Machine {
     pub forward_speed_mm_s: Option<f64>,
     /// Planting depth below the lowest tip point, mm (default 30), for the hole width.
     pub depth_mm: Option<f64>,
+    /// Targets only: the range `[min, max]` of the carrier arm `l1` searched, mm (default
+    /// [`super::targets::DEFAULT_L1_MM`]).
+    pub l1_mm: Option<[f64; 2]>,
+    /// Targets only: the range `[min, max]` of the needle `l3` searched, mm (default
+    /// [`super::targets::DEFAULT_L3_MM`]).
+    pub l3_mm: Option<[f64; 2]>,
 }
 
 /// One key pose as written in the file.
@@ -107,4 +117,180 @@ impl Targets {
         .filter_map(|(n, b)| Some((n, b?)))
         .collect()
     }
+}
+
+/// The poses, their direction tolerances (rad), the sense asked for and the feature options.
+pub(super) type Checked = (Vec<Pose>, Vec<f64>, Option<i8>, FeatureOptions);
+
+/// The spec's fields checked against their ranges, naming the first out of range.
+pub(super) fn checked(spec: &Spec) -> Result<Checked, SynthesisError> {
+    let bad = |field: &str, value: String, expected: &str| SynthesisError::BadField {
+        field: field.into(),
+        value,
+        expected: expected.into(),
+    };
+    if spec.poses.is_empty() && spec.targets.bands().is_empty() {
+        return Err(bad(
+            "pose",
+            "none".into(),
+            "[[pose]] tables (at least three; two with machine.center_mm), or [targets] bands to synthesise from alone",
+        ));
+    }
+    let mut tol = Vec::new();
+    for (k, p) in spec.poses.iter().enumerate() {
+        match p.kind.as_deref() {
+            None | Some("exact") => tol.push(POSE_TOL_RAD),
+            Some("approximate") => {
+                let t = p.tol_deg.unwrap_or(0.5);
+                if !(t > 0.0 && t.is_finite()) {
+                    return Err(bad(
+                        &format!("pose[{k}].tol_deg"),
+                        t.to_string(),
+                        "a positive angle in degrees",
+                    ));
+                }
+                tol.push(t.to_radians());
+            }
+            Some(v) => {
+                return Err(bad(
+                    &format!("pose[{k}].kind"),
+                    format!("\"{v}\""),
+                    "\"exact\" or \"approximate\"",
+                ));
+            }
+        }
+    }
+    let sense = match spec.machine.carrier.as_deref() {
+        None => None,
+        Some("ccw") => Some(1),
+        Some("cw") => Some(-1),
+        Some(v) => {
+            return Err(bad(
+                "machine.carrier",
+                format!("\"{v}\""),
+                "\"ccw\" or \"cw\"",
+            ));
+        }
+    };
+    let mut f = FeatureOptions::default();
+    if let Some(r) = spec.machine.rpm {
+        if !(r > 0.0 && r.is_finite()) {
+            return Err(bad(
+                "machine.rpm",
+                r.to_string(),
+                "a positive speed in r/min",
+            ));
+        }
+        f.rpm = r;
+    }
+    match (spec.machine.spacing_mm, spec.machine.forward_speed_mm_s) {
+        (Some(_), Some(_)) => {
+            return Err(bad(
+                "machine.spacing_mm",
+                "with forward_speed_mm_s".into(),
+                "one of spacing_mm and forward_speed_mm_s",
+            ));
+        }
+        (Some(s), None) if s > 0.0 && s.is_finite() => {
+            f.forward_mm_s = FeatureOptions::forward_for_spacing(s, f.rpm)
+        }
+        (Some(s), None) => {
+            return Err(bad(
+                "machine.spacing_mm",
+                s.to_string(),
+                "a positive plant spacing in mm",
+            ));
+        }
+        (None, Some(v)) if v >= 0.0 && v.is_finite() => f.forward_mm_s = v,
+        (None, Some(v)) => {
+            return Err(bad(
+                "machine.forward_speed_mm_s",
+                v.to_string(),
+                "a speed ≥ 0 in mm/s",
+            ));
+        }
+        (None, None) => {}
+    }
+    if let Some(d) = spec.machine.depth_mm {
+        if !(d >= 0.0 && d.is_finite()) {
+            return Err(bad("machine.depth_mm", d.to_string(), "a depth ≥ 0 in mm"));
+        }
+        f.planting_depth_mm = d;
+    }
+    for (name, b) in spec.targets.bands() {
+        if !(b[0].is_finite() && b[1].is_finite() && b[0] <= b[1]) {
+            return Err(bad(
+                &format!("targets.{name}"),
+                format!("{b:?}"),
+                "a band [min, max] with min ≤ max",
+            ));
+        }
+        // Heights, widths and clearances are ≥ 0; the angles to the horizontal lie in (−90°, 90°].
+        let (range, what) = if name.ends_with("_mm") {
+            (
+                [0.0, f64::INFINITY],
+                "a length: the band must reach 0 mm or more",
+            )
+        } else if name == "angle_difference_deg" {
+            (
+                [-180.0, 180.0],
+                "a difference of two angles to the horizontal: the band must meet [−180°, 180°]",
+            )
+        } else {
+            (
+                [-90.0, 90.0],
+                "an angle to the horizontal: the band must meet [−90°, 90°]",
+            )
+        };
+        if b[1] < range[0] || b[0] > range[1] {
+            return Err(bad(&format!("targets.{name}"), format!("{b:?}"), what));
+        }
+    }
+    let t = &spec.targets;
+    if let (Some(take), Some(push), Some(diff)) =
+        (t.take_angle_deg, t.push_angle_deg, t.angle_difference_deg)
+    {
+        let reach = [push[0] - take[1], push[1] - take[0]];
+        if reach[1] < diff[0] || reach[0] > diff[1] {
+            return Err(bad(
+                "targets.angle_difference_deg",
+                format!("{diff:?}"),
+                &format!(
+                    "a band that meets push_angle_deg − take_angle_deg = [{}, {}]: the three bands contradict each other",
+                    reach[0], reach[1]
+                ),
+            ));
+        }
+    }
+    for (field, b) in [
+        ("machine.l1_mm", spec.machine.l1_mm),
+        ("machine.l3_mm", spec.machine.l3_mm),
+    ] {
+        if b.is_some() && !spec.poses.is_empty() {
+            return Err(bad(
+                field,
+                "given with poses".into(),
+                "no search box: it bounds the targets-only search; with poses the arm follows from them",
+            ));
+        }
+        if let Some(b) = b
+            && !(b[0].is_finite() && b[1].is_finite() && b[0] > 0.0 && b[0] <= b[1])
+        {
+            return Err(bad(
+                field,
+                format!("{b:?}"),
+                "a search box [min, max] in mm with 0 < min ≤ max",
+            ));
+        }
+    }
+    Ok((spec.poses.iter().map(|p| p.pose()).collect(), tol, sense, f))
+}
+
+/// The largest position tolerance of the approximate poses, mm (0 when all are exact).
+pub(super) fn max_tol_mm(spec: &Spec) -> f64 {
+    spec.poses
+        .iter()
+        .filter(|p| p.approximate())
+        .map(|p| p.tol_mm.unwrap_or(0.5))
+        .fold(0.0, f64::max)
 }

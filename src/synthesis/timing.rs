@@ -22,12 +22,17 @@
 
 use super::dyad::{Dyad, Pose};
 use crate::geometry::fourier::SunRatio;
+use crate::geometry::limits::{GearLimits, constraint_values};
 use crate::geometry::mechanism::Mechanism;
 use nalgebra::{DMatrix, DVector};
 use std::f64::consts::{PI, TAU};
 
 /// Needle-direction tolerance standing for an exact pose, rad (1e-6°).
 pub const POSE_TOL_RAD: f64 = 1e-6 * PI / 180.0;
+
+/// Relative margin kept inside the gear limits by the timing (the design chain's projection keeps
+/// a smaller one, so a timing within this margin is taken as it is).
+pub const LIMIT_MARGIN: f64 = 0.02;
 
 /// Weight λ of the smoothness rows `λ·j²·(a_j, b_j)`.
 const SMOOTHNESS: f64 = 1e-2;
@@ -62,6 +67,41 @@ pub enum TimingError {
         angles_deg: Vec<f64>,
         /// Turns made in the CCW reading.
         turns: i64,
+    },
+    /// The needle directions ask for a planet turning backwards, or for more or less than one
+    /// relative turn per carrier turn, between two poses (i31 ≤ 0 somewhere).
+    #[error(
+        "the needle directions of the poses make the needle turn {turns_deg:.1}° relative to the carrier over one carrier turn; a planet that never turns back (i31 > 0) turns exactly 360°: check the needle directions of poses {poses:?} (the pairs whose relative turn is largest)"
+    )]
+    PlanetTurns {
+        /// The relative turn the poses ask for over the cycle, degrees (a multiple of 360).
+        turns_deg: f64,
+        /// The pose pairs `(k, k + 1)` with the largest relative turns.
+        poses: Vec<(usize, usize)>,
+    },
+    /// Between two poses the mean planet ratio is outside what the sun ratio bounds allow.
+    #[error(
+        "poses {from} → {to}: the needle turns {psi_deg:.2}° relative to the carrier while the carrier turns {phi_deg:.2}°, a mean planet ratio i31 = {ratio:.4} outside [{min:.4}, {max:.4}] (the sun ratio bounds i21 ∈ [{i_min}, {i_max}], i31 = i21(t)/i21(S(t))): move the poses or their needle directions"
+    )]
+    PlanetRatio {
+        /// First pose of the pair.
+        from: usize,
+        /// Second pose of the pair.
+        to: usize,
+        /// Relative needle turn asked for, degrees.
+        psi_deg: f64,
+        /// Carrier turn between the poses, degrees.
+        phi_deg: f64,
+        /// Their ratio.
+        ratio: f64,
+        /// Smallest reachable mean i31, `i_min/i_max`.
+        min: f64,
+        /// Largest reachable mean i31, `i_max/i_min`.
+        max: f64,
+        /// Sun ratio lower bound.
+        i_min: f64,
+        /// Sun ratio upper bound.
+        i_max: f64,
     },
     /// The sense asked for is not the poses' travel sense.
     #[error("the poses run {found} round the carrier axis, but the carrier was set to {asked}")]
@@ -115,8 +155,77 @@ pub fn carrier_angles(
     Ok((direction, out.iter().map(|d| phi0 + d).collect()))
 }
 
+/// The necessary conditions of a timing through the poses (checked before any fit): with the
+/// planet's relative rotation `ψ3 = φ − β + const` strictly increasing by exactly one turn per
+/// carrier turn (i31 > 0), the relative turn between poses k and k + 1 is
+/// `Δψ_k = (Δφ_k − Δθ_k) mod 2π` (solved frame), the turns must add up to 360°, and each mean
+/// ratio `Δψ_k/Δφ_k` must lie in `[i_min/i_max, i_max/i_min]` (`i31 = i21(t)/i21(S(t))` with
+/// `i21 ∈ ratio_bounds`). `angles` are the carrier angles of [`carrier_angles`] for `direction`.
+pub fn check_planet_turns(
+    poses: &[Pose],
+    direction: i8,
+    angles: &[f64],
+    ratio_bounds: [f64; 2],
+) -> Result<(), TimingError> {
+    let k = poses.len();
+    if k < 2 {
+        return Ok(());
+    }
+    let s = f64::from(direction);
+    let theta = |i: usize| s * poses[i].needle_rad;
+    let steps: Vec<(f64, f64)> = (0..k)
+        .map(|i| {
+            let j = (i + 1) % k;
+            let dphi = if j == 0 {
+                angles[0] + TAU - angles[i]
+            } else {
+                angles[j] - angles[i]
+            };
+            (dphi, (dphi - (theta(j) - theta(i))).rem_euclid(TAU))
+        })
+        .collect();
+    let total: f64 = steps.iter().map(|s| s.1).sum();
+    if (total - TAU).abs() > 1e-6 {
+        let mut by_turn: Vec<usize> = (0..k).collect();
+        by_turn.sort_by(|a, b| steps[*b].1.total_cmp(&steps[*a].1));
+        let extra = ((total / TAU).round() as usize).saturating_sub(1).max(1);
+        return Err(TimingError::PlanetTurns {
+            turns_deg: total.to_degrees(),
+            poses: by_turn
+                .into_iter()
+                .take(extra)
+                .map(|i| (i, (i + 1) % k))
+                .collect(),
+        });
+    }
+    let [lo, hi] = ratio_bounds;
+    let (min, max) = (lo / hi, hi / lo);
+    for (i, (dphi, dpsi)) in steps.iter().enumerate() {
+        let ratio = dpsi / dphi;
+        if !(ratio > min && ratio < max) {
+            return Err(TimingError::PlanetRatio {
+                from: i,
+                to: (i + 1) % k,
+                psi_deg: dpsi.to_degrees(),
+                phi_deg: dphi.to_degrees(),
+                ratio,
+                min,
+                max,
+                i_min: lo,
+                i_max: hi,
+            });
+        }
+    }
+    Ok(())
+}
+
 /// The smoothest train of Fourier order `order` through the poses (module documentation);
 /// `tolerances_rad[k]` is pose k's direction tolerance ([`POSE_TOL_RAD`] for an exact pose).
+/// With `limits`, the train's gears are kept within them (the design chain's, with a [`LIMIT_MARGIN`]
+/// margin): when the best timing of the poses and smoothness alone breaks a limit, the fit is
+/// run again from every start with one more row per constraint, `√(mean (c⁻)²)` over a
+/// grid of the ratio, weighted like a pose row — a timing the chain would have to bend (and so
+/// miss the poses) is avoided where the poses allow.
 #[must_use]
 pub fn fit_timing(
     poses: &[Pose],
@@ -125,6 +234,7 @@ pub fn fit_timing(
     angles: &[f64],
     order: usize,
     tolerances_rad: &[f64],
+    limits: Option<&GearLimits>,
 ) -> Timing {
     // Needle directions in the solved frame (a CW carrier mirrored in y: θ → −θ).
     let theta: Vec<f64> = poses
@@ -143,7 +253,7 @@ pub fn fit_timing(
     };
     // Pose rows divided by max(tolerance, floor): the floor falls over CONTINUATION_RAD so that the
     // smoothness rows steer the first steps (the pose equations alone leave most directions free).
-    let residuals_at = |x: &[f64], floor: f64| -> Option<DVector<f64>> {
+    let residuals_at = |x: &[f64], floor: f64, with_limits: bool| -> Option<DVector<f64>> {
         let m = build(x)?;
         let mut r: Vec<f64> = angles
             .iter()
@@ -159,25 +269,55 @@ pub fn fit_timing(
             r.push(w * x[1 + j]);
             r.push(w * x[1 + order + j]);
         }
+        let Some(limits) = limits.filter(|_| with_limits) else {
+            return Some(DVector::from_vec(r));
+        };
+        let grid = (32 * order).max(96);
+        let mut excess = [0.0f64; 7];
+        for k in 0..grid {
+            let v = m.ratio.eval3(TAU * k as f64 / grid as f64);
+            let c = constraint_values(limits, v, m.a_mm, LIMIT_MARGIN);
+            for (e, c) in excess.iter_mut().zip(c) {
+                let below = if c.is_finite() { c.min(0.0) } else { -1.0 };
+                *e += below * below;
+            }
+        }
+        r.extend(excess.iter().map(|e| (e / grid as f64).sqrt() / floor));
         Some(DVector::from_vec(r))
     };
-    let cost =
-        |x: &[f64]| residuals_at(x, POSE_TOL_RAD).map_or(f64::INFINITY, |r| r.norm_squared());
-    let best = [0.0, 0.5 * PI, PI, 1.5 * PI]
-        .into_iter()
-        .map(|u0| {
-            // γ so that the circular train (i21 ≡ 1) meets the first pose.
-            let mut x = vec![0.0; 2 + 2 * order];
-            x[0] = u0;
-            let m0 = build(&x).expect("a circular ratio");
-            x[1] = theta[0] - (m0.needle_direction(angles[0]) - m0.needle_angle_rad);
-            for floor in CONTINUATION_RAD {
-                x = levenberg_marquardt(&|x: &[f64]| residuals_at(x, floor), x);
-            }
-            x
-        })
-        .min_by(|a, b| cost(a).total_cmp(&cost(b)))
-        .expect("four starts");
+    let cost = |x: &[f64], with_limits: bool| {
+        residuals_at(x, POSE_TOL_RAD, with_limits).map_or(f64::INFINITY, |r| r.norm_squared())
+    };
+    let continuation = |mut x: Vec<f64>, with_limits: bool| {
+        for floor in CONTINUATION_RAD {
+            x = levenberg_marquardt(&|x: &[f64]| residuals_at(x, floor, with_limits), x);
+        }
+        x
+    };
+    // The poses and smoothness alone first (the usual case: their train is within the limits);
+    // when the best breaks a limit, every start again with the limit rows.
+    let start = |u0: f64| {
+        // γ so that the circular train (i21 ≡ 1) meets the first pose.
+        let mut x = vec![0.0; 2 + 2 * order];
+        x[0] = u0;
+        let m0 = build(&x).expect("a circular ratio");
+        x[1] = theta[0] - (m0.needle_direction(angles[0]) - m0.needle_angle_rad);
+        x
+    };
+    let phases = [0.0, 0.5 * PI, PI, 1.5 * PI];
+    let pick = |with_limits: bool| {
+        phases
+            .into_iter()
+            .map(|u0| continuation(start(u0), with_limits))
+            .min_by(|a, b| cost(a, with_limits).total_cmp(&cost(b, with_limits)))
+            .expect("four starts")
+    };
+    let best = pick(false);
+    let best = if cost(&best, true) > cost(&best, false) {
+        pick(true)
+    } else {
+        best
+    };
     let m = build(&best).expect("the fit keeps an admissible ratio");
     let residuals_rad = angles
         .iter()

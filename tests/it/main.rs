@@ -22,6 +22,7 @@ mod step;
 mod svg_render;
 mod swept;
 mod synthesis;
+mod synthesis_targets;
 mod teeth;
 mod tolerance;
 mod tradeoff;

@@ -224,7 +224,16 @@ fn the_timing_of_g1_poses_passes_every_pose() {
             let d = (phi.to_degrees() - t - turn + 180.0).rem_euclid(360.0) - 180.0;
             assert!(d.abs() < 1e-6, "{phi} vs {t}");
         }
-        let timing = fit_timing(&poses, &arms[0], direction, &angles, 4, &[POSE_TOL_RAD; 5]);
+        let limits = ncgear::DesignOptions::default().limits();
+        let timing = fit_timing(
+            &poses,
+            &arms[0],
+            direction,
+            &angles,
+            4,
+            &[POSE_TOL_RAD; 5],
+            Some(&limits),
+        );
         for (k, (phi, p)) in angles.iter().zip(&poses).enumerate() {
             let b = timing.mechanism.tip(*phi);
             // Back to the world frame: mirrored in y for CW, then about O.
@@ -367,6 +376,7 @@ fn infeasible_specs_are_refused_by_name() {
     assert!(e.to_string().contains("targets.height_mm"), "{e}");
     let none = ncgear::synthesis::Spec {
         poses: Vec::<PoseSpec>::new(),
+        targets: Default::default(),
         ..spec
     };
     let e = ncgear::synthesis::synthesize(&none, &ncgear::DesignOptions::default()).unwrap_err();
@@ -403,4 +413,60 @@ fn three_poses_synthesise_a_compact_arm_that_passes_them() {
         assert!(p.error_mm < 0.01 && p.error_deg.abs() < 0.01, "{p:?}");
     }
     assert!(s.design.report.verdict.passed);
+}
+
+/// Poses an arm reaches exactly but whose needle directions ask the planet to turn back (i31 ≤ 0)
+/// or faster than the sun ratio bounds allow are refused before any fit, naming the pose pair.
+#[test]
+fn poses_asking_the_planet_to_turn_back_are_refused_by_pair() {
+    use ncgear::synthesis::spec::PoseSpec;
+    use ncgear::synthesis::{SynthesisError, TimingError};
+    // O = 0, l1 = 90, l3 = 170, carrier angles 0, 72, …, 288°, needle β = −70° + φ − ψ.
+    let spec_of = |psi_deg: [f64; 5]| ncgear::synthesis::Spec {
+        poses: (0..5)
+            .map(|k| {
+                let phi = (72.0 * k as f64).to_radians();
+                let beta = (-70.0 + 72.0 * k as f64 - psi_deg[k]).to_radians();
+                PoseSpec {
+                    x_mm: 90.0 * phi.cos() + 170.0 * beta.cos(),
+                    y_mm: 90.0 * phi.sin() + 170.0 * beta.sin(),
+                    needle_deg: beta.to_degrees(),
+                    kind: None,
+                    tol_mm: None,
+                    tol_deg: None,
+                }
+            })
+            .collect(),
+        ..Default::default()
+    };
+    // G1's own relative turns pass the check (and give the arm back).
+    let ok = spec_of([0.0, 106.118321, 159.868760, 200.131240, 253.881679]);
+    assert!(ncgear::synthesis::synthesize(&ok, &ncgear::DesignOptions::default()).is_ok());
+    let t0 = std::time::Instant::now();
+    // ψ falls from 106° to 90° between poses 1 and 2: two relative turns in all.
+    let back = spec_of([0.0, 106.0, 90.0, 200.0, 253.0]);
+    match ncgear::synthesis::synthesize(&back, &ncgear::DesignOptions::default()) {
+        Err(SynthesisError::Timing(TimingError::PlanetTurns { turns_deg, poses })) => {
+            assert!((turns_deg - 720.0).abs() < 1e-6, "{turns_deg}");
+            assert_eq!(poses, vec![(1, 2)]);
+        }
+        other => panic!("{other:?}"),
+    }
+    // 3° of relative turn over 72° of carrier: i31 = 0.042 < 0.3/3.3.
+    let slow = spec_of([0.0, 3.0, 150.0, 200.0, 253.0]);
+    let e = ncgear::synthesis::synthesize(&slow, &ncgear::DesignOptions::default()).unwrap_err();
+    match &e {
+        SynthesisError::Timing(TimingError::PlanetRatio {
+            from: 0,
+            to: 1,
+            ratio,
+            ..
+        }) => assert!((ratio - 3.0 / 72.0).abs() < 1e-9, "{ratio}"),
+        other => panic!("{other:?}"),
+    }
+    assert!(e.to_string().contains("poses 0 → 1"), "{e}");
+    assert!(
+        t0.elapsed().as_secs_f64() < 1.0,
+        "refusals take under a second"
+    );
 }

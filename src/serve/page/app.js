@@ -312,9 +312,9 @@ function renderReadouts() {
   table.textContent = "";
   const f = d.view && d.view.features;
   const rows = f ? [
-    ["taking angle", f.needle_angle_take_deg.toFixed(1) + "°", "feature-take-deg"],
-    ["pushing angle", f.needle_angle_plant_deg.toFixed(1) + "°", "feature-push-deg"],
-    ["angle difference", (f.needle_angle_plant_deg - f.needle_angle_take_deg).toFixed(1) + "°", "feature-difference-deg"],
+    ["taking angle", f.take_angle_deg.toFixed(1) + "° below horizontal", "feature-take-deg"],
+    ["pushing angle", f.push_angle_deg.toFixed(1) + "° below horizontal", "feature-push-deg"],
+    ["angle difference", (f.push_angle_deg - f.take_angle_deg).toFixed(1) + "°", "feature-difference-deg"],
     ["trajectory height", f.height_mm.toFixed(1) + " mm", "feature-height-mm"],
     ["hole width at depth", f.hole_width_mm.toFixed(1) + " mm", "feature-hole-mm"],
     ["arm clearance", f.min_arm_clearance_mm.toFixed(1) + " mm", "feature-clearance-mm"],
