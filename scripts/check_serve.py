@@ -72,6 +72,19 @@ def start_server():
     return proc, url
 
 
+def drag(page, target, dx, dy):
+    """Drags `target` by five steps of (dx, dy) pixels, then waits for the page to be ready."""
+    box = target.bounding_box()
+    x, y = box["x"] + box["width"] / 2, box["y"] + box["height"] / 2
+    page.mouse.move(x, y)
+    page.mouse.down()
+    for k in range(1, 6):
+        page.mouse.move(x + dx * k, y + dy * k)
+    page.mouse.up()
+    page.wait_for_timeout(100)
+    wait_ready(page)
+
+
 def wait_ready(page, timeout_ms=60000):
     page.wait_for_function(
         "() => { const s = document.querySelector('[data-testid=status]').textContent;"
@@ -128,16 +141,8 @@ def browser_checks(url):
 
         # Drag a handle: a new design within a second, its server time shown.
         before = text(page, "deviation-mm")
-        box = page.get_by_test_id("handle-3").bounding_box()
-        x, y = box["x"] + box["width"] / 2, box["y"] + box["height"] / 2
         t0 = time.time()
-        page.mouse.move(x, y)
-        page.mouse.down()
-        for k in range(1, 6):
-            page.mouse.move(x + 4 * k, y - 3 * k)
-        page.mouse.up()
-        page.wait_for_timeout(100)
-        wait_ready(page)
+        drag(page, page.get_by_test_id("handle-3"), 4, -3)
         after, server_ms = text(page, "deviation-mm"), float(text(page, "server-ms"))
         if after == before:
             fail(f"dragging handle-3 left the deviation at {before} mm")
@@ -186,6 +191,22 @@ def browser_checks(url):
         if any(float(e.split()[0]) > 0.01 for e in errs) or page.get_by_test_id("pose").count() != 5:
             fail(f"the five G1 poses on the synthesised gears: {errs}")
         print(f"check_serve: poses panel: {arm}; pose errors {errs}")
+        # Three of the poses (a family), then pose 1 dragged: synthesised again through the moved
+        # pose, which the new gears pass.
+        g1 = (ROOT / "assets/synthesis/g1_five_poses.toml").read_text()
+        head, *poses = g1.split("[[pose]]")
+        poses[-1] = poses[-1].split("[targets]")[0]
+        three = head + "".join("[[pose]]" + poses[k] for k in (0, 2, 4))
+        page.get_by_test_id("open-poses").set_input_files(
+            files=[{"name": "three.toml", "mimeType": "text/plain", "buffer": three.encode()}])
+        wait_ready(page)
+        arm0, cx0 = text(page, "synthesis-arm"), float(page.get_by_test_id("pose").nth(1).get_attribute("cx"))
+        drag(page, page.get_by_test_id("pose").nth(1), 4, -2)
+        arm1, cx1 = text(page, "synthesis-arm"), float(page.get_by_test_id("pose").nth(1).get_attribute("cx"))
+        errs = [text(page, f"pose-error-{k}") for k in range(3)]
+        if arm1 == arm0 or not cx1 > cx0 + 1.0 or any(float(e.split()[0]) > 0.05 for e in errs):
+            fail(f"dragging pose 1: {arm0!r} → {arm1!r}, tip x {cx0} → {cx1} mm, errors {errs}")
+        print(f"check_serve: pose 1 dragged {cx1 - cx0:.1f} mm: {arm1}; pose errors {errs}")
         # Target bands alone through the same panel: every band met on the gears, no pose drawn.
         page.get_by_test_id("open-poses").set_input_files(str(ROOT / "assets/synthesis/rice_targets.toml"))
         wait_ready(page)

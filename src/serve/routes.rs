@@ -84,7 +84,7 @@ fn design_endpoint(body: &str) -> Result<Reply, ApiError> {
 
 /// `POST /api/synthesize`: a synthesis spec as uploaded (`{"name", "text"}`, TOML or JSON as
 /// `ncgear synthesize` reads it) → `{"synthesis": synthesis.json, "design": design.json with its
-/// view}`.
+/// view, "spec": the spec as read, in JSON}`.
 fn synthesize_endpoint(body: &str) -> Result<Reply, ApiError> {
     let started = std::time::Instant::now();
     let (label, req) = ParseRequest::parse(body)?;
@@ -98,8 +98,11 @@ fn synthesize_endpoint(body: &str) -> Result<Reply, ApiError> {
         .map_err(internal)?;
     design["server_ms"] = Value::from(1e3 * started.elapsed().as_secs_f64());
     let synthesis = serde_json::to_value(&s.report).map_err(internal)?;
+    // The spec as read, so that the page can move a pose and send it back (as JSON).
+    let spec = serde_json::to_value(&spec).map_err(internal)?;
     Ok(Reply::json(
-        serde_json::json!({"name": label, "synthesis": synthesis, "design": design}).to_string(),
+        serde_json::json!({"name": label, "synthesis": synthesis, "design": design, "spec": spec})
+            .to_string(),
     ))
 }
 

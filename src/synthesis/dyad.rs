@@ -180,6 +180,28 @@ pub enum DyadError {
 ///
 /// Errors: [`DyadError`].
 pub fn solve_dyads(poses: &[Pose], opts: &DyadOptions) -> Result<DyadSolutions, DyadError> {
+    solve_dyads_weighted(poses, &vec![1.0; poses.len()], opts)
+}
+
+/// [`solve_dyads`] with pose k's geometric residual divided by `scales_mm[k]` (> 0) in the
+/// least-squares refinement: an approximate pose given its position tolerance and an exact one a
+/// small scale takes the misfit of over-determined poses onto the approximate ones. The scan
+/// that finds the starts is unweighted.
+///
+/// Errors: [`DyadError`], and `BadOption` for scales that are not positive and finite, one per
+/// pose.
+pub fn solve_dyads_weighted(
+    poses: &[Pose],
+    scales_mm: &[f64],
+    opts: &DyadOptions,
+) -> Result<DyadSolutions, DyadError> {
+    if scales_mm.len() != poses.len() || !scales_mm.iter().all(|w| *w > 0.0 && w.is_finite()) {
+        return Err(DyadError::BadOption {
+            field: "scales_mm",
+            value: format!("{scales_mm:?}"),
+            expected: "one positive finite scale per pose",
+        });
+    }
     if let Some(index) = poses
         .iter()
         .position(|p| !(p.tip_mm.iter().all(|v| v.is_finite()) && p.needle_rad.is_finite()))
@@ -219,6 +241,7 @@ pub fn solve_dyads(poses: &[Pose], opts: &DyadOptions) -> Result<DyadSolutions, 
                 .map(|l3| {
                     refine(
                         poses,
+                        scales_mm,
                         [o[0], o[1], circle_about(poses, o, l3).0, l3],
                         true,
                         opts,
@@ -254,7 +277,7 @@ pub fn solve_dyads(poses: &[Pose], opts: &DyadOptions) -> Result<DyadSolutions, 
         .into_iter()
         .filter_map(|l3| {
             let (o, r, _) = kasa(poses, l3)?;
-            Some(refine(poses, [o[0], o[1], r, l3], false, opts))
+            Some(refine(poses, scales_mm, [o[0], o[1], r, l3], false, opts))
         })
         .collect();
     Ok(DyadSolutions::Finite(ranked(dyads, opts)))
@@ -379,13 +402,20 @@ fn bisect(f: &dyn Fn(f64) -> f64, mut lo: f64, mut hi: f64, tol: f64) -> f64 {
     0.5 * (lo + hi)
 }
 
-/// Levenberg–Marquardt on the geometric residuals `r_k = |A_k(l3) − O| − l1` from
+/// Levenberg–Marquardt on the geometric residuals `r_k = (|A_k(l3) − O| − l1) / s_k` from
 /// `x = [Ox, Oy, l1, l3]`; with `center_fixed` O stays.
-fn refine(poses: &[Pose], mut x: [f64; 4], center_fixed: bool, opts: &DyadOptions) -> Dyad {
+fn refine(
+    poses: &[Pose],
+    scales_mm: &[f64],
+    mut x: [f64; 4],
+    center_fixed: bool,
+    opts: &DyadOptions,
+) -> Dyad {
     let residuals = |x: &[f64; 4]| -> (Vec<f64>, Vec<[f64; 4]>) {
         poses
             .iter()
-            .map(|p| {
+            .zip(scales_mm)
+            .map(|(p, s)| {
                 let a = p.planet_axis(x[3]);
                 let d = [a[0] - x[0], a[1] - x[1]];
                 let n = d[0].hypot(d[1]).max(1e-300);
@@ -396,7 +426,10 @@ fn refine(poses: &[Pose], mut x: [f64; 4], center_fixed: bool, opts: &DyadOption
                 } else {
                     [-u[0], -u[1], -1.0, -(u[0] * e[0] + u[1] * e[1])]
                 };
-                (n - x[2], row)
+                (
+                    (n - x[2]) / s,
+                    [row[0] / s, row[1] / s, row[2] / s, row[3] / s],
+                )
             })
             .unzip()
     };

@@ -28,7 +28,9 @@ pub mod spec;
 pub mod targets;
 pub mod timing;
 
-pub use dyad::{Dyad, DyadError, DyadOptions, DyadSolutions, Pose, solve_dyads};
+pub use dyad::{
+    Dyad, DyadError, DyadOptions, DyadSolutions, Pose, solve_dyads, solve_dyads_weighted,
+};
 pub use report::{Synthesis, SynthesisError, SynthesisReport};
 pub use run::synthesize;
 pub use spec::Spec;

@@ -120,6 +120,18 @@ pub enum SynthesisError {
         /// Longest needle searched, mm.
         max_l3_mm: f64,
     },
+    /// The poses over-determine the arm and no arm reaches them all within their tolerance.
+    #[error(
+        "no arm reaches all {poses} poses within their tolerances: the best misses one by {residual_mm:.4} mm ({exact} exact poses; four or more over-determine the arm with the others): mark poses `kind = \"approximate\"` with a `tol_mm` of at least that, or remove one"
+    )]
+    NoExactArm {
+        /// Poses given.
+        poses: usize,
+        /// Exact poses among them.
+        exact: usize,
+        /// The smallest largest residual of the arms found, mm.
+        residual_mm: f64,
+    },
     /// Every candidate was refused by the design chain.
     #[error("no candidate arm gave a design: {0}")]
     NoDesign(String),

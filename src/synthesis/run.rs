@@ -7,18 +7,18 @@
 //! design): each pose's distance from the traced path, and the needle-direction error at the
 //! closest instant. The agronomic indices of the chosen design are those `ncgear simulate`
 //! reports (one implementation), compared with the target bands: reported with their margins, and
-//! used to choose between candidates that pass the poses equally well (then the most compact arm,
-//! smallest `l1 + l3`). Candidates are evaluated side by side.
+//! used to choose between candidates that pass the poses (within [`POSE_PASSED`]; then the most
+//! compact arm, smallest `l1 + l3`). Candidates are evaluated side by side.
 //!
 //! A spec of bands without poses goes to the targets-only search ([`super::targets`]); its best
 //! trains go through the same design chain and are measured the same way.
 
-use super::dyad::{Dyad, DyadOptions, DyadSolutions, Pose, solve_dyads};
+use super::dyad::{Dyad, DyadOptions, DyadSolutions, Pose, solve_dyads_weighted};
 use super::report::{
     Candidate, PoseResult, Synthesis, SynthesisError, SynthesisReport, TargetResult,
 };
 use super::spec::{Spec, checked, max_tol_mm};
-use super::targets::{DEFAULT_L1_MM, DEFAULT_L3_MM, TargetProblem, index_value};
+use super::targets::{AXIS_DISTANCE_L3, DEFAULT_L1_MM, DEFAULT_L3_MM, TargetProblem, index_value};
 use super::timing::{Timing, TimingError, carrier_angles, check_planet_turns, fit_timing};
 use crate::design::trajectory::Trajectory;
 use crate::design::{Design, DesignOptions, design};
@@ -30,14 +30,22 @@ use std::f64::consts::{PI, TAU};
 
 /// Candidates taken from a one-parameter family (three poses), evenly over its members of
 /// [`FAMILY_L3_SPREADS`].
-pub const FAMILY_CANDIDATES: usize = 16;
+pub const FAMILY_CANDIDATES: usize = 8;
 
 /// Needle lengths of the family members tried, in units of the poses' spread (the largest
 /// distance between two pose tips).
 pub const FAMILY_L3_SPREADS: [f64; 2] = [0.25, 2.5];
 
+/// Pose errors (mm, degrees) within which a candidate counts as passing every pose when one is
+/// chosen: the target bands and the arm's size then decide.
+pub const POSE_PASSED: (f64, f64) = (0.01, 0.01);
+
 /// Family members (of the [`FAMILY_CANDIDATES`] timed) handed to the design chain.
 pub const FAMILY_DESIGNED: usize = 4;
+
+/// Position scale of an exact pose in the arm's least squares, mm (an approximate pose's is its
+/// `tol_mm`).
+pub const EXACT_POSE_MM: f64 = 1e-3;
 
 /// Finite solutions tried, best residual first.
 pub const FINITE_CANDIDATES: usize = 4;
@@ -67,7 +75,19 @@ pub fn synthesize(spec: &Spec, opts: &DesignOptions) -> Result<Synthesis, Synthe
         center_mm: spec.machine.center_mm,
         ..DyadOptions::default()
     };
-    let (kind, dyads) = match solve_dyads(&poses, &dopts)? {
+    // An exact pose weighs as a position tolerance of 1 µm, an approximate one as its own.
+    let scales: Vec<f64> = spec
+        .poses
+        .iter()
+        .map(|p| {
+            if p.approximate() {
+                p.position_tolerance_mm()
+            } else {
+                EXACT_POSE_MM
+            }
+        })
+        .collect();
+    let (kind, dyads) = match solve_dyads_weighted(&poses, &scales, &dopts)? {
         DyadSolutions::Finite(v) => ("finite", v),
         DyadSolutions::Family(v) => ("family", v),
     };
@@ -85,7 +105,9 @@ pub fn synthesize(spec: &Spec, opts: &DesignOptions) -> Result<Synthesis, Synthe
         let plausible: Vec<Dyad> = dyads
             .iter()
             .filter(|d| {
-                d.l3_mm >= FAMILY_L3_SPREADS[0] * spread && d.l3_mm <= FAMILY_L3_SPREADS[1] * spread
+                d.l3_mm >= FAMILY_L3_SPREADS[0] * spread
+                    && d.l3_mm <= FAMILY_L3_SPREADS[1] * spread
+                    && d.l1_mm <= (1.0 - AXIS_DISTANCE_L3) * d.l3_mm
             })
             .copied()
             .collect();
@@ -113,8 +135,20 @@ pub fn synthesize(spec: &Spec, opts: &DesignOptions) -> Result<Synthesis, Synthe
             .collect()
     };
     if pick.is_empty() {
-        return Err(SynthesisError::NoArm {
-            max_l3_mm: dopts.max_l3_mm,
+        let best = dyads
+            .iter()
+            .map(|d| d.max_residual_mm)
+            .fold(f64::INFINITY, f64::min);
+        return Err(if kind == "finite" && best.is_finite() {
+            SynthesisError::NoExactArm {
+                poses: poses.len(),
+                exact: spec.poses.iter().filter(|p| !p.approximate()).count(),
+                residual_mm: best,
+            }
+        } else {
+            SynthesisError::NoArm {
+                max_l3_mm: dopts.max_l3_mm,
+            }
         });
     }
     // Each candidate's timing on its own (side by side); a family's members first without the
@@ -183,16 +217,24 @@ pub fn synthesize(spec: &Spec, opts: &DesignOptions) -> Result<Synthesis, Synthe
         .flatten();
     let tried: Vec<(Candidate, Option<Designed>)> =
         results.into_iter().map(|(c, d, _)| (c, d)).collect();
-    // Passes the poses best (to 1 µm), then misses the fewest bands, then the most compact arm
-    // (smallest l1 + l3: the smaller gearbox and planting arm).
+    // Passes the poses (within POSE_PASSED, else the smaller error to 1 µm), then misses the
+    // fewest bands, then the most compact arm (smallest l1 + l3: the smaller gearbox and arm).
     let chosen = tried
         .iter()
         .enumerate()
         .filter_map(|(k, (c, r))| r.as_ref().map(|_| (k, c)))
         .min_by(|a, b| {
             let key = |c: &Candidate| {
+                let (mm, deg) = (
+                    c.max_pose_error_mm.unwrap_or(f64::INFINITY),
+                    c.max_pose_error_deg.unwrap_or(f64::INFINITY),
+                );
                 (
-                    (c.max_pose_error_mm.unwrap_or(f64::INFINITY) * 1e3).round(),
+                    if mm <= POSE_PASSED.0 && deg <= POSE_PASSED.1 {
+                        0.0
+                    } else {
+                        (mm * 1e3).round().max(1.0)
+                    },
                     c.targets_missed,
                     c.dyad.l1_mm + c.dyad.l3_mm,
                 )

@@ -76,6 +76,27 @@ impl PoseSpec {
         }
     }
 
+    /// Position tolerance, mm: `tol_mm` of an approximate pose (default 0.5), 0 for an exact one.
+    #[must_use]
+    pub fn position_tolerance_mm(&self) -> f64 {
+        if self.approximate() {
+            self.tol_mm.unwrap_or(0.5)
+        } else {
+            0.0
+        }
+    }
+
+    /// Direction tolerance, degrees: `tol_deg` of an approximate pose (default 0.5), 0 for an
+    /// exact one.
+    #[must_use]
+    pub fn direction_tolerance_deg(&self) -> f64 {
+        if self.approximate() {
+            self.tol_deg.unwrap_or(0.5)
+        } else {
+            0.0
+        }
+    }
+
     /// Whether the pose is approximate (its tolerances then apply).
     #[must_use]
     pub fn approximate(&self) -> bool {
@@ -141,7 +162,15 @@ pub(super) fn checked(spec: &Spec) -> Result<Checked, SynthesisError> {
         match p.kind.as_deref() {
             None | Some("exact") => tol.push(POSE_TOL_RAD),
             Some("approximate") => {
-                let t = p.tol_deg.unwrap_or(0.5);
+                let d = p.position_tolerance_mm();
+                if !(d > 0.0 && d.is_finite()) {
+                    return Err(bad(
+                        &format!("pose[{k}].tol_mm"),
+                        d.to_string(),
+                        "a positive length in mm",
+                    ));
+                }
+                let t = p.direction_tolerance_deg();
                 if !(t > 0.0 && t.is_finite()) {
                     return Err(bad(
                         &format!("pose[{k}].tol_deg"),
@@ -291,6 +320,6 @@ pub(super) fn max_tol_mm(spec: &Spec) -> f64 {
     spec.poses
         .iter()
         .filter(|p| p.approximate())
-        .map(|p| p.tol_mm.unwrap_or(0.5))
+        .map(PoseSpec::position_tolerance_mm)
         .fold(0.0, f64::max)
 }

@@ -72,7 +72,7 @@ const GEAR_WEIGHT: f64 = 100.0;
 
 /// Closest approach of the path to the carrier axis kept by the search, `l3 − l1`, in units of
 /// `l3`: twice the design chain's [`MIN_AXIS_DISTANCE_L3`].
-const AXIS_DISTANCE_L3: f64 = 2.0 * MIN_AXIS_DISTANCE_L3;
+pub const AXIS_DISTANCE_L3: f64 = 2.0 * MIN_AXIS_DISTANCE_L3;
 
 /// Parameter scale of the lengths: the search works in `l / LENGTH_UNIT_MM`.
 const LENGTH_UNIT_MM: f64 = 100.0;

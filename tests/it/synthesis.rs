@@ -470,3 +470,37 @@ fn poses_asking_the_planet_to_turn_back_are_refused_by_pair() {
         "refusals take under a second"
     );
 }
+
+/// One G1 pose moved 3 mm: five exact poses have no arm, and the error says by how much and what
+/// to do; marked approximate (3 mm, 1°), the weighted least squares puts the misfit on it — the
+/// original arm comes back from the four exact poses, which the gears pass, and the moved pose
+/// lies within its own tolerance.
+#[test]
+fn a_moved_pose_marked_approximate_takes_the_misfit() {
+    use ncgear::synthesis::SynthesisError;
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("assets/synthesis/g1_five_poses.toml");
+    let mut spec: ncgear::synthesis::Spec = ncgear::config::load(&path).unwrap();
+    spec.poses[2].x_mm += 3.0;
+    match ncgear::synthesis::synthesize(&spec, &ncgear::DesignOptions::default()) {
+        Err(SynthesisError::NoExactArm {
+            poses: 5,
+            exact: 5,
+            residual_mm,
+        }) => assert!(residual_mm > 0.05 && residual_mm < 3.0, "{residual_mm}"),
+        other => panic!("{other:?}"),
+    }
+    spec.poses[2].kind = Some("approximate".into());
+    spec.poses[2].tol_mm = Some(3.0);
+    spec.poses[2].tol_deg = Some(1.0);
+    let s = ncgear::synthesis::synthesize(&spec, &ncgear::DesignOptions::default()).unwrap();
+    let arm = s.report.candidates[s.report.chosen].dyad;
+    assert!(found(&[arm], [0.0; 2], 90.0, 170.0, 1e-3), "{arm:?}");
+    for (k, p) in s.report.poses.iter().enumerate() {
+        let (mm, deg) = if k == 2 { (3.0, 1.0) } else { (1e-3, 1e-3) };
+        assert!(
+            p.error_mm < mm && p.error_deg.abs() < deg,
+            "pose {k}: {p:?}"
+        );
+    }
+}

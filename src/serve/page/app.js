@@ -13,7 +13,7 @@ const state = {
   name: "", orig: [], u: [], nodes: [], disp: [],
   design: null, phiIndex: 0, playing: false,
   view: { cx: 0, cy: 0, w: 400 },
-  undo: [], redo: [], controller: null, timer: null, clock: null, synthesis: null, highlight: null,
+  undo: [], redo: [], controller: null, timer: null, clock: null, synthesis: null, spec: null, highlight: null,
 };
 
 // ---- status --------------------------------------------------------------------------------
@@ -241,10 +241,11 @@ function render() {
   }
   // Key poses of a synthesis: the tip and the needle's direction (planet axis → tip).
   if (state.synthesis) {
-    for (const p of state.synthesis.poses) {
+    for (const [k, p] of state.synthesis.poses.entries()) {
       const a = p.needle_deg * Math.PI / 180, l = 25 / s;
       el("path", { d: path([[p.tip_mm[0] - l * Math.cos(a), p.tip_mm[1] - l * Math.sin(a)], p.tip_mm]), stroke: "#d62728", "stroke-width": lw(3) }, world);
-      el("circle", { cx: p.tip_mm[0], cy: p.tip_mm[1], r: lw(5), fill: "none", stroke: "#d62728", "stroke-width": lw(2), "data-testid": "pose" }, world);
+      const c = el("circle", { cx: p.tip_mm[0], cy: p.tip_mm[1], r: lw(6), fill: "#ffffff", "fill-opacity": 0.01, stroke: "#d62728", "stroke-width": lw(2), "data-testid": "pose", "data-k": k, class: "pose-handle" }, world);
+      c.addEventListener("pointerdown", startPoseDrag);
     }
   }
   el("circle", { cx: 0, cy: 0, r: lw(3), fill: "#000", transform: v ? `translate(${v.center_mm[0]},${v.center_mm[1]})` : "" }, world);
@@ -394,6 +395,35 @@ function startDrag(ev) {
   window.addEventListener("pointerup", up);
 }
 
+// Dragging a key pose moves its tip (the needle keeps its direction); on release the spec, with
+// the pose moved, is synthesised again. A spec that no longer has an arm says so in the status
+// bar and the last synthesis stays.
+function startPoseDrag(ev) {
+  ev.stopPropagation();
+  ev.preventDefault();
+  const k = Number(ev.target.getAttribute("data-k"));
+  const pose = state.synthesis.poses[k], tip0 = pose.tip_mm.slice(), start = toWorld(ev);
+  let moved = false;
+  const move = (e) => {
+    const p = toWorld(e);
+    pose.tip_mm = [tip0[0] + p[0] - start[0], tip0[1] + p[1] - start[1]];
+    moved = true;
+    render();
+  };
+  const up = () => {
+    window.removeEventListener("pointermove", move);
+    window.removeEventListener("pointerup", up);
+    if (!moved || !state.spec) return;
+    const spec = JSON.parse(JSON.stringify(state.spec));
+    spec.pose[k].x_mm = pose.tip_mm[0];
+    spec.pose[k].y_mm = pose.tip_mm[1];
+    pose.tip_mm = tip0;
+    synthesizeSpec({ name: "poses.json", text: JSON.stringify(spec) });
+  };
+  window.addEventListener("pointermove", move);
+  window.addEventListener("pointerup", up);
+}
+
 function startPan(ev) {
   const s = pxPerMm(), x0 = ev.clientX, y0 = ev.clientY, v0 = Object.assign({}, state.view);
   const move = (e) => { state.view.cx = v0.cx - (e.clientX - x0) / s; state.view.cy = v0.cy + (e.clientY - y0) / s; render(); };
@@ -419,20 +449,26 @@ const MAX_UPLOAD_BYTES = 8 << 20; // the server's body limit
 // A synthesis spec: the arm, timing and gears through its poses; the traced path becomes the
 // target to edit further (the poses stay drawn until another path is opened).
 async function openPoses(file) {
+  setStatus("designing", "busy"); // at once: the file is read before the request
+  await synthesizeSpec({ name: file.name, text: await file.text() });
+}
+
+// Synthesises a spec (`{name, text}`) and shows it, its path becoming the target.
+async function synthesizeSpec(upload) {
   setStatus("designing", "busy");
   try {
-    const r = await api("/api/synthesize", { name: file.name, text: await file.text() });
+    const r = await api("/api/synthesize", upload);
     const syn = await r.json();
     loadPoints(syn.name, syn.design.target_points);
     state.synthesis = syn.synthesis;
+    state.spec = syn.spec;
     state.design = syn.design;
     const o = syn.design.carrier.center;
     $("center-x").value = o[0];
     $("center-y").value = o[1];
-    fitView(syn.design.target_points);
     render();
     setStatus("ready");
-  } catch (e) { setStatus(e.message, "error"); }
+  } catch (e) { setStatus(e.message, "error"); render(); }
 }
 const openFile = (file) => openWith(async () => {
   if (file.size > MAX_UPLOAD_BYTES) {
