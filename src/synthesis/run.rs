@@ -18,13 +18,17 @@ use super::report::{
     Candidate, PoseResult, Synthesis, SynthesisError, SynthesisReport, TargetResult,
 };
 use super::spec::{Spec, checked, max_tol_mm};
-use super::targets::{AXIS_DISTANCE_L3, DEFAULT_L1_MM, DEFAULT_L3_MM, TargetProblem, index_value};
-use super::timing::{Timing, TimingError, carrier_angles, check_planet_turns, fit_timing};
+use super::targets::{
+    AXIS_DISTANCE_L3, DEFAULT_L1_MM, DEFAULT_L3_MM, SEARCH_SAMPLES, TargetProblem, band_shortfalls,
+    index_value, turn_of,
+};
+use super::timing::{
+    Timing, TimingError, TimingGoals, carrier_angles, check_planet_turns, fit_timing,
+};
 use crate::design::trajectory::Trajectory;
 use crate::design::{Design, DesignOptions, design};
-use crate::geometry::limits::GearLimits;
 use crate::geometry::mechanism::Mechanism;
-use crate::simulate::{FeatureOptions, Features, Simulation, features};
+use crate::simulate::{FeatureOptions, Features, Simulation, features, features_of_turn};
 use rayon::prelude::*;
 use std::f64::consts::{PI, TAU};
 
@@ -152,10 +156,27 @@ pub fn synthesize(spec: &Spec, opts: &DesignOptions) -> Result<Synthesis, Synthe
         });
     }
     // Each candidate's timing on its own (side by side); a family's members first without the
-    // gear-limit rows (cheaper), the ones kept then again with them when they break a limit.
-    let timed = |dyad: Dyad, limits: Option<&GearLimits>| -> Result<Timing, TimingError> {
+    // gear-limit and band rows (cheaper), the ones kept then again with them when they break a
+    // limit or there are bands.
+    let bands = spec.targets.bands();
+    let timed = |dyad: Dyad, full: bool| -> Result<Timing, TimingError> {
         let (direction, angles) = carrier_angles(&poses, &dyad, sense)?;
         check_planet_turns(&poses, direction, &angles, opts.refine_options.ratio_bounds)?;
+        // The bands' rows: the indices of the train's two arms at SEARCH_SAMPLES instants.
+        let o = dyad.center_mm;
+        let band_rows = |m: &Mechanism| -> Vec<f64> {
+            features_of_turn(
+                &turn_of(m, o, direction, SEARCH_SAMPLES),
+                o,
+                direction,
+                &fopts,
+            )
+            .map_or(vec![1e3; bands.len()], |f| band_shortfalls(&bands, &f))
+        };
+        let goals = TimingGoals {
+            limits: full.then_some(&limits),
+            bands: (full && !bands.is_empty()).then_some(&band_rows),
+        };
         Ok(fit_timing(
             &poses,
             &dyad,
@@ -163,13 +184,14 @@ pub fn synthesize(spec: &Spec, opts: &DesignOptions) -> Result<Synthesis, Synthe
             &angles,
             TIMING_ORDER,
             &tol_rad,
-            limits,
+            &goals,
         ))
     };
     let family = kind == "family";
-    let first = (!family).then_some(&limits);
-    let mut timings: Vec<(Dyad, Result<Timing, TimingError>)> =
-        pick.into_par_iter().map(|d| (d, timed(d, first))).collect();
+    let mut timings: Vec<(Dyad, Result<Timing, TimingError>)> = pick
+        .into_par_iter()
+        .map(|d| (d, timed(d, !family)))
+        .collect();
     // The family's members that go on to the design chain: those whose timing passes the poses
     // best (to 1e-6 rad), then keeps within the gear limits, then the most compact arm.
     if family {
@@ -191,8 +213,11 @@ pub fn synthesize(spec: &Spec, opts: &DesignOptions) -> Result<Synthesis, Synthe
         timings = timings
             .into_par_iter()
             .map(|(d, t)| match t {
-                Ok(t) if !limits.contains(&t.mechanism.ratio, t.mechanism.a_mm) => {
-                    (d, timed(d, Some(&limits)))
+                Ok(t)
+                    if !limits.contains(&t.mechanism.ratio, t.mechanism.a_mm)
+                        || !bands.is_empty() =>
+                {
+                    (d, timed(d, true))
                 }
                 t => (d, t),
             })

@@ -125,6 +125,20 @@ pub fn index_value(name: &str, f: &Features) -> f64 {
     }
 }
 
+/// How far each index lies outside its band shrunk by `min(10 % of its width, 1)` (degrees or
+/// mm; 0 inside): the band rows of the searches, which so land inside a band, not on its edge.
+#[must_use]
+pub fn band_shortfalls(bands: &[(&'static str, [f64; 2])], f: &Features) -> Vec<f64> {
+    bands
+        .iter()
+        .map(|(name, b)| {
+            let inset = (0.1 * (b[1] - b[0])).min(1.0);
+            let v = index_value(name, f);
+            (b[0] + inset - v).max(0.0) + (v - b[1] + inset).max(0.0)
+        })
+        .collect()
+}
+
 /// Both arms of `m` over one turn at `n` instants (time order), world frame: carrier axis at
 /// `center_mm`, a CW carrier (`direction < 0`) the mirror image of the solved frame in y.
 #[must_use]
@@ -231,17 +245,7 @@ impl TargetProblem {
         let Ok(f) = features_of_turn(&turn, self.center_mm, self.direction, &self.features) else {
             return f64::INFINITY;
         };
-        let bands: f64 = self
-            .bands
-            .iter()
-            .map(|(name, b)| {
-                let unit = 1.0;
-                let inset = (0.1 * (b[1] - b[0])).min(unit);
-                let v = index_value(name, &f);
-                let h = above(b[0] + inset, v) + above(v, b[1] - inset);
-                (h / unit).powi(2)
-            })
-            .sum();
+        let bands: f64 = band_shortfalls(&self.bands, &f).iter().map(|h| h * h).sum();
         let smooth: f64 = (1..=m.ratio.order())
             .map(|j| {
                 let (a, b) = (

@@ -219,13 +219,28 @@ pub fn check_planet_turns(
     Ok(())
 }
 
+/// The band rows of a train (solved frame): each index's distance outside its band, degrees or mm.
+pub type BandRows<'a> = dyn Fn(&Mechanism) -> Vec<f64> + Sync + 'a;
+
+/// What a timing keeps to besides the poses ([`fit_timing`]).
+#[derive(Clone, Copy, Default)]
+pub struct TimingGoals<'a> {
+    /// The gear limits (the design chain's).
+    pub limits: Option<&'a GearLimits>,
+    /// Rows of the target bands: each index's distance outside its band (degrees or mm, 0
+    /// inside) for a train in the solved frame.
+    pub bands: Option<&'a BandRows<'a>>,
+}
+
 /// The smoothest train of Fourier order `order` through the poses (module documentation);
 /// `tolerances_rad[k]` is pose k's direction tolerance ([`POSE_TOL_RAD`] for an exact pose).
-/// With `limits`, the train's gears are kept within them (the design chain's, with a [`LIMIT_MARGIN`]
-/// margin): when the best timing of the poses and smoothness alone breaks a limit, the fit is
-/// run again from every start with one more row per constraint, `√(mean (c⁻)²)` over a
-/// grid of the ratio, weighted like a pose row — a timing the chain would have to bend (and so
-/// miss the poses) is avoided where the poses allow.
+/// With `goals.limits`, the train's gears are kept within them (the design chain's, with a
+/// [`LIMIT_MARGIN`] margin), and with `goals.bands` its indices in their bands: when the best
+/// timing of the poses and smoothness alone breaks a limit or misses a band, the fit is run again
+/// from every start with one more row per limit, `√(mean (c⁻)²)` over a grid of the ratio,
+/// weighted like a pose row (a timing the chain would have to bend, and so miss the poses, is
+/// avoided where the poses allow), and one per band, weighted 1 per degree or mm: the bands steer
+/// while the poses are loose and yield to exact poses as they tighten.
 #[must_use]
 pub fn fit_timing(
     poses: &[Pose],
@@ -234,8 +249,9 @@ pub fn fit_timing(
     angles: &[f64],
     order: usize,
     tolerances_rad: &[f64],
-    limits: Option<&GearLimits>,
+    goals: &TimingGoals<'_>,
 ) -> Timing {
+    let limits = goals.limits;
     // Needle directions in the solved frame (a CW carrier mirrored in y: θ → −θ).
     let theta: Vec<f64> = poses
         .iter()
@@ -269,7 +285,13 @@ pub fn fit_timing(
             r.push(w * x[1 + j]);
             r.push(w * x[1 + order + j]);
         }
-        let Some(limits) = limits.filter(|_| with_limits) else {
+        if !with_limits {
+            return Some(DVector::from_vec(r));
+        }
+        if let Some(bands) = goals.bands {
+            r.extend(bands(&m));
+        }
+        let Some(limits) = limits else {
             return Some(DVector::from_vec(r));
         };
         let grid = (32 * order).max(96);
@@ -278,7 +300,8 @@ pub fn fit_timing(
             let v = m.ratio.eval3(TAU * k as f64 / grid as f64);
             let c = constraint_values(limits, v, m.a_mm, LIMIT_MARGIN);
             for (e, c) in excess.iter_mut().zip(c) {
-                let below = if c.is_finite() { c.min(0.0) } else { -1.0 };
+                // An absent limit is infinite (always within); NaN counts as broken.
+                let below = if c.is_nan() { -1.0 } else { c.min(0.0) };
                 *e += below * below;
             }
         }
@@ -313,7 +336,8 @@ pub fn fit_timing(
             .expect("four starts")
     };
     let best = pick(false);
-    let best = if cost(&best, true) > cost(&best, false) {
+    // (The extra rows are zero when kept to: equal costs up to rounding.)
+    let best = if cost(&best, true) > cost(&best, false) * (1.0 + 1e-9) {
         pick(true)
     } else {
         best
