@@ -171,6 +171,7 @@ pub fn synthesize(spec: &Spec, opts: &DesignOptions) -> Result<Synthesis, Synthe
                 direction,
                 &fopts,
             )
+            // Indices that cannot be evaluated (no planting level): each band 1000 units out.
             .map_or(vec![1e3; bands.len()], |f| band_shortfalls(&bands, &f))
         };
         let goals = TimingGoals {

@@ -185,6 +185,7 @@ pub fn check_planet_turns(
         })
         .collect();
     let total: f64 = steps.iter().map(|s| s.1).sum();
+    // The wrapped turns sum to a multiple of 2π; 1e-6 rad only absorbs rounding.
     if (total - TAU).abs() > 1e-6 {
         let mut by_turn: Vec<usize> = (0..k).collect();
         by_turn.sort_by(|a, b| steps[*b].1.total_cmp(&steps[*a].1));
@@ -294,6 +295,8 @@ pub fn fit_timing(
         let Some(limits) = limits else {
             return Some(DVector::from_vec(r));
         };
+        // 32 samples per period of the highest harmonic (at least 96): coarser than the chain's
+        // own limit scans (≥ 1024), which check the design afterwards; this grid only steers.
         let grid = (32 * order).max(96);
         let mut excess = [0.0f64; 7];
         for k in 0..grid {
