@@ -59,9 +59,9 @@ pub struct TradeOffRow {
     pub module_mm: Option<f64>,
     /// Whether this row is the default design (`ncgear design` with its defaults).
     pub is_default: bool,
-    /// A limit row only: the label of the closest tighter-limit design when it is closer than
-    /// this one — it is within this row's limits too, so this row's fit settled in a local
-    /// optimum (the trade-off curve is then not monotone).
+    /// A limit row or the unlimited row only: the label of the closest tighter-limit design when
+    /// it is closer than this one — it is within this row's limits too, so this row's fit
+    /// settled in a local optimum (the trade-off curve is then not monotone).
     pub closer_tighter_design: Option<String>,
     /// The design's numbers, or why it was refused.
     #[serde(flatten)]
@@ -200,25 +200,26 @@ pub fn trade_off(
 }
 
 /// Sets [`TradeOffRow::closer_tighter_design`] on each limit row that a design under a tighter
-/// pressure-angle limit (same concave-radius limit, no module) beats.
+/// pressure-angle limit (same concave-radius limit, no module) beats, and on the unlimited row
+/// that any limited design beats (every one is within its absent limits).
 fn flag_closer_tighter(mut rows: Vec<TradeOffRow>) -> Vec<TradeOffRow> {
-    let limit_rows: Vec<(usize, f64, f64, f64)> = rows
+    // (row, pressure-angle limit, concave-radius limit (None: any), deviation)
+    let limit_rows: Vec<(usize, f64, Option<f64>, f64)> = rows
         .iter()
         .enumerate()
         .filter(|(_, r)| r.module_mm.is_none())
         .filter_map(|(k, r)| {
-            Some((
-                k,
-                r.pressure_angle_limit_deg?,
-                r.concave_radius_limit_mm?,
-                r.numbers()?.max_deviation_mm,
-            ))
+            let dev = r.numbers()?.max_deviation_mm;
+            Some(match r.pressure_angle_limit_deg {
+                Some(limit) => (k, limit, Some(r.concave_radius_limit_mm?), dev),
+                None => (k, f64::INFINITY, None, dev),
+            })
         })
         .collect();
     for &(k, limit, radius, dev) in &limit_rows {
         let best = limit_rows
             .iter()
-            .filter(|&&(_, l, r, d)| l < limit && r == radius && d < dev)
+            .filter(|&&(_, l, r, d)| l < limit && (radius.is_none() || r == radius) && d < dev)
             .min_by(|a, b| a.3.total_cmp(&b.3));
         rows[k].closer_tighter_design = best.map(|&(j, ..)| rows[j].label.clone());
     }
@@ -323,10 +324,14 @@ impl TradeOff {
         }
         for r in &self.rows {
             if let (Some(by), Some(n)) = (&r.closer_tighter_design, r.numbers()) {
+                let within = match r.pressure_angle_limit_deg {
+                    Some(_) => format!("is within the `{}` limits too and", r.label),
+                    None => "is".into(),
+                };
                 let _ = writeln!(
                     s,
-                    "\nNote: the `{by}` design is within the `{}` limits too and closer than \
-                     its {:.4} mm: the fit at `{}` settled in a local optimum.",
+                    "\nNote: the `{by}` design {within} closer than the `{}` design's {:.4} mm: \
+                     the fit at `{}` settled in a local optimum.",
                     r.label, n.max_deviation_mm, r.label
                 );
             }

@@ -262,22 +262,43 @@ pub(super) fn contact_guess(curve: &[TipEval], phi: f64) -> f64 {
 /// Local minima of the sample distance tried per point by [`initial_angles`].
 const CANDIDATES: usize = 3;
 
-/// Distance (mm) of the traced curve's sample `e` from the target polyline beyond what the
-/// polyline's chords can explain (0.6 of the nearest chord: even round a sharp, coarsely sampled
-/// nose a smooth curve through two points bulges at most about half their distance beyond their
-/// chord), and its gradient direction.
-pub(super) fn coverage(q: &SegmentGrid, e: &TipEval) -> (f64, [f64; 2]) {
+/// Distance (mm) of the traced curve's sample `e` from the target polyline, the length of the
+/// nearest chord (mm) and the distance's gradient direction.
+pub(super) fn coverage(q: &SegmentGrid, e: &TipEval) -> CoverageSample {
     let near = q.nearest(e.b);
     let (c, chord) = (near.point, q.segment_length_mm(near.segment));
     let r = [e.b[0] - c[0], e.b[1] - c[1]];
     let d = norm(r);
-    let excess = (d - 0.6 * chord).max(0.0);
     let u = if d > 0.0 {
         [r[0] / d, r[1] / d]
     } else {
         [0.0, 0.0]
     };
-    (excess, u)
+    CoverageSample {
+        distance_mm: d,
+        chord_mm: chord,
+        direction: u,
+    }
+}
+
+/// A traced-curve sample's distance from the target polyline ([`coverage`]).
+#[derive(Debug, Clone, Copy)]
+pub(super) struct CoverageSample {
+    /// Distance from the polyline, mm.
+    pub distance_mm: f64,
+    /// Length of the nearest segment, mm.
+    pub chord_mm: f64,
+    /// Unit vector from the nearest polyline point to the sample.
+    pub direction: [f64; 2],
+}
+
+impl CoverageSample {
+    /// The distance beyond what the polyline's chords can explain (0.6 of the nearest chord:
+    /// even round a sharp, coarsely sampled nose a smooth curve through two points bulges at
+    /// most about half their distance beyond their chord), mm.
+    pub fn excess_mm(&self) -> f64 {
+        (self.distance_mm - 0.6 * self.chord_mm).max(0.0)
+    }
 }
 
 #[cfg(test)]

@@ -64,7 +64,7 @@ struct ActiveLimit {
 }
 
 /// What the Jacobian of one evaluation needs: each point's projection and normal, each coverage
-/// sample with its excess and direction, the limit rows in force.
+/// sample with its residual and direction, the limit rows in force.
 struct Linearisation {
     points: Vec<(TipEval, [f64; 2])>,
     coverage: Vec<(TipEval, f64, [f64; 2])>,
@@ -79,6 +79,11 @@ pub(super) struct Lm<'a> {
     pub(super) weights: Option<&'a [f64]>,
     /// The segments of `pts` (the target polyline of the coverage rows), bucketed once.
     pub(super) grid: &'a SegmentGrid<'a>,
+    /// Square roots of the coverage samples' weights (IRLS towards the minimax fit): each row is
+    /// then its sample's whole distance from the target, weighted, as in the Hausdorff distance
+    /// the minimax lowers. `None`: the distance beyond the chord allowance
+    /// ([`super::curve::CoverageSample::excess_mm`]), unweighted.
+    pub(super) coverage_weights: Option<&'a [f64]>,
 }
 
 impl Lm<'_> {
@@ -122,13 +127,18 @@ impl Lm<'_> {
         let m0 = self.pts.len();
         let coverage: Vec<(TipEval, f64, [f64; 2])> = curve_evals(m, COVERAGE_SAMPLES)
             .into_par_iter()
-            .map(|e| {
-                let (excess, u) = coverage(self.grid, &e);
-                (e, excess, u)
+            .enumerate()
+            .map(|(i, e)| {
+                let c = coverage(self.grid, &e);
+                let r = match self.coverage_weights {
+                    Some(w) => w[i] * c.distance_mm,
+                    None => c.excess_mm(),
+                };
+                (e, r, c.direction)
             })
             .collect();
-        for (i, (_, excess, _)) in coverage.iter().enumerate() {
-            r[m0 + i] = *excess;
+        for (i, (_, ri, _)) in coverage.iter().enumerate() {
+            r[m0 + i] = *ri;
         }
         let m0 = m0 + COVERAGE_SAMPLES;
         // Limit penalty: w·max(0, −g) for each constraint value g of the gear limits (ratio
@@ -206,10 +216,13 @@ impl Lm<'_> {
         let coverage_rows: Vec<Vec<f64>> = lin
             .coverage
             .par_iter()
-            .map(|(e, excess, u)| {
+            .enumerate()
+            .map(|(i, (e, ri, u))| {
                 let mut row = vec![0.0; np];
-                if *excess > 0.0 {
+                if *ri > 0.0 {
                     point_row(m, e, [-u[0], -u[1]], &mut row);
+                    let w = self.coverage_weights.map_or(1.0, |w| w[i]);
+                    row.iter_mut().for_each(|v| *v *= w);
                 }
                 row
             })

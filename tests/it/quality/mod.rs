@@ -3,10 +3,12 @@
 //! Limits (α = 20°): α + max|atan(r_θ/r)| ≤ 45° on sun, intermediate and planet; every concave
 //! arc |ρ| ≥ 10 mm; i21 ∈ [0.3, 3.3]. For each target, `design()` with default options must
 //! (i) stay within the limits by the independent table check of [`limits_check`], and
-//! (ii) reach a deviation (largest distance of the target points from `d.traced_mm`, point to
-//! polyline) within 1.05× of the independent constrained optimum of [`reference`].
+//! (ii) reach a deviation (the Hausdorff distance between the target polyline and `d.traced_mm`,
+//! both ways, as the design reports it) within 1.05× of the independent constrained optimum of
+//! [`reference`].
 //!
-//! Run: `cargo test --release --test it quality -- --nocapture`
+//! Run: `cargo test --release --test it quality -- --nocapture`; with
+//! `NCGEAR_QUALITY_SEEDS=7104,7105` it measures those generated targets instead of the fixed set.
 pub mod limits_check;
 pub mod model;
 pub mod reference;
@@ -21,8 +23,9 @@ use std::time::Instant;
 
 /// The chain's deviation may exceed the reference's by this factor.
 const FACTOR: f64 = 1.05;
-/// Seeds of the generated designer targets (the robustness suite uses 4000..4030).
-const SEEDS: [u64; 3] = [7101, 7102, 7103];
+/// Seeds of the generated designer targets (the robustness suite uses 4000..4030); 7108 and
+/// 7113 were 13 % and 17 % behind the reference before the minimax weighed both sides.
+const SEEDS: [u64; 5] = [7101, 7102, 7103, 7108, 7113];
 /// Target files in the repository.
 const FILES: [&str; 4] = [
     "assets/trajectories/designer_kidney.csv",
@@ -42,9 +45,32 @@ fn targets() -> Vec<(String, Vec<[f64; 2]>, u64)> {
             (name, t.points().to_vec(), k as u64)
         })
         .collect();
-    for s in SEEDS {
-        let c = generate(Family::Designer, s);
-        v.push((format!("designer seed {s}"), c.points, s));
+    // `NCGEAR_QUALITY_SEEDS=1,2,3` measures other generated targets (the files are then skipped).
+    let seeds: Vec<u64> = match std::env::var("NCGEAR_QUALITY_SEEDS") {
+        Ok(list) => {
+            v.clear();
+            list.split(',')
+                .filter_map(|x| x.trim().parse().ok())
+                .collect()
+        }
+        Err(_) => SEEDS.to_vec(),
+    };
+    for s in seeds {
+        let mut c = generate(Family::Designer, s);
+        // The reference takes counter-clockwise targets: a clockwise one is mirrored (x → −x),
+        // which changes neither the best deviation nor the gears' limits.
+        let area: f64 = (0..c.points.len())
+            .map(|k| {
+                let (p, q) = (c.points[k], c.points[(k + 1) % c.points.len()]);
+                p[0] * q[1] - q[0] * p[1]
+            })
+            .sum();
+        let mut name = format!("designer seed {s}");
+        if area < 0.0 {
+            c.points.iter_mut().for_each(|p| p[0] = -p[0]);
+            name.push_str(" (mirrored)");
+        }
+        v.push((name, c.points, s));
     }
     v
 }
@@ -64,14 +90,10 @@ fn show(q: &Quality, lim: &Limits) -> (String, String) {
 
 /// Targets on which the chain is known to miss the reference by more than [`FACTOR`], with
 /// the deviation measured when recorded (mm; it may not get worse) and why. Within the limits
-/// they must still be. Seed 7101: the chain settles at 1.76 mm with or without the limits
-/// (1.77 mm unconstrained), the reference reaches 1.49 mm from its focus-ellipse scan: a basin
-/// none of the chain's restarts (patent route, perturbed, continuation, elliptic suns) reaches.
-const KNOWN_MISSES: [(&str, f64, &str); 1] = [(
-    "designer seed 7101",
-    1.765,
-    "another basin: 1.18 × the reference",
-)];
+/// they must still be. None at present: seed 7101, recorded at 1.18× while the reference was
+/// one-sided, is at 1.02× of the two-sided reference since the minimax weighs the traced
+/// curve's distance from the target (2026-11-27).
+const KNOWN_MISSES: [(&str, f64, &str); 0] = [];
 
 #[test]
 fn designer_targets_meet_the_limits_near_the_constrained_optimum() {
@@ -94,9 +116,7 @@ fn designer_targets_meet_the_limits_near_the_constrained_optimum() {
         let lib_path: Vec<[f64; 2]> = (0..8192)
             .map(|k| r.mechanism.tip(std::f64::consts::TAU * k as f64 / 8192.0))
             .collect();
-        let lib_dev = search::distances_to_closed(&points, &lib_path)
-            .into_iter()
-            .fold(0.0, f64::max);
+        let lib_dev = search::hausdorff_closed(&points, &lib_path);
         assert!(
             (lib_dev - r.deviation_mm).abs() <= 0.01,
             "{name}: reference deviation {:.4} mm, its train traced by Mechanism::tip {lib_dev:.4} mm",
@@ -107,9 +127,7 @@ fn designer_targets_meet_the_limits_near_the_constrained_optimum() {
         let chain = match design(&traj, &DesignOptions::default()) {
             Ok(d) => {
                 let q = evaluate(&d.report);
-                let dev = search::distances_to_closed(traj.points(), &d.traced_mm)
-                    .into_iter()
-                    .fold(0.0, f64::max);
+                let dev = search::hausdorff_closed(traj.points(), &d.traced_mm);
                 let v = violations(&q, &lim);
                 if !v.is_empty() {
                     failures.push(format!(

@@ -18,62 +18,88 @@ fn seg_dist2(p: [f64; 2], a: [f64; 2], b: [f64; 2]) -> f64 {
     ex * ex + ey * ey
 }
 
-/// Exact distance (mm) of each point to the closed polyline `poly`, segments bucketed in a
-/// uniform grid and searched ring by ring until no unseen cell can hold a closer segment.
-pub fn distances_to_closed(points: &[[f64; 2]], poly: &[[f64; 2]]) -> Vec<f64> {
-    let n = poly.len();
-    let (mut lo, mut hi, mut len) = ([f64::MAX; 2], [f64::MIN; 2], 0.0);
-    for k in 0..n {
-        let (p, q) = (poly[k], poly[(k + 1) % n]);
-        for d in 0..2 {
-            lo[d] = lo[d].min(p[d]);
-            hi[d] = hi[d].max(p[d]);
-        }
-        len += (q[0] - p[0]).hypot(q[1] - p[1]);
-    }
-    let span = (hi[0] - lo[0]).max(hi[1] - lo[1]).max(1e-9);
-    let cell = (4.0 * len / n as f64).max(span / 64.0);
-    let nx = ((hi[0] - lo[0]) / cell) as i64 + 1;
-    let ny = ((hi[1] - lo[1]) / cell) as i64 + 1;
-    let cx = |x: f64| (((x - lo[0]) / cell).floor() as i64).clamp(0, nx - 1);
-    let cy = |y: f64| (((y - lo[1]) / cell).floor() as i64).clamp(0, ny - 1);
-    // Cells of each segment's bounding box, in compressed rows: start[c]..start[c + 1].
-    let boxes: Vec<[i64; 4]> = (0..n)
-        .map(|k| {
+/// A closed polyline with its segments bucketed in a uniform grid, for exact point distances:
+/// a query searches ring by ring until no unseen cell can hold a closer segment.
+pub struct ClosedPolyline<'a> {
+    poly: &'a [[f64; 2]],
+    lo: [f64; 2],
+    cell: f64,
+    nx: i64,
+    ny: i64,
+    /// Segments of cell `c` are `segs[start[c]..start[c + 1]]`.
+    start: Vec<u32>,
+    segs: Vec<u32>,
+}
+
+impl<'a> ClosedPolyline<'a> {
+    /// The index of the closed polyline `poly` (mm).
+    pub fn new(poly: &'a [[f64; 2]]) -> Self {
+        let n = poly.len();
+        let (mut lo, mut hi, mut len) = ([f64::MAX; 2], [f64::MIN; 2], 0.0);
+        for k in 0..n {
             let (p, q) = (poly[k], poly[(k + 1) % n]);
-            [
-                cx(p[0].min(q[0])),
-                cx(p[0].max(q[0])),
-                cy(p[1].min(q[1])),
-                cy(p[1].max(q[1])),
-            ]
-        })
-        .collect();
-    let mut start = vec![0u32; (nx * ny + 1) as usize];
-    for b in &boxes {
-        for ix in b[0]..=b[1] {
-            for iy in b[2]..=b[3] {
-                start[(iy * nx + ix) as usize + 1] += 1;
+            for d in 0..2 {
+                lo[d] = lo[d].min(p[d]);
+                hi[d] = hi[d].max(p[d]);
+            }
+            len += (q[0] - p[0]).hypot(q[1] - p[1]);
+        }
+        let span = (hi[0] - lo[0]).max(hi[1] - lo[1]).max(1e-9);
+        let cell = (4.0 * len / n as f64).max(span / 64.0);
+        let nx = ((hi[0] - lo[0]) / cell) as i64 + 1;
+        let ny = ((hi[1] - lo[1]) / cell) as i64 + 1;
+        let cx = |x: f64| (((x - lo[0]) / cell).floor() as i64).clamp(0, nx - 1);
+        let cy = |y: f64| (((y - lo[1]) / cell).floor() as i64).clamp(0, ny - 1);
+        // Cells of each segment's bounding box, in compressed rows: start[c]..start[c + 1].
+        let boxes: Vec<[i64; 4]> = (0..n)
+            .map(|k| {
+                let (p, q) = (poly[k], poly[(k + 1) % n]);
+                [
+                    cx(p[0].min(q[0])),
+                    cx(p[0].max(q[0])),
+                    cy(p[1].min(q[1])),
+                    cy(p[1].max(q[1])),
+                ]
+            })
+            .collect();
+        let mut start = vec![0u32; (nx * ny + 1) as usize];
+        for b in &boxes {
+            for ix in b[0]..=b[1] {
+                for iy in b[2]..=b[3] {
+                    start[(iy * nx + ix) as usize + 1] += 1;
+                }
             }
         }
-    }
-    for c in 1..start.len() {
-        start[c] += start[c - 1];
-    }
-    let mut fill = start.clone();
-    let mut segs = vec![0u32; start[start.len() - 1] as usize];
-    for (k, b) in boxes.iter().enumerate() {
-        for ix in b[0]..=b[1] {
-            for iy in b[2]..=b[3] {
-                let c = (iy * nx + ix) as usize;
-                segs[fill[c] as usize] = k as u32;
-                fill[c] += 1;
+        for c in 1..start.len() {
+            start[c] += start[c - 1];
+        }
+        let mut fill = start.clone();
+        let mut segs = vec![0u32; start[start.len() - 1] as usize];
+        for (k, b) in boxes.iter().enumerate() {
+            for ix in b[0]..=b[1] {
+                for iy in b[2]..=b[3] {
+                    let c = (iy * nx + ix) as usize;
+                    segs[fill[c] as usize] = k as u32;
+                    fill[c] += 1;
+                }
             }
         }
+        Self {
+            poly,
+            lo,
+            cell,
+            nx,
+            ny,
+            start,
+            segs,
+        }
     }
-    let query = |p: [f64; 2]| {
-        let ix = ((p[0] - lo[0]) / cell).floor() as i64;
-        let iy = ((p[1] - lo[1]) / cell).floor() as i64;
+
+    /// Exact distance (mm) of `p` to the polyline.
+    pub fn distance(&self, p: [f64; 2]) -> f64 {
+        let (poly, n, cell, nx, ny) = (self.poly, self.poly.len(), self.cell, self.nx, self.ny);
+        let ix = ((p[0] - self.lo[0]) / cell).floor() as i64;
+        let iy = ((p[1] - self.lo[1]) / cell).floor() as i64;
         // Rings around the (possibly outside) cell of p, up to the whole grid.
         let rmax = nx.max(ny) + ix.abs().max(iy.abs()) + 2;
         let mut best = f64::INFINITY;
@@ -84,7 +110,7 @@ pub fn distances_to_closed(points: &[[f64; 2]], poly: &[[f64; 2]]) -> Vec<f64> {
                         continue;
                     }
                     let c = (jy * nx + jx) as usize;
-                    for &s in &segs[start[c] as usize..start[c + 1] as usize] {
+                    for &s in &self.segs[self.start[c] as usize..self.start[c + 1] as usize] {
                         let s = s as usize;
                         best = best.min(seg_dist2(p, poly[s], poly[(s + 1) % n]));
                     }
@@ -96,8 +122,30 @@ pub fn distances_to_closed(points: &[[f64; 2]], poly: &[[f64; 2]]) -> Vec<f64> {
             }
         }
         best.sqrt()
-    };
-    points.iter().map(|&p| query(p)).collect()
+    }
+
+    /// [`Self::distance`] of each point.
+    pub fn distances(&self, points: &[[f64; 2]]) -> Vec<f64> {
+        points.iter().map(|&p| self.distance(p)).collect()
+    }
+}
+
+/// Exact distance (mm) of each point to the closed polyline `poly`.
+pub fn distances_to_closed(points: &[[f64; 2]], poly: &[[f64; 2]]) -> Vec<f64> {
+    ClosedPolyline::new(poly).distances(points)
+}
+
+/// Hausdorff distance (mm) between the closed polylines through `target` and `traced`: the
+/// largest of every target point's distance to `traced` and every traced vertex's distance to
+/// `target`: measured at the vertices of both, exact up to the chords of fine polylines.
+pub fn hausdorff_closed(target: &[[f64; 2]], traced: &[[f64; 2]]) -> f64 {
+    let there = distances_to_closed(target, traced)
+        .into_iter()
+        .fold(0.0, f64::max);
+    let back = distances_to_closed(traced, target)
+        .into_iter()
+        .fold(0.0, f64::max);
+    there.max(back)
 }
 
 /// Power mean `(Σ d^p / M)^{1/p}` of the distances (mm); `p = ∞` gives the largest.
