@@ -1,0 +1,337 @@
+//! Step 1 in one frame (docs/math/chain.md §3.3–§3.5): the closed-form two-circle inversion of
+//! the spline through the points, its monotonicity test, and the coarse pass that rejects a
+//! frame early.
+
+use super::{InverseError, InverseOptions, Inversion, MIN_AXIS_DISTANCE_L3};
+use crate::design::law::NeedleLaw;
+use crate::design::trajectory::ClosedSpline;
+use crate::math::norm;
+use crate::math::periodic::{bracketed_root, secant_root, wrap_pi};
+use rayon::prelude::*;
+use std::f64::consts::TAU;
+
+/// One frame's outcome.
+pub(super) enum Solved {
+    Done(Box<Inversion>),
+    /// The carrier angle does not advance by +2π in this frame; carries the diagnosis.
+    WrongSense(InverseError),
+    /// The coarse pass of [`coarse_rejects`] rejected the frame and the other frame succeeded:
+    /// not solved.
+    Skipped,
+}
+
+/// Dense samples of the interpolant for `points` trajectory points: the option, at least four
+/// per point.
+pub(super) fn dense_count(opts: &InverseOptions, points: usize) -> usize {
+    opts.dense_samples.max(4 * points)
+}
+
+/// The extreme of ρ(s) = |P(s)| near grid sample `j` of step `ds` (mm of chord): the root of
+/// d(ρ²)/ds = 2 P·P′ within one step either side, to `tol` (mm), on the interpolant (docs/math/chain.md §3.5a).
+fn refine_extreme(spline: &ClosedSpline, j: usize, ds: f64, tol: f64) -> f64 {
+    let pdot = |s: f64| {
+        let [p, d, _] = spline.eval(s);
+        p[0] * d[0] + p[1] * d[1]
+    };
+    bracketed_root(pdot, (j as f64 - 1.0) * ds, (j as f64 + 1.0) * ds, tol)
+}
+
+/// Unit direction `e(φH)` of the carrier arm at which an arm of `l1`, `l3` (mm) reaches tip `p`
+/// (mm, relative to O): `P/ρ` turned by `σ·δ`, `cos δ = q = (l1² + ρ² − l3²)/(2 l1 ρ)` (docs/math/chain.md §3.3),
+/// `sin δ = √((1 − q)(1 + q))`; the cosine clamped into [−1, 1] against rounding at the extremes
+/// (where it is ±1). Algebraic: no angle is taken, so the elbow `A = l1·e` costs no sine or cosine.
+pub(super) fn arm_direction(p: [f64; 2], l1: f64, l3: f64, sigma: f64) -> [f64; 2] {
+    let r = norm(p);
+    let q = ((l1 * l1 + r * r - l3 * l3) / (2.0 * l1 * r)).clamp(-1.0, 1.0);
+    let sd = sigma * ((1.0 - q) * (1.0 + q)).sqrt();
+    let (c, s) = (p[0] / r, p[1] / r);
+    [c * q - s * sd, s * q + c * sd]
+}
+
+/// Carrier angle φH (rad, in (−π, π], not unwrapped) of [`arm_direction`]:
+/// `atan2 P + σ·arccos q` as one `atan2`.
+pub(super) fn carrier_angle(p: [f64; 2], l1: f64, l3: f64, sigma: f64) -> f64 {
+    let e = arm_direction(p, l1, l3, sigma);
+    e[1].atan2(e[0])
+}
+
+/// Samples of the coarse test: one in [`COARSE_DIVISOR`] of the dense samples.
+const COARSE_DIVISOR: usize = 16;
+
+/// A backwards stretch of the carrier angle the coarse test takes as clear, rad: far above the
+/// rounding of the angles it compares (the arm lengths come from refined extremes as in the
+/// full pass).
+const CLEAR_BACKWARDS_RAD: f64 = 1e-3;
+
+/// Whether a coarse pass (every [`COARSE_DIVISOR`]-th dense parameter) clearly rejects the
+/// frame: the carrier angle advances by other than +2π over the loop, or runs backwards by more
+/// than [`CLEAR_BACKWARDS_RAD`] on a stretch (the monotonicity criterion of docs/math/chain.md §3.3 at a
+/// margin). A step of the unwrapping larger than π/2 (ambiguous) answers false, as does anything
+/// unclear: the frame is then solved in full.
+pub(super) fn coarse_rejects(spline: &ClosedSpline, ns: usize, tol: f64) -> bool {
+    let n = (ns / COARSE_DIVISOR).max(64);
+    let len = spline.period();
+    let ds = len / n as f64;
+    let pts: Vec<[f64; 2]> = (0..n).map(|j| spline.point(j as f64 * ds)).collect();
+    let rho: Vec<f64> = pts.iter().map(|&p| norm(p)).collect();
+    let arg =
+        |f: fn(f64, f64) -> bool| (0..n).fold(0, |b, j| if f(rho[j], rho[b]) { j } else { b });
+    let (jmax, jmin) = (arg(|a, b| a > b), arg(|a, b| a < b));
+    // The extremes refined as in the full pass.
+    let refined = |j: usize| {
+        let s = refine_extreme(spline, j, ds, tol);
+        let p = spline.point(s);
+        (s, norm(p))
+    };
+    let ((s_max, r_max), (s_min, r_min)) = (refined(jmax), refined(jmin));
+    let (r_max, r_min) = (r_max.max(rho[jmax]), r_min.min(rho[jmin]));
+    let (l1, l3) = (0.5 * (r_max - r_min), 0.5 * (r_max + r_min));
+    if !(l1 > 0.0) {
+        return false;
+    }
+    let s_min_rel = (s_min - s_max).rem_euclid(len);
+    // The angle at parameter u from s_max (σ = +1 until s_min, as in the full pass).
+    let phi = |u: f64| {
+        let sigma = if u <= s_min_rel { 1.0 } else { -1.0 };
+        carrier_angle(spline.point(s_max + u), l1, l3, sigma)
+    };
+    let (mut total, mut prev, mut back) = (0.0, phi(0.0), 0.0f64);
+    let mut clear_backwards = false;
+    for i in 1..=n {
+        let u = if i == n { len } else { i as f64 * ds };
+        let step = wrap_pi(phi(u) - prev);
+        if step.abs() > 0.5 * std::f64::consts::PI {
+            return false;
+        }
+        back = if step < 0.0 { back + step } else { 0.0 };
+        clear_backwards |= back < -CLEAR_BACKWARDS_RAD;
+        total += step;
+        prev += step;
+    }
+    clear_backwards || (total - TAU).abs() > std::f64::consts::PI
+}
+
+/// Keeps the first `k` harmonics of uniform periodic samples.
+fn low_pass(y: &[f64], k: usize) -> Vec<f64> {
+    let mut c = crate::math::periodic::fft_coefficients(y);
+    for (j, v) in c.iter_mut().enumerate() {
+        if j > k {
+            *v = realfft::num_complex::Complex::new(0.0, 0.0);
+        }
+    }
+    crate::math::periodic::fft_synthesis(&c, y.len())
+}
+
+/// Winding number of a closed polyline about the origin.
+pub(super) fn winding_number(pts: &[[f64; 2]]) -> i64 {
+    let n = pts.len();
+    let mut total = 0.0;
+    for k in 0..n {
+        let a = pts[k][1].atan2(pts[k][0]);
+        let b = pts[(k + 1) % n][1].atan2(pts[(k + 1) % n][0]);
+        total += wrap_pi(b - a);
+    }
+    (total / TAU).round() as i64
+}
+
+/// Runs of indices where `bad(j)` holds, as `[first, last]` pairs.
+fn runs(n: usize, bad: impl Fn(usize) -> bool) -> Vec<[usize; 2]> {
+    let mut out = Vec::new();
+    let mut start = None;
+    for j in 0..n {
+        match (bad(j), start) {
+            (true, None) => start = Some(j),
+            (false, Some(s)) => {
+                out.push([s, j - 1]);
+                start = None;
+            }
+            _ => {}
+        }
+    }
+    if let Some(s) = start {
+        out.push([s, n - 1]);
+    }
+    out
+}
+
+/// Step 1 in one frame, on the closed spline through its points `pts`.
+pub(super) fn solve_frame(
+    spline: &ClosedSpline,
+    pts: &[[f64; 2]],
+    opts: &InverseOptions,
+    direction: i8,
+    center: [f64; 2],
+) -> Result<Solved, InverseError> {
+    let len = spline.period();
+    let ns = dense_count(opts, pts.len());
+    let ds = len / ns as f64;
+    let rho = |s: f64| norm(spline.point(s));
+    // Independent samples: evaluated in parallel (same values, same order).
+    let dense: Vec<f64> = (0..ns)
+        .into_par_iter()
+        .map(|j| rho(j as f64 * ds))
+        .collect();
+    let (jmax, _) = dense
+        .iter()
+        .enumerate()
+        .fold((0, f64::MIN), |b, (j, &r)| if r > b.1 { (j, r) } else { b });
+    let (jmin, _) = dense
+        .iter()
+        .enumerate()
+        .fold((0, f64::MAX), |b, (j, &r)| if r < b.1 { (j, r) } else { b });
+    // Several separate global maxima (docs/math/chain.md §3.2).
+    let rmax_dense = dense[jmax];
+    let sep = ns / 20;
+    let mut maxima = vec![jmax];
+    for j in 0..ns {
+        let (prev, next) = (dense[(j + ns - 1) % ns], dense[(j + 1) % ns]);
+        let cyc = |a: usize, b: usize| {
+            let d = a.abs_diff(b);
+            d.min(ns - d)
+        };
+        if dense[j] >= prev
+            && dense[j] > next
+            && dense[j] >= rmax_dense * (1.0 - 1e-4)
+            && maxima.iter().all(|&m| cyc(m, j) > sep)
+        {
+            maxima.push(j);
+        }
+    }
+    if maxima.len() > 1 {
+        let sy = f64::from(direction);
+        return Err(InverseError::SeveralMaxima {
+            rho_max_mm: rmax_dense,
+            count: maxima.len(),
+            at: maxima
+                .iter()
+                .map(|&j| {
+                    let p = spline.point(j as f64 * ds);
+                    [p[0] + center[0], sy * p[1] + center[1]]
+                })
+                .collect(),
+        });
+    }
+    // Refine the extremes: d(ρ²)/ds = 2 P·P′ = 0 (Brent/bisection on the same interpolant, docs/math/chain.md §3.5a).
+    let tol = opts.tol_relative * len;
+    let (s_max, s_min) = (
+        refine_extreme(spline, jmax, ds, tol),
+        refine_extreme(spline, jmin, ds, tol),
+    );
+    let (rho_max, rho_min) = (rho(s_max).max(rmax_dense), rho(s_min).min(dense[jmin]));
+    let l1 = 0.5 * (rho_max - rho_min);
+    let l3 = 0.5 * (rho_max + rho_min);
+    if rho_min < MIN_AXIS_DISTANCE_L3 * l3 {
+        return Err(InverseError::TooCloseToAxis {
+            rho_min_mm: rho_min,
+            limit_mm: MIN_AXIS_DISTANCE_L3 * l3,
+        });
+    }
+    // Parameter measured from s_max in travel order; σ = +1 until s_min.
+    let s_min_rel = (s_min - s_max).rem_euclid(len);
+    let sigma_at = |u: f64| if u <= s_min_rel { 1.0 } else { -1.0 };
+    let raw_phi = |u: f64| carrier_angle(spline.point(s_max + u), l1, l3, sigma_at(u));
+    // The tip at the dense parameters u_j = j·ds from s_max (the last one a whole period on).
+    let u_at = |j: usize| if j == ns { len } else { j as f64 * ds };
+    // The needle direction at the tip of parameter u for carrier angle ph (rad).
+    let beta_at = |u: f64, ph: f64| {
+        let p = spline.point(s_max + u);
+        (p[1] - l1 * ph.sin()).atan2(p[0] - l1 * ph.cos())
+    };
+    // The raw carrier and needle angles at the dense tips (the needle from the elbow
+    // A = l1·e(φH)) are independent: computed in one parallel pass; the unwrapping runs in order.
+    let angles: Vec<[f64; 2]> = (0..=ns)
+        .into_par_iter()
+        .map(|j| {
+            let (u, tip) = (u_at(j), spline.point(s_max + u_at(j)));
+            let e = arm_direction(tip, l1, l3, sigma_at(u));
+            [
+                e[1].atan2(e[0]),
+                (tip[1] - l1 * e[1]).atan2(tip[0] - l1 * e[0]),
+            ]
+        })
+        .collect();
+    // Angle c (0: carrier, 1: needle) unwrapped along the samples.
+    let unwrapped = |c: usize| {
+        let mut out = Vec::with_capacity(angles.len());
+        let mut prev = angles[0][c];
+        out.push(prev);
+        for a in &angles[1..] {
+            prev += wrap_pi(a[c] - prev);
+            out.push(prev);
+        }
+        out
+    };
+    let phi = unwrapped(0);
+    let total = phi[ns] - phi[0];
+    let phi0 = phi[0];
+    let to_deg = |a: f64| (f64::from(direction) * a).to_degrees().rem_euclid(360.0);
+    let bad = runs(ns, |j| phi[j + 1] <= phi[j]);
+    let not_monotone = InverseError::NotMonotone {
+        l1_mm: l1,
+        l3_mm: l3,
+        stretches_deg: bad
+            .iter()
+            .map(|r| [to_deg(phi[r[0]]), to_deg(phi[r[1] + 1])])
+            .collect(),
+    };
+    if (total - TAU).abs() > 1e-6 {
+        return Ok(Solved::WrongSense(not_monotone));
+    }
+    if !bad.is_empty() {
+        return Err(not_monotone);
+    }
+    // Needle direction and ψ3 on the dense samples: ψ3 must increase (i31 > 0).
+    let beta = unwrapped(1);
+    let psi = |j: usize| (phi[j] - phi0) - (beta[j] - beta[0]);
+    let bad = runs(ns, |j| psi(j + 1) <= psi(j));
+    if !bad.is_empty() {
+        return Err(InverseError::NeedleReverses {
+            stretches_deg: bad
+                .iter()
+                .map(|r| [to_deg(phi[r[0]]), to_deg(phi[r[1] + 1])])
+                .collect(),
+        });
+    }
+    // Uniform resampling: solve φH(u) = φH0 + t_n on the interpolant.
+    let n = opts.grid.max(16);
+    let samples: Vec<f64> = (0..n)
+        .into_par_iter()
+        .map(|k| {
+            let t = TAU * k as f64 / n as f64;
+            let target = phi0 + t;
+            let j = phi.partition_point(|&v| v <= target).clamp(1, ns) - 1;
+            let (u_lo, u_hi) = (j as f64 * ds, ((j + 1) as f64 * ds).min(len));
+            let unwrap_near = |u: f64| phi[j] + wrap_pi(raw_phi(u) - phi[j]);
+            // The ends are dense samples: their angles are known.
+            let u = if k == 0 {
+                0.0
+            } else {
+                secant_root(
+                    |u| unwrap_near(u) - target,
+                    u_lo,
+                    u_hi,
+                    phi[j] - target,
+                    phi[j + 1] - target,
+                    tol,
+                )
+            };
+            let b = beta[j] + wrap_pi(beta_at(u, target) - beta[j]);
+            -(b - beta[0])
+        })
+        .collect();
+    Ok(Solved::Done(Box::new(Inversion {
+        l1_mm: l1,
+        l3_mm: l3,
+        rho_max_mm: rho_max,
+        rho_min_mm: rho_min,
+        direction,
+        phi_h0_rad: phi0.rem_euclid(TAU),
+        law: NeedleLaw::from_samples(match opts.law_harmonics {
+            Some(k) => low_pass(&samples, k),
+            None => samples,
+        }),
+        points: pts.to_vec(),
+        other_sense_traceable: false,
+    })))
+}
+
