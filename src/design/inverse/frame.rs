@@ -154,7 +154,10 @@ fn runs(n: usize, bad: impl Fn(usize) -> bool) -> Vec<[usize; 2]> {
     out
 }
 
-/// Step 1 in one frame, on the closed spline through its points `pts`.
+/// Step 1 in one frame, on the closed spline through its points `pts`: the extremes of ρ give
+/// the arms ([`arms`]), the arms the carrier and needle angles at the dense samples
+/// ([`dense_angles`]), which must advance ([`check_monotone`]); the needle law is resampled on a
+/// uniform carrier-angle grid ([`resample_law`]).
 pub(super) fn solve_frame(
     spline: &ClosedSpline,
     pts: &[[f64; 2]],
@@ -164,6 +167,67 @@ pub(super) fn solve_frame(
 ) -> Result<Solved, InverseError> {
     let len = spline.period();
     let ns = dense_count(opts, pts.len());
+    let tol = opts.tol_relative * len;
+    let arms = arms(spline, ns, tol, direction, center)?;
+    let (phi, beta) = dense_angles(spline, &arms, ns);
+    if let Some(wrong_sense) = check_monotone(&arms, &phi, &beta, direction)? {
+        return Ok(Solved::WrongSense(wrong_sense));
+    }
+    let samples = resample_law(spline, &arms, &phi, &beta, opts.grid.max(16), tol);
+    Ok(Solved::Done(Box::new(Inversion {
+        l1_mm: arms.l1,
+        l3_mm: arms.l3,
+        rho_max_mm: arms.rho_max,
+        rho_min_mm: arms.rho_min,
+        direction,
+        phi_h0_rad: phi[0].rem_euclid(TAU),
+        law: NeedleLaw::from_samples(match opts.law_harmonics {
+            Some(k) => low_pass(&samples, k),
+            None => samples,
+        }),
+        points: pts.to_vec(),
+        other_sense_traceable: false,
+    })))
+}
+
+/// The arm lengths of one frame and where on the spline the tip is farthest and nearest.
+struct Arms {
+    /// Spline parameters (mm of chord) of ρmax and ρmin.
+    s_max: f64,
+    s_min: f64,
+    /// ρmax, ρmin (mm).
+    rho_max: f64,
+    rho_min: f64,
+    /// `l1 = (ρmax − ρmin)/2`, `l3 = (ρmax + ρmin)/2` (mm).
+    l1: f64,
+    l3: f64,
+    /// Dense samples of the spline and their spacing (mm of chord).
+    ns: usize,
+    ds: f64,
+}
+
+impl Arms {
+    /// σ at parameter `u` from `s_max` in travel order: +1 until `s_min`, −1 after.
+    fn sigma_at(&self, u: f64, len: f64) -> f64 {
+        if u <= (self.s_min - self.s_max).rem_euclid(len) {
+            1.0
+        } else {
+            -1.0
+        }
+    }
+}
+
+/// The arms from the extremes of ρ on `ns` dense samples, refined on the interpolant
+/// (d(ρ²)/ds = 2 P·P′ = 0, docs/math/chain.md §3.5a); several separate global maxima
+/// (docs/math/chain.md §3.2) and a trajectory too close to the axis are refused.
+fn arms(
+    spline: &ClosedSpline,
+    ns: usize,
+    tol: f64,
+    direction: i8,
+    center: [f64; 2],
+) -> Result<Arms, InverseError> {
+    let len = spline.period();
     let ds = len / ns as f64;
     let rho = |s: f64| norm(spline.point(s));
     // Independent samples: evaluated in parallel (same values, same order).
@@ -212,7 +276,6 @@ pub(super) fn solve_frame(
         });
     }
     // Refine the extremes: d(ρ²)/ds = 2 P·P′ = 0 (Brent/bisection on the same interpolant, docs/math/chain.md §3.5a).
-    let tol = opts.tol_relative * len;
     let (s_max, s_min) = (
         refine_extreme(spline, jmax, ds, tol),
         refine_extreme(spline, jmin, ds, tol),
@@ -226,24 +289,31 @@ pub(super) fn solve_frame(
             limit_mm: MIN_AXIS_DISTANCE_L3 * l3,
         });
     }
-    // Parameter measured from s_max in travel order; σ = +1 until s_min.
-    let s_min_rel = (s_min - s_max).rem_euclid(len);
-    let sigma_at = |u: f64| if u <= s_min_rel { 1.0 } else { -1.0 };
-    let raw_phi = |u: f64| carrier_angle(spline.point(s_max + u), l1, l3, sigma_at(u));
-    // The tip at the dense parameters u_j = j·ds from s_max (the last one a whole period on).
+    Ok(Arms {
+        s_max,
+        s_min,
+        rho_max,
+        rho_min,
+        l1,
+        l3,
+        ns,
+        ds,
+    })
+}
+
+/// The carrier angle φH and the needle direction β at the dense tips `u_j = j·ds` from `s_max`
+/// (the last one a whole period on), each unwrapped along the samples (rad).
+fn dense_angles(spline: &ClosedSpline, arms: &Arms, ns: usize) -> (Vec<f64>, Vec<f64>) {
+    let len = spline.period();
+    let (l1, l3, ds) = (arms.l1, arms.l3, arms.ds);
     let u_at = |j: usize| if j == ns { len } else { j as f64 * ds };
-    // The needle direction at the tip of parameter u for carrier angle ph (rad).
-    let beta_at = |u: f64, ph: f64| {
-        let p = spline.point(s_max + u);
-        (p[1] - l1 * ph.sin()).atan2(p[0] - l1 * ph.cos())
-    };
     // The raw carrier and needle angles at the dense tips (the needle from the elbow
     // A = l1·e(φH)) are independent: computed in one parallel pass; the unwrapping runs in order.
     let angles: Vec<[f64; 2]> = (0..=ns)
         .into_par_iter()
         .map(|j| {
-            let (u, tip) = (u_at(j), spline.point(s_max + u_at(j)));
-            let e = arm_direction(tip, l1, l3, sigma_at(u));
+            let (u, tip) = (u_at(j), spline.point(arms.s_max + u_at(j)));
+            let e = arm_direction(tip, l1, l3, arms.sigma_at(u, len));
             [
                 e[1].atan2(e[0]),
                 (tip[1] - l1 * e[1]).atan2(tip[0] - l1 * e[0]),
@@ -261,28 +331,38 @@ pub(super) fn solve_frame(
         }
         out
     };
-    let phi = unwrapped(0);
+    (unwrapped(0), unwrapped(1))
+}
+
+/// The carrier angle must advance by +2π over the loop (else this is the other sense: the
+/// diagnosis is returned) and on every stretch (docs/math/chain.md §3.3), and ψ3 must increase
+/// (i31 > 0); the stretches where either fails are named in degrees of the carrier angle.
+fn check_monotone(
+    arms: &Arms,
+    phi: &[f64],
+    beta: &[f64],
+    direction: i8,
+) -> Result<Option<InverseError>, InverseError> {
+    let ns = arms.ns;
     let total = phi[ns] - phi[0];
-    let phi0 = phi[0];
     let to_deg = |a: f64| (f64::from(direction) * a).to_degrees().rem_euclid(360.0);
     let bad = runs(ns, |j| phi[j + 1] <= phi[j]);
     let not_monotone = InverseError::NotMonotone {
-        l1_mm: l1,
-        l3_mm: l3,
+        l1_mm: arms.l1,
+        l3_mm: arms.l3,
         stretches_deg: bad
             .iter()
             .map(|r| [to_deg(phi[r[0]]), to_deg(phi[r[1] + 1])])
             .collect(),
     };
     if (total - TAU).abs() > 1e-6 {
-        return Ok(Solved::WrongSense(not_monotone));
+        return Ok(Some(not_monotone));
     }
     if !bad.is_empty() {
         return Err(not_monotone);
     }
     // Needle direction and ψ3 on the dense samples: ψ3 must increase (i31 > 0).
-    let beta = unwrapped(1);
-    let psi = |j: usize| (phi[j] - phi0) - (beta[j] - beta[0]);
+    let psi = |j: usize| (phi[j] - phi[0]) - (beta[j] - beta[0]);
     let bad = runs(ns, |j| psi(j + 1) <= psi(j));
     if !bad.is_empty() {
         return Err(InverseError::NeedleReverses {
@@ -292,9 +372,31 @@ pub(super) fn solve_frame(
                 .collect(),
         });
     }
-    // Uniform resampling: solve φH(u) = φH0 + t_n on the interpolant.
-    let n = opts.grid.max(16);
-    let samples: Vec<f64> = (0..n)
+    Ok(None)
+}
+
+/// The needle law ψ3 − t at `n` uniform carrier angles `t_n = 2πn/N` from φH0: `φH(u) = φH0 + t_n`
+/// solved on the interpolant itself (secant within the dense bracket, to `tol` mm of chord),
+/// no second interpolation (docs/math/chain.md §3.5).
+fn resample_law(
+    spline: &ClosedSpline,
+    arms: &Arms,
+    phi: &[f64],
+    beta: &[f64],
+    n: usize,
+    tol: f64,
+) -> Vec<f64> {
+    let len = spline.period();
+    let (l1, l3, ns, ds) = (arms.l1, arms.l3, arms.ns, arms.ds);
+    let phi0 = phi[0];
+    let raw_phi =
+        |u: f64| carrier_angle(spline.point(arms.s_max + u), l1, l3, arms.sigma_at(u, len));
+    // The needle direction at the tip of parameter u for carrier angle ph (rad).
+    let beta_at = |u: f64, ph: f64| {
+        let p = spline.point(arms.s_max + u);
+        (p[1] - l1 * ph.sin()).atan2(p[0] - l1 * ph.cos())
+    };
+    (0..n)
         .into_par_iter()
         .map(|k| {
             let t = TAU * k as f64 / n as f64;
@@ -318,20 +420,5 @@ pub(super) fn solve_frame(
             let b = beta[j] + wrap_pi(beta_at(u, target) - beta[j]);
             -(b - beta[0])
         })
-        .collect();
-    Ok(Solved::Done(Box::new(Inversion {
-        l1_mm: l1,
-        l3_mm: l3,
-        rho_max_mm: rho_max,
-        rho_min_mm: rho_min,
-        direction,
-        phi_h0_rad: phi0.rem_euclid(TAU),
-        law: NeedleLaw::from_samples(match opts.law_harmonics {
-            Some(k) => low_pass(&samples, k),
-            None => samples,
-        }),
-        points: pts.to_vec(),
-        other_sense_traceable: false,
-    })))
+        .collect()
 }
-
