@@ -5,7 +5,7 @@ use super::{CliResult, input_error, print_json, progress_bar, runtime_error};
 use ncgear::design::inverse::InverseError;
 use ncgear::design::segmented::Route;
 use ncgear::design::train::{
-    PendingTrainMesh, ToothedTrain, TrainError, TrainPolicy, TrainTeethOptions,
+    PendingTrainMesh, ToothedTrain, TrainError, TrainPolicy, TrainTeethOptions, TrainTeethReport,
     tooth_design_deferred,
 };
 use ncgear::design::trajectory::Trajectory;
@@ -129,7 +129,8 @@ pub struct Args {
 /// Carrier positions of each mesh verification unless `--verify-steps` says otherwise.
 const DEFAULT_VERIFY_STEPS: usize = 72;
 
-/// Runs `ncgear design`.
+/// Runs `ncgear design`: options checked, design, teeth and their checks beside the CAD files
+/// (with `--module`), the report written last, the console summary.
 pub fn run(args: Args) -> CliResult {
     // The printed time is the whole command's: design, teeth, checks and files.
     let started = std::time::Instant::now();
@@ -143,6 +144,44 @@ pub fn run(args: Args) -> CliResult {
     };
     let traj =
         Trajectory::from_path(&args.trajectory).map_err(|e| input_error(miette::miette!("{e}")))?;
+    let opts = design_options(&args);
+    let file = args.trajectory.display().to_string();
+    let pb = super::spinner("designing the gears");
+    let d = design(&traj, &opts).map_err(|e| design_failure(&file, &e));
+    pb.finish_and_clear();
+    let mut d = d?;
+    // The report is written last; an earlier run's goes before any file (ncgear::files).
+    super::remove_stale_report(&args.out.join("design.json"))?;
+    let mut files = ncgear::output::DesignFiles::default();
+    files.png = args.png;
+    let (train, teeth_files) = match (args.module, &teeth_opts) {
+        (Some(m), Some(teeth_opts)) => {
+            let (t, written) = teeth_and_cad_files(&args, &mut d, m, teeth_opts, files)?;
+            (Some(t), written)
+        }
+        _ => (None, Vec::new()),
+    };
+    d.report.timings_ms.command = super::ms_since(started);
+    let mut written = ncgear::output::write_design_with(&d, &args.out, files)
+        .map_err(|e| runtime_error(miette::miette!("{e}")))?;
+    written.extend(teeth_files);
+    if args.json {
+        print_json(&d.report)?;
+        return super::verdict_outcome(&d.report.verdict, args.accept_failed);
+    }
+    print_summary(
+        &file,
+        &d.report,
+        train.as_ref(),
+        &written,
+        &args.out,
+        started,
+    );
+    super::verdict_outcome(&d.report.verdict, args.accept_failed)
+}
+
+/// The design options the flags ask for.
+fn design_options(args: &Args) -> DesignOptions {
     let mut opts = DesignOptions::default();
     opts.center_mm = args.center;
     opts.order = args.order;
@@ -199,98 +238,94 @@ pub fn run(args: Args) -> CliResult {
         }
         None => {}
     }
-    let file = args.trajectory.display().to_string();
-    let pb = super::spinner("designing the gears");
-    let d = design(&traj, &opts).map_err(|e| design_failure(&file, &e));
-    pb.finish_and_clear();
-    let mut d = d?;
-    // The report is written last; an earlier run's goes before any file (ncgear::files).
-    super::remove_stale_report(&args.out.join("design.json"))?;
-    let mut files = ncgear::output::DesignFiles::default();
-    files.png = args.png;
-    let mut teeth_files = Vec::new();
-    let train = match args.module {
-        Some(m) => {
-            // The design files are written even when the teeth are refused.
-            let write_design = |d: &ncgear::design::Design| {
-                ncgear::output::write_design_with(d, &args.out, files)
-                    .map_err(|e| runtime_error(miette::miette!("{e}")))
-            };
-            let teeth_opts = teeth_opts.as_ref().expect("built with the module");
-            let t0 = std::time::Instant::now();
-            let pb = super::spinner("cutting the teeth");
-            let cut = toothed(&args, &d, m, teeth_opts);
-            pb.finish_and_clear();
-            let (mut t, pending) = match cut {
-                Ok(t) => t,
-                Err(e) => {
-                    write_design(&d)?;
-                    return Err(e);
-                }
-            };
-            d.report.timings_ms.teeth = super::ms_since(t0);
-            // The mesh check runs beside the CAD exports (they do not read it).
-            let pb = progress_bar(2 * args.verify_steps as u64, "mesh check");
-            let ((mesh, t_mesh), (exports, t_files)) = rayon::join(
-                || {
-                    let t0 = std::time::Instant::now();
-                    (
-                        pending.map(|p| p.run(&|n| pb.inc(n))).transpose(),
-                        super::ms_since(t0),
-                    )
-                },
-                || {
-                    let t0 = std::time::Instant::now();
-                    let r = (|| -> Result<Vec<PathBuf>, super::Failure> {
-                        let mut files = ncgear::output::write_teeth(
-                            &mut t,
-                            &args.out,
-                            args.rack.dxf_version.into(),
-                        )
-                        .map_err(|e| runtime_error(miette::miette!("{e}")))?;
-                        let step =
-                            ncgear::output::write_teeth_step(&t, &args.out, &args.rack.solids())
-                                .map_err(|e| match &e {
-                                    ncgear::output::OutputError::Export(x) => {
-                                        super::teeth_args::step_failure(x)
-                                    }
-                                    _ => runtime_error(miette::miette!("{e}")),
-                                })?;
-                        t.report
-                            .files
-                            .extend(step.iter().map(|p| p.display().to_string()));
-                        files.extend(step);
-                        Ok(files)
-                    })();
-                    (r, super::ms_since(t0))
-                },
-            );
-            pb.finish_and_clear();
-            d.report.timings_ms.verification = t_mesh;
-            d.report.timings_ms.cad_files = t_files;
-            match mesh {
-                Ok(mesh) => t.report.mesh = mesh,
-                Err(e) => {
-                    write_design(&d)?;
-                    return Err(runtime_error(miette::miette!("{e}")));
-                }
-            }
-            teeth_files = exports?;
-            // The report now lists the CAD files.
-            t.record(&mut d);
-            Some(t)
-        }
-        None => None,
+    opts
+}
+
+/// Teeth on the designed gears, then their mesh check beside the CAD exports (they do not read
+/// it); the design files are written when the teeth or the check fail. Returns the toothed train
+/// (recorded in `d`'s report) and the CAD files written.
+fn teeth_and_cad_files(
+    args: &Args,
+    d: &mut ncgear::design::Design,
+    m: f64,
+    teeth_opts: &TrainTeethOptions,
+    files: ncgear::output::DesignFiles,
+) -> Result<(ToothedTrain, Vec<PathBuf>), super::Failure> {
+    // The design files are written even when the teeth are refused.
+    let write_design = |d: &ncgear::design::Design| {
+        ncgear::output::write_design_with(d, &args.out, files)
+            .map_err(|e| runtime_error(miette::miette!("{e}")))
     };
-    d.report.timings_ms.command = super::ms_since(started);
-    let mut written = ncgear::output::write_design_with(&d, &args.out, files)
-        .map_err(|e| runtime_error(miette::miette!("{e}")))?;
-    written.extend(teeth_files);
-    if args.json {
-        print_json(&d.report)?;
-        return super::verdict_outcome(&d.report.verdict, args.accept_failed);
+    let t0 = std::time::Instant::now();
+    let pb = super::spinner("cutting the teeth");
+    let cut = toothed(args, d, m, teeth_opts);
+    pb.finish_and_clear();
+    let (mut t, pending) = match cut {
+        Ok(t) => t,
+        Err(e) => {
+            write_design(d)?;
+            return Err(e);
+        }
+    };
+    d.report.timings_ms.teeth = super::ms_since(t0);
+    // The mesh check runs beside the CAD exports (they do not read it).
+    let pb = progress_bar(2 * args.verify_steps as u64, "mesh check");
+    let ((mesh, t_mesh), (exports, t_files)) = rayon::join(
+        || {
+            let t0 = std::time::Instant::now();
+            (
+                pending.map(|p| p.run(&|n| pb.inc(n))).transpose(),
+                super::ms_since(t0),
+            )
+        },
+        || {
+            let t0 = std::time::Instant::now();
+            let r = (|| -> Result<Vec<PathBuf>, super::Failure> {
+                let mut files =
+                    ncgear::output::write_teeth(&mut t, &args.out, args.rack.dxf_version.into())
+                        .map_err(|e| runtime_error(miette::miette!("{e}")))?;
+                let step = ncgear::output::write_teeth_step(&t, &args.out, &args.rack.solids())
+                    .map_err(|e| match &e {
+                        ncgear::output::OutputError::Export(x) => {
+                            super::teeth_args::step_failure(x)
+                        }
+                        _ => runtime_error(miette::miette!("{e}")),
+                    })?;
+                t.report
+                    .files
+                    .extend(step.iter().map(|p| p.display().to_string()));
+                files.extend(step);
+                Ok(files)
+            })();
+            (r, super::ms_since(t0))
+        },
+    );
+    pb.finish_and_clear();
+    d.report.timings_ms.verification = t_mesh;
+    d.report.timings_ms.cad_files = t_files;
+    match mesh {
+        Ok(mesh) => t.report.mesh = mesh,
+        Err(e) => {
+            write_design(d)?;
+            return Err(runtime_error(miette::miette!("{e}")));
+        }
     }
-    let r = &d.report;
+    let written = exports?;
+    // The report now lists the CAD files.
+    t.record(d);
+    Ok((t, written))
+}
+
+/// The console summary of design report `r` of trajectory `file`: arms, compatibility, routes,
+/// round trip, gear limits, checks, warnings, the teeth when cut, the time and the files.
+fn print_summary(
+    file: &str,
+    r: &ncgear::design::DesignReport,
+    train: Option<&ToothedTrain>,
+    written: &[PathBuf],
+    out: &std::path::Path,
+    started: std::time::Instant,
+) {
     println!(
         "{file}: {} points, carrier {}",
         r.trajectory.points,
@@ -359,61 +394,10 @@ pub fn run(args: Args) -> CliResult {
     for w in &r.warnings {
         println!("  warning: {w}");
     }
-    if let Some(t) = &train {
-        let t = &t.report;
-        println!(
-            "  teeth: z = {}, m = {:.4} mm, a = {:.6} mm (scale {:.6}, ratio amplitude {:.6}); \
-             the toothed train traces {:.4} mm from the target points' polyline (Hausdorff; the \
-             designed gears: {:.4} mm)",
-            t.z,
-            t.module_mm,
-            t.center_distance_mm,
-            t.scale,
-            t.ratio_amplitude,
-            t.roundtrip.hausdorff_mm,
-            t.roundtrip.before_hausdorff_mm
-        );
-        if let Some(g) = t.needle_angle_deg {
-            println!(
-                "  needle angle γ re-fitted for the rescaled ratio: {g:.4}° (replaces the design's)"
-            );
-        }
-        for w in &t.warnings {
-            println!("  warning: {w}");
-        }
-        if let Some(p) = &t.process {
-            for (name, g) in [
-                ("sun", &p.sun),
-                ("intermediate", &p.intermediate),
-                ("planet", &p.planet),
-            ] {
-                println!("  {name}: {}", super::teeth_args::process_line(g));
-            }
-        }
-        let p = t.process.as_ref();
-        for (name, u, g) in [
-            ("sun", &t.undercut.sun, p.map(|p| &p.sun)),
-            (
-                "intermediate",
-                &t.undercut.intermediate,
-                p.map(|p| &p.intermediate),
-            ),
-            ("planet", &t.undercut.planet, p.map(|p| &p.planet)),
-        ] {
-            if let Some(w) = super::teeth_args::undercut_line(name, u, g) {
-                println!("  {w}");
-            }
-        }
-        if let Some(mesh) = &t.mesh {
-            for (name, m) in [
-                ("sun-intermediate", &mesh.sun_intermediate),
-                ("intermediate-planet", &mesh.intermediate_planet),
-            ] {
-                println!("  mesh {name}: {}", m.summary());
-            }
-        }
+    if let Some(t) = train {
+        print_teeth(&t.report);
     }
-    let teeth_dir = args.out.join("teeth");
+    let teeth_dir = out.join("teeth");
     let (teeth, rest): (Vec<_>, Vec<_>) = written.iter().partition(|p| p.starts_with(&teeth_dir));
     let tm = &r.timings_ms;
     println!(
@@ -435,7 +419,61 @@ pub fn run(args: Args) -> CliResult {
             format!(" and {} CAD files in {}", teeth.len(), teeth_dir.display())
         }
     );
-    super::verdict_outcome(&r.verdict, args.accept_failed)
+}
+
+/// The console lines of the toothed train: tooth count and deviation, processes, undercut, meshes.
+fn print_teeth(t: &TrainTeethReport) {
+    println!(
+        "  teeth: z = {}, m = {:.4} mm, a = {:.6} mm (scale {:.6}, ratio amplitude {:.6}); \
+         the toothed train traces {:.4} mm from the target points' polyline (Hausdorff; the \
+         designed gears: {:.4} mm)",
+        t.z,
+        t.module_mm,
+        t.center_distance_mm,
+        t.scale,
+        t.ratio_amplitude,
+        t.roundtrip.hausdorff_mm,
+        t.roundtrip.before_hausdorff_mm
+    );
+    if let Some(g) = t.needle_angle_deg {
+        println!(
+            "  needle angle γ re-fitted for the rescaled ratio: {g:.4}° (replaces the design's)"
+        );
+    }
+    for w in &t.warnings {
+        println!("  warning: {w}");
+    }
+    if let Some(p) = &t.process {
+        for (name, g) in [
+            ("sun", &p.sun),
+            ("intermediate", &p.intermediate),
+            ("planet", &p.planet),
+        ] {
+            println!("  {name}: {}", super::teeth_args::process_line(g));
+        }
+    }
+    let p = t.process.as_ref();
+    for (name, u, g) in [
+        ("sun", &t.undercut.sun, p.map(|p| &p.sun)),
+        (
+            "intermediate",
+            &t.undercut.intermediate,
+            p.map(|p| &p.intermediate),
+        ),
+        ("planet", &t.undercut.planet, p.map(|p| &p.planet)),
+    ] {
+        if let Some(w) = super::teeth_args::undercut_line(name, u, g) {
+            println!("  {w}");
+        }
+    }
+    if let Some(mesh) = &t.mesh {
+        for (name, m) in [
+            ("sun-intermediate", &mesh.sun_intermediate),
+            ("intermediate-planet", &mesh.intermediate_planet),
+        ] {
+            println!("  mesh {name}: {}", m.summary());
+        }
+    }
 }
 
 /// The CLI failure for a design error on trajectory `file`: the flag behind a bad option, the
