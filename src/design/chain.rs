@@ -44,17 +44,7 @@ pub(super) fn design_from(
     let noise_sigma = traj.noise_sigma_mm();
     let (inv, start_smoothing) = invert_for_start(traj, opts, noise_sigma)?;
     timings.inverse = ms(t0);
-    if let Some(h) = start_smoothing.filter(|_| opts.smoothing.is_none()) {
-        warnings.push(format!(
-            "measured points (estimated noise σ = {noise_sigma:.4} mm): the start of the design was taken from the loop smoothed to {h} harmonics; the gears are fitted to the points as read"
-        ));
-    }
-    if inv.other_sense_traceable {
-        warnings.push(format!(
-            "both carrier senses can trace this path (the other one with the arm's elbow flipped); chose {} as the better-realisable law",
-            if inv.direction > 0 { "CCW" } else { "CW" }
-        ));
-    }
+    start_warnings(&inv, start_smoothing, opts, noise_sigma, &mut warnings);
     let n = opts.inverse.grid.max(64) / 2 * 2;
 
     // Compatibility: the half-closure origin τ and the residual E_c.
@@ -121,51 +111,11 @@ pub(super) fn design_from(
     let chosen = if fitted.replaced { "fit" } else { chosen };
     // Designing for a module: the tooth count a constraint of one more fit.
     let t0 = Instant::now();
-    // Refitted at the warm start's tooth count: its summary, with this fit as the one candidate.
-    let warm_module = match (warm, &fitted.summary) {
-        (Some((_, Some(s))), Some(f)) if fitted.warm => Some(crate::design::ModuleSummary {
-            candidates: vec![[f64::from(s.teeth), f.max_mm, f.rms_mm]],
-            ..s
-        }),
-        _ => None,
-    };
-    let (fitted, module) = match opts.module_mm {
-        Some(_) if warm_module.is_some() => (fitted, warm_module),
-        Some(m) => {
-            let points = traj.relative_to(opts.center_mm, inv.direction < 0);
-            let fm = design_for_module(
-                &points,
-                &fitted.mechanism,
-                m,
-                &fit_options(&trains, noise_sigma),
-            )?;
-            let fitted = FitStage {
-                mechanism: fm.mechanism,
-                angles: fm.angles,
-                ..fitted
-            };
-            (fitted, Some(fm.summary))
-        }
-        None => (fitted, None),
-    };
+    let warm_module = warm.and_then(|(_, s)| s);
+    let (fitted, module) = for_module(traj, &trains, fitted, warm_module, noise_sigma)?;
     timings.module = ms(t0);
     let chosen = if module.is_some() { "module" } else { chosen };
-    let best_dev = fitted.summary.as_ref().map_or_else(
-        || {
-            refine_summary
-                .as_ref()
-                .map_or(patent.summary.max_deviation_mm, |r| {
-                    r.max_deviation_mm.min(patent.summary.max_deviation_mm)
-                })
-        },
-        |f| {
-            if fitted.replaced {
-                f.max_mm
-            } else {
-                f.start_max_mm
-            }
-        },
-    );
+    let best_dev = best_deviation(&fitted, refine_summary.as_ref(), &patent.summary);
     if best_dev > opts.tol_tip_mm {
         pending.push((warnings.len(), format!(
             "the best design deviates {best_dev:.3} mm from the target (tolerance {} mm): no train of this type traces it exactly (E_c·l3 = {:.3} mm); this is the closest admissible design found",
@@ -228,13 +178,7 @@ pub(super) fn design_from(
         gears: out.gears,
         roundtrip: out.roundtrip,
         trajectory: trajectory_summary(traj, &inv, noise_sigma),
-        compatibility: CompatSummary {
-            tau_deg: compat.tau_rad.to_degrees(),
-            residual_rad: compat.residual_rad,
-            tip_equivalent_mm: compat.residual_rad * inv.l3_mm,
-            endpoint_product: compat.endpoint_product,
-            origins_deg: compat.origins_rad.iter().map(|t| t.to_degrees()).collect(),
-        },
+        compatibility: compat_summary(&compat, inv.l3_mm),
         patent_route: patent.summary,
         refinement: refine_summary,
         fit: fitted.summary,
@@ -264,6 +208,98 @@ pub(super) fn design_from(
         inversion: inv,
         traced_mm: out.traced,
     })
+}
+
+/// The warnings of step 1: measured points whose smoothed loop gave the start, and a path both
+/// carrier senses can trace.
+fn start_warnings(
+    inv: &Inversion,
+    start_smoothing: Option<usize>,
+    opts: &DesignOptions,
+    noise_sigma: f64,
+    warnings: &mut Vec<String>,
+) {
+    if let Some(h) = start_smoothing.filter(|_| opts.smoothing.is_none()) {
+        warnings.push(format!(
+            "measured points (estimated noise σ = {noise_sigma:.4} mm): the start of the design was taken from the loop smoothed to {h} harmonics; the gears are fitted to the points as read"
+        ));
+    }
+    if inv.other_sense_traceable {
+        warnings.push(format!(
+            "both carrier senses can trace this path (the other one with the arm's elbow flipped); chose {} as the better-realisable law",
+            if inv.direction > 0 { "CCW" } else { "CW" }
+        ));
+    }
+}
+
+/// The module stage ([`design_for_module`]) on the fit stage's train when the options ask for a
+/// module; a warm start designed for the same module was refitted at its tooth count already
+/// (`warm_module`: its summary, with that fit as the one candidate).
+fn for_module(
+    traj: &Trajectory,
+    trains: &Trains,
+    fitted: FitStage,
+    warm_module: Option<crate::design::ModuleSummary>,
+    noise_sigma: f64,
+) -> Result<(FitStage, Option<crate::design::ModuleSummary>), DesignError> {
+    let opts = trains.opts;
+    let warm_module = match (warm_module, &fitted.summary) {
+        (Some(s), Some(f)) if fitted.warm => Some(crate::design::ModuleSummary {
+            candidates: vec![[f64::from(s.teeth), f.max_mm, f.rms_mm]],
+            ..s
+        }),
+        _ => None,
+    };
+    Ok(match opts.module_mm {
+        Some(_) if warm_module.is_some() => (fitted, warm_module),
+        Some(m) => {
+            let points = traj.relative_to(opts.center_mm, trains.inv.direction < 0);
+            let fm = design_for_module(
+                &points,
+                &fitted.mechanism,
+                m,
+                &fit_options(trains, noise_sigma),
+            )?;
+            let fitted = FitStage {
+                mechanism: fm.mechanism,
+                angles: fm.angles,
+                ..fitted
+            };
+            (fitted, Some(fm.summary))
+        }
+        None => (fitted, None),
+    })
+}
+
+/// The largest point distance of the design the chain settled on, mm: the fit's when it
+/// replaced the routes' result, else the better route's.
+fn best_deviation(fitted: &FitStage, refine: Option<&RouteSummary>, patent: &RouteSummary) -> f64 {
+    fitted.summary.as_ref().map_or_else(
+        || {
+            refine.map_or(patent.max_deviation_mm, |r| {
+                r.max_deviation_mm.min(patent.max_deviation_mm)
+            })
+        },
+        |f| {
+            if fitted.replaced {
+                f.max_mm
+            } else {
+                f.start_max_mm
+            }
+        },
+    )
+}
+
+/// The report's account of the compatibility analysis; `l3_mm` turns the residual into mm at the
+/// tip.
+fn compat_summary(compat: &Compatibility, l3_mm: f64) -> CompatSummary {
+    CompatSummary {
+        tau_deg: compat.tau_rad.to_degrees(),
+        residual_rad: compat.residual_rad,
+        tip_equivalent_mm: compat.residual_rad * l3_mm,
+        endpoint_product: compat.endpoint_product,
+        origins_deg: compat.origins_rad.iter().map(|t| t.to_degrees()).collect(),
+    }
 }
 
 /// The patent route's result: its best mechanism and summary, and the warning that the junctions
