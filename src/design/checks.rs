@@ -116,52 +116,15 @@ pub(super) fn finish(
     // Round trip from the tables only (C12), with mesh errors (C3, C4).
     let rebuilt = assembly.rebuild();
     let m = opts.check_samples;
-    // The poses are independent: evaluated in parallel (same values in the same order).
-    let poses: Vec<_> = (0..m)
-        .into_par_iter()
-        .map(|k| rebuilt.pose(sign * TAU * k as f64 / m as f64))
-        .collect();
-    let mut mesh: [f64; 2] = [0.0, 0.0];
-    for pose in &poses {
-        mesh[0] = mesh[0].max(pose.sun_mesh_error_mm.abs());
-        mesh[1] = mesh[1].max(pose.planet_mesh_error_mm.abs());
-    }
-    let traced: Vec<[f64; 2]> = poses.iter().map(|p| p.tip_mm).collect();
-    // Synchronous deviation at every target point, at the carrier angle the tip passes it.
-    let dev: Vec<f64> = traj
-        .points()
-        .par_iter()
-        .zip(angles)
-        .map(|(p, &phi)| {
-            let tip = rebuilt.pose(sign * phi).tip_mm;
-            crate::math::norm([tip[0] - p[0], tip[1] - p[1]])
-        })
-        .collect();
+    let (traced, mesh) = trace(&rebuilt, m, sign);
+    let dev = tip_deviations(&rebuilt, traj.points(), angles, sign);
     let sync = dev.iter().copied().fold(0.0, f64::max);
     // On measured points C12 judges the estimated deviation from the curve under the noise.
     let noise_sigma_mm = traj.noise_sigma_mm();
     let params = noise::fitted_parameters(mech.ratio.order());
     let estimated = noise::curve_deviation_mm(noise_sigma_mm, rms(&dev), dev.len(), params);
-    // i31 = i(t)/i(S(t)) along the turn, each contact angle S = Φ⁻¹(Φ(t) + π) solved from the
-    // previous one (S′ = i(t)/i(S)): a step or two of Newton instead of a cold start. Serial,
-    // as is the Hausdorff distance: both run beside the geometry integrals below.
-    let i31_scan = || {
-        let mut s_prev = f64::NAN;
-        (0..4096)
-            .map(|k| {
-                let t = TAU * k as f64 / 4096.0;
-                let (fi, it) = mech.ratio.integral_and_value(t);
-                let s = mech.ratio.inverse_integral_from(
-                    fi + std::f64::consts::PI,
-                    s_prev,
-                    INVERSE_TOL_RAD,
-                );
-                let is = mech.ratio.value(s);
-                s_prev = s + TAU / 4096.0 * it / is;
-                it / is
-            })
-            .fold(f64::INFINITY, f64::min)
-    };
+    // Serial, as is the Hausdorff distance: both run beside the geometry integrals below.
+    let i31_scan = || min_i31(&mech.ratio);
     let acc = 1e-9 * mech.a_mm;
     // Independent integrals and scans, side by side.
     let (((ls, lm), (lp, (cs, cm))), (haus, i31_min)) = rayon::join(
@@ -268,26 +231,14 @@ pub(super) fn finish(
             "a pitch curve is concave somewhere (tightest concave radius {tightest_concave:.2} mm): a rack cannot cut it; a shaper cutter of pitch radius below that radius is needed"
         ));
     }
-    for c in &checks {
-        if !c.pass {
-            warnings.push(format!(
-                "check {} failed: {} = {:.4e} (limit {:.4e})",
-                c.id, c.name, c.value, c.limit
-            ));
-        }
-    }
-    let table = |c: &PitchCurve| c.polar_table_deg(n);
-    let gear = |c: &PitchCurve, angle: Option<f64>, perim: f64, k: &CurvatureSummary| Gear {
-        pitch: table(c),
-        angle_at_zero_deg: angle.map(|a| a.to_degrees().rem_euclid(360.0)),
-        perimeter_mm: perim,
-        min_radius_of_curvature_mm: k.min_radius_of_curvature_mm,
-        min_concave_radius_mm: k
-            .min_concave_radius_mm
-            .is_finite()
-            .then_some(k.min_concave_radius_mm),
-        concave_fraction: k.concave_fraction,
-        max_pressure_angle_deg: (alpha + k.max_pressure_deviation_rad).to_degrees(),
+    warnings.extend(checks.iter().filter(|c| !c.pass).map(|c| {
+        format!(
+            "check {} failed: {} = {:.4e} (limit {:.4e})",
+            c.id, c.name, c.value, c.limit
+        )
+    }));
+    let gear = |c: &PitchCurve, angle: Option<f64>, perim: f64, k: &CurvatureSummary| {
+        gear_report(c.polar_table_deg(n), angle, perim, k, alpha)
     };
     let gears = Gears {
         sun: gear(&sun, None, ls, &cs),
@@ -306,6 +257,74 @@ pub(super) fn finish(
         gears,
         limits,
     })
+}
+
+/// The tip path and the largest mesh errors `[sun, planet]` (mm) of the train rebuilt from the
+/// tables, at `m` carrier angles (sense `sign`).
+fn trace(rebuilt: &Rebuilt, m: usize, sign: f64) -> (Vec<[f64; 2]>, [f64; 2]) {
+    // The poses are independent: evaluated in parallel (same values in the same order).
+    let poses: Vec<_> = (0..m)
+        .into_par_iter()
+        .map(|k| rebuilt.pose(sign * TAU * k as f64 / m as f64))
+        .collect();
+    let mut mesh: [f64; 2] = [0.0, 0.0];
+    for pose in &poses {
+        mesh[0] = mesh[0].max(pose.sun_mesh_error_mm.abs());
+        mesh[1] = mesh[1].max(pose.planet_mesh_error_mm.abs());
+    }
+    (poses.iter().map(|p| p.tip_mm).collect(), mesh)
+}
+
+/// Synchronous deviation (mm) at every target point, at the carrier angle the tip passes it.
+fn tip_deviations(rebuilt: &Rebuilt, points: &[[f64; 2]], angles: &[f64], sign: f64) -> Vec<f64> {
+    points
+        .par_iter()
+        .zip(angles)
+        .map(|(p, &phi)| {
+            let tip = rebuilt.pose(sign * phi).tip_mm;
+            crate::math::norm([tip[0] - p[0], tip[1] - p[1]])
+        })
+        .collect()
+}
+
+/// The smallest i31 = i(t)/i(S(t)) along the turn (4096 samples), each contact angle
+/// S = Φ⁻¹(Φ(t) + π) solved from the previous one (S′ = i(t)/i(S)): a step or two of Newton
+/// instead of a cold start.
+fn min_i31(ratio: &crate::geometry::fourier::SunRatio) -> f64 {
+    let mut s_prev = f64::NAN;
+    (0..4096)
+        .map(|k| {
+            let t = TAU * k as f64 / 4096.0;
+            let (fi, it) = ratio.integral_and_value(t);
+            let s = ratio.inverse_integral_from(fi + std::f64::consts::PI, s_prev, INVERSE_TOL_RAD);
+            let is = ratio.value(s);
+            s_prev = s + TAU / 4096.0 * it / is;
+            it / is
+        })
+        .fold(f64::INFINITY, f64::min)
+}
+
+/// A gear's entry in the report: its pitch table, its angle at φH = 0 (rad), perimeter (mm) and
+/// curvature summary, its largest effective pressure angle for rack pressure angle `alpha` (rad).
+fn gear_report(
+    pitch: Vec<[f64; 2]>,
+    angle: Option<f64>,
+    perimeter_mm: f64,
+    k: &CurvatureSummary,
+    alpha: f64,
+) -> Gear {
+    Gear {
+        pitch,
+        angle_at_zero_deg: angle.map(|a| a.to_degrees().rem_euclid(360.0)),
+        perimeter_mm,
+        min_radius_of_curvature_mm: k.min_radius_of_curvature_mm,
+        min_concave_radius_mm: k
+            .min_concave_radius_mm
+            .is_finite()
+            .then_some(k.min_concave_radius_mm),
+        concave_fraction: k.concave_fraction,
+        max_pressure_angle_deg: (alpha + k.max_pressure_deviation_rad).to_degrees(),
+    }
 }
 
 /// Where the design stands against its gear limits, and which of them it sits on (within 1 %).
