@@ -95,65 +95,9 @@ pub fn synthesize(spec: &Spec, opts: &DesignOptions) -> Result<Synthesis, Synthe
         DyadSolutions::Finite(v) => ("finite", v),
         DyadSolutions::Family(v) => ("family", v),
     };
-    let pick: Vec<Dyad> = if kind == "family" {
-        // Members of a planting arm's proportions: needle between a quarter of the poses' spread
-        // and two and a half times it (else the whole family), evenly.
-        let spread = poses
-            .iter()
-            .flat_map(|p| {
-                poses
-                    .iter()
-                    .map(move |q| (p.tip_mm[0] - q.tip_mm[0]).hypot(p.tip_mm[1] - q.tip_mm[1]))
-            })
-            .fold(0.0, f64::max);
-        let plausible: Vec<Dyad> = dyads
-            .iter()
-            .filter(|d| {
-                d.l3_mm >= FAMILY_L3_SPREADS[0] * spread
-                    && d.l3_mm <= FAMILY_L3_SPREADS[1] * spread
-                    && d.l1_mm <= (1.0 - AXIS_DISTANCE_L3) * d.l3_mm
-            })
-            .copied()
-            .collect();
-        let members = if plausible.is_empty() {
-            &dyads
-        } else {
-            &plausible
-        };
-        let n = members.len();
-        (0..FAMILY_CANDIDATES.min(n))
-            .map(|k| members[(2 * k + 1) * n / (2 * FAMILY_CANDIDATES.min(n))])
-            .collect()
-    } else {
-        let scale = 1e-6
-            + poses
-                .iter()
-                .map(|p| p.tip_mm[0].hypot(p.tip_mm[1]))
-                .fold(0.0, f64::max)
-                * 1e-6;
-        dyads
-            .iter()
-            .filter(|d| d.max_residual_mm <= scale.max(max_tol_mm(spec)))
-            .take(FINITE_CANDIDATES)
-            .copied()
-            .collect()
-    };
+    let pick = candidate_arms(kind, &dyads, &poses, spec);
     if pick.is_empty() {
-        let best = dyads
-            .iter()
-            .map(|d| d.max_residual_mm)
-            .fold(f64::INFINITY, f64::min);
-        return Err(if kind == "finite" && best.is_finite() {
-            SynthesisError::NoExactArm {
-                poses: poses.len(),
-                exact: spec.poses.iter().filter(|p| !p.approximate()).count(),
-                residual_mm: best,
-            }
-        } else {
-            SynthesisError::NoArm {
-                max_l3_mm: dopts.max_l3_mm,
-            }
-        });
+        return Err(no_arm(kind, &dyads, &poses, spec, &dopts));
     }
     // Each candidate's timing on its own (side by side); a family's members first without the
     // gear-limit and band rows (cheaper), the ones kept then again with them when they break a
@@ -196,20 +140,7 @@ pub fn synthesize(spec: &Spec, opts: &DesignOptions) -> Result<Synthesis, Synthe
     // The family's members that go on to the design chain: those whose timing passes the poses
     // best (to 1e-6 rad), then keeps within the gear limits, then the most compact arm.
     if family {
-        let key = |(dyad, t): &(Dyad, Result<Timing, TimingError>)| match t {
-            Ok(t) => (
-                (t.residuals_rad.iter().map(|r| r.abs()).fold(0.0, f64::max) * 1e6).round(),
-                !limits.contains(&t.mechanism.ratio, t.mechanism.a_mm),
-                dyad.l1_mm + dyad.l3_mm,
-            ),
-            Err(_) => (f64::INFINITY, true, f64::INFINITY),
-        };
-        timings.sort_by(|a, b| {
-            let (ka, kb) = (key(a), key(b));
-            ka.0.total_cmp(&kb.0)
-                .then(ka.1.cmp(&kb.1))
-                .then(ka.2.total_cmp(&kb.2))
-        });
+        rank_family(&mut timings, &limits);
         timings.truncate(FAMILY_DESIGNED);
         timings = timings
             .into_par_iter()
@@ -243,9 +174,121 @@ pub fn synthesize(spec: &Spec, opts: &DesignOptions) -> Result<Synthesis, Synthe
         .flatten();
     let tried: Vec<(Candidate, Option<Designed>)> =
         results.into_iter().map(|(c, d, _)| (c, d)).collect();
-    // Passes the poses (within POSE_PASSED, else the smaller error to 1 µm), then misses the
-    // fewest bands, then the most compact arm (smallest l1 + l3: the smaller gearbox and arm).
-    let chosen = tried
+    let Some(chosen) = choose(&tried) else {
+        if let Some(e) = timing_error {
+            return Err(e.into());
+        }
+        let reasons: Vec<String> = tried
+            .iter()
+            .filter_map(|(c, _)| c.refused.clone())
+            .collect();
+        return Err(SynthesisError::NoDesign(reasons.join("; ")));
+    };
+    Ok(finish(kind, &dyads, tried, chosen, spec))
+}
+
+/// The arms that go on to Stage B: a family's members of a planting arm's proportions, or the
+/// finite arms that reach every pose (within 1e-6 of the poses' size, or the largest approximate
+/// tolerance), at most [`FINITE_CANDIDATES`].
+fn candidate_arms(kind: &str, dyads: &[Dyad], poses: &[Pose], spec: &Spec) -> Vec<Dyad> {
+    if kind == "family" {
+        // Members of a planting arm's proportions: needle between a quarter of the poses' spread
+        // and two and a half times it (else the whole family), evenly.
+        let spread = poses
+            .iter()
+            .flat_map(|p| {
+                poses
+                    .iter()
+                    .map(move |q| (p.tip_mm[0] - q.tip_mm[0]).hypot(p.tip_mm[1] - q.tip_mm[1]))
+            })
+            .fold(0.0, f64::max);
+        let plausible: Vec<Dyad> = dyads
+            .iter()
+            .filter(|d| {
+                d.l3_mm >= FAMILY_L3_SPREADS[0] * spread
+                    && d.l3_mm <= FAMILY_L3_SPREADS[1] * spread
+                    && d.l1_mm <= (1.0 - AXIS_DISTANCE_L3) * d.l3_mm
+            })
+            .copied()
+            .collect();
+        let members: &[Dyad] = if plausible.is_empty() {
+            dyads
+        } else {
+            &plausible
+        };
+        let n = members.len();
+        (0..FAMILY_CANDIDATES.min(n))
+            .map(|k| members[(2 * k + 1) * n / (2 * FAMILY_CANDIDATES.min(n))])
+            .collect()
+    } else {
+        let scale = 1e-6
+            + poses
+                .iter()
+                .map(|p| p.tip_mm[0].hypot(p.tip_mm[1]))
+                .fold(0.0, f64::max)
+                * 1e-6;
+        dyads
+            .iter()
+            .filter(|d| d.max_residual_mm <= scale.max(max_tol_mm(spec)))
+            .take(FINITE_CANDIDATES)
+            .copied()
+            .collect()
+    }
+}
+
+/// Why no arm reaches the poses: the best finite arm's miss, or no arm within the search.
+fn no_arm(
+    kind: &str,
+    dyads: &[Dyad],
+    poses: &[Pose],
+    spec: &Spec,
+    dopts: &DyadOptions,
+) -> SynthesisError {
+    let best = dyads
+        .iter()
+        .map(|d| d.max_residual_mm)
+        .fold(f64::INFINITY, f64::min);
+    if kind == "finite" && best.is_finite() {
+        SynthesisError::NoExactArm {
+            poses: poses.len(),
+            exact: spec.poses.iter().filter(|p| !p.approximate()).count(),
+            residual_mm: best,
+        }
+    } else {
+        SynthesisError::NoArm {
+            max_l3_mm: dopts.max_l3_mm,
+        }
+    }
+}
+
+/// A family's timed members in the order they go on to the design chain: those whose timing
+/// passes the poses best (to 1e-6 rad), then keeps within the gear limits, then the most compact
+/// arm.
+fn rank_family(
+    timings: &mut [(Dyad, Result<Timing, TimingError>)],
+    limits: &crate::geometry::limits::GearLimits,
+) {
+    let key = |(dyad, t): &(Dyad, Result<Timing, TimingError>)| match t {
+        Ok(t) => (
+            (t.residuals_rad.iter().map(|r| r.abs()).fold(0.0, f64::max) * 1e6).round(),
+            !limits.contains(&t.mechanism.ratio, t.mechanism.a_mm),
+            dyad.l1_mm + dyad.l3_mm,
+        ),
+        Err(_) => (f64::INFINITY, true, f64::INFINITY),
+    };
+    timings.sort_by(|a, b| {
+        let (ka, kb) = (key(a), key(b));
+        ka.0.total_cmp(&kb.0)
+            .then(ka.1.cmp(&kb.1))
+            .then(ka.2.total_cmp(&kb.2))
+    });
+}
+
+/// The designed candidate kept: passes the poses (within [`POSE_PASSED`], else the smaller error
+/// to 1 µm), then misses the fewest bands, then the most compact arm (smallest l1 + l3: the
+/// smaller gearbox and arm).
+fn choose(tried: &[(Candidate, Option<Designed>)]) -> Option<usize> {
+    tried
         .iter()
         .enumerate()
         .filter_map(|(k, (c, r))| r.as_ref().map(|_| (k, c)))
@@ -270,18 +313,7 @@ pub fn synthesize(spec: &Spec, opts: &DesignOptions) -> Result<Synthesis, Synthe
                 .then(ka.1.cmp(&kb.1))
                 .then(ka.2.total_cmp(&kb.2))
         })
-        .map(|(k, _)| k);
-    let Some(chosen) = chosen else {
-        if let Some(e) = timing_error {
-            return Err(e.into());
-        }
-        let reasons: Vec<String> = tried
-            .iter()
-            .filter_map(|(c, _)| c.refused.clone())
-            .collect();
-        return Err(SynthesisError::NoDesign(reasons.join("; ")));
-    };
-    Ok(finish(kind, &dyads, tried, chosen, spec))
+        .map(|(k, _)| k)
 }
 
 /// Candidates of the targets-only search handed to the design chain.
