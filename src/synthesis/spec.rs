@@ -143,13 +143,17 @@ impl Targets {
 /// The poses, their direction tolerances (rad), the sense asked for and the feature options.
 pub(super) type Checked = (Vec<Pose>, Vec<f64>, Option<i8>, FeatureOptions);
 
-/// The spec's fields checked against their ranges, naming the first out of range.
-pub(super) fn checked(spec: &Spec) -> Result<Checked, SynthesisError> {
-    let bad = |field: &str, value: String, expected: &str| SynthesisError::BadField {
+/// Builds the error for a field out of its range.
+fn bad(field: &str, value: String, expected: &str) -> SynthesisError {
+    SynthesisError::BadField {
         field: field.into(),
         value,
         expected: expected.into(),
-    };
+    }
+}
+
+/// The spec's fields checked against their ranges, naming the first out of range.
+pub(super) fn checked(spec: &Spec) -> Result<Checked, SynthesisError> {
     if spec.poses.is_empty() && spec.targets.bands().is_empty() {
         return Err(bad(
             "pose",
@@ -157,6 +161,28 @@ pub(super) fn checked(spec: &Spec) -> Result<Checked, SynthesisError> {
             "[[pose]] tables (at least three; two with machine.center_mm), or [targets] bands to synthesise from alone",
         ));
     }
+    let tol = pose_tolerances(spec)?;
+    let sense = match spec.machine.carrier.as_deref() {
+        None => None,
+        Some("ccw") => Some(1),
+        Some("cw") => Some(-1),
+        Some(v) => {
+            return Err(bad(
+                "machine.carrier",
+                format!("\"{v}\""),
+                "\"ccw\" or \"cw\"",
+            ));
+        }
+    };
+    let f = feature_options(spec)?;
+    check_bands(&spec.targets)?;
+    check_search_box(spec)?;
+    Ok((spec.poses.iter().map(|p| p.pose()).collect(), tol, sense, f))
+}
+
+/// Each pose's direction tolerance, rad: exact poses [`POSE_TOL_RAD`], approximate ones their
+/// own (with a positive position tolerance).
+fn pose_tolerances(spec: &Spec) -> Result<Vec<f64>, SynthesisError> {
     let mut tol = Vec::new();
     for (k, p) in spec.poses.iter().enumerate() {
         match p.kind.as_deref() {
@@ -189,18 +215,12 @@ pub(super) fn checked(spec: &Spec) -> Result<Checked, SynthesisError> {
             }
         }
     }
-    let sense = match spec.machine.carrier.as_deref() {
-        None => None,
-        Some("ccw") => Some(1),
-        Some("cw") => Some(-1),
-        Some(v) => {
-            return Err(bad(
-                "machine.carrier",
-                format!("\"{v}\""),
-                "\"ccw\" or \"cw\"",
-            ));
-        }
-    };
+    Ok(tol)
+}
+
+/// The planting features' options from the machine table: speed, spacing or forward speed,
+/// depth.
+fn feature_options(spec: &Spec) -> Result<FeatureOptions, SynthesisError> {
     let mut f = FeatureOptions::default();
     if let Some(r) = spec.machine.rpm {
         if !(r > 0.0 && r.is_finite()) {
@@ -246,7 +266,13 @@ pub(super) fn checked(spec: &Spec) -> Result<Checked, SynthesisError> {
         }
         f.planting_depth_mm = d;
     }
-    for (name, b) in spec.targets.bands() {
+    Ok(f)
+}
+
+/// Each target band ordered and within its quantity's range; the angle difference reachable
+/// from the take and push bands.
+fn check_bands(t: &Targets) -> Result<(), SynthesisError> {
+    for (name, b) in t.bands() {
         if !(b[0].is_finite() && b[1].is_finite() && b[0] <= b[1]) {
             return Err(bad(
                 &format!("targets.{name}"),
@@ -275,7 +301,6 @@ pub(super) fn checked(spec: &Spec) -> Result<Checked, SynthesisError> {
             return Err(bad(&format!("targets.{name}"), format!("{b:?}"), what));
         }
     }
-    let t = &spec.targets;
     if let (Some(take), Some(push), Some(diff)) =
         (t.take_angle_deg, t.push_angle_deg, t.angle_difference_deg)
     {
@@ -291,6 +316,11 @@ pub(super) fn checked(spec: &Spec) -> Result<Checked, SynthesisError> {
             ));
         }
     }
+    Ok(())
+}
+
+/// The targets-only search box: positive and ordered, and not given with poses.
+fn check_search_box(spec: &Spec) -> Result<(), SynthesisError> {
     for (field, b) in [
         ("machine.l1_mm", spec.machine.l1_mm),
         ("machine.l3_mm", spec.machine.l3_mm),
@@ -312,7 +342,7 @@ pub(super) fn checked(spec: &Spec) -> Result<Checked, SynthesisError> {
             ));
         }
     }
-    Ok((spec.poses.iter().map(|p| p.pose()).collect(), tol, sense, f))
+    Ok(())
 }
 
 /// The largest position tolerance of the approximate poses, mm (0 when all are exact).
