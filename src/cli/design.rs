@@ -353,30 +353,7 @@ fn print_summary(
         "  round trip from the output curves ({}): max deviation {:.4} mm, Hausdorff {:.4} mm",
         r.chosen, r.roundtrip.max_deviation_mm, r.roundtrip.hausdorff_mm
     );
-    let l = &r.limits;
-    println!(
-        "  gear limits{}: pressure angle {:.2}° (≤ {}°), tightest concave radius {} (≥ {} mm), tightest convex radius {:.2} mm{}, i21 in [{:.3}, {:.3}]{}",
-        if l.enabled {
-            ""
-        } else {
-            " (off: not constraints)"
-        },
-        l.pressure_angle_deg,
-        l.max_pressure_angle_deg,
-        l.tightest_concave_radius_mm
-            .map_or_else(|| "none (convex)".into(), |v| format!("{v:.2} mm")),
-        l.min_concave_radius_mm,
-        l.tightest_convex_radius_mm,
-        l.min_convex_radius_mm
-            .map_or_else(String::new, |v| format!(" (≥ {v} mm)")),
-        l.ratio_range[0],
-        l.ratio_range[1],
-        if l.binding.is_empty() {
-            String::new()
-        } else {
-            format!("; binding: {}", l.binding.join(", "))
-        }
-    );
+    println!("{}", limits_line(&r.limits));
     let failed: Vec<&str> = r
         .checks
         .iter()
@@ -419,6 +396,33 @@ fn print_summary(
             format!(" and {} CAD files in {}", teeth.len(), teeth_dir.display())
         }
     );
+}
+
+/// The console line of the design's gear limits: where it stands and what binds.
+fn limits_line(l: &ncgear::design::LimitsSummary) -> String {
+    format!(
+        "  gear limits{}: pressure angle {:.2}° (≤ {}°), tightest concave radius {} (≥ {} mm), tightest convex radius {:.2} mm{}, i21 in [{:.3}, {:.3}]{}",
+        if l.enabled {
+            ""
+        } else {
+            " (off: not constraints)"
+        },
+        l.pressure_angle_deg,
+        l.max_pressure_angle_deg,
+        l.tightest_concave_radius_mm
+            .map_or_else(|| "none (convex)".into(), |v| format!("{v:.2} mm")),
+        l.min_concave_radius_mm,
+        l.tightest_convex_radius_mm,
+        l.min_convex_radius_mm
+            .map_or_else(String::new, |v| format!(" (≥ {v} mm)")),
+        l.ratio_range[0],
+        l.ratio_range[1],
+        if l.binding.is_empty() {
+            String::new()
+        } else {
+            format!("; binding: {}", l.binding.join(", "))
+        }
+    )
 }
 
 /// The console lines of the toothed train: tooth count and deviation, processes, undercut, meshes.
