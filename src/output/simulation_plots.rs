@@ -68,6 +68,45 @@ pub(super) fn write_plots(
             written,
         )?;
     }
+    ratio_plot(sim, n, dir, written)?;
+    pitch_plots(&sim.assembly, dir, written)?;
+    let xy = |v: &[[f64; 2]]| v.iter().map(|p| (p[0], p[1])).collect::<Vec<_>>();
+    both(
+        &dir.join("dynamic"),
+        &ChartLabels {
+            title: format!(
+                "Dynamic trajectory at {:.0} rpm, {:.2} m/s",
+                feat_opts.rpm,
+                feat_opts.forward_mm_s / 1000.0
+            ),
+            x: "x (mm)".into(),
+            y: "y (mm)".into(),
+            equal_aspect: true,
+        },
+        &[
+            Series::line("arm 1", xy(&dynamic[0])),
+            Series::line("arm 2", xy(&dynamic[1])),
+        ],
+        (1100, 600),
+        written,
+    )?;
+    features_plot(sim, feat_opts, features, arm1, dir, written)
+}
+
+/// The ratios i21, i31, i3H along the carrier turn at `n` instants, from the kinematics.
+fn ratio_plot(
+    sim: &Simulation,
+    n: usize,
+    dir: &Path,
+    written: &mut Vec<PathBuf>,
+) -> Result<(), OutputError> {
+    let deg = |k: usize| 360.0 * k as f64 / n as f64;
+    let pts = |v: &[f64]| {
+        v.iter()
+            .enumerate()
+            .map(|(k, y)| (deg(k), *y))
+            .collect::<Vec<_>>()
+    };
     // Ratios from the kinematics (central differences of the continuous pose angles):
     // i21 = dθ2/dφ − 1, i3H = dθ3/dφ, i31 = 1 − i3H (φ in the direction of motion).
     let hf = 1e-4;
@@ -99,8 +138,16 @@ pub(super) fn write_plots(
         ],
         (900, 450),
         written,
-    )?;
-    let asm = &sim.assembly;
+    )
+}
+
+/// The pitch curves in their body frames, and their radius of curvature and pressure-angle
+/// deviation along the body polar angle.
+fn pitch_plots(
+    asm: &crate::geometry::assembly::Assembly,
+    dir: &Path,
+    written: &mut Vec<PathBuf>,
+) -> Result<(), OutputError> {
     let curve_xy = |c: &PitchCurve| {
         (0..=720)
             .map(|k| {
@@ -166,28 +213,20 @@ pub(super) fn write_plots(
         (900, 450),
         written,
     )?;
+    Ok(())
+}
+
+/// The agronomic features drawn on the static path `arm1`: taking and planting instants with
+/// the needle, the soil level at the planting depth, the hole width on the dynamic stroke.
+fn features_plot(
+    sim: &Simulation,
+    feat_opts: &FeatureOptions,
+    features: &Features,
+    arm1: &[[f64; 2]],
+    dir: &Path,
+    written: &mut Vec<PathBuf>,
+) -> Result<(), OutputError> {
     let xy = |v: &[[f64; 2]]| v.iter().map(|p| (p[0], p[1])).collect::<Vec<_>>();
-    both(
-        &dir.join("dynamic"),
-        &ChartLabels {
-            title: format!(
-                "Dynamic trajectory at {:.0} rpm, {:.2} m/s",
-                feat_opts.rpm,
-                feat_opts.forward_mm_s / 1000.0
-            ),
-            x: "x (mm)".into(),
-            y: "y (mm)".into(),
-            equal_aspect: true,
-        },
-        &[
-            Series::line("arm 1", xy(&dynamic[0])),
-            Series::line("arm 2", xy(&dynamic[1])),
-        ],
-        (1100, 600),
-        written,
-    )?;
-    // The agronomic features drawn on the static path: taking and planting instants with the
-    // needle, the soil level at the planting depth, the hole width on the dynamic stroke.
     let f = features;
     let at = |deg: f64| {
         sim.pose(f64::from(sim.assembly.direction) * deg.to_radians())
