@@ -31,6 +31,8 @@
 //! stay exactly conjugate.
 mod amplitude;
 mod build;
+mod cut;
+mod layout;
 mod pending;
 mod relief;
 mod report;
