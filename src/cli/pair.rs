@@ -14,7 +14,7 @@ use super::teeth_args::RackArgs;
 use ncgear::export::dxf::{DxfVersion, write_dxf};
 use ncgear::export::points::write_points;
 use ncgear::export::svg::write_svg;
-use ncgear::pair::{Expr, Law, PairError, PairOptions, design_pair_deferred};
+use ncgear::pair::{Expr, Law, PairDesign, PairError, PairOptions, design_pair_deferred};
 use std::path::PathBuf;
 
 /// Arguments of `ncgear pair`.
@@ -78,34 +78,9 @@ pub fn run(args: Args) -> CliResult {
     // The printed time is the whole command's.
     let started = std::time::Instant::now();
     args.rack.check_exports()?;
-    let law = match (&args.law, &args.centrode, &args.csv) {
-        (Some(e), None, None) => Law::Motion(Expr::parse(e).map_err(input_error)?),
-        (None, Some(e), None) => Law::Centrode(Expr::parse(e).map_err(input_error)?),
-        (None, None, Some(p)) => Law::from_csv(p).map_err(input_error)?,
-        _ => {
-            return Err(input_error(miette::miette!(
-                "give exactly one of: a motion law, --centrode, --csv"
-            )));
-        }
-    };
-    let mut opts = PairOptions::new(args.teeth, args.module);
-    opts.centrode_advance_rad = args.cycle_advance.to_radians();
-    if let (true, Some(a), Some(b)) = (args.open, args.drive_start, args.drive_end) {
-        opts.open_sector_rad = Some([a.to_radians(), b.to_radians()]);
-    }
-    opts.toothing.verify_steps = args.verify_steps;
-    args.rack
-        .apply_to(&mut opts.toothing)
-        .map_err(super::teeth_args::option_failure)?;
-    let to_failure = |e: PairError| match &e {
-        PairError::Teeth(ncgear::teeth::TeethError::Bounds(b)) | PairError::Bounds(b) => {
-            super::option_error(Some(&b.quantity), &e)
-        }
-        PairError::Teeth(ncgear::teeth::TeethError::InvalidParameter { name, .. })
-        | PairError::InvalidParameter { name, .. } => super::option_error(Some(name), &e),
-        PairError::Teeth(_) | PairError::Mesh(_) => runtime_error(e),
-        _ => input_error(e),
-    };
+    let law = law_of(&args)?;
+    let opts = pair_options(&args)?;
+    let to_failure = pair_failure;
     let (mut design, pending) = design_pair_deferred(&law, &opts).map_err(to_failure)?;
     let t_design = super::ms_since(started);
     std::fs::create_dir_all(&args.out)
@@ -196,40 +171,93 @@ pub fn run(args: Args) -> CliResult {
     if args.json {
         print_json(&report)?;
     } else {
-        println!(
-            "z = {}:{}, m = {} mm, a = {:.6} mm; outputs in {}",
-            design.z,
-            design.z_driven,
-            design.module_mm,
-            design.centre_distance_mm,
-            args.out.display()
-        );
-        println!(
-            "driver: {}",
-            super::teeth_args::process_line(&design.driver_process)
-        );
-        println!(
-            "driven: {}",
-            super::teeth_args::process_line(&design.driven_process)
-        );
-        for (name, u, p) in [
-            ("driver", &design.driver_undercut, &design.driver_process),
-            ("driven", &design.driven_undercut, &design.driven_process),
-        ] {
-            if let Some(w) = super::teeth_args::undercut_line(name, u, Some(p)) {
-                println!("{w}");
-            }
-        }
-        if let Some(m) = &design.mesh {
-            println!("mesh: {}", m.summary());
-        }
-        println!(
-            "{:.1} ms (teeth {t_design:.1}, verification {t_mesh:.1} beside the files, all \
-             {t_files:.1})",
-            super::ms_since(started)
-        );
+        print_summary(&design, &args.out, [t_design, t_mesh, t_files], started);
     }
     super::verdict_outcome(&verdict, args.accept_failed)
+}
+
+/// The law the pair is made for: a motion law, a centrode, or a CSV table (exactly one).
+fn law_of(args: &Args) -> Result<Law, super::Failure> {
+    Ok(match (&args.law, &args.centrode, &args.csv) {
+        (Some(e), None, None) => Law::Motion(Expr::parse(e).map_err(input_error)?),
+        (None, Some(e), None) => Law::Centrode(Expr::parse(e).map_err(input_error)?),
+        (None, None, Some(p)) => Law::from_csv(p).map_err(input_error)?,
+        _ => {
+            return Err(input_error(miette::miette!(
+                "give exactly one of: a motion law, --centrode, --csv"
+            )));
+        }
+    })
+}
+
+/// The pair's options from the flags (rack, backlash and export options checked).
+fn pair_options(args: &Args) -> Result<PairOptions, super::Failure> {
+    let mut opts = PairOptions::new(args.teeth, args.module);
+    opts.centrode_advance_rad = args.cycle_advance.to_radians();
+    if let (true, Some(a), Some(b)) = (args.open, args.drive_start, args.drive_end) {
+        opts.open_sector_rad = Some([a.to_radians(), b.to_radians()]);
+    }
+    opts.toothing.verify_steps = args.verify_steps;
+    args.rack
+        .apply_to(&mut opts.toothing)
+        .map_err(super::teeth_args::option_failure)?;
+    Ok(opts)
+}
+
+/// The CLI failure for a pair error: the flag behind a bad option, a runtime error for the
+/// teeth and the mesh, an input error otherwise.
+fn pair_failure(e: PairError) -> super::Failure {
+    match &e {
+        PairError::Teeth(ncgear::teeth::TeethError::Bounds(b)) | PairError::Bounds(b) => {
+            super::option_error(Some(&b.quantity), &e)
+        }
+        PairError::Teeth(ncgear::teeth::TeethError::InvalidParameter { name, .. })
+        | PairError::InvalidParameter { name, .. } => super::option_error(Some(name), &e),
+        PairError::Teeth(_) | PairError::Mesh(_) => runtime_error(e),
+        _ => input_error(e),
+    }
+}
+
+/// The console summary: tooth counts, processes, undercut, mesh, and the times (ms) of the
+/// design, the verification and the files.
+fn print_summary(
+    design: &PairDesign,
+    out: &std::path::Path,
+    [t_design, t_mesh, t_files]: [f64; 3],
+    started: std::time::Instant,
+) {
+    println!(
+        "z = {}:{}, m = {} mm, a = {:.6} mm; outputs in {}",
+        design.z,
+        design.z_driven,
+        design.module_mm,
+        design.centre_distance_mm,
+        out.display()
+    );
+    println!(
+        "driver: {}",
+        super::teeth_args::process_line(&design.driver_process)
+    );
+    println!(
+        "driven: {}",
+        super::teeth_args::process_line(&design.driven_process)
+    );
+    for (name, u, p) in [
+        ("driver", &design.driver_undercut, &design.driver_process),
+        ("driven", &design.driven_undercut, &design.driven_process),
+    ] {
+        if let Some(w) = super::teeth_args::undercut_line(name, u, Some(p)) {
+            println!("{w}");
+        }
+    }
+    if let Some(m) = &design.mesh {
+        println!("mesh: {}", m.summary());
+    }
+    println!(
+        "{:.1} ms (teeth {t_design:.1}, verification {t_mesh:.1} beside the files, all \
+         {t_files:.1})",
+        super::ms_since(started)
+    );
 }
 
 fn summary(u: &ncgear::teeth::UndercutReport) -> serde_json::Value {
