@@ -1,7 +1,7 @@
 //! The design chain, stage by stage: step 1, compatibility, the patent route, the docs/math/chain.md §8.3
 //! refinement, the fit to the points, then the tables, checks and report.
 
-use super::checks::finish;
+use super::checks::{Finished, finish};
 use super::error::DesignError;
 use super::fit_stage::{FitStage, FitStart, fit_options, fit_stage};
 use super::inverse::Inversion;
@@ -84,14 +84,7 @@ pub(super) fn design_from(
     // The final stage: every parameter fitted to the points themselves. A warm start designed
     // for the same module is refitted at its tooth count directly.
     let t0 = Instant::now();
-    let warm = warm.and_then(|r| {
-        let m = warm::start_mechanism(r, inv.direction)?;
-        let module = r
-            .module
-            .as_ref()
-            .filter(|s| Some(s.module_mm) == opts.module_mm);
-        Some((m, module.cloned()))
-    });
+    let warm = warm.and_then(|r| warm_start(r, &inv, opts));
     let warm_teeth = warm
         .as_ref()
         .and_then(|(_, s)| s.as_ref().map(|s| (s.teeth, s.module_mm)));
@@ -126,16 +119,7 @@ pub(super) fn design_from(
 
     // Outputs, checks, round trip.
     let t0 = Instant::now();
-    let [lo, hi] = opts.refine_options.ratio_bounds;
-    let [imin, imax] = fitted.mechanism.ratio.range();
-    if imin < lo || imax > hi {
-        return Err(DesignError::RatioOutOfBounds {
-            min: imin,
-            max: imax,
-            lo,
-            hi,
-        });
-    }
+    let [imin, imax] = ratio_within_bounds(&fitted.mechanism, opts)?;
     let out = finish(
         traj,
         &inv,
@@ -145,22 +129,9 @@ pub(super) fn design_from(
         opts,
         &mut warnings,
     )?;
-    if !noise::explained_by_noise(out.roundtrip.estimated_curve_deviation_mm, opts.tol_tip_mm) {
-        for (at, w) in pending.into_iter().rev() {
-            warnings.insert(at, w);
-        }
-    }
     timings.outputs = ms(t0);
     timings.total = ms(t_all);
-    if out.limits.enabled
-        && !out.limits.binding.is_empty()
-        && out.roundtrip.max_deviation_mm > opts.tol_tip_mm
-    {
-        warnings.push(format!(
-            "the gear limits bind ({}): this is the closest design whose gears can be cut and run; `ncgear tradeoff` shows the deviation reached at other pressure-angle limits and modules",
-            out.limits.binding.join(", ")
-        ));
-    }
+    closing_warnings(&out, opts, pending, &mut warnings);
     let mechanism = &out.mechanism;
     let mut report = DesignReport {
         units: Units {
@@ -208,6 +179,61 @@ pub(super) fn design_from(
         inversion: inv,
         traced_mm: out.traced,
     })
+}
+
+/// The train and module summary a warm start's report gives the fit stage (its module only when
+/// it is the one the options ask for).
+fn warm_start(
+    r: &DesignReport,
+    inv: &Inversion,
+    opts: &DesignOptions,
+) -> Option<(Mechanism, Option<crate::design::ModuleSummary>)> {
+    let m = warm::start_mechanism(r, inv.direction)?;
+    let module = r
+        .module
+        .as_ref()
+        .filter(|s| Some(s.module_mm) == opts.module_mm);
+    Some((m, module.cloned()))
+}
+
+/// The sun ratio's range `[i_min, i_max]`, refused when it leaves the bounds.
+fn ratio_within_bounds(mech: &Mechanism, opts: &DesignOptions) -> Result<[f64; 2], DesignError> {
+    let [lo, hi] = opts.refine_options.ratio_bounds;
+    let [imin, imax] = mech.ratio.range();
+    if imin < lo || imax > hi {
+        return Err(DesignError::RatioOutOfBounds {
+            min: imin,
+            max: imax,
+            lo,
+            hi,
+        });
+    }
+    Ok([imin, imax])
+}
+
+/// The warnings the round trip decides: those held `pending` (at the places they would have
+/// had) unless the noise of measured points explains the deviation, and the binding gear limits
+/// of a design that misses the tolerance.
+fn closing_warnings(
+    out: &Finished,
+    opts: &DesignOptions,
+    pending: Vec<(usize, String)>,
+    warnings: &mut Vec<String>,
+) {
+    if !noise::explained_by_noise(out.roundtrip.estimated_curve_deviation_mm, opts.tol_tip_mm) {
+        for (at, w) in pending.into_iter().rev() {
+            warnings.insert(at, w);
+        }
+    }
+    if out.limits.enabled
+        && !out.limits.binding.is_empty()
+        && out.roundtrip.max_deviation_mm > opts.tol_tip_mm
+    {
+        warnings.push(format!(
+            "the gear limits bind ({}): this is the closest design whose gears can be cut and run; `ncgear tradeoff` shows the deviation reached at other pressure-angle limits and modules",
+            out.limits.binding.join(", ")
+        ));
+    }
 }
 
 /// The warnings of step 1: measured points whose smoothed loop gave the start, and a path both
