@@ -188,22 +188,34 @@ impl<'a> SegmentGrid<'a> {
             if reach > 0.0 && best_d2 <= reach * reach {
                 break;
             }
-            for gy in (cy - ring)..=(cy + ring) {
-                for gx in (cx - ring)..=(cx + ring) {
-                    let on_ring = (gx - cx).abs() == ring || (gy - cy).abs() == ring;
-                    if !on_ring || gx < 0 || gy < 0 || gx >= self.nx as i64 || gy >= self.ny as i64
-                    {
-                        continue;
+            let mut visit = |gx: i64, gy: i64| {
+                let c = gy as usize * self.nx + gx as usize;
+                for &k in &self.items[self.starts[c]..self.starts[c + 1]] {
+                    let k = k as usize;
+                    let (point, d2) =
+                        seg_nearest_sq(x, q[k], q[if k + 1 == n { 0 } else { k + 1 }]);
+                    if d2 < best_d2 {
+                        best_d2 = d2;
+                        best.segment = k;
+                        best.point = point;
                     }
-                    let c = gy as usize * self.nx + gx as usize;
-                    for &k in &self.items[self.starts[c]..self.starts[c + 1]] {
-                        let k = k as usize;
-                        let (point, d2) =
-                            seg_nearest_sq(x, q[k], q[if k + 1 == n { 0 } else { k + 1 }]);
-                        if d2 < best_d2 {
-                            best_d2 = d2;
-                            best.segment = k;
-                            best.point = point;
+                }
+            };
+            // The ring's cells within the grid, row by row and left to right (the order decides
+            // between segments at the same distance): its first and last rows whole, its two
+            // side cells on the rows between. Only the ring is walked, so a query far outside
+            // the loop costs O(ring) per ring, not O(ring²).
+            let (nx, ny) = (self.nx as i64, self.ny as i64);
+            let (x0, x1) = ((cx - ring).max(0), (cx + ring).min(nx - 1));
+            for gy in (cy - ring).max(0)..=(cy + ring).min(ny - 1) {
+                if gy == cy - ring || gy == cy + ring {
+                    for gx in x0..=x1 {
+                        visit(gx, gy);
+                    }
+                } else {
+                    for gx in [cx - ring, cx + ring] {
+                        if (0..nx).contains(&gx) {
+                            visit(gx, gy);
                         }
                     }
                 }
