@@ -47,13 +47,7 @@ pub(super) fn write_plots(
 ) -> Result<(), OutputError> {
     let (dev, arm1, dynamic) = (traces.deviation_mm, traces.arm1_mm, traces.dynamic_mm);
     let n = feat_opts.samples.max(360);
-    let deg = |k: usize| 360.0 * k as f64 / n as f64;
-    let pts = |v: &[f64]| {
-        v.iter()
-            .enumerate()
-            .map(|(k, y)| (deg(k), *y))
-            .collect::<Vec<_>>()
-    };
+    let pts = |v: &[f64]| along_turn(v, n);
     if !dev.is_empty() {
         both(
             &dir.join("deviation"),
@@ -93,6 +87,14 @@ pub(super) fn write_plots(
     features_plot(sim, feat_opts, features, arm1, dir, written)
 }
 
+/// Samples `v` of a turn of `n` instants as chart points `(carrier angle in degrees, value)`.
+fn along_turn(v: &[f64], n: usize) -> Vec<(f64, f64)> {
+    v.iter()
+        .enumerate()
+        .map(|(k, y)| (360.0 * k as f64 / n as f64, *y))
+        .collect()
+}
+
 /// The ratios i21, i31, i3H along the carrier turn at `n` instants, from the kinematics.
 fn ratio_plot(
     sim: &Simulation,
@@ -100,13 +102,7 @@ fn ratio_plot(
     dir: &Path,
     written: &mut Vec<PathBuf>,
 ) -> Result<(), OutputError> {
-    let deg = |k: usize| 360.0 * k as f64 / n as f64;
-    let pts = |v: &[f64]| {
-        v.iter()
-            .enumerate()
-            .map(|(k, y)| (deg(k), *y))
-            .collect::<Vec<_>>()
-    };
+    let pts = |v: &[f64]| along_turn(v, n);
     // Ratios from the kinematics (central differences of the continuous pose angles):
     // i21 = dθ2/dφ − 1, i3H = dθ3/dφ, i31 = 1 − i3H (φ in the direction of motion).
     let hf = 1e-4;
