@@ -40,12 +40,8 @@ impl Toothed {
                 positions: cycle_pitches * relief::POSITIONS_PER_PITCH,
             };
             Ok(relieve_gear(
-                &self.f[k],
-                &t.rack,
-                self.z[k],
-                m,
+                &self.blank(k, t),
                 procs[k],
-                &self.o[k],
                 t.verify_chord_tol_mm,
                 &[mesh],
             )?)

@@ -32,10 +32,9 @@
 //!
 //! Checks: every one of the `z` teeth keeps a stretch of its tip (a tooth consumed by the sweep —
 //! pointed — is an error); the narrowest tip is reported.
-use super::frame::ArcFrame;
 use super::outline::{Outline, report_on};
 use super::shape::StarShape;
-use super::{OutlineOptions, RackParams, TeethError};
+use super::{GearBlank, TeethError};
 use crate::geometry::pitch::PitchCurve;
 use rayon::prelude::*;
 use std::f64::consts::{PI, TAU};
@@ -147,23 +146,20 @@ pub struct SweepChecks {
     pub rays: usize,
 }
 
-/// The outline of `z` teeth of module `module_mm` on `frame`'s pitch curve, swept by its `mates`
+/// The outline of `blank`'s `z` teeth of module `module_mm` on its pitch curve, swept by its `mates`
 /// (one, or two for the intermediate gear of a train)
-/// (module doc), simplified to `opts.chord_tol_mm`. `opts.phase_mm` and the thinning are unused:
+/// (module doc), simplified to `blank.opts.chord_tol_mm`. The phase and the thinning are unused:
 /// the mate's positions place and thin the teeth.
 ///
 /// Errors: [`TeethError::Swept`] when the sweep consumes a tooth's tip (pointed teeth) or leaves
 /// other than `z` teeth (the mate's positions do not match the gear).
 pub fn generate_swept(
-    frame: &ArcFrame,
-    rack: &RackParams,
-    z: u32,
-    module_mm: f64,
-    opts: &OutlineOptions,
+    blank: &GearBlank<'_>,
     mates: &[Mate<'_>],
 ) -> Result<(Outline, SweepChecks), TeethError> {
-    let m = module_mm;
-    super::outline::validate(frame, z, m, opts)?;
+    let (frame, rack, z, opts) = (blank.frame, &blank.rack, blank.z, &blank.opts);
+    let m = blank.module_mm;
+    blank.validated_pitch_mm()?;
     let ha = rack.addendum() * m;
     let k_tip = (rack.straight_depth() * m / rack.alpha_rad().tan()).powi(2);
     // The blank: the addendum curve, as a polar table sampled every 0.05·m of pitch arc (chord
@@ -176,14 +172,16 @@ pub fn generate_swept(
             (f.p, [f.p[0] + h * f.n[0], f.p[1] + h * f.n[1]])
         })
         .unzip();
-    let blank = StarShape::new(&tip, "addendum curve").map_err(|_| TeethError::Swept {
+    let addendum = StarShape::new(&tip, "addendum curve").map_err(|_| TeethError::Swept {
         what: "the addendum curve is not star-shaped about the gear's centre".into(),
     })?;
     let r_tip = tip.iter().map(|p| p[0].hypot(p[1])).fold(0.0, f64::max);
     let rays = ((TAU * r_tip / (RAY_SPACING * m)).ceil() as usize).max(4096);
     let dth = TAU / rays as f64;
     let dir: Vec<(f64, f64)> = (0..rays).map(|j| (j as f64 * dth).sin_cos()).collect();
-    let r_blank: Vec<f64> = (0..rays).map(|j| blank.radius_at(j as f64 * dth)).collect();
+    let r_blank: Vec<f64> = (0..rays)
+        .map(|j| addendum.radius_at(j as f64 * dth))
+        .collect();
 
     // Every mate lowers the rays; the gear keeps what none of them reaches.
     let mut all: Swept = (r_blank.clone(), vec![(f64::INFINITY, 0.0); rays * SUB]);
@@ -277,7 +275,7 @@ pub fn generate_swept(
         }
     }
     let points_mm = crate::math::polyline::simplify_closed(&pts, opts.chord_tol_mm);
-    let mut undercut = report_on(frame, rack, z, m, opts);
+    let mut undercut = report_on(blank);
     // No cutter, no cutter undercut: the flanks are what the mate leaves.
     for f in &mut undercut.flanks {
         f.undercut = false;

@@ -15,6 +15,7 @@
 //! - [`mesh::verify_mesh`]: roll two outlines through a cycle (interference, backlash,
 //!   transmission error).
 
+mod blank;
 mod cells;
 pub mod conjugate;
 mod crossing;
@@ -31,6 +32,7 @@ pub mod secondary;
 mod shape;
 mod shaper;
 
+pub use blank::GearBlank;
 pub use frame::ArcFrame;
 pub mod outline;
 pub use options::ToothingOptions;

@@ -13,7 +13,7 @@
 //! Each point maps to the body frame by `P(s) + (ξ − s)T(s) + ηN(s)`.
 use super::crossing::cut_loops;
 use super::frame::{ArcFrame, FramePoint};
-use super::{FlankUndercut, RackParams, TeethError, UndercutReport};
+use super::{FlankUndercut, GearBlank, RackParams, TeethError, UndercutReport};
 use crate::geometry::pitch::PitchCurve;
 use serde::Serialize;
 
@@ -171,16 +171,15 @@ fn rack_gen<'a>(frame: &'a ArcFrame, rack: &RackParams, m: f64) -> Gen<'a> {
 /// The tip corners `[left, right]` of every tooth of [`generate_relieved_on`]'s outline with the
 /// same arguments, body frame, mm.
 pub(super) fn rack_tip_corners(
-    frame: &ArcFrame,
-    rack: &RackParams,
-    z: u32,
-    module_mm: f64,
-    opts: &OutlineOptions,
+    blank: &GearBlank<'_>,
     relief_mm: &[f64],
 ) -> Result<Vec<[[f64; 2]; 2]>, TeethError> {
-    let p = validate(frame, z, module_mm, opts)?;
-    let g = rack_gen(frame, rack, module_mm);
-    (0..z as usize)
+    let p = blank.validated_pitch_mm()?;
+    let (opts, g) = (
+        &blank.opts,
+        rack_gen(blank.frame, &blank.rack, blank.module_mm),
+    );
+    (0..blank.z as usize)
         .map(|k| {
             let (rel, _, (_, ul), (_, ur)) = g.trim_tooth(k, p, opts, relief_mm)?;
             Ok([g.tip(ul, rel), g.tip(ur, rel)])
@@ -263,16 +262,19 @@ pub fn undercut_report(
     opts: &OutlineOptions,
 ) -> Result<UndercutReport, TeethError> {
     let frame = ArcFrame::new(curve);
-    Ok(report_on(&frame, rack, z, module_mm, opts))
+    Ok(report_on(&GearBlank::new(
+        &frame, *rack, z, module_mm, *opts,
+    )))
 }
 
-pub(super) fn report_on(
-    frame: &ArcFrame,
-    rack: &RackParams,
-    z: u32,
-    m: f64,
-    opts: &OutlineOptions,
-) -> UndercutReport {
+pub(super) fn report_on(blank: &GearBlank<'_>) -> UndercutReport {
+    let (frame, rack, z, m, opts) = (
+        blank.frame,
+        &blank.rack,
+        blank.z,
+        blank.module_mm,
+        &blank.opts,
+    );
     let p = opts
         .open_pitch_mm
         .unwrap_or(frame.length_mm() / f64::from(z));
@@ -346,64 +348,6 @@ pub(super) fn report_on(
     report
 }
 
-/// Checks the module, chord tolerance, tooth count (`L = zπm`, or `z·p ≤ L` with an open
-/// sector's pitch) and thinnings of a generation; returns the pitch `p` (`L/z`, or the open
-/// sector's), mm.
-pub(super) fn validate(
-    frame: &ArcFrame,
-    z: u32,
-    m: f64,
-    opts: &OutlineOptions,
-) -> Result<f64, TeethError> {
-    if !(m.is_finite() && m > 0.0) {
-        return Err(TeethError::InvalidParameter {
-            name: "module_mm",
-            value: m,
-            expected: "finite and > 0",
-        });
-    }
-    if !(opts.chord_tol_mm.is_finite() && opts.chord_tol_mm > 0.0) {
-        return Err(TeethError::InvalidParameter {
-            name: "chord_tol_mm",
-            value: opts.chord_tol_mm,
-            expected: "finite and > 0",
-        });
-    }
-    let l = frame.length_mm();
-    let zf = f64::from(z);
-    let p = match opts.open_pitch_mm {
-        Some(p) if p.is_finite() && p > 0.0 && z >= 1 && zf * p <= l * (1.0 + 1e-12) => p,
-        Some(p) => {
-            return Err(TeethError::InvalidParameter {
-                name: "open_pitch_mm",
-                value: p,
-                expected: "finite, > 0, with z·p ≤ the perimeter",
-            });
-        }
-        None if z < 3 || ((l / (std::f64::consts::PI * m)) - zf).abs() > 1e-6 * zf => {
-            return Err(TeethError::InvalidParameter {
-                name: "z",
-                value: zf,
-                expected: "L/(π·m) (scale the pitch curve to an integer tooth count first)",
-            });
-        }
-        None => l / zf,
-    };
-    for (name, v) in [
-        ("thin_left_mm", opts.thin_left_mm),
-        ("thin_right_mm", opts.thin_right_mm),
-    ] {
-        if !(v.is_finite() && (0.0..0.25 * p).contains(&v)) {
-            return Err(TeethError::InvalidParameter {
-                name,
-                value: v,
-                expected: "in [0, p/4)",
-            });
-        }
-    }
-    Ok(p)
-}
-
 /// Generates the toothed outline of `curve` with `z` teeth of module `module_mm` (docs/math/teeth.md §12.3).
 ///
 /// Requirements: `L = z·π·m` to within 1e-6 relative (scale the curve with
@@ -422,34 +366,30 @@ pub fn generate_outline(
     opts: &OutlineOptions,
 ) -> Result<Outline, TeethError> {
     let frame = ArcFrame::new(curve);
-    generate_on(&frame, rack, z, module_mm, opts)
+    generate_on(&GearBlank::new(&frame, *rack, z, module_mm, *opts))
 }
 
-/// [`generate_outline`] on a prebuilt [`ArcFrame`] (saves the arc-length table).
-pub fn generate_on(
-    frame: &ArcFrame,
-    rack: &RackParams,
-    z: u32,
-    module_mm: f64,
-    opts: &OutlineOptions,
-) -> Result<Outline, TeethError> {
-    generate_relieved_on(frame, rack, z, module_mm, opts, &[])
+/// [`generate_outline`] on a prebuilt blank (its [`ArcFrame`] saves the arc-length table).
+pub fn generate_on(blank: &GearBlank<'_>) -> Result<Outline, TeethError> {
+    generate_relieved_on(blank, &[])
 }
 
 /// [`generate_on`] with tooth `k`'s tip lowered by `relief_mm[k]` along the pitch curve's normal
 /// (mm; none where the slice is shorter): the relief that keeps each tip off its mates'
 /// fillets ([`super::relief`]).
 pub fn generate_relieved_on(
-    frame: &ArcFrame,
-    rack: &RackParams,
-    z: u32,
-    module_mm: f64,
-    opts: &OutlineOptions,
+    blank: &GearBlank<'_>,
     relief_mm: &[f64],
 ) -> Result<Outline, TeethError> {
-    let m = module_mm;
-    let p = validate(frame, z, m, opts)?;
-    let report = report_on(frame, rack, z, m, opts);
+    let (frame, rack, z, m, opts) = (
+        blank.frame,
+        &blank.rack,
+        blank.z,
+        blank.module_mm,
+        &blank.opts,
+    );
+    let p = blank.validated_pitch_mm()?;
+    let report = report_on(blank);
     if let Some(f) = report.flanks.iter().find(|f| f.concave) {
         return Err(TeethError::Concave {
             tooth: f.tooth,

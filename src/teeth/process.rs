@@ -7,14 +7,10 @@
 //! of the outline the mate sweeps ([`super::conjugate`], reported by [`swept_process`]), when
 //! the mate is cut; alone, a typed error says so.
 use super::conjugate::SweepChecks;
-use super::frame::ArcFrame;
-use super::outline::{
-    Outline, OutlineOptions, generate_on, generate_relieved_on, rack_tip_corners, report_on,
-    validate,
-};
+use super::outline::{Outline, generate_on, generate_relieved_on, rack_tip_corners, report_on};
 use super::secondary::{SECONDARY_TOL, Spaces, secondary_cut_depth};
 use super::shaper::{Cutter, ShaperChecks, cutter_pitch_radius_mm, generate_shaper, tip_corners};
-use super::{RackParams, TeethError};
+use super::{GearBlank, RackParams, TeethError};
 use serde::{Deserialize, Serialize};
 
 /// The cutter tooth counts tried, largest first (common pinion-type shaper cutters; a cutter's
@@ -92,7 +88,7 @@ pub enum CutterChoice {
     Teeth(u32),
 }
 
-/// Generates the outline of `z` teeth of module `module_mm` on `frame` by the process the curve
+/// Generates the outline of `blank` (its `z` teeth of module `module_mm`) by the process the curve
 /// allows (module doc) and reports it.
 ///
 /// Convex curve: exactly [`generate_on`] (same outline, same errors: undercut refused with the
@@ -105,16 +101,12 @@ pub enum CutterChoice {
 /// Errors: those of [`generate_on`], [`TeethError::NoCutter`] (no cutter fits, listing why each
 /// tried one failed), [`TeethError::Shaper`] / [`TeethError::ShaperUndercut`] for a forced cutter.
 pub fn generate_by_process(
-    frame: &ArcFrame,
-    rack: &RackParams,
-    z: u32,
-    module_mm: f64,
-    opts: &OutlineOptions,
+    blank: &GearBlank<'_>,
     choice: CutterChoice,
 ) -> Result<(Outline, GearProcess), TeethError> {
-    let m = module_mm;
-    validate(frame, z, m, opts)?;
-    let report = report_on(frame, rack, z, m, opts);
+    let (rack, m) = (&blank.rack, blank.module_mm);
+    blank.validated_pitch_mm()?;
+    let report = report_on(blank);
     let concave_rho = report
         .flanks
         .iter()
@@ -122,7 +114,7 @@ pub fn generate_by_process(
         .map(|f| f.min_rho_mm.abs())
         .fold(f64::INFINITY, f64::min);
     if report.concave_count == 0 {
-        let o = generate_on(frame, rack, z, m, opts)?;
+        let o = generate_on(blank)?;
         let undercut_flanks = o.undercut.undercut_count;
         return Ok((
             o,
@@ -180,7 +172,7 @@ pub fn generate_by_process(
             })
         } else {
             Cutter::new(zc, rack, m).and_then(|c| {
-                let (o, checks) = generate_shaper(frame, rack, z, m, &c, opts, &[])?;
+                let (o, checks) = generate_shaper(blank, &c, &[])?;
                 if checks.undercut_flanks > 0 && undercut.is_some() && !forced {
                     // Rejected for its undercut whatever the checks below say: a larger
                     // cutter is already the fallback.
@@ -195,7 +187,7 @@ pub fn generate_by_process(
                         what: "the generated outline intersects itself",
                     });
                 }
-                check_secondary(frame, rack, z, m, &c, opts, &o.points_mm)?;
+                check_secondary(blank, &c, &o.points_mm)?;
                 Ok((o, checks))
             })
         };
@@ -242,15 +234,8 @@ pub fn generate_by_process(
 /// the mesh check's): the rack, or the same shaper cutter, without choosing again and without
 /// the choice's checks (they hold for the same cutter on the same curve). A swept gear has no
 /// cutter: [`TeethError::Swept`].
-pub fn generate_as(
-    frame: &ArcFrame,
-    rack: &RackParams,
-    z: u32,
-    module_mm: f64,
-    opts: &OutlineOptions,
-    as_cut: &GearProcess,
-) -> Result<Outline, TeethError> {
-    Ok(generate_as_relieved(frame, rack, z, module_mm, opts, as_cut, &[])?.0)
+pub fn generate_as(blank: &GearBlank<'_>, as_cut: &GearProcess) -> Result<Outline, TeethError> {
+    Ok(generate_as_relieved(blank, as_cut, &[])?.0)
 }
 
 /// [`generate_as`] with tooth `k`'s tip lowered by `tip_relief_mm[k]` along the pitch curve's
@@ -258,41 +243,31 @@ pub fn generate_as(
 /// fillets ([`super::relief::tip_relief`]). Also returns the narrowest tooth tip of a shaper-cut
 /// gear, mm of arc.
 pub fn generate_as_relieved(
-    frame: &ArcFrame,
-    rack: &RackParams,
-    z: u32,
-    module_mm: f64,
-    opts: &OutlineOptions,
+    blank: &GearBlank<'_>,
     as_cut: &GearProcess,
     tip_relief_mm: &[f64],
 ) -> Result<(Outline, Option<f64>), TeethError> {
-    let m = module_mm;
-    Ok(match recorded_cutter(as_cut, rack, m)? {
-        None => (
-            generate_relieved_on(frame, rack, z, m, opts, tip_relief_mm)?,
-            None,
-        ),
-        Some(c) => {
-            let (o, checks) = generate_shaper(frame, rack, z, m, &c, opts, tip_relief_mm)?;
-            (o, Some(checks.min_tip_width_mm))
-        }
-    })
+    Ok(
+        match recorded_cutter(as_cut, &blank.rack, blank.module_mm)? {
+            None => (generate_relieved_on(blank, tip_relief_mm)?, None),
+            Some(c) => {
+                let (o, checks) = generate_shaper(blank, &c, tip_relief_mm)?;
+                (o, Some(checks.min_tip_width_mm))
+            }
+        },
+    )
 }
 
 /// The tip corners `[left, right]` of every tooth of [`generate_as_relieved`]'s outline with
 /// the same arguments, body frame, mm.
 pub fn tip_corners_as(
-    frame: &ArcFrame,
-    rack: &RackParams,
-    z: u32,
-    module_mm: f64,
-    opts: &OutlineOptions,
+    blank: &GearBlank<'_>,
     as_cut: &GearProcess,
     tip_relief_mm: &[f64],
 ) -> Result<Vec<[[f64; 2]; 2]>, TeethError> {
-    match recorded_cutter(as_cut, rack, module_mm)? {
-        None => rack_tip_corners(frame, rack, z, module_mm, opts, tip_relief_mm),
-        Some(c) => tip_corners(frame, rack, z, module_mm, &c, opts, tip_relief_mm),
+    match recorded_cutter(as_cut, &blank.rack, blank.module_mm)? {
+        None => rack_tip_corners(blank, tip_relief_mm),
+        Some(c) => tip_corners(blank, &c, tip_relief_mm),
     }
 }
 
@@ -314,17 +289,13 @@ fn recorded_cutter(
 
 /// [`TeethError::SecondaryCut`] when `cutter`'s other teeth cut into `outline` (the gear's
 /// vertices, thinned to 0.02·m apart) deeper than [`SECONDARY_TOL`]·m while it rolls.
-#[allow(clippy::too_many_arguments)]
 fn check_secondary(
-    frame: &ArcFrame,
-    rack: &RackParams,
-    z: u32,
-    m: f64,
+    blank: &GearBlank<'_>,
     cutter: &Cutter,
-    opts: &OutlineOptions,
     outline: &[[f64; 2]],
 ) -> Result<(), TeethError> {
-    let p = validate(frame, z, m, opts)?;
+    let (m, opts) = (blank.module_mm, &blank.opts);
+    let p = blank.validated_pitch_mm()?;
     let spaces = Spaces {
         phase_mm: opts.phase_mm,
         p_mm: p,
@@ -340,7 +311,7 @@ fn check_secondary(
             thin.push(q);
         }
     }
-    let depth = secondary_cut_depth(frame, rack, m, cutter, spaces, &thin)?;
+    let depth = secondary_cut_depth(blank.frame, &blank.rack, m, cutter, spaces, &thin)?;
     if depth > SECONDARY_TOL * m {
         return Err(TeethError::SecondaryCut {
             cutter_teeth: cutter.z,
@@ -350,20 +321,16 @@ fn check_secondary(
     Ok(())
 }
 
-/// The outline of `z` teeth cut on `frame` by a shaper cutter with `cutter_teeth` teeth, whatever
+/// The outline of `blank`'s `z` teeth cut by a shaper cutter with `cutter_teeth` teeth, whatever
 /// the curve's convexity (on a circle it is the involute whatever the cutter). Errors as
 /// [`generate_by_process`] with a forced cutter; the outline is not checked for
 /// self-intersection here.
 pub fn generate_with_cutter(
-    frame: &ArcFrame,
-    rack: &RackParams,
-    z: u32,
-    module_mm: f64,
+    blank: &GearBlank<'_>,
     cutter_teeth: u32,
-    opts: &OutlineOptions,
 ) -> Result<Outline, TeethError> {
-    let cutter = Cutter::new(cutter_teeth, rack, module_mm)?;
-    Ok(generate_shaper(frame, rack, z, module_mm, &cutter, opts, &[])?.0)
+    let cutter = Cutter::new(cutter_teeth, &blank.rack, blank.module_mm)?;
+    Ok(generate_shaper(blank, &cutter, &[])?.0)
 }
 
 /// The report of a gear swept by its mates (wire EDM / printing, [`super::conjugate`]) instead of

@@ -30,12 +30,11 @@
 //! ends (the mesh verification then shows what is left). Relief only shortens a tip: the
 //! working flanks, the fillets and the mates are unchanged, so the meshes' checks are
 //! independent and one pass suffices.
-use super::frame::ArcFrame;
 use super::mate_motion::MeshMotion;
 use super::outline::{Outline, OutlineOptions};
 use super::process::{GearProcess, generate_as_relieved, tip_corners_as};
 use super::shape::Shape;
-use super::{RackParams, TeethError};
+use super::{GearBlank, TeethError};
 use rayon::prelude::*;
 use std::f64::consts::{PI, TAU};
 
@@ -162,35 +161,29 @@ pub struct Relieved {
     pub min_tip_width_mm: Option<f64>,
 }
 
-/// The tip relief ([`tip_relief`]) of a gear cut as `as_cut` records (rack or shaper), with
-/// `opts` (its export chord tolerance) and its outline regenerated at both tolerances; `None`
+/// The tip relief ([`tip_relief`]) of `blank` cut as `as_cut` records (rack or shaper), with
+/// `blank.opts` (its export chord tolerance) and its outline regenerated at both tolerances; `None`
 /// when no tooth needs one (the outlines stay as they are).
 ///
 /// Errors: those of the generation with the relief (a tooth made pointed), and
 /// [`TeethError::Swept`] for a swept gear (it has no cutter to relieve).
-#[allow(clippy::too_many_arguments)]
 pub fn relieve_gear(
-    frame: &ArcFrame,
-    rack: &RackParams,
-    z: u32,
-    module_mm: f64,
+    blank: &GearBlank<'_>,
     as_cut: &GearProcess,
-    opts: &OutlineOptions,
     fine_chord_tol_mm: f64,
     meshes: &[ReliefMesh<'_>],
 ) -> Result<Option<Relieved>, TeethError> {
-    let m = module_mm;
-    let corners = |r: &[f64]| tip_corners_as(frame, rack, z, m, opts, as_cut, r);
-    let relief_mm = tip_relief(&corners, meshes, m)?;
+    let corners = |r: &[f64]| tip_corners_as(blank, as_cut, r);
+    let relief_mm = tip_relief(&corners, meshes, blank.module_mm)?;
     if relief_mm.iter().all(|r| *r == 0.0) {
         return Ok(None);
     }
-    let fine_opts = OutlineOptions {
+    let fine = blank.with_opts(OutlineOptions {
         chord_tol_mm: fine_chord_tol_mm,
-        ..*opts
-    };
-    let cut = |o: &OutlineOptions| generate_as_relieved(frame, rack, z, m, o, as_cut, &relief_mm);
-    let ((export, min_tip_width_mm), (fine, _)) = (cut(opts)?, cut(&fine_opts)?);
+        ..blank.opts
+    });
+    let cut = |b: &GearBlank<'_>| generate_as_relieved(b, as_cut, &relief_mm);
+    let ((export, min_tip_width_mm), (fine, _)) = (cut(blank)?, cut(&fine)?);
     Ok(Some(Relieved {
         export,
         fine_mm: fine.points_mm,

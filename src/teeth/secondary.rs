@@ -138,7 +138,7 @@ mod tests {
     use super::*;
     use crate::geometry::pitch::PitchCurve;
     use crate::teeth::shaper::{cutter_pitch_radius_mm, generate_shaper};
-    use crate::teeth::{OutlineOptions, ToothPolicy, scale_curve, tooth_count};
+    use crate::teeth::{GearBlank, OutlineOptions, ToothPolicy, scale_curve, tooth_count};
 
     /// A cutter larger than the tightest concave hollow cannot fit in it: rolled there, its
     /// pitch circle crosses the pitch curve and its teeth dig into the neighbouring teeth, deep
@@ -164,7 +164,8 @@ mod tests {
         };
         let depth = |zc: u32| {
             let cutter = Cutter::new(zc, &rack, m).unwrap();
-            let (o, _) = generate_shaper(&frame, &rack, tc.z, m, &cutter, &opts, &[]).unwrap();
+            let blank = GearBlank::new(&frame, rack, tc.z, m, opts);
+            let (o, _) = generate_shaper(&blank, &cutter, &[]).unwrap();
             secondary_cut_depth(&frame, &rack, m, &cutter, spaces, &o.points_mm).unwrap()
         };
         let (big, small) = (80, 34);

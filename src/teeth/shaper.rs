@@ -62,7 +62,7 @@ use super::frame::ArcFrame;
 use super::outline::{
     Outline, OutlineOptions, close_outline, meet, push_piece, report_on, tooth_relief,
 };
-use super::{RackParams, TeethError};
+use super::{GearBlank, RackParams, TeethError};
 use std::f64::consts::PI;
 
 /// The involute function `inv a = tan a − a`, rad.
@@ -439,17 +439,13 @@ impl Generation<'_> {
 }
 
 fn generation<'a>(
-    frame: &'a ArcFrame,
-    rack: &RackParams,
-    z: u32,
-    module_mm: f64,
+    blank: &'a GearBlank<'a>,
     cutter: &Cutter,
-    opts: &'a OutlineOptions,
     relief_mm: &'a [f64],
 ) -> Result<Generation<'a>, TeethError> {
-    let m = module_mm;
+    let (frame, rack, m, opts) = (blank.frame, &blank.rack, blank.module_mm, &blank.opts);
     Ok(Generation {
-        p: super::outline::validate(frame, z, m, opts)?,
+        p: blank.validated_pitch_mm()?,
         g: Shaper {
             frame,
             c: *cutter,
@@ -464,16 +460,12 @@ fn generation<'a>(
 /// The tip corners `[left, right]` of every tooth of the outline [`generate_shaper`] cuts with
 /// the same arguments (body frame, mm): where each flank meets the relieved tip.
 pub(super) fn tip_corners(
-    frame: &ArcFrame,
-    rack: &RackParams,
-    z: u32,
-    module_mm: f64,
+    blank: &GearBlank<'_>,
     cutter: &Cutter,
-    opts: &OutlineOptions,
     relief_mm: &[f64],
 ) -> Result<Vec<[[f64; 2]; 2]>, TeethError> {
-    let gen_ = generation(frame, rack, z, module_mm, cutter, opts, relief_mm)?;
-    (0..z as usize)
+    let gen_ = generation(blank, cutter, relief_mm)?;
+    (0..blank.z as usize)
         .map(|k| {
             let ([l, r], rel) = gen_.trim(k)?;
             Ok([gen_.g.tip(l.2, rel), gen_.g.tip(r.2, rel)])
@@ -481,26 +473,23 @@ pub(super) fn tip_corners(
         .collect()
 }
 
-/// The outline of `z` teeth cut by `cutter` on `frame` (module doc), with the same options,
+/// The outline of `blank`'s `z` teeth cut by `cutter` (module doc), with the same options,
 /// validation, chord tolerance and vertex order as [`super::outline::generate_on`]; tooth `k`'s
 /// tip lowered by `relief_mm[k]` (none where the slice is shorter).
 ///
 /// Errors: [`TeethError::Trim`] (flank misses the tip, pointed tooth), [`TeethError::Shaper`]
 /// (gear tip below the cutter's base circle, no flat on the cutter tip),
-/// [`TeethError::ShaperUndercut`] (undercut with `opts.refuse_undercut`).
+/// [`TeethError::ShaperUndercut`] (undercut with `blank.opts.refuse_undercut`).
 pub(super) fn generate_shaper(
-    frame: &ArcFrame,
-    rack: &RackParams,
-    z: u32,
-    module_mm: f64,
+    blank: &GearBlank<'_>,
     cutter: &Cutter,
-    opts: &OutlineOptions,
     relief_mm: &[f64],
 ) -> Result<(Outline, ShaperChecks), TeethError> {
-    let m = module_mm;
-    let gen_ = generation(frame, rack, z, m, cutter, opts, relief_mm)?;
+    let (z, opts) = (blank.z, &blank.opts);
+    let m = blank.module_mm;
+    let gen_ = generation(blank, cutter, relief_mm)?;
     let (g, p) = (&gen_.g, gen_.p);
-    let report = report_on(frame, rack, z, m, opts);
+    let report = report_on(blank);
     let step = (8.0 * opts.chord_tol_mm * m).sqrt();
     let step_f = if g.c.rho > 0.0 {
         (8.0 * opts.chord_tol_mm * g.c.rho).sqrt()

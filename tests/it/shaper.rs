@@ -5,8 +5,8 @@ use ncgear::geometry::pitch::PitchCurve;
 use ncgear::teeth::overlap::first_self_intersection;
 use ncgear::teeth::process::{CutterChoice, Process, generate_by_process, generate_with_cutter};
 use ncgear::teeth::{
-    ArcFrame, OutlineOptions, RackParams, TeethError, ToothPolicy, generate_outline, scale_curve,
-    tooth_count,
+    ArcFrame, GearBlank, OutlineOptions, RackParams, TeethError, ToothPolicy, generate_outline,
+    scale_curve, tooth_count,
 };
 
 fn inv(a: f64) -> f64 {
@@ -81,12 +81,14 @@ fn shaper_on_a_circle_cuts_the_involute() {
     // 25 teeth: a cutter made taller so that its involute still reaches the rack's flank depth.
     for zc in [25, 34, 50, 100] {
         let o = generate_with_cutter(
-            &frame,
-            &RackParams::default(),
-            z,
-            m,
+            &GearBlank::new(
+                &frame,
+                RackParams::default(),
+                z,
+                m,
+                OutlineOptions::new(0.0, 1e-6),
+            ),
             zc,
-            &OutlineOptions::new(0.0, 1e-6),
         )
         .unwrap();
         assert_eq!(first_self_intersection(&o.points_mm).unwrap(), None);
@@ -102,12 +104,14 @@ fn shaper_on_a_circle_cuts_the_involute() {
     // A 12-tooth cutter made tall enough for its involute to reach the rack's flank depth keeps
     // no tip flat in the gear's space: refused, naming why.
     let err = generate_with_cutter(
-        &frame,
-        &RackParams::default(),
-        z,
-        m,
+        &GearBlank::new(
+            &frame,
+            RackParams::default(),
+            z,
+            m,
+            OutlineOptions::new(0.0, 1e-3),
+        ),
         12,
-        &OutlineOptions::new(0.0, 1e-3),
     )
     .unwrap_err();
     assert!(
@@ -264,8 +268,11 @@ fn shaper_flanks_on_a_concave_stretch_are_the_rack_envelope() {
     let err = generate_outline(&c, &rack, tc.z, m, &OutlineOptions::new(0.0, 1e-3)).unwrap_err();
     assert!(matches!(err, TeethError::Concave { .. }), "{err}");
     let opts = OutlineOptions::new(0.0, 1e-6);
-    let (o, proc_) =
-        generate_by_process(&frame, &rack, tc.z, m, &opts, CutterChoice::Auto).unwrap();
+    let (o, proc_) = generate_by_process(
+        &GearBlank::new(&frame, rack, tc.z, m, opts),
+        CutterChoice::Auto,
+    )
+    .unwrap();
     assert_eq!(proc_.process, Process::Shaper);
     assert_eq!(proc_.cutter_teeth, Some(100));
     assert_eq!(proc_.tried_cutter_teeth, vec![100]);
@@ -333,7 +340,8 @@ fn shaper_on_a_concave_circular_arc_cuts_the_internal_involute() {
     let c = scale_curve(&c, s).unwrap();
     let frame = ArcFrame::new(&c);
     let opts = OutlineOptions::new(0.0, 1e-6);
-    let o = generate_with_cutter(&frame, &RackParams::default(), tc.z, m, 50, &opts).unwrap();
+    let blank = GearBlank::new(&frame, RackParams::default(), tc.z, m, opts);
+    let o = generate_with_cutter(&blank, 50).unwrap();
     let (centre, rho) = ([d * s, 0.0], rho * s);
     let alpha = 20f64.to_radians();
     let rb = rho * alpha.cos();
@@ -412,7 +420,7 @@ fn shaper_on_a_straight_pitch_line_cuts_the_rack_profile() {
     // The straight stretch in arc length: |θ| ≤ 0.3 on the line x = d·scale, tan θ·d·scale.
     let half = (0.3f64).tan() * d * tc.scale;
     for zc in [40u32, 100] {
-        let o = generate_with_cutter(&frame, &rack, tc.z, m, zc, &opts).unwrap();
+        let o = generate_with_cutter(&GearBlank::new(&frame, rack, tc.z, m, opts), zc).unwrap();
         let mut want = Vec::new();
         for k in 0..tc.z as usize {
             for sign in [-1.0, 1.0] {

@@ -6,7 +6,7 @@ use ncgear::pair::{Expr, Law, PairOptions, design_pair};
 use ncgear::teeth::conjugate::{Mate, MatePose, generate_swept};
 use ncgear::teeth::mesh::{MeshCheck, verify_mesh};
 use ncgear::teeth::process::Process;
-use ncgear::teeth::{ArcFrame, OutlineOptions, RackParams, generate_outline};
+use ncgear::teeth::{ArcFrame, GearBlank, OutlineOptions, RackParams, generate_outline};
 use std::f64::consts::{PI, TAU};
 
 fn inv(a: f64) -> f64 {
@@ -57,15 +57,8 @@ fn a_gear_swept_by_an_involute_mate_is_the_conjugate_involute() {
         positions: z as usize * 96,
     }];
     let frame = ArcFrame::new(&circle);
-    let (driver, checks) = generate_swept(
-        &frame,
-        &rack,
-        z,
-        m,
-        &OutlineOptions::new(0.0, 1e-6 * m),
-        &mate,
-    )
-    .unwrap();
+    let blank = GearBlank::new(&frame, rack, z, m, OutlineOptions::new(0.0, 1e-6 * m));
+    let (driver, checks) = generate_swept(&blank, &mate).unwrap();
     assert!(checks.min_tip_width_mm > 0.5, "{checks:?}");
     // Flank vertices: above the base circle (with a margin) and below the tip land.
     let rb = r * rack.alpha_rad().cos();

@@ -9,7 +9,7 @@ use crate::teeth::conjugate::SweepChecks;
 use crate::teeth::process::{
     GearProcess, Process, generate_as, generate_by_process, swept_process,
 };
-use crate::teeth::{ArcFrame, Outline, OutlineOptions, TeethError, ToothingOptions};
+use crate::teeth::{ArcFrame, GearBlank, Outline, OutlineOptions, TeethError, ToothingOptions};
 use rayon::prelude::*;
 
 /// The gears' names, in gear order.
@@ -46,17 +46,19 @@ pub(super) struct CutGears {
 }
 
 impl Cutting<'_> {
-    /// Outline options of gear `k` at chord tolerance `tol`: its mating phase, the coast flank
-    /// thinned by half the backlash.
-    fn outline_opts(&self, k: usize, tol: f64) -> OutlineOptions {
-        OutlineOptions {
+    /// Gear `k`'s blank at chord tolerance `tol` (mm): its mating phase, the coast flank thinned
+    /// by half the backlash.
+    fn blank(&self, k: usize, tol: f64) -> GearBlank<'_> {
+        let opts = OutlineOptions {
             phase_mm: self.phases[k],
             thin_left_mm: 0.5 * self.toothing.backlash_mm,
             thin_right_mm: 0.0,
             chord_tol_mm: tol,
             open_pitch_mm: None,
             refuse_undercut: self.toothing.refuse_undercut,
-        }
+        };
+        let rack = self.toothing.rack;
+        GearBlank::new(&self.frames[k], rack, self.z, self.module_mm, opts)
     }
 
     /// Gear `k` swept by its neighbours' `outlines` (body frames, mm) at chord tolerance `tol`.
@@ -66,20 +68,7 @@ impl Cutting<'_> {
         outlines: [&[[f64; 2]]; 3],
         tol: f64,
     ) -> Result<(Outline, SweepChecks), TeethError> {
-        let o = self.outline_opts(k, tol);
-        let rack = &self.toothing.rack;
-        let (frames, meshes, m) = (self.frames, self.meshes, self.module_mm);
-        sweep_gear(
-            k,
-            outlines,
-            self.pitches,
-            frames,
-            meshes,
-            rack,
-            self.z,
-            m,
-            &o,
-        )
+        sweep_gear(k, outlines, self.pitches, self.meshes, &self.blank(k, tol))
     }
 
     /// The export outlines and processes: each gear by the cutter its curve takes, side by side;
@@ -89,10 +78,7 @@ impl Cutting<'_> {
         let choice = self.toothing.cutter_choice();
         let mut results: Vec<_> = (0..3)
             .into_par_iter()
-            .map(|k| {
-                let (rack, o) = (&self.toothing.rack, self.outline_opts(k, tol));
-                generate_by_process(&self.frames[k], rack, self.z, self.module_mm, &o, choice)
-            })
+            .map(|k| generate_by_process(&self.blank(k, tol), choice))
             .collect();
         // A gear no cutter fits is swept by its neighbours when they are cut.
         let cut = [0, 1, 2].map(|k| results[k].is_ok());
@@ -161,15 +147,7 @@ impl Cutting<'_> {
                     })
                 } else {
                     // The same process and cutter as the export outline.
-                    generate_as(
-                        &self.frames[k],
-                        &self.toothing.rack,
-                        self.z,
-                        self.module_mm,
-                        &self.outline_opts(k, tol),
-                        &processes[k],
-                    )
-                    .map_err(teeth_err(NAMES[k]))
+                    generate_as(&self.blank(k, tol), &processes[k]).map_err(teeth_err(NAMES[k]))
                 }
             })
             .collect::<Result<_, _>>()?;
@@ -205,13 +183,10 @@ impl Cutting<'_> {
                 relieve_gear(
                     k,
                     unrelieved,
-                    self.frames,
                     self.meshes,
-                    self.toothing,
-                    self.z,
-                    self.module_mm,
+                    &self.blank(k, self.toothing.chord_tol_mm),
                     &processes[k],
-                    &self.outline_opts(k, self.toothing.chord_tol_mm),
+                    self.toothing.verify_chord_tol_mm,
                 )
             })
             .collect::<Result<Vec<_>, _>>()?;

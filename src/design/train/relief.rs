@@ -3,29 +3,27 @@
 //! intermediate gear, the intermediate gear against both — and relieved tooth by tooth.
 use super::TrainError;
 use super::swept::{TrainMeshes, neighbours};
+use crate::teeth::GearBlank;
 use crate::teeth::mesh::Shape;
 use crate::teeth::process::GearProcess;
 use crate::teeth::relief::{self, ReliefMesh, Relieved};
-use crate::teeth::{ArcFrame, OutlineOptions, ToothingOptions};
 
-/// Gear `k` (0 sun, 1 intermediate, 2 planet), cut with `opts` as `as_cut` records, relieved
+/// Gear `k` (0 sun, 1 intermediate, 2 planet), `blank` cut as `as_cut` records, relieved
 /// against its neighbours' `fine` outlines (body frames, mm) over one carrier turn (each mesh's
-/// contact runs `z` pitches per turn); `None` when no tooth needs it.
+/// contact runs `z` pitches per turn), its fine outline regenerated at `verify_chord_tol_mm`;
+/// `None` when no tooth needs it.
 ///
 /// Errors: [`TrainError::Mesh`] (a neighbour's outline cannot be indexed),
 /// [`TrainError::Teeth`] (the relieved gear cannot be generated).
-#[allow(clippy::too_many_arguments)]
 pub(super) fn relieve_gear(
     k: usize,
     fine: &[Vec<[f64; 2]>; 3],
-    frames: &[ArcFrame; 3],
     meshes: &TrainMeshes<'_>,
-    toothing: &ToothingOptions,
-    z: u32,
-    module_mm: f64,
+    blank: &GearBlank<'_>,
     as_cut: &GearProcess,
-    opts: &OutlineOptions,
+    verify_chord_tol_mm: f64,
 ) -> Result<Option<Relieved>, TrainError> {
+    let (z, module_mm) = (blank.z, blank.module_mm);
     const NAMES: [&str; 3] = ["sun", "intermediate", "planet"];
     const MESHES: [&str; 2] = ["sun-intermediate", "intermediate-planet"];
     let shapes = neighbours(k)
@@ -47,18 +45,10 @@ pub(super) fn relieve_gear(
             positions: z as usize * relief::POSITIONS_PER_PITCH,
         })
         .collect();
-    relief::relieve_gear(
-        &frames[k],
-        &toothing.rack,
-        z,
-        module_mm,
-        as_cut,
-        opts,
-        toothing.verify_chord_tol_mm,
-        &checks,
-    )
-    .map_err(|source| TrainError::Teeth {
-        gear: NAMES[k],
-        source,
+    relief::relieve_gear(blank, as_cut, verify_chord_tol_mm, &checks).map_err(|source| {
+        TrainError::Teeth {
+            gear: NAMES[k],
+            source,
+        }
     })
 }

@@ -4,7 +4,7 @@
 use crate::geometry::pitch::PitchCurve;
 use crate::teeth::conjugate::{Mate, SweepChecks, generate_swept};
 use crate::teeth::mate_motion::MeshMotion;
-use crate::teeth::{ArcFrame, Outline, OutlineOptions, RackParams, TeethError};
+use crate::teeth::{GearBlank, Outline, TeethError};
 
 /// The train's two meshes over a carrier turn: `[sun → intermediate, intermediate → planet]`
 /// (driver first), and the whole-outline mate positions per turn.
@@ -24,18 +24,13 @@ pub(super) fn neighbours(k: usize) -> &'static [(usize, usize, usize)] {
 }
 
 /// Gear `k` (0 sun, 1 intermediate, 2 planet) swept by its neighbours' `outlines` (body frames,
-/// mm) on `frames[k]`.
-#[allow(clippy::too_many_arguments)]
+/// mm), cut from `blank`.
 pub(super) fn sweep_gear(
     k: usize,
     outlines: [&[[f64; 2]]; 3],
     pitches: [&PitchCurve; 3],
-    frames: &[ArcFrame; 3],
     meshes: &TrainMeshes<'_>,
-    rack: &RackParams,
-    z: u32,
-    module_mm: f64,
-    opts: &OutlineOptions,
+    blank: &GearBlank<'_>,
 ) -> Result<(Outline, SweepChecks), TeethError> {
     let poses: Vec<_> = neighbours(k)
         .iter()
@@ -55,7 +50,7 @@ pub(super) fn sweep_gear(
             positions: meshes.positions,
         })
         .collect();
-    generate_swept(&frames[k], rack, z, module_mm, opts, &mates)
+    generate_swept(blank, &mates)
 }
 
 /// Whether gear `k` can be swept: every neighbour is cut (not swept itself).

@@ -332,7 +332,7 @@ impl<'a> Position<'a> {
                 level.eval_bounded(&self.pose, d, s1, s2, f64::NEG_INFINITY, cache)
             };
             let dev = level.deviation_mm;
-            root_pruned(&fm, &med_sets.0, &med_sets.1, lo, hi, lip, 1e-3 * db)
+            root_pruned(&fm, [&med_sets.0, &med_sets.1], [lo, hi], lip, 1e-3 * db)
                 .map(|(x, slope)| (x, slope, dev))
         });
         if let Some((x, slope, dev)) = medium_root {
@@ -357,12 +357,12 @@ impl<'a> Position<'a> {
                 };
                 let thresh = min_of(v) + 2.0 * lip * (l - x0).abs().max((h - x0).abs());
                 let (s1, s2) = (keep(&sets.0, &v.0, thresh), keep(&sets.1, &v.1, thresh));
-                if let Some((r, _)) = root_pruned(&f, &s1, &s2, l, h, lip, tol) {
+                if let Some((r, _)) = root_pruned(&f, [&s1, &s2], [l, h], lip, tol) {
                     return Some(r);
                 }
                 eta *= 8.0;
             }
         }
-        root_pruned(&f, &sets.0, &sets.1, lo, hi, lip, tol).map(|(r, _)| r)
+        root_pruned(&f, [&sets.0, &sets.1], [lo, hi], lip, tol).map(|(r, _)| r)
     }
 }

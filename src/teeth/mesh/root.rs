@@ -32,17 +32,16 @@ type ClearanceFn<'a> = dyn Fn(f64, &[usize], &[usize]) -> PerVertex + 'a;
 /// slope of 6 mm/rad.
 pub(super) const ROOT_VALUE_MM: f64 = 1e-11;
 
-/// Root of the minimum clearance on `[lo, hi]` (Illinois regula falsi), to `tol`, pruning after
-/// each evaluation the vertices that cannot be the minimiser anywhere in the bracket: a vertex's
-/// clearance changes by at most `lip·|Δδ|`, so it is dropped when `c_i(x) > min c(x) + 2·lip·(hi − lo)`.
+/// Root of the minimum clearance over the vertex sets `[k1, k2]` of the two gears on the bracket
+/// `[lo, hi]` (driven offsets, rad) (Illinois regula falsi), to `tol` (rad), pruning after each
+/// evaluation the vertices that cannot be the minimiser anywhere in the bracket: a vertex's
+/// clearance changes by at most `lip·|Δδ|` (mm/rad), so it is dropped when
+/// `c_i(x) > min c(x) + 2·lip·(hi − lo)`.
 /// Returns the root and the secant slope (mm/rad) of the last two evaluations.
-#[allow(clippy::too_many_arguments)]
 pub(super) fn root_pruned(
     f: &ClearanceFn<'_>,
-    k1: &[usize],
-    k2: &[usize],
-    mut lo: f64,
-    mut hi: f64,
+    [k1, k2]: [&[usize]; 2],
+    [mut lo, mut hi]: [f64; 2],
     lip: f64,
     tol: f64,
 ) -> Option<(f64, f64)> {
