@@ -138,7 +138,31 @@ pub fn run(args: Args) -> CliResult {
     files.push(dxf);
     files.push(svg);
     let verdict = design.verdict();
-    let report = serde_json::json!({
+    let timings = [t_design, t_mesh, t_files, super::ms_since(started)];
+    let report = pair_report(&design, &opts, &files, &verdict, timings);
+    ncgear::files::write_whole(
+        &json_path,
+        ncgear::output::json::to_string(&report).unwrap_or_default(),
+    )
+    .map_err(|e| runtime_error(format!("cannot write {}: {e}", json_path.display())))?;
+    if args.json {
+        print_json(&report)?;
+    } else {
+        print_summary(&design, &args.out, [t_design, t_mesh, t_files], started);
+    }
+    super::verdict_outcome(&verdict, args.accept_failed)
+}
+
+/// `pair.json`: the options, the pair's numbers, the written `files`, the verdict and the
+/// timings `[design, verification, verification and files, command]`, ms.
+fn pair_report(
+    design: &PairDesign,
+    opts: &PairOptions,
+    files: &[std::path::PathBuf],
+    verdict: &ncgear::verdict::Verdict,
+    [t_design, t_mesh, t_files, t_command]: [f64; 4],
+) -> serde_json::Value {
+    serde_json::json!({
         "tool": concat!("ncgear ", env!("CARGO_PKG_VERSION")),
         "options": opts,
         "z": design.z,
@@ -160,20 +184,9 @@ pub fn run(args: Args) -> CliResult {
             "design": t_design,
             "verification": t_mesh,
             "verification_and_files": t_files,
-            "command": super::ms_since(started),
+            "command": t_command,
         },
-    });
-    ncgear::files::write_whole(
-        &json_path,
-        ncgear::output::json::to_string(&report).unwrap_or_default(),
-    )
-    .map_err(|e| runtime_error(format!("cannot write {}: {e}", json_path.display())))?;
-    if args.json {
-        print_json(&report)?;
-    } else {
-        print_summary(&design, &args.out, [t_design, t_mesh, t_files], started);
-    }
-    super::verdict_outcome(&verdict, args.accept_failed)
+    })
 }
 
 /// The law the pair is made for: a motion law, a centrode, or a CSV table (exactly one).

@@ -39,82 +39,35 @@ pub(super) fn design_from(
     let mut timings = Timings::default();
     let mut warnings = Vec::new();
 
-    // Step 1: l1, l3 and the needle law (from a smoothed copy for measured points).
-    let t0 = Instant::now();
     let noise_sigma = traj.noise_sigma_mm();
-    let (inv, start_smoothing) = invert_for_start(traj, opts, noise_sigma)?;
-    timings.inverse = ms(t0);
-    start_warnings(&inv, start_smoothing, opts, noise_sigma, &mut warnings);
-    let n = opts.inverse.grid.max(64) / 2 * 2;
-
-    // Compatibility: the half-closure origin τ and the residual E_c.
-    let t0 = Instant::now();
-    let compat: Compatibility = compat::analyse(&inv.law, n, 1e-13);
-    timings.compat = ms(t0);
+    let (inv, start_smoothing, compat, n) =
+        invert_and_analyse(traj, opts, noise_sigma, &mut timings, &mut warnings)?;
     let trains = Trains {
         inv: &inv,
         opts,
         limits: opts.limits(),
     };
 
-    // The patent route, then the docs/math/chain.md §8.3 refinement when asked for.
-    let t0 = Instant::now();
-    let seg = segmented::design(&inv.law, compat.tau_rad, n, &opts.segmented)?;
-    // Warnings that the noise of measured points can explain wait for the round trip (C12), at
-    // the place they would have had.
-    let mut pending: Vec<(usize, String)> = Vec::new();
-    let incompatible_at = warnings.len();
-    let mut patent = patent_route(&trains, &seg, &compat, n, &mut warnings)?;
-    pending.extend(patent.incompatibility.take().map(|w| (incompatible_at, w)));
-    timings.patent = ms(t0);
-    if let Some(m) = opts.module_mm {
-        check_module(&patent.mechanism, m)?;
-    }
-    let t0 = Instant::now();
-    let refined = refine_route(&trains, &seg, compat.tau_rad, &mut warnings);
-    timings.refine = ms(t0);
-    let (mech, chosen) = match &refined {
-        Some((m, r)) if r.max_deviation_mm < patent.summary.max_deviation_mm => {
-            (m.clone(), "refined")
-        }
-        _ => (patent.mechanism.clone(), "patent"),
-    };
-    let refine_summary = refined.map(|(_, r)| r);
+    let routes = chain_routes(&trains, &compat, n, &mut timings, &mut warnings)?;
+    let (patent, refine_summary, mut pending) =
+        (routes.patent, routes.refine_summary, routes.pending);
 
-    // The final stage: every parameter fitted to the points themselves. A warm start designed
-    // for the same module is refitted at its tooth count directly.
-    let t0 = Instant::now();
-    let warm = warm.and_then(|r| warm_start(r, &inv, opts));
-    let warm_teeth = warm
-        .as_ref()
-        .and_then(|(_, s)| s.as_ref().map(|s| (s.teeth, s.module_mm)));
-    let fitted = fit_stage(
+    let (fitted, module, chosen) = fit_to_points(
         traj,
         &trains,
-        &seg,
-        compat.tau_rad,
-        FitStart {
-            chain: mech,
-            warm: warm.as_ref().map(|(m, _)| (m, warm_teeth)),
-        },
+        routes.chain,
+        warm,
         start_smoothing,
         noise_sigma,
+        &mut timings,
     )?;
-    timings.fit = ms(t0);
-    let chosen = if fitted.replaced { "fit" } else { chosen };
-    // Designing for a module: the tooth count a constraint of one more fit.
-    let t0 = Instant::now();
-    let warm_module = warm.and_then(|(_, s)| s);
-    let (fitted, module) = for_module(traj, &trains, fitted, warm_module, noise_sigma)?;
-    timings.module = ms(t0);
-    let chosen = if module.is_some() { "module" } else { chosen };
     let best_dev = best_deviation(&fitted, refine_summary.as_ref(), &patent.summary);
     if best_dev > opts.tol_tip_mm {
-        pending.push((warnings.len(), format!(
-            "the best design deviates {best_dev:.3} mm from the target (tolerance {} mm): no train of this type traces it exactly (E_c·l3 = {:.3} mm); this is the closest admissible design found",
-            opts.tol_tip_mm,
-            compat.residual_rad * inv.l3_mm
-        )));
+        let residual_mm = compat.residual_rad * inv.l3_mm;
+        pending.push((
+            warnings.len(),
+            not_traced(best_dev, opts.tol_tip_mm, residual_mm),
+        ));
     }
 
     // Outputs, checks, round trip.
@@ -134,10 +87,7 @@ pub(super) fn design_from(
     closing_warnings(&out, opts, pending, &mut warnings);
     let mechanism = &out.mechanism;
     let mut report = DesignReport {
-        units: Units {
-            length: "mm".into(),
-            angle: "deg".into(),
-        },
+        units: Units::mm_deg(),
         l1: mechanism.l1_mm(),
         l3: mechanism.l3_mm,
         center_distance: mechanism.a_mm,
@@ -154,13 +104,7 @@ pub(super) fn design_from(
         refinement: refine_summary,
         fit: fitted.summary,
         chosen: chosen.into(),
-        fourier: FourierSummary {
-            order: mechanism.ratio.order(),
-            a: mechanism.ratio.cos_coefficients().to_vec(),
-            b: mechanism.ratio.sin_coefficients().to_vec(),
-            sun_phase_deg: inv.file_angle_deg(mechanism.sun_phase_rad),
-            i21_range: [imin, imax],
-        },
+        fourier: fourier_summary(mechanism, &inv, [imin, imax]),
         module,
         limits: out.limits,
         checks: out.checks,
@@ -179,6 +123,159 @@ pub(super) fn design_from(
         inversion: inv,
         traced_mm: out.traced,
     })
+}
+
+/// The final stage: every parameter fitted to the points themselves (from the `chain`'s result,
+/// or a `warm` start designed for the same module, refitted at its tooth count directly), then,
+/// designing for a module, the tooth count a constraint of one more fit. Returns the fitted
+/// train, the module summary and the name of the stage that chose it.
+fn fit_to_points(
+    traj: &Trajectory,
+    trains: &Trains,
+    chain: Chain,
+    warm: Option<&DesignReport>,
+    start_smoothing: Option<usize>,
+    noise_sigma: f64,
+    timings: &mut Timings,
+) -> Result<(FitStage, Option<crate::design::ModuleSummary>, &'static str), DesignError> {
+    let t0 = Instant::now();
+    let warm = warm.and_then(|r| warm_start(r, trains.inv, trains.opts));
+    let warm_teeth = warm
+        .as_ref()
+        .and_then(|(_, s)| s.as_ref().map(|s| (s.teeth, s.module_mm)));
+    let fitted = fit_stage(
+        traj,
+        trains,
+        &chain.seg,
+        chain.tau_rad,
+        FitStart {
+            chain: chain.mech,
+            warm: warm.as_ref().map(|(m, _)| (m, warm_teeth)),
+        },
+        start_smoothing,
+        noise_sigma,
+    )?;
+    timings.fit = ms(t0);
+    let chosen = if fitted.replaced { "fit" } else { chain.chosen };
+    // Designing for a module: the tooth count a constraint of one more fit.
+    let t0 = Instant::now();
+    let warm_module = warm.and_then(|(_, s)| s);
+    let (fitted, module) = for_module(traj, trains, fitted, warm_module, noise_sigma)?;
+    timings.module = ms(t0);
+    let chosen = if module.is_some() { "module" } else { chosen };
+    Ok((fitted, module, chosen))
+}
+
+/// Step 1 and the compatibility: l1, l3 and the needle law (from a smoothed copy for measured
+/// points of noise `noise_sigma`, mm), the harmonics it was smoothed to, the half-closure origin
+/// τ and the residual E_c, on the chain's grid of the returned size.
+fn invert_and_analyse(
+    traj: &Trajectory,
+    opts: &DesignOptions,
+    noise_sigma: f64,
+    timings: &mut Timings,
+    warnings: &mut Vec<String>,
+) -> Result<(Inversion, Option<usize>, Compatibility, usize), DesignError> {
+    let t0 = Instant::now();
+    let (inv, start_smoothing) = invert_for_start(traj, opts, noise_sigma)?;
+    timings.inverse = ms(t0);
+    start_warnings(&inv, start_smoothing, opts, noise_sigma, warnings);
+    let n = opts.inverse.grid.max(64) / 2 * 2;
+    let t0 = Instant::now();
+    let compat: Compatibility = compat::analyse(&inv.law, n, 1e-13);
+    timings.compat = ms(t0);
+    Ok((inv, start_smoothing, compat, n))
+}
+
+/// What the chain's routes leave for the fit: the patent route's segmented law and result, the
+/// refinement's summary, the better mechanism and its name, and the warnings that wait for the
+/// round trip `(position, text)`.
+struct Routes {
+    chain: Chain,
+    patent: Patent,
+    refine_summary: Option<RouteSummary>,
+    pending: Vec<(usize, String)>,
+}
+
+/// The chain's result the fit starts from: the segmented law on the half-closure origin
+/// `tau_rad`, the better route's mechanism and its name.
+struct Chain {
+    seg: Segmented,
+    tau_rad: f64,
+    mech: Mechanism,
+    chosen: &'static str,
+}
+
+/// The patent route on an `n`-point grid, then the docs/math/chain.md §8.3 refinement when asked
+/// for; the better of them.
+fn chain_routes(
+    trains: &Trains,
+    compat: &Compatibility,
+    n: usize,
+    timings: &mut Timings,
+    warnings: &mut Vec<String>,
+) -> Result<Routes, DesignError> {
+    let t0 = Instant::now();
+    let seg = segmented::design(&trains.inv.law, compat.tau_rad, n, &trains.opts.segmented)?;
+    // Warnings that the noise of measured points can explain wait for the round trip (C12), at
+    // the place they would have had.
+    let mut pending: Vec<(usize, String)> = Vec::new();
+    let incompatible_at = warnings.len();
+    let mut patent = patent_route(trains, &seg, compat, n, warnings)?;
+    pending.extend(patent.incompatibility.take().map(|w| (incompatible_at, w)));
+    timings.patent = ms(t0);
+    if let Some(m) = trains.opts.module_mm {
+        check_module(&patent.mechanism, m)?;
+    }
+    let t0 = Instant::now();
+    let refined = refine_route(trains, &seg, compat.tau_rad, warnings);
+    timings.refine = ms(t0);
+    let (mech, chosen, refine_summary) = chain_choice(&patent, refined);
+    Ok(Routes {
+        chain: Chain {
+            seg,
+            tau_rad: compat.tau_rad,
+            mech,
+            chosen,
+        },
+        patent,
+        refine_summary,
+        pending,
+    })
+}
+
+/// The chain's mechanism before the fit: the refined one when it deviates less than the patent
+/// route's, with its name and the refinement's summary.
+fn chain_choice(
+    patent: &Patent,
+    refined: Option<(Mechanism, RouteSummary)>,
+) -> (Mechanism, &'static str, Option<RouteSummary>) {
+    match refined {
+        Some((m, r)) if r.max_deviation_mm < patent.summary.max_deviation_mm => {
+            (m, "refined", Some(r))
+        }
+        refined => (patent.mechanism.clone(), "patent", refined.map(|(_, r)| r)),
+    }
+}
+
+/// The warning of a target no train traces within `tol_mm`: the best design's deviation and the
+/// compatibility residual E_c·l3, mm.
+fn not_traced(best_dev_mm: f64, tol_mm: f64, residual_mm: f64) -> String {
+    format!(
+        "the best design deviates {best_dev_mm:.3} mm from the target (tolerance {tol_mm} mm): no train of this type traces it exactly (E_c·l3 = {residual_mm:.3} mm); this is the closest admissible design found"
+    )
+}
+
+/// The report's Fourier block: the ratio's coefficients, the sun's phase in the file's angles
+/// (deg) and the ratio's range `i21_range`.
+fn fourier_summary(mech: &Mechanism, inv: &Inversion, i21_range: [f64; 2]) -> FourierSummary {
+    FourierSummary {
+        order: mech.ratio.order(),
+        a: mech.ratio.cos_coefficients().to_vec(),
+        b: mech.ratio.sin_coefficients().to_vec(),
+        sun_phase_deg: inv.file_angle_deg(mech.sun_phase_rad),
+        i21_range,
+    }
 }
 
 /// The train and module summary a warm start's report gives the fit stage (its module only when

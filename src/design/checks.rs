@@ -123,11 +123,112 @@ pub(super) fn finish(
     let noise_sigma_mm = traj.noise_sigma_mm();
     let params = noise::fitted_parameters(mech.ratio.order());
     let estimated = noise::curve_deviation_mm(noise_sigma_mm, rms(&dev), dev.len(), params);
+    let g = measure([&sun, &mid, &planet], &mech, n, || {
+        target_hausdorff_mm(&traced, traj.points(), angles, 2 * m)
+    });
+    let roundtrip = RoundTrip {
+        max_deviation_mm: sync,
+        rms_deviation_mm: rms(&dev),
+        hausdorff_mm: g.hausdorff_mm,
+        max_mesh_error_mm: mesh[0].max(mesh[1]),
+        estimated_curve_deviation_mm: estimated,
+        samples: m,
+    };
+    let c12 = noise::c12_measure(sync, estimated, noise_sigma_mm);
+    let checks = geometry_checks(&mech, &rebuilt, mesh, &g, opts, compat, c12);
+    let (alpha, tightest_concave) = (opts.pressure_angle_rad, g.tightest_concave_mm());
+    if g.min_convexity_mm2() <= 0.0 && tightest_concave >= opts.concave_radius_limit_mm() {
+        warnings.push(format!(
+            "a pitch curve is concave somewhere (tightest concave radius {tightest_concave:.2} mm): a rack cannot cut it; a shaper cutter of pitch radius below that radius is needed"
+        ));
+    }
+    warnings.extend(checks.iter().filter(|c| !c.pass).map(|c| {
+        format!(
+            "check {} failed: {} = {:.4e} (limit {:.4e})",
+            c.id, c.name, c.value, c.limit
+        )
+    }));
+    let ([ls, lm, lp], [cs, cm]) = (g.perimeters_mm, &g.curvature);
+    let gear = |c: &PitchCurve, angle: Option<f64>, perim: f64, k: &CurvatureSummary| {
+        gear_report(c.polar_table_deg(n), angle, perim, k, alpha)
+    };
+    let gears = Gears {
+        sun: gear(&sun, None, ls, cs),
+        intermediate: gear(&mid, Some(assembly.intermediate_angle_at_zero_rad), lm, cm),
+        // The planet is the sun's copy: the same curvature.
+        planet: gear(&planet, Some(assembly.planet_angle_at_zero_rad), lp, cs),
+    };
+    let effective = g.effective_pressure_angle_rad(alpha);
+    let ratio_range = mech.ratio.range();
+    let limits = limits_summary(
+        opts,
+        effective,
+        [tightest_concave, g.min_rho_mm()],
+        ratio_range,
+    );
+    Ok(Finished {
+        mechanism: mech,
+        assembly,
+        rebuilt,
+        traced,
+        checks,
+        roundtrip,
+        gears,
+        limits,
+    })
+}
+
+/// The finished design's measures: perimeters (sun, intermediate, planet, mm), curvature
+/// summaries (sun, intermediate; the planet is the sun's copy), the Hausdorff distance to the
+/// target (mm) and the smallest i31.
+struct Measures {
+    perimeters_mm: [f64; 3],
+    curvature: [CurvatureSummary; 2],
+    hausdorff_mm: f64,
+    i31_min: f64,
+}
+
+impl Measures {
+    /// Smallest convexity Δ = r² + 2r′² − r r″ of sun and intermediate, mm².
+    fn min_convexity_mm2(&self) -> f64 {
+        let [cs, cm] = &self.curvature;
+        cs.min_convexity_mm2.min(cm.min_convexity_mm2)
+    }
+
+    /// Smallest radius of curvature of sun and intermediate, mm.
+    fn min_rho_mm(&self) -> f64 {
+        let [cs, cm] = &self.curvature;
+        cs.min_radius_of_curvature_mm
+            .min(cm.min_radius_of_curvature_mm)
+    }
+
+    /// Tightest concave radius of curvature, mm: ∞ (written as null) when both curves are convex.
+    fn tightest_concave_mm(&self) -> f64 {
+        let [cs, cm] = &self.curvature;
+        cs.min_concave_radius_mm.min(cm.min_concave_radius_mm)
+    }
+
+    /// Effective pressure angle α + max|atan(r_θ/r)| at rack pressure angle `alpha` (rad), rad.
+    fn effective_pressure_angle_rad(&self, alpha: f64) -> f64 {
+        let [cs, cm] = &self.curvature;
+        alpha
+            + cs.max_pressure_deviation_rad
+                .max(cm.max_pressure_deviation_rad)
+    }
+}
+
+/// The independent integrals and scans of the three `curves` (sun, intermediate, planet; `n`
+/// samples each) side by side, with the Hausdorff distance `hausdorff` (mm) beside them.
+fn measure(
+    [sun, mid, planet]: [&PitchCurve; 3],
+    mech: &Mechanism,
+    n: usize,
+    hausdorff: impl FnOnce() -> f64 + Send,
+) -> Measures {
     // Serial, as is the Hausdorff distance: both run beside the geometry integrals below.
     let i31_scan = || min_i31(&mech.ratio);
     let acc = 1e-9 * mech.a_mm;
-    // Independent integrals and scans, side by side.
-    let (((ls, lm), (lp, (cs, cm))), (haus, i31_min)) = rayon::join(
+    let (((ls, lm), (lp, (cs, cm))), (hausdorff_mm, i31_min)) = rayon::join(
         || {
             rayon::join(
                 || rayon::join(|| sun.perimeter_mm(acc), || mid.perimeter_mm(acc)),
@@ -144,32 +245,32 @@ pub(super) fn finish(
                 },
             )
         },
-        || {
-            rayon::join(
-                || target_hausdorff_mm(&traced, traj.points(), angles, 2 * m),
-                i31_scan,
-            )
-        },
+        || rayon::join(hausdorff, i31_scan),
     );
-    let roundtrip = RoundTrip {
-        max_deviation_mm: sync,
-        rms_deviation_mm: rms(&dev),
-        hausdorff_mm: haus,
-        max_mesh_error_mm: mesh[0].max(mesh[1]),
-        estimated_curve_deviation_mm: estimated,
-        samples: m,
-    };
+    Measures {
+        perimeters_mm: [ls, lm, lp],
+        curvature: [cs, cm],
+        hausdorff_mm,
+        i31_min,
+    }
+}
 
-    // Geometry checks.
+/// Checks C1–C12 of the finished design: `mesh` the largest centre-distance errors of the two
+/// meshes (mm), `c12` the name and value (mm) of the round-trip check.
+fn geometry_checks(
+    mech: &Mechanism,
+    rebuilt: &Rebuilt,
+    mesh: [f64; 2],
+    g: &Measures,
+    opts: &DesignOptions,
+    compat: &Compatibility,
+    (c12_name, c12_value): (String, f64),
+) -> Vec<Check> {
+    let ([ls, lm, lp], [cs, cm]) = (g.perimeters_mm, &g.curvature);
+    let i31_min = g.i31_min;
     let means = rebuilt.ratio_means();
     let [imin, imax] = mech.ratio.range();
-    let min_conv = cs.min_convexity_mm2.min(cm.min_convexity_mm2);
-    let min_rho = cs
-        .min_radius_of_curvature_mm
-        .min(cm.min_radius_of_curvature_mm);
-    let max_dev_mu = cs
-        .max_pressure_deviation_rad
-        .max(cm.max_pressure_deviation_rad);
+    let (min_conv, min_rho) = (g.min_convexity_mm2(), g.min_rho_mm());
     let alpha = opts.pressure_angle_rad;
     let [lo, hi] = opts.refine_options.ratio_bounds;
     let check = |id: &str, name: String, value: f64, limit: f64, pass: bool| Check {
@@ -188,15 +289,13 @@ pub(super) fn finish(
     } else {
         0.0
     };
-    let effective = alpha + max_dev_mu;
+    let effective = g.effective_pressure_angle_rad(alpha);
     let limit_deg = opts.pressure_angle_limit_rad.to_degrees();
     let concave_limit = opts.concave_radius_limit_mm();
     let convex_limit = opts.convex_radius_limit_mm();
-    // ∞ (written as null) when both curves are convex.
-    let tightest_concave = cs.min_concave_radius_mm.min(cm.min_concave_radius_mm);
+    let tightest_concave = g.tightest_concave_mm();
     let compat_mm = compat.residual_rad * mech.l3_mm;
     let tol = opts.tol_tip_mm;
-    let (c12_name, c12_value) = noise::c12_measure(sync, estimated, noise_sigma_mm);
     #[rustfmt::skip]
     let checks = vec![
         check("C1", "closure of the ratio |Φ(2π) − 2π|, rad".into(),
@@ -226,37 +325,7 @@ pub(super) fn finish(
             compat_mm, tol, true),
         check("C12", c12_name, c12_value, tol, c12_value <= tol),
     ];
-    if min_conv <= 0.0 && tightest_concave >= concave_limit {
-        warnings.push(format!(
-            "a pitch curve is concave somewhere (tightest concave radius {tightest_concave:.2} mm): a rack cannot cut it; a shaper cutter of pitch radius below that radius is needed"
-        ));
-    }
-    warnings.extend(checks.iter().filter(|c| !c.pass).map(|c| {
-        format!(
-            "check {} failed: {} = {:.4e} (limit {:.4e})",
-            c.id, c.name, c.value, c.limit
-        )
-    }));
-    let gear = |c: &PitchCurve, angle: Option<f64>, perim: f64, k: &CurvatureSummary| {
-        gear_report(c.polar_table_deg(n), angle, perim, k, alpha)
-    };
-    let gears = Gears {
-        sun: gear(&sun, None, ls, &cs),
-        intermediate: gear(&mid, Some(assembly.intermediate_angle_at_zero_rad), lm, &cm),
-        // The planet is the sun's copy: the same curvature.
-        planet: gear(&planet, Some(assembly.planet_angle_at_zero_rad), lp, &cs),
-    };
-    let limits = limits_summary(opts, effective, [tightest_concave, min_rho], [imin, imax]);
-    Ok(Finished {
-        mechanism: mech,
-        assembly,
-        rebuilt,
-        traced,
-        checks,
-        roundtrip,
-        gears,
-        limits,
-    })
+    checks
 }
 
 /// The tip path and the largest mesh errors `[sun, planet]` (mm) of the train rebuilt from the

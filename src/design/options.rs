@@ -179,15 +179,36 @@ pub const MAX_CURVE_SAMPLES: usize = 1 << 18;
 pub const MAX_DENSE_SAMPLES: usize = 1 << 22;
 
 pub(super) fn validate(opts: &DesignOptions) -> Result<(), DesignError> {
-    let positive = |v: f64| v.is_finite() && v > 0.0;
-    let angle = |v: f64| positive(v) && v < std::f64::consts::FRAC_PI_2;
-    let (inv, seg, refine) = (&opts.inverse, &opts.segmented, &opts.refine_options);
+    let rules = input_rules(opts).into_iter().chain(stage_rules(opts));
+    match rules.into_iter().find(|r| !r.0) {
+        Some((_, option, value, expected)) => Err(DesignError::BadOption {
+            option,
+            value,
+            expected,
+        }),
+        None => Ok(()),
+    }
+}
+
+/// A rule of an option: (valid, option, given value, what is expected).
+type Rule = (bool, &'static str, String, &'static str);
+
+/// Whether a value is finite and > 0.
+fn positive(v: f64) -> bool {
+    v.is_finite() && v > 0.0
+}
+
+/// An optional value as written in an error.
+fn show<T: ToString>(v: Option<T>) -> String {
+    v.map_or_else(|| "none".into(), |k| k.to_string())
+}
+
+/// The rules of the order, the tolerance, the centre and the inversion, checked first, in order.
+fn input_rules(opts: &DesignOptions) -> [Rule; 11] {
+    let (inv, refine) = (&opts.inverse, &opts.refine_options);
     let [lo, hi] = refine.ratio_bounds;
     let [cx, cy] = opts.center_mm;
-    let show = |v: Option<usize>| v.map_or_else(|| "none".into(), |k| k.to_string());
-    let show_f = |v: Option<f64>| v.map_or_else(|| "none".into(), |k| k.to_string());
-    // (valid, option, given value, what is expected), checked in this order.
-    let rules: [(bool, &'static str, String, &'static str); 23] = [
+    [
         (
             opts.order.is_none_or(|k| (1..=64).contains(&k)),
             "order",
@@ -254,6 +275,14 @@ pub(super) fn validate(opts: &DesignOptions) -> Result<(), DesignError> {
             show(inv.law_harmonics),
             "at least one harmonic (or none to keep the law as computed)",
         ),
+    ]
+}
+
+/// The rules of the patent route, the refinement, the checks and the gear limits, in order.
+fn stage_rules(opts: &DesignOptions) -> [Rule; 12] {
+    let angle = |v: f64| positive(v) && v < std::f64::consts::FRAC_PI_2;
+    let (seg, refine) = (&opts.segmented, &opts.refine_options);
+    [
         (
             positive(seg.tol_j),
             "segmented.tol_j",
@@ -313,29 +342,21 @@ pub(super) fn validate(opts: &DesignOptions) -> Result<(), DesignError> {
             opts.min_concave_radius_mm
                 .is_none_or(|r| r > 0.0 && !r.is_nan()),
             "min_concave_radius_mm",
-            show_f(opts.min_concave_radius_mm),
+            show(opts.min_concave_radius_mm),
             "a radius > 0 mm (infinite: convex pitch curves only)",
         ),
         (
             opts.min_convex_radius_mm
                 .is_none_or(|r| r > 0.0 && r.is_finite()),
             "min_convex_radius_mm",
-            show_f(opts.min_convex_radius_mm),
+            show(opts.min_convex_radius_mm),
             "a finite radius > 0 mm",
         ),
         (
             opts.module_mm.is_none_or(|m| (0.05..=50.0).contains(&m)),
             "module_mm",
-            show_f(opts.module_mm),
+            show(opts.module_mm),
             "a module in [0.05, 50] mm",
         ),
-    ];
-    match rules.into_iter().find(|r| !r.0) {
-        Some((_, option, value, expected)) => Err(DesignError::BadOption {
-            option,
-            value,
-            expected,
-        }),
-        None => Ok(()),
-    }
+    ]
 }

@@ -103,6 +103,16 @@ pub struct Units {
     pub angle: String,
 }
 
+impl Units {
+    /// Lengths in mm, angles in degrees: the units of every file ncgear writes.
+    pub(crate) fn mm_deg() -> Self {
+        Self {
+            length: "mm".into(),
+            angle: "deg".into(),
+        }
+    }
+}
+
 /// The carrier.
 #[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct Carrier {

@@ -77,124 +77,136 @@ impl Motion {
     ) -> Result<Self, PairError> {
         let phis = uniform_angles(n);
         match law {
-            Law::Motion(e) => {
-                let d = e.derivative();
-                let p0 = e.eval(0.0);
-                let adv = e.eval(TAU) - p0;
-                if !(adv.is_finite() && adv > 0.0) {
-                    return Err(PairError::Law(format!(
-                        "ψ(2π) − ψ(0) = {adv:.6} rad; the driven gear must advance (> 0) over a driver turn"
-                    )));
-                }
-                let (i0, i1) = (d.eval(0.0), d.eval(TAU));
-                if (i1 - i0).abs() > RATIO_PERIOD_TOL * i0.abs().max(1.0) {
-                    return Err(PairError::Law(format!(
-                        "dψ/dφ is {i0:.9} at φ = 0 but {i1:.9} at φ = 360°: the ratio must repeat every \
-                         driver turn for the driver gear to close"
-                    )));
-                }
-                let k = adv / TAU;
-                let mut ex = Vec::with_capacity(n);
-                for &f in &phis {
-                    let i = d.eval(f);
-                    if !(i.is_finite() && i > 0.0) {
-                        return Err(PairError::Law(format!(
-                            "dψ/dφ = {i} at φ = {:.4}°; it must be finite and > 0",
-                            f.to_degrees()
-                        )));
-                    }
-                    ex.push(e.eval(f) - k * f);
-                }
-                let excess = PeriodicSpline::uniform(0.0, ex, TAU)
-                    .map_err(|e| PairError::Law(e.to_string()))?;
-                Ok(Self {
-                    excess,
-                    advance_rad: adv,
-                    ratio: RatioSource::Expr(d),
-                    unit_centre_distance: 1.0,
-                })
+            Law::Motion(e) => Self::from_motion(e, &phis),
+            Law::Centrode(e) => Self::from_centrode(e, &phis, centrode_advance_rad),
+            Law::Table(rows) => Self::from_table(rows, &phis),
+        }
+    }
+
+    /// A motion law ψ(φ) sampled at `phis` (rad): the excess ψ − k·φ, `k` its mean ratio.
+    fn from_motion(e: &Expr, phis: &[f64]) -> Result<Self, PairError> {
+        let n = phis.len();
+        let d = e.derivative();
+        let p0 = e.eval(0.0);
+        let adv = e.eval(TAU) - p0;
+        if !(adv.is_finite() && adv > 0.0) {
+            return Err(PairError::Law(format!(
+                "ψ(2π) − ψ(0) = {adv:.6} rad; the driven gear must advance (> 0) over a driver turn"
+            )));
+        }
+        let (i0, i1) = (d.eval(0.0), d.eval(TAU));
+        if (i1 - i0).abs() > RATIO_PERIOD_TOL * i0.abs().max(1.0) {
+            return Err(PairError::Law(format!(
+                "dψ/dφ is {i0:.9} at φ = 0 but {i1:.9} at φ = 360°: the ratio must repeat every \
+                 driver turn for the driver gear to close"
+            )));
+        }
+        let k = adv / TAU;
+        let mut ex = Vec::with_capacity(n);
+        for &f in phis {
+            let i = d.eval(f);
+            if !(i.is_finite() && i > 0.0) {
+                return Err(PairError::Law(format!(
+                    "dψ/dφ = {i} at φ = {:.4}°; it must be finite and > 0",
+                    f.to_degrees()
+                )));
             }
-            Law::Centrode(e) => {
-                if !(centrode_advance_rad.is_finite() && centrode_advance_rad > 0.0) {
-                    return Err(PairError::InvalidParameter {
-                        name: "centrode_advance_rad",
-                        value: centrode_advance_rad,
-                        expected: "finite and > 0",
-                    });
-                }
-                let k = centrode_advance_rad / TAU;
-                let r: Vec<f64> = phis.iter().map(|&f| e.eval(f)).collect();
-                if let Some((k, v)) = r
-                    .iter()
-                    .enumerate()
-                    .find(|(_, v)| !(v.is_finite() && **v > 0.0))
-                {
-                    return Err(PairError::Law(format!(
-                        "r = {v} at φ = {:.4}°; the centrode must be finite and > 0",
-                        phis[k].to_degrees()
-                    )));
-                }
-                let rmax = r.iter().copied().fold(0.0, f64::max);
-                let mean = |a: f64| r.iter().map(|v| v / (a - v)).sum::<f64>() / n as f64 - k;
-                let (mut lo, mut hi) = (rmax * (1.0 + 1e-12), 2.0 * rmax);
-                while mean(hi) > 0.0 {
-                    hi *= 2.0;
-                }
-                for _ in 0..200 {
-                    let mid = 0.5 * (lo + hi);
-                    if mean(mid) > 0.0 {
-                        lo = mid
-                    } else {
-                        hi = mid
-                    }
-                    if hi - lo <= 1e-15 * hi {
-                        break;
-                    }
-                }
-                let a = 0.5 * (lo + hi);
-                let i: Vec<f64> = r.iter().map(|v| v / (a - v)).collect();
-                if !(a.is_finite() && i.iter().all(|v| v.is_finite() && *v > 0.0)) {
-                    return Err(PairError::Law(format!(
-                        "the centrode (max r = {rmax:e}) gives no finite closing centre distance \
-                         (a = {a:e}); scale it to ordinary lengths"
-                    )));
-                }
-                let (_, f) = spectral_integral(&i);
-                let excess = PeriodicSpline::uniform(0.0, f, TAU)
-                    .map_err(|e| PairError::Law(e.to_string()))?;
-                Ok(Self {
-                    excess,
-                    advance_rad: centrode_advance_rad,
-                    ratio: RatioSource::Centrode(e.clone(), a),
-                    unit_centre_distance: a,
-                })
+            ex.push(e.eval(f) - k * f);
+        }
+        let excess =
+            PeriodicSpline::uniform(0.0, ex, TAU).map_err(|e| PairError::Law(e.to_string()))?;
+        Ok(Self {
+            excess,
+            advance_rad: adv,
+            ratio: RatioSource::Expr(d),
+            unit_centre_distance: 1.0,
+        })
+    }
+
+    /// A centrode r(φ) (unit-free) sampled at `phis` (rad), the driven gear advancing
+    /// `advance_rad` per driver turn: the centre distance that closes it (bisection of the mean
+    /// ratio) and the excess of the ratio's integral.
+    fn from_centrode(e: &Expr, phis: &[f64], centrode_advance_rad: f64) -> Result<Self, PairError> {
+        let n = phis.len();
+        if !(centrode_advance_rad.is_finite() && centrode_advance_rad > 0.0) {
+            return Err(PairError::InvalidParameter {
+                name: "centrode_advance_rad",
+                value: centrode_advance_rad,
+                expected: "finite and > 0",
+            });
+        }
+        let k = centrode_advance_rad / TAU;
+        let r: Vec<f64> = phis.iter().map(|&f| e.eval(f)).collect();
+        if let Some((k, v)) = r
+            .iter()
+            .enumerate()
+            .find(|(_, v)| !(v.is_finite() && **v > 0.0))
+        {
+            return Err(PairError::Law(format!(
+                "r = {v} at φ = {:.4}°; the centrode must be finite and > 0",
+                phis[k].to_degrees()
+            )));
+        }
+        let rmax = r.iter().copied().fold(0.0, f64::max);
+        let mean = |a: f64| r.iter().map(|v| v / (a - v)).sum::<f64>() / n as f64 - k;
+        let (mut lo, mut hi) = (rmax * (1.0 + 1e-12), 2.0 * rmax);
+        while mean(hi) > 0.0 {
+            hi *= 2.0;
+        }
+        for _ in 0..200 {
+            let mid = 0.5 * (lo + hi);
+            if mean(mid) > 0.0 {
+                lo = mid
+            } else {
+                hi = mid
             }
-            Law::Table(rows) => {
-                let phi0 = rows[0][0];
-                let psi0 = rows[0][1];
-                let x: Vec<f64> = rows.iter().map(|r| r[0] - phi0).collect();
-                let y: Vec<f64> = rows.iter().map(|r| r[1] - psi0 - (r[0] - phi0)).collect();
-                let sp =
-                    PeriodicSpline::new(x, y, TAU).map_err(|e| PairError::Law(e.to_string()))?;
-                // Resample on the uniform grid (φ measured from the first row).
-                let ex: Vec<f64> = phis.iter().map(|&f| sp.value(f)).collect();
-                let excess = PeriodicSpline::uniform(0.0, ex, TAU)
-                    .map_err(|e| PairError::Law(e.to_string()))?;
-                let m = Self {
-                    excess,
-                    advance_rad: TAU,
-                    ratio: RatioSource::Spline,
-                    unit_centre_distance: 1.0,
-                };
-                if let Some(f) = phis.iter().find(|&&f| m.ratio(f) <= 0.0) {
-                    return Err(PairError::Law(format!(
-                        "the interpolated ratio is ≤ 0 near φ = {:.3}°",
-                        f.to_degrees()
-                    )));
-                }
-                Ok(m)
+            if hi - lo <= 1e-15 * hi {
+                break;
             }
         }
+        let a = 0.5 * (lo + hi);
+        let i: Vec<f64> = r.iter().map(|v| v / (a - v)).collect();
+        if !(a.is_finite() && i.iter().all(|v| v.is_finite() && *v > 0.0)) {
+            return Err(PairError::Law(format!(
+                "the centrode (max r = {rmax:e}) gives no finite closing centre distance \
+                 (a = {a:e}); scale it to ordinary lengths"
+            )));
+        }
+        let (_, f) = spectral_integral(&i);
+        let excess =
+            PeriodicSpline::uniform(0.0, f, TAU).map_err(|e| PairError::Law(e.to_string()))?;
+        Ok(Self {
+            excess,
+            advance_rad: centrode_advance_rad,
+            ratio: RatioSource::Centrode(e.clone(), a),
+            unit_centre_distance: a,
+        })
+    }
+
+    /// A table law of `(φ, ψ)` rows (rad), resampled at `phis` (φ measured from the first row).
+    fn from_table(rows: &[[f64; 2]], phis: &[f64]) -> Result<Self, PairError> {
+        let phi0 = rows[0][0];
+        let psi0 = rows[0][1];
+        let x: Vec<f64> = rows.iter().map(|r| r[0] - phi0).collect();
+        let y: Vec<f64> = rows.iter().map(|r| r[1] - psi0 - (r[0] - phi0)).collect();
+        let sp = PeriodicSpline::new(x, y, TAU).map_err(|e| PairError::Law(e.to_string()))?;
+        // Resample on the uniform grid (φ measured from the first row).
+        let ex: Vec<f64> = phis.iter().map(|&f| sp.value(f)).collect();
+        let excess =
+            PeriodicSpline::uniform(0.0, ex, TAU).map_err(|e| PairError::Law(e.to_string()))?;
+        let m = Self {
+            excess,
+            advance_rad: TAU,
+            ratio: RatioSource::Spline,
+            unit_centre_distance: 1.0,
+        };
+        if let Some(f) = phis.iter().find(|&&f| m.ratio(f) <= 0.0) {
+            return Err(PairError::Law(format!(
+                "the interpolated ratio is ≤ 0 near φ = {:.3}°",
+                f.to_degrees()
+            )));
+        }
+        Ok(m)
     }
 
     /// The turn ratio as a fraction `k = Δ/2π = p/q` in lowest terms with `q ≤ 360`, within

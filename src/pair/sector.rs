@@ -138,6 +138,49 @@ impl Padded {
         [1.0 / u, g, dg / i]
     }
 
+    /// Arc of the driver between the contacts of `t0` and `t1` (rad), unit centre distance:
+    /// `ARC_PIECES` five-point Gauss pieces of `√(r² + r'²)`.
+    fn driver_arc(&self, t0: f64, t1: f64) -> f64 {
+        let speed = |t: f64| {
+            let [r, dr, _] = self.driver_radius(t);
+            r.hypot(dr)
+        };
+        let k = ARC_PIECES;
+        let h = (t1 - t0) / f64::from(k);
+        (0..k)
+            .map(|j| gauss5(&speed, t0 + h * f64::from(j), t0 + h * f64::from(j + 1)))
+            .sum::<f64>()
+    }
+
+    /// The closed carriers (driver, driven) at centre distance `a` (mm) from `n` polar samples
+    /// each: the driver's contact of t at body angle −t (its sector [−W, 0]), the driven's at
+    /// π + ψ̃(t) (its sector [π, π + Δψ]).
+    fn carriers(&self, a: f64, n: usize) -> Result<(PitchCurve, PitchCurve), PairError> {
+        let (w, dpsi) = (self.width, self.dpsi);
+        let scaled = |v: [f64; 3]| v.map(|x| a * x);
+        let c1 = carrier_curve(
+            n,
+            -w,
+            w,
+            &|x| a * self.driver_radius(w - x)[0],
+            [
+                scaled(self.driver_radius(0.0)),
+                scaled(self.driver_radius(w)),
+            ],
+        )?;
+        let c2 = carrier_curve(
+            n,
+            PI,
+            dpsi,
+            &|x| a * self.driven_radius(self.t_of_driven(x))[0],
+            [
+                scaled(self.driven_radius(w)),
+                scaled(self.driven_radius(0.0)),
+            ],
+        )?;
+        Ok((c1, c2))
+    }
+
     /// `t` of the driven contact at body angle `π + x` for `x ∈ [0, Δψ]`.
     fn t_of_driven(&self, x: f64) -> f64 {
         let f = |t: f64| (self.psi(t), self.ratio(t)[0]);
@@ -242,85 +285,38 @@ pub(super) fn design_open(
     })?;
     crate::bounds::check_teeth("teeth", z)?;
     let law = Padded::new(e, range[0], range[1], z)?;
-    let (w, dpsi) = (law.width, law.dpsi);
     // Each carrier is a whole pitch curve with the sector's teeth on part of it: its tooth
     // count grows as the interval narrows (a 1e-9° interval would ask for ~1e13 teeth). An
     // estimate from the spans, before any curve is built; the exact count is checked below.
-    for (what, span) in [("driver", w), ("driven", dpsi)] {
+    for (what, span) in [("driver", law.width), ("driven", law.dpsi)] {
         let full = (f64::from(z) + 2.0 * PAD_PITCHES) * TAU / span;
         if !(full <= f64::from(crate::bounds::MAX_TEETH)) {
             return Err(carrier_too_large(what, full, span).into());
         }
     }
     let (ta, tb) = (range[0] - law.u0, range[1] - law.u0);
-    let speed = |t: f64| {
-        let [r, dr, _] = law.driver_radius(t);
-        r.hypot(dr)
-    };
-    // Arc of the driver between the contacts of t0 and t1 (unit centre distance).
-    let arc = |t0: f64, t1: f64| {
-        let k = ARC_PIECES;
-        let h = (t1 - t0) / f64::from(k);
-        (0..k)
-            .map(|j| gauss5(&speed, t0 + h * f64::from(j), t0 + h * f64::from(j + 1)))
-            .sum::<f64>()
-    };
     let p = PI * m;
     // Exactly z pitches πm on the active driver arc.
-    let a = f64::from(z) * p / arc(ta, tb);
-    let n = opts.samples;
-    let scaled = |v: [f64; 3]| v.map(|x| a * x);
-    // Driver: the contact of t sits at body angle −t, so the sector is [−W, 0].
-    let c1 = carrier_curve(
-        n,
-        -w,
-        w,
-        &|x| a * law.driver_radius(w - x)[0],
-        [scaled(law.driver_radius(0.0)), scaled(law.driver_radius(w))],
-    )?;
-    // Driven: body angle π + ψ̃(t), the sector is [π, π + Δψ].
-    let c2 = carrier_curve(
-        n,
-        PI,
-        dpsi,
-        &|x| a * law.driven_radius(law.t_of_driven(x))[0],
-        [scaled(law.driven_radius(w)), scaled(law.driven_radius(0.0))],
-    )?;
+    let a = f64::from(z) * p / law.driver_arc(ta, tb);
+    let (c1, c2) = law.carriers(a, opts.samples)?;
     // Whole teeth that fit on each carrier (the remainder is the closing space, trimmed away).
     let fit = |c: &PitchCurve| (c.perimeter_mm(1e-12 * a) / p * (1.0 - 1e-12)).floor() as u32;
     let counts = [fit(&c1), fit(&c2)];
-    for (what, n, span) in [("driver", counts[0], w), ("driven", counts[1], dpsi)] {
+    for (what, n, span) in [
+        ("driver", counts[0], law.width),
+        ("driven", counts[1], law.dpsi),
+    ] {
         if n > crate::bounds::MAX_TEETH {
             return Err(carrier_too_large(what, f64::from(n), span).into());
         }
     }
     let g = Toothed::new((c1, c2), 0.0, counts, Some(p), None, opts)?;
-    let n_teeth = g.z[0];
-    // The driver's teeth are centred at s = −j·p (tooth N − 1 − j), the contacts of t > 0 lie at
-    // negative arc length, spaces at −(j + ½)p. Kept: j = 1..K−1 of the padded arc.
-    let padded_arc = a * arc(0.0, w);
-    let k_end = (padded_arc / p).floor() as u32;
-    let f1 = &g.f[0];
-    let driver_cut = [
-        f1.theta_at(-(f64::from(k_end) - 0.5) * p),
-        f1.theta_at(-0.5 * p),
-    ];
-    // Driven: its spaces face driver teeth, so it is cut where driver teeth 0 and K touch.
-    let t_at = |s: f64| (-f1.theta_at(s)).rem_euclid(TAU);
-    let driven_cut = [PI, PI + law.psi(t_at(-f64::from(k_end) * p))];
-    let hub = |pts: &[[f64; 2]], cut: [f64; 2]| {
-        let r = kept_min_radius(pts, cut);
-        (r - m).max(0.5 * r)
-    };
-    let hubs = [
-        hub(&g.driver.points_mm, driver_cut),
-        hub(&g.driven.points_mm, driven_cut),
-    ];
+    let cuts = Cuts::new(&g, &law, a, m);
     let mesh = if t.verify_steps > 0 {
         let [v1, v2] = g.fine_outlines(opts, None)?;
         let tol = t.verify_chord_tol_mm;
-        let v1 = sector_outline(&v1, driver_cut, hubs[0], tol);
-        let v2 = sector_outline(&v2, driven_cut, hubs[1], tol);
+        let v1 = sector_outline(&v1, cuts.driver, cuts.hubs[0], tol);
+        let v2 = sector_outline(&v2, cuts.driven, cuts.hubs[1], tol);
         let check = MeshCheck {
             steps: ((t.verify_steps as f64 * (tb - ta) / TAU).ceil() as usize + 1).max(2),
             span: MeshSpan::Interval {
@@ -338,30 +334,17 @@ pub(super) fn design_open(
     let ratios: Vec<f64> = (0..=RATIO_RANGE_SAMPLES)
         .map(|j| law.ratio(ta + (tb - ta) * f64::from(j) / f64::from(RATIO_RANGE_SAMPLES))[0])
         .collect();
-    let kept_driver: Vec<usize> = (1..k_end).map(|j| (n_teeth - 1 - j) as usize).collect();
-    let kept_driven: Vec<usize> = (0..k_end as usize).collect();
+    let n_teeth = g.z[0];
     let report = SectorReport {
         drive_deg: [range[0].to_degrees(), range[1].to_degrees()],
         driven_advance_deg: active_advance.to_degrees(),
-        active_teeth: a * arc(ta, tb) / p,
-        kept_teeth: [kept_driver.len() as u32, kept_driven.len() as u32],
-        hub_radius_mm: hubs,
+        active_teeth: a * law.driver_arc(ta, tb) / p,
+        kept_teeth: [cuts.k_end.saturating_sub(1), cuts.k_end],
+        hub_radius_mm: cuts.hubs,
         assembly_at_deg: law.u0.to_degrees(),
     };
-    let chord = t.chord_tol_mm;
     let mut d = g.into_design([0.0, active_advance], a, None, &ratios, Some(report));
-    d.driver.points_mm = sector_outline(&d.driver.points_mm, driver_cut, hubs[0], chord);
-    d.driven.points_mm = sector_outline(&d.driven.points_mm, driven_cut, hubs[1], chord);
-    d.z = kept_driver.len() as u32;
-    d.z_driven = kept_driven.len() as u32;
-    d.driver.z = d.z;
-    d.driven.z = d.z_driven;
-    keep_flanks(&mut d.driver_undercut, &kept_driver);
-    keep_flanks(&mut d.driven_undercut, &kept_driven);
-    d.driver.undercut = d.driver_undercut.clone();
-    d.driven.undercut = d.driven_undercut.clone();
-    d.driver_pitch_mm = within(&d.driver_pitch_mm, driver_cut);
-    d.driven_pitch_mm = within(&d.driven_pitch_mm, driven_cut);
+    cuts.trim(&mut d, n_teeth, t.chord_tol_mm);
     // The check runs in t = φ − u0; its report gives the driver angle φ.
     let at_offset_deg = law.u0.to_degrees();
     let pending = mesh.map(|(outlines, check)| PendingMesh {
@@ -371,6 +354,71 @@ pub(super) fn design_open(
         at_offset_deg,
     });
     Ok((d, pending))
+}
+
+/// Where an open pair's carriers are cut to their sectors: the driver's and the driven body
+/// angles `[from, to]` (rad), the hub radii (mm) and the padded arc's pitch count `K`.
+struct Cuts {
+    driver: [f64; 2],
+    driven: [f64; 2],
+    hubs: [f64; 2],
+    k_end: u32,
+}
+
+impl Cuts {
+    /// The cuts of `g` (module `m`, centre distance `a`, mm). The driver's teeth are centred at
+    /// s = −j·p (tooth N − 1 − j), the contacts of t > 0 lie at negative arc length, spaces at
+    /// −(j + ½)p: kept j = 1..K−1 of the padded arc. The driven gear's spaces face driver teeth,
+    /// so it is cut where driver teeth 0 and K touch.
+    fn new(g: &Toothed, law: &Padded, a: f64, m: f64) -> Self {
+        let p = PI * m;
+        let k_end = (a * law.driver_arc(0.0, law.width) / p).floor() as u32;
+        let f1 = &g.f[0];
+        let driver = [
+            f1.theta_at(-(f64::from(k_end) - 0.5) * p),
+            f1.theta_at(-0.5 * p),
+        ];
+        let t_at = |s: f64| (-f1.theta_at(s)).rem_euclid(TAU);
+        let driven = [PI, PI + law.psi(t_at(-f64::from(k_end) * p))];
+        let hub = |pts: &[[f64; 2]], cut: [f64; 2]| {
+            let r = kept_min_radius(pts, cut);
+            (r - m).max(0.5 * r)
+        };
+        let hubs = [
+            hub(&g.driver.points_mm, driver),
+            hub(&g.driven.points_mm, driven),
+        ];
+        Self {
+            driver,
+            driven,
+            hubs,
+            k_end,
+        }
+    }
+
+    /// Trims the closed carriers' design `d` (driver of `n_teeth` teeth) to the sectors: the
+    /// outlines (at chord tolerance `chord_mm`), the tooth counts, the flanks and the pitch
+    /// curves kept.
+    fn trim(&self, d: &mut PairDesign, n_teeth: u32, chord_mm: f64) {
+        let kept_driver: Vec<usize> = (1..self.k_end)
+            .map(|j| (n_teeth - 1 - j) as usize)
+            .collect();
+        let kept_driven: Vec<usize> = (0..self.k_end as usize).collect();
+        d.driver.points_mm =
+            sector_outline(&d.driver.points_mm, self.driver, self.hubs[0], chord_mm);
+        d.driven.points_mm =
+            sector_outline(&d.driven.points_mm, self.driven, self.hubs[1], chord_mm);
+        d.z = kept_driver.len() as u32;
+        d.z_driven = kept_driven.len() as u32;
+        d.driver.z = d.z;
+        d.driven.z = d.z_driven;
+        keep_flanks(&mut d.driver_undercut, &kept_driver);
+        keep_flanks(&mut d.driven_undercut, &kept_driven);
+        d.driver.undercut = d.driver_undercut.clone();
+        d.driven.undercut = d.driven_undercut.clone();
+        d.driver_pitch_mm = within(&d.driver_pitch_mm, self.driver);
+        d.driven_pitch_mm = within(&d.driven_pitch_mm, self.driven);
+    }
 }
 
 /// `x` polar angle relative to `from`, in `[0, 2π)`.

@@ -116,6 +116,79 @@ impl Gen<'_> {
         let u = s + (sf - s) * self.ca * self.ca;
         meet(|s| self.flank(sf, sign, s), |u| self.tip(u, rel), s, u)
     }
+    /// Appends the left side of the tooth whose left flank crosses the pitch curve at `sl` to
+    /// `out`: the fillet from the root up, then the flank from η = −hs up to the tip at `s_tip`.
+    /// An `undercut` side is walked from the root with its loops cut ([`cut_loops`]): what the
+    /// fillet trochoid cuts away and the flank envelope's swallowtail go, the form point is the
+    /// last jump onto the flank. Returns the form point (mm) and its depth below the pitch
+    /// curve, mm.
+    fn left_side(
+        &self,
+        w: &Walk,
+        sl: f64,
+        s_tip: f64,
+        undercut: bool,
+        out: &mut Vec<[f64; 2]>,
+    ) -> ([f64; 2], f64) {
+        let xcl = sl - self.hs * w.ta - self.rho * self.ca;
+        let mut wl = vec![self.fillet(xcl, xcl)];
+        let nfl = push_piece(&mut wl, xcl, xcl - w.fillet_span, w.step_f, |s| {
+            self.fillet(xcl, s)
+        });
+        let s_low = sl - self.hs / w.sc;
+        let nl = push_piece(&mut wl, s_low, s_tip, w.step, |s| self.flank(sl, -1.0, s));
+        if !undercut {
+            out.extend_from_slice(&wl[1..]);
+            return (wl[nfl], self.hs);
+        }
+        let (kept, jumps) = cut_loops(&wl);
+        out.extend_from_slice(&kept[1..]);
+        // Flank parameter u ∈ [0, nl] of the highest jump landing on the flank.
+        match jumps.iter().rev().find(|j| j.to >= nfl as f64) {
+            Some(j) => {
+                let u = (j.to - nfl as f64) / nl as f64;
+                (j.point, (sl - (s_low + (s_tip - s_low) * u)) * w.sc)
+            }
+            None => (wl[nfl], self.hs),
+        }
+    }
+
+    /// Appends the right side of the tooth whose right flank crosses the pitch curve at `sr` to
+    /// `out` (which ends at the tip corner): the flank from the tip at `s_tip` down to η = −hs,
+    /// then the fillet down to the root. An `undercut` side is walked from the tip with its loops
+    /// cut, the form point is the first jump off the flank. Returns the form point (mm) with its
+    /// depth (mm), and the fillet centre's rack position `xcr`.
+    fn right_side(
+        &self,
+        w: &Walk,
+        sr: f64,
+        s_tip: f64,
+        undercut: bool,
+        out: &mut Vec<[f64; 2]>,
+    ) -> (([f64; 2], f64), f64) {
+        let s_low = sr + self.hs / w.sc;
+        let mut wr = vec![out[out.len() - 1]];
+        let nr = push_piece(&mut wr, s_tip, s_low, w.step, |s| self.flank(sr, 1.0, s));
+        let xcr = sr + self.hs * w.ta + self.rho * self.ca;
+        push_piece(&mut wr, xcr + w.fillet_span, xcr, w.step_f, |s| {
+            self.fillet(xcr, s)
+        });
+        if !undercut {
+            out.extend_from_slice(&wr[1..]);
+            return ((wr[nr], self.hs), xcr);
+        }
+        let (kept, jumps) = cut_loops(&wr);
+        out.extend_from_slice(&kept[1..]);
+        let form = match jumps.iter().find(|j| j.from <= nr as f64) {
+            Some(j) => {
+                let u = j.from / nr as f64;
+                (j.point, (s_tip + (s_low - s_tip) * u - sr) * w.sc)
+            }
+            None => (wr[nr], self.hs),
+        };
+        (form, xcr)
+    }
+
     /// Tooth `k`'s tip relief from `relief_mm` (mm), its flank crossings `(sl, sr)` and both
     /// flanks trimmed at its relieved tip: `(s_tip, u)` left and right. Errors:
     /// [`TeethError::Trim`].
@@ -381,23 +454,64 @@ pub fn generate_relieved_on(
     blank: &GearBlank<'_>,
     relief_mm: &[f64],
 ) -> Result<Outline, TeethError> {
-    let (frame, rack, z, m, opts) = (
-        blank.frame,
-        &blank.rack,
-        blank.z,
-        blank.module_mm,
-        &blank.opts,
-    );
+    let (z, m, opts) = (blank.z, blank.module_mm, &blank.opts);
     let p = blank.validated_pitch_mm()?;
-    let report = report_on(blank);
+    let mut report = report_on(blank);
+    refuse_uncuttable(&report, z, m, opts.refuse_undercut)?;
+    let g = rack_gen(blank.frame, &blank.rack, m);
+    let walk = Walk::new(&g, opts.chord_tol_mm, m);
+    // Rack tip flat between the two fillet centres.
+    let flat = p
+        - (p * 0.5 - opts.thin_left_mm - opts.thin_right_mm)
+        - 2.0 * (g.hs * walk.ta + g.rho * g.ca);
+    if flat <= 0.0 {
+        return Err(TeethError::NoRackTipFlat { flat_mm: flat });
+    }
+    let mut out = Vec::new();
+    for k in 0..z as usize {
+        let sk = opts.phase_mm + k as f64 * p;
+        let (rel, (sl, sr), (s_tip_l, ul), (s_tip_r, ur)) = g.trim_tooth(k, p, opts, relief_mm)?;
+        let form_l = g.left_side(&walk, sl, s_tip_l, report.flanks[2 * k].undercut, &mut out);
+        push_piece(&mut out, ul, ur, walk.step, |u| g.tip(u, rel));
+        let undercut_r = report.flanks[2 * k + 1].undercut;
+        let (form_r, xcr) = g.right_side(&walk, sr, s_tip_r, undercut_r, &mut out);
+        let root = (form_l.0[0] - form_r.0[0]).hypot(form_l.0[1] - form_r.0[1]);
+        for (f, depth) in [(2 * k, form_l.1), (2 * k + 1, form_r.1)] {
+            let fl = &mut report.flanks[f];
+            fl.form_depth_mm = depth;
+            fl.contact_ratio_loss = (g.hs - depth).max(0.0) / (std::f64::consts::PI * m * walk.sc);
+            fl.root_thickness_mm = Some(root);
+        }
+        let next_sl = sk + p - 0.25 * p + opts.thin_left_mm;
+        let next_xcl = next_sl - g.hs * walk.ta - g.rho * g.ca;
+        push_piece(&mut out, xcr, next_xcl, walk.step, |s| g.map(s, s, -g.hf));
+    }
+    close_outline(&mut out);
+    report.summarise();
+    Ok(Outline {
+        points_mm: out,
+        z,
+        module_mm: m,
+        undercut: report,
+    })
+}
+
+/// [`TeethError::Concave`] when a flank's generating range is concave (a rack cannot cut it);
+/// [`TeethError::Undercut`] when a flank is undercut and `refuse_undercut`, with the largest
+/// module that works and the smallest tooth count at module `m` (mm) for `z` teeth.
+fn refuse_uncuttable(
+    report: &UndercutReport,
+    z: u32,
+    m: f64,
+    refuse_undercut: bool,
+) -> Result<(), TeethError> {
     if let Some(f) = report.flanks.iter().find(|f| f.concave) {
         return Err(TeethError::Concave {
             tooth: f.tooth,
             min_rho_mm: report.min_rho_mm,
         });
     }
-    let mut report = report;
-    if report.undercut_count > 0 && opts.refuse_undercut {
+    if report.undercut_count > 0 && refuse_undercut {
         let worst = report
             .flanks
             .iter()
@@ -411,97 +525,36 @@ pub fn generate_relieved_on(
             min_teeth: (f64::from(z) * m / report.max_module_mm).ceil() as u32,
         });
     }
-    let g = rack_gen(frame, rack, m);
-    let (sa, ca) = (g.sa, g.ca);
-    let sc = sa * ca;
-    let ta = sa / ca;
-    let step = (8.0 * opts.chord_tol_mm * m).sqrt();
-    let step_f = if g.rho > 0.0 {
-        (8.0 * opts.chord_tol_mm * g.rho).sqrt()
-    } else {
-        step
-    };
-    let fillet_span = (g.hf - g.rho) / ta;
-    // Rack tip flat between the two fillet centres.
-    let flat =
-        p - (p * 0.5 - opts.thin_left_mm - opts.thin_right_mm) - 2.0 * (g.hs * ta + g.rho * ca);
-    if flat <= 0.0 {
-        return Err(TeethError::NoRackTipFlat { flat_mm: flat });
-    }
-    let mut out = Vec::new();
-    for k in 0..z as usize {
-        let sk = opts.phase_mm + k as f64 * p;
-        let (rel, (sl, sr), (s_tip_l, ul), (s_tip_r, ur)) = g.trim_tooth(k, p, opts, relief_mm)?;
-        // Left fillet of tooth k (from the root up), then the left flank from η = −hs up to
-        // the tip. An undercut side is walked from the root with its loops cut
-        // ([`cut_loops`]): what the fillet trochoid cuts away and the flank envelope's
-        // swallowtail go, the form point is the last jump onto the flank.
-        let xcl = sl - g.hs * ta - g.rho * ca;
-        let mut wl = vec![g.fillet(xcl, xcl)];
-        let nfl = push_piece(&mut wl, xcl, xcl - fillet_span, step_f, |s| {
-            g.fillet(xcl, s)
-        });
-        let s_low_l = sl - g.hs / sc;
-        let nl = push_piece(&mut wl, s_low_l, s_tip_l, step, |s| g.flank(sl, -1.0, s));
-        let form_l = if report.flanks[2 * k].undercut {
-            let (kept, jumps) = cut_loops(&wl);
-            out.extend_from_slice(&kept[1..]);
-            // Flank parameter u ∈ [0, nl] of the highest jump landing on the flank.
-            match jumps.iter().rev().find(|j| j.to >= nfl as f64) {
-                Some(j) => {
-                    let u = (j.to - nfl as f64) / nl as f64;
-                    (j.point, (sl - (s_low_l + (s_tip_l - s_low_l) * u)) * sc)
-                }
-                None => (wl[nfl], g.hs),
-            }
-        } else {
-            out.extend_from_slice(&wl[1..]);
-            (wl[nfl], g.hs)
-        };
-        push_piece(&mut out, ul, ur, step, |u| g.tip(u, rel));
-        // Right flank from the tip down to η = −hs, then the right fillet down to the root; an
-        // undercut side is walked from the tip with its loops cut, the form point is the first
-        // jump off the flank.
-        let s_low_r = sr + g.hs / sc;
-        let mut wr = vec![out[out.len() - 1]];
-        let nr = push_piece(&mut wr, s_tip_r, s_low_r, step, |s| g.flank(sr, 1.0, s));
-        let xcr = sr + g.hs * ta + g.rho * ca;
-        push_piece(&mut wr, xcr + fillet_span, xcr, step_f, |s| {
-            g.fillet(xcr, s)
-        });
-        let form_r = if report.flanks[2 * k + 1].undercut {
-            let (kept, jumps) = cut_loops(&wr);
-            out.extend_from_slice(&kept[1..]);
-            match jumps.iter().find(|j| j.from <= nr as f64) {
-                Some(j) => {
-                    let u = j.from / nr as f64;
-                    (j.point, (s_tip_r + (s_low_r - s_tip_r) * u - sr) * sc)
-                }
-                None => (wr[nr], g.hs),
-            }
-        } else {
-            out.extend_from_slice(&wr[1..]);
-            (wr[nr], g.hs)
-        };
-        let root = (form_l.0[0] - form_r.0[0]).hypot(form_l.0[1] - form_r.0[1]);
-        for (f, depth) in [(2 * k, form_l.1), (2 * k + 1, form_r.1)] {
-            let fl = &mut report.flanks[f];
-            fl.form_depth_mm = depth;
-            fl.contact_ratio_loss = (g.hs - depth).max(0.0) / (std::f64::consts::PI * m * sc);
-            fl.root_thickness_mm = Some(root);
+    Ok(())
+}
+
+/// How the rack's pieces are sampled: vertex spacing on flanks, root and tip (`step`) and on
+/// the fillets (`step_f`) for chord sag ≤ the chord tolerance, mm; the fillet's span along the
+/// rack, mm; `sin α cos α` and `tan α`.
+struct Walk {
+    step: f64,
+    step_f: f64,
+    fillet_span: f64,
+    sc: f64,
+    ta: f64,
+}
+
+impl Walk {
+    fn new(g: &Gen<'_>, chord_tol_mm: f64, m: f64) -> Self {
+        let ta = g.sa / g.ca;
+        let step = (8.0 * chord_tol_mm * m).sqrt();
+        Self {
+            step,
+            step_f: if g.rho > 0.0 {
+                (8.0 * chord_tol_mm * g.rho).sqrt()
+            } else {
+                step
+            },
+            fillet_span: (g.hf - g.rho) / ta,
+            sc: g.sa * g.ca,
+            ta,
         }
-        let next_sl = sk + p - 0.25 * p + opts.thin_left_mm;
-        let next_xcl = next_sl - g.hs * ta - g.rho * ca;
-        push_piece(&mut out, xcr, next_xcl, step, |s| g.map(s, s, -g.hf));
     }
-    close_outline(&mut out);
-    report.summarise();
-    Ok(Outline {
-        points_mm: out,
-        z,
-        module_mm: m,
-        undercut: report,
-    })
 }
 
 /// Drops exact duplicate vertices (and a last vertex equal to the first): the outline starts at

@@ -67,6 +67,48 @@ pub struct GearProcess {
 }
 
 impl GearProcess {
+    /// A rack-cut gear with `undercut_flanks` undercut flanks.
+    fn rack(undercut_flanks: usize) -> Self {
+        Self {
+            process: Process::Rack,
+            cutter_teeth: None,
+            cutter_pitch_radius_mm: None,
+            min_concave_rho_mm: None,
+            tried_cutter_teeth: Vec::new(),
+            rejected: Vec::new(),
+            undercut_flanks,
+            min_tip_width_mm: None,
+            relieved_teeth: 0,
+            max_tip_relief_mm: 0.0,
+            reach_topped_teeth: 0,
+        }
+    }
+
+    /// A gear shaper-cut at module `m_mm` by the cutter with `zc` teeth, chosen for a tightest
+    /// concave radius `concave_rho_mm` after trying `tried` (the others `rejected`).
+    fn shaper(
+        zc: u32,
+        m_mm: f64,
+        concave_rho_mm: f64,
+        checks: &ShaperChecks,
+        tried: Vec<u32>,
+        rejected: Vec<String>,
+    ) -> Self {
+        Self {
+            process: Process::Shaper,
+            cutter_teeth: Some(zc),
+            cutter_pitch_radius_mm: Some(cutter_pitch_radius_mm(zc, m_mm)),
+            min_concave_rho_mm: Some(concave_rho_mm),
+            tried_cutter_teeth: tried,
+            rejected,
+            undercut_flanks: checks.undercut_flanks,
+            min_tip_width_mm: Some(checks.min_tip_width_mm),
+            relieved_teeth: 0,
+            max_tip_relief_mm: 0.0,
+            reach_topped_teeth: checks.reach_topped_teeth,
+        }
+    }
+
     /// Records a tip relief (mm per tooth, [`super::relief::tip_relief`]) and, for a shaper-cut
     /// gear, the narrowest tip it leaves (mm of arc).
     pub fn set_relief(&mut self, relief_mm: &[f64], min_tip_width_mm: Option<f64>) {
@@ -104,35 +146,20 @@ pub fn generate_by_process(
     blank: &GearBlank<'_>,
     choice: CutterChoice,
 ) -> Result<(Outline, GearProcess), TeethError> {
-    let (rack, m) = (&blank.rack, blank.module_mm);
+    let m = blank.module_mm;
     blank.validated_pitch_mm()?;
     let report = report_on(blank);
+    if report.concave_count == 0 {
+        let o = generate_on(blank)?;
+        let process = GearProcess::rack(o.undercut.undercut_count);
+        return Ok((o, process));
+    }
     let concave_rho = report
         .flanks
         .iter()
         .filter(|f| f.concave)
         .map(|f| f.min_rho_mm.abs())
         .fold(f64::INFINITY, f64::min);
-    if report.concave_count == 0 {
-        let o = generate_on(blank)?;
-        let undercut_flanks = o.undercut.undercut_count;
-        return Ok((
-            o,
-            GearProcess {
-                process: Process::Rack,
-                cutter_teeth: None,
-                cutter_pitch_radius_mm: None,
-                min_concave_rho_mm: None,
-                tried_cutter_teeth: Vec::new(),
-                rejected: Vec::new(),
-                undercut_flanks,
-                min_tip_width_mm: None,
-                relieved_teeth: 0,
-                max_tip_relief_mm: 0.0,
-                reach_topped_teeth: 0,
-            },
-        ));
-    }
     let candidates: Vec<u32> = match choice {
         CutterChoice::Teeth(zc) => vec![zc],
         CutterChoice::Auto => STANDARD_CUTTER_TEETH
@@ -141,81 +168,38 @@ pub fn generate_by_process(
             .collect(),
     };
     let forced = matches!(choice, CutterChoice::Teeth(_));
-    let shaped = |o: Outline, checks: ShaperChecks, zc: u32, tried, rejected| {
-        (
-            o,
-            GearProcess {
-                process: Process::Shaper,
-                cutter_teeth: Some(zc),
-                cutter_pitch_radius_mm: Some(cutter_pitch_radius_mm(zc, m)),
-                min_concave_rho_mm: Some(concave_rho),
-                tried_cutter_teeth: tried,
-                rejected,
-                undercut_flanks: checks.undercut_flanks,
-                min_tip_width_mm: Some(checks.min_tip_width_mm),
-                relieved_teeth: 0,
-                max_tip_relief_mm: 0.0,
-                reach_topped_teeth: checks.reach_topped_teeth,
-            },
-        )
+    let shaped = |(o, checks, zc): (Outline, ShaperChecks, u32), tried, rejected| {
+        let process = GearProcess::shaper(zc, m, concave_rho, &checks, tried, rejected);
+        (o, process)
     };
     let mut tried = Vec::new();
     let mut rejected = Vec::new();
     let mut undercut = None;
     for zc in candidates {
         tried.push(zc);
-        let r0 = cutter_pitch_radius_mm(zc, m);
-        let result = if r0 >= concave_rho {
-            Err(TeethError::Shaper {
-                cutter_teeth: zc,
-                what: "pitch radius not below the tightest concave radius of curvature",
-            })
-        } else {
-            Cutter::new(zc, rack, m).and_then(|c| {
-                let (o, checks) = generate_shaper(blank, &c, &[])?;
-                if checks.undercut_flanks > 0 && undercut.is_some() && !forced {
-                    // Rejected for its undercut whatever the checks below say: a larger
-                    // cutter is already the fallback.
-                    return Ok((o, checks));
-                }
-                if !matches!(
-                    super::overlap::first_self_intersection(&o.points_mm),
-                    Ok(None)
-                ) {
-                    return Err(TeethError::Shaper {
-                        cutter_teeth: zc,
-                        what: "the generated outline intersects itself",
-                    });
-                }
-                check_secondary(blank, &c, &o.points_mm)?;
-                Ok((o, checks))
-            })
-        };
-        match result {
+        // Undercut (a rack would undercut these convex stretches too): the first, largest such
+        // cutter is kept as the fallback when no smaller one cuts without it; the others are
+        // rejected for their undercut whatever the checks say.
+        let fallback_kept = undercut.is_some() && !forced;
+        match try_cutter(blank, zc, concave_rho, fallback_kept) {
             Ok((o, checks)) if checks.undercut_flanks == 0 || forced => {
-                return Ok(shaped(o, checks, zc, tried, rejected));
+                return Ok(shaped((o, checks, zc), tried, rejected));
             }
-            Ok((o, checks)) => {
-                // Undercut (a rack would undercut these convex stretches too): the first, largest
-                // such cutter is kept as the fallback when no smaller one cuts without it; the
-                // others are rejected.
-                if undercut.is_none() {
-                    undercut = Some((o, checks, zc));
-                } else {
-                    rejected.push(format!(
-                        "{zc}: undercuts {} flank(s)",
-                        checks.undercut_flanks
-                    ));
-                }
+            Ok((o, checks)) if undercut.is_none() => undercut = Some((o, checks, zc)),
+            Ok((_, checks)) => {
+                rejected.push(format!(
+                    "{zc}: undercuts {} flank(s)",
+                    checks.undercut_flanks
+                ));
             }
             Err(e) if forced => return Err(e),
             Err(e) => rejected.push(format!("{zc}: {e}")),
         }
     }
-    if let Some((o, checks, zc)) = undercut {
+    if let Some(fallback) = undercut {
         // Every cutter that fits undercuts: the largest, with its undercut reported (cut as
         // the rack cuts an undercut convex gear; `refuse_undercut` makes it an error instead).
-        return Ok(shaped(o, checks, zc, tried, rejected));
+        return Ok(shaped(fallback, tried, rejected));
     }
     Err(TeethError::NoCutter {
         min_concave_rho_mm: concave_rho,
@@ -228,6 +212,40 @@ pub fn generate_by_process(
             rejected.join("; ")
         },
     })
+}
+
+/// `blank` cut by the shaper cutter with `zc` teeth, checked: its pitch radius below the
+/// tightest concave radius `concave_rho` (mm), the outline simple, no secondary cutting — the
+/// checks skipped when it undercuts and `undercut_rejected` (a larger cutter is already the
+/// fallback, so it is rejected for its undercut anyway).
+fn try_cutter(
+    blank: &GearBlank<'_>,
+    zc: u32,
+    concave_rho: f64,
+    undercut_rejected: bool,
+) -> Result<(Outline, ShaperChecks), TeethError> {
+    if cutter_pitch_radius_mm(zc, blank.module_mm) >= concave_rho {
+        return Err(TeethError::Shaper {
+            cutter_teeth: zc,
+            what: "pitch radius not below the tightest concave radius of curvature",
+        });
+    }
+    let c = Cutter::new(zc, &blank.rack, blank.module_mm)?;
+    let (o, checks) = generate_shaper(blank, &c, &[])?;
+    if checks.undercut_flanks > 0 && undercut_rejected {
+        return Ok((o, checks));
+    }
+    if !matches!(
+        super::overlap::first_self_intersection(&o.points_mm),
+        Ok(None)
+    ) {
+        return Err(TeethError::Shaper {
+            cutter_teeth: zc,
+            what: "the generated outline intersects itself",
+        });
+    }
+    check_secondary(blank, &c, &o.points_mm)?;
+    Ok((o, checks))
 }
 
 /// The outline of a gear cut again by the process `as_cut` recorded (another chord tolerance,

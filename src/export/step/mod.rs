@@ -281,112 +281,14 @@ type PartIds = (usize, usize, usize);
 
 /// The STEP text of `model` and its counts. Every part is validated first.
 pub fn step_text(model: &StepModel) -> Result<(String, StepStats), ExportError> {
-    let parts = model
-        .parts
-        .iter()
-        .map(checked)
-        .collect::<Result<Vec<_>, _>>()?;
-    if parts.is_empty() || (model.instances.is_empty() && parts.len() != 1) {
-        return Err(ExportError::BadContour {
-            name: model.name.clone(),
-            what: "a STEP model needs one part, or instances placing its parts",
-        });
-    }
-    if let Some(i) = model.instances.iter().find(|i| {
-        i.part >= parts.len()
-            || !(i.centre_mm.iter().all(|c| c.is_finite()) && i.angle_rad.is_finite())
-    }) {
-        return Err(ExportError::BadContour {
-            name: i.name.clone(),
-            what: "instance of a missing part or at a non-finite position",
-        });
-    }
+    let parts = checked_parts(model)?;
     let mut e = Ents::after(0, true);
     for c in CONTEXT {
         e.add(format_args!("{c}"));
     }
-    // Per part: (product definition, representation, its origin placement, faces).
-    let part = |e: &mut Ents, p: &Prism| {
-        let (pd, pds) = product(e, &p.name);
-        let (brep, nf) = brep::solid(e, p);
-        let origin = brep::placement(e, ORIGIN.0, ORIGIN.1, ORIGIN.2);
-        let rep = e.add(format_args!(
-            "ADVANCED_BREP_SHAPE_REPRESENTATION({},(#{brep},#{origin}),#{CTX})",
-            quote(&p.name)
-        ));
-        e.add(format_args!(
-            "SHAPE_DEFINITION_REPRESENTATION(#{pds},#{rep})"
-        ));
-        ((pd, rep, origin), nf)
-    };
-    // The parts' entities are numbered in part order: a counting pass (ids only) gives each
-    // part its first id, then the parts' texts are written side by side and joined in order —
-    // the same text as one pass.
-    let mut starts = Vec::with_capacity(parts.len());
-    let mut next = e.count;
-    for p in &parts {
-        starts.push(next);
-        let mut c = Ents::after(next, false);
-        part(&mut c, p);
-        next = c.count;
-    }
-    let texts: Vec<(String, (PartIds, usize))> = parts
-        .par_iter()
-        .zip(&starts)
-        .map(|(p, &start)| {
-            let mut pe = Ents::after(start, true);
-            let r = part(&mut pe, p);
-            (pe.data, r)
-        })
-        .collect();
-    let mut faces = 0;
-    let mut defs = Vec::with_capacity(parts.len());
-    for (text, (def, nf)) in texts {
-        e.data.push_str(&text);
-        faces += nf;
-        defs.push(def);
-    }
-    e.count = next;
+    let (defs, faces) = write_parts(&mut e, &parts);
     if !model.instances.is_empty() {
-        let (apd, apds) = product(&mut e, &model.name);
-        let aorigin = brep::placement(&mut e, ORIGIN.0, ORIGIN.1, ORIGIN.2);
-        let mut items = vec![format!("#{aorigin}")];
-        let mut links = Vec::new();
-        for inst in &model.instances {
-            let (s, c) = inst.angle_rad.sin_cos();
-            let at = [inst.centre_mm[0], inst.centre_mm[1], 0.0];
-            let pl = brep::placement(&mut e, at, [0.0, 0.0, 1.0], [c, s, 0.0]);
-            items.push(format!("#{pl}"));
-            links.push((inst, pl));
-        }
-        let arep = e.add(format_args!(
-            "SHAPE_REPRESENTATION({},({}),#{CTX})",
-            quote(&model.name),
-            items.join(",")
-        ));
-        e.add(format_args!(
-            "SHAPE_DEFINITION_REPRESENTATION(#{apds},#{arep})"
-        ));
-        for (k, (inst, pl)) in links.into_iter().enumerate() {
-            let (pd, rep, origin) = defs[inst.part];
-            let idt = e.add(format_args!(
-                "ITEM_DEFINED_TRANSFORMATION('','',#{origin},#{pl})"
-            ));
-            let rr = e.add(format_args!(
-                "(REPRESENTATION_RELATIONSHIP('','',#{rep},#{arep})\
-                 REPRESENTATION_RELATIONSHIP_WITH_TRANSFORMATION(#{idt})\
-                 SHAPE_REPRESENTATION_RELATIONSHIP())"
-            ));
-            let q = quote(&inst.name);
-            let nauo = e.add(format_args!(
-                "NEXT_ASSEMBLY_USAGE_OCCURRENCE('{}',{q},'',#{apd},#{pd},$)",
-                k + 1
-            ));
-            let pds = e.add(format_args!("PRODUCT_DEFINITION_SHAPE({q},'',#{nauo})"));
-            e.add(format_args!(
-                "CONTEXT_DEPENDENT_SHAPE_REPRESENTATION(#{rr},#{pds})"
-            ));
-        }
+        write_assembly(&mut e, model, &defs);
     }
     let stats = StepStats {
         solids: parts.len(),
@@ -409,6 +311,124 @@ pub fn step_text(model: &StepModel) -> Result<(String, StepStats), ExportError> 
     out.push_str(&e.data);
     out.push_str("ENDSEC;\nEND-ISO-10303-21;\n");
     Ok((out, stats))
+}
+
+/// The model's parts, each checked ([`checked`]), with its instances: one part, or instances
+/// of existing parts at finite positions.
+fn checked_parts(model: &StepModel) -> Result<Vec<Prism>, ExportError> {
+    let parts = model
+        .parts
+        .iter()
+        .map(checked)
+        .collect::<Result<Vec<_>, _>>()?;
+    if parts.is_empty() || (model.instances.is_empty() && parts.len() != 1) {
+        return Err(ExportError::BadContour {
+            name: model.name.clone(),
+            what: "a STEP model needs one part, or instances placing its parts",
+        });
+    }
+    if let Some(i) = model.instances.iter().find(|i| {
+        i.part >= parts.len()
+            || !(i.centre_mm.iter().all(|c| c.is_finite()) && i.angle_rad.is_finite())
+    }) {
+        return Err(ExportError::BadContour {
+            name: i.name.clone(),
+            what: "instance of a missing part or at a non-finite position",
+        });
+    }
+    Ok(parts)
+}
+
+/// One part's entities: its product, its solid, its origin placement and its representation;
+/// returns (product definition, representation, origin placement) and its face count.
+fn part_entities(e: &mut Ents, p: &Prism) -> (PartIds, usize) {
+    let (pd, pds) = product(e, &p.name);
+    let (brep, nf) = brep::solid(e, p);
+    let origin = brep::placement(e, ORIGIN.0, ORIGIN.1, ORIGIN.2);
+    let rep = e.add(format_args!(
+        "ADVANCED_BREP_SHAPE_REPRESENTATION({},(#{brep},#{origin}),#{CTX})",
+        quote(&p.name)
+    ));
+    e.add(format_args!(
+        "SHAPE_DEFINITION_REPRESENTATION(#{pds},#{rep})"
+    ));
+    ((pd, rep, origin), nf)
+}
+
+/// Writes every part's entities after `e`'s, numbered in part order: a counting pass (ids only)
+/// gives each part its first id, then the parts' texts are written side by side and joined in
+/// order — the same text as one pass. Returns the parts' ids and the total face count.
+fn write_parts(e: &mut Ents, parts: &[Prism]) -> (Vec<PartIds>, usize) {
+    let mut starts = Vec::with_capacity(parts.len());
+    let mut next = e.count;
+    for p in parts {
+        starts.push(next);
+        let mut c = Ents::after(next, false);
+        part_entities(&mut c, p);
+        next = c.count;
+    }
+    let texts: Vec<(String, (PartIds, usize))> = parts
+        .par_iter()
+        .zip(&starts)
+        .map(|(p, &start)| {
+            let mut pe = Ents::after(start, true);
+            let r = part_entities(&mut pe, p);
+            (pe.data, r)
+        })
+        .collect();
+    let mut faces = 0;
+    let mut defs = Vec::with_capacity(parts.len());
+    for (text, (def, nf)) in texts {
+        e.data.push_str(&text);
+        faces += nf;
+        defs.push(def);
+    }
+    e.count = next;
+    (defs, faces)
+}
+
+/// The assembly of `model`'s instances: its product, each instance's placement, and the
+/// relationships placing the parts `defs` (ids of [`write_parts`]) in it.
+fn write_assembly(e: &mut Ents, model: &StepModel, defs: &[PartIds]) {
+    let (apd, apds) = product(e, &model.name);
+    let aorigin = brep::placement(e, ORIGIN.0, ORIGIN.1, ORIGIN.2);
+    let mut items = vec![format!("#{aorigin}")];
+    let mut links = Vec::new();
+    for inst in &model.instances {
+        let (s, c) = inst.angle_rad.sin_cos();
+        let at = [inst.centre_mm[0], inst.centre_mm[1], 0.0];
+        let pl = brep::placement(e, at, [0.0, 0.0, 1.0], [c, s, 0.0]);
+        items.push(format!("#{pl}"));
+        links.push((inst, pl));
+    }
+    let arep = e.add(format_args!(
+        "SHAPE_REPRESENTATION({},({}),#{CTX})",
+        quote(&model.name),
+        items.join(",")
+    ));
+    e.add(format_args!(
+        "SHAPE_DEFINITION_REPRESENTATION(#{apds},#{arep})"
+    ));
+    for (k, (inst, pl)) in links.into_iter().enumerate() {
+        let (pd, rep, origin) = defs[inst.part];
+        let idt = e.add(format_args!(
+            "ITEM_DEFINED_TRANSFORMATION('','',#{origin},#{pl})"
+        ));
+        let rr = e.add(format_args!(
+            "(REPRESENTATION_RELATIONSHIP('','',#{rep},#{arep})\
+             REPRESENTATION_RELATIONSHIP_WITH_TRANSFORMATION(#{idt})\
+             SHAPE_REPRESENTATION_RELATIONSHIP())"
+        ));
+        let q = quote(&inst.name);
+        let nauo = e.add(format_args!(
+            "NEXT_ASSEMBLY_USAGE_OCCURRENCE('{}',{q},'',#{apd},#{pd},$)",
+            k + 1
+        ));
+        let pds = e.add(format_args!("PRODUCT_DEFINITION_SHAPE({q},'',#{nauo})"));
+        e.add(format_args!(
+            "CONTEXT_DEPENDENT_SHAPE_REPRESENTATION(#{rr},#{pds})"
+        ));
+    }
 }
 
 /// Writes `model` to `path` (see [`step_text`]).
