@@ -30,6 +30,7 @@ pub mod noise;
 mod options;
 pub mod refine;
 mod report;
+mod routes;
 pub mod segmented;
 mod start;
 pub mod tradeoff;

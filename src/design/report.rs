@@ -330,6 +330,11 @@ pub struct Check {
     pub pass: bool,
 }
 
+/// Milliseconds since `t`, the unit of [`Timings`].
+pub(super) fn ms(t: std::time::Instant) -> f64 {
+    t.elapsed().as_secs_f64() * 1e3
+}
+
 /// Stage timings, ms.
 #[derive(Debug, Clone, Default, Serialize, Deserialize)]
 pub struct Timings {
