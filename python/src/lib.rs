@@ -303,12 +303,21 @@ impl PairHandle {
 
 /// The law of `kind` (`motion`, `centrode` or `csv`: `law` is then a path).
 fn law_of(law: &str, kind: &str) -> PyResult<Law> {
-    match kind {
-        "motion" => Ok(Law::Motion(Expr::parse(law).map_err(err)?)),
-        "centrode" => Ok(Law::Centrode(Expr::parse(law).map_err(err)?)),
-        "csv" => Law::from_csv(Path::new(law)).map_err(err),
-        k => choice("kind", k, &[("motion", ()), ("centrode", ()), ("csv", ())])
-            .map(|()| unreachable!("every kind is matched above")),
+    #[derive(Clone, Copy)]
+    enum Kind {
+        Motion,
+        Centrode,
+        Csv,
+    }
+    let table = [
+        ("motion", Kind::Motion),
+        ("centrode", Kind::Centrode),
+        ("csv", Kind::Csv),
+    ];
+    match choice("kind", kind, &table)? {
+        Kind::Motion => Ok(Law::Motion(Expr::parse(law).map_err(err)?)),
+        Kind::Centrode => Ok(Law::Centrode(Expr::parse(law).map_err(err)?)),
+        Kind::Csv => Law::from_csv(Path::new(law)).map_err(err),
     }
 }
 
