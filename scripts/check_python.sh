@@ -11,9 +11,11 @@ start=$(date +%s)
 [ -x "$venv/bin/python" ] || python3 -m venv "$venv"
 "$venv/bin/pip" install -q -r python/requirements-ci.txt
 cargo fmt --check --manifest-path python/Cargo.toml
-# The binding crate has its own target dir under target/ (pyo3 never enters the root build).
+# The binding crate is a member of the root workspace (not a default one): it builds into
+# target/release beside the root's artifacts and reuses those it shares with the root's
+# `cargo test --release` (same lock, profile and dependency features).
 build=$(date +%s)
-CARGO_TARGET_DIR="$PWD/target/python" "$venv/bin/pip" install -q --force-reinstall --no-deps .
+"$venv/bin/pip" install -q --force-reinstall --no-deps .
 echo "check_python: binding built and installed in $(($(date +%s) - build)) s"
 NCGEAR_BIN="$PWD/target/release/ncgear" "$venv/bin/python" -m pytest -q -p no:cacheprovider python/tests
 # The stubs (ncgear/__init__.pyi, ncgear/_ncgear.pyi) against the installed module.
