@@ -3,7 +3,7 @@ imports the STEP train and adds a shaft through the sun's bore and a hub behind 
 
     python examples/python/pipeline.py [OUT_DIR]
 
-Run in CI (.ci/run) after the wheel is installed. Lengths in mm.
+Run in CI (scripts/check_python.sh) after the wheel is installed. Lengths in mm, angles in degrees.
 """
 import pathlib
 import sys
@@ -21,15 +21,21 @@ out.mkdir(parents=True, exist_ok=True)
 # 1. The target: the needle-tip trajectory (x_mm, y_mm per carrier degree), as a drawing gives it.
 points = np.loadtxt(ROOT / "assets" / "trajectories" / "g1_ellipse.csv", delimiter=",", skiprows=1)
 
-# 2. ncgear: the gears, the teeth (module 2 mm), the STEP solids (face width 20 mm, bore 10 mm).
-design = ncgear.design(points, center=(0.0, 0.0))
-train = ncgear.teeth(design, module=2.0)
+# 2. ncgear, typed results and keyword options: the gears within a 40° pressure-angle limit and
+#    0.05 mm of the points, teeth of module 2 mm (the centre distance scaled up to a whole tooth
+#    count, backlash 0.08 mm), the STEP solids (face width 20 mm, bore 10 mm).
+design = ncgear.design(points, center=(0.0, 0.0), tol_mm=0.05, max_pressure_angle=40.0)
+assert design.passed, design.verdict.failures
+assert design.limits.pressure_angle_deg <= 40.0 and design.roundtrip.max_deviation_mm <= 0.05
+train = ncgear.teeth(design, module=2.0, tooth_policy="scale-up", backlash=0.08)
+assert train.passed and train.options.backlash_mm == 0.08, train.verdict.failures
 face_width, bore = 20.0, 10.0
 t0 = time.perf_counter()
 files = ncgear.write_step(train, out, face_width=face_width, bore=bore)
 t_step = time.perf_counter() - t0
-print(f"l1 = {design.l1:.3f} mm, l3 = {design.l3:.3f} mm, z = {train.report['z']}, "
-      f"max deviation {design.deviations.max():.4f} mm")
+print(f"l1 = {design.l1:.3f} mm, l3 = {design.l3:.3f} mm, z = {train.z}, "
+      f"pressure angle {design.limits.pressure_angle_deg:.1f}° (≤ {design.limits.max_pressure_angle_deg:g}°), "
+      f"max deviation {design.deviations.max():.4f} mm (toothed: {train.roundtrip.hausdorff_mm:.4f} mm)")
 print(f"wrote {len(files)} STEP files in {1000 * t_step:.0f} ms: {', '.join(files)}")
 
 # 3. build123d: the train as ncgear placed it, in the design's world frame.
@@ -39,7 +45,7 @@ assert len(solids) == 5, f"expected sun + 2 × (intermediate, planet), got {len(
 
 # 4. A shaft through the sun's bore (0.1 mm clearance) and a hub behind the sun, on the carrier
 #    axis O; they must fit: no material shared with any gear.
-o = train.placements["sun"]["centre_mm"]
+o = train.placements["sun"].centre_mm
 shaft = bd.Pos(o[0], o[1], -30.0) * bd.Cylinder(
     bore / 2 - 0.1, face_width + 60.0, align=(bd.Align.CENTER, bd.Align.CENTER, bd.Align.MIN))
 hub = bd.Pos(o[0], o[1], -12.0) * bd.Cylinder(

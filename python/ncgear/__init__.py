@@ -3,250 +3,338 @@
 The same library as the ``ncgear`` command line, called in-process::
 
     import ncgear
-    d = ncgear.design("assets/trajectories/g1_ellipse.csv")   # or an (N, 2) array, mm
-    t = ncgear.teeth(d, module=2.0)
+    d = ncgear.design("assets/trajectories/g1_ellipse.csv", tol_mm=0.05)  # or an (N, 2) array, mm
+    d.l1, d.limits.pressure_angle_deg, d.gears.sun.pitch      # typed report, numpy points (mm)
+    t = ncgear.teeth(d, module=2.0, tooth_policy="scale-up")
     ncgear.write_step(t, "out/step", face_width=20.0, bore=10.0)  # sun/intermediate/planet/train.step
 
-Lengths in mm, angles in radians unless a name ends in ``_deg``. Every failure raises
-:class:`NcgearError` (a ``ValueError``) with the message the CLI prints. A result that is made
-but fails its own verification (a check C1–C12, interference or a bad backlash in a mesh) is
-returned, not raised: its ``verdict`` says ``{"passed": False, "failures": [...]}`` — where the
-CLI exits with code 3 — and its ``passed`` property is False.
+Results are frozen dataclasses (:mod:`ncgear.reports`) with the keys of the CLI's JSON files as
+typed fields; ``to_dict()`` and ``json()`` give the JSON itself. Options are keyword arguments
+named as the CLI's flags (``--tol-mm`` is ``tol_mm``); lengths in mm, angles in degrees where the
+CLI takes degrees. Every failure raises :class:`NcgearError` (a ``ValueError``) naming the
+argument at fault. A result that is made but fails its own verification (a check C1–C12,
+interference or a bad backlash in a mesh) is returned, not raised: its ``verdict.passed`` is
+False — where the CLI exits with code 3.
 """
 from __future__ import annotations
 
 import json
 import os
 from dataclasses import dataclass, field
-from typing import Any, Dict, List, Optional, Sequence, Tuple, Union
+from typing import Any, Dict, List, Literal, Optional, Sequence, Tuple, Union
 
 import numpy as np
+import numpy.typing as npt
 
 from . import _ncgear
 from ._ncgear import NcgearError
+from .reports import (
+    DesignReport, Features, PairReport, Points, TeethReport, ToleranceReport, Verdict, build,
+)
 
-__version__ = _ncgear.__version__
+__version__: str = _ncgear.__version__
 __all__ = [
-    "NcgearError", "Design", "Train", "Pair", "design", "teeth", "pair", "simulate",
-    "tolerance", "write_step", "write_dxf", "write_svg",
+    "NcgearError", "Design", "Train", "Pair", "Placement", "design", "teeth", "pair", "simulate",
+    "tolerance", "write_step", "write_dxf", "write_svg", "set_max_memory_gb",
 ]
 
 PathLike = Union[str, "os.PathLike[str]"]
 
 
-def _arrays(pairs) -> Dict[str, np.ndarray]:
-    return {name: np.asarray(pts, dtype=float).reshape(-1, 2) for name, pts in pairs}
+class _Raw:
+    """A result that keeps the report the library wrote."""
 
+    _report: Any
 
-def _placements(rows) -> Dict[str, Dict[str, Any]]:
-    return {
-        occ: {"part": part, "centre_mm": np.asarray(c, dtype=float), "angle_rad": float(a)}
-        for occ, part, c, a in rows
-    }
+    def to_dict(self) -> Dict[str, Any]:
+        """The report as the CLI writes it (parsed JSON)."""
+        return json.loads(self._report.json())
 
-
-class _Verified:
-    """A result with a ``verdict`` (``{"passed": bool, "failures": [str]}``)."""
-
-    verdict: Dict[str, Any]
+    def json(self) -> str:
+        """The report as JSON text."""
+        return str(self._report.json())
 
     @property
     def passed(self) -> bool:
-        """Whether the result passed its verification (``verdict["passed"]``)."""
-        return bool(self.verdict["passed"])
-
-
-class _Reported(_Verified):
-    """A result whose ``report`` carries its ``verdict``."""
-
-    report: Dict[str, Any]
-
-    @property
-    def verdict(self) -> Dict[str, Any]:  # type: ignore[override]
-        """``{"passed": bool, "failures": [str]}`` of the report."""
-        return self.report["verdict"]
+        """Whether the result passed its verification (``verdict.passed``)."""
+        verdict: Verdict = getattr(self, "verdict")
+        return verdict.passed
 
 
 @dataclass(frozen=True)
-class Design(_Reported):
-    """A designed train: arm lengths, pitch curves (body frames, mm) and the report.
+class Placement:
+    """Where a part of a STEP assembly sits: its part, centre (mm) and angle (rad)."""
 
-    ``report`` holds the keys and numbers of the CLI's ``design.json``; ``deviations`` is the
-    distance (mm) of each target point to the path the designed gears trace.
-    """
-
-    l1: float
-    l3: float
-    pitch_curves: Dict[str, np.ndarray]
-    report: Dict[str, Any]
-    deviations: np.ndarray
-    _h: Any = field(repr=False, compare=False)
+    part: str
+    centre_mm: Tuple[float, float]
+    angle_rad: float
 
 
-@dataclass(frozen=True)
-class Train(_Verified):
-    """Teeth on a design: outlines (body frames, mm, as exported), placements at carrier angle 0
-    (``arm1_*``, ``arm2_*``; centres mm, angles rad) and the ``teeth`` report block."""
-
-    outlines: Dict[str, np.ndarray]
-    placements: Dict[str, Dict[str, Any]]
-    report: Dict[str, Any]
-    design: Design = field(repr=False, compare=False)
-    _h: Any = field(repr=False, compare=False)
-    verdict: Dict[str, Any] = field(default_factory=dict)
-    """``{"passed": bool, "failures": [str]}`` of both meshes (no interference, finite
-    non-negative backlash)."""
+def _placements(rows: List[Tuple[str, str, Tuple[float, float], float]]) -> Dict[str, Placement]:
+    return {occ: Placement(part, (float(c[0]), float(c[1])), float(a)) for occ, part, c, a in rows}
 
 
-@dataclass(frozen=True)
-class Pair(_Reported):
-    """A single toothed pair: driver and driven outlines (body frames, mm), their placements at
-    the start (driver at the origin, driven at ``(a, 0)``) and the report."""
+def _readonly(arrays: Dict[str, np.ndarray]) -> Dict[str, np.ndarray]:
+    for a in arrays.values():
+        a.flags.writeable = False
+    return arrays
 
-    outlines: Dict[str, np.ndarray]
-    placements: Dict[str, Dict[str, Any]]
-    report: Dict[str, Any]
-    _h: Any = field(repr=False, compare=False)
+
+@dataclass(frozen=True, eq=False)
+class Design(_Raw, DesignReport):
+    """A designed train: the fields of ``design.json`` (:class:`ncgear.reports.DesignReport`)
+    and ``deviations``, the distance (mm) of each target point to the path the designed gears
+    trace."""
+
+    deviations: npt.NDArray[np.float64]
+    _handle: Any = field(repr=False)
+    _report: Any = field(repr=False)
+
+
+@dataclass(frozen=True, eq=False)
+class Train(_Raw, TeethReport):
+    """Teeth on a design: the ``teeth`` block of ``design.json``
+    (:class:`ncgear.reports.TeethReport`), the outlines (body frames, (N, 2) mm, as exported),
+    the placements at carrier angle 0 (``sun``, ``arm1_*``, ``arm2_*``) and the verdict of both
+    meshes (no interference, finite non-negative backlash)."""
+
+    outlines: Dict[str, Points]
+    placements: Dict[str, Placement]
+    verdict: Verdict
+    design: Design = field(repr=False)
+    _handle: Any = field(repr=False)
+    _report: Any = field(repr=False)
+
+
+@dataclass(frozen=True, eq=False)
+class Pair(_Raw, PairReport):
+    """A single toothed pair (:class:`ncgear.reports.PairReport`): driver and driven outlines
+    (body frames, (N, 2) mm) and their placements at the start (driver at the origin, driven at
+    ``(centre_distance_mm, 0)``)."""
+
+    outlines: Dict[str, Points]
+    placements: Dict[str, Placement]
+    _handle: Any = field(repr=False)
+    _report: Any = field(repr=False)
+
+
+def _options(given: Dict[str, Any], *positional: str) -> Dict[str, Any]:
+    """The keyword arguments of a call (its ``locals()`` first thing) without the positional."""
+    return {k: v for k, v in given.items() if k not in positional}
 
 
 def design(
-    points: Union[PathLike, Sequence[Sequence[float]], np.ndarray],
+    points: Union[PathLike, npt.ArrayLike],
+    *,
     center: Tuple[float, float] = (0.0, 0.0),
-    **options: Any,
+    order: Optional[int] = None,
+    sense: Literal["auto", "ccw", "cw"] = "auto",
+    tol_mm: float = 0.05,
+    refine: Literal["auto", "on", "off"] = "auto",
+    refine_order: int = 12,
+    harmonics: Sequence[Tuple[float, float]] = (),
+    route: Literal["ac", "bd"] = "ac",
+    w1: float = 0.5,
+    k_max: int = 20,
+    grid: int = 1024,
+    dense: int = 20000,
+    samples: int = 3600,
+    ratio_bounds: Tuple[float, float] = (0.3, 3.3),
+    fit: bool = True,
+    limits: bool = True,
+    max_pressure_angle: float = 45.0,
+    min_concave_radius: Optional[float] = None,
+    min_convex_radius: Optional[float] = None,
+    convexity: bool = False,
+    smooth: Optional[int] = None,
+    module: Optional[float] = None,
 ) -> Design:
-    """Designs the sun and intermediate gears whose train traces ``points``.
+    """Designs the sun and intermediate gears whose train traces ``points`` (``ncgear design``).
 
     ``points``: an (N, 2) array of needle-tip points in mm in travel order, or the path of a
-    trajectory file (CSV/JSON/TXT as the CLI reads). ``center``: the carrier axis O, mm.
-    ``options``: ``order``, ``tol_mm``, ``smoothing``, ``fit`` (bool), ``samples``,
-    ``refine`` (``"auto"``, ``"on"``, ``"off"``), ``limits`` (bool, default True: design within
-    the gear limits), ``max_pressure_angle`` (deg, default 45), ``min_concave_radius`` (mm),
-    ``min_convex_radius`` (mm: the undercut limit, default 7·module),
-    ``module`` (mm: design for the module, the tooth count a constraint of the fit) — the CLI's
-    flags of the same names.
+    trajectory file (CSV/JSON as the CLI reads). The options are the CLI's flags:
+
+    - ``center``: carrier axis O, mm. ``sense``: carrier sense (``"auto"``: the better one).
+    - ``order``: fixed Fourier order K (``None``: adaptive 4…40 until ``tol_mm`` is met).
+    - ``tol_mm``: target max tip deviation, mm. ``samples``: points per output pitch curve.
+    - ``refine``, ``refine_order``: the tip-motion refinement and its order.
+    - ``harmonics``: hypothesis harmonics ``(A, phi_deg)`` of F′₀ = 1 + Σ A_n sin(2n·u + φ_n).
+    - ``route`` (``"ac"`` front exact, ``"bd"`` back exact), ``w1`` (mirror weight), ``k_max``
+      (iteration cap): the patent route. ``grid``: carrier-angle FFT size; ``dense``: dense
+      samples of the trajectory interpolant.
+    - ``ratio_bounds``: admissible sun ratio range. ``fit``: the final fit to the points
+      (``--no-fit`` is ``fit=False``). ``limits``: design within the gear limits
+      (``--limits off`` is ``limits=False``).
+    - ``max_pressure_angle``: largest effective pressure angle, degrees.
+      ``min_concave_radius`` / ``min_convex_radius``: radius-of-curvature limits, mm (defaults
+      12.5·module or 10 mm, and 7·module or none). ``convexity``: convex pitch curves only.
+    - ``smooth``: smooth noisy points to this many Fourier harmonics first.
+    - ``module``: design for this module, mm: the tooth count a constraint of the fit (then
+      :func:`teeth` with the same module cuts the design's own teeth, unscaled).
     """
+    options = _options(locals(), "points")
     if isinstance(points, (str, os.PathLike)):
-        pts, path = None, os.fspath(points)
+        h = _ncgear.design(None, os.fspath(points), options)
     else:
-        arr = np.asarray(points, dtype=float)
-        if arr.ndim != 2 or arr.shape[1] != 2:
-            raise NcgearError(f"points: expected an (N, 2) array, got shape {arr.shape}")
-        pts, path = arr.tolist(), None
-    cx, cy = (float(v) for v in center)
-    h = _ncgear.design(pts, path, (cx, cy), json.dumps(options))
-    report = json.loads(h.report_json())
-    return Design(
-        l1=report["l1"],
-        l3=report["l3"],
-        pitch_curves=_arrays(h.pitch_curves()),
-        report=report,
-        deviations=np.asarray(h.deviations(), dtype=float),
-        _h=h,
-    )
+        h = _ncgear.design(np.ascontiguousarray(points, dtype=np.float64), None, options)
+    report = h.report()
+    return build(Design, report.tree(), deviations=h.deviations(), _handle=h, _report=report)
+
+
+def _default_policy(design: Design, module: float, teeth: Optional[int]) -> str:
+    """``"design"`` for a design made for ``module`` (no ``teeth`` given), else ``"scale-up"``."""
+    made_for = design.module.module_mm if design.module is not None else None
+    return "design" if made_for == float(module) and teeth is None else "scale-up"
 
 
 def teeth(
     design: Design,
     module: float,
-    policy: Optional[str] = None,
+    *,
+    tooth_policy: Optional[
+        Literal["design", "scale-up", "nearest", "scale-down", "ratio-amplitude", "adjust-module"]
+    ] = None,
     teeth: Optional[int] = None,
+    wire_edm: bool = False,
+    verify_steps: int = 72,
+    pressure_angle: float = 20.0,
+    addendum: float = 1.0,
+    clearance: float = 0.25,
+    fillet: float = 0.38,
     backlash: Optional[float] = None,
     chord_tol: Optional[float] = None,
-    verify_steps: int = 72,
+    cutter_teeth: Optional[int] = None,
+    refuse_undercut: bool = False,
 ) -> Train:
-    """Puts rack-generated teeth on the three gears of ``design`` (``ncgear design --module``).
+    """Puts rack-generated teeth of ``module`` (mm) on the three gears of ``design``
+    (``ncgear design --module``).
 
-    ``policy``: ``design`` (the design's own tooth count: default for a design made with
-    ``module=`` this module; its perimeters are exactly zπm, nothing is scaled), ``scale-up``
-    (default otherwise), ``nearest``, ``scale-down``, ``ratio-amplitude``, ``adjust-module``;
-    ``teeth`` forces z. ``backlash`` and ``chord_tol`` in mm (defaults 0.04·m
-    and 1e-3·m); ``verify_steps`` carrier positions of the mesh check (0 skips it).
+    ``tooth_policy``: how the tooth count is made an integer — ``"design"`` (the design's own
+    count; default for a design made with ``module=`` this module), ``"scale-up"`` (default
+    otherwise), ``"nearest"``, ``"scale-down"``, ``"ratio-amplitude"``, ``"adjust-module"``;
+    ``teeth`` forces z. ``wire_edm``: sweep a gear no shaper cutter fits. ``verify_steps``:
+    carrier positions of each mesh check (0 skips it). The rack: ``pressure_angle`` (degrees),
+    ``addendum``, ``clearance``, ``fillet`` (factors of the module). ``backlash`` and
+    ``chord_tol`` in mm (defaults 0.04·m and 1e-3·m). ``cutter_teeth``: the shaper cutter for
+    concave gears (default: the largest that fits). ``refuse_undercut`` (``--no-undercut``):
+    refuse a gear the rack undercuts.
     """
-    if policy is None:
-        made_for = (design.report.get("module") or {}).get("module_mm")
-        policy = "design" if made_for == float(module) and teeth is None else "scale-up"
-    h = _ncgear.teeth(design._h, float(module), policy, teeth, backlash, chord_tol, int(verify_steps))
-    return Train(
-        outlines=_arrays(h.outlines()),
-        placements=_placements(h.placements()),
-        report=json.loads(h.report_json()),
-        design=design,
-        _h=h,
-        verdict=json.loads(h.verdict_json()),
+    tooth = _options(locals(), "design", "module", "tooth_policy", "teeth", "wire_edm")
+    policy = tooth_policy if tooth_policy is not None else _default_policy(design, module, teeth)
+    h = _ncgear.teeth(design._handle, module, policy, teeth, wire_edm, tooth)
+    report = h.report()
+    return build(
+        Train, report.tree(), outlines=_readonly(h.outlines()),
+        placements=_placements(h.placements()), verdict=build(Verdict, h.verdict().tree()),
+        design=design, _handle=h, _report=report,
     )
 
 
 def pair(
     law: str,
+    *,
+    kind: Literal["motion", "centrode", "csv"] = "motion",
     teeth: Optional[int] = None,
     module: float = 1.0,
-    kind: str = "motion",
-    verify_steps: int = 90,
     cycle_advance: float = 360.0,
     drive: Optional[Tuple[float, float]] = None,
+    verify_steps: int = 90,
+    pressure_angle: float = 20.0,
+    addendum: float = 1.0,
+    clearance: float = 0.25,
+    fillet: float = 0.38,
+    backlash: Optional[float] = None,
+    chord_tol: Optional[float] = None,
+    cutter_teeth: Optional[int] = None,
+    refuse_undercut: bool = False,
 ) -> Pair:
-    """A toothed non-circular pair (``ncgear pair``) from a motion law ψ(φ) (``kind="motion"``,
-    e.g. ``"phi - 0.08*sin(2*phi)"``), a centrode r(φ) (``"centrode"``) or a CSV law file
-    (``"csv"``, ``law`` is its path). ``teeth`` is required for a motion or CSV law: the driver's
-    count; the driven gear gets ``teeth·360°/Δ`` with Δ the law's advance per driver turn (a
-    centrode is solved for ``cycle_advance``, degrees). ``drive=(start, end)`` (degrees) makes an
-    open sector pair of a motion law with ``teeth`` on that driver interval."""
-    d = None if drive is None else (float(drive[0]), float(drive[1]))
-    h = _ncgear.pair(law, kind, teeth, float(module), int(verify_steps), float(cycle_advance), d)
-    return Pair(
-        outlines=_arrays(h.outlines()),
-        placements=_placements(h.placements()),
-        report=json.loads(h.report_json()),
-        _h=h,
+    """A toothed non-circular pair (``ncgear pair``) of ``module`` (mm) from a motion law ψ(φ)
+    (``kind="motion"``, e.g. ``"phi - 0.08*sin(2*phi)"``), a centrode r(φ) (``"centrode"``) or a
+    CSV law file (``"csv"``, ``law`` is its path).
+
+    ``teeth``: the driver's count (required for a motion or CSV law); the driven gear gets
+    ``teeth·360°/Δ`` with Δ the law's advance per driver turn (a centrode is solved for
+    ``cycle_advance``, degrees). ``drive=(start, end)`` (degrees; ``--open --drive-start
+    --drive-end``) makes an open sector pair on that driver interval. The rack and verification
+    options are those of :func:`teeth`.
+    """
+    tooth = _options(locals(), "law", "kind", "teeth", "module", "cycle_advance", "drive")
+    h = _ncgear.pair(law, kind, teeth, module, cycle_advance, drive, tooth)
+    report = h.report()
+    return build(
+        Pair, report.tree(), outlines=_readonly(h.outlines()),
+        placements=_placements(h.placements()), _handle=h, _report=report,
     )
+
+
+def _forward_mm_s(rpm: float, spacing: Optional[float], speed: Optional[float]) -> float:
+    """The machine's forward speed, mm/s: from ``speed`` (m/s) or plant ``spacing`` (mm)."""
+    if spacing is not None and speed is not None:
+        raise NcgearError(f"spacing={spacing!r}: not with speed={speed!r} (give one of them)")
+    if speed is not None:
+        return 1000.0 * float(speed)
+    if spacing is None:
+        return 1000.0
+    if not spacing > 0:
+        raise NcgearError(f"spacing={spacing!r}: must be a positive plant spacing in mm")
+    return float(_ncgear.forward_for_spacing(float(spacing), float(rpm)))
 
 
 def simulate(
     design: Union[Design, Train],
+    *,
     rpm: float = 300.0,
     spacing: Optional[float] = None,
-    forward_speed: Optional[float] = None,
+    speed: Optional[float] = None,
     depth: float = 30.0,
-) -> Dict[str, Any]:
+    take_level: Optional[float] = None,
+    plant_level: Optional[float] = None,
+) -> Features:
     """Agronomic features of one carrier turn (``ncgear simulate``): trajectory height, hole
-    size, spacing, needle angles… ``spacing`` (mm) or ``forward_speed`` (m/s) sets the machine's
-    travel (default 1 m/s); ``depth`` the planting depth, mm. A :class:`Train` simulates the
-    final, toothed gears."""
+    size, spacing, needle angles… ``rpm``: carrier speed. ``spacing`` (mm) or ``speed`` (m/s)
+    sets the machine's travel (default 1 m/s); ``depth``: planting depth, mm; ``take_level`` /
+    ``plant_level``: seedling-taking and planting levels y, mm (default the highest / lowest
+    point). A :class:`Train` simulates the final, toothed gears."""
     train = design if isinstance(design, Train) else None
     d = train.design if train is not None else design
-    if forward_speed is not None:
-        fwd = 1000.0 * float(forward_speed)
-    elif spacing is not None:
-        if not spacing > 0:
-            raise NcgearError(f"--spacing {spacing}: must be a positive plant spacing in mm")
-        fwd = _ncgear.forward_for_spacing(float(spacing), float(rpm))
-    else:
-        fwd = 1000.0
-    h = train._h if train is not None else None
-    return json.loads(_ncgear.simulate(d._h, h, float(rpm), fwd, float(depth)))
+    fwd = _forward_mm_s(rpm, spacing, speed)
+    h = train._handle if train is not None else None
+    r = _ncgear.simulate(d._handle, h, rpm, fwd, depth, (take_level, plant_level))
+    return build(Features, r.tree())
 
 
-def tolerance(errors: PathLike, samples: int = 0) -> Dict[str, Any]:
-    """``ncgear tolerance`` on an error file: the keys of ``tolerance.json``; ``samples`` > 0 adds
-    a Monte Carlo run."""
-    return json.loads(_ncgear.tolerance(os.fspath(errors), int(samples)))
+def tolerance(errors: PathLike, *, samples: int = 0, seed: int = 1, starts: int = 24) -> ToleranceReport:
+    """``ncgear tolerance`` on an error file: the fields of ``tolerance.json``. ``samples`` > 0
+    adds a Monte Carlo of that many random assemblies (seed ``seed``); ``starts``: starts of the
+    joint phase optimiser."""
+    r = _ncgear.tolerance(os.fspath(errors), samples, seed, starts)
+    return build(ToleranceReport, r.tree())
 
 
 def write_step(
-    obj: Union[Train, Pair], directory: PathLike, face_width: Optional[float] = None, bore: float = 0.0
+    obj: Union[Train, Pair], directory: PathLike, *, face_width: Optional[float] = None, bore: float = 0.0
 ) -> List[str]:
     """STEP AP214 solids (mm) into ``directory``: for a :class:`Train` ``sun.step``,
     ``intermediate.step``, ``planet.step`` (each about its rotation centre) and ``train.step``
     (both arms at carrier angle 0, an assembly); for a :class:`Pair` ``pair.step``.
     ``face_width`` defaults to 10·m; ``bore`` is a diameter (0: none). Returns the paths."""
-    return obj._h.write_step(os.fspath(directory), face_width, float(bore))
+    return list(obj._handle.write_step(os.fspath(directory), face_width, bore))
 
 
-def write_dxf(obj: Union[Train, Pair], directory: PathLike) -> List[str]:
-    """DXF R2010 (mm) into ``directory``: each gear and the train, or ``pair.dxf``."""
-    return obj._h.write_sheets(os.fspath(directory), "dxf")
+def write_dxf(
+    obj: Union[Train, Pair], directory: PathLike, *, version: Literal["r2010", "r12"] = "r2010"
+) -> List[str]:
+    """DXF (mm) into ``directory``: each gear and the train, or ``pair.dxf``; ``version``
+    ``"r2010"`` (closed LWPOLYLINE) or ``"r12"`` (POLYLINE/VERTEX, for old programs)."""
+    return list(obj._handle.write_sheets(os.fspath(directory), "dxf", version))
 
 
 def write_svg(obj: Union[Train, Pair], directory: PathLike) -> List[str]:
     """SVG (mm) into ``directory``: each gear and the train, or ``pair.svg``."""
-    return obj._h.write_sheets(os.fspath(directory), "svg")
+    return list(obj._handle.write_sheets(os.fspath(directory), "svg", "r2010"))
+
+
+def set_max_memory_gb(gb: float) -> None:
+    """Memory a single computation may estimate for itself before it is refused, GB (the CLI's
+    ``--max-memory-gb``; default 4). Applies to the whole process."""
+    _ncgear.set_max_memory_gb(gb)

@@ -1,77 +1,138 @@
-"""Type stub of the ncgear package (lengths mm, angles rad)."""
+"""Type stub of the ncgear package (lengths mm, angles degrees where the CLI takes degrees).
+Checked against the module by ``python -m mypy.stubtest ncgear`` (scripts/check_python.sh)."""
 import os
-from typing import Any, Dict, List, Optional, Sequence, Tuple, Union
+from dataclasses import dataclass
+from typing import Any, Dict, List, Literal, Optional, Sequence, Tuple, Union
 
 import numpy as np
 import numpy.typing as npt
 
+from .reports import DesignReport, Features, PairReport, Points, TeethReport, ToleranceReport, Verdict
+
 __version__: str
+__all__ = [
+    "NcgearError", "Design", "Train", "Pair", "Placement", "design", "teeth", "pair", "simulate",
+    "tolerance", "write_step", "write_dxf", "write_svg", "set_max_memory_gb",
+]
+
 PathLike = Union[str, os.PathLike[str]]
 
 class NcgearError(ValueError): ...
 
-class Design:
-    l1: float
-    l3: float
-    pitch_curves: Dict[str, npt.NDArray[np.float64]]
-    report: Dict[str, Any]
+class _Raw:
+    _report: Any
+    def to_dict(self) -> Dict[str, Any]: ...
+    def json(self) -> str: ...
+    @property
+    def passed(self) -> bool: ...
+
+@dataclass(frozen=True)
+class Placement:
+    part: str
+    centre_mm: Tuple[float, float]
+    angle_rad: float
+
+@dataclass(frozen=True, eq=False)
+class Design(_Raw, DesignReport):
     deviations: npt.NDArray[np.float64]
-    @property
-    def verdict(self) -> Dict[str, Any]: ...
-    @property
-    def passed(self) -> bool: ...
+    _handle: Any
+    _report: Any
 
-class Train:
-    outlines: Dict[str, npt.NDArray[np.float64]]
-    placements: Dict[str, Dict[str, Any]]
-    report: Dict[str, Any]
+@dataclass(frozen=True, eq=False)
+class Train(_Raw, TeethReport):
+    outlines: Dict[str, Points]
+    placements: Dict[str, Placement]
+    verdict: Verdict
     design: Design
-    verdict: Dict[str, Any]
-    @property
-    def passed(self) -> bool: ...
+    _handle: Any
+    _report: Any
 
-class Pair:
-    outlines: Dict[str, npt.NDArray[np.float64]]
-    placements: Dict[str, Dict[str, Any]]
-    report: Dict[str, Any]
-    @property
-    def verdict(self) -> Dict[str, Any]: ...
-    @property
-    def passed(self) -> bool: ...
+@dataclass(frozen=True, eq=False)
+class Pair(_Raw, PairReport):
+    outlines: Dict[str, Points]
+    placements: Dict[str, Placement]
+    _handle: Any
+    _report: Any
 
 def design(
-    points: Union[PathLike, Sequence[Sequence[float]], npt.ArrayLike],
+    points: Union[PathLike, npt.ArrayLike],
+    *,
     center: Tuple[float, float] = ...,
-    **options: Any,
+    order: Optional[int] = ...,
+    sense: Literal["auto", "ccw", "cw"] = ...,
+    tol_mm: float = ...,
+    refine: Literal["auto", "on", "off"] = ...,
+    refine_order: int = ...,
+    harmonics: Sequence[Tuple[float, float]] = ...,
+    route: Literal["ac", "bd"] = ...,
+    w1: float = ...,
+    k_max: int = ...,
+    grid: int = ...,
+    dense: int = ...,
+    samples: int = ...,
+    ratio_bounds: Tuple[float, float] = ...,
+    fit: bool = ...,
+    limits: bool = ...,
+    max_pressure_angle: float = ...,
+    min_concave_radius: Optional[float] = ...,
+    min_convex_radius: Optional[float] = ...,
+    convexity: bool = ...,
+    smooth: Optional[int] = ...,
+    module: Optional[float] = ...,
 ) -> Design: ...
 def teeth(
     design: Design,
     module: float,
-    policy: Optional[str] = ...,
+    *,
+    tooth_policy: Optional[
+        Literal["design", "scale-up", "nearest", "scale-down", "ratio-amplitude", "adjust-module"]
+    ] = ...,
     teeth: Optional[int] = ...,
+    wire_edm: bool = ...,
+    verify_steps: int = ...,
+    pressure_angle: float = ...,
+    addendum: float = ...,
+    clearance: float = ...,
+    fillet: float = ...,
     backlash: Optional[float] = ...,
     chord_tol: Optional[float] = ...,
-    verify_steps: int = ...,
+    cutter_teeth: Optional[int] = ...,
+    refuse_undercut: bool = ...,
 ) -> Train: ...
 def pair(
     law: str,
+    *,
+    kind: Literal["motion", "centrode", "csv"] = ...,
     teeth: Optional[int] = ...,
     module: float = ...,
-    kind: str = ...,
-    verify_steps: int = ...,
     cycle_advance: float = ...,
     drive: Optional[Tuple[float, float]] = ...,
+    verify_steps: int = ...,
+    pressure_angle: float = ...,
+    addendum: float = ...,
+    clearance: float = ...,
+    fillet: float = ...,
+    backlash: Optional[float] = ...,
+    chord_tol: Optional[float] = ...,
+    cutter_teeth: Optional[int] = ...,
+    refuse_undercut: bool = ...,
 ) -> Pair: ...
 def simulate(
     design: Union[Design, Train],
+    *,
     rpm: float = ...,
     spacing: Optional[float] = ...,
-    forward_speed: Optional[float] = ...,
+    speed: Optional[float] = ...,
     depth: float = ...,
-) -> Dict[str, Any]: ...
-def tolerance(errors: PathLike, samples: int = ...) -> Dict[str, Any]: ...
+    take_level: Optional[float] = ...,
+    plant_level: Optional[float] = ...,
+) -> Features: ...
+def tolerance(errors: PathLike, *, samples: int = ..., seed: int = ..., starts: int = ...) -> ToleranceReport: ...
 def write_step(
-    obj: Union[Train, Pair], directory: PathLike, face_width: Optional[float] = ..., bore: float = ...
+    obj: Union[Train, Pair], directory: PathLike, *, face_width: Optional[float] = ..., bore: float = ...
 ) -> List[str]: ...
-def write_dxf(obj: Union[Train, Pair], directory: PathLike) -> List[str]: ...
+def write_dxf(
+    obj: Union[Train, Pair], directory: PathLike, *, version: Literal["r2010", "r12"] = ...
+) -> List[str]: ...
 def write_svg(obj: Union[Train, Pair], directory: PathLike) -> List[str]: ...
+def set_max_memory_gb(gb: float) -> None: ...

@@ -1,9 +1,16 @@
 //! `ncgear._ncgear`: the compiled half of the `ncgear` Python package. Thin: every function calls
-//! the `ncgear` library and hands back plain lists, tuples and JSON text; `ncgear/__init__.py`
-//! turns them into numpy arrays and dicts. Errors are `ncgear.NcgearError` (a `ValueError`)
-//! carrying the library error's message, as the CLI prints it.
-use ncgear::design::train::{Gear, ToothedTrain, TrainPolicy, TrainTeethOptions, tooth_design};
-use ncgear::design::{Design, DesignOptions, RefineMode};
+//! the `ncgear` library; reports come back as [`Report`]s (the JSON text and a tree of dicts whose
+//! number arrays are numpy arrays), point sets as float64 (N, 2) numpy arrays in mm; the pure
+//! Python half (`ncgear/__init__.py`) turns them into frozen dataclasses. Errors are
+//! `ncgear.NcgearError` (a `ValueError`) naming the Python argument at fault.
+mod convert;
+mod errors;
+mod options;
+
+use convert::{points, to_py};
+use errors::{NcgearError, design_err, err, pair_err};
+use ncgear::design::Design;
+use ncgear::design::train::{Gear, ToothedTrain, TrainTeethOptions, tooth_design};
 use ncgear::export::dxf::{DxfVersion, write_dxf};
 use ncgear::export::step::write_step;
 use ncgear::export::svg::write_svg;
@@ -11,27 +18,37 @@ use ncgear::math::polyline::simplify_closed;
 use ncgear::output::{SolidOptions, pair_step, train_step_models, write_step_models};
 use ncgear::pair::{Expr, Law, PairDesign, PairOptions, design_pair};
 use ncgear::simulate::{FeatureOptions, Simulation, deviation_along, features};
-use ncgear::teeth::ToothPolicy;
 use ncgear::{Trajectory, design as run_design};
-use pyo3::create_exception;
-use pyo3::exceptions::PyValueError;
+use numpy::{PyArray1, PyReadonlyArray2};
+use options::{DesignArgs, ToothArgs, choice, train_policy};
 use pyo3::prelude::*;
+use pyo3::types::PyDict;
 use serde_json::Value;
 use std::path::{Path, PathBuf};
 
-create_exception!(
-    _ncgear,
-    NcgearError,
-    PyValueError,
-    "An ncgear input or design error."
-);
-
-fn err(e: impl std::fmt::Display) -> PyErr {
-    NcgearError::new_err(e.to_string())
+/// A report: the JSON of the CLI's file, as text or as Python objects.
+#[pyclass(frozen, module = "ncgear._ncgear")]
+struct Report {
+    value: Value,
 }
 
-fn json(v: &impl serde::Serialize) -> PyResult<String> {
-    serde_json::to_string(v).map_err(err)
+#[pymethods]
+impl Report {
+    /// The report as dicts, lists and scalars, its number arrays as float64 numpy arrays.
+    fn tree<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        to_py(py, &self.value)
+    }
+    /// The report as JSON text (the CLI's file).
+    fn json(&self) -> String {
+        self.value.to_string()
+    }
+}
+
+/// `v` serialised as a [`Report`].
+fn report(v: &impl serde::Serialize) -> PyResult<Report> {
+    Ok(Report {
+        value: serde_json::to_value(v).map_err(err)?,
+    })
 }
 
 /// Paths as strings.
@@ -39,6 +56,7 @@ fn names(paths: Vec<PathBuf>) -> Vec<String> {
     paths.iter().map(|p| p.display().to_string()).collect()
 }
 
+/// Face width (mm; `None`: 10·m) and bore diameter (mm; 0: none) of the STEP solids.
 fn solids(face_width: Option<f64>, bore: f64) -> SolidOptions {
     let mut s = SolidOptions::default();
     s.face_width_mm = face_width;
@@ -51,70 +69,48 @@ fn placements_of(m: &ncgear::export::step::StepModel) -> Vec<(String, String, [f
     m.instances
         .iter()
         .map(|i| {
-            (
-                i.name.clone(),
-                m.parts[i.part].name.clone(),
-                i.centre_mm,
-                i.angle_rad,
-            )
+            let part = m.parts[i.part].name.clone();
+            (i.name.clone(), part, i.centre_mm, i.angle_rad)
         })
         .collect()
 }
 
-/// Outlines `(name, points mm)` simplified to the export chord tolerance `tol_mm`.
-fn outlines_of(
+/// `{name: (N, 2) array, mm}` of outlines simplified to the export chord tolerance `tol_mm`.
+fn outlines_of<'py>(
+    py: Python<'py>,
     named: &[(&str, &ncgear::teeth::Outline)],
     tol_mm: f64,
-) -> Vec<(String, Vec<[f64; 2]>)> {
-    named
-        .iter()
-        .map(|(n, o)| (n.to_string(), simplify_closed(&o.points_mm, tol_mm)))
-        .collect()
+) -> PyResult<Bound<'py, PyDict>> {
+    let d = PyDict::new(py);
+    for (name, o) in named {
+        d.set_item(name, points(py, &simplify_closed(&o.points_mm, tol_mm)))?;
+    }
+    Ok(d)
 }
 
-/// Design options from a JSON object of the Python keyword arguments.
-fn design_options(center: [f64; 2], options: &str) -> PyResult<DesignOptions> {
-    let mut o = DesignOptions::default();
-    o.center_mm = center;
-    let map: serde_json::Map<String, Value> = serde_json::from_str(options).map_err(err)?;
-    for (k, v) in map {
-        let bad = || err(format!("option `{k}` = {v}: wrong type"));
-        let count = || v.as_u64().map(|n| n as usize).ok_or_else(bad);
-        match k.as_str() {
-            "order" => o.order = if v.is_null() { None } else { Some(count()?) },
-            "tol_mm" => o.tol_tip_mm = v.as_f64().ok_or_else(bad)?,
-            "smoothing" => o.smoothing = if v.is_null() { None } else { Some(count()?) },
-            "fit" => o.fit_to_points = v.as_bool().ok_or_else(bad)?,
-            "samples" => o.curve_samples = count()?,
-            "refine" => {
-                o.refine = match v.as_str() {
-                    Some("auto") => RefineMode::Auto,
-                    Some("on") => RefineMode::On,
-                    Some("off") => RefineMode::Off,
-                    _ => return Err(err(format!("option `refine` = {v}: auto, on or off"))),
-                }
-            }
-            "limits" => o.gear_limits = v.as_bool().ok_or_else(bad)?,
-            "max_pressure_angle" => {
-                o.pressure_angle_limit_rad = v.as_f64().ok_or_else(bad)?.to_radians()
-            }
-            "min_concave_radius" => o.min_concave_radius_mm = Some(v.as_f64().ok_or_else(bad)?),
-            "min_convex_radius" => o.min_convex_radius_mm = Some(v.as_f64().ok_or_else(bad)?),
-            "module" => {
-                o.module_mm = if v.is_null() {
-                    None
-                } else {
-                    Some(v.as_f64().ok_or_else(bad)?)
-                }
-            }
-            _ => {
-                return Err(err(format!(
-                    "unknown option `{k}` (order, tol_mm, smoothing, fit, samples, refine, limits, max_pressure_angle, min_concave_radius, min_convex_radius, module)"
-                )));
-            }
-        }
+/// Writes sheet `s` to `p` as `kind` (`dxf` of `version`, or `svg`); `tol` is the chord
+/// tolerance and `module` the module, mm.
+fn sheet(
+    s: &ncgear::export::Sheet,
+    p: &Path,
+    kind: &str,
+    version: DxfVersion,
+    (tol, module): (f64, f64),
+) -> PyResult<String> {
+    match kind {
+        "dxf" => write_dxf(s, p, version, tol).map_err(err)?,
+        _ => write_svg(s, p, 2.0 * module).map_err(err)?,
     }
-    Ok(o)
+    Ok(p.display().to_string())
+}
+
+/// The DXF version named `version` (`r2010` or `r12`).
+fn dxf_version(version: &str) -> PyResult<DxfVersion> {
+    choice(
+        "version",
+        version,
+        &[("r2010", DxfVersion::R2010), ("r12", DxfVersion::R12)],
+    )
 }
 
 /// A designed train (sun, intermediate and planet pitch curves and the report).
@@ -125,55 +121,54 @@ struct DesignHandle {
 
 #[pymethods]
 impl DesignHandle {
-    /// The report: the keys and numbers of `design.json`.
-    fn report_json(&self) -> PyResult<String> {
-        json(&self.d.report)
-    }
-    /// Pitch curves `(name, points mm)`, body frames, 1440 points each.
-    fn pitch_curves(&self) -> Vec<(String, Vec<[f64; 2]>)> {
-        let a = &self.d.assembly;
-        let n = 1440;
-        [
-            ("sun", &a.sun),
-            ("intermediate", &a.intermediate),
-            ("planet", &a.planet),
-        ]
-        .into_iter()
-        .map(|(name, c)| {
-            let pts = (0..n)
-                .map(|k| c.point_mm(std::f64::consts::TAU * k as f64 / n as f64))
-                .collect();
-            (name.to_string(), pts)
-        })
-        .collect()
+    /// The report: `design.json`.
+    fn report(&self) -> PyResult<Report> {
+        report(&self.d.report)
     }
     /// Distance of each target point to the path the designed gears trace (3600 carrier
     /// positions), mm.
-    fn deviations(&self) -> Vec<f64> {
+    fn deviations<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
         let r = self.d.assembly.rebuild();
         let traced: Vec<[f64; 2]> = (0..3600)
             .map(|k| r.pose(std::f64::consts::TAU * f64::from(k) / 3600.0).tip_mm)
             .collect();
-        deviation_along(&self.d.report.target_points, &traced)
+        PyArray1::from_vec(py, deviation_along(&self.d.report.target_points, &traced))
     }
 }
 
-/// `design(points | path, center, options_json)`.
+/// The trajectory of an (N, 2) array of points (mm) or of a file.
+fn trajectory(
+    points: Option<PyReadonlyArray2<'_, f64>>,
+    path: Option<&str>,
+) -> PyResult<Trajectory> {
+    match (points, path) {
+        (Some(a), None) => {
+            let a = a.as_array();
+            if a.ncols() != 2 {
+                return Err(err(format!(
+                    "points: expected an (N, 2) array of x, y in mm, got shape {:?}",
+                    a.shape()
+                )));
+            }
+            Trajectory::from_points(a.rows().into_iter().map(|r| [r[0], r[1]]).collect())
+                .map_err(err)
+        }
+        (None, Some(p)) => Trajectory::from_path(Path::new(p)).map_err(err),
+        _ => Err(err("points: give an (N, 2) array or a file path")),
+    }
+}
+
+/// `design(points | path, options)`: the options as `DesignArgs`.
 #[pyfunction]
-#[pyo3(signature = (points, path, center, options))]
+#[pyo3(signature = (points, path, options))]
 fn design(
-    points: Option<Vec<[f64; 2]>>,
-    path: Option<String>,
-    center: [f64; 2],
-    options: &str,
+    points: Option<PyReadonlyArray2<'_, f64>>,
+    path: Option<&str>,
+    options: DesignArgs,
 ) -> PyResult<DesignHandle> {
-    let t = match (points, path) {
-        (Some(p), None) => Trajectory::from_points(p).map_err(err)?,
-        (None, Some(p)) => Trajectory::from_path(Path::new(&p)).map_err(err)?,
-        _ => return Err(err("give the trajectory as points or as a file path")),
-    };
-    let o = design_options(center, options)?;
-    let d = run_design(&t, &o).map_err(err)?;
+    let t = trajectory(points, path)?;
+    let o = options.options()?;
+    let d = run_design(&t, &o).map_err(|e| design_err(&e))?;
     Ok(DesignHandle { d })
 }
 
@@ -186,22 +181,22 @@ struct TrainHandle {
 #[pymethods]
 impl TrainHandle {
     /// The `teeth` block of `design.json`.
-    fn report_json(&self) -> PyResult<String> {
-        json(&self.t.report)
+    fn report(&self) -> PyResult<Report> {
+        report(&self.t.report)
     }
-    /// The toothed train's verdict `{"passed", "failures"}` (both meshes), as JSON.
-    fn verdict_json(&self) -> PyResult<String> {
-        json(&self.t.report.verdict())
+    /// The toothed train's verdict `{"passed", "failures"}` (both meshes).
+    fn verdict(&self) -> PyResult<Report> {
+        report(&self.t.report.verdict())
     }
-    /// Gear outlines `(name, points mm)` in body frames, as exported (export chord tolerance).
-    fn outlines(&self) -> Vec<(String, Vec<[f64; 2]>)> {
+    /// Gear outlines `{name: (N, 2) array, mm}` in body frames, as exported.
+    fn outlines<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
         let t = &self.t;
         let named = [
             ("sun", &t.sun),
             ("intermediate", &t.intermediate),
             ("planet", &t.planet),
         ];
-        outlines_of(&named, t.report.options.toothing.chord_tol_mm)
+        outlines_of(py, &named, t.report.options.toothing.chord_tol_mm)
     }
     /// Placements at φH = 0 `(occurrence, part, centre mm, angle rad)`, as in `train.step`.
     fn placements(&self) -> Vec<(String, String, [f64; 2], f64)> {
@@ -211,77 +206,49 @@ impl TrainHandle {
         ))
     }
     /// Writes `<gear>.step` and `train.step` into `dir`.
-    #[pyo3(signature = (dir, face_width=None, bore=0.0))]
+    #[pyo3(signature = (dir, face_width, bore))]
     fn write_step(&self, dir: &str, face_width: Option<f64>, bore: f64) -> PyResult<Vec<String>> {
         let models = train_step_models(&self.t, &solids(face_width, bore));
-        Ok(names(
-            write_step_models(&models, Path::new(dir)).map_err(err)?,
-        ))
+        let written = write_step_models(&models, Path::new(dir)).map_err(err)?;
+        Ok(names(written))
     }
     /// Writes `<gear>.dxf`/`.svg` (body frames) and `train.dxf`/`.svg` (φH = 0) into `dir`.
-    fn write_sheets(&self, dir: &str, kind: &str) -> PyResult<Vec<String>> {
+    fn write_sheets(&self, dir: &str, kind: &str, version: &str) -> PyResult<Vec<String>> {
+        let version = dxf_version(version)?;
         std::fs::create_dir_all(dir).map_err(err)?;
         let mut sheets = vec![("train".to_string(), self.t.sheet(0.0))];
         sheets.extend(Gear::ALL.map(|g| (g.name().to_string(), self.t.gear_sheet(g))));
         let r = &self.t.report;
+        let sizes = (r.options.toothing.chord_tol_mm, r.module_mm);
         sheets
             .iter()
             .map(|(n, s)| {
                 let p = Path::new(dir).join(format!("{n}.{kind}"));
-                sheet(s, &p, kind, r.options.toothing.chord_tol_mm, r.module_mm)
+                sheet(s, &p, kind, version, sizes)
             })
             .collect()
     }
 }
 
-fn sheet(
-    s: &ncgear::export::Sheet,
-    p: &Path,
-    kind: &str,
-    tol: f64,
-    module: f64,
-) -> PyResult<String> {
-    match kind {
-        "dxf" => write_dxf(s, p, DxfVersion::R2010, tol).map_err(err)?,
-        _ => write_svg(s, p, 2.0 * module).map_err(err)?,
-    }
-    Ok(p.display().to_string())
-}
-
-/// `teeth(design, module, policy, teeth, backlash, chord_tol, verify_steps)`.
+/// `teeth(design, module, tooth_policy, teeth, wire_edm, tooth)`: `tooth` as `ToothArgs`.
 #[pyfunction]
-#[pyo3(signature = (design, module, policy, teeth, backlash, chord_tol, verify_steps))]
+#[pyo3(signature = (design, module, tooth_policy, teeth, wire_edm, tooth))]
 fn teeth(
     design: &DesignHandle,
     module: f64,
-    policy: &str,
+    tooth_policy: &str,
     teeth: Option<u32>,
-    backlash: Option<f64>,
-    chord_tol: Option<f64>,
-    verify_steps: usize,
+    wire_edm: bool,
+    tooth: ToothArgs,
 ) -> PyResult<TrainHandle> {
     let mut o = TrainTeethOptions::new(module);
-    o.toothing.verify_steps = verify_steps;
-    o.toothing.backlash_mm = backlash.unwrap_or(o.toothing.backlash_mm);
-    o.toothing.chord_tol_mm = chord_tol.unwrap_or(o.toothing.chord_tol_mm);
-    o.policy = match (teeth, policy) {
-        (Some(z), _) => TrainPolicy::ScaleCenterDistance(ToothPolicy::Exact(z)),
-        (None, "scale-up") => TrainPolicy::ScaleCenterDistance(ToothPolicy::ScaleUp),
-        (None, "nearest") => TrainPolicy::ScaleCenterDistance(ToothPolicy::Nearest),
-        (None, "scale-down") => TrainPolicy::ScaleCenterDistance(ToothPolicy::ScaleDown),
-        (None, "ratio-amplitude") => TrainPolicy::RatioAmplitude,
-        (None, "adjust-module") => TrainPolicy::AdjustModule,
-        (None, "design") => TrainPolicy::Designed,
-        (None, p) => {
-            return Err(err(format!(
-                "policy `{p}`: design, scale-up, nearest, scale-down, ratio-amplitude or adjust-module"
-            )));
-        }
-    };
+    o.wire_edm = wire_edm;
+    tooth.apply_to(&mut o.toothing)?;
+    o.policy = train_policy(tooth_policy, teeth)?;
     // The CLI's accuracy: 1e-9 of the centre distance.
     let acc = 1e-9 * design.d.assembly.a_mm;
     let t = tooth_design(&design.d, &o, acc, &|_| {})
-        .map_err(|e| err(format!("--module {module}: {e}")))?;
+        .map_err(|e| errors::arg_err("module", module, e))?;
     Ok(TrainHandle { t })
 }
 
@@ -290,21 +257,21 @@ fn teeth(
 struct PairHandle {
     p: PairDesign,
     chord_tol_mm: f64,
-    report: String,
+    report: Value,
 }
 
 #[pymethods]
 impl PairHandle {
-    /// z, module, centre distance, perimeter, ratio range and the mesh report.
-    fn report_json(&self) -> String {
-        self.report.clone()
+    /// z, module, centre distance, perimeter, ratio range, the mesh and the verdict.
+    fn report(&self) -> Report {
+        Report {
+            value: self.report.clone(),
+        }
     }
-    /// `(name, points mm)`: driver and driven outlines in their body frames (export tolerance).
-    fn outlines(&self) -> Vec<(String, Vec<[f64; 2]>)> {
-        outlines_of(
-            &[("driver", &self.p.driver), ("driven", &self.p.driven)],
-            self.chord_tol_mm,
-        )
+    /// `{name: (N, 2) array, mm}`: driver and driven outlines in their body frames, as exported.
+    fn outlines<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let named = [("driver", &self.p.driver), ("driven", &self.p.driven)];
+        outlines_of(py, &named, self.chord_tol_mm)
     }
     /// Placements at the start `(occurrence, part, centre mm, angle rad)`, as in `pair.step`.
     fn placements(&self) -> Vec<(String, String, [f64; 2], f64)> {
@@ -315,7 +282,7 @@ impl PairHandle {
         ))
     }
     /// Writes `pair.step` into `dir`.
-    #[pyo3(signature = (dir, face_width=None, bore=0.0))]
+    #[pyo3(signature = (dir, face_width, bore))]
     fn write_step(&self, dir: &str, face_width: Option<f64>, bore: f64) -> PyResult<Vec<String>> {
         std::fs::create_dir_all(dir).map_err(err)?;
         let p = Path::new(dir).join("pair.step");
@@ -324,45 +291,39 @@ impl PairHandle {
         Ok(vec![p.display().to_string()])
     }
     /// Writes `pair.dxf` or `pair.svg` (both gears at the start) into `dir`.
-    fn write_sheets(&self, dir: &str, kind: &str) -> PyResult<Vec<String>> {
+    fn write_sheets(&self, dir: &str, kind: &str, version: &str) -> PyResult<Vec<String>> {
+        let version = dxf_version(version)?;
         std::fs::create_dir_all(dir).map_err(err)?;
         let p = Path::new(dir).join(format!("pair.{kind}"));
         let s = self.p.assembly_sheet();
-        Ok(vec![sheet(
-            &s,
-            &p,
-            kind,
-            self.chord_tol_mm,
-            self.p.module_mm,
-        )?])
+        let sizes = (self.chord_tol_mm, self.p.module_mm);
+        Ok(vec![sheet(&s, &p, kind, version, sizes)?])
     }
 }
 
-/// `pair(law, kind, teeth, module, verify_steps, cycle_advance_deg, drive_deg)`; kind: motion,
-/// centrode or csv (law = path); `drive_deg`: an open sector's driver interval, degrees.
-#[pyfunction]
-#[pyo3(signature = (law, kind, teeth, module, verify_steps, cycle_advance_deg, drive_deg))]
-fn pair(
-    law: &str,
-    kind: &str,
-    teeth: Option<u32>,
-    module: f64,
-    verify_steps: usize,
-    cycle_advance_deg: f64,
-    drive_deg: Option<(f64, f64)>,
-) -> PyResult<PairHandle> {
-    let law = match kind {
-        "motion" => Law::Motion(Expr::parse(law).map_err(err)?),
-        "centrode" => Law::Centrode(Expr::parse(law).map_err(err)?),
-        "csv" => Law::from_csv(Path::new(law)).map_err(err)?,
-        k => return Err(err(format!("kind `{k}`: motion, centrode or csv"))),
-    };
-    let mut o = PairOptions::new(teeth, module);
-    o.toothing.verify_steps = verify_steps;
-    o.centrode_advance_rad = cycle_advance_deg.to_radians();
-    o.open_sector_rad = drive_deg.map(|(a, b)| [a.to_radians(), b.to_radians()]);
-    let p = design_pair(&law, &o).map_err(err)?;
-    let report = serde_json::json!({
+/// The law of `kind` (`motion`, `centrode` or `csv`: `law` is then a path).
+fn law_of(law: &str, kind: &str) -> PyResult<Law> {
+    #[derive(Clone, Copy)]
+    enum Kind {
+        Motion,
+        Centrode,
+        Csv,
+    }
+    let table = [
+        ("motion", Kind::Motion),
+        ("centrode", Kind::Centrode),
+        ("csv", Kind::Csv),
+    ];
+    match choice("kind", kind, &table)? {
+        Kind::Motion => Ok(Law::Motion(Expr::parse(law).map_err(err)?)),
+        Kind::Centrode => Ok(Law::Centrode(Expr::parse(law).map_err(err)?)),
+        Kind::Csv => Law::from_csv(Path::new(law)).map_err(err),
+    }
+}
+
+/// The pair's report: z, module, sizes, ratio range, mesh, sector and verdict.
+fn pair_report(p: &PairDesign) -> Value {
+    serde_json::json!({
         "z": p.z,
         "z_driven": p.z_driven,
         "cycle_advance_deg": p.advance_rad.to_degrees(),
@@ -374,24 +335,46 @@ fn pair(
         "sector": p.sector,
         "verdict": p.verdict(),
     })
-    .to_string();
+}
+
+/// `pair(law, kind, teeth, module, cycle_advance_deg, drive_deg, tooth)`: `drive_deg` an open
+/// sector's driver interval, degrees; `tooth` as `ToothArgs`.
+#[pyfunction]
+#[pyo3(signature = (law, kind, teeth, module, cycle_advance_deg, drive_deg, tooth))]
+fn pair(
+    law: &str,
+    kind: &str,
+    teeth: Option<u32>,
+    module: f64,
+    cycle_advance_deg: f64,
+    drive_deg: Option<(f64, f64)>,
+    tooth: ToothArgs,
+) -> PyResult<PairHandle> {
+    let law = law_of(law, kind)?;
+    let mut o = PairOptions::new(teeth, module);
+    tooth.apply_to(&mut o.toothing)?;
+    o.centrode_advance_rad = cycle_advance_deg.to_radians();
+    o.open_sector_rad = drive_deg.map(|(a, b)| [a.to_radians(), b.to_radians()]);
+    let p = design_pair(&law, &o).map_err(|e| pair_err(&e))?;
     Ok(PairHandle {
-        p,
+        report: pair_report(&p),
         chord_tol_mm: o.toothing.chord_tol_mm,
-        report,
+        p,
     })
 }
 
-/// Agronomic features of one carrier turn of a design (or its toothed train), as JSON.
+/// Agronomic features of one carrier turn of a design (or its toothed train): forward speed
+/// mm/s, planting depth and the taking / planting levels (`None`: the highest / lowest point) mm.
 #[pyfunction]
-#[pyo3(signature = (design, train, rpm, forward_mm_s, depth_mm))]
+#[pyo3(signature = (design, train, rpm, forward_mm_s, depth_mm, levels_mm))]
 fn simulate(
     design: &DesignHandle,
     train: Option<&TrainHandle>,
     rpm: f64,
     forward_mm_s: f64,
     depth_mm: f64,
-) -> PyResult<String> {
+    levels_mm: (Option<f64>, Option<f64>),
+) -> PyResult<Report> {
     let sim = match train {
         Some(t) => Simulation::toothed(&t.t),
         None => Simulation::new(design.d.assembly.clone()),
@@ -400,7 +383,8 @@ fn simulate(
     o.rpm = rpm;
     o.forward_mm_s = forward_mm_s;
     o.planting_depth_mm = depth_mm;
-    json(&features(&sim, &o).map_err(err)?)
+    (o.take_level_mm, o.plant_level_mm) = levels_mm;
+    report(&features(&sim, &o).map_err(err)?)
 }
 
 /// Plant spacing → forward speed (mm/s) at `rpm`, two arms.
@@ -409,25 +393,41 @@ fn forward_for_spacing(spacing_mm: f64, rpm: f64) -> f64 {
     FeatureOptions::forward_for_spacing(spacing_mm, rpm)
 }
 
-/// `ncgear tolerance` on an error file: the report (`tolerance.json`) as JSON.
+/// `ncgear tolerance` on an error file: `tolerance.json`. `samples` 0: no Monte Carlo; `seed`
+/// its seed; `starts` the joint optimiser's starts.
 #[pyfunction]
-#[pyo3(signature = (path, samples))]
-fn tolerance(path: &str, samples: usize) -> PyResult<String> {
+#[pyo3(signature = (path, samples, seed, starts))]
+fn tolerance(path: &str, samples: usize, seed: u64, starts: usize) -> PyResult<Report> {
+    use ncgear::analysis::montecarlo::McOptions;
     use ncgear::analysis::tolerance::{ErrorFile, ToleranceOptions, analyse};
     let file = ErrorFile::from_path(Path::new(path)).map_err(err)?;
     let mut o = ToleranceOptions::default();
-    if samples > 0 {
-        let mut mc = ncgear::analysis::montecarlo::McOptions::default();
+    o.joint_starts = starts;
+    o.monte_carlo = (samples > 0).then(|| {
+        let mut mc = McOptions::default();
         mc.samples = samples;
-        o.monte_carlo = Some(mc);
+        mc.seed = seed;
+        mc
+    });
+    report(&analyse(&file, &o, &|_| {}).map_err(err)?)
+}
+
+/// Memory a single computation may estimate for itself before it is refused, GB (the CLI's
+/// `--max-memory-gb`; default 4).
+#[pyfunction]
+fn set_max_memory_gb(gb: f64) -> PyResult<()> {
+    if !(gb.is_finite() && gb > 0.0) {
+        return Err(errors::arg_err("gb", gb, "a positive number of GB"));
     }
-    json(&analyse(&file, &o, &|_| {}).map_err(err)?)
+    ncgear::bounds::set_memory_ceiling_bytes((gb * 1e9) as u64);
+    Ok(())
 }
 
 #[pymodule]
 fn _ncgear(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("NcgearError", m.py().get_type::<NcgearError>())?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
+    m.add_class::<Report>()?;
     m.add_class::<DesignHandle>()?;
     m.add_class::<TrainHandle>()?;
     m.add_class::<PairHandle>()?;
@@ -438,6 +438,7 @@ fn _ncgear(m: &Bound<'_, PyModule>) -> PyResult<()> {
         wrap_pyfunction!(simulate, m)?,
         wrap_pyfunction!(forward_for_spacing, m)?,
         wrap_pyfunction!(tolerance, m)?,
+        wrap_pyfunction!(set_max_memory_gb, m)?,
     ] {
         m.add_function(f)?;
     }

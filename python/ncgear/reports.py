@@ -1,0 +1,562 @@
+"""The reports of ncgear as frozen dataclasses: the keys of the CLI's JSON files (``design.json``,
+its ``teeth`` block, ``tolerance.json``, the simulation features), typed, nested as in the file.
+
+Units are in the field names (``_mm``, ``_deg``, ``_rad``, ``_um``, ``_arcsec``, ``_ms``); a bare
+length is in mm and a bare angle in degrees where the JSON says so (``units``). Point lists are
+read-only float64 ``numpy.ndarray`` of shape (N, 2), mm; other number lists are tuples or 1-D
+arrays. A number JSON writes as ``null`` because it is not finite (an unbounded check value or
+radius) reads as ``math.inf``. The JSON key ``pass`` is the field ``passed``.
+"""
+from __future__ import annotations
+
+import dataclasses
+import math
+import typing
+from dataclasses import dataclass, field
+from typing import Any, Dict, Optional, Tuple, Union
+
+import numpy as np
+import numpy.typing as npt
+
+Points = npt.NDArray[np.float64]
+"""Read-only float64 array of shape (N, 2), mm."""
+Numbers = npt.NDArray[np.float64]
+"""Read-only 1-D float64 array."""
+
+T = typing.TypeVar("T")
+
+
+def _array(v: Any) -> np.ndarray:
+    a = np.array(v, dtype=np.float64)
+    a.flags.writeable = False
+    return a
+
+
+def _value(tp: Any, v: Any) -> Any:
+    """``v`` (JSON-shaped, number arrays possibly numpy already) as type ``tp``."""
+    origin, args = typing.get_origin(tp), typing.get_args(tp)
+    if origin is Union:
+        inner = [a for a in args if a is not type(None)]
+        if v is None and len(inner) < len(args):
+            return None
+        return _value(inner[0], v) if len(inner) == 1 else v
+    if isinstance(tp, type) and dataclasses.is_dataclass(tp):
+        return build(tp, v)
+    if tp is np.ndarray or origin is np.ndarray:
+        return _array(v if v is not None else [])
+    if origin is tuple:
+        items = [] if v is None else list(v)
+        if len(args) == 2 and args[1] is Ellipsis:
+            return tuple(_value(args[0], x) for x in items)
+        return tuple(_value(a, x) for a, x in zip(args, items))
+    if origin is dict:
+        return {k: _value(args[1], x) for k, x in v.items()}
+    if tp is float:
+        return math.inf if v is None else float(v)
+    if tp in (int, bool, str):
+        return tp(v)
+    return v
+
+
+def build(cls: typing.Type[T], obj: Dict[str, Any], **extra: Any) -> T:
+    """An instance of dataclass ``cls`` from the JSON object ``obj`` (keys missing from it —
+    fields the library leaves out when empty — read as ``None``, empty or ``inf`` by type);
+    ``extra`` gives fields that are not report keys."""
+    hints = typing.get_type_hints(cls)
+    values = {}
+    for f in dataclasses.fields(typing.cast(Any, cls)):
+        if f.name in extra:
+            values[f.name] = extra[f.name]
+        else:
+            values[f.name] = _value(hints[f.name], obj.get(f.metadata.get("key", f.name)))
+    return cls(**values)
+
+
+def json_key(f: dataclasses.Field) -> str:  # type: ignore[type-arg]
+    """The JSON key of report field ``f``."""
+    return str(f.metadata.get("key", f.name))
+
+
+@dataclass(frozen=True)
+class Verdict:
+    """Whether a result passed its own verification, and what failed (``"C12: …"``)."""
+
+    passed: bool
+    failures: Tuple[str, ...]
+
+
+@dataclass(frozen=True)
+class Units:
+    """Units of the design report's bare numbers."""
+
+    length: str
+    angle: str
+
+
+@dataclass(frozen=True)
+class Carrier:
+    """The carrier: axis O (mm) and sense (+1 CCW, −1 CW)."""
+
+    center: Tuple[float, float]
+    direction: int
+
+
+@dataclass(frozen=True, eq=False)
+class GearCurve:
+    """One pitch curve: points in the body frame (mm), size and gear limits."""
+
+    pitch: Points
+    angle_at_zero_deg: Optional[float]
+    perimeter_mm: float
+    min_radius_of_curvature_mm: float
+    min_concave_radius_mm: Optional[float]
+    concave_fraction: float
+    max_pressure_angle_deg: float
+
+
+@dataclass(frozen=True, eq=False)
+class Gears:
+    """The three pitch curves."""
+
+    sun: GearCurve
+    intermediate: GearCurve
+    planet: GearCurve
+
+
+@dataclass(frozen=True)
+class RoundTrip:
+    """The round trip from the output curves to the traced path."""
+
+    max_deviation_mm: float
+    rms_deviation_mm: float
+    hausdorff_mm: float
+    max_mesh_error_mm: float
+    estimated_curve_deviation_mm: Optional[float]
+    samples: int
+
+
+@dataclass(frozen=True)
+class TrajectorySummary:
+    """The target trajectory as read."""
+
+    points: int
+    rho_max_mm: float
+    rho_min_mm: float
+    reference_carrier_angle_deg: float
+    needle_swing_deg: float
+    i31_range: Tuple[float, float]
+    noise_sigma_mm: float
+
+
+@dataclass(frozen=True)
+class Compatibility:
+    """The compatibility condition of the train."""
+
+    tau_deg: float
+    residual_rad: float
+    tip_equivalent_mm: float
+    endpoint_product: float
+    origins_deg: Tuple[float, ...]
+
+
+@dataclass(frozen=True, eq=False)
+class Route:
+    """The patent route or the refinement: order, deviation, iterations; ``order_scan`` rows
+    (order, max deviation mm)."""
+
+    order: int
+    max_deviation_mm: float
+    j0: Optional[float]
+    j1: Optional[float]
+    iterations: int
+    note: str
+    order_scan: Numbers
+
+
+@dataclass(frozen=True, eq=False)
+class Fit:
+    """The final fit to the points; ``order_scan`` rows (order, rms mm, max mm)."""
+
+    order: int
+    rms_mm: float
+    max_mm: float
+    start_rms_mm: float
+    start_max_mm: float
+    noise_sigma_mm: float
+    start_smoothing_harmonics: Optional[int]
+    iterations: int
+    order_scan: Numbers
+
+
+@dataclass(frozen=True, eq=False)
+class Fourier:
+    """The sun ratio's Fourier series: coefficients ``a``, ``b`` (1-D arrays)."""
+
+    order: int
+    a: Numbers
+    b: Numbers
+    sun_phase_deg: float
+    i21_range: Tuple[float, float]
+
+
+@dataclass(frozen=True, eq=False)
+class ModuleSummary:
+    """A design made for a module: its tooth count; ``candidates`` rows (teeth, max deviation mm,
+    perimeter mm)."""
+
+    module_mm: float
+    teeth: int
+    perimeter_mm: float
+    free_teeth: float
+    free_max_deviation_mm: float
+    candidates: Numbers
+
+
+@dataclass(frozen=True)
+class Limits:
+    """The gear limits the design was made within and where it stands."""
+
+    enabled: bool
+    max_pressure_angle_deg: float
+    min_concave_radius_mm: float
+    min_convex_radius_mm: Optional[float]
+    ratio_bounds: Tuple[float, float]
+    pressure_angle_deg: float
+    tightest_concave_radius_mm: Optional[float]
+    tightest_convex_radius_mm: float
+    ratio_range: Tuple[float, float]
+    binding: Tuple[str, ...]
+
+
+@dataclass(frozen=True)
+class Check:
+    """One of the checks C1–C12."""
+
+    id: str
+    name: str
+    value: float
+    limit: float
+    passed: bool = field(metadata={"key": "pass"})
+
+
+@dataclass(frozen=True)
+class Timings:
+    """Stage timings, ms."""
+
+    inverse: float
+    compat: float
+    patent: float
+    refine: float
+    fit: float
+    module: float
+    outputs: float
+    total: float
+    teeth: float
+    verification: float
+    cad_files: float
+    command: float
+
+
+@dataclass(frozen=True)
+class Mesh:
+    """The verification of one mesh over its steps."""
+
+    steps: int
+    interference_steps: int
+    max_penetration_mm: float
+    min_nominal_clearance_mm: float
+    min_backlash_mm: float
+    max_backlash_mm: float
+    max_overlap_area_mm2: float
+    max_overlap_at_deg: float
+    max_transmission_error_deg: float
+    transmission_error_p2p_deg: float
+
+
+@dataclass(frozen=True)
+class TrainMesh:
+    """Both meshes of the train."""
+
+    sun_intermediate: Mesh
+    intermediate_planet: Mesh
+
+
+@dataclass(frozen=True)
+class Rack:
+    """The basic rack: pressure angle (rad) and factors of the module."""
+
+    alpha_rad: float
+    addendum: float
+    clearance: float
+    fillet: float
+
+
+@dataclass(frozen=True)
+class TeethOptions:
+    """The tooth options the train was cut with; ``policy`` as the library writes it
+    (``"Designed"``, ``{"ScaleCenterDistance": "ScaleUp"}`` …)."""
+
+    policy: Union[str, Dict[str, Any]]
+    module_mm: float
+    rack: Rack
+    backlash_mm: float
+    chord_tol_mm: float
+    verify_chord_tol_mm: float
+    verify_steps: int
+    cutter_teeth: Optional[int]
+    refuse_undercut: bool
+    roundtrip_samples: int
+    wire_edm: bool
+
+
+@dataclass(frozen=True)
+class TeethRoundTrip:
+    """How far the toothed train traces from the target, against the designed gears."""
+
+    before_max_deviation_mm: float
+    max_deviation_mm: float
+    hausdorff_mm: float
+    before_hausdorff_mm: float
+    max_tip_shift_mm: float
+
+
+@dataclass(frozen=True)
+class Flank:
+    """Undercut of one tooth flank."""
+
+    tooth: int
+    side: str
+    s_mm: float
+    min_rho_mm: float
+    cusp_depth_mm: float
+    flank_depth_mm: float
+    undercut: bool
+    undercut_mm: float
+    concave: bool
+    form_depth_mm: float
+    contact_ratio_loss: float
+    root_thickness_mm: Optional[float]
+
+
+@dataclass(frozen=True)
+class Undercut:
+    """Undercut of one gear."""
+
+    flanks: Tuple[Flank, ...]
+    min_rho_mm: float
+    required_rho_mm: float
+    max_module_mm: float
+    undercut_count: int
+    concave_count: int
+    max_undercut_mm: float
+    max_contact_ratio_loss: float
+    min_root_thickness_mm: Optional[float]
+
+
+@dataclass(frozen=True)
+class TrainUndercut:
+    """Undercut of the three gears."""
+
+    sun: Undercut
+    intermediate: Undercut
+    planet: Undercut
+
+
+@dataclass(frozen=True)
+class Process:
+    """How one gear is cut: ``process`` ``"rack"``, ``"shaper"`` or ``"wire-edm"``."""
+
+    process: str
+    cutter_teeth: Optional[int]
+    cutter_pitch_radius_mm: Optional[float]
+    min_concave_rho_mm: Optional[float]
+    tried_cutter_teeth: Tuple[int, ...]
+    rejected: Tuple[str, ...]
+    undercut_flanks: int
+    min_tip_width_mm: Optional[float]
+    relieved_teeth: int
+    max_tip_relief_mm: float
+    reach_topped_teeth: int
+
+
+@dataclass(frozen=True)
+class TrainProcess:
+    """How the three gears are cut."""
+
+    sun: Process
+    intermediate: Process
+    planet: Process
+
+
+@dataclass(frozen=True)
+class TeethReport:
+    """The ``teeth`` block of ``design.json``: the toothed train."""
+
+    options: TeethOptions
+    z: int
+    module_mm: float
+    ratio_amplitude: float
+    needle_angle_deg: Optional[float]
+    sun_phase_deg: Optional[float]
+    warnings: Tuple[str, ...]
+    z_raw: float
+    scale: float
+    perimeter_mm: float
+    center_distance_mm: float
+    l1_mm: float
+    radial_shift_mm: float
+    roundtrip: TeethRoundTrip
+    phase_mm: Tuple[float, float, float]
+    undercut: TrainUndercut
+    mesh: Optional[TrainMesh]
+    files: Tuple[str, ...]
+    process: Optional[TrainProcess]
+
+
+@dataclass(frozen=True, eq=False)
+class DesignReport:
+    """``design.json``: arm lengths l1, l3 and centre distance (mm), the needle angle, the pitch
+    curves, the round trip, the stages of the chain, the gear limits, the checks C1–C12, the
+    target points (mm), warnings, timings, the teeth when cut and the verdict."""
+
+    units: Units
+    l1: float
+    l3: float
+    center_distance: float
+    needle_angle_deg: float
+    carrier: Carrier
+    gears: Gears
+    roundtrip: RoundTrip
+    trajectory: TrajectorySummary
+    compatibility: Compatibility
+    patent_route: Route
+    refinement: Optional[Route]
+    fit: Optional[Fit]
+    chosen: str
+    fourier: Fourier
+    module: Optional[ModuleSummary]
+    limits: Limits
+    checks: Tuple[Check, ...]
+    target_points: Points
+    warnings: Tuple[str, ...]
+    timings_ms: Timings
+    teeth: Optional[TeethReport]
+    verdict: Verdict
+
+
+@dataclass(frozen=True)
+class Sector:
+    """An open sector pair: driver interval (deg), kept teeth, hub radii (mm)."""
+
+    drive_deg: Tuple[float, float]
+    driven_advance_deg: float
+    active_teeth: float
+    kept_teeth: Tuple[int, int]
+    hub_radius_mm: Tuple[float, float]
+    assembly_at_deg: float
+
+
+@dataclass(frozen=True)
+class PairReport:
+    """A toothed pair: tooth counts, module, sizes (mm), ratio range, the mesh, the sector of an
+    open pair and the verdict."""
+
+    z: int
+    z_driven: int
+    cycle_advance_deg: float
+    module_mm: float
+    centre_distance_mm: float
+    perimeter_mm: float
+    ratio_range: Tuple[float, float]
+    mesh: Optional[Mesh]
+    sector: Optional[Sector]
+    verdict: Verdict
+
+
+@dataclass(frozen=True)
+class Features:
+    """Agronomic features of one carrier turn (``ncgear simulate``); ``bbox_mm`` is
+    (xmin, xmax, ymin, ymax)."""
+
+    height_mm: float
+    bbox_mm: Tuple[float, float, float, float]
+    rho_range_mm: Tuple[float, float]
+    take_carrier_deg: float
+    needle_angle_take_deg: float
+    plant_carrier_deg: float
+    needle_angle_plant_deg: float
+    take_angle_deg: float
+    push_angle_deg: float
+    static_width_at_depth_mm: float
+    hole_width_mm: float
+    max_tip_speed_mm_s: float
+    tip_speed_at_plant_mm_s: float
+    max_dynamic_tip_speed_mm_s: float
+    min_arm_clearance_mm: float
+    plant_spacing_mm: float
+
+
+@dataclass(frozen=True)
+class GreedyStep:
+    """One step of the greedy phase compensation."""
+
+    term: str
+    index: int
+    beta_rad: float
+    peak_um: float
+    ties: Tuple[int, ...]
+
+
+@dataclass(frozen=True)
+class Joint:
+    """The joint optimum of every assembly angle."""
+
+    betas_rad: Tuple[float, ...]
+    peak_um: float
+    starts: int
+
+
+@dataclass(frozen=True)
+class Phasor:
+    """The error terms of one frequency, summed."""
+
+    omega_rad_s: float
+    amplitude_um: float
+    phase_rad: float
+
+
+@dataclass(frozen=True, eq=False)
+class McStats:
+    """Monte Carlo statistics; ``histogram`` rows (low, high, count)."""
+
+    n: int
+    min: float
+    max: float
+    mean: float
+    std: float
+    mean_std_error: float
+    p50: float
+    p95: float
+    p9973: float
+    histogram: Numbers
+
+
+@dataclass(frozen=True, eq=False)
+class ToleranceReport:
+    """``tolerance.json``: error harmonics, phase compensation and the Monte Carlo."""
+
+    base_radius_mm: float
+    period_s: float
+    commensurate: bool
+    nominal_peak_um: float
+    amplitude_sum_um: float
+    floor_um: float
+    greedy: Tuple[GreedyStep, ...]
+    greedy_peak_um: float
+    greedy_peak_arcsec: float
+    joint: Joint
+    greedy_gap_um: float
+    groups: Tuple[Phasor, ...]
+    monte_carlo_um: Optional[McStats]
+    monte_carlo_arcsec: Optional[McStats]
+    p_random_beats_greedy: Optional[float]

@@ -1,0 +1,126 @@
+//! `ncgear.NcgearError` and the library's errors in the words of the Python API: an option the
+//! library names by its field (`tol_tip_mm`) is named by the argument that sets it (`tol_mm`),
+//! and no message quotes a CLI flag.
+use ncgear::bounds::OutOfBounds;
+use ncgear::design::DesignError;
+use ncgear::pair::PairError;
+use ncgear::teeth::TeethError;
+use pyo3::PyErr;
+use pyo3::create_exception;
+use pyo3::exceptions::PyValueError;
+use std::fmt::Display;
+
+create_exception!(
+    _ncgear,
+    NcgearError,
+    PyValueError,
+    "An ncgear input or design error."
+);
+
+/// The Python argument that sets the library option `field`, if one does.
+fn arg_of(field: &str) -> Option<&'static str> {
+    Some(match field {
+        "order" => "order",
+        "smoothing" => "smooth",
+        "tol_tip_mm" => "tol_mm",
+        "inverse.grid" => "grid",
+        "inverse.sense" => "sense",
+        "inverse.dense_samples" => "dense",
+        "curve_samples" => "samples",
+        "refine_options.ratio_bounds" => "ratio_bounds",
+        "center_mm" => "center",
+        "segmented.w1" => "w1",
+        "segmented.k_max" => "k_max",
+        "refine_order" => "refine_order",
+        "pressure_angle_limit_rad" => "max_pressure_angle",
+        "min_concave_radius_mm" => "min_concave_radius",
+        "min_convex_radius_mm" => "min_convex_radius",
+        "module_mm" => "module",
+        "pressure_angle_deg" => "pressure_angle",
+        "addendum" => "addendum",
+        "clearance" => "clearance",
+        "fillet" => "fillet",
+        "chord_tol_mm" => "chord_tol",
+        "backlash_mm" => "backlash",
+        "cutter_teeth" => "cutter_teeth",
+        "verify_steps" | "verify_steps × driver turns per cycle" => "verify_steps",
+        "teeth" | "teeth of the driven gear (z·q/p)" => "teeth",
+        "centrode_advance_rad" => "cycle_advance",
+        "open_sector_rad" => "drive",
+        "bore" => "bore",
+        "face_width" => "face_width",
+        _ => return None,
+    })
+}
+
+/// The library's message with its CLI flags said the Python way.
+fn unflagged(message: &str) -> String {
+    message
+        .replace("`--sense auto`", "`sense=\"auto\"`")
+        .replace("--max-memory-gb", "ncgear.set_max_memory_gb()")
+}
+
+/// An `NcgearError` carrying `e`'s message.
+pub fn err(e: impl Display) -> PyErr {
+    NcgearError::new_err(unflagged(&e.to_string()))
+}
+
+/// An `NcgearError` on Python argument `arg` given `value`: `arg=value: what`.
+pub fn arg_err(arg: &str, value: impl Display, what: impl Display) -> PyErr {
+    NcgearError::new_err(unflagged(&format!("{arg}={value}: {what}")))
+}
+
+/// The error of library option `field` (value `value`, `what` is wrong), on its argument when
+/// one sets it.
+fn field_err(field: &str, value: impl Display, what: impl Display) -> PyErr {
+    match arg_of(field) {
+        Some(arg) => arg_err(arg, value, what),
+        None => err(format!("`{field}` = {value}: {what}")),
+    }
+}
+
+/// A size outside its admissible range, on the argument that sets it.
+pub fn bounds_err(b: &OutOfBounds) -> PyErr {
+    let what = format!("outside its admissible range {}: {}", b.range, b.why);
+    field_err(&b.quantity, &b.value, what)
+}
+
+/// A design error, a bad option on its argument.
+pub fn design_err(e: &DesignError) -> PyErr {
+    match e {
+        DesignError::BadOption {
+            option,
+            value,
+            expected,
+        } => field_err(option, value, expected),
+        DesignError::Bounds(b) => bounds_err(b),
+        _ => err(e),
+    }
+}
+
+/// A tooth error, a bad parameter on its argument.
+pub fn teeth_err(e: &TeethError) -> PyErr {
+    match e {
+        TeethError::Bounds(b) => bounds_err(b),
+        TeethError::InvalidParameter {
+            name,
+            value,
+            expected,
+        } => field_err(name, value, expected),
+        _ => err(e),
+    }
+}
+
+/// A pair error, a bad parameter on its argument.
+pub fn pair_err(e: &PairError) -> PyErr {
+    match e {
+        PairError::Teeth(t) => teeth_err(t),
+        PairError::Bounds(b) => bounds_err(b),
+        PairError::InvalidParameter {
+            name,
+            value,
+            expected,
+        } => field_err(name, value, expected),
+        _ => err(e),
+    }
+}
