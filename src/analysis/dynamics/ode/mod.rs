@@ -153,6 +153,106 @@ impl DenseStep {
 /// A scalar state-event function `g(t, y)`; an event is a sign change of `g` inside a step.
 pub type EventFn<'a> = &'a dyn Fn(f64, &[f64]) -> f64;
 
+/// One integration task of [`Dopri5::integrate`]: a system over a time span, with its switches.
+#[derive(Clone, Copy)]
+pub struct OdeProblem<'a> {
+    /// The right-hand side.
+    pub system: &'a dyn OdeSystem,
+    /// Start time, s.
+    pub t0: f64,
+    /// End time, s (> `t0`).
+    pub t1: f64,
+    /// Known switch times of the right-hand side, s, sorted (those outside `(t0, t1)` are
+    /// ignored): the integration stops and restarts with a fresh first stage at each.
+    pub breakpoints: &'a [f64],
+    /// State-event functions: a step is cut at the first located zero and restarted there.
+    pub events: &'a [EventFn<'a>],
+}
+
+impl<'a> OdeProblem<'a> {
+    /// `system` on `[t0, t1]` (s) without breakpoints or events.
+    #[must_use]
+    pub fn new(system: &'a dyn OdeSystem, t0: f64, t1: f64) -> Self {
+        Self {
+            system,
+            t0,
+            t1,
+            breakpoints: &[],
+            events: &[],
+        }
+    }
+
+    /// With the switch times `breakpoints` (s, sorted).
+    #[must_use]
+    pub fn with_breakpoints(mut self, breakpoints: &'a [f64]) -> Self {
+        self.breakpoints = breakpoints;
+        self
+    }
+
+    /// With the state-event functions `events`.
+    #[must_use]
+    pub fn with_events(mut self, events: &'a [EventFn<'a>]) -> Self {
+        self.events = events;
+        self
+    }
+}
+
+/// The scratch vectors of [`Dopri5::integrate`], one state long each.
+struct Workspace {
+    /// The seven stage derivatives (FSAL: `k[6]` becomes the next step's `k[0]`).
+    k: Vec<Vec<f64>>,
+    /// The argument of the current stage.
+    ytmp: Vec<f64>,
+    /// The 5th-order solution at the end of the step.
+    ynew: Vec<f64>,
+    /// The state at a located event.
+    yev: Vec<f64>,
+}
+
+impl Workspace {
+    fn new(n: usize) -> Self {
+        Self {
+            k: (0..7).map(|_| vec![0.0; n]).collect(),
+            ytmp: vec![0.0; n],
+            ynew: vec![0.0; n],
+            yev: vec![0.0; n],
+        }
+    }
+}
+
+/// The step after an accepted one of `h_used` s with error norm `err`: `h·0.9·err^(−1/5)`,
+/// growing at most 5× and shrinking at most 5×; a step that ended on a switch does not shrink.
+fn next_step(err: f64, h_used: f64, hit_stop: bool) -> f64 {
+    let fac = (0.9 * err.max(1e-10).powf(-0.2)).clamp(0.2, 5.0);
+    let h = h_used * fac;
+    if hit_stop { h.max(h_used) } else { h }
+}
+
+/// The earliest located zero (s) inside the accepted step `(ta, ya)` → `(tb, yb)` of any event
+/// function that changes sign over it (or reaches zero at its end), on its dense output;
+/// `yev` is scratch.
+fn first_event(
+    events: &[EventFn<'_>],
+    dense: &DenseStep,
+    (ta, ya): (f64, &[f64]),
+    (tb, yb): (f64, &[f64]),
+    yev: &mut [f64],
+) -> Option<f64> {
+    let h = dense.h;
+    let mut t_ev: Option<f64> = None;
+    for g in events {
+        let ga = g(ta, ya);
+        let gb = g(tb, yb);
+        if ga != 0.0 && ga.signum() != gb.signum() && gb != 0.0 || (ga != 0.0 && gb == 0.0) {
+            let te = locate(g, dense, ta, tb, ga, gb, yev);
+            if te > ta + 1e-9 * h && t_ev.is_none_or(|x| te < x) {
+                t_ev = Some(te);
+            }
+        }
+    }
+    t_ev
+}
+
 impl Dopri5 {
     /// Adaptive DOPRI5 with relative and absolute tolerances (per component:
     /// `sc = atol + rtol·max(|y0|, |y1|)`, RMS norm).
@@ -182,26 +282,24 @@ impl Dopri5 {
         Ok(self)
     }
 
-    /// Integrates from `t0` to `t1` (> t0), restarting at every time in `breakpoints` (sorted,
-    /// those outside `(t0, t1)` are ignored) and at every located zero of an event function.
-    /// `on_step` receives every accepted step's dense output. Returns the final state in `y`.
-    #[allow(clippy::too_many_arguments)] // the integrator's whole interface: system, span, state, breakpoints, events, callback
+    /// Integrates `problem` from its `t0` to its `t1`, restarting at every breakpoint and at
+    /// every located zero of an event function. `y` holds the initial state and receives the
+    /// final one; `on_step` receives every accepted step's dense output.
     pub fn integrate(
         &self,
-        sys: &dyn OdeSystem,
-        t0: f64,
-        t1: f64,
+        problem: &OdeProblem<'_>,
         y: &mut [f64],
-        breakpoints: &[f64],
-        events: &[EventFn<'_>],
         on_step: &mut dyn FnMut(&DenseStep),
     ) -> Result<OdeStats, OdeError> {
-        let n = sys.dim();
+        let &OdeProblem {
+            system: sys,
+            t0,
+            t1,
+            breakpoints,
+            events,
+        } = problem;
         let mut st = OdeStats::default();
-        let mut k: Vec<Vec<f64>> = (0..7).map(|_| vec![0.0; n]).collect();
-        let mut ytmp = vec![0.0; n];
-        let mut ynew = vec![0.0; n];
-        let mut yev = vec![0.0; n];
+        let mut ws = Workspace::new(sys.dim());
         let mut t = t0;
         let mut h = 0.0_f64;
         let mut fresh = true;
@@ -218,10 +316,10 @@ impl Dopri5 {
             let t_stop = bp.peek().copied().unwrap_or(t1);
             if fresh {
                 // restart after a switch: evaluate just inside the new piece
-                sys.rhs(t + NUDGE * (t_stop - t), y, &mut k[0]);
+                sys.rhs(t + NUDGE * (t_stop - t), y, &mut ws.k[0]);
                 st.rhs_evals += 1;
                 if h == 0.0 {
-                    h = self.initial_step(t, y, &k[0]);
+                    h = self.initial_step(t, y, &ws.k[0]);
                 }
                 fresh = false;
             }
@@ -231,70 +329,16 @@ impl Dopri5 {
                 h = t_stop - t;
                 hit_stop = true;
             }
-            if st.accepted + st.rejected > self.max_steps || h < 1e-14 * t.abs().max(1e-9) {
-                return Err(OdeError::Failed {
-                    t,
-                    reason: format!("step size {h:e} s too small or step budget exhausted"),
-                });
-            }
-            // stages
-            let (k1, rest) = k.split_at_mut(1);
-            let k1 = &k1[0];
-            for i in 0..n {
-                ytmp[i] = y[i] + h * A21 * k1[i];
-            }
-            sys.rhs(t + C2 * h, &ytmp, &mut rest[0]);
-            for i in 0..n {
-                ytmp[i] = y[i] + h * (A31 * k1[i] + A32 * rest[0][i]);
-            }
-            sys.rhs(t + C3 * h, &ytmp, &mut rest[1]);
-            for i in 0..n {
-                ytmp[i] = y[i] + h * (A41 * k1[i] + A42 * rest[0][i] + A43 * rest[1][i]);
-            }
-            sys.rhs(t + C4 * h, &ytmp, &mut rest[2]);
-            for i in 0..n {
-                ytmp[i] = y[i]
-                    + h * (A51 * k1[i] + A52 * rest[0][i] + A53 * rest[1][i] + A54 * rest[2][i]);
-            }
-            sys.rhs(t + C5 * h, &ytmp, &mut rest[3]);
-            for i in 0..n {
-                ytmp[i] = y[i]
-                    + h * (A61 * k1[i]
-                        + A62 * rest[0][i]
-                        + A63 * rest[1][i]
-                        + A64 * rest[2][i]
-                        + A65 * rest[3][i]);
-            }
+            self.check_step(&st, t, h)?;
             // a step that ends on a switch evaluates its last stages just before it
             let t_end_eval = if hit_stop {
                 t + h * (1.0 - NUDGE)
             } else {
                 t + h
             };
-            sys.rhs(t_end_eval, &ytmp, &mut rest[4]);
-            for i in 0..n {
-                ynew[i] = y[i]
-                    + h * (A71 * k1[i]
-                        + A73 * rest[1][i]
-                        + A74 * rest[2][i]
-                        + A75 * rest[3][i]
-                        + A76 * rest[4][i]);
-            }
-            sys.rhs(t_end_eval, &ynew, &mut rest[5]);
+            self.stages(sys, t, h, t_end_eval, y, &mut ws);
             st.rhs_evals += 6;
-            let mut err = 0.0;
-            for i in 0..n {
-                let e = h
-                    * (E1 * k1[i]
-                        + E3 * rest[1][i]
-                        + E4 * rest[2][i]
-                        + E5 * rest[3][i]
-                        + E6 * rest[4][i]
-                        + E7 * rest[5][i]);
-                let sc = self.atol + self.rtol * y[i].abs().max(ynew[i].abs());
-                err += (e / sc) * (e / sc);
-            }
-            err = (err / n as f64).sqrt();
+            let err = self.error_norm(h, y, &ws);
             if !err.is_finite() {
                 st.rejected += 1;
                 h *= 0.2;
@@ -306,30 +350,18 @@ impl Dopri5 {
                 continue;
             }
             st.accepted += 1;
-            let dense = self.dense(t, h, y, &ynew, &k);
-            // state events: first sign change inside the step
-            let mut t_ev: Option<f64> = None;
-            for g in events {
-                let ga = g(t, y);
-                let gb = g(t + h, &ynew);
-                if ga != 0.0 && ga.signum() != gb.signum() && gb != 0.0 || (ga != 0.0 && gb == 0.0)
-                {
-                    let te = locate(g, &dense, t, t + h, ga, gb, &mut yev);
-                    if te > t + 1e-9 * h && t_ev.is_none_or(|x| te < x) {
-                        t_ev = Some(te);
-                    }
-                }
-            }
+            let dense = self.dense(t, h, y, &ws.ynew, &ws.k);
             let h_used = h;
+            let t_ev = first_event(events, &dense, (t, y), (t + h, &ws.ynew), &mut ws.yev);
             if let Some(te) = t_ev.filter(|&te| te < t + h) {
-                dense.eval(te, &mut yev);
+                dense.eval(te, &mut ws.yev);
                 let part = DenseStep {
                     t,
                     h: te - t,
                     r: restrict(&dense, te),
                 };
                 on_step(&part);
-                y.copy_from_slice(&yev);
+                y.copy_from_slice(&ws.yev);
                 t = te;
                 st.events += 1;
                 fresh = true;
@@ -337,21 +369,101 @@ impl Dopri5 {
                 continue;
             }
             on_step(&dense);
-            y.copy_from_slice(&ynew);
+            y.copy_from_slice(&ws.ynew);
             t += h;
             if hit_stop {
                 t = t_stop;
                 fresh = true;
             } else {
-                k.swap(0, 6);
+                ws.k.swap(0, 6);
             }
-            let fac = (0.9 * err.max(1e-10).powf(-0.2)).clamp(0.2, 5.0);
-            h = h_used * fac;
-            if hit_stop {
-                h = h.max(h_used);
-            }
+            h = next_step(err, h_used, hit_stop);
         }
         Ok(st)
+    }
+
+    /// Refuses a step below `1e-14·max(|t|, 1e-9)` s or beyond the step budget.
+    fn check_step(&self, st: &OdeStats, t: f64, h: f64) -> Result<(), OdeError> {
+        if st.accepted + st.rejected > self.max_steps || h < 1e-14 * t.abs().max(1e-9) {
+            return Err(OdeError::Failed {
+                t,
+                reason: format!("step size {h:e} s too small or step budget exhausted"),
+            });
+        }
+        Ok(())
+    }
+
+    /// Stages 2–7 of one Dormand–Prince step of size `h` (s) from `(t, y)`, `ws.k[0]` holding
+    /// `f(t, y)`: fills `ws.k[1..7]` and the 5th-order solution `ws.ynew`; the last two stages
+    /// are evaluated at `t_end_eval` (just before a switch that ends the step).
+    fn stages(
+        &self,
+        sys: &dyn OdeSystem,
+        t: f64,
+        h: f64,
+        t_end_eval: f64,
+        y: &[f64],
+        ws: &mut Workspace,
+    ) {
+        let n = y.len();
+        let Workspace { k, ytmp, ynew, .. } = ws;
+        let (k1, rest) = k.split_at_mut(1);
+        let k1 = &k1[0];
+        for i in 0..n {
+            ytmp[i] = y[i] + h * A21 * k1[i];
+        }
+        sys.rhs(t + C2 * h, ytmp, &mut rest[0]);
+        for i in 0..n {
+            ytmp[i] = y[i] + h * (A31 * k1[i] + A32 * rest[0][i]);
+        }
+        sys.rhs(t + C3 * h, ytmp, &mut rest[1]);
+        for i in 0..n {
+            ytmp[i] = y[i] + h * (A41 * k1[i] + A42 * rest[0][i] + A43 * rest[1][i]);
+        }
+        sys.rhs(t + C4 * h, ytmp, &mut rest[2]);
+        for i in 0..n {
+            ytmp[i] =
+                y[i] + h * (A51 * k1[i] + A52 * rest[0][i] + A53 * rest[1][i] + A54 * rest[2][i]);
+        }
+        sys.rhs(t + C5 * h, ytmp, &mut rest[3]);
+        for i in 0..n {
+            ytmp[i] = y[i]
+                + h * (A61 * k1[i]
+                    + A62 * rest[0][i]
+                    + A63 * rest[1][i]
+                    + A64 * rest[2][i]
+                    + A65 * rest[3][i]);
+        }
+        sys.rhs(t_end_eval, ytmp, &mut rest[4]);
+        for i in 0..n {
+            ynew[i] = y[i]
+                + h * (A71 * k1[i]
+                    + A73 * rest[1][i]
+                    + A74 * rest[2][i]
+                    + A75 * rest[3][i]
+                    + A76 * rest[4][i]);
+        }
+        sys.rhs(t_end_eval, ynew, &mut rest[5]);
+    }
+
+    /// RMS of the embedded 4th/5th-order difference over `sc = atol + rtol·max(|y|, |y_new|)`
+    /// (a step is accepted at ≤ 1).
+    fn error_norm(&self, h: f64, y: &[f64], ws: &Workspace) -> f64 {
+        let n = y.len();
+        let k = &ws.k;
+        let mut err = 0.0;
+        for i in 0..n {
+            let e = h
+                * (E1 * k[0][i]
+                    + E3 * k[2][i]
+                    + E4 * k[3][i]
+                    + E5 * k[4][i]
+                    + E6 * k[5][i]
+                    + E7 * k[6][i]);
+            let sc = self.atol + self.rtol * y[i].abs().max(ws.ynew[i].abs());
+            err += (e / sc) * (e / sc);
+        }
+        (err / n as f64).sqrt()
     }
 
     fn initial_step(&self, t: f64, y: &[f64], f0: &[f64]) -> f64 {
@@ -417,11 +529,15 @@ mod tests {
         let mut max_dense_err = 0.0_f64;
         let mut out = [0.0; 2];
         let st = s
-            .integrate(&Osc, 0.0, 10.0, &mut y, &[3.0, 7.0], &[], &mut |d| {
-                let tm = 0.5 * (d.t_start() + d.t_end());
-                d.eval(tm, &mut out);
-                max_dense_err = max_dense_err.max((out[0] - tm.cos()).abs());
-            })
+            .integrate(
+                &OdeProblem::new(&Osc, 0.0, 10.0).with_breakpoints(&[3.0, 7.0]),
+                &mut y,
+                &mut |d| {
+                    let tm = 0.5 * (d.t_start() + d.t_end());
+                    d.eval(tm, &mut out);
+                    max_dense_err = max_dense_err.max((out[0] - tm.cos()).abs());
+                },
+            )
             .unwrap();
         assert!((y[0] - 10f64.cos()).abs() < 1e-8, "{y:?}");
         assert!(max_dense_err < 1e-8, "{max_dense_err}");
@@ -437,14 +553,18 @@ mod tests {
         let mut max_err = 0.0_f64;
         let mut out = [0.0; 2];
         let st = s
-            .integrate(&Osc, 0.0, 2.0, &mut y, &[], &[&g], &mut |d| {
-                last_end = d.t_end();
-                for j in 0..=4 {
-                    let tt = d.t_start() + (d.t_end() - d.t_start()) * j as f64 / 4.0;
-                    d.eval(tt, &mut out);
-                    max_err = max_err.max((out[0] - tt.cos()).abs());
-                }
-            })
+            .integrate(
+                &OdeProblem::new(&Osc, 0.0, 2.0).with_events(&[&g]),
+                &mut y,
+                &mut |d| {
+                    last_end = d.t_end();
+                    for j in 0..=4 {
+                        let tt = d.t_start() + (d.t_end() - d.t_start()) * j as f64 / 4.0;
+                        d.eval(tt, &mut out);
+                        max_err = max_err.max((out[0] - tt.cos()).abs());
+                    }
+                },
+            )
             .unwrap();
         assert_eq!(st.events, 1);
         assert!(max_err < 1e-8, "{max_err}");
