@@ -33,7 +33,11 @@ fn full16_dopri5_50_mesh_periods(bencher: divan::Bencher, breakpoints: bool) {
     bencher.bench_local(|| {
         let mut y = vec![0.0; 2 * m.n()];
         solver
-            .integrate(&m, 0.0, t_end, &mut y, &bps, &[], &mut |_| {})
+            .integrate(
+                &ode::OdeProblem::new(&m, 0.0, t_end).with_breakpoints(&bps),
+                &mut y,
+                &mut |_| {},
+            )
             .expect("integration");
         divan::black_box(y)
     });

@@ -30,7 +30,11 @@ fn main() {
             };
             let t = Instant::now();
             let st = solver
-                .integrate(&m, 0.0, t_end, &mut y, &bps, &[], &mut |_| {})
+                .integrate(
+                    &ode::OdeProblem::new(&m, 0.0, t_end).with_breakpoints(&bps),
+                    &mut y,
+                    &mut |_| {},
+                )
                 .expect("integration");
             best = best.min(t.elapsed().as_secs_f64());
             out = (st.rhs_evals, m.mesh.dte(t_end, &y[..m.n()]));

@@ -275,7 +275,27 @@ fn write_sweep(
 /// The run's files and plots (time series, DTE, mesh force, phase plane, spectrum, orbits) and
 /// its log lines.
 fn write_run(out: &Outputs, p: &dy::Prepared, s: &dy::RunReport, rec: &dy::Recording) -> CliResult {
-    let run = &rec.run;
+    log_transient(s);
+    write_time_domain(out, s, rec)?;
+    if let Some(spectrum) = &rec.spectrum {
+        write_spectrum(out, p, spectrum)?;
+    }
+    write_orbits(out, rec)?;
+    eprintln!(
+        "DTE mean {:.4} µm, harmonics at k·f_mesh [µm]: {}",
+        s.dte_mean_m * 1e6,
+        s.dte_harmonics_m
+            .iter()
+            .map(|x| format!("{:.4}", x * 1e6))
+            .collect::<Vec<_>>()
+            .join(", ")
+    );
+    eprintln!("outputs written to {}", out.dir.display());
+    Ok(())
+}
+
+/// Logs the transient: Poincaré periods, whether it settled, the integrator's counters.
+fn log_transient(s: &dy::RunReport) {
     eprintln!(
         "transient {} Poincaré periods ({}), {} RHS evaluations, {} accepted / {} rejected steps, {} events",
         s.transient_periods,
@@ -289,6 +309,12 @@ fn write_run(out: &Outputs, p: &dy::Prepared, s: &dy::RunReport, rec: &dy::Recor
         s.stats.rejected,
         s.stats.events
     );
+}
+
+/// `timeseries.csv` and the plots of the first 10 mesh periods of the record (DTE in µm, mesh
+/// force in N, against time in ms) and of the phase plane with its Poincaré section.
+fn write_time_domain(out: &Outputs, s: &dy::RunReport, rec: &dy::Recording) -> CliResult {
+    let run = &rec.run;
     write_csv(
         &out.file("timeseries.csv"),
         &rec.timeseries_header(),
@@ -334,29 +360,37 @@ fn write_run(out: &Outputs, p: &dy::Prepared, s: &dy::RunReport, rec: &dy::Recor
         ],
         false,
     )?;
-    if let Some(spectrum) = &rec.spectrum {
-        write_csv(
-            &out.file("spectrum.csv"),
-            &["f_hz".into(), "amplitude_m".into()],
-            spectrum.iter().map(|&(f, a)| vec![f, a]),
-        )?;
-        let fmax = 10.0 / p.model.mesh.t0;
-        chart(
-            &out.plot("spectrum"),
-            "DTE spectrum",
-            "f [Hz]",
-            "amplitude [µm]",
-            vec![Series::line(
-                "DTE",
-                spectrum
-                    .iter()
-                    .filter(|p| p.0 <= fmax)
-                    .map(|&(f, a)| (f, a * 1e6))
-                    .collect(),
-            )],
-            false,
-        )?;
-    }
+    Ok(())
+}
+
+/// `spectrum.csv` (Hz, m) and its plot up to 10 mesh frequencies (µm).
+fn write_spectrum(out: &Outputs, p: &dy::Prepared, spectrum: &[(f64, f64)]) -> CliResult {
+    write_csv(
+        &out.file("spectrum.csv"),
+        &["f_hz".into(), "amplitude_m".into()],
+        spectrum.iter().map(|&(f, a)| vec![f, a]),
+    )?;
+    let fmax = 10.0 / p.model.mesh.t0;
+    chart(
+        &out.plot("spectrum"),
+        "DTE spectrum",
+        "f [Hz]",
+        "amplitude [µm]",
+        vec![Series::line(
+            "DTE",
+            spectrum
+                .iter()
+                .filter(|p| p.0 <= fmax)
+                .map(|&(f, a)| (f, a * 1e6))
+                .collect(),
+        )],
+        false,
+    )?;
+    Ok(())
+}
+
+/// The orbit plot of each gear centre that has one (µm).
+fn write_orbits(out: &Outputs, rec: &dy::Recording) -> CliResult {
     for (gear, pts) in &rec.orbits {
         let which = gear.as_str();
         chart(
@@ -368,15 +402,5 @@ fn write_run(out: &Outputs, p: &dy::Prepared, s: &dy::RunReport, rec: &dy::Recor
             true,
         )?;
     }
-    eprintln!(
-        "DTE mean {:.4} µm, harmonics at k·f_mesh [µm]: {}",
-        s.dte_mean_m * 1e6,
-        s.dte_harmonics_m
-            .iter()
-            .map(|x| format!("{:.4}", x * 1e6))
-            .collect::<Vec<_>>()
-            .join(", ")
-    );
-    eprintln!("outputs written to {}", out.dir.display());
     Ok(())
 }

@@ -2,8 +2,9 @@
 use super::{CliResult, input_error, print_json, runtime_error};
 use ncgear::design::train::{TrainPolicy, TrainTeethOptions, tooth_train};
 use ncgear::design::trajectory::Trajectory;
+use ncgear::geometry::assembly::Assembly;
 use ncgear::output::animate::AnimationOptions;
-use ncgear::output::write_simulation;
+use ncgear::output::{SimulationReport, write_simulation};
 use ncgear::simulate::{DesignFile, FeatureOptions, SimulateError, Simulation};
 use ncgear::teeth::ToothPolicy;
 use std::path::PathBuf;
@@ -66,6 +67,29 @@ pub fn run(args: Args) -> CliResult {
             .to_vec(),
         None => file.target_points.clone(),
     };
+    let (opts, anim) = options(&args)?;
+    let sim = simulation(&args, &file, asm, &target)?;
+    // The report is written last; an earlier run's goes first (ncgear::files).
+    let json_path = args.out.join("simulate.json");
+    super::remove_stale_report(&json_path)?;
+    let report = write_simulation(&sim, &target, &opts, &anim, &args.out).map_err(|e| match e {
+        SimulateError::BadOption { option: "out", .. } => runtime_error(miette::miette!("{e}")),
+        _ => input(e),
+    })?;
+    let json = ncgear::output::json::to_string(&report)
+        .map_err(|e| runtime_error(miette::miette!("{e}")))?;
+    ncgear::files::write_whole(&json_path, &json)
+        .map_err(|e| runtime_error(miette::miette!("cannot write simulate.json: {e}")))?;
+    if args.json {
+        return print_json(&report);
+    }
+    print_summary(&args, &report);
+    Ok(())
+}
+
+/// The feature options (carrier speed, forward speed from `--speed` m/s or `--spacing` mm,
+/// depth, levels) and the animation options of the arguments.
+fn options(args: &Args) -> Result<(FeatureOptions, AnimationOptions), super::Failure> {
     let forward_mm_s = match (args.speed, args.spacing) {
         (Some(v), _) => v * 1000.0,
         (None, Some(s)) if s > 0.0 => FeatureOptions::forward_for_spacing(s, args.rpm),
@@ -90,7 +114,17 @@ pub fn run(args: Args) -> CliResult {
     let mut anim = AnimationOptions::default();
     anim.frames = args.frames;
     anim.seconds = args.duration;
-    // Toothed outlines: --module, or the z and module of the design file's `teeth` block.
+    Ok((opts, anim))
+}
+
+/// The simulated train: toothed at `--module`, or at the z and module of the design file's
+/// `teeth` block; else the pitch curves.
+fn simulation(
+    args: &Args,
+    file: &DesignFile,
+    asm: Assembly,
+    target: &[[f64; 2]],
+) -> Result<Simulation, super::Failure> {
     let policy = match (args.module, file.teeth) {
         (Some(m), _) => Some((m, TrainPolicy::ScaleCenterDistance(ToothPolicy::ScaleUp))),
         (None, Some(t)) => Some((
@@ -99,31 +133,21 @@ pub fn run(args: Args) -> CliResult {
         )),
         (None, None) => None,
     };
-    let sim = match policy {
+    Ok(match policy {
         Some((m, policy)) => {
             let mut opts = TrainTeethOptions::new(m);
             opts.policy = policy;
             opts.toothing.verify_steps = 0;
-            let train = tooth_train(&asm, &target, &opts, &|_| {})
+            let train = tooth_train(&asm, target, &opts, &|_| {})
                 .map_err(|e| input_error(miette::miette!("--module {m}: {e}")))?;
             Simulation::toothed(&train)
         }
         None => Simulation::new(asm),
-    };
-    // The report is written last; an earlier run's goes first (ncgear::files).
-    let json_path = args.out.join("simulate.json");
-    super::remove_stale_report(&json_path)?;
-    let report = write_simulation(&sim, &target, &opts, &anim, &args.out).map_err(|e| match e {
-        SimulateError::BadOption { option: "out", .. } => runtime_error(miette::miette!("{e}")),
-        _ => input(e),
-    })?;
-    let json = ncgear::output::json::to_string(&report)
-        .map_err(|e| runtime_error(miette::miette!("{e}")))?;
-    ncgear::files::write_whole(&json_path, &json)
-        .map_err(|e| runtime_error(miette::miette!("cannot write simulate.json: {e}")))?;
-    if args.json {
-        return print_json(&report);
-    }
+    })
+}
+
+/// The summary on stdout: distance from the target, the agronomic features, the files.
+fn print_summary(args: &Args, report: &SimulationReport) {
     let f = &report.features;
     println!(
         "{}: simulated both arms over one turn",
@@ -161,5 +185,4 @@ pub fn run(args: Args) -> CliResult {
         report.files.len() + 1,
         args.out.display()
     );
-    Ok(())
 }

@@ -221,19 +221,50 @@ pub fn animated_svg(sim: &Simulation, target: &[[f64; 2]], opts: &AnimationOptio
         world = world.add(layer);
     }
     let o = sim.assembly.center_mm;
-    let dur = format!("{:.3}s", opts.seconds);
-    // Linear interpolation of `values` (key frames, `;`-separated) over one turn, looping.
-    let anim = |kind: &str, values: String| {
+    let anim = Looping {
+        dur: format!("{:.3}s", opts.seconds),
+    };
+    world = world
+        .add(carrier_group(&anim, &turn, o, 2.0 * sim.assembly.a_mm))
+        .add(use_of("sun").set("transform", format!("translate({:.3},{:.3})", o[0], o[1])));
+    for arm in 0..2 {
+        for group in arm_groups(&anim, &turn, arm) {
+            world = world.add(group);
+        }
+    }
+    world = world.add(
+        Circle::new()
+            .set("cx", format!("{:.3}", o[0]))
+            .set("cy", format!("{:.3}", o[1]))
+            .set("r", "1.5")
+            .set("fill", "#000000"),
+    );
+    format!("{}\n", document(b, 1.0).add(world))
+}
+
+/// The key-frame animation of one carrier turn, looping.
+struct Looping {
+    /// Duration of one turn, e.g. `"6.000s"`.
+    dur: String,
+}
+
+impl Looping {
+    /// Linear interpolation of the transform `kind` through `values` (key frames,
+    /// `;`-separated) over one turn.
+    fn transform(&self, kind: &str, values: String) -> AnimateTransform {
         AnimateTransform::new()
             .set("attributeName", "transform")
             .set("type", kind)
             .set("values", values)
-            .set("dur", dur.as_str())
+            .set("dur", self.dur.as_str())
             .set("repeatCount", "indefinite")
             .set("calcMode", "linear")
-    };
-    // Carrier: a bar through O along the two arms (rotation in degrees about O).
-    let a2 = 2.0 * sim.assembly.a_mm;
+    }
+}
+
+/// The carrier: a bar of half-length `a2` (mm) through O along the two arms, turning about O
+/// (degrees) with the key frames `turn`.
+fn carrier_group(anim: &Looping, turn: &[TwoArms], o: [f64; 2], a2: f64) -> Group {
     let phis: Vec<String> = turn
         .iter()
         .map(|t| {
@@ -245,77 +276,69 @@ pub fn animated_svg(sim: &Simulation, target: &[[f64; 2]], opts: &AnimationOptio
             )
         })
         .collect();
-    world = world
+    Group::new()
+        .set("id", "carrier")
+        .add(anim.transform("rotate", phis.join(";")))
         .add(
-            Group::new()
-                .set("id", "carrier")
-                .add(anim("rotate", phis.join(";")))
-                .add(
-                    SvgPath::new()
-                        .set(
-                            "d",
-                            format!(
-                                "M{:.3},{:.3} L{:.3},{:.3}",
-                                o[0] - a2,
-                                o[1],
-                                o[0] + a2,
-                                o[1]
-                            ),
-                        )
-                        .set("stroke", "#444444")
-                        .set("stroke-width", "3")
-                        .set("stroke-linecap", "round")
-                        .set("opacity", "0.6"),
-                ),
-        )
-        .add(use_of("sun").set("transform", format!("translate({:.3},{:.3})", o[0], o[1])));
-    for arm in 0..2 {
-        let pose = |t: &TwoArms| if arm == 0 { t.arm1 } else { t.arm2 };
-        for (id, centre, angle) in [
-            (
-                "intermediate",
-                turn.iter()
-                    .map(|t| pose(t).intermediate_center_mm)
-                    .collect::<Vec<_>>(),
-                turn.iter()
-                    .map(|t| pose(t).intermediate_angle_rad)
-                    .collect::<Vec<_>>(),
-            ),
-            (
-                "planet",
-                turn.iter().map(|t| pose(t).planet_center_mm).collect(),
-                turn.iter().map(|t| pose(t).planet_angle_rad).collect(),
-            ),
-        ] {
-            // Centre translation (mm) outside, body rotation (degrees) inside.
-            let tr: Vec<String> = centre
-                .iter()
-                .map(|c| format!("{:.3},{:.3}", c[0], c[1]))
-                .collect();
-            let rot: Vec<String> = angle
-                .iter()
-                .map(|a| format!("{:.4}", a.to_degrees()))
-                .collect();
-            world = world.add(
-                Group::new()
-                    .set("id", format!("{id}{}", arm + 1))
-                    .add(anim("translate", tr.join(";")))
-                    .add(
-                        Group::new()
-                            .add(anim("rotate", rot.join(";")))
-                            .add(use_of(id)),
+            SvgPath::new()
+                .set(
+                    "d",
+                    format!(
+                        "M{:.3},{:.3} L{:.3},{:.3}",
+                        o[0] - a2,
+                        o[1],
+                        o[0] + a2,
+                        o[1]
                     ),
-            );
-        }
+                )
+                .set("stroke", "#444444")
+                .set("stroke-width", "3")
+                .set("stroke-linecap", "round")
+                .set("opacity", "0.6"),
+        )
+}
+
+/// The intermediate and the planet of arm `arm` (0 or 1) over the key frames `turn`: centre
+/// translation (mm) outside, body rotation (degrees) inside.
+fn arm_groups(anim: &Looping, turn: &[TwoArms], arm: usize) -> Vec<Group> {
+    let pose = |t: &TwoArms| if arm == 0 { t.arm1 } else { t.arm2 };
+    let mut groups = Vec::new();
+    for (id, centre, angle) in [
+        (
+            "intermediate",
+            turn.iter()
+                .map(|t| pose(t).intermediate_center_mm)
+                .collect::<Vec<_>>(),
+            turn.iter()
+                .map(|t| pose(t).intermediate_angle_rad)
+                .collect::<Vec<_>>(),
+        ),
+        (
+            "planet",
+            turn.iter().map(|t| pose(t).planet_center_mm).collect(),
+            turn.iter().map(|t| pose(t).planet_angle_rad).collect(),
+        ),
+    ] {
+        let tr: Vec<String> = centre
+            .iter()
+            .map(|c| format!("{:.3},{:.3}", c[0], c[1]))
+            .collect();
+        let rot: Vec<String> = angle
+            .iter()
+            .map(|a| format!("{:.4}", a.to_degrees()))
+            .collect();
+        groups.push(
+            Group::new()
+                .set("id", format!("{id}{}", arm + 1))
+                .add(anim.transform("translate", tr.join(";")))
+                .add(
+                    Group::new()
+                        .add(anim.transform("rotate", rot.join(";")))
+                        .add(use_of(id)),
+                ),
+        );
     }
-    world = world.add(
-        Circle::new()
-            .set("cx", format!("{:.3}", o[0]))
-            .set("cy", format!("{:.3}", o[1]))
-            .set("r", "1.5")
-            .set("fill", "#000000"),
-    );
-    format!("{}\n", document(b, 1.0).add(world))
+    groups
 }
 
 /// A static sheet of `cols × rows` frames at equal carrier-angle steps, each with both arms.

@@ -151,6 +151,57 @@ pub fn features_of_turn(
     opts: &FeatureOptions,
 ) -> Result<Features, SimulateError> {
     let n = turn.len();
+    check_options(n, opts)?;
+    let angle_at = |f: f64| f64::from(direction.signum()) * TAU * f;
+    let tips: Vec<[f64; 2]> = turn.iter().map(|p| p.arm1.tip_mm).collect();
+    let ext = Extremes::of(&tips);
+    let (ymin, ymax) = (ext.bbox[2], ext.bbox[3]);
+    let o = center_mm;
+    let rho: Vec<f64> = tips
+        .iter()
+        .map(|p| (p[0] - o[0]).hypot(p[1] - o[1]))
+        .collect();
+    let j_take = ext.level_crossing(&tips, opts.take_level_mm, ext.jlo, ext.jhi)?;
+    let j_plant = ext.level_crossing(&tips, opts.plant_level_mm, ext.jhi, ext.jlo)?;
+    let omega = TAU * opts.rpm / 60.0; // rad/s
+    let v = opts.forward_mm_s;
+    let speed = |j: usize| tip_speed(&tips, j, omega, None);
+    let dyn_speed = |j: usize| tip_speed(&tips, j, omega, Some(v));
+    let depth_level = ymin + opts.planting_depth_mm;
+    let period = 60.0 / opts.rpm;
+    let stroke = planting_stroke(&tips, ext.jlo, v, period);
+    let deg = |x: f64| x.to_degrees();
+    let carrier_deg = |j: usize| deg(angle_at(j as f64 / n as f64)).rem_euclid(360.0);
+    Ok(Features {
+        height_mm: ymax - ymin,
+        bbox_mm: ext.bbox,
+        rho_range_mm: [
+            rho.iter().fold(f64::MIN, |a, b| a.max(*b)),
+            rho.iter().fold(f64::MAX, |a, b| a.min(*b)),
+        ],
+        take_carrier_deg: carrier_deg(j_take),
+        needle_angle_take_deg: deg(Simulation::needle_angle(&turn[j_take].arm1)),
+        plant_carrier_deg: carrier_deg(j_plant),
+        needle_angle_plant_deg: deg(Simulation::needle_angle(&turn[j_plant].arm1)),
+        take_angle_deg: deg(angle_to_horizontal(Simulation::needle_angle(
+            &turn[j_take].arm1,
+        ))),
+        push_angle_deg: deg(angle_to_horizontal(Simulation::needle_angle(
+            &turn[j_plant].arm1,
+        ))),
+        static_width_at_depth_mm: width_below(&tips, depth_level),
+        hole_width_mm: width_below(&stroke, depth_level),
+        max_tip_speed_mm_s: (0..n).map(speed).fold(0.0, f64::max),
+        tip_speed_at_plant_mm_s: speed(j_plant),
+        max_dynamic_tip_speed_mm_s: (0..n).map(dyn_speed).fold(0.0, f64::max),
+        min_arm_clearance_mm: arm_clearance(turn),
+        plant_spacing_mm: v * period / 2.0,
+    })
+}
+
+/// Refuses fewer than 8 poses per turn, a non-positive speed, a negative forward speed and a
+/// non-positive planting depth.
+fn check_options(n: usize, opts: &FeatureOptions) -> Result<(), SimulateError> {
     if n < 8 {
         return Err(SimulateError::BadOption {
             option: "samples",
@@ -175,73 +226,104 @@ pub fn features_of_turn(
             message: "must be a positive depth in mm".into(),
         });
     }
-    let angle_at = |f: f64| f64::from(direction.signum()) * TAU * f;
-    let tips: Vec<[f64; 2]> = turn.iter().map(|p| p.arm1.tip_mm).collect();
-    let (mut xmin, mut xmax, mut ymin, mut ymax) = (f64::MAX, f64::MIN, f64::MAX, f64::MIN);
-    let (mut jlo, mut jhi) = (0, 0);
-    for (j, p) in tips.iter().enumerate() {
-        xmin = xmin.min(p[0]);
-        xmax = xmax.max(p[0]);
-        if p[1] < ymin {
-            ymin = p[1];
-            jlo = j;
+    Ok(())
+}
+
+/// The extent of the traced tip path.
+struct Extremes {
+    /// `[x_min, x_max, y_min, y_max]`, mm.
+    bbox: [f64; 4],
+    /// Index of the (first) lowest and highest tip position.
+    jlo: usize,
+    jhi: usize,
+}
+
+impl Extremes {
+    fn of(tips: &[[f64; 2]]) -> Self {
+        let (mut xmin, mut xmax, mut ymin, mut ymax) = (f64::MAX, f64::MIN, f64::MAX, f64::MIN);
+        let (mut jlo, mut jhi) = (0, 0);
+        for (j, p) in tips.iter().enumerate() {
+            xmin = xmin.min(p[0]);
+            xmax = xmax.max(p[0]);
+            if p[1] < ymin {
+                ymin = p[1];
+                jlo = j;
+            }
+            if p[1] > ymax {
+                ymax = p[1];
+                jhi = j;
+            }
         }
-        if p[1] > ymax {
-            ymax = p[1];
-            jhi = j;
+        Extremes {
+            bbox: [xmin, xmax, ymin, ymax],
+            jlo,
+            jhi,
         }
     }
-    let o = center_mm;
-    let rho: Vec<f64> = tips
-        .iter()
-        .map(|p| (p[0] - o[0]).hypot(p[1] - o[1]))
-        .collect();
-    let level_crossing =
-        |level: Option<f64>, from: usize, default: usize| -> Result<usize, SimulateError> {
-            let Some(y) = level else { return Ok(default) };
-            if !(y > ymin && y < ymax) {
-                return Err(SimulateError::BadOption {
-                    option: "level",
-                    message: format!(
-                        "level {y} mm is outside the trajectory's height [{ymin:.3}, {ymax:.3}] mm"
-                    ),
-                });
-            }
-            (0..n)
-                .map(|k| (from + k) % n)
-                .find(|&j| tips[j][1] >= y && tips[(j + 1) % n][1] < y)
-                .ok_or(SimulateError::BadOption {
-                    option: "level",
-                    message: format!("the tip never crosses y = {y} mm downwards"),
-                })
-        };
-    let j_take = level_crossing(opts.take_level_mm, jlo, jhi)?;
-    let j_plant = level_crossing(opts.plant_level_mm, jhi, jlo)?;
-    let omega = TAU * opts.rpm / 60.0; // rad/s
+
+    /// The first index from `from` where the tip crosses `level` (mm) downwards, or `default`
+    /// without a level; a level outside the path's height is refused.
+    fn level_crossing(
+        &self,
+        tips: &[[f64; 2]],
+        level: Option<f64>,
+        from: usize,
+        default: usize,
+    ) -> Result<usize, SimulateError> {
+        let n = tips.len();
+        let (ymin, ymax) = (self.bbox[2], self.bbox[3]);
+        let Some(y) = level else { return Ok(default) };
+        if !(y > ymin && y < ymax) {
+            return Err(SimulateError::BadOption {
+                option: "level",
+                message: format!(
+                    "level {y} mm is outside the trajectory's height [{ymin:.3}, {ymax:.3}] mm"
+                ),
+            });
+        }
+        (0..n)
+            .map(|k| (from + k) % n)
+            .find(|&j| tips[j][1] >= y && tips[(j + 1) % n][1] < y)
+            .ok_or(SimulateError::BadOption {
+                option: "level",
+                message: format!("the tip never crosses y = {y} mm downwards"),
+            })
+    }
+}
+
+/// Tip speed (mm/s) at sample `j` by central differences at carrier speed `omega` (rad/s):
+/// relative to the carrier axis, or, with a forward speed `v` (mm/s), relative to the soil.
+fn tip_speed(tips: &[[f64; 2]], j: usize, omega: f64, forward: Option<f64>) -> f64 {
+    let n = tips.len();
     let dphi = TAU / n as f64;
-    let speed = |j: usize| {
-        let (a, b) = (tips[(j + n - 1) % n], tips[(j + 1) % n]);
-        (b[0] - a[0]).hypot(b[1] - a[1]) / (2.0 * dphi) * omega
-    };
-    let v = opts.forward_mm_s;
-    let dyn_speed = |j: usize| {
-        let (a, b) = (tips[(j + n - 1) % n], tips[(j + 1) % n]);
-        let vx = (b[0] - a[0]) / (2.0 * dphi) * omega - v;
-        let vy = (b[1] - a[1]) / (2.0 * dphi) * omega;
-        vx.hypot(vy)
-    };
-    let depth_level = ymin + opts.planting_depth_mm;
-    // One planting stroke of the dynamic path: half a turn centred on the lowest point.
-    let period = 60.0 / opts.rpm;
-    let stroke: Vec<[f64; 2]> = (0..n)
+    let (a, b) = (tips[(j + n - 1) % n], tips[(j + 1) % n]);
+    match forward {
+        None => (b[0] - a[0]).hypot(b[1] - a[1]) / (2.0 * dphi) * omega,
+        Some(v) => {
+            let vx = (b[0] - a[0]) / (2.0 * dphi) * omega - v;
+            let vy = (b[1] - a[1]) / (2.0 * dphi) * omega;
+            vx.hypot(vy)
+        }
+    }
+}
+
+/// One planting stroke of the dynamic path: half a turn centred on the lowest point `jlo`,
+/// the tips shifted back by the machine's advance at forward speed `v` (mm/s) over the carrier
+/// period `period` (s), mm.
+fn planting_stroke(tips: &[[f64; 2]], jlo: usize, v: f64, period: f64) -> Vec<[f64; 2]> {
+    let n = tips.len();
+    (0..n)
         .map(|k| {
             let j = (jlo + n - n / 2 + k) % n;
             let steps = k as f64 - (n / 2) as f64;
             [tips[j][0] - v * steps / n as f64 * period, tips[j][1]]
         })
-        .collect();
-    let clearance = turn
-        .iter()
+        .collect()
+}
+
+/// The smallest distance between the two needles (planet axis → tip segments) over the turn, mm.
+fn arm_clearance(turn: &[TwoArms]) -> f64 {
+    turn.iter()
         .map(|p| {
             seg_seg(
                 p.arm1.planet_center_mm,
@@ -250,34 +332,7 @@ pub fn features_of_turn(
                 p.arm2.tip_mm,
             )
         })
-        .fold(f64::INFINITY, f64::min);
-    let deg = |x: f64| x.to_degrees();
-    let carrier_deg = |j: usize| deg(angle_at(j as f64 / n as f64)).rem_euclid(360.0);
-    Ok(Features {
-        height_mm: ymax - ymin,
-        bbox_mm: [xmin, xmax, ymin, ymax],
-        rho_range_mm: [
-            rho.iter().fold(f64::MIN, |a, b| a.max(*b)),
-            rho.iter().fold(f64::MAX, |a, b| a.min(*b)),
-        ],
-        take_carrier_deg: carrier_deg(j_take),
-        needle_angle_take_deg: deg(Simulation::needle_angle(&turn[j_take].arm1)),
-        plant_carrier_deg: carrier_deg(j_plant),
-        needle_angle_plant_deg: deg(Simulation::needle_angle(&turn[j_plant].arm1)),
-        take_angle_deg: deg(angle_to_horizontal(Simulation::needle_angle(
-            &turn[j_take].arm1,
-        ))),
-        push_angle_deg: deg(angle_to_horizontal(Simulation::needle_angle(
-            &turn[j_plant].arm1,
-        ))),
-        static_width_at_depth_mm: width_below(&tips, depth_level),
-        hole_width_mm: width_below(&stroke, depth_level),
-        max_tip_speed_mm_s: (0..n).map(speed).fold(0.0, f64::max),
-        tip_speed_at_plant_mm_s: speed(j_plant),
-        max_dynamic_tip_speed_mm_s: (0..n).map(dyn_speed).fold(0.0, f64::max),
-        min_arm_clearance_mm: clearance,
-        plant_spacing_mm: v * period / 2.0,
-    })
+        .fold(f64::INFINITY, f64::min)
 }
 
 /// Distance from each point to a closed polyline, mm.

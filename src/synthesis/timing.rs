@@ -252,30 +252,82 @@ pub fn fit_timing(
     tolerances_rad: &[f64],
     goals: &TimingGoals<'_>,
 ) -> Timing {
-    let limits = goals.limits;
-    // Needle directions in the solved frame (a CW carrier mirrored in y: θ → −θ).
-    let theta: Vec<f64> = poses
+    let fit = TimingFit {
+        dyad,
+        angles,
+        // Needle directions in the solved frame (a CW carrier mirrored in y: θ → −θ).
+        theta: poses
+            .iter()
+            .map(|p| f64::from(direction) * p.needle_rad)
+            .collect(),
+        order,
+        tolerances_rad,
+        goals,
+    };
+    // The poses and smoothness alone first (the usual case: their train is within the limits);
+    // when the best breaks a limit, every start again with the limit rows.
+    let best = fit.best_of_starts(false);
+    // (The extra rows are zero when kept to: equal costs up to rounding.)
+    let best = if fit.cost(&best, true) > fit.cost(&best, false) * (1.0 + 1e-9) {
+        fit.best_of_starts(true)
+    } else {
+        best
+    };
+    let m = fit.build(&best).expect("the fit keeps an admissible ratio");
+    let residuals_rad = angles
         .iter()
-        .map(|p| f64::from(direction) * p.needle_rad)
+        .zip(&fit.theta)
+        .map(|(phi, th)| (m.needle_direction(*phi) - th + PI).rem_euclid(TAU) - PI)
         .collect();
-    let build = |x: &[f64]| -> Option<Mechanism> {
+    Timing {
+        direction,
+        carrier_angles_rad: angles.to_vec(),
+        mechanism: m,
+        residuals_rad,
+    }
+}
+
+/// The least-squares problem of [`fit_timing`] over `x = [sun phase u₀, needle angle γ, a₁…a_N,
+/// b₁…b_N]` (rad; the Fourier coefficients of the sun ratio).
+struct TimingFit<'a> {
+    dyad: &'a Dyad,
+    /// Carrier angle of each pose, rad.
+    angles: &'a [f64],
+    /// Needle direction of each pose in the solved frame, rad.
+    theta: Vec<f64>,
+    /// Fourier order `N` of the sun ratio.
+    order: usize,
+    /// Direction tolerance of each pose, rad.
+    tolerances_rad: &'a [f64],
+    goals: &'a TimingGoals<'a>,
+}
+
+impl TimingFit<'_> {
+    /// The train of `x`, or `None` when its ratio is inadmissible.
+    fn build(&self, x: &[f64]) -> Option<Mechanism> {
+        let order = self.order;
         let ratio = SunRatio::new(x[2..2 + order].to_vec(), x[2 + order..].to_vec()).ok()?;
         Some(Mechanism {
-            a_mm: 0.5 * dyad.l1_mm,
-            l3_mm: dyad.l3_mm,
+            a_mm: 0.5 * self.dyad.l1_mm,
+            l3_mm: self.dyad.l3_mm,
             ratio,
             sun_phase_rad: x[0],
             needle_angle_rad: x[1],
         })
-    };
-    // Pose rows divided by max(tolerance, floor): the floor falls over CONTINUATION_RAD so that the
-    // smoothness rows steer the first steps (the pose equations alone leave most directions free).
-    let residuals_at = |x: &[f64], floor: f64, with_limits: bool| -> Option<DVector<f64>> {
-        let m = build(x)?;
-        let mut r: Vec<f64> = angles
+    }
+
+    /// The residual rows at `x`: pose rows divided by max(tolerance, `floor`) (the floor falls
+    /// over [`CONTINUATION_RAD`] so that the smoothness rows steer the first steps: the pose
+    /// equations alone leave most directions free), the smoothness rows `SMOOTHNESS·j²·(a_j,
+    /// b_j)`, and `with_limits` the band rows and [`TimingFit::limit_rows`].
+    fn residuals(&self, x: &[f64], floor: f64, with_limits: bool) -> Option<DVector<f64>> {
+        let order = self.order;
+        let m = self.build(x)?;
+        let mut r: Vec<f64> = self
+            .angles
             .iter()
-            .zip(&theta)
-            .zip(tolerances_rad)
+            .zip(&self.theta)
+            .zip(self.tolerances_rad)
             .map(|((phi, th), tol)| {
                 let d = (m.needle_direction(*phi) - th + PI).rem_euclid(TAU) - PI;
                 d / tol.max(floor)
@@ -289,15 +341,21 @@ pub fn fit_timing(
         if !with_limits {
             return Some(DVector::from_vec(r));
         }
-        if let Some(bands) = goals.bands {
+        if let Some(bands) = self.goals.bands {
             r.extend(bands(&m));
         }
-        let Some(limits) = limits else {
-            return Some(DVector::from_vec(r));
-        };
+        if let Some(limits) = self.goals.limits {
+            r.extend(self.limit_rows(&m, limits, floor));
+        }
+        Some(DVector::from_vec(r))
+    }
+
+    /// One row per gear limit: `√(mean (c⁻)²)` of its constraint value below zero over a grid
+    /// of the ratio, over `floor` (weighted like a pose row).
+    fn limit_rows(&self, m: &Mechanism, limits: &GearLimits, floor: f64) -> [f64; 7] {
         // 32 samples per period of the highest harmonic (at least 96): coarser than the chain's
         // own limit scans (≥ 1024), which check the design afterwards; this grid only steers.
-        let grid = (32 * order).max(96);
+        let grid = (32 * self.order).max(96);
         let mut excess = [0.0f64; 7];
         for k in 0..grid {
             let v = m.ratio.eval3(TAU * k as f64 / grid as f64);
@@ -308,54 +366,43 @@ pub fn fit_timing(
                 *e += below * below;
             }
         }
-        r.extend(excess.iter().map(|e| (e / grid as f64).sqrt() / floor));
-        Some(DVector::from_vec(r))
-    };
-    let cost = |x: &[f64], with_limits: bool| {
-        residuals_at(x, POSE_TOL_RAD, with_limits).map_or(f64::INFINITY, |r| r.norm_squared())
-    };
-    let continuation = |mut x: Vec<f64>, with_limits: bool| {
+        excess.map(|e| (e / grid as f64).sqrt() / floor)
+    }
+
+    /// The squared residual norm at the final floor [`POSE_TOL_RAD`] (∞ when inadmissible).
+    fn cost(&self, x: &[f64], with_limits: bool) -> f64 {
+        self.residuals(x, POSE_TOL_RAD, with_limits)
+            .map_or(f64::INFINITY, |r| r.norm_squared())
+    }
+
+    /// Levenberg–Marquardt from `x` at each floor of [`CONTINUATION_RAD`] in turn.
+    fn continuation(&self, mut x: Vec<f64>, with_limits: bool) -> Vec<f64> {
         for floor in CONTINUATION_RAD {
-            x = levenberg_marquardt(&|x: &[f64]| residuals_at(x, floor, with_limits), x);
+            x = levenberg_marquardt(&|x: &[f64]| self.residuals(x, floor, with_limits), x);
         }
         x
-    };
-    // The poses and smoothness alone first (the usual case: their train is within the limits);
-    // when the best breaks a limit, every start again with the limit rows.
-    let start = |u0: f64| {
-        // γ so that the circular train (i21 ≡ 1) meets the first pose.
-        let mut x = vec![0.0; 2 + 2 * order];
+    }
+
+    /// The circular train (i21 ≡ 1) at sun phase `u0` (rad), γ so that it meets the first pose.
+    fn start(&self, u0: f64) -> Vec<f64> {
+        let mut x = vec![0.0; 2 + 2 * self.order];
         x[0] = u0;
-        let m0 = build(&x).expect("a circular ratio");
-        x[1] = theta[0] - (m0.needle_direction(angles[0]) - m0.needle_angle_rad);
+        let m0 = self.build(&x).expect("a circular ratio");
+        x[1] = self.theta[0] - (m0.needle_direction(self.angles[0]) - m0.needle_angle_rad);
         x
-    };
-    let phases = [0.0, 0.5 * PI, PI, 1.5 * PI];
-    let pick = |with_limits: bool| {
+    }
+
+    /// The cheapest of the continuations from the four sun phases 0, π/2, π, 3π/2.
+    fn best_of_starts(&self, with_limits: bool) -> Vec<f64> {
+        let phases = [0.0, 0.5 * PI, PI, 1.5 * PI];
         phases
             .into_iter()
-            .map(|u0| continuation(start(u0), with_limits))
-            .min_by(|a, b| cost(a, with_limits).total_cmp(&cost(b, with_limits)))
+            .map(|u0| self.continuation(self.start(u0), with_limits))
+            .min_by(|a, b| {
+                self.cost(a, with_limits)
+                    .total_cmp(&self.cost(b, with_limits))
+            })
             .expect("four starts")
-    };
-    let best = pick(false);
-    // (The extra rows are zero when kept to: equal costs up to rounding.)
-    let best = if cost(&best, true) > cost(&best, false) * (1.0 + 1e-9) {
-        pick(true)
-    } else {
-        best
-    };
-    let m = build(&best).expect("the fit keeps an admissible ratio");
-    let residuals_rad = angles
-        .iter()
-        .zip(&theta)
-        .map(|(phi, th)| (m.needle_direction(*phi) - th + PI).rem_euclid(TAU) - PI)
-        .collect();
-    Timing {
-        direction,
-        carrier_angles_rad: angles.to_vec(),
-        mechanism: m,
-        residuals_rad,
     }
 }
 

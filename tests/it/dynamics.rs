@@ -314,13 +314,17 @@ fn free_vibration_peaks_match_eigenvalues_4dof() {
     q1.push(y[i1]);
     k += 1;
     solver
-        .integrate(&m, 0.0, dt * (ns - 1) as f64, &mut y, &[], &[], &mut |d| {
-            while k < ns && dt * k as f64 <= d.t_end() + 1e-15 {
-                d.eval(dt * k as f64, &mut buf);
-                q1.push(buf[i1]);
-                k += 1;
-            }
-        })
+        .integrate(
+            &ode::OdeProblem::new(&m, 0.0, dt * (ns - 1) as f64),
+            &mut y,
+            &mut |d| {
+                while k < ns && dt * k as f64 <= d.t_end() + 1e-15 {
+                    d.eval(dt * k as f64, &mut buf);
+                    q1.push(buf[i1]);
+                    k += 1;
+                }
+            },
+        )
         .unwrap();
     // Hann window + parabolic interpolation of the log spectrum
     let w: Vec<f64> = q1

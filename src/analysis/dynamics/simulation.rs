@@ -2,7 +2,7 @@
 //! settles, the recorded window ([`Run`]) with its DTE harmonics, and the energy audit (docs/math/companion.md §B.9-5).
 
 use super::model::{self, Model, PairState};
-use super::ode::{self, Dopri5, OdeStats, OdeSystem};
+use super::ode::{self, Dopri5, OdeProblem, OdeStats, OdeSystem};
 use super::{DynamicsError, Method, RunOptions};
 use nalgebra::DMatrix;
 use serde::Serialize;
@@ -152,48 +152,88 @@ pub fn simulate(
     progress: &(dyn Fn(u64) + Sync),
 ) -> Result<Run, DynamicsError> {
     opts.validate()?;
-    let n2 = model.dim();
     let mut y = y0.to_vec();
-    let mut stats = OdeStats::default();
-    let tp = model.poincare_period;
-    let t0 = model.mesh.t0;
-    let mut t = 0.0;
-    let mut prev = y.clone();
-    let mut change = f64::INFINITY;
-    let mut steady = false;
-    let mut done = 0;
-    for k in 0..opts.max_periods {
-        let st = advance(model, t, t + tp, &mut y, opts, &mut |_, _| {})?;
-        stats += st;
-        t += tp;
-        done = k + 1;
-        if y.iter().any(|x| !x.is_finite()) {
-            return Err(DynamicsError::Diverged(t));
-        }
-        change = poincare_change(&prev, &y);
-        prev.copy_from_slice(&y);
-        progress(u64::from(done));
-        if change < opts.poincare_tol {
-            steady = true;
-            break;
-        }
-    }
-    // record
+    let tr = settle(model, &mut y, opts, progress)?;
     let spm = opts.samples_per_mesh as usize;
     let ns = spm * opts.record_mesh_periods as usize;
-    let dt = t0 / spm as f64;
     let mut run = Run {
         t_s: Vec::with_capacity(ns),
         dte_m: Vec::with_capacity(ns),
         mesh_force_n: Vec::with_capacity(ns),
         states: Vec::with_capacity(ns),
-        stats,
-        transient_periods: done,
-        steady,
-        poincare_change: change,
+        stats: tr.stats,
+        transient_periods: tr.periods,
+        steady: tr.steady,
+        poincare_change: tr.change,
         samples_per_mesh: opts.samples_per_mesh,
     };
-    let t_rec = t;
+    record(model, tr.t_s, &mut y, opts, &mut run)?;
+    Ok(run)
+}
+
+/// The end of the transient: where the Poincaré map settled (or gave up).
+struct Transient {
+    /// Time reached, s (a whole number of Poincaré periods).
+    t_s: f64,
+    /// Integrator counters of the transient.
+    stats: OdeStats,
+    /// Poincaré periods integrated.
+    periods: u32,
+    /// Whether the last change fell below `poincare_tol`.
+    steady: bool,
+    /// Relative change of the state over the last period.
+    change: f64,
+}
+
+/// Integrates `y` Poincaré period by period from t = 0 until its relative change over a
+/// period falls below `poincare_tol` (or `max_periods`); `progress(k)` after each period.
+fn settle(
+    model: &Model,
+    y: &mut [f64],
+    opts: &RunOptions,
+    progress: &(dyn Fn(u64) + Sync),
+) -> Result<Transient, DynamicsError> {
+    let tp = model.poincare_period;
+    let mut tr = Transient {
+        t_s: 0.0,
+        stats: OdeStats::default(),
+        periods: 0,
+        steady: false,
+        change: f64::INFINITY,
+    };
+    let mut prev = y.to_vec();
+    for k in 0..opts.max_periods {
+        let t = tr.t_s;
+        let st = advance(model, t, t + tp, y, opts, &mut |_, _| {})?;
+        tr.stats += st;
+        tr.t_s += tp;
+        tr.periods = k + 1;
+        if y.iter().any(|x| !x.is_finite()) {
+            return Err(DynamicsError::Diverged(tr.t_s));
+        }
+        tr.change = poincare_change(&prev, y);
+        prev.copy_from_slice(y);
+        progress(u64::from(tr.periods));
+        if tr.change < opts.poincare_tol {
+            tr.steady = true;
+            break;
+        }
+    }
+    Ok(tr)
+}
+
+/// Records `record_mesh_periods` mesh periods at `samples_per_mesh` from `(t_rec, y)` into
+/// `run` (time, dynamic transmission error, mesh force, state), sampling the dense output.
+fn record(
+    model: &Model,
+    t_rec: f64,
+    y: &mut [f64],
+    opts: &RunOptions,
+    run: &mut Run,
+) -> Result<(), DynamicsError> {
+    let spm = opts.samples_per_mesh as usize;
+    let ns = spm * opts.record_mesh_periods as usize;
+    let dt = model.mesh.t0 / spm as f64;
     let push = |run: &mut Run, ts: f64, ys: &[f64]| {
         let (dte, fm) = mesh_outputs(model, ts, ys);
         run.t_s.push(ts);
@@ -201,15 +241,15 @@ pub fn simulate(
         run.mesh_force_n.push(fm);
         run.states.push(ys.to_vec());
     };
-    push(&mut run, t, &y);
+    push(run, t_rec, y);
     let mut k = 1usize;
-    let mut buf = vec![0.0; n2];
+    let mut buf = vec![0.0; model.dim()];
     let t_end = t_rec + dt * ns as f64;
     let st = advance(
         model,
         t_rec,
         t_rec + dt * (ns - 1) as f64,
-        &mut y,
+        y,
         opts,
         &mut |d, yend| {
             // d = (t_start, t_end, dense) ; sample inside
@@ -221,14 +261,14 @@ pub fn simulate(
                             break;
                         }
                         ds.eval(ts, &mut buf);
-                        push(&mut run, ts, &buf);
+                        push(run, ts, &buf);
                         k += 1;
                     }
                 }
                 Sample::Point(tt) => {
                     let ts = t_rec + dt * k as f64;
                     if k < ns && (tt - ts).abs() < 1e-9 * dt {
-                        push(&mut run, ts, yend);
+                        push(run, ts, yend);
                         k += 1;
                     }
                 }
@@ -246,7 +286,7 @@ pub fn simulate(
     {
         return Err(DynamicsError::Diverged(t_end));
     }
-    Ok(run)
+    Ok(())
 }
 
 /// What the sampler receives from a step.
@@ -297,9 +337,10 @@ fn advance(
                 .map(|b| b.as_ref() as ode::EventFn<'_>)
                 .collect();
             let empty: [f64; 0] = [];
-            Ok(solver.integrate(model, t0, t1, y, &bps, &refs, &mut |d| {
-                on(Sample::Dense(d), &empty)
-            })?)
+            let problem = OdeProblem::new(model, t0, t1)
+                .with_breakpoints(&bps)
+                .with_events(&refs);
+            Ok(solver.integrate(&problem, y, &mut |d| on(Sample::Dense(d), &empty))?)
         }
         Method::Rk4 {
             steps_per_mesh,
@@ -361,7 +402,7 @@ pub fn energy_audit(
     knots.push(t_end);
     let dt0 = 1e-9 * model.mesh.t0;
     for &tb in &knots {
-        solver.integrate(&aug, t, tb, &mut y, &[], &[], &mut |_| {})?;
+        solver.integrate(&OdeProblem::new(&aug, t, tb), &mut y, &mut |_| {})?;
         if tb < t_end {
             jumps += model.energy(tb + dt0, &y[..m]) - model.energy(tb - dt0, &y[..m]);
         }

@@ -1,7 +1,8 @@
 //! The reusable sampling grid of the certified peak: the sin/cos tables of one set of
 //! frequencies, and the certification of one amplitude/phase combination on it (grid values,
-//! chord and Hermite bounds, refinement of the intervals that can still hold the peak).
+//! the `bounds` of each interval, refinement of the intervals that can still hold the peak).
 
+use super::bounds::{chord_bound, hermite_bound};
 use super::{Peak, PeakOptions, base_frequency, gcd};
 use std::f64::consts::TAU;
 
@@ -152,17 +153,8 @@ impl PeakGrid {
     /// `ω_k (t − t_j)` and then by each Newton step `ω_k δ` — for a step below [`SMALL_TURN`] rad
     /// by its Taylor series, exact to rounding — so a refinement costs one `sin_cos` per term
     /// instead of one per term and iteration.
-    #[allow(clippy::too_many_arguments)]
-    fn refine(
-        &self,
-        amps: &[f64],
-        phases: &[f64],
-        cs: &[f64],
-        sn: &[f64],
-        j: usize,
-        s0: f64,
-        tol: f64,
-    ) -> (f64, f64) {
+    fn refine(&self, sig: &Signal, j: usize, s0: f64, tol: f64) -> (f64, f64) {
+        let (amps, phases, cs, sn) = (sig.amps, sig.phases, &sig.cs[..], &sig.sn[..]);
         let (lo, hi) = ((j as f64 - 0.5) * self.h, (j as f64 + 1.5) * self.h);
         let mut t = (j as f64 + s0) * self.h;
         let mut terms: Vec<(f64, f64)> = (0..cs.len())
@@ -227,38 +219,76 @@ impl PeakGrid {
             .zip(&self.omegas)
             .map(|(a, w)| a.abs() * w * w)
             .sum();
+        if let Some(peak) = self.without_grid(amps, phases, wmax) {
+            return peak;
+        }
+        let n = self.len();
+        let sig = Signal::new(amps, phases);
+        let h = self.h;
+        let loss = m2 * h * h / 8.0;
+        f.resize(n, 0.0);
+        let (gmax, cand) = self.grid_pass(&sig.cs, &sig.sn, loss, f);
+        let bounds = self.interval_bounds(&sig, f, cand, gmax, loss);
+        let tol = self.opts.tol_relative * TAU / wmax;
+        let best = self.best_refined(&sig, f, &bounds, tol);
+        Peak {
+            value: best.0,
+            time_s: best.1,
+            period_s: self.period,
+            grid_points: n,
+            grid_loss_bound: m2 * self.h * self.h / 8.0,
+            commensurate: true,
+        }
+    }
+
+    /// The peak when there is no grid: `|f(0)|` of a constant (`wmax = 0`), or the bound `Σ|A_k|`
+    /// of incommensurate frequencies; `None` when the grid applies.
+    fn without_grid(&self, amps: &[f64], phases: &[f64], wmax: f64) -> Option<Peak> {
         if wmax == 0.0 {
             let v = self.eval(amps, phases, 0.0).abs();
-            return Peak {
+            return Some(Peak {
                 value: v,
                 time_s: 0.0,
                 period_s: f64::INFINITY,
                 grid_points: 1,
                 grid_loss_bound: 0.0,
                 commensurate: true,
-            };
+            });
         }
         if !self.commensurate {
             let v = amps.iter().map(|a| a.abs()).sum();
-            return Peak {
+            return Some(Peak {
                 value: v,
                 time_s: f64::NAN,
                 period_s: f64::INFINITY,
                 grid_points: 0,
                 grid_loss_bound: 0.0,
                 commensurate: false,
-            };
+            });
         }
+        None
+    }
+
+    /// Upper bounds of |f| on the candidate intervals `cand` (start indices from the grid pass,
+    /// best grid value `gmax`, coarse loss `M2·h²/8`), as `(bound, j, s0)` sorted best bound
+    /// first, `s0` the start of the refinement in the interval (fraction of `h`).
+    ///
+    /// Every grid interval has an upper bound of |f| on it: max(|f_j|, |f_j+1|) + M2·h²/8
+    /// (coarse), or the maximum of the cubic Hermite interpolant of (f, f′) plus its error bound
+    /// M4·h⁴/384 (fine, M4 = Σ|A|ω⁴). Only intervals whose [`chord_bound`] reaches the best grid
+    /// value get the fine bound ([`hermite_bound`]); they are refined best bound first until the
+    /// best refined value exceeds every remaining bound, so the result is certified.
+    fn interval_bounds(
+        &self,
+        sig: &Signal,
+        f: &[f64],
+        mut cand: Vec<usize>,
+        gmax: f64,
+        loss: f64,
+    ) -> Vec<(f64, usize, f64)> {
+        let (amps, cs, sn) = (sig.amps, &sig.cs, &sig.sn);
         let n = self.len();
-        let (cs, sn): (Vec<f64>, Vec<f64>) = amps
-            .iter()
-            .zip(phases)
-            .map(|(a, p)| (a * p.cos(), a * p.sin()))
-            .unzip();
         let h = self.h;
-        let loss = m2 * h * h / 8.0;
-        f.resize(n, 0.0);
-        let (gmax, mut cand) = self.grid_pass(&cs, &sn, loss, f);
         let deriv = |j: usize| -> f64 {
             (0..amps.len())
                 .map(|k| {
@@ -267,11 +297,6 @@ impl PeakGrid {
                 })
                 .sum()
         };
-        // Every grid interval has an upper bound of |f| on it: max(|f_j|, |f_j+1|) + M2·h²/8
-        // (coarse), or the maximum of the cubic Hermite interpolant of (f, f′) plus its error bound
-        // M4·h⁴/384 (fine, M4 = Σ|A|ω⁴). Only intervals whose coarse bound reaches the best grid
-        // value get the fine bound; they are refined best bound first until the best refined
-        // value exceeds every remaining bound, so the result is certified.
         let m4: f64 = amps
             .iter()
             .zip(&self.omegas)
@@ -282,25 +307,11 @@ impl PeakGrid {
         let next = |j: usize| if j + 1 == n { 0 } else { j + 1 };
         cand.sort_unstable();
         cand.dedup();
-        // A finer coarse bound from the same two values: with |f″| ≤ M2, f lies within
-        // (M2/2)(t − t_j)(t_j+1 − t) of its chord, so |f| ≤ max_s ±(y0 + d s) + c s(1 − s) with
-        // c = M2 h²/2 = 4·loss — at most, and mostly well below, max(|y0|, |y1|) + loss. An
-        // interval below the best grid value by this bound cannot hold the peak (a relative 1e-12
-        // covers the rounding).
+        // An interval below the best grid value by the chord bound cannot hold the peak (a
+        // relative 1e-12 covers the rounding).
         let c = 4.0 * loss;
-        let chord_bound = |y0: f64, y1: f64| {
-            let g = |y0: f64, d: f64| {
-                let s = (d + c) / (2.0 * c);
-                if s > 0.0 && s < 1.0 {
-                    y0 + (d + c) * (d + c) / (4.0 * c)
-                } else {
-                    y0.max(y0 + d)
-                }
-            };
-            g(y0, y1 - y0).max(g(-y0, y0 - y1))
-        };
         cand.retain(|&j| {
-            let b = chord_bound(f[j], f[next(j)]);
+            let b = chord_bound(f[j], f[next(j)], c);
             !(b + 1e-12 * gmax.abs() < gmax)
         });
         // f′ at the candidates' end points, each computed once (neighbouring intervals share one).
@@ -319,48 +330,36 @@ impl PeakGrid {
                 if y0 * y1 <= 0.0 {
                     return (y0.abs().max(y1.abs()) + loss, j, 0.5);
                 }
-                let sg = y0.signum();
                 let d0 = deriv_at(j);
                 let d1 = deriv_at(k);
-                let (y0, y1, m0, m1) = (sg * y0, sg * y1, sg * d0 * h, sg * d1 * h);
-                let (c2, c3) = (
-                    -3.0 * y0 - 2.0 * m0 + 3.0 * y1 - m1,
-                    2.0 * y0 + m0 - 2.0 * y1 + m1,
-                );
-                let p = |s: f64| y0 + s * (m0 + s * (c2 + s * c3));
-                let (mut mx, mut at) = if y0 >= y1 { (y0, 0.0) } else { (y1, 1.0) };
-                // p′(s) = m0 + 2c2 s + 3c3 s² = 0 in (0, 1).
-                let (qa, qb, qc) = (3.0 * c3, 2.0 * c2, m0);
-                let roots: [f64; 2] = if qa.abs() < 1e-300 {
-                    [if qb != 0.0 { -qc / qb } else { -1.0 }, -1.0]
-                } else {
-                    let disc = qb * qb - 4.0 * qa * qc;
-                    if disc < 0.0 {
-                        [-1.0, -1.0]
-                    } else {
-                        [
-                            (-qb + disc.sqrt()) / (2.0 * qa),
-                            (-qb - disc.sqrt()) / (2.0 * qa),
-                        ]
-                    }
-                };
-                for r in roots {
-                    if r > 0.0 && r < 1.0 && p(r) > mx {
-                        (mx, at) = (p(r), r);
-                    }
-                }
-                (mx.min(y0.max(y1) + loss) + herm, j, at)
+                let (mx, at) = hermite_bound((y0, y1), (d0 * h, d1 * h), loss);
+                (mx + herm, j, at)
             })
             .collect();
         bounds.sort_by(|a, b| b.0.total_cmp(&a.0));
-        let tol = self.opts.tol_relative * TAU / wmax;
+        bounds
+    }
+
+    /// The best `(|f|, t mod period)` over the intervals `bounds` (from
+    /// [`PeakGrid::interval_bounds`]), refining at least `refine_top` of them and then every one
+    /// whose bound still reaches the best value; `tol` is the refinement tolerance, s.
+    fn best_refined(
+        &self,
+        sig: &Signal,
+        f: &[f64],
+        bounds: &[(f64, usize, f64)],
+        tol: f64,
+    ) -> (f64, f64) {
+        let n = self.len();
+        let h = self.h;
+        let next = |j: usize| if j + 1 == n { 0 } else { j + 1 };
         let mut best = (f64::NEG_INFINITY, 0.0);
         for (rank, &(bound, j, s0)) in bounds.iter().enumerate() {
             if rank >= self.opts.refine_top.max(1) && bound < best.0 {
                 break;
             }
             // The interval's maximum is at an end point or at a stationary point inside.
-            let (t, v) = self.refine(amps, phases, &cs, &sn, j, s0, tol);
+            let (t, v) = self.refine(sig, j, s0, tol);
             let ends = f[j].abs().max(f[next(j)].abs());
             let (t, v) = if ends > v {
                 (
@@ -378,13 +377,35 @@ impl PeakGrid {
                 best = (v, t.rem_euclid(self.period));
             }
         }
-        Peak {
-            value: best.0,
-            time_s: best.1,
-            period_s: self.period,
-            grid_points: n,
-            grid_loss_bound: m2 * self.h * self.h / 8.0,
-            commensurate: true,
+        best
+    }
+}
+
+/// One amplitude/phase combination evaluated on a grid: `f(t) = Σ A_k sin(ω_k t + φ_k)
+/// = Σ cs_k sin ω_k t + sn_k cos ω_k t`.
+struct Signal<'a> {
+    /// Amplitudes `A_k`.
+    amps: &'a [f64],
+    /// Phases `φ_k`, rad.
+    phases: &'a [f64],
+    /// Sine coefficients `A_k cos φ_k`.
+    cs: Vec<f64>,
+    /// Cosine coefficients `A_k sin φ_k`.
+    sn: Vec<f64>,
+}
+
+impl<'a> Signal<'a> {
+    fn new(amps: &'a [f64], phases: &'a [f64]) -> Self {
+        let (cs, sn): (Vec<f64>, Vec<f64>) = amps
+            .iter()
+            .zip(phases)
+            .map(|(a, p)| (a * p.cos(), a * p.sin()))
+            .unzip();
+        Signal {
+            amps,
+            phases,
+            cs,
+            sn,
         }
     }
 }

@@ -9,6 +9,7 @@
 //! `M2 = Σ|A_k|ω_k²`. For rationally independent frequencies the supremum is `Σ|A_k|`
 //! for any phases (Kronecker), which is reported instead.
 
+mod bounds;
 mod grid;
 mod kernel;
 

@@ -60,6 +60,20 @@ struct Contact {
     v: f64,
 }
 
+/// A driving gear placed in the train, as [`ExactModel::contact`] sees it.
+struct Driver<'a> {
+    /// Its pitch curve.
+    curve: &'a PitchCurve,
+    /// Its centre, mm (train frame).
+    center: V2,
+    /// Its turn, rad.
+    theta: f64,
+    /// Its clocking error, rad (body frame).
+    kappa: f64,
+    /// Its eccentricity, mm (body frame).
+    eps: V2,
+}
+
 impl ExactModel {
     /// Sets up the model of `assembly` with pressure angle `pressure_angle_rad` (5°…45°) and the
     /// loaded flank `load_side` (±1) of the sun–intermediate mesh.
@@ -95,19 +109,15 @@ impl ExactModel {
 
     /// The driver's pitch point on the ray from its centre `c` along `u`: body point
     /// `R(κ)(r(v)e(v)) + ε`, world `c + R(θ)·body`; Newton on `cross(q(v), u) = 0` from
-    /// `v = arg u − θ − κ`, to `tol_rad`.
-    #[allow(clippy::too_many_arguments)]
-    fn contact(
-        &self,
-        curve: &PitchCurve,
-        c: V2,
-        theta: f64,
-        kappa: f64,
-        eps: V2,
-        u: V2,
-        sigma: f64,
-        tol_rad: f64,
-    ) -> Option<Contact> {
+    /// `v = arg u − θ − κ`, to `tol_rad`. `sigma` (±1) is the loaded flank.
+    fn contact(&self, driver: &Driver<'_>, u: V2, sigma: f64, tol_rad: f64) -> Option<Contact> {
+        let &Driver {
+            curve,
+            center: c,
+            theta,
+            kappa,
+            eps,
+        } = driver;
         let ecc = Rotation2::new(theta) * eps;
         let q = |v: f64| {
             let g = curve.geometry(v);
@@ -187,7 +197,18 @@ impl ExactModel {
         let c2 = radial * (self.a + x[PIN_D[0]]) + tangential * x[PIN_D[1]];
         let u12 = c2 * (1.0 / norm(c2));
         let k1 = self
-            .contact(sun, V2::zeros(), 0.0, kappa(0), eps(0), u12, self.side, TOL)
+            .contact(
+                &Driver {
+                    curve: sun,
+                    center: V2::zeros(),
+                    theta: 0.0,
+                    kappa: kappa(0),
+                    eps: eps(0),
+                },
+                u12,
+                self.side,
+                TOL,
+            )
             .ok_or_else(|| no_contact("sun–intermediate"))?;
         let w2 = r.ccw_sun_to_intermediate(k1.v);
         let p2 = e(w2 + kappa(1)) * mid.radius_mm(w2) + eps(1);
@@ -198,7 +219,18 @@ impl ExactModel {
         let d23 = c3 - c2;
         let u23 = d23 * (1.0 / norm(d23));
         let k2 = self
-            .contact(mid, c2, theta2, kappa(1), eps(1), u23, -self.side, TOL)
+            .contact(
+                &Driver {
+                    curve: mid,
+                    center: c2,
+                    theta: theta2,
+                    kappa: kappa(1),
+                    eps: eps(1),
+                },
+                u23,
+                -self.side,
+                TOL,
+            )
             .ok_or_else(|| no_contact("intermediate–planet"))?;
         let w3 = r.ccw_intermediate_to_planet(k2.v);
         let p3 = e(w3 + kappa(2)) * planet.radius_mm(w3) + eps(2);

@@ -167,78 +167,8 @@ impl ErrorInventory {
     /// # Errors
     /// [`TransplanterError::File`] with [`ToleranceError::BadValue`] naming the key.
     pub fn validate(&self, file: &str) -> Result<Inventory, TransplanterError> {
-        let bad = |key: &str, message: &str| {
-            TransplanterError::File(ToleranceError::BadValue {
-                file: file.into(),
-                key: key.into(),
-                message: message.into(),
-            })
-        };
-        if !(self.pressure_angle_deg.is_finite()
-            && self.pressure_angle_deg >= 5.0
-            && self.pressure_angle_deg <= 45.0)
-        {
-            return Err(bad(
-                "pressure_angle_deg",
-                "a pressure angle in [5, 45] degrees",
-            ));
-        }
-        if !(self.load_side == 1 || self.load_side == -1) {
-            return Err(bad("load_side", "1 or -1 (the loaded flank)"));
-        }
-        if !(16..=100_000).contains(&self.samples_per_turn) {
-            return Err(bad("samples_per_turn", "an integer in 16..=100000"));
-        }
-        let um = 1e-3;
-        let spread =
-            |key: &str, sigma: Option<f64>, half: Option<f64>, unit: &str, scale: f64| match (
-                sigma, half,
-            ) {
-                (None, None) => Ok(Spread::Fixed),
-                (Some(s), None) if s.is_finite() && s >= 0.0 => Ok(Spread::Normal(s * scale)),
-                (None, Some(h)) if h.is_finite() && h >= 0.0 => Ok(Spread::Uniform(h * scale)),
-                (Some(_), Some(_)) => Err(bad(
-                    key,
-                    "give either sigma or half_width (normal or uniform), not both",
-                )),
-                _ => Err(bad(key, &format!("a finite value ≥ 0 in {unit}"))),
-            };
-        let finite = |key: &str, v: f64, unit: &str| {
-            if v.is_finite() {
-                Ok(v)
-            } else {
-                Err(bad(key, &format!("a finite value in {unit}")))
-            }
-        };
-        let length = |key: &str, e: &LengthError| -> Result<(f64, Spread), TransplanterError> {
-            let n = finite(&format!("{key}.nominal_um"), e.nominal_um, "µm")?;
-            let s = spread(
-                &format!("{key}.sigma_um"),
-                e.sigma_um,
-                e.half_width_um,
-                "µm",
-                um,
-            )?;
-            Ok((n * um, s))
-        };
-        let angle = |key: &str, e: &AngleError| -> Result<(f64, Spread), TransplanterError> {
-            let n = finite(&format!("{key}.nominal_deg"), e.nominal_deg, "degrees")?;
-            if n.abs() > 10.0 {
-                return Err(bad(
-                    &format!("{key}.nominal_deg"),
-                    "an assembly angle error within ±10 degrees",
-                ));
-            }
-            let s = spread(
-                &format!("{key}.sigma_deg"),
-                e.sigma_deg,
-                e.half_width_deg,
-                "degrees",
-                1f64.to_radians(),
-            )?;
-            Ok((n.to_radians(), s))
-        };
-        let gears = [&self.sun, &self.intermediate, &self.planet];
+        let ck = Checker { file };
+        self.check_settings(&ck)?;
         let mut ecc = [Eccentricity {
             magnitude_mm: 0.0,
             direction_rad: 0.0,
@@ -248,57 +178,29 @@ impl ErrorInventory {
         }; 3];
         let mut nominal = [0.0; N_COORDS];
         let mut spreads = [Spread::Fixed; N_COORDS];
-        for (k, g) in gears.iter().enumerate() {
-            let key = format!("{}.eccentricity", GEARS[k]);
-            let e = &g.eccentricity;
-            if !(e.magnitude_um.is_finite() && e.magnitude_um >= 0.0) {
-                return Err(bad(
-                    &format!("{key}.magnitude_um"),
-                    "a finite magnitude ≥ 0 in µm",
-                ));
-            }
-            finite(&format!("{key}.direction_deg"), e.direction_deg, "degrees")?;
-            let sigma = match e.sigma_um {
-                None => 0.0,
-                Some(s) if s.is_finite() && s >= 0.0 => s * um,
-                Some(_) => return Err(bad(&format!("{key}.sigma_um"), "a finite σ ≥ 0 in µm")),
-            };
-            if e.keyed_positions > 0 && !e.free_direction {
-                return Err(bad(
-                    &format!("{key}.keyed_positions"),
-                    "only a free direction (free_direction = true) has keyed positions",
-                ));
-            }
-            if e.keyed_positions > 360 {
-                return Err(bad(
-                    &format!("{key}.keyed_positions"),
-                    "at most 360 positions (0 = continuous)",
-                ));
-            }
-            ecc[k] = Eccentricity {
-                magnitude_mm: e.magnitude_um * um,
-                direction_rad: e.direction_deg.to_radians(),
-                sigma_mm: sigma,
-                free: e.free_direction,
-                keyed: e.keyed_positions,
-            };
-            let (n, s) = angle(&format!("{}.clocking", GEARS[k]), &g.clocking)?;
-            nominal[clock_index(k)] = n;
-            spreads[clock_index(k)] = s;
+        let mut set = |i: usize, (n, s): (f64, Spread)| {
+            nominal[i] = n;
+            spreads[i] = s;
+        };
+        for (k, g) in [&self.sun, &self.intermediate, &self.planet]
+            .iter()
+            .enumerate()
+        {
+            ecc[k] = ck.eccentricity(&format!("{}.eccentricity", GEARS[k]), &g.eccentricity)?;
+            set(
+                clock_index(k),
+                ck.angle(&format!("{}.clocking", GEARS[k]), &g.clocking)?,
+            );
         }
         for (pin, idx, name) in [(&self.pin_d, PIN_D, "pin_d"), (&self.pin_a, PIN_A, "pin_a")] {
             for (e, i, part) in [
                 (&pin.radial, idx[0], "radial"),
                 (&pin.tangential, idx[1], "tangential"),
             ] {
-                let (n, s) = length(&format!("{name}.{part}"), e)?;
-                nominal[i] = n;
-                spreads[i] = s;
+                set(i, ck.length(&format!("{name}.{part}"), e)?);
             }
         }
-        let (n, s) = angle("arm_mounting", &self.arm_mounting)?;
-        nominal[ARM] = n;
-        spreads[ARM] = s;
+        set(ARM, ck.angle("arm_mounting", &self.arm_mounting)?);
         for (e, i, part) in [
             (
                 &self.backlash.sun_intermediate,
@@ -311,15 +213,14 @@ impl ErrorInventory {
                 "intermediate_planet",
             ),
         ] {
-            let (n, s) = length(&format!("backlash.{part}"), e)?;
+            let (n, s) = ck.length(&format!("backlash.{part}"), e)?;
             if n < 0.0 {
-                return Err(bad(
+                return Err(ck.bad(
                     &format!("backlash.{part}.nominal_um"),
                     "a backlash ≥ 0 in µm",
                 ));
             }
-            nominal[i] = n;
-            spreads[i] = s;
+            set(i, (n, s));
         }
         Ok(Inventory {
             pressure_angle_rad: self.pressure_angle_deg.to_radians(),
@@ -328,6 +229,145 @@ impl ErrorInventory {
             eccentricity: ecc,
             nominal,
             spread: spreads,
+        })
+    }
+
+    /// Checks the pressure angle (5…45°), the loaded flank (±1) and the samples per turn.
+    fn check_settings(&self, ck: &Checker<'_>) -> Result<(), TransplanterError> {
+        if !(self.pressure_angle_deg.is_finite()
+            && self.pressure_angle_deg >= 5.0
+            && self.pressure_angle_deg <= 45.0)
+        {
+            return Err(ck.bad("pressure_angle_deg", "a pressure angle in [5, 45] degrees"));
+        }
+        if !(self.load_side == 1 || self.load_side == -1) {
+            return Err(ck.bad("load_side", "1 or -1 (the loaded flank)"));
+        }
+        if !(16..=100_000).contains(&self.samples_per_turn) {
+            return Err(ck.bad("samples_per_turn", "an integer in 16..=100000"));
+        }
+        Ok(())
+    }
+}
+
+/// One µm in mm.
+const UM_IN_MM: f64 = 1e-3;
+
+/// The checks of the values of one error file, each naming its key.
+struct Checker<'a> {
+    /// The file, for the messages.
+    file: &'a str,
+}
+
+impl Checker<'_> {
+    /// The error of a bad value at `key`: `message` says what is expected.
+    fn bad(&self, key: &str, message: &str) -> TransplanterError {
+        TransplanterError::File(ToleranceError::BadValue {
+            file: self.file.into(),
+            key: key.into(),
+            message: message.into(),
+        })
+    }
+
+    /// The spread from an optional σ (normal) or half-width (uniform) in `unit`, times `scale`
+    /// into internal units; neither: fixed.
+    fn spread(
+        &self,
+        key: &str,
+        (sigma, half): (Option<f64>, Option<f64>),
+        unit: &str,
+        scale: f64,
+    ) -> Result<Spread, TransplanterError> {
+        match (sigma, half) {
+            (None, None) => Ok(Spread::Fixed),
+            (Some(s), None) if s.is_finite() && s >= 0.0 => Ok(Spread::Normal(s * scale)),
+            (None, Some(h)) if h.is_finite() && h >= 0.0 => Ok(Spread::Uniform(h * scale)),
+            (Some(_), Some(_)) => Err(self.bad(
+                key,
+                "give either sigma or half_width (normal or uniform), not both",
+            )),
+            _ => Err(self.bad(key, &format!("a finite value ≥ 0 in {unit}"))),
+        }
+    }
+
+    /// `v` when finite.
+    fn finite(&self, key: &str, v: f64, unit: &str) -> Result<f64, TransplanterError> {
+        if v.is_finite() {
+            Ok(v)
+        } else {
+            Err(self.bad(key, &format!("a finite value in {unit}")))
+        }
+    }
+
+    /// A length error: nominal (mm) and spread, from µm.
+    fn length(&self, key: &str, e: &LengthError) -> Result<(f64, Spread), TransplanterError> {
+        let n = self.finite(&format!("{key}.nominal_um"), e.nominal_um, "µm")?;
+        let s = self.spread(
+            &format!("{key}.sigma_um"),
+            (e.sigma_um, e.half_width_um),
+            "µm",
+            UM_IN_MM,
+        )?;
+        Ok((n * UM_IN_MM, s))
+    }
+
+    /// An assembly angle error within ±10°: nominal (rad) and spread, from degrees.
+    fn angle(&self, key: &str, e: &AngleError) -> Result<(f64, Spread), TransplanterError> {
+        let n = self.finite(&format!("{key}.nominal_deg"), e.nominal_deg, "degrees")?;
+        if n.abs() > 10.0 {
+            return Err(self.bad(
+                &format!("{key}.nominal_deg"),
+                "an assembly angle error within ±10 degrees",
+            ));
+        }
+        let s = self.spread(
+            &format!("{key}.sigma_deg"),
+            (e.sigma_deg, e.half_width_deg),
+            "degrees",
+            1f64.to_radians(),
+        )?;
+        Ok((n.to_radians(), s))
+    }
+
+    /// A gear's eccentricity (mm, rad), its σ and whether (and at how many keyed positions) its
+    /// direction is an assembly choice.
+    fn eccentricity(
+        &self,
+        key: &str,
+        e: &EccentricityError,
+    ) -> Result<Eccentricity, TransplanterError> {
+        if !(e.magnitude_um.is_finite() && e.magnitude_um >= 0.0) {
+            return Err(self.bad(
+                &format!("{key}.magnitude_um"),
+                "a finite magnitude ≥ 0 in µm",
+            ));
+        }
+        self.finite(&format!("{key}.direction_deg"), e.direction_deg, "degrees")?;
+        let sigma = match e.sigma_um {
+            None => 0.0,
+            Some(s) if s.is_finite() && s >= 0.0 => s * UM_IN_MM,
+            Some(_) => {
+                return Err(self.bad(&format!("{key}.sigma_um"), "a finite σ ≥ 0 in µm"));
+            }
+        };
+        if e.keyed_positions > 0 && !e.free_direction {
+            return Err(self.bad(
+                &format!("{key}.keyed_positions"),
+                "only a free direction (free_direction = true) has keyed positions",
+            ));
+        }
+        if e.keyed_positions > 360 {
+            return Err(self.bad(
+                &format!("{key}.keyed_positions"),
+                "at most 360 positions (0 = continuous)",
+            ));
+        }
+        Ok(Eccentricity {
+            magnitude_mm: e.magnitude_um * UM_IN_MM,
+            direction_rad: e.direction_deg.to_radians(),
+            sigma_mm: sigma,
+            free: e.free_direction,
+            keyed: e.keyed_positions,
         })
     }
 }

@@ -9,14 +9,14 @@
 //! evaluations needs full control of the step loop.
 
 //!
-//! [`rk4`](fn@rk4) lives in `rk4`, the event location on the dense output in `events`.
+//! The Dormand–Prince stepper lives in `dopri5`, [`rk4`](fn@rk4) in `rk4`, the event location on
+//! the dense output in `events`.
 
+mod dopri5;
 mod events;
 mod rk4;
 
 pub use rk4::rk4;
-
-use events::{locate, restrict};
 
 /// A first-order system `y' = f(t, y)`.
 pub trait OdeSystem {
@@ -81,42 +81,6 @@ impl std::ops::AddAssign for OdeStats {
 
 /// Relative offset used to evaluate a piecewise right-hand side on the correct side of a switch.
 const NUDGE: f64 = 1e-9;
-const C2: f64 = 1.0 / 5.0;
-const C3: f64 = 3.0 / 10.0;
-const C4: f64 = 4.0 / 5.0;
-const C5: f64 = 8.0 / 9.0;
-const A21: f64 = 1.0 / 5.0;
-const A31: f64 = 3.0 / 40.0;
-const A32: f64 = 9.0 / 40.0;
-const A41: f64 = 44.0 / 45.0;
-const A42: f64 = -56.0 / 15.0;
-const A43: f64 = 32.0 / 9.0;
-const A51: f64 = 19372.0 / 6561.0;
-const A52: f64 = -25360.0 / 2187.0;
-const A53: f64 = 64448.0 / 6561.0;
-const A54: f64 = -212.0 / 729.0;
-const A61: f64 = 9017.0 / 3168.0;
-const A62: f64 = -355.0 / 33.0;
-const A63: f64 = 46732.0 / 5247.0;
-const A64: f64 = 49.0 / 176.0;
-const A65: f64 = -5103.0 / 18656.0;
-const A71: f64 = 35.0 / 384.0;
-const A73: f64 = 500.0 / 1113.0;
-const A74: f64 = 125.0 / 192.0;
-const A75: f64 = -2187.0 / 6784.0;
-const A76: f64 = 11.0 / 84.0;
-const E1: f64 = 71.0 / 57600.0;
-const E3: f64 = -71.0 / 16695.0;
-const E4: f64 = 71.0 / 1920.0;
-const E5: f64 = -17253.0 / 339200.0;
-const E6: f64 = 22.0 / 525.0;
-const E7: f64 = -1.0 / 40.0;
-const D1: f64 = -12715105075.0 / 11282082432.0;
-const D3: f64 = 87487479700.0 / 32700410799.0;
-const D4: f64 = -10690763975.0 / 1880347072.0;
-const D5: f64 = 701980252875.0 / 199316789632.0;
-const D6: f64 = -1453857185.0 / 822651844.0;
-const D7: f64 = 69997945.0 / 29380423.0;
 
 /// Dense output of one accepted step on `[t, t + h]` (Hairer's 4th-order continuous extension).
 #[derive(Debug, Clone)]
@@ -153,244 +117,47 @@ impl DenseStep {
 /// A scalar state-event function `g(t, y)`; an event is a sign change of `g` inside a step.
 pub type EventFn<'a> = &'a dyn Fn(f64, &[f64]) -> f64;
 
-impl Dopri5 {
-    /// Adaptive DOPRI5 with relative and absolute tolerances (per component:
-    /// `sc = atol + rtol·max(|y0|, |y1|)`, RMS norm).
-    pub fn new(rtol: f64, atol: f64) -> Result<Self, OdeError> {
-        for (name, value) in [("rtol", rtol), ("atol", atol)] {
-            if !(value.is_finite() && value > 0.0) {
-                return Err(OdeError::BadSetting { name, value });
-            }
+/// One integration task of [`Dopri5::integrate`]: a system over a time span, with its switches.
+#[derive(Clone, Copy)]
+pub struct OdeProblem<'a> {
+    /// The right-hand side.
+    pub system: &'a dyn OdeSystem,
+    /// Start time, s.
+    pub t0: f64,
+    /// End time, s (> `t0`).
+    pub t1: f64,
+    /// Known switch times of the right-hand side, s, sorted (those outside `(t0, t1)` are
+    /// ignored): the integration stops and restarts with a fresh first stage at each.
+    pub breakpoints: &'a [f64],
+    /// State-event functions: a step is cut at the first located zero and restarted there.
+    pub events: &'a [EventFn<'a>],
+}
+
+impl<'a> OdeProblem<'a> {
+    /// `system` on `[t0, t1]` (s) without breakpoints or events.
+    #[must_use]
+    pub fn new(system: &'a dyn OdeSystem, t0: f64, t1: f64) -> Self {
+        Self {
+            system,
+            t0,
+            t1,
+            breakpoints: &[],
+            events: &[],
         }
-        Ok(Self {
-            rtol,
-            atol,
-            h_max: f64::INFINITY,
-            max_steps: 50_000_000,
-        })
     }
 
-    /// Bounds the step, s (used for smooth but fast-varying forces such as Hertz bearings).
-    pub fn with_max_step(mut self, h_max: f64) -> Result<Self, OdeError> {
-        if !(h_max > 0.0) {
-            return Err(OdeError::BadSetting {
-                name: "h_max",
-                value: h_max,
-            });
-        }
-        self.h_max = h_max;
-        Ok(self)
+    /// With the switch times `breakpoints` (s, sorted).
+    #[must_use]
+    pub fn with_breakpoints(mut self, breakpoints: &'a [f64]) -> Self {
+        self.breakpoints = breakpoints;
+        self
     }
 
-    /// Integrates from `t0` to `t1` (> t0), restarting at every time in `breakpoints` (sorted,
-    /// those outside `(t0, t1)` are ignored) and at every located zero of an event function.
-    /// `on_step` receives every accepted step's dense output. Returns the final state in `y`.
-    #[allow(clippy::too_many_arguments)] // the integrator's whole interface: system, span, state, breakpoints, events, callback
-    pub fn integrate(
-        &self,
-        sys: &dyn OdeSystem,
-        t0: f64,
-        t1: f64,
-        y: &mut [f64],
-        breakpoints: &[f64],
-        events: &[EventFn<'_>],
-        on_step: &mut dyn FnMut(&DenseStep),
-    ) -> Result<OdeStats, OdeError> {
-        let n = sys.dim();
-        let mut st = OdeStats::default();
-        let mut k: Vec<Vec<f64>> = (0..7).map(|_| vec![0.0; n]).collect();
-        let mut ytmp = vec![0.0; n];
-        let mut ynew = vec![0.0; n];
-        let mut yev = vec![0.0; n];
-        let mut t = t0;
-        let mut h = 0.0_f64;
-        let mut fresh = true;
-        let mut bp = breakpoints
-            .iter()
-            .copied()
-            .filter(|&b| b > t0 && b < t1)
-            .peekable();
-        let tiny = 1e-13 * (t1 - t0).abs().max(t1.abs());
-        while t < t1 - tiny {
-            while bp.peek().is_some_and(|&b| b <= t + tiny) {
-                bp.next();
-            }
-            let t_stop = bp.peek().copied().unwrap_or(t1);
-            if fresh {
-                // restart after a switch: evaluate just inside the new piece
-                sys.rhs(t + NUDGE * (t_stop - t), y, &mut k[0]);
-                st.rhs_evals += 1;
-                if h == 0.0 {
-                    h = self.initial_step(t, y, &k[0]);
-                }
-                fresh = false;
-            }
-            h = h.min(self.h_max);
-            let mut hit_stop = false;
-            if t + h >= t_stop - tiny {
-                h = t_stop - t;
-                hit_stop = true;
-            }
-            if st.accepted + st.rejected > self.max_steps || h < 1e-14 * t.abs().max(1e-9) {
-                return Err(OdeError::Failed {
-                    t,
-                    reason: format!("step size {h:e} s too small or step budget exhausted"),
-                });
-            }
-            // stages
-            let (k1, rest) = k.split_at_mut(1);
-            let k1 = &k1[0];
-            for i in 0..n {
-                ytmp[i] = y[i] + h * A21 * k1[i];
-            }
-            sys.rhs(t + C2 * h, &ytmp, &mut rest[0]);
-            for i in 0..n {
-                ytmp[i] = y[i] + h * (A31 * k1[i] + A32 * rest[0][i]);
-            }
-            sys.rhs(t + C3 * h, &ytmp, &mut rest[1]);
-            for i in 0..n {
-                ytmp[i] = y[i] + h * (A41 * k1[i] + A42 * rest[0][i] + A43 * rest[1][i]);
-            }
-            sys.rhs(t + C4 * h, &ytmp, &mut rest[2]);
-            for i in 0..n {
-                ytmp[i] = y[i]
-                    + h * (A51 * k1[i] + A52 * rest[0][i] + A53 * rest[1][i] + A54 * rest[2][i]);
-            }
-            sys.rhs(t + C5 * h, &ytmp, &mut rest[3]);
-            for i in 0..n {
-                ytmp[i] = y[i]
-                    + h * (A61 * k1[i]
-                        + A62 * rest[0][i]
-                        + A63 * rest[1][i]
-                        + A64 * rest[2][i]
-                        + A65 * rest[3][i]);
-            }
-            // a step that ends on a switch evaluates its last stages just before it
-            let t_end_eval = if hit_stop {
-                t + h * (1.0 - NUDGE)
-            } else {
-                t + h
-            };
-            sys.rhs(t_end_eval, &ytmp, &mut rest[4]);
-            for i in 0..n {
-                ynew[i] = y[i]
-                    + h * (A71 * k1[i]
-                        + A73 * rest[1][i]
-                        + A74 * rest[2][i]
-                        + A75 * rest[3][i]
-                        + A76 * rest[4][i]);
-            }
-            sys.rhs(t_end_eval, &ynew, &mut rest[5]);
-            st.rhs_evals += 6;
-            let mut err = 0.0;
-            for i in 0..n {
-                let e = h
-                    * (E1 * k1[i]
-                        + E3 * rest[1][i]
-                        + E4 * rest[2][i]
-                        + E5 * rest[3][i]
-                        + E6 * rest[4][i]
-                        + E7 * rest[5][i]);
-                let sc = self.atol + self.rtol * y[i].abs().max(ynew[i].abs());
-                err += (e / sc) * (e / sc);
-            }
-            err = (err / n as f64).sqrt();
-            if !err.is_finite() {
-                st.rejected += 1;
-                h *= 0.2;
-                continue;
-            }
-            if err > 1.0 {
-                st.rejected += 1;
-                h *= (0.9 * err.powf(-0.2)).max(0.2);
-                continue;
-            }
-            st.accepted += 1;
-            let dense = self.dense(t, h, y, &ynew, &k);
-            // state events: first sign change inside the step
-            let mut t_ev: Option<f64> = None;
-            for g in events {
-                let ga = g(t, y);
-                let gb = g(t + h, &ynew);
-                if ga != 0.0 && ga.signum() != gb.signum() && gb != 0.0 || (ga != 0.0 && gb == 0.0)
-                {
-                    let te = locate(g, &dense, t, t + h, ga, gb, &mut yev);
-                    if te > t + 1e-9 * h && t_ev.is_none_or(|x| te < x) {
-                        t_ev = Some(te);
-                    }
-                }
-            }
-            let h_used = h;
-            if let Some(te) = t_ev.filter(|&te| te < t + h) {
-                dense.eval(te, &mut yev);
-                let part = DenseStep {
-                    t,
-                    h: te - t,
-                    r: restrict(&dense, te),
-                };
-                on_step(&part);
-                y.copy_from_slice(&yev);
-                t = te;
-                st.events += 1;
-                fresh = true;
-                h = (te - part.t).max(h_used * 0.1);
-                continue;
-            }
-            on_step(&dense);
-            y.copy_from_slice(&ynew);
-            t += h;
-            if hit_stop {
-                t = t_stop;
-                fresh = true;
-            } else {
-                k.swap(0, 6);
-            }
-            let fac = (0.9 * err.max(1e-10).powf(-0.2)).clamp(0.2, 5.0);
-            h = h_used * fac;
-            if hit_stop {
-                h = h.max(h_used);
-            }
-        }
-        Ok(st)
-    }
-
-    fn initial_step(&self, t: f64, y: &[f64], f0: &[f64]) -> f64 {
-        let n = y.len() as f64;
-        let (mut d0, mut d1) = (0.0, 0.0);
-        for i in 0..y.len() {
-            let sc = self.atol + self.rtol * y[i].abs();
-            d0 += (y[i] / sc).powi(2);
-            d1 += (f0[i] / sc).powi(2);
-        }
-        let (d0, d1) = ((d0 / n).sqrt(), (d1 / n).sqrt());
-        let h = if d0 < 1e-5 || d1 < 1e-5 {
-            1e-6
-        } else {
-            0.01 * d0 / d1
-        };
-        let _ = t;
-        h.min(self.h_max)
-    }
-
-    fn dense(&self, t: f64, h: f64, y: &[f64], ynew: &[f64], k: &[Vec<f64>]) -> DenseStep {
-        let n = y.len();
-        let mut r: [Vec<f64>; 5] = std::array::from_fn(|_| vec![0.0; n]);
-        for i in 0..n {
-            let ydiff = ynew[i] - y[i];
-            let bspl = h * k[0][i] - ydiff;
-            r[0][i] = y[i];
-            r[1][i] = ydiff;
-            r[2][i] = bspl;
-            r[3][i] = ydiff - h * k[6][i] - bspl;
-            r[4][i] = h
-                * (D1 * k[0][i]
-                    + D3 * k[2][i]
-                    + D4 * k[3][i]
-                    + D5 * k[4][i]
-                    + D6 * k[5][i]
-                    + D7 * k[6][i]);
-        }
-        DenseStep { t, h, r }
+    /// With the state-event functions `events`.
+    #[must_use]
+    pub fn with_events(mut self, events: &'a [EventFn<'a>]) -> Self {
+        self.events = events;
+        self
     }
 }
 
@@ -417,11 +184,15 @@ mod tests {
         let mut max_dense_err = 0.0_f64;
         let mut out = [0.0; 2];
         let st = s
-            .integrate(&Osc, 0.0, 10.0, &mut y, &[3.0, 7.0], &[], &mut |d| {
-                let tm = 0.5 * (d.t_start() + d.t_end());
-                d.eval(tm, &mut out);
-                max_dense_err = max_dense_err.max((out[0] - tm.cos()).abs());
-            })
+            .integrate(
+                &OdeProblem::new(&Osc, 0.0, 10.0).with_breakpoints(&[3.0, 7.0]),
+                &mut y,
+                &mut |d| {
+                    let tm = 0.5 * (d.t_start() + d.t_end());
+                    d.eval(tm, &mut out);
+                    max_dense_err = max_dense_err.max((out[0] - tm.cos()).abs());
+                },
+            )
             .unwrap();
         assert!((y[0] - 10f64.cos()).abs() < 1e-8, "{y:?}");
         assert!(max_dense_err < 1e-8, "{max_dense_err}");
@@ -437,14 +208,18 @@ mod tests {
         let mut max_err = 0.0_f64;
         let mut out = [0.0; 2];
         let st = s
-            .integrate(&Osc, 0.0, 2.0, &mut y, &[], &[&g], &mut |d| {
-                last_end = d.t_end();
-                for j in 0..=4 {
-                    let tt = d.t_start() + (d.t_end() - d.t_start()) * j as f64 / 4.0;
-                    d.eval(tt, &mut out);
-                    max_err = max_err.max((out[0] - tt.cos()).abs());
-                }
-            })
+            .integrate(
+                &OdeProblem::new(&Osc, 0.0, 2.0).with_events(&[&g]),
+                &mut y,
+                &mut |d| {
+                    last_end = d.t_end();
+                    for j in 0..=4 {
+                        let tt = d.t_start() + (d.t_end() - d.t_start()) * j as f64 / 4.0;
+                        d.eval(tt, &mut out);
+                        max_err = max_err.max((out[0] - tt.cos()).abs());
+                    }
+                },
+            )
             .unwrap();
         assert_eq!(st.events, 1);
         assert!(max_err < 1e-8, "{max_err}");

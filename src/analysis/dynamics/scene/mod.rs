@@ -118,11 +118,44 @@ impl Scene {
     /// # Errors
     /// [`SceneError::Invalid`] naming the key.
     pub fn derived(&self, file: &str) -> Result<Derived, SceneError> {
-        let bad = |key: &str, found: String, expected: &str| invalid(file, key, found, expected);
+        let geom = self.geometry(file)?;
+        let (mass, inertia) = self.bodies(file, &geom)?;
+        let [rb1, rb2] = geom.rb_m;
+        let m_e = inertia[0] * inertia[1] / (inertia[0] * rb2 * rb2 + inertia[1] * rb1 * rb1);
+        let ms = self.mesh_spec(file)?;
+        let law = mesh::stiffness_law(file, ms, geom.contact_ratio)?;
+        let k_mean = match law {
+            StiffnessLaw::Constant(k) => k,
+            StiffnessLaw::Fourier(r, _) | StiffnessLaw::Rectangular(r) | StiffnessLaw::Pairs(r) => {
+                r.mean()
+            }
+        };
+        nonneg(file, "effects.mesh_stiffness.zeta", ms.zeta())?;
+        let c_m = 2.0 * ms.zeta() * (k_mean * m_e).sqrt();
+        let (n1, t1) = self.operating_point(file)?;
+        let omega_e = 2.0 * PI * n1 * self.gears.z1 as f64 / 60.0;
+        let d = Derived {
+            geometry: geom,
+            mass_kg: mass,
+            inertia_kgm2: inertia,
+            m_e_kg: m_e,
+            k_mean_n_per_m: k_mean,
+            c_m,
+            omega_n: (k_mean / m_e).sqrt(),
+            omega_e,
+            t_mesh_s: 2.0 * PI / omega_e,
+            f0_n: t1 / rb1,
+        };
+        check_derived(file, &d)?;
+        Ok(d)
+    }
+
+    /// The pair geometry of `[gears]` (face width and density checked first).
+    fn geometry(&self, file: &str) -> Result<PairGeometry, SceneError> {
         let g = &self.gears;
         pos(file, "gears.face_width_mm", g.face_width_mm)?;
         pos(file, "gears.density_kg_m3", g.density_kg_m3)?;
-        let geom = PairGeometry::new(
+        PairGeometry::new(
             g.z1,
             g.z2,
             g.module_mm,
@@ -130,7 +163,8 @@ impl Scene {
             g.addendum_coeff,
         )
         .ok_or_else(|| {
-            bad(
+            invalid(
+                file,
                 "gears",
                 format!(
                     "z1 = {}, z2 = {}, module_mm = {}, pressure_angle_deg = {}",
@@ -138,8 +172,13 @@ impl Scene {
                 ),
                 "z ≥ 5, module > 0, 0 < α < 45°, and a contact ratio 1 < ε < 2",
             )
-        })?;
-        // solid steel discs: m = π r² b ρ, J = m r²/2
+        })
+    }
+
+    /// Masses (kg) and polar inertias (kg·m²) of the two gears: as given, or of solid discs of
+    /// the pitch radius, `m = π r² b ρ`, `J = m r²/2`.
+    fn bodies(&self, file: &str, geom: &PairGeometry) -> Result<([f64; 2], [f64; 2]), SceneError> {
+        let g = &self.gears;
         let b = g.face_width_mm * 1e-3;
         let disc = |r: f64| {
             let m = PI * r * r * b * g.density_kg_m3;
@@ -153,21 +192,15 @@ impl Scene {
             pos(file, &format!("gears.mass_kg[{i}]"), mass[i])?;
             pos(file, &format!("gears.inertia_kgm2[{i}]"), inertia[i])?;
         }
-        let [rb1, rb2] = geom.rb_m;
-        let m_e = inertia[0] * inertia[1] / (inertia[0] * rb2 * rb2 + inertia[1] * rb1 * rb1);
-        let ms = self.mesh_spec(file)?;
-        let law = mesh::stiffness_law(file, ms, geom.contact_ratio)?;
-        let k_mean = match law {
-            StiffnessLaw::Constant(k) => k,
-            StiffnessLaw::Fourier(r, _) | StiffnessLaw::Rectangular(r) | StiffnessLaw::Pairs(r) => {
-                r.mean()
-            }
-        };
-        nonneg(file, "effects.mesh_stiffness.zeta", ms.zeta())?;
-        let c_m = 2.0 * ms.zeta() * (k_mean * m_e).sqrt();
+        Ok((mass, inertia))
+    }
+
+    /// The checked input speed (rpm) and torque (N·m) of `[operating]`.
+    fn operating_point(&self, file: &str) -> Result<(f64, f64), SceneError> {
         let n1 = self.operating.n1_rpm;
         if !(n1.is_finite() && n1 > 0.0 && n1 <= MAX_SPEED_RPM) {
-            return Err(bad(
+            return Err(invalid(
+                file,
                 "operating.n1_rpm",
                 n1.to_string(),
                 "a positive speed in rpm, at most 1e6 (no gear drive turns faster; from about 1e11 \
@@ -177,52 +210,14 @@ impl Scene {
         }
         let t1 = self.operating.input_torque_Nm;
         if !t1.is_finite() {
-            return Err(bad(
+            return Err(invalid(
+                file,
                 "operating.input_torque_Nm",
                 t1.to_string(),
                 "a finite torque in N·m",
             ));
         }
-        let omega_e = 2.0 * PI * n1 * g.z1 as f64 / 60.0;
-        let d = Derived {
-            geometry: geom,
-            mass_kg: mass,
-            inertia_kgm2: inertia,
-            m_e_kg: m_e,
-            k_mean_n_per_m: k_mean,
-            c_m,
-            omega_n: (k_mean / m_e).sqrt(),
-            omega_e,
-            t_mesh_s: 2.0 * PI / omega_e,
-            f0_n: t1 / rb1,
-        };
-        // Each input is finite, but extreme ones can still overflow a derived quantity: name the
-        // inputs it comes from.
-        // (value, name, input keys, whether it must be > 0)
-        for (v, what, keys, positive) in [
-            (
-                d.m_e_kg,
-                "m_e",
-                "gears.inertia_kgm2 / gears.module_mm",
-                true,
-            ),
-            (d.k_mean_n_per_m, "k_mean", "effects.mesh_stiffness", true),
-            (d.omega_n, "ωn", "effects.mesh_stiffness / gears", true),
-            (d.omega_e, "ωe", "operating.n1_rpm", true),
-            (d.t_mesh_s, "T_mesh", "operating.n1_rpm", true),
-            (d.c_m, "c_m", "effects.mesh_stiffness.zeta", false),
-            (d.f0_n, "F0 = T1/rb1", "operating.input_torque_Nm", false),
-        ] {
-            let sign_ok = !positive || v > 0.0;
-            if !(v.is_finite() && sign_ok) {
-                return Err(bad(
-                    keys,
-                    format!("values giving {what} = {v:e}"),
-                    "values of physical size (the derived quantity must be finite, and > 0 for masses, stiffnesses and frequencies)",
-                ));
-            }
-        }
-        Ok(d)
+        Ok((n1, t1))
     }
 
     /// `effects.mesh_stiffness`, which every scene needs.
@@ -282,4 +277,36 @@ fn finite(file: &str, key: &str, v: f64) -> Result<(), SceneError> {
     } else {
         Err(invalid(file, key, v.to_string(), "a finite number"))
     }
+}
+
+/// Each input is finite, but extreme ones can still overflow a derived quantity: refuses a
+/// non-finite (or, for masses, stiffnesses and frequencies, non-positive) one, naming the inputs
+/// it comes from.
+fn check_derived(file: &str, d: &Derived) -> Result<(), SceneError> {
+    // (value, name, input keys, whether it must be > 0)
+    for (v, what, keys, positive) in [
+        (
+            d.m_e_kg,
+            "m_e",
+            "gears.inertia_kgm2 / gears.module_mm",
+            true,
+        ),
+        (d.k_mean_n_per_m, "k_mean", "effects.mesh_stiffness", true),
+        (d.omega_n, "ωn", "effects.mesh_stiffness / gears", true),
+        (d.omega_e, "ωe", "operating.n1_rpm", true),
+        (d.t_mesh_s, "T_mesh", "operating.n1_rpm", true),
+        (d.c_m, "c_m", "effects.mesh_stiffness.zeta", false),
+        (d.f0_n, "F0 = T1/rb1", "operating.input_torque_Nm", false),
+    ] {
+        let sign_ok = !positive || v > 0.0;
+        if !(v.is_finite() && sign_ok) {
+            return Err(invalid(
+                file,
+                keys,
+                format!("values giving {what} = {v:e}"),
+                "values of physical size (the derived quantity must be finite, and > 0 for masses, stiffnesses and frequencies)",
+            ));
+        }
+    }
+    Ok(())
 }

@@ -40,6 +40,25 @@ impl Extractor {
         tol_rad_s: f64,
         progress: &(dyn Fn(u64) + Sync),
     ) -> Result<FrequencyEstimate, OrbitError> {
+        self.check_estimable(rec, search_rel, tol_rad_s)?;
+        let (coarse, bin) = self.interpolated_peak(rec, search_rel)?;
+        let rss = |om: f64| self.residual_at(rec, om);
+        let (a, b, it) = golden_section(rss, coarse - bin, coarse + bin, tol_rad_s, progress);
+        let sign = self.omega_p_rad_s.signum();
+        Ok(FrequencyEstimate {
+            interpolated_rad_s: sign * coarse,
+            refined_rad_s: sign * 0.5 * (a + b),
+            iterations: it,
+        })
+    }
+
+    /// Refuses bad `search_rel`/`tol_rad_s`, the full-spectrum frame and non-uniform sampling.
+    fn check_estimable(
+        &self,
+        rec: &Record,
+        search_rel: f64,
+        tol_rad_s: f64,
+    ) -> Result<(), OrbitError> {
         if !(search_rel > 0.0 && search_rel < 1.0) {
             return Err(invalid("search_rel", "must lie in (0, 1)"));
         }
@@ -57,6 +76,13 @@ impl Extractor {
                 "frequency estimation needs uniformly sampled data".into(),
             ));
         }
+        Ok(())
+    }
+
+    /// The coarse estimate `(|ω̂|, bin width)`, rad/s: the strongest Hann-spectrum bin of the
+    /// analysis-frame `z` at ±|ω_p| within `±search_rel·|ω_p|`, Grandke-interpolated
+    /// (`δ = ±(2a−1)/(a+1)`, `a` = larger-neighbour ratio).
+    fn interpolated_peak(&self, rec: &Record, search_rel: f64) -> Result<(f64, f64), OrbitError> {
         let (x, y) = self.analysis_signal(rec)?;
         let n = x.len();
         let (buf, _) = hann_fft(&x, &y);
@@ -94,47 +120,21 @@ impl Extractor {
             let a = l / c;
             -(2.0 * a - 1.0) / (a + 1.0)
         };
-        let coarse = (k as f64 + delta) * bin;
-        let rss = |om: f64| -> f64 {
-            let mut e = self.clone();
-            e.omega_p_rad_s = om.copysign(self.omega_p_rad_s);
-            e.opts.method = Method::LeastSquares;
-            match e.extract(rec) {
-                Ok(m) => m
-                    .residual_rms_um
-                    .map_or(f64::INFINITY, |(a, b)| a * a + b * b),
-                Err(_) => f64::INFINITY,
-            }
-        };
-        // Golden-section search.
-        let g = 0.5 * (5f64.sqrt() - 1.0);
-        let (mut a, mut b) = (coarse - bin, coarse + bin);
-        let (mut c1, mut c2) = (b - g * (b - a), a + g * (b - a));
-        let (mut f1, mut f2) = (rss(c1), rss(c2));
-        let mut it = 0;
-        while b - a > tol_rad_s && it < 200 {
-            if f1 <= f2 {
-                b = c2;
-                c2 = c1;
-                f2 = f1;
-                c1 = b - g * (b - a);
-                f1 = rss(c1);
-            } else {
-                a = c1;
-                c1 = c2;
-                f1 = f2;
-                c2 = a + g * (b - a);
-                f2 = rss(c2);
-            }
-            it += 1;
-            progress(u64::from(it));
+        Ok(((k as f64 + delta) * bin, bin))
+    }
+
+    /// Residual sum of squares (µm²) of this extractor's least-squares fit at `|ω| = om` rad/s
+    /// (sign of the configured ω_p), ∞ when the fit fails.
+    fn residual_at(&self, rec: &Record, om: f64) -> f64 {
+        let mut e = self.clone();
+        e.omega_p_rad_s = om.copysign(self.omega_p_rad_s);
+        e.opts.method = Method::LeastSquares;
+        match e.extract(rec) {
+            Ok(m) => m
+                .residual_rms_um
+                .map_or(f64::INFINITY, |(a, b)| a * a + b * b),
+            Err(_) => f64::INFINITY,
         }
-        let sign = self.omega_p_rad_s.signum();
-        Ok(FrequencyEstimate {
-            interpolated_rad_s: sign * coarse,
-            refined_rad_s: sign * 0.5 * (a + b),
-            iterations: it,
-        })
     }
 
     /// Upper bound of the golden-section iterations of [`Extractor::estimate_frequency`] for a
@@ -147,4 +147,38 @@ impl Extractor {
             .ceil()
             .clamp(0.0, 200.0) as u64
     }
+}
+
+/// Golden-section minimisation of `f` on `[a, b]` down to a bracket of `tol` (at most 200
+/// iterations, each reported to `progress`): the final bracket and the iterations.
+fn golden_section(
+    f: impl Fn(f64) -> f64,
+    a: f64,
+    b: f64,
+    tol: f64,
+    progress: &(dyn Fn(u64) + Sync),
+) -> (f64, f64, u32) {
+    let g = 0.5 * (5f64.sqrt() - 1.0);
+    let (mut a, mut b) = (a, b);
+    let (mut c1, mut c2) = (b - g * (b - a), a + g * (b - a));
+    let (mut f1, mut f2) = (f(c1), f(c2));
+    let mut it = 0;
+    while b - a > tol && it < 200 {
+        if f1 <= f2 {
+            b = c2;
+            c2 = c1;
+            f2 = f1;
+            c1 = b - g * (b - a);
+            f1 = f(c1);
+        } else {
+            a = c1;
+            c1 = c2;
+            f1 = f2;
+            c2 = a + g * (b - a);
+            f2 = f(c2);
+        }
+        it += 1;
+        progress(u64::from(it));
+    }
+    (a, b, it)
 }

@@ -19,7 +19,7 @@
 //!
 //! One file per idea: `record` (the [`Record`] and its CSV), `frame` ([`Frame`], detrend,
 //! de-rotation), `extract` ([`ExtractOptions`], [`Extractor`], [`Measurement`]), `least_squares`
-//! (the blocked QR solve), `spectrum` (DTFT, Hann, synchronous average, [`full_spectrum`]),
+//! (the regression, its conditioning and covariance), `tsqr` (the blocked QR), `spectrum` (DTFT, Hann, synchronous average, [`full_spectrum`]),
 //! `frequency` ([`Extractor::estimate_frequency`]) and `compare` ([`Comparison`]).
 //!
 //! ```
@@ -42,6 +42,7 @@ mod frequency;
 mod least_squares;
 mod record;
 mod spectrum;
+mod tsqr;
 
 pub use compare::Comparison;
 pub use extract::{ExtractOptions, Extractor, Measurement, Method, Uncertainty};

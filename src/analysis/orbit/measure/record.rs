@@ -104,81 +104,13 @@ impl Record {
             .comment(Some(b'#'))
             .trim(csv::Trim::All)
             .from_reader(reader);
-        let csv_err = |line: u64, column: &str, message: String| OrbitError::Csv {
-            file: file.to_string(),
-            line,
-            column: column.to_string(),
-            message,
-        };
+        let src = CsvSource { file };
         let headers = rdr
             .headers()
-            .map_err(|e| csv_err(1, "header", e.to_string()))?
+            .map_err(|e| src.err(1, "header", e.to_string()))?
             .clone();
-        let mut idx = [None; 5];
-        const NAMES: [&str; 5] = ["t_s", "x_um", "y_um", "carrier_deg", "tach"];
-        for (j, h) in headers.iter().enumerate() {
-            match NAMES.iter().position(|n| *n == h) {
-                Some(k) if idx[k].is_none() => idx[k] = Some(j),
-                Some(_) => return Err(csv_err(1, h, "duplicate column".into())),
-                None => {
-                    return Err(csv_err(
-                        1,
-                        h,
-                        format!(
-                            "unknown column (expected t_s, x_um, y_um and optionally carrier_deg, tach; column {})",
-                            j + 1
-                        ),
-                    ));
-                }
-            }
-        }
-        for k in 0..3 {
-            if idx[k].is_none() {
-                return Err(csv_err(
-                    1,
-                    NAMES[k],
-                    "required column missing from the header".into(),
-                ));
-            }
-        }
-        let mut cols: [Vec<f64>; 5] = Default::default();
-        for rec in rdr.records() {
-            let rec = rec.map_err(|e| {
-                let line = e.position().map_or(0, csv::Position::line);
-                csv_err(line, "row", e.to_string())
-            })?;
-            let line = rec.position().map_or(0, csv::Position::line);
-            for k in 0..5 {
-                let Some(j) = idx[k] else { continue };
-                let cell = rec.get(j).unwrap_or("");
-                let v: f64 = cell.parse().map_err(|_| {
-                    csv_err(line, NAMES[k], format!("expected a number, found {cell:?}"))
-                })?;
-                if !v.is_finite() {
-                    return Err(csv_err(
-                        line,
-                        NAMES[k],
-                        format!("expected a finite number, found {cell:?}"),
-                    ));
-                }
-                if k == 0 && cols[0].last().is_some_and(|p| v <= *p) {
-                    return Err(csv_err(
-                        line,
-                        NAMES[0],
-                        format!("time {v} s is not after the previous row"),
-                    ));
-                }
-                if k == 4 && v != 0.0 && v != 1.0 {
-                    return Err(csv_err(
-                        line,
-                        NAMES[4],
-                        format!("expected 0 or 1 (tach pulse flag), found {cell:?}"),
-                    ));
-                }
-                cols[k].push(v);
-            }
-        }
-        let [t, x, y, c, tach] = cols;
+        let idx = src.column_indices(&headers)?;
+        let [t, x, y, c, tach] = src.read_columns(&mut rdr, &idx)?;
         // Tach pulses: rising edges 0 → 1 of the flag column.
         let pulses: Option<Vec<f64>> = idx[4].map(|_| {
             (1..tach.len())
@@ -313,5 +245,120 @@ impl Record {
             w.write_record(&row).map_err(|e| ferr(&e))?;
         }
         w.flush().map_err(|e| ferr(&e))
+    }
+}
+
+/// The columns of a sensor CSV, in the order of [`CsvSource::read_columns`].
+const NAMES: [&str; 5] = ["t_s", "x_um", "y_um", "carrier_deg", "tach"];
+
+/// A sensor CSV being read: names the file in its errors.
+struct CsvSource<'a> {
+    file: &'a str,
+}
+
+impl CsvSource<'_> {
+    /// The error at `line` (1-based) and `column` of this file.
+    fn err(&self, line: u64, column: &str, message: String) -> OrbitError {
+        OrbitError::Csv {
+            file: self.file.to_string(),
+            line,
+            column: column.to_string(),
+            message,
+        }
+    }
+
+    /// The position of each of [`NAMES`] in the header (`None`: absent); refuses unknown and
+    /// duplicate columns and a missing `t_s`, `x_um` or `y_um`.
+    fn column_indices(
+        &self,
+        headers: &csv::StringRecord,
+    ) -> Result<[Option<usize>; 5], OrbitError> {
+        let mut idx = [None; 5];
+        for (j, h) in headers.iter().enumerate() {
+            match NAMES.iter().position(|n| *n == h) {
+                Some(k) if idx[k].is_none() => idx[k] = Some(j),
+                Some(_) => return Err(self.err(1, h, "duplicate column".into())),
+                None => {
+                    return Err(self.err(
+                        1,
+                        h,
+                        format!(
+                            "unknown column (expected t_s, x_um, y_um and optionally carrier_deg, tach; column {})",
+                            j + 1
+                        ),
+                    ));
+                }
+            }
+        }
+        for k in 0..3 {
+            if idx[k].is_none() {
+                return Err(self.err(
+                    1,
+                    NAMES[k],
+                    "required column missing from the header".into(),
+                ));
+            }
+        }
+        Ok(idx)
+    }
+
+    /// The values of the present columns, row by row: finite numbers, strictly increasing time,
+    /// a tach flag of 0 or 1 (an absent column stays empty).
+    fn read_columns(
+        &self,
+        rdr: &mut csv::Reader<impl std::io::Read>,
+        idx: &[Option<usize>; 5],
+    ) -> Result<[Vec<f64>; 5], OrbitError> {
+        let mut cols: [Vec<f64>; 5] = Default::default();
+        for rec in rdr.records() {
+            let rec = rec.map_err(|e| {
+                let line = e.position().map_or(0, csv::Position::line);
+                self.err(line, "row", e.to_string())
+            })?;
+            let line = rec.position().map_or(0, csv::Position::line);
+            for k in 0..5 {
+                let Some(j) = idx[k] else { continue };
+                let cell = rec.get(j).unwrap_or("");
+                let v = self.cell_value(line, k, cell, cols[0].last().copied())?;
+                cols[k].push(v);
+            }
+        }
+        Ok(cols)
+    }
+
+    /// The value of `cell` in column `k` at `line`, checked against the previous time `prev_t`
+    /// (s) for `t_s`.
+    fn cell_value(
+        &self,
+        line: u64,
+        k: usize,
+        cell: &str,
+        prev_t: Option<f64>,
+    ) -> Result<f64, OrbitError> {
+        let v: f64 = cell
+            .parse()
+            .map_err(|_| self.err(line, NAMES[k], format!("expected a number, found {cell:?}")))?;
+        if !v.is_finite() {
+            return Err(self.err(
+                line,
+                NAMES[k],
+                format!("expected a finite number, found {cell:?}"),
+            ));
+        }
+        if k == 0 && prev_t.is_some_and(|p| v <= p) {
+            return Err(self.err(
+                line,
+                NAMES[0],
+                format!("time {v} s is not after the previous row"),
+            ));
+        }
+        if k == 4 && v != 0.0 && v != 1.0 {
+            return Err(self.err(
+                line,
+                NAMES[4],
+                format!("expected 0 or 1 (tach pulse flag), found {cell:?}"),
+            ));
+        }
+        Ok(v)
     }
 }

@@ -14,23 +14,19 @@
 //! trains go through the same design chain and are measured the same way.
 
 use super::dyad::{Dyad, DyadOptions, DyadSolutions, Pose, solve_dyads_weighted};
-use super::report::{
-    Candidate, PoseResult, Synthesis, SynthesisError, SynthesisReport, TargetResult,
-};
+use super::report::{Candidate, Synthesis, SynthesisError, SynthesisReport};
 use super::spec::{Spec, checked, max_tol_mm};
-use super::targets::{
-    AXIS_DISTANCE_L3, DEFAULT_L1_MM, DEFAULT_L3_MM, SEARCH_SAMPLES, TargetProblem, band_shortfalls,
-    index_value, turn_of,
-};
-use super::timing::{
-    Timing, TimingError, TimingGoals, carrier_angles, check_planet_turns, fit_timing,
-};
-use crate::design::trajectory::Trajectory;
-use crate::design::{Design, DesignOptions, design};
-use crate::geometry::mechanism::Mechanism;
-use crate::simulate::{FeatureOptions, Features, Simulation, features, features_of_turn};
+use super::targets::{AXIS_DISTANCE_L3, DEFAULT_L1_MM, DEFAULT_L3_MM, TargetProblem};
+use super::timing::TimingError;
+use crate::design::DesignOptions;
+use crate::simulate::FeatureOptions;
 use rayon::prelude::*;
-use std::f64::consts::{PI, TAU};
+
+mod measure;
+mod stage_b;
+
+use measure::{Designed, on_gears};
+use stage_b::TimingStage;
 
 /// Candidates taken from a one-parameter family (three poses), evenly over its members of
 /// [`FAMILY_L3_SPREADS`].
@@ -74,24 +70,11 @@ pub fn synthesize(spec: &Spec, opts: &DesignOptions) -> Result<Synthesis, Synthe
     if poses.is_empty() {
         return from_targets(spec, opts, sense, fopts);
     }
-    let limits = opts.limits();
     let dopts = DyadOptions {
         center_mm: spec.machine.center_mm,
         ..DyadOptions::default()
     };
-    // An exact pose weighs as a position tolerance of 1 µm, an approximate one as its own.
-    let scales: Vec<f64> = spec
-        .poses
-        .iter()
-        .map(|p| {
-            if p.approximate() {
-                p.position_tolerance_mm()
-            } else {
-                EXACT_POSE_MM
-            }
-        })
-        .collect();
-    let (kind, dyads) = match solve_dyads_weighted(&poses, &scales, &dopts)? {
+    let (kind, dyads) = match solve_dyads_weighted(&poses, &pose_scales(spec), &dopts)? {
         DyadSolutions::Finite(v) => ("finite", v),
         DyadSolutions::Family(v) => ("family", v),
     };
@@ -99,62 +82,16 @@ pub fn synthesize(spec: &Spec, opts: &DesignOptions) -> Result<Synthesis, Synthe
     if pick.is_empty() {
         return Err(no_arm(kind, &dyads, &poses, spec, &dopts));
     }
-    // Each candidate's timing on its own (side by side); a family's members first without the
-    // gear-limit and band rows (cheaper), the ones kept then again with them when they break a
-    // limit or there are bands.
-    let bands = spec.targets.bands();
-    let timed = |dyad: Dyad, full: bool| -> Result<Timing, TimingError> {
-        let (direction, angles) = carrier_angles(&poses, &dyad, sense)?;
-        check_planet_turns(&poses, direction, &angles, opts.refine_options.ratio_bounds)?;
-        // The bands' rows: the indices of the train's two arms at SEARCH_SAMPLES instants.
-        let o = dyad.center_mm;
-        let band_rows = |m: &Mechanism| -> Vec<f64> {
-            features_of_turn(
-                &turn_of(m, o, direction, SEARCH_SAMPLES),
-                o,
-                direction,
-                &fopts,
-            )
-            // Indices that cannot be evaluated (no planting level): each band 1000 units out.
-            .map_or(vec![1e3; bands.len()], |f| band_shortfalls(&bands, &f))
-        };
-        let goals = TimingGoals {
-            limits: full.then_some(&limits),
-            bands: (full && !bands.is_empty()).then_some(&band_rows),
-        };
-        Ok(fit_timing(
-            &poses,
-            &dyad,
-            direction,
-            &angles,
-            TIMING_ORDER,
-            &tol_rad,
-            &goals,
-        ))
+    let stage = TimingStage {
+        poses: &poses,
+        tol_rad: &tol_rad,
+        sense,
+        fopts: &fopts,
+        opts,
+        limits: opts.limits(),
+        bands: spec.targets.bands(),
     };
-    let family = kind == "family";
-    let mut timings: Vec<(Dyad, Result<Timing, TimingError>)> = pick
-        .into_par_iter()
-        .map(|d| (d, timed(d, !family)))
-        .collect();
-    // The family's members that go on to the design chain: those whose timing passes the poses
-    // best (to 1e-6 rad), then keeps within the gear limits, then the most compact arm.
-    if family {
-        rank_family(&mut timings, &limits);
-        timings.truncate(FAMILY_DESIGNED);
-        timings = timings
-            .into_par_iter()
-            .map(|(d, t)| match t {
-                Ok(t)
-                    if !limits.contains(&t.mechanism.ratio, t.mechanism.a_mm)
-                        || !bands.is_empty() =>
-                {
-                    (d, timed(d, true))
-                }
-                t => (d, t),
-            })
-            .collect();
-    }
+    let timings = stage.time_candidates(pick, kind == "family");
     // Each candidate's gears on their own (side by side), the poses measured on them.
     let results: Vec<(Candidate, Option<Designed>, Option<TimingError>)> = timings
         .into_par_iter()
@@ -166,14 +103,40 @@ pub fn synthesize(spec: &Spec, opts: &DesignOptions) -> Result<Synthesis, Synthe
             }
         })
         .collect();
-    // Every arm refused by Stage B's necessary conditions: the spec's error, by name.
+    let (tried, chosen) = chosen_or_error(results)?;
+    Ok(finish(kind, &dyads, tried, chosen, spec))
+}
+
+/// The weight of each pose in the arm's least squares: an exact pose weighs as a position
+/// tolerance of [`EXACT_POSE_MM`], an approximate one as its own, mm.
+fn pose_scales(spec: &Spec) -> Vec<f64> {
+    spec.poses
+        .iter()
+        .map(|p| {
+            if p.approximate() {
+                p.position_tolerance_mm()
+            } else {
+                EXACT_POSE_MM
+            }
+        })
+        .collect()
+}
+
+/// The candidates tried, each with its design when it got gears.
+type Tried = Vec<(Candidate, Option<Designed>)>;
+
+/// The candidates tried and the index of the one chosen ([`choose`]); when none has gears:
+/// the timing error when every arm was refused by Stage B's necessary conditions (the spec's
+/// error, by name), else every refusal.
+fn chosen_or_error(
+    results: Vec<(Candidate, Option<Designed>, Option<TimingError>)>,
+) -> Result<(Tried, usize), SynthesisError> {
     let timing_error = results
         .iter()
         .all(|r| r.2.is_some())
         .then(|| results.iter().find_map(|r| r.2.clone()))
         .flatten();
-    let tried: Vec<(Candidate, Option<Designed>)> =
-        results.into_iter().map(|(c, d, _)| (c, d)).collect();
+    let tried: Tried = results.into_iter().map(|(c, d, _)| (c, d)).collect();
     let Some(chosen) = choose(&tried) else {
         if let Some(e) = timing_error {
             return Err(e.into());
@@ -184,7 +147,7 @@ pub fn synthesize(spec: &Spec, opts: &DesignOptions) -> Result<Synthesis, Synthe
             .collect();
         return Err(SynthesisError::NoDesign(reasons.join("; ")));
     };
-    Ok(finish(kind, &dyads, tried, chosen, spec))
+    Ok((tried, chosen))
 }
 
 /// The arms that go on to Stage B: a family's members of a planting arm's proportions, or the
@@ -259,29 +222,6 @@ fn no_arm(
             max_l3_mm: dopts.max_l3_mm,
         }
     }
-}
-
-/// A family's timed members in the order they go on to the design chain: those whose timing
-/// passes the poses best (to 1e-6 rad), then keeps within the gear limits, then the most compact
-/// arm.
-fn rank_family(
-    timings: &mut [(Dyad, Result<Timing, TimingError>)],
-    limits: &crate::geometry::limits::GearLimits,
-) {
-    let key = |(dyad, t): &(Dyad, Result<Timing, TimingError>)| match t {
-        Ok(t) => (
-            (t.residuals_rad.iter().map(|r| r.abs()).fold(0.0, f64::max) * 1e6).round(),
-            !limits.contains(&t.mechanism.ratio, t.mechanism.a_mm),
-            dyad.l1_mm + dyad.l3_mm,
-        ),
-        Err(_) => (f64::INFINITY, true, f64::INFINITY),
-    };
-    timings.sort_by(|a, b| {
-        let (ka, kb) = (key(a), key(b));
-        ka.0.total_cmp(&kb.0)
-            .then(ka.1.cmp(&kb.1))
-            .then(ka.2.total_cmp(&kb.2))
-    });
 }
 
 /// The designed candidate kept: passes the poses (within [`POSE_PASSED`], else the smaller error
@@ -397,58 +337,6 @@ fn from_targets(
     Ok(out)
 }
 
-/// The train `m` (solved frame) on arm `dyad` with carrier sense `direction`: its traced path
-/// ([`TRACE_POINTS`] carrier angles) through the design chain, which makes its gears within the
-/// gear limits; the poses and the target bands measured on those gears.
-fn on_gears(
-    m: &Mechanism,
-    dyad: Dyad,
-    direction: i8,
-    poses: &[Pose],
-    spec: &Spec,
-    fopts: &FeatureOptions,
-    opts: &DesignOptions,
-) -> (Candidate, Option<Designed>) {
-    let s = f64::from(direction);
-    let o = dyad.center_mm;
-    let points: Vec<[f64; 2]> = (0..TRACE_POINTS)
-        .map(|j| {
-            let b = m.tip(TAU * j as f64 / TRACE_POINTS as f64);
-            [o[0] + b[0], o[1] + s * b[1]]
-        })
-        .collect();
-    let mut o_opts = opts.clone();
-    o_opts.center_mm = o;
-    let d = match Trajectory::from_points(points)
-        .map_err(|e| e.to_string())
-        .and_then(|t| design(&t, &o_opts).map_err(|e| e.to_string()))
-    {
-        Ok(d) => d,
-        Err(e) => return (Candidate::refused(dyad, e), None),
-    };
-    let sim = Simulation::new(d.assembly.clone());
-    let measured: Vec<PoseResult> = poses.iter().map(|p| on_design(&sim, p)).collect();
-    // Bands that cannot be evaluated (no planting level on this path) are said so, not dropped.
-    let targets = features(&sim, fopts)
-        .map(|f| target_results(spec, &f))
-        .map_err(|e| e.to_string());
-    let cand = Candidate {
-        dyad,
-        max_pose_error_mm: Some(measured.iter().map(|p| p.error_mm).fold(0.0, f64::max)),
-        max_pose_error_deg: Some(
-            measured
-                .iter()
-                .map(|p| p.error_deg.abs())
-                .fold(0.0, f64::max),
-        ),
-        targets_missed: targets.as_ref().map_or(spec.targets.bands().len(), |t| {
-            t.iter().filter(|t| t.margin < 0.0).count()
-        }),
-        refused: None,
-    };
-    (cand, Some((d, direction, measured, targets)))
-}
-
 /// The report of the chosen candidate among those `tried`.
 fn finish(
     kind: &str,
@@ -498,70 +386,4 @@ fn finish(
         },
         design: d,
     }
-}
-
-/// A candidate's design: the design, its carrier sense, the poses and bands measured on it.
-type Designed = (
-    Design,
-    i8,
-    Vec<PoseResult>,
-    Result<Vec<TargetResult>, String>,
-);
-
-/// `p` on the designed train: the closest tip over a turn (3600 instants, then golden-section
-/// refinement) and the needle-direction error there.
-fn on_design(sim: &Simulation, p: &Pose) -> PoseResult {
-    let at = |phi: f64| {
-        let a = sim.pose(phi).arm1;
-        let d = (a.tip_mm[0] - p.tip_mm[0]).hypot(a.tip_mm[1] - p.tip_mm[1]);
-        (d, a)
-    };
-    let n = 3600;
-    let k = (0..n)
-        .min_by(|&i, &j| {
-            at(sim.angle_at(i as f64 / n as f64))
-                .0
-                .total_cmp(&at(sim.angle_at(j as f64 / n as f64)).0)
-        })
-        .unwrap_or(0);
-    let (mut lo, mut hi) = (
-        sim.angle_at((k as f64 - 1.0) / n as f64),
-        sim.angle_at((k as f64 + 1.0) / n as f64),
-    );
-    let g = 0.5 * (5f64.sqrt() - 1.0);
-    for _ in 0..60 {
-        let (m1, m2) = (hi - g * (hi - lo), lo + g * (hi - lo));
-        if at(m1).0 < at(m2).0 {
-            hi = m2;
-        } else {
-            lo = m1;
-        }
-    }
-    let phi = 0.5 * (lo + hi);
-    let (d, a) = at(phi);
-    let dir = (a.tip_mm[1] - a.planet_center_mm[1]).atan2(a.tip_mm[0] - a.planet_center_mm[0]);
-    PoseResult {
-        tip_mm: p.tip_mm,
-        needle_deg: p.needle_rad.to_degrees(),
-        carrier_deg: phi.to_degrees().rem_euclid(360.0),
-        error_mm: d,
-        error_deg: ((dir - p.needle_rad + PI).rem_euclid(TAU) - PI).to_degrees(),
-    }
-}
-
-/// Each band of `spec` against the design's features.
-fn target_results(spec: &Spec, f: &Features) -> Vec<TargetResult> {
-    spec.targets
-        .bands()
-        .into_iter()
-        .map(|(name, band)| {
-            let value = index_value(name, f);
-            TargetResult {
-                index: name.into(),
-                band,
-                value,
-                margin: (value - band[0]).min(band[1] - value),
-            }
-        })
-        .collect()
 }
