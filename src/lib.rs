@@ -59,6 +59,7 @@ use {clap as _, indicatif as _, tiny_http as _};
 
 pub mod analysis;
 pub mod bounds;
+mod builder;
 pub mod config;
 pub mod design;
 pub mod export;

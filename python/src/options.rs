@@ -55,11 +55,7 @@ pub struct DesignArgs {
 impl DesignArgs {
     /// The library's design options, checked (an error names the argument).
     pub fn options(&self) -> PyResult<DesignOptions> {
-        let mut o = DesignOptions::default();
-        o.center_mm = [self.center.0, self.center.1];
-        o.order = self.order;
-        o.tol_tip_mm = self.tol_mm;
-        o.refine = choice(
+        let refine = choice(
             "refine",
             &self.refine,
             &[
@@ -68,35 +64,53 @@ impl DesignArgs {
                 ("off", RefineMode::Off),
             ],
         )?;
-        o.refine_order = self.refine_order;
-        o.fit_to_points = self.fit;
-        o.smoothing = self.smooth;
-        o.segmented.hypothesis = self
+        let hypothesis = self
             .harmonics
             .iter()
             .map(|&(a, phi_deg)| (a, phi_deg.to_radians()))
             .collect();
-        o.segmented.route = choice(
+        let route = choice(
             "route",
             &self.route,
             &[("ac", Route::Ac), ("bd", Route::Bd)],
         )?;
-        o.segmented.w1 = self.w1;
-        o.segmented.k_max = self.k_max;
-        o.inverse.grid = self.grid;
-        o.inverse.sense = choice(
+        let sense = choice(
             "sense",
             &self.sense,
             &[("auto", None), ("ccw", Some(1)), ("cw", Some(-1))],
         )?;
-        o.inverse.dense_samples = self.dense;
-        o.curve_samples = self.samples;
-        o.refine_options.ratio_bounds = [self.ratio_bounds.0, self.ratio_bounds.1];
-        o.gear_limits = self.limits;
-        o.pressure_angle_limit_rad = self.max_pressure_angle.to_radians();
-        o.min_concave_radius_mm = self.concave_radius()?;
-        o.min_convex_radius_mm = self.min_convex_radius;
-        o.module_mm = self.module;
+        let d = DesignOptions::default();
+        let o = DesignOptions::default()
+            .with_center_mm([self.center.0, self.center.1])
+            .with_order(self.order)
+            .with_tol_tip_mm(self.tol_mm)
+            .with_refine(refine)
+            .with_refine_order(self.refine_order)
+            .with_fit_to_points(self.fit)
+            .with_smoothing(self.smooth)
+            .with_segmented(
+                d.segmented
+                    .with_hypothesis(hypothesis)
+                    .with_route(route)
+                    .with_w1(self.w1)
+                    .with_k_max(self.k_max),
+            )
+            .with_inverse(
+                d.inverse
+                    .with_grid(self.grid)
+                    .with_sense(sense)
+                    .with_dense_samples(self.dense),
+            )
+            .with_curve_samples(self.samples)
+            .with_refine_options(
+                d.refine_options
+                    .with_ratio_bounds([self.ratio_bounds.0, self.ratio_bounds.1]),
+            )
+            .with_gear_limits(self.limits)
+            .with_pressure_angle_limit_rad(self.max_pressure_angle.to_radians())
+            .with_min_concave_radius_mm(self.concave_radius()?)
+            .with_min_convex_radius_mm(self.min_convex_radius)
+            .with_module_mm(self.module);
         o.validate().map_err(|e| design_err(&e))?;
         Ok(o)
     }

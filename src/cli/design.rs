@@ -182,63 +182,76 @@ pub fn run(args: Args) -> CliResult {
 
 /// The design options the flags ask for.
 fn design_options(args: &Args) -> DesignOptions {
-    let mut opts = DesignOptions::default();
-    opts.center_mm = args.center;
-    opts.order = args.order;
-    opts.tol_tip_mm = args.tol_mm;
-    opts.refine = match args.refine {
+    let refine = match args.refine {
         RefineArg::Auto => RefineMode::Auto,
         RefineArg::On => RefineMode::On,
         RefineArg::Off => RefineMode::Off,
     };
-    opts.refine_order = args.refine_order;
-    opts.fit_to_points = !args.no_fit;
-    opts.smoothing = args.smooth;
-    opts.segmented.hypothesis = args
+    let hypothesis = args
         .harmonics
         .iter()
         .map(|h| (h[0], h[1].to_radians()))
         .collect();
-    opts.segmented.route = match args.route {
+    let route = match args.route {
         RouteArg::Ac => Route::Ac,
         RouteArg::Bd => Route::Bd,
     };
-    opts.segmented.w1 = args.w1;
-    opts.segmented.k_max = args.k_max;
-    opts.inverse.grid = args.grid;
-    opts.inverse.sense = match args.sense {
+    let sense = match args.sense {
         SenseArg::Auto => None,
         SenseArg::Ccw => Some(1),
         SenseArg::Cw => Some(-1),
     };
-    opts.inverse.dense_samples = args.dense;
-    opts.curve_samples = args.samples;
-    opts.refine_options.ratio_bounds = args.ratio_bounds;
-    opts.gear_limits = args.limits == LimitsArg::On;
-    opts.pressure_angle_limit_rad = args.max_pressure_angle.to_radians();
-    opts.min_concave_radius_mm = if args.convexity {
+    let defaults = DesignOptions::default();
+    let min_concave = if args.convexity {
         Some(f64::INFINITY)
     } else {
         args.min_concave_radius
     };
-    opts.min_convex_radius_mm = args.min_convex_radius;
+    let opts = DesignOptions::default()
+        .with_center_mm(args.center)
+        .with_order(args.order)
+        .with_tol_tip_mm(args.tol_mm)
+        .with_refine(refine)
+        .with_refine_order(args.refine_order)
+        .with_fit_to_points(!args.no_fit)
+        .with_smoothing(args.smooth)
+        .with_segmented(
+            defaults
+                .segmented
+                .with_hypothesis(hypothesis)
+                .with_route(route)
+                .with_w1(args.w1)
+                .with_k_max(args.k_max),
+        )
+        .with_inverse(
+            defaults
+                .inverse
+                .with_grid(args.grid)
+                .with_sense(sense)
+                .with_dense_samples(args.dense),
+        )
+        .with_curve_samples(args.samples)
+        .with_refine_options(defaults.refine_options.with_ratio_bounds(args.ratio_bounds))
+        .with_gear_limits(args.limits == LimitsArg::On)
+        .with_pressure_angle_limit_rad(args.max_pressure_angle.to_radians())
+        .with_min_concave_radius_mm(min_concave)
+        .with_min_convex_radius_mm(args.min_convex_radius);
     // --teeth or a scaling policy: the design is made without the module and scaled after;
     // the concave- and convex-radius limits still follow the module.
     match args.module {
         Some(m) if args.teeth.is_none() && matches!(args.tooth_policy, ToothPolicyArg::Design) => {
-            opts.module_mm = Some(m)
+            opts.with_module_mm(Some(m))
         }
         Some(m) => {
-            opts.min_concave_radius_mm = opts
-                .min_concave_radius_mm
-                .or(Some(ncgear::design::SMALLEST_CUTTER_RADIUS_MODULES * m));
-            opts.min_convex_radius_mm = opts
-                .min_convex_radius_mm
-                .or(Some(ncgear::design::UNDERCUT_RADIUS_MODULES * m))
+            let concave = min_concave.or(Some(ncgear::design::SMALLEST_CUTTER_RADIUS_MODULES * m));
+            let convex = args
+                .min_convex_radius
+                .or(Some(ncgear::design::UNDERCUT_RADIUS_MODULES * m));
+            opts.with_min_concave_radius_mm(concave)
+                .with_min_convex_radius_mm(convex)
         }
-        None => {}
+        None => opts,
     }
-    opts
 }
 
 /// Teeth on the designed gears, then their mesh check beside the CAD exports (they do not read

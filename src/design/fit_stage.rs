@@ -156,6 +156,6 @@ pub(super) fn fit_options(trains: &Trains, noise_sigma: f64) -> FitOptions {
         limits: trains.limits,
         tol_mm: FIT_TOL_FRACTION * opts.tol_tip_mm,
         noise_sigma_mm: noise_sigma,
-        ..FitOptions::default()
+        ..opts.fit.clone()
     }
 }

@@ -1,6 +1,7 @@
 //! Options of the design chain: every knob, its default and its validation.
 
 use super::error::DesignError;
+use crate::design::fit::FitOptions;
 use crate::design::inverse::InverseOptions;
 use crate::design::refine::RefineOptions;
 use crate::design::segmented::SegmentedOptions;
@@ -24,7 +25,20 @@ pub enum RefineMode {
 }
 
 /// Every knob of the chain; [`DesignOptions::default`] is what `ncgear design` runs with.
-#[derive(Debug, Clone, PartialEq)]
+/// (De)serialisable (lengths mm, angles rad as the field names say; a missing field takes its
+/// default, an unknown one is an error) and built with `with_*`:
+///
+/// ```
+/// use ncgear::design::DesignOptions;
+/// let o = DesignOptions::default().with_tol_tip_mm(0.1).with_module_mm(Some(2.0));
+/// let json = serde_json::to_string(&o).unwrap();
+/// assert_eq!(serde_json::from_str::<DesignOptions>(&json).unwrap(), o);
+/// let partial: DesignOptions = serde_json::from_str(r#"{"tol_tip_mm": 0.1, "module_mm": 2.0}"#).unwrap();
+/// assert_eq!(partial, o);
+/// assert!(serde_json::from_str::<DesignOptions>(r#"{"tol_mm": 0.1}"#).is_err());
+/// ```
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(default, deny_unknown_fields)]
 #[non_exhaustive]
 pub struct DesignOptions {
     /// Carrier axis O in the trajectory's frame, mm. Default [0, 0].
@@ -79,7 +93,34 @@ pub struct DesignOptions {
     /// Module the gears are designed for, mm (default `None`): the smallest concave and convex
     /// radii follow from it (see `min_concave_radius_mm`, `min_convex_radius_mm`).
     pub module_mm: Option<f64>,
+    /// Knobs of the fit to the points ([`crate::design::fit`]): orders, iterations, points,
+    /// smoothness. Default [`FitOptions::default`]. Its order, tolerance, noise level, limits and
+    /// perimeter are the chain's: set from `order`, `tol_tip_mm`, the points, the gear limits
+    /// and the module.
+    pub fit: FitOptions,
 }
+
+crate::builder::with_fields!(DesignOptions {
+    with_center_mm => center_mm: [f64; 2],
+    with_inverse => inverse: InverseOptions,
+    with_smoothing => smoothing: Option<usize>,
+    with_segmented => segmented: SegmentedOptions,
+    with_order => order: Option<usize>,
+    with_tol_tip_mm => tol_tip_mm: f64,
+    with_refine => refine: RefineMode,
+    with_fit_to_points => fit_to_points: bool,
+    with_refine_options => refine_options: RefineOptions,
+    with_refine_order => refine_order: usize,
+    with_curve_samples => curve_samples: usize,
+    with_check_samples => check_samples: usize,
+    with_pressure_angle_rad => pressure_angle_rad: f64,
+    with_pressure_angle_limit_rad => pressure_angle_limit_rad: f64,
+    with_gear_limits => gear_limits: bool,
+    with_min_concave_radius_mm => min_concave_radius_mm: Option<f64>,
+    with_min_convex_radius_mm => min_convex_radius_mm: Option<f64>,
+    with_module_mm => module_mm: Option<f64>,
+    with_fit => fit: FitOptions,
+});
 
 /// Smallest concave radius of a design made for a module, in modules: the pitch radius of a
 /// 25-tooth shaper cutter. The smallest standard cutter, 20 teeth (10·m), fails on hollows
@@ -168,6 +209,7 @@ impl Default for DesignOptions {
             min_concave_radius_mm: None,
             min_convex_radius_mm: None,
             module_mm: None,
+            fit: FitOptions::default(),
         }
     }
 }
@@ -179,7 +221,9 @@ pub const MAX_CURVE_SAMPLES: usize = 1 << 18;
 pub const MAX_DENSE_SAMPLES: usize = 1 << 22;
 
 pub(super) fn validate(opts: &DesignOptions) -> Result<(), DesignError> {
-    let rules = input_rules(opts).into_iter().chain(stage_rules(opts));
+    let rules = (input_rules(opts).into_iter())
+        .chain(stage_rules(opts))
+        .chain(fit_rules(opts));
     match rules.into_iter().find(|r| !r.0) {
         Some((_, option, value, expected)) => Err(DesignError::BadOption {
             option,
@@ -357,6 +401,36 @@ fn stage_rules(opts: &DesignOptions) -> [Rule; 12] {
             "module_mm",
             show(opts.module_mm),
             "a module in [0.05, 50] mm",
+        ),
+    ]
+}
+
+/// The rules of the fit's own knobs ([`FitOptions`]), checked last, in order.
+fn fit_rules(opts: &DesignOptions) -> [Rule; 4] {
+    [
+        (
+            (1..=64).contains(&opts.fit.max_order),
+            "fit.max_order",
+            opts.fit.max_order.to_string(),
+            "an integer in 1..=64",
+        ),
+        (
+            (1..=10_000).contains(&opts.fit.max_iterations),
+            "fit.max_iterations",
+            opts.fit.max_iterations.to_string(),
+            "1..=10000 iterations per order",
+        ),
+        (
+            (16..=100_000).contains(&opts.fit.max_points),
+            "fit.max_points",
+            opts.fit.max_points.to_string(),
+            "16..=100000 points driving the iterations",
+        ),
+        (
+            opts.fit.smoothness.is_finite() && opts.fit.smoothness >= 0.0,
+            "fit.smoothness",
+            opts.fit.smoothness.to_string(),
+            "a finite weight ≥ 0",
         ),
     ]
 }

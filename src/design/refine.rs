@@ -22,7 +22,8 @@ use rayon::prelude::*;
 use std::f64::consts::TAU;
 
 /// Options of the refinement (docs/math/chain.md §8.3).
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(default, deny_unknown_fields)]
 #[non_exhaustive]
 pub struct RefineOptions {
     /// Residual samples `J` (at least 4K are used). Default 360.
@@ -36,6 +37,14 @@ pub struct RefineOptions {
     /// Cap on residual evaluations, in multiples of (parameters + 1). Default 60.
     pub patience: usize,
 }
+
+crate::builder::with_fields!(RefineOptions {
+    with_samples => samples: usize,
+    with_ratio_bounds => ratio_bounds: [f64; 2],
+    with_convexity_penalty => convexity_penalty: bool,
+    with_smoothness => smoothness: f64,
+    with_patience => patience: usize,
+});
 
 impl Default for RefineOptions {
     fn default() -> Self {

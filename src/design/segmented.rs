@@ -29,7 +29,8 @@ pub enum Route {
 }
 
 /// Parameters of the segmented design (docs/math/chain.md §7).
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(default, deny_unknown_fields)]
 #[non_exhaustive]
 pub struct SegmentedOptions {
     /// Hypothesis harmonics `(A_n, φ_n rad)` of `sin(2n u + φ_n)`, n = 1, 2, …; empty (default) for `F′₀ ≡ 1`.
@@ -43,6 +44,14 @@ pub struct SegmentedOptions {
     /// Route. Default [`Route::Ac`].
     pub route: Route,
 }
+
+crate::builder::with_fields!(SegmentedOptions {
+    with_hypothesis => hypothesis: Vec<(f64, f64)>,
+    with_w1 => w1: f64,
+    with_tol_j => tol_j: f64,
+    with_k_max => k_max: usize,
+    with_route => route: Route,
+});
 
 impl Default for SegmentedOptions {
     fn default() -> Self {

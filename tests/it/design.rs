@@ -580,3 +580,51 @@ fn a_carrier_sense_asked_for_is_kept_or_refused_by_name() {
     let e = design(&g1_trajectory(), &d).unwrap_err();
     assert!(e.to_string().contains("inverse.sense"), "{e}");
 }
+
+#[test]
+fn design_options_round_trip_through_json_and_every_knob_reaches_the_chain() {
+    use ncgear::design::fit::FitOptions;
+    // Built with `with_*`, (de)serialised whole or in part, unknown fields refused.
+    let o = DesignOptions::default()
+        .with_tol_tip_mm(0.1)
+        .with_module_mm(Some(2.0))
+        .with_refine(RefineMode::Off)
+        .with_inverse(InverseOptions::default().with_sense(Some(-1)))
+        .with_fit(FitOptions::default().with_max_order(6));
+    let json = serde_json::to_string(&o).unwrap();
+    assert_eq!(serde_json::from_str::<DesignOptions>(&json).unwrap(), o);
+    let partial: DesignOptions = serde_json::from_str(
+        r#"{"tol_tip_mm": 0.1, "module_mm": 2.0, "refine": "off",
+            "inverse": {"sense": -1}, "fit": {"max_order": 6}}"#,
+    )
+    .unwrap();
+    assert_eq!(partial, o);
+    let err = serde_json::from_str::<DesignOptions>(r#"{"fit": {"max_ordre": 6}}"#).unwrap_err();
+    assert!(err.to_string().contains("max_ordre"), "{err}");
+    // The fit's knobs are checked and reach the fit: its highest order caps the design's.
+    let bad = DesignOptions::default().with_fit(FitOptions::default().with_max_points(3));
+    let e = bad.validate().unwrap_err().to_string();
+    assert!(
+        e.contains("fit.max_points") && e.contains("16..=100000"),
+        "{e}"
+    );
+    let path = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/assets/trajectories/designer_kidney.csv"
+    );
+    let traj = Trajectory::from_path(std::path::Path::new(path)).unwrap();
+    let free = design(&traj, &DesignOptions::default()).unwrap();
+    let capped = DesignOptions::default().with_fit(FitOptions::default().with_max_order(4));
+    let low = design(&traj, &capped).unwrap();
+    assert_eq!(free.report.chosen, "fit");
+    assert!(
+        free.report.fourier.order > 4,
+        "{}",
+        free.report.fourier.order
+    );
+    assert!(
+        low.report.fourier.order <= 4,
+        "{}",
+        low.report.fourier.order
+    );
+}

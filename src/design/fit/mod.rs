@@ -78,8 +78,11 @@ pub fn fitted_parameters(order: usize) -> usize {
 /// Orders the fit climbs through.
 pub const FIT_ORDERS: [usize; 7] = [6, 8, 12, 16, 24, 32, 40];
 
-/// Options of the orthogonal-distance fit.
-#[derive(Debug, Clone, PartialEq)]
+/// Options of the orthogonal-distance fit. (De)serialisable without `limits` and
+/// `perimeter_mm`, which the design chain sets from its own options (they keep their defaults
+/// when read).
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(default, deny_unknown_fields)]
 #[non_exhaustive]
 pub struct FitOptions {
     /// Fixed Fourier order K of the sun ratio; `None` (default) = climb [`FIT_ORDERS`] from the
@@ -90,10 +93,12 @@ pub struct FitOptions {
     /// The gear limits every iterate satisfies (default: the sun ratio within `[0.3, 3.3]`
     /// alone, [`GearLimits::ratio_only`]; the design chain adds the pressure-angle and
     /// concave-radius limits).
+    #[serde(skip)]
     pub limits: GearLimits,
     /// The pitch perimeter the train must have, mm (default `None`): `z·π·m` for `z` teeth of
     /// module `m`. The centre distance is then not a free parameter but `a = L/L̂(i)`
     /// ([`crate::geometry::perimeter`]).
+    #[serde(skip)]
     pub perimeter_mm: Option<f64>,
     /// The order stops rising once the largest point distance is below this, mm (default 0.0125).
     pub tol_mm: f64,
@@ -112,6 +117,18 @@ pub struct FitOptions {
     /// regularises).
     pub smoothness: f64,
 }
+
+crate::builder::with_fields!(FitOptions {
+    with_order => order: Option<usize>,
+    with_max_order => max_order: usize,
+    with_limits => limits: GearLimits,
+    with_perimeter_mm => perimeter_mm: Option<f64>,
+    with_tol_mm => tol_mm: f64,
+    with_noise_sigma_mm => noise_sigma_mm: f64,
+    with_max_iterations => max_iterations: usize,
+    with_max_points => max_points: usize,
+    with_smoothness => smoothness: f64,
+});
 
 impl Default for FitOptions {
     fn default() -> Self {
@@ -191,10 +208,12 @@ pub fn fit_points(
     let orders: Vec<usize> = match opts.order {
         Some(k) => vec![k.max(1)],
         None => {
+            // From the start's order, at least the first of FIT_ORDERS, at most max_order.
             let k0 = start
                 .ratio
                 .order()
-                .clamp(FIT_ORDERS[0], opts.max_order.max(1));
+                .max(FIT_ORDERS[0])
+                .min(opts.max_order.max(1));
             let mut v = vec![k0];
             v.extend(
                 FIT_ORDERS

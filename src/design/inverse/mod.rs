@@ -21,7 +21,8 @@ use crate::design::trajectory::{ClosedSpline, Trajectory};
 use frame::{Solved, coarse_rejects, dense_count, solve_frame, winding_number};
 
 /// Accuracy knobs of the inversion (docs/math/chain.md §13).
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(default, deny_unknown_fields)]
 #[non_exhaustive]
 pub struct InverseOptions {
     /// Dense samples of the interpolant used to locate extremes and check monotonicity (`n_s`). Default 20 000.
@@ -38,6 +39,14 @@ pub struct InverseOptions {
     /// keeps the law the train realises best when both trace the path.
     pub sense: Option<i8>,
 }
+
+crate::builder::with_fields!(InverseOptions {
+    with_dense_samples => dense_samples: usize,
+    with_grid => grid: usize,
+    with_tol_relative => tol_relative: f64,
+    with_law_harmonics => law_harmonics: Option<usize>,
+    with_sense => sense: Option<i8>,
+});
 
 impl Default for InverseOptions {
     fn default() -> Self {
