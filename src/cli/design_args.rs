@@ -1,4 +1,12 @@
-//! Value types of `ncgear design`'s flags, and the `X,Y` pair parser the commands share.
+//! `ncgear design`'s flags, their value types and the design options they ask for; the `X,Y`
+//! pair parser the commands share.
+use super::teeth_args::RackArgs;
+use ncgear::design::segmented::Route;
+use ncgear::design::{DesignOptions, RefineMode};
+use std::path::PathBuf;
+
+/// Carrier positions of each mesh verification unless `--verify-steps` says otherwise.
+pub(super) const DEFAULT_VERIFY_STEPS: usize = 72;
 
 /// `--tooth-policy` values.
 #[derive(Debug, Clone, Copy, clap::ValueEnum)]
@@ -69,5 +77,198 @@ pub fn parse_pair(s: &str) -> Result<[f64; 2], String> {
         _ => Err(format!(
             "`{s}`: expected two numbers separated by a comma, e.g. `0,0`"
         )),
+    }
+}
+
+/// Arguments of `ncgear design`.
+#[derive(Debug, clap::Args)]
+pub struct Args {
+    /// Trajectory file: CSV (x,y in mm, optional header, `#` comments) or JSON
+    /// (`{"units": "mm", "points": [[x, y], ...]}`), points in travel order.
+    pub trajectory: PathBuf,
+    /// Output directory (design.json, sun/intermediate/planet.csv, design.svg, ratio.svg, traced.csv;
+    /// design.png with --png).
+    #[arg(long, default_value = "out")]
+    pub out: PathBuf,
+    /// Carrier axis O as `X,Y` in mm.
+    #[arg(long, value_parser = parse_pair, default_value = "0,0", allow_hyphen_values = true)]
+    pub center: [f64; 2],
+    /// Fixed Fourier order K (default: adaptive 4…40 until --tol-mm is met).
+    #[arg(long)]
+    pub order: Option<usize>,
+    /// Carrier sense: auto (the sense whose law the train realises best when both trace the
+    /// path), ccw or cw.
+    #[arg(long, value_enum, default_value = "auto")]
+    pub sense: SenseArg,
+    /// Target max tip deviation, mm.
+    #[arg(long, default_value_t = DesignOptions::default().tol_tip_mm)]
+    pub tol_mm: f64,
+    /// Refinement: auto (the fit to the points when the chain's result misses 0.2·--tol-mm, leaves the ratio bounds or comes from noisy points), on (docs/math/chain.md §8.3 tip-motion fit, then the fit to the points), off (the patent route only).
+    #[arg(long, value_enum, default_value = "auto")]
+    pub refine: RefineArg,
+    /// Fourier order of the refinement when --order is not given.
+    #[arg(long, default_value_t = DesignOptions::default().refine_order)]
+    pub refine_order: usize,
+    /// Hypothesis harmonic `A,PHI_DEG` of F′₀ = 1 + Σ A_n sin(2n·u + φ_n); repeat for n = 1, 2, …
+    #[arg(long = "harmonic", value_parser = parse_pair, allow_hyphen_values = true)]
+    pub harmonics: Vec<[f64; 2]>,
+    /// Patent route: ac (front exact) or bd (back exact).
+    #[arg(long, value_enum, default_value = "ac")]
+    pub route: RouteArg,
+    /// Mirror weight w1 of the patent iteration.
+    #[arg(long, default_value_t = 0.5)]
+    pub w1: f64,
+    /// Iteration cap of the patent iteration.
+    #[arg(long, default_value_t = 20)]
+    pub k_max: usize,
+    /// Uniform carrier-angle grid N for ψ3 (FFT size).
+    #[arg(long, default_value_t = 1024)]
+    pub grid: usize,
+    /// Dense samples of the trajectory interpolant.
+    #[arg(long, default_value_t = 20_000)]
+    pub dense: usize,
+    /// Samples per pitch curve in the outputs (≥ 720).
+    #[arg(long, default_value_t = DesignOptions::default().curve_samples)]
+    pub samples: usize,
+    /// Admissible sun ratio range `MIN,MAX`.
+    #[arg(long, value_parser = parse_pair, default_value = "0.3,3.3")]
+    pub ratio_bounds: [f64; 2],
+    /// Keep the chain's result: skip the final fit of every parameter to the points.
+    #[arg(long)]
+    pub no_fit: bool,
+    /// Gear limits as constraints of the design: on (default) keeps every pitch curve within
+    /// --max-pressure-angle and --min-concave-radius and the ratio within --ratio-bounds; off
+    /// keeps only the ratio bounds (research: the closest path whatever the gears; C9 and C10
+    /// are still checked).
+    #[arg(long, value_enum, default_value = "on")]
+    pub limits: LimitsArg,
+    /// Largest effective pressure angle α + max|atan(r_θ/r)| of every pitch curve, degrees.
+    #[arg(long, default_value_t = 45.0)]
+    pub max_pressure_angle: f64,
+    /// Smallest concave radius of curvature of a pitch curve, mm (default: 12.5·--module, a
+    /// 25-tooth shaper cutter's pitch radius; 10 mm without a module).
+    #[arg(long)]
+    pub min_concave_radius: Option<f64>,
+    /// Smallest convex radius of curvature of a pitch curve, mm: the undercut limit (default:
+    /// 7·--module, a 14-tooth gear's pitch radius; none without a module).
+    #[arg(long)]
+    pub min_convex_radius: Option<f64>,
+    /// Convex pitch curves only (cut by a rack): the same as an infinite --min-concave-radius.
+    #[arg(long, conflicts_with = "min_concave_radius")]
+    pub convexity: bool,
+    /// Smooth a measured or noisy trajectory to this many Fourier harmonics before the inversion.
+    #[arg(long)]
+    pub smooth: Option<usize>,
+    /// Also write design.png, a raster copy of the design.svg preview.
+    #[arg(long)]
+    pub png: bool,
+    /// Print the report (design.json) to stdout instead of the summary.
+    #[arg(long)]
+    pub json: bool,
+    /// Exit 0 even when a check or a mesh verification fails (its report still says so, in
+    /// `verdict`); without it such a run writes its files and exits with code 3.
+    #[arg(long)]
+    pub accept_failed: bool,
+    /// Module in mm: put rack-generated teeth on the three gears, verify both meshes and write
+    /// the CAD files under OUT/teeth/ (the `teeth` block of design.json).
+    #[arg(long, help_heading = "Teeth")]
+    pub module: Option<f64>,
+    /// How the tooth count is made an integer: design (default) fits the train at the tooth
+    /// counts nearest its size, the perimeter zπm a constraint of the fit (the toothed train
+    /// traces what the report states); the others scale a design made without the module.
+    #[arg(long, value_enum, default_value = "design", help_heading = "Teeth")]
+    pub tooth_policy: ToothPolicyArg,
+    /// A given tooth count (scales the centre distance to fit; overrides --tooth-policy).
+    #[arg(long, requires = "module", help_heading = "Teeth")]
+    pub teeth: Option<u32>,
+    /// Sweep a gear no shaper cutter fits by its cut neighbours (wire EDM or printing) instead
+    /// of refusing it.
+    #[arg(long, requires = "module", help_heading = "Teeth")]
+    pub wire_edm: bool,
+    /// Carrier positions of the mesh verification per mesh (0 = skip).
+    #[arg(long, default_value_t = DEFAULT_VERIFY_STEPS, help_heading = "Teeth")]
+    pub verify_steps: usize,
+    /// Rack, backlash and export options.
+    #[command(flatten, next_help_heading = "Teeth")]
+    pub rack: RackArgs,
+}
+
+impl Args {
+    /// The design options the flags ask for.
+    pub(super) fn options(&self) -> DesignOptions {
+        let args = self;
+        let refine = match args.refine {
+            RefineArg::Auto => RefineMode::Auto,
+            RefineArg::On => RefineMode::On,
+            RefineArg::Off => RefineMode::Off,
+        };
+        let hypothesis = args
+            .harmonics
+            .iter()
+            .map(|h| (h[0], h[1].to_radians()))
+            .collect();
+        let route = match args.route {
+            RouteArg::Ac => Route::Ac,
+            RouteArg::Bd => Route::Bd,
+        };
+        let sense = match args.sense {
+            SenseArg::Auto => None,
+            SenseArg::Ccw => Some(1),
+            SenseArg::Cw => Some(-1),
+        };
+        let defaults = DesignOptions::default();
+        let min_concave = if args.convexity {
+            Some(f64::INFINITY)
+        } else {
+            args.min_concave_radius
+        };
+        let opts = DesignOptions::default()
+            .with_center_mm(args.center)
+            .with_order(args.order)
+            .with_tol_tip_mm(args.tol_mm)
+            .with_refine(refine)
+            .with_refine_order(args.refine_order)
+            .with_fit_to_points(!args.no_fit)
+            .with_smoothing(args.smooth)
+            .with_segmented(
+                defaults
+                    .segmented
+                    .with_hypothesis(hypothesis)
+                    .with_route(route)
+                    .with_w1(args.w1)
+                    .with_k_max(args.k_max),
+            )
+            .with_inverse(
+                defaults
+                    .inverse
+                    .with_grid(args.grid)
+                    .with_sense(sense)
+                    .with_dense_samples(args.dense),
+            )
+            .with_curve_samples(args.samples)
+            .with_refine_options(defaults.refine_options.with_ratio_bounds(args.ratio_bounds))
+            .with_gear_limits(args.limits == LimitsArg::On)
+            .with_pressure_angle_limit_rad(args.max_pressure_angle.to_radians())
+            .with_min_concave_radius_mm(min_concave)
+            .with_min_convex_radius_mm(args.min_convex_radius);
+        // --teeth or a scaling policy: the design is made without the module and scaled after;
+        // the concave- and convex-radius limits still follow the module.
+        match args.module {
+            Some(m)
+                if args.teeth.is_none() && matches!(args.tooth_policy, ToothPolicyArg::Design) =>
+            {
+                opts.with_module_mm(Some(m))
+            }
+            Some(m) => {
+                let concave =
+                    min_concave.or(Some(ncgear::design::SMALLEST_CUTTER_RADIUS_MODULES * m));
+                let convex = args
+                    .min_convex_radius
+                    .or(Some(ncgear::design::UNDERCUT_RADIUS_MODULES * m));
+                opts.with_min_concave_radius_mm(concave)
+                    .with_min_convex_radius_mm(convex)
+            }
+            None => opts,
+        }
     }
 }
