@@ -15,6 +15,7 @@ use ncgear::export::dxf::{DxfVersion, write_dxf};
 use ncgear::export::points::write_points;
 use ncgear::export::svg::write_svg;
 use ncgear::pair::{Expr, Law, PairDesign, PairError, PairOptions, design_pair_deferred};
+use ncgear::teeth::ToothingOptions;
 use std::path::PathBuf;
 
 /// Arguments of `ncgear pair`.
@@ -205,16 +206,18 @@ fn law_of(args: &Args) -> Result<Law, super::Failure> {
 
 /// The pair's options from the flags (rack, backlash and export options checked).
 fn pair_options(args: &Args) -> Result<PairOptions, super::Failure> {
-    let mut opts = PairOptions::new(args.teeth, args.module);
-    opts.centrode_advance_rad = args.cycle_advance.to_radians();
-    if let (true, Some(a), Some(b)) = (args.open, args.drive_start, args.drive_end) {
-        opts.open_sector_rad = Some([a.to_radians(), b.to_radians()]);
-    }
-    opts.toothing.verify_steps = args.verify_steps;
+    let sector = match (args.open, args.drive_start, args.drive_end) {
+        (true, Some(a), Some(b)) => Some([a.to_radians(), b.to_radians()]),
+        _ => None,
+    };
+    let mut toothing = ToothingOptions::new(args.module).with_verify_steps(args.verify_steps);
     args.rack
-        .apply_to(&mut opts.toothing)
+        .apply_to(&mut toothing)
         .map_err(super::teeth_args::option_failure)?;
-    Ok(opts)
+    Ok(PairOptions::new(args.teeth, args.module)
+        .with_centrode_advance_rad(args.cycle_advance.to_radians())
+        .with_open_sector_rad(sector)
+        .with_toothing(toothing))
 }
 
 /// The CLI failure for a pair error: the flag behind a bad option, a runtime error for the

@@ -16,7 +16,7 @@ use std::f64::consts::{PI, TAU};
 
 /// Options of [`super::design_pair`]; [`PairOptions::new`] and [`Default`] fill the defaults named on
 /// each field.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, serde::Deserialize)]
 #[non_exhaustive]
 pub struct PairOptions {
     /// Driver tooth count; the driven gear gets `z·2π/Δ` (Δ the cycle advance; equal counts for a
@@ -37,6 +37,14 @@ pub struct PairOptions {
     /// that interval (motion laws only; see [`SectorReport`]). Default `None`: closed gears.
     pub open_sector_rad: Option<[f64; 2]>,
 }
+
+crate::builder::with_fields!(PairOptions {
+    with_teeth => teeth: Option<u32>,
+    with_centrode_advance_rad => centrode_advance_rad: f64,
+    with_toothing => toothing: ToothingOptions,
+    with_samples => samples: usize,
+    with_open_sector_rad => open_sector_rad: Option<[f64; 2]>,
+});
 
 impl PairOptions {
     /// The defaults for `teeth` and `module_mm`: 20° rack, backlash 0.04·m, 4096 samples,

@@ -47,6 +47,17 @@ pub struct ToothingOptions {
     pub refuse_undercut: bool,
 }
 
+crate::builder::with_fields!(ToothingOptions {
+    with_module_mm => module_mm: f64,
+    with_rack => rack: RackParams,
+    with_backlash_mm => backlash_mm: f64,
+    with_chord_tol_mm => chord_tol_mm: f64,
+    with_verify_chord_tol_mm => verify_chord_tol_mm: f64,
+    with_verify_steps => verify_steps: usize,
+    with_cutter_teeth => cutter_teeth: Option<u32>,
+    with_refuse_undercut => refuse_undercut: bool,
+});
+
 impl ToothingOptions {
     /// The defaults (see each field) at `module_mm`.
     #[must_use]

@@ -18,7 +18,8 @@ use crate::geometry::pitch::PitchCurve;
 use serde::Serialize;
 
 /// Options of [`generate_outline`]; the defaults are those of [`OutlineOptions::new`]`(0.0, 1e-3)`.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, serde::Deserialize)]
+#[serde(default, deny_unknown_fields)]
 #[non_exhaustive]
 pub struct OutlineOptions {
     /// Arc-length position of the centre of tooth 0, mm (the mating phase). Default 0.
@@ -40,6 +41,15 @@ pub struct OutlineOptions {
     /// fillet trochoid trims the flank).
     pub refuse_undercut: bool,
 }
+
+crate::builder::with_fields!(OutlineOptions {
+    with_phase_mm => phase_mm: f64,
+    with_thin_left_mm => thin_left_mm: f64,
+    with_thin_right_mm => thin_right_mm: f64,
+    with_chord_tol_mm => chord_tol_mm: f64,
+    with_open_pitch_mm => open_pitch_mm: Option<f64>,
+    with_refuse_undercut => refuse_undercut: bool,
+});
 
 impl OutlineOptions {
     /// Options with tooth 0 at `phase_mm`, no backlash and chord tolerance `chord_tol_mm`.

@@ -427,3 +427,34 @@ pub fn oracle_pair_unverified() -> ncgear::pair::PairDesign {
     )
     .unwrap()
 }
+
+#[test]
+fn pair_and_train_options_build_with_builders_and_round_trip_through_json() {
+    use ncgear::design::train::{TrainPolicy, TrainTeethOptions};
+    use ncgear::teeth::ToothingOptions;
+    let toothing = ToothingOptions::new(2.0)
+        .with_backlash_mm(0.1)
+        .with_verify_steps(36)
+        .with_cutter_teeth(Some(34));
+    assert_eq!((toothing.module_mm, toothing.chord_tol_mm), (2.0, 2e-3));
+    let pair = PairOptions::new(Some(24), 2.0)
+        .with_toothing(toothing)
+        .with_open_sector_rad(Some([0.0, 3.0]));
+    let json = serde_json::to_string(&pair).unwrap();
+    assert!(json.contains("\"backlash_mm\":0.1"), "{json}");
+    assert_eq!(serde_json::from_str::<PairOptions>(&json).unwrap(), pair);
+    let train = TrainTeethOptions::new(2.0)
+        .with_policy(TrainPolicy::Designed)
+        .with_toothing(toothing)
+        .with_wire_edm(true);
+    let json = serde_json::to_string(&train).unwrap();
+    assert_eq!(
+        serde_json::from_str::<TrainTeethOptions>(&json).unwrap(),
+        train
+    );
+    let outline = OutlineOptions::new(0.5, 1e-3).with_thin_left_mm(0.02);
+    let partial: OutlineOptions =
+        serde_json::from_str(r#"{"phase_mm": 0.5, "thin_left_mm": 0.02}"#).unwrap();
+    assert_eq!(partial, outline);
+    assert!(serde_json::from_str::<OutlineOptions>(r#"{"phase": 0.5}"#).is_err());
+}

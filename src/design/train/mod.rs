@@ -142,6 +142,13 @@ pub struct TrainTeethOptions {
     pub wire_edm: bool,
 }
 
+crate::builder::with_fields!(TrainTeethOptions {
+    with_policy => policy: TrainPolicy,
+    with_toothing => toothing: ToothingOptions,
+    with_roundtrip_samples => roundtrip_samples: usize,
+    with_wire_edm => wire_edm: bool,
+});
+
 impl TrainTeethOptions {
     /// Defaults at `module_mm`: 20° rack (ha* 1, c* 0.25, ρf* 0.38), scale the centre distance
     /// up, backlash 0.04·m, chord 1e-3·m (exports) and 1e-6·m (verification), 72 verified
