@@ -1,6 +1,7 @@
 //! The pair designer's entry points: check the options, then design the closed pair (equal or
 //! unequal tooth counts, [`super::design`]) or the open sector ([`super::sector`]).
-use super::design::{PairDesign, PairOptions, PendingMesh, design_closed, validate_options};
+use super::closed::design_closed;
+use super::design::{PairDesign, PairOptions, PendingMesh, validate_options};
 use super::{Law, PairError};
 
 /// Designs the toothed pair: pitch curves scaled so that `L = zπm` (an open sector: z pitches on

@@ -8,6 +8,7 @@
 //! A closed law advances the driven gear by a constant `Δ = ψ(φ+2π) − ψ(φ)` per driver turn
 //! (`2π`: equal tooth counts; `π`: 1:2); an open law is used over a driver interval only
 //! (an incomplete pair, [`SectorReport`]).
+mod closed;
 mod design;
 mod entry;
 pub mod expr;
