@@ -89,8 +89,28 @@ impl DesignReport {
             .collect();
         if let Some(t) = &self.teeth {
             failures.extend(t.verdict().failures);
+            failures.extend(self.tooth_policy_failure(t));
         }
         self.verdict = crate::verdict::Verdict::from_failures(failures);
+    }
+}
+
+impl DesignReport {
+    /// The toothed train judged as C12 judges the design: a tooth-count policy that scales the
+    /// finished design (or rescales its ratio) moves the tip synchronously by
+    /// `max_tip_shift_mm`; beyond the C12 limit the toothed train no longer traces the target
+    /// the design was verified on, whatever the design's own C12 says. Not repeated when C12
+    /// itself failed; a design made for the module moves nothing (shift ≈ 0).
+    fn tooth_policy_failure(&self, t: &crate::design::train::TrainTeethReport) -> Option<String> {
+        let c12 = self.checks.iter().find(|c| c.id == "C12" && c.pass)?;
+        let shift = t.roundtrip.max_tip_shift_mm;
+        (shift > c12.limit).then(|| {
+            format!(
+                "teeth: the tooth-count policy moves the tip by {shift:.4} mm (C12 limit \
+                 {:.4} mm); the toothed train traces {:.4} mm from the target",
+                c12.limit, t.roundtrip.max_deviation_mm
+            )
+        })
     }
 }
 

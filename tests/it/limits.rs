@@ -242,6 +242,35 @@ fn g1_at_module_2_is_closer_than_the_scaling_policies() {
     }
 }
 
+/// Measured points at m = 2 (noisy_050um, σ = 0.05 mm): the fixed size costs far more than the
+/// noise (≈ 1.5 mm against 10σ = 0.5 mm), so the module fit is finished for its largest distance
+/// like an exact target's: 1.50 mm, where the least-squares fit alone (its earlier finish) left
+/// 2.41 mm and scaling the free design to the nearest count gives 1.92 mm.
+#[test]
+fn measured_points_at_a_module_get_the_minimax_finish() {
+    let t = traj("assets/cases/noisy_050um.csv");
+    let mut o = DesignOptions::default();
+    o.module_mm = Some(2.0);
+    let d = design(&t, &o).unwrap();
+    assert_within(&d, 25.0, "noisy_050um m2");
+    let toothed = toothed_cleanly(&d, 2.0, 24);
+    let h = toothed.report.roundtrip.hausdorff_mm;
+    assert!(
+        h < 1.6,
+        "module design {h} mm (least squares only: 2.41 mm)"
+    );
+    let free = design(&t, &DesignOptions::default()).unwrap();
+    let mut so = TrainTeethOptions::new(2.0);
+    so.policy = TrainPolicy::ScaleCenterDistance(ToothPolicy::Nearest);
+    so.toothing.verify_steps = 0;
+    let scaled = tooth_design(&free, &so, 1e-9 * free.assembly.a_mm, &|_| {}).unwrap();
+    assert!(
+        h < scaled.report.roundtrip.hausdorff_mm,
+        "{h} vs nearest {}",
+        scaled.report.roundtrip.hausdorff_mm
+    );
+}
+
 /// A design for a module keeps every convex arc at or above the undercut limit 7·m (a 14-tooth
 /// gear's pitch radius), measured on the output tables: designer_odd3 at m = 1.5 reached 7.0 mm
 /// arcs without it, whose undercut teeth meshed with a 5.7e-3° transmission error; within the

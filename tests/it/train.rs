@@ -394,14 +394,26 @@ fn design_cli_with_module_writes_cad_files_and_refuses_undercut() {
         .arg(&out)
         .output()
         .unwrap();
-    assert!(
-        run.status.success(),
+    // Scaling the finished design up to 23 teeth moves the tip by (s − 1)·l1 ≈ 2.48 mm: the
+    // files are written, but the toothed train no longer traces the target: exit 3, the
+    // verdict names the policy's shift against the C12 limit.
+    assert_eq!(
+        run.status.code(),
+        Some(3),
         "{}",
         String::from_utf8_lossy(&run.stderr)
     );
     let json: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(out.join("design.json")).unwrap()).unwrap();
     let teeth = &json["teeth"];
+    let shift = teeth["roundtrip"]["max_tip_shift_mm"].as_f64().unwrap();
+    assert!((shift - 2.482).abs() < 0.01, "tip shift {shift} mm");
+    assert_eq!(json["verdict"]["passed"], false);
+    let failures = json["verdict"]["failures"].to_string();
+    assert!(
+        failures.contains("tooth-count policy moves the tip by 2.48"),
+        "{failures}"
+    );
     assert_eq!(teeth["z"], 23);
     assert_eq!(teeth["mesh"]["sun_intermediate"]["interference_steps"], 0);
     assert_eq!(

@@ -103,7 +103,7 @@ pub fn tooth_design_deferred(
     let tol = design_tolerance_mm(design);
     if r.roundtrip.max_deviation_mm > tol {
         r.warnings.push(format!(
-            "ratio-amplitude policy: z = {} at m = {} mm needs the ratio amplitude × {:.4} (at a fixed centre distance the perimeter changes only to second order in the amplitude), so the toothed train traces a different path: {:.3} mm from the target after re-fitting the needle angle and sun phase (designed {:.4} mm, tolerance {tol} mm); scaling the centre distance (the default policy) keeps the path, or m = {:.4} mm keeps λ = 1 at z = {}",
+            "ratio-amplitude policy: z = {} at m = {} mm needs the ratio amplitude × {:.4} (at a fixed centre distance the perimeter changes only to second order in the amplitude), so the toothed train traces a different path: {:.3} mm from the target after re-fitting the needle angle and sun phase (designed {:.4} mm, tolerance {tol} mm); the default policy (design) fits the train at the tooth count instead, or m = {:.4} mm keeps λ = 1 at z = {}",
             fit.z,
             opts.toothing.module_mm,
             fit.lambda,

@@ -644,3 +644,39 @@ fn robust_forward_model_agrees_with_the_crate_mechanism() {
     }
     eprintln!("forward model vs crate Mechanism: worst tip difference {worst:.2e} mm");
 }
+
+/// Writes generated targets as CSV files (`x_mm,y_mm`) for measuring the CLI on them: with
+/// `NCGEAR_DUMP_DIR=dir NCGEAR_DUMP_SEEDS=designer:7101-7123,noisy:5000-5003` it writes
+/// `dir/<family>_<seed>.csv`. Ignored: a tool, not a test.
+#[test]
+#[ignore = "a tool: writes generated targets for measurement"]
+fn dump_generated_targets() {
+    let (Ok(dir), Ok(spec)) = (
+        std::env::var("NCGEAR_DUMP_DIR"),
+        std::env::var("NCGEAR_DUMP_SEEDS"),
+    ) else {
+        return;
+    };
+    std::fs::create_dir_all(&dir).unwrap();
+    for part in spec.split(',') {
+        let (fam, range) = part.split_once(':').expect("family:a-b");
+        let family = [
+            Family::Exact,
+            Family::Sparse,
+            Family::Noisy,
+            Family::Designer,
+        ]
+        .into_iter()
+        .find(|f| f.name() == fam)
+        .expect("exact, sparse, noisy or designer");
+        let (a, b) = range.split_once('-').unwrap_or((range, range));
+        for seed in a.parse::<u64>().unwrap()..=b.parse::<u64>().unwrap() {
+            let c = generate(family, seed);
+            let mut s = String::from("x_mm,y_mm\n");
+            for p in &c.points {
+                s.push_str(&format!("{},{}\n", p[0], p[1]));
+            }
+            std::fs::write(format!("{dir}/{fam}_{seed}.csv"), s).unwrap();
+        }
+    }
+}
