@@ -65,20 +65,33 @@ fn write_csv(path: &Path, header: &[String], rows: impl Iterator<Item = Vec<f64>
         .map_err(|e| runtime_error(miette::miette!("cannot write {}: {e}", path.display())))
 }
 
+/// Most frequencies a `--sweep` may ask for (each is a steady-state run, up and down: the
+/// 21-point sweep of `full16.toml` takes about 20 s; a response curve needs far fewer than this).
+const MAX_SWEEP_POINTS: f64 = 1000.0;
+
 fn parse_sweep(s: &str) -> Result<Vec<f64>, super::Failure> {
-    let bad = || {
+    let bad = |why: &str| {
         input_error(miette::miette!(
-            "--sweep `{s}`: expected START:END:STEP with 0 < START < END and STEP > 0, e.g. 0.6:1.0:0.02"
+            "--sweep `{s}`: {why}; expected START:END:STEP, e.g. 0.6:1.0:0.02"
         ))
     };
     let p: Vec<f64> = s
         .split(':')
         .map(|x| x.trim().parse::<f64>())
         .collect::<Result<_, _>>()
-        .map_err(|_| bad())?;
-    let [a, b, h] = p[..] else { return Err(bad()) };
-    if !(a > 0.0 && b > a && h > 0.0) || (b - a) / h > 10_000.0 {
-        return Err(bad());
+        .map_err(|_| bad("three numbers separated by `:`"))?;
+    let [a, b, h] = p[..] else {
+        return Err(bad("three numbers separated by `:`"));
+    };
+    if !(a > 0.0 && b > a && h > 0.0 && b.is_finite()) {
+        return Err(bad("the frequency ratios need 0 < START < END (finite) and STEP > 0"));
+    }
+    let count = (b - a) / h + 1.0;
+    if count > MAX_SWEEP_POINTS + 1.0 {
+        return Err(bad(&format!(
+            "{count:.0} frequencies, more than the {MAX_SWEEP_POINTS:.0} a sweep may run (each \
+             is a steady-state run, up and down): take a larger STEP"
+        )));
     }
     let n = ((b - a) / h + 1e-9).floor() as usize;
     Ok((0..=n).map(|i| a + h * i as f64).collect())
@@ -403,4 +416,32 @@ fn write_orbits(out: &Outputs, rec: &dy::Recording) -> CliResult {
         )?;
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::parse_sweep;
+    use crate::cli::Failure;
+
+    fn message(s: &str) -> String {
+        match parse_sweep(s) {
+            Err(Failure::Input(r)) => r.to_string(),
+            other => panic!("{s}: expected an input error, got {:?}", other.ok()),
+        }
+    }
+
+    #[test]
+    fn a_sweep_is_parsed_and_each_refusal_names_its_cause() {
+        let v = parse_sweep("0.6:1.0:0.1").unwrap();
+        assert_eq!(v.len(), 5);
+        assert!((v[4] - 1.0).abs() < 1e-12);
+        // 99 991 frequencies: refused by count, not by the order of its bounds.
+        let m = message("0.01:100:0.001");
+        assert!(m.contains("99991 frequencies") && m.contains("1000"), "{m}");
+        assert!(message("1.0:0.6:0.02").contains("0 < START < END"));
+        assert!(message("0.6:inf:0.1").contains("finite"));
+        assert!(message("a:b:c").contains("three numbers"));
+        // At the limit exactly: 1001 frequencies (0..=1000 steps) are run.
+        assert_eq!(parse_sweep("1:2:0.001").unwrap().len(), 1001);
+    }
 }
