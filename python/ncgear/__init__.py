@@ -96,7 +96,8 @@ class Train(_Raw, TeethReport):
     """Teeth on a design: the ``teeth`` block of ``design.json``
     (:class:`ncgear.reports.TeethReport`), the outlines (body frames, (N, 2) mm, as exported),
     the placements at carrier angle 0 (``sun``, ``arm1_*``, ``arm2_*``) and the verdict of both
-    meshes (no interference, finite non-negative backlash)."""
+    meshes (no interference, finite non-negative backlash) and of the tooth policy (a scaling
+    policy that moves the tip by more than the design's C12 limit fails, as in the CLI)."""
 
     outlines: Dict[str, Points]
     placements: Dict[str, Placement]

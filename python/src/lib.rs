@@ -176,6 +176,8 @@ fn design(
 #[pyclass(frozen, module = "ncgear._ncgear")]
 struct TrainHandle {
     t: ToothedTrain,
+    /// Both meshes and the tooth-count policy against the design's C12 (`teeth_verdict`).
+    verdict: ncgear::verdict::Verdict,
 }
 
 #[pymethods]
@@ -184,9 +186,10 @@ impl TrainHandle {
     fn report(&self) -> PyResult<Report> {
         report(&self.t.report)
     }
-    /// The toothed train's verdict `{"passed", "failures"}` (both meshes).
+    /// The toothed train's verdict `{"passed", "failures"}`: both meshes, and a scaling tooth
+    /// policy whose tip shift exceeds the design's C12 limit.
     fn verdict(&self) -> PyResult<Report> {
-        report(&self.t.report.verdict())
+        report(&self.verdict)
     }
     /// Gear outlines `{name: (N, 2) array, mm}` in body frames, as exported.
     fn outlines<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
@@ -249,7 +252,8 @@ fn teeth(
     let acc = 1e-9 * design.d.assembly.a_mm;
     let t = tooth_design(&design.d, &o, acc, &|_| {})
         .map_err(|e| errors::arg_err("module", module, e))?;
-    Ok(TrainHandle { t })
+    let verdict = design.d.report.teeth_verdict(&t.report);
+    Ok(TrainHandle { t, verdict })
 }
 
 /// A single gear pair.

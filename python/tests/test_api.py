@@ -148,6 +148,10 @@ def test_tooth_keywords_reach_the_train(g1):
     assert (t.options.rack.addendum, t.options.backlash_mm, t.options.chord_tol_mm) == (0.9, 0.1, 0.004)
     n = ncgear.teeth(g1, 2.0, tooth_policy="nearest", verify_steps=0)
     assert n.options.policy == {"ScaleCenterDistance": "Nearest"}
+    # Scaling G1 to 22 teeth moves the tip by 1.54 mm, beyond C12's 0.05 mm: returned, failed.
+    assert not n.passed
+    assert [f.split(":")[0] for f in n.verdict.failures] == ["teeth"], n.verdict.failures
+    assert "tooth-count policy moves the tip by 1.5" in n.verdict.failures[0]
     for kwargs, arg in [({"tooth_policy": "up"}, "tooth_policy"), ({"addendum": -1.0}, "addendum"),
                         ({"backlash": -0.1}, "backlash"), ({"chord_tol": 1.0}, "chord_tol"),
                         ({"teeth": 1}, "teeth")]:

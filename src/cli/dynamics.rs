@@ -84,7 +84,9 @@ fn parse_sweep(s: &str) -> Result<Vec<f64>, super::Failure> {
         return Err(bad("three numbers separated by `:`"));
     };
     if !(a > 0.0 && b > a && h > 0.0 && b.is_finite()) {
-        return Err(bad("the frequency ratios need 0 < START < END (finite) and STEP > 0"));
+        return Err(bad(
+            "the frequency ratios need 0 < START < END (finite) and STEP > 0",
+        ));
     }
     let count = (b - a) / h + 1.0;
     if count > MAX_SWEEP_POINTS + 1.0 {

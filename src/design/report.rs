@@ -88,19 +88,30 @@ impl DesignReport {
             })
             .collect();
         if let Some(t) = &self.teeth {
-            failures.extend(t.verdict().failures);
-            failures.extend(self.tooth_policy_failure(t));
+            failures.extend(self.teeth_verdict(t).failures);
         }
         self.verdict = crate::verdict::Verdict::from_failures(failures);
     }
 }
 
 impl DesignReport {
-    /// The toothed train judged as C12 judges the design: a tooth-count policy that scales the
-    /// finished design (or rescales its ratio) moves the tip synchronously by
-    /// `max_tip_shift_mm`; beyond the C12 limit the toothed train no longer traces the target
-    /// the design was verified on, whatever the design's own C12 says. Not repeated when C12
-    /// itself failed; a design made for the module moves nothing (shift ≈ 0).
+    /// The verdict of this design's toothed train `t`: both meshes
+    /// ([`crate::design::train::TrainTeethReport::verdict`]) and the tooth-count policy judged
+    /// as C12 judges the design. A policy that scales the finished design (or rescales its
+    /// ratio) moves the tip synchronously by `max_tip_shift_mm`; beyond the C12 limit the
+    /// toothed train no longer traces the target the design was verified on, whatever the
+    /// design's own C12 says (not repeated when C12 itself failed; a design made for the
+    /// module moves nothing, shift ≈ 0).
+    #[must_use]
+    pub fn teeth_verdict(
+        &self,
+        t: &crate::design::train::TrainTeethReport,
+    ) -> crate::verdict::Verdict {
+        let mut failures = t.verdict().failures;
+        failures.extend(self.tooth_policy_failure(t));
+        crate::verdict::Verdict::from_failures(failures)
+    }
+
     fn tooth_policy_failure(&self, t: &crate::design::train::TrainTeethReport) -> Option<String> {
         let c12 = self.checks.iter().find(|c| c.id == "C12" && c.pass)?;
         let shift = t.roundtrip.max_tip_shift_mm;
