@@ -68,6 +68,16 @@ fn toothed_cleanly(
     toothed
 }
 
+/// The Hausdorff distance (mm) of `free`'s train, scaled by `policy` to whole teeth of module
+/// `module_mm`, from its target (no mesh check).
+fn scaled_hausdorff_mm(free: &Design, module_mm: f64, policy: ToothPolicy) -> f64 {
+    let mut so = TrainTeethOptions::new(module_mm);
+    so.policy = TrainPolicy::ScaleCenterDistance(policy);
+    so.toothing.verify_steps = 0;
+    let scaled = tooth_design(free, &so, 1e-9 * free.assembly.a_mm, &|_| {}).unwrap();
+    scaled.report.roundtrip.hausdorff_mm
+}
+
 /// The bundled designer kidney, no options: gears within the limits (the unconstrained fit's
 /// sun reached 99° and a 0.1 mm hollow), at a cost in path of less than 10 % over the
 /// unconstrained fit, the binding limit named.
@@ -208,7 +218,7 @@ fn a_design_for_the_module_has_perimeter_z_pi_m_and_its_teeth_trace_the_stated_p
 
 /// G1 at m = 2: the module design beats every scaling policy that keeps the standard module
 /// (scale-up 2.49 mm, nearest and scale-down 1.54 mm; the module design 1.52 mm within a 25 mm
-/// hollow limit, 1.03 mm with `min_concave_radius_mm` = 22), and meshes cleanly.
+/// hollow limit), and meshes cleanly.
 #[test]
 fn g1_at_module_2_is_closer_than_the_scaling_policies() {
     let t = traj("assets/trajectories/g1_ellipse.csv");
@@ -229,15 +239,11 @@ fn g1_at_module_2_is_closer_than_the_scaling_policies() {
         ToothPolicy::Nearest,
         ToothPolicy::ScaleDown,
     ] {
-        let mut so = TrainTeethOptions::new(2.0);
-        so.policy = TrainPolicy::ScaleCenterDistance(p);
-        so.toothing.verify_steps = 0;
-        let scaled = tooth_design(&free, &so, 1e-9 * free.assembly.a_mm, &|_| {}).unwrap();
+        let scaled = scaled_hausdorff_mm(&free, 2.0, p);
         assert!(
-            toothed.report.roundtrip.hausdorff_mm < scaled.report.roundtrip.hausdorff_mm,
-            "{p:?}: {} vs {}",
-            toothed.report.roundtrip.hausdorff_mm,
-            scaled.report.roundtrip.hausdorff_mm
+            toothed.report.roundtrip.hausdorff_mm < scaled,
+            "{p:?}: {} vs {scaled}",
+            toothed.report.roundtrip.hausdorff_mm
         );
     }
 }
@@ -260,15 +266,8 @@ fn measured_points_at_a_module_get_the_minimax_finish() {
         "module design {h} mm (least squares only: 2.41 mm)"
     );
     let free = design(&t, &DesignOptions::default()).unwrap();
-    let mut so = TrainTeethOptions::new(2.0);
-    so.policy = TrainPolicy::ScaleCenterDistance(ToothPolicy::Nearest);
-    so.toothing.verify_steps = 0;
-    let scaled = tooth_design(&free, &so, 1e-9 * free.assembly.a_mm, &|_| {}).unwrap();
-    assert!(
-        h < scaled.report.roundtrip.hausdorff_mm,
-        "{h} vs nearest {}",
-        scaled.report.roundtrip.hausdorff_mm
-    );
+    let nearest = scaled_hausdorff_mm(&free, 2.0, ToothPolicy::Nearest);
+    assert!(h < nearest, "{h} vs nearest {nearest}");
 }
 
 /// A design for a module keeps every convex arc at or above the undercut limit 7·m (a 14-tooth
