@@ -1967,6 +1967,42 @@ fn dynamics_astronomic_speed_is_refused_at_once() {
 }
 
 #[test]
+fn transplanter_astronomic_angle_spread_is_refused_at_once() {
+    // Seed 7 (2026-11-28): an arm-mounting σ of 2⁶³ degrees ran past 60 s.
+    let (o, _) = reproduce(
+        "transplanter_sigma_deg_2e63",
+        &[
+            "tolerance",
+            "g1_design.json",
+            "--errors",
+            "g1_errors.toml",
+            "--out",
+            "out",
+        ],
+        |dir| {
+            let errors =
+                std::fs::read_to_string(asset_path("transplanter/g1_errors.toml")).unwrap();
+            let errors = errors.replace(
+                "[arm_mounting]\nsigma_deg = 0.03",
+                "[arm_mounting]\nsigma_deg = 9223372036854775807",
+            );
+            assert!(
+                errors.contains("9223372036854775807"),
+                "the arm's line moved"
+            );
+            std::fs::write(dir.join("g1_errors.toml"), errors).unwrap();
+            std::fs::copy(
+                asset_path("transplanter/g1_design.json"),
+                dir.join("g1_design.json"),
+            )
+            .unwrap();
+        },
+    );
+    assert_refused(&o);
+    assert!(o.stderr.contains("arm_mounting.sigma_deg"), "{}", o.stderr);
+}
+
+#[test]
 fn design_far_carrier_axis_does_not_panic() {
     reproduce(
         "design_center_1e300",

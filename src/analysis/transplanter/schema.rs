@@ -320,6 +320,19 @@ impl Checker<'_> {
                 "an assembly angle error within ±10 degrees",
             ));
         }
+        // The spread within the same ±10° (a σ of 9e18° ran for minutes: every sample's angle
+        // went through the trigonometry of a number with no digit left below a turn).
+        for (name, v) in [
+            ("sigma_deg", e.sigma_deg),
+            ("half_width_deg", e.half_width_deg),
+        ] {
+            if v.is_some_and(|v| v.abs() > 10.0) {
+                return Err(self.bad(
+                    &format!("{key}.{name}"),
+                    "an assembly angle spread within 10 degrees",
+                ));
+            }
+        }
         let s = self.spread(
             &format!("{key}.sigma_deg"),
             (e.sigma_deg, e.half_width_deg),
