@@ -123,13 +123,20 @@ def test_a_design_error_quoting_a_flag_names_the_argument():
 
 def test_teeth_equal_the_cli_teeth_block_and_step_bytes(g1_train, out):
     # The Python design was made without the module: the CLI's scaling policy gives its teeth.
-    cli("design", G1, "--module", "2", "--tooth-policy", "scale-up", "--bore", "10", "--out", out / "cli_teeth")
+    # Scaling moves the tip by 2.48 mm, beyond C12: the CLI writes the files and exits 3.
+    p = cli("design", G1, "--module", "2", "--tooth-policy", "scale-up", "--bore", "10", "--out", out / "cli_teeth",
+            check=False)
+    assert p.returncode == 3, p.stderr
     ref = json.loads((out / "cli_teeth" / "design.json").read_text())["teeth"]
     assert _without(g1_train.to_dict(), "files") == _without(ref, "files")
     _same(g1_train, {**ref, "files": []})  # the CLI's teeth block lists the files it wrote
     assert g1_train.z == 23 and isinstance(g1_train.mesh, reports.TrainMesh)
     assert g1_train.options.policy == {"ScaleCenterDistance": "ScaleUp"}
-    assert g1_train.passed and g1_train.verdict.failures == ()
+    # Both meshes pass; the verdict fails on the policy's tip shift, as design.json's does.
+    assert not g1_train.passed
+    assert [f.split(":")[0] for f in g1_train.verdict.failures] == ["teeth"]
+    cli_verdict = json.loads((out / "cli_teeth" / "design.json").read_text())["verdict"]
+    assert list(g1_train.verdict.failures) == cli_verdict["failures"]
     assert g1_train.outlines["sun"].shape[1] == 2 and not g1_train.outlines["sun"].flags.writeable
     files = ncgear.write_step(g1_train, out / "py_step", bore=10.0)
     assert [f.rsplit("/", 1)[-1] for f in files] == [
