@@ -405,7 +405,7 @@ pub(crate) enum LawsonStart {
     Distances,
 }
 
-/// [`minimax`] with its weights started from `start`'s distances ([`LawsonStart::Distances`]):
+/// [`minimax`] with its weights started from `start`'s distances (`LawsonStart::Distances`):
 /// a second finish that lands in another basin where the train cannot trace the target (a
 /// design for a module: over 8 targets at m = 2 it was better on 3, by 9–32 %, and worse on 3;
 /// 2026-11-28), so callers keep the better of the two.
