@@ -65,9 +65,10 @@ fn write_csv(path: &Path, header: &[String], rows: impl Iterator<Item = Vec<f64>
         .map_err(|e| runtime_error(miette::miette!("cannot write {}: {e}", path.display())))
 }
 
-/// Most frequencies a `--sweep` may ask for (each is a steady-state run, up and down: the
-/// 21-point sweep of `full16.toml` takes about 20 s; a response curve needs far fewer than this).
-const MAX_SWEEP_POINTS: f64 = 1000.0;
+/// Most steps a `--sweep` may take, so at most this + 1 frequencies (each a steady-state run,
+/// up and down: the 21-point sweep of `full16.toml` takes about 20 s; a response curve needs
+/// far fewer than this).
+const MAX_SWEEP_STEPS: f64 = 1000.0;
 
 fn parse_sweep(s: &str) -> Result<Vec<f64>, super::Failure> {
     let bad = |why: &str| {
@@ -89,10 +90,11 @@ fn parse_sweep(s: &str) -> Result<Vec<f64>, super::Failure> {
         ));
     }
     let count = (b - a) / h + 1.0;
-    if count > MAX_SWEEP_POINTS + 1.0 {
+    if count > MAX_SWEEP_STEPS + 1.0 {
         return Err(bad(&format!(
-            "{count:.0} frequencies, more than the {MAX_SWEEP_POINTS:.0} a sweep may run (each \
-             is a steady-state run, up and down): take a larger STEP"
+            "{count:.0} frequencies, more than a sweep may run ({MAX_SWEEP_STEPS:.0} steps, \
+             {:.0} frequencies, each a steady-state run up and down): take a larger STEP",
+            MAX_SWEEP_STEPS + 1.0
         )));
     }
     let n = ((b - a) / h + 1e-9).floor() as usize;

@@ -8,9 +8,10 @@
 //! the fixed size costs. Both neighbouring counts `⌊L/πm⌋` and `⌈L/πm⌉` are fitted (side by
 //! side) and the closer train is kept. The gear limits hold throughout, as in every fit.
 //!
-//! Each count's fit is finished twice for its largest distance (Lawson's weights started
-//! uniform, and from the start's own distances; [`crate::design::fit::minimax_from_distances`]):
-//! with the size held, the landscape is rugged and the two finishes land in different basins.
+//! Each count's fit is finished for its largest distance, and the count that wins a second
+//! time, its Lawson weights started one step further ([`crate::design::fit::minimax_from_distances`]):
+//! with the size held, the landscape is rugged and the two finishes land in different basins;
+//! the closer is kept.
 //! On measured points the fit is judged by its RMS, unless it misses them by more than
 //! [`SYSTEMATIC_NOISE_FACTOR`] σ: then the error is the fixed size's, and it is finished and
 //! judged as on exact points.
@@ -167,12 +168,14 @@ impl Judge {
     }
 
     fn score(self, f: &Fitted) -> f64 {
-        if self.systematic(f) {
-            f.max_mm.max(f.coverage_mm)
-        } else {
-            f.rms_mm
-        }
+        if self.systematic(f) { far(f) } else { f.rms_mm }
     }
+}
+
+/// The largest distance both ways (points from the traced curve, the curve from the points'
+/// polyline) of a fit, mm.
+fn far(f: &Fitted) -> f64 {
+    f.max_mm.max(f.coverage_mm)
 }
 
 /// One tooth count's fit, with the start of its minimax finish (absent when it had none).
@@ -212,7 +215,6 @@ impl Candidate {
         // merely resized to the perimeter (the `nearest` scaling): the minimax finish starts
         // from the closer of the two, so the design for the module is never the worse.
         let resized = admitted(points, start, &opts);
-        let far = |f: &Fitted| f.max_mm.max(f.coverage_mm);
         let f = if far(&resized) < far(&f) { resized } else { f };
         Some(Self {
             z,

@@ -92,9 +92,7 @@ impl DesignReport {
         }
         self.verdict = crate::verdict::Verdict::from_failures(failures);
     }
-}
 
-impl DesignReport {
     /// The verdict of this design's toothed train `t`: both meshes
     /// ([`crate::design::train::TrainTeethReport::verdict`]) and the tooth-count policy judged
     /// as C12 judges the design. A policy that scales the finished design (or rescales its

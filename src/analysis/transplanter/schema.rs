@@ -253,6 +253,10 @@ impl ErrorInventory {
 /// One µm in mm.
 const UM_IN_MM: f64 = 1e-3;
 
+/// Largest assembly angle error (clocking, arm mounting), nominal and spread alike, degrees: an
+/// assembly is off by a fraction of a degree, and beyond a few degrees the arm is mis-built.
+const ASSEMBLY_ANGLE_LIMIT_DEG: f64 = 10.0;
+
 /// The checks of the values of one error file, each naming its key.
 struct Checker<'a> {
     /// The file, for the messages.
@@ -311,10 +315,11 @@ impl Checker<'_> {
         Ok((n * UM_IN_MM, s))
     }
 
-    /// An assembly angle error within ±10°: nominal (rad) and spread, from degrees.
+    /// An assembly angle error within ±[`ASSEMBLY_ANGLE_LIMIT_DEG`]: nominal (rad) and spread,
+    /// from degrees.
     fn angle(&self, key: &str, e: &AngleError) -> Result<(f64, Spread), TransplanterError> {
         let n = self.finite(&format!("{key}.nominal_deg"), e.nominal_deg, "degrees")?;
-        if n.abs() > 10.0 {
+        if n.abs() > ASSEMBLY_ANGLE_LIMIT_DEG {
             return Err(self.bad(
                 &format!("{key}.nominal_deg"),
                 "an assembly angle error within ±10 degrees",
@@ -326,7 +331,7 @@ impl Checker<'_> {
             ("sigma_deg", e.sigma_deg),
             ("half_width_deg", e.half_width_deg),
         ] {
-            if v.is_some_and(|v| v.abs() > 10.0) {
+            if v.is_some_and(|v| v.abs() > ASSEMBLY_ANGLE_LIMIT_DEG) {
                 return Err(self.bad(
                     &format!("{key}.{name}"),
                     "an assembly angle spread within 10 degrees",

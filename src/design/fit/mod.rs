@@ -398,10 +398,10 @@ pub fn minimax_passes(
 /// Where [`lawson`]'s weights start.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub(crate) enum LawsonStart {
-    /// All 1: the first pass is the weighted least-squares fit from the start.
+    /// All 1: the first pass weighs by `|d_j|/max|d|` of the start.
     Uniform,
-    /// `|d_j|/max|d|` of the start itself: the first pass is already a Lawson step, so a start
-    /// better (in its largest distance) than the least-squares fit is not traded for it.
+    /// `|d_j|/max|d|` of the start: one Lawson step further, the first pass weighs by its
+    /// square, so it strays less far from the start towards the least-squares fit.
     Distances,
 }
 
@@ -437,32 +437,15 @@ fn lawson(
     // point is can be its largest term.
     let mut weights = vec![1.0; sub.len()];
     let mut cover_weights = vec![1.0; cover.len()];
-    // From uniform weights the first pass is the least-squares fit; from the start's own
-    // distances it is already one Lawson step away from it (the start is not given up).
+    // Started from the start's distances, every pass is one Lawson step further on: the
+    // first pass already weighs by (|d|/max|d|)², a step away from the least-squares fit.
     if start == LawsonStart::Distances {
         let sub_d: Vec<f64> = dists.iter().step_by(stride).copied().collect();
-        let dmax = sub_d.iter().chain(&cover).copied().fold(1e-300, f64::max);
-        weights = sub_d.iter().map(|d| (d / dmax).max(1e-6)).collect();
-        cover_weights = cover.iter().map(|d| (d / dmax).max(1e-6)).collect();
+        lawson_step(&mut weights, &mut cover_weights, &sub_d, &cover);
     }
     for _ in 0..passes {
         let sub_d: Vec<f64> = dists.iter().step_by(stride).copied().collect();
-        let dmax = sub_d.iter().chain(&cover).copied().fold(1e-300, f64::max);
-        for (w, d) in weights.iter_mut().zip(&sub_d) {
-            *w *= d / dmax;
-        }
-        for (w, d) in cover_weights.iter_mut().zip(&cover) {
-            *w *= d / dmax;
-        }
-        let wmax = weights
-            .iter()
-            .chain(&cover_weights)
-            .copied()
-            .fold(1e-300, f64::max);
-        weights.iter_mut().for_each(|w| *w = (*w / wmax).max(1e-6));
-        cover_weights
-            .iter_mut()
-            .for_each(|w| *w = (*w / wmax).max(1e-6));
+        lawson_step(&mut weights, &mut cover_weights, &sub_d, &cover);
         let w: Vec<f64> = weights.iter().map(|w| w.sqrt()).collect();
         let wc: Vec<f64> = cover_weights.iter().map(|w| w.sqrt()).collect();
         let pass = FitOptions {
@@ -491,6 +474,28 @@ fn lawson(
         m = next;
     }
     best
+}
+
+/// One Lawson update: every weight times its distance over the largest distance of both sets
+/// (`w ← w·|d|/max|d|`), normalised to a largest weight of 1 and floored at 1e-6 (a point that
+/// reaches the curve keeps a voice).
+fn lawson_step(weights: &mut [f64], cover_weights: &mut [f64], dists: &[f64], cover: &[f64]) {
+    let dmax = dists.iter().chain(cover).copied().fold(1e-300, f64::max);
+    for (w, d) in weights.iter_mut().zip(dists) {
+        *w *= d / dmax;
+    }
+    for (w, d) in cover_weights.iter_mut().zip(cover) {
+        *w *= d / dmax;
+    }
+    let wmax = weights
+        .iter()
+        .chain(cover_weights.iter())
+        .copied()
+        .fold(1e-300, f64::max);
+    weights.iter_mut().for_each(|w| *w = (*w / wmax).max(1e-6));
+    cover_weights
+        .iter_mut()
+        .for_each(|w| *w = (*w / wmax).max(1e-6));
 }
 
 /// Distance (mm) of the traced curve of `m` from the target polyline `grid` at the samples of
