@@ -52,6 +52,7 @@ fn main() -> std::io::Result<()> {
         ratio,
         sun_phase_rad: 0.4,
         needle_angle_rad: -1.2,
+        idler_offset_rad: 0.0,
     };
     let c = [250.0, 400.0];
     let pts: Vec<String> = (0..720)

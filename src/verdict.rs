@@ -1,7 +1,7 @@
 //! Whether a result passed its own verification: the verdict every report carries, and what
 //! the command line's exit code follows (3 = written, but the verification failed).
 //!
-//! A design passes when every check C1–C12 passes and, with teeth, when both meshes roll through
+//! A design passes when every check C1–C13 passes and, with teeth, when both meshes roll through
 //! their verification positions without interference and with a finite, non-negative backlash;
 //! a pair passes on the same mesh rule. A verdict is computed from the report it belongs to, so
 //! it cannot disagree with the numbers beside it.

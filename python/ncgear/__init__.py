@@ -12,7 +12,7 @@ Results are frozen dataclasses (:mod:`ncgear.reports`) with the keys of the CLI'
 typed fields; ``to_dict()`` and ``json()`` give the JSON itself. Options are keyword arguments
 named as the CLI's flags (``--tol-mm`` is ``tol_mm``); lengths in mm, angles in degrees where the
 CLI takes degrees. Every failure raises :class:`NcgearError` (a ``ValueError``) naming the
-argument at fault. A result that is made but fails its own verification (a check C1–C12,
+argument at fault. A result that is made but fails its own verification (a check C1–C13,
 interference or a bad backlash in a mesh) is returned, not raised: its ``verdict.passed`` is
 False — where the CLI exits with code 3.
 """
@@ -149,6 +149,7 @@ def design(
     convexity: bool = False,
     smooth: Optional[int] = None,
     module: Optional[float] = None,
+    idler_offset: Literal["auto", "collinear", "free"] = "auto",
 ) -> Design:
     """Designs the sun and intermediate gears whose train traces ``points`` (``ncgear design``).
 
@@ -172,6 +173,9 @@ def design(
     - ``smooth``: smooth noisy points to this many Fourier harmonics first.
     - ``module``: design for this module, mm: the tooth count a constraint of the fit (then
       :func:`teeth` with the same module cuts the design's own teeth, unscaled).
+    - ``idler_offset``: where the intermediate axis may sit: ``"auto"`` on the carrier line,
+      turned off it (``l1 = 2a·cos ε``) where designing for a module needs it; ``"collinear"``
+      never; ``"free"`` in every fit. The design's offset is ``Design.idler_offset_deg``.
     """
     options = _options(locals(), "points")
     if isinstance(points, (str, os.PathLike)):

@@ -79,6 +79,7 @@ def design(
     convexity: bool = ...,
     smooth: Optional[int] = ...,
     module: Optional[float] = ...,
+    idler_offset: Literal["auto", "collinear", "free"] = ...,
 ) -> Design: ...
 def teeth(
     design: Design,

@@ -230,7 +230,7 @@ class Limits:
 
 @dataclass(frozen=True)
 class Check:
-    """One of the checks C1–C12."""
+    """One of the checks C1–C13."""
 
     id: str
     name: str
@@ -415,14 +415,16 @@ class TeethReport:
 
 @dataclass(frozen=True, eq=False)
 class DesignReport:
-    """``design.json``: arm lengths l1, l3 and centre distance (mm), the needle angle, the pitch
-    curves, the round trip, the stages of the chain, the gear limits, the checks C1–C12, the
+    """``design.json``: arm lengths l1, l3 and centre distance (mm), the idler offset and the
+    needle angle (degrees), the pitch
+    curves, the round trip, the stages of the chain, the gear limits, the checks C1–C13, the
     target points (mm), warnings, timings, the teeth when cut and the verdict."""
 
     units: Units
     l1: float
     l3: float
     center_distance: float
+    idler_offset_deg: float
     needle_angle_deg: float
     carrier: Carrier
     gears: Gears

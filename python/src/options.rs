@@ -2,9 +2,9 @@
 //! wrapper builds from its signature, one item per argument) as library options.
 use crate::errors::{arg_err, bounds_err, design_err, teeth_err};
 use ncgear::design::DesignOptions;
-use ncgear::design::RefineMode;
 use ncgear::design::segmented::Route;
 use ncgear::design::train::TrainPolicy;
+use ncgear::design::{IdlerOffset, RefineMode};
 use ncgear::teeth::{RackParams, ToothPolicy, ToothingOptions};
 use pyo3::prelude::*;
 
@@ -50,6 +50,7 @@ pub struct DesignArgs {
     convexity: bool,
     smooth: Option<usize>,
     module: Option<f64>,
+    idler_offset: String,
 }
 
 impl DesignArgs {
@@ -78,6 +79,15 @@ impl DesignArgs {
             "sense",
             &self.sense,
             &[("auto", None), ("ccw", Some(1)), ("cw", Some(-1))],
+        )?;
+        let idler_offset = choice(
+            "idler_offset",
+            &self.idler_offset,
+            &[
+                ("auto", IdlerOffset::Auto),
+                ("collinear", IdlerOffset::Collinear),
+                ("free", IdlerOffset::Free),
+            ],
         )?;
         let d = DesignOptions::default();
         let o = DesignOptions::default()
@@ -110,7 +120,8 @@ impl DesignArgs {
             .with_pressure_angle_limit_rad(self.max_pressure_angle.to_radians())
             .with_min_concave_radius_mm(self.concave_radius()?)
             .with_min_convex_radius_mm(self.min_convex_radius)
-            .with_module_mm(self.module);
+            .with_module_mm(self.module)
+            .with_idler_offset(idler_offset);
         o.validate().map_err(|e| design_err(&e))?;
         Ok(o)
     }

@@ -154,8 +154,19 @@ fn print_summary(
         if r.carrier.direction > 0 { "CCW" } else { "CW" }
     );
     println!(
-        "  l1 = {:.6} mm, l3 = {:.6} mm, a = {:.6} mm, needle angle {:.4}°",
-        r.l1, r.l3, r.center_distance, r.needle_angle_deg
+        "  l1 = {:.6} mm, l3 = {:.6} mm, a = {:.6} mm, needle angle {:.4}°{}",
+        r.l1,
+        r.l3,
+        r.center_distance,
+        r.needle_angle_deg,
+        if r.idler_offset_deg == 0.0 {
+            String::new()
+        } else {
+            format!(
+                ", intermediate axis {:.4}° off the carrier line (l1 = 2a·cos ε)",
+                r.idler_offset_deg
+            )
+        }
     );
     println!(
         "  compatibility: E_c·l3 = {:.4} mm at τ = {:.3}°",
@@ -183,7 +194,7 @@ fn print_summary(
         .map(|c| c.id.as_str())
         .collect();
     println!(
-        "  checks C1–C12: {}",
+        "  checks C1–C13: {}",
         if failed.is_empty() {
             "all pass".to_string()
         } else {
@@ -251,14 +262,16 @@ fn limits_line(l: &ncgear::design::LimitsSummary) -> String {
 fn print_teeth(t: &TrainTeethReport) {
     println!(
         "  teeth: z = {}, m = {:.4} mm, a = {:.6} mm (scale {:.6}, ratio amplitude {:.6}); \
-         the toothed train traces {:.4} mm from the target points' polyline (Hausdorff; the \
-         designed gears: {:.4} mm)",
+         the toothed train traces {:.4} mm from the target, Hausdorff {:.4} mm (the designed \
+         gears: {:.4} mm, Hausdorff {:.4} mm)",
         t.z,
         t.module_mm,
         t.center_distance_mm,
         t.scale,
         t.ratio_amplitude,
+        t.roundtrip.max_deviation_mm,
         t.roundtrip.hausdorff_mm,
+        t.roundtrip.before_max_deviation_mm,
         t.roundtrip.before_hausdorff_mm
     );
     if let Some(g) = t.needle_angle_deg {

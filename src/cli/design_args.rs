@@ -2,7 +2,7 @@
 //! pair parser the commands share.
 use super::teeth_args::RackArgs;
 use ncgear::design::segmented::Route;
-use ncgear::design::{DesignOptions, RefineMode};
+use ncgear::design::{DesignOptions, IdlerOffset, RefineMode};
 use std::path::PathBuf;
 
 /// Carrier positions of each mesh verification unless `--verify-steps` says otherwise.
@@ -43,6 +43,17 @@ pub enum LimitsArg {
     On,
     /// The ratio bounds alone.
     Off,
+}
+
+/// `--idler-offset` values.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum IdlerOffsetArg {
+    /// On the carrier line; off it where a module would otherwise move the tip.
+    Auto,
+    /// Always on the carrier line (the patent's train, l1 = 2a).
+    Collinear,
+    /// Free in every fit, also without a module.
+    Free,
 }
 
 /// `--refine` values.
@@ -156,6 +167,12 @@ pub struct Args {
     /// Convex pitch curves only (cut by a rack): the same as an infinite --min-concave-radius.
     #[arg(long, conflicts_with = "min_concave_radius")]
     pub convexity: bool,
+    /// Where the intermediate axis may sit: auto (default) keeps it on the carrier line OA and,
+    /// designing for a module, turns it off the line where a whole number of teeth would
+    /// otherwise move the tip (l1 = 2a·cos ε keeps the arm at the larger centre distance);
+    /// collinear never does; free lets every fit turn it (within 30°).
+    #[arg(long, value_enum, default_value = "auto")]
+    pub idler_offset: IdlerOffsetArg,
     /// Smooth a measured or noisy trajectory to this many Fourier harmonics before the inversion.
     #[arg(long)]
     pub smooth: Option<usize>,
@@ -250,7 +267,12 @@ impl Args {
             .with_gear_limits(args.limits == LimitsArg::On)
             .with_pressure_angle_limit_rad(args.max_pressure_angle.to_radians())
             .with_min_concave_radius_mm(min_concave)
-            .with_min_convex_radius_mm(args.min_convex_radius);
+            .with_min_convex_radius_mm(args.min_convex_radius)
+            .with_idler_offset(match args.idler_offset {
+                IdlerOffsetArg::Auto => IdlerOffset::Auto,
+                IdlerOffsetArg::Collinear => IdlerOffset::Collinear,
+                IdlerOffsetArg::Free => IdlerOffset::Free,
+            });
         // --teeth or a scaling policy: the design is made without the module and scaled after;
         // the concave- and convex-radius limits still follow the module.
         match args.module {

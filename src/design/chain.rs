@@ -85,6 +85,7 @@ pub(super) fn design_from(
         l1: mechanism.l1_mm(),
         l3: mechanism.l3_mm,
         center_distance: mechanism.a_mm,
+        idler_offset_deg: f64::from(inv.direction) * mechanism.idler_offset_rad.to_degrees(),
         needle_angle_deg: f64::from(inv.direction) * mechanism.needle_angle_rad.to_degrees(),
         carrier: Carrier {
             center: opts.center_mm,
@@ -116,6 +117,7 @@ pub(super) fn design_from(
         rebuilt: out.rebuilt,
         inversion: inv,
         traced_mm: out.traced,
+        point_angles_rad: out.angles,
     })
 }
 
@@ -305,6 +307,7 @@ fn for_module(
                 &fitted.mechanism,
                 m,
                 &fit_options(trains, noise_sigma),
+                opts.idler_offset,
             )?;
             let fitted = FitStage {
                 mechanism: fm.mechanism,

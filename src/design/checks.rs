@@ -1,7 +1,7 @@
-//! Pitch tables, assembly, checks C1–C12 and the round trip from the output tables (docs/math/chain.md §9–§10).
+//! Pitch tables, assembly, checks C1–C13 and the round trip from the output tables (docs/math/chain.md §9–§10).
 
 use super::error::DesignError;
-use super::options::DesignOptions;
+use super::options::{DesignOptions, SUN_PLANET_GAP_MODULES};
 use super::report::*;
 use crate::design::compat::Compatibility;
 use crate::design::inverse::Inversion;
@@ -89,13 +89,15 @@ pub(super) struct Finished {
     pub rebuilt: Rebuilt,
     /// The traced tip path, world frame, mm.
     pub traced: Vec<[f64; 2]>,
+    /// The carrier angle at which the tip passes each point, rad (solved frame).
+    pub angles: Vec<f64>,
     pub checks: Vec<Check>,
     pub roundtrip: RoundTrip,
     pub gears: Gears,
     pub limits: LimitsSummary,
 }
 
-/// Pitch curves, assembly, checks C1–C12 and the round trip from the output tables.
+/// Pitch curves, assembly, checks C1–C13 and the round trip from the output tables.
 pub(super) fn finish(
     traj: &Trajectory,
     inv: &Inversion,
@@ -171,6 +173,7 @@ pub(super) fn finish(
         assembly,
         rebuilt,
         traced,
+        angles: angles.to_vec(),
         checks,
         roundtrip,
         gears,
@@ -226,7 +229,7 @@ fn measure(
     hausdorff: impl FnOnce() -> f64 + Send,
 ) -> Measures {
     // Serial, as is the Hausdorff distance: both run beside the geometry integrals below.
-    let i31_scan = || min_i31(&mech.ratio);
+    let i31_scan = || min_i31(&mech.ratio, mech.contact_shift_rad());
     let acc = 1e-9 * mech.a_mm;
     let (((ls, lm), (lp, (cs, cm))), (hausdorff_mm, i31_min)) = rayon::join(
         || {
@@ -255,7 +258,7 @@ fn measure(
     }
 }
 
-/// Checks C1–C12 of the finished design: `mesh` the largest centre-distance errors of the two
+/// Checks C1–C13 of the finished design: `mesh` the largest centre-distance errors of the two
 /// meshes (mm), `c12` the name and value (mm) of the round-trip check.
 fn geometry_checks(
     mech: &Mechanism,
@@ -296,6 +299,7 @@ fn geometry_checks(
     let tightest_concave = g.tightest_concave_mm();
     let compat_mm = compat.residual_rad * mech.l3_mm;
     let tol = opts.tol_tip_mm;
+    let (gap, gap_limit) = (mech.sun_planet_gap_mm(), opts.sun_planet_gap_mm());
     #[rustfmt::skip]
     let checks = vec![
         check("C1", "closure of the ratio |Φ(2π) − 2π|, rad".into(),
@@ -324,8 +328,33 @@ fn geometry_checks(
         check("C11", "compatibility l3·E_c, mm (report)".into(),
             compat_mm, tol, true),
         check("C12", c12_name, c12_value, tol, c12_value <= tol),
+        check("C13", format!("sun–planet clearance: l1 − 2·(largest sun and planet pitch radius), mm (idler offset {:.3}°), above {SUN_PLANET_GAP_MODULES}·m (two addenda and a root clearance) with a module", mech.idler_offset_rad.to_degrees()),
+            gap, gap_limit, gap > 0.0 && gap >= gap_limit),
     ];
     checks
+}
+
+/// How far a train rebuilt from its tables (`rebuilt`, a toothed train's among them) traces from
+/// `points`, measured as check C12 measures the design: its largest synchronous deviation at the
+/// carrier angles `angles` (rad, solved frame) at which the designed tip passes the points, and
+/// its Hausdorff distance to the target curve read between the points in those angles (`m` tip
+/// positions over the turn), both mm.
+pub(crate) fn deviations_as_designed(
+    rebuilt: &Rebuilt,
+    points: &[[f64; 2]],
+    angles: &[f64],
+    m: usize,
+) -> (f64, f64) {
+    let sign = rebuilt.sign();
+    let (max, (traced, _)) = rayon::join(
+        || {
+            tip_deviations(rebuilt, points, angles, sign)
+                .into_iter()
+                .fold(0.0, f64::max)
+        },
+        || trace(rebuilt, m, sign),
+    );
+    (max, target_hausdorff_mm(&traced, points, angles, 2 * m))
 }
 
 /// The tip path and the largest mesh errors `[sun, planet]` (mm) of the train rebuilt from the
@@ -357,15 +386,15 @@ fn tip_deviations(rebuilt: &Rebuilt, points: &[[f64; 2]], angles: &[f64], sign: 
 }
 
 /// The smallest i31 = i(t)/i(S(t)) along the turn (4096 samples), each contact angle
-/// S = Φ⁻¹(Φ(t) + π) solved from the previous one (S′ = i(t)/i(S)): a step or two of Newton
-/// instead of a cold start.
-fn min_i31(ratio: &crate::geometry::fourier::SunRatio) -> f64 {
+/// S = Φ⁻¹(Φ(t) + c) (`shift_rad` = c = π + 2ε) solved from the previous one (S′ = i(t)/i(S)):
+/// a step or two of Newton instead of a cold start.
+fn min_i31(ratio: &crate::geometry::fourier::SunRatio, shift_rad: f64) -> f64 {
     let mut s_prev = f64::NAN;
     (0..4096)
         .map(|k| {
             let t = TAU * k as f64 / 4096.0;
             let (fi, it) = ratio.integral_and_value(t);
-            let s = ratio.inverse_integral_from(fi + std::f64::consts::PI, s_prev, INVERSE_TOL_RAD);
+            let s = ratio.inverse_integral_from(fi + shift_rad, s_prev, INVERSE_TOL_RAD);
             let is = ratio.value(s);
             s_prev = s + TAU / 4096.0 * it / is;
             it / is

@@ -3,7 +3,7 @@
 
 use super::ellipse::from_an_ellipse;
 use super::error::DesignError;
-use super::options::RefineMode;
+use super::options::{IdlerOffset, RefineMode};
 use super::report::FitSummary;
 use super::segmented::Segmented;
 use super::trains::Trains;
@@ -156,6 +156,8 @@ pub(super) fn fit_options(trains: &Trains, noise_sigma: f64) -> FitOptions {
         limits: trains.limits,
         tol_mm: FIT_TOL_FRACTION * opts.tol_tip_mm,
         noise_sigma_mm: noise_sigma,
+        free_idler_offset: opts.idler_offset == IdlerOffset::Free,
+        sun_planet_gap_mm: opts.sun_planet_gap_mm(),
         ..opts.fit.clone()
     }
 }

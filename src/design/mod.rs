@@ -7,7 +7,7 @@
 //! 3. [`crate::design::segmented`]: Fourier hypothesis, mirror/weight iteration (docs/math/chain.md §7);
 //! 4. [`crate::geometry::fourier`]: least-squares fit with exact closure, order fixed or adaptive (docs/math/chain.md §8.1–§8.2);
 //! 5. [`crate::design::refine`]: direct fit of the tip motion when the patent route misses the tolerance (docs/math/chain.md §8.3);
-//! 6. pitch curves, assembly angles, checks C1–C12 and the round trip from the output tables (docs/math/chain.md §9–§10).
+//! 6. pitch curves, assembly angles, checks C1–C13 and the round trip from the output tables (docs/math/chain.md §9–§10).
 //!
 //! ```no_run
 //! use ncgear::design::{design, DesignOptions, trajectory::Trajectory};
@@ -27,6 +27,7 @@ pub mod inverse;
 pub mod law;
 mod module;
 pub mod noise;
+mod offset_start;
 mod options;
 pub mod refine;
 mod report;
@@ -43,8 +44,8 @@ pub use chain::design;
 pub use error::DesignError;
 pub use module::{MIN_TEETH, ModuleSummary};
 pub use options::{
-    ADAPTIVE_ORDERS, DEFAULT_MIN_CONCAVE_RADIUS_MM, DesignOptions, RefineMode,
-    SMALLEST_CUTTER_RADIUS_MODULES, UNDERCUT_RADIUS_MODULES,
+    ADAPTIVE_ORDERS, DEFAULT_MIN_CONCAVE_RADIUS_MM, DesignOptions, IdlerOffset, RefineMode,
+    SMALLEST_CUTTER_RADIUS_MODULES, SUN_PLANET_GAP_MODULES, UNDERCUT_RADIUS_MODULES,
 };
 pub use report::{
     Carrier, Check, CompatSummary, Design, DesignReport, FitSummary, FourierSummary, Gear, Gears,

@@ -24,6 +24,28 @@ pub enum RefineMode {
     Off,
 }
 
+/// Where the intermediate axis D may sit: on the carrier line OA, as in the patent, or turned
+/// off it by the idler offset ε ([`crate::geometry::mechanism`], docs/math/chain.md §6.5).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum IdlerOffset {
+    /// On the line without a module; designing for a module, off it where a whole number of
+    /// teeth would otherwise move the tip: the count above the free one is fitted with ε free,
+    /// which keeps `l1 = 2a·cos ε` where the target needs it at the larger centre distance
+    /// (default).
+    #[default]
+    Auto,
+    /// Always on the line (ε = 0): the patent's train, `l1 = 2a`.
+    Collinear,
+    /// Free in every fit, also without a module (a housing with the intermediate shaft off the
+    /// carrier line: the train then traces targets the collinear one cannot).
+    Free,
+}
+
+/// Gap the sun's and the planet's pitch curves keep across the carrier at a module, in modules:
+/// two addenda (1·m each) and a root clearance (0.25·m), so that their tips never touch (C13).
+pub const SUN_PLANET_GAP_MODULES: f64 = 2.25;
+
 /// Every knob of the chain; [`DesignOptions::default`] is what `ncgear design` runs with.
 /// (De)serialisable (lengths mm, angles rad as the field names say; a missing field takes its
 /// default, an unknown one is an error) and built with `with_*`:
@@ -93,6 +115,9 @@ pub struct DesignOptions {
     /// Module the gears are designed for, mm (default `None`): the smallest concave and convex
     /// radii follow from it (see `min_concave_radius_mm`, `min_convex_radius_mm`).
     pub module_mm: Option<f64>,
+    /// Where the intermediate axis may sit. Default [`IdlerOffset::Auto`]: on the carrier line,
+    /// off it when designing for a module needs it.
+    pub idler_offset: IdlerOffset,
     /// Knobs of the fit to the points ([`crate::design::fit`]): orders, iterations, points,
     /// smoothness. Default [`FitOptions::default`]. Its order, tolerance, noise level, limits and
     /// perimeter are the chain's: set from `order`, `tol_tip_mm`, the points, the gear limits
@@ -119,6 +144,7 @@ crate::builder::with_fields!(DesignOptions {
     with_min_concave_radius_mm => min_concave_radius_mm: Option<f64>,
     with_min_convex_radius_mm => min_convex_radius_mm: Option<f64>,
     with_module_mm => module_mm: Option<f64>,
+    with_idler_offset => idler_offset: IdlerOffset,
     with_fit => fit: FitOptions,
 });
 
@@ -165,6 +191,13 @@ impl DesignOptions {
             .or(self.module_mm.map(|m| UNDERCUT_RADIUS_MODULES * m))
     }
 
+    /// The least gap (mm) the sun's and the planet's pitch curves keep across the carrier
+    /// (check C13): [`SUN_PLANET_GAP_MODULES`]·m at `module_mm`, 0 without a module.
+    #[must_use]
+    pub fn sun_planet_gap_mm(&self) -> f64 {
+        self.module_mm.map_or(0.0, |m| SUN_PLANET_GAP_MODULES * m)
+    }
+
     /// The gear limits the chain designs within ([`Self::gear_limits`]); the options must be
     /// valid (as [`crate::design::design`] checks first).
     #[must_use]
@@ -209,6 +242,7 @@ impl Default for DesignOptions {
             min_concave_radius_mm: None,
             min_convex_radius_mm: None,
             module_mm: None,
+            idler_offset: IdlerOffset::Auto,
             fit: FitOptions::default(),
         }
     }

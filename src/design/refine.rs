@@ -8,6 +8,9 @@
 //! r_j = l3·( C − S(x_j − τ_s) + ψ3_target(x_j) )          (mm; = l3·Δβ, the tip error to first order)
 //! ```
 //!
+//! with the planet contact map `S(t) = Φ⁻¹(Φ(t) + c)`, `c = π` on the carrier line (the patent's
+//! train) or `π + 2ε` for an intermediate axis turned off it by ε (docs/math/chain.md §6.5).
+//!
 //! plus penalties: `w_b·dist(i21, [i_min, i_max])` at the same angles, optionally
 //! `w_c·max(0, −Δ/a²)` for the convexity of the sun and the intermediate, and the smoothness term
 //! `√λ·k²·(a_k, b_k)`. Solved by Levenberg–Marquardt (`levenberg-marquardt` crate) with a
@@ -19,7 +22,7 @@ use crate::geometry::mechanism::{ContactGeometry, INVERSE_TOL_RAD};
 use levenberg_marquardt::{LeastSquaresProblem, LevenbergMarquardt};
 use nalgebra::{DMatrix, DVector, Dyn, Owned};
 use rayon::prelude::*;
-use std::f64::consts::TAU;
+use std::f64::consts::{PI, TAU};
 
 /// Options of the refinement (docs/math/chain.md §8.3).
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
@@ -75,6 +78,8 @@ pub struct Refined {
 
 struct Problem<'a> {
     law: &'a NeedleLaw,
+    /// The contact shift `c` of the planet contact map, rad.
+    shift_rad: f64,
     l3: f64,
     a_mm: f64,
     order: usize,
@@ -100,7 +105,7 @@ impl Problem<'_> {
         let wb = 10.0 * self.l3;
         let [lo, hi] = self.opts.ratio_bounds;
         for (idx, (&x, &target)) in self.xs.iter().zip(&self.targets).enumerate() {
-            let s = ratio.half_turn_map(x - tau, INVERSE_TOL_RAD);
+            let s = ratio.contact_map(x - tau, self.shift_rad, INVERSE_TOL_RAD);
             r[idx] = self.l3 * (c - s + target);
             let g = ratio.eval3(x);
             r[j + idx] = wb * ((lo - g[0]).max(0.0) + (g[0] - hi).max(0.0));
@@ -166,6 +171,20 @@ pub fn refine(
     c0: f64,
     opts: &RefineOptions,
 ) -> Refined {
+    refine_with_shift(law, PI, l3_mm, a_mm, start, [tau0, c0], opts)
+}
+
+/// [`refine`] for a train whose planet contact map shifts by `shift_rad` (`π + 2ε`; module
+/// documentation), from `[τ0, C0]` (rad).
+pub(crate) fn refine_with_shift(
+    law: &NeedleLaw,
+    shift_rad: f64,
+    l3_mm: f64,
+    a_mm: f64,
+    start: &SunRatio,
+    [tau0, c0]: [f64; 2],
+    opts: &RefineOptions,
+) -> Refined {
     let order = start.order();
     let j = opts.samples.max(4 * order).max(16);
     let xs: Vec<f64> = (0..j).map(|i| TAU * i as f64 / j as f64).collect();
@@ -176,6 +195,7 @@ pub fn refine(
     q.push(c0);
     let problem = Problem {
         law,
+        shift_rad,
         l3: l3_mm,
         a_mm,
         order,

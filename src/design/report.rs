@@ -15,8 +15,13 @@ pub struct DesignReport {
     pub l1: f64,
     /// Needle length `|AB|`, mm.
     pub l3: f64,
-    /// Centre distance `a = l1/2`, mm.
+    /// Centre distance `a = |OD| = |DA|`, mm (`l1 = 2a·cos ε`).
     pub center_distance: f64,
+    /// Idler offset ε: the angle at O from the carrier line OA to the intermediate axis OD,
+    /// degrees, CCW positive in the file's frame; 0 in the patent's collinear train
+    /// ([`crate::geometry::mechanism`]). Read as 0 when absent.
+    #[serde(default)]
+    pub idler_offset_deg: f64,
     /// Needle angle γ relative to the planet's body +x axis, degrees.
     pub needle_angle_deg: f64,
     /// Carrier axis and sense.
@@ -49,7 +54,7 @@ pub struct DesignReport {
     /// The gear limits and where the design stands against them.
     #[serde(default)]
     pub limits: LimitsSummary,
-    /// Checks C1–C12.
+    /// Checks C1–C13.
     pub checks: Vec<Check>,
     /// The target trajectory as read (world frame, mm, travel order).
     pub target_points: Vec<[f64; 2]>,
@@ -66,7 +71,7 @@ pub struct DesignReport {
         deserialize_with = "crate::design::train::teeth_json::deserialize"
     )]
     pub teeth: Option<crate::design::train::TrainTeethReport>,
-    /// Whether the design passed its verification: every check C1–C12 and, with teeth, both
+    /// Whether the design passed its verification: every check C1–C13 and, with teeth, both
     /// meshes ([`DesignReport::update_verdict`]).
     #[serde(default)]
     pub verdict: crate::verdict::Verdict,
@@ -345,7 +350,7 @@ pub struct FourierSummary {
 /// One verification check (docs/math/chain.md §10).
 #[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct Check {
-    /// "C1".."C12".
+    /// "C1".."C13".
     pub id: String,
     /// What it checks.
     pub name: String,
@@ -416,6 +421,10 @@ pub struct Design {
     pub inversion: Inversion,
     /// Traced tip path from the round trip, mm, world frame.
     pub traced_mm: Vec<[f64; 2]>,
+    /// The carrier angle at which the tip passes each target point, rad, in the solved frame
+    /// (CCW; the world angle is this times the carrier direction): where check C12 measures
+    /// the synchronous deviation, and where a toothed train's is measured too.
+    pub point_angles_rad: Vec<f64>,
 }
 
 /// A number, or `null` for +∞ (how JSON writes an infinite check value).

@@ -26,6 +26,7 @@ impl Trains<'_> {
             ratio: self.limits.project(&ratio, a_mm),
             sun_phase_rad: inv.phi_h0_rad + tau_s,
             needle_angle_rad: 0.0,
+            idler_offset_rad: 0.0,
         };
         let dev = m.fit_needle_angle(samples, |p| inv.beta(p));
         (m, dev)

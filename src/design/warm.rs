@@ -79,6 +79,7 @@ pub(super) fn start_mechanism(report: &DesignReport, direction: i8) -> Option<Me
         // The report's angles are file-frame degrees: the solved angle times the sense.
         sun_phase_rad: sense * f.sun_phase_deg.to_radians(),
         needle_angle_rad: sense * report.needle_angle_deg.to_radians(),
+        idler_offset_rad: sense * report.idler_offset_deg.to_radians(),
     };
     (m.a_mm.is_finite() && m.a_mm > 0.0 && m.l3_mm.is_finite() && m.l3_mm > 0.0).then_some(m)
 }
@@ -95,6 +96,8 @@ pub(super) fn warm_fit(
         order: Some(start.ratio.order()),
         max_iterations: WARM_ITERATIONS,
         perimeter_mm: teeth.map(|(z, m)| f64::from(z) * PI * m),
+        // A train off the carrier line is refitted with its offset free.
+        free_idler_offset: base.free_idler_offset || start.idler_offset_rad != 0.0,
         ..base.clone()
     };
     let f = fit_points(points, start, &opts).ok()?;

@@ -3,19 +3,20 @@
 //! rebuilt **from those tables only** (the round trip, docs/math/chain.md §2 and check C12).
 //!
 //! Conventions (world frame = the trajectory's; angles CCW, rad inside, degrees in files): at
-//! carrier angle φH the intermediate centre is `D = O + a·e(φH)`, the planet centre
-//! `A = O + 2a·e(φH)`; the sun (body frame = world frame) touches the intermediate at its body
-//! angle φH; the intermediate touches the sun at its body angle `φH + π − θ2` and the planet at
-//! `φH − θ2`; the planet touches the intermediate at `φH + π − θ3`; the tip is
-//! `A + l3·e(θ3 + γ)`. For a clockwise carrier (`direction = −1`) φH decreases in time; the tables
-//! and angles are the mirror images of a CCW design, and the rebuild mirrors them back.
+//! carrier angle φH the intermediate centre is `D = O + a·e(φH + ε)` (ε the idler offset, 0 in
+//! the collinear train), the planet centre `A = O + l1·e(φH)` with `l1 = 2a·cos ε`; the sun (body
+//! frame = world frame) touches the intermediate at its body angle `φH + ε`; the intermediate
+//! touches the sun at its body angle `φH + ε + π − θ2` and the planet at `φH − ε − θ2`; the planet
+//! touches the intermediate at `φH + π − ε − θ3`; the tip is `A + l3·e(θ3 + γ)`. For a clockwise
+//! carrier (`direction = −1`) φH decreases in time; the tables and angles (ε among them) are the
+//! mirror images of a CCW design, and the rebuild mirrors them back.
 //!
 //! Rebuild (CCW frame): with `i_s(θ) = r_s/(a − r_s)` and `g(θ) = ρ2/(a − ρ2)` integrated
 //! spectrally on the tables' grids,
 //!
 //! ```text
-//! θ2(φ) = θ2(0) + φ + ∫_0^φ i_s,     c2(φ) = φ − θ2(φ)          (intermediate's planet-side contact)
-//! c3(φ) = c3(0) − ∫_{c2(0)}^{c2(φ)} g,    θ3(φ) = φ + π − c3(φ)   (planet rolls on the intermediate)
+//! θ2(φ) = θ2(0) + φ + ∫_ε^{φ+ε} i_s,     c2(φ) = φ − ε − θ2(φ)     (intermediate's planet-side contact)
+//! c3(φ) = c3(0) − ∫_{c2(0)}^{c2(φ)} g,    θ3(φ) = φ + π − ε − c3(φ)   (planet rolls on the intermediate)
 //! ```
 
 use crate::geometry::mechanism::Mechanism;
@@ -32,6 +33,10 @@ pub struct Assembly {
     pub direction: i8,
     /// Centre distance `a`, mm.
     pub a_mm: f64,
+    /// Idler offset ε: the angle at O from the carrier line OA to the intermediate axis OD, rad,
+    /// CCW positive in the world frame (0: the collinear train,
+    /// [`crate::geometry::mechanism`]).
+    pub idler_offset_rad: f64,
     /// Needle length `l3`, mm.
     pub l3_mm: f64,
     /// Needle angle γ relative to the planet's body +x axis, rad.
@@ -59,6 +64,8 @@ pub struct Rebuilt {
     theta2_0: f64,
     theta3_0: f64,
     gamma: f64,
+    /// Idler offset ε in the CCW frame, rad.
+    eps: f64,
     /// `∫ i_s`: (mean, periodic part).
     sun_int: (f64, PeriodicSpline),
     /// `∫ g`: (mean, periodic part).
@@ -128,6 +135,7 @@ impl Assembly {
             center_mm,
             direction: if direction >= 0 { 1 } else { -1 },
             a_mm: m.a_mm,
+            idler_offset_rad: sign * m.idler_offset_rad,
             l3_mm: m.l3_mm,
             needle_angle_rad: sign * m.needle_angle_rad,
             sun: world(sun?)?,
@@ -136,6 +144,12 @@ impl Assembly {
             planet: world(planet?)?,
             planet_angle_at_zero_rad: sign * m.planet_orientation(0.0),
         })
+    }
+
+    /// Carrier arm length `l1 = |OA| = 2a·cos ε`, mm.
+    #[must_use]
+    pub fn l1_mm(&self) -> f64 {
+        2.0 * self.a_mm * self.idler_offset_rad.cos()
     }
 
     /// Rebuilds the kinematics from the tables (spectral integration on the tables' grids).
@@ -169,6 +183,7 @@ impl Assembly {
             theta2_0: sign * self.intermediate_angle_at_zero_rad,
             theta3_0: sign * self.planet_angle_at_zero_rad,
             gamma: sign * self.needle_angle_rad,
+            eps: sign * self.idler_offset_rad,
             sun_int,
             mid_int,
         }
@@ -216,49 +231,61 @@ impl Rebuilt {
         self.gamma
     }
 
-    /// Intermediate orientation `θ2(φ) = θ2(0) + φ + ∫_0^φ i_s` at CCW-frame carrier angle φ, rad.
+    /// Carrier arm length `l1 = 2a·cos ε`, mm.
+    #[must_use]
+    pub fn l1_mm(&self) -> f64 {
+        self.asm.l1_mm()
+    }
+
+    /// Idler offset ε in the CCW frame, rad.
+    #[must_use]
+    pub fn ccw_idler_offset(&self) -> f64 {
+        self.eps
+    }
+
+    /// Intermediate orientation `θ2(φ) = θ2(0) + φ + ∫_ε^{φ+ε} i_s` at CCW-frame carrier angle
+    /// φ, rad.
     #[must_use]
     pub fn ccw_intermediate_angle(&self, phi: f64) -> f64 {
-        self.theta2_0 + phi + self.sun_phi(phi) - self.sun_phi(0.0)
+        self.theta2_0 + phi + self.sun_phi(phi + self.eps) - self.sun_phi(self.eps)
     }
 
     /// Tooth correspondence of the sun–intermediate mesh: the intermediate body angle that meets
-    /// sun body angle `u` (CCW frame), `u + π − θ2(u)`, rad.
+    /// sun body angle `u` (CCW frame; at carrier angle `u − ε`), `u + π − θ2(u − ε)`, rad.
     #[must_use]
     pub fn ccw_sun_to_intermediate(&self, u: f64) -> f64 {
-        u + PI - self.ccw_intermediate_angle(u)
+        u + PI - self.ccw_intermediate_angle(u - self.eps)
     }
 
     /// Tooth correspondence of the intermediate–planet mesh: the planet body angle
     /// `c3 = c3(0) − ∫_{c2(0)}^{c2} g` that meets intermediate body angle `c2` (CCW frame), rad.
     #[must_use]
     pub fn ccw_intermediate_to_planet(&self, c2: f64) -> f64 {
-        let c2_0 = -self.theta2_0;
-        let c3_0 = PI - self.theta3_0;
+        let c2_0 = -self.eps - self.theta2_0;
+        let c3_0 = PI - self.eps - self.theta3_0;
         c3_0 - (self.mid_g(c2) - self.mid_g(c2_0))
     }
 
     /// Pose at world carrier angle φH (rad).
     #[must_use]
     pub fn pose(&self, phi_h: f64) -> Pose {
-        let a = self.asm.a_mm;
+        let (a, eps) = (self.asm.a_mm, self.eps);
         let phi = self.sign * phi_h; // CCW-frame carrier angle
-        let theta2 = self.theta2_0 + phi + self.sun_phi(phi) - self.sun_phi(0.0);
-        let c2 = phi - theta2;
-        let c2_0 = -self.theta2_0;
-        let c3_0 = PI - self.theta3_0;
-        let c3 = c3_0 - (self.mid_g(c2) - self.mid_g(c2_0));
-        let theta3 = phi + PI - c3;
+        let theta2 = self.ccw_intermediate_angle(phi);
+        let c2 = phi - eps - theta2;
+        let c3 = self.ccw_intermediate_to_planet(c2);
+        let theta3 = phi + PI - eps - c3;
         let b = theta3 + self.gamma;
-        let l1 = 2.0 * a;
+        let l1 = self.l1_mm();
         let o = self.asm.center_mm;
         let s = self.sign;
         let world = |p: [f64; 2]| [o[0] + p[0], o[1] + s * p[1]];
-        let sun_err = self.sun.radius_mm(phi) + self.mid.radius_mm(phi + PI - theta2) - a;
+        let d = phi + eps;
+        let sun_err = self.sun.radius_mm(d) + self.mid.radius_mm(d + PI - theta2) - a;
         let planet_err = self.planet.radius_mm(c3) + self.mid.radius_mm(c2) - a;
         Pose {
             phi_h_rad: phi_h,
-            intermediate_center_mm: world([a * phi.cos(), a * phi.sin()]),
+            intermediate_center_mm: world([a * d.cos(), a * d.sin()]),
             planet_center_mm: world([l1 * phi.cos(), l1 * phi.sin()]),
             intermediate_angle_rad: s * theta2,
             planet_angle_rad: s * theta3,
@@ -280,5 +307,65 @@ impl Rebuilt {
             .into_par_iter()
             .map(|k| self.pose(self.sign * TAU * k as f64 / n as f64).tip_mm)
             .collect()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::geometry::fourier::SunRatio;
+
+    /// The tables of a train off the collinear layout rebuild its kinematics: centres,
+    /// orientations and tip as the forward model has them, for either carrier sense (a CW
+    /// design is the mirror image of the CCW one, ε included).
+    #[test]
+    fn an_offset_train_rebuilds_from_its_tables() {
+        let m = Mechanism {
+            a_mm: 46.0,
+            l3_mm: 170.0,
+            ratio: SunRatio::new(vec![0.25, 0.04, -0.02], vec![0.05, -0.03, 0.01]).unwrap(),
+            sun_phase_rad: 0.4,
+            needle_angle_rad: -1.1,
+            idler_offset_rad: -0.25,
+        };
+        let o = [10.0, -5.0];
+        for direction in [1, -1] {
+            let s = f64::from(direction);
+            let r = Assembly::from_mechanism(&m, o, direction, 3600)
+                .unwrap()
+                .rebuild();
+            for j in 0..36 {
+                let phi = 0.17 * j as f64;
+                let p = r.pose(s * phi);
+                let world = |v: [f64; 2]| [o[0] + v[0], o[1] + s * v[1]];
+                let close = |a: [f64; 2], b: [f64; 2], tol: f64| {
+                    assert!(
+                        (a[0] - b[0]).hypot(a[1] - b[1]) < tol,
+                        "{a:?} vs {b:?} at {phi}"
+                    );
+                };
+                close(p.tip_mm, world(m.tip(phi)), 1e-8);
+                close(
+                    p.intermediate_center_mm,
+                    world(m.intermediate_center(phi)),
+                    1e-12,
+                );
+                let l1 = m.l1_mm();
+                close(
+                    p.planet_center_mm,
+                    world([l1 * phi.cos(), l1 * phi.sin()]),
+                    1e-12,
+                );
+                let turn = |a: f64, b: f64| ((a - b + PI).rem_euclid(TAU) - PI).abs();
+                assert!(turn(p.planet_angle_rad, s * m.planet_orientation(phi)) < 1e-10);
+                assert!(
+                    turn(
+                        p.intermediate_angle_rad,
+                        s * m.intermediate_orientation(phi)
+                    ) < 1e-10
+                );
+                assert!(p.sun_mesh_error_mm.abs() < 1e-9 && p.planet_mesh_error_mm.abs() < 1e-9);
+            }
+        }
     }
 }

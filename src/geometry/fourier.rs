@@ -336,14 +336,37 @@ impl SunRatio {
     /// along a turn, by [`Self::inverse_integral_along`]).
     #[must_use]
     pub fn half_turn_map_uniform(&self, t0_rad: f64, n: usize, tol_rad: f64) -> Vec<f64> {
-        let t = |k: usize| t0_rad + TAU * k as f64 / n as f64;
-        self.inverse_integral_along(n, |k| self.integral(t(k)) + PI, tol_rad)
+        self.contact_map_uniform(t0_rad, PI, n, tol_rad)
     }
 
-    /// Planet contact map `S(t) = Φ⁻¹(Φ(t) + π)` (docs/math/chain.md §6.2), rad.
+    /// `S(t_k) = Φ⁻¹(Φ(t_k) + c)` (rad) at the `n` uniform angles `t_k = t0 + 2πk/n`
+    /// ([`Self::contact_map`] along a turn, by [`Self::inverse_integral_along`]).
+    #[must_use]
+    pub fn contact_map_uniform(
+        &self,
+        t0_rad: f64,
+        shift_rad: f64,
+        n: usize,
+        tol_rad: f64,
+    ) -> Vec<f64> {
+        let t = |k: usize| t0_rad + TAU * k as f64 / n as f64;
+        self.inverse_integral_along(n, |k| self.integral(t(k)) + shift_rad, tol_rad)
+    }
+
+    /// Planet contact map of the collinear train `S(t) = Φ⁻¹(Φ(t) + π)` (docs/math/chain.md
+    /// §6.2), rad: [`Self::contact_map`] at `c = π`.
     #[must_use]
     pub fn half_turn_map(&self, t: f64, tol_rad: f64) -> f64 {
-        self.inverse_integral(self.integral(t) + PI, tol_rad)
+        self.contact_map(t, PI, tol_rad)
+    }
+
+    /// Planet contact map `S(t) = Φ⁻¹(Φ(t) + c)`, rad: the sun angle whose contact with the
+    /// intermediate gear sits `c` (rad) further round the intermediate gear than the contact at
+    /// `t` — `c = π + 2ε` for an intermediate axis `ε` off the carrier line
+    /// ([`crate::geometry::mechanism`]), `π` on it.
+    #[must_use]
+    pub fn contact_map(&self, t: f64, shift_rad: f64, tol_rad: f64) -> f64 {
+        self.inverse_integral(self.integral(t) + shift_rad, tol_rad)
     }
 
     /// Smallest and largest value of the ratio over the turn: the extremes of a grid of 64·K + 512

@@ -31,6 +31,7 @@ pub fn g1_mechanism() -> Mechanism {
         ratio: ellipse_ratio(0.15),
         sun_phase_rad: 0.0,
         needle_angle_rad: (-70f64).to_radians(),
+        idler_offset_rad: 0.0,
     }
 }
 

@@ -1,16 +1,27 @@
 //! The planetary train as a forward model (docs/math/chain.md §2, §6, §9).
 //!
-//! A [`Mechanism`] is the design: centre distance `a` (so `l1 = 2a`), needle length `l3`, the sun
-//! ratio `i21(u)` as a function of the sun's *design* polar angle `u`, the world angle `φ_ref` of the
-//! sun's design reference ray, and the needle mounting angle γ. At carrier angle φH (rad, CCW):
+//! A [`Mechanism`] is the design: centre distance `a` (`|OD| = |DA| = a`), the idler offset ε
+//! (the angle at O between the carrier line OA and the intermediate axis D; 0 in the patent's
+//! collinear train, so `l1 = 2a`), needle length `l3`, the sun ratio `i21(u)` as a function of
+//! the sun's *design* polar angle `u`, the world angle `φ_ref` of the sun's design reference ray,
+//! and the needle mounting angle γ. At carrier angle φH (rad, CCW):
 //!
 //! ```text
-//! t′     = φH − φ_ref                       sun polar angle at the contact (design frame)
-//! Φ(t′)  = ∫_0^t′ i21,   S(t′) = Φ⁻¹(Φ(t′) + π)
-//! θ2     = φH + Φ(t′)                       intermediate orientation (world angle of body +x)
-//! θ3     = φH + π − S(t′)                   planet orientation
-//! D = a·e(φH),  A = 2a·e(φH),  B = A + l3·e(θ3 + γ)
+//! D = a·e(φH + ε),   A = l1·e(φH),   l1 = 2a·cos ε       (OAD isosceles: |OD| = |DA| = a)
+//! t′     = φH + ε − φ_ref                   sun polar angle at the contact (design frame)
+//! Φ(t′)  = ∫_0^t′ i21,   S(t′) = Φ⁻¹(Φ(t′) + π + 2ε)
+//! θ2     = φH + ε + Φ(t′)                   intermediate orientation (world angle of body +x)
+//! θ3     = φH + π − ε − S(t′)               planet orientation
+//! B = A + l3·e(θ3 + γ)
 //! ```
+//!
+//! The intermediate gear meets the sun along D→O (world angle φH + ε + π) and the planet along
+//! D→A (φH − ε): its two contacts are `π + 2ε` apart round it (docs/math/chain.md §6.5). The
+//! pair intermediate–planet is the pair sun–intermediate turned about D by that angle, so the
+//! planet is still the sun's copy, and its contact angle `S` solves `Φ(S) = Φ(t′) + π + 2ε`. With
+//! ε = 0 this is the patent's train (`S` the half-turn map). With ε ≠ 0 the arm `l1 = 2a·cos ε`
+//! no longer follows from the centre distance alone: a tooth count at a standard module fixes
+//! `a`, and ε keeps `l1` where the target needs it (docs/math/chain.md §6.5).
 //!
 //! Body frames (the JSON conventions of `design.json`): the sun's body frame is the world frame
 //! (its curve is the design curve rotated by `φ_ref`); the planet's body frame is the design frame
@@ -23,6 +34,12 @@ use std::f64::consts::{PI, TAU};
 
 /// Tolerance of the Φ⁻¹ solves, rad (docs/math/chain.md §13: 1e-13).
 pub const INVERSE_TOL_RAD: f64 = 1e-13;
+
+/// Largest idler offset |ε| a train may have, rad (30°): the intermediate axis stays within a
+/// third of a right angle of the carrier line. A tooth count one above the free count needs
+/// `cos ε = z_free/z` (8° at 20 teeth, 27° at the fewest, 8), so this holds every offset a
+/// standard module asks for, with the sun and planet well clear of each other (check C13).
+pub const MAX_IDLER_OFFSET_RAD: f64 = PI / 6.0;
 
 /// A designed planetary train with non-circular gears.
 #[derive(Debug, Clone, PartialEq)]
@@ -37,6 +54,9 @@ pub struct Mechanism {
     pub sun_phase_rad: f64,
     /// Needle mounting angle γ relative to the planet's body +x axis, rad.
     pub needle_angle_rad: f64,
+    /// Idler offset ε: the angle from the carrier line OA to the intermediate axis OD, rad, CCW
+    /// positive (module documentation); 0 = the patent's collinear train.
+    pub idler_offset_rad: f64,
 }
 
 /// Pitch radius and its first two polar derivatives of the sun and the intermediate at one
@@ -77,34 +97,76 @@ impl ContactGeometry {
 }
 
 impl Mechanism {
-    /// Carrier arm length `l1 = 2a`, mm.
+    /// The patent's collinear train (`ε = 0`) of centre distance `a_mm` (mm), needle length
+    /// `l3_mm` (mm), sun ratio `ratio`, sun phase `sun_phase_rad` and needle angle
+    /// `needle_angle_rad` (rad).
     #[must_use]
-    pub fn l1_mm(&self) -> f64 {
-        2.0 * self.a_mm
+    pub fn collinear(
+        a_mm: f64,
+        l3_mm: f64,
+        ratio: SunRatio,
+        sun_phase_rad: f64,
+        needle_angle_rad: f64,
+    ) -> Self {
+        Self {
+            a_mm,
+            l3_mm,
+            ratio,
+            sun_phase_rad,
+            needle_angle_rad,
+            idler_offset_rad: 0.0,
+        }
     }
 
-    /// `S(t′)`, rad.
+    /// Carrier arm length `l1 = 2a·cos ε`, mm.
     #[must_use]
-    pub fn half_turn_map(&self, t: f64) -> f64 {
-        self.ratio.half_turn_map(t, INVERSE_TOL_RAD)
+    pub fn l1_mm(&self) -> f64 {
+        2.0 * self.a_mm * self.idler_offset_rad.cos()
+    }
+
+    /// The angle round the intermediate gear from its sun contact to its planet contact,
+    /// `c = π + 2ε`, rad.
+    #[must_use]
+    pub fn contact_shift_rad(&self) -> f64 {
+        PI + 2.0 * self.idler_offset_rad
+    }
+
+    /// Sun design angle at the contact at carrier angle φH, `t′ = φH + ε − φ_ref`, rad.
+    #[must_use]
+    pub fn contact_angle(&self, phi_h: f64) -> f64 {
+        phi_h + self.idler_offset_rad - self.sun_phase_rad
+    }
+
+    /// `S(t′) = Φ⁻¹(Φ(t′) + π + 2ε)`, rad.
+    #[must_use]
+    pub fn contact_map(&self, t: f64) -> f64 {
+        self.ratio
+            .contact_map(t, self.contact_shift_rad(), INVERSE_TOL_RAD)
     }
 
     /// Planet relative rotation `ψ3(t′) = S(t′) − S(0)`, rad (docs/math/chain.md §2).
     #[must_use]
     pub fn psi3(&self, t: f64) -> f64 {
-        self.half_turn_map(t) - self.half_turn_map(0.0)
+        self.contact_map(t) - self.contact_map(0.0)
+    }
+
+    /// Intermediate axis D at carrier angle φH (rad), mm, relative to the carrier axis.
+    #[must_use]
+    pub fn intermediate_center(&self, phi_h: f64) -> [f64; 2] {
+        let d = phi_h + self.idler_offset_rad;
+        [self.a_mm * d.cos(), self.a_mm * d.sin()]
     }
 
     /// Intermediate orientation θ2 at carrier angle φH, rad.
     #[must_use]
     pub fn intermediate_orientation(&self, phi_h: f64) -> f64 {
-        phi_h + self.ratio.integral(phi_h - self.sun_phase_rad)
+        phi_h + self.idler_offset_rad + self.ratio.integral(self.contact_angle(phi_h))
     }
 
     /// Planet orientation θ3 at carrier angle φH, rad.
     #[must_use]
     pub fn planet_orientation(&self, phi_h: f64) -> f64 {
-        phi_h + PI - self.half_turn_map(phi_h - self.sun_phase_rad)
+        phi_h + PI - self.idler_offset_rad - self.contact_map(self.contact_angle(phi_h))
     }
 
     /// Needle direction `β = θ3 + γ`, rad.
@@ -122,6 +184,35 @@ impl Mechanism {
             l1 * phi_h.cos() + self.l3_mm * b.cos(),
             l1 * phi_h.sin() + self.l3_mm * b.sin(),
         ]
+    }
+
+    /// Largest pitch radius of the sun and of its copy, the planet, `a·i_max/(1 + i_max)`, mm.
+    #[must_use]
+    pub fn sun_max_radius_mm(&self) -> f64 {
+        let i = self.ratio.range()[1];
+        self.a_mm * i / (1.0 + i)
+    }
+
+    /// The gap the sun and the planet leave between their pitch curves in the worst case, both
+    /// at their largest radius facing each other across the carrier: `l1 − 2·r_max`, mm (the
+    /// collinear train's is `2a/(1 + i_max)`, twice the intermediate gear's smallest radius;
+    /// check C13).
+    #[must_use]
+    pub fn sun_planet_gap_mm(&self) -> f64 {
+        self.l1_mm() - 2.0 * self.sun_max_radius_mm()
+    }
+
+    /// The largest idler offset |ε| (rad) that keeps [`Self::sun_planet_gap_mm`] at least
+    /// `gap_mm` (mm) at this centre distance and ratio, `cos ε ≥ (2·r_max + gap)/(2a)`, and
+    /// within [`MAX_IDLER_OFFSET_RAD`]; 0 when even the collinear train has less gap.
+    #[must_use]
+    pub fn max_idler_offset_rad(&self, gap_mm: f64) -> f64 {
+        let c = (2.0 * self.sun_max_radius_mm() + gap_mm) / (2.0 * self.a_mm);
+        if c >= 1.0 {
+            0.0
+        } else {
+            c.acos().min(MAX_IDLER_OFFSET_RAD)
+        }
     }
 
     /// Sun pitch radius against the design polar angle: `r1 = a·i/(1 + i)`, mm.
@@ -165,12 +256,15 @@ impl Mechanism {
     /// Planet orientations θ3 (rad) at the `n` uniform carrier angles `φ_k = 2πk/n`.
     #[must_use]
     pub fn planet_orientations_uniform(&self, n: usize) -> Vec<f64> {
-        let s = self
-            .ratio
-            .half_turn_map_uniform(-self.sun_phase_rad, n, INVERSE_TOL_RAD);
+        let s = self.ratio.contact_map_uniform(
+            self.contact_angle(0.0),
+            self.contact_shift_rad(),
+            n,
+            INVERSE_TOL_RAD,
+        );
         s.iter()
             .enumerate()
-            .map(|(k, s)| TAU * k as f64 / n as f64 + PI - s)
+            .map(|(k, s)| TAU * k as f64 / n as f64 + PI - self.idler_offset_rad - s)
             .collect()
     }
 
@@ -211,6 +305,7 @@ mod tests {
             ratio: SunRatio::new(a, vec![0.0; 30]).unwrap(),
             sun_phase_rad: 0.0,
             needle_angle_rad: 0.0,
+            idler_offset_rad: 0.0,
         }
     }
 
@@ -241,6 +336,69 @@ mod tests {
             .map(|(a, b)| (a - b).abs())
             .fold(0.0, f64::max);
         assert!(dev < 1e-11, "{dev}");
+    }
+
+    /// A train off the collinear layout rolls: at every carrier angle both meshes touch on
+    /// their lines of centres (`r + ρ = a` from the sampled pitch curves, placed by the
+    /// orientations) and their pitch points move together (the relative turn rates in the
+    /// inverse ratio of the radii, by central differences of the orientations).
+    #[test]
+    fn an_offset_train_meshes_and_rolls_on_both_contacts() {
+        let m = Mechanism {
+            ratio: SunRatio::new(vec![0.25, 0.04, -0.02], vec![0.05, -0.03, 0.01]).unwrap(),
+            sun_phase_rad: 0.4,
+            idler_offset_rad: 0.3,
+            ..g1()
+        };
+        let n = 8192;
+        let (sun, mid, planet) = (
+            m.sun_curve(n).unwrap(),
+            m.intermediate_curve(n).unwrap(),
+            m.planet_curve(n).unwrap(),
+        );
+        let dir = |p: [f64; 2], q: [f64; 2]| (q[1] - p[1]).atan2(q[0] - p[0]);
+        let h = 1e-5;
+        for j in 0..24 {
+            let phi = 0.26 * j as f64;
+            let d = m.intermediate_center(phi);
+            let a = [m.l1_mm() * phi.cos(), m.l1_mm() * phi.sin()];
+            assert!((d[0].hypot(d[1]) - m.a_mm).abs() < 1e-12);
+            assert!(((a[0] - d[0]).hypot(a[1] - d[1]) - m.a_mm).abs() < 1e-12);
+            let (t2, t3) = (m.intermediate_orientation(phi), m.planet_orientation(phi));
+            let r_sun = sun.radius_mm(dir([0.0, 0.0], d));
+            let r_mid_sun = mid.radius_mm(dir(d, [0.0, 0.0]) - t2);
+            let r_mid_planet = mid.radius_mm(dir(d, a) - t2);
+            let r_planet = planet.radius_mm(dir(a, d) - t3);
+            assert!(
+                (r_sun + r_mid_sun - m.a_mm).abs() < 1e-7,
+                "sun mesh at {phi}"
+            );
+            assert!(
+                (r_planet + r_mid_planet - m.a_mm).abs() < 1e-7,
+                "planet mesh at {phi}"
+            );
+            // Turn rates relative to the carrier: sun −1, intermediate θ2′ − 1, planet θ3′ − 1.
+            let w2 = (m.intermediate_orientation(phi + h) - m.intermediate_orientation(phi - h))
+                / (2.0 * h)
+                - 1.0;
+            let w3 =
+                (m.planet_orientation(phi + h) - m.planet_orientation(phi - h)) / (2.0 * h) - 1.0;
+            assert!(
+                (r_sun - r_mid_sun * w2).abs() < 1e-6,
+                "sun rolling at {phi}"
+            );
+            assert!(
+                (r_mid_planet * w2 + r_planet * w3).abs() < 1e-6,
+                "planet rolling at {phi}"
+            );
+        }
+        // ε = 0 is the patent's train: l1 = 2a and the half-turn map.
+        let c = g1();
+        assert_eq!(c.l1_mm(), 2.0 * c.a_mm);
+        assert_eq!(
+            c.contact_map(0.7),
+            c.ratio.half_turn_map(0.7, INVERSE_TOL_RAD)
+        );
     }
 
     #[test]

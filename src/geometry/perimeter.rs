@@ -103,6 +103,7 @@ mod tests {
             ratio: ratio(),
             sun_phase_rad: 0.0,
             needle_angle_rad: 0.0,
+            idler_offset_rad: 0.0,
         };
         let sun = m.sun_curve(7200).unwrap().perimeter_mm(1e-10);
         let mid = m.intermediate_curve(7200).unwrap().perimeter_mm(1e-10);

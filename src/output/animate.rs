@@ -225,7 +225,7 @@ pub fn animated_svg(sim: &Simulation, target: &[[f64; 2]], opts: &AnimationOptio
         dur: format!("{:.3}s", opts.seconds),
     };
     world = world
-        .add(carrier_group(&anim, &turn, o, 2.0 * sim.assembly.a_mm))
+        .add(carrier_group(&anim, &turn, o, sim.assembly.l1_mm()))
         .add(use_of("sun").set("transform", format!("translate({:.3},{:.3})", o[0], o[1])));
     for arm in 0..2 {
         for group in arm_groups(&anim, &turn, arm) {

@@ -145,9 +145,12 @@ pub fn ratio_plot(design: &Design, path: &Path) -> Result<(), OutputError> {
         .collect();
     // S(t) along the turn, each solve started from its neighbours' (i21 is periodic, so the
     // closing point takes S(0)).
-    let s = m
-        .ratio
-        .half_turn_map_uniform(0.0, n, crate::geometry::mechanism::INVERSE_TOL_RAD);
+    let s = m.ratio.contact_map_uniform(
+        0.0,
+        m.contact_shift_rad(),
+        n,
+        crate::geometry::mechanism::INVERSE_TOL_RAD,
+    );
     let i31: Vec<(f64, f64)> = (0..=n)
         .map(|k| {
             let t = TAU * k as f64 / n as f64;
@@ -156,7 +159,8 @@ pub fn ratio_plot(design: &Design, path: &Path) -> Result<(), OutputError> {
         .collect();
     let target: Vec<(f64, f64)> = {
         let law = &design.inversion.law;
-        let tau = m.sun_phase_rad - design.inversion.phi_h0_rad;
+        // The sun angle t meets the intermediate gear at carrier angle t + φ_ref − ε.
+        let tau = m.sun_phase_rad - m.idler_offset_rad - design.inversion.phi_h0_rad;
         (0..=n)
             .map(|k| {
                 let t = TAU * k as f64 / n as f64;

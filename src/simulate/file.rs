@@ -14,6 +14,9 @@ pub struct DesignFile {
     pub l3: f64,
     /// Centre distance a, mm.
     pub center_distance: f64,
+    /// Idler offset ε, degrees (0, the collinear train, when absent).
+    #[serde(default)]
+    pub idler_offset_deg: f64,
     /// Needle angle γ, degrees.
     pub needle_angle_deg: f64,
     /// Carrier.
@@ -116,6 +119,16 @@ impl DesignFile {
                 format!("{} must be 1 (CCW) or -1 (CW)", self.carrier.direction),
             ));
         }
+        let max_offset = crate::geometry::mechanism::MAX_IDLER_OFFSET_RAD.to_degrees();
+        if !(self.idler_offset_deg.abs() <= max_offset) {
+            return Err(bad(
+                "idler_offset_deg",
+                format!(
+                    "{} must be an angle in degrees within ±{max_offset}",
+                    self.idler_offset_deg
+                ),
+            ));
+        }
         if !self.carrier.center.iter().all(|v| v.is_finite()) {
             return Err(bad(
                 "carrier.center",
@@ -169,6 +182,7 @@ impl DesignFile {
             center_mm: self.carrier.center,
             direction: self.carrier.direction,
             a_mm: a,
+            idler_offset_rad: self.idler_offset_deg.to_radians(),
             l3_mm: l3,
             needle_angle_rad: self.needle_angle_deg.to_radians(),
             sun: curve(&self.gears.sun, "sun")?,

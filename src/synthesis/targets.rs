@@ -186,6 +186,7 @@ impl TargetProblem {
             ratio: SunRatio::new_unchecked(x[4..4 + n].to_vec(), x[4 + n..].to_vec()),
             sun_phase_rad: x[3],
             needle_angle_rad: x[2],
+            idler_offset_rad: 0.0,
         }
     }
 

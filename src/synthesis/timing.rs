@@ -313,6 +313,7 @@ impl TimingFit<'_> {
             ratio,
             sun_phase_rad: x[0],
             needle_angle_rad: x[1],
+            idler_offset_rad: 0.0,
         })
     }
 

@@ -67,7 +67,7 @@ fn g1_forward_model_reproduces_the_golden_file_and_tables() {
     assert!((lo - 0.7391304).abs() < 1e-7 && (hi - 1.3529412).abs() < 1e-7);
     for (j, g) in G1_I31.iter().enumerate() {
         let t = (30.0 * j as f64).to_radians();
-        let i31 = m.ratio.value(t) / m.ratio.value(m.half_turn_map(t));
+        let i31 = m.ratio.value(t) / m.ratio.value(m.contact_map(t));
         assert!((i31 - g).abs() < 1e-8, "t = {}", 30 * j);
     }
 }
@@ -162,6 +162,7 @@ fn g2_eccentric_circle_center_distance_and_law() {
         ratio,
         sun_phase_rad: 0.0,
         needle_angle_rad: 0.0,
+        idler_offset_rad: 0.0,
     };
     let golden = [
         0.0, 49.078251, 88.964691, 119.097941, 142.545037, 162.138930, 180.0,
@@ -193,6 +194,7 @@ fn g3_pi_periodic_ratio_translates_the_needle() {
         ratio: SunRatio::new(vec![0.0, 0.3], vec![0.0, 0.0]).unwrap(),
         sun_phase_rad: 0.0,
         needle_angle_rad: 0.3,
+        idler_offset_rad: 0.0,
     };
     for j in 0..50 {
         let t = 0.13 * j as f64;
@@ -214,6 +216,7 @@ fn g4_asymmetric_sun_is_compatible_with_known_origins() {
         ratio: raw,
         sun_phase_rad: 0.0,
         needle_angle_rad: 0.0,
+        idler_offset_rad: 0.0,
     };
     let law = NeedleLaw::from_fn(1024, |t| m.psi3(t));
     let c = compat::analyse(&law, 1024, 1e-13);
@@ -317,6 +320,7 @@ fn round_trip_on_exactly_traceable_random_mechanisms() {
             ratio,
             sun_phase_rad: 0.7 * seed as f64,
             needle_angle_rad: -1.0 + 0.2 * seed as f64,
+            idler_offset_rad: 0.0,
         };
         let pts: Vec<[f64; 2]> = points_of(&m, n, start)
             .into_iter()
@@ -481,7 +485,7 @@ mod properties {
             gamma in -PI..PI,
         ) {
             let ratio = random_sun(seed, k, amp);
-            let m = Mechanism { a_mm: a, l3_mm: 2.0 * a * l3_over_l1, ratio, sun_phase_rad: phase, needle_angle_rad: gamma };
+            let m = Mechanism { a_mm: a, l3_mm: 2.0 * a * l3_over_l1, ratio, sun_phase_rad: phase, needle_angle_rad: gamma, idler_offset_rad: 0.0 };
             let start = (start_frac * n as f64) as usize;
             let pts: Vec<[f64; 2]> = points_of(&m, n, start)
                 .into_iter()
@@ -510,6 +514,7 @@ fn regression_181_points_single_strong_harmonic() {
         ratio,
         sun_phase_rad: 4.161_634_546_462_12,
         needle_angle_rad: 2.035_514_902_160_055,
+        idler_offset_rad: 0.0,
     };
     let d = design(&traj_from(points_of(&m, 181, 0)), &DesignOptions::default()).unwrap();
     assert!((d.report.l1 - 2.0 * a).abs() < 0.01, "{}", d.report.l1);

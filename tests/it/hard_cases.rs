@@ -122,6 +122,7 @@ fn cusped_trajectory_is_designed_without_nan() {
         ratio: SunRatio::new((1..=40).map(|k| 2.0 * e.powi(k)).collect(), vec![0.0; 40]).unwrap(),
         sun_phase_rad: 0.3,
         needle_angle_rad: 0.4,
+        idler_offset_rad: 0.0,
     };
     let t = traj((0..720).map(|k| m.tip(TAU * k as f64 / 720.0)).collect()).unwrap();
     let d = design(&t, &DesignOptions::default()).unwrap();
@@ -151,6 +152,7 @@ fn ratios_beyond_the_bounds_are_designed_within_them() {
         ratio: SunRatio::new((1..=40).map(|k| 2.0 * e.powi(k)).collect(), vec![0.0; 40]).unwrap(),
         sun_phase_rad: 0.0,
         needle_angle_rad: -1.2,
+        idler_offset_rad: 0.0,
     };
     let t = traj((0..360).map(|k| m.tip((k as f64).to_radians())).collect()).unwrap();
     let mut opts = DesignOptions::default();

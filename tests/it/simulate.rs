@@ -26,6 +26,7 @@ fn g1_sim() -> Simulation {
         ratio: SunRatio::new((1..=30).map(|k| 2.0 * e.powi(k)).collect(), vec![0.0; 30]).unwrap(),
         sun_phase_rad: 0.0,
         needle_angle_rad: (-70f64).to_radians(),
+        idler_offset_rad: 0.0,
     };
     Simulation::new(Assembly::from_mechanism(&m, [0.0, 0.0], 1, 720).unwrap())
 }

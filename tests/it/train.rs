@@ -348,6 +348,7 @@ fn ratio_amplitude_policy_refits_the_needle_and_states_the_round_trip() {
         .unwrap(),
         sun_phase_rad: r.sun_phase_deg.unwrap().to_radians(),
         needle_angle_rad: r.needle_angle_deg.unwrap().to_radians(),
+        idler_offset_rad: 0.0,
     };
     let n = r.options.roundtrip_samples;
     let path: Vec<[f64; 2]> = (0..n)

@@ -191,10 +191,11 @@ impl ExactModel {
             carrier_deg: phi_h_rad.to_degrees(),
         };
         const TOL: f64 = 1e-14;
-        // Mesh 1: sun (fixed, centre O) drives the intermediate.
-        let radial = e(phi);
-        let tangential = e(phi + FRAC_PI_2);
-        let c2 = radial * (self.a + x[PIN_D[0]]) + tangential * x[PIN_D[1]];
+        // Mesh 1: sun (fixed, centre O) drives the intermediate, whose axis D sits at the idler
+        // offset ε from the carrier line (its pin error radial and tangential to OD).
+        let offset = r.ccw_idler_offset();
+        let c2 =
+            e(phi + offset) * (self.a + x[PIN_D[0]]) + e(phi + offset + FRAC_PI_2) * x[PIN_D[1]];
         let u12 = c2 * (1.0 / norm(c2));
         let k1 = self
             .contact(
@@ -215,7 +216,7 @@ impl ExactModel {
         let theta2 = Self::driven_angle(c2, p2, &k1, x[BACKLASH[0]], u12)
             .ok_or_else(|| no_contact("sun–intermediate"))?;
         // Mesh 2: intermediate drives the planet (opposite flank).
-        let c3 = radial * (2.0 * self.a + x[PIN_A[0]]) + tangential * x[PIN_A[1]];
+        let c3 = e(phi) * (r.l1_mm() + x[PIN_A[0]]) + e(phi + FRAC_PI_2) * x[PIN_A[1]];
         let d23 = c3 - c2;
         let u23 = d23 * (1.0 / norm(d23));
         let k2 = self

@@ -11,6 +11,8 @@ use std::f64::consts::{PI, TAU};
 /// Tip, velocity and acceleration w.r.t. φ, and the quantities the Jacobian needs.
 #[derive(Debug, Clone)]
 pub(super) struct TipEval {
+    /// Carrier angle φ, rad.
+    pub(super) phi: f64,
     pub(super) b: [f64; 2],
     pub(super) v: [f64; 2],
     pub(super) acc: [f64; 2],
@@ -28,22 +30,24 @@ pub(super) fn tip_eval(m: &Mechanism, phi: f64) -> TipEval {
 /// [`tip_eval`] at `phi + step` from the evaluation `e` at `phi`: the contact angle `S` is solved
 /// from its first-order prediction `S + S′·step` (`S′ = i(t)/i(S)`).
 pub(super) fn tip_eval_next(m: &Mechanism, e: &TipEval, step: f64) -> TipEval {
-    tip_eval_near(m, e.t + m.sun_phase_rad + step, e.s + step * e.i_t / e.i_s)
+    tip_eval_near(m, e.phi + step, e.s + step * e.i_t / e.i_s)
 }
 
 /// The evaluation at carrier angle `phi` with the contact angle `S` solved from
 /// `contact_guess_rad` (NaN: no guess, a cold solve): one Halley step where the guess is close,
 /// else Newton ([`crate::geometry::fourier::SunRatio::inverse_integral_with_slopes`]).
 fn tip_eval_near(m: &Mechanism, phi: f64, contact_guess_rad: f64) -> TipEval {
-    let t = phi - m.sun_phase_rad;
+    let t = m.contact_angle(phi);
     let (fi_t, i_t) = m.ratio.integral_and_eval3(t);
-    let (s, i_s) =
-        m.ratio
-            .inverse_integral_with_slopes(fi_t + PI, contact_guess_rad, INVERSE_TOL_RAD);
+    let (s, i_s) = m.ratio.inverse_integral_with_slopes(
+        fi_t + m.contact_shift_rad(),
+        contact_guess_rad,
+        INVERSE_TOL_RAD,
+    );
     tip_eval_with(m, phi, (t, i_t), (s, i_s))
 }
 
-/// The evaluation at carrier angle `phi` (`t = phi − φ_ref`, with the ratio's `[i, i′, i″]`
+/// The evaluation at carrier angle `phi` (`t = phi + ε − φ_ref`, with the ratio's `[i, i′, i″]`
 /// there) with the contact angle `s = S(t)` and the ratio's `[i, i′]` there.
 fn tip_eval_with(
     m: &Mechanism,
@@ -51,15 +55,16 @@ fn tip_eval_with(
     (t, [i_t, di_t, _]): (f64, [f64; 3]),
     (s, [i_s, di_s]): (f64, [f64; 2]),
 ) -> TipEval {
-    let beta = phi + PI - s + m.needle_angle_rad;
+    let beta = phi + PI - m.idler_offset_rad - s + m.needle_angle_rad;
     let (sp, cp) = phi.sin_cos();
     let (sb, cb) = beta.sin_cos();
-    let (l1, l3) = (2.0 * m.a_mm, m.l3_mm);
+    let (l1, l3) = (m.l1_mm(), m.l3_mm);
     let ds = i_t / i_s;
     let db = 1.0 - ds;
     // β″ = −d/dφ (i(t)/i(S)) = −(i′(t)·i(S) − i(t)·i′(S)·S′)/i(S)².
     let ddb = -(di_t * i_s - i_t * di_s * ds) / (i_s * i_s);
     TipEval {
+        phi,
         b: [l1 * cp + l3 * cb, l1 * sp + l3 * sb],
         v: [-l1 * sp - l3 * sb * db, l1 * cp + l3 * cb * db],
         acc: [
@@ -136,16 +141,22 @@ pub(super) fn normal_residual(e: &TipEval, p: [f64; 2]) -> (f64, [f64; 2]) {
     }
 }
 
-/// Jacobian row of the signed distance `d = n·(P − B)` (see the module doc).
+/// Jacobian row of the signed distance `d = n·(P − B)` (see the module doc); a row one longer
+/// than `4 + 2K` also gets the idler offset's column, last.
 pub(super) fn point_row(m: &Mechanism, e: &TipEval, n: [f64; 2], row: &mut [f64]) {
     let k = m.ratio.order();
     let l3 = m.l3_mm;
-    let (sp, cp) = (e.t + m.sun_phase_rad).sin_cos();
+    let (sp, cp) = e.phi.sin_cos();
     let (sb, cb) = e.beta.sin_cos();
     let ne_phi = n[0] * cp + n[1] * sp;
     let ne_beta = n[0] * cb + n[1] * sb;
     let ne_perp = -n[0] * sb + n[1] * cb;
-    row[0] = -2.0 * ne_phi;
+    let (se, ce) = m.idler_offset_rad.sin_cos();
+    row[0] = -2.0 * ce * ne_phi;
+    if let Some(r) = row.get_mut(4 + 2 * k) {
+        // ∂B/∂ε = −2a·sin ε·e(φ) + l3·e⊥(β)·∂β/∂ε, ∂β/∂ε = −1 − (i(t) + 2)/i(S).
+        *r = 2.0 * m.a_mm * se * ne_phi + l3 * ne_perp * (1.0 + (e.i_t + 2.0) / e.i_s);
+    }
     row[1] = -ne_beta;
     row[2] = -l3 * ne_perp;
     row[3] = -l3 * ne_perp * (e.i_t / e.i_s);
@@ -309,28 +320,34 @@ mod tests {
 
     #[test]
     fn jacobian_matches_finite_differences() {
-        let m = mech();
-        let p = [150.0, -120.0];
-        let (phi, e) = project(&m, p, 5.0);
-        let (_, n) = normal_residual(&e, p);
-        let mut row = vec![0.0; 4 + 2 * 3];
-        point_row(&m, &e, n, &mut row);
-        let q = to_params(&m);
-        for c in 0..q.len() {
-            let h = 1e-6;
-            let d = |s: f64| {
-                let mut qq = q.clone();
-                qq[c] += s * h;
-                let mm = from_params(&qq, 3);
-                let b = mm.tip(phi);
-                n[0] * (p[0] - b[0]) + n[1] * (p[1] - b[1])
+        // The collinear train and one with its intermediate axis 0.2 rad off the carrier line.
+        for eps in [0.0, 0.2] {
+            let m = Mechanism {
+                idler_offset_rad: eps,
+                ..mech()
             };
-            let fd = (d(1.0) - d(-1.0)) / (2.0 * h);
-            assert!(
-                (fd - row[c]).abs() < 1e-5 * (1.0 + fd.abs()),
-                "param {c}: {fd} vs {}",
-                row[c]
-            );
+            let p = [150.0, -120.0];
+            let (phi, e) = project(&m, p, 5.0);
+            let (_, n) = normal_residual(&e, p);
+            let mut row = vec![0.0; 4 + 2 * 3 + 1];
+            point_row(&m, &e, n, &mut row);
+            let q = to_params(&m, true);
+            for c in 0..q.len() {
+                let h = 1e-6;
+                let d = |s: f64| {
+                    let mut qq = q.clone();
+                    qq[c] += s * h;
+                    let mm = from_params(&qq, 3, f64::NAN);
+                    let b = mm.tip(phi);
+                    n[0] * (p[0] - b[0]) + n[1] * (p[1] - b[1])
+                };
+                let fd = (d(1.0) - d(-1.0)) / (2.0 * h);
+                assert!(
+                    (fd - row[c]).abs() < 1e-5 * (1.0 + fd.abs()),
+                    "ε = {eps}, param {c}: {fd} vs {}",
+                    row[c]
+                );
+            }
         }
     }
 

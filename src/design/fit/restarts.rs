@@ -143,6 +143,7 @@ fn perturbed(m: &Mechanism, n: usize) -> Vec<Mechanism> {
                 ratio: SunRatio::new(a, b).ok()?,
                 sun_phase_rad: m.sun_phase_rad + jitter(0.05),
                 needle_angle_rad: m.needle_angle_rad + jitter(0.05),
+                idler_offset_rad: 0.0,
             })
         })
         .collect()

@@ -13,21 +13,28 @@ use nalgebra::{DMatrix, DVector};
 use rayon::prelude::*;
 use std::f64::consts::TAU;
 
-/// Parameters ↔ mechanism: `[a, l3, γ, φ_ref, a_1..a_K, b_1..b_K]`.
-pub(super) fn to_params(m: &Mechanism) -> Vec<f64> {
+/// Parameters ↔ mechanism: `[a, l3, γ, φ_ref, a_1..a_K, b_1..b_K]`, and the idler offset ε
+/// last when it is free (`free_offset`).
+pub(super) fn to_params(m: &Mechanism, free_offset: bool) -> Vec<f64> {
     let mut p = vec![m.a_mm, m.l3_mm, m.needle_angle_rad, m.sun_phase_rad];
     p.extend_from_slice(m.ratio.cos_coefficients());
     p.extend_from_slice(m.ratio.sin_coefficients());
+    if free_offset {
+        p.push(m.idler_offset_rad);
+    }
     p
 }
 
-pub(super) fn from_params(p: &[f64], k: usize) -> Mechanism {
+/// The mechanism of parameters `p` at order `k` ([`to_params`]); ε is `p`'s last entry when it
+/// has one, else `fixed_offset_rad`.
+pub(super) fn from_params(p: &[f64], k: usize, fixed_offset_rad: f64) -> Mechanism {
     Mechanism {
         a_mm: p[0],
         l3_mm: p[1],
         needle_angle_rad: p[2],
         sun_phase_rad: p[3],
         ratio: SunRatio::new_unchecked(p[4..4 + k].to_vec(), p[4 + k..4 + 2 * k].to_vec()),
+        idler_offset_rad: p.get(4 + 2 * k).copied().unwrap_or(fixed_offset_rad),
     }
 }
 
@@ -87,6 +94,11 @@ pub(super) struct Lm<'a> {
 }
 
 impl Lm<'_> {
+    /// Parameters of the fit: `4 + 2K`, and ε when it is free.
+    fn n_params(&self) -> usize {
+        4 + 2 * self.k + usize::from(self.opts.free_idler_offset)
+    }
+
     fn n_rows(&self) -> usize {
         self.pts.len() + COVERAGE_SAMPLES + LIMIT_SAMPLES * LIMIT_ROWS + 2 * self.k
     }
@@ -200,7 +212,7 @@ impl Lm<'_> {
     /// The Jacobian of [`Self::evaluate`]'s residuals at `m` into `j` (every row rewritten).
     fn jacobian(&self, m: &Mechanism, lin: &Linearisation, j: &mut DMatrix<f64>) {
         let k = self.k;
-        let np = 4 + 2 * k;
+        let np = self.n_params();
         let point_rows: Vec<Vec<f64>> = lin
             .points
             .par_iter()
@@ -277,7 +289,8 @@ impl Lm<'_> {
 
     /// Levenberg–Marquardt from `m`; returns the best admissible mechanism and iterations used.
     pub(super) fn run(&self, mut m: Mechanism, phis: &mut [f64]) -> (Mechanism, usize) {
-        let np = 4 + 2 * self.k;
+        let np = self.n_params();
+        let free = self.opts.free_idler_offset;
         let mut jac = DMatrix::zeros(self.n_rows(), np);
         let (mut r, mut current) = self.evaluate(&m, phis, None);
         self.jacobian(&m, &current, &mut jac);
@@ -288,7 +301,7 @@ impl Lm<'_> {
             iters += 1;
             let a = normal_matrix(&jac);
             let g = jac.tr_mul(&r);
-            let p0 = to_params(&m);
+            let p0 = to_params(&m, free);
             let mut accepted = false;
             while lambda < 1e12 {
                 let mut h = a.clone();
@@ -301,7 +314,7 @@ impl Lm<'_> {
                 };
                 let delta = ch.solve(&(-&g));
                 let p: Vec<f64> = p0.iter().zip(delta.iter()).map(|(x, d)| x + d).collect();
-                let mut trial = from_params(&p, self.k);
+                let mut trial = from_params(&p, self.k, m.idler_offset_rad);
                 if !(trial.a_mm > 0.0 && trial.l3_mm > 0.0) {
                     lambda *= 4.0;
                     continue;
@@ -361,8 +374,9 @@ fn normal_matrix(j: &DMatrix<f64>) -> DMatrix<f64> {
     a
 }
 
-/// Makes `m` admissible: its ratio within the gear limits, and with a given pitch perimeter its
-/// centre distance `a = L/L̂(i)` ([`crate::geometry::perimeter`]).
+/// Makes `m` admissible: its ratio within the gear limits, with a given pitch perimeter its
+/// centre distance `a = L/L̂(i)` ([`crate::geometry::perimeter`]), and its idler offset within
+/// what keeps the sun and the planet apart ([`max_idler_offset_rad`]).
 pub(super) fn admit(m: &mut Mechanism, opts: &FitOptions) {
     match opts.perimeter_mm {
         Some(l) => {
@@ -370,5 +384,9 @@ pub(super) fn admit(m: &mut Mechanism, opts: &FitOptions) {
             m.a_mm = l / unit_perimeter(&m.ratio);
         }
         None => m.ratio = opts.limits.project(&m.ratio, m.a_mm),
+    }
+    if m.idler_offset_rad != 0.0 {
+        let max = m.max_idler_offset_rad(opts.sun_planet_gap_mm);
+        m.idler_offset_rad = m.idler_offset_rad.clamp(-max, max);
     }
 }

@@ -5,6 +5,7 @@ use super::layout::{Layout, planet_law, sun_law};
 use super::pending::PendingTrainMesh;
 use super::{ToothedTrain, TrainError, TrainPolicy, TrainRoundTrip, TrainTeethOptions};
 use crate::design::Design;
+use crate::design::checks::deviations_as_designed;
 use crate::geometry::assembly::{Assembly, Rebuilt};
 use crate::math::polyline::{distances_to_polyline, hausdorff_mm};
 use crate::teeth::ToothPolicy;
@@ -29,7 +30,7 @@ pub fn tooth_train(
     opts: &TrainTeethOptions,
     progress: &(dyn Fn(u64) + Sync),
 ) -> Result<ToothedTrain, TrainError> {
-    verified(train_from(asm, None, target_mm, opts)?, progress)
+    verified(train_from(asm, None, (target_mm, None), opts)?, progress)
 }
 
 /// [`tooth_train`] on a fresh design, with every policy of docs/math/teeth.md §12.1 including
@@ -53,6 +54,9 @@ pub fn tooth_design_deferred(
     accuracy_mm: f64,
 ) -> Result<(ToothedTrain, Option<PendingTrainMesh>), TrainError> {
     let target = &design.report.target_points;
+    // Measured as check C12 measures the design, at the carrier angles where its tip passes the
+    // points, unless the policy re-times the train (ratio-amplitude refits its phases).
+    let as_designed = (target.as_slice(), Some(design.point_angles_rad.as_slice()));
     if opts.policy == TrainPolicy::Designed {
         let m = opts.toothing.module_mm;
         let z = match &design.report.module {
@@ -68,12 +72,12 @@ pub fn tooth_design_deferred(
             policy: TrainPolicy::ScaleCenterDistance(ToothPolicy::Exact(z)),
             ..*opts
         };
-        let (mut train, pending) = train_from(&design.assembly, None, target, &exact)?;
+        let (mut train, pending) = train_from(&design.assembly, None, as_designed, &exact)?;
         train.report.options.policy = TrainPolicy::Designed;
         return Ok((train, pending));
     }
     if opts.policy != TrainPolicy::RatioAmplitude {
-        return train_from(&design.assembly, None, target, opts);
+        return train_from(&design.assembly, None, as_designed, opts);
     }
     let n = design.assembly.sun.len();
     let fit = rescale_ratio_amplitude(&design.mechanism, opts.toothing.module_mm, n, accuracy_mm)?;
@@ -89,7 +93,7 @@ pub fn tooth_design_deferred(
         policy: TrainPolicy::ScaleCenterDistance(ToothPolicy::Exact(fit.z)),
         ..*opts
     };
-    let (mut train, pending) = train_from(&asm, Some(&design.assembly), target, &exact)?;
+    let (mut train, pending) = train_from(&asm, Some(&design.assembly), (target, None), &exact)?;
     let r = &mut train.report;
     r.options.policy = TrainPolicy::RatioAmplitude;
     r.ratio_amplitude = fit.lambda;
@@ -157,11 +161,12 @@ fn verified(
 
 /// Teeth on the train `asm` (world frame): the options checked, the layout scaled to an integer
 /// tooth count, the three gears cut (and relieved), the mesh check left pending and the round
-/// trip against `target_mm` compared with `designed` (`asm` when `None`).
+/// trip against the target points (mm, world frame; with the design's carrier angles at them
+/// when known, [`round_trip`]) compared with `designed` (`asm` when `None`).
 fn train_from(
     asm: &Assembly,
     designed: Option<&Assembly>,
-    target_mm: &[[f64; 2]],
+    target_mm: (&[[f64; 2]], Option<&[f64]>),
     opts: &TrainTeethOptions,
 ) -> Result<(ToothedTrain, Option<PendingTrainMesh>), TrainError> {
     check_options(opts)?;
@@ -217,24 +222,37 @@ fn check_options(opts: &TrainTeethOptions) -> Result<(), TrainError> {
 }
 
 /// Round trip of the final gears (`rebuilt`) and of the unscaled ones (`designed`, for the
-/// comparison) over `n` carrier positions, against `target_mm`.
+/// comparison) over `n` carrier positions, against the target points. With the carrier angles
+/// at which the designed tip passes them (`angles`, rad, solved frame), measured as check C12
+/// measures the design ([`deviations_as_designed`]: the same numbers for a train made for the
+/// module); without, against the points' polyline.
 fn round_trip(
     designed: &Assembly,
     rebuilt: &Rebuilt,
-    target_mm: &[[f64; 2]],
+    (target_mm, angles): (&[[f64; 2]], Option<&[f64]>),
     n: usize,
 ) -> TrainRoundTrip {
-    let (before, after) = rayon::join(|| designed.rebuild().traced(n), || rebuilt.traced(n));
+    let designed = designed.rebuild();
+    let (before, after) = rayon::join(|| designed.traced(n), || rebuilt.traced(n));
     let shift = before
         .iter()
         .zip(&after)
         .map(|(p, q)| (p[0] - q[0]).hypot(p[1] - q[1]))
         .fold(0.0, f64::max);
+    let measure = |r: &Rebuilt, traced: &[[f64; 2]]| match angles {
+        Some(angles) => deviations_as_designed(r, target_mm, angles, n),
+        None => (
+            max_tip_distance(traced, target_mm),
+            hausdorff_mm(traced, target_mm),
+        ),
+    };
+    let ((before_max, before_h), (after_max, after_h)) =
+        rayon::join(|| measure(&designed, &before), || measure(rebuilt, &after));
     TrainRoundTrip {
-        before_max_deviation_mm: max_tip_distance(&before, target_mm),
-        max_deviation_mm: max_tip_distance(&after, target_mm),
-        hausdorff_mm: hausdorff_mm(&after, target_mm),
-        before_hausdorff_mm: hausdorff_mm(&before, target_mm),
+        before_max_deviation_mm: before_max,
+        max_deviation_mm: after_max,
+        hausdorff_mm: after_h,
+        before_hausdorff_mm: before_h,
         max_tip_shift_mm: shift,
     }
 }

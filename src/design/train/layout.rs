@@ -61,36 +61,45 @@ fn arc_frames(fin: &Assembly) -> [ArcFrame; 3] {
 }
 
 /// Mating phases at φH = 0 (the train module's doc): the arc positions (mm) of tooth 0 of the sun, the
-/// intermediate gear and the planet, at `z` teeth on the sun's frame.
+/// intermediate gear and the planet, at `z` teeth on the sun's frame. At φH = 0 the intermediate
+/// gear faces the sun along D→O (world angle π + ε) and the planet along D→A (−ε).
 fn mating_phases(fin: &Assembly, rebuilt: &Rebuilt, sun_frame: &ArcFrame, z: u32) -> [f64; 3] {
     let acc = 1e-12 * fin.a_mm;
+    let eps = fin.idler_offset_rad;
     let pose0 = rebuilt.pose(0.0);
     let (th2_0, th3_0) = (pose0.intermediate_angle_rad, pose0.planet_angle_rad);
     let p = sun_frame.length_mm() / f64::from(z);
     let phase_sun = 0.0;
-    let s_mid_sun = arc_at(&fin.intermediate, PI - th2_0, acc);
-    let phase_mid = s_mid_sun + 0.5 * p;
-    let s_mid_planet = arc_at(&fin.intermediate, -th2_0, acc);
+    // The sun (tooth 0 at its arc 0) touches at its body angle ε: its tooth nearest the contact
+    // is `s_sun` behind it, and the intermediate gear's tooth space as far ahead on its side.
+    let s_sun = arc_at(&fin.sun, eps, acc);
+    let s_mid_sun = arc_at(&fin.intermediate, PI + eps - th2_0, acc);
+    let phase_mid = s_mid_sun + s_sun + 0.5 * p;
+    let s_mid_planet = arc_at(&fin.intermediate, -eps - th2_0, acc);
     let delta = (s_mid_planet - phase_mid).rem_euclid(p);
-    let s_planet = arc_at(&fin.planet, PI - th3_0, acc);
+    let s_planet = arc_at(&fin.planet, PI - eps - th3_0, acc);
     let phase_planet = s_planet + delta + 0.5 * p;
     [phase_sun, phase_mid, phase_planet]
 }
 
 /// The sun → intermediate mesh at carrier cycle fraction `u` (φH = 2πu): (driver angle φ, law
-/// angle ψ), rad.
+/// angle ψ), rad, seen from its line of centres OD at world angle `λ = φH + ε`: `φ = −λ` (the
+/// fixed sun), `ψ = λ − θ2`.
 pub(super) fn sun_law(rebuilt: &Rebuilt, u: f64) -> (f64, f64) {
     let phi_h = TAU * u;
-    (-phi_h, phi_h - rebuilt.pose(phi_h).intermediate_angle_rad)
+    let line = phi_h + rebuilt.assembly().idler_offset_rad;
+    (-line, line - rebuilt.pose(phi_h).intermediate_angle_rad)
 }
 
 /// The intermediate → planet mesh at carrier cycle fraction `u` (φH = 2πu): (driver angle φ, law
-/// angle ψ), rad.
+/// angle ψ), rad, seen from its line of centres DA at world angle `λ = φH − ε`: `φ = θ2 − λ`,
+/// `ψ = λ − θ3`.
 pub(super) fn planet_law(rebuilt: &Rebuilt, u: f64) -> (f64, f64) {
     let pose = rebuilt.pose(TAU * u);
+    let line = TAU * u - rebuilt.assembly().idler_offset_rad;
     (
-        pose.intermediate_angle_rad - TAU * u,
-        TAU * u - pose.planet_angle_rad,
+        pose.intermediate_angle_rad - line,
+        line - pose.planet_angle_rad,
     )
 }
 
@@ -216,8 +225,8 @@ impl<'o> Layout<'o> {
             scale: s,
             perimeter_mm: self.frames[0].length_mm(),
             center_distance_mm: a,
-            l1_mm: 2.0 * a,
-            radial_shift_mm: (s - 1.0) * 2.0 * unscaled_a_mm,
+            l1_mm: self.rebuilt.l1_mm(),
+            radial_shift_mm: (s - 1.0) * 2.0 * unscaled_a_mm * self.fin.idler_offset_rad.cos(),
             roundtrip,
             phase_mm: self.phases,
             undercut: TrainUndercut {

@@ -24,19 +24,22 @@ impl PendingTrainMesh {
         &self.check
     }
 
-    /// Verifies sun → intermediate (driver angle φ = −φH) and intermediate → planet (φ = θ2(φH) −
-    /// φH) side by side; `progress(1)` per verified position, `2·steps` in all.
+    /// Verifies sun → intermediate (driver angle φ = −(φH + ε), the sun seen from its line of
+    /// centres OD) and intermediate → planet (φ = θ2(φH) − (φH − ε), from DA) side by side, in the
+    /// laws of [`super::layout::sun_law`] and [`super::layout::planet_law`]; `progress(1)` per
+    /// verified position, `2·steps` in all.
     pub fn run(&self, progress: &(dyn Fn(u64) + Sync)) -> Result<TrainMesh, TrainError> {
         let rebuilt = &self.rebuilt;
+        let eps = rebuilt.assembly().idler_offset_rad;
         let theta2 = |phi_h: f64| rebuilt.pose(phi_h).intermediate_angle_rad;
-        let psi1 = |phi: f64| -phi - theta2(-phi);
-        // φ = θ2(φH) − φH increases with φH: inverted by a bracketed root.
-        let phi2 = |phi_h: f64| theta2(phi_h) - phi_h;
+        let psi1 = |phi: f64| -phi - theta2(-phi - eps);
+        // φ = θ2(φH) − φH + ε increases with φH: inverted by a bracketed root.
+        let phi2 = |phi_h: f64| theta2(phi_h) - phi_h + eps;
         let phi2_0 = phi2(0.0);
         let psi2 = |phi: f64| {
             let guess = phi - phi2_0;
             let phi_h = bracketed_root(|x| phi2(x) - phi, guess - 16.0, guess + 16.0, 1e-15);
-            phi_h - rebuilt.pose(phi_h).planet_angle_rad
+            phi_h - eps - rebuilt.pose(phi_h).planet_angle_rad
         };
         let [sun, mid, planet] = &self.outlines;
         // The two meshes are independent: checked side by side.

@@ -26,17 +26,23 @@ pub struct TrainMesh {
     pub intermediate_planet: MeshReport,
 }
 
-/// Round trip of the final (scaled) mechanism against the target trajectory.
+/// Round trip of the final (scaled) mechanism against the target trajectory. On a train put on
+/// a fresh design (`ncgear design --module`, [`super::tooth_design`]) the deviations are
+/// measured as check C12 measures the design — the largest synchronous deviation at the carrier
+/// angles where the designed tip passes the points, and the Hausdorff distance to the target
+/// curve read between the points in those angles — except under the ratio-amplitude policy,
+/// which re-times the train; there, and on a bare assembly ([`super::tooth_train`]), against the
+/// points' polyline.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct TrainRoundTrip {
-    /// Max distance of the traced tip from the target polyline, mm (designed gears, before the
-    /// tooth-count policy).
+    /// Largest deviation of the traced tip from the target, mm (designed gears, before the
+    /// tooth-count policy): the design's own C12 value where measured as it.
     pub before_max_deviation_mm: f64,
-    /// Max distance of the traced tip from the target polyline, mm (final gears).
+    /// Largest deviation of the traced tip from the target, mm (final gears).
     pub max_deviation_mm: f64,
-    /// Hausdorff distance traced ↔ target polyline, mm (final gears).
+    /// Hausdorff distance traced ↔ target, mm (final gears).
     pub hausdorff_mm: f64,
-    /// Hausdorff distance traced ↔ target polyline, mm (designed gears, before the tooth-count
+    /// Hausdorff distance traced ↔ target, mm (designed gears, before the tooth-count
     /// policy): equal to `hausdorff_mm` for a design made for the module.
     #[serde(default)]
     pub before_hausdorff_mm: f64,

@@ -27,6 +27,7 @@ fn ellipse_mechanism(e: f64) -> Mechanism {
         ratio: ncgear::geometry::golden::ellipse_ratio(e),
         sun_phase_rad: 0.0,
         needle_angle_rad: (-70f64).to_radians(),
+        idler_offset_rad: 0.0,
     }
 }
 
@@ -117,6 +118,7 @@ proptest! {
             ratio: random_sun(&raw, s),
             sun_phase_rad: sun_phase,
             needle_angle_rad: needle,
+            idler_offset_rad: 0.0,
         };
         let t = traced(&m, 720);
         let [tlo, thi] = m.ratio.range();
@@ -161,6 +163,7 @@ fn loops_cusps_and_near_tangencies_are_designed_or_refused() {
             ratio: ratio.clone(),
             sun_phase_rad: 0.3,
             needle_angle_rad: 0.4,
+            idler_offset_rad: 0.0,
         };
         let t = traced(&m, 720);
         // Full check sampling: the Hausdorff distance of a sharp loop needs dense samples.

@@ -195,6 +195,7 @@ fn reference_model_matches_the_mechanism() {
         ratio: ratio.clone(),
         sun_phase_rad: 0.7,
         needle_angle_rad: -1.1,
+        idler_offset_rad: 0.0,
     };
     let n = reference::GRID;
     let t = model::Train {

@@ -271,6 +271,7 @@ pub fn reference(points: &[[f64; 2]], seed: u64) -> Reference {
             .expect("a focus-ellipse series is positive"),
         sun_phase_rad: geo[3],
         needle_angle_rad: geo[2],
+        idler_offset_rad: 0.0,
     };
     if let Ok(f) = fit_points(points, &ellipse_start, &FitOptions::default()) {
         let m = &f.mechanism;
@@ -317,6 +318,7 @@ pub fn reference(points: &[[f64; 2]], seed: u64) -> Reference {
         ratio: SunRatio::fit_uniform(&fine.ratio.i, 64).expect("the reference ratio is positive"),
         sun_phase_rad: x[3],
         needle_angle_rad: x[2],
+        idler_offset_rad: 0.0,
     };
     let tables = fine.tables();
     let ratio_range = fine.extremes().ratio;

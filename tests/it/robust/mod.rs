@@ -218,6 +218,7 @@ macro_rules! fit_multistart_reference {
             .unwrap(),
             sun_phase_rad: case.train.sun_phase,
             needle_angle_rad: case.train.gamma,
+            idler_offset_rad: 0.0,
         };
         let mut rng = ChaCha8Rng::seed_from_u64(case.seed ^ 0xf17_5eed);
         let mut starts = vec![base.clone()];
@@ -253,6 +254,7 @@ macro_rules! fit_multistart_reference {
                 ratio,
                 sun_phase_rad: base.sun_phase_rad + rng.random_range(-0.05..0.05),
                 needle_angle_rad: base.needle_angle_rad + rng.random_range(-0.05..0.05),
+                idler_offset_rad: 0.0,
             });
         }
         let mut best = generating_reference(case).hausdorff_mm;
@@ -625,6 +627,7 @@ fn robust_forward_model_agrees_with_the_crate_mechanism() {
             ratio: SunRatio::new(ca, sb).unwrap(),
             sun_phase_rad: train.sun_phase,
             needle_angle_rad: train.gamma,
+            idler_offset_rad: 0.0,
         };
         let trace = train.trace(forward::DENSE_STEPS);
         for j in 0..72 {
