@@ -40,8 +40,10 @@ pub enum McError {
     },
 }
 
-/// Options of a Monte Carlo run.
-#[derive(Debug, Clone, Copy, PartialEq)]
+/// Options of a Monte Carlo run. (De)serialisable (a missing field takes its default, an unknown one is an error) and
+/// built with `with_*`.
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(default, deny_unknown_fields)]
 #[non_exhaustive]
 pub struct McOptions {
     /// Number of samples, `1..=MAX_SAMPLES` (default 50 000).
@@ -51,6 +53,12 @@ pub struct McOptions {
     /// Histogram bins, `1..=MAX_BINS` (default 60).
     pub bins: usize,
 }
+
+crate::builder::with_fields!(McOptions {
+    with_samples => samples: usize,
+    with_seed => seed: u64,
+    with_bins => bins: usize,
+});
 
 impl Default for McOptions {
     fn default() -> Self {
