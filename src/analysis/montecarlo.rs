@@ -182,8 +182,7 @@ fn check_bins(bins: usize) -> Result<(), McError> {
 /// ```
 /// use ncgear::analysis::montecarlo::{McOptions, run};
 /// use rand::RngExt;
-/// let mut opts = McOptions::default();
-/// (opts.samples, opts.seed, opts.bins) = (20_000, 7, 10);
+/// let opts = McOptions::default().with_samples(20_000).with_seed(7).with_bins(10);
 /// let (stats, values) = run(&opts, |rng, _| rng.random::<f64>(), &|_| {}).unwrap();
 /// // Uniform on [0, 1): mean 1/2 within 4 standard errors, std √(1/12).
 /// assert!((stats.mean - 0.5).abs() < 4.0 * stats.mean_std_error);

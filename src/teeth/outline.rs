@@ -431,8 +431,8 @@ pub(super) fn report_on(blank: &GearBlank<'_>) -> UndercutReport {
     report
 }
 
-/// The rack-generated outline of `blank`'s `z` teeth of module `module_mm` (docs/math/teeth.md
-/// §12.3; [`super::Generation::Rack`]).
+/// The rack-generated outline of `blank`'s `z` teeth of module `module_mm`
+/// (docs/math/teeth.md §12.3; [`super::Generation::Rack`]).
 ///
 /// Requirements: `L = z·π·m` to within 1e-6 relative (scale the curve with
 /// [`super::tooth_count`] first); the curve convex along every generating range; no undercut
