@@ -24,9 +24,9 @@ fn full_chain_g1_360(b: divan::Bencher) {
 #[divan::bench(args = [4, 8, 16, 32], sample_count = 10)]
 fn patent_route_order(b: divan::Bencher, k: usize) {
     let t = load("g1_ellipse.csv");
-    let mut opts = DesignOptions::default();
-    opts.order = Some(k);
-    opts.refine = RefineMode::Off;
+    let opts = DesignOptions::default()
+        .with_order(Some(k))
+        .with_refine(RefineMode::Off);
     b.bench(|| design(divan::black_box(&t), &opts).expect("G1"));
 }
 
@@ -43,8 +43,7 @@ fn designer_with_refinement(b: divan::Bencher) {
 #[divan::bench(args = [("g1_ellipse.csv", true), ("g1_ellipse.csv", false), ("designer_kidney.csv", true), ("designer_kidney.csv", false)], sample_count = 5)]
 fn gear_limits_cost(b: divan::Bencher, (name, limits): (&str, bool)) {
     let t = load(name);
-    let mut opts = DesignOptions::default();
-    opts.gear_limits = limits;
+    let opts = DesignOptions::default().with_gear_limits(limits);
     b.bench(|| design(divan::black_box(&t), &opts).expect("design"));
 }
 
@@ -52,8 +51,7 @@ fn gear_limits_cost(b: divan::Bencher, (name, limits): (&str, bool)) {
 #[divan::bench(args = [1.5, 2.0], sample_count = 5)]
 fn designed_for_module_g1(b: divan::Bencher, module_mm: f64) {
     let t = load("g1_ellipse.csv");
-    let mut opts = DesignOptions::default();
-    opts.module_mm = Some(module_mm);
+    let opts = DesignOptions::default().with_module_mm(Some(module_mm));
     b.bench(|| design(divan::black_box(&t), &opts).expect("G1"));
 }
 
@@ -98,8 +96,7 @@ fn family_case(b: divan::Bencher, name: &str) {
             [v[0], v[1]]
         });
     let t = Trajectory::parse_csv(&text, name).expect("bundled case");
-    let mut opts = DesignOptions::default();
-    opts.center_mm = center;
+    let opts = DesignOptions::default().with_center_mm(center);
     b.bench(|| design(divan::black_box(&t), &opts).expect("designed"));
 }
 

@@ -53,11 +53,10 @@ fn lines() -> Vec<Line> {
 #[divan::bench(sample_count = 10)]
 fn least_squares_1m(bencher: divan::Bencher) {
     let rec = record();
-    let ex = Extractor::new(TAU * 3.373, {
-        let mut o = ExtractOptions::default();
-        o.nuisance = lines();
-        o
-    })
+    let ex = Extractor::new(
+        TAU * 3.373,
+        ExtractOptions::default().with_nuisance(lines()),
+    )
     .expect("valid extractor");
     bencher.bench_local(|| ex.extract(divan::black_box(&rec)).expect("extraction"));
 }
@@ -66,11 +65,10 @@ fn least_squares_1m(bencher: divan::Bencher) {
 #[divan::bench(sample_count = 10)]
 fn hann_dtft_1m(bencher: divan::Bencher) {
     let rec = record();
-    let ex = Extractor::new(TAU * 3.373, {
-        let mut o = ExtractOptions::default();
-        o.method = Method::HannDtft;
-        o
-    })
+    let ex = Extractor::new(
+        TAU * 3.373,
+        ExtractOptions::default().with_method(Method::HannDtft),
+    )
     .expect("valid extractor");
     bencher.bench_local(|| ex.extract(divan::black_box(&rec)).expect("extraction"));
 }

@@ -18,11 +18,12 @@ fn paper() -> ErrorFile {
 /// 50 000 samples; `args` = grid points per shortest period (20 = the default).
 #[divan::bench(args = [20, 40, 80], sample_count = 3)]
 fn monte_carlo_50k(b: divan::Bencher, per_period: usize) {
-    let mut peak = PeakOptions::default();
-    peak.samples_per_min_period = per_period;
+    let peak = PeakOptions::default().with_samples_per_min_period(per_period);
     let a = Analysis::new(&paper(), peak);
-    let mut opts = McOptions::default();
-    (opts.samples, opts.seed, opts.bins) = (50_000, 1, 60);
+    let opts = McOptions::default()
+        .with_samples(50_000)
+        .with_seed(1)
+        .with_bins(60);
     b.bench(|| a.monte_carlo(&opts, &|_| {}).expect("finite"));
 }
 

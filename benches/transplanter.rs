@@ -52,8 +52,10 @@ fn linear_build_720(b: divan::Bencher) {
 fn linear_mc_1000(b: divan::Bencher) {
     let (_, inv, m) = setup();
     let lin = LinearModel::build(&m, 720, FdSteps::default()).expect("build");
-    let mut opts = McOptions::default();
-    (opts.samples, opts.seed, opts.bins) = (1000, 1, 20);
+    let opts = McOptions::default()
+        .with_samples(1000)
+        .with_seed(1)
+        .with_bins(20);
     b.bench(|| {
         ncgear::analysis::montecarlo::run(&opts, |r, _| lin.max_deviation_mm(&inv.draw(r)), &|_| {})
             .expect("finite")

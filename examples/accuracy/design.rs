@@ -66,14 +66,14 @@ pub fn rows() -> Vec<Row> {
     // 2. FFT grid N: the whole chain's round trip at K = 16 (patent route).
     let t360 = g1_traj(360);
     for n in [128, 256, 512, 1024, 2048, 4096] {
-        let mut opts = DesignOptions::default();
-        opts.order = Some(16);
-        opts.refine = RefineMode::Off;
-        opts.inverse = {
-            let mut o = InverseOptions::default();
-            o.grid = n;
-            o
-        };
+        let opts = DesignOptions::default()
+            .with_order(Some(16))
+            .with_refine(RefineMode::Off)
+            .with_inverse({
+                let mut o = InverseOptions::default();
+                o.grid = n;
+                o
+            });
         let (ms, d) = timed(3, || design(&t360, &opts).expect("G1"));
         rows.push(Row::new(
             "ψ3 grid N (full chain, K = 16)",
@@ -85,9 +85,9 @@ pub fn rows() -> Vec<Row> {
     }
     // 3. Fourier order K, patent route, G1 360 points.
     for k in [4, 6, 8, 12, 16, 24, 32, 40] {
-        let mut opts = DesignOptions::default();
-        opts.order = Some(k);
-        opts.refine = RefineMode::Off;
+        let opts = DesignOptions::default()
+            .with_order(Some(k))
+            .with_refine(RefineMode::Off);
         let (ms, d) = timed(3, || design(&t360, &opts).expect("G1"));
         rows.push(Row::new(
             "Fourier order K (patent route, G1)",
@@ -99,9 +99,9 @@ pub fn rows() -> Vec<Row> {
     }
     // 4. Refinement on G1 (compatible) at low order.
     for k in [4, 8] {
-        let mut opts = DesignOptions::default();
-        opts.order = Some(k);
-        opts.refine = RefineMode::On;
+        let opts = DesignOptions::default()
+            .with_order(Some(k))
+            .with_refine(RefineMode::On);
         let (ms, d) = timed(3, || design(&t360, &opts).expect("G1"));
         rows.push(Row::new(
             "LM refinement (G1, compatible)",
@@ -114,9 +114,9 @@ pub fn rows() -> Vec<Row> {
     // 5. Designer-style target: patent route vs refinement order and iteration budget.
     let dz = designer();
     {
-        let mut opts = DesignOptions::default();
-        opts.order = Some(12);
-        opts.refine = RefineMode::Off;
+        let opts = DesignOptions::default()
+            .with_order(Some(12))
+            .with_refine(RefineMode::Off);
         let (ms, d) = timed(3, || design(&dz, &opts).expect("designer"));
         rows.push(Row::new(
             "designer target, patent route",
@@ -127,14 +127,14 @@ pub fn rows() -> Vec<Row> {
         ));
     }
     for (k, patience) in [(4, 60), (8, 60), (12, 5), (12, 15), (12, 60), (16, 60)] {
-        let mut opts = DesignOptions::default();
-        opts.order = Some(k);
-        opts.refine = RefineMode::On;
-        opts.refine_options = {
-            let mut o = RefineOptions::default();
-            o.patience = patience;
-            o
-        };
+        let opts = DesignOptions::default()
+            .with_order(Some(k))
+            .with_refine(RefineMode::On)
+            .with_refine_options({
+                let mut o = RefineOptions::default();
+                o.patience = patience;
+                o
+            });
         let (ms, d) = timed(3, || design(&dz, &opts).expect("designer"));
         rows.push(Row::new(
             "designer target, LM refinement",

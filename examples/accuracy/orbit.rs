@@ -79,11 +79,14 @@ pub fn rows() -> Vec<Row> {
         ("Hann-window DTFT at the exact line", Method::HannDtft),
         ("least squares (lines + drift known)", Method::LeastSquares),
     ] {
-        let mut opts = ExtractOptions::default();
-        opts.method = method;
-        if method == Method::LeastSquares {
-            opts.nuisance.clone_from(&nuisance);
-        }
+        let lines = if method == Method::LeastSquares {
+            nuisance.clone()
+        } else {
+            Vec::new()
+        };
+        let opts = ExtractOptions::default()
+            .with_method(method)
+            .with_nuisance(lines);
         let ex = Extractor::new(wp, opts).expect("valid extractor");
         for p in periods {
             let rec = record(p, 0.0, 1);
@@ -98,8 +101,7 @@ pub fn rows() -> Vec<Row> {
         }
     }
     // Least squares with σ = 2 µm sensor noise: RMS error over 16 seeds (vs the CRLB ≈ σ√(2/N)).
-    let mut opts = ExtractOptions::default();
-    opts.nuisance = nuisance;
+    let opts = ExtractOptions::default().with_nuisance(nuisance);
     let ex = Extractor::new(wp, opts).expect("valid extractor");
     for p in periods {
         let mut ms_all = Vec::new();

@@ -9,7 +9,8 @@ use super::{Row, timed};
 use ncgear::geometry::pitch::PitchCurve;
 use ncgear::math::polyline::{distances_to_polyline, hausdorff_mm};
 use ncgear::teeth::{
-    Outline, OutlineOptions, RackParams, ToothPolicy, generate_outline, scale_curve, tooth_count,
+    ArcFrame, GearBlank, Generation, Outline, OutlineOptions, RackParams, ToothPolicy, generate,
+    scale_curve, tooth_count,
 };
 use std::f64::consts::PI;
 
@@ -38,14 +39,10 @@ fn g1_sun(samples: usize, module_mm: f64) -> (PitchCurve, u32) {
 }
 
 fn outline(c: &PitchCurve, z: u32, m: f64, chord: f64) -> Outline {
-    generate_outline(
-        c,
-        &RackParams::default(),
-        z,
-        m,
-        &OutlineOptions::new(0.0, chord),
-    )
-    .expect("outline")
+    let frame = ArcFrame::new(c);
+    let opts = OutlineOptions::new(0.0, chord);
+    let blank = GearBlank::new(&frame, RackParams::default(), z, m, opts);
+    generate(&blank, Generation::Rack).expect("outline").outline
 }
 
 /// The teeth rows.

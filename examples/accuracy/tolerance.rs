@@ -11,16 +11,7 @@ use std::time::Instant;
 
 /// Certified-peak options with `per` grid points per shortest period.
 fn peak_options(per: usize) -> PeakOptions {
-    let mut o = PeakOptions::default();
-    o.samples_per_min_period = per;
-    o
-}
-
-/// Monte Carlo options: `samples`, `seed`, histogram `bins`.
-fn mc_options(samples: usize, seed: u64, bins: usize) -> McOptions {
-    let mut o = McOptions::default();
-    (o.samples, o.seed, o.bins) = (samples, seed, bins);
-    o
+    PeakOptions::default().with_samples_per_min_period(per)
 }
 
 /// The tolerance-analysis rows.
@@ -102,12 +93,24 @@ pub fn rows() -> Vec<Row> {
     // 2. Monte Carlo sample count: error of the mean against a 200 000-sample reference.
     let a = Analysis::new(&file, PeakOptions::default());
     let (reference, _) = a
-        .monte_carlo(&mc_options(200_000, 99, 10), &|_| {})
+        .monte_carlo(
+            &McOptions::default()
+                .with_samples(200_000)
+                .with_seed(99)
+                .with_bins(10),
+            &|_| {},
+        )
         .expect("finite");
     for n in [1_000, 5_000, 20_000, 50_000] {
         let t = Instant::now();
         let (s, _) = a
-            .monte_carlo(&mc_options(n, 1, 10), &|_| {})
+            .monte_carlo(
+                &McOptions::default()
+                    .with_samples(n)
+                    .with_seed(1)
+                    .with_bins(10),
+                &|_| {},
+            )
             .expect("finite");
         let ms = t.elapsed().as_secs_f64() * 1e3;
         rows.push(Row::new(

@@ -383,11 +383,13 @@ fn simulate(
         Some(t) => Simulation::toothed(&t.t),
         None => Simulation::new(design.d.assembly.clone()),
     };
-    let mut o = FeatureOptions::default();
-    o.rpm = rpm;
-    o.forward_mm_s = forward_mm_s;
-    o.planting_depth_mm = depth_mm;
-    (o.take_level_mm, o.plant_level_mm) = levels_mm;
+    let (take_level_mm, plant_level_mm) = levels_mm;
+    let o = FeatureOptions::default()
+        .with_rpm(rpm)
+        .with_forward_mm_s(forward_mm_s)
+        .with_planting_depth_mm(depth_mm)
+        .with_take_level_mm(take_level_mm)
+        .with_plant_level_mm(plant_level_mm);
     report(&features(&sim, &o).map_err(err)?)
 }
 
@@ -405,14 +407,10 @@ fn tolerance(path: &str, samples: usize, seed: u64, starts: usize) -> PyResult<R
     use ncgear::analysis::montecarlo::McOptions;
     use ncgear::analysis::tolerance::{ErrorFile, ToleranceOptions, analyse};
     let file = ErrorFile::from_path(Path::new(path)).map_err(err)?;
-    let mut o = ToleranceOptions::default();
-    o.joint_starts = starts;
-    o.monte_carlo = (samples > 0).then(|| {
-        let mut mc = McOptions::default();
-        mc.samples = samples;
-        mc.seed = seed;
-        mc
-    });
+    let mc = McOptions::default().with_samples(samples).with_seed(seed);
+    let o = ToleranceOptions::default()
+        .with_joint_starts(starts)
+        .with_monte_carlo((samples > 0).then_some(mc));
     report(&analyse(&file, &o, &|_| {}).map_err(err)?)
 }
 

@@ -40,8 +40,10 @@ pub enum McError {
     },
 }
 
-/// Options of a Monte Carlo run.
-#[derive(Debug, Clone, Copy, PartialEq)]
+/// Options of a Monte Carlo run. (De)serialisable (a missing field takes its default, an unknown one is an error) and
+/// built with `with_*`.
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(default, deny_unknown_fields)]
 #[non_exhaustive]
 pub struct McOptions {
     /// Number of samples, `1..=MAX_SAMPLES` (default 50 000).
@@ -51,6 +53,12 @@ pub struct McOptions {
     /// Histogram bins, `1..=MAX_BINS` (default 60).
     pub bins: usize,
 }
+
+crate::builder::with_fields!(McOptions {
+    with_samples => samples: usize,
+    with_seed => seed: u64,
+    with_bins => bins: usize,
+});
 
 impl Default for McOptions {
     fn default() -> Self {
@@ -174,8 +182,7 @@ fn check_bins(bins: usize) -> Result<(), McError> {
 /// ```
 /// use ncgear::analysis::montecarlo::{McOptions, run};
 /// use rand::RngExt;
-/// let mut opts = McOptions::default();
-/// (opts.samples, opts.seed, opts.bins) = (20_000, 7, 10);
+/// let opts = McOptions::default().with_samples(20_000).with_seed(7).with_bins(10);
 /// let (stats, values) = run(&opts, |rng, _| rng.random::<f64>(), &|_| {}).unwrap();
 /// // Uniform on [0, 1): mean 1/2 within 4 standard errors, std √(1/12).
 /// assert!((stats.mean - 0.5).abs() < 4.0 * stats.mean_std_error);

@@ -131,10 +131,11 @@ pub fn run(args: Args) -> CliResult {
         .map_err(|e| runtime_error(miette::miette!("cannot create {}: {e}", args.out.display())))?;
     print_header(&prepared, &file);
     let linear = prepared.takes_linear_path();
-    let mut options = AnalysisOptions::default();
-    if let (Some(sw), false) = (&args.sweep, linear) {
-        options.sweep = Some(parse_sweep(sw)?);
-    }
+    let sweep = match (&args.sweep, linear) {
+        (Some(sw), false) => Some(parse_sweep(sw)?),
+        _ => None,
+    };
+    let options = AnalysisOptions::default().with_sweep(sweep);
     let pb = match &options.sweep {
         _ if linear => None,
         Some(up) => Some(progress_bar(2 * up.len() as u64, "sweep")),

@@ -279,25 +279,27 @@ fn axis_points(o: &Orbit) -> Vec<(f64, f64)> {
 /// The evaluation the flags describe.
 fn evaluation(o: &MeasureOpts) -> Result<Evaluation, super::Failure> {
     let model = o.model.as_deref().map(load_params).transpose()?;
-    let mut opts = MeasureOptions::default();
-    opts.planet_speed_rpm = o.planet_speed_rpm;
-    opts.frame = match o.frame {
+    let frame = match o.frame {
         FrameArg::Carrier => SensorFrame::Carrier,
         FrameArg::Derotate => SensorFrame::Derotate,
         FrameArg::Housing => SensorFrame::Housing,
     };
-    opts.carrier_speed_rpm = o.carrier_speed_rpm;
-    opts.method = match o.method {
+    let method = match o.method {
         MethodArg::Ls => Method::LeastSquares,
         MethodArg::Hann => Method::HannDtft,
         MethodArg::Sync => Method::Synchronous,
         MethodArg::Fft => Method::PlainFft,
     };
-    opts.line_hz.clone_from(&o.line_hz);
-    opts.mesh_harmonics = o.mesh_harmonics;
-    opts.drift = !o.no_drift;
-    opts.estimate_frequency = o.estimate_frequency;
-    opts.max_condition = o.max_condition;
+    let opts = MeasureOptions::default()
+        .with_planet_speed_rpm(o.planet_speed_rpm)
+        .with_frame(frame)
+        .with_carrier_speed_rpm(o.carrier_speed_rpm)
+        .with_method(method)
+        .with_line_hz(o.line_hz.clone())
+        .with_mesh_harmonics(o.mesh_harmonics)
+        .with_drift(!o.no_drift)
+        .with_estimate_frequency(o.estimate_frequency)
+        .with_max_condition(o.max_condition);
     Evaluation::new(model.as_ref(), &opts).map_err(|e| input_error(with_flag_help(e)))
 }
 

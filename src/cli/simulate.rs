@@ -105,12 +105,12 @@ fn options(args: &Args) -> Result<(FeatureOptions, AnimationOptions), super::Fai
             "--duration must be > 0 s and --frames ≥ 8"
         )));
     }
-    let mut opts = FeatureOptions::default();
-    opts.rpm = args.rpm;
-    opts.forward_mm_s = forward_mm_s;
-    opts.planting_depth_mm = args.depth;
-    opts.take_level_mm = args.take_level;
-    opts.plant_level_mm = args.plant_level;
+    let opts = FeatureOptions::default()
+        .with_rpm(args.rpm)
+        .with_forward_mm_s(forward_mm_s)
+        .with_planting_depth_mm(args.depth)
+        .with_take_level_mm(args.take_level)
+        .with_plant_level_mm(args.plant_level);
     let mut anim = AnimationOptions::default();
     anim.frames = args.frames;
     anim.seconds = args.duration;

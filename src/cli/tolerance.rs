@@ -53,9 +53,9 @@ pub fn run(args: Args) -> CliResult {
     }
     let file =
         ErrorFile::from_path(&args.errors).map_err(|e| input_error(miette::miette!("{e}")))?;
-    let mut opts = ToleranceOptions::default();
-    opts.monte_carlo = (args.samples > 0).then(|| mc_options(&args));
-    opts.joint_starts = args.starts;
+    let opts = ToleranceOptions::default()
+        .with_monte_carlo((args.samples > 0).then(|| mc_options(&args)))
+        .with_joint_starts(args.starts);
     let pb = progress_bar(args.samples as u64, "Monte Carlo");
     // Every error of the analysis is the input's (a value of the file, or --samples).
     let report = analyse(&file, &opts, &|d| pb.set_position(d)).map_err(|e| {
@@ -155,11 +155,10 @@ fn write_json(path: &Path, value: &impl serde::Serialize) -> CliResult {
 
 /// The Monte Carlo options of the arguments (60 histogram bins).
 fn mc_options(args: &Args) -> McOptions {
-    let mut mc = McOptions::default();
-    mc.samples = args.samples;
-    mc.seed = args.seed;
-    mc.bins = 60;
-    mc
+    McOptions::default()
+        .with_samples(args.samples)
+        .with_seed(args.seed)
+        .with_bins(60)
 }
 
 /// The command-line flag that sets a field of [`TransplanterOptions`], for error hints.
@@ -176,11 +175,11 @@ fn run_transplanter(args: &Args, inventory: &Path) -> CliResult {
         DesignFile::from_path(&args.errors).map_err(|e| input_error(miette::miette!("{e}")))?;
     let inv =
         ErrorInventory::from_path(inventory).map_err(|e| input_error(miette::miette!("{e}")))?;
-    let mut opts = TransplanterOptions::default();
-    opts.mc = mc_options(args);
-    opts.validation_samples = args.validation_samples;
-    opts.feature_samples = args.feature_samples;
-    opts.starts = args.starts;
+    let opts = TransplanterOptions::default()
+        .with_mc(mc_options(args))
+        .with_validation_samples(args.validation_samples)
+        .with_feature_samples(args.feature_samples)
+        .with_starts(args.starts);
     let pb = progress_bar(args.samples as u64, "Monte Carlo");
     let report = transplanter::analyse(&asm, &inv, &opts, &|d| pb.set_position(d)).map_err(
         |e| match &e {

@@ -27,8 +27,7 @@ pub struct Args {
 pub fn run(args: Args) -> CliResult {
     let traj =
         Trajectory::from_path(&args.trajectory).map_err(|e| input_error(miette::miette!("{e}")))?;
-    let mut opts = DesignOptions::default();
-    opts.center_mm = args.center;
+    let opts = DesignOptions::default().with_center_mm(args.center);
     let file = args.trajectory.display().to_string();
     let rows = PRESSURE_ANGLE_LIMITS_DEG.len() + 1 + MODULES_MM.len();
     let pb = progress_bar(rows as u64, "designs");

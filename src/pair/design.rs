@@ -4,12 +4,13 @@ use super::PairError;
 use crate::export::{Contour, Marker, Sheet};
 use crate::geometry::pitch::PitchCurve;
 use crate::math::periodic::uniform_angles;
-use crate::teeth::conjugate::{Mate, SweepChecks, generate_swept};
+use crate::teeth::conjugate::Mate;
 use crate::teeth::mate_motion::MeshMotion;
 use crate::teeth::mesh::{MeshCheck, MeshReport, verify_mesh};
-use crate::teeth::process::{GearProcess, generate_as, generate_by_process, swept_process};
+use crate::teeth::process::{GearProcess, swept_process};
 use crate::teeth::{
-    ArcFrame, GearBlank, Outline, OutlineOptions, TeethError, ToothingOptions, UndercutReport,
+    ArcFrame, GearBlank, Generated, Generation, Outline, OutlineOptions, TeethError,
+    ToothingOptions, UndercutReport, generate,
 };
 use serde::Serialize;
 use std::f64::consts::{PI, TAU};
@@ -190,14 +191,14 @@ pub(super) struct Cycle<'a> {
 
 impl Cycle<'_> {
     /// Gear `k` (0 driver, 1 driven), cut from `blank`, swept by its mate's `mate_outline` (body
-    /// frame, mm) over this cycle.
+    /// frame, mm) over this cycle, with its process (wire EDM).
     fn sweep(
         &self,
         k: usize,
         blank: &GearBlank<'_>,
         mate_outline: &[[f64; 2]],
         mate_pitch: &PitchCurve,
-    ) -> Result<(Outline, SweepChecks), TeethError> {
+    ) -> Result<Generated, TeethError> {
         let pose = |u: f64, set: usize| self.motion.mate_pose(k, u, set);
         let mate = [Mate {
             outline_mm: mate_outline,
@@ -206,7 +207,7 @@ impl Cycle<'_> {
             offsets: 2,
             positions: self.positions,
         }];
-        generate_swept(blank, &mate)
+        generate(blank, Generation::Swept(&mate))
     }
 }
 
@@ -271,7 +272,7 @@ impl Toothed {
         let o = [mk(driver_phase), mk(s2 + 0.5 * p)];
         let choice = t.cutter_choice();
         let blank = |k: usize| GearBlank::new(&f[k], t.rack, z[k], m, o[k]);
-        let cut = |k: usize| generate_by_process(&blank(k), choice);
+        let cut = |k: usize| generate(&blank(k), Generation::Process(choice));
         let (r1, r2) = rayon::join(|| cut(0), || cut(1));
         // A gear no cutter can make is swept by its mate when the mate is cut (closed pairs).
         let no_cutter = |r: &Result<_, TeethError>| matches!(r, Err(TeethError::NoCutter { .. }));
@@ -287,9 +288,9 @@ impl Toothed {
                 let c = [&c1, &c2];
                 let swept = match mine {
                     Err(e) => {
-                        let (outline, checks) =
-                            mm.sweep(k, &blank(k), &other.0.points_mm, c[1 - k])?;
-                        (outline, swept_process(e, checks)?)
+                        let g = mm.sweep(k, &blank(k), &other.outline.points_mm, c[1 - k])?;
+                        let process = swept_process(e, g.process)?;
+                        Generated { process, ..g }
                     }
                     Ok(g) => g,
                 };
@@ -302,16 +303,15 @@ impl Toothed {
             }
             _ => (r1?, r2?, None),
         };
-        let ((driver, driver_process), (driven, driven_process)) = (r1, r2);
         Ok(Self {
             c: [c1, c2],
             f,
             o,
             z,
-            driver,
-            driven,
-            driver_process,
-            driven_process,
+            driver: r1.outline,
+            driven: r2.outline,
+            driver_process: r1.process,
+            driven_process: r2.process,
             swept,
         })
     }
@@ -330,14 +330,16 @@ impl Toothed {
                 ..self.o[k]
             })
         };
-        let fine = |k: usize, p: &GearProcess| generate_as(&fine_blank(k), p).map(|g| g.points_mm);
+        let fine = |k: usize, p: &GearProcess| {
+            generate(&fine_blank(k), Generation::AsCut(p)).map(|g| g.outline.points_mm)
+        };
         if let (Some(k), Some(mm)) = (self.swept, cycle) {
             // The cut gear first, then the swept one from it.
             let procs = [&self.driver_process, &self.driven_process];
             let other = fine(1 - k, procs[1 - k])?;
             let mine = mm
                 .sweep(k, &fine_blank(k), &other, &self.c[1 - k])?
-                .0
+                .outline
                 .points_mm;
             return Ok(if k == 0 { [mine, other] } else { [other, mine] });
         }

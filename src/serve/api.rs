@@ -70,15 +70,8 @@ pub struct Options {
 impl Options {
     /// The library options, as `ncgear design` builds them from the same flags.
     pub fn design_options(&self) -> Result<DesignOptions, ApiError> {
-        let mut o = DesignOptions::default();
-        if let Some(c) = self.center {
-            o.center_mm = c;
-        }
-        o.order = self.order;
-        if let Some(t) = self.tol_mm {
-            o.tol_tip_mm = t;
-        }
-        o.refine = match self.refine.as_deref() {
+        let d = DesignOptions::default();
+        let refine = match self.refine.as_deref() {
             None | Some("auto") => RefineMode::Auto,
             Some("on") => RefineMode::On,
             Some("off") => RefineMode::Off,
@@ -89,7 +82,7 @@ impl Options {
                 ));
             }
         };
-        o.gear_limits = match self.limits.as_deref() {
+        let gear_limits = match self.limits.as_deref() {
             None | Some("on") => true,
             Some("off") => false,
             Some(v) => {
@@ -99,16 +92,7 @@ impl Options {
                 ));
             }
         };
-        if let Some(a) = self.max_pressure_angle {
-            o.pressure_angle_limit_rad = a.to_radians();
-        }
-        o.min_concave_radius_mm = self.min_concave_radius;
-        o.min_convex_radius_mm = self.min_convex_radius;
-        if let Some(b) = self.ratio_bounds {
-            o.refine_options.ratio_bounds = b;
-        }
-        o.smoothing = self.smooth;
-        o.inverse.sense = match self.sense.as_deref() {
+        let sense = match self.sense.as_deref() {
             None | Some("auto") => None,
             Some("ccw") => Some(1),
             Some("cw") => Some(-1),
@@ -119,8 +103,23 @@ impl Options {
                 ));
             }
         };
-        o.module_mm = self.module;
-        Ok(o)
+        let ratio_bounds = self.ratio_bounds.unwrap_or(d.refine_options.ratio_bounds);
+        Ok(DesignOptions::default()
+            .with_center_mm(self.center.unwrap_or(d.center_mm))
+            .with_order(self.order)
+            .with_tol_tip_mm(self.tol_mm.unwrap_or(d.tol_tip_mm))
+            .with_refine(refine)
+            .with_gear_limits(gear_limits)
+            .with_pressure_angle_limit_rad(
+                self.max_pressure_angle
+                    .map_or(d.pressure_angle_limit_rad, f64::to_radians),
+            )
+            .with_min_concave_radius_mm(self.min_concave_radius)
+            .with_min_convex_radius_mm(self.min_convex_radius)
+            .with_refine_options(d.refine_options.with_ratio_bounds(ratio_bounds))
+            .with_smoothing(self.smooth)
+            .with_inverse(d.inverse.with_sense(sense))
+            .with_module_mm(self.module))
     }
 }
 

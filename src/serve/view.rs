@@ -104,11 +104,13 @@ pub fn view(design: &Design, train: Option<&ToothedTrain>, spacing_mm: Option<f6
         })
         .collect();
     let ratio = design.mechanism.ratio.clone();
-    let mut fopts = FeatureOptions::default();
-    fopts.samples = FEATURE_SAMPLES;
-    if let Some(s) = spacing_mm {
-        fopts.forward_mm_s = FeatureOptions::forward_for_spacing(s, fopts.rpm);
-    }
+    let defaults = FeatureOptions::default();
+    let forward_mm_s = spacing_mm.map_or(defaults.forward_mm_s, |s| {
+        FeatureOptions::forward_for_spacing(s, defaults.rpm)
+    });
+    let fopts = defaults
+        .with_samples(FEATURE_SAMPLES)
+        .with_forward_mm_s(forward_mm_s);
     let (features, features_error) = match features(&sim, &fopts) {
         Ok(f) => (Some(f), None),
         Err(e) => (None, Some(e.to_string())),

@@ -5,8 +5,10 @@ use super::{SimulateError, Simulation, TwoArms};
 use serde::{Deserialize, Serialize};
 use std::f64::consts::TAU;
 
-/// Inputs of the agronomic features.
-#[derive(Debug, Clone, Copy, PartialEq)]
+/// Inputs of the agronomic features. (De)serialisable (a missing field takes its default, an unknown one is an error) and
+/// built with `with_*`.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
 #[non_exhaustive]
 pub struct FeatureOptions {
     /// Carrier speed, rpm. Default 300.
@@ -22,6 +24,15 @@ pub struct FeatureOptions {
     /// Samples per turn. Default 3600.
     pub samples: usize,
 }
+
+crate::builder::with_fields!(FeatureOptions {
+    with_rpm => rpm: f64,
+    with_forward_mm_s => forward_mm_s: f64,
+    with_planting_depth_mm => planting_depth_mm: f64,
+    with_take_level_mm => take_level_mm: Option<f64>,
+    with_plant_level_mm => plant_level_mm: Option<f64>,
+    with_samples => samples: usize,
+});
 
 impl Default for FeatureOptions {
     fn default() -> Self {

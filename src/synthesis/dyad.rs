@@ -91,8 +91,10 @@ impl Dyad {
     }
 }
 
-/// How the dyads are searched.
-#[derive(Debug, Clone, Copy, PartialEq)]
+/// How the dyads are searched. (De)serialisable (a missing field takes its default, an unknown one is an error) and
+/// built with `with_*`.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
 #[non_exhaustive]
 pub struct DyadOptions {
     /// Carrier axis fixed by the machine layout, mm; `None` (default): solved for.
@@ -104,6 +106,13 @@ pub struct DyadOptions {
     /// Accuracy of a solution's `l3` and residual, mm (default 1e-9).
     pub accuracy_mm: f64,
 }
+
+crate::builder::with_fields!(DyadOptions {
+    with_center_mm => center_mm: Option<[f64; 2]>,
+    with_max_l3_mm => max_l3_mm: f64,
+    with_samples => samples: usize,
+    with_accuracy_mm => accuracy_mm: f64,
+});
 
 impl Default for DyadOptions {
     fn default() -> Self {

@@ -7,19 +7,18 @@ use super::{RackParams, TeethError};
 /// A gear before its teeth are cut: `z` teeth of module `module_mm` on `frame`'s pitch curve,
 /// profiled by `rack`, placed, thinned and sampled by `opts`.
 ///
-/// Every generation ([`super::outline::generate_on`], [`super::process::generate_by_process`],
-/// [`super::conjugate::generate_swept`], …) takes one; it borrows the frame (its arc-length
-/// table is the costly part) and copies the rest.
+/// Every generation ([`super::generate`], whatever its [`super::Generation`]) takes one; it
+/// borrows the frame (its arc-length table is the costly part) and copies the rest.
 ///
 /// ```
 /// use ncgear::geometry::pitch::PitchCurve;
-/// use ncgear::teeth::{ArcFrame, GearBlank, OutlineOptions, RackParams, outline::generate_on};
+/// use ncgear::teeth::{ArcFrame, GearBlank, Generation, OutlineOptions, RackParams, generate};
 /// // A circle of radius 12 mm: perimeter 24π = z·π·m with z = 24 teeth of module 1 mm.
 /// let circle = PitchCurve::from_fn(720, |_| 12.0).unwrap();
 /// let frame = ArcFrame::new(&circle);
 /// let blank = GearBlank::new(&frame, RackParams::default(), 24, 1.0, OutlineOptions::default());
 /// assert!((blank.validated_pitch_mm().unwrap() - std::f64::consts::PI).abs() < 1e-9);
-/// assert!(generate_on(&blank).is_ok());
+/// assert!(generate(&blank, Generation::Rack).is_ok());
 /// ```
 #[derive(Debug, Clone, Copy)]
 pub struct GearBlank<'a> {

@@ -8,10 +8,12 @@
 //! - [`RackParams`]: the basic rack (α, ha*, c*, ρf*), validated.
 //! - [`ToothingOptions`]: module, rack, backlash and tolerances shared by toothed designs.
 //! - [`tooth_count`] with a [`ToothPolicy`]: integer z and the scale factor applied to the curve.
-//! - [`generate_outline`]: one simple closed CCW outline (mm, body frame) per gear.
+//! - [`GearBlank`]: what a gear is cut from (pitch curve by arc length, rack, z, module, options).
+//! - [`generate`] with a [`Generation`]: one simple closed CCW outline (mm, body frame) per gear
+//!   and its process — the rack on convex curves, a shaper cutter (the largest that fits, or a
+//!   given one) on curves with concave stretches, a gear cut again as it was cut (with a tip
+//!   relief), or swept by its mates.
 //! - [`undercut_report`]: per-tooth undercut / concavity diagnostics.
-//! - [`process::generate_by_process`]: rack generation on convex curves, shaper-cutter generation
-//!   (the largest cutter that fits) on curves with concave stretches, with the process report.
 //! - [`mesh::verify_mesh`]: roll two outlines through a cycle (interference, backlash,
 //!   transmission error).
 
@@ -20,6 +22,7 @@ mod cells;
 pub mod conjugate;
 mod crossing;
 mod frame;
+mod generate;
 mod inside;
 pub mod mate_motion;
 pub mod mesh;
@@ -34,9 +37,10 @@ mod shaper;
 
 pub use blank::GearBlank;
 pub use frame::ArcFrame;
+pub use generate::{Generated, Generation, generate};
 pub mod outline;
 pub use options::ToothingOptions;
-pub use outline::{Outline, OutlineOptions, generate_outline};
+pub use outline::{Outline, OutlineOptions};
 pub use rack::RackParams;
 
 use crate::geometry::pitch::PitchCurve;

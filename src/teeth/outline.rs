@@ -17,7 +17,7 @@ use super::{FlankUndercut, GearBlank, RackParams, TeethError, UndercutReport};
 use crate::geometry::pitch::PitchCurve;
 use serde::Serialize;
 
-/// Options of [`generate_outline`]; the defaults are those of [`OutlineOptions::new`]`(0.0, 1e-3)`.
+/// Options of a [`GearBlank`]'s outline, whatever its [`super::Generation`]; the defaults are those of [`OutlineOptions::new`]`(0.0, 1e-3)`.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, serde::Deserialize)]
 #[serde(default, deny_unknown_fields)]
 #[non_exhaustive]
@@ -431,36 +431,25 @@ pub(super) fn report_on(blank: &GearBlank<'_>) -> UndercutReport {
     report
 }
 
-/// Generates the toothed outline of `curve` with `z` teeth of module `module_mm` (docs/math/teeth.md §12.3).
+/// The rack-generated outline of `blank`'s `z` teeth of module `module_mm`
+/// (docs/math/teeth.md §12.3; [`super::Generation::Rack`]).
 ///
 /// Requirements: `L = z·π·m` to within 1e-6 relative (scale the curve with
-/// [`super::tooth_count`] first); the curve convex along every generating range; no undercut.
-/// Otherwise a typed error: [`TeethError::Concave`] (a rack cannot cut a concave arc) or
-/// [`TeethError::Undercut`] with the largest module that works.
+/// [`super::tooth_count`] first); the curve convex along every generating range; no undercut
+/// when `refuse_undercut`. Otherwise a typed error: [`TeethError::Concave`] (a rack cannot cut a
+/// concave arc) or [`TeethError::Undercut`] with the largest module that works.
 ///
 /// Guarantees: the outline is the exact rack envelope sampled with chord sag ≤ `chord_tol_mm`
 /// (for curvature radii ≥ m on flanks), closed, CCW, no duplicate end vertex.
 /// Complexity: O(number of vertices).
-pub fn generate_outline(
-    curve: &PitchCurve,
-    rack: &RackParams,
-    z: u32,
-    module_mm: f64,
-    opts: &OutlineOptions,
-) -> Result<Outline, TeethError> {
-    let frame = ArcFrame::new(curve);
-    generate_on(&GearBlank::new(&frame, *rack, z, module_mm, *opts))
-}
-
-/// [`generate_outline`] on a prebuilt blank (its [`ArcFrame`] saves the arc-length table).
-pub fn generate_on(blank: &GearBlank<'_>) -> Result<Outline, TeethError> {
+pub(super) fn generate_on(blank: &GearBlank<'_>) -> Result<Outline, TeethError> {
     generate_relieved_on(blank, &[])
 }
 
 /// [`generate_on`] with tooth `k`'s tip lowered by `relief_mm[k]` along the pitch curve's normal
 /// (mm; none where the slice is shorter): the relief that keeps each tip off its mates'
 /// fillets ([`super::relief`]).
-pub fn generate_relieved_on(
+pub(super) fn generate_relieved_on(
     blank: &GearBlank<'_>,
     relief_mm: &[f64],
 ) -> Result<Outline, TeethError> {

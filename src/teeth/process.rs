@@ -4,13 +4,12 @@
 //! concave radius of curvature and that cuts a simple outline without undercut and without
 //! secondary cutting ([`super::secondary`]), or the largest of them with its undercut reported
 //! when every one undercuts, or the one forced — and otherwise no cutter: wire EDM or printing
-//! of the outline the mate sweeps ([`super::conjugate`], reported by [`swept_process`]), when
-//! the mate is cut; alone, a typed error says so.
-use super::conjugate::SweepChecks;
+//! of the outline the mate sweeps ([`super::conjugate`]), when the mate is cut; alone, a typed
+//! error says so. Each is a [`super::Generation`] of [`super::generate`].
 use super::outline::{Outline, generate_on, generate_relieved_on, rack_tip_corners, report_on};
 use super::secondary::{SECONDARY_TOL, Spaces, secondary_cut_depth};
 use super::shaper::{Cutter, ShaperChecks, cutter_pitch_radius_mm, generate_shaper, tip_corners};
-use super::{GearBlank, RackParams, TeethError};
+use super::{GearBlank, RackParams, TeethError, UndercutReport};
 use serde::{Deserialize, Serialize};
 
 /// The cutter tooth counts tried, largest first (common pinion-type shaper cutters; a cutter's
@@ -68,7 +67,7 @@ pub struct GearProcess {
 
 impl GearProcess {
     /// A rack-cut gear with `undercut_flanks` undercut flanks.
-    fn rack(undercut_flanks: usize) -> Self {
+    pub(super) fn rack(undercut_flanks: usize) -> Self {
         Self {
             process: Process::Rack,
             cutter_teeth: None,
@@ -85,11 +84,12 @@ impl GearProcess {
     }
 
     /// A gear shaper-cut at module `m_mm` by the cutter with `zc` teeth, chosen for a tightest
-    /// concave radius `concave_rho_mm` after trying `tried` (the others `rejected`).
+    /// concave radius `concave_rho_mm` (`None`: a convex curve) after trying `tried` (the others
+    /// `rejected`).
     fn shaper(
         zc: u32,
         m_mm: f64,
-        concave_rho_mm: f64,
+        concave_rho_mm: Option<f64>,
         checks: &ShaperChecks,
         tried: Vec<u32>,
         rejected: Vec<String>,
@@ -98,7 +98,7 @@ impl GearProcess {
             process: Process::Shaper,
             cutter_teeth: Some(zc),
             cutter_pitch_radius_mm: Some(cutter_pitch_radius_mm(zc, m_mm)),
-            min_concave_rho_mm: Some(concave_rho_mm),
+            min_concave_rho_mm: concave_rho_mm,
             tried_cutter_teeth: tried,
             rejected,
             undercut_flanks: checks.undercut_flanks,
@@ -106,6 +106,24 @@ impl GearProcess {
             relieved_teeth: 0,
             max_tip_relief_mm: 0.0,
             reach_topped_teeth: checks.reach_topped_teeth,
+        }
+    }
+
+    /// A gear swept by its mates (wire EDM, printing), its flanks reported in `undercut` and its
+    /// narrowest tip `min_tip_width_mm` (mm of arc); no cutter tried.
+    pub(super) fn swept(undercut: &UndercutReport, min_tip_width_mm: f64) -> Self {
+        Self {
+            process: Process::WireEdm,
+            cutter_teeth: None,
+            cutter_pitch_radius_mm: None,
+            min_concave_rho_mm: min_concave_rho_mm(undercut),
+            tried_cutter_teeth: Vec::new(),
+            rejected: Vec::new(),
+            undercut_flanks: 0,
+            min_tip_width_mm: Some(min_tip_width_mm),
+            relieved_teeth: 0,
+            max_tip_relief_mm: 0.0,
+            reach_topped_teeth: 0,
         }
     }
 
@@ -130,8 +148,21 @@ pub enum CutterChoice {
     Teeth(u32),
 }
 
+/// The smallest |ρ| of the concave generating ranges of `report`'s flanks, mm (`None`: none is
+/// concave).
+fn min_concave_rho_mm(report: &UndercutReport) -> Option<f64> {
+    (report.concave_count > 0).then(|| {
+        report
+            .flanks
+            .iter()
+            .filter(|f| f.concave)
+            .map(|f| f.min_rho_mm.abs())
+            .fold(f64::INFINITY, f64::min)
+    })
+}
+
 /// Generates the outline of `blank` (its `z` teeth of module `module_mm`) by the process the curve
-/// allows (module doc) and reports it.
+/// allows (module doc) and reports it ([`super::Generation::Process`]).
 ///
 /// Convex curve: exactly [`generate_on`] (same outline, same errors: undercut refused with the
 /// largest module that works). Concave stretches: shaper cutters with pitch radius `z_c·m/2`
@@ -142,24 +173,17 @@ pub enum CutterChoice {
 ///
 /// Errors: those of [`generate_on`], [`TeethError::NoCutter`] (no cutter fits, listing why each
 /// tried one failed), [`TeethError::Shaper`] / [`TeethError::ShaperUndercut`] for a forced cutter.
-pub fn generate_by_process(
+pub(super) fn generate_by_process(
     blank: &GearBlank<'_>,
     choice: CutterChoice,
 ) -> Result<(Outline, GearProcess), TeethError> {
     let m = blank.module_mm;
     blank.validated_pitch_mm()?;
-    let report = report_on(blank);
-    if report.concave_count == 0 {
+    let Some(concave_rho) = min_concave_rho_mm(&report_on(blank)) else {
         let o = generate_on(blank)?;
         let process = GearProcess::rack(o.undercut.undercut_count);
         return Ok((o, process));
-    }
-    let concave_rho = report
-        .flanks
-        .iter()
-        .filter(|f| f.concave)
-        .map(|f| f.min_rho_mm.abs())
-        .fold(f64::INFINITY, f64::min);
+    };
     let candidates: Vec<u32> = match choice {
         CutterChoice::Teeth(zc) => vec![zc],
         CutterChoice::Auto => STANDARD_CUTTER_TEETH
@@ -169,7 +193,7 @@ pub fn generate_by_process(
     };
     let forced = matches!(choice, CutterChoice::Teeth(_));
     let shaped = |(o, checks, zc): (Outline, ShaperChecks, u32), tried, rejected| {
-        let process = GearProcess::shaper(zc, m, concave_rho, &checks, tried, rejected);
+        let process = GearProcess::shaper(zc, m, Some(concave_rho), &checks, tried, rejected);
         (o, process)
     };
     let mut tried = Vec::new();
@@ -249,18 +273,13 @@ fn try_cutter(
 }
 
 /// The outline of a gear cut again by the process `as_cut` recorded (another chord tolerance,
-/// the mesh check's): the rack, or the same shaper cutter, without choosing again and without
-/// the choice's checks (they hold for the same cutter on the same curve). A swept gear has no
-/// cutter: [`TeethError::Swept`].
-pub fn generate_as(blank: &GearBlank<'_>, as_cut: &GearProcess) -> Result<Outline, TeethError> {
-    Ok(generate_as_relieved(blank, as_cut, &[])?.0)
-}
-
-/// [`generate_as`] with tooth `k`'s tip lowered by `tip_relief_mm[k]` along the pitch curve's
-/// normal (mm; none where the slice is shorter): the relief that keeps each tip off its mates'
-/// fillets ([`super::relief::tip_relief`]). Also returns the narrowest tooth tip of a shaper-cut
-/// gear, mm of arc.
-pub fn generate_as_relieved(
+/// the mesh check's; [`super::Generation::AsCut`]): the rack, or the same shaper cutter, without
+/// choosing again and without the choice's checks (they hold for the same cutter on the same
+/// curve); tooth `k`'s tip lowered by `tip_relief_mm[k]` along the pitch curve's normal (mm;
+/// none where the slice is shorter): the relief that keeps each tip off its mates' fillets
+/// ([`super::relief::tip_relief`]). Also returns the narrowest tooth tip of a shaper-cut gear,
+/// mm of arc. A swept gear has no cutter: [`TeethError::Swept`].
+pub(super) fn generate_as_relieved(
     blank: &GearBlank<'_>,
     as_cut: &GearProcess,
     tip_relief_mm: &[f64],
@@ -278,7 +297,7 @@ pub fn generate_as_relieved(
 
 /// The tip corners `[left, right]` of every tooth of [`generate_as_relieved`]'s outline with
 /// the same arguments, body frame, mm.
-pub fn tip_corners_as(
+pub(super) fn tip_corners_as(
     blank: &GearBlank<'_>,
     as_cut: &GearProcess,
     tip_relief_mm: &[f64],
@@ -340,23 +359,35 @@ fn check_secondary(
 }
 
 /// The outline of `blank`'s `z` teeth cut by a shaper cutter with `cutter_teeth` teeth, whatever
-/// the curve's convexity (on a circle it is the involute whatever the cutter). Errors as
-/// [`generate_by_process`] with a forced cutter; the outline is not checked for
-/// self-intersection here.
-pub fn generate_with_cutter(
+/// the curve's convexity (on a circle it is the involute whatever the cutter;
+/// [`super::Generation::Shaper`]), with its process. Errors as [`generate_by_process`] with a
+/// forced cutter; the outline is not checked for self-intersection here.
+pub(super) fn generate_with_cutter(
     blank: &GearBlank<'_>,
     cutter_teeth: u32,
-) -> Result<Outline, TeethError> {
+) -> Result<(Outline, GearProcess), TeethError> {
     let cutter = Cutter::new(cutter_teeth, &blank.rack, blank.module_mm)?;
-    Ok(generate_shaper(blank, &cutter, &[])?.0)
+    let (o, checks) = generate_shaper(blank, &cutter, &[])?;
+    let concave_rho = min_concave_rho_mm(&o.undercut);
+    let m = blank.module_mm;
+    let process = GearProcess::shaper(
+        cutter_teeth,
+        m,
+        concave_rho,
+        &checks,
+        vec![cutter_teeth],
+        vec![],
+    );
+    Ok((o, process))
 }
 
-/// The report of a gear swept by its mates (wire EDM / printing, [`super::conjugate`]) instead of
-/// the cutters that `no_cutter` ([`TeethError::NoCutter`] from [`generate_by_process`]) rejected;
-/// any other error is returned unchanged.
-pub fn swept_process(
+/// The process of a gear swept by its mates (wire EDM / printing, [`super::Generation::Swept`])
+/// instead of the cutters that `no_cutter` ([`TeethError::NoCutter`] of
+/// [`super::Generation::Process`]) rejected: `swept` with the concave radius and the rejections
+/// of the error; any other error is returned unchanged.
+pub(crate) fn swept_process(
     no_cutter: TeethError,
-    checks: SweepChecks,
+    swept: GearProcess,
 ) -> Result<GearProcess, TeethError> {
     let TeethError::NoCutter {
         min_concave_rho_mm,
@@ -366,16 +397,8 @@ pub fn swept_process(
         return Err(no_cutter);
     };
     Ok(GearProcess {
-        process: Process::WireEdm,
-        cutter_teeth: None,
-        cutter_pitch_radius_mm: None,
         min_concave_rho_mm: Some(min_concave_rho_mm),
-        tried_cutter_teeth: Vec::new(),
         rejected: vec![tried],
-        undercut_flanks: 0,
-        min_tip_width_mm: Some(checks.min_tip_width_mm),
-        relieved_teeth: 0,
-        max_tip_relief_mm: 0.0,
-        reach_topped_teeth: 0,
+        ..swept
     })
 }

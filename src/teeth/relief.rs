@@ -32,9 +32,9 @@
 //! independent and one pass suffices.
 use super::mate_motion::MeshMotion;
 use super::outline::{Outline, OutlineOptions};
-use super::process::{GearProcess, generate_as_relieved, tip_corners_as};
+use super::process::{GearProcess, tip_corners_as};
 use super::shape::Shape;
-use super::{GearBlank, TeethError};
+use super::{GearBlank, Generation, TeethError, generate};
 use rayon::prelude::*;
 use std::f64::consts::{PI, TAU};
 
@@ -182,12 +182,15 @@ pub fn relieve_gear(
         chord_tol_mm: fine_chord_tol_mm,
         ..blank.opts
     });
-    let cut = |b: &GearBlank<'_>| generate_as_relieved(b, as_cut, &relief_mm);
-    let ((export, min_tip_width_mm), (fine, _)) = (cut(blank)?, cut(&fine)?);
+    let how = Generation::Relieved {
+        as_cut,
+        tip_relief_mm: &relief_mm,
+    };
+    let (export, fine) = (generate(blank, how)?, generate(&fine, how)?);
     Ok(Some(Relieved {
-        export,
-        fine_mm: fine.points_mm,
+        export: export.outline,
+        fine_mm: fine.outline.points_mm,
+        min_tip_width_mm: export.process.min_tip_width_mm,
         relief_mm,
-        min_tip_width_mm,
     }))
 }

@@ -235,14 +235,14 @@ fn g1_end_to_end_patent_route_orders_within_golden_bounds() {
     let traj = g1_trajectory();
     // Golden docs/math/chain.md §8.2 (360 points, hypothesis 1 + 0.1 sin(2u + 0.3)): 0.207, 0.042, 0.010 mm at K = 8, 16, 32.
     for (k, bound) in [(8, 0.207), (16, 0.042), (32, 0.010)] {
-        let mut opts = DesignOptions::default();
-        opts.order = Some(k);
-        opts.refine = RefineMode::Off;
-        opts.segmented = {
-            let mut o = SegmentedOptions::default();
-            o.hypothesis = vec![(0.1, 0.3)];
-            o
-        };
+        let opts = DesignOptions::default()
+            .with_order(Some(k))
+            .with_refine(RefineMode::Off)
+            .with_segmented({
+                let mut o = SegmentedOptions::default();
+                o.hypothesis = vec![(0.1, 0.3)];
+                o
+            });
         let d = design(&traj, &opts).unwrap();
         let dev = d.report.patent_route.max_deviation_mm;
         assert!(dev <= 2.0 * bound, "K = {k}: {dev} mm");
@@ -327,8 +327,7 @@ fn round_trip_on_exactly_traceable_random_mechanisms() {
             .map(|p| [center[0] + p[0], center[1] + if cw { -p[1] } else { p[1] }])
             .collect();
         let traj = traj_from(pts);
-        let mut opts = DesignOptions::default();
-        opts.center_mm = center;
+        let opts = DesignOptions::default().with_center_mm(center);
         let d = design(&traj, &opts).unwrap_or_else(|e| panic!("seed {seed}: {e}"));
         let r = &d.report;
         assert_eq!(r.carrier.direction, if cw { -1 } else { 1 }, "seed {seed}");
@@ -397,9 +396,9 @@ fn designer_style_target_patent_route_versus_refinement() {
         fit.max_mm
     );
     // docs/math/chain.md §8.3 on request: still better than the patent route, within 1.5× of its best 3.82 mm.
-    let mut on = DesignOptions::default();
-    on.refine = RefineMode::On;
-    on.fit_to_points = false;
+    let on = DesignOptions::default()
+        .with_refine(RefineMode::On)
+        .with_fit_to_points(false);
     let d = design(&t, &on).unwrap();
     let refined = d
         .report
@@ -492,7 +491,7 @@ mod properties {
                 .map(|p| [cx + p[0], cy + if cw { -p[1] } else { p[1] }])
                 .collect();
             let traj = traj_from(pts);
-            let d = design(&traj, &{ let mut o = DesignOptions::default(); o.center_mm = [cx, cy]; o });
+            let d = design(&traj, &DesignOptions::default().with_center_mm([cx, cy]));
             let d = d.map_err(|e| TestCaseError::fail(format!("{e}")))?;
             let r = &d.report;
             // l1 from the extremes of a 180-point file is good to ~0.01 mm (docs/math/chain.md §3.5).
@@ -580,8 +579,7 @@ fn a_carrier_sense_asked_for_is_kept_or_refused_by_name() {
     );
     assert!(err.to_string().contains("CW"), "{err}");
     // Not ±1: refused by the design's option check, naming the field.
-    let mut d = DesignOptions::default();
-    d.inverse.sense = Some(2);
+    let d = DesignOptions::default().with_inverse(InverseOptions::default().with_sense(Some(2)));
     let e = design(&g1_trajectory(), &d).unwrap_err();
     assert!(e.to_string().contains("inverse.sense"), "{e}");
 }

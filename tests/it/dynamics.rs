@@ -131,18 +131,17 @@ fn natural_frequencies_16_4_and_pair() {
 }
 
 fn opts(rtol: f64, max_periods: u32, record: u32, spm: u32) -> RunOptions {
-    let mut o = RunOptions::default();
-    o.method = Method::Dopri5 {
-        rtol,
-        atol: rtol * 1e-6,
-        breakpoints: true,
-        events: true,
-    };
-    o.poincare_tol = 1e-9;
-    o.max_periods = max_periods;
-    o.record_mesh_periods = record;
-    o.samples_per_mesh = spm;
-    o
+    RunOptions::default()
+        .with_method(Method::Dopri5 {
+            rtol,
+            atol: rtol * 1e-6,
+            breakpoints: true,
+            events: true,
+        })
+        .with_poincare_tol(1e-9)
+        .with_max_periods(max_periods)
+        .with_record_mesh_periods(record)
+        .with_samples_per_mesh(spm)
 }
 
 #[test]

@@ -63,12 +63,7 @@ fn noisy_measured_trajectory_with_smoothing_stays_close_to_the_clean_path() {
             Ok(_) => {}
         }
         // With smoothing the chain runs and stays within a bounded distance of the clean path.
-        let d = design(&t, &{
-            let mut o = DesignOptions::default();
-            o.smoothing = Some(24);
-            o
-        })
-        .unwrap();
+        let d = design(&t, &DesignOptions::default().with_smoothing(Some(24))).unwrap();
         let worst = d
             .traced_mm
             .iter()
@@ -155,8 +150,8 @@ fn ratios_beyond_the_bounds_are_designed_within_them() {
         idler_offset_rad: 0.0,
     };
     let t = traj((0..360).map(|k| m.tip((k as f64).to_radians())).collect()).unwrap();
-    let mut opts = DesignOptions::default();
-    opts.refine_options.ratio_bounds = [0.6, 1.7];
+    let bounds = ncgear::design::refine::RefineOptions::default().with_ratio_bounds([0.6, 1.7]);
+    let opts = DesignOptions::default().with_refine_options(bounds);
     let d = design(&t, &opts).unwrap();
     let [lo, hi] = d.report.fourier.i21_range;
     assert!(lo >= 0.6 && hi <= 1.7, "{lo} {hi}");
@@ -176,8 +171,7 @@ fn ratios_beyond_the_bounds_are_designed_within_them() {
     );
     // With the fit off the patent route's ratio is made admissible too (shrunk into the bounds
     // and the gear limits): a design within them, farther from the target than the fit's.
-    opts.fit_to_points = false;
-    let patent = design(&t, &opts).unwrap();
+    let patent = design(&t, &opts.with_fit_to_points(false)).unwrap();
     let [lo, hi] = patent.report.fourier.i21_range;
     assert!(lo >= 0.6 && hi <= 1.7, "{lo} {hi}");
     assert!(patent.report.roundtrip.max_deviation_mm > dev);
@@ -208,7 +202,7 @@ proptest! {
         text.truncate(text.len().saturating_sub(cut));
         if let Ok(t) = Trajectory::parse_csv(&text, "m.csv") {
             // Whatever parses must either design or fail with a typed error — and never yield NaN.
-            if let Ok(d) = design(&t, &{ let mut o = DesignOptions::default(); o.check_samples = 256; o.curve_samples = 720; o }) {
+            if let Ok(d) = design(&t, &DesignOptions::default().with_check_samples(256).with_curve_samples(720)) {
                 prop_assert!(d.report.roundtrip.max_deviation_mm.is_finite());
                 prop_assert!(d.report.l1.is_finite() && d.report.l3.is_finite());
             }

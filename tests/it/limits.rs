@@ -86,8 +86,7 @@ fn designer_kidney_is_designed_within_the_limits_at_a_small_cost() {
     let t = traj("assets/trajectories/designer_kidney.csv");
     let d = design(&t, &DesignOptions::default()).unwrap();
     assert_within(&d, 10.0, "designer_kidney");
-    let mut off = DesignOptions::default();
-    off.gear_limits = false;
+    let off = DesignOptions::default().with_gear_limits(false);
     let free = design(&t, &off).unwrap();
     let (dev, free_dev) = (
         d.report.roundtrip.max_deviation_mm,
@@ -144,8 +143,7 @@ fn exact_targets_within_the_limits_are_unchanged() {
 fn a_tighter_pressure_angle_limit_is_obeyed_and_costs_path() {
     let t = traj("assets/cases/designer_odd3.csv");
     let run = |deg: f64| {
-        let mut o = DesignOptions::default();
-        o.pressure_angle_limit_rad = deg.to_radians();
+        let o = DesignOptions::default().with_pressure_angle_limit_rad(deg.to_radians());
         design(&t, &o).unwrap()
     };
     let (tight, loose) = (run(35.0), run(45.0));
@@ -168,8 +166,7 @@ fn a_tighter_pressure_angle_limit_is_obeyed_and_costs_path() {
 /// finished design moves the tip by ≈ 0.5 mm).
 #[test]
 fn a_design_for_the_module_has_perimeter_z_pi_m_and_its_teeth_trace_the_stated_path() {
-    let mut o = DesignOptions::default();
-    o.module_mm = Some(1.5);
+    let o = DesignOptions::default().with_module_mm(Some(1.5));
     let d = design(&traj("assets/trajectories/g1_ellipse.csv"), &o).unwrap();
     let m = d.report.module.as_ref().expect("module block");
     let z = f64::from(m.teeth);
@@ -222,8 +219,7 @@ fn a_design_for_the_module_has_perimeter_z_pi_m_and_its_teeth_trace_the_stated_p
 #[test]
 fn g1_at_module_2_is_closer_than_the_scaling_policies() {
     let t = traj("assets/trajectories/g1_ellipse.csv");
-    let mut o = DesignOptions::default();
-    o.module_mm = Some(2.0);
+    let o = DesignOptions::default().with_module_mm(Some(2.0));
     let d = design(&t, &o).unwrap();
     assert_within(&d, 25.0, "g1 m2");
     let cands = &d.report.module.as_ref().unwrap().candidates;
@@ -255,8 +251,7 @@ fn g1_at_module_2_is_closer_than_the_scaling_policies() {
 #[test]
 fn measured_points_at_a_module_get_the_minimax_finish() {
     let t = traj("assets/cases/noisy_050um.csv");
-    let mut o = DesignOptions::default();
-    o.module_mm = Some(2.0);
+    let o = DesignOptions::default().with_module_mm(Some(2.0));
     let d = design(&t, &o).unwrap();
     assert_within(&d, 25.0, "noisy_050um m2");
     let toothed = toothed_cleanly(&d, 2.0, 24);
@@ -276,8 +271,7 @@ fn measured_points_at_a_module_get_the_minimax_finish() {
 /// limit every mesh is free of interference and below 1e-5°.
 #[test]
 fn a_design_for_the_module_stays_above_the_undercut_radius_and_meshes() {
-    let mut o = DesignOptions::default();
-    o.module_mm = Some(1.5);
+    let o = DesignOptions::default().with_module_mm(Some(1.5));
     assert_eq!(o.convex_radius_limit_mm(), Some(10.5));
     let d = design(&traj("assets/cases/designer_odd3.csv"), &o).unwrap();
     let g = &d.report.gears;
@@ -318,8 +312,7 @@ fn module_mismatches_and_oversized_modules_are_refused_clearly() {
     let e = tooth_design(&d, &to, 1e-9, &|_| {}).unwrap_err();
     assert!(matches!(e, TrainError::NotDesignedForModule { .. }), "{e}");
     assert!(e.to_string().contains("no module"), "{e}");
-    let mut o = DesignOptions::default();
-    o.module_mm = Some(20.0);
+    let o = DesignOptions::default().with_module_mm(Some(20.0));
     let e = design(&traj("assets/trajectories/g1_ellipse.csv"), &o).unwrap_err();
     assert!(matches!(e, DesignError::ModuleTooLarge { .. }), "{e}");
     assert!(e.to_string().contains("choose a module of at most"), "{e}");

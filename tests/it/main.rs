@@ -11,6 +11,7 @@ mod hard_cases;
 mod layout;
 mod limits;
 mod noise;
+mod options;
 mod orbit;
 mod pair_ratios;
 mod pair_sector;

@@ -200,8 +200,7 @@ fn noisy_cases_pass_c12_on_the_estimated_curve_deviation() {
         .enumerate()
     {
         let case = noisy_case(200 + k as u64, m, sigma);
-        let mut opts = DesignOptions::default();
-        opts.center_mm = case.opts.center;
+        let opts = DesignOptions::default().with_center_mm(case.opts.center);
         let d = design(&trajectory(&case.points), &opts).unwrap();
         check_noisy_design(&case.describe(), &d, &case.truth);
     }

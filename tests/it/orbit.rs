@@ -444,11 +444,10 @@ fn ls_extraction_within_4x_crlb_non_integer_drift_noise_nuisance() {
     for seed in [1u64, 2, 3] {
         let s = Synth::base(seed);
         let rec = s.record();
-        let ex = Extractor::new(s.orbit.omega_p_rad_s, {
-            let mut o = ExtractOptions::default();
-            o.nuisance = s.nuisance();
-            o
-        })
+        let ex = Extractor::new(
+            s.orbit.omega_p_rad_s,
+            ExtractOptions::default().with_nuisance(s.nuisance()),
+        )
         .unwrap();
         let m = ex.extract(&rec).unwrap();
         assert_within_crlb(&s, &m.orbit, 4.0);
@@ -498,11 +497,10 @@ fn ls_handles_nearby_nuisance_line_and_jittered_time() {
     s.t0_s = 0.8;
     let rec = s.record();
     assert!(!rec.is_uniform(1e-6));
-    let m = Extractor::new(s.orbit.omega_p_rad_s, {
-        let mut o = ExtractOptions::default();
-        o.nuisance = s.nuisance();
-        o
-    })
+    let m = Extractor::new(
+        s.orbit.omega_p_rad_s,
+        ExtractOptions::default().with_nuisance(s.nuisance()),
+    )
     .unwrap()
     .extract(&rec)
     .unwrap();
@@ -522,12 +520,12 @@ fn plain_fft_phase_error_contrast() {
     let s = Synth::base(11);
     let rec = s.record();
     let run = |m: Method| {
-        Extractor::new(s.orbit.omega_p_rad_s, {
-            let mut o = ExtractOptions::default();
-            o.method = m;
-            o.nuisance = s.nuisance();
-            o
-        })
+        Extractor::new(
+            s.orbit.omega_p_rad_s,
+            ExtractOptions::default()
+                .with_method(m)
+                .with_nuisance(s.nuisance()),
+        )
         .unwrap()
         .extract(&rec)
         .unwrap()
@@ -569,11 +567,10 @@ fn colliding_lines_are_refused() {
         -(s.orbit.omega_p_rad_s + 1e-7 * bin),
         LineKind::Nuisance,
     ));
-    let err = Extractor::new(s.orbit.omega_p_rad_s, {
-        let mut o = ExtractOptions::default();
-        o.nuisance = lines;
-        o
-    })
+    let err = Extractor::new(
+        s.orbit.omega_p_rad_s,
+        ExtractOptions::default().with_nuisance(lines),
+    )
     .unwrap()
     .extract(&rec)
     .unwrap_err();
@@ -599,11 +596,10 @@ fn colliding_lines_are_refused() {
         LineKind::Nuisance,
     ));
     assert!(matches!(
-        Extractor::new(s.orbit.omega_p_rad_s, {
-            let mut o = ExtractOptions::default();
-            o.nuisance = lines;
-            o
-        })
+        Extractor::new(
+            s.orbit.omega_p_rad_s,
+            ExtractOptions::default().with_nuisance(lines)
+        )
         .unwrap()
         .extract(&rec),
         Err(OrbitError::Collision { .. })
@@ -616,11 +612,10 @@ fn colliding_lines_are_refused() {
         -(s.orbit.omega_p_rad_s + 0.001 * bin),
         LineKind::Nuisance,
     ));
-    let m = Extractor::new(s.orbit.omega_p_rad_s, {
-        let mut o = ExtractOptions::default();
-        o.nuisance = lines;
-        o
-    })
+    let m = Extractor::new(
+        s.orbit.omega_p_rad_s,
+        ExtractOptions::default().with_nuisance(lines),
+    )
     .unwrap()
     .extract(&rec)
     .unwrap();
@@ -639,11 +634,10 @@ fn colliding_lines_are_refused() {
         s.orbit.omega_p_rad_s + 2.0 * bin,
         LineKind::Nuisance,
     ));
-    let m = Extractor::new(s.orbit.omega_p_rad_s, {
-        let mut o = ExtractOptions::default();
-        o.nuisance = lines;
-        o
-    })
+    let m = Extractor::new(
+        s.orbit.omega_p_rad_s,
+        ExtractOptions::default().with_nuisance(lines),
+    )
     .unwrap()
     .extract(&rec)
     .unwrap();
@@ -664,12 +658,12 @@ fn housing_frame_derotation_and_full_spectrum() {
     s.lines.truncate(1); // runout line, given in the carrier frame
     let rec = s.record();
     // (a) de-rotate with the recorded carrier angle.
-    let m = Extractor::new(s.orbit.omega_p_rad_s, {
-        let mut o = ExtractOptions::default();
-        o.frame = Frame::HousingDerotate;
-        o.nuisance = s.nuisance();
-        o
-    })
+    let m = Extractor::new(
+        s.orbit.omega_p_rad_s,
+        ExtractOptions::default()
+            .with_frame(Frame::HousingDerotate)
+            .with_nuisance(s.nuisance()),
+    )
     .unwrap()
     .extract(&rec)
     .unwrap();
@@ -681,12 +675,12 @@ fn housing_frame_derotation_and_full_spectrum() {
         .iter()
         .map(|(w, _)| Line::new("runout", w + wc, LineKind::Nuisance))
         .collect();
-    let m = Extractor::new(s.orbit.omega_p_rad_s, {
-        let mut o = ExtractOptions::default();
-        o.frame = Frame::HousingFullSpectrum { carrier_rad_s: wc };
-        o.nuisance = housing;
-        o
-    })
+    let m = Extractor::new(
+        s.orbit.omega_p_rad_s,
+        ExtractOptions::default()
+            .with_frame(Frame::HousingFullSpectrum { carrier_rad_s: wc })
+            .with_nuisance(housing),
+    )
     .unwrap()
     .extract(&rec)
     .unwrap();
@@ -703,11 +697,10 @@ fn housing_frame_derotation_and_full_spectrum() {
 fn least_squares_is_thread_count_independent() {
     let s = Synth::base(3);
     let rec = s.record();
-    let ex = Extractor::new(s.orbit.omega_p_rad_s, {
-        let mut o = ExtractOptions::default();
-        o.nuisance = s.nuisance();
-        o
-    })
+    let ex = Extractor::new(
+        s.orbit.omega_p_rad_s,
+        ExtractOptions::default().with_nuisance(s.nuisance()),
+    )
     .unwrap();
     let one = rayon::ThreadPoolBuilder::new()
         .num_threads(1)
@@ -881,12 +874,12 @@ fn asset_signals_match_the_model_within_4x_crlb() {
         },
     ] {
         let housing = matches!(frame, Frame::HousingFullSpectrum { .. });
-        let m = Extractor::new(set.omega_p_rad_s(), {
-            let mut o = ExtractOptions::default();
-            o.frame = frame;
-            o.nuisance = g.expected_lines(housing, 2);
-            o
-        })
+        let m = Extractor::new(
+            set.omega_p_rad_s(),
+            ExtractOptions::default()
+                .with_frame(frame)
+                .with_nuisance(g.expected_lines(housing, 2)),
+        )
         .unwrap()
         .extract(&rec)
         .unwrap();
@@ -910,11 +903,10 @@ fn planet_frequency_estimated_from_an_approximate_value() {
     let rec = s.record();
     let wp = s.orbit.omega_p_rad_s;
     // Configured 2 % low (≈ 0.5 bin off).
-    let ex = Extractor::new(wp * 0.98, {
-        let mut o = ExtractOptions::default();
-        o.nuisance = s.nuisance();
-        o
-    })
+    let ex = Extractor::new(
+        wp * 0.98,
+        ExtractOptions::default().with_nuisance(s.nuisance()),
+    )
     .unwrap();
     let calls = std::sync::atomic::AtomicU64::new(0);
     let est = ex
@@ -965,11 +957,10 @@ fn ls_is_exact_on_noise_free_non_integer_records() {
         s.sigma_um = 0.0;
         s.periods = periods;
         s.samples = 6000;
-        let m = Extractor::new(s.orbit.omega_p_rad_s, {
-            let mut o = ExtractOptions::default();
-            o.nuisance = s.nuisance();
-            o
-        })
+        let m = Extractor::new(
+            s.orbit.omega_p_rad_s,
+            ExtractOptions::default().with_nuisance(s.nuisance()),
+        )
         .unwrap()
         .extract(&s.record())
         .unwrap();
@@ -1000,11 +991,10 @@ fn tach_synchronous_average_corrects_a_wrong_nominal_speed() {
         .take_while(|t| *t < s.duration() - 1e-3)
         .collect();
     let with_tach = rec.clone().with_tach_pulses(pulses).unwrap();
-    let ex = Extractor::new(wp * 1.01, {
-        let mut o = ExtractOptions::default();
-        o.method = Method::Synchronous;
-        o
-    })
+    let ex = Extractor::new(
+        wp * 1.01,
+        ExtractOptions::default().with_method(Method::Synchronous),
+    )
     .unwrap();
     let good = errors(&ex.extract(&with_tach).unwrap().orbit, &s.orbit);
     let bad = errors(&ex.extract(&rec).unwrap().orbit, &s.orbit);
@@ -1056,8 +1046,7 @@ fn library_reports_are_what_the_cli_prints() {
     let set = p.planet_set().unwrap();
     let model = ModelReport::new(&p).unwrap();
     assert_eq!(model.orbit.orbit(), set.solve().orbit);
-    let mut opts = MeasureOptions::default();
-    opts.frame = SensorFrame::Derotate;
+    let opts = MeasureOptions::default().with_frame(SensorFrame::Derotate);
     let mut ev = Evaluation::new(Some(&p), &opts).unwrap();
     let rec = Record::from_path(&asset("signals.csv")).unwrap();
     assert!(ev.refine_frequency(&rec, &|_| {}).unwrap().is_none());

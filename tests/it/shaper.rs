@@ -1,13 +1,19 @@
 //! Integration tests: shaper-cutter generation against closed forms — involutes on a
 //! circle (external gear) and on a concave circular arc (internal gear), the basic-rack profile
 //! on a straight stretch — and the process choice.
+use crate::teeth::rack_cut;
 use ncgear::geometry::pitch::PitchCurve;
 use ncgear::teeth::overlap::first_self_intersection;
-use ncgear::teeth::process::{CutterChoice, Process, generate_by_process, generate_with_cutter};
+use ncgear::teeth::process::{CutterChoice, Process};
 use ncgear::teeth::{
-    ArcFrame, GearBlank, OutlineOptions, RackParams, TeethError, ToothPolicy, generate_outline,
-    scale_curve, tooth_count,
+    ArcFrame, GearBlank, Generation, Outline, OutlineOptions, RackParams, TeethError, ToothPolicy,
+    generate, scale_curve, tooth_count,
 };
+
+/// The outline of `blank` cut by the shaper cutter with `cutter_teeth` teeth.
+fn shaper_cut(blank: &GearBlank<'_>, cutter_teeth: u32) -> Result<Outline, TeethError> {
+    generate(blank, Generation::Shaper(cutter_teeth)).map(|g| g.outline)
+}
 
 fn inv(a: f64) -> f64 {
     a.tan() - a
@@ -80,7 +86,7 @@ fn shaper_on_a_circle_cuts_the_involute() {
     let want = std::f64::consts::PI / 48.0 + inv(alpha);
     // 25 teeth: a cutter made taller so that its involute still reaches the rack's flank depth.
     for zc in [25, 34, 50, 100] {
-        let o = generate_with_cutter(
+        let o = shaper_cut(
             &GearBlank::new(
                 &frame,
                 RackParams::default(),
@@ -103,7 +109,7 @@ fn shaper_on_a_circle_cuts_the_involute() {
     }
     // A 12-tooth cutter made tall enough for its involute to reach the rack's flank depth keeps
     // no tip flat in the gear's space: refused, naming why.
-    let err = generate_with_cutter(
+    let err = shaper_cut(
         &GearBlank::new(
             &frame,
             RackParams::default(),
@@ -265,14 +271,15 @@ fn shaper_flanks_on_a_concave_stretch_are_the_rack_envelope() {
     let frame = ArcFrame::new(&c);
     let rack = RackParams::default();
     // A rack refuses it.
-    let err = generate_outline(&c, &rack, tc.z, m, &OutlineOptions::new(0.0, 1e-3)).unwrap_err();
+    let err = rack_cut(&c, &rack, tc.z, m, &OutlineOptions::new(0.0, 1e-3)).unwrap_err();
     assert!(matches!(err, TeethError::Concave { .. }), "{err}");
     let opts = OutlineOptions::new(0.0, 1e-6);
-    let (o, proc_) = generate_by_process(
+    let cut = generate(
         &GearBlank::new(&frame, rack, tc.z, m, opts),
-        CutterChoice::Auto,
+        Generation::Process(CutterChoice::Auto),
     )
     .unwrap();
+    let (o, proc_) = (cut.outline, cut.process);
     assert_eq!(proc_.process, Process::Shaper);
     assert_eq!(proc_.cutter_teeth, Some(100));
     assert_eq!(proc_.tried_cutter_teeth, vec![100]);
@@ -341,7 +348,7 @@ fn shaper_on_a_concave_circular_arc_cuts_the_internal_involute() {
     let frame = ArcFrame::new(&c);
     let opts = OutlineOptions::new(0.0, 1e-6);
     let blank = GearBlank::new(&frame, RackParams::default(), tc.z, m, opts);
-    let o = generate_with_cutter(&blank, 50).unwrap();
+    let o = shaper_cut(&blank, 50).unwrap();
     let (centre, rho) = ([d * s, 0.0], rho * s);
     let alpha = 20f64.to_radians();
     let rb = rho * alpha.cos();
@@ -420,7 +427,7 @@ fn shaper_on_a_straight_pitch_line_cuts_the_rack_profile() {
     // The straight stretch in arc length: |θ| ≤ 0.3 on the line x = d·scale, tan θ·d·scale.
     let half = (0.3f64).tan() * d * tc.scale;
     for zc in [40u32, 100] {
-        let o = generate_with_cutter(&GearBlank::new(&frame, rack, tc.z, m, opts), zc).unwrap();
+        let o = shaper_cut(&GearBlank::new(&frame, rack, tc.z, m, opts), zc).unwrap();
         let mut want = Vec::new();
         for k in 0..tc.z as usize {
             for sign in [-1.0, 1.0] {

@@ -58,10 +58,10 @@ fn g1_tables_trace_the_golden_trajectory_and_arm_2_follows_half_a_turn_later() {
 #[test]
 fn g1_features_against_independent_values() {
     let sim = g1_sim();
-    let mut opts = FeatureOptions::default();
-    opts.samples = 36_000;
-    opts.rpm = 300.0;
-    opts.forward_mm_s = 1000.0;
+    let opts = FeatureOptions::default()
+        .with_samples(36_000)
+        .with_rpm(300.0)
+        .with_forward_mm_s(1000.0);
     let f = features(&sim, &opts).unwrap();
     // Extreme tip distances are l1 + l3 = 260 and l3 − l1 = 80 (docs/math/chain.md §11.1).
     assert!(
@@ -123,15 +123,11 @@ fn g1_features_against_independent_values() {
     // Hole width: the dynamic stroke is narrower than the static loop at the same depth when the
     // machine moves forward (the loop is swept backwards under the soil).
     assert!(f.hole_width_mm > 0.0 && f.hole_width_mm < f.static_width_at_depth_mm);
-    let mut standing = opts;
-    standing.forward_mm_s = 0.0;
-    let still = features(&sim, &standing).unwrap();
+    let still = features(&sim, &opts.with_forward_mm_s(0.0)).unwrap();
     assert!((still.hole_width_mm - still.static_width_at_depth_mm).abs() < 1e-6);
     // Levels outside the path are refused.
-    let mut outside = opts;
-    outside.plant_level_mm = Some(10.0);
     assert!(matches!(
-        features(&sim, &outside),
+        features(&sim, &opts.with_plant_level_mm(Some(10.0))),
         Err(SimulateError::BadOption { .. })
     ));
 }

@@ -1,12 +1,13 @@
 //! Integration tests: gears made without a cutter (wire EDM, printing) — the outline its
 //! mate sweeps — against closed forms: an involute gear swept by an involute mate is the conjugate
 //! involute; and the process choice of a pair whose concave gear no cutter fits.
+use crate::teeth::rack_cut;
 use ncgear::geometry::pitch::PitchCurve;
 use ncgear::pair::{Expr, Law, PairOptions, design_pair};
-use ncgear::teeth::conjugate::{Mate, MatePose, generate_swept};
+use ncgear::teeth::conjugate::{Mate, MatePose};
 use ncgear::teeth::mesh::{MeshCheck, verify_mesh};
 use ncgear::teeth::process::Process;
-use ncgear::teeth::{ArcFrame, GearBlank, OutlineOptions, RackParams, generate_outline};
+use ncgear::teeth::{ArcFrame, GearBlank, Generation, OutlineOptions, RackParams, generate};
 use std::f64::consts::{PI, TAU};
 
 fn inv(a: f64) -> f64 {
@@ -27,7 +28,7 @@ fn a_gear_swept_by_an_involute_mate_is_the_conjugate_involute() {
     let rack = RackParams::default();
     let circle = PitchCurve::from_uniform_radii(vec![r; 512]).unwrap();
     // Driven: a space faces the driver at body angle π (arc π·r from body angle 0).
-    let driven = generate_outline(
+    let driven = rack_cut(
         &circle,
         &rack,
         z,
@@ -58,8 +59,11 @@ fn a_gear_swept_by_an_involute_mate_is_the_conjugate_involute() {
     }];
     let frame = ArcFrame::new(&circle);
     let blank = GearBlank::new(&frame, rack, z, m, OutlineOptions::new(0.0, 1e-6 * m));
-    let (driver, checks) = generate_swept(&blank, &mate).unwrap();
-    assert!(checks.min_tip_width_mm > 0.5, "{checks:?}");
+    let swept = generate(&blank, Generation::Swept(&mate)).unwrap();
+    assert_eq!(swept.process.process, Process::WireEdm);
+    let min_tip = swept.process.min_tip_width_mm.unwrap();
+    assert!(min_tip > 0.5, "{min_tip}");
+    let driver = swept.outline;
     // Flank vertices: above the base circle (with a margin) and below the tip land.
     let rb = r * rack.alpha_rad().cos();
     let pitch_angle = TAU / f64::from(z);

@@ -182,8 +182,7 @@ fn arms_of_other_trains_are_found() {
 #[test]
 fn a_fixed_axis_needs_two_poses() {
     let poses = poses_of(&g1_mechanism(), &[0.0, 144.0], [0.0; 2], false);
-    let mut opts = DyadOptions::default();
-    opts.center_mm = Some([0.0, 0.0]);
+    let opts = DyadOptions::default().with_center_mm(Some([0.0, 0.0]));
     let arms = finite(solve_dyads(&poses, &opts).unwrap());
     assert!(found(&arms, [0.0, 0.0], 90.0, 170.0, 1e-6), "{arms:?}");
 }

@@ -65,8 +65,8 @@ fn published_rice_figures_are_met_with_buildable_gears() {
         machine,
     );
     let s = synthesize(&spec, &DesignOptions::default()).unwrap();
-    let mut fopts = FeatureOptions::default();
-    fopts.forward_mm_s = FeatureOptions::forward_for_spacing(140.0, 300.0);
+    let fopts = FeatureOptions::default()
+        .with_forward_mm_s(FeatureOptions::forward_for_spacing(140.0, 300.0));
     assert_met_on_buildable_gears(&s, &fopts);
     assert_eq!(s.report.targets.len(), 4);
 }

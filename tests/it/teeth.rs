@@ -6,9 +6,27 @@ use ncgear::geometry::pitch::PitchCurve;
 use ncgear::pair::{Expr, Law, Motion, PairOptions, design_pair};
 use ncgear::teeth::overlap::first_self_intersection;
 use ncgear::teeth::{
-    OutlineOptions, RackParams, TeethError, ToothPolicy, generate_outline, scale_curve, tooth_count,
+    ArcFrame, GearBlank, Generation, Outline, OutlineOptions, RackParams, TeethError, ToothPolicy,
+    generate, scale_curve, tooth_count,
 };
 use std::path::PathBuf;
+
+/// The rack-generated outline of `curve` (mm) with `z` teeth of module `m` (mm): the
+/// [`Generation::Rack`] of its blank.
+pub(crate) fn rack_cut(
+    curve: &PitchCurve,
+    rack: &RackParams,
+    z: u32,
+    m: f64,
+    opts: &OutlineOptions,
+) -> Result<Outline, TeethError> {
+    let frame = ArcFrame::new(curve);
+    generate(
+        &GearBlank::new(&frame, *rack, z, m, *opts),
+        Generation::Rack,
+    )
+    .map(|g| g.outline)
+}
 
 fn focus_ellipse(a: f64, e: f64) -> impl Fn(f64) -> f64 {
     move |t: f64| a * (1.0 - e * e) / (1.0 - e * t.cos())
@@ -46,7 +64,7 @@ fn g1_sun_at_module_2_has_23_teeth_and_no_undercut() {
     let scaled = scale_curve(&sun, tc.scale).unwrap();
     let rack = RackParams::default();
     assert!((rack.undercut_limit_rho_mm(2.0) - 17.097).abs() < 1e-3);
-    let o = generate_outline(
+    let o = rack_cut(
         &scaled,
         &rack,
         23,
@@ -96,15 +114,15 @@ fn undercut_caught_at_larger_module_with_rho_sin2_limit() {
     let m_max = 21.993_75 * rack.alpha_rad().sin().powi(2) / rack.straight_depth();
     assert!((m_max - 2.5729).abs() < 1e-3);
     let m18 = l / (18.0 * std::f64::consts::PI);
-    assert!(generate_outline(&sun, &rack, 18, m18, &OutlineOptions::new(0.0, 1e-3)).is_ok());
+    assert!(rack_cut(&sun, &rack, 18, m18, &OutlineOptions::new(0.0, 1e-3)).is_ok());
     let m17 = l / (17.0 * std::f64::consts::PI);
     // Cut as the rack cuts it by default, with the undercut reported …
-    let cut = generate_outline(&sun, &rack, 17, m17, &OutlineOptions::new(0.0, 1e-3)).unwrap();
+    let cut = rack_cut(&sun, &rack, 17, m17, &OutlineOptions::new(0.0, 1e-3)).unwrap();
     assert!(cut.undercut.undercut_count >= 1 && cut.undercut.max_undercut_mm > 0.0);
     // … and refused, naming the largest module that works, with the strict option.
     let mut strict = OutlineOptions::new(0.0, 1e-3);
     strict.refuse_undercut = true;
-    match generate_outline(&sun, &rack, 17, m17, &strict) {
+    match rack_cut(&sun, &rack, 17, m17, &strict) {
         Err(TeethError::Undercut {
             count,
             max_module_mm,
@@ -127,7 +145,7 @@ fn concave_pitch_curve_is_refused() {
     assert!(c.curvature_extremes(2048).min_convexity_mm2 < 0.0);
     let tc = tooth_count(&c, 1.0, ToothPolicy::Nearest, 1e-9).unwrap();
     let c = scale_curve(&c, tc.scale).unwrap();
-    let err = generate_outline(
+    let err = rack_cut(
         &c,
         &RackParams::default(),
         tc.z,
@@ -145,7 +163,7 @@ fn involute_on_a_circle() {
     let r0 = 24.0;
     let c = PitchCurve::from_fn(256, |_| r0).unwrap();
     let m = 2.0;
-    let o = generate_outline(
+    let o = rack_cut(
         &c,
         &RackParams::default(),
         24,

@@ -12,13 +12,6 @@ fn paper() -> ErrorFile {
     ErrorFile::parse(PAPER, "paper_3k.toml", Format::Toml).unwrap()
 }
 
-/// Monte Carlo options: `samples`, `seed`, histogram `bins`.
-fn mc(samples: usize, seed: u64, bins: usize) -> McOptions {
-    let mut o = McOptions::default();
-    (o.samples, o.seed, o.bins) = (samples, seed, bins);
-    o
-}
-
 fn argmin(v: &[f64]) -> (usize, f64) {
     let (i, p) = v
         .iter()
@@ -183,11 +176,28 @@ fn monte_carlo_is_seeded_and_stable_between_seeds() {
     let f = paper();
     let a = Analysis::new(&f, PeakOptions::default());
     let rb = f.base_radius();
-    let run = |seed| a.monte_carlo(&mc(50_000, seed, 40), &|_| {}).unwrap();
+    let run = |seed| {
+        a.monte_carlo(
+            &McOptions::default()
+                .with_samples(50_000)
+                .with_seed(seed)
+                .with_bins(40),
+            &|_| {},
+        )
+        .unwrap()
+    };
     let (s1, v1) = run(1);
     let (s2, _) = run(2);
     // Same seed, same samples (checked on a prefix-sized run: sample i depends only on (seed, i)).
-    let (_, v_small) = a.monte_carlo(&mc(3000, 1, 40), &|_| {}).unwrap();
+    let (_, v_small) = a
+        .monte_carlo(
+            &McOptions::default()
+                .with_samples(3000)
+                .with_seed(1)
+                .with_bins(40),
+            &|_| {},
+        )
+        .unwrap();
     assert_eq!(&v1[..3000], &v_small[..], "same seed, same samples");
     for (x, y) in [
         (s1.mean, s2.mean),

@@ -535,9 +535,9 @@ fn leaning_teeth_of_the_kidney_design_mesh_without_interference() {
         PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("assets/trajectories/designer_kidney.csv");
     let t = Trajectory::from_path(&traj).unwrap();
     // The docs/math/chain.md §8.3 refined design (fixed l1, l3), as this test was built on.
-    let mut refined = DesignOptions::default();
-    refined.refine = ncgear::design::RefineMode::On;
-    refined.fit_to_points = false;
+    let refined = DesignOptions::default()
+        .with_refine(ncgear::design::RefineMode::On)
+        .with_fit_to_points(false);
     let d = design(&t, &refined).unwrap();
     let module_mm = 2.0;
     let mut opts = TrainTeethOptions::new(module_mm);
@@ -570,12 +570,7 @@ fn clockwise_asymmetric_design_meshes() {
     let traj =
         PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("assets/trajectories/asymmetric_cw.json");
     let t = Trajectory::from_path(&traj).unwrap();
-    let d = design(&t, &{
-        let mut o = DesignOptions::default();
-        o.center_mm = [250.0, 400.0];
-        o
-    })
-    .unwrap();
+    let d = design(&t, &DesignOptions::default().with_center_mm([250.0, 400.0])).unwrap();
     assert_eq!(d.assembly.direction, -1);
     let mut opts = TrainTeethOptions::new(1.25);
     opts.toothing.verify_steps = 18;

@@ -2,12 +2,13 @@
 //! on an undercut flank the rack tip's fillet trochoid trims the flank — checked against the
 //! closed forms of the rack-generated spur gear below the minimum tooth count, and on a pair
 //! that the peer ncgears makes and ncgear used to refuse.
+use crate::teeth::rack_cut;
 use ncgear::export::dxf::{DxfVersion, write_dxf};
 use ncgear::export::points::write_points;
 use ncgear::geometry::pitch::PitchCurve;
 use ncgear::pair::{Expr, Law, PairOptions, design_pair};
 use ncgear::teeth::overlap::first_self_intersection;
-use ncgear::teeth::{OutlineOptions, RackParams, TeethError, generate_outline};
+use ncgear::teeth::{OutlineOptions, RackParams, TeethError};
 
 /// inv α = tan α − α.
 fn inv(a: f64) -> f64 {
@@ -37,7 +38,7 @@ fn undercut_spur_gear_has_the_trochoidal_root_and_the_involute_flank() {
     for z in [10u32, 12, 14, 16] {
         let r = f64::from(z) * m / 2.0;
         let curve = PitchCurve::from_fn(4096, |_| r).unwrap();
-        let o = generate_outline(&curve, &rack, z, m, &OutlineOptions::new(0.0, tol)).unwrap();
+        let o = rack_cut(&curve, &rack, z, m, &OutlineOptions::new(0.0, tol)).unwrap();
         assert_eq!(
             first_self_intersection(&o.points_mm).unwrap(),
             None,

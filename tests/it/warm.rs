@@ -88,8 +88,7 @@ fn a_start_of_the_other_sense_is_ignored() {
 /// the perimeter is exactly zπm.
 #[test]
 fn a_start_for_the_same_module_keeps_its_tooth_count() {
-    let mut opts = DesignOptions::default();
-    opts.module_mm = Some(2.0);
+    let opts = DesignOptions::default().with_module_mm(Some(2.0));
     let before = design(&Trajectory::from_points(g1_points()).unwrap(), &opts).unwrap();
     let z = before.report.module.as_ref().unwrap().teeth;
     let t = Trajectory::from_points(bumped(&g1_points(), 120.0, 1.5)).unwrap();

@@ -12,8 +12,10 @@ pub const MAX_RECORDED_SAMPLES: u64 = 2_000_000;
 /// Largest transient length, Poincaré periods.
 pub const MAX_TRANSIENT_PERIODS: u32 = 100_000;
 
-/// Time integrator choice (docs/math/companion.md §B.11).
-#[derive(Debug, Clone, Copy, PartialEq)]
+/// Time integrator choice (docs/math/companion.md §B.11); written `{"dopri5": {"rtol": …, "atol":
+/// …, "breakpoints": …, "events": …}}` or `{"rk4": {"steps_per_mesh": …, "aligned": …}}`.
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "snake_case", deny_unknown_fields)]
 pub enum Method {
     /// Adaptive DOPRI5 with dense output.
     Dopri5 {
@@ -36,8 +38,10 @@ pub enum Method {
 }
 
 /// Run options (solver, steady state, recording). The defaults are those of a scene without
-/// `[solver]` and `[output]` tables.
-#[derive(Debug, Clone, Copy, PartialEq)]
+/// `[solver]` and `[output]` tables. (De)serialisable (a missing field takes its default, an unknown one is an error) and
+/// built with `with_*`.
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(default, deny_unknown_fields)]
 #[non_exhaustive]
 pub struct RunOptions {
     /// Integrator (default DOPRI5, rtol 1e-6, atol 1e-12, breakpoints and events on).
@@ -67,6 +71,14 @@ pub fn default_transient_periods(model: &Model) -> u32 {
     // `per` ≥ 1, so n ≤ 2000.
     (n as u32).max(1)
 }
+
+crate::builder::with_fields!(RunOptions {
+    with_method => method: Method,
+    with_poincare_tol => poincare_tol: f64,
+    with_max_periods => max_periods: u32,
+    with_record_mesh_periods => record_mesh_periods: u32,
+    with_samples_per_mesh => samples_per_mesh: u32,
+});
 
 impl Default for RunOptions {
     fn default() -> Self {

@@ -20,8 +20,10 @@ use super::{
 use serde::Serialize;
 use std::f64::consts::PI;
 
-/// What [`Prepared::run`] computes besides the scene's own settings.
-#[derive(Debug, Clone, Default, PartialEq)]
+/// What [`Prepared::run`] computes besides the scene's own settings. (De)serialisable (a missing field takes its default, an unknown one is an error) and
+/// built with `with_*`.
+#[derive(Debug, Clone, Default, PartialEq, Serialize, serde::Deserialize)]
+#[serde(default, deny_unknown_fields)]
 #[non_exhaustive]
 pub struct AnalysisOptions {
     /// Frequency sweep over these Ω = ωe/ωn, run in the given order and then back in reverse,
@@ -29,6 +31,10 @@ pub struct AnalysisOptions {
     /// the static state. Ignored when the scene takes the linear fast path.
     pub sweep: Option<Vec<f64>>,
 }
+
+crate::builder::with_fields!(AnalysisOptions {
+    with_sweep => sweep: Option<Vec<f64>>,
+});
 
 /// The run log's header: what was built from the scene.
 #[derive(Debug, Clone, Serialize)]

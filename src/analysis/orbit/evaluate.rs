@@ -4,8 +4,7 @@
 //!
 //! ```
 //! use ncgear::analysis::orbit::evaluate::{Evaluation, MeasureOptions};
-//! let mut opts = MeasureOptions::default();
-//! opts.planet_speed_rpm = Some(-120.0);
+//! let opts = MeasureOptions::default().with_planet_speed_rpm(Some(-120.0));
 //! let ev = Evaluation::new(None, &opts).unwrap();
 //! assert!((ev.extractor().omega_p_rad_s() + 4.0 * std::f64::consts::PI).abs() < 1e-12);
 //! ```
@@ -20,7 +19,8 @@ use std::f64::consts::TAU;
 
 /// Where the sensors sit; the carrier speed of [`Frame::HousingFullSpectrum`] is found by
 /// [`Evaluation::new`].
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "snake_case")]
 pub enum SensorFrame {
     /// Sensors on the carrier, or carrier held ([`Frame::Carrier`]).
     Carrier,
@@ -30,8 +30,11 @@ pub enum SensorFrame {
     Housing,
 }
 
-/// How to evaluate records. Start from [`MeasureOptions::default`] and set the fields that differ.
-#[derive(Debug, Clone, PartialEq)]
+/// How to evaluate records. Start from [`MeasureOptions::default`] and set the fields that differ
+/// with `with_*`; (de)serialisable (a missing field takes its default, an unknown one is an
+/// error).
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(default, deny_unknown_fields)]
 #[non_exhaustive]
 pub struct MeasureOptions {
     /// Signed planet speed relative to the carrier, rpm; exclusive with a model, which gives ω_p.
@@ -57,6 +60,18 @@ pub struct MeasureOptions {
     /// Refuse the least-squares fit above this condition number. Default 1e6.
     pub max_condition: f64,
 }
+
+crate::builder::with_fields!(MeasureOptions {
+    with_planet_speed_rpm => planet_speed_rpm: Option<f64>,
+    with_frame => frame: SensorFrame,
+    with_carrier_speed_rpm => carrier_speed_rpm: Option<f64>,
+    with_method => method: Method,
+    with_line_hz => line_hz: Vec<f64>,
+    with_mesh_harmonics => mesh_harmonics: u32,
+    with_drift => drift: bool,
+    with_estimate_frequency => estimate_frequency: bool,
+    with_max_condition => max_condition: f64,
+});
 
 impl Default for MeasureOptions {
     fn default() -> Self {

@@ -26,8 +26,10 @@ pub struct Sinusoid {
     pub phase_rad: f64,
 }
 
-/// Accuracy knobs of the certified peak.
-#[derive(Debug, Clone, Copy, PartialEq)]
+/// Accuracy knobs of the certified peak. (De)serialisable (a missing field takes its default, an unknown one is an error) and
+/// built with `with_*`.
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(default, deny_unknown_fields)]
 #[non_exhaustive]
 pub struct PeakOptions {
     /// Grid points per shortest period `T_min` (at least 4; default 8). Any grid is certified:
@@ -44,6 +46,13 @@ pub struct PeakOptions {
     /// Largest denominator accepted when reading frequencies as rationals (default 1 000 000).
     pub max_denominator: u64,
 }
+
+crate::builder::with_fields!(PeakOptions {
+    with_samples_per_min_period => samples_per_min_period: usize,
+    with_refine_top => refine_top: usize,
+    with_tol_relative => tol_relative: f64,
+    with_max_denominator => max_denominator: u64,
+});
 
 impl Default for PeakOptions {
     fn default() -> Self {

@@ -6,8 +6,10 @@ use crate::analysis::montecarlo::{McOptions, McStats};
 use crate::analysis::peak::PeakOptions;
 use serde::Serialize;
 
-/// Options of [`analyse`].
-#[derive(Debug, Clone, Copy, PartialEq)]
+/// Options of [`analyse`]. (De)serialisable (a missing field takes its default, an unknown one is an error) and
+/// built with `with_*`.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, serde::Deserialize)]
+#[serde(default, deny_unknown_fields)]
 #[non_exhaustive]
 pub struct ToleranceOptions {
     /// Monte Carlo of random assembly; `None` skips it (default: [`McOptions::default`], 50 000
@@ -20,6 +22,13 @@ pub struct ToleranceOptions {
     /// Accuracy of the certified peak (default [`PeakOptions::default`]).
     pub peak: PeakOptions,
 }
+
+crate::builder::with_fields!(ToleranceOptions {
+    with_monte_carlo => monte_carlo: Option<McOptions>,
+    with_joint_starts => joint_starts: usize,
+    with_joint_seed => joint_seed: u64,
+    with_peak => peak: PeakOptions,
+});
 
 impl Default for ToleranceOptions {
     fn default() -> Self {

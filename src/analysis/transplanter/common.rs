@@ -7,12 +7,15 @@ use crate::analysis::montecarlo::{McError, McOptions};
 use crate::simulate::FeatureOptions;
 use rand::SeedableRng;
 use rand::rngs::ChaCha8Rng;
+use serde::{Deserialize, Serialize};
 
 /// µm per mm.
 pub(super) const UM: f64 = 1e3;
 
-/// Options of [`analyse`](super::analyse).
-#[derive(Debug, Clone, Copy, PartialEq)]
+/// Options of [`analyse`](super::analyse). (De)serialisable (a missing field takes its default, an unknown one is an error) and
+/// built with `with_*`.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
 #[non_exhaustive]
 pub struct TransplanterOptions {
     /// Monte Carlo of random assembly: samples (≥ 2), seed, histogram bins (default
@@ -29,11 +32,45 @@ pub struct TransplanterOptions {
     /// Random starts of the joint assembly optimiser (Nelder–Mead), besides the greedy directions
     /// (default 16).
     pub starts: usize,
-    /// Finite-difference steps of the linear model (default [`FdSteps::default`]: 1 µm, 10 µrad).
+    /// Finite-difference steps of the linear model (default [`FdSteps::default`]: 1 µm, 10 µrad;
+    /// written `{"length_mm": …, "angle_rad": …}`).
+    #[serde(with = "FdStepsFields")]
     pub fd_steps: FdSteps,
     /// Options of the agronomic features (speeds, planting depth; default
     /// [`FeatureOptions::default`]).
     pub features: FeatureOptions,
+}
+
+crate::builder::with_fields!(TransplanterOptions {
+    with_mc => mc: McOptions,
+    with_validation_samples => validation_samples: usize,
+    with_linear_tolerance => linear_tolerance: f64,
+    with_feature_samples => feature_samples: usize,
+    with_starts => starts: usize,
+    with_fd_steps => fd_steps: FdSteps,
+    with_features => features: FeatureOptions,
+});
+
+/// The fields of [`FdSteps`] as [`TransplanterOptions::fd_steps`] (de)serialises them (the type
+/// lives with the model): a missing field takes its default, an unknown one is an error.
+#[derive(Serialize, Deserialize)]
+#[serde(remote = "FdSteps", default, deny_unknown_fields)]
+struct FdStepsFields {
+    /// Step of the length coordinates, mm.
+    length_mm: f64,
+    /// Step of the angle coordinates, rad.
+    angle_rad: f64,
+}
+
+impl Default for FdStepsFields {
+    /// [`FdSteps::default`].
+    fn default() -> Self {
+        let d = FdSteps::default();
+        Self {
+            length_mm: d.length_mm,
+            angle_rad: d.angle_rad,
+        }
+    }
 }
 
 impl Default for TransplanterOptions {

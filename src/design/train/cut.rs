@@ -5,11 +5,11 @@ use super::TrainError;
 use super::relief::relieve_gear;
 use super::swept::{TrainMeshes, neighbours, sweep_gear, sweepable};
 use crate::geometry::pitch::PitchCurve;
-use crate::teeth::conjugate::SweepChecks;
-use crate::teeth::process::{
-    GearProcess, Process, generate_as, generate_by_process, swept_process,
+use crate::teeth::process::{GearProcess, Process, swept_process};
+use crate::teeth::{
+    ArcFrame, GearBlank, Generated, Generation, Outline, OutlineOptions, TeethError,
+    ToothingOptions, generate,
 };
-use crate::teeth::{ArcFrame, GearBlank, Outline, OutlineOptions, TeethError, ToothingOptions};
 use rayon::prelude::*;
 
 /// The gears' names, in gear order.
@@ -67,7 +67,7 @@ impl Cutting<'_> {
         k: usize,
         outlines: [&[[f64; 2]]; 3],
         tol: f64,
-    ) -> Result<(Outline, SweepChecks), TeethError> {
+    ) -> Result<Generated, TeethError> {
         sweep_gear(k, outlines, self.pitches, self.meshes, &self.blank(k, tol))
     }
 
@@ -78,7 +78,7 @@ impl Cutting<'_> {
         let choice = self.toothing.cutter_choice();
         let mut results: Vec<_> = (0..3)
             .into_par_iter()
-            .map(|k| generate_by_process(&self.blank(k, tol), choice))
+            .map(|k| generate(&self.blank(k, tol), Generation::Process(choice)))
             .collect();
         // A gear no cutter fits is swept by its neighbours when they are cut.
         let cut = [0, 1, 2].map(|k| results[k].is_ok());
@@ -91,15 +91,16 @@ impl Cutting<'_> {
             let outlines = [0, 1, 2].map(|j| {
                 results[j]
                     .as_ref()
-                    .map_or(&[][..], |g| g.0.points_mm.as_slice())
+                    .map_or(&[][..], |g| g.outline.points_mm.as_slice())
             });
             let made = self.sweep(k, outlines, tol);
             let placeholder = Err(TeethError::Swept {
                 what: String::new(),
             });
             if let Err(no_cutter) = std::mem::replace(&mut results[k], placeholder) {
-                results[k] = made.and_then(|(outline, checks)| {
-                    swept_process(no_cutter, checks).map(|p| (outline, p))
+                results[k] = made.and_then(|g| {
+                    let process = swept_process(no_cutter, g.process)?;
+                    Ok(Generated { process, ..g })
                 });
             }
         }
@@ -107,12 +108,12 @@ impl Cutting<'_> {
             .into_iter()
             .enumerate()
             .map(|(k, r)| r.map_err(teeth_err(NAMES[k])));
-        let (sun, sun_process) = gears.next().expect("three gears")?;
-        let (intermediate, intermediate_process) = gears.next().expect("three gears")?;
-        let (planet, planet_process) = gears.next().expect("three gears")?;
+        let sun = gears.next().expect("three gears")?;
+        let intermediate = gears.next().expect("three gears")?;
+        let planet = gears.next().expect("three gears")?;
         Ok(CutGears {
-            gears: [sun, intermediate, planet],
-            processes: [sun_process, intermediate_process, planet_process],
+            gears: [sun.outline, intermediate.outline, planet.outline],
+            processes: [sun.process, intermediate.process, planet.process],
             swept,
         })
     }
@@ -147,14 +148,16 @@ impl Cutting<'_> {
                     })
                 } else {
                     // The same process and cutter as the export outline.
-                    generate_as(&self.blank(k, tol), &processes[k]).map_err(teeth_err(NAMES[k]))
+                    generate(&self.blank(k, tol), Generation::AsCut(&processes[k]))
+                        .map(|g| g.outline)
+                        .map_err(teeth_err(NAMES[k]))
                 }
             })
             .collect::<Result<_, _>>()?;
         for k in (0..3).filter(|&k| swept[k]) {
             let outlines = [0, 1, 2].map(|j| fine[j].points_mm.as_slice());
             let g = self.sweep(k, outlines, tol).map_err(teeth_err(NAMES[k]))?;
-            fine[k] = g.0;
+            fine[k] = g.outline;
         }
         Ok(<[Outline; 3]>::try_from(fine)
             .unwrap_or_else(|_| unreachable!("three gears"))

@@ -2,9 +2,9 @@
 //! (wire EDM, printing; [`crate::teeth::conjugate`]) — the sun and the planet by the intermediate
 //! gear, the intermediate gear by both.
 use crate::geometry::pitch::PitchCurve;
-use crate::teeth::conjugate::{Mate, SweepChecks, generate_swept};
+use crate::teeth::conjugate::Mate;
 use crate::teeth::mate_motion::MeshMotion;
-use crate::teeth::{GearBlank, Outline, TeethError};
+use crate::teeth::{GearBlank, Generated, Generation, TeethError, generate};
 
 /// The train's two meshes over a carrier turn: `[sun → intermediate, intermediate → planet]`
 /// (driver first), and the whole-outline mate positions per turn.
@@ -24,14 +24,14 @@ pub(super) fn neighbours(k: usize) -> &'static [(usize, usize, usize)] {
 }
 
 /// Gear `k` (0 sun, 1 intermediate, 2 planet) swept by its neighbours' `outlines` (body frames,
-/// mm), cut from `blank`.
+/// mm), cut from `blank`, with its process (wire EDM).
 pub(super) fn sweep_gear(
     k: usize,
     outlines: [&[[f64; 2]]; 3],
     pitches: [&PitchCurve; 3],
     meshes: &TrainMeshes<'_>,
     blank: &GearBlank<'_>,
-) -> Result<(Outline, SweepChecks), TeethError> {
+) -> Result<Generated, TeethError> {
     let poses: Vec<_> = neighbours(k)
         .iter()
         .map(|&(_, mesh, role)| {
@@ -50,7 +50,7 @@ pub(super) fn sweep_gear(
             positions: meshes.positions,
         })
         .collect();
-    generate_swept(blank, &mates)
+    generate(blank, Generation::Swept(&mates))
 }
 
 /// Whether gear `k` can be swept: every neighbour is cut (not swept itself).

@@ -83,21 +83,19 @@ pub struct Mate<'a> {
 
 /// What the sweep reports besides the outline.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct SweepChecks {
+pub(super) struct SweepChecks {
     /// Narrowest tooth tip left by the sweep (arc along the tip), mm.
-    pub min_tip_width_mm: f64,
-    /// Polar rays used.
-    pub rays: usize,
+    pub(super) min_tip_width_mm: f64,
 }
 
-/// The outline of `blank`'s `z` teeth of module `module_mm` on its pitch curve, swept by its `mates`
-/// (one, or two for the intermediate gear of a train)
-/// (module doc), simplified to `blank.opts.chord_tol_mm`. The phase and the thinning are unused:
-/// the mate's positions place and thin the teeth.
+/// The outline of `blank`'s `z` teeth of module `module_mm` on its pitch curve, swept by its
+/// `mates` (one, or two for the intermediate gear of a train; module doc,
+/// [`super::Generation::Swept`]), simplified to `blank.opts.chord_tol_mm`. The phase and the
+/// thinning are unused: the mate's positions place and thin the teeth.
 ///
 /// Errors: [`TeethError::Swept`] when the sweep consumes a tooth's tip (pointed teeth) or leaves
 /// other than `z` teeth (the mate's positions do not match the gear).
-pub fn generate_swept(
+pub(super) fn generate_swept(
     blank: &GearBlank<'_>,
     mates: &[Mate<'_>],
 ) -> Result<(Outline, SweepChecks), TeethError> {
@@ -148,7 +146,6 @@ pub fn generate_swept(
         },
         SweepChecks {
             min_tip_width_mm: min_tip,
-            rays: n,
         },
     ))
 }

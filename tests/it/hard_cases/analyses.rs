@@ -218,8 +218,10 @@ fn degenerate_error_lists_give_typed_errors_or_exact_peaks() {
     let f = errors(&term(1.0, 1.0, 0.0)).unwrap();
     let a = Analysis::new(&f, PeakOptions::default());
     for (samples, bins) in [(0, 10), (usize::MAX, 10), (100, 0), (100, usize::MAX)] {
-        let mut o = McOptions::default();
-        (o.samples, o.seed, o.bins) = (samples, 1, bins);
+        let o = McOptions::default()
+            .with_samples(samples)
+            .with_seed(1)
+            .with_bins(bins);
         assert!(matches!(
             a.monte_carlo(&o, &|_| {}),
             Err(McError::BadOption { .. })
@@ -296,11 +298,10 @@ fn colliding_and_duplicated_lines_in_orbit_records() {
     // NaN orbit.
     let nuisance = |w: f64| Line::new("n", w, LineKind::Nuisance);
     for w in [wp, -wp, wp * (1.0 + 1e-13)] {
-        match Extractor::new(wp, {
-            let mut o = ExtractOptions::default();
-            o.nuisance = vec![nuisance(w)];
-            o
-        })
+        match Extractor::new(
+            wp,
+            ExtractOptions::default().with_nuisance(vec![nuisance(w)]),
+        )
         .unwrap()
         .extract(&rec)
         {
@@ -320,14 +321,10 @@ fn colliding_and_duplicated_lines_in_orbit_records() {
         vec![nuisance(0.0)],
         vec![nuisance(5.0 * wp), nuisance(-5.0 * wp), nuisance(0.0)],
     ] {
-        let m = Extractor::new(wp, {
-            let mut o = ExtractOptions::default();
-            o.nuisance = lines;
-            o
-        })
-        .unwrap()
-        .extract(&rec)
-        .unwrap();
+        let m = Extractor::new(wp, ExtractOptions::default().with_nuisance(lines))
+            .unwrap()
+            .extract(&rec)
+            .unwrap();
         let q = m.orbit.sin_pair();
         assert!(
             (q.a_x_um - 7.0).abs() < 1e-9 && (q.a_y_um - 3.0).abs() < 1e-9,
@@ -339,27 +336,18 @@ fn colliding_and_duplicated_lines_in_orbit_records() {
         assert!(Extractor::new(w, ExtractOptions::default()).is_err());
     }
     assert!(
-        Extractor::new(wp, {
-            let mut o = ExtractOptions::default();
-            o.nuisance = vec![nuisance(f64::NAN)];
-            o
-        })
+        Extractor::new(
+            wp,
+            ExtractOptions::default().with_nuisance(vec![nuisance(f64::NAN)])
+        )
         .is_err()
     );
+    assert!(Extractor::new(wp, ExtractOptions::default().with_max_condition(f64::NAN)).is_err());
     assert!(
-        Extractor::new(wp, {
-            let mut o = ExtractOptions::default();
-            o.max_condition = f64::NAN;
-            o
-        })
-        .is_err()
-    );
-    assert!(
-        Extractor::new(wp, {
-            let mut o = ExtractOptions::default();
-            o.min_separation_bins = f64::NAN;
-            o
-        })
+        Extractor::new(
+            wp,
+            ExtractOptions::default().with_min_separation_bins(f64::NAN)
+        )
         .is_err()
     );
     let planet = |e: f64, pos: f64| Planet {

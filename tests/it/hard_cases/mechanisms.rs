@@ -36,18 +36,15 @@ fn ellipse_mechanism(e: f64) -> Mechanism {
 /// bounds, loops and cusps must be reproduced exactly when a train traces them); the limits
 /// themselves are tested in `limits.rs` and `quality/`.
 fn quick() -> DesignOptions {
-    let mut o = DesignOptions::default();
-    o.check_samples = 512;
-    o.curve_samples = 720;
-    o.gear_limits = false;
-    o
+    DesignOptions::default()
+        .with_check_samples(512)
+        .with_curve_samples(720)
+        .with_gear_limits(false)
 }
 
 /// Default options without the gear limits (exact reproduction of hard geometry).
 fn unlimited() -> DesignOptions {
-    let mut o = DesignOptions::default();
-    o.gear_limits = false;
-    o
+    DesignOptions::default().with_gear_limits(false)
 }
 
 /// A random closed Fourier sun `1 + s·Σ(a_k cos kθ + b_k sin kθ)/max|Σ|`: its ratio spans

@@ -2,10 +2,11 @@
 //! from fine to undercut, random pair laws. Rack generation gives a finite simple outline whose
 //! vertices stay within an addendum/dedendum band of the pitch curve, or a typed error
 //! (`Concave`, `Undercut`, …) — never a panic or a NaN vertex.
+use crate::teeth::rack_cut;
 use ncgear::geometry::pitch::PitchCurve;
 use ncgear::pair::{Expr, Law, PairOptions, design_pair};
 use ncgear::teeth::{
-    OutlineOptions, RackParams, TeethError, ToothPolicy, generate_outline, scale_curve, tooth_count,
+    OutlineOptions, RackParams, TeethError, ToothPolicy, scale_curve, tooth_count,
 };
 use proptest::prelude::*;
 use proptest::test_runner::RngSeed;
@@ -44,7 +45,7 @@ proptest! {
         };
         let c = scale_curve(&c, tc.scale).unwrap();
         let opts = OutlineOptions::new(0.0, 1e-3 * module);
-        match generate_outline(&c, &RackParams::default(), tc.z, module, &opts) {
+        match rack_cut(&c, &RackParams::default(), tc.z, module, &opts) {
             Ok(o) => {
                 prop_assert!(!concave, "a concave curve was cut (k = {k}, ε = {eps})");
                 let m = module;

@@ -314,8 +314,7 @@ struct Measured {
 fn run_case(case: &Case) -> Outcome {
     let origins: Vec<Origin> = (0..case.points.len()).map(Origin::Index).collect();
     let traj = Trajectory::new(case.points.clone(), &origins, "generated");
-    let mut opts = DesignOptions::default();
-    opts.center_mm = case.opts.center;
+    let opts = DesignOptions::default().with_center_mm(case.opts.center);
     let t0 = Instant::now();
     let d = traj
         .map_err(|e| format!("trajectory rejected: {e}"))

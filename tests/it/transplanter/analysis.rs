@@ -3,10 +3,15 @@
 use super::*;
 
 fn run(seed: u64, samples: usize, feature_samples: usize) -> TransplanterReport {
-    let mut opts = TransplanterOptions::default();
-    opts.mc = mc(samples, seed, 40);
-    opts.feature_samples = feature_samples;
-    opts.starts = 6;
+    let opts = TransplanterOptions::default()
+        .with_mc(
+            McOptions::default()
+                .with_samples(samples)
+                .with_seed(seed)
+                .with_bins(40),
+        )
+        .with_feature_samples(feature_samples)
+        .with_starts(6);
     analyse(&g1(1), &inventory(), &opts, &|_| {}).unwrap()
 }
 
@@ -55,12 +60,7 @@ fn feature_distributions_start_from_the_simulated_features() {
     let r = run(4, 2000, 16);
     let f = r.features.as_ref().unwrap();
     let sim = Simulation::new(g1(1));
-    let nominal = features(&sim, &{
-        let mut o = FeatureOptions::default();
-        o.samples = 720;
-        o
-    })
-    .unwrap();
+    let nominal = features(&sim, &FeatureOptions::default().with_samples(720)).unwrap();
     assert!((f.nominal.height_mm - nominal.height_mm).abs() < 1e-6);
     assert!((f.nominal.hole_width_mm - nominal.hole_width_mm).abs() < 1e-6);
     assert!((f.nominal.needle_angle_plant_deg - nominal.needle_angle_plant_deg).abs() < 1e-6);
@@ -176,12 +176,17 @@ fn cli_writes_the_report_and_plots_and_rejects_bad_files() {
 #[test]
 fn exact_fallback_agrees_with_the_linear_monte_carlo() {
     let go = |tol: f64| {
-        let mut opts = TransplanterOptions::default();
-        opts.mc = mc(200, 9, 10);
-        opts.validation_samples = 10;
-        opts.linear_tolerance = tol;
-        opts.feature_samples = 0;
-        opts.starts = 2;
+        let opts = TransplanterOptions::default()
+            .with_mc(
+                McOptions::default()
+                    .with_samples(200)
+                    .with_seed(9)
+                    .with_bins(10),
+            )
+            .with_validation_samples(10)
+            .with_linear_tolerance(tol)
+            .with_feature_samples(0)
+            .with_starts(2);
         analyse(&g1(1), &inventory(), &opts, &|_| {}).unwrap()
     };
     let (lin, exact) = (go(0.05), go(1e-9));

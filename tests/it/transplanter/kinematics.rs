@@ -18,10 +18,15 @@ fn zero_errors_reproduce_the_rebuilt_train_and_give_zero_deviation() {
     }
     // Whole pipeline with an empty inventory: every deviation is zero.
     let inv = Inventory::zero(20f64.to_radians(), 1, 360);
-    let mut opts = TransplanterOptions::default();
-    opts.mc = mc(1000, 3, 10);
-    opts.validation_samples = 10;
-    opts.feature_samples = 0;
+    let opts = TransplanterOptions::default()
+        .with_mc(
+            McOptions::default()
+                .with_samples(1000)
+                .with_seed(3)
+                .with_bins(10),
+        )
+        .with_validation_samples(10)
+        .with_feature_samples(0);
     let r = analyse(&g1(1), &inv, &opts, &|_| {}).unwrap();
     assert!(
         r.max_deviation_um.max < 1e-9 * 1e3,

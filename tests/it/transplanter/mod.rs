@@ -32,13 +32,6 @@ fn inventory() -> Inventory {
     ErrorInventory::parse(ERRORS, "g1_errors.toml", Format::Toml).unwrap()
 }
 
-/// Monte Carlo options: `samples`, `seed`, histogram `bins`.
-fn mc(samples: usize, seed: u64, bins: usize) -> McOptions {
-    let mut o = McOptions::default();
-    (o.samples, o.seed, o.bins) = (samples, seed, bins);
-    o
-}
-
 fn e(a: f64) -> [f64; 2] {
     [a.cos(), a.sin()]
 }

@@ -9,7 +9,7 @@ use crate::analysis::orbit::{C64, Orbit, OrbitError, invalid};
 use std::f64::consts::{PI, TAU};
 
 /// Estimator of the planet-frequency components (docs/math/companion.md §A.8).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum Method {
     /// Linear least squares at the known frequencies with nuisance lines and drift (default).
@@ -23,9 +23,11 @@ pub enum Method {
     PlainFft,
 }
 
-/// How an [`Extractor`] evaluates a record (docs/math/companion.md §A.7, §A.8). Start from [`ExtractOptions::default`] and
-/// set the fields that differ.
-#[derive(Debug, Clone, PartialEq)]
+/// How an [`Extractor`] evaluates a record (docs/math/companion.md §A.7, §A.8). Start from
+/// [`ExtractOptions::default`] and set the fields that differ with `with_*`; (de)serialisable (a
+/// missing field takes its default, an unknown one is an error).
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(default, deny_unknown_fields)]
 #[non_exhaustive]
 pub struct ExtractOptions {
     /// Sensor frame. Default [`Frame::Carrier`].
@@ -44,6 +46,15 @@ pub struct ExtractOptions {
     /// Warn when two analysed lines are closer than this many DFT bins `1/T_rec` (≥ 0). Default 3.
     pub min_separation_bins: f64,
 }
+
+crate::builder::with_fields!(ExtractOptions {
+    with_frame => frame: Frame,
+    with_method => method: Method,
+    with_drift => drift: bool,
+    with_nuisance => nuisance: Vec<Line>,
+    with_max_condition => max_condition: f64,
+    with_min_separation_bins => min_separation_bins: f64,
+});
 
 impl Default for ExtractOptions {
     fn default() -> Self {

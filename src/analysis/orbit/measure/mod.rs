@@ -29,8 +29,7 @@
 //! let x = t.iter().map(|t| 5.0 * (w * t).sin()).collect();
 //! let y = t.iter().map(|t| -5.0 * (w * t).cos()).collect(); // z = x + iy = −5i e^{iω_p t}
 //! let rec = Record::new(t, x, y, None).unwrap();
-//! let mut opts = ExtractOptions::default();
-//! opts.method = Method::LeastSquares;
+//! let opts = ExtractOptions::default().with_method(Method::LeastSquares);
 //! let m = Extractor::new(w, opts).unwrap().extract(&rec).unwrap();
 //! assert!((m.orbit.z_plus_um.norm() - 5.0).abs() < 1e-9);
 //! ```

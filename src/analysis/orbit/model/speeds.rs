@@ -101,7 +101,7 @@ impl GearSpeeds {
 }
 
 /// Role of a spectral line.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum LineKind {
     /// A planet-eccentricity component (to be extracted).
@@ -111,7 +111,8 @@ pub enum LineKind {
 }
 
 /// A spectral line at a signed angular frequency of the analysis frame.
-#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct Line {
     /// Label for reports.
     pub label: String,
