@@ -31,6 +31,7 @@ mod offset_start;
 mod options;
 pub mod refine;
 mod report;
+mod roundtrip;
 mod routes;
 pub mod segmented;
 mod start;

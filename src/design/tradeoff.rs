@@ -97,6 +97,10 @@ pub struct RowNumbers {
     pub binding: Vec<String>,
     /// Teeth per gear (module rows).
     pub teeth: Option<u32>,
+    /// Idler offset ε of the design, degrees (0: the intermediate axis on the carrier line;
+    /// [`crate::geometry::mechanism`]).
+    #[serde(default)]
+    pub idler_offset_deg: f64,
 }
 
 /// What the exact design of an exactly traceable target needs beyond the default limits.
@@ -156,6 +160,7 @@ pub fn trade_off(
                     tightest_concave_radius_mm: l.tightest_concave_radius_mm,
                     binding: l.binding.clone(),
                     teeth: d.report.module.as_ref().map(|m| m.teeth),
+                    idler_offset_deg: d.report.idler_offset_deg,
                 }
             });
             on_done();
@@ -288,10 +293,10 @@ impl TradeOff {
     #[must_use]
     pub fn markdown(&self, with_times: bool) -> String {
         let mut s = String::from(
-            "| design | max deviation (mm) | Hausdorff (mm) | pressure angle (°) | tightest concave radius (mm) | binding | teeth |",
+            "| design | max deviation (mm) | Hausdorff (mm) | pressure angle (°) | tightest concave radius (mm) | binding | teeth | idler offset (°) |",
         );
         s.push_str(if with_times { " time (ms) |\n" } else { "\n" });
-        s.push_str("|---|---:|---:|---:|---:|---|---:|");
+        s.push_str("|---|---:|---:|---:|---:|---|---:|---:|");
         s.push_str(if with_times { "---:|\n" } else { "\n" });
         for r in &self.rows {
             let label = if r.is_default {
@@ -301,7 +306,7 @@ impl TradeOff {
             };
             let cells = match &r.outcome {
                 RowOutcome::Designed(n) => format!(
-                    "{:.4} | {:.4} | {:.2} | {} | {} | {}",
+                    "{:.4} | {:.4} | {:.2} | {} | {} | {} | {}",
                     n.max_deviation_mm,
                     n.hausdorff_mm,
                     n.pressure_angle_deg,
@@ -313,8 +318,15 @@ impl TradeOff {
                         n.binding.join(", ")
                     },
                     n.teeth.map_or_else(|| "–".into(), |z| z.to_string()),
+                    if n.idler_offset_deg == 0.0 {
+                        "–".into()
+                    } else {
+                        format!("{:.2}", n.idler_offset_deg)
+                    },
                 ),
-                RowOutcome::Refused(e) => format!("refused: {} | | | | |", e.replace('|', "/")),
+                RowOutcome::Refused(e) => {
+                    format!("refused: {} | | | | | |", e.replace('|', "/"))
+                }
             };
             let _ = write!(s, "| {label} | {cells} |");
             if with_times {
@@ -335,6 +347,17 @@ impl TradeOff {
                     r.label, n.max_deviation_mm, r.label
                 );
             }
+        }
+        if self
+            .rows
+            .iter()
+            .any(|r| r.numbers().is_some_and(|n| n.idler_offset_deg != 0.0))
+        {
+            s.push_str(
+                "\nNote: a design with an idler offset has its intermediate axis turned off the \
+                 carrier line by that angle (l1 = 2a·cos ε): at a whole number of teeth the arm \
+                 keeps its length, and the train traces paths a collinear one cannot.\n",
+            );
         }
         if let Some(x) = &self.exact_needs {
             let _ = write!(s, "\nNote: {}.\n", x.message);
@@ -362,6 +385,7 @@ mod tests {
                 tightest_concave_radius_mm: Some(4.5),
                 binding: vec![],
                 teeth: None,
+                idler_offset_deg: 0.0,
             }),
             design_time_ms: 1.0,
         }

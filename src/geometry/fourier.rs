@@ -353,8 +353,8 @@ impl SunRatio {
         self.inverse_integral_along(n, |k| self.integral(t(k)) + shift_rad, tol_rad)
     }
 
-    /// Planet contact map of the collinear train `S(t) = Φ⁻¹(Φ(t) + π)` (docs/math/chain.md
-    /// §6.2), rad: [`Self::contact_map`] at `c = π`.
+    /// Planet contact map of the collinear train `S(t) = Φ⁻¹(Φ(t) + π)`, rad
+    /// (docs/math/chain.md §6.2): [`Self::contact_map`] at `c = π`.
     #[must_use]
     pub fn half_turn_map(&self, t: f64, tol_rad: f64) -> f64 {
         self.contact_map(t, PI, tol_rad)

@@ -37,6 +37,9 @@ fn pitch(v: &serde_json::Value) -> Vec<[f64; 2]> {
 /// returns the tip at `n` carrier angles (world frame, direction-aware).
 fn tip_from_json(d: &serde_json::Value, n: usize) -> Vec<[f64; 2]> {
     let a = d["center_distance"].as_f64().unwrap();
+    // The intermediate axis at ε off the carrier line (0 on it): D at φH + ε, A at 2a·cos ε.
+    let eps = d["idler_offset_deg"].as_f64().unwrap().to_radians();
+    let l1 = 2.0 * a * eps.cos();
     let l3 = d["l3"].as_f64().unwrap();
     let gamma = d["needle_angle_deg"].as_f64().unwrap().to_radians();
     let c = [
@@ -59,13 +62,14 @@ fn tip_from_json(d: &serde_json::Value, n: usize) -> Vec<[f64; 2]> {
         .unwrap()
         .to_radians();
     // Relative rotations about the moving centres, rolling without slip at the contacts:
-    // dθ2/dφ = 1 + r_sun/ρ2 (sun–intermediate), dθ3/dφ = 1 − (ρ2/r_planet)(dθ2/dφ − 1).
+    // dθ2/dφ = 1 + r_sun/ρ2 (sun–intermediate), dθ3/dφ = 1 − (ρ2/r_planet)(dθ2/dφ − 1); the sun
+    // meets the intermediate along OD (world angle φ + ε), the planet meets it along DA (φ − ε).
     let rhs = |phi: f64, y: [f64; 2]| {
-        let r1 = radius(&sun, phi);
-        let r2s = radius(&mid, phi + PI - y[0]);
+        let r1 = radius(&sun, phi + eps);
+        let r2s = radius(&mid, phi + eps + PI - y[0]);
         let w2 = r1 / r2s;
-        let r2p = radius(&mid, phi - y[0]);
-        let r3 = radius(&planet, phi + PI - y[1]);
+        let r2p = radius(&mid, phi - eps - y[0]);
+        let r3 = radius(&planet, phi + PI - eps - y[1]);
         [1.0 + w2, 1.0 - r2p / r3 * w2]
     };
     let steps = 20 * n;
@@ -77,8 +81,8 @@ fn tip_from_json(d: &serde_json::Value, n: usize) -> Vec<[f64; 2]> {
         if k % 20 == 0 {
             let b = y[1] + gamma;
             out.push([
-                c[0] + 2.0 * a * phi.cos() + l3 * b.cos(),
-                c[1] + 2.0 * a * phi.sin() + l3 * b.sin(),
+                c[0] + l1 * phi.cos() + l3 * b.cos(),
+                c[1] + l1 * phi.sin() + l3 * b.sin(),
             ]);
         }
         let k1 = rhs(phi, y);
@@ -146,12 +150,33 @@ fn run_design(file: &str, extra: &[&str], dir: &Path) -> serde_json::Value {
 
 #[test]
 fn design_json_conventions_reproduce_the_target_independently() {
+    // The third: G1 made for a module of 2 mm, its intermediate axis off the carrier line; the
+    // fourth: the CW design off the line at a module (the mirror image, ε included).
     for (file, extra) in [
         ("g1_ellipse.csv", vec!["--png"]),
         ("asymmetric_cw.json", vec!["--center", "250,400"]),
+        (
+            "g1_ellipse.csv",
+            vec!["--module", "2", "--verify-steps", "0"],
+        ),
+        (
+            "asymmetric_cw.json",
+            vec![
+                "--center",
+                "250,400",
+                "--module",
+                "2",
+                "--verify-steps",
+                "0",
+            ],
+        ),
     ] {
-        let dir = out_dir(&format!("cli_{file}"));
+        let dir = out_dir(&format!("cli_{file}_{}", extra.len()));
         let d = run_design(file, &extra, &dir);
+        if extra.contains(&"--module") {
+            let eps = d["idler_offset_deg"].as_f64().unwrap();
+            assert!(eps.abs() > 1.0, "{file} {extra:?}: ε = {eps}°");
+        }
         for key in ["l1", "l3", "center_distance", "needle_angle_deg"] {
             assert!(d[key].is_f64(), "{key}");
         }

@@ -34,7 +34,6 @@ pub struct TransplanterOptions {
     pub starts: usize,
     /// Finite-difference steps of the linear model (default [`FdSteps::default`]: 1 µm, 10 µrad;
     /// written `{"length_mm": …, "angle_rad": …}`).
-    #[serde(with = "FdStepsFields")]
     pub fd_steps: FdSteps,
     /// Options of the agronomic features (speeds, planting depth; default
     /// [`FeatureOptions::default`]).
@@ -50,28 +49,6 @@ crate::builder::with_fields!(TransplanterOptions {
     with_fd_steps => fd_steps: FdSteps,
     with_features => features: FeatureOptions,
 });
-
-/// The fields of [`FdSteps`] as [`TransplanterOptions::fd_steps`] (de)serialises them (the type
-/// lives with the model): a missing field takes its default, an unknown one is an error.
-#[derive(Serialize, Deserialize)]
-#[serde(remote = "FdSteps", default, deny_unknown_fields)]
-struct FdStepsFields {
-    /// Step of the length coordinates, mm.
-    length_mm: f64,
-    /// Step of the angle coordinates, rad.
-    angle_rad: f64,
-}
-
-impl Default for FdStepsFields {
-    /// [`FdSteps::default`].
-    fn default() -> Self {
-        let d = FdSteps::default();
-        Self {
-            length_mm: d.length_mm,
-            angle_rad: d.angle_rad,
-        }
-    }
-}
 
 impl Default for TransplanterOptions {
     fn default() -> Self {

@@ -311,8 +311,11 @@ impl ExactModel {
     }
 }
 
-/// Finite-difference steps of the linear model.
-#[derive(Debug, Clone, Copy, PartialEq)]
+/// Finite-difference steps of the linear model; (de)serialised as
+/// `{"length_mm": …, "angle_rad": …}` (a missing field takes its default, an unknown one is an
+/// error).
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(default, deny_unknown_fields)]
 #[non_exhaustive]
 pub struct FdSteps {
     /// Step of the length coordinates, mm (default 1e-3, 1 µm).

@@ -26,7 +26,7 @@ impl PendingTrainMesh {
 
     /// Verifies sun → intermediate (driver angle φ = −(φH + ε), the sun seen from its line of
     /// centres OD) and intermediate → planet (φ = θ2(φH) − (φH − ε), from DA) side by side, in the
-    /// laws of [`super::layout::sun_law`] and [`super::layout::planet_law`]; `progress(1)` per
+    /// laws the train layout gives each mesh (docs/math/chain.md §6.5); `progress(1)` per
     /// verified position, `2·steps` in all.
     pub fn run(&self, progress: &(dyn Fn(u64) + Sync)) -> Result<TrainMesh, TrainError> {
         let rebuilt = &self.rebuilt;
