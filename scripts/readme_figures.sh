@@ -2,7 +2,8 @@
 # Regenerates the README's picture and the trade-off table from the current release binary:
 #   assets/readme/designer_kidney.png      `ncgear design … --png` (out/design.png)
 #   docs/tradeoff_designer_kidney.md       `ncgear tradeoff …` (its tradeoff.md, with a header)
-#   docs/design.md, between <!-- tradeoff:begin --> and <!-- tradeoff:end -->: the same table
+#   README.md and docs/design.md, between <!-- tradeoff:begin --> and <!-- tradeoff:end -->:
+#   the same table
 # With --check, writes nothing and exits 1 when the committed table differs from a fresh run
 # (the table is deterministic; the header's date line is not compared).
 set -euo pipefail
@@ -39,19 +40,20 @@ if $check; then
   exit 0
 fi
 cp "$tmp/table.md" "$table"
-# The same table in docs/design.md, between its markers.
+# The same table in README.md and docs/design.md, between their markers.
 python3 - "$tmp/tradeoff/tradeoff.md" <<'PY'
-import re, sys
+import sys
 table = open(sys.argv[1]).read().strip()
-readme = open("docs/design.md").read()
 begin, end = "<!-- tradeoff:begin -->", "<!-- tradeoff:end -->"
-if begin not in readme:
-    sys.exit("docs/design.md has no tradeoff markers")
-head, rest = readme.split(begin, 1)
-_, tail = rest.split(end, 1)
-open("docs/design.md", "w").write(head + begin + "\n" + table + "\n" + end + tail)
+for path in ("README.md", "docs/design.md"):
+    text = open(path).read()
+    if begin not in text:
+        sys.exit(f"{path} has no tradeoff markers")
+    head, rest = text.split(begin, 1)
+    _, tail = rest.split(end, 1)
+    open(path, "w").write(head + begin + "\n" + table + "\n" + end + tail)
 PY
 # The kidney misses the 0.05 mm tolerance (C12, exit 3): the picture is of that design.
 "$bin" design "$traj" --out "$tmp/design" --png --accept-failed >/dev/null
 cp "$tmp/design/design.png" assets/readme/designer_kidney.png
-echo "wrote $table and assets/readme/designer_kidney.png"
+echo "wrote $table, the tables in README.md and docs/design.md, assets/readme/designer_kidney.png"

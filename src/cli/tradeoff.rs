@@ -3,7 +3,7 @@ use super::design::design_failure;
 use super::design_args::parse_pair;
 use super::{CliResult, input_error, print_json, progress_bar, runtime_error};
 use ncgear::design::DesignOptions;
-use ncgear::design::tradeoff::{MODULES_MM, PRESSURE_ANGLE_LIMITS_DEG, trade_off};
+use ncgear::design::tradeoff::{ROWS, trade_off};
 use ncgear::design::trajectory::Trajectory;
 use std::path::PathBuf;
 
@@ -29,8 +29,7 @@ pub fn run(args: Args) -> CliResult {
         Trajectory::from_path(&args.trajectory).map_err(|e| input_error(miette::miette!("{e}")))?;
     let opts = DesignOptions::default().with_center_mm(args.center);
     let file = args.trajectory.display().to_string();
-    let rows = PRESSURE_ANGLE_LIMITS_DEG.len() + 1 + MODULES_MM.len();
-    let pb = progress_bar(rows as u64, "designs");
+    let pb = progress_bar(ROWS as u64, "designs");
     let start = std::time::Instant::now();
     let t = trade_off(&traj, &opts, &|| pb.inc(1));
     pb.finish_and_clear();
@@ -40,7 +39,7 @@ pub fn run(args: Args) -> CliResult {
     if args.json {
         return print_json(&t);
     }
-    println!("{file}: {} points, {rows} designs", t.points);
+    println!("{file}: {} points, {ROWS} designs", t.points);
     print!("{}", t.markdown(true));
     println!(
         "{:.1} ms; wrote {}",

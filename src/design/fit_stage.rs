@@ -156,7 +156,10 @@ pub(super) fn fit_options(trains: &Trains, noise_sigma: f64) -> FitOptions {
         limits: trains.limits,
         tol_mm: FIT_TOL_FRACTION * opts.tol_tip_mm,
         noise_sigma_mm: noise_sigma,
-        free_idler_offset: opts.idler_offset == IdlerOffset::Free,
+        // At Auto, the free design a module design starts from leaves the line too
+        // ([`IdlerOffset::Auto`]).
+        free_idler_offset: opts.idler_offset == IdlerOffset::Free
+            || (opts.idler_offset == IdlerOffset::Auto && opts.module_mm.is_some()),
         sun_planet_gap_mm: opts.sun_planet_gap_mm(),
         ..opts.fit.clone()
     }

@@ -6,6 +6,10 @@
 //! radius) and an integer tooth count. [`trade_off`] runs one full [`design`] per rung — the
 //! pressure-angle limits of [`PRESSURE_ANGLE_LIMITS_DEG`] and no limit, then the modules of
 //! [`MODULES_MM`] at the default limit — side by side, and tabulates deviation against limit.
+//! One more row prices the layout rather than the gears: the default limits with the
+//! intermediate axis free to leave the carrier line ([`IdlerOffset::Free`]; a housing with the
+//! intermediate shaft off the line through the sun and planet shafts), which takes a target no
+//! collinear train traces much closer (designer_kidney: 1.57 → 0.08 mm, 2026-11-28).
 //! A refused design is a row with its error; it does not stop the others.
 //!
 //! ```no_run
@@ -15,7 +19,7 @@
 //! println!("{}", t.markdown(false));
 //! ```
 
-use super::{DesignError, DesignOptions, design, trajectory::Trajectory};
+use super::{DesignError, DesignOptions, IdlerOffset, design, trajectory::Trajectory};
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 use std::fmt::Write as _;
@@ -25,6 +29,9 @@ pub const PRESSURE_ANGLE_LIMITS_DEG: [f64; 4] = [35.0, 40.0, 45.0, 50.0];
 
 /// Modules of the module rows, mm (each at the base options' pressure-angle limit).
 pub const MODULES_MM: [f64; 5] = [1.0, 1.5, 2.0, 2.5, 3.0];
+
+/// Rows of the ladder: the limit rows, the unlimited row, the off-line row, the module rows.
+pub const ROWS: usize = PRESSURE_ANGLE_LIMITS_DEG.len() + 2 + MODULES_MM.len();
 
 /// Largest deviation of the unlimited design at which the target counts as exactly traceable,
 /// mm (the chain's default round-trip tolerance).
@@ -39,7 +46,8 @@ pub struct TradeOff {
     pub points: usize,
     /// Carrier axis O, mm.
     pub center_mm: [f64; 2],
-    /// The rows: the limit rows (tightest first, then unlimited), then the module rows.
+    /// The rows: the limit rows (tightest first, then unlimited), the off-line row, then the
+    /// module rows.
     pub rows: Vec<TradeOffRow>,
     /// Set when the target is exactly traceable but its exact gears break a default limit.
     pub exact_needs: Option<ExactNeeds>,
@@ -59,6 +67,10 @@ pub struct TradeOffRow {
     pub module_mm: Option<f64>,
     /// Whether this row is the default design (`ncgear design` with its defaults).
     pub is_default: bool,
+    /// Whether the intermediate axis was free to leave the carrier line (the off-line row,
+    /// `--idler-offset free`: the default limits, another housing).
+    #[serde(default)]
+    pub off_line: bool,
     /// A limit row or the unlimited row only: the label of the closest tighter-limit design when
     /// it is closer than this one — it is within this row's limits too, so this row's fit
     /// settled in a local optimum (the trade-off curve is then not monotone).
@@ -141,6 +153,11 @@ pub fn trade_off(
     unlimited.gear_limits = false;
     unlimited.module_mm = None;
     rungs.push(("no limits".into(), unlimited));
+    let mut off_line = base.clone();
+    off_line.gear_limits = true;
+    off_line.module_mm = None;
+    off_line.idler_offset = IdlerOffset::Free;
+    rungs.push(("intermediate axis off the line".into(), off_line));
     for m in MODULES_MM {
         let mut o = base.clone();
         o.gear_limits = true;
@@ -185,7 +202,9 @@ pub fn trade_off(
             module_mm: o.module_mm,
             is_default: o.gear_limits
                 && o.module_mm.is_none()
+                && o.idler_offset != IdlerOffset::Free
                 && o.pressure_angle_limit_rad == default_default.pressure_angle_limit_rad,
+            off_line: o.idler_offset == IdlerOffset::Free,
             outcome: match r {
                 Ok(n) => RowOutcome::Designed(n),
                 Err(e) => RowOutcome::Refused(e.to_string()),
@@ -206,13 +225,14 @@ pub fn trade_off(
 
 /// Sets [`TradeOffRow::closer_tighter_design`] on each limit row that a design under a tighter
 /// pressure-angle limit (same concave-radius limit, no module) beats, and on the unlimited row
-/// that any limited design beats (every one is within its absent limits).
+/// that any limited design beats (every one is within its absent limits); the off-line row is
+/// another layout, not a tighter limit, and is left out.
 fn flag_closer_tighter(mut rows: Vec<TradeOffRow>) -> Vec<TradeOffRow> {
     // (row, pressure-angle limit, concave-radius limit (None: any), deviation)
     let limit_rows: Vec<(usize, f64, Option<f64>, f64)> = rows
         .iter()
         .enumerate()
-        .filter(|(_, r)| r.module_mm.is_none())
+        .filter(|(_, r)| r.module_mm.is_none() && !r.off_line)
         .filter_map(|(k, r)| {
             let dev = r.numbers()?.max_deviation_mm;
             Some(match r.pressure_angle_limit_deg {
@@ -377,6 +397,7 @@ mod tests {
             concave_radius_limit_mm: limit_deg.map(|_| 10.0),
             module_mm: None,
             is_default: limit_deg == Some(45.0),
+            off_line: false,
             closer_tighter_design: None,
             outcome: RowOutcome::Designed(RowNumbers {
                 max_deviation_mm: dev_mm,
@@ -419,6 +440,12 @@ mod tests {
             row("pressure angle ≤ 40°", Some(40.0), 1.9, 39.9),
             row("pressure angle ≤ 45°", Some(45.0), 1.8, 42.0),
             row("pressure angle ≤ 50°", Some(50.0), 1.6, 49.0),
+            // Another layout at the 45° limit, closer than all: not a tighter limit.
+            TradeOffRow {
+                off_line: true,
+                is_default: false,
+                ..row("intermediate axis off the line", Some(45.0), 0.1, 44.0)
+            },
         ]);
         let by: Vec<Option<&str>> = rows
             .iter()
@@ -430,6 +457,7 @@ mod tests {
                 None,
                 Some("pressure angle ≤ 35°"),
                 Some("pressure angle ≤ 35°"),
+                None,
                 None
             ]
         );

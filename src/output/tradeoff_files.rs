@@ -27,8 +27,8 @@ pub fn write_tradeoff(t: &TradeOff, dir: &Path) -> Result<Vec<PathBuf>, OutputEr
 }
 
 /// The two panels of `tradeoff.svg`: max deviation against the pressure-angle limit (the
-/// unlimited design at the pressure angle it reached) and against the module; the default
-/// design marked in both. Refused designs are left out.
+/// unlimited and the off-line designs at the pressure angles they reached) and against the
+/// module; the default design marked in both. Refused designs are left out.
 pub fn tradeoff_plot(t: &TradeOff, path: &Path) -> Result<(), OutputError> {
     let designed = |keep: fn(&TradeOffRow) -> bool| -> Vec<(&TradeOffRow, &RowNumbers)> {
         t.rows
@@ -37,7 +37,9 @@ pub fn tradeoff_plot(t: &TradeOff, path: &Path) -> Result<(), OutputError> {
             .filter_map(|r| r.numbers().map(|n| (r, n)))
             .collect()
     };
-    let limited = designed(|r| r.module_mm.is_none() && r.pressure_angle_limit_deg.is_some());
+    let limited =
+        designed(|r| r.module_mm.is_none() && r.pressure_angle_limit_deg.is_some() && !r.off_line);
+    let off_line = designed(|r| r.off_line);
     let free = designed(|r| r.pressure_angle_limit_deg.is_none());
     let modules = designed(|r| r.module_mm.is_some());
     let default = designed(|r| r.is_default);
@@ -66,6 +68,13 @@ pub fn tradeoff_plot(t: &TradeOff, path: &Path) -> Result<(), OutputError> {
     angle.push(Series::markers(
         "no limits (at the angle it needs)",
         free.iter()
+            .map(|(_, n)| (n.pressure_angle_deg, n.max_deviation_mm))
+            .collect(),
+    ));
+    angle.push(Series::markers(
+        "intermediate axis off the line (at the angle it reached)",
+        off_line
+            .iter()
             .map(|(_, n)| (n.pressure_angle_deg, n.max_deviation_mm))
             .collect(),
     ));

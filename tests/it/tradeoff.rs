@@ -66,6 +66,7 @@ fn tradeoff_on_the_designer_kidney() {
             "pressure angle ≤ 45°",
             "pressure angle ≤ 50°",
             "no limits",
+            "intermediate axis off the line",
             "module 1 mm",
             "module 1.5 mm",
             "module 2 mm",
@@ -111,7 +112,7 @@ fn tradeoff_on_the_designer_kidney() {
     // offset) the arm is free of the tooth count and the contact shift of the planet law frees
     // the even harmonics a collinear train cannot follow: the kidney is closer at m = 1.5 and 2
     // than any collinear design.
-    for r in &rows[5..] {
+    for r in &rows[6..] {
         let offset = r["designed"]["idler_offset_deg"].as_f64().unwrap();
         if offset == 0.0 {
             assert!(
@@ -122,19 +123,40 @@ fn tradeoff_on_the_designer_kidney() {
             );
         }
     }
-    for r in &rows[6..8] {
+    for r in &rows[7..9] {
         let offset = r["designed"]["idler_offset_deg"].as_f64().unwrap();
         assert!(
             offset.abs() > 1.0 && offset.abs() <= 30.0,
             "{}: ε = {offset}°",
             r["label"]
         );
+        // 0.55 and 0.83 mm against 1.57 mm (2026-11-28; 0.47 and 0.49 mm when the module stage
+        // started from the collinear free design, which traced the 28 bundled module runs 2.5×
+        // farther in geometric mean — docs/design.md, "Gears you can make").
         assert!(
-            deviation(r) < 0.5 * closest,
+            deviation(r) < 0.6 * closest,
             "{}: {} against {closest} on the line",
             r["label"],
             deviation(r)
         );
+    }
+    // The off-line row: the default limits held, the intermediate axis off the line (the
+    // layout the module rows use), no module — the even harmonics a collinear train cannot
+    // follow traced, within the same limits (designer_kidney: 0.08 against 1.57 mm on the line,
+    // 2026-11-28); it is another layout, so no limit row is flagged against it.
+    let off = &rows[5];
+    assert_eq!(off["off_line"], true);
+    assert_eq!(off["pressure_angle_limit_deg"].as_f64(), Some(45.0));
+    assert!(off["module_mm"].is_null());
+    let eps = off["designed"]["idler_offset_deg"].as_f64().unwrap();
+    assert!(eps.abs() > 1.0 && eps.abs() <= 30.0, "off-line ε = {eps}°");
+    assert!(
+        deviation(off) < 0.25 * closest,
+        "off the line: {} against {closest} on the line",
+        deviation(off)
+    );
+    for r in &rows[..5] {
+        assert_ne!(r["closer_tighter_design"].as_str(), Some(labels[5]), "{r}");
     }
     // Loosening the limit from 35° to none: the deviation does not grow, except where a design
     // under a tighter limit (within this row's limits too) is closer — the row names it.
