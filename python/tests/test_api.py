@@ -239,11 +239,16 @@ def test_errors_are_ncgear_errors_with_the_cli_message(g1_train, out, tmp_path):
 
 def test_a_design_for_the_module_gets_its_own_teeth_unscaled():
     d = ncgear.design(G1, module=2.0)
-    assert d.module is not None and d.module.teeth == 22  # closer of 22 and 23 within the hollow limit
+    # z = 23 with the intermediate axis off the carrier line (l1 = 2a·cos ε) traces G1 exactly;
+    # on the line the count would cost 1.5 mm.
+    assert d.module is not None and d.module.teeth == 23
+    assert d.roundtrip.max_deviation_mm < 1e-3 and 5.0 < abs(d.idler_offset_deg) <= 30.0
     assert d.limits.pressure_angle_deg <= 45.0
     t = ncgear.teeth(d, module=2.0, verify_steps=0)  # policy "design" for a design made for m
-    assert t.z == 22 and abs(t.scale - 1.0) < 1e-9 and t.options.policy == "Designed"
+    assert t.z == 23 and abs(t.scale - 1.0) < 1e-9 and t.options.policy == "Designed"
     assert abs(t.roundtrip.hausdorff_mm - d.roundtrip.hausdorff_mm) < 2e-3
+    collinear = ncgear.design(G1, module=2.0, idler_offset="collinear")
+    assert collinear.idler_offset_deg == 0.0 and collinear.roundtrip.max_deviation_mm > 1.0
 
 
 def test_a_failed_verification_is_returned_with_its_verdict_and_the_cli_exits_3(tmp_path):
