@@ -332,13 +332,6 @@ impl SunRatio {
         out
     }
 
-    /// `S(t_k)` (rad) at the `n` uniform angles `t_k = t0 + 2πk/n` ([`Self::half_turn_map`]
-    /// along a turn, by [`Self::inverse_integral_along`]).
-    #[must_use]
-    pub fn half_turn_map_uniform(&self, t0_rad: f64, n: usize, tol_rad: f64) -> Vec<f64> {
-        self.contact_map_uniform(t0_rad, PI, n, tol_rad)
-    }
-
     /// `S(t_k) = Φ⁻¹(Φ(t_k) + c)` (rad) at the `n` uniform angles `t_k = t0 + 2πk/n`
     /// ([`Self::contact_map`] along a turn, by [`Self::inverse_integral_along`]).
     #[must_use]
