@@ -59,18 +59,16 @@ fn designed_for_module_g1(b: divan::Bencher, module_mm: f64) {
 /// chord tolerance 1e-3·m, with `steps` verified carrier positions per mesh (0 = none).
 #[divan::bench(args = [0, 12], sample_count = 5)]
 fn teeth_g1_module_2(b: divan::Bencher, steps: usize) {
-    use ncgear::design::train::{TrainTeethOptions, tooth_train};
+    use ncgear::design::train::{TrainSource, TrainTeethOptions, tooth_train};
     let d = design(&load("g1_ellipse.csv"), &DesignOptions::default()).expect("G1");
     let mut opts = TrainTeethOptions::new(2.0);
     opts.toothing.verify_steps = steps;
     b.bench(|| {
-        tooth_train(
-            divan::black_box(&d.assembly),
-            &d.report.target_points,
-            &opts,
-            &|_| {},
-        )
-        .expect("G1 teeth")
+        let on = TrainSource::Assembly {
+            assembly: divan::black_box(&d.assembly),
+            target_mm: &d.report.target_points,
+        };
+        tooth_train(on, &opts).expect("G1 teeth")
     });
 }
 

@@ -16,7 +16,7 @@ use ncgear::design::train::{Gear, TrainPolicy, TrainTeethOptions};
 use ncgear::export::dxf::{DxfVersion, write_dxf};
 use ncgear::export::svg::write_svg;
 use ncgear::geometry::golden::g1_mechanism;
-use ncgear::{DesignOptions, Trajectory, design, tooth_design};
+use ncgear::{DesignOptions, Trajectory, design, tooth_train};
 
 fn main() -> Result<(), Box<dyn Error>> {
     let out: PathBuf = std::env::args_os()
@@ -40,9 +40,8 @@ fn main() -> Result<(), Box<dyn Error>> {
 
     // 3. Teeth: about module 2 mm, a 20° rack; the tooth count is made an integer by adjusting
     //    the module, so the gears and the traced path stay exactly as designed.
-    let mut opts = TrainTeethOptions::new(2.0);
-    opts.policy = TrainPolicy::AdjustModule;
-    let teeth = tooth_design(&d, &opts, 1e-9, &|_| {})?;
+    let opts = TrainTeethOptions::new(2.0).with_policy(TrainPolicy::AdjustModule);
+    let teeth = tooth_train(&d, &opts)?;
     let t = &teeth.report;
     println!(
         "teeth: z = {} on every gear, module {:.4} mm, centre distance {:.3} mm, round trip {:.4} mm",

@@ -4,7 +4,7 @@
 //! high-speed rice transplanters, and companion gear-train analyses.
 //!
 //! The entry point is [`design()`]: a needle-tip trajectory in, the sun and intermediate pitch
-//! curves, the mechanism and a checked report out. [`tooth_design`] puts teeth on the three gears;
+//! curves, the mechanism and a checked report out. [`tooth_train`] puts teeth on the three gears;
 //! [`export`] writes DXF, SVG and point lists.
 //!
 //! ```
@@ -68,11 +68,12 @@ pub mod geometry;
 pub mod math;
 pub mod output;
 pub mod pair;
+pub mod progress;
 pub mod simulate;
 pub mod synthesis;
 pub mod teeth;
 pub mod verdict;
 
-pub use design::train::tooth_design;
+pub use design::train::tooth_train;
 pub use design::trajectory::Trajectory;
 pub use design::{Design, DesignError, DesignOptions, DesignReport, design};

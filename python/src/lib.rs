@@ -10,7 +10,7 @@ mod options;
 use convert::{points, to_py};
 use errors::{NcgearError, design_err, err, pair_err};
 use ncgear::design::Design;
-use ncgear::design::train::{Gear, ToothedTrain, TrainTeethOptions, tooth_design};
+use ncgear::design::train::{Gear, ToothedTrain, TrainTeethOptions, tooth_train};
 use ncgear::export::dxf::{DxfVersion, write_dxf};
 use ncgear::export::step::write_step;
 use ncgear::export::svg::write_svg;
@@ -244,14 +244,11 @@ fn teeth(
     wire_edm: bool,
     tooth: ToothArgs,
 ) -> PyResult<TrainHandle> {
-    let mut o = TrainTeethOptions::new(module);
-    o.wire_edm = wire_edm;
+    let mut o = TrainTeethOptions::new(module)
+        .with_wire_edm(wire_edm)
+        .with_policy(train_policy(tooth_policy, teeth)?);
     tooth.apply_to(&mut o.toothing)?;
-    o.policy = train_policy(tooth_policy, teeth)?;
-    // The CLI's accuracy: 1e-9 of the centre distance.
-    let acc = 1e-9 * design.d.assembly.a_mm;
-    let t = tooth_design(&design.d, &o, acc, &|_| {})
-        .map_err(|e| errors::arg_err("module", module, e))?;
+    let t = tooth_train(&design.d, &o).map_err(|e| errors::arg_err("module", module, e))?;
     let verdict = design.d.report.teeth_verdict(&t.report);
     Ok(TrainHandle { t, verdict })
 }

@@ -5,7 +5,7 @@ use super::{CliResult, input_error, print_json, progress_bar, runtime_error};
 use ncgear::design::inverse::InverseError;
 use ncgear::design::train::{
     PendingTrainMesh, ToothedTrain, TrainError, TrainPolicy, TrainTeethOptions, TrainTeethReport,
-    tooth_design_deferred,
+    tooth_train_staged,
 };
 use ncgear::design::trajectory::Trajectory;
 use ncgear::design::{DesignError, design};
@@ -96,7 +96,7 @@ fn teeth_and_cad_files(
         || {
             let t0 = std::time::Instant::now();
             (
-                pending.map(|p| p.run(&|n| pb.inc(n))).transpose(),
+                pending.map(|p| p.run(&super::bar_sink(&pb))).transpose(),
                 super::ms_since(t0),
             )
         },
@@ -393,8 +393,7 @@ fn toothed(
     module_mm: f64,
     opts: &TrainTeethOptions,
 ) -> Result<(ToothedTrain, Option<PendingTrainMesh>), super::Failure> {
-    let accuracy_mm = 1e-9 * d.assembly.a_mm;
-    tooth_design_deferred(d, opts, accuracy_mm).map_err(|e| match e {
+    tooth_train_staged(d, opts).map_err(|e| match e {
         TrainError::Teeth {
             source: ncgear::teeth::TeethError::NoCutter { .. },
             ..

@@ -175,6 +175,12 @@ pub fn progress_bar(len: u64, what: &str) -> indicatif::ProgressBar {
     pb
 }
 
+/// A progress sink that advances `pb`.
+pub fn bar_sink(pb: &indicatif::ProgressBar) -> ncgear::progress::Progress {
+    let pb = pb.clone();
+    ncgear::progress::Progress::new(move |n| pb.inc(n))
+}
+
 /// A spinner on stderr naming the stage that runs (a stage with no measure of its progress),
 /// ticking by itself when stderr is a terminal; hidden (a no-op) when piped.
 pub fn spinner(what: &str) -> indicatif::ProgressBar {

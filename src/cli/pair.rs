@@ -14,7 +14,7 @@ use super::teeth_args::RackArgs;
 use ncgear::export::dxf::{DxfVersion, write_dxf};
 use ncgear::export::points::write_points;
 use ncgear::export::svg::write_svg;
-use ncgear::pair::{Expr, Law, PairDesign, PairError, PairOptions, design_pair_deferred};
+use ncgear::pair::{Expr, Law, PairDesign, PairError, PairOptions, design_pair_staged};
 use ncgear::teeth::ToothingOptions;
 use std::path::PathBuf;
 
@@ -82,7 +82,7 @@ pub fn run(args: Args) -> CliResult {
     let law = law_of(&args)?;
     let opts = pair_options(&args)?;
     let to_failure = pair_failure;
-    let (mut design, pending) = design_pair_deferred(&law, &opts).map_err(to_failure)?;
+    let (mut design, pending) = design_pair_staged(&law, &opts).map_err(to_failure)?;
     let t_design = super::ms_since(started);
     std::fs::create_dir_all(&args.out)
         .map_err(|e| runtime_error(format!("cannot create {}: {e}", args.out.display())))?;
@@ -101,7 +101,7 @@ pub fn run(args: Args) -> CliResult {
     let ((mesh, t_mesh), ((r_dxf, r_svg), (r_points, r_step))) = rayon::join(
         || {
             let t0 = std::time::Instant::now();
-            let mesh = pending.map(|p| p.run(&|n| pb.inc(n))).transpose();
+            let mesh = pending.map(|p| p.run(&super::bar_sink(&pb))).transpose();
             (mesh, super::ms_since(t0))
         },
         || {

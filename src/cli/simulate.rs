@@ -1,6 +1,6 @@
 //! `ncgear simulate DESIGN.json --out DIR`.
 use super::{CliResult, input_error, print_json, runtime_error};
-use ncgear::design::train::{TrainPolicy, TrainTeethOptions, tooth_train};
+use ncgear::design::train::{TrainPolicy, TrainSource, TrainTeethOptions, tooth_train};
 use ncgear::design::trajectory::Trajectory;
 use ncgear::geometry::assembly::Assembly;
 use ncgear::output::animate::AnimationOptions;
@@ -135,10 +135,13 @@ fn simulation(
     };
     Ok(match policy {
         Some((m, policy)) => {
-            let mut opts = TrainTeethOptions::new(m);
-            opts.policy = policy;
+            let mut opts = TrainTeethOptions::new(m).with_policy(policy);
             opts.toothing.verify_steps = 0;
-            let train = tooth_train(&asm, target, &opts, &|_| {})
+            let on = TrainSource::Assembly {
+                assembly: &asm,
+                target_mm: target,
+            };
+            let train = tooth_train(on, &opts)
                 .map_err(|e| input_error(miette::miette!("--module {m}: {e}")))?;
             Simulation::toothed(&train)
         }

@@ -62,7 +62,7 @@ pub struct DesignReport {
     pub warnings: Vec<String>,
     /// Wall-clock time per stage, ms.
     pub timings_ms: Timings,
-    /// Teeth of the final gears, filled by [`crate::design::train::attach_teeth`]; absent
+    /// Teeth of the final gears, filled by [`crate::design::train::ToothedTrain::record`]; absent
     /// without teeth. Written with sorted keys; a block that does not parse reads as absent.
     #[serde(
         default,

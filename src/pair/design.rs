@@ -4,6 +4,7 @@ use super::PairError;
 use crate::export::{Contour, Marker, Sheet};
 use crate::geometry::pitch::PitchCurve;
 use crate::math::periodic::uniform_angles;
+use crate::progress::Progress;
 use crate::teeth::conjugate::Mate;
 use crate::teeth::mate_motion::MeshMotion;
 use crate::teeth::mesh::{MeshCheck, MeshReport, verify_mesh};
@@ -17,7 +18,7 @@ use std::f64::consts::{PI, TAU};
 
 /// Options of [`super::design_pair`]; [`PairOptions::new`] and [`Default`] fill the defaults named on
 /// each field.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, serde::Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, serde::Deserialize)]
 #[non_exhaustive]
 pub struct PairOptions {
     /// Driver tooth count; the driven gear gets `z·2π/Δ` (Δ the cycle advance; equal counts for a
@@ -37,6 +38,9 @@ pub struct PairOptions {
     /// An open (incomplete) pair over the driver interval `[start, end]`, rad, with `teeth` on
     /// that interval (motion laws only; see [`SectorReport`]). Default `None`: closed gears.
     pub open_sector_rad: Option<[f64; 2]>,
+    /// Told of each verified driver position. Default: none.
+    #[serde(skip)]
+    pub progress: Progress,
 }
 
 crate::builder::with_fields!(PairOptions {
@@ -45,6 +49,7 @@ crate::builder::with_fields!(PairOptions {
     with_toothing => toothing: ToothingOptions,
     with_samples => samples: usize,
     with_open_sector_rad => open_sector_rad: Option<[f64; 2]>,
+    with_progress => progress: Progress,
 });
 
 impl PairOptions {
@@ -58,6 +63,7 @@ impl PairOptions {
             toothing: ToothingOptions::new(module_mm),
             samples: 4096,
             open_sector_rad: None,
+            progress: Progress::none(),
         }
     }
 }
@@ -150,7 +156,7 @@ pub(super) fn validate_options(opts: &PairOptions) -> Result<(), PairError> {
     Ok(())
 }
 
-/// A designed pair's mesh check, ready to run ([`super::design_pair_deferred`]): the outlines at
+/// A designed pair's mesh check, ready to run ([`super::design_pair_staged`]): the outlines at
 /// the verification's chord tolerance, the motion law and the check's parameters. Running it
 /// while the design's files are written hides the writing's time.
 pub struct PendingMesh {
@@ -169,12 +175,12 @@ impl PendingMesh {
         &self.check
     }
 
-    /// Rolls the pair through the check ([`verify_mesh`]); `progress(1)` after each driver
+    /// Rolls the pair through the check ([`verify_mesh`]); `progress` told of each driver
     /// position.
     ///
     /// # Errors
     /// [`PairError::Mesh`]: an outline the check cannot index.
-    pub fn run(&self, progress: &(dyn Fn(u64) + Sync)) -> Result<MeshReport, PairError> {
+    pub fn run(&self, progress: &Progress) -> Result<MeshReport, PairError> {
         let [v1, v2] = &self.outlines;
         let mut r = verify_mesh(v1, v2, &*self.psi, &self.check, progress)?;
         r.max_overlap_at_deg += self.at_offset_deg;

@@ -1,4 +1,4 @@
-//! The pair designer's entry points: check the options, then design the closed pair (equal or
+//! The pair designer's entry point: check the options, then design the closed pair (equal or
 //! unequal tooth counts, [`super::design`]) or the open sector ([`super::sector`]).
 use super::closed::design_closed;
 use super::design::{PairDesign, PairOptions, PendingMesh, validate_options};
@@ -7,37 +7,26 @@ use super::{Law, PairError};
 /// Designs the toothed pair: pitch curves scaled so that `L = zπm` (an open sector: z pitches on
 /// its active arc), outlines with the mating phase (driver tooth 0 centred at the contact of
 /// φ = 0, a driven space facing it), and the mesh verification over a full cycle (the q driver
-/// turns of a p/q ratio) or over the sector's interval.
+/// turns of a p/q ratio) or over the sector's interval, `opts.progress` told of each driver
+/// position.
 ///
 /// # Errors
 /// [`PairError`]: bad options, a law without a closed (or open) pair, teeth that cannot be cut.
 pub fn design_pair(law: &Law, opts: &PairOptions) -> Result<PairDesign, PairError> {
-    design_pair_with_progress(law, opts, &|_| {})
-}
-
-/// [`design_pair`] reporting mesh-verification progress (`progress(1)` per driver position).
-///
-/// # Errors
-/// As [`design_pair`].
-pub fn design_pair_with_progress(
-    law: &Law,
-    opts: &PairOptions,
-    progress: &(dyn Fn(u64) + Sync),
-) -> Result<PairDesign, PairError> {
-    let (mut design, pending) = design_pair_deferred(law, opts)?;
+    let (mut design, pending) = design_pair_staged(law, opts)?;
     if let Some(p) = pending {
-        design.mesh = Some(p.run(progress)?);
+        design.mesh = Some(p.run(&opts.progress)?);
     }
     Ok(design)
 }
 
-/// [`design_pair`] without running the mesh check: the design (its `mesh` is `None`) and the
-/// check ready to run (`None` when `verify_steps` is 0). A caller that writes the design's files
-/// can run the check beside the writing and then set `design.mesh`.
+/// [`design_pair`] in its two stages, for a caller that runs the mesh check beside other work
+/// (writing the design's files): the design (its `mesh` is `None`) and the check ready to run
+/// ([`PendingMesh::run`]; `None` when `verify_steps` is 0).
 ///
 /// # Errors
 /// As [`design_pair`], except the check's own.
-pub fn design_pair_deferred(
+pub fn design_pair_staged(
     law: &Law,
     opts: &PairOptions,
 ) -> Result<(PairDesign, Option<PendingMesh>), PairError> {

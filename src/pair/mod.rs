@@ -18,7 +18,7 @@ mod relief;
 mod sector;
 
 pub use design::{PairDesign, PairOptions, PendingMesh, SectorReport};
-pub use entry::{design_pair, design_pair_deferred, design_pair_with_progress};
+pub use entry::{design_pair, design_pair_staged};
 pub use expr::{Expr, ExprError};
 pub use law::Law;
 pub use motion::Motion;

@@ -2,7 +2,7 @@
 
 use super::api::{ApiError, DesignRequest, ParseRequest, design_error};
 use super::{Reply, page, view};
-use ncgear::design::train::{ToothedTrain, TrainPolicy, TrainTeethOptions, tooth_design};
+use ncgear::design::train::{ToothedTrain, TrainPolicy, TrainTeethOptions, tooth_train};
 use ncgear::design::trajectory::Trajectory;
 use ncgear::design::{Design, design, warm::redesign};
 use serde_json::Value;
@@ -58,9 +58,8 @@ fn designed(req: &DesignRequest) -> Result<(Design, Option<ToothedTrain>), ApiEr
     let Some(m) = opts.module_mm else {
         return Ok((d, None));
     };
-    let mut t = TrainTeethOptions::new(m);
-    t.policy = TrainPolicy::Designed;
-    let train = tooth_design(&d, &t, 1e-9 * d.assembly.a_mm, &|_| {})
+    let t = TrainTeethOptions::new(m).with_policy(TrainPolicy::Designed);
+    let train = tooth_train(&d, &t)
         .map_err(|e| ApiError::bad("options.module", format!("module {m} mm: {e}")))?;
     let mut d = d;
     train.record(&mut d);

@@ -1,7 +1,7 @@
 //! Gear limits as constraints of the design, and designs made for a module: the gears satisfy
 //! the limits measured on the output tables, the limits cost what they must and no more, and a
 //! toothed train traces what its report states.
-use ncgear::design::train::{TrainError, TrainPolicy, TrainTeethOptions, tooth_design};
+use ncgear::design::train::{TrainError, TrainPolicy, TrainTeethOptions, tooth_train};
 use ncgear::design::trajectory::Trajectory;
 use ncgear::design::{Design, DesignError, DesignOptions, design};
 use ncgear::geometry::pitch::PitchCurve;
@@ -55,7 +55,7 @@ fn toothed_cleanly(
     let mut to = TrainTeethOptions::new(module_mm);
     to.policy = TrainPolicy::Designed;
     to.toothing.verify_steps = steps;
-    let toothed = tooth_design(d, &to, 1e-9 * d.assembly.a_mm, &|_| {}).unwrap();
+    let toothed = tooth_train(d, &to).unwrap();
     let mesh = toothed.report.mesh.as_ref().unwrap();
     for m in [&mesh.sun_intermediate, &mesh.intermediate_planet] {
         assert_eq!(m.interference_steps, 0);
@@ -74,7 +74,7 @@ fn scaled_hausdorff_mm(free: &Design, module_mm: f64, policy: ToothPolicy) -> f6
     let mut so = TrainTeethOptions::new(module_mm);
     so.policy = TrainPolicy::ScaleCenterDistance(policy);
     so.toothing.verify_steps = 0;
-    let scaled = tooth_design(free, &so, 1e-9 * free.assembly.a_mm, &|_| {}).unwrap();
+    let scaled = tooth_train(free, &so).unwrap();
     scaled.report.roundtrip.hausdorff_mm
 }
 
@@ -189,7 +189,7 @@ fn a_design_for_the_module_has_perimeter_z_pi_m_and_its_teeth_trace_the_stated_p
     let mut to = TrainTeethOptions::new(1.5);
     to.policy = TrainPolicy::Designed;
     to.toothing.verify_steps = 0;
-    let t = tooth_design(&d, &to, 1e-9 * d.assembly.a_mm, &|_| {}).unwrap();
+    let t = tooth_train(&d, &to).unwrap();
     assert_eq!(t.report.z, m.teeth);
     assert!((t.report.scale - 1.0).abs() < 1e-9, "{}", t.report.scale);
     // The toothed train traces the designed path, measured as C12 measures the design: the
@@ -216,7 +216,7 @@ fn a_design_for_the_module_has_perimeter_z_pi_m_and_its_teeth_trace_the_stated_p
     .unwrap();
     let mut up = to;
     up.policy = TrainPolicy::ScaleCenterDistance(ToothPolicy::ScaleUp);
-    let scaled = tooth_design(&free, &up, 1e-9 * free.assembly.a_mm, &|_| {}).unwrap();
+    let scaled = tooth_train(&free, &up).unwrap();
     assert!(scaled.report.roundtrip.hausdorff_mm > 10.0 * t.report.roundtrip.hausdorff_mm);
 }
 
@@ -333,7 +333,7 @@ fn module_mismatches_and_oversized_modules_are_refused_clearly() {
     .unwrap();
     let mut to = TrainTeethOptions::new(2.0);
     to.policy = TrainPolicy::Designed;
-    let e = tooth_design(&d, &to, 1e-9, &|_| {}).unwrap_err();
+    let e = tooth_train(&d, &to).unwrap_err();
     assert!(matches!(e, TrainError::NotDesignedForModule { .. }), "{e}");
     assert!(e.to_string().contains("no module"), "{e}");
     let o = DesignOptions::default().with_module_mm(Some(20.0));

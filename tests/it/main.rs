@@ -31,3 +31,15 @@ mod train;
 mod transplanter;
 mod undercut;
 mod warm;
+
+use ncgear::design::Design;
+use ncgear::design::train::TrainSource;
+
+/// The train of `d` as read from its `design.json` (assembly and target, no mechanism): the
+/// scaling tooth policies, the round trip over the target alone.
+fn assembled(d: &Design) -> TrainSource<'_> {
+    TrainSource::Assembly {
+        assembly: &d.assembly,
+        target_mm: &d.report.target_points,
+    }
+}

@@ -16,7 +16,18 @@ fn motion(e: &str) -> Law {
 /// `z·π·m` (the driven one is an independent measure of the driven gear's closure), no
 /// interference over the whole cycle and a transmission error far below a tooth's play.
 fn check(law: &Law, z: u32, z_driven: u32, m: f64) -> ncgear::pair::PairDesign {
-    let d = design_pair(law, &PairOptions::new(Some(z), m)).unwrap();
+    use std::sync::Arc;
+    use std::sync::atomic::{AtomicU64, Ordering};
+    let done = Arc::new(AtomicU64::new(0));
+    let seen = Arc::clone(&done);
+    let opts =
+        PairOptions::new(Some(z), m).with_progress(ncgear::progress::Progress::new(move |n| {
+            seen.fetch_add(n, Ordering::Relaxed);
+        }));
+    let d = design_pair(law, &opts).unwrap();
+    // The progress sink hears of every verified driver position.
+    let steps = d.mesh.as_ref().expect("verified").steps;
+    assert_eq!(done.load(Ordering::Relaxed), steps as u64);
     assert_eq!((d.z, d.z_driven), (z, z_driven));
     for o in [&d.driver, &d.driven] {
         assert_eq!(first_self_intersection(&o.points_mm).unwrap(), None);

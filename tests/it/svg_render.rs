@@ -1,6 +1,7 @@
 //! The SVG exports render in an independent SVG engine (resvg): the document size is the
 //! sheet's size in mm, and the drawn pixels lie on the outlines (1 SVG unit = 1 mm, y up in the
 //! sheet, y down in SVG), not elsewhere.
+use crate::assembled;
 use ncgear::design::train::{TrainTeethOptions, tooth_train};
 use ncgear::design::trajectory::Trajectory;
 use ncgear::design::{DesignOptions, design};
@@ -147,16 +148,11 @@ fn train_sheet_renders_at_its_size_in_mm_with_ink_on_the_outlines() {
     )
     .unwrap();
     let d = design(&t, &DesignOptions::default()).unwrap();
-    let train = tooth_train(
-        &d.assembly,
-        &d.report.target_points,
-        &{
-            let mut o = TrainTeethOptions::new(2.0);
-            o.toothing.verify_steps = 0;
-            o
-        },
-        &|_| {},
-    )
+    let train = tooth_train(assembled(&d), &{
+        let mut o = TrainTeethOptions::new(2.0);
+        o.toothing.verify_steps = 0;
+        o
+    })
     .unwrap();
     let sheet = train.sheet(0.0);
     let f = render_and_check(&sheet, 10.0, 2.0, "train");

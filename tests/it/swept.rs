@@ -4,6 +4,7 @@
 use crate::teeth::rack_cut;
 use ncgear::geometry::pitch::PitchCurve;
 use ncgear::pair::{Expr, Law, PairOptions, design_pair};
+use ncgear::progress::Progress;
 use ncgear::teeth::conjugate::{Mate, MatePose};
 use ncgear::teeth::mesh::{MeshCheck, verify_mesh};
 use ncgear::teeth::process::Process;
@@ -108,7 +109,7 @@ fn a_gear_swept_by_an_involute_mate_is_the_conjugate_involute() {
             c.backlash_mm = backlash;
             c
         },
-        &|_| {},
+        &Progress::none(),
     )
     .unwrap();
     assert_eq!(report.interference_steps, 0, "{report:?}");

@@ -377,6 +377,7 @@ fn bad_law_inputs_are_typed_errors() {
 /// computed independently in the world frame.
 #[test]
 fn overlap_area_is_zero_for_the_pair_and_matches_full_clipping_when_clocked_wrong() {
+    use ncgear::progress::Progress;
     use ncgear::teeth::mesh::{MeshCheck, verify_mesh};
     use ncgear::teeth::overlap::polygon_overlap_area;
     let law = Law::Motion(Expr::parse("phi - 0.08*sin(2*phi)").unwrap());
@@ -399,7 +400,7 @@ fn overlap_area_is_zero_for_the_pair_and_matches_full_clipping_when_clocked_wron
                 check.backlash_mm = 0.06;
                 check
             },
-            &|_| {},
+            &Progress::none(),
         )
         .unwrap()
     };

@@ -1,7 +1,6 @@
 //! `ncgear design --module`: teeth on the designed planetary train.
-use ncgear::design::train::{
-    Gear, TrainError, TrainPolicy, TrainTeethOptions, attach_teeth, tooth_design, tooth_train,
-};
+use crate::assembled;
+use ncgear::design::train::{Gear, TrainError, TrainPolicy, TrainTeethOptions, tooth_train};
 use ncgear::design::trajectory::Trajectory;
 use ncgear::design::{Design, DesignOptions, design};
 use ncgear::teeth::{TeethError, ToothPolicy};
@@ -30,13 +29,22 @@ fn no_mesh(module_mm: f64, policy: TrainPolicy) -> TrainTeethOptions {
 /// docs/math/chain.md §11.1 and docs/math/teeth.md §12.1: the G1 sun at m = 2 has L = 140.57 mm → z = 23 after scaling up, no undercut
 /// (ρmin·sin²α ≥ ha*·m). Both meshes roll through a carrier turn without interference, with
 /// positive backlash and a transmission error far below ncgears' 1e-5°. Scaling a by s moves every
-/// tip point radially by exactly (s − 1)·l1, and the round trip sees that.
+/// tip point radially by exactly (s − 1)·l1, and the round trip sees that. The options' progress
+/// sink hears of every verified position of both meshes, 2 × 24.
 #[test]
 fn g1_train_at_module_2_has_23_teeth_meshes_and_moves_the_tip_by_the_closed_form() {
+    use std::sync::Arc;
+    use std::sync::atomic::{AtomicU64, Ordering};
     let d = g1_design();
-    let mut opts = TrainTeethOptions::new(2.0);
+    let done = Arc::new(AtomicU64::new(0));
+    let seen = Arc::clone(&done);
+    let mut opts =
+        TrainTeethOptions::new(2.0).with_progress(ncgear::progress::Progress::new(move |n| {
+            seen.fetch_add(n, Ordering::Relaxed);
+        }));
     opts.toothing.verify_steps = 24;
-    let t = tooth_train(&d.assembly, &d.report.target_points, &opts, &|_| {}).unwrap();
+    let t = tooth_train(assembled(d), &opts).unwrap();
+    assert_eq!(done.load(Ordering::Relaxed), 48);
     let r = &t.report;
     assert_eq!(r.z, 23);
     assert!((22.3..22.45).contains(&r.z_raw), "z_raw {}", r.z_raw);
@@ -138,7 +146,7 @@ fn undercut_at_a_larger_module_is_refused_with_the_limit() {
     // The strict option (`--no-undercut`); by default the undercut is cut (tests/it/undercut.rs).
     let mut strict = no_mesh(3.0, TrainPolicy::ScaleCenterDistance(ToothPolicy::ScaleUp));
     strict.toothing.refuse_undercut = true;
-    let err = tooth_train(&d.assembly, &d.report.target_points, &strict, &|_| {}).unwrap_err();
+    let err = tooth_train(assembled(d), &strict).unwrap_err();
     match &err {
         TrainError::Teeth {
             gear,
@@ -172,7 +180,7 @@ fn undercut_at_a_larger_module_is_cut_and_meshes() {
     let d = g1_design();
     let mut opts = TrainTeethOptions::new(3.0);
     opts.toothing.verify_steps = 24;
-    let t = tooth_train(&d.assembly, &d.report.target_points, &opts, &|_| {}).unwrap();
+    let t = tooth_train(assembled(d), &opts).unwrap();
     let u = &t.report.undercut.sun;
     assert!(u.undercut_count > 0 && u.max_undercut_mm > 0.0, "{u:?}");
     assert!(u.max_contact_ratio_loss > 0.0 && u.min_root_thickness_mm.unwrap() > 0.0);
@@ -188,13 +196,7 @@ fn undercut_at_a_larger_module_is_cut_and_meshes() {
 #[test]
 fn adjusting_the_module_keeps_the_trajectory() {
     let d = g1_design();
-    let t = tooth_train(
-        &d.assembly,
-        &d.report.target_points,
-        &no_mesh(2.0, TrainPolicy::AdjustModule),
-        &|_| {},
-    )
-    .unwrap();
+    let t = tooth_train(assembled(d), &no_mesh(2.0, TrainPolicy::AdjustModule)).unwrap();
     let r = &t.report;
     assert_eq!(r.z, 22);
     assert!((r.module_mm * 22.0 * PI - r.perimeter_mm).abs() < 1e-9);
@@ -207,17 +209,15 @@ fn adjusting_the_module_keeps_the_trajectory() {
 /// The library fills `design.report.teeth` (no CLI involved): `design.json` carries the train's
 /// report with every object's keys in sorted order, and reads back to the same report.
 #[test]
-fn attach_teeth_records_the_report_in_the_design_and_it_round_trips_through_json() {
+fn a_recorded_train_is_in_the_design_and_it_round_trips_through_json() {
     let mut d = g1_design().clone();
     assert!(d.report.teeth.is_none());
-    let accuracy_mm = 1e-9 * d.assembly.a_mm;
-    let t = attach_teeth(
-        &mut d,
+    let t = tooth_train(
+        &d,
         &no_mesh(2.0, TrainPolicy::ScaleCenterDistance(ToothPolicy::ScaleUp)),
-        accuracy_mm,
-        &|_| {},
     )
     .unwrap();
+    t.record(&mut d);
     assert_eq!(d.report.teeth.as_ref(), Some(&t.report));
     let json = serde_json::to_value(&d.report).unwrap();
     let teeth = json["teeth"].as_object().unwrap();
@@ -246,13 +246,7 @@ fn attach_teeth_records_the_report_in_the_design_and_it_round_trips_through_json
 #[test]
 fn ratio_amplitude_policy_solves_the_perimeter_equation() {
     let d = g1_design();
-    let t = tooth_design(
-        d,
-        &no_mesh(2.0, TrainPolicy::RatioAmplitude),
-        1e-9 * d.assembly.a_mm,
-        &|_| {},
-    )
-    .unwrap();
+    let t = tooth_train(d, &no_mesh(2.0, TrainPolicy::RatioAmplitude)).unwrap();
     let r = &t.report;
     assert_eq!(r.z, 22);
     assert!(
@@ -283,13 +277,7 @@ fn ratio_amplitude_policy_solves_the_perimeter_equation() {
         r.warnings[0]
     );
     // The same job on a design.json view (no mechanism) is refused with a clear message.
-    let e = tooth_train(
-        &d.assembly,
-        &d.report.target_points,
-        &no_mesh(2.0, TrainPolicy::RatioAmplitude),
-        &|_| {},
-    )
-    .unwrap_err();
+    let e = tooth_train(assembled(d), &no_mesh(2.0, TrainPolicy::RatioAmplitude)).unwrap_err();
     assert!(
         e.to_string().contains("needs the designed mechanism"),
         "{e}"
@@ -320,13 +308,7 @@ fn max_distance_to_polyline(p: &[[f64; 2]], q: &[[f64; 2]]) -> f64 {
 fn ratio_amplitude_policy_refits_the_needle_and_states_the_round_trip() {
     let d = g1_design();
     assert_eq!(d.report.carrier.direction, 1);
-    let t = tooth_design(
-        d,
-        &no_mesh(2.0345, TrainPolicy::RatioAmplitude),
-        1e-9 * d.assembly.a_mm,
-        &|_| {},
-    )
-    .unwrap();
+    let t = tooth_train(d, &no_mesh(2.0345, TrainPolicy::RatioAmplitude)).unwrap();
     let r = &t.report;
     assert_eq!(r.z, 22);
     assert!(
@@ -542,7 +524,7 @@ fn leaning_teeth_of_the_kidney_design_mesh_without_interference() {
     let module_mm = 2.0;
     let mut opts = TrainTeethOptions::new(module_mm);
     opts.toothing.verify_steps = 36;
-    let train = tooth_train(&d.assembly, &d.report.target_points, &opts, &|_| {}).unwrap();
+    let train = tooth_train(assembled(&d), &opts).unwrap();
     let r = &train.report;
     assert_eq!(r.z, 23);
     // The fold of the outline (backwards polar travel) exceeds the exact-distance band 0.02·m.
@@ -574,7 +556,7 @@ fn clockwise_asymmetric_design_meshes() {
     assert_eq!(d.assembly.direction, -1);
     let mut opts = TrainTeethOptions::new(1.25);
     opts.toothing.verify_steps = 18;
-    let train = tooth_train(&d.assembly, &d.report.target_points, &opts, &|_| {}).unwrap();
+    let train = tooth_train(assembled(&d), &opts).unwrap();
     let r = &train.report;
     assert_eq!(r.z, 34);
     let mesh = r.mesh.as_ref().unwrap();

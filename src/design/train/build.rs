@@ -17,41 +17,74 @@ fn max_tip_distance(traced: &[[f64; 2]], target: &[[f64; 2]]) -> f64 {
         .fold(0.0, f64::max)
 }
 
-/// Puts teeth on an assembled train (world frame, as read from `design.json`): integer tooth
-/// count by scaling, rack-generated outlines with mating phases, undercut reports, the mesh
-/// verification of both meshes (`progress(1)` per verified position, `2·verify_steps` in all) and
-/// the round trip of the scaled mechanism against `target_mm` (the trajectory, world frame).
+/// What [`tooth_train`] puts teeth on.
+#[derive(Debug, Clone, Copy)]
+pub enum TrainSource<'a> {
+    /// A fresh design: every policy of docs/math/teeth.md §12.1, including
+    /// [`TrainPolicy::Designed`] (the design's own tooth count) and
+    /// [`TrainPolicy::RatioAmplitude`] (which rebuilds the mechanism with `i_λ = 1 + λ(i21 − 1)`,
+    /// the same `a`, `l3` and γ, and [`TrainTeethOptions::accuracy_mm`] on the perimeter equation
+    /// `L(λ) = zπm`). `From<&Design>` makes `tooth_train(&design, &opts)`.
+    Design(&'a Design),
+    /// An assembled train (world frame, as read from `design.json`) and the target it was
+    /// designed for (mm, world frame): the scaling policies.
+    Assembly {
+        /// The train.
+        assembly: &'a Assembly,
+        /// The trajectory, world frame, mm.
+        target_mm: &'a [[f64; 2]],
+    },
+}
+
+impl<'a> From<&'a Design> for TrainSource<'a> {
+    fn from(design: &'a Design) -> Self {
+        Self::Design(design)
+    }
+}
+
+/// Puts teeth on a train: integer tooth count by the policy, rack-generated outlines with mating
+/// phases, undercut reports, the mesh verification of both meshes (`opts.progress` told of each
+/// verified position, `2·verify_steps` in all) and the round trip of the toothed mechanism
+/// against the target. Record the result in its design with [`ToothedTrain::record`].
 ///
-/// Errors: [`TrainError::Teeth`] naming the gear (undercut with the largest module that works,
-/// concave arc), [`TrainError::InvalidOption`].
-pub fn tooth_train(
-    asm: &Assembly,
-    target_mm: &[[f64; 2]],
+/// # Errors
+/// [`TrainError::Teeth`] naming the gear (undercut with the largest module that works, concave
+/// arc), [`TrainError::InvalidOption`], [`TrainError::NotDesignedForModule`], a mesh check that
+/// cannot run.
+pub fn tooth_train<'a>(
+    on: impl Into<TrainSource<'a>>,
     opts: &TrainTeethOptions,
-    progress: &(dyn Fn(u64) + Sync),
 ) -> Result<ToothedTrain, TrainError> {
-    verified(train_from(asm, None, (target_mm, None), opts)?, progress)
+    let (mut train, pending) = tooth_train_staged(on, opts)?;
+    if let Some(p) = pending {
+        train.report.mesh = Some(p.run(&opts.progress)?);
+    }
+    Ok(train)
 }
 
-/// [`tooth_train`] on a fresh design, with every policy of docs/math/teeth.md §12.1 including
-/// [`TrainPolicy::RatioAmplitude`] (which rebuilds the mechanism with `i_λ = 1 + λ(i21 − 1)`, the
-/// same `a`, `l3` and γ, and `accuracy_mm` on the perimeter equation `L(λ) = zπm`).
-pub fn tooth_design(
-    design: &Design,
+/// [`tooth_train`] in its two stages, for a caller that runs the mesh verification beside other
+/// work (the CAD exports do not read it): the train, its `report.mesh` `None`, and the check
+/// ready to run ([`PendingTrainMesh::run`]; `None` when `verify_steps` is 0).
+///
+/// # Errors
+/// As [`tooth_train`], except the check's own.
+pub fn tooth_train_staged<'a>(
+    on: impl Into<TrainSource<'a>>,
     opts: &TrainTeethOptions,
-    accuracy_mm: f64,
-    progress: &(dyn Fn(u64) + Sync),
-) -> Result<ToothedTrain, TrainError> {
-    verified(tooth_design_deferred(design, opts, accuracy_mm)?, progress)
+) -> Result<(ToothedTrain, Option<PendingTrainMesh>), TrainError> {
+    match on.into() {
+        TrainSource::Design(design) => design_staged(design, opts),
+        TrainSource::Assembly {
+            assembly,
+            target_mm,
+        } => train_from(assembly, None, (target_mm, None), opts),
+    }
 }
 
-/// [`tooth_design`] without its mesh verification, which is returned to run later (for example
-/// beside the CAD exports, which do not read it): the train's `report.mesh` is `None` until the
-/// caller sets it from [`PendingTrainMesh::run`]; no pending check when `verify_steps` is 0.
-pub fn tooth_design_deferred(
+/// The stages on a fresh design (every policy).
+fn design_staged(
     design: &Design,
     opts: &TrainTeethOptions,
-    accuracy_mm: f64,
 ) -> Result<(ToothedTrain, Option<PendingTrainMesh>), TrainError> {
     let target = &design.report.target_points;
     // Measured as check C12 measures the design, at the carrier angles where its tip passes the
@@ -70,7 +103,7 @@ pub fn tooth_design_deferred(
         };
         let exact = TrainTeethOptions {
             policy: TrainPolicy::ScaleCenterDistance(ToothPolicy::Exact(z)),
-            ..*opts
+            ..opts.clone()
         };
         let (mut train, pending) = train_from(&design.assembly, None, as_designed, &exact)?;
         train.report.options.policy = TrainPolicy::Designed;
@@ -80,6 +113,7 @@ pub fn tooth_design_deferred(
         return train_from(&design.assembly, None, as_designed, opts);
     }
     let n = design.assembly.sun.len();
+    let accuracy_mm = opts.accuracy_mm.unwrap_or(1e-9 * design.assembly.a_mm);
     let fit = rescale_ratio_amplitude(&design.mechanism, opts.toothing.module_mm, n, accuracy_mm)?;
     let (center, direction) = (design.assembly.center_mm, design.assembly.direction);
     let sy = f64::from(direction.signum());
@@ -91,7 +125,7 @@ pub fn tooth_design_deferred(
     let asm = Assembly::from_mechanism(&mechanism, center, direction, n)?;
     let exact = TrainTeethOptions {
         policy: TrainPolicy::ScaleCenterDistance(ToothPolicy::Exact(fit.z)),
-        ..*opts
+        ..opts.clone()
     };
     let (mut train, pending) = train_from(&asm, Some(&design.assembly), (target, None), &exact)?;
     let r = &mut train.report;
@@ -131,32 +165,6 @@ fn design_tolerance_mm(design: &Design) -> f64 {
         .map_or(crate::design::DesignOptions::default().tol_tip_mm, |c| {
             c.limit
         })
-}
-
-/// [`tooth_design`] recorded in the design: on success `design.report.teeth` holds the train's
-/// report (the `teeth` block of `design.json`); on error the design is left untouched. Write the
-/// CAD files with [`crate::output::write_teeth`], then [`ToothedTrain::record`] again to
-/// list them in the report.
-pub fn attach_teeth(
-    design: &mut Design,
-    opts: &TrainTeethOptions,
-    accuracy_mm: f64,
-    progress: &(dyn Fn(u64) + Sync),
-) -> Result<ToothedTrain, TrainError> {
-    let train = tooth_design(design, opts, accuracy_mm, progress)?;
-    train.record(design);
-    Ok(train)
-}
-
-/// Runs a pending check (if any) into the train's report.
-fn verified(
-    (mut train, pending): (ToothedTrain, Option<PendingTrainMesh>),
-    progress: &(dyn Fn(u64) + Sync),
-) -> Result<ToothedTrain, TrainError> {
-    if let Some(p) = pending {
-        train.report.mesh = Some(p.run(progress)?);
-    }
-    Ok(train)
 }
 
 /// Teeth on the train `asm` (world frame): the options checked, the layout scaled to an integer

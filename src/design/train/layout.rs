@@ -41,7 +41,7 @@ fn rounding(policy: TrainPolicy) -> Result<(ToothPolicy, bool), TrainError> {
             name: "policy",
             value: f64::NAN,
             expected: "scale-centre-distance or adjust-module here; a policy that needs \
-                       the designed mechanism (ratio-amplitude, designed) takes tooth_design",
+                       the designed mechanism (ratio-amplitude, designed) takes the design (TrainSource::Design)",
         }),
     }
 }
@@ -217,7 +217,7 @@ impl<'o> Layout<'o> {
         let [sun, intermediate, planet] = gears;
         let [sun_process, intermediate_process, planet_process] = processes;
         TrainTeethReport {
-            options: *self.opts,
+            options: self.opts.clone(),
             z: self.count.z,
             module_mm: self.module_mm,
             ratio_amplitude: 1.0,

@@ -40,13 +40,14 @@ mod sheet;
 mod swept;
 
 pub use amplitude::{AmplitudeFit, refit_needle_and_phase, rescale_ratio_amplitude};
-pub use build::{attach_teeth, tooth_design, tooth_design_deferred, tooth_train};
+pub use build::{TrainSource, tooth_train, tooth_train_staged};
 pub use pending::PendingTrainMesh;
 pub(crate) use report::teeth_json;
 pub use report::{TrainMesh, TrainProcess, TrainRoundTrip, TrainTeethReport, TrainUndercut};
 pub use sheet::{Gear, ToothedTrain};
 
 use crate::geometry::pitch::PitchError;
+use crate::progress::Progress;
 use crate::teeth::mesh::MeshError;
 use crate::teeth::{TeethError, ToothPolicy, ToothingOptions};
 use serde::{Deserialize, Serialize};
@@ -107,7 +108,7 @@ pub enum TrainPolicy {
     ScaleCenterDistance(ToothPolicy),
     /// Option 2: keep `a`, rescale the ratio amplitude `i_λ = 1 + λ(i21 − 1)` so that `L(λ) = zπm`
     /// (z the achievable count nearest to `L/(πm)`); needs the designed mechanism
-    /// ([`tooth_design`]). The trajectory change is measured by the round trip.
+    /// ([`TrainSource::Design`]). The trajectory change is measured by the round trip.
     RatioAmplitude,
     /// Option 3: keep the gears, z = round(L/(πm)) and the module adjusted to `L/(zπ)` (a
     /// non-standard module; the trajectory is unchanged).
@@ -115,13 +116,13 @@ pub enum TrainPolicy {
     /// The design's own tooth count: a design made for this module
     /// ([`crate::design::DesignOptions::module_mm`]) has pitch perimeters of exactly `zπm`, so
     /// nothing is scaled and the toothed train traces the path the design states. Needs the
-    /// design ([`tooth_design`]); a design made for no module or another one is refused.
+    /// design ([`TrainSource::Design`]); a design made for no module or another one is refused.
     Designed,
 }
 
 /// Options of [`tooth_train`]; [`TrainTeethOptions::new`] and [`Default`] fill the defaults named
 /// on each field.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[non_exhaustive]
 pub struct TrainTeethOptions {
     /// How z is made an integer. Default: scale the centre distance up
@@ -140,6 +141,13 @@ pub struct TrainTeethOptions {
     /// concave radius (a design within the gear limits never needs it).
     #[serde(default)]
     pub wire_edm: bool,
+    /// Accuracy of the perimeter equation `L(λ) = zπm` of [`TrainPolicy::RatioAmplitude`], mm.
+    /// Default `None`: 1e-9 of the design's centre distance.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub accuracy_mm: Option<f64>,
+    /// Told of each verified mesh position. Default: none.
+    #[serde(skip)]
+    pub progress: Progress,
 }
 
 crate::builder::with_fields!(TrainTeethOptions {
@@ -147,6 +155,8 @@ crate::builder::with_fields!(TrainTeethOptions {
     with_toothing => toothing: ToothingOptions,
     with_roundtrip_samples => roundtrip_samples: usize,
     with_wire_edm => wire_edm: bool,
+    with_accuracy_mm => accuracy_mm: Option<f64>,
+    with_progress => progress: Progress,
 });
 
 impl TrainTeethOptions {
@@ -162,6 +172,8 @@ impl TrainTeethOptions {
             toothing,
             roundtrip_samples: 3600,
             wire_edm: false,
+            accuracy_mm: None,
+            progress: Progress::none(),
         }
     }
 }

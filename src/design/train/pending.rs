@@ -1,11 +1,12 @@
 //! The mesh verification of a toothed train, split off so that it can run beside the CAD exports
-//! (they do not read it): [`super::tooth_design_deferred`] returns the train and this pending
+//! (they do not read it): [`super::tooth_train_staged`] returns the train and this pending
 //! check; [`PendingTrainMesh::run`] gives the `mesh` block of the report.
 
 use super::TrainError;
 use super::report::TrainMesh;
 use crate::geometry::assembly::Rebuilt;
 use crate::math::periodic::bracketed_root;
+use crate::progress::Progress;
 use crate::teeth::mesh::{MeshCheck, verify_mesh};
 
 /// Both meshes of a toothed train still to verify: the fine outlines of the three gears (mm, body
@@ -26,9 +27,12 @@ impl PendingTrainMesh {
 
     /// Verifies sun → intermediate (driver angle φ = −(φH + ε), the sun seen from its line of
     /// centres OD) and intermediate → planet (φ = θ2(φH) − (φH − ε), from DA) side by side, in the
-    /// laws the train layout gives each mesh (docs/math/chain.md §6.5); `progress(1)` per
+    /// laws the train layout gives each mesh (docs/math/chain.md §6.5); `progress` told of each
     /// verified position, `2·steps` in all.
-    pub fn run(&self, progress: &(dyn Fn(u64) + Sync)) -> Result<TrainMesh, TrainError> {
+    ///
+    /// # Errors
+    /// [`TrainError::Mesh`]: an outline the check cannot index.
+    pub fn run(&self, progress: &Progress) -> Result<TrainMesh, TrainError> {
         let rebuilt = &self.rebuilt;
         let eps = rebuilt.assembly().idler_offset_rad;
         let theta2 = |phi_h: f64| rebuilt.pose(phi_h).intermediate_angle_rad;

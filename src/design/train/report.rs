@@ -27,7 +27,7 @@ pub struct TrainMesh {
 }
 
 /// Round trip of the final (scaled) mechanism against the target trajectory. On a train put on
-/// a fresh design (`ncgear design --module`, [`super::tooth_design`]) the deviations are
+/// a fresh design (`ncgear design --module`, [`super::tooth_train`]) the deviations are
 /// measured as check C12 measures the design — the largest synchronous deviation at the carrier
 /// angles where the designed tip passes the points, and the Hausdorff distance to the target
 /// curve read between the points in those angles — except under the ratio-amplitude policy,

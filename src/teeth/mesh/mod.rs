@@ -34,6 +34,7 @@ mod root;
 
 pub use super::shape::{MeshError, Shape, StarShape};
 
+use crate::progress::Progress;
 use position::{Levels, Sample};
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
@@ -151,7 +152,7 @@ impl MeshReport {
 /// check's span (one driver turn by default) with the motion law `psi(φ)` (driven CW rotation,
 /// rad).
 ///
-/// `progress(1)` is called after each driver position.
+/// `progress` is told of each driver position.
 ///
 /// Complexity: O(steps · window vertices · root iterations); parallel over steps (rayon),
 /// deterministic.
@@ -160,7 +161,7 @@ pub fn verify_mesh(
     driven: &[[f64; 2]],
     psi: &(dyn Fn(f64) -> f64 + Sync),
     check: &MeshCheck,
-    progress: &(dyn Fn(u64) + Sync),
+    progress: &Progress,
 ) -> Result<MeshReport, MeshError> {
     validate(check)?;
     let levels = Levels::new(driver, driven, check)?;
@@ -168,7 +169,7 @@ pub fn verify_mesh(
         .into_par_iter()
         .map(|k| {
             let s = levels.sample(k, psi);
-            progress(1);
+            progress.advance(1);
             s
         })
         .collect();

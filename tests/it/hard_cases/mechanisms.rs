@@ -313,7 +313,7 @@ fn non_finite_mechanism_inputs_are_typed_errors() {
 /// An undercut refusal names a tooth count; with that count the same design must cut clean teeth.
 #[test]
 fn eccentricity_sweep_teeth_until_they_stop_being_possible() {
-    use ncgear::design::train::{TrainError, TrainPolicy, TrainTeethOptions, tooth_design};
+    use ncgear::design::train::{TrainError, TrainPolicy, TrainTeethOptions, tooth_train};
     use ncgear::teeth::{TeethError, ToothPolicy};
     let mut first_refusal = None;
     for (k, e) in [0.05f64, 0.15, 0.25, 0.35, 0.45, 0.55]
@@ -332,7 +332,7 @@ fn eccentricity_sweep_teeth_until_they_stop_being_possible() {
         };
         let mut opts = TrainTeethOptions::new(2.0);
         opts.toothing.verify_steps = 24;
-        match tooth_design(&d, &opts, 1e-6, &|_| {}) {
+        match tooth_train(&d, &opts.clone().with_accuracy_mm(Some(1e-6))) {
             Ok(t) => {
                 let mesh = t.report.mesh.as_ref().expect("verified");
                 eprintln!(
@@ -381,7 +381,7 @@ fn eccentricity_sweep_teeth_until_they_stop_being_possible() {
                     );
                     let mut more = opts;
                     more.policy = TrainPolicy::ScaleCenterDistance(ToothPolicy::Exact(min_teeth));
-                    let t = tooth_design(&d, &more, 1e-6, &|_| {});
+                    let t = tooth_train(&d, &more.clone().with_accuracy_mm(Some(1e-6)));
                     let t = t.unwrap_or_else(|e2| panic!("e = {e}, z = {min_teeth}: {e2}"));
                     let mesh = t.report.mesh.expect("verified");
                     assert_eq!(mesh.sun_intermediate.interference_steps, 0);
