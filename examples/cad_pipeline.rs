@@ -35,7 +35,7 @@ fn main() -> Result<(), Box<dyn Error>> {
     let r = &d.report;
     println!(
         "l1 = {:.3} mm, l3 = {:.3} mm, a = {:.3} mm, round trip {:.4} mm ({})",
-        r.l1, r.l3, r.center_distance, r.roundtrip.max_deviation_mm, r.chosen
+        r.l1_mm, r.l3_mm, r.center_distance_mm, r.roundtrip.max_deviation_mm, r.chosen
     );
 
     // 3. Teeth: about module 2 mm, a 20° rack; the tooth count is made an integer by adjusting

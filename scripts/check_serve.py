@@ -128,7 +128,7 @@ def browser_checks(url):
         wait_ready(page)
         want = cli_design(UPLOAD)
         got = [text(page, t) for t in ("l1-mm", "l3-mm", "deviation-mm")]
-        exp = [f"{want['l1']:.6f}", f"{want['l3']:.6f}", f"{want['roundtrip']['max_deviation_mm']:.4f}"]
+        exp = [f"{want['l1_mm']:.6f}", f"{want['l3_mm']:.6f}", f"{want['roundtrip']['max_deviation_mm']:.4f}"]
         if got != exp:
             fail(f"{UPLOAD.name}: the page shows l1, l3, deviation {got}, ncgear design {exp}")
         print(f"check_serve: {UPLOAD.name} loaded: l1 {got[0]} mm, l3 {got[1]} mm, deviation {got[2]} mm (as the CLI)")
@@ -166,7 +166,7 @@ def browser_checks(url):
             page.get_by_test_id("download-json").click()
         downloaded = json.loads(Path(dl.value.path()).read_text())
         want = cli_design(points, "--module", "2")
-        for key in ("l1", "l3", "center_distance", "needle_angle_deg"):
+        for key in ("l1_mm", "l3_mm", "center_distance_mm", "needle_angle_deg"):
             if downloaded[key] != want[key]:
                 fail(f"download-json {key} = {downloaded[key]!r}, ncgear design {want[key]!r}")
         for a, b in ((downloaded["roundtrip"], want["roundtrip"]), (downloaded["teeth"]["mesh"], want["teeth"]["mesh"])):

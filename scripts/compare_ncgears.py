@@ -92,7 +92,7 @@ def theirs(exe, case, out):
 def compare(case, mine, peer):
     """(row cells, failures) of one law."""
     fails = []
-    a, b = mine["centre_distance_mm"], peer["center_distance"]
+    a, b = mine["center_distance_mm"], peer["center_distance"]
     rel = abs(a - b) / b
     if rel > 1e-9:
         fails.append(f"centre distance {a!r} vs {b!r} (rel {rel:.1e})")
@@ -153,7 +153,7 @@ def main():
             ok = mesh["interference_steps"] == 0 and mesh["max_overlap_area_mm2"] <= 1e-9
             failed += not ok
             why = " ".join(err_peer).replace("|", "/")
-            print(f"| {label} | ncgears refuses: “{why}” | {mine['centre_distance_mm']:.9f} | — | — | "
+            print(f"| {label} | ncgears refuses: “{why}” | {mine['center_distance_mm']:.9f} | — | — | "
                   f"{mesh['interference_steps']}/{mesh['steps']} | "
                   f"{mesh['max_transmission_error_deg']:.1e}° / — | {t_mine:.2f} s / {t_peer:.2f} s | — |")
             continue

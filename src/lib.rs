@@ -19,7 +19,7 @@
 //! // The gears rebuilt from the output tables trace the target within 0.05 mm …
 //! assert!(d.report.roundtrip.max_deviation_mm < 0.05);
 //! // … with the G1 arm lengths (l1 = 2a = 90 mm, l3 = 170 mm).
-//! assert!((d.report.l1 - 90.0).abs() < 0.01 && (d.report.l3 - 170.0).abs() < 0.01);
+//! assert!((d.report.l1_mm - 90.0).abs() < 0.01 && (d.report.l3_mm - 170.0).abs() < 0.01);
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 //!

@@ -37,7 +37,7 @@ face_width, bore = 20.0, 10.0
 t0 = time.perf_counter()
 files = ncgear.write_step(train, out, face_width=face_width, bore=bore)
 t_step = time.perf_counter() - t0
-print(f"l1 = {design.l1:.3f} mm, l3 = {design.l3:.3f} mm, z = {train.z}, "
+print(f"l1 = {design.l1_mm:.3f} mm, l3 = {design.l3_mm:.3f} mm, z = {train.z}, "
       f"pressure angle {design.limits.pressure_angle_deg:.1f}° (≤ {design.limits.max_pressure_angle_deg:g}°), "
       f"max deviation {design.deviations.max():.4f} mm (toothed: {train.roundtrip.hausdorff_mm:.4f} mm)")
 print(f"wrote {len(files)} STEP files in {1000 * t_step:.0f} ms: {', '.join(files)}")
@@ -49,7 +49,7 @@ assert len(solids) == 5, f"expected sun + 2 × (intermediate, planet), got {len(
 
 # 4. A shaft through the sun's bore (0.1 mm clearance) and a hub behind the sun, on the carrier
 #    axis O; they must fit: no material shared with any gear.
-o = train.placements["sun"].centre_mm
+o = train.placements["sun"].center_mm
 shaft = bd.Pos(o[0], o[1], -30.0) * bd.Cylinder(
     bore / 2 - 0.1, face_width + 60.0, align=(bd.Align.CENTER, bd.Align.CENTER, bd.Align.MIN))
 hub = bd.Pos(o[0], o[1], -12.0) * bd.Cylinder(

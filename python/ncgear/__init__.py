@@ -4,7 +4,7 @@ The same library as the ``ncgear`` command line, called in-process::
 
     import ncgear
     d = ncgear.design("assets/trajectories/g1_ellipse.csv", tol_mm=0.05)  # or an (N, 2) array, mm
-    d.l1, d.limits.pressure_angle_deg, d.gears.sun.pitch      # typed report, numpy points (mm)
+    d.l1_mm, d.limits.pressure_angle_deg, d.gears.sun.pitch      # typed report, numpy points (mm)
     t = ncgear.teeth(d, module=2.0, tooth_policy="scale-up")
     ncgear.write_step(t, "out/step", face_width=20.0, bore=10.0)  # sun/intermediate/planet/train.step
 
@@ -66,7 +66,7 @@ class Placement:
     """Where a part of a STEP assembly sits: its part, centre (mm) and angle (rad)."""
 
     part: str
-    centre_mm: Tuple[float, float]
+    center_mm: Tuple[float, float]
     angle_rad: float
 
 
@@ -111,7 +111,7 @@ class Train(_Raw, TeethReport):
 class Pair(_Raw, PairReport):
     """A single toothed pair (:class:`ncgear.reports.PairReport`): driver and driven outlines
     (body frames, (N, 2) mm) and their placements at the start (driver at the origin, driven at
-    ``(centre_distance_mm, 0)``)."""
+    ``(center_distance_mm, 0)``)."""
 
     outlines: Dict[str, Points]
     placements: Dict[str, Placement]

@@ -29,7 +29,7 @@ class _Raw:
 @dataclass(frozen=True)
 class Placement:
     part: str
-    centre_mm: Tuple[float, float]
+    center_mm: Tuple[float, float]
     angle_rad: float
 
 @dataclass(frozen=True, eq=False)

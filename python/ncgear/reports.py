@@ -97,7 +97,7 @@ class Units:
 class Carrier:
     """The carrier: axis O (mm) and sense (+1 CCW, −1 CW)."""
 
-    center: Tuple[float, float]
+    center_mm: Tuple[float, float]
     direction: int
 
 
@@ -420,10 +420,11 @@ class DesignReport:
     curves, the round trip, the stages of the chain, the gear limits, the checks C1–C13, the
     target points (mm), warnings, timings, the teeth when cut and the verdict."""
 
+    schema_version: int
     units: Units
-    l1: float
-    l3: float
-    center_distance: float
+    l1_mm: float
+    l3_mm: float
+    center_distance_mm: float
     idler_offset_deg: float
     needle_angle_deg: float
     carrier: Carrier
@@ -461,13 +462,14 @@ class Sector:
 @dataclass(frozen=True)
 class PairReport:
     """A toothed pair: tooth counts, module, sizes (mm), ratio range, the mesh, the sector of an
-    open pair and the verdict."""
+    open pair and the verdict (``pair.json`` without its files and timings)."""
 
+    schema_version: int
     z: int
     z_driven: int
     cycle_advance_deg: float
     module_mm: float
-    centre_distance_mm: float
+    center_distance_mm: float
     perimeter_mm: float
     ratio_range: Tuple[float, float]
     mesh: Optional[Mesh]

@@ -70,7 +70,7 @@ fn placements_of(m: &ncgear::export::step::StepModel) -> Vec<(String, String, [f
         .iter()
         .map(|i| {
             let part = m.parts[i.part].name.clone();
-            (i.name.clone(), part, i.centre_mm, i.angle_rad)
+            (i.name.clone(), part, i.center_mm, i.angle_rad)
         })
         .collect()
 }
@@ -263,7 +263,7 @@ struct PairHandle {
 
 #[pymethods]
 impl PairHandle {
-    /// z, module, centre distance, perimeter, ratio range, the mesh and the verdict.
+    /// `pair.json` without files and timings ([`ncgear::pair::PairReport`]).
     fn report(&self) -> Report {
         Report {
             value: self.report.clone(),
@@ -322,22 +322,6 @@ fn law_of(law: &str, kind: &str) -> PyResult<Law> {
     }
 }
 
-/// The pair's report: z, module, sizes, ratio range, mesh, sector and verdict.
-fn pair_report(p: &PairDesign) -> Value {
-    serde_json::json!({
-        "z": p.z,
-        "z_driven": p.z_driven,
-        "cycle_advance_deg": p.advance_rad.to_degrees(),
-        "module_mm": p.module_mm,
-        "centre_distance_mm": p.centre_distance_mm,
-        "perimeter_mm": p.perimeter_mm,
-        "ratio_range": p.ratio_range,
-        "mesh": p.mesh,
-        "sector": p.sector,
-        "verdict": p.verdict(),
-    })
-}
-
 /// `pair(law, kind, teeth, module, cycle_advance_deg, drive_deg, tooth)`: `drive_deg` an open
 /// sector's driver interval, degrees; `tooth` as `ToothArgs`.
 #[pyfunction]
@@ -352,13 +336,13 @@ fn pair(
     tooth: ToothArgs,
 ) -> PyResult<PairHandle> {
     let law = law_of(law, kind)?;
-    let mut o = PairOptions::new(teeth, module);
+    let mut o = PairOptions::new(teeth, module)
+        .with_centrode_advance_rad(cycle_advance_deg.to_radians())
+        .with_open_sector_rad(drive_deg.map(|(a, b)| [a.to_radians(), b.to_radians()]));
     tooth.apply_to(&mut o.toothing)?;
-    o.centrode_advance_rad = cycle_advance_deg.to_radians();
-    o.open_sector_rad = drive_deg.map(|(a, b)| [a.to_radians(), b.to_radians()]);
     let p = design_pair(&law, &o).map_err(|e| pair_err(&e))?;
     Ok(PairHandle {
-        report: pair_report(&p),
+        report: report(&p.report(&o))?.value,
         chord_tol_mm: o.toothing.chord_tol_mm,
         p,
     })

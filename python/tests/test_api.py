@@ -45,7 +45,7 @@ def test_design_of_g1_is_the_cli_design_json_typed(g1, out):
     assert _without(g1.to_dict(), "timings_ms") == _without(ref, "timings_ms")
     _same(g1, {**ref, "timings_ms": g1.to_dict()["timings_ms"]})
     assert isinstance(g1, reports.DesignReport) and isinstance(g1.limits, reports.Limits)
-    assert isinstance(g1.l1, float) and abs(g1.l1 - 90.0) < 0.01 and abs(g1.l3 - 170.0) < 0.01
+    assert isinstance(g1.l1_mm, float) and abs(g1.l1_mm - 90.0) < 0.01 and abs(g1.l3_mm - 170.0) < 0.01
     assert isinstance(g1.checks[0], reports.Check) and g1.checks[0].passed is True
     assert g1.gears.sun.pitch.shape == (3600, 2) and g1.gears.sun.angle_at_zero_deg is None
     assert g1.target_points.shape == (360, 2) and g1.fourier.a.ndim == 1
@@ -54,7 +54,7 @@ def test_design_of_g1_is_the_cli_design_json_typed(g1, out):
     assert g1.deviations.shape == (360,) and g1.deviations.dtype == np.float64
     assert abs(g1.deviations.max() - ref["roundtrip"]["max_deviation_mm"]) < 2e-3
     with pytest.raises(dataclasses.FrozenInstanceError):
-        g1.l1 = 0.0
+        g1.l1_mm = 0.0
     with pytest.raises(ValueError, match="read-only"):
         g1.gears.sun.pitch[0, 0] = 0.0
 
@@ -62,11 +62,11 @@ def test_design_of_g1_is_the_cli_design_json_typed(g1, out):
 def test_design_from_an_array_equals_design_from_the_file(g1):
     pts = np.asarray(g1.target_points)
     d = ncgear.design(pts)
-    assert d.l1 == pytest.approx(g1.l1, rel=1e-9)
-    assert d.center_distance == pytest.approx(g1.center_distance, rel=1e-9)
+    assert d.l1_mm == pytest.approx(g1.l1_mm, rel=1e-9)
+    assert d.center_distance_mm == pytest.approx(g1.center_distance_mm, rel=1e-9)
     # Any float array of shape (N, 2) — float32, Fortran order, a list — is the same trajectory.
-    assert ncgear.design(np.asfortranarray(pts)).l1 == d.l1
-    assert ncgear.design(pts.tolist()).l1 == d.l1
+    assert ncgear.design(np.asfortranarray(pts)).l1_mm == d.l1_mm
+    assert ncgear.design(pts.tolist()).l1_mm == d.l1_mm
 
 
 @pytest.mark.parametrize("options, holds", [
@@ -173,7 +173,7 @@ def test_pair_outlines_and_cli_pair_step_agree(out):
     assert isinstance(p, reports.PairReport) and p.z == 24 and p.module_mm == 1.5
     assert isinstance(p.mesh, reports.Mesh) and p.sector is None and p.passed
     assert set(p.outlines) == {"driver", "driven"}
-    assert p.placements["driven"].centre_mm == (p.centre_distance_mm, 0.0)
+    assert p.placements["driven"].center_mm == (p.center_distance_mm, 0.0)
     cli("pair", "phi - 0.08*sin(2*phi)", "--teeth", 24, "--module", 1.5, "--out", out / "cli_pair")
     [f] = ncgear.write_step(p, out / "py_pair")
     assert open(f, "rb").read() == (out / "cli_pair" / "pair.step").read_bytes()

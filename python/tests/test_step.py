@@ -55,7 +55,7 @@ def check_assembly(path, parts, placements):
     # Match each occurrence to the solid with its designed box (centre and angle as designed).
     left = list(solids)
     for occ, pl in placements.items():
-        world = placed(parts[pl.part], pl.centre_mm, pl.angle_rad)
+        world = placed(parts[pl.part], pl.center_mm, pl.angle_rad)
         want = expected_box(world)
         k = min(range(len(left)), key=lambda i: np.abs(np.subtract(bbox(left[i]), want)).max())
         check_solid(left[k], parts[pl.part], world)

@@ -155,9 +155,9 @@ fn print_summary(
     );
     println!(
         "  l1 = {:.6} mm, l3 = {:.6} mm, a = {:.6} mm, needle angle {:.4}°{}",
-        r.l1,
-        r.l3,
-        r.center_distance,
+        r.l1_mm,
+        r.l3_mm,
+        r.center_distance_mm,
         r.needle_angle_deg,
         if r.idler_offset_deg == 0.0 {
             String::new()

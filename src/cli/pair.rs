@@ -14,7 +14,9 @@ use super::teeth_args::RackArgs;
 use ncgear::export::dxf::{DxfVersion, write_dxf};
 use ncgear::export::points::write_points;
 use ncgear::export::svg::write_svg;
-use ncgear::pair::{Expr, Law, PairDesign, PairError, PairOptions, design_pair_staged};
+use ncgear::pair::{
+    Expr, Law, PairDesign, PairError, PairOptions, PairTimings, design_pair_staged,
+};
 use ncgear::teeth::ToothingOptions;
 use std::path::PathBuf;
 
@@ -138,9 +140,17 @@ pub fn run(args: Args) -> CliResult {
     files.push(step);
     files.push(dxf);
     files.push(svg);
-    let verdict = design.verdict();
-    let timings = [t_design, t_mesh, t_files, super::ms_since(started)];
-    let report = pair_report(&design, &opts, &files, &verdict, timings);
+    let mut report = design.report(&opts);
+    report.files = files.iter().map(|p| p.display().to_string()).collect();
+    report.timings_ms = PairTimings {
+        design: t_design,
+        verification: t_mesh,
+        verification_and_files: t_files,
+        command: super::ms_since(started),
+    };
+    let verdict = report.verdict.clone();
+    // Every object's keys in sorted order, as in design.json.
+    let report = serde_json::to_value(&report).unwrap_or_default();
     ncgear::files::write_whole(
         &json_path,
         ncgear::output::json::to_string(&report).unwrap_or_default(),
@@ -152,42 +162,6 @@ pub fn run(args: Args) -> CliResult {
         print_summary(&design, &args.out, [t_design, t_mesh, t_files], started);
     }
     super::verdict_outcome(&verdict, args.accept_failed)
-}
-
-/// `pair.json`: the options, the pair's numbers, the written `files`, the verdict and the
-/// timings `[design, verification, verification and files, command]`, ms.
-fn pair_report(
-    design: &PairDesign,
-    opts: &PairOptions,
-    files: &[std::path::PathBuf],
-    verdict: &ncgear::verdict::Verdict,
-    [t_design, t_mesh, t_files, t_command]: [f64; 4],
-) -> serde_json::Value {
-    serde_json::json!({
-        "tool": concat!("ncgear ", env!("CARGO_PKG_VERSION")),
-        "options": opts,
-        "z": design.z,
-        "z_driven": design.z_driven,
-        "cycle_advance_deg": design.advance_rad.to_degrees(),
-        "module_mm": design.module_mm,
-        "centre_distance_mm": design.centre_distance_mm,
-        "perimeter_mm": design.perimeter_mm,
-        "ratio_range": design.ratio_range,
-        "driver_undercut": summary(&design.driver_undercut),
-        "driven_undercut": summary(&design.driven_undercut),
-        "driver_process": design.driver_process,
-        "driven_process": design.driven_process,
-        "mesh": design.mesh,
-        "sector": design.sector,
-        "files": files.iter().map(|p| p.display().to_string()).collect::<Vec<_>>(),
-        "verdict": verdict,
-        "timings_ms": {
-            "design": t_design,
-            "verification": t_mesh,
-            "verification_and_files": t_files,
-            "command": t_command,
-        },
-    })
 }
 
 /// The law the pair is made for: a motion law, a centrode, or a CSV table (exactly one).
@@ -247,7 +221,7 @@ fn print_summary(
         design.z,
         design.z_driven,
         design.module_mm,
-        design.centre_distance_mm,
+        design.center_distance_mm,
         out.display()
     );
     println!(
@@ -274,17 +248,4 @@ fn print_summary(
          {t_files:.1})",
         super::ms_since(started)
     );
-}
-
-fn summary(u: &ncgear::teeth::UndercutReport) -> serde_json::Value {
-    serde_json::json!({
-        "undercut_flanks": u.undercut_count,
-        "concave_flanks": u.concave_count,
-        "min_rho_mm": u.min_rho_mm,
-        "required_rho_mm": u.required_rho_mm,
-        "max_module_mm": u.max_module_mm,
-        "max_undercut_mm": u.max_undercut_mm,
-        "max_contact_ratio_loss": u.max_contact_ratio_loss,
-        "min_root_thickness_mm": u.min_root_thickness_mm,
-    })
 }

@@ -81,14 +81,15 @@ pub(super) fn design_from(
     closing_warnings(&out, opts, pending, &mut warnings);
     let mechanism = &out.mechanism;
     let mut report = DesignReport {
+        schema_version: SCHEMA_VERSION,
         units: Units::mm_deg(),
-        l1: mechanism.l1_mm(),
-        l3: mechanism.l3_mm,
-        center_distance: mechanism.a_mm,
+        l1_mm: mechanism.l1_mm(),
+        l3_mm: mechanism.l3_mm,
+        center_distance_mm: mechanism.a_mm,
         idler_offset_deg: f64::from(inv.direction) * mechanism.idler_offset_rad.to_degrees(),
         needle_angle_deg: f64::from(inv.direction) * mechanism.needle_angle_rad.to_degrees(),
         carrier: Carrier {
-            center: opts.center_mm,
+            center_mm: opts.center_mm,
             direction: inv.direction,
         },
         gears: out.gears,

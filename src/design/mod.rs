@@ -50,5 +50,5 @@ pub use options::{
 };
 pub use report::{
     Carrier, Check, CompatSummary, Design, DesignReport, FitSummary, FourierSummary, Gear, Gears,
-    LimitsSummary, RoundTrip, RouteSummary, Timings, TrajectorySummary, Units,
+    LimitsSummary, RoundTrip, RouteSummary, SCHEMA_VERSION, Timings, TrajectorySummary, Units,
 };

@@ -5,18 +5,35 @@ use crate::geometry::assembly::{Assembly, Rebuilt};
 use crate::geometry::mechanism::Mechanism;
 use serde::{Deserialize, Serialize};
 
+/// The layout version of the JSON reports this library writes (`schema_version`): 2 since every
+/// field names its unit and one spelling (`center`) holds throughout (docs/schemas.md).
+pub const SCHEMA_VERSION: u32 = 2;
+
+/// Files written before the layout carried a version.
+fn schema_v1() -> u32 {
+    1
+}
+
 /// `design.json`: everything a CAD pipeline or a reviewer needs, in mm and degrees.
 #[derive(Debug, Clone, Serialize, Deserialize)]
 #[non_exhaustive]
 pub struct DesignReport {
+    /// Version of this file's layout, [`SCHEMA_VERSION`] when written by this library (a file
+    /// without it is version 1: `l1`, `l3`, `center_distance` and `carrier.center` without
+    /// their `_mm`; the readers take both).
+    #[serde(default = "schema_v1")]
+    pub schema_version: u32,
     /// Units of every length and angle below.
     pub units: Units,
     /// Carrier arm length `|OA|`, mm.
-    pub l1: f64,
+    #[serde(alias = "l1")]
+    pub l1_mm: f64,
     /// Needle length `|AB|`, mm.
-    pub l3: f64,
+    #[serde(alias = "l3")]
+    pub l3_mm: f64,
     /// Centre distance `a = |OD| = |DA|`, mm (`l1 = 2a·cos ε`).
-    pub center_distance: f64,
+    #[serde(alias = "center_distance")]
+    pub center_distance_mm: f64,
     /// Idler offset ε: the angle at O from the carrier line OA to the intermediate axis OD,
     /// degrees, CCW positive in the file's frame; 0 in the patent's collinear train
     /// ([`crate::geometry::mechanism`]). Read as 0 when absent.
@@ -151,7 +168,8 @@ impl Units {
 #[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct Carrier {
     /// Carrier axis O, mm.
-    pub center: [f64; 2],
+    #[serde(alias = "center")]
+    pub center_mm: [f64; 2],
     /// +1 CCW, −1 CW (the sense the trajectory is travelled).
     pub direction: i8,
 }

@@ -73,8 +73,8 @@ pub(super) fn start_mechanism(report: &DesignReport, direction: i8) -> Option<Me
     let ratio = SunRatio::new(f.a.clone(), f.b.clone()).ok()?;
     let sense = f64::from(direction);
     let m = Mechanism {
-        a_mm: report.center_distance,
-        l3_mm: report.l3,
+        a_mm: report.center_distance_mm,
+        l3_mm: report.l3_mm,
         ratio,
         // The report's angles are file-frame degrees: the solved angle times the sense.
         sun_phase_rad: sense * f.sun_phase_deg.to_radians(),

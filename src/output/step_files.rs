@@ -82,7 +82,7 @@ pub fn train_step(train: &ToothedTrain, opts: &SolidOptions) -> StepModel {
     let mut instances = vec![Instance {
         name: "sun".into(),
         part: 0,
-        centre_mm: train.assembly.center_mm,
+        center_mm: train.assembly.center_mm,
         angle_rad: 0.0,
     }];
     for (arm, phi) in [(1, 0.0), (2, std::f64::consts::PI)] {
@@ -90,13 +90,13 @@ pub fn train_step(train: &ToothedTrain, opts: &SolidOptions) -> StepModel {
         instances.push(Instance {
             name: format!("arm{arm}_intermediate"),
             part: 1,
-            centre_mm: p.intermediate_center_mm,
+            center_mm: p.intermediate_center_mm,
             angle_rad: p.intermediate_angle_rad,
         });
         instances.push(Instance {
             name: format!("arm{arm}_planet"),
             part: 2,
-            centre_mm: p.planet_center_mm,
+            center_mm: p.planet_center_mm,
             angle_rad: p.planet_angle_rad,
         });
     }
@@ -125,13 +125,13 @@ pub fn pair_step(pair: &PairDesign, chord_tol_mm: f64, opts: &SolidOptions) -> S
             Instance {
                 name: "driver".into(),
                 part: 0,
-                centre_mm: [0.0, 0.0],
+                center_mm: [0.0, 0.0],
                 angle_rad: 0.0,
             },
             Instance {
                 name: "driven".into(),
                 part: 1,
-                centre_mm: [pair.centre_distance_mm, 0.0],
+                center_mm: [pair.center_distance_mm, 0.0],
                 angle_rad: -pair.psi0_rad,
             },
         ],

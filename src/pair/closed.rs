@@ -23,7 +23,7 @@ pub(super) fn design_closed(
     let m = t.module_mm;
     let motion = Motion::from_law_advancing(law, opts.samples, opts.centrode_advance_rad)?;
     let (p_turns, q_turns) = closing_turns(&motion, opts.samples)?;
-    let a1 = motion.unit_centre_distance;
+    let a1 = motion.unit_center_distance;
     let (unit1, unit2) = motion.unit_pitch_radii(opts.samples);
     let (c1, _) = Motion::curves_at(&unit1, &unit2, a1)?;
     let l1 = c1.perimeter_mm(1e-12 * a1);

@@ -96,7 +96,7 @@ pub struct SectorReport {
 #[derive(Debug, Clone, Serialize)]
 pub struct PairDesign {
     /// Centre distance, mm.
-    pub centre_distance_mm: f64,
+    pub center_distance_mm: f64,
     /// Driver tooth count.
     pub z: u32,
     /// Driven tooth count (`z` for a 1:1 law, `2z` for 1:2).
@@ -373,7 +373,7 @@ impl Toothed {
                 .collect::<Vec<_>>()
         };
         PairDesign {
-            centre_distance_mm: a_mm,
+            center_distance_mm: a_mm,
             z: self.z[0],
             z_driven: self.z[1],
             advance_rad,
@@ -418,7 +418,7 @@ impl PairDesign {
     /// `DRIVEN_OUTLINE`, `DRIVEN_PITCH`, `CENTRES`.
     #[must_use]
     pub fn assembly_sheet(&self) -> Sheet {
-        let a = self.centre_distance_mm;
+        let a = self.center_distance_mm;
         let (s, c) = self.psi0_rad.sin_cos();
         let place = |v: &[[f64; 2]]| {
             v.iter()
@@ -449,12 +449,12 @@ impl PairDesign {
             ],
             markers: vec![
                 Marker {
-                    name: "driver_centre".into(),
+                    name: "driver_center".into(),
                     layer: "CENTRES".into(),
                     at_mm: [0.0, 0.0],
                 },
                 Marker {
-                    name: "driven_centre".into(),
+                    name: "driven_center".into(),
                     layer: "CENTRES".into(),
                     at_mm: [a, 0.0],
                 },

@@ -15,6 +15,7 @@ pub mod expr;
 mod law;
 mod motion;
 mod relief;
+mod report;
 mod sector;
 
 pub use design::{PairDesign, PairOptions, PendingMesh, SectorReport};
@@ -22,6 +23,7 @@ pub use entry::{design_pair, design_pair_staged};
 pub use expr::{Expr, ExprError};
 pub use law::Law;
 pub use motion::Motion;
+pub use report::{PairReport, PairTimings, UndercutSummary};
 
 use crate::teeth::TeethError;
 

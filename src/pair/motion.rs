@@ -26,7 +26,7 @@ pub struct Motion {
     /// i(φ) samples source, when analytic.
     ratio: RatioSource,
     /// Centre distance for unit scale (centrode units; 1 for motion laws).
-    pub unit_centre_distance: f64,
+    pub unit_center_distance: f64,
 }
 
 #[derive(Debug, Clone)]
@@ -119,7 +119,7 @@ impl Motion {
             excess,
             advance_rad: adv,
             ratio: RatioSource::Expr(d),
-            unit_centre_distance: 1.0,
+            unit_center_distance: 1.0,
         })
     }
 
@@ -179,7 +179,7 @@ impl Motion {
             excess,
             advance_rad: centrode_advance_rad,
             ratio: RatioSource::Centrode(e.clone(), a),
-            unit_centre_distance: a,
+            unit_center_distance: a,
         })
     }
 
@@ -198,7 +198,7 @@ impl Motion {
             excess,
             advance_rad: TAU,
             ratio: RatioSource::Spline,
-            unit_centre_distance: 1.0,
+            unit_center_distance: 1.0,
         };
         if let Some(f) = phis.iter().find(|&&f| m.ratio(f) <= 0.0) {
             return Err(PairError::Law(format!(

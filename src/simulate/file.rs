@@ -10,10 +10,12 @@ use std::path::Path;
 /// The subset of `design.json` needed to assemble the train (mm, degrees).
 #[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct DesignFile {
-    /// Needle length, mm.
-    pub l3: f64,
-    /// Centre distance a, mm.
-    pub center_distance: f64,
+    /// Needle length, mm (`l3` in files of schema version 1).
+    #[serde(alias = "l3")]
+    pub l3_mm: f64,
+    /// Centre distance a, mm (`center_distance` in files of schema version 1).
+    #[serde(alias = "center_distance")]
+    pub center_distance_mm: f64,
     /// Idler offset ε, degrees (0, the collinear train, when absent).
     #[serde(default)]
     pub idler_offset_deg: f64,
@@ -43,8 +45,9 @@ pub struct TeethFile {
 /// `carrier` of a design file.
 #[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct CarrierFile {
-    /// O, mm.
-    pub center: [f64; 2],
+    /// O, mm (`center` in files of schema version 1).
+    #[serde(alias = "center")]
+    pub center_mm: [f64; 2],
     /// +1 CCW, −1 CW.
     pub direction: i8,
 }
@@ -105,8 +108,8 @@ impl DesignFile {
                 Err(bad(field, format!("{v} must be a positive length in mm")))
             }
         };
-        let a = pos(self.center_distance, "center_distance")?;
-        let l3 = pos(self.l3, "l3")?;
+        let a = pos(self.center_distance_mm, "center_distance_mm")?;
+        let l3 = pos(self.l3_mm, "l3_mm")?;
         if !self.needle_angle_deg.is_finite() {
             return Err(bad(
                 "needle_angle_deg",
@@ -129,9 +132,9 @@ impl DesignFile {
                 ),
             ));
         }
-        if !self.carrier.center.iter().all(|v| v.is_finite()) {
+        if !self.carrier.center_mm.iter().all(|v| v.is_finite()) {
             return Err(bad(
-                "carrier.center",
+                "carrier.center_mm",
                 "must be two finite numbers [x, y] in mm".into(),
             ));
         }
@@ -179,7 +182,7 @@ impl DesignFile {
                 })
         };
         Ok(Assembly {
-            center_mm: self.carrier.center,
+            center_mm: self.carrier.center_mm,
             direction: self.carrier.direction,
             a_mm: a,
             idler_offset_rad: self.idler_offset_deg.to_radians(),

@@ -2,8 +2,8 @@
 //! dynamic trajectory and the agronomic features (docs/math/chain.md §2).
 //!
 //! The design file is read through the documented `design.json` conventions only (see
-//! [`crate::geometry::assembly`]), so files written by other tools work too: `l3`, `center_distance`,
-//! `needle_angle_deg`, `carrier`, `gears.{sun,intermediate,planet}.pitch` and the two
+//! [`crate::geometry::assembly`]), so files written by other tools work too: `l3_mm`, `center_distance_mm`
+//! (`l3`, `center_distance` in version 1 files), `needle_angle_deg`, `carrier`, `gears.{sun,intermediate,planet}.pitch` and the two
 //! `angle_at_zero_deg`. Unknown fields are ignored (design.json carries many report fields).
 //!
 //! Arm 2 (gears 4, 5; needle 8) is arm 1 half a turn later: at carrier angle φH its pose is arm 1's

@@ -89,7 +89,7 @@ pub(super) fn secondary_cut_depth(
     let mut by_angle: Vec<(f64, [f64; 2])> =
         outline.iter().map(|p| (p[1].atan2(p[0]), *p)).collect();
     by_angle.sort_by(|a, b| a.0.total_cmp(&b.0));
-    let centre0 = spaces.phase_mm + 0.5 * spaces.p_mm + spaces.shift_mm;
+    let center0 = spaces.phase_mm + 0.5 * spaces.p_mm + spaces.shift_mm;
     let deepest = (0..n)
         .into_par_iter()
         .map(|j| {
@@ -104,7 +104,7 @@ pub(super) fn secondary_cut_depth(
             let theta = py.atan2(px);
             let c = [px + r0 * f.n[0], py + r0 * f.n[1]];
             let e1 = [-f.n[0], -f.n[1]];
-            let (sr, cr) = ((s - centre0) / r0).sin_cos();
+            let (sr, cr) = ((s - center0) / r0).sin_cos();
             let mut worst = f64::INFINITY;
             let mut visit = |lo: f64, hi: f64| {
                 let a = by_angle.partition_point(|v| v.0 < lo);

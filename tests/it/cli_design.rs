@@ -36,15 +36,15 @@ fn pitch(v: &serde_json::Value) -> Vec<[f64; 2]> {
 /// Integrates the train from design.json alone, using only the documented conventions, and
 /// returns the tip at `n` carrier angles (world frame, direction-aware).
 fn tip_from_json(d: &serde_json::Value, n: usize) -> Vec<[f64; 2]> {
-    let a = d["center_distance"].as_f64().unwrap();
+    let a = d["center_distance_mm"].as_f64().unwrap();
     // The intermediate axis at ε off the carrier line (0 on it): D at φH + ε, A at 2a·cos ε.
     let eps = d["idler_offset_deg"].as_f64().unwrap().to_radians();
     let l1 = 2.0 * a * eps.cos();
-    let l3 = d["l3"].as_f64().unwrap();
+    let l3 = d["l3_mm"].as_f64().unwrap();
     let gamma = d["needle_angle_deg"].as_f64().unwrap().to_radians();
     let c = [
-        d["carrier"]["center"][0].as_f64().unwrap(),
-        d["carrier"]["center"][1].as_f64().unwrap(),
+        d["carrier"]["center_mm"][0].as_f64().unwrap(),
+        d["carrier"]["center_mm"][1].as_f64().unwrap(),
     ];
     let dir = d["carrier"]["direction"].as_f64().unwrap();
     let g = &d["gears"];
@@ -177,7 +177,7 @@ fn design_json_conventions_reproduce_the_target_independently() {
             let eps = d["idler_offset_deg"].as_f64().unwrap();
             assert!(eps.abs() > 1.0, "{file} {extra:?}: ε = {eps}°");
         }
-        for key in ["l1", "l3", "center_distance", "needle_angle_deg"] {
+        for key in ["l1_mm", "l3_mm", "center_distance_mm", "needle_angle_deg"] {
             assert!(d[key].is_f64(), "{key}");
         }
         assert!(pitch(&d["gears"]["sun"]).len() >= 720);

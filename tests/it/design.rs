@@ -332,10 +332,10 @@ fn round_trip_on_exactly_traceable_random_mechanisms() {
         let r = &d.report;
         assert_eq!(r.carrier.direction, if cw { -1 } else { 1 }, "seed {seed}");
         assert!(
-            (r.l1 - 2.0 * m.a_mm).abs() < 1e-3 && (r.l3 - m.l3_mm).abs() < 1e-3,
+            (r.l1_mm - 2.0 * m.a_mm).abs() < 1e-3 && (r.l3_mm - m.l3_mm).abs() < 1e-3,
             "seed {seed}: {} {}",
-            r.l1,
-            r.l3
+            r.l1_mm,
+            r.l3_mm
         );
         assert!(
             r.roundtrip.hausdorff_mm <= 0.05,
@@ -495,7 +495,7 @@ mod properties {
             let d = d.map_err(|e| TestCaseError::fail(format!("{e}")))?;
             let r = &d.report;
             // l1 from the extremes of a 180-point file is good to ~0.01 mm (docs/math/chain.md §3.5).
-            prop_assert!((r.l1 - 2.0 * a).abs() < 0.01, "l1 {} vs {}", r.l1, 2.0 * a);
+            prop_assert!((r.l1_mm - 2.0 * a).abs() < 0.01, "l1 {} vs {}", r.l1_mm, 2.0 * a);
             prop_assert!(r.roundtrip.hausdorff_mm <= 0.05, "Hausdorff {} mm", r.roundtrip.hausdorff_mm);
             prop_assert!(r.roundtrip.max_deviation_mm <= 0.05 + 1e-9, "sync {} mm", r.roundtrip.max_deviation_mm);
         }
@@ -516,7 +516,11 @@ fn regression_181_points_single_strong_harmonic() {
         idler_offset_rad: 0.0,
     };
     let d = design(&traj_from(points_of(&m, 181, 0)), &DesignOptions::default()).unwrap();
-    assert!((d.report.l1 - 2.0 * a).abs() < 0.01, "{}", d.report.l1);
+    assert!(
+        (d.report.l1_mm - 2.0 * a).abs() < 0.01,
+        "{}",
+        d.report.l1_mm
+    );
     assert!(
         d.report.roundtrip.hausdorff_mm <= 0.05,
         "{}",

@@ -149,11 +149,11 @@ fn dte_harmonics_at_6000_rpm() {
     let s = Scene::parse(SDOF_6000, "sdof", Format::Toml).unwrap();
     let (m, d) = s.build("sdof").unwrap();
     assert_eq!(m.dof_names(), ["u"]);
-    assert!((d.omega_e / d.omega_n - 0.4268).abs() < 1e-4);
+    assert!((d.omega_e_rad_s / d.omega_n_rad_s - 0.4268).abs() < 1e-4);
     let y0 = static_state(&m, 1e-9);
     // quasi-static at t = 0 (v = 0, double contact): k(δ − b) = F0 + c_m ė(0), ė(0) = er ωe
     let dte0 = m.mesh.dte(0.0, &y0[..1]);
-    let want = 50e-6 + (d.f0_n + d.c_m * 10e-6 * d.omega_e) / 4.5e8;
+    let want = 50e-6 + (d.f0_n + d.c_m_n_s_per_m * 10e-6 * d.omega_e_rad_s) / 4.5e8;
     assert!((dte0 - want).abs() < 1e-14, "{dte0} vs {want}");
     let run = simulate(&m, &y0, &opts(1e-9, 400, 200, 64), &|_| {}).unwrap();
     assert!(run.steady, "poincaré change {}", run.poincare_change);
@@ -190,7 +190,7 @@ fn amp_at(points: &[SweepPoint], om: f64) -> f64 {
 fn backlash_oscillator_jump_and_coexistence() {
     let s = backlash_scene();
     let d = s.derived("b").unwrap();
-    assert!((d.c_m / (2.0 * (d.k_mean_n_per_m * d.m_e_kg).sqrt()) - 0.05).abs() < 1e-12);
+    assert!((d.c_m_n_s_per_m / (2.0 * (d.k_mean_n_per_m * d.m_e_kg).sqrt()) - 0.05).abs() < 1e-12);
     let o = opts(1e-8, 300, 20, 128);
     // closed-form contact loss of the linear branch
     let up = sdof_contact_loss_ratio(0.05, 0.1, 0.05, 1e-12).unwrap();

@@ -71,17 +71,17 @@ fn noisy_measured_trajectory_with_smoothing_stays_close_to_the_clean_path() {
             .fold(0.0, f64::max);
         eprintln!(
             "σ = {sigma}: traced path within {worst:.3} mm of the clean loop; l1 = {:.4}, l3 = {:.4}",
-            d.report.l1, d.report.l3
+            d.report.l1_mm, d.report.l3_mm
         );
         assert!(
             worst.is_finite() && worst < 2.0,
             "σ = {sigma}: {worst} mm from the clean path"
         );
         assert!(
-            (d.report.l1 - 90.0).abs() < 0.5 && (d.report.l3 - 170.0).abs() < 0.5,
+            (d.report.l1_mm - 90.0).abs() < 0.5 && (d.report.l3_mm - 170.0).abs() < 0.5,
             "{} {}",
-            d.report.l1,
-            d.report.l3
+            d.report.l1_mm,
+            d.report.l3_mm
         );
     }
 }
@@ -204,7 +204,7 @@ proptest! {
             // Whatever parses must either design or fail with a typed error — and never yield NaN.
             if let Ok(d) = design(&t, &DesignOptions::default().with_check_samples(256).with_curve_samples(720)) {
                 prop_assert!(d.report.roundtrip.max_deviation_mm.is_finite());
-                prop_assert!(d.report.l1.is_finite() && d.report.l3.is_finite());
+                prop_assert!(d.report.l1_mm.is_finite() && d.report.l3_mm.is_finite());
             }
         }
     }

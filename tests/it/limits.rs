@@ -242,8 +242,14 @@ fn g1_at_module_2_is_traced_at_a_standard_module_off_the_carrier_line() {
     let eps = d.report.idler_offset_deg;
     assert!((13.0..14.0).contains(&eps.abs()), "ε = {eps}°");
     // The arm is the target's (|OA| = 2a·cos ε), at the centre distance 23 teeth ask for.
-    assert!((d.report.l1 - 2.0 * d.report.center_distance * eps.to_radians().cos()).abs() < 1e-9);
-    assert!((d.report.l1 - 90.0).abs() < 0.01, "l1 = {}", d.report.l1);
+    assert!(
+        (d.report.l1_mm - 2.0 * d.report.center_distance_mm * eps.to_radians().cos()).abs() < 1e-9
+    );
+    assert!(
+        (d.report.l1_mm - 90.0).abs() < 0.01,
+        "l1 = {}",
+        d.report.l1_mm
+    );
     let toothed = toothed_cleanly(&d, 2.0, 24);
     let rt = &toothed.report.roundtrip;
     assert!(

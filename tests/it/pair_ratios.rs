@@ -58,9 +58,9 @@ fn check(law: &Law, z: u32, z_driven: u32, m: f64) -> ncgear::pair::PairDesign {
 fn constant_half_ratio_is_two_circles_at_the_closed_form_distance() {
     let d = check(&motion("0.5*phi"), 24, 48, 1.0);
     assert!(
-        (d.centre_distance_mm - 36.0).abs() < 1e-9,
+        (d.center_distance_mm - 36.0).abs() < 1e-9,
         "{}",
-        d.centre_distance_mm
+        d.center_distance_mm
     );
     assert!((d.advance_rad - PI).abs() < 1e-12);
     let mesh = d.mesh.unwrap();
@@ -86,9 +86,9 @@ fn one_to_two_law_makes_24_48() {
     .unwrap();
     write_points(&sheet, &dir.join("pair_1to2_points"), "pair_1to2").unwrap();
     assert!(
-        (d.centre_distance_mm - 35.5186).abs() < 5e-5,
+        (d.center_distance_mm - 35.5186).abs() < 5e-5,
         "{}",
-        d.centre_distance_mm
+        d.center_distance_mm
     );
     // Ratio range of i = 0.5 + 0.1 cos 2φ.
     assert!((d.ratio_range[0] - 0.4).abs() < 1e-9 && (d.ratio_range[1] - 0.6).abs() < 1e-9);
@@ -109,9 +109,9 @@ fn centrode_with_a_cycle_advance_solves_its_centre_distance() {
     let circle = Law::Centrode(Expr::parse("1").unwrap());
     let m = Motion::from_law_advancing(&circle, 256, PI).unwrap();
     assert!(
-        (m.unit_centre_distance - 3.0).abs() < 1e-12,
+        (m.unit_center_distance - 3.0).abs() < 1e-12,
         "{}",
-        m.unit_centre_distance
+        m.unit_center_distance
     );
     assert!((m.psi(1.0) - m.psi(0.0) - 0.5).abs() < 1e-12);
     let law = Law::Centrode(Expr::parse("1 + 0.08*cos(2*phi)").unwrap());

@@ -54,10 +54,10 @@ fn half_turn_sector_of_a_period_pi_law_matches_the_closed_pair() {
     )
     .unwrap();
     assert!(
-        (d.centre_distance_mm - closed.centre_distance_mm).abs() < 1e-9 * closed.centre_distance_mm,
+        (d.center_distance_mm - closed.center_distance_mm).abs() < 1e-9 * closed.center_distance_mm,
         "{} vs {}",
-        d.centre_distance_mm,
-        closed.centre_distance_mm
+        d.center_distance_mm,
+        closed.center_distance_mm
     );
     let s = d.sector.unwrap();
     assert!((s.active_teeth - 12.0).abs() < 1e-6, "{}", s.active_teeth);

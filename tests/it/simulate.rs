@@ -206,3 +206,40 @@ fn simulate_cli_writes_animation_and_refuses_bad_design_files() {
     let err = DesignFile::parse(&v.to_string(), "bad2.json").unwrap_err();
     assert!(err.to_string().contains("needle_angle_deg"), "{err}");
 }
+
+/// A design file of layout version 1 (`l1`, `l3`, `center_distance`, `carrier.center_mm`: the
+/// bundled transplanter example) reads to the same train as its version-2 spelling, and the
+/// design report reads it too (version 1 when the file names none).
+#[test]
+fn a_version_1_design_file_reads_as_its_version_2_spelling() {
+    let path = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/assets/transplanter/g1_design.json"
+    );
+    let v1 = std::fs::read_to_string(path).unwrap();
+    let mut doc: serde_json::Value = serde_json::from_str(&v1).unwrap();
+    assert!(doc.get("schema_version").is_none() && doc.get("l3").is_some());
+    let o = doc.as_object_mut().unwrap();
+    for (old, new) in [
+        ("l1", "l1_mm"),
+        ("l3", "l3_mm"),
+        ("center_distance", "center_distance_mm"),
+    ] {
+        let v = o.remove(old).unwrap();
+        o.insert(new.into(), v);
+    }
+    o.insert("schema_version".into(), 2.into());
+    let carrier = o["carrier"].as_object_mut().unwrap();
+    let c = carrier.remove("center").unwrap();
+    carrier.insert("center_mm".into(), c);
+    let v2 = doc.to_string();
+    let (_, a1) = DesignFile::parse(&v1, "v1").unwrap();
+    let (_, a2) = DesignFile::parse(&v2, "v2").unwrap();
+    assert_eq!(format!("{a1:?}"), format!("{a2:?}"));
+    assert!((a1.a_mm - 45.0).abs() < 1e-5, "{}", a1.a_mm);
+    let r1: ncgear::design::DesignReport = serde_json::from_str(&v1).unwrap();
+    let r2: ncgear::design::DesignReport = serde_json::from_str(&v2).unwrap();
+    assert_eq!((r1.schema_version, r2.schema_version), (1, 2));
+    assert_eq!(r1.l3_mm, r2.l3_mm);
+    assert_eq!(r1.carrier.center_mm, r2.carrier.center_mm);
+}

@@ -35,13 +35,13 @@ fn assembly(bore_mm: f64) -> StepModel {
             Instance {
                 name: "driver".into(),
                 part: 0,
-                centre_mm: [0.0, 0.0],
+                center_mm: [0.0, 0.0],
                 angle_rad: 0.0,
             },
             Instance {
                 name: "driven".into(),
                 part: 1,
-                centre_mm: [18.5, 0.0],
+                center_mm: [18.5, 0.0],
                 angle_rad: 0.1,
             },
         ],

@@ -255,9 +255,9 @@ fn pair_centrode_solves_closure_and_meshes() {
     )
     .unwrap();
     assert!(
-        (m.unit_centre_distance - 2.0).abs() < 1e-12,
+        (m.unit_center_distance - 2.0).abs() < 1e-12,
         "{}",
-        m.unit_centre_distance
+        m.unit_center_distance
     );
     // G1 ψ3 golden: the pair law is 2·atan2(k sin(φ/2), cos(φ/2)), k = (1+e)/(1−e) (docs/math/chain.md §11.1).
     let k = 1.15 / 0.85;
@@ -388,7 +388,7 @@ fn overlap_area_is_zero_for_the_pair_and_matches_full_clipping_when_clocked_wron
     })
     .unwrap();
     let motion = Motion::from_law(&law, 4096).unwrap();
-    let a = d.centre_distance_mm;
+    let a = d.center_distance_mm;
     let run = |shift: f64| {
         verify_mesh(
             &d.driver.points_mm,

@@ -322,7 +322,7 @@ fn ratio_amplitude_policy_refits_the_needle_and_states_the_round_trip() {
     let scaled = |v: &[f64]| v.iter().map(|c| c * lambda).collect::<Vec<_>>();
     let m = ncgear::geometry::mechanism::Mechanism {
         a_mm: r.center_distance_mm,
-        l3_mm: d.report.l3,
+        l3_mm: d.report.l3_mm,
         ratio: ncgear::geometry::fourier::SunRatio::new(
             scaled(&d.report.fourier.a),
             scaled(&d.report.fourier.b),

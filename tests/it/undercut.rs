@@ -215,9 +215,9 @@ fn undercut_pair_is_made_and_the_strict_option_refuses_it() {
     let law = Law::Motion(Expr::parse("phi - 0.12*sin(2*phi)").unwrap());
     let d = design_pair(&law, &PairOptions::new(Some(24), 1.0)).unwrap();
     assert!(
-        (d.centre_distance_mm - 23.814).abs() < 5e-4,
+        (d.center_distance_mm - 23.814).abs() < 5e-4,
         "{}",
-        d.centre_distance_mm
+        d.center_distance_mm
     );
     let u = &d.driven_undercut;
     assert!(u.undercut_count > 0 && u.max_undercut_mm > 0.0, "{u:?}");

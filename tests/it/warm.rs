@@ -29,7 +29,7 @@ fn an_exact_target_redesigns_exactly_as_the_cold_chain() {
     let opts = DesignOptions::default();
     let cold = design(&t, &opts).unwrap();
     let warm = redesign(&t, &opts, &cold.report).unwrap();
-    assert_eq!(warm.report.l1, cold.report.l1);
+    assert_eq!(warm.report.l1_mm, cold.report.l1_mm);
     assert_eq!(
         warm.report.roundtrip.max_deviation_mm,
         cold.report.roundtrip.max_deviation_mm
@@ -80,8 +80,8 @@ fn a_start_of_the_other_sense_is_ignored() {
     start.carrier.direction = -start.carrier.direction;
     let warm = redesign(&t, &opts, &start).unwrap();
     let cold = design(&t, &opts).unwrap();
-    assert_eq!(warm.report.l1, cold.report.l1);
-    assert_eq!(warm.report.l3, cold.report.l3);
+    assert_eq!(warm.report.l1_mm, cold.report.l1_mm);
+    assert_eq!(warm.report.l3_mm, cold.report.l3_mm);
 }
 
 /// Designing for a module from a start made for the same module: the tooth count is kept and

@@ -49,7 +49,7 @@ pub fn sweep(
         }
         let mut s = scene.clone();
         s.operating.n1_rpm =
-            om * d.omega_n * 60.0 / (2.0 * std::f64::consts::PI * scene.gears.z1 as f64);
+            om * d.omega_n_rad_s * 60.0 / (2.0 * std::f64::consts::PI * scene.gears.z1 as f64);
         let (model, _) = s.build(file)?;
         let y = state.clone().unwrap_or_else(|| static_state(&model, 1e-6));
         let run = simulate(&model, &y, opts, &|_| {})?;

@@ -116,7 +116,7 @@ impl ToothedTrain {
                 ),
             ],
             markers: vec![Marker {
-                name: format!("{}_centre", gear.name()),
+                name: format!("{}_center", gear.name()),
                 layer: "CENTRES".into(),
                 at_mm: [0.0, 0.0],
             }],
@@ -144,7 +144,7 @@ impl ToothedTrain {
                 });
             }
             sheet.markers.push(Marker {
-                name: format!("{}_centre", gear.name()),
+                name: format!("{}_center", gear.name()),
                 layer: "CENTRES".into(),
                 at_mm: centre,
             });

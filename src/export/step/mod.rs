@@ -34,7 +34,7 @@ pub struct Prism {
     pub bore_mm: f64,
 }
 
-/// One placed occurrence of a part in an assembly: the body frame's origin at `centre_mm` (world,
+/// One placed occurrence of a part in an assembly: the body frame's origin at `center_mm` (world,
 /// z = 0), turned by `angle_rad` about +z.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Instance {
@@ -43,7 +43,7 @@ pub struct Instance {
     /// Index into [`StepModel::parts`].
     pub part: usize,
     /// Rotation centre, world frame, mm.
-    pub centre_mm: [f64; 2],
+    pub center_mm: [f64; 2],
     /// Orientation about +z, rad.
     pub angle_rad: f64,
 }
@@ -329,7 +329,7 @@ fn checked_parts(model: &StepModel) -> Result<Vec<Prism>, ExportError> {
     }
     if let Some(i) = model.instances.iter().find(|i| {
         i.part >= parts.len()
-            || !(i.centre_mm.iter().all(|c| c.is_finite()) && i.angle_rad.is_finite())
+            || !(i.center_mm.iter().all(|c| c.is_finite()) && i.angle_rad.is_finite())
     }) {
         return Err(ExportError::BadContour {
             name: i.name.clone(),
@@ -396,7 +396,7 @@ fn write_assembly(e: &mut Ents, model: &StepModel, defs: &[PartIds]) {
     let mut links = Vec::new();
     for inst in &model.instances {
         let (s, c) = inst.angle_rad.sin_cos();
-        let at = [inst.centre_mm[0], inst.centre_mm[1], 0.0];
+        let at = [inst.center_mm[0], inst.center_mm[1], 0.0];
         let pl = brep::placement(e, at, [0.0, 0.0, 1.0], [c, s, 0.0]);
         items.push(format!("#{pl}"));
         links.push((inst, pl));

@@ -292,8 +292,8 @@ function renderReadouts() {
   const d = state.design;
   const set = (id, t) => { $(id).textContent = t; };
   if (!d) { ["l1-mm", "l3-mm", "deviation-mm", "pressure-deg", "concave-mm", "server-ms"].forEach((id) => set(id, "–")); return; }
-  set("l1-mm", d.l1.toFixed(6));
-  set("l3-mm", d.l3.toFixed(6));
+  set("l1-mm", d.l1_mm.toFixed(6));
+  set("l3-mm", d.l3_mm.toFixed(6));
   set("deviation-mm", d.roundtrip.max_deviation_mm.toFixed(4));
   set("pressure-deg", d.limits.pressure_angle_deg.toFixed(2));
   set("concave-mm", d.limits.tightest_concave_radius_mm == null ? "none (convex)" : d.limits.tightest_concave_radius_mm.toFixed(2) + " mm");
@@ -463,7 +463,7 @@ async function synthesizeSpec(upload) {
     state.synthesis = syn.synthesis;
     state.spec = syn.spec;
     state.design = syn.design;
-    const o = syn.design.carrier.center;
+    const o = syn.design.carrier.center_mm;
     $("center-x").value = o[0];
     $("center-y").value = o[1];
     render();

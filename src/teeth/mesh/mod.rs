@@ -75,7 +75,7 @@ impl MeshSpan {
 #[non_exhaustive]
 pub struct MeshCheck {
     /// Centre distance, mm (no default: given to [`MeshCheck::new`]).
-    pub centre_distance_mm: f64,
+    pub center_distance_mm: f64,
     /// Number of driver positions over the span. Default 90 (every 4° of one turn).
     pub steps: usize,
     /// The driver positions rolled through. Default one turn, [`MeshSpan::Turns`]`(1)`.
@@ -89,12 +89,12 @@ pub struct MeshCheck {
 }
 
 impl MeshCheck {
-    /// A check of a pair at `centre_distance_mm` with teeth of `module_mm`; the other fields at
+    /// A check of a pair at `center_distance_mm` with teeth of `module_mm`; the other fields at
     /// their defaults.
     #[must_use]
-    pub fn new(centre_distance_mm: f64, module_mm: f64) -> Self {
+    pub fn new(center_distance_mm: f64, module_mm: f64) -> Self {
         Self {
-            centre_distance_mm,
+            center_distance_mm,
             steps: 90,
             span: MeshSpan::Turns(1),
             backlash_mm: 0.04 * module_mm,
@@ -179,7 +179,7 @@ pub fn verify_mesh(
 /// Refuses a check with a parameter out of range (non-positive, no steps, an empty span).
 fn validate(check: &MeshCheck) -> Result<(), MeshError> {
     for (name, v) in [
-        ("centre_distance_mm", check.centre_distance_mm),
+        ("center_distance_mm", check.center_distance_mm),
         ("backlash_mm", check.backlash_mm),
         ("module_mm", check.module_mm),
         ("angle_tol_rad", check.angle_tol_rad),

@@ -129,7 +129,7 @@ impl<'a> Levels<'a> {
     /// by the block bounds) and every candidate's clearance at the law's position δ = 0.
     fn position(&self, k: usize, psi: &(dyn Fn(f64) -> f64 + Sync)) -> Position<'_> {
         let check = self.check;
-        let (a, m) = (check.centre_distance_mm, check.module_mm);
+        let (a, m) = (check.center_distance_mm, check.module_mm);
         let fine = &self.fine;
         let phi = check.span.position_rad(k, check.steps);
         let psi0 = psi(phi);

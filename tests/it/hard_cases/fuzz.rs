@@ -269,9 +269,9 @@ fn check_scene(text: &str, json: bool) -> Result<(), TestCaseError> {
         for (v, w) in [
             (d.m_e_kg, "m_e"),
             (d.k_mean_n_per_m, "k_mean"),
-            (d.c_m, "c_m"),
-            (d.omega_n, "ωn"),
-            (d.omega_e, "ωe"),
+            (d.c_m_n_s_per_m, "c_m"),
+            (d.omega_n_rad_s, "ωn"),
+            (d.omega_e_rad_s, "ωe"),
             (d.t_mesh_s, "T_mesh"),
             (d.f0_n, "F0"),
         ] {
@@ -348,7 +348,7 @@ fn check_record(text: &str) -> Result<(), TestCaseError> {
 
 fn check_motion(law: &Law) -> Result<(), TestCaseError> {
     if let Ok(m) = Motion::from_law(law, 64) {
-        finite(m.unit_centre_distance, "centre distance")?;
+        finite(m.unit_center_distance, "centre distance")?;
         for k in 0..16 {
             let f = std::f64::consts::TAU * k as f64 / 16.0;
             finite(m.psi(f), "ψ")?;

@@ -129,8 +129,8 @@ proptest! {
             }
             Ok(d) => {
                 let r = &d.report;
-                prop_assert!((r.l1 - 2.0 * a).abs() < 1e-3, "l1 {} vs {}", r.l1, 2.0 * a);
-                prop_assert!((r.l3 - m.l3_mm).abs() < 1e-3, "l3 {} vs {}", r.l3, m.l3_mm);
+                prop_assert!((r.l1_mm - 2.0 * a).abs() < 1e-3, "l1 {} vs {}", r.l1_mm, 2.0 * a);
+                prop_assert!((r.l3_mm - m.l3_mm).abs() < 1e-3, "l3 {} vs {}", r.l3_mm, m.l3_mm);
                 prop_assert!(
                     r.roundtrip.max_deviation_mm < 0.05,
                     "s = {s}, l3/l1 = {arm}: round trip {} mm", r.roundtrip.max_deviation_mm
@@ -169,7 +169,7 @@ fn loops_cusps_and_near_tangencies_are_designed_or_refused() {
                 designed += 1;
                 let r = &d.report;
                 eprintln!("loop l3 = {l3}: designed, {:?}", r.roundtrip);
-                assert!((r.l3 - l3).abs() < 1e-3, "l3 = {l3}: got {}", r.l3);
+                assert!((r.l3_mm - l3).abs() < 1e-3, "l3 = {l3}: got {}", r.l3_mm);
                 assert!(
                     r.roundtrip.hausdorff_mm < 0.05 && r.roundtrip.max_deviation_mm < 0.1,
                     "l3 = {l3}: {:?}",

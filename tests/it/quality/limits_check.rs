@@ -137,7 +137,7 @@ pub fn evaluate(report: &DesignReport) -> Quality {
     let g = &report.gears;
     let tables = [&g.sun.pitch, &g.intermediate.pitch, &g.planet.pitch];
     let gears = tables.map(|t| gear_quality(&uniform_radii(t)));
-    let a = report.center_distance;
+    let a = report.center_distance_mm;
     let ratio_range = uniform_radii(&g.sun.pitch)
         .iter()
         .map(|&r| r / (a - r))

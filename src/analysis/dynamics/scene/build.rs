@@ -143,10 +143,10 @@ fn mesh_core(scene: &Scene, file: &str, lay: &Layout, d: &Derived) -> Result<Mes
     Ok(MeshCore {
         coeffs,
         law,
-        c_m: d.c_m,
+        c_m: d.c_m_n_s_per_m,
         t0: d.t_mesh_s,
         eps: geom.contact_ratio,
-        omega_e: d.omega_e,
+        omega_e: d.omega_e_rad_s,
         ste,
         backlash,
         relief,
@@ -180,8 +180,8 @@ impl Scene {
             dofs: select_dofs(&needs),
             sdof: needs.sdof,
             omega: [
-                d.omega_e / f64::from(self.gears.z1),
-                d.omega_e / f64::from(self.gears.z2),
+                d.omega_e_rad_s / f64::from(self.gears.z1),
+                d.omega_e_rad_s / f64::from(self.gears.z2),
             ],
         };
         let mass = masses(self, &lay, &d);

@@ -80,12 +80,12 @@ pub struct Derived {
     pub m_e_kg: f64,
     /// Mean mesh stiffness, N/m.
     pub k_mean_n_per_m: f64,
-    /// Mesh damping, N·s/m.
-    pub c_m: f64,
+    /// Mesh damping c_m, N·s/m.
+    pub c_m_n_s_per_m: f64,
     /// ωn = sqrt(k_mean/m_e), rad/s.
-    pub omega_n: f64,
+    pub omega_n_rad_s: f64,
     /// Mesh frequency ωe, rad/s.
-    pub omega_e: f64,
+    pub omega_e_rad_s: f64,
     /// Mesh period, s.
     pub t_mesh_s: f64,
     /// F0 = T1/rb1, N.
@@ -140,9 +140,9 @@ impl Scene {
             inertia_kgm2: inertia,
             m_e_kg: m_e,
             k_mean_n_per_m: k_mean,
-            c_m,
-            omega_n: (k_mean / m_e).sqrt(),
-            omega_e,
+            c_m_n_s_per_m: c_m,
+            omega_n_rad_s: (k_mean / m_e).sqrt(),
+            omega_e_rad_s: omega_e,
             t_mesh_s: 2.0 * PI / omega_e,
             f0_n: t1 / rb1,
         };
@@ -292,10 +292,15 @@ fn check_derived(file: &str, d: &Derived) -> Result<(), SceneError> {
             true,
         ),
         (d.k_mean_n_per_m, "k_mean", "effects.mesh_stiffness", true),
-        (d.omega_n, "ωn", "effects.mesh_stiffness / gears", true),
-        (d.omega_e, "ωe", "operating.n1_rpm", true),
+        (
+            d.omega_n_rad_s,
+            "ωn",
+            "effects.mesh_stiffness / gears",
+            true,
+        ),
+        (d.omega_e_rad_s, "ωe", "operating.n1_rpm", true),
         (d.t_mesh_s, "T_mesh", "operating.n1_rpm", true),
-        (d.c_m, "c_m", "effects.mesh_stiffness.zeta", false),
+        (d.c_m_n_s_per_m, "c_m", "effects.mesh_stiffness.zeta", false),
         (d.f0_n, "F0 = T1/rb1", "operating.input_torque_Nm", false),
     ] {
         let sign_ok = !positive || v > 0.0;
