@@ -1,8 +1,8 @@
 //! Benchmark of `ncgear pair` on the ncgears oracle law `phi - 0.08*sin(2*phi)`, 24 teeth, m 1.5:
 //! the design (law → pitch curves → rack-generated outlines, no verification), the design with
 //! the default 90-step mesh verification, and the exports. Run: `cargo bench --bench pair`.
-use ncgear::export::dxf::{DxfVersion, write_dxf};
-use ncgear::export::svg::to_svg_string;
+use ncgear::cad::dxf::{DxfVersion, write_dxf};
+use ncgear::cad::svg::to_svg_string;
 use ncgear::pair::{Expr, Law, PairOptions, design_pair};
 
 fn main() {

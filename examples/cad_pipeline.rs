@@ -12,9 +12,9 @@
 use std::error::Error;
 use std::path::PathBuf;
 
+use ncgear::cad::dxf::{DxfVersion, write_dxf};
+use ncgear::cad::svg::write_svg;
 use ncgear::design::train::{Gear, TrainPolicy, TrainTeethOptions};
-use ncgear::export::dxf::{DxfVersion, write_dxf};
-use ncgear::export::svg::write_svg;
 use ncgear::geometry::golden::g1_mechanism;
 use ncgear::{DesignOptions, Trajectory, design, tooth_train};
 

@@ -5,7 +5,7 @@
 //!
 //! The entry point is [`design()`]: a needle-tip trajectory in, the sun and intermediate pitch
 //! curves, the mechanism and a checked report out. [`tooth_train`] puts teeth on the three gears;
-//! [`export`] writes DXF, SVG and point lists.
+//! [`cad`] writes DXF, SVG, point lists and STEP solids.
 //!
 //! ```
 //! use ncgear::{DesignOptions, Trajectory, design};
@@ -34,7 +34,8 @@
 //!   `fourier` fit → `refine` (docs/math/chain.md §8.3) → `fit` (every parameter to the points) → checks C1–C13 and
 //!   the round trip; `train` puts teeth on the designed gears.
 //! - [`pair`]: a single non-circular pair from a motion law.
-//! - [`export`], [`output`]: DXF, SVG and point files; the design's files, charts, animation.
+//! - [`cad`]: the CAD formats (DXF, SVG, point lists, STEP) of closed outlines in mm; [`output`]:
+//!   what a run writes (the design's files, the simulation's, charts, the animation).
 //! - [`simulate`], [`analysis`]: the designed mechanism in motion; orbit, dynamics, tolerance.
 //! - [`config`]: the TOML/JSON loader every input file goes through.
 //! - [`bounds`]: the admissible sizes of the work (tooth counts, steps, tolerances, memory).
@@ -60,9 +61,9 @@ use {clap as _, indicatif as _, tiny_http as _};
 pub mod analysis;
 pub mod bounds;
 mod builder;
+pub mod cad;
 pub mod config;
 pub mod design;
-pub mod export;
 pub mod files;
 pub mod geometry;
 pub mod math;

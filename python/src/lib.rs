@@ -9,11 +9,11 @@ mod options;
 
 use convert::{points, to_py};
 use errors::{NcgearError, design_err, err, pair_err};
+use ncgear::cad::dxf::{DxfVersion, write_dxf};
+use ncgear::cad::step::write_step;
+use ncgear::cad::svg::write_svg;
 use ncgear::design::Design;
 use ncgear::design::train::{Gear, ToothedTrain, TrainTeethOptions, tooth_train};
-use ncgear::export::dxf::{DxfVersion, write_dxf};
-use ncgear::export::step::write_step;
-use ncgear::export::svg::write_svg;
 use ncgear::math::polyline::simplify_closed;
 use ncgear::output::{SolidOptions, pair_step, train_step_models, write_step_models};
 use ncgear::pair::{Expr, Law, PairDesign, PairOptions, design_pair};
@@ -65,7 +65,7 @@ fn solids(face_width: Option<f64>, bore: f64) -> SolidOptions {
 }
 
 /// `(occurrence, part, centre mm, angle rad)` of a STEP assembly.
-fn placements_of(m: &ncgear::export::step::StepModel) -> Vec<(String, String, [f64; 2], f64)> {
+fn placements_of(m: &ncgear::cad::step::StepModel) -> Vec<(String, String, [f64; 2], f64)> {
     m.instances
         .iter()
         .map(|i| {
@@ -91,7 +91,7 @@ fn outlines_of<'py>(
 /// Writes sheet `s` to `p` as `kind` (`dxf` of `version`, or `svg`); `tol` is the chord
 /// tolerance and `module` the module, mm.
 fn sheet(
-    s: &ncgear::export::Sheet,
+    s: &ncgear::cad::Sheet,
     p: &Path,
     kind: &str,
     version: DxfVersion,

@@ -1,6 +1,6 @@
 //! `ncgear pair`: a single non-circular gear pair from a motion law, a centrode or a CSV law,
 //! with rack-generated teeth, mesh verification and CAD exports. Thin shell over
-//! [`ncgear::pair`] and [`ncgear::export`].
+//! [`ncgear::pair`] and [`ncgear::cad`].
 use super::{CliResult, Failure, print_json, progress_bar};
 
 fn input_error(e: impl std::fmt::Display) -> Failure {
@@ -11,9 +11,9 @@ fn runtime_error(e: impl std::fmt::Display) -> Failure {
     super::runtime_error(miette::miette!("{e}"))
 }
 use super::teeth_args::RackArgs;
-use ncgear::export::dxf::{DxfVersion, write_dxf};
-use ncgear::export::points::write_points;
-use ncgear::export::svg::write_svg;
+use ncgear::cad::dxf::{DxfVersion, write_dxf};
+use ncgear::cad::points::write_points;
+use ncgear::cad::svg::write_svg;
 use ncgear::pair::{
     Expr, Law, PairDesign, PairError, PairOptions, PairTimings, design_pair_staged,
 };
@@ -123,7 +123,7 @@ pub fn run(args: Args) -> CliResult {
                                 opts.toothing.chord_tol_mm,
                                 &args.rack.solids(),
                             );
-                            ncgear::export::step::write_step(&model, &step)
+                            ncgear::cad::step::write_step(&model, &step)
                         },
                     )
                 },

@@ -1,6 +1,6 @@
 //! Tooth and CAD-export options shared by `ncgear design --module` and `ncgear pair`.
-use ncgear::export::ExportError;
-use ncgear::export::dxf::DxfVersion;
+use ncgear::cad::ExportError;
+use ncgear::cad::dxf::DxfVersion;
 use ncgear::output::SolidOptions;
 use ncgear::teeth::{RackParams, TeethError, ToothingOptions};
 

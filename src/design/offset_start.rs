@@ -12,7 +12,7 @@
 //! On an exact target this start is already on the target (G1 at z = 23, m = 2: 0.004 mm).
 
 use super::refine::{RefineOptions, refine_with_shift};
-use crate::design::law::NeedleLaw;
+use crate::design::needle_law::NeedleLaw;
 use crate::geometry::mechanism::Mechanism;
 use crate::geometry::perimeter::unit_perimeter;
 use std::f64::consts::PI;

@@ -19,7 +19,7 @@ pub enum OutputError {
     Plot(#[from] super::plot::PlotError),
     /// A CAD export failed.
     #[error(transparent)]
-    Export(#[from] crate::export::ExportError),
+    Export(#[from] crate::cad::ExportError),
 }
 
 /// Writes `text` to `path`.

@@ -2,8 +2,8 @@
 //! gear outlines extruded by the face width, with an optional bore, in mm.
 
 use super::error::{OutputError, create_dir};
+use crate::cad::step::{Instance, Prism, StepModel, write_step};
 use crate::design::train::{Gear, ToothedTrain};
-use crate::export::step::{Instance, Prism, StepModel, write_step};
 use crate::math::polyline::simplify_closed;
 use crate::pair::PairDesign;
 use rayon::prelude::*;
@@ -26,14 +26,14 @@ impl SolidOptions {
         self.face_width_mm.unwrap_or(10.0 * module_mm)
     }
 
-    /// Checks the sizes before any work ([`crate::export::step::check_solid_sizes`]; the
+    /// Checks the sizes before any work ([`crate::cad::step::check_solid_sizes`]; the
     /// default face width, 10 × the module, is always valid). Whether the bore fits a gear is
     /// known only with its outline.
     ///
     /// # Errors
-    /// [`crate::export::ExportError::InvalidOption`] naming `face_width` or `bore`.
-    pub fn validate(&self) -> Result<(), crate::export::ExportError> {
-        crate::export::step::check_solid_sizes(self.face_width_mm.unwrap_or(1.0), self.bore_mm)
+    /// [`crate::cad::ExportError::InvalidOption`] naming `face_width` or `bore`.
+    pub fn validate(&self) -> Result<(), crate::cad::ExportError> {
+        crate::cad::step::check_solid_sizes(self.face_width_mm.unwrap_or(1.0), self.bore_mm)
     }
 }
 

@@ -2,10 +2,10 @@
 //! of each gear, and the point lists (mm).
 
 use super::error::{OutputError, create_dir};
+use crate::cad::dxf::{DxfVersion, write_dxf};
+use crate::cad::points::write_points;
+use crate::cad::svg::write_svg;
 use crate::design::train::{Gear, ToothedTrain};
-use crate::export::dxf::{DxfVersion, write_dxf};
-use crate::export::points::write_points;
-use crate::export::svg::write_svg;
 use rayon::prelude::*;
 use std::path::{Path, PathBuf};
 

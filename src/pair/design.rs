@@ -1,7 +1,7 @@
 //! Designing the toothed pair: options, scaled pitch curves with mating phases, rack-generated
 //! outlines, the mesh verification, and the assembly sheet.
 use super::PairError;
-use crate::export::{Contour, Marker, Sheet};
+use crate::cad::{Contour, Marker, Sheet};
 use crate::geometry::pitch::PitchCurve;
 use crate::math::periodic::uniform_angles;
 use crate::progress::Progress;

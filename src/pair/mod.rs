@@ -14,9 +14,9 @@ mod entry;
 pub mod expr;
 mod law;
 mod motion;
-mod relief;
 mod report;
 mod sector;
+mod shaper_relief;
 
 pub use design::{PairDesign, PairOptions, PendingMesh, SectorReport};
 pub use entry::{design_pair, design_pair_staged};

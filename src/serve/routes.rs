@@ -135,7 +135,7 @@ fn export(body: &str) -> Result<Reply, ApiError> {
     let (mut d, train) = designed(&cold)?;
     let dir = TempDir::new()?;
     if let Some(mut t) = train {
-        ncgear::output::write_teeth(&mut t, &dir.0, ncgear::export::dxf::DxfVersion::R2010)
+        ncgear::output::write_teeth(&mut t, &dir.0, ncgear::cad::dxf::DxfVersion::R2010)
             .map_err(internal)?;
         let step =
             ncgear::output::write_teeth_step(&t, &dir.0, &Default::default()).map_err(internal)?;

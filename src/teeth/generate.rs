@@ -33,7 +33,7 @@ pub enum Generation<'a> {
     AsCut(&'a GearProcess),
     /// [`Self::AsCut`] with tooth `k`'s tip lowered by `tip_relief_mm[k]` along the pitch
     /// curve's normal (mm; none where the slice is shorter): the relief that keeps each tip off
-    /// its mates' fillets ([`super::relief`]).
+    /// its mates' fillets ([`super::tip_relief`]).
     Relieved {
         /// The process the gear was cut by.
         as_cut: &'a GearProcess,

@@ -30,10 +30,10 @@ mod options;
 pub mod overlap;
 pub mod process;
 mod rack;
-pub mod relief;
 pub mod secondary;
 mod shape;
 mod shaper;
+pub mod tip_relief;
 
 pub use blank::GearBlank;
 pub use frame::ArcFrame;

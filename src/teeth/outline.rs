@@ -113,7 +113,7 @@ impl Gen<'_> {
         let l = dx.hypot(dy);
         self.map(s, xc + self.rho * dx / l, ec + self.rho * dy / l)
     }
-    /// Addendum curve lowered by the tooth's tip relief `rel` (mm, [`super::relief`]).
+    /// Addendum curve lowered by the tooth's tip relief `rel` (mm, [`super::tip_relief`]).
     fn tip(&self, u: f64, rel: f64) -> [f64; 2] {
         let f = self.frame.at(u);
         let h = self.ha - rel;
@@ -448,7 +448,7 @@ pub(super) fn generate_on(blank: &GearBlank<'_>) -> Result<Outline, TeethError> 
 
 /// [`generate_on`] with tooth `k`'s tip lowered by `relief_mm[k]` along the pitch curve's normal
 /// (mm; none where the slice is shorter): the relief that keeps each tip off its mates'
-/// fillets ([`super::relief`]).
+/// fillets ([`super::tip_relief`]).
 pub(super) fn generate_relieved_on(
     blank: &GearBlank<'_>,
     relief_mm: &[f64],

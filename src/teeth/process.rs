@@ -52,7 +52,7 @@ pub struct GearProcess {
     /// Narrowest tooth tip along the addendum curve of a shaper-cut or swept gear, mm of arc
     /// (pointed teeth are refused by every process; absent for the rack).
     pub min_tip_width_mm: Option<f64>,
-    /// Teeth whose tip is lowered to keep it off a mate's fillet ([`super::relief`]; 0 for the
+    /// Teeth whose tip is lowered to keep it off a mate's fillet ([`super::tip_relief`]; 0 for the
     /// rack, and for a gear designed alone).
     #[serde(default)]
     pub relieved_teeth: usize,
@@ -127,7 +127,7 @@ impl GearProcess {
         }
     }
 
-    /// Records a tip relief (mm per tooth, [`super::relief::tip_relief`]) and, for a shaper-cut
+    /// Records a tip relief (mm per tooth, [`super::tip_relief::tip_relief`]) and, for a shaper-cut
     /// gear, the narrowest tip it leaves (mm of arc).
     pub fn set_relief(&mut self, relief_mm: &[f64], min_tip_width_mm: Option<f64>) {
         self.relieved_teeth = relief_mm.iter().filter(|r| **r > 0.0).count();
@@ -277,7 +277,7 @@ fn try_cutter(
 /// choosing again and without the choice's checks (they hold for the same cutter on the same
 /// curve); tooth `k`'s tip lowered by `tip_relief_mm[k]` along the pitch curve's normal (mm;
 /// none where the slice is shorter): the relief that keeps each tip off its mates' fillets
-/// ([`super::relief::tip_relief`]). Also returns the narrowest tooth tip of a shaper-cut gear,
+/// ([`super::tip_relief::tip_relief`]). Also returns the narrowest tooth tip of a shaper-cut gear,
 /// mm of arc. A swept gear has no cutter: [`TeethError::Swept`].
 pub(super) fn generate_as_relieved(
     blank: &GearBlank<'_>,

@@ -48,7 +48,7 @@
 //! mate's fillet trochoid, which on a tightly curved convex mate eats into the flank's end
 //! (measured on `exact_concave_sun.csv` at m = 1, sun → intermediate: transmission error
 //! 3.4e-3° untopped, 3.1e-4° with the exact-end topping, 8.8e-7° with this one).
-//! A tooth's tip may be lowered further by its tip relief ([`super::relief`]: per tooth, against
+//! A tooth's tip may be lowered further by its tip relief ([`super::tip_relief`]: per tooth, against
 //! the mates' fillets), and where a small cutter's involute would have to reach below its base
 //! circle to generate a tip corner (a tightly convex stretch), down to where it reaches
 //! (`tan α_R ≥ 0.05`, bisection on the tip height).
@@ -305,7 +305,7 @@ impl Shaper<'_> {
         [f.p[0] - self.c.hf * f.n[0], f.p[1] - self.c.hf * f.n[1]]
     }
     /// Addendum curve `P(u) + h(u)·N(u)`, `h = ha + min(0, κ)·k_tip − relief` (module doc:
-    /// topping on concave stretches; `relief_mm` the tooth's tip relief, [`super::relief`]).
+    /// topping on concave stretches; `relief_mm` the tooth's tip relief, [`super::tip_relief`]).
     fn tip(&self, u: f64, relief_mm: f64) -> [f64; 2] {
         let f = self.frame.at(u);
         let h = self.ha + f.kappa.min(0.0) * self.k_tip - relief_mm;

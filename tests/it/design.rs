@@ -1,7 +1,7 @@
 //! The design chain: golden numbers of docs/math/chain.md §11 (G1–G5), round trips, designer-style targets, errors.
 use ncgear::design::compat;
 use ncgear::design::inverse::{InverseError, InverseOptions, invert};
-use ncgear::design::law::NeedleLaw;
+use ncgear::design::needle_law::NeedleLaw;
 use ncgear::design::segmented::SegmentedOptions;
 use ncgear::design::trajectory::{Origin, Trajectory};
 use ncgear::design::{DesignOptions, RefineMode, design};

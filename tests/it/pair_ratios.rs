@@ -1,8 +1,8 @@
 //! Pairs with unequal tooth counts: a law advancing the driven gear by
 //! Δ = ψ(φ + 2π) − ψ(φ) ≠ 2π per driver turn gives z : z·2π/Δ teeth; closure, phase and the mesh
 //! verification over the q driver turns after which the pair is back at its start.
-use ncgear::export::dxf::{DxfVersion, write_dxf};
-use ncgear::export::points::write_points;
+use ncgear::cad::dxf::{DxfVersion, write_dxf};
+use ncgear::cad::points::write_points;
 use ncgear::pair::{Expr, Law, Motion, PairOptions, design_pair};
 use ncgear::teeth::mesh::MeshSpan;
 use ncgear::teeth::overlap::first_self_intersection;

@@ -1,7 +1,7 @@
 //! Open (incomplete) sector pairs: teeth over a driver interval only, clean
 //! sector ends, the verification over the interval.
-use ncgear::export::dxf::{DxfVersion, write_dxf};
-use ncgear::export::points::write_points;
+use ncgear::cad::dxf::{DxfVersion, write_dxf};
+use ncgear::cad::points::write_points;
 use ncgear::pair::{Expr, Law, PairDesign, PairOptions, design_pair};
 use ncgear::teeth::overlap::first_self_intersection;
 use std::f64::consts::PI;

@@ -1,8 +1,8 @@
 //! STEP solids: the same model gives the same bytes, every shell is closed (each edge
 //! bounds exactly two faces, once each way), the counts follow the outline, bad options are typed
 //! errors naming the option.
-use ncgear::export::ExportError;
-use ncgear::export::step::{Instance, Prism, StepModel, step_text};
+use ncgear::cad::ExportError;
+use ncgear::cad::step::{Instance, Prism, StepModel, step_text};
 use std::collections::HashMap;
 use std::process::Command;
 

@@ -2,11 +2,11 @@
 //! sheet's size in mm, and the drawn pixels lie on the outlines (1 SVG unit = 1 mm, y up in the
 //! sheet, y down in SVG), not elsewhere.
 use crate::assembled;
+use ncgear::cad::Sheet;
+use ncgear::cad::svg::to_svg_string;
 use ncgear::design::train::{TrainTeethOptions, tooth_train};
 use ncgear::design::trajectory::Trajectory;
 use ncgear::design::{DesignOptions, design};
-use ncgear::export::Sheet;
-use ncgear::export::svg::to_svg_string;
 
 /// CSS pixels per mm (usvg resolves `mm` at 96 dpi).
 const PX_PER_MM: f64 = 96.0 / 25.4;

@@ -1,7 +1,7 @@
 //! Integration tests: teeth (rack-envelope outlines, undercut, mesh), `pair`, exports.
-use ncgear::export::dxf::{DxfVersion, write_dxf};
-use ncgear::export::points::write_points;
-use ncgear::export::svg::write_svg;
+use ncgear::cad::dxf::{DxfVersion, write_dxf};
+use ncgear::cad::points::write_points;
+use ncgear::cad::svg::write_svg;
 use ncgear::geometry::pitch::PitchCurve;
 use ncgear::pair::{Expr, Law, Motion, PairOptions, design_pair};
 use ncgear::teeth::overlap::first_self_intersection;

@@ -3,8 +3,8 @@
 //! closed forms of the rack-generated spur gear below the minimum tooth count, and on a pair
 //! that the peer ncgears makes and ncgear used to refuse.
 use crate::teeth::rack_cut;
-use ncgear::export::dxf::{DxfVersion, write_dxf};
-use ncgear::export::points::write_points;
+use ncgear::cad::dxf::{DxfVersion, write_dxf};
+use ncgear::cad::points::write_points;
 use ncgear::geometry::pitch::PitchCurve;
 use ncgear::pair::{Expr, Law, PairOptions, design_pair};
 use ncgear::teeth::overlap::first_self_intersection;

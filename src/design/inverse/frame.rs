@@ -3,7 +3,7 @@
 //! frame early.
 
 use super::{InverseError, InverseOptions, Inversion, MIN_AXIS_DISTANCE_L3};
-use crate::design::law::NeedleLaw;
+use crate::design::needle_law::NeedleLaw;
 use crate::design::trajectory::ClosedSpline;
 use crate::math::norm;
 use crate::math::periodic::{bracketed_root, secant_root, wrap_pi};

@@ -16,7 +16,7 @@
 
 mod frame;
 
-use crate::design::law::NeedleLaw;
+use crate::design::needle_law::NeedleLaw;
 use crate::design::trajectory::{ClosedSpline, Trajectory};
 use frame::{Solved, coarse_rejects, dense_count, solve_frame, winding_number};
 

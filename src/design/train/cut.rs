@@ -2,7 +2,7 @@
 //! no cutter fits swept by its cut neighbours), then the fine outlines of the mesh check and the
 //! tip relief of the meshes with a shaper-cut gear.
 use super::TrainError;
-use super::relief::relieve_gear;
+use super::shaper_relief::relieve_gear;
 use super::swept::{TrainMeshes, neighbours, sweep_gear, sweepable};
 use crate::geometry::pitch::PitchCurve;
 use crate::teeth::process::{GearProcess, Process, swept_process};

@@ -34,8 +34,8 @@ mod build;
 mod cut;
 mod layout;
 mod pending;
-mod relief;
 mod report;
+mod shaper_relief;
 mod sheet;
 mod swept;
 

@@ -1,8 +1,8 @@
 //! The toothed train and its drawings: one gear in its body frame, or the whole train placed at
 //! a carrier angle.
 use super::TrainTeethReport;
+use crate::cad::{Contour, Marker, Sheet};
 use crate::design::Design;
-use crate::export::{Contour, Marker, Sheet};
 use crate::geometry::assembly::Assembly;
 use crate::geometry::pitch::PitchCurve;
 use crate::math::periodic::uniform_angles;

@@ -1,4 +1,4 @@
-//! Tip relief of the train's shaper-cut gears ([`crate::teeth::relief`]): each is
+//! Tip relief of the train's shaper-cut gears ([`crate::teeth::tip_relief`]): each is
 //! checked against every neighbour it meshes with — the sun and the planet against the
 //! intermediate gear, the intermediate gear against both — and relieved tooth by tooth.
 use super::TrainError;
@@ -6,7 +6,7 @@ use super::swept::{TrainMeshes, neighbours};
 use crate::teeth::GearBlank;
 use crate::teeth::mesh::Shape;
 use crate::teeth::process::GearProcess;
-use crate::teeth::relief::{self, ReliefMesh, Relieved};
+use crate::teeth::tip_relief::{self, ReliefMesh, Relieved};
 
 /// Gear `k` (0 sun, 1 intermediate, 2 planet), `blank` cut as `as_cut` records, relieved
 /// against its neighbours' `fine` outlines (body frames, mm) over one carrier turn (each mesh's
@@ -42,10 +42,10 @@ pub(super) fn relieve_gear(
             mate,
             motion: &meshes.motions[mesh],
             gear: role,
-            positions: z as usize * relief::POSITIONS_PER_PITCH,
+            positions: z as usize * tip_relief::POSITIONS_PER_PITCH,
         })
         .collect();
-    relief::relieve_gear(blank, as_cut, verify_chord_tol_mm, &checks).map_err(|source| {
+    tip_relief::relieve_gear(blank, as_cut, verify_chord_tol_mm, &checks).map_err(|source| {
         TrainError::Teeth {
             gear: NAMES[k],
             source,

@@ -1,18 +1,18 @@
-//! Tip relief of a pair's shaper-cut gears ([`crate::teeth::relief`]): each is checked
+//! Tip relief of a pair's shaper-cut gears ([`crate::teeth::tip_relief`]): each is checked
 //! against its mate over the mesh cycle and relieved tooth by tooth.
 use super::PairError;
 use super::design::{PairOptions, Toothed};
 use crate::teeth::mate_motion::MeshMotion;
 use crate::teeth::mesh::Shape;
 use crate::teeth::process::Process;
-use crate::teeth::relief::{self, ReliefMesh, Relieved, relieve_gear};
+use crate::teeth::tip_relief::{self, ReliefMesh, Relieved, relieve_gear};
 
 /// The pair's gears, as named in errors.
 const GEAR_NAMES: [&str; 2] = ["driver", "driven"];
 
 impl Toothed {
     /// Tip relief of both cut gears of a pair with a shaper-cut gear against their mate's fine
-    /// outline ([`crate::teeth::relief`]) over the mesh `motion`, whose cycle spans
+    /// outline ([`crate::teeth::tip_relief`]) over the mesh `motion`, whose cycle spans
     /// `cycle_pitches` driver pitches: the relieved gears' export and `fine` outlines are
     /// regenerated and their process reports record it. Both reliefs are found on the unrelieved
     /// outlines (a relief moves only tips, never a fillet). A pair of rack-cut (convex) gears is
@@ -37,7 +37,7 @@ impl Toothed {
                 mate: &mate,
                 motion,
                 gear: k,
-                positions: cycle_pitches * relief::POSITIONS_PER_PITCH,
+                positions: cycle_pitches * tip_relief::POSITIONS_PER_PITCH,
             };
             Ok(relieve_gear(
                 &self.blank(k, t),

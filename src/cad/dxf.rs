@@ -187,7 +187,7 @@ pub fn write_dxf(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::export::{Contour, Marker};
+    use crate::cad::{Contour, Marker};
 
     fn sheet() -> Sheet {
         Sheet {
