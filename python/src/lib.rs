@@ -58,10 +58,9 @@ fn names(paths: Vec<PathBuf>) -> Vec<String> {
 
 /// Face width (mm; `None`: 10·m) and bore diameter (mm; 0: none) of the STEP solids.
 fn solids(face_width: Option<f64>, bore: f64) -> SolidOptions {
-    let mut s = SolidOptions::default();
-    s.face_width_mm = face_width;
-    s.bore_mm = bore;
-    s
+    SolidOptions::default()
+        .with_face_width_mm(face_width)
+        .with_bore_mm(bore)
 }
 
 /// `(occurrence, part, centre mm, angle rad)` of a STEP assembly.

@@ -111,9 +111,9 @@ fn options(args: &Args) -> Result<(FeatureOptions, AnimationOptions), super::Fai
         .with_planting_depth_mm(args.depth)
         .with_take_level_mm(args.take_level)
         .with_plant_level_mm(args.plant_level);
-    let mut anim = AnimationOptions::default();
-    anim.frames = args.frames;
-    anim.seconds = args.duration;
+    let anim = AnimationOptions::default()
+        .with_frames(args.frames)
+        .with_seconds(args.duration);
     Ok((opts, anim))
 }
 

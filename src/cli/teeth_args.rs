@@ -65,10 +65,9 @@ pub struct RackArgs {
 impl RackArgs {
     /// Face width and bore of the STEP solids.
     pub fn solids(&self) -> SolidOptions {
-        let mut s = SolidOptions::default();
-        s.face_width_mm = self.face_width;
-        s.bore_mm = self.bore;
-        s
+        SolidOptions::default()
+            .with_face_width_mm(self.face_width)
+            .with_bore_mm(self.bore)
     }
 
     /// The validated basic rack.

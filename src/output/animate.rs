@@ -13,8 +13,11 @@ use svg::node::element::{
     AnimateTransform, Circle, Definitions, Group, Path as SvgPath, Rectangle, Text, Use,
 };
 
-/// Options of the animation.
-#[derive(Debug, Clone, Copy, PartialEq)]
+/// Options of the animation; [`Default`] fills the defaults named on each field.
+/// (De)serialisable (a missing field takes its default, an unknown one is an error) and built
+/// with `with_*`.
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(default, deny_unknown_fields)]
 #[non_exhaustive]
 pub struct AnimationOptions {
     /// Key frames per turn (linear interpolation in between). Default 360.
@@ -24,6 +27,12 @@ pub struct AnimationOptions {
     /// Points per pitch-curve outline (toothed outlines are drawn as generated). Default 720.
     pub outline_points: usize,
 }
+
+crate::builder::with_fields!(AnimationOptions {
+    with_frames => frames: usize,
+    with_seconds => seconds: f64,
+    with_outline_points => outline_points: usize,
+});
 
 impl Default for AnimationOptions {
     fn default() -> Self {

@@ -10,7 +10,10 @@ use rayon::prelude::*;
 use std::path::{Path, PathBuf};
 
 /// Face width and bore of the extruded gears; [`Default`]: face width 10·m, no bore.
-#[derive(Debug, Clone, Copy, PartialEq, Default, serde::Serialize)]
+/// (De)serialisable (a missing field takes its default, an unknown one is an error) and built
+/// with `with_*`.
+#[derive(Debug, Clone, Copy, PartialEq, Default, serde::Serialize, serde::Deserialize)]
+#[serde(default, deny_unknown_fields)]
 #[non_exhaustive]
 pub struct SolidOptions {
     /// Face width, mm (`None`: 10 × the module).
@@ -18,6 +21,11 @@ pub struct SolidOptions {
     /// Bore diameter about each gear's rotation centre, mm (0: none).
     pub bore_mm: f64,
 }
+
+crate::builder::with_fields!(SolidOptions {
+    with_face_width_mm => face_width_mm: Option<f64>,
+    with_bore_mm => bore_mm: f64,
+});
 
 impl SolidOptions {
     /// The face width at `module_mm`, mm.

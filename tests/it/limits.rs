@@ -52,8 +52,7 @@ fn toothed_cleanly(
     module_mm: f64,
     steps: usize,
 ) -> ncgear::design::train::ToothedTrain {
-    let mut to = TrainTeethOptions::new(module_mm);
-    to.policy = TrainPolicy::Designed;
+    let mut to = TrainTeethOptions::new(module_mm).with_policy(TrainPolicy::Designed);
     to.toothing.verify_steps = steps;
     let toothed = tooth_train(d, &to).unwrap();
     let mesh = toothed.report.mesh.as_ref().unwrap();
@@ -71,8 +70,8 @@ fn toothed_cleanly(
 /// The Hausdorff distance (mm) of `free`'s train, scaled by `policy` to whole teeth of module
 /// `module_mm`, from its target (no mesh check).
 fn scaled_hausdorff_mm(free: &Design, module_mm: f64, policy: ToothPolicy) -> f64 {
-    let mut so = TrainTeethOptions::new(module_mm);
-    so.policy = TrainPolicy::ScaleCenterDistance(policy);
+    let mut so =
+        TrainTeethOptions::new(module_mm).with_policy(TrainPolicy::ScaleCenterDistance(policy));
     so.toothing.verify_steps = 0;
     let scaled = tooth_train(free, &so).unwrap();
     scaled.report.roundtrip.hausdorff_mm
@@ -186,8 +185,7 @@ fn a_design_for_the_module_has_perimeter_z_pi_m_and_its_teeth_trace_the_stated_p
     assert!(d.report.roundtrip.max_deviation_mm <= 0.05);
     assert_within(&d, o.concave_radius_limit_mm(), "g1 m1.5");
     assert_eq!(o.concave_radius_limit_mm(), 18.75);
-    let mut to = TrainTeethOptions::new(1.5);
-    to.policy = TrainPolicy::Designed;
+    let mut to = TrainTeethOptions::new(1.5).with_policy(TrainPolicy::Designed);
     to.toothing.verify_steps = 0;
     let t = tooth_train(&d, &to).unwrap();
     assert_eq!(t.report.z, m.teeth);
@@ -214,8 +212,9 @@ fn a_design_for_the_module_has_perimeter_z_pi_m_and_its_teeth_trace_the_stated_p
         &DesignOptions::default(),
     )
     .unwrap();
-    let mut up = to;
-    up.policy = TrainPolicy::ScaleCenterDistance(ToothPolicy::ScaleUp);
+    let up = to
+        .clone()
+        .with_policy(TrainPolicy::ScaleCenterDistance(ToothPolicy::ScaleUp));
     let scaled = tooth_train(&free, &up).unwrap();
     assert!(scaled.report.roundtrip.hausdorff_mm > 10.0 * t.report.roundtrip.hausdorff_mm);
 }
@@ -337,8 +336,7 @@ fn module_mismatches_and_oversized_modules_are_refused_clearly() {
         &DesignOptions::default(),
     )
     .unwrap();
-    let mut to = TrainTeethOptions::new(2.0);
-    to.policy = TrainPolicy::Designed;
+    let to = TrainTeethOptions::new(2.0).with_policy(TrainPolicy::Designed);
     let e = tooth_train(&d, &to).unwrap_err();
     assert!(matches!(e, TrainError::NotDesignedForModule { .. }), "{e}");
     assert!(e.to_string().contains("no module"), "{e}");

@@ -1,6 +1,7 @@
 //! Integration tests: the options structs of the analyses (orbit, dynamics, tolerance,
-//! transplanter, simulate, synthesis) are built with `with_*` and (de)serialised whole or in
-//! part — a missing field takes its default, an unknown one is refused naming it.
+//! transplanter, simulate, synthesis) and of the outputs (STEP solids, animation) are built with
+//! `with_*` and (de)serialised whole or in part — a missing field takes its default, an unknown
+//! one is refused naming it.
 use ncgear::analysis::dynamics::{AnalysisOptions, Method as Integrator, RunOptions};
 use ncgear::analysis::montecarlo::McOptions;
 use ncgear::analysis::orbit::evaluate::{MeasureOptions, SensorFrame};
@@ -122,4 +123,19 @@ fn simulate_and_synthesis_options_round_trip() {
         .with_center_mm(Some([1.0, 2.0]))
         .with_samples(500);
     round_trips(&dyads, r#"{"center_mm": [1.0, 2.0], "samples": 500}"#);
+}
+
+/// The output options (STEP solids, the animation) like the analyses'.
+#[test]
+fn solid_and_animation_options_round_trip() {
+    use ncgear::output::SolidOptions;
+    use ncgear::output::animate::AnimationOptions;
+    let solids = SolidOptions::default()
+        .with_face_width_mm(Some(12.0))
+        .with_bore_mm(8.0);
+    round_trips(&solids, r#"{"face_width_mm": 12.0, "bore_mm": 8.0}"#);
+    assert_eq!(solids.face_width_at(2.0), 12.0);
+    let anim = AnimationOptions::default().with_seconds(3.0);
+    round_trips(&anim, r#"{"seconds": 3.0}"#);
+    assert_eq!((anim.frames, anim.outline_points), (360, 720));
 }

@@ -115,8 +115,7 @@ fn centrode_with_a_cycle_advance_solves_its_centre_distance() {
     );
     assert!((m.psi(1.0) - m.psi(0.0) - 0.5).abs() < 1e-12);
     let law = Law::Centrode(Expr::parse("1 + 0.08*cos(2*phi)").unwrap());
-    let mut opts = PairOptions::new(Some(24), 1.0);
-    opts.centrode_advance_rad = PI;
+    let opts = PairOptions::new(Some(24), 1.0).with_centrode_advance_rad(PI);
     let d = design_pair(&law, &opts).unwrap();
     assert_eq!((d.z, d.z_driven), (24, 48));
     assert_eq!(d.mesh.unwrap().interference_steps, 0);

@@ -7,8 +7,8 @@ use ncgear::teeth::overlap::first_self_intersection;
 use std::f64::consts::PI;
 
 fn open(law: &str, z: u32, m: f64, deg: [f64; 2]) -> Result<PairDesign, ncgear::pair::PairError> {
-    let mut o = PairOptions::new(Some(z), m);
-    o.open_sector_rad = Some([deg[0].to_radians(), deg[1].to_radians()]);
+    let o = PairOptions::new(Some(z), m)
+        .with_open_sector_rad(Some([deg[0].to_radians(), deg[1].to_radians()]));
     design_pair(&Law::Motion(Expr::parse(law).unwrap()), &o)
 }
 
@@ -99,8 +99,7 @@ fn impossible_sectors_are_refused_with_the_reason() {
     assert!(e.contains("spans") && e.contains("315"), "{e}");
     let e = open("phi", 20, 1.0, [10.0, 10.0]).unwrap_err().to_string();
     assert!(e.contains("end > start"), "{e}");
-    let mut o = PairOptions::new(Some(12), 1.0);
-    o.open_sector_rad = Some([0.0, PI]);
+    let o = PairOptions::new(Some(12), 1.0).with_open_sector_rad(Some([0.0, PI]));
     let e = design_pair(&Law::Centrode(Expr::parse("1").unwrap()), &o)
         .unwrap_err()
         .to_string();

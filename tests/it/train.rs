@@ -20,8 +20,7 @@ fn g1_design() -> &'static Design {
 }
 
 fn no_mesh(module_mm: f64, policy: TrainPolicy) -> TrainTeethOptions {
-    let mut opts = TrainTeethOptions::new(module_mm);
-    opts.policy = policy;
+    let mut opts = TrainTeethOptions::new(module_mm).with_policy(policy);
     opts.toothing.verify_steps = 0;
     opts
 }

@@ -379,8 +379,9 @@ fn eccentricity_sweep_teeth_until_they_stop_being_possible() {
                         max_module_mm < 2.0 && min_teeth > z0,
                         "e = {e}, z = {z0}: {err}"
                     );
-                    let mut more = opts;
-                    more.policy = TrainPolicy::ScaleCenterDistance(ToothPolicy::Exact(min_teeth));
+                    let more = opts.clone().with_policy(TrainPolicy::ScaleCenterDistance(
+                        ToothPolicy::Exact(min_teeth),
+                    ));
                     let t = tooth_train(&d, &more.clone().with_accuracy_mm(Some(1e-6)));
                     let t = t.unwrap_or_else(|e2| panic!("e = {e}, z = {min_teeth}: {e2}"));
                     let mesh = t.report.mesh.expect("verified");
