@@ -240,6 +240,20 @@ fn a_recorded_train_is_in_the_design_and_it_round_trips_through_json() {
     assert_eq!(back.teeth.as_ref(), Some(&t.report));
 }
 
+/// The perimeter equation's accuracy must be a positive length: 0 or NaN (a bisection that would
+/// not end) is refused before any work, naming the option.
+#[test]
+fn a_non_positive_accuracy_is_refused() {
+    let d = g1_design();
+    for bad in [0.0, -1e-9, f64::NAN] {
+        let o = no_mesh(2.0, TrainPolicy::RatioAmplitude).with_accuracy_mm(Some(bad));
+        match tooth_train(d, &o).unwrap_err() {
+            TrainError::InvalidOption { name, .. } => assert_eq!(name, "accuracy_mm"),
+            e => panic!("{bad}: {e}"),
+        }
+    }
+}
+
 /// docs/math/teeth.md §12.1 option 2: a held fixed, the ratio amplitude rescaled so that L(λ) = zπm. For G1,
 /// L(1) = 140.57 < πa = 141.37 (the circle), so z = 23 is out of reach and z = 22 needs λ > 1.
 #[test]

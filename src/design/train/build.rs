@@ -72,6 +72,7 @@ pub fn tooth_train_staged<'a>(
     on: impl Into<TrainSource<'a>>,
     opts: &TrainTeethOptions,
 ) -> Result<(ToothedTrain, Option<PendingTrainMesh>), TrainError> {
+    check_options(opts)?;
     match on.into() {
         TrainSource::Design(design) => design_staged(design, opts),
         TrainSource::Assembly {
@@ -167,9 +168,9 @@ fn design_tolerance_mm(design: &Design) -> f64 {
         })
 }
 
-/// Teeth on the train `asm` (world frame): the options checked, the layout scaled to an integer
-/// tooth count, the three gears cut (and relieved), the mesh check left pending and the round
-/// trip against the target points (mm, world frame; with the design's carrier angles at them
+/// Teeth on the train `asm` (world frame), its options checked by the caller: the layout scaled
+/// to an integer tooth count, the three gears cut (and relieved), the mesh check left pending and
+/// the round trip against the target points (mm, world frame; with the design's carrier angles at them
 /// when known, [`round_trip`]) compared with `designed` (`asm` when `None`).
 fn train_from(
     asm: &Assembly,
@@ -177,7 +178,6 @@ fn train_from(
     target_mm: (&[[f64; 2]], Option<&[f64]>),
     opts: &TrainTeethOptions,
 ) -> Result<(ToothedTrain, Option<PendingTrainMesh>), TrainError> {
-    check_options(opts)?;
     let layout = Layout::new(asm, opts)?;
     // The meshes over a carrier turn (φH = 2πu), for sweeping a gear no cutter makes.
     let rebuilt = &layout.rebuilt;
@@ -201,8 +201,8 @@ fn train_from(
     Ok((train, pending))
 }
 
-/// Refuses options out of range: a non-positive module, backlash or chord tolerance, fewer than
-/// 16 round-trip samples.
+/// Refuses options out of range: a non-positive module, backlash, chord tolerance or accuracy
+/// (a bisection to a tolerance of 0 or NaN would not end), fewer than 16 round-trip samples.
 fn check_options(opts: &TrainTeethOptions) -> Result<(), TrainError> {
     let m = opts.toothing.module_mm;
     for (name, v) in [
@@ -210,6 +210,7 @@ fn check_options(opts: &TrainTeethOptions) -> Result<(), TrainError> {
         ("backlash_mm", opts.toothing.backlash_mm),
         ("chord_tol_mm", opts.toothing.chord_tol_mm),
         ("verify_chord_tol_mm", opts.toothing.verify_chord_tol_mm),
+        ("accuracy_mm", opts.accuracy_mm.unwrap_or(1.0)),
     ] {
         if !(v.is_finite() && v > 0.0) {
             return Err(TrainError::InvalidOption {
