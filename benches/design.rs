@@ -2,6 +2,7 @@
 //! The accuracy-vs-time table of docs/accuracy.md comes from `cargo run --release --example accuracy -- design`.
 use ncgear::design::trajectory::Trajectory;
 use ncgear::design::{DesignOptions, RefineMode, design};
+use ncgear::math::Point;
 
 fn main() {
     divan::main();
@@ -89,9 +90,9 @@ fn family_case(b: divan::Bencher, name: &str) {
     let center = text
         .lines()
         .find_map(|l| l.strip_prefix("# center:"))
-        .map_or([0.0, 0.0], |c| {
+        .map_or(Point::ZERO, |c| {
             let v: Vec<f64> = c.split(',').map(|x| x.trim().parse().unwrap()).collect();
-            [v[0], v[1]]
+            Point::new(v[0], v[1])
         });
     let t = Trajectory::parse_csv(&text, name).expect("bundled case");
     let opts = DesignOptions::default().with_center_mm(center);
@@ -106,13 +107,13 @@ fn redesign_after_edit_g1(b: divan::Bencher, amp: f64) {
     let t = load("g1_ellipse.csv");
     let opts = DesignOptions::default();
     let before = design(&t, &opts).expect("G1");
-    let moved: Vec<[f64; 2]> = t
+    let moved: Vec<Point> = t
         .points()
         .iter()
         .enumerate()
         .map(|(k, p)| {
             let w = amp * (-((k as f64 - 90.0) / 10.0).powi(2)).exp();
-            [p[0] + 0.8 * w, p[1] + 0.6 * w]
+            Point::new(p.x + 0.8 * w, p.y + 0.6 * w)
         })
         .collect();
     let moved = Trajectory::from_points(moved).expect("points");

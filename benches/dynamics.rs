@@ -58,7 +58,8 @@ fn sdof() -> (model::Model, Vec<f64>) {
 fn bench_run(bencher: divan::Bencher, method: Method, spm: u32) {
     let (m, y0) = sdof();
     let o = RunOptions::window(method, 120, spm);
-    bencher.bench_local(|| simulate(&m, &y0, &o, &|_| {}).expect("run"));
+    bencher
+        .bench_local(|| simulate(&m, &y0, &o, &ncgear::progress::Progress::none()).expect("run"));
 }
 
 #[divan::bench(args = [20, 80])]

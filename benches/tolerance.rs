@@ -24,7 +24,10 @@ fn monte_carlo_50k(b: divan::Bencher, per_period: usize) {
         .with_samples(50_000)
         .with_seed(1)
         .with_bins(60);
-    b.bench(|| a.monte_carlo(&opts, &|_| {}).expect("finite"));
+    b.bench(|| {
+        a.monte_carlo(&opts, &ncgear::progress::Progress::none())
+            .expect("finite")
+    });
 }
 
 /// One certified peak of the four-term sum.

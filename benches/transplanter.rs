@@ -6,13 +6,14 @@ use ncgear::analysis::transplanter::{ErrorInventory, ExactModel, FdSteps, Invent
 use ncgear::config::Format;
 use ncgear::geometry::assembly::Assembly;
 use ncgear::geometry::golden::g1_mechanism;
+use ncgear::math::Point;
 
 fn main() {
     divan::main();
 }
 
 fn setup() -> (Assembly, Inventory, ExactModel) {
-    let asm = Assembly::from_mechanism(&g1_mechanism(), [0.0, 0.0], 1, 720).expect("G1");
+    let asm = Assembly::from_mechanism(&g1_mechanism(), Point::new(0.0, 0.0), 1, 720).expect("G1");
     let inv = ErrorInventory::parse(
         include_str!("../assets/transplanter/g1_errors.toml"),
         "g1_errors.toml",
@@ -57,7 +58,11 @@ fn linear_mc_1000(b: divan::Bencher) {
         .with_seed(1)
         .with_bins(20);
     b.bench(|| {
-        ncgear::analysis::montecarlo::run(&opts, |r, _| lin.max_deviation_mm(&inv.draw(r)), &|_| {})
-            .expect("finite")
+        ncgear::analysis::montecarlo::run(
+            &opts,
+            |r, _| lin.max_deviation_mm(&inv.draw(r)),
+            &ncgear::progress::Progress::none(),
+        )
+        .expect("finite")
     });
 }

@@ -9,6 +9,7 @@
 //! The points here come from the classic elliptical (G1) train; in a pipeline they would come
 //! from a drawing's polyline, in mm, in travel order.
 
+use ncgear::math::Point;
 use std::error::Error;
 use std::path::PathBuf;
 
@@ -26,7 +27,7 @@ fn main() -> Result<(), Box<dyn Error>> {
 
     // 1. The target: 720 needle-tip points, mm, in travel order.
     let g1 = g1_mechanism();
-    let points: Vec<[f64; 2]> = (0..720)
+    let points: Vec<Point> = (0..720)
         .map(|k| g1.tip(std::f64::consts::TAU * k as f64 / 720.0))
         .collect();
 

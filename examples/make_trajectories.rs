@@ -25,7 +25,7 @@ fn main() -> std::io::Result<()> {
         String::from("x_mm,y_mm (static needle-tip trajectory, carrier angle k deg, CCW)\n");
     for k in 0..360 {
         let p = m.tip((k as f64).to_radians());
-        let _ = writeln!(s, "{:.18e},{:.18e}", p[0], p[1]);
+        let _ = writeln!(s, "{:.18e},{:.18e}", p.x, p.y);
     }
     std::fs::write(dir.join("g1_ellipse.csv"), s)?;
 
@@ -58,7 +58,7 @@ fn main() -> std::io::Result<()> {
     let pts: Vec<String> = (0..720)
         .map(|k| {
             let p = m4.tip(TAU * k as f64 / 720.0);
-            format!("[{:.12}, {:.12}]", c[0] + p[0], c[1] - p[1])
+            format!("[{:.12}, {:.12}]", c[0] + p.x, c[1] - p.y)
         })
         .collect();
     std::fs::write(

@@ -13,7 +13,7 @@
 //!
 //! // A target the classic elliptical (G1) train traces: its needle tip at 360 carrier angles, mm.
 //! let g1 = g1_mechanism();
-//! let points: Vec<[f64; 2]> = (0..360).map(|k| g1.tip((k as f64).to_radians())).collect();
+//! let points: Vec<ncgear::math::Point> = (0..360).map(|k| g1.tip((k as f64).to_radians())).collect();
 //!
 //! let d = design(&Trajectory::from_points(points)?, &DesignOptions::default())?;
 //! // The gears rebuilt from the output tables trace the target within 0.05 mm …

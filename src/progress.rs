@@ -1,5 +1,7 @@
 //! Where a long computation reports how far it has come: [`Progress`], carried by the options
-//! of the toothed train and of the toothed pair (their mesh checks are the long part).
+//! of the toothed train and of the toothed pair (their mesh checks are the long part) and handed
+//! to the analyses (Monte Carlo samples, dynamics periods and sweep points, the orbit's frequency
+//! refinement).
 
 use std::fmt;
 use std::sync::Arc;

@@ -17,6 +17,7 @@
 //! seed gives the same command lines and input files, whatever the run count or job count.
 //!
 //! The regression tests at the end are the known reproducers, held to the same invariants.
+use ncgear::math::Point;
 use std::collections::BTreeMap;
 use std::fmt::Write as _;
 use std::fs::File;
@@ -769,11 +770,11 @@ const SLOW_TEETH: &[&str] = &["exact_concave_sun.csv", "designer_kidney.csv"];
 /// the JSON reader and its mutations on a target that designs in milliseconds.
 fn g1_json() -> Vec<u8> {
     let csv = String::from_utf8(asset("trajectories/g1_ellipse.csv")).unwrap();
-    let points: Vec<[f64; 2]> = csv
+    let points: Vec<Point> = csv
         .lines()
         .filter_map(|l| {
             let (x, y) = l.split_once(',')?;
-            Some([x.trim().parse().ok()?, y.trim().parse().ok()?])
+            Some(Point::new(x.trim().parse().ok()?, y.trim().parse().ok()?))
         })
         .collect();
     assert_eq!(points.len(), 360, "G1 has one point per carrier degree");

@@ -6,13 +6,14 @@ use ncgear::design::refine::RefineOptions;
 use ncgear::design::trajectory::{Origin, Trajectory};
 use ncgear::design::{DesignOptions, RefineMode, design};
 use ncgear::geometry::mechanism::Mechanism;
+use ncgear::math::Point;
 use std::f64::consts::TAU;
 
 fn g1() -> Mechanism {
     ncgear::geometry::golden::g1_mechanism()
 }
 
-fn traj(points: Vec<[f64; 2]>) -> Trajectory {
+fn traj(points: Vec<Point>) -> Trajectory {
     let o: Vec<Origin> = (0..points.len()).map(Origin::Index).collect();
     Trajectory::new(points, &o, "generated").expect("valid")
 }
@@ -29,10 +30,10 @@ fn designer() -> Trajectory {
             .map(|k| {
                 let t = (k as f64).to_radians();
                 let beta = (-70f64).to_radians() + t - (g.psi3(t) + 0.03 * (3.0 * t + 0.5).sin());
-                [
+                Point::new(
                     90.0 * t.cos() + 170.0 * beta.cos(),
                     90.0 * t.sin() + 170.0 * beta.sin(),
-                ]
+                )
             })
             .collect(),
     )
@@ -46,7 +47,7 @@ pub fn rows() -> Vec<Row> {
     for m in [72, 180, 360, 720, 1440] {
         let t = g1_traj(m);
         let (ms, inv) = timed(5, || {
-            invert(&t, [0.0, 0.0], &InverseOptions::default()).expect("G1")
+            invert(&t, Point::new(0.0, 0.0), &InverseOptions::default()).expect("G1")
         });
         let t0 = inv.phi_h0_rad;
         let err = (0..720)

@@ -12,7 +12,7 @@ const SCENE: &str = include_str!("../../assets/dynamics/sdof_6000.toml");
 
 fn run(model: &model::Model, y0: &[f64], method: Method, spm: u32) -> Run {
     let o = RunOptions::window(method, 120, spm);
-    simulate(model, y0, &o, &|_| {}).expect("integration")
+    simulate(model, y0, &o, &ncgear::progress::Progress::none()).expect("integration")
 }
 
 fn err(r: &Run, reference: &Run, spm: usize) -> f64 {

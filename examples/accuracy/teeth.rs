@@ -7,6 +7,7 @@
 //! (the pitch-curve sample rows use chord 1e-5 mm, so their floor is ≈ 1e-5 mm).
 use super::{Row, timed};
 use ncgear::geometry::pitch::PitchCurve;
+use ncgear::math::Point;
 use ncgear::math::polyline::{distances_to_polyline, hausdorff_mm};
 use ncgear::teeth::{
     ArcFrame, GearBlank, Generation, Outline, OutlineOptions, RackParams, ToothPolicy, generate,
@@ -16,7 +17,7 @@ use std::f64::consts::PI;
 
 /// Exact right flank of tooth 0 on the circle r0 with z teeth: polar angle
 /// `θ(r) = π/(2z) + inv(α) − inv(acos(rb/r))`, `rb = r0 cos α`, on the involute part.
-fn involute_flank(r0: f64, z: u32, m: f64, n: usize) -> Vec<[f64; 2]> {
+fn involute_flank(r0: f64, z: u32, m: f64, n: usize) -> Vec<Point> {
     let alpha = 20f64.to_radians();
     let rb = r0 * alpha.cos();
     let inv = |a: f64| a.tan() - a;
@@ -25,7 +26,7 @@ fn involute_flank(r0: f64, z: u32, m: f64, n: usize) -> Vec<[f64; 2]> {
         .map(|k| {
             let r = lo + (hi - lo) * k as f64 / (n - 1) as f64;
             let t = PI / (2.0 * f64::from(z)) + inv(alpha) - inv((rb / r).acos());
-            [r * t.cos(), r * t.sin()]
+            Point::new(r * t.cos(), r * t.sin())
         })
         .collect()
 }

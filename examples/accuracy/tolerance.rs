@@ -98,7 +98,7 @@ pub fn rows() -> Vec<Row> {
                 .with_samples(200_000)
                 .with_seed(99)
                 .with_bins(10),
-            &|_| {},
+            &ncgear::progress::Progress::none(),
         )
         .expect("finite");
     for n in [1_000, 5_000, 20_000, 50_000] {
@@ -109,7 +109,7 @@ pub fn rows() -> Vec<Row> {
                     .with_samples(n)
                     .with_seed(1)
                     .with_bins(10),
-                &|_| {},
+                &ncgear::progress::Progress::none(),
             )
             .expect("finite");
         let ms = t.elapsed().as_secs_f64() * 1e3;

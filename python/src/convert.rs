@@ -1,6 +1,7 @@
 //! Reports to Python without JSON text or lists of numbers: a serde value becomes dicts, lists
 //! and scalars, and every array of numbers a float64 `numpy.ndarray` — 1-D for a list of numbers,
 //! (N, k) for a list of equal-length number lists (points are (N, 2), mm).
+use ncgear::math::Point;
 use numpy::ndarray::Array2;
 use numpy::{IntoPyArray, PyArray1};
 use pyo3::prelude::*;
@@ -8,8 +9,8 @@ use pyo3::types::{PyBool, PyDict, PyFloat, PyList, PyString};
 use serde_json::Value;
 
 /// Points `[x, y]` (mm) as a float64 array of shape (N, 2), without a list between.
-pub fn points<'py>(py: Python<'py>, pts: &[[f64; 2]]) -> Bound<'py, PyAny> {
-    let flat = pts.as_flattened().to_vec();
+pub fn points<'py>(py: Python<'py>, pts: &[Point]) -> Bound<'py, PyAny> {
+    let flat: Vec<f64> = pts.iter().flat_map(|p| [p.x, p.y]).collect();
     Array2::from_shape_vec((pts.len(), 2), flat)
         .expect("N × 2 values")
         .into_pyarray(py)

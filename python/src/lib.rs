@@ -69,7 +69,7 @@ fn placements_of(m: &ncgear::cad::step::StepModel) -> Vec<(String, String, [f64;
         .iter()
         .map(|i| {
             let part = m.parts[i.part].name.clone();
-            (i.name.clone(), part, i.center_mm, i.angle_rad)
+            (i.name.clone(), part, i.center_mm.to_array(), i.angle_rad)
         })
         .collect()
 }
@@ -128,7 +128,7 @@ impl DesignHandle {
     /// positions), mm.
     fn deviations<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
         let r = self.d.assembly.rebuild();
-        let traced: Vec<[f64; 2]> = (0..3600)
+        let traced: Vec<ncgear::math::Point> = (0..3600)
             .map(|k| r.pose(std::f64::consts::TAU * f64::from(k) / 3600.0).tip_mm)
             .collect();
         PyArray1::from_vec(py, deviation_along(&self.d.report.target_points, &traced))
@@ -149,8 +149,13 @@ fn trajectory(
                     a.shape()
                 )));
             }
-            Trajectory::from_points(a.rows().into_iter().map(|r| [r[0], r[1]]).collect())
-                .map_err(err)
+            Trajectory::from_points(
+                a.rows()
+                    .into_iter()
+                    .map(|r| ncgear::math::Point::new(r[0], r[1]))
+                    .collect(),
+            )
+            .map_err(err)
         }
         (None, Some(p)) => Trajectory::from_path(Path::new(p)).map_err(err),
         _ => Err(err("points: give an (N, 2) array or a file path")),
@@ -391,7 +396,7 @@ fn tolerance(path: &str, samples: usize, seed: u64, starts: usize) -> PyResult<R
     let o = ToleranceOptions::default()
         .with_joint_starts(starts)
         .with_monte_carlo((samples > 0).then_some(mc));
-    report(&analyse(&file, &o, &|_| {}).map_err(err)?)
+    report(&analyse(&file, &o, &ncgear::progress::Progress::none()).map_err(err)?)
 }
 
 /// Memory a single computation may estimate for itself before it is refused, GB (the CLI's

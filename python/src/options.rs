@@ -91,7 +91,7 @@ impl DesignArgs {
         )?;
         let d = DesignOptions::default();
         let o = DesignOptions::default()
-            .with_center_mm([self.center.0, self.center.1])
+            .with_center_mm(self.center.into())
             .with_order(self.order)
             .with_tol_tip_mm(self.tol_mm)
             .with_refine(refine)

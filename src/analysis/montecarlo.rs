@@ -5,6 +5,7 @@
 //! accumulated with Welford's update over the samples in index order ([`summarize`], also usable
 //! on any sample); quantiles come from the sorted sample.
 
+use crate::progress::Progress;
 use rand::SeedableRng;
 use rand::rngs::ChaCha8Rng;
 use rayon::prelude::*;
@@ -172,8 +173,8 @@ fn check_bins(bins: usize) -> Result<(), McError> {
     }
 }
 
-/// Runs `sample(rng, i)` for `i = 0..samples` in parallel; `progress(done)` is called after each
-/// chunk. Returns the statistics and the samples in index order.
+/// Runs `sample(rng, i)` for `i = 0..samples` in parallel; `progress` hears the samples of each
+/// chunk as it finishes. Returns the statistics and the samples in index order.
 ///
 /// # Errors
 /// [`McError::BadOption`] for `samples` outside `1..=MAX_SAMPLES` or `bins` outside
@@ -181,20 +182,21 @@ fn check_bins(bins: usize) -> Result<(), McError> {
 ///
 /// ```
 /// use ncgear::analysis::montecarlo::{McOptions, run};
+/// use ncgear::progress::Progress;
 /// use rand::RngExt;
 /// let opts = McOptions::default().with_samples(20_000).with_seed(7).with_bins(10);
-/// let (stats, values) = run(&opts, |rng, _| rng.random::<f64>(), &|_| {}).unwrap();
+/// let (stats, values) = run(&opts, |rng, _| rng.random::<f64>(), &Progress::none()).unwrap();
 /// // Uniform on [0, 1): mean 1/2 within 4 standard errors, std √(1/12).
 /// assert!((stats.mean - 0.5).abs() < 4.0 * stats.mean_std_error);
 /// assert!((stats.std - (1.0f64 / 12.0).sqrt()).abs() < 0.01);
 /// // Same seed, same samples.
-/// let (_, again) = run(&opts, |rng, _| rng.random::<f64>(), &|_| {}).unwrap();
+/// let (_, again) = run(&opts, |rng, _| rng.random::<f64>(), &Progress::none()).unwrap();
 /// assert_eq!(values, again);
 /// ```
 pub fn run<F>(
     opts: &McOptions,
     sample: F,
-    progress: &(dyn Fn(u64) + Sync),
+    progress: &Progress,
 ) -> Result<(McStats, Vec<f64>), McError>
 where
     F: Fn(&mut ChaCha8Rng, usize) -> f64 + Sync,
@@ -212,7 +214,6 @@ where
     // The samples are held three times at the peak (the chunks, their concatenation, the sorted
     // copy of the quantiles), 8 bytes each.
     crate::bounds::check_memory(&format!("{n} Monte Carlo samples"), 3.0 * 8.0 * n as f64)?;
-    let done = std::sync::atomic::AtomicU64::new(0);
     let parts: Vec<Vec<f64>> = (0..n.div_ceil(chunk))
         .into_par_iter()
         .map(|c| {
@@ -224,9 +225,7 @@ where
                 rng.set_stream(i as u64);
                 vals.push(sample(&mut rng, i));
             }
-            let d = done.fetch_add((hi - lo) as u64, std::sync::atomic::Ordering::Relaxed)
-                + (hi - lo) as u64;
-            progress(d);
+            progress.advance((hi - lo) as u64);
             vals
         })
         .collect();
@@ -307,7 +306,7 @@ mod tests {
             seed: 7,
             bins: 10,
         };
-        let (s, v) = run(&opts, |r, _| r.random::<f64>(), &|_| {}).unwrap();
+        let (s, v) = run(&opts, |r, _| r.random::<f64>(), &Progress::none()).unwrap();
         assert!((s.mean - 0.5).abs() < 4.0 * (1.0 / 12f64).sqrt() / (20_000f64).sqrt());
         assert!((s.std - (1.0 / 12f64).sqrt()).abs() < 0.01);
         assert!((s.p50 - 0.5).abs() < 0.02 && (s.p95 - 0.95).abs() < 0.01);
@@ -316,9 +315,27 @@ mod tests {
             .num_threads(1)
             .build()
             .unwrap();
-        let (_, v1) = pool.install(|| run(&opts, |r, _| r.random::<f64>(), &|_| {}).unwrap());
+        let (_, v1) =
+            pool.install(|| run(&opts, |r, _| r.random::<f64>(), &Progress::none()).unwrap());
         assert_eq!(v, v1);
         assert_eq!(s.histogram.iter().map(|h| h[2]).sum::<f64>(), 20_000.0);
+    }
+
+    /// The sink hears every sample once, in chunks (20 chunks of 1024 and one of 480).
+    #[test]
+    fn progress_hears_each_sample_once() {
+        use std::sync::Arc;
+        use std::sync::atomic::{AtomicU64, Ordering};
+        let (samples, calls) = (Arc::new(AtomicU64::new(0)), Arc::new(AtomicU64::new(0)));
+        let (s, c) = (Arc::clone(&samples), Arc::clone(&calls));
+        let sink = Progress::new(move |n| {
+            s.fetch_add(n, Ordering::Relaxed);
+            c.fetch_add(1, Ordering::Relaxed);
+        });
+        let opts = McOptions::default().with_samples(20_960);
+        run(&opts, |r, _| r.random::<f64>(), &sink).unwrap();
+        assert_eq!(samples.load(Ordering::Relaxed), 20_960);
+        assert_eq!(calls.load(Ordering::Relaxed), 21);
     }
 
     #[test]
@@ -331,7 +348,7 @@ mod tests {
                 bins,
             };
             assert!(matches!(
-                run(&o, f, &|_| {}),
+                run(&o, f, &Progress::none()),
                 Err(McError::BadOption { .. })
             ));
         }
@@ -341,7 +358,11 @@ mod tests {
             bins: 5,
         };
         assert_eq!(
-            run(&o, |_, i| if i == 2500 { f64::NAN } else { 1.0 }, &|_| {}),
+            run(
+                &o,
+                |_, i| if i == 2500 { f64::NAN } else { 1.0 },
+                &Progress::none()
+            ),
             Err(McError::NonFinite { index: 2500 })
         );
         // One sample: exact statistics, zero spread.
@@ -350,7 +371,7 @@ mod tests {
             seed: 1,
             bins: 3,
         };
-        let (s, _) = run(&o, |_, _| 2.5, &|_| {}).unwrap();
+        let (s, _) = run(&o, |_, _| 2.5, &Progress::none()).unwrap();
         assert_eq!(
             (s.min, s.max, s.mean, s.std, s.p50),
             (2.5, 2.5, 2.5, 0.0, 2.5)

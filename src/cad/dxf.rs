@@ -5,11 +5,13 @@
 //! `chord_tol_mm` (Douglas–Peucker). Conventions: docs/math/cad.md §6, §10.
 use super::{ExportError, Sheet, io_err};
 use crate::math::polyline::simplify_closed;
+use ::dxf::Drawing;
 use ::dxf::LwPolylineVertex;
 use ::dxf::entities::{Entity, EntityType, LwPolyline, ModelPoint};
 use ::dxf::enums::{AcadVersion, DrawingUnits, Units};
 use ::dxf::tables::Layer;
-use ::dxf::{Drawing, Point};
+
+use crate::math::Point;
 use std::fmt::Write as _;
 use std::path::Path;
 
@@ -35,7 +37,7 @@ const FIXED_HEADER: &str = "  0\nSECTION\n  2\nHEADER\n\
 
 /// The R2010 drawing of `contours` (`(layer, points mm, closed)`) and the sheet's markers, with the
 /// fixed header stamps of [`FIXED_HEADER`].
-fn r2010(sheet: &Sheet, contours: Vec<(String, Vec<[f64; 2]>, bool)>) -> Drawing {
+fn r2010(sheet: &Sheet, contours: Vec<(String, Vec<Point>, bool)>) -> Drawing {
     let mut d = Drawing::new();
     // The template is a constant and valid; on a parse failure the crate's defaults stay.
     if let Ok(fixed) = Drawing::load(&mut FIXED_HEADER.as_bytes()) {
@@ -63,8 +65,8 @@ fn r2010(sheet: &Sheet, contours: Vec<(String, Vec<[f64; 2]>, bool)>) -> Drawing
         pl.vertices = pts
             .iter()
             .map(|p| LwPolylineVertex {
-                x: p[0],
-                y: p[1],
+                x: p.x,
+                y: p.y,
                 ..Default::default()
             })
             .collect();
@@ -73,8 +75,8 @@ fn r2010(sheet: &Sheet, contours: Vec<(String, Vec<[f64; 2]>, bool)>) -> Drawing
         d.add_entity(e);
     }
     for m in &sheet.markers {
-        let mut e = Entity::new(EntityType::ModelPoint(ModelPoint::new(Point::new(
-            m.at_mm[0], m.at_mm[1], 0.0,
+        let mut e = Entity::new(EntityType::ModelPoint(ModelPoint::new(::dxf::Point::new(
+            m.at_mm.x, m.at_mm.y, 0.0,
         ))));
         e.common.layer = m.layer.clone();
         d.add_entity(e);
@@ -97,7 +99,7 @@ pub fn write_dxf(
             expected: "finite and ≥ 0",
         });
     }
-    let simplified: Vec<(String, Vec<[f64; 2]>, bool)> = sheet
+    let simplified: Vec<(String, Vec<Point>, bool)> = sheet
         .contours
         .iter()
         .map(|c| {
@@ -163,8 +165,8 @@ pub fn write_dxf(
                 for p in pts {
                     pair(0, "VERTEX");
                     pair(8, layer);
-                    pair(10, &format!("{:.9}", p[0]));
-                    pair(20, &format!("{:.9}", p[1]));
+                    pair(10, &format!("{:.9}", p.x));
+                    pair(20, &format!("{:.9}", p.y));
                     pair(30, "0.0");
                 }
                 pair(0, "SEQEND");
@@ -173,8 +175,8 @@ pub fn write_dxf(
             for m in &sheet.markers {
                 pair(0, "POINT");
                 pair(8, &m.layer);
-                pair(10, &format!("{:.9}", m.at_mm[0]));
-                pair(20, &format!("{:.9}", m.at_mm[1]));
+                pair(10, &format!("{:.9}", m.at_mm.x));
+                pair(20, &format!("{:.9}", m.at_mm.y));
                 pair(30, "0.0");
             }
             pair(0, "ENDSEC");
@@ -194,13 +196,18 @@ mod tests {
             contours: vec![Contour {
                 name: "square".into(),
                 layer: "OUTLINE".into(),
-                points_mm: vec![[0.0, 0.0], [10.0, 0.0], [10.0, 10.0], [0.0, 10.0]],
+                points_mm: vec![
+                    Point::new(0.0, 0.0),
+                    Point::new(10.0, 0.0),
+                    Point::new(10.0, 10.0),
+                    Point::new(0.0, 10.0),
+                ],
                 closed: true,
             }],
             markers: vec![Marker {
                 name: "O".into(),
                 layer: "CENTRES".into(),
-                at_mm: [5.0, 5.0],
+                at_mm: Point::new(5.0, 5.0),
             }],
         }
     }

@@ -1,6 +1,7 @@
 //! CAD exports of closed polylines in mm: SVG (mm-exact), DXF (R2010 LWPOLYLINE or R12 POLYLINE),
 //! point lists (CSV with header, header-less `x y 0` TXT) and STEP AP214 solids of the extruded
 //! gears. Conventions: docs/math/cad.md §6, §8.
+use crate::math::Point;
 pub mod dxf;
 pub mod points;
 pub mod step;
@@ -16,7 +17,7 @@ pub struct Contour {
     /// Layer (e.g. `DRIVER_OUTLINE`, `DRIVER_PITCH`).
     pub layer: String,
     /// Vertices, mm. For closed contours, no duplicated end vertex.
-    pub points_mm: Vec<[f64; 2]>,
+    pub points_mm: Vec<Point>,
     /// Closed contour.
     pub closed: bool,
 }
@@ -29,7 +30,7 @@ pub struct Marker {
     /// Layer (e.g. `CENTRES`).
     pub layer: String,
     /// Position, mm.
-    pub at_mm: [f64; 2],
+    pub at_mm: Point,
 }
 
 /// A sheet: contours and markers, all in mm.
@@ -103,7 +104,7 @@ impl Sheet {
             }
             if c.points_mm
                 .iter()
-                .any(|p| !(p[0].is_finite() && p[1].is_finite()))
+                .any(|p| !(p.x.is_finite() && p.y.is_finite()))
             {
                 return Err(ExportError::BadContour {
                     name: c.name.clone(),

@@ -13,8 +13,8 @@ pub fn write_points(sheet: &Sheet, dir: &Path, name: &str) -> Result<Vec<PathBuf
     for c in &sheet.contours {
         let mut txt = String::new();
         for (i, p) in c.points_mm.iter().enumerate() {
-            let _ = writeln!(csv, "{},{},{:.9},{:.9}", c.name, i, p[0], p[1]);
-            let _ = writeln!(txt, "{:.9} {:.9} 0", p[0], p[1]);
+            let _ = writeln!(csv, "{},{},{:.9},{:.9}", c.name, i, p.x, p.y);
+            let _ = writeln!(txt, "{:.9} {:.9} 0", p.x, p.y);
         }
         let path = dir.join(format!("{}.txt", c.name));
         crate::files::write_whole(&path, txt).map_err(|e| io_err(&path, e))?;

@@ -35,7 +35,7 @@ pub fn to_svg_string(sheet: &Sheet, margin_mm: f64) -> String {
         for c in sheet.contours.iter().filter(|c| c.layer == layer) {
             let mut points = String::new();
             for p in &c.points_mm {
-                let _ = write!(points, "{:.5},{:.5} ", p[0], -p[1]);
+                let _ = write!(points, "{:.5},{:.5} ", p.x, -p.y);
             }
             g = if c.closed {
                 g.add(
@@ -55,8 +55,8 @@ pub fn to_svg_string(sheet: &Sheet, margin_mm: f64) -> String {
             g = g.add(
                 Circle::new()
                     .set("id", m.name.as_str())
-                    .set("cx", format!("{:.5}", m.at_mm[0]))
-                    .set("cy", format!("{:.5}", -m.at_mm[1]))
+                    .set("cx", format!("{:.5}", m.at_mm.x))
+                    .set("cy", format!("{:.5}", -m.at_mm.y))
                     .set("r", format!("{:.3}", 2.0 * stroke)),
             );
         }
@@ -71,8 +71,8 @@ pub fn to_svg_string(sheet: &Sheet, margin_mm: f64) -> String {
     for m in &sheet.markers {
         text = text.add(
             Text::new(m.name.as_str())
-                .set("x", format!("{:.4}", m.at_mm[0] + 3.0 * stroke))
-                .set("y", format!("{:.4}", -m.at_mm[1] - 3.0 * stroke)),
+                .set("x", format!("{:.4}", m.at_mm.x + 3.0 * stroke))
+                .set("y", format!("{:.4}", -m.at_mm.y - 3.0 * stroke)),
         );
     }
     doc = doc.add(text);

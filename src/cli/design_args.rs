@@ -3,6 +3,7 @@
 use super::teeth_args::RackArgs;
 use ncgear::design::segmented::Route;
 use ncgear::design::{DesignOptions, IdlerOffset, RefineMode};
+use ncgear::math::Point;
 use std::path::PathBuf;
 
 /// Carrier positions of each mesh verification unless `--verify-steps` says otherwise.
@@ -76,6 +77,11 @@ pub enum RouteArg {
     Bd,
 }
 
+/// Parses the point `X,Y` (mm).
+pub fn parse_point(s: &str) -> Result<Point, String> {
+    parse_pair(s).map(Point::from)
+}
+
 /// Parses `X,Y`.
 pub fn parse_pair(s: &str) -> Result<[f64; 2], String> {
     let v: Vec<&str> = s.split(',').map(str::trim).collect();
@@ -102,8 +108,8 @@ pub struct Args {
     #[arg(long, default_value = "out")]
     pub out: PathBuf,
     /// Carrier axis O as `X,Y` in mm.
-    #[arg(long, value_parser = parse_pair, default_value = "0,0", allow_hyphen_values = true)]
-    pub center: [f64; 2],
+    #[arg(long, value_parser = parse_point, default_value = "0,0", allow_hyphen_values = true)]
+    pub center: Point,
     /// Fixed Fourier order K (default: adaptive 4…40 until --tol-mm is met).
     #[arg(long)]
     pub order: Option<usize>,

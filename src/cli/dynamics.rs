@@ -144,13 +144,10 @@ pub fn run(args: Args) -> CliResult {
             "transient",
         )),
     };
-    let report = prepared
-        .run(&options, &|k| {
-            if let Some(pb) = &pb {
-                pb.set_position(k);
-            }
-        })
-        .map_err(dyn_err)?;
+    let sink = pb
+        .as_ref()
+        .map_or_else(ncgear::progress::Progress::none, super::bar_sink);
+    let report = prepared.run(&options, &sink).map_err(dyn_err)?;
     if let Some(pb) = &pb {
         pb.finish_and_clear();
     }

@@ -307,7 +307,7 @@ fn run_measure(path: &Path, ev: &mut Evaluation) -> Result<(Record, Measurement)
     let rec = Record::from_path(path).map_err(input_error)?;
     if ev.estimates_frequency() {
         let pb = super::progress_bar(ev.refine_iterations(&rec), "ω_p refine");
-        ev.refine_frequency(&rec, &|k| pb.set_position(k))
+        ev.refine_frequency(&rec, &super::bar_sink(&pb))
             .map_err(input_error)?;
         pb.finish_and_clear();
     }

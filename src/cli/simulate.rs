@@ -3,6 +3,7 @@ use super::{CliResult, input_error, print_json, runtime_error};
 use ncgear::design::train::{TrainPolicy, TrainSource, TrainTeethOptions, tooth_train};
 use ncgear::design::trajectory::Trajectory;
 use ncgear::geometry::assembly::Assembly;
+use ncgear::math::Point;
 use ncgear::output::animate::AnimationOptions;
 use ncgear::output::{SimulationReport, write_simulation};
 use ncgear::simulate::{DesignFile, FeatureOptions, SimulateError, Simulation};
@@ -123,7 +124,7 @@ fn simulation(
     args: &Args,
     file: &DesignFile,
     asm: Assembly,
-    target: &[[f64; 2]],
+    target: &[Point],
 ) -> Result<Simulation, super::Failure> {
     let policy = match (args.module, file.teeth) {
         (Some(m), _) => Some((m, TrainPolicy::ScaleCenterDistance(ToothPolicy::ScaleUp))),

@@ -117,8 +117,8 @@ fn print_summary(file: &str, s: &Synthesis) {
     }
     println!(
         "  chosen: O = ({:.6}, {:.6}) mm, l1 = {:.6} mm, l3 = {:.6} mm (candidate {} of {})",
-        c.dyad.center_mm[0],
-        c.dyad.center_mm[1],
+        c.dyad.center_mm.x,
+        c.dyad.center_mm.y,
         c.dyad.l1_mm,
         c.dyad.l3_mm,
         r.chosen + 1,

@@ -58,7 +58,7 @@ pub fn run(args: Args) -> CliResult {
         .with_joint_starts(args.starts);
     let pb = progress_bar(args.samples as u64, "Monte Carlo");
     // Every error of the analysis is the input's (a value of the file, or --samples).
-    let report = analyse(&file, &opts, &|d| pb.set_position(d)).map_err(|e| {
+    let report = analyse(&file, &opts, &super::bar_sink(&pb)).map_err(|e| {
         input_error(miette::miette!(
             help = "--samples sets the Monte Carlo sample count",
             "{e}"
@@ -180,16 +180,17 @@ fn run_transplanter(args: &Args, inventory: &Path) -> CliResult {
         .with_validation_samples(args.validation_samples)
         .with_feature_samples(args.feature_samples)
         .with_starts(args.starts);
-    let pb = progress_bar(args.samples as u64, "Monte Carlo");
-    let report = transplanter::analyse(&asm, &inv, &opts, &|d| pb.set_position(d)).map_err(
-        |e| match &e {
+    // The tip-deviation samples, then as many random assemblies when a direction is free.
+    let passes = if inv.free_gears().is_empty() { 1 } else { 2 };
+    let pb = progress_bar(passes * args.samples as u64, "Monte Carlo");
+    let report =
+        transplanter::analyse(&asm, &inv, &opts, &super::bar_sink(&pb)).map_err(|e| match &e {
             TransplanterError::BadOption { option, .. } => match flag_of(option) {
                 Some(flag) => input_error(miette::miette!(help = format!("set by {flag}"), "{e}")),
                 None => input_error(miette::miette!("{e}")),
             },
             _ => runtime_error(miette::miette!("{e}")),
-        },
-    )?;
+        })?;
     pb.finish_and_clear();
     create_dir(&args.out)?;
     let json_path = args.out.join("transplanter.json");

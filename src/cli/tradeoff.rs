@@ -1,10 +1,11 @@
 //! `ncgear tradeoff TRAJ --out DIR`: what accuracy costs, one design per limit and module.
 use super::design::design_failure;
-use super::design_args::parse_pair;
+use super::design_args::parse_point;
 use super::{CliResult, input_error, print_json, progress_bar, runtime_error};
 use ncgear::design::DesignOptions;
 use ncgear::design::tradeoff::{ROWS, trade_off};
 use ncgear::design::trajectory::Trajectory;
+use ncgear::math::Point;
 use std::path::PathBuf;
 
 /// Arguments of `ncgear tradeoff`.
@@ -16,8 +17,8 @@ pub struct Args {
     #[arg(long, default_value = "out")]
     pub out: PathBuf,
     /// Carrier axis O as `X,Y` in mm.
-    #[arg(long, value_parser = parse_pair, default_value = "0,0", allow_hyphen_values = true)]
-    pub center: [f64; 2],
+    #[arg(long, value_parser = parse_point, default_value = "0,0", allow_hyphen_values = true)]
+    pub center: Point,
     /// Print the table (tradeoff.json) to stdout instead of the console table.
     #[arg(long)]
     pub json: bool,

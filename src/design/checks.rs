@@ -11,6 +11,7 @@ use crate::design::trajectory::Trajectory;
 use crate::geometry::assembly::{Assembly, Rebuilt};
 use crate::geometry::mechanism::{INVERSE_TOL_RAD, Mechanism};
 use crate::geometry::pitch::{CurvatureSummary, PitchCurve};
+use crate::math::Point;
 use std::f64::consts::TAU;
 
 fn rms(v: &[f64]) -> f64 {
@@ -24,7 +25,7 @@ pub(super) struct Finished {
     /// The kinematics rebuilt from the tables (the round trip).
     pub rebuilt: Rebuilt,
     /// The traced tip path, world frame, mm.
-    pub traced: Vec<[f64; 2]>,
+    pub traced: Vec<Point>,
     /// The carrier angle at which the tip passes each point, rad (solved frame).
     pub angles: Vec<f64>,
     pub checks: Vec<Check>,

@@ -4,6 +4,7 @@
 use crate::design::fit::{self, FitOptions};
 use crate::geometry::fourier::SunRatio;
 use crate::geometry::mechanism::Mechanism;
+use crate::math::Point;
 use rayon::prelude::*;
 
 /// Eccentricities and orientations (rad) of the focus-pivoted elliptic suns scanned.
@@ -31,7 +32,7 @@ pub(super) type Build<'a> = &'a (dyn Fn(SunRatio) -> (Mechanism, f64) + Sync);
 /// minimax finish only within [`ELLIPSE_FINISH_RATIO`] (on `exact_three_harmonic.csv` at
 /// m = 2 the unstaged restart climbed to order 40 and took 2.1 s of the design's 4.4 s).
 pub(super) fn from_an_ellipse(
-    points: &[[f64; 2]],
+    points: &[Point],
     build: Build<'_>,
     tol_tip_mm: f64,
     opts: &FitOptions,

@@ -35,6 +35,7 @@ use crate::design::fit::{
 };
 use crate::geometry::mechanism::Mechanism;
 use crate::geometry::perimeter::unit_perimeter;
+use crate::math::Point;
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 use std::f64::consts::PI;
@@ -107,7 +108,7 @@ pub(super) fn check_module(start: &Mechanism, module_mm: f64) -> Result<(), Desi
 /// documentation), from `start` (the free design), with the chain's fit options and the idler
 /// offset allowed by `offset`.
 pub(super) fn design_for_module(
-    points: &[[f64; 2]],
+    points: &[Point],
     start: &Mechanism,
     module_mm: f64,
     fit_opts: &FitOptions,
@@ -272,7 +273,7 @@ impl Size {
 /// m = 1.5: 0.0042 mm on the closer start's side, 0.0010 mm on the other, 2026-11-28). Neither
 /// kind is the better start everywhere: the first keeps the ratio and moves the arm, the second
 /// keeps the arm and changes the ratio.
-fn sized_starts(points: &[[f64; 2]], start: &Mechanism, opts: &FitOptions) -> Vec<Fitted> {
+fn sized_starts(points: &[Point], start: &Mechanism, opts: &FitOptions) -> Vec<Fitted> {
     let resized = admitted(points, start, opts);
     let perimeter = opts.perimeter_mm.unwrap_or(f64::NAN);
     if !opts.free_idler_offset {
@@ -291,7 +292,7 @@ impl Candidate {
     /// The least-squares fit at `size` from its starts ([`sized_starts`]), and the start of its
     /// finish for the largest distance when `judge` asks for one.
     fn least_squares(
-        points: &[[f64; 2]],
+        points: &[Point],
         start: &Mechanism,
         size: Size,
         fit_opts: &FitOptions,
@@ -343,7 +344,7 @@ impl Candidate {
     /// The minimax finish from the least-squares fit: it lowers the Hausdorff distance to the
     /// points' polyline, chords' sag and all, so the closer of the two by the module's measure
     /// is kept.
-    fn finish(&mut self, points: &[[f64; 2]], judge: Judge) {
+    fn finish(&mut self, points: &[Point], judge: Judge) {
         if let Some(f) = &self.finish_start {
             let finished = minimax(points, f.clone(), &self.opts);
             if judge.score(&finished) < judge.score(&self.fit) {
@@ -355,7 +356,7 @@ impl Candidate {
 
     /// The finish again from the same start with Lawson's weights started from its distances;
     /// the closer of the two is kept.
-    fn second_finish(&mut self, points: &[[f64; 2]], judge: Judge) {
+    fn second_finish(&mut self, points: &[Point], judge: Judge) {
         if let Some(f) = self.finish_start.take() {
             let other = minimax_from_distances(points, f, &self.opts);
             if judge.score(&other) < judge.score(&self.fit) {

@@ -86,7 +86,7 @@ mod tests {
                 .map(|k| {
                     let phi = std::f64::consts::TAU * k as f64 / 720.0;
                     let (p, q) = (m.tip(phi), g1.tip(phi));
-                    (p[0] - q[0]).hypot(p[1] - q[1])
+                    p.distance(q)
                 })
                 .fold(0.0, f64::max);
             assert!(dev < 0.01, "sign {sign}: {dev} mm");

@@ -6,6 +6,7 @@ use crate::design::inverse::InverseOptions;
 use crate::design::refine::RefineOptions;
 use crate::design::segmented::SegmentedOptions;
 use crate::geometry::limits::GearLimits;
+use crate::math::Point;
 use serde::{Deserialize, Serialize};
 
 /// Orders tried by the adaptive order choice (docs/math/chain.md §8.2).
@@ -68,7 +69,7 @@ pub const SUN_PLANET_GAP_MODULES: f64 = 2.25;
 #[non_exhaustive]
 pub struct DesignOptions {
     /// Carrier axis O in the trajectory's frame, mm. Default [0, 0].
-    pub center_mm: [f64; 2],
+    pub center_mm: Point,
     /// Step-1 accuracy knobs. Default [`InverseOptions::default`].
     pub inverse: InverseOptions,
     /// Smooth a measured/noisy trajectory to this many Fourier harmonics before step 1
@@ -130,7 +131,7 @@ pub struct DesignOptions {
 }
 
 crate::builder::with_fields!(DesignOptions {
-    with_center_mm => center_mm: [f64; 2],
+    with_center_mm => center_mm: Point,
     with_inverse => inverse: InverseOptions,
     with_smoothing => smoothing: Option<usize>,
     with_segmented => segmented: SegmentedOptions,
@@ -228,7 +229,7 @@ impl DesignOptions {
 impl Default for DesignOptions {
     fn default() -> Self {
         Self {
-            center_mm: [0.0, 0.0],
+            center_mm: Point::new(0.0, 0.0),
             inverse: InverseOptions::default(),
             smoothing: None,
             segmented: SegmentedOptions::default(),
@@ -289,7 +290,7 @@ fn show<T: ToString>(v: Option<T>) -> String {
 fn input_rules(opts: &DesignOptions) -> [Rule; 11] {
     let (inv, refine) = (&opts.inverse, &opts.refine_options);
     let [lo, hi] = refine.ratio_bounds;
-    let [cx, cy] = opts.center_mm;
+    let Point { x: cx, y: cy } = opts.center_mm;
     [
         (
             opts.order.is_none_or(|k| (1..=64).contains(&k)),

@@ -3,6 +3,7 @@
 use crate::design::inverse::Inversion;
 use crate::geometry::assembly::{Assembly, Rebuilt};
 use crate::geometry::mechanism::Mechanism;
+use crate::math::Point;
 use serde::{Deserialize, Serialize};
 
 /// The layout version of the JSON reports this library writes (`schema_version`): 2 since every
@@ -74,7 +75,7 @@ pub struct DesignReport {
     /// Checks C1–C13.
     pub checks: Vec<Check>,
     /// The target trajectory as read (world frame, mm, travel order).
-    pub target_points: Vec<[f64; 2]>,
+    pub target_points: Vec<Point>,
     /// Human-readable warnings.
     pub warnings: Vec<String>,
     /// Wall-clock time per stage, ms.
@@ -169,7 +170,7 @@ impl Units {
 pub struct Carrier {
     /// Carrier axis O, mm.
     #[serde(alias = "center")]
-    pub center_mm: [f64; 2],
+    pub center_mm: Point,
     /// +1 CCW, −1 CW (the sense the trajectory is travelled).
     pub direction: i8,
 }
@@ -438,7 +439,7 @@ pub struct Design {
     /// Step-1 result.
     pub inversion: Inversion,
     /// Traced tip path from the round trip, mm, world frame.
-    pub traced_mm: Vec<[f64; 2]>,
+    pub traced_mm: Vec<Point>,
     /// The carrier angle at which the tip passes each target point, rad, in the solved frame
     /// (CCW; the world angle is this times the carrier direction): where check C12 measures
     /// the synchronous deviation, and where a toothed train's is measured too.

@@ -4,6 +4,7 @@
 
 use crate::design::trajectory::ClosedSpline;
 use crate::geometry::assembly::Rebuilt;
+use crate::math::Point;
 use crate::math::polyline::hausdorff_mm;
 use rayon::prelude::*;
 use std::f64::consts::TAU;
@@ -15,7 +16,7 @@ use std::f64::consts::TAU;
 /// positions over the turn), both mm.
 pub(crate) fn deviations_as_designed(
     rebuilt: &Rebuilt,
-    points: &[[f64; 2]],
+    points: &[Point],
     angles: &[f64],
     m: usize,
 ) -> (f64, f64) {
@@ -33,7 +34,7 @@ pub(crate) fn deviations_as_designed(
 
 /// The tip path and the largest mesh errors `[sun, planet]` (mm) of the train rebuilt from the
 /// tables, at `m` carrier angles (sense `sign`).
-pub(crate) fn trace(rebuilt: &Rebuilt, m: usize, sign: f64) -> (Vec<[f64; 2]>, [f64; 2]) {
+pub(crate) fn trace(rebuilt: &Rebuilt, m: usize, sign: f64) -> (Vec<Point>, [f64; 2]) {
     // The poses are independent: evaluated in parallel (same values in the same order).
     let poses: Vec<_> = (0..m)
         .into_par_iter()
@@ -50,7 +51,7 @@ pub(crate) fn trace(rebuilt: &Rebuilt, m: usize, sign: f64) -> (Vec<[f64; 2]>, [
 /// Synchronous deviation (mm) at every target point, at the carrier angle the tip passes it.
 pub(crate) fn tip_deviations(
     rebuilt: &Rebuilt,
-    points: &[[f64; 2]],
+    points: &[Point],
     angles: &[f64],
     sign: f64,
 ) -> Vec<f64> {
@@ -59,7 +60,7 @@ pub(crate) fn tip_deviations(
         .zip(angles)
         .map(|(p, &phi)| {
             let tip = rebuilt.pose(sign * phi).tip_mm;
-            crate::math::norm([tip[0] - p[0], tip[1] - p[1]])
+            (tip - *p).norm()
         })
         .collect()
 }
@@ -75,14 +76,14 @@ pub(crate) fn tip_deviations(
 ///   charged for the swing (designer_even2: 1.70 mm against 1.28 mm from the points' polyline,
 ///   2026-11-27).
 pub(crate) fn target_hausdorff_mm(
-    traced: &[[f64; 2]],
-    points: &[[f64; 2]],
+    traced: &[Point],
+    points: &[Point],
     angles: &[f64],
     n: usize,
 ) -> f64 {
     let chord = || {
         let spline = ClosedSpline::through(points);
-        let curve: Vec<[f64; 2]> = (0..n)
+        let curve: Vec<Point> = (0..n)
             .map(|k| spline.point(spline.period() * k as f64 / n as f64))
             .collect();
         hausdorff_mm(traced, &curve)
@@ -94,7 +95,7 @@ pub(crate) fn target_hausdorff_mm(
 
 /// `n` points of the periodic cubic spline through the points in the carrier angles at which the
 /// tip passes them, or `None` when those angles do not advance monotonically.
-fn carrier_angle_curve(points: &[[f64; 2]], angles: &[f64], n: usize) -> Option<Vec<[f64; 2]>> {
+fn carrier_angle_curve(points: &[Point], angles: &[f64], n: usize) -> Option<Vec<Point>> {
     let mut knots = Vec::with_capacity(angles.len());
     let mut acc = 0.0;
     for (j, &a) in angles.iter().enumerate() {
@@ -115,7 +116,7 @@ fn carrier_angle_curve(points: &[[f64; 2]], angles: &[f64], n: usize) -> Option<
     let axis = |c: usize| {
         crate::math::periodic::PeriodicSpline::new(
             knots.clone(),
-            points.iter().map(|p| p[c]).collect(),
+            points.iter().map(|p| p.to_array()[c]).collect(),
             TAU,
         )
         .ok()
@@ -125,7 +126,7 @@ fn carrier_angle_curve(points: &[[f64; 2]], angles: &[f64], n: usize) -> Option<
         (0..n)
             .map(|k| {
                 let t = TAU * k as f64 / n as f64;
-                [x.value(t), y.value(t)]
+                Point::new(x.value(t), y.value(t))
             })
             .collect(),
     )

@@ -20,6 +20,7 @@
 //! ```
 
 use super::{DesignError, DesignOptions, IdlerOffset, design, trajectory::Trajectory};
+use crate::math::Point;
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 use std::fmt::Write as _;
@@ -45,7 +46,7 @@ pub struct TradeOff {
     /// Target points read.
     pub points: usize,
     /// Carrier axis O, mm.
-    pub center_mm: [f64; 2],
+    pub center_mm: Point,
     /// The rows: the limit rows (tightest first, then unlimited), the off-line row, then the
     /// module rows.
     pub rows: Vec<TradeOffRow>,
@@ -463,7 +464,7 @@ mod tests {
         );
         let md = TradeOff {
             points: 3,
-            center_mm: [0.0; 2],
+            center_mm: Point::ZERO,
             rows,
             exact_needs: None,
         }

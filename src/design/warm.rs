@@ -22,6 +22,7 @@ use super::report::DesignReport;
 use super::{Design, DesignError, DesignOptions, trajectory::Trajectory};
 use crate::geometry::fourier::SunRatio;
 use crate::geometry::mechanism::Mechanism;
+use crate::math::Point;
 use std::f64::consts::PI;
 
 /// Levenberg–Marquardt iterations of the warm fit (the full search allows 40 per order).
@@ -38,15 +39,15 @@ pub const WARM_MINIMAX_PASSES: usize = 2;
 /// use ncgear::design::warm::redesign;
 /// use ncgear::geometry::golden::g1_mechanism;
 /// let g1 = g1_mechanism();
-/// let pts: Vec<[f64; 2]> = (0..360).map(|k| g1.tip((k as f64).to_radians())).collect();
+/// let pts: Vec<ncgear::math::Point> = (0..360).map(|k| g1.tip((k as f64).to_radians())).collect();
 /// let first = design(&Trajectory::from_points(pts.clone())?, &DesignOptions::default())?;
 /// // The target moved by a bump of 0.3 mm around one point: the edit re-designs from `first`.
-/// let moved: Vec<[f64; 2]> = pts
+/// let moved: Vec<ncgear::math::Point> = pts
 ///     .iter()
 ///     .enumerate()
 ///     .map(|(k, p)| {
 ///         let w = 0.3 * (-((k as f64 - 90.0) / 8.0).powi(2)).exp();
-///         [p[0] + w, p[1]]
+///         *p + ncgear::math::Point::new(w, 0.0)
 ///     })
 ///     .collect();
 /// let d = redesign(&Trajectory::from_points(moved)?, &DesignOptions::default(), &first.report)?;
@@ -87,7 +88,7 @@ pub(super) fn start_mechanism(report: &DesignReport, direction: i8) -> Option<Me
 /// One fit of `points` (solved frame) from `start` at its order, under `base`'s limits; with
 /// `teeth` = `(z, m)` the perimeter is held at `zπm`.
 pub(super) fn warm_fit(
-    points: &[[f64; 2]],
+    points: &[Point],
     start: &Mechanism,
     base: &FitOptions,
     teeth: Option<(u32, f64)>,

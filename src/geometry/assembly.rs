@@ -21,6 +21,7 @@
 
 use crate::geometry::mechanism::Mechanism;
 use crate::geometry::pitch::{PitchCurve, PitchError};
+use crate::math::Point;
 use crate::math::periodic::{PeriodicSpline, spectral_integral};
 use std::f64::consts::{PI, TAU};
 
@@ -28,7 +29,7 @@ use std::f64::consts::{PI, TAU};
 #[derive(Debug, Clone)]
 pub struct Assembly {
     /// Carrier axis O, mm.
-    pub center_mm: [f64; 2],
+    pub center_mm: Point,
     /// +1 for a CCW carrier, −1 for CW.
     pub direction: i8,
     /// Centre distance `a`, mm.
@@ -78,15 +79,15 @@ pub struct Pose {
     /// Carrier angle φH, rad.
     pub phi_h_rad: f64,
     /// Intermediate centre D, mm.
-    pub intermediate_center_mm: [f64; 2],
+    pub intermediate_center_mm: Point,
     /// Planet centre A, mm.
-    pub planet_center_mm: [f64; 2],
+    pub planet_center_mm: Point,
     /// Intermediate orientation θ2, rad.
     pub intermediate_angle_rad: f64,
     /// Planet orientation θ3, rad.
     pub planet_angle_rad: f64,
     /// Needle tip B, mm.
-    pub tip_mm: [f64; 2],
+    pub tip_mm: Point,
     /// `r_sun + ρ2 − a` at the sun–intermediate contact, mm (0 for conjugate curves).
     pub sun_mesh_error_mm: f64,
     /// `r_planet + ρ2 − a` at the intermediate–planet contact, mm.
@@ -114,7 +115,7 @@ impl Assembly {
     /// tables of `n` samples, mirrored when `direction = −1`.
     pub fn from_mechanism(
         m: &Mechanism,
-        center_mm: [f64; 2],
+        center_mm: Point,
         direction: i8,
         n: usize,
     ) -> Result<Self, PitchError> {
@@ -279,20 +280,20 @@ impl Rebuilt {
         let l1 = self.l1_mm();
         let o = self.asm.center_mm;
         let s = self.sign;
-        let world = |p: [f64; 2]| [o[0] + p[0], o[1] + s * p[1]];
+        let world = |p: Point| Point::new(o.x + p.x, o.y + s * p.y);
         let d = phi + eps;
         let sun_err = self.sun.radius_mm(d) + self.mid.radius_mm(d + PI - theta2) - a;
         let planet_err = self.planet.radius_mm(c3) + self.mid.radius_mm(c2) - a;
         Pose {
             phi_h_rad: phi_h,
-            intermediate_center_mm: world([a * d.cos(), a * d.sin()]),
-            planet_center_mm: world([l1 * phi.cos(), l1 * phi.sin()]),
+            intermediate_center_mm: world(Point::new(a * d.cos(), a * d.sin())),
+            planet_center_mm: world(Point::new(l1 * phi.cos(), l1 * phi.sin())),
             intermediate_angle_rad: s * theta2,
             planet_angle_rad: s * theta3,
-            tip_mm: world([
+            tip_mm: world(Point::new(
                 l1 * phi.cos() + self.asm.l3_mm * b.cos(),
                 l1 * phi.sin() + self.asm.l3_mm * b.sin(),
-            ]),
+            )),
             sun_mesh_error_mm: sun_err,
             planet_mesh_error_mm: planet_err,
         }
@@ -300,7 +301,7 @@ impl Rebuilt {
 
     /// Tip positions (mm, world) at `n` uniform carrier angles over one turn, in travel order.
     #[must_use]
-    pub fn traced(&self, n: usize) -> Vec<[f64; 2]> {
+    pub fn traced(&self, n: usize) -> Vec<Point> {
         use rayon::prelude::*;
         // Independent poses: side by side, collected in order.
         (0..n)
@@ -328,7 +329,7 @@ mod tests {
             needle_angle_rad: -1.1,
             idler_offset_rad: -0.25,
         };
-        let o = [10.0, -5.0];
+        let o = Point::new(10.0, -5.0);
         for direction in [1, -1] {
             let s = f64::from(direction);
             let r = Assembly::from_mechanism(&m, o, direction, 3600)
@@ -337,12 +338,9 @@ mod tests {
             for j in 0..36 {
                 let phi = 0.17 * j as f64;
                 let p = r.pose(s * phi);
-                let world = |v: [f64; 2]| [o[0] + v[0], o[1] + s * v[1]];
-                let close = |a: [f64; 2], b: [f64; 2], tol: f64| {
-                    assert!(
-                        (a[0] - b[0]).hypot(a[1] - b[1]) < tol,
-                        "{a:?} vs {b:?} at {phi}"
-                    );
+                let world = |v: Point| Point::new(o.x + v.x, o.y + s * v.y);
+                let close = |a: Point, b: Point, tol: f64| {
+                    assert!(a.distance(b) < tol, "{a:?} vs {b:?} at {phi}");
                 };
                 close(p.tip_mm, world(m.tip(phi)), 1e-8);
                 close(
@@ -353,7 +351,7 @@ mod tests {
                 let l1 = m.l1_mm();
                 close(
                     p.planet_center_mm,
-                    world([l1 * phi.cos(), l1 * phi.sin()]),
+                    world(Point::new(l1 * phi.cos(), l1 * phi.sin())),
                     1e-12,
                 );
                 let turn = |a: f64, b: f64| ((a - b + PI).rem_euclid(TAU) - PI).abs();

@@ -30,6 +30,7 @@
 
 use crate::geometry::fourier::SunRatio;
 use crate::geometry::pitch::{PitchCurve, PitchError};
+use crate::math::Point;
 use std::f64::consts::{PI, TAU};
 
 /// Tolerance of the Φ⁻¹ solves, rad (docs/math/chain.md §13: 1e-13).
@@ -152,9 +153,9 @@ impl Mechanism {
 
     /// Intermediate axis D at carrier angle φH (rad), mm, relative to the carrier axis.
     #[must_use]
-    pub fn intermediate_center(&self, phi_h: f64) -> [f64; 2] {
+    pub fn intermediate_center(&self, phi_h: f64) -> Point {
         let d = phi_h + self.idler_offset_rad;
-        [self.a_mm * d.cos(), self.a_mm * d.sin()]
+        Point::new(self.a_mm * d.cos(), self.a_mm * d.sin())
     }
 
     /// Intermediate orientation θ2 at carrier angle φH, rad.
@@ -177,13 +178,13 @@ impl Mechanism {
 
     /// Needle tip at carrier angle φH (rad), mm, relative to the carrier axis.
     #[must_use]
-    pub fn tip(&self, phi_h: f64) -> [f64; 2] {
+    pub fn tip(&self, phi_h: f64) -> Point {
         let b = self.needle_direction(phi_h);
         let l1 = self.l1_mm();
-        [
+        Point::new(
             l1 * phi_h.cos() + self.l3_mm * b.cos(),
             l1 * phi_h.sin() + self.l3_mm * b.sin(),
-        ]
+        )
     }
 
     /// Largest pitch radius of the sun and of its copy, the planet, `a·i_max/(1 + i_max)`, mm.
@@ -356,17 +357,17 @@ mod tests {
             m.intermediate_curve(n).unwrap(),
             m.planet_curve(n).unwrap(),
         );
-        let dir = |p: [f64; 2], q: [f64; 2]| (q[1] - p[1]).atan2(q[0] - p[0]);
+        let dir = |p: Point, q: Point| (q - p).atan2();
         let h = 1e-5;
         for j in 0..24 {
             let phi = 0.26 * j as f64;
             let d = m.intermediate_center(phi);
-            let a = [m.l1_mm() * phi.cos(), m.l1_mm() * phi.sin()];
-            assert!((d[0].hypot(d[1]) - m.a_mm).abs() < 1e-12);
-            assert!(((a[0] - d[0]).hypot(a[1] - d[1]) - m.a_mm).abs() < 1e-12);
+            let a = Point::new(m.l1_mm() * phi.cos(), m.l1_mm() * phi.sin());
+            assert!((d.hypot() - m.a_mm).abs() < 1e-12);
+            assert!((a.distance(d) - m.a_mm).abs() < 1e-12);
             let (t2, t3) = (m.intermediate_orientation(phi), m.planet_orientation(phi));
-            let r_sun = sun.radius_mm(dir([0.0, 0.0], d));
-            let r_mid_sun = mid.radius_mm(dir(d, [0.0, 0.0]) - t2);
+            let r_sun = sun.radius_mm(dir(Point::new(0.0, 0.0), d));
+            let r_mid_sun = mid.radius_mm(dir(d, Point::new(0.0, 0.0)) - t2);
             let r_mid_planet = mid.radius_mm(dir(d, a) - t2);
             let r_planet = planet.radius_mm(dir(a, d) - t3);
             assert!(

@@ -7,6 +7,7 @@
 //! Reference: docs/math/chain.md §5 (polar derivatives, convexity `Δ = r² + 2r_θ² − r r_θθ`,
 //! radius of curvature `ρc = (r² + r_θ²)^{3/2}/Δ`, pressure-angle deviation `atan(r_θ/r)`), docs/math/chain.md §9.
 
+use crate::math::Point;
 use crate::math::periodic::{PeriodicSpline, uniform_angles};
 use std::f64::consts::TAU;
 
@@ -140,9 +141,9 @@ impl PitchCurve {
 
     /// Cartesian point of the curve in the body frame, mm.
     #[must_use]
-    pub fn point_mm(&self, theta_rad: f64) -> [f64; 2] {
+    pub fn point_mm(&self, theta_rad: f64) -> Point {
         let r = self.radius_mm(theta_rad);
-        [r * theta_rad.cos(), r * theta_rad.sin()]
+        Point::new(r * theta_rad.cos(), r * theta_rad.sin())
     }
 
     /// Perimeter `L = ∮ √(r² + r_θ²) dθ` in mm, to within `accuracy_mm`.

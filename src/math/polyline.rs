@@ -1,8 +1,9 @@
 //! Closed polylines (mm): distances from points, the Hausdorff distance, simplification.
 
+use crate::math::Point;
 /// Hausdorff distance (mm) between two closed polylines.
 #[must_use]
-pub fn hausdorff_mm(p: &[[f64; 2]], q: &[[f64; 2]]) -> f64 {
+pub fn hausdorff_mm(p: &[Point], q: &[Point]) -> f64 {
     directed(p, q).max(directed(q, p))
 }
 
@@ -15,7 +16,7 @@ pub fn hausdorff_mm(p: &[[f64; 2]], q: &[[f64; 2]]) -> f64 {
 /// hint as `q` has vertices per vertex of `p`, and one); the others are searched in full on the
 /// grid. The result is the same number: a skipped point's distance is at most the
 /// (identically computed) distance to one of the tested segments.
-fn directed(p: &[[f64; 2]], q: &[[f64; 2]]) -> f64 {
+fn directed(p: &[Point], q: &[Point]) -> f64 {
     let n = q.len();
     if n == 0 {
         return 0.0;
@@ -51,7 +52,7 @@ fn directed(p: &[[f64; 2]], q: &[[f64; 2]]) -> f64 {
 
 /// Distance (mm) from each point of `p` to the closed polyline `q` (see [`SegmentGrid`]).
 #[must_use]
-pub fn distances_to_polyline(p: &[[f64; 2]], q: &[[f64; 2]]) -> Vec<f64> {
+pub fn distances_to_polyline(p: &[Point], q: &[Point]) -> Vec<f64> {
     if q.is_empty() {
         return vec![0.0; p.len()];
     }
@@ -64,8 +65,8 @@ pub fn distances_to_polyline(p: &[[f64; 2]], q: &[[f64; 2]]) -> Vec<f64> {
 /// until no closer segment can exist (a segment in ring r is at least (r − 1)·h away).
 #[derive(Debug, Clone)]
 pub struct SegmentGrid<'a> {
-    q: &'a [[f64; 2]],
-    origin: [f64; 2],
+    q: &'a [Point],
+    origin: Point,
     /// Cell size, mm.
     h: f64,
     nx: usize,
@@ -82,7 +83,7 @@ pub struct Nearest {
     /// Segment index k (from vertex k to vertex k + 1, cyclically).
     pub segment: usize,
     /// The nearest point, mm.
-    pub point: [f64; 2],
+    pub point: Point,
     /// Its distance from the query, mm.
     pub distance_mm: f64,
 }
@@ -90,13 +91,13 @@ pub struct Nearest {
 impl<'a> SegmentGrid<'a> {
     /// Buckets the segments of the closed polyline `q` (mm; at least one vertex, fewer than 2³²).
     #[must_use]
-    pub fn new(q: &'a [[f64; 2]]) -> Self {
+    pub fn new(q: &'a [Point]) -> Self {
         let n = q.len();
         let (mut lo, mut hi) = ([f64::MAX; 2], [f64::MIN; 2]);
         for v in q {
-            for c in 0..2 {
-                lo[c] = lo[c].min(v[c]);
-                hi[c] = hi[c].max(v[c]);
+            for (c, x) in [v.x, v.y].into_iter().enumerate() {
+                lo[c] = lo[c].min(x);
+                hi[c] = hi[c].max(x);
             }
         }
         // About 2√n cells a side (4n cells): a closed loop crosses few of them, so a query's
@@ -107,7 +108,7 @@ impl<'a> SegmentGrid<'a> {
         let ny = ((hi[1] - lo[1]) / h) as usize + 1;
         let mut grid = Self {
             q,
-            origin: lo,
+            origin: lo.into(),
             h,
             nx,
             ny,
@@ -116,8 +117,8 @@ impl<'a> SegmentGrid<'a> {
         };
         let cells_of = |k: usize| {
             let (a, b) = (q[k], q[if k + 1 == n { 0 } else { k + 1 }]);
-            let [x0, y0] = grid.cell([a[0].min(b[0]), a[1].min(b[1])]);
-            let [x1, y1] = grid.cell([a[0].max(b[0]), a[1].max(b[1])]);
+            let [x0, y0] = grid.cell(Point::new(a.x.min(b.x), a.y.min(b.y)));
+            let [x1, y1] = grid.cell(Point::new(a.x.max(b.x), a.y.max(b.y)));
             (y0..=y1).flat_map(move |cy| (x0..=x1).map(move |cx| cy * nx + cx))
         };
         // Counting sort: counts, running ends, then each segment placed just below its cell's
@@ -150,21 +151,21 @@ impl<'a> SegmentGrid<'a> {
     #[must_use]
     pub fn segment_length_mm(&self, k: usize) -> f64 {
         let (a, b) = (self.q[k], self.q[(k + 1) % self.q.len()]);
-        (b[0] - a[0]).hypot(b[1] - a[1])
+        b.distance(a)
     }
 
     /// Cell of `v`, clamped into the grid.
-    fn cell(&self, v: [f64; 2]) -> [usize; 2] {
+    fn cell(&self, v: Point) -> [usize; 2] {
         let f = |x: f64, o: f64, m: usize| (((x - o) / self.h).max(0.0) as usize).min(m - 1);
         [
-            f(v[0], self.origin[0], self.nx),
-            f(v[1], self.origin[1], self.ny),
+            f(v.x, self.origin.x, self.nx),
+            f(v.y, self.origin.y, self.ny),
         ]
     }
 
     /// The point of the polyline nearest to `x` (mm).
     #[must_use]
-    pub fn nearest(&self, x: [f64; 2]) -> Nearest {
+    pub fn nearest(&self, x: Point) -> Nearest {
         let (segment, point, d2) = self.search(x);
         Nearest {
             segment,
@@ -174,7 +175,7 @@ impl<'a> SegmentGrid<'a> {
     }
 
     /// The nearest segment, its nearest point and the squared distance (mm²).
-    fn search(&self, x: [f64; 2]) -> (usize, [f64; 2], f64) {
+    fn search(&self, x: Point) -> (usize, Point, f64) {
         let (q, n) = (self.q, self.q.len());
         let [cx, cy] = self.cell(x).map(|c| c as i64);
         let mut best = Nearest {
@@ -226,7 +227,7 @@ impl<'a> SegmentGrid<'a> {
 }
 
 /// Bounding box `[xmin, ymin, xmax, ymax]` of `pts`, mm (infinite, inverted, when empty).
-pub fn bbox<'a>(pts: impl IntoIterator<Item = &'a [f64; 2]>) -> [f64; 4] {
+pub fn bbox<'a>(pts: impl IntoIterator<Item = &'a Point>) -> [f64; 4] {
     pts.into_iter().fold(
         [
             f64::INFINITY,
@@ -234,47 +235,40 @@ pub fn bbox<'a>(pts: impl IntoIterator<Item = &'a [f64; 2]>) -> [f64; 4] {
             f64::NEG_INFINITY,
             f64::NEG_INFINITY,
         ],
-        |b, p| {
-            [
-                b[0].min(p[0]),
-                b[1].min(p[1]),
-                b[2].max(p[0]),
-                b[3].max(p[1]),
-            ]
-        },
+        |b, p| [b[0].min(p.x), b[1].min(p.y), b[2].max(p.x), b[3].max(p.y)],
     )
 }
 
 /// The point of the segment `ab` nearest to `x` and its distance, mm.
 #[must_use]
-pub fn seg_nearest(x: [f64; 2], a: [f64; 2], b: [f64; 2]) -> ([f64; 2], f64) {
+pub fn seg_nearest(x: Point, a: Point, b: Point) -> (Point, f64) {
     let (c, d2) = seg_nearest_sq(x, a, b);
     (c, d2.sqrt())
 }
 
 /// [`seg_nearest`] with the squared distance, mm².
-fn seg_nearest_sq(x: [f64; 2], a: [f64; 2], b: [f64; 2]) -> ([f64; 2], f64) {
-    let (dx, dy) = (b[0] - a[0], b[1] - a[1]);
-    let l2 = dx * dx + dy * dy;
+fn seg_nearest_sq(x: Point, a: Point, b: Point) -> (Point, f64) {
+    let d = b - a;
+    let l2 = d.norm_squared();
     let t = if l2 > 0.0 {
-        (((x[0] - a[0]) * dx + (x[1] - a[1]) * dy) / l2).clamp(0.0, 1.0)
+        ((x - a).dot(d) / l2).clamp(0.0, 1.0)
     } else {
         0.0
     };
-    let c = [a[0] + t * dx, a[1] + t * dy];
-    (c, (x[0] - c[0]).powi(2) + (x[1] - c[1]).powi(2))
+    let c = a + d * t;
+    (c, (x.x - c.x).powi(2) + (x.y - c.y).powi(2))
 }
 
 /// Distance from `x` to the segment `ab`, mm.
 #[must_use]
-pub fn seg_dist(x: [f64; 2], a: [f64; 2], b: [f64; 2]) -> f64 {
+pub fn seg_dist(x: Point, a: Point, b: Point) -> f64 {
     seg_nearest(x, a, b).1
 }
 
 /// Simplifies a closed polyline so that no removed vertex deviates more than `tol_mm` from the
 /// kept chords (Douglas–Peucker on the two halves split at the farthest vertex from vertex 0).
 #[must_use]
-pub fn simplify_closed(points_mm: &[[f64; 2]], tol_mm: f64) -> Vec<[f64; 2]> {
+pub fn simplify_closed(points_mm: &[Point], tol_mm: f64) -> Vec<Point> {
     simplify_closed_dev(points_mm, tol_mm).0
 }
 
@@ -285,7 +279,7 @@ pub fn simplify_closed(points_mm: &[[f64; 2]], tol_mm: f64) -> Vec<[f64; 2]> {
 /// vertices stays within `e` of its chord (distance to a segment is convex), and every chord
 /// point is the projection of a point of the path it replaces, which lies within `e` of it.
 #[must_use]
-pub fn simplify_closed_dev(points_mm: &[[f64; 2]], tol_mm: f64) -> (Vec<[f64; 2]>, f64) {
+pub fn simplify_closed_dev(points_mm: &[Point], tol_mm: f64) -> (Vec<Point>, f64) {
     let n = points_mm.len();
     if n < 4 {
         return (points_mm.to_vec(), 0.0);
@@ -293,8 +287,8 @@ pub fn simplify_closed_dev(points_mm: &[[f64; 2]], tol_mm: f64) -> (Vec<[f64; 2]
     let p0 = points_mm[0];
     let far = (1..n)
         .max_by(|&a, &b| {
-            let da = (points_mm[a][0] - p0[0]).hypot(points_mm[a][1] - p0[1]);
-            let db = (points_mm[b][0] - p0[0]).hypot(points_mm[b][1] - p0[1]);
+            let da = points_mm[a].distance(p0);
+            let db = points_mm[b].distance(p0);
             da.total_cmp(&db)
         })
         .unwrap_or(n / 2);
@@ -342,7 +336,7 @@ mod tests {
     fn simplification_deviation_bounds_the_hausdorff_distance_also_for_folded_spikes() {
         // A star with radial spikes that fold back along their own line: a perpendicular (line)
         // distance would call a spike's tip "on the chord" and drop it.
-        let pts: Vec<[f64; 2]> = (0..2000)
+        let pts: Vec<Point> = (0..2000)
             .map(|k| {
                 let t = TAU * f64::from(k / 4 * 4) / 2000.0;
                 let r = match k % 4 {
@@ -350,7 +344,7 @@ mod tests {
                     2 => 9.0,
                     _ => 8.0 + 0.2 * (5.0 * t).sin(),
                 };
-                [r * t.cos(), r * t.sin()]
+                Point::new(r * t.cos(), r * t.sin())
             })
             .collect();
         for tol in [1e-4, 1e-2, 0.3] {
@@ -364,13 +358,13 @@ mod tests {
             // Every spike tip (radius ≥ 10) stands 1 mm beyond the rest of its spike and 0.126 mm
             // from its neighbours' tips: it is kept at any tolerance below that.
             if tol < 0.1 {
-                let tips = |v: &[[f64; 2]]| v.iter().filter(|p| p[0].hypot(p[1]) >= 10.0).count();
+                let tips = |v: &[Point]| v.iter().filter(|p| p.hypot() >= 10.0).count();
                 assert_eq!(tips(&pts), tips(&kept), "{tol}");
             }
         }
         // A vertex behind the start of its chord, on the chord's line: 3 mm from the chord
         // segment though 0 from its line.
-        let fold = [[0.0, 0.0], [-3.0, 0.0], [5.0, 0.0], [5.0, 1.0], [0.0, 1.0]];
+        let fold = [[0.0, 0.0], [-3.0, 0.0], [5.0, 0.0], [5.0, 1.0], [0.0, 1.0]].map(Point::from);
         let (kept, dev) = simplify_closed_dev(&fold, 0.5);
         assert_eq!(kept.len(), 5, "{kept:?}");
         assert_eq!(dev, 0.0);
@@ -378,11 +372,11 @@ mod tests {
 
     #[test]
     fn hausdorff_of_concentric_circles_is_the_radius_gap() {
-        let circle = |r: f64, n: usize, shift: f64| -> Vec<[f64; 2]> {
+        let circle = |r: f64, n: usize, shift: f64| -> Vec<Point> {
             (0..n)
                 .map(|k| {
                     let t = TAU * (k as f64 + shift) / n as f64;
-                    [r * t.cos(), r * t.sin()]
+                    Point::new(r * t.cos(), r * t.sin())
                 })
                 .collect()
         };
@@ -407,17 +401,17 @@ mod tests {
     fn grid_nearest_equals_brute_force_inside_and_far_outside() {
         // A kidney-like closed curve with unevenly spaced vertices; queries on a lattice that
         // reaches far beyond its bounding box (the grid clamps them to border cells).
-        let q: Vec<[f64; 2]> = (0..300)
+        let q: Vec<Point> = (0..300)
             .map(|k| {
                 let t = TAU * (k as f64 / 300.0).powf(1.3);
                 let r = 60.0 + 15.0 * (2.0 * t).cos() + 5.0 * (3.0 * t).sin();
-                [r * t.cos() + 10.0, 0.6 * r * t.sin() - 4.0]
+                Point::new(r * t.cos() + 10.0, 0.6 * r * t.sin() - 4.0)
             })
             .collect();
         let grid = SegmentGrid::new(&q);
         for i in -12..=12 {
             for j in -12..=12 {
-                let x = [17.0 * i as f64 + 0.3, 11.0 * j as f64 - 0.7];
+                let x = Point::new(17.0 * i as f64 + 0.3, 11.0 * j as f64 - 0.7);
                 let brute = (0..q.len())
                     .map(|k| seg_dist(x, q[k], q[(k + 1) % q.len()]))
                     .fold(f64::INFINITY, f64::min);
@@ -426,7 +420,7 @@ mod tests {
                 // The returned point lies on the returned segment, at that distance from x.
                 let k = near.segment;
                 assert!(seg_dist(near.point, q[k], q[(k + 1) % q.len()]) < 1e-9);
-                let d = (x[0] - near.point[0]).hypot(x[1] - near.point[1]);
+                let d = x.distance(near.point);
                 assert!((d - near.distance_mm).abs() < 1e-9);
             }
         }
@@ -437,17 +431,17 @@ mod tests {
         // Loops of unequal density, one wavy and one with a reversed travel order; the grid's
         // nearest segment and the directed Hausdorff distance must be the brute-force ones,
         // bit for bit (the early break skips only points that cannot raise the maximum).
-        let lobed = |n: usize, amp: f64, rev: bool| -> Vec<[f64; 2]> {
+        let lobed = |n: usize, amp: f64, rev: bool| -> Vec<Point> {
             (0..n)
                 .map(|k| {
                     let k = if rev { n - 1 - k } else { k };
                     let t = TAU * k as f64 / n as f64;
                     let r = 60.0 + 25.0 * (2.0 * t).cos() + amp * (37.0 * t).sin();
-                    [r * t.cos() + 5.0, 0.6 * r * t.sin()]
+                    Point::new(r * t.cos() + 5.0, 0.6 * r * t.sin())
                 })
                 .collect()
         };
-        let brute = |x: [f64; 2], q: &[[f64; 2]]| {
+        let brute = |x: Point, q: &[Point]| {
             (0..q.len())
                 .map(|k| seg_nearest_sq(x, q[k], q[(k + 1) % q.len()]).1)
                 .fold(f64::INFINITY, f64::min)

@@ -5,6 +5,7 @@
 //! decimals, degrees with 4) to keep the precision.
 
 use crate::geometry::pitch::PitchCurve;
+use crate::math::Point;
 use crate::simulate::{Simulation, TwoArms};
 use std::f64::consts::TAU;
 use std::fmt::Write as _;
@@ -63,15 +64,15 @@ fn body_path(curve: &PitchCurve, n: usize) -> String {
 }
 
 /// SVG path data `M x,y L x,y … [Z]` of a polyline (y up, world or body frame), 3 decimals, mm.
-fn polyline(pts: &[[f64; 2]], close: bool) -> String {
+fn polyline(pts: &[Point], close: bool) -> String {
     let mut d = String::new();
     for (k, p) in pts.iter().enumerate() {
         let _ = write!(
             d,
             "{}{:.3},{:.3} ",
             if k == 0 { "M" } else { "L" },
-            p[0],
-            p[1]
+            p.x,
+            p.y
         );
     }
     if close {
@@ -81,13 +82,13 @@ fn polyline(pts: &[[f64; 2]], close: bool) -> String {
 }
 
 /// Bounding box `[xmin, ymin, xmax, ymax]` of everything that moves over a turn, with margin.
-fn extent(sim: &Simulation, target: &[[f64; 2]], n: usize) -> [f64; 4] {
+fn extent(sim: &Simulation, target: &[Point], n: usize) -> [f64; 4] {
     let mut b = [f64::MAX, f64::MAX, f64::MIN, f64::MIN];
-    let mut add = |p: [f64; 2], r: f64| {
-        b[0] = b[0].min(p[0] - r);
-        b[1] = b[1].min(p[1] - r);
-        b[2] = b[2].max(p[0] + r);
-        b[3] = b[3].max(p[1] + r);
+    let mut add = |p: Point, r: f64| {
+        b[0] = b[0].min(p.x - r);
+        b[1] = b[1].min(p.y - r);
+        b[2] = b[2].max(p.x + r);
+        b[3] = b[3].max(p.y + r);
     };
     let a = sim.assembly.a_mm;
     for t in sim.turn(n) {
@@ -189,7 +190,7 @@ fn defs(sim: &Simulation, n: usize) -> Definitions {
 }
 
 /// The target (when given) and the traced path, world frame, mm.
-fn static_layers(target: &[[f64; 2]], traced: &[[f64; 2]]) -> Vec<SvgPath> {
+fn static_layers(target: &[Point], traced: &[Point]) -> Vec<SvgPath> {
     let mut layers = Vec::new();
     if !target.is_empty() {
         layers.push(
@@ -216,12 +217,12 @@ fn static_layers(target: &[[f64; 2]], traced: &[[f64; 2]]) -> Vec<SvgPath> {
 /// The animated SVG: carrier, sun, both intermediates and planets, needles, target and traced
 /// paths, one carrier turn per `seconds`, looping.
 #[must_use]
-pub fn animated_svg(sim: &Simulation, target: &[[f64; 2]], opts: &AnimationOptions) -> String {
+pub fn animated_svg(sim: &Simulation, target: &[Point], opts: &AnimationOptions) -> String {
     let n = opts.frames.max(8);
     let turn: Vec<_> = (0..=n)
         .map(|k| sim.pose(sim.angle_at(k as f64 / n as f64)))
         .collect();
-    let traced: Vec<[f64; 2]> = turn[..n].iter().map(|t| t.arm1.tip_mm).collect();
+    let traced: Vec<Point> = turn[..n].iter().map(|t| t.arm1.tip_mm).collect();
     let b = extent(sim, target, 90);
     let mut world = Group::new()
         .set("transform", "scale(1,-1)")
@@ -235,7 +236,7 @@ pub fn animated_svg(sim: &Simulation, target: &[[f64; 2]], opts: &AnimationOptio
     };
     world = world
         .add(carrier_group(&anim, &turn, o, sim.assembly.l1_mm()))
-        .add(use_of("sun").set("transform", format!("translate({:.3},{:.3})", o[0], o[1])));
+        .add(use_of("sun").set("transform", format!("translate({:.3},{:.3})", o.x, o.y)));
     for arm in 0..2 {
         for group in arm_groups(&anim, &turn, arm) {
             world = world.add(group);
@@ -243,8 +244,8 @@ pub fn animated_svg(sim: &Simulation, target: &[[f64; 2]], opts: &AnimationOptio
     }
     world = world.add(
         Circle::new()
-            .set("cx", format!("{:.3}", o[0]))
-            .set("cy", format!("{:.3}", o[1]))
+            .set("cx", format!("{:.3}", o.x))
+            .set("cy", format!("{:.3}", o.y))
             .set("r", "1.5")
             .set("fill", "#000000"),
     );
@@ -273,17 +274,10 @@ impl Looping {
 
 /// The carrier: a bar of half-length `a2` (mm) through O along the two arms, turning about O
 /// (degrees) with the key frames `turn`.
-fn carrier_group(anim: &Looping, turn: &[TwoArms], o: [f64; 2], a2: f64) -> Group {
+fn carrier_group(anim: &Looping, turn: &[TwoArms], o: Point, a2: f64) -> Group {
     let phis: Vec<String> = turn
         .iter()
-        .map(|t| {
-            format!(
-                "{:.4} {:.3} {:.3}",
-                t.arm1.phi_h_rad.to_degrees(),
-                o[0],
-                o[1]
-            )
-        })
+        .map(|t| format!("{:.4} {:.3} {:.3}", t.arm1.phi_h_rad.to_degrees(), o.x, o.y))
         .collect();
     Group::new()
         .set("id", "carrier")
@@ -292,13 +286,7 @@ fn carrier_group(anim: &Looping, turn: &[TwoArms], o: [f64; 2], a2: f64) -> Grou
             SvgPath::new()
                 .set(
                     "d",
-                    format!(
-                        "M{:.3},{:.3} L{:.3},{:.3}",
-                        o[0] - a2,
-                        o[1],
-                        o[0] + a2,
-                        o[1]
-                    ),
+                    format!("M{:.3},{:.3} L{:.3},{:.3}", o.x - a2, o.y, o.x + a2, o.y),
                 )
                 .set("stroke", "#444444")
                 .set("stroke-width", "3")
@@ -330,7 +318,7 @@ fn arm_groups(anim: &Looping, turn: &[TwoArms], arm: usize) -> Vec<Group> {
     ] {
         let tr: Vec<String> = centre
             .iter()
-            .map(|c| format!("{:.3},{:.3}", c[0], c[1]))
+            .map(|c| format!("{:.3},{:.3}", c.x, c.y))
             .collect();
         let rot: Vec<String> = angle
             .iter()
@@ -354,13 +342,13 @@ fn arm_groups(anim: &Looping, turn: &[TwoArms], arm: usize) -> Vec<Group> {
 #[must_use]
 pub fn frame_sheet(
     sim: &Simulation,
-    target: &[[f64; 2]],
+    target: &[Point],
     cols: usize,
     rows: usize,
     outline_points: usize,
 ) -> String {
     let frames = (cols * rows).max(1);
-    let traced: Vec<[f64; 2]> = sim.turn(720).iter().map(|t| t.arm1.tip_mm).collect();
+    let traced: Vec<Point> = sim.turn(720).iter().map(|t| t.arm1.tip_mm).collect();
     let b = extent(sim, target, 90);
     let (w, h) = (b[2] - b[0], b[3] - b[1]);
     let sheet = [b[0], b[1], b[0] + w * cols as f64, b[1] + h * rows as f64];
@@ -378,8 +366,8 @@ pub fn frame_sheet(
             frame = frame.add(layer);
         }
         let o = sim.assembly.center_mm;
-        frame = frame
-            .add(use_of("sun").set("transform", format!("translate({:.3},{:.3})", o[0], o[1])));
+        frame =
+            frame.add(use_of("sun").set("transform", format!("translate({:.3},{:.3})", o.x, o.y)));
         for p in [t.arm1, t.arm2] {
             frame = frame.add(
                 SvgPath::new()
@@ -387,7 +375,7 @@ pub fn frame_sheet(
                         "d",
                         format!(
                             "M{:.3},{:.3} L{:.3},{:.3}",
-                            o[0], o[1], p.planet_center_mm[0], p.planet_center_mm[1]
+                            o.x, o.y, p.planet_center_mm.x, p.planet_center_mm.y
                         ),
                     )
                     .set("stroke", "#444444")
@@ -406,8 +394,8 @@ pub fn frame_sheet(
                     "transform",
                     format!(
                         "translate({:.3},{:.3}) rotate({:.4})",
-                        c[0],
-                        c[1],
+                        c.x,
+                        c.y,
                         a.to_degrees()
                     ),
                 ));

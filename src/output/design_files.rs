@@ -7,6 +7,7 @@ use super::mechanism_preview::{mechanism_chart, mechanism_svg};
 use super::plot::{ChartLabels, Series, line_chart};
 use crate::design::Design;
 use crate::geometry::pitch::PitchCurve;
+use crate::math::Point;
 use rayon::prelude::*;
 use std::f64::consts::TAU;
 use std::path::{Path, PathBuf};
@@ -56,15 +57,15 @@ pub fn write_design_with(
     create_dir(dir)?;
     let n = design.report.gears.sun.pitch.len();
     let asm = &design.assembly;
-    let target: Vec<[f64; 2]> = design
+    let target: Vec<Point> = design
         .inversion
         .points
         .iter()
         .map(|q| {
-            [
-                asm.center_mm[0] + q[0],
-                asm.center_mm[1] + f64::from(asm.direction) * q[1],
-            ]
+            Point::new(
+                asm.center_mm.x + q.x,
+                asm.center_mm.y + f64::from(asm.direction) * q.y,
+            )
         })
         .collect();
     type Job<'a> = Box<dyn Fn(&Path) -> Result<(), OutputError> + Sync + 'a>;
@@ -88,9 +89,9 @@ pub fn write_design_with(
                 let mut traced = String::with_capacity(28 * design.traced_mm.len() + 16);
                 traced.push_str("x_mm,y_mm\n");
                 for q in &design.traced_mm {
-                    Fixed(q[0], 9).push_to(&mut traced);
+                    Fixed(q.x, 9).push_to(&mut traced);
                     traced.push(',');
-                    Fixed(q[1], 9).push_to(&mut traced);
+                    Fixed(q.y, 9).push_to(&mut traced);
                     traced.push('\n');
                 }
                 write(p, &traced)

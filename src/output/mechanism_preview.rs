@@ -9,33 +9,34 @@ use super::plot::{ChartLabels, Series, line_chart};
 use crate::geometry::assembly::Assembly;
 use crate::geometry::assembly::Rebuilt;
 use crate::geometry::pitch::PitchCurve;
+use crate::math::Point;
 use std::f64::consts::TAU;
 use std::path::Path;
 use svg::Document;
 use svg::node::element::{Circle, Group, Path as SvgPath, Rectangle, Text};
 
 /// Polyline points of a pitch curve placed at `center` with orientation `angle` (rad), mm.
-fn placed(curve: &PitchCurve, center: [f64; 2], angle: f64, n: usize) -> Vec<[f64; 2]> {
+fn placed(curve: &PitchCurve, center: Point, angle: f64, n: usize) -> Vec<Point> {
     (0..n)
         .map(|k| {
             let th = TAU * k as f64 / n as f64;
             let r = curve.radius_mm(th);
-            [
-                center[0] + r * (th + angle).cos(),
-                center[1] + r * (th + angle).sin(),
-            ]
+            Point::new(
+                center.x + r * (th + angle).cos(),
+                center.y + r * (th + angle).sin(),
+            )
         })
         .collect()
 }
 
 /// SVG path data `M x,y L x,y … [Z]` of a polyline, y negated (SVG y down), 4 decimals, mm.
-fn path_d(pts: &[[f64; 2]], close: bool) -> String {
+fn path_d(pts: &[Point], close: bool) -> String {
     let mut d = String::with_capacity(24 * pts.len() + 1);
     for (k, p) in pts.iter().enumerate() {
         d.push(if k == 0 { 'M' } else { 'L' });
-        Fixed(p[0], 4).push_to(&mut d);
+        Fixed(p.x, 4).push_to(&mut d);
         d.push(',');
-        Fixed(-p[1], 4).push_to(&mut d);
+        Fixed(-p.y, 4).push_to(&mut d);
         d.push(' ');
     }
     if close {
@@ -48,12 +49,7 @@ fn path_d(pts: &[[f64; 2]], close: bool) -> String {
 /// angle `phi_h` (rad): the three pitch curves on the carrier, the needle, the target and the
 /// traced trajectory. One group per layer; coordinates with 3 decimals (path data 4), mm.
 #[must_use]
-pub fn mechanism_svg(
-    rebuilt: &Rebuilt,
-    target: &[[f64; 2]],
-    traced: &[[f64; 2]],
-    phi_h: f64,
-) -> String {
+pub fn mechanism_svg(rebuilt: &Rebuilt, target: &[Point], traced: &[Point], phi_h: f64) -> String {
     let (asm, pose) = (rebuilt.assembly(), rebuilt.pose(phi_h));
     let o = asm.center_mm;
     let n = 720;
@@ -65,7 +61,7 @@ pub fn mechanism_svg(
         n,
     );
     let planet = placed(&asm.planet, pose.planet_center_mm, pose.planet_angle_rad, n);
-    let all: Vec<[f64; 2]> = sun
+    let all: Vec<Point> = sun
         .iter()
         .chain(&mid)
         .chain(&planet)
@@ -75,10 +71,10 @@ pub fn mechanism_svg(
         .collect();
     let (mut x0, mut x1, mut y0, mut y1) = (f64::MAX, f64::MIN, f64::MAX, f64::MIN);
     for p in &all {
-        x0 = x0.min(p[0]);
-        x1 = x1.max(p[0]);
-        y0 = y0.min(p[1]);
-        y1 = y1.max(p[1]);
+        x0 = x0.min(p.x);
+        x1 = x1.max(p.x);
+        y0 = y0.min(p.y);
+        y1 = y1.max(p.y);
     }
     let m = 10.0;
     let (w, h) = (x1 - x0 + 2.0 * m, y1 - y0 + 2.0 * m);
@@ -120,8 +116,8 @@ pub fn mechanism_svg(
     for c in [o, pose.intermediate_center_mm, a] {
         centres = centres.add(
             Circle::new()
-                .set("cx", format!("{:.3}", c[0]))
-                .set("cy", format!("{:.3}", -c[1]))
+                .set("cx", format!("{:.3}", c.x))
+                .set("cy", format!("{:.3}", -c.y))
                 .set("r", "1.2"),
         );
     }
@@ -147,17 +143,17 @@ pub fn mechanism_svg(
 /// mm).
 pub fn mechanism_chart(
     rebuilt: &Rebuilt,
-    target: &[[f64; 2]],
-    traced: &[[f64; 2]],
+    target: &[Point],
+    traced: &[Point],
     phi_h: f64,
     path: &Path,
 ) -> Result<(), OutputError> {
     let (asm, pose) = (rebuilt.assembly(), rebuilt.pose(phi_h));
-    let closed = |mut v: Vec<[f64; 2]>| {
+    let closed = |mut v: Vec<Point>| {
         if let Some(f) = v.first().copied() {
             v.push(f);
         }
-        v.into_iter().map(|p| (p[0], p[1])).collect::<Vec<_>>()
+        v.into_iter().map(|p| (p.x, p.y)).collect::<Vec<_>>()
     };
     let n = 720;
     let series = vec![
@@ -185,9 +181,9 @@ pub fn mechanism_chart(
         Series::line(
             "carrier + needle",
             vec![
-                (asm.center_mm[0], asm.center_mm[1]),
-                (pose.planet_center_mm[0], pose.planet_center_mm[1]),
-                (pose.tip_mm[0], pose.tip_mm[1]),
+                (asm.center_mm.x, asm.center_mm.y),
+                (pose.planet_center_mm.x, pose.planet_center_mm.y),
+                (pose.tip_mm.x, pose.tip_mm.y),
             ],
         ),
     ];

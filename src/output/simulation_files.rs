@@ -4,6 +4,7 @@
 use super::animate::{AnimationOptions, animated_svg, frame_sheet};
 use super::error::{OutputError, create_dir, write};
 use super::simulation_plots::{Traces, write_plots};
+use crate::math::Point;
 use crate::simulate::{
     FeatureOptions, Features, SimulateError, Simulation, deviation_along, features,
 };
@@ -34,7 +35,7 @@ pub struct SimulationReport {
 /// the dynamic trajectory. Returns the report.
 pub fn write_simulation(
     sim: &Simulation,
-    target: &[[f64; 2]],
+    target: &[Point],
     feat_opts: &FeatureOptions,
     anim: &AnimationOptions,
     dir: &Path,
@@ -47,8 +48,8 @@ pub fn write_simulation(
     let features = features(sim, feat_opts)?;
     let n = feat_opts.samples.max(360);
     let turn = sim.turn(n);
-    let arm1: Vec<[f64; 2]> = turn.iter().map(|t| t.arm1.tip_mm).collect();
-    let arm2: Vec<[f64; 2]> = turn.iter().map(|t| t.arm2.tip_mm).collect();
+    let arm1: Vec<Point> = turn.iter().map(|t| t.arm1.tip_mm).collect();
+    let arm2: Vec<Point> = turn.iter().map(|t| t.arm2.tip_mm).collect();
     let dev = if target.len() >= 3 {
         deviation_along(&arm1, target)
     } else {
@@ -64,10 +65,10 @@ pub fn write_simulation(
             csv,
             "{:.6},{:.9},{:.9},{:.9},{:.9},{:.6},{}",
             t.arm1.phi_h_rad.to_degrees(),
-            t.arm1.tip_mm[0],
-            t.arm1.tip_mm[1],
-            t.arm2.tip_mm[0],
-            t.arm2.tip_mm[1],
+            t.arm1.tip_mm.x,
+            t.arm1.tip_mm.y,
+            t.arm2.tip_mm.x,
+            t.arm2.tip_mm.y,
             Simulation::needle_angle(&t.arm1).to_degrees(),
             dev.get(k).map_or(String::new(), |d| format!("{d:.9}"))
         );
@@ -82,10 +83,10 @@ pub fn write_simulation(
             csv,
             "{:.6},{:.9},{:.9},{:.9},{:.9}",
             k as f64 / 720.0,
-            p1[0],
-            p1[1],
-            p2[0],
-            p2[1]
+            p1.x,
+            p1.y,
+            p2.x,
+            p2.y
         );
     }
     let p = dir.join("dynamic.csv");

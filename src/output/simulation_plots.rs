@@ -6,6 +6,7 @@ use super::error::OutputError;
 use super::plot::{ChartLabels, Series, line_chart};
 use crate::geometry::assembly::Pose;
 use crate::geometry::pitch::{PitchCurve, PolarGeometry};
+use crate::math::Point;
 use crate::simulate::{FeatureOptions, Features, Simulation};
 use std::f64::consts::TAU;
 use std::path::{Path, PathBuf};
@@ -15,9 +16,9 @@ pub(super) struct Traces<'a> {
     /// Distance of arm 1's tip from the target at each sample of the turn, mm (empty: no target).
     pub deviation_mm: &'a [f64],
     /// Arm 1's static path, `max(samples, 360)` instants over one turn, mm.
-    pub arm1_mm: &'a [[f64; 2]],
+    pub arm1_mm: &'a [Point],
     /// Dynamic paths of arms 1 and 2, mm.
-    pub dynamic_mm: &'a [Vec<[f64; 2]>; 2],
+    pub dynamic_mm: &'a [Vec<Point>; 2],
 }
 
 /// Writes `path` with the extensions `png` and `svg`, appending both to `written`.
@@ -64,7 +65,7 @@ pub(super) fn write_plots(
     }
     ratio_plot(sim, n, dir, written)?;
     pitch_plots(&sim.assembly, dir, written)?;
-    let xy = |v: &[[f64; 2]]| v.iter().map(|p| (p[0], p[1])).collect::<Vec<_>>();
+    let xy = |v: &[Point]| v.iter().map(|p| (p.x, p.y)).collect::<Vec<_>>();
     both(
         &dir.join("dynamic"),
         &ChartLabels {
@@ -218,11 +219,11 @@ fn features_plot(
     sim: &Simulation,
     feat_opts: &FeatureOptions,
     features: &Features,
-    arm1: &[[f64; 2]],
+    arm1: &[Point],
     dir: &Path,
     written: &mut Vec<PathBuf>,
 ) -> Result<(), OutputError> {
-    let xy = |v: &[[f64; 2]]| v.iter().map(|p| (p[0], p[1])).collect::<Vec<_>>();
+    let xy = |v: &[Point]| v.iter().map(|p| (p.x, p.y)).collect::<Vec<_>>();
     let f = features;
     let at = |deg: f64| {
         sim.pose(f64::from(sim.assembly.direction) * deg.to_radians())

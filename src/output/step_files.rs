@@ -4,6 +4,7 @@
 use super::error::{OutputError, create_dir};
 use crate::cad::step::{Instance, Prism, StepModel, write_step};
 use crate::design::train::{Gear, ToothedTrain};
+use crate::math::Point;
 use crate::math::polyline::simplify_closed;
 use crate::pair::PairDesign;
 use rayon::prelude::*;
@@ -46,13 +47,7 @@ impl SolidOptions {
 }
 
 /// The part `name`: `outline` simplified to `tol_mm` (as the DXF), extruded per `opts`.
-fn prism(
-    name: &str,
-    outline: &[[f64; 2]],
-    tol_mm: f64,
-    module_mm: f64,
-    opts: &SolidOptions,
-) -> Prism {
+fn prism(name: &str, outline: &[Point], tol_mm: f64, module_mm: f64, opts: &SolidOptions) -> Prism {
     Prism {
         name: name.to_string(),
         outline_mm: simplify_closed(outline, tol_mm),
@@ -133,13 +128,13 @@ pub fn pair_step(pair: &PairDesign, chord_tol_mm: f64, opts: &SolidOptions) -> S
             Instance {
                 name: "driver".into(),
                 part: 0,
-                center_mm: [0.0, 0.0],
+                center_mm: Point::new(0.0, 0.0),
                 angle_rad: 0.0,
             },
             Instance {
                 name: "driven".into(),
                 part: 1,
-                center_mm: [pair.center_distance_mm, 0.0],
+                center_mm: Point::new(pair.center_distance_mm, 0.0),
                 angle_rad: -pair.psi0_rad,
             },
         ],

@@ -3,6 +3,7 @@
 use super::PairError;
 use crate::cad::{Contour, Marker, Sheet};
 use crate::geometry::pitch::PitchCurve;
+use crate::math::Point;
 use crate::math::periodic::uniform_angles;
 use crate::progress::Progress;
 use crate::teeth::conjugate::Mate;
@@ -128,9 +129,9 @@ pub struct PairDesign {
     /// Driven rotation at φ = 0, ψ(0), rad.
     pub psi0_rad: f64,
     /// Driver pitch polyline (body frame), mm.
-    pub driver_pitch_mm: Vec<[f64; 2]>,
+    pub driver_pitch_mm: Vec<Point>,
     /// Driven pitch polyline (body frame), mm.
-    pub driven_pitch_mm: Vec<[f64; 2]>,
+    pub driven_pitch_mm: Vec<Point>,
     /// The open sector, when the pair is incomplete; `None` for closed gears.
     pub sector: Option<SectorReport>,
 }
@@ -160,7 +161,7 @@ pub(super) fn validate_options(opts: &PairOptions) -> Result<(), PairError> {
 /// the verification's chord tolerance, the motion law and the check's parameters. Running it
 /// while the design's files are written hides the writing's time.
 pub struct PendingMesh {
-    pub(super) outlines: [Vec<[f64; 2]>; 2],
+    pub(super) outlines: [Vec<Point>; 2],
     pub(super) psi: Box<dyn Fn(f64) -> f64 + Send + Sync>,
     pub(super) check: MeshCheck,
     /// Added to the report's `max_overlap_at_deg` (an open sector is checked in `t = φ − u0`),
@@ -202,7 +203,7 @@ impl Cycle<'_> {
         &self,
         k: usize,
         blank: &GearBlank<'_>,
-        mate_outline: &[[f64; 2]],
+        mate_outline: &[Point],
         mate_pitch: &PitchCurve,
     ) -> Result<Generated, TeethError> {
         let pose = |u: f64, set: usize| self.motion.mate_pose(k, u, set);
@@ -328,7 +329,7 @@ impl Toothed {
         &self,
         opts: &PairOptions,
         cycle: Option<&Cycle<'_>>,
-    ) -> Result<[Vec<[f64; 2]>; 2], PairError> {
+    ) -> Result<[Vec<Point>; 2], PairError> {
         let t = &opts.toothing;
         let fine_blank = |k: usize| {
             self.blank(k, t).with_opts(OutlineOptions {
@@ -420,12 +421,12 @@ impl PairDesign {
     pub fn assembly_sheet(&self) -> Sheet {
         let a = self.center_distance_mm;
         let (s, c) = self.psi0_rad.sin_cos();
-        let place = |v: &[[f64; 2]]| {
+        let place = |v: &[Point]| {
             v.iter()
-                .map(|p| [c * p[0] + s * p[1] + a, -s * p[0] + c * p[1]])
+                .map(|p| Point::new(c * p.x + s * p.y + a, -s * p.x + c * p.y))
                 .collect::<Vec<_>>()
         };
-        let contour = |name: &str, layer: &str, pts: Vec<[f64; 2]>| Contour {
+        let contour = |name: &str, layer: &str, pts: Vec<Point>| Contour {
             name: name.into(),
             layer: layer.into(),
             points_mm: pts,
@@ -451,12 +452,12 @@ impl PairDesign {
                 Marker {
                     name: "driver_center".into(),
                     layer: "CENTRES".into(),
-                    at_mm: [0.0, 0.0],
+                    at_mm: Point::new(0.0, 0.0),
                 },
                 Marker {
                     name: "driven_center".into(),
                     layer: "CENTRES".into(),
-                    at_mm: [a, 0.0],
+                    at_mm: Point::new(a, 0.0),
                 },
             ],
         }

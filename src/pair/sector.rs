@@ -25,6 +25,7 @@
 use super::design::{PairDesign, PairOptions, PendingMesh, SectorReport, Toothed};
 use super::{Expr, PairError};
 use crate::geometry::pitch::PitchCurve;
+use crate::math::Point;
 use crate::math::periodic::invert_increasing;
 use crate::teeth::UndercutReport;
 use crate::teeth::mesh::{MeshCheck, MeshSpan};
@@ -380,7 +381,7 @@ impl Cuts {
         ];
         let t_at = |s: f64| (-f1.theta_at(s)).rem_euclid(TAU);
         let driven = [PI, PI + law.psi(t_at(-f64::from(k_end) * p))];
-        let hub = |pts: &[[f64; 2]], cut: [f64; 2]| {
+        let hub = |pts: &[Point], cut: [f64; 2]| {
             let r = kept_min_radius(pts, cut);
             (r - m).max(0.5 * r)
         };
@@ -422,12 +423,12 @@ impl Cuts {
 }
 
 /// `x` polar angle relative to `from`, in `[0, 2π)`.
-fn rel_angle(p: [f64; 2], from: f64) -> f64 {
-    (p[1].atan2(p[0]) - from).rem_euclid(TAU)
+fn rel_angle(p: Point, from: f64) -> f64 {
+    (p.atan2() - from).rem_euclid(TAU)
 }
 
 /// Points of `pts` whose polar angle lies in the CCW interval `cut = [from, to]`.
-fn within(pts: &[[f64; 2]], cut: [f64; 2]) -> Vec<[f64; 2]> {
+fn within(pts: &[Point], cut: [f64; 2]) -> Vec<Point> {
     let w = (cut[1] - cut[0]).rem_euclid(TAU);
     pts.iter()
         .copied()
@@ -436,10 +437,10 @@ fn within(pts: &[[f64; 2]], cut: [f64; 2]) -> Vec<[f64; 2]> {
 }
 
 /// Smallest radius of the outline within the CCW polar interval `cut`, mm.
-fn kept_min_radius(pts: &[[f64; 2]], cut: [f64; 2]) -> f64 {
+fn kept_min_radius(pts: &[Point], cut: [f64; 2]) -> f64 {
     within(pts, cut)
         .iter()
-        .map(|p| p[0].hypot(p[1]))
+        .map(|p| p.hypot())
         .fold(f64::INFINITY, f64::min)
 }
 
@@ -452,12 +453,7 @@ fn keep_flanks(u: &mut UndercutReport, teeth: &[usize]) {
 /// The sector outline: the run of the closed CCW star-shaped outline `pts` within the polar
 /// interval `cut = [from, to]` (CCW), cut exactly on the two rays, closed by radial lines and the
 /// hub circle of radius `hub_mm` (chord sag ≤ `chord_tol_mm`) around the rest of the turn.
-fn sector_outline(
-    pts: &[[f64; 2]],
-    cut: [f64; 2],
-    hub_mm: f64,
-    chord_tol_mm: f64,
-) -> Vec<[f64; 2]> {
+fn sector_outline(pts: &[Point], cut: [f64; 2], hub_mm: f64, chord_tol_mm: f64) -> Vec<Point> {
     let n = pts.len();
     let w = (cut[1] - cut[0]).rem_euclid(TAU);
     let inside = |i: usize| rel_angle(pts[i % n], cut[0]) <= w;
@@ -465,12 +461,11 @@ fn sector_outline(
     let Some(first) = (0..n).find(|&i| inside(i) && !inside(i + n - 1)) else {
         return pts.to_vec();
     };
-    let on_ray = |a: [f64; 2], b: [f64; 2], th: f64| {
-        let d = [th.cos(), th.sin()];
-        let cross = |u: [f64; 2]| u[0] * d[1] - u[1] * d[0];
-        let den = cross([a[0] - b[0], a[1] - b[1]]);
-        let u = if den == 0.0 { 0.0 } else { cross(a) / den };
-        [a[0] + u * (b[0] - a[0]), a[1] + u * (b[1] - a[1])]
+    let on_ray = |a: Point, b: Point, th: f64| {
+        let d = Point::new(th.cos(), th.sin());
+        let den = (a - b).cross(d);
+        let u = if den == 0.0 { 0.0 } else { a.cross(d) / den };
+        a.lerp(b, u)
     };
     let mut out = vec![on_ray(pts[(first + n - 1) % n], pts[first], cut[0])];
     let mut i = first;
@@ -484,7 +479,7 @@ fn sector_outline(
     let steps = ((span / (8.0 * chord_tol_mm / hub_mm).sqrt()).ceil() as usize).max(2);
     for k in 0..=steps {
         let th = cut[1] + span * k as f64 / steps as f64;
-        out.push([hub_mm * th.cos(), hub_mm * th.sin()]);
+        out.push(Point::new(hub_mm * th.cos(), hub_mm * th.sin()));
     }
     out
 }

@@ -2,6 +2,7 @@
 //! against its mate over the mesh cycle and relieved tooth by tooth.
 use super::PairError;
 use super::design::{PairOptions, Toothed};
+use crate::math::Point;
 use crate::teeth::mate_motion::MeshMotion;
 use crate::teeth::mesh::Shape;
 use crate::teeth::process::Process;
@@ -21,7 +22,7 @@ impl Toothed {
         &mut self,
         opts: &PairOptions,
         motion: &MeshMotion<'_>,
-        fine: &mut [Vec<[f64; 2]>; 2],
+        fine: &mut [Vec<Point>; 2],
         cycle_pitches: usize,
     ) -> Result<(), PairError> {
         let t = &opts.toothing;

@@ -8,6 +8,7 @@
 
 use ncgear::design::trajectory::Trajectory;
 use ncgear::design::{DesignError, DesignOptions, RefineMode};
+use ncgear::math::Point;
 use serde::Deserialize;
 
 /// An error answered as JSON: HTTP status, message, and the request field it concerns.
@@ -42,7 +43,7 @@ impl ApiError {
 #[serde(deny_unknown_fields)]
 pub struct Options {
     /// Carrier axis O `[x, y]`, mm (`--center`).
-    pub center: Option<[f64; 2]>,
+    pub center: Option<Point>,
     /// Fixed Fourier order (`--order`).
     pub order: Option<usize>,
     /// Target max tip deviation, mm (`--tol-mm`).
@@ -128,7 +129,7 @@ impl Options {
 #[serde(deny_unknown_fields)]
 pub struct DesignRequest {
     /// Target points `[x, y]` in travel order, mm.
-    pub points: Vec<[f64; 2]>,
+    pub points: Vec<Point>,
     /// Design options (CLI names).
     #[serde(default)]
     pub options: Options,

@@ -6,6 +6,7 @@ use ncgear::design::Design;
 use ncgear::design::train::ToothedTrain;
 use ncgear::geometry::assembly::Pose;
 use ncgear::geometry::pitch::PitchCurve;
+use ncgear::math::Point;
 use ncgear::math::polyline::distances_to_polyline;
 use ncgear::simulate::{FeatureOptions, Features, Simulation, features};
 use serde::Serialize;
@@ -21,15 +22,15 @@ const CURVE_SAMPLES: usize = 360;
 #[derive(Debug, Serialize)]
 pub struct View {
     /// Carrier axis O, mm.
-    pub center_mm: [f64; 2],
+    pub center_mm: Point,
     /// +1 CCW, −1 CW.
     pub direction: i8,
     /// Traced tip path (round trip), mm.
-    pub traced_mm: Vec<[f64; 2]>,
+    pub traced_mm: Vec<Point>,
     /// Each target point's distance from the traced path, mm.
     pub deviation_mm: Vec<f64>,
     /// Gear outlines in their body frames, mm: `[sun, intermediate, planet]`.
-    pub gears_mm: [Vec<[f64; 2]>; 3],
+    pub gears_mm: [Vec<Point>; 3],
     /// The outlines are toothed (a module was set).
     pub toothed: bool,
     /// Needle length l3, mm, and its angle γ in the planet's body frame, degrees.
@@ -51,11 +52,11 @@ pub struct ArmPose {
     /// Carrier angle φH, degrees.
     pub phi_deg: f64,
     /// Intermediate centre, mm.
-    pub intermediate_mm: [f64; 2],
+    pub intermediate_mm: Point,
     /// Planet centre A, mm.
-    pub planet_mm: [f64; 2],
+    pub planet_mm: Point,
     /// Needle tip B, mm.
-    pub tip_mm: [f64; 2],
+    pub tip_mm: Point,
     /// Intermediate orientation, degrees.
     pub intermediate_deg: f64,
     /// Planet orientation, degrees.
@@ -88,7 +89,7 @@ pub fn view(design: &Design, train: Option<&ToothedTrain>, spacing_mm: Option<f6
         None => Simulation::new(design.assembly.clone()),
     };
     let asm = &sim.assembly;
-    let body = |c: &PitchCurve| -> Vec<[f64; 2]> {
+    let body = |c: &PitchCurve| -> Vec<Point> {
         (0..CURVE_SAMPLES)
             .map(|k| c.point_mm(TAU * k as f64 / CURVE_SAMPLES as f64))
             .collect()

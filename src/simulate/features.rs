@@ -2,6 +2,7 @@
 //! distance of a traced path from its target, mm, deg, mm/s.
 
 use super::{SimulateError, Simulation, TwoArms};
+use crate::math::Point;
 use serde::{Deserialize, Serialize};
 use std::f64::consts::TAU;
 
@@ -94,11 +95,10 @@ pub struct Features {
     pub plant_spacing_mm: f64,
 }
 
-fn seg_seg(p1: [f64; 2], p2: [f64; 2], q1: [f64; 2], q2: [f64; 2]) -> f64 {
+fn seg_seg(p1: Point, p2: Point, q1: Point, q2: Point) -> f64 {
     let pd = crate::math::polyline::seg_dist;
-    let cross = |o: [f64; 2], a: [f64; 2], b: [f64; 2]| {
-        (a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0])
-    };
+    let cross =
+        |o: Point, a: Point, b: Point| (a.x - o.x) * (b.y - o.y) - (a.y - o.y) * (b.x - o.x);
     let (d1, d2, d3, d4) = (
         cross(q1, q2, p1),
         cross(q1, q2, p2),
@@ -132,8 +132,8 @@ pub fn angle_to_horizontal(direction_rad: f64) -> f64 {
 }
 
 /// Horizontal extent of the points below level `y`, or 0.
-fn width_below(pts: &[[f64; 2]], y: f64) -> f64 {
-    let xs: Vec<f64> = pts.iter().filter(|p| p[1] <= y).map(|p| p[0]).collect();
+fn width_below(pts: &[Point], y: f64) -> f64 {
+    let xs: Vec<f64> = pts.iter().filter(|p| p.y <= y).map(|p| p.x).collect();
     if xs.is_empty() {
         return 0.0;
     }
@@ -157,21 +157,18 @@ pub fn features(sim: &Simulation, opts: &FeatureOptions) -> Result<Features, Sim
 /// not used (the turn sets the sampling).
 pub fn features_of_turn(
     turn: &[TwoArms],
-    center_mm: [f64; 2],
+    center_mm: Point,
     direction: i8,
     opts: &FeatureOptions,
 ) -> Result<Features, SimulateError> {
     let n = turn.len();
     check_options(n, opts)?;
     let angle_at = |f: f64| f64::from(direction.signum()) * TAU * f;
-    let tips: Vec<[f64; 2]> = turn.iter().map(|p| p.arm1.tip_mm).collect();
+    let tips: Vec<Point> = turn.iter().map(|p| p.arm1.tip_mm).collect();
     let ext = Extremes::of(&tips);
     let (ymin, ymax) = (ext.bbox[2], ext.bbox[3]);
     let o = center_mm;
-    let rho: Vec<f64> = tips
-        .iter()
-        .map(|p| (p[0] - o[0]).hypot(p[1] - o[1]))
-        .collect();
+    let rho: Vec<f64> = tips.iter().map(|p| p.distance(o)).collect();
     let j_take = ext.level_crossing(&tips, opts.take_level_mm, ext.jlo, ext.jhi)?;
     let j_plant = ext.level_crossing(&tips, opts.plant_level_mm, ext.jhi, ext.jlo)?;
     let omega = TAU * opts.rpm / 60.0; // rad/s
@@ -250,18 +247,18 @@ struct Extremes {
 }
 
 impl Extremes {
-    fn of(tips: &[[f64; 2]]) -> Self {
+    fn of(tips: &[Point]) -> Self {
         let (mut xmin, mut xmax, mut ymin, mut ymax) = (f64::MAX, f64::MIN, f64::MAX, f64::MIN);
         let (mut jlo, mut jhi) = (0, 0);
         for (j, p) in tips.iter().enumerate() {
-            xmin = xmin.min(p[0]);
-            xmax = xmax.max(p[0]);
-            if p[1] < ymin {
-                ymin = p[1];
+            xmin = xmin.min(p.x);
+            xmax = xmax.max(p.x);
+            if p.y < ymin {
+                ymin = p.y;
                 jlo = j;
             }
-            if p[1] > ymax {
-                ymax = p[1];
+            if p.y > ymax {
+                ymax = p.y;
                 jhi = j;
             }
         }
@@ -276,7 +273,7 @@ impl Extremes {
     /// without a level; a level outside the path's height is refused.
     fn level_crossing(
         &self,
-        tips: &[[f64; 2]],
+        tips: &[Point],
         level: Option<f64>,
         from: usize,
         default: usize,
@@ -294,7 +291,7 @@ impl Extremes {
         }
         (0..n)
             .map(|k| (from + k) % n)
-            .find(|&j| tips[j][1] >= y && tips[(j + 1) % n][1] < y)
+            .find(|&j| tips[j].y >= y && tips[(j + 1) % n].y < y)
             .ok_or(SimulateError::BadOption {
                 option: "level",
                 message: format!("the tip never crosses y = {y} mm downwards"),
@@ -304,15 +301,15 @@ impl Extremes {
 
 /// Tip speed (mm/s) at sample `j` by central differences at carrier speed `omega` (rad/s):
 /// relative to the carrier axis, or, with a forward speed `v` (mm/s), relative to the soil.
-fn tip_speed(tips: &[[f64; 2]], j: usize, omega: f64, forward: Option<f64>) -> f64 {
+fn tip_speed(tips: &[Point], j: usize, omega: f64, forward: Option<f64>) -> f64 {
     let n = tips.len();
     let dphi = TAU / n as f64;
     let (a, b) = (tips[(j + n - 1) % n], tips[(j + 1) % n]);
     match forward {
-        None => (b[0] - a[0]).hypot(b[1] - a[1]) / (2.0 * dphi) * omega,
+        None => b.distance(a) / (2.0 * dphi) * omega,
         Some(v) => {
-            let vx = (b[0] - a[0]) / (2.0 * dphi) * omega - v;
-            let vy = (b[1] - a[1]) / (2.0 * dphi) * omega;
+            let vx = (b.x - a.x) / (2.0 * dphi) * omega - v;
+            let vy = (b.y - a.y) / (2.0 * dphi) * omega;
             vx.hypot(vy)
         }
     }
@@ -321,13 +318,13 @@ fn tip_speed(tips: &[[f64; 2]], j: usize, omega: f64, forward: Option<f64>) -> f
 /// One planting stroke of the dynamic path: half a turn centred on the lowest point `jlo`,
 /// the tips shifted back by the machine's advance at forward speed `v` (mm/s) over the carrier
 /// period `period` (s), mm.
-fn planting_stroke(tips: &[[f64; 2]], jlo: usize, v: f64, period: f64) -> Vec<[f64; 2]> {
+fn planting_stroke(tips: &[Point], jlo: usize, v: f64, period: f64) -> Vec<Point> {
     let n = tips.len();
     (0..n)
         .map(|k| {
             let j = (jlo + n - n / 2 + k) % n;
             let steps = k as f64 - (n / 2) as f64;
-            [tips[j][0] - v * steps / n as f64 * period, tips[j][1]]
+            Point::new(tips[j].x - v * steps / n as f64 * period, tips[j].y)
         })
         .collect()
 }
@@ -348,6 +345,6 @@ fn arm_clearance(turn: &[TwoArms]) -> f64 {
 
 /// Distance from each point to a closed polyline, mm.
 #[must_use]
-pub fn deviation_along(points: &[[f64; 2]], target: &[[f64; 2]]) -> Vec<f64> {
+pub fn deviation_along(points: &[Point], target: &[Point]) -> Vec<f64> {
     crate::math::polyline::distances_to_polyline(points, target)
 }

@@ -4,6 +4,7 @@
 use super::SimulateError;
 use crate::geometry::assembly::Assembly;
 use crate::geometry::pitch::PitchCurve;
+use crate::math::Point;
 use serde::{Deserialize, Serialize};
 use std::path::Path;
 
@@ -27,7 +28,7 @@ pub struct DesignFile {
     pub gears: GearsFile,
     /// Target trajectory points (mm), when the file carries them.
     #[serde(default)]
-    pub target_points: Vec<[f64; 2]>,
+    pub target_points: Vec<Point>,
     /// The `teeth` block of `ncgear design --module` (only `z` and `module_mm` are read).
     #[serde(default)]
     pub teeth: Option<TeethFile>,
@@ -47,7 +48,7 @@ pub struct TeethFile {
 pub struct CarrierFile {
     /// O, mm (`center` in files of schema version 1).
     #[serde(alias = "center")]
-    pub center_mm: [f64; 2],
+    pub center_mm: Point,
     /// +1 CCW, −1 CW.
     pub direction: i8,
 }
@@ -132,7 +133,7 @@ impl DesignFile {
                 ),
             ));
         }
-        if !self.carrier.center_mm.iter().all(|v| v.is_finite()) {
+        if !self.carrier.center_mm.is_finite() {
             return Err(bad(
                 "carrier.center_mm",
                 "must be two finite numbers [x, y] in mm".into(),

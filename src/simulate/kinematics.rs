@@ -2,6 +2,7 @@
 //! static path shifted by the forward travel), mm and rad.
 
 use crate::geometry::assembly::{Assembly, Pose, Rebuilt};
+use crate::math::Point;
 use std::f64::consts::{PI, TAU};
 
 /// The mechanism in motion: both arms.
@@ -12,7 +13,7 @@ pub struct Simulation {
     pub assembly: Assembly,
     /// Toothed outlines (body frames, mm) of the sun, intermediate and planet, drawn instead of
     /// the pitch curves when present (see [`Simulation::toothed`]).
-    pub outlines: Option<[Vec<[f64; 2]>; 3]>,
+    pub outlines: Option<[Vec<Point>; 3]>,
 }
 
 /// Poses of both arms at one carrier angle.
@@ -78,28 +79,22 @@ impl Simulation {
     /// Needle direction (rad) of a pose: from A to B.
     #[must_use]
     pub fn needle_angle(p: &Pose) -> f64 {
-        (p.tip_mm[1] - p.planet_center_mm[1]).atan2(p.tip_mm[0] - p.planet_center_mm[0])
+        (p.tip_mm - p.planet_center_mm).atan2()
     }
 
     /// Dynamic trajectory of both arms over `turns` carrier turns, `n` samples per turn:
     /// `x_dyn = x_static − v·t`, `t = turn fraction · 60/rpm` (s); `forward_mm_s` > 0 moves the
     /// machine towards +x (the path shifts towards −x).
     #[must_use]
-    pub fn dynamic(
-        &self,
-        rpm: f64,
-        forward_mm_s: f64,
-        turns: usize,
-        n: usize,
-    ) -> [Vec<[f64; 2]>; 2] {
+    pub fn dynamic(&self, rpm: f64, forward_mm_s: f64, turns: usize, n: usize) -> [Vec<Point>; 2] {
         let period = 60.0 / rpm;
         let mut out = [Vec::new(), Vec::new()];
         for k in 0..=turns * n {
             let f = k as f64 / n as f64;
             let p = self.pose(self.angle_at(f));
             let dx = forward_mm_s * f * period;
-            out[0].push([p.arm1.tip_mm[0] - dx, p.arm1.tip_mm[1]]);
-            out[1].push([p.arm2.tip_mm[0] - dx, p.arm2.tip_mm[1]]);
+            out[0].push(Point::new(p.arm1.tip_mm.x - dx, p.arm1.tip_mm.y));
+            out[1].push(Point::new(p.arm2.tip_mm.x - dx, p.arm2.tip_mm.y));
         }
         out
     }

@@ -24,6 +24,7 @@
 //! With O fixed by the machine layout the unknowns are `(l1, l3)`: two poses suffice, more are
 //! fitted the same way. Written by hand: it is the synthesis's own geometry (a 4×4 normal matrix).
 
+use crate::math::Point;
 use nalgebra::{Matrix3, Matrix4, Vector3, Vector4};
 use serde::{Deserialize, Serialize};
 
@@ -31,7 +32,7 @@ use serde::{Deserialize, Serialize};
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct Pose {
     /// Needle tip B, mm.
-    pub tip_mm: [f64; 2],
+    pub tip_mm: Point,
     /// World direction of the line planet axis A → tip B, rad (counter-clockwise from +x).
     pub needle_rad: f64,
 }
@@ -39,11 +40,11 @@ pub struct Pose {
 impl Pose {
     /// The planet axis `A = B − l3·e(θ)` for a needle of `l3_mm`, mm.
     #[must_use]
-    pub fn planet_axis(&self, l3_mm: f64) -> [f64; 2] {
-        [
-            self.tip_mm[0] - l3_mm * self.needle_rad.cos(),
-            self.tip_mm[1] - l3_mm * self.needle_rad.sin(),
-        ]
+    pub fn planet_axis(&self, l3_mm: f64) -> Point {
+        Point::new(
+            self.tip_mm.x - l3_mm * self.needle_rad.cos(),
+            self.tip_mm.y - l3_mm * self.needle_rad.sin(),
+        )
     }
 }
 
@@ -51,7 +52,7 @@ impl Pose {
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct Dyad {
     /// Carrier axis O, mm.
-    pub center_mm: [f64; 2],
+    pub center_mm: Point,
     /// Carrier arm `l1 = |OA|`, mm.
     pub l1_mm: f64,
     /// Needle `l3 = |AB|`, mm.
@@ -62,12 +63,12 @@ pub struct Dyad {
 
 impl Dyad {
     /// The dyad of needle `l3_mm` and circle (`center_mm`, `l1_mm`), its residual over `poses`.
-    fn new(poses: &[Pose], center_mm: [f64; 2], l1_mm: f64, l3_mm: f64) -> Self {
+    fn new(poses: &[Pose], center_mm: Point, l1_mm: f64, l3_mm: f64) -> Self {
         let max_residual_mm = poses
             .iter()
             .map(|p| {
                 let a = p.planet_axis(l3_mm);
-                ((a[0] - center_mm[0]).hypot(a[1] - center_mm[1]) - l1_mm).abs()
+                (a.distance(center_mm) - l1_mm).abs()
             })
             .fold(0.0, f64::max);
         Self {
@@ -85,7 +86,7 @@ impl Dyad {
             .iter()
             .map(|p| {
                 let a = p.planet_axis(self.l3_mm);
-                (a[1] - self.center_mm[1]).atan2(a[0] - self.center_mm[0])
+                (a - self.center_mm).atan2()
             })
             .collect()
     }
@@ -98,7 +99,7 @@ impl Dyad {
 #[non_exhaustive]
 pub struct DyadOptions {
     /// Carrier axis fixed by the machine layout, mm; `None` (default): solved for.
-    pub center_mm: Option<[f64; 2]>,
+    pub center_mm: Option<Point>,
     /// Longest needle searched, mm (default 1000: planting arms are well below a metre).
     pub max_l3_mm: f64,
     /// Needle lengths scanned over `(0, max_l3_mm]` (default 4000).
@@ -108,7 +109,7 @@ pub struct DyadOptions {
 }
 
 crate::builder::with_fields!(DyadOptions {
-    with_center_mm => center_mm: Option<[f64; 2]>,
+    with_center_mm => center_mm: Option<Point>,
     with_max_l3_mm => max_l3_mm: f64,
     with_samples => samples: usize,
     with_accuracy_mm => accuracy_mm: f64,
@@ -183,7 +184,7 @@ pub enum DyadError {
 /// let DyadSolutions::Finite(arms) = solve_dyads(&poses, &DyadOptions::default())? else { panic!() };
 /// let best = arms[0];
 /// assert!((best.l1_mm - 90.0).abs() < 1e-6 && (best.l3_mm - 170.0).abs() < 1e-6);
-/// assert!(best.center_mm[0].hypot(best.center_mm[1]) < 1e-6);
+/// assert!(best.center_mm.hypot() < 1e-6);
 /// # Ok::<(), ncgear::synthesis::DyadError>(())
 /// ```
 ///
@@ -213,7 +214,7 @@ pub fn solve_dyads_weighted(
     }
     if let Some(index) = poses
         .iter()
-        .position(|p| !(p.tip_mm.iter().all(|v| v.is_finite()) && p.needle_rad.is_finite()))
+        .position(|p| !(p.tip_mm.is_finite() && p.needle_rad.is_finite()))
     {
         return Err(DyadError::NotFinite { index });
     }
@@ -251,7 +252,7 @@ pub fn solve_dyads_weighted(
                     refine(
                         poses,
                         scales_mm,
-                        [o[0], o[1], circle_about(poses, o, l3).0, l3],
+                        [o.x, o.y, circle_about(poses, o, l3).0, l3],
                         true,
                         opts,
                     )
@@ -263,7 +264,7 @@ pub fn solve_dyads_weighted(
     if poses.len() == 3 {
         let family = grid
             .filter_map(|l3| {
-                let a: Vec<[f64; 2]> = poses.iter().map(|p| p.planet_axis(l3)).collect();
+                let a: Vec<Point> = poses.iter().map(|p| p.planet_axis(l3)).collect();
                 let (o, r) = circumcircle(a[0], a[1], a[2])?;
                 Some(Dyad::new(poses, o, r, l3))
             })
@@ -286,7 +287,7 @@ pub fn solve_dyads_weighted(
         .into_iter()
         .filter_map(|l3| {
             let (o, r, _) = kasa(poses, l3)?;
-            Some(refine(poses, scales_mm, [o[0], o[1], r, l3], false, opts))
+            Some(refine(poses, scales_mm, [o.x, o.y, r, l3], false, opts))
         })
         .collect();
     Ok(DyadSolutions::Finite(ranked(dyads, opts)))
@@ -310,17 +311,17 @@ fn ranked(mut dyads: Vec<Dyad>, opts: &DyadOptions) -> Vec<Dyad> {
 /// `det[|A_k|², A_k,x, A_k,y, 1]` of the first four poses' planet axes at needle `l3`, scaled by
 /// the points' size so that its sign is meaningful at any scale.
 fn concyclic_det(poses: &[Pose], l3: f64) -> f64 {
-    let a: Vec<[f64; 2]> = poses.iter().take(4).map(|p| p.planet_axis(l3)).collect();
+    let a: Vec<Point> = poses.iter().take(4).map(|p| p.planet_axis(l3)).collect();
     let c = [
-        a.iter().map(|p| p[0]).sum::<f64>() / 4.0,
-        a.iter().map(|p| p[1]).sum::<f64>() / 4.0,
+        a.iter().map(|p| p.x).sum::<f64>() / 4.0,
+        a.iter().map(|p| p.y).sum::<f64>() / 4.0,
     ];
     let s = a
         .iter()
-        .map(|p| (p[0] - c[0]).hypot(p[1] - c[1]))
+        .map(|p| (p.x - c[0]).hypot(p.y - c[1]))
         .fold(1e-300, f64::max);
     let m = Matrix4::from_fn(|i, j| {
-        let (x, y) = ((a[i][0] - c[0]) / s, (a[i][1] - c[1]) / s);
+        let (x, y) = ((a[i].x - c[0]) / s, (a[i].y - c[1]) / s);
         [x * x + y * y, x, y, 1.0][j]
     });
     m.determinant()
@@ -328,37 +329,32 @@ fn concyclic_det(poses: &[Pose], l3: f64) -> f64 {
 
 /// The algebraic (Kåsa) circle through the planet axes at needle `l3`: centre, radius and the
 /// RMS geometric residual; `None` when they are collinear.
-fn kasa(poses: &[Pose], l3: f64) -> Option<([f64; 2], f64, f64)> {
-    let a: Vec<[f64; 2]> = poses.iter().map(|p| p.planet_axis(l3)).collect();
+fn kasa(poses: &[Pose], l3: f64) -> Option<(Point, f64, f64)> {
+    let a: Vec<Point> = poses.iter().map(|p| p.planet_axis(l3)).collect();
     let (mut n, mut b) = (Matrix3::zeros(), Vector3::zeros());
     for p in &a {
-        let row = Vector3::new(p[0], p[1], 1.0);
+        let row = Vector3::new(p.x, p.y, 1.0);
         n += row * row.transpose();
-        b -= row * (p[0] * p[0] + p[1] * p[1]);
+        b -= row * (p.dot(*p));
     }
     let s = n.try_inverse()? * b;
-    let o = [-0.5 * s[0], -0.5 * s[1]];
-    let r2 = o[0] * o[0] + o[1] * o[1] - s[2];
+    let o = Point::new(-0.5 * s[0], -0.5 * s[1]);
+    let r2 = o.norm_squared() - s[2];
     if !(r2 > 0.0 && r2.is_finite()) {
         return None;
     }
     let r = r2.sqrt();
-    let rms = (a
-        .iter()
-        .map(|p| ((p[0] - o[0]).hypot(p[1] - o[1]) - r).powi(2))
-        .sum::<f64>()
-        / a.len() as f64)
-        .sqrt();
+    let rms = (a.iter().map(|p| (p.distance(o) - r).powi(2)).sum::<f64>() / a.len() as f64).sqrt();
     Some((o, r, rms))
 }
 
 /// Mean distance of the planet axes from `o` at needle `l3`, and their RMS spread about it.
-fn circle_about(poses: &[Pose], o: [f64; 2], l3: f64) -> (f64, f64) {
+fn circle_about(poses: &[Pose], o: Point, l3: f64) -> (f64, f64) {
     let d: Vec<f64> = poses
         .iter()
         .map(|p| {
             let a = p.planet_axis(l3);
-            (a[0] - o[0]).hypot(a[1] - o[1])
+            a.distance(o)
         })
         .collect();
     let mean = d.iter().sum::<f64>() / d.len() as f64;
@@ -367,8 +363,8 @@ fn circle_about(poses: &[Pose], o: [f64; 2], l3: f64) -> (f64, f64) {
 }
 
 /// The circle through three points, `None` when they are (nearly) collinear.
-fn circumcircle(a: [f64; 2], b: [f64; 2], c: [f64; 2]) -> Option<([f64; 2], f64)> {
-    let (bx, by, cx, cy) = (b[0] - a[0], b[1] - a[1], c[0] - a[0], c[1] - a[1]);
+fn circumcircle(a: Point, b: Point, c: Point) -> Option<(Point, f64)> {
+    let (bx, by, cx, cy) = (b.x - a.x, b.y - a.y, c.x - a.x, c.y - a.y);
     let d = 2.0 * (bx * cy - by * cx);
     let scale = (bx * bx + by * by).max(cx * cx + cy * cy);
     if d.abs() <= 1e-12 * scale {
@@ -377,7 +373,7 @@ fn circumcircle(a: [f64; 2], b: [f64; 2], c: [f64; 2]) -> Option<([f64; 2], f64)
     let (b2, c2) = (bx * bx + by * by, cx * cx + cy * cy);
     let ux = (cy * b2 - by * c2) / d;
     let uy = (bx * c2 - cx * b2) / d;
-    Some(([a[0] + ux, a[1] + uy], ux.hypot(uy)))
+    Some((Point::new(a.x + ux, a.y + uy), ux.hypot(uy)))
 }
 
 /// The `x` of the local minima of sampled `(x, f(x))` (interior samples no larger than both
@@ -426,7 +422,7 @@ fn refine(
             .zip(scales_mm)
             .map(|(p, s)| {
                 let a = p.planet_axis(x[3]);
-                let d = [a[0] - x[0], a[1] - x[1]];
+                let d = [a.x - x[0], a.y - x[1]];
                 let n = d[0].hypot(d[1]).max(1e-300);
                 let u = [d[0] / n, d[1] / n];
                 let e = [p.needle_rad.cos(), p.needle_rad.sin()];
@@ -485,5 +481,5 @@ fn refine(
             break;
         }
     }
-    Dyad::new(poses, [x[0], x[1]], x[2], x[3])
+    Dyad::new(poses, Point::new(x[0], x[1]), x[2], x[3])
 }

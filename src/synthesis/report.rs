@@ -4,6 +4,7 @@
 use super::dyad::{Dyad, DyadError};
 use super::timing::TimingError;
 use crate::design::Design;
+use crate::math::Point;
 use serde::{Deserialize, Serialize};
 
 /// The synthesis report (`synthesis.json`).
@@ -59,7 +60,7 @@ impl Candidate {
 #[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct PoseResult {
     /// Pose tip, mm.
-    pub tip_mm: [f64; 2],
+    pub tip_mm: Point,
     /// Pose needle direction, degrees.
     pub needle_deg: f64,
     /// Carrier angle at which the design's tip is closest, degrees (world, file frame).

@@ -5,6 +5,7 @@
 use super::dyad::Pose;
 use super::report::SynthesisError;
 use super::timing::POSE_TOL_RAD;
+use crate::math::Point;
 use crate::simulate::FeatureOptions;
 use serde::{Deserialize, Serialize};
 
@@ -28,7 +29,7 @@ pub struct Spec {
 #[serde(deny_unknown_fields)]
 pub struct Machine {
     /// Carrier axis O, mm; omitted: solved for.
-    pub center_mm: Option<[f64; 2]>,
+    pub center_mm: Option<Point>,
     /// `"ccw"` or `"cw"`; omitted: the sense the poses run in.
     pub carrier: Option<String>,
     /// Carrier speed, r/min (default 300, as `ncgear simulate`).
@@ -71,7 +72,7 @@ impl PoseSpec {
     #[must_use]
     pub fn pose(&self) -> Pose {
         Pose {
-            tip_mm: [self.x_mm, self.y_mm],
+            tip_mm: Point::new(self.x_mm, self.y_mm),
             needle_rad: self.needle_deg.to_radians(),
         }
     }

@@ -40,6 +40,7 @@ use crate::geometry::assembly::Pose as ArmPose;
 use crate::geometry::fourier::SunRatio;
 use crate::geometry::limits::GearLimits;
 use crate::geometry::mechanism::Mechanism;
+use crate::math::Point;
 use crate::simulate::{FeatureOptions, Features, TwoArms, features_of_turn};
 use argmin::core::CostFunction;
 use nalgebra::DVector;
@@ -93,7 +94,7 @@ pub struct TargetProblem {
     /// The design chain's gear limits.
     pub limits: GearLimits,
     /// Carrier axis O, mm.
-    pub center_mm: [f64; 2],
+    pub center_mm: Point,
     /// Carrier sense, +1 CCW, −1 CW.
     pub direction: i8,
     /// Search box of `l1`, mm.
@@ -142,23 +143,23 @@ pub fn band_shortfalls(bands: &[(&'static str, [f64; 2])], f: &Features) -> Vec<
 /// Both arms of `m` over one turn at `n` instants (time order), world frame: carrier axis at
 /// `center_mm`, a CW carrier (`direction < 0`) the mirror image of the solved frame in y.
 #[must_use]
-pub fn turn_of(m: &Mechanism, center_mm: [f64; 2], direction: i8, n: usize) -> Vec<TwoArms> {
+pub fn turn_of(m: &Mechanism, center_mm: Point, direction: i8, n: usize) -> Vec<TwoArms> {
     let s = f64::from(direction.signum());
-    let world = |p: [f64; 2]| [center_mm[0] + p[0], center_mm[1] + s * p[1]];
+    let world = |p: Point| Point::new(center_mm.x + p.x, center_mm.y + s * p.y);
     let arm = |phi: f64| {
         let (l1, a) = (m.l1_mm(), m.a_mm);
         let theta3 = m.planet_orientation(phi);
         let beta = theta3 + m.needle_angle_rad;
         ArmPose {
             phi_h_rad: s * phi,
-            intermediate_center_mm: world([a * phi.cos(), a * phi.sin()]),
-            planet_center_mm: world([l1 * phi.cos(), l1 * phi.sin()]),
+            intermediate_center_mm: world(Point::new(a * phi.cos(), a * phi.sin())),
+            planet_center_mm: world(Point::new(l1 * phi.cos(), l1 * phi.sin())),
             intermediate_angle_rad: s * m.intermediate_orientation(phi),
             planet_angle_rad: s * theta3,
-            tip_mm: world([
+            tip_mm: world(Point::new(
                 l1 * phi.cos() + m.l3_mm * beta.cos(),
                 l1 * phi.sin() + m.l3_mm * beta.sin(),
-            ]),
+            )),
             sun_mesh_error_mm: 0.0,
             planet_mesh_error_mm: 0.0,
         }
@@ -339,9 +340,8 @@ impl TargetProblem {
 }
 
 /// Turns of arm 1's tip path about `center_mm`.
-fn winding_number(turn: &[TwoArms], center_mm: [f64; 2]) -> i64 {
-    let angle =
-        |p: &TwoArms| (p.arm1.tip_mm[1] - center_mm[1]).atan2(p.arm1.tip_mm[0] - center_mm[0]);
+fn winding_number(turn: &[TwoArms], center_mm: Point) -> i64 {
+    let angle = |p: &TwoArms| (p.arm1.tip_mm - center_mm).atan2();
     let total: f64 = (0..turn.len())
         .map(|k| {
             let d = angle(&turn[(k + 1) % turn.len()]) - angle(&turn[k]);

@@ -8,6 +8,7 @@
 //! that a miss — the common case, most neighbour cells are empty — ends at the first or second
 //! slot, and a slot is 16 bytes (key and run), so a probe touches one cache line.
 
+use crate::math::Point;
 /// Occupied cells → segment runs. Keys are cell coordinates within ±2³¹.
 #[derive(Debug, Clone)]
 pub(crate) struct CellTable {
@@ -138,7 +139,7 @@ impl FarMap {
     pub(crate) fn new(
         occupied: &[(i64, i64)],
         cell_mm: f64,
-        inside: impl Fn([f64; 2]) -> bool,
+        inside: impl Fn(Point) -> bool,
     ) -> Self {
         let (lo, hi) = occupied.iter().fold(
             ((i64::MAX, i64::MAX), (i64::MIN, i64::MIN)),
@@ -183,10 +184,10 @@ impl FarMap {
                     continue;
                 }
                 let s = *side.get_or_insert_with(|| {
-                    let centre = [
+                    let centre = Point::new(
                         lo.0 as f64 * cell_mm + (bx as f64 + 0.5) * size,
                         lo.1 as f64 * cell_mm + (by as f64 + 0.5) * size,
-                    ];
+                    );
                     if inside(centre) {
                         Side::Inside
                     } else {

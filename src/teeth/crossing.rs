@@ -2,6 +2,7 @@
 //! that trims it. Written by hand: a few hundred segments per piece, pruned by the
 //! bounding boxes of runs of segments.
 
+use crate::math::Point;
 /// A crossing of segment `ia` of polyline `a` with segment `ib` of polyline `b`.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub(super) struct Crossing {
@@ -14,14 +15,14 @@ pub(super) struct Crossing {
     /// Fraction along that segment, in `[0, 1]`.
     pub tb: f64,
     /// The crossing point, mm.
-    pub point: [f64; 2],
+    pub point: Point,
 }
 
 /// Segments per bounding box of the pruning.
 const RUN: usize = 16;
 
 /// Bounding boxes `[xmin, ymin, xmax, ymax]` of runs of `RUN` segments of `p`.
-fn run_boxes(p: &[[f64; 2]]) -> Vec<[f64; 4]> {
+fn run_boxes(p: &[Point]) -> Vec<[f64; 4]> {
     (0..p.len().saturating_sub(1))
         .step_by(RUN)
         .map(|s| {
@@ -32,14 +33,7 @@ fn run_boxes(p: &[[f64; 2]]) -> Vec<[f64; 4]> {
                     f64::NEG_INFINITY,
                     f64::NEG_INFINITY,
                 ],
-                |b, v| {
-                    [
-                        b[0].min(v[0]),
-                        b[1].min(v[1]),
-                        b[2].max(v[0]),
-                        b[3].max(v[1]),
-                    ]
-                },
+                |b, v| [b[0].min(v.x), b[1].min(v.y), b[2].max(v.x), b[3].max(v.y)],
             )
         })
         .collect()
@@ -50,9 +44,7 @@ fn run_boxes(p: &[[f64; 2]]) -> Vec<[f64; 4]> {
 /// Segments `p + t·(q − p)` and `u + s·(v − u)` cross where both `t, s ∈ [0, 1]`:
 /// `t = (u − p)×(v − u) / (q − p)×(v − u)`, `s = (u − p)×(q − p) / (q − p)×(v − u)`; parallel
 /// segments do not cross.
-pub(super) fn crossings(a: &[[f64; 2]], b: &[[f64; 2]]) -> Vec<Crossing> {
-    let cross = |x: [f64; 2], y: [f64; 2]| x[0] * y[1] - x[1] * y[0];
-    let sub = |x: [f64; 2], y: [f64; 2]| [x[0] - y[0], x[1] - y[1]];
+pub(super) fn crossings(a: &[Point], b: &[Point]) -> Vec<Crossing> {
     let (ba, bb) = (run_boxes(a), run_boxes(b));
     let mut out = Vec::new();
     for (ra, xa) in ba.iter().enumerate() {
@@ -62,23 +54,23 @@ pub(super) fn crossings(a: &[[f64; 2]], b: &[[f64; 2]]) -> Vec<Crossing> {
             }
             for ia in ra * RUN..((ra + 1) * RUN).min(a.len() - 1) {
                 let (p, q) = (a[ia], a[ia + 1]);
-                let r = sub(q, p);
+                let r = q - p;
                 for ib in rb * RUN..((rb + 1) * RUN).min(b.len() - 1) {
                     let (u, v) = (b[ib], b[ib + 1]);
-                    let w = sub(v, u);
-                    let den = cross(r, w);
+                    let w = v - u;
+                    let den = r.cross(w);
                     if den == 0.0 {
                         continue;
                     }
-                    let d = sub(u, p);
-                    let (ta, tb) = (cross(d, w) / den, cross(d, r) / den);
+                    let d = u - p;
+                    let (ta, tb) = (d.cross(w) / den, d.cross(r) / den);
                     if (0.0..=1.0).contains(&ta) && (0.0..=1.0).contains(&tb) {
                         out.push(Crossing {
                             ia,
                             ta,
                             ib,
                             tb,
-                            point: [p[0] + ta * r[0], p[1] + ta * r[1]],
+                            point: p + r * ta,
                         });
                     }
                 }
@@ -97,7 +89,7 @@ pub(super) struct Jump {
     /// Parameter where it re-enters (> `from`).
     pub to: f64,
     /// The crossing point, mm.
-    pub point: [f64; 2],
+    pub point: Point,
 }
 
 /// Walks the open polyline `w` from its start and cuts every loop: where a later, non-adjacent
@@ -105,7 +97,7 @@ pub(super) struct Jump {
 /// latest such segment. Returns the kept polyline and its jumps in order. An undercut flank
 /// with its fillet (root → tip) becomes the boundary the rack leaves: the swallowtail of the
 /// flank envelope and the stretch the fillet trochoid cuts away are loops of `w`.
-pub(super) fn cut_loops(w: &[[f64; 2]]) -> (Vec<[f64; 2]>, Vec<Jump>) {
+pub(super) fn cut_loops(w: &[Point]) -> (Vec<Point>, Vec<Jump>) {
     let mut all: Vec<Crossing> = crossings(w, w)
         .into_iter()
         .filter(|c| c.ib > c.ia + 1)
@@ -148,10 +140,10 @@ mod tests {
     /// A zigzag against a line: every crossing found once, at the closed-form points.
     #[test]
     fn zigzag_crosses_a_line_at_every_tooth() {
-        let zig: Vec<[f64; 2]> = (0..=100)
-            .map(|k| [f64::from(k), if k % 2 == 0 { -1.0 } else { 1.0 }])
+        let zig: Vec<Point> = (0..=100)
+            .map(|k| Point::new(f64::from(k), if k % 2 == 0 { -1.0 } else { 1.0 }))
             .collect();
-        let line = [[-1.0, 0.5], [101.0, 0.5]];
+        let line = [Point::new(-1.0, 0.5), Point::new(101.0, 0.5)];
         let mut c = crossings(&zig, &line);
         c.sort_by_key(|x| x.ia);
         assert_eq!(c.len(), 100);
@@ -160,9 +152,9 @@ mod tests {
             // y = ±1 ∓ 2t = 0.5 → t = 0.25 on rising segments (k even), 0.75 on falling ones.
             let want = if k % 2 == 0 { 0.75 } else { 0.25 };
             assert!((x.ta - want).abs() < 1e-12, "{x:?}");
-            assert!((x.point[1] - 0.5).abs() < 1e-12);
+            assert!((x.point.y - 0.5).abs() < 1e-12);
         }
-        assert!(crossings(&zig, &[[0.0, 5.0], [100.0, 5.0]]).is_empty());
+        assert!(crossings(&zig, &[Point::new(0.0, 5.0), Point::new(100.0, 5.0)]).is_empty());
     }
 
     /// A path with a loop (a swallowtail): the walk cuts it at the self-crossing, closed form.
@@ -170,15 +162,23 @@ mod tests {
     fn a_loop_is_cut_at_its_crossing() {
         // Up the line x = 0, a loop to the right and back across it at y = 2, then up again.
         let w = [
-            [0.0, 0.0],
-            [0.0, 3.0],
-            [1.0, 3.0],
-            [1.0, 2.0],
-            [-1.0, 2.0],
-            [-1.0, 4.0],
+            Point::new(0.0, 0.0),
+            Point::new(0.0, 3.0),
+            Point::new(1.0, 3.0),
+            Point::new(1.0, 2.0),
+            Point::new(-1.0, 2.0),
+            Point::new(-1.0, 4.0),
         ];
         let (kept, jumps) = cut_loops(&w);
-        assert_eq!(kept, vec![[0.0, 0.0], [0.0, 2.0], [-1.0, 2.0], [-1.0, 4.0]]);
+        assert_eq!(
+            kept,
+            vec![
+                Point::new(0.0, 0.0),
+                Point::new(0.0, 2.0),
+                Point::new(-1.0, 2.0),
+                Point::new(-1.0, 4.0)
+            ]
+        );
         assert_eq!(jumps.len(), 1);
         // Segment 0 at 2/3, segment 3 ([1, 2] → [−1, 2]) at 1/2.
         assert!((jumps[0].from - 2.0 / 3.0).abs() < 1e-12 && (jumps[0].to - 3.5).abs() < 1e-12);

@@ -1,6 +1,7 @@
 //! Arc-length frame of a pitch curve (docs/math/teeth.md §12.2): `P(s)`, unit tangent `T(s)`, outward normal
 //! `N(s) = (T_y, −T_x)`, curvature `κ(s)` (> 0 convex), `s ∈ [0, L)` CCW from body angle 0.
 use crate::geometry::pitch::PitchCurve;
+use crate::math::Point;
 use std::f64::consts::TAU;
 
 /// Arc-length parametrisation of a [`PitchCurve`] (mm).
@@ -22,11 +23,11 @@ pub struct ArcFrame {
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct FramePoint {
     /// Point on the pitch curve, mm.
-    pub p: [f64; 2],
+    pub p: Point,
     /// Unit tangent (CCW).
-    pub t: [f64; 2],
+    pub t: Point,
     /// Outward unit normal.
-    pub n: [f64; 2],
+    pub n: Point,
     /// Curvature, 1/mm (> 0 convex).
     pub kappa: f64,
     /// Body polar angle, rad.
@@ -102,11 +103,11 @@ impl ArcFrame {
         let theta = self.theta_at(s_mm);
         let g = self.curve.geometry(theta);
         let (sn, cs) = theta.sin_cos();
-        let p = [g.r_mm * cs, g.r_mm * sn];
-        let d = [g.dr_mm * cs - g.r_mm * sn, g.dr_mm * sn + g.r_mm * cs];
+        let p = Point::new(g.r_mm * cs, g.r_mm * sn);
+        let d = Point::new(g.dr_mm * cs - g.r_mm * sn, g.dr_mm * sn + g.r_mm * cs);
         let v = g.speed_mm();
-        let t = [d[0] / v, d[1] / v];
-        let n = [t[1], -t[0]];
+        let t = d / v;
+        let n = -t.perp();
         let kappa = g.convexity_mm2() / (v * v * v);
         FramePoint {
             p,
@@ -120,11 +121,8 @@ impl ArcFrame {
     /// Maps rack coordinates `(ξ, η)` (ξ along the rolling arc, η along the outward normal) with
     /// the rack tangent at `P(s)` to the body frame: `P(s) + (ξ − s)T(s) + ηN(s)` (docs/math/teeth.md §12.3).
     #[must_use]
-    pub fn rack_to_body(f: &FramePoint, s_mm: f64, xi: f64, eta: f64) -> [f64; 2] {
+    pub fn rack_to_body(f: &FramePoint, s_mm: f64, xi: f64, eta: f64) -> Point {
         let u = xi - s_mm;
-        [
-            f.p[0] + u * f.t[0] + eta * f.n[0],
-            f.p[1] + u * f.t[1] + eta * f.n[1],
-        ]
+        f.p + f.t * u + f.n * eta
     }
 }

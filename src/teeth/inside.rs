@@ -2,10 +2,11 @@
 //! (teeth that lean under a large pressure-angle deviation overhang the root): the even–odd
 //! crossing rule on a horizontal ray, with the edges indexed by horizontal bands.
 
+use crate::math::Point;
 /// Edges of a closed polyline bucketed by horizontal bands of height `band_mm`.
 #[derive(Debug, Clone)]
 pub(crate) struct Bands {
-    pts: Vec<[f64; 2]>,
+    pts: Vec<Point>,
     y0: f64,
     h: f64,
     /// Band `k`'s edges are `edges[first[k]..first[k + 1]]`, in outline order.
@@ -15,19 +16,19 @@ pub(crate) struct Bands {
 
 impl Bands {
     /// Indexes the edges of the closed polyline `points_mm` (no duplicated end vertex).
-    pub(crate) fn new(points_mm: &[[f64; 2]], band_mm: f64) -> Self {
+    pub(crate) fn new(points_mm: &[Point], band_mm: f64) -> Self {
         let n = points_mm.len();
         let (lo, hi) = points_mm
             .iter()
             .fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), p| {
-                (l.min(p[1]), h.max(p[1]))
+                (l.min(p.y), h.max(p.y))
             });
         let h = band_mm.max((hi - lo) / 1.0e5).max(f64::MIN_POSITIVE);
         let count = (((hi - lo) / h).floor() as usize + 1).max(1);
         let index = |y: f64| (((y - lo) / h).floor().max(0.0) as usize).min(count - 1);
         let span = |i: usize| {
             let (a, b) = (points_mm[i], points_mm[(i + 1) % n]);
-            index(a[1].min(b[1]))..=index(a[1].max(b[1]))
+            index(a.y.min(b.y))..=index(a.y.max(b.y))
         };
         // Counted, then filled: one flat array of edge indices instead of a vector per band.
         let mut first = vec![0u32; count + 1];
@@ -57,8 +58,8 @@ impl Bands {
     }
 
     /// Whether `x` lies inside the polygon (even–odd rule; boundary points either way).
-    pub(crate) fn contains(&self, x: [f64; 2]) -> bool {
-        let k = (x[1] - self.y0) / self.h;
+    pub(crate) fn contains(&self, x: Point) -> bool {
+        let k = (x.y - self.y0) / self.h;
         let count = self.first.len() - 1;
         if !(k >= 0.0) || k as usize >= count {
             return false;
@@ -68,9 +69,9 @@ impl Bands {
         let mut inside = false;
         for &i in &self.edges[self.first[k] as usize..self.first[k + 1] as usize] {
             let (a, b) = (self.pts[i as usize], self.pts[(i as usize + 1) % n]);
-            if (a[1] > x[1]) != (b[1] > x[1]) {
-                let xc = a[0] + (x[1] - a[1]) * (b[0] - a[0]) / (b[1] - a[1]);
-                if xc > x[0] {
+            if (a.y > x.y) != (b.y > x.y) {
+                let xc = a.x + (x.y - a.y) * (b.x - a.x) / (b.y - a.y);
+                if xc > x.x {
                     inside = !inside;
                 }
             }
@@ -82,6 +83,7 @@ impl Bands {
 #[cfg(test)]
 mod tests {
     use super::Bands;
+    use crate::math::Point;
 
     /// A star-shaped test would call the pocket under the overhang "inside"; the crossing rule
     /// does not.
@@ -89,22 +91,22 @@ mod tests {
     fn overhanging_tooth_pocket_is_outside() {
         // A square with a hook: the notch between x = 1..3, y = 1..2 is outside.
         let poly = [
-            [0.0, 0.0],
-            [4.0, 0.0],
-            [4.0, 3.0],
-            [1.0, 3.0],
-            [1.0, 2.0],
-            [3.0, 2.0],
-            [3.0, 1.0],
-            [0.0, 1.0],
+            Point::new(0.0, 0.0),
+            Point::new(4.0, 0.0),
+            Point::new(4.0, 3.0),
+            Point::new(1.0, 3.0),
+            Point::new(1.0, 2.0),
+            Point::new(3.0, 2.0),
+            Point::new(3.0, 1.0),
+            Point::new(0.0, 1.0),
         ];
         let b = Bands::new(&poly, 0.3);
-        assert!(b.contains([0.5, 0.5]));
-        assert!(b.contains([3.5, 2.5]));
-        assert!(b.contains([2.0, 2.5]));
-        assert!(!b.contains([2.0, 1.5]), "the pocket");
-        assert!(!b.contains([0.5, 1.5]));
-        assert!(!b.contains([5.0, 0.5]));
-        assert!(!b.contains([2.0, -1.0]));
+        assert!(b.contains(Point::new(0.5, 0.5)));
+        assert!(b.contains(Point::new(3.5, 2.5)));
+        assert!(b.contains(Point::new(2.0, 2.5)));
+        assert!(!b.contains(Point::new(2.0, 1.5)), "the pocket");
+        assert!(!b.contains(Point::new(0.5, 1.5)));
+        assert!(!b.contains(Point::new(5.0, 0.5)));
+        assert!(!b.contains(Point::new(2.0, -1.0)));
     }
 }

@@ -4,6 +4,7 @@
 //! (the coast flanks, so that the mesh keeps its backlash).
 use super::conjugate::MatePose;
 use crate::geometry::pitch::PitchCurve;
+use crate::math::Point;
 use std::f64::consts::PI;
 
 /// Flank allowance of a swept gear, in modules: the mate is swept turned by this much (as arc at
@@ -77,13 +78,13 @@ impl MeshMotion<'_> {
             // Driven body → driver body: R(−φ)(R(−ang2)x + (a, 0)).
             MatePose {
                 angle_rad: -phi - ang2,
-                shift_mm: [a * phi.cos(), -a * phi.sin()],
+                shift_mm: Point::new(a * phi.cos(), -a * phi.sin()),
             }
         } else {
             // Driver body → driven body: R(ang2)(R(φ)x − (a, 0)).
             MatePose {
                 angle_rad: phi + ang2,
-                shift_mm: [-a * ang2.cos(), -a * ang2.sin()],
+                shift_mm: Point::new(-a * ang2.cos(), -a * ang2.sin()),
             }
         }
     }

@@ -15,6 +15,7 @@ use super::crossing::cut_loops;
 use super::frame::{ArcFrame, FramePoint};
 use super::{FlankUndercut, GearBlank, RackParams, TeethError, UndercutReport};
 use crate::geometry::pitch::PitchCurve;
+use crate::math::Point;
 use serde::Serialize;
 
 /// Options of a [`GearBlank`]'s outline, whatever its [`super::Generation`]; the defaults are those of [`OutlineOptions::new`]`(0.0, 1e-3)`.
@@ -78,7 +79,7 @@ impl Default for OutlineOptions {
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct Outline {
     /// Vertices, mm, CCW, closed implicitly.
-    pub points_mm: Vec<[f64; 2]>,
+    pub points_mm: Vec<Point>,
     /// Tooth count.
     pub z: u32,
     /// Module, mm.
@@ -98,26 +99,26 @@ struct Gen<'a> {
 }
 
 impl Gen<'_> {
-    fn map(&self, s: f64, xi: f64, eta: f64) -> [f64; 2] {
+    fn map(&self, s: f64, xi: f64, eta: f64) -> Point {
         let f = self.frame.at(s);
         ArcFrame::rack_to_body(&f, s, xi, eta)
     }
     /// Flank point; `sign` = +1 right flank, −1 left flank.
-    fn flank(&self, sf: f64, sign: f64, s: f64) -> [f64; 2] {
+    fn flank(&self, sf: f64, sign: f64, s: f64) -> Point {
         let d = (sf - s) * self.ca;
         self.map(s, s + d * self.ca, sign * d * self.sa)
     }
-    fn fillet(&self, xc: f64, s: f64) -> [f64; 2] {
+    fn fillet(&self, xc: f64, s: f64) -> Point {
         let ec = -(self.hf - self.rho);
         let (dx, dy) = (xc - s, ec);
         let l = dx.hypot(dy);
         self.map(s, xc + self.rho * dx / l, ec + self.rho * dy / l)
     }
     /// Addendum curve lowered by the tooth's tip relief `rel` (mm, [`super::tip_relief`]).
-    fn tip(&self, u: f64, rel: f64) -> [f64; 2] {
+    fn tip(&self, u: f64, rel: f64) -> Point {
         let f = self.frame.at(u);
         let h = self.ha - rel;
-        [f.p[0] + h * f.n[0], f.p[1] + h * f.n[1]]
+        f.p + f.n * h
     }
     /// Solves flank(s) = tip(u) by Newton from the flat-rack guess.
     fn trim_tip(&self, sf: f64, sign: f64, rel: f64) -> Option<(f64, f64)> {
@@ -138,8 +139,8 @@ impl Gen<'_> {
         sl: f64,
         s_tip: f64,
         undercut: bool,
-        out: &mut Vec<[f64; 2]>,
-    ) -> ([f64; 2], f64) {
+        out: &mut Vec<Point>,
+    ) -> (Point, f64) {
         let xcl = sl - self.hs * w.ta - self.rho * self.ca;
         let mut wl = vec![self.fillet(xcl, xcl)];
         let nfl = push_piece(&mut wl, xcl, xcl - w.fillet_span, w.step_f, |s| {
@@ -174,8 +175,8 @@ impl Gen<'_> {
         sr: f64,
         s_tip: f64,
         undercut: bool,
-        out: &mut Vec<[f64; 2]>,
-    ) -> (([f64; 2], f64), f64) {
+        out: &mut Vec<Point>,
+    ) -> ((Point, f64), f64) {
         let s_low = sr + self.hs / w.sc;
         let mut wr = vec![out[out.len() - 1]];
         let nr = push_piece(&mut wr, s_tip, s_low, w.step, |s| self.flank(sr, 1.0, s));
@@ -256,7 +257,7 @@ fn rack_gen<'a>(frame: &'a ArcFrame, rack: &RackParams, m: f64) -> Gen<'a> {
 pub(super) fn rack_tip_corners(
     blank: &GearBlank<'_>,
     relief_mm: &[f64],
-) -> Result<Vec<[[f64; 2]; 2]>, TeethError> {
+) -> Result<Vec<[Point; 2]>, TeethError> {
     let p = blank.validated_pitch_mm()?;
     let (opts, g) = (
         &blank.opts,
@@ -273,23 +274,23 @@ pub(super) fn rack_tip_corners(
 /// Solves `flank(s) = tip(u)` by 2-D Newton (forward-difference Jacobian, step 1e-6) from
 /// `(s, u)`; `None` if it does not converge to 1e-9 mm.
 pub(super) fn meet(
-    flank: impl Fn(f64) -> [f64; 2],
-    tip: impl Fn(f64) -> [f64; 2],
+    flank: impl Fn(f64) -> Point,
+    tip: impl Fn(f64) -> Point,
     mut s: f64,
     mut u: f64,
 ) -> Option<(f64, f64)> {
     for _ in 0..50 {
         let q = flank(s);
         let t = tip(u);
-        let r = [q[0] - t[0], q[1] - t[1]];
+        let r = [q.x - t.x, q.y - t.y];
         if r[0].hypot(r[1]) < 1e-13 {
             return Some((s, u));
         }
         let h = 1e-6;
         let qs = flank(s + h);
         let tu = tip(u + h);
-        let a = [(qs[0] - q[0]) / h, (qs[1] - q[1]) / h];
-        let b = [-(tu[0] - t[0]) / h, -(tu[1] - t[1]) / h];
+        let a = [(qs.x - q.x) / h, (qs.y - q.y) / h];
+        let b = [-(tu.x - t.x) / h, -(tu.y - t.y) / h];
         let det = a[0] * b[1] - a[1] * b[0];
         if det.abs() < 1e-300 {
             return None;
@@ -304,24 +305,24 @@ pub(super) fn meet(
     }
     let q = flank(s);
     let t = tip(u);
-    ((q[0] - t[0]).hypot(q[1] - t[1]) < 1e-9).then_some((s, u))
+    (q.distance(t) < 1e-9).then_some((s, u))
 }
 
 /// Samples `f` on `(from, to]` with about `step_mm` between vertices into `out`; returns the
 /// number of vertices pushed `n` (vertex k at parameter `from + (to − from)·k/n`).
 pub(super) fn push_piece(
-    out: &mut Vec<[f64; 2]>,
+    out: &mut Vec<Point>,
     from: f64,
     to: f64,
     step_mm: f64,
-    f: impl Fn(f64) -> [f64; 2],
+    f: impl Fn(f64) -> Point,
 ) -> usize {
     // Estimate the spatial length with 8 chords, then sample uniformly in the parameter.
     let mut len = 0.0;
     let mut prev = f(from);
     for k in 1..=8 {
         let q = f(from + (to - from) * k as f64 / 8.0);
-        len += (q[0] - prev[0]).hypot(q[1] - prev[1]);
+        len += q.distance(prev);
         prev = q;
     }
     let n = ((len / step_mm).ceil() as usize).clamp(2, 1_000_000);
@@ -474,7 +475,7 @@ pub(super) fn generate_relieved_on(
         push_piece(&mut out, ul, ur, walk.step, |u| g.tip(u, rel));
         let undercut_r = report.flanks[2 * k + 1].undercut;
         let (form_r, xcr) = g.right_side(&walk, sr, s_tip_r, undercut_r, &mut out);
-        let root = (form_l.0[0] - form_r.0[0]).hypot(form_l.0[1] - form_r.0[1]);
+        let root = form_l.0.distance(form_r.0);
         for (f, depth) in [(2 * k, form_l.1), (2 * k + 1, form_r.1)] {
             let fl = &mut report.flanks[f];
             fl.form_depth_mm = depth;
@@ -558,10 +559,10 @@ impl Walk {
 
 /// Drops exact duplicate vertices (and a last vertex equal to the first): the outline starts at
 /// tooth 0's left fillet and closes implicitly.
-pub(super) fn close_outline(out: &mut Vec<[f64; 2]>) {
-    out.dedup_by(|a, b| (a[0] - b[0]).hypot(a[1] - b[1]) < 1e-12);
+pub(super) fn close_outline(out: &mut Vec<Point>) {
+    out.dedup_by(|a, b| a.distance(*b) < 1e-12);
     if let (Some(f), Some(l)) = (out.first(), out.last())
-        && (f[0] - l[0]).hypot(f[1] - l[1]) < 1e-12
+        && f.distance(*l) < 1e-12
     {
         out.pop();
     }

@@ -12,16 +12,13 @@
 //! lies inside the other outline. Restricted to chains of edges (the teeth near the contact), the
 //! sum is exact as long as the overlap lies within those chains.
 use super::shape::{MeshError, Shape};
+use crate::math::Point;
 use nalgebra::{Isometry2, Point2};
 
 /// `iso(p)` on plain `[x, y]` points (mm).
-fn apply(iso: &Isometry2<f64>, p: [f64; 2]) -> [f64; 2] {
-    let q = iso * Point2::new(p[0], p[1]);
-    [q.x, q.y]
-}
-
-fn cross(a: [f64; 2], b: [f64; 2]) -> f64 {
-    a[0] * b[1] - a[1] * b[0]
+fn apply(iso: &Isometry2<f64>, p: Point) -> Point {
+    let q = iso * Point2::new(p.x, p.y);
+    Point::new(q.x, q.y)
 }
 
 /// `½ Σ (x dy − y dx)` (mm², world frame) over the pieces of the edges `i → i+1` (`edges` hold
@@ -45,33 +42,33 @@ pub(crate) fn inside_term(
         b.segments_near(p, q, &mut hits);
         ts.clear();
         ts.push(0.0);
-        let d = [q[0] - p[0], q[1] - p[1]];
+        let d = q - p;
         let pb = b.points();
         let nb = pb.len();
         for &j in &hits {
             let (s0, s1) = (pb[j as usize], pb[(j as usize + 1) % nb]);
-            let e = [s1[0] - s0[0], s1[1] - s0[1]];
-            let den = cross(d, e);
+            let e = s1 - s0;
+            let den = d.cross(e);
             if den == 0.0 {
                 continue;
             }
-            let w = [s0[0] - p[0], s0[1] - p[1]];
-            let (t, u) = (cross(w, e) / den, cross(w, d) / den);
+            let w = s0 - p;
+            let (t, u) = (w.cross(e) / den, w.cross(d) / den);
             if (0.0..=1.0).contains(&t) && (0.0..=1.0).contains(&u) {
                 ts.push(t);
             }
         }
         ts.push(1.0);
         ts.sort_by(f64::total_cmp);
-        let at = |t: f64| [p0[0] + t * (p1[0] - p0[0]), p0[1] + t * (p1[1] - p0[1])];
+        let at = |t: f64| p0.lerp(p1, t);
         for k in 0..ts.len() - 1 {
             let (t0, t1) = (ts[k], ts[k + 1]);
             if t1 <= t0 {
                 continue;
             }
             let tm = 0.5 * (t0 + t1);
-            if b.clearance([p[0] + tm * d[0], p[1] + tm * d[1]]) < 0.0 {
-                sum += 0.5 * cross(apply(a_to_world, at(t0)), apply(a_to_world, at(t1)));
+            if b.clearance(p + d * tm) < 0.0 {
+                sum += 0.5 * apply(a_to_world, at(t0)).cross(apply(a_to_world, at(t1)));
             }
         }
     }
@@ -86,18 +83,19 @@ pub(crate) fn inside_term(
 ///
 /// # Examples
 /// ```
+/// use ncgear::math::Point;
 /// use ncgear::teeth::overlap::polygon_overlap_area;
-/// let sq = |x: f64, y: f64| vec![[x, y], [x + 2.0, y], [x + 2.0, y + 2.0], [x, y + 2.0]];
+/// let sq = |x: f64, y: f64| [[x, y], [x + 2.0, y], [x + 2.0, y + 2.0], [x, y + 2.0]].map(Point::from);
 /// let a = polygon_overlap_area(&sq(0.0, 0.0), &sq(1.0, 1.5)).unwrap();
 /// assert!((a - 0.5).abs() < 1e-12);
 /// ```
-pub fn polygon_overlap_area(p_mm: &[[f64; 2]], q_mm: &[[f64; 2]]) -> Result<f64, MeshError> {
-    let cell = |v: &[[f64; 2]]| {
+pub fn polygon_overlap_area(p_mm: &[Point], q_mm: &[Point]) -> Result<f64, MeshError> {
+    let cell = |v: &[Point]| {
         let n = v.len().max(1);
         let per: f64 = (0..v.len())
             .map(|i| {
                 let (a, b) = (v[i], v[(i + 1) % n]);
-                (b[0] - a[0]).hypot(b[1] - a[1])
+                b.distance(a)
             })
             .sum::<f64>()
             / n as f64;
@@ -121,20 +119,19 @@ pub fn polygon_overlap_area(p_mm: &[[f64; 2]], q_mm: &[[f64; 2]]) -> Result<f64,
 ///
 /// # Examples
 /// ```
+/// use ncgear::math::Point;
 /// use ncgear::teeth::overlap::first_self_intersection;
-/// let square = [[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]];
+/// let square = [[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]].map(Point::from);
 /// assert_eq!(first_self_intersection(&square).unwrap(), None);
-/// let bowtie = [[0.0, 0.0], [1.0, 1.0], [1.0, 0.0], [0.0, 1.0]];
+/// let bowtie = [[0.0, 0.0], [1.0, 1.0], [1.0, 0.0], [0.0, 1.0]].map(Point::from);
 /// assert_eq!(first_self_intersection(&bowtie).unwrap(), Some((0, 2)));
 /// ```
-pub fn first_self_intersection(
-    points_mm: &[[f64; 2]],
-) -> Result<Option<(usize, usize)>, MeshError> {
+pub fn first_self_intersection(points_mm: &[Point]) -> Result<Option<(usize, usize)>, MeshError> {
     let n = points_mm.len();
     let mean = (0..n)
         .map(|i| {
             let (a, b) = (points_mm[i], points_mm[(i + 1) % n.max(1)]);
-            (b[0] - a[0]).hypot(b[1] - a[1])
+            b.distance(a)
         })
         .sum::<f64>()
         / n.max(1) as f64;
@@ -150,18 +147,16 @@ pub fn first_self_intersection(
                 continue;
             }
             let (a, b) = (points_mm[j], points_mm[(j + 1) % n]);
-            let side = |u: [f64; 2], v: [f64; 2], w: [f64; 2]| {
-                cross([v[0] - u[0], v[1] - u[1]], [w[0] - u[0], w[1] - u[1]])
-            };
+            let side = |u: Point, v: Point, w: Point| (v - u).cross(w - u);
             let (d1, d2) = (side(p, q, a), side(p, q, b));
             let (d3, d4) = (side(a, b, p), side(a, b, q));
             let crosses = d1 * d2 <= 0.0 && d3 * d4 <= 0.0;
             // Collinear edges: only when their boxes overlap.
             let collinear = d1 == 0.0 && d2 == 0.0;
-            let boxes = p[0].min(q[0]) <= a[0].max(b[0])
-                && a[0].min(b[0]) <= p[0].max(q[0])
-                && p[1].min(q[1]) <= a[1].max(b[1])
-                && a[1].min(b[1]) <= p[1].max(q[1]);
+            let boxes = p.x.min(q.x) <= a.x.max(b.x)
+                && a.x.min(b.x) <= p.x.max(q.x)
+                && p.y.min(q.y) <= a.y.max(b.y)
+                && a.y.min(b.y) <= p.y.max(q.y);
             if crosses && (!collinear || boxes) && found.is_none_or(|f| (i, j) < f) {
                 found = Some((i, j));
             }
@@ -176,14 +171,15 @@ pub fn first_self_intersection(
 #[cfg(test)]
 mod tests {
     use super::{apply, polygon_overlap_area};
+    use crate::math::Point;
     use nalgebra::{Isometry2, Vector2};
     use std::f64::consts::PI;
 
-    fn circle(c: [f64; 2], r: f64, n: usize) -> Vec<[f64; 2]> {
+    fn circle(c: Point, r: f64, n: usize) -> Vec<Point> {
         (0..n)
             .map(|k| {
                 let t = 2.0 * PI * k as f64 / n as f64;
-                [c[0] + r * t.cos(), c[1] + r * t.sin()]
+                c + Point::from_polar(r, t)
             })
             .collect()
     }
@@ -194,18 +190,24 @@ mod tests {
     fn lens_area_matches_the_closed_form() {
         let (r, d) = (10.0f64, 7.0f64);
         let want = 2.0 * r * r * (d / (2.0 * r)).acos() - 0.5 * d * (4.0 * r * r - d * d).sqrt();
-        let a = polygon_overlap_area(&circle([0.0, 0.0], r, 20_000), &circle([d, 0.0], r, 20_001))
-            .unwrap();
+        let a = polygon_overlap_area(
+            &circle(Point::new(0.0, 0.0), r, 20_000),
+            &circle(Point::new(d, 0.0), r, 20_001),
+        )
+        .unwrap();
         assert!((a - want).abs() < 1e-6 * want, "{a} vs {want}");
         // Disjoint and nested.
-        let far = polygon_overlap_area(&circle([0.0, 0.0], 1.0, 64), &circle([3.0, 0.0], 1.0, 64));
+        let far = polygon_overlap_area(
+            &circle(Point::new(0.0, 0.0), 1.0, 64),
+            &circle(Point::new(3.0, 0.0), 1.0, 64),
+        );
         assert_eq!(far.unwrap(), 0.0);
-        let inner = circle([0.2, 0.1], 0.5, 64);
-        let nested = polygon_overlap_area(&circle([0.0, 0.0], 2.0, 256), &inner).unwrap();
+        let inner = circle(Point::new(0.2, 0.1), 0.5, 64);
+        let nested = polygon_overlap_area(&circle(Point::new(0.0, 0.0), 2.0, 256), &inner).unwrap();
         let shoelace: f64 = (0..64)
             .map(|i| {
                 let (p, q) = (inner[i], inner[(i + 1) % 64]);
-                0.5 * (p[0] * q[1] - p[1] * q[0])
+                0.5 * (p.cross(q))
             })
             .sum();
         assert!((nested - shoelace).abs() < 1e-12, "{nested} vs {shoelace}");
@@ -219,18 +221,18 @@ mod tests {
         struct Rigid {
             cos: f64,
             sin: f64,
-            t: [f64; 2],
+            t: Point,
         }
         impl Rigid {
-            fn new(angle: f64, t: [f64; 2]) -> Self {
+            fn new(angle: f64, t: Point) -> Self {
                 let (sin, cos) = angle.sin_cos();
                 Self { cos, sin, t }
             }
-            fn apply(&self, p: [f64; 2]) -> [f64; 2] {
-                [
-                    self.cos * p[0] - self.sin * p[1] + self.t[0],
-                    self.sin * p[0] + self.cos * p[1] + self.t[1],
-                ]
+            fn apply(&self, p: Point) -> Point {
+                Point::new(
+                    self.cos * p.x - self.sin * p.y + self.t.x,
+                    self.sin * p.x + self.cos * p.y + self.t.y,
+                )
             }
             fn after(&self, first: &Self) -> Self {
                 Self {
@@ -240,10 +242,10 @@ mod tests {
                 }
             }
             fn inverse(&self) -> Self {
-                let t = [
-                    -(self.cos * self.t[0] + self.sin * self.t[1]),
-                    self.sin * self.t[0] - self.cos * self.t[1],
-                ];
+                let t = Point::new(
+                    -(self.cos * self.t.x + self.sin * self.t.y),
+                    self.sin * self.t.x - self.cos * self.t.y,
+                );
                 Self {
                     cos: self.cos,
                     sin: -self.sin,
@@ -251,7 +253,7 @@ mod tests {
                 }
             }
         }
-        let bits = |p: [f64; 2]| [p[0].to_bits(), p[1].to_bits()];
+        let bits = |p: Point| [p.x.to_bits(), p.y.to_bits()];
         let mut x = 0.123_456_789_f64;
         let mut next = || {
             x = (x * 9301.0 + 0.49297).fract();
@@ -259,11 +261,11 @@ mod tests {
         };
         for _ in 0..2000 {
             let (a1, a2) = (next(), next());
-            let (t1, t2) = ([next(), next()], [next(), 0.0]);
-            let p = [next(), next()];
+            let (t1, t2) = (Point::new(next(), next()), Point::new(next(), 0.0));
+            let p = Point::new(next(), next());
             let (r1, r2) = (Rigid::new(a1, t1), Rigid::new(a2, t2));
-            let i1 = Isometry2::new(Vector2::new(t1[0], t1[1]), a1);
-            let i2 = Isometry2::new(Vector2::new(t2[0], t2[1]), a2);
+            let i1 = Isometry2::new(Vector2::new(t1.x, t1.y), a1);
+            let i2 = Isometry2::new(Vector2::new(t2.x, t2.y), a2);
             assert_eq!(bits(r1.apply(p)), bits(apply(&i1, p)));
             let (rc, ic) = (r2.inverse().after(&r1), i2.inverse() * i1);
             assert_eq!(bits(rc.apply(p)), bits(apply(&ic, p)));

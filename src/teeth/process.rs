@@ -10,6 +10,7 @@ use super::outline::{Outline, generate_on, generate_relieved_on, rack_tip_corner
 use super::secondary::{SECONDARY_TOL, Spaces, secondary_cut_depth};
 use super::shaper::{Cutter, ShaperChecks, cutter_pitch_radius_mm, generate_shaper, tip_corners};
 use super::{GearBlank, RackParams, TeethError, UndercutReport};
+use crate::math::Point;
 use serde::{Deserialize, Serialize};
 
 /// The cutter tooth counts tried, largest first (common pinion-type shaper cutters; a cutter's
@@ -301,7 +302,7 @@ pub(super) fn tip_corners_as(
     blank: &GearBlank<'_>,
     as_cut: &GearProcess,
     tip_relief_mm: &[f64],
-) -> Result<Vec<[[f64; 2]; 2]>, TeethError> {
+) -> Result<Vec<[Point; 2]>, TeethError> {
     match recorded_cutter(as_cut, &blank.rack, blank.module_mm)? {
         None => rack_tip_corners(blank, tip_relief_mm),
         Some(c) => tip_corners(blank, &c, tip_relief_mm),
@@ -329,7 +330,7 @@ fn recorded_cutter(
 fn check_secondary(
     blank: &GearBlank<'_>,
     cutter: &Cutter,
-    outline: &[[f64; 2]],
+    outline: &[Point],
 ) -> Result<(), TeethError> {
     let (m, opts) = (blank.module_mm, &blank.opts);
     let p = blank.validated_pitch_mm()?;
@@ -339,11 +340,11 @@ fn check_secondary(
         w_mm: 0.5 * p + opts.thin_left_mm + opts.thin_right_mm,
         shift_mm: 0.5 * (opts.thin_left_mm - opts.thin_right_mm),
     };
-    let mut thin: Vec<[f64; 2]> = Vec::with_capacity(outline.len());
+    let mut thin: Vec<Point> = Vec::with_capacity(outline.len());
     for &q in outline {
         if thin
             .last()
-            .is_none_or(|l: &[f64; 2]| (q[0] - l[0]).hypot(q[1] - l[1]) >= 0.02 * m)
+            .is_none_or(|l: &Point| q.distance(*l) >= 0.02 * m)
         {
             thin.push(q);
         }

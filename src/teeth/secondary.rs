@@ -23,6 +23,7 @@ use super::frame::ArcFrame;
 use super::shape::Shape;
 use super::shaper::Cutter;
 use super::{RackParams, TeethError};
+use crate::math::Point;
 use rayon::prelude::*;
 use std::f64::consts::PI;
 
@@ -56,7 +57,7 @@ pub(super) fn secondary_cut_depth(
     module_mm: f64,
     cutter: &Cutter,
     spaces: Spaces,
-    outline: &[[f64; 2]],
+    outline: &[Point],
 ) -> Result<f64, TeethError> {
     let m = module_mm;
     let r0 = cutter.r0;
@@ -68,7 +69,7 @@ pub(super) fn secondary_cut_depth(
     })?;
     // A vertex farther than `cap` beyond the cutter's outermost point is outside it by more
     // than the shape's exact range: its clearance is `cap` without the lookup.
-    let r_out = pts.iter().map(|p| p[0].hypot(p[1])).fold(0.0, f64::max) + cap;
+    let r_out = pts.iter().map(|p| p.hypot()).fold(0.0, f64::max) + cap;
     let r_out2 = r_out * r_out;
     let l = frame.length_mm();
     let n = ((l / spaces.p_mm).round() as usize).max(1) * POSITIONS_PER_PITCH;
@@ -86,8 +87,7 @@ pub(super) fn secondary_cut_depth(
         .collect();
     let reach_sum = (2.0 * rack.addendum() + rack.clearance()) * m;
     // Vertices by polar angle, for the window of each position.
-    let mut by_angle: Vec<(f64, [f64; 2])> =
-        outline.iter().map(|p| (p[1].atan2(p[0]), *p)).collect();
+    let mut by_angle: Vec<(f64, Point)> = outline.iter().map(|p| (p.atan2(), *p)).collect();
     by_angle.sort_by(|a, b| a.0.total_cmp(&b.0));
     let center0 = spaces.phase_mm + 0.5 * spaces.p_mm + spaces.shift_mm;
     let deepest = (0..n)
@@ -99,23 +99,23 @@ pub(super) fn secondary_cut_depth(
             // floor only keeps the square root finite before the cap at π·r0.
             let bend = (1.0 / r0 + k_min[j]).max(1e-12);
             let d = (2.0 * reach_sum / bend).sqrt().min(PI * r0) + m;
-            let (px, py) = (f.p[0], f.p[1]);
+            let (px, py) = (f.p.x, f.p.y);
             let window = (d / px.hypot(py)).min(PI);
             let theta = py.atan2(px);
-            let c = [px + r0 * f.n[0], py + r0 * f.n[1]];
-            let e1 = [-f.n[0], -f.n[1]];
+            let c = [px + r0 * f.n.x, py + r0 * f.n.y];
+            let e1 = [-f.n.x, -f.n.y];
             let (sr, cr) = ((s - center0) / r0).sin_cos();
             let mut worst = f64::INFINITY;
             let mut visit = |lo: f64, hi: f64| {
                 let a = by_angle.partition_point(|v| v.0 < lo);
                 for &(_, x) in by_angle[a..].iter().take_while(|v| v.0 <= hi) {
-                    let v = [x[0] - c[0], x[1] - c[1]];
+                    let v = [x.x - c[0], x.y - c[1]];
                     if v[0] * v[0] + v[1] * v[1] > r_out2 {
                         worst = worst.min(cap);
                         continue;
                     }
-                    let (a1, b1) = (v[0] * e1[0] + v[1] * e1[1], v[0] * f.t[0] + v[1] * f.t[1]);
-                    let q = [a1 * cr - b1 * sr, a1 * sr + b1 * cr];
+                    let (a1, b1) = (v[0] * e1[0] + v[1] * e1[1], v[0] * f.t.x + v[1] * f.t.y);
+                    let q = Point::new(a1, b1).rotate_sc(sr, cr);
                     worst = worst.min(shape.clearance(q));
                 }
             };

@@ -1,6 +1,7 @@
 //! The indexed outline of the mesh check and the overlap area: a closed polyline with a segment
 //! grid for exact signed distances near it ([`Shape`]) and a polar table ([`StarShape`]).
 use super::cells::{CellTable, FarMap, Side};
+use crate::math::Point;
 use std::f64::consts::TAU;
 
 /// Errors of mesh verification.
@@ -36,14 +37,14 @@ pub struct StarShape {
     /// Index of each entry in the original polyline.
     pub(super) orig: Vec<u32>,
     /// Each entry's vertex (the original point, mm).
-    xy: Vec<[f64; 2]>,
+    xy: Vec<Point>,
 }
 
 impl StarShape {
     /// From a CCW closed polyline (mm) about the origin. Vertices are sorted by polar angle; a
     /// polyline whose polar angle folds back slightly (flank bottoms of non-circular gears) is
     /// accepted — the radial test is then only a coarse inside/outside sign far from the fold.
-    pub fn new(points_mm: &[[f64; 2]], which: &'static str) -> Result<Self, MeshError> {
+    pub fn new(points_mm: &[Point], which: &'static str) -> Result<Self, MeshError> {
         if points_mm.len() < 3 {
             return Err(MeshError::NotStarShaped {
                 which,
@@ -53,7 +54,7 @@ impl StarShape {
         let mut tr: Vec<(f64, f64, u32)> = points_mm
             .iter()
             .enumerate()
-            .map(|(i, p)| (p[1].atan2(p[0]), p[0].hypot(p[1]), i as u32))
+            .map(|(i, p)| (p.atan2(), p.hypot(), i as u32))
             .collect();
         // A generated outline is usually one increasing run of polar angles from its start
         // vertex, wrapping once: then a rotation sorts it (the same order as the stable sort).
@@ -120,7 +121,7 @@ impl StarShape {
 
     /// The vertex of entry `i` (mm).
     #[inline]
-    pub(super) fn point(&self, i: usize) -> [f64; 2] {
+    pub(super) fn point(&self, i: usize) -> Point {
         self.xy[i]
     }
 }
@@ -138,8 +139,8 @@ fn cell_of(v: f64) -> i64 {
 /// query computes it), `i` its index.
 #[derive(Debug, Clone, Copy)]
 struct SegEntry {
-    a: [f64; 2],
-    d: [f64; 2],
+    a: Point,
+    d: Point,
     d2: f64,
     i: u32,
 }
@@ -148,7 +149,7 @@ struct SegEntry {
 /// boundary, and a polar table for the coarse inside/outside sign away from it.
 #[derive(Debug, Clone)]
 pub struct Shape {
-    pub(super) pts: Vec<[f64; 2]>,
+    pub(super) pts: Vec<Point>,
     pub(super) polar: StarShape,
     bands: super::inside::Bands,
     cell: f64,
@@ -165,11 +166,7 @@ pub struct Shape {
 
 impl Shape {
     /// Indexes `points_mm` with grid cell `cap_mm` (the largest distance reported exactly).
-    pub fn new(
-        points_mm: &[[f64; 2]],
-        cap_mm: f64,
-        which: &'static str,
-    ) -> Result<Self, MeshError> {
+    pub fn new(points_mm: &[Point], cap_mm: f64, which: &'static str) -> Result<Self, MeshError> {
         let polar = StarShape::new(points_mm, which)?;
         let n = points_mm.len();
         // Runs of consecutive segments in one cell, `(cell, first, end)`, sorted by cell then
@@ -180,12 +177,12 @@ impl Shape {
         for i in 0..n {
             let (a, b) = (points_mm[i], points_mm[(i + 1) % n]);
             let (x0, x1) = (
-                cell_of(a[0].min(b[0]) / cap_mm),
-                cell_of(a[0].max(b[0]) / cap_mm),
+                cell_of(a.x.min(b.x) / cap_mm),
+                cell_of(a.x.max(b.x) / cap_mm),
             );
             let (y0, y1) = (
-                cell_of(a[1].min(b[1]) / cap_mm),
-                cell_of(a[1].max(b[1]) / cap_mm),
+                cell_of(a.y.min(b.y) / cap_mm),
+                cell_of(a.y.max(b.y) / cap_mm),
             );
             let i = i as u32;
             for cx in x0..=x1 {
@@ -208,11 +205,11 @@ impl Shape {
             for &(_, first, end) in cell_runs {
                 entries.extend((first..end).map(|i| {
                     let (a, b) = (points_mm[i as usize], points_mm[(i as usize + 1) % n]);
-                    let d = [b[0] - a[0], b[1] - a[1]];
+                    let d = b - a;
                     SegEntry {
                         a,
                         d,
-                        d2: d[0] * d[0] + d[1] * d[1],
+                        d2: d.norm_squared(),
                         i,
                     }
                 }));
@@ -223,7 +220,7 @@ impl Shape {
         // Edge lengths (no overflow or underflow at gear sizes: a square root, not `hypot`).
         let (sum_edge, max_edge) = (0..n).fold((0.0, 0.0f64), |(sum, max), i| {
             let (a, b) = (points_mm[i], points_mm[(i + 1) % n]);
-            let l = ((b[0] - a[0]).powi(2) + (b[1] - a[1]).powi(2)).sqrt();
+            let l = ((b.x - a.x).powi(2) + (b.y - a.y).powi(2)).sqrt();
             (sum + l, max.max(l))
         });
         // Bands about one mean edge tall: a band then lists one or two edges per crossing of
@@ -244,7 +241,7 @@ impl Shape {
     }
 
     /// The outline's vertices (body frame, mm), in order.
-    pub(crate) fn points(&self) -> &[[f64; 2]] {
+    pub(crate) fn points(&self) -> &[Point] {
         &self.pts
     }
 
@@ -254,11 +251,11 @@ impl Shape {
 
     /// Indices of the segments listed in the grid cells that the box of `p`–`q` touches
     /// (sorted, without repeats) into `out`.
-    pub(crate) fn segments_near(&self, p: [f64; 2], q: [f64; 2], out: &mut Vec<u32>) {
+    pub(crate) fn segments_near(&self, p: Point, q: Point, out: &mut Vec<u32>) {
         out.clear();
         let cell = |v: f64| cell_of(v / self.cell);
-        let (x0, x1) = (cell(p[0].min(q[0])), cell(p[0].max(q[0])));
-        let (y0, y1) = (cell(p[1].min(q[1])), cell(p[1].max(q[1])));
+        let (x0, x1) = (cell(p.x.min(q.x)), cell(p.x.max(q.x)));
+        let (y0, y1) = (cell(p.y.min(q.y)), cell(p.y.max(q.y)));
         let boxed = (x1 - x0 + 1).saturating_mul(y1 - y0 + 1);
         if boxed > self.grid.len() as i64 {
             // A long edge over a fine grid: scan the occupied cells instead of the box.
@@ -283,9 +280,9 @@ impl Shape {
     /// Signed clearance of `x` (body frame, mm): distance to the outline, negative inside;
     /// clipped to `±cap`.
     #[must_use]
-    pub fn clearance(&self, x: [f64; 2]) -> f64 {
+    pub fn clearance(&self, x: Point) -> f64 {
         let n = self.pts.len();
-        let (cx, cy) = (cell_of(x[0] / self.cell), cell_of(x[1] / self.cell));
+        let (cx, cy) = (cell_of(x.x / self.cell), cell_of(x.y / self.cell));
         // Farther than one cell from the outline: the clip, with the side the scan and the
         // crossing test below would give, from one array read.
         match self.far.side((cx, cy)) {
@@ -300,8 +297,8 @@ impl Shape {
         let scan = |gx: i64, gy: i64, best: &mut (f64, usize, f64)| {
             if let Some(run) = self.grid.get((gx, gy)) {
                 for e in self.cell_entries(run) {
-                    let ([ax, ay], [dx, dy]) = (e.a, e.d);
-                    let (px, py) = (x[0] - ax, x[1] - ay);
+                    let (Point { x: ax, y: ay }, Point { x: dx, y: dy }) = (e.a, e.d);
+                    let (px, py) = (x.x - ax, x.y - ay);
                     let t = ((px * dx + py * dy) / e.d2).clamp(0.0, 1.0);
                     let (ex, ey) = (px - t * dx, py - t * dy);
                     let d2 = ex * ex + ey * ey;
@@ -313,7 +310,7 @@ impl Shape {
         };
         scan(cx, cy, &mut best);
         // Distances from `x` to the own cell's lower and upper borders in x and y.
-        let (fx, fy) = (x[0] - cx as f64 * self.cell, x[1] - cy as f64 * self.cell);
+        let (fx, fy) = (x.x - cx as f64 * self.cell, x.y - cy as f64 * self.cell);
         let gap = |o: i64, f: f64| match o {
             -1 => f,
             1 => self.cell - f,
@@ -344,7 +341,7 @@ impl Shape {
         let (d, i, t) = best;
         let left = |j: usize| {
             let (a, b) = (self.pts[j % n], self.pts[(j + 1) % n]);
-            (b[0] - a[0]) * (x[1] - a[1]) - (b[1] - a[1]) * (x[0] - a[0]) > 0.0
+            (b.x - a.x) * (x.y - a.y) - (b.y - a.y) * (x.x - a.x) > 0.0
         };
         let inside = if t > 0.0 && t < 1.0 {
             left(i)
@@ -353,7 +350,7 @@ impl Shape {
             let v = if t >= 1.0 { (i + 1) % n } else { i };
             let prev = (v + n - 1) % n;
             let (u, vv, w) = (self.pts[prev], self.pts[v], self.pts[(v + 1) % n]);
-            let convex = (vv[0] - u[0]) * (w[1] - vv[1]) - (vv[1] - u[1]) * (w[0] - vv[0]) > 0.0;
+            let convex = (vv.x - u.x) * (w.y - vv.y) - (vv.y - u.y) * (w.x - vv.x) > 0.0;
             if convex {
                 left(prev) && left(v)
             } else {
@@ -367,19 +364,18 @@ impl Shape {
 #[cfg(test)]
 mod tests {
     use super::Shape;
+    use crate::math::Point;
     use std::f64::consts::TAU;
 
     /// Distance to the polyline and even–odd side, by brute force over every segment.
-    fn brute(pts: &[[f64; 2]], x: [f64; 2]) -> (f64, bool) {
+    fn brute(pts: &[Point], x: Point) -> (f64, bool) {
         let n = pts.len();
         let mut d = f64::INFINITY;
         let mut inside = false;
         for i in 0..n {
             let (a, b) = (pts[i], pts[(i + 1) % n]);
             d = d.min(crate::math::polyline::seg_dist(x, a, b));
-            if (a[1] > x[1]) != (b[1] > x[1])
-                && a[0] + (x[1] - a[1]) * (b[0] - a[0]) / (b[1] - a[1]) > x[0]
-            {
+            if (a.y > x.y) != (b.y > x.y) && a.x + (x.y - a.y) * (b.x - a.x) / (b.y - a.y) > x.x {
                 inside = !inside;
             }
         }
@@ -389,12 +385,12 @@ mod tests {
     #[test]
     fn clearance_equals_brute_force_near_far_inside_and_outside() {
         // A 24-lobe "gear" whose lobes lean over (not star-shaped about the centre everywhere).
-        let pts: Vec<[f64; 2]> = (0..4800)
+        let pts: Vec<Point> = (0..4800)
             .map(|k| {
                 let t = TAU * f64::from(k) / 4800.0;
                 let r = 20.0 + 1.5 * (24.0 * t).sin();
                 let u = t + 0.02 * (24.0 * t).cos();
-                [r * u.cos(), r * u.sin()]
+                Point::new(r * u.cos(), r * u.sin())
             })
             .collect();
         let cap = 0.05;
@@ -402,10 +398,10 @@ mod tests {
         let mut checked = [0usize; 3];
         for i in 0..120 {
             for j in 0..120 {
-                let x = [
+                let x = Point::new(
                     -25.0 + 50.0 * f64::from(i) / 119.3,
                     -25.0 + 50.0 * f64::from(j) / 119.7,
-                ];
+                );
                 let (d, inside) = brute(&pts, x);
                 let got = shape.clearance(x);
                 if d <= cap {

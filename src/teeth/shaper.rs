@@ -63,6 +63,7 @@ use super::outline::{
     Outline, OutlineOptions, close_outline, meet, push_piece, report_on, tooth_relief,
 };
 use super::{GearBlank, RackParams, TeethError};
+use crate::math::Point;
 use std::f64::consts::PI;
 
 /// The involute function `inv a = tan a − a`, rad.
@@ -177,7 +178,7 @@ impl Cutter {
     /// `r0 + hf`, radial lines down to the root circle below the base circle, and root arcs;
     /// every arc sampled to chord sag `chord_mm` (chords inside the cutter, so a point on its
     /// boundary never reads as inside it).
-    pub(super) fn outline(&self, w_mm: f64, chord_mm: f64) -> Vec<[f64; 2]> {
+    pub(super) fn outline(&self, w_mm: f64, chord_mm: f64) -> Vec<Point> {
         let hw = 0.5 * w_mm / self.r0;
         let r_root = self.r0 - self.hf;
         let rt = self.rc + self.rho;
@@ -186,7 +187,7 @@ impl Cutter {
         let inv_a = inv(self.alpha);
         // Involute angle from the tooth's flank crossing, at radius r (≥ rb).
         let inv_at = |r: f64| inv((self.rb / r).min(1.0).acos());
-        let polar = |r: f64, t: f64| [r * t.cos(), r * t.sin()];
+        let polar = Point::from_polar;
         let n_of = |len: f64, radius: f64| {
             let step = (8.0 * chord_mm * radius.max(chord_mm)).sqrt();
             ((len / step).ceil() as usize).clamp(2, 10_000)
@@ -200,20 +201,23 @@ impl Cutter {
             let r = r_low + (r_ft - r_low) * i as f64 / nf as f64;
             tooth.push(polar(r, -hw + inv_at(r) - inv_a));
         }
-        let corner = |tc: f64, from: [f64; 2], out: &mut Vec<[f64; 2]>, rising: bool| {
+        let corner = |tc: f64, from: Point, out: &mut Vec<Point>, rising: bool| {
             let c = polar(self.rc, tc);
             let tip = polar(rt, tc);
             let (a0, a1) = if rising {
-                ((from[1] - c[1]).atan2(from[0] - c[0]), tc)
+                ((from - c).atan2(), tc)
             } else {
-                (tc, (from[1] - c[1]).atan2(from[0] - c[0]))
+                (tc, (from - c).atan2())
             };
             let mut d = a1 - a0;
             d -= std::f64::consts::TAU * (d / std::f64::consts::TAU).round();
             let n = n_of(d.abs() * self.rho, self.rho);
             for i in 1..n {
                 let a = a0 + d * i as f64 / n as f64;
-                out.push([c[0] + self.rho * a.cos(), c[1] + self.rho * a.sin()]);
+                out.push(Point::new(
+                    c.x + self.rho * a.cos(),
+                    c.y + self.rho * a.sin(),
+                ));
             }
             if rising {
                 out.push(tip);
@@ -221,7 +225,7 @@ impl Cutter {
                 out.push(from);
             }
         };
-        let junction_l = *tooth.last().unwrap_or(&[0.0, 0.0]);
+        let junction_l = *tooth.last().unwrap_or(&Point::ZERO);
         let (tl, tr) = (-hw + self.dc, hw - self.dc);
         corner(tl, junction_l, &mut tooth, true);
         let nt = n_of((tr - tl).abs() * rt, rt);
@@ -244,17 +248,13 @@ impl Cutter {
         let mut out = Vec::with_capacity(self.z as usize * (tooth.len() + nr));
         for j in 0..self.z {
             let (sj, cj) = (f64::from(j) * pitch).sin_cos();
-            out.extend(
-                tooth
-                    .iter()
-                    .map(|p| [cj * p[0] - sj * p[1], sj * p[0] + cj * p[1]]),
-            );
+            out.extend(tooth.iter().map(|p| p.rotate_sc(sj, cj)));
             let t0 = t_high + f64::from(j) * pitch;
             for i in 1..nr {
                 out.push(polar(r_root, t0 + gap * i as f64 / nr as f64));
             }
         }
-        out.dedup_by(|a, b| (a[0] - b[0]).hypot(a[1] - b[1]) < 1e-12);
+        out.dedup_by(|a, b| a.distance(*b) < 1e-12);
         out
     }
 }
@@ -271,27 +271,24 @@ struct Shaper<'a> {
 impl Shaper<'_> {
     /// Cutter point at radius `r` and angle `psi` from the contact direction, at rolling
     /// position `s`: `P + (r0 − r·cos ψ)·N + r·sin ψ·T`.
-    fn place(&self, s: f64, r: f64, psi: f64) -> [f64; 2] {
+    fn place(&self, s: f64, r: f64, psi: f64) -> Point {
         let f = self.frame.at(s);
         let (sp, cp) = psi.sin_cos();
         let (a, b) = (self.c.r0 - r * cp, r * sp);
-        [
-            f.p[0] + a * f.n[0] + b * f.t[0],
-            f.p[1] + a * f.n[1] + b * f.t[1],
-        ]
+        f.p + f.n * a + f.t * b
     }
     /// `tan α_R` of the flank point in contact at `s` (must stay > 0: above the base circle).
     fn tan_r(&self, sf: f64, g: f64, s: f64) -> f64 {
         self.c.tan_a + g * (s - sf) / self.c.r0
     }
     /// Involute-flank envelope point in contact at `s`.
-    fn flank(&self, sf: f64, g: f64, s: f64) -> [f64; 2] {
+    fn flank(&self, sf: f64, g: f64, s: f64) -> Point {
         let t = self.tan_r(sf, g, s);
         let r = self.c.rb * t.hypot(1.0);
         self.place(s, r, g * (self.c.alpha - t.atan()))
     }
     /// Tip-corner envelope point in contact at `s`.
-    fn corner(&self, sf: f64, g: f64, s: f64) -> [f64; 2] {
+    fn corner(&self, sf: f64, g: f64, s: f64) -> Point {
         let (di, dc) = ((s - sf) / self.c.r0, g * self.c.dc);
         let cc = [self.c.rc * dc.cos(), self.c.rc * dc.sin()];
         let ip = [self.c.r0 * di.cos(), self.c.r0 * di.sin()];
@@ -300,16 +297,16 @@ impl Shaper<'_> {
         let q = [cc[0] + self.c.rho * vx / l, cc[1] + self.c.rho * vy / l];
         self.place(s, q[0].hypot(q[1]), q[1].atan2(q[0]) - di)
     }
-    fn root(&self, s: f64) -> [f64; 2] {
+    fn root(&self, s: f64) -> Point {
         let f = self.frame.at(s);
-        [f.p[0] - self.c.hf * f.n[0], f.p[1] - self.c.hf * f.n[1]]
+        f.p - f.n * self.c.hf
     }
     /// Addendum curve `P(u) + h(u)·N(u)`, `h = ha + min(0, κ)·k_tip − relief` (module doc:
     /// topping on concave stretches; `relief_mm` the tooth's tip relief, [`super::tip_relief`]).
-    fn tip(&self, u: f64, relief_mm: f64) -> [f64; 2] {
+    fn tip(&self, u: f64, relief_mm: f64) -> Point {
         let f = self.frame.at(u);
         let h = self.ha + f.kappa.min(0.0) * self.k_tip - relief_mm;
-        [f.p[0] + h * f.n[0], f.p[1] + h * f.n[1]]
+        f.p + f.n * h
     }
     /// Contact positions of a flank crossing the pitch curve at `sf`: corner centre (root end),
     /// flank–corner junction.
@@ -323,13 +320,13 @@ impl Shaper<'_> {
     fn undercut(&self, sf: f64, g: f64, s_tip: f64) -> bool {
         let (_, s_ft) = self.ends(sf, g);
         let n = 48;
-        let pts: Vec<[f64; 2]> = (0..=n)
+        let pts: Vec<Point> = (0..=n)
             .map(|j| s_tip + (s_ft - s_tip) * f64::from(j) / f64::from(n))
             .map(|s| self.flank(sf, g, s))
             .collect();
         pts.windows(3).any(|w| {
-            let a = [w[1][0] - w[0][0], w[1][1] - w[0][1]];
-            let b = [w[2][0] - w[1][0], w[2][1] - w[1][1]];
+            let a = [w[1].x - w[0].x, w[1].y - w[0].y];
+            let b = [w[2].x - w[1].x, w[2].y - w[1].y];
             a[0] * b[0] + a[1] * b[1] < 0.0
         })
     }
@@ -463,7 +460,7 @@ pub(super) fn tip_corners(
     blank: &GearBlank<'_>,
     cutter: &Cutter,
     relief_mm: &[f64],
-) -> Result<Vec<[[f64; 2]; 2]>, TeethError> {
+) -> Result<Vec<[Point; 2]>, TeethError> {
     let gen_ = generation(blank, cutter, relief_mm)?;
     (0..blank.z as usize)
         .map(|k| {

@@ -35,6 +35,7 @@ use super::outline::{Outline, OutlineOptions};
 use super::process::{GearProcess, tip_corners_as};
 use super::shape::Shape;
 use super::{GearBlank, Generation, TeethError, generate};
+use crate::math::Point;
 use rayon::prelude::*;
 use std::f64::consts::{PI, TAU};
 
@@ -53,7 +54,7 @@ pub const POSITIONS_PER_PITCH: usize = 48;
 
 /// The tip corners `[left, right]` of every tooth (body frame, mm) with tooth `k`'s tip lowered
 /// by `relief[k]` (mm).
-pub type TipCorners<'a> = dyn Fn(&[f64]) -> Result<Vec<[[f64; 2]; 2]>, TeethError> + Sync + 'a;
+pub type TipCorners<'a> = dyn Fn(&[f64]) -> Result<Vec<[Point; 2]>, TeethError> + Sync + 'a;
 
 /// One mesh of the relieved gear.
 #[derive(Clone, Copy)]
@@ -101,13 +102,13 @@ pub fn tip_relief(
 
 /// Smallest signed clearance of each tooth's corners in any mate over the cycles, mm (positive
 /// far from every contact: clipped at the mate shapes' cap).
-fn deepest_corners(corners: &[[[f64; 2]; 2]], meshes: &[ReliefMesh<'_>], m: f64) -> Vec<f64> {
+fn deepest_corners(corners: &[[Point; 2]], meshes: &[ReliefMesh<'_>], m: f64) -> Vec<f64> {
     let z = corners.len();
     // Polar angle and the window half-width (two pitches of arc at the corner's radius) of each
     // tooth, from its left corner.
     let teeth: Vec<(f64, f64)> = corners
         .iter()
-        .map(|[l, _]| (l[1].atan2(l[0]), (2.0 * PI * m / l[0].hypot(l[1])).min(PI)))
+        .map(|[l, _]| (l.atan2(), (2.0 * PI * m / l.hypot()).min(PI)))
         .collect();
     let per_mesh = |mesh: &ReliefMesh<'_>| {
         (0..mesh.positions)
@@ -120,10 +121,7 @@ fn deepest_corners(corners: &[[[f64; 2]; 2]], meshes: &[ReliefMesh<'_>], m: f64)
                     let pose = mesh.motion.law_pose(mesh.gear, u);
                     // Gear body → mate body: the inverse of x ↦ R(a)·x + t.
                     let (s, c) = pose.angle_rad.sin_cos();
-                    let to_mate = |x: [f64; 2]| {
-                        let (dx, dy) = (x[0] - pose.shift_mm[0], x[1] - pose.shift_mm[1]);
-                        [c * dx + s * dy, -s * dx + c * dy]
-                    };
+                    let to_mate = |x: Point| (x - pose.shift_mm).rotate_sc(-s, c);
                     for (k, &(angle, half)) in teeth.iter().enumerate() {
                         let off = (angle - theta + PI).rem_euclid(TAU) - PI;
                         if off.abs() <= half {
@@ -154,7 +152,7 @@ pub struct Relieved {
     /// The outline at the export chord tolerance.
     pub export: Outline,
     /// The outline at the verification's chord tolerance, mm.
-    pub fine_mm: Vec<[f64; 2]>,
+    pub fine_mm: Vec<Point>,
     /// Tip relief of each tooth, mm.
     pub relief_mm: Vec<f64>,
     /// Narrowest tooth tip after the relief of a shaper-cut gear, mm of arc.

@@ -1,5 +1,6 @@
 //! `ncgear design` end to end: files, JSON conventions checked by an independent integrator,
 //! exit codes and messages on bad input.
+use ncgear::math::Point;
 use std::f64::consts::{PI, TAU};
 use std::path::{Path, PathBuf};
 
@@ -35,7 +36,7 @@ fn pitch(v: &serde_json::Value) -> Vec<[f64; 2]> {
 
 /// Integrates the train from design.json alone, using only the documented conventions, and
 /// returns the tip at `n` carrier angles (world frame, direction-aware).
-fn tip_from_json(d: &serde_json::Value, n: usize) -> Vec<[f64; 2]> {
+fn tip_from_json(d: &serde_json::Value, n: usize) -> Vec<Point> {
     let a = d["center_distance_mm"].as_f64().unwrap();
     // The intermediate axis at ε off the carrier line (0 on it): D at φH + ε, A at 2a·cos ε.
     let eps = d["idler_offset_deg"].as_f64().unwrap().to_radians();
@@ -80,10 +81,10 @@ fn tip_from_json(d: &serde_json::Value, n: usize) -> Vec<[f64; 2]> {
     for k in 0..steps {
         if k % 20 == 0 {
             let b = y[1] + gamma;
-            out.push([
+            out.push(Point::new(
                 c[0] + l1 * phi.cos() + l3 * b.cos(),
                 c[1] + l1 * phi.sin() + l3 * b.sin(),
-            ]);
+            ));
         }
         let k1 = rhs(phi, y);
         let k2 = rhs(
@@ -103,7 +104,7 @@ fn tip_from_json(d: &serde_json::Value, n: usize) -> Vec<[f64; 2]> {
     out
 }
 
-fn read_points(path: &str) -> Vec<[f64; 2]> {
+fn read_points(path: &str) -> Vec<Point> {
     let text = std::fs::read_to_string(path).unwrap();
     if path.ends_with(".json") {
         let v: serde_json::Value = serde_json::from_str(&text).unwrap();
@@ -111,26 +112,25 @@ fn read_points(path: &str) -> Vec<[f64; 2]> {
             .as_array()
             .unwrap()
             .iter()
-            .map(|p| [p[0].as_f64().unwrap(), p[1].as_f64().unwrap()])
+            .map(|p| Point::new(p[0].as_f64().unwrap(), p[1].as_f64().unwrap()))
             .collect();
     }
     text.lines()
         .filter_map(|l| {
             let v: Vec<f64> = l.split(',').filter_map(|x| x.trim().parse().ok()).collect();
-            (v.len() == 2).then(|| [v[0], v[1]])
+            (v.len() == 2).then(|| Point::new(v[0], v[1]))
         })
         .collect()
 }
 
-fn min_dist(p: [f64; 2], pts: &[[f64; 2]]) -> f64 {
+fn min_dist(p: Point, pts: &[Point]) -> f64 {
     let n = pts.len();
     (0..n)
         .map(|k| {
             let (a, b) = (pts[k], pts[(k + 1) % n]);
-            let (dx, dy) = (b[0] - a[0], b[1] - a[1]);
-            let t =
-                (((p[0] - a[0]) * dx + (p[1] - a[1]) * dy) / (dx * dx + dy * dy)).clamp(0.0, 1.0);
-            (p[0] - a[0] - t * dx).hypot(p[1] - a[1] - t * dy)
+            let (dx, dy) = (b.x - a.x, b.y - a.y);
+            let t = (((p.x - a.x) * dx + (p.y - a.y) * dy) / (dx * dx + dy * dy)).clamp(0.0, 1.0);
+            (p.x - a.x - t * dx).hypot(p.y - a.y - t * dy)
         })
         .fold(f64::INFINITY, f64::min)
 }
@@ -198,7 +198,7 @@ fn design_json_conventions_reproduce_the_target_independently() {
         // Synchronous at φH = 0 for the CCW G1 file (point k at carrier angle k°).
         if file == "g1_ellipse.csv" {
             let p0 = traced[0];
-            assert!((p0[0] - target[0][0]).hypot(p0[1] - target[0][1]) < 0.05);
+            assert!(p0.distance(target[0]) < 0.05);
         }
         for f in [
             "sun.csv",

@@ -8,6 +8,7 @@ use ncgear::design::{DesignOptions, RefineMode, design};
 use ncgear::geometry::fourier::SunRatio;
 use ncgear::geometry::mechanism::Mechanism;
 use ncgear::geometry::pitch::{PitchCurve, conjugate_center_distance};
+use ncgear::math::Point;
 use std::f64::consts::{PI, TAU};
 
 const G1_CSV: &str = include_str!("../data/G1_trajectory_360.csv");
@@ -36,13 +37,13 @@ fn g1_trajectory() -> Trajectory {
     Trajectory::parse_csv(G1_CSV, "G1_trajectory_360.csv").unwrap()
 }
 
-fn points_of(m: &Mechanism, n: usize, start: usize) -> Vec<[f64; 2]> {
+fn points_of(m: &Mechanism, n: usize, start: usize) -> Vec<Point> {
     (0..n)
         .map(|k| m.tip(TAU * ((k + start) % n) as f64 / n as f64))
         .collect()
 }
 
-fn traj_from(points: Vec<[f64; 2]>) -> Trajectory {
+fn traj_from(points: Vec<Point>) -> Trajectory {
     let origins: Vec<Origin> = (0..points.len()).map(Origin::Index).collect();
     Trajectory::new(points, &origins, "generated").unwrap()
 }
@@ -54,7 +55,7 @@ fn g1_forward_model_reproduces_the_golden_file_and_tables() {
     assert_eq!(traj.len(), 360);
     for (k, p) in traj.points().iter().enumerate() {
         let q = m.tip((k as f64).to_radians());
-        assert!((p[0] - q[0]).hypot(p[1] - q[1]) < 1e-9, "point {k}");
+        assert!(p.distance(q) < 1e-9, "point {k}");
     }
     for (j, g) in G1_PSI3_DEG.iter().enumerate() {
         let t = (30.0 * j as f64).to_radians();
@@ -74,7 +75,12 @@ fn g1_forward_model_reproduces_the_golden_file_and_tables() {
 
 #[test]
 fn g1_step1_from_360_points_matches_golden_numbers() {
-    let inv = invert(&g1_trajectory(), [0.0, 0.0], &InverseOptions::default()).unwrap();
+    let inv = invert(
+        &g1_trajectory(),
+        Point::new(0.0, 0.0),
+        &InverseOptions::default(),
+    )
+    .unwrap();
     assert!((inv.l1_mm - 90.0).abs() < 1e-5, "l1 = {}", inv.l1_mm);
     assert!((inv.l3_mm - 170.0).abs() < 1e-5, "l3 = {}", inv.l3_mm);
     assert!((inv.rho_max_mm - 260.0).abs() < 1e-5 && (inv.rho_min_mm - 80.0).abs() < 1e-5);
@@ -109,7 +115,12 @@ fn g1_step1_from_360_points_matches_golden_numbers() {
 
 #[test]
 fn g1_compatibility_origins_and_residual() {
-    let inv = invert(&g1_trajectory(), [0.0, 0.0], &InverseOptions::default()).unwrap();
+    let inv = invert(
+        &g1_trajectory(),
+        Point::new(0.0, 0.0),
+        &InverseOptions::default(),
+    )
+    .unwrap();
     let c = compat::analyse(&inv.law, 1024, 1e-13);
     let mut origins: Vec<f64> = c.origins_rad.iter().map(|t| t.to_degrees()).collect();
     origins.sort_by(f64::total_cmp);
@@ -202,8 +213,8 @@ fn g3_pi_periodic_ratio_translates_the_needle() {
         // Tip on the circle of radius l1 about l3·e(β_init).
         let b0 = m.needle_direction(0.0);
         let p = m.tip(t);
-        let c = [170.0 * b0.cos(), 170.0 * b0.sin()];
-        assert!(((p[0] - c[0]).hypot(p[1] - c[1]) - 90.0).abs() < 1e-9);
+        let c = Point::new(170.0 * b0.cos(), 170.0 * b0.sin());
+        assert!((p.distance(c) - 90.0).abs() < 1e-9);
     }
 }
 
@@ -322,12 +333,12 @@ fn round_trip_on_exactly_traceable_random_mechanisms() {
             needle_angle_rad: -1.0 + 0.2 * seed as f64,
             idler_offset_rad: 0.0,
         };
-        let pts: Vec<[f64; 2]> = points_of(&m, n, start)
+        let pts: Vec<Point> = points_of(&m, n, start)
             .into_iter()
-            .map(|p| [center[0] + p[0], center[1] + if cw { -p[1] } else { p[1] }])
+            .map(|p| Point::new(center[0] + p.x, center[1] + if cw { -p.y } else { p.y }))
             .collect();
         let traj = traj_from(pts);
-        let opts = DesignOptions::default().with_center_mm(center);
+        let opts = DesignOptions::default().with_center_mm(center.into());
         let d = design(&traj, &opts).unwrap_or_else(|e| panic!("seed {seed}: {e}"));
         let r = &d.report;
         assert_eq!(r.carrier.direction, if cw { -1 } else { 1 }, "seed {seed}");
@@ -357,10 +368,10 @@ fn designer_trajectory(eps: f64) -> Trajectory {
         .map(|k| {
             let t = (k as f64).to_radians();
             let beta = (-70f64).to_radians() + t - (m.psi3(t) + eps * (3.0 * t + 0.5).sin());
-            [
+            Point::new(
                 90.0 * t.cos() + 170.0 * beta.cos(),
                 90.0 * t.sin() + 170.0 * beta.sin(),
-            ]
+            )
         })
         .collect();
     traj_from(pts)
@@ -417,7 +428,7 @@ fn designer_style_target_patent_route_versus_refinement() {
 fn untraceable_inputs_are_diagnosed() {
     let g1 = g1_trajectory();
     // Carrier axis inside the loop.
-    let inside = [60.0, -140.0];
+    let inside = Point::new(60.0, -140.0);
     assert!(matches!(
         invert(&g1, inside, &InverseOptions::default()),
         Err(InverseError::AxisInsideLoop { .. })
@@ -427,12 +438,12 @@ fn untraceable_inputs_are_diagnosed() {
         (0..200)
             .map(|k| {
                 let t = TAU * k as f64 / 200.0;
-                [150.0 * t.cos(), 200.0 + 20.0 * t.sin()]
+                Point::new(150.0 * t.cos(), 200.0 + 20.0 * t.sin())
             })
             .collect(),
     );
     assert!(matches!(
-        invert(&two, [0.0, 0.0], &InverseOptions::default()),
+        invert(&two, Point::new(0.0, 0.0), &InverseOptions::default()),
         Err(InverseError::SeveralMaxima { count: 2, .. })
     ));
     // Needle swing too fast: G1 with a large 5th harmonic on ψ3 makes i31 negative.
@@ -442,14 +453,14 @@ fn untraceable_inputs_are_diagnosed() {
             .map(|k| {
                 let t = TAU * k as f64 / 720.0;
                 let beta = (-70f64).to_radians() + t - (m.psi3(t) + 0.4 * (5.0 * t).sin());
-                [
+                Point::new(
                     90.0 * t.cos() + 170.0 * beta.cos(),
                     90.0 * t.sin() + 170.0 * beta.sin(),
-                ]
+                )
             })
             .collect(),
     );
-    match invert(&wild, [0.0, 0.0], &InverseOptions::default()) {
+    match invert(&wild, Point::new(0.0, 0.0), &InverseOptions::default()) {
         Err(InverseError::NeedleReverses { stretches_deg })
         | Err(InverseError::NotMonotone { stretches_deg, .. }) => {
             assert!(!stretches_deg.is_empty());
@@ -486,12 +497,12 @@ mod properties {
             let ratio = random_sun(seed, k, amp);
             let m = Mechanism { a_mm: a, l3_mm: 2.0 * a * l3_over_l1, ratio, sun_phase_rad: phase, needle_angle_rad: gamma, idler_offset_rad: 0.0 };
             let start = (start_frac * n as f64) as usize;
-            let pts: Vec<[f64; 2]> = points_of(&m, n, start)
+            let pts: Vec<Point> = points_of(&m, n, start)
                 .into_iter()
-                .map(|p| [cx + p[0], cy + if cw { -p[1] } else { p[1] }])
+                .map(|p| Point::new(cx + p.x, cy + if cw { -p.y } else { p.y }))
                 .collect();
             let traj = traj_from(pts);
-            let d = design(&traj, &DesignOptions::default().with_center_mm([cx, cy]));
+            let d = design(&traj, &DesignOptions::default().with_center_mm(Point::new(cx, cy)));
             let d = d.map_err(|e| TestCaseError::fail(format!("{e}")))?;
             let r = &d.report;
             // l1 from the extremes of a 180-point file is good to ~0.01 mm (docs/math/chain.md §3.5).
@@ -536,11 +547,11 @@ fn regression_181_points_single_strong_harmonic() {
 fn both_carrier_senses_are_judged_as_by_full_solves() {
     let opts = InverseOptions::default();
     let g1 = g1_trajectory();
-    let inv = invert(&g1, [0.0, 0.0], &opts).unwrap();
+    let inv = invert(&g1, Point::new(0.0, 0.0), &opts).unwrap();
     assert_eq!(inv.direction, 1);
     assert!(!inv.other_sense_traceable);
-    let mirrored = traj_from(g1.points().iter().map(|p| [p[0], -p[1]]).collect());
-    let inv_m = invert(&mirrored, [0.0, 0.0], &opts).unwrap();
+    let mirrored = traj_from(g1.points().iter().map(|p| Point::new(p.x, -p.y)).collect());
+    let inv_m = invert(&mirrored, Point::new(0.0, 0.0), &opts).unwrap();
     assert_eq!(inv_m.direction, -1);
     assert!(!inv_m.other_sense_traceable);
     // The same arm lengths either way (the mirror image of the same loop).
@@ -548,7 +559,7 @@ fn both_carrier_senses_are_judged_as_by_full_solves() {
     let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
         .join("assets/trajectories/asymmetric_cw.json");
     let asym = Trajectory::from_path(&path).unwrap();
-    let inv_a = invert(&asym, [250.0, 400.0], &opts).unwrap();
+    let inv_a = invert(&asym, Point::new(250.0, 400.0), &opts).unwrap();
     assert_eq!(inv_a.direction, -1);
     assert!(inv_a.other_sense_traceable);
 }
@@ -561,7 +572,7 @@ fn a_carrier_sense_asked_for_is_kept_or_refused_by_name() {
     let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
         .join("assets/trajectories/asymmetric_cw.json");
     let asym = Trajectory::from_path(&path).unwrap();
-    let center = [250.0, 400.0];
+    let center = Point::new(250.0, 400.0);
     let auto = invert(&asym, center, &InverseOptions::default()).unwrap();
     let mut opts = InverseOptions::default();
     opts.sense = Some(-1);
@@ -576,7 +587,7 @@ fn a_carrier_sense_asked_for_is_kept_or_refused_by_name() {
     // Both arms reach the same farthest and nearest tip: l1 ± l3 are the same either way.
     assert!((ccw.l1_mm + ccw.l3_mm - auto.l1_mm - auto.l3_mm).abs() < 1e-6);
     opts.sense = Some(-1);
-    let err = invert(&g1_trajectory(), [0.0, 0.0], &opts).unwrap_err();
+    let err = invert(&g1_trajectory(), Point::new(0.0, 0.0), &opts).unwrap_err();
     assert!(
         matches!(err, InverseError::SenseNotTraceable { sense: -1 }),
         "{err}"

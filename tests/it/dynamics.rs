@@ -4,6 +4,7 @@ use ncgear::analysis::dynamics::tvms::{PairGeometry, RectangularTvms};
 use ncgear::analysis::dynamics::*;
 use ncgear::analysis::dynamics::{model, ode};
 use ncgear::config::Format;
+use ncgear::progress::Progress;
 
 const ASSETS: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/assets/dynamics");
 
@@ -155,7 +156,7 @@ fn dte_harmonics_at_6000_rpm() {
     let dte0 = m.mesh.dte(0.0, &y0[..1]);
     let want = 50e-6 + (d.f0_n + d.c_m_n_s_per_m * 10e-6 * d.omega_e_rad_s) / 4.5e8;
     assert!((dte0 - want).abs() < 1e-14, "{dte0} vs {want}");
-    let run = simulate(&m, &y0, &opts(1e-9, 400, 200, 64), &|_| {}).unwrap();
+    let run = simulate(&m, &y0, &opts(1e-9, 400, 200, 64), &Progress::none()).unwrap();
     assert!(run.steady, "poincaré change {}", run.poincare_change);
     let h = run.dte_harmonics(6);
     let want = [53.707, 1.1979, 1.4177, 0.4346, 0.1110, 0.0540, 0.0173];
@@ -196,7 +197,15 @@ fn backlash_oscillator_jump_and_coexistence() {
     let up = sdof_contact_loss_ratio(0.05, 0.1, 0.05, 1e-12).unwrap();
     assert!((up - 0.82063).abs() < 1e-5, "{up}");
     // sweep up: linear FRF below the jump, jump between 0.82 and 0.84
-    let upw = sweep(&s, "b", &[0.5, 0.8, 0.82, 0.84], &o, None, &|_| {}).unwrap();
+    let upw = sweep(
+        &s,
+        "b",
+        &[0.5, 0.8, 0.82, 0.84],
+        &o,
+        None,
+        &Progress::none(),
+    )
+    .unwrap();
     let frf = |w: f64| 0.05 * w * w / ((1.0 - w * w).powi(2) + (0.1 * w).powi(2)).sqrt();
     assert!(
         (amp_at(&upw, 0.5) - 0.0166).abs() < 2e-4
@@ -211,12 +220,20 @@ fn backlash_oscillator_jump_and_coexistence() {
     assert!(rel(amp_at(&upw, 0.82), 0.0996) < 0.02, "{upw:?}");
     assert!(rel(amp_at(&upw, 0.84), 0.2613) < 0.02, "{upw:?}");
     // sweep down from the impacting branch: stays on it to 0.72, drops by 0.70
-    let down = sweep(&s, "b", &[0.84, 0.80, 0.76, 0.72, 0.70], &o, None, &|_| {}).unwrap();
+    let down = sweep(
+        &s,
+        "b",
+        &[0.84, 0.80, 0.76, 0.72, 0.70],
+        &o,
+        None,
+        &Progress::none(),
+    )
+    .unwrap();
     assert!(rel(amp_at(&down, 0.76), 0.3119) < 0.02, "{down:?}");
     assert!(rel(amp_at(&down, 0.72), 0.3345) < 0.02, "{down:?}");
     assert!(rel(amp_at(&down, 0.70), 0.0476) < 0.02, "{down:?}");
     // coexistence at 0.76: from rest (static state) the non-impacting branch
-    let rest = sweep(&s, "b", &[0.76], &o, None, &|_| {}).unwrap();
+    let rest = sweep(&s, "b", &[0.76], &o, None, &Progress::none()).unwrap();
     assert!(rel(amp_at(&rest, 0.76), 0.0673) < 0.02, "{rest:?}");
     assert!(rest[0].contact_loss_fraction == 0.0 && down[2].contact_loss_fraction > 0.0);
 }
@@ -405,7 +422,7 @@ fn dof_pruning_and_run_log() {
         &ml,
         &static_state(&ml, 1e-9),
         &opts(1e-10, 3000, 20, 64),
-        &|_| {},
+        &Progress::none(),
     )
     .unwrap();
     assert!(
@@ -545,7 +562,7 @@ fn rk4_error(aligned: bool, steps: u32) -> f64 {
             breakpoints: true,
             events: true,
         }),
-        &|_| {},
+        &Progress::none(),
     )
     .unwrap();
     let r = simulate(
@@ -555,7 +572,7 @@ fn rk4_error(aligned: bool, steps: u32) -> f64 {
             steps_per_mesh: steps,
             aligned,
         }),
-        &|_| {},
+        &Progress::none(),
     )
     .unwrap();
     let tail = 40 * steps as usize;
@@ -585,7 +602,7 @@ fn quasi_static_dte_equals_b_plus_f0_over_k() {
         .unwrap()
         .build("q")
         .unwrap();
-    let run = simulate(&m, &[0.0; 2], &opts(1e-10, 50, 1, 16), &|_| {}).unwrap();
+    let run = simulate(&m, &[0.0; 2], &opts(1e-10, 50, 1, 16), &Progress::none()).unwrap();
     let want = 50e-6 + d.f0_n / 3.8252e8;
     assert!((want * 1e6 - 53.709).abs() < 1e-3);
     assert!(

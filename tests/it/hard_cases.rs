@@ -4,6 +4,7 @@
 //! fed random and mutated bytes in [`fuzz`]; random and concave pitch curves and extreme pair
 //! laws in [`teeth`]. Each asserts a bounded result or a clear typed error,
 //! never a panic or a silent NaN.
+use ncgear::math::Point;
 mod analyses;
 mod fuzz;
 mod mechanisms;
@@ -23,34 +24,34 @@ fn g1() -> Mechanism {
     ncgear::geometry::golden::g1_mechanism()
 }
 
-fn traj(points: Vec<[f64; 2]>) -> Result<Trajectory, ncgear::design::trajectory::TrajectoryError> {
+fn traj(points: Vec<Point>) -> Result<Trajectory, ncgear::design::trajectory::TrajectoryError> {
     let o: Vec<Origin> = (0..points.len()).map(Origin::Index).collect();
     Trajectory::new(points, &o, "generated")
 }
 
-fn dist_to(p: [f64; 2], q: &[[f64; 2]]) -> f64 {
+fn dist_to(p: Point, q: &[Point]) -> f64 {
     q.iter()
-        .map(|x| (x[0] - p[0]).hypot(x[1] - p[1]))
+        .map(|x| x.distance(p))
         .fold(f64::INFINITY, f64::min)
 }
 
 #[test]
 fn noisy_measured_trajectory_with_smoothing_stays_close_to_the_clean_path() {
     let m = g1();
-    let clean: Vec<[f64; 2]> = (0..3600).map(|k| m.tip(TAU * k as f64 / 3600.0)).collect();
+    let clean: Vec<Point> = (0..3600).map(|k| m.tip(TAU * k as f64 / 3600.0)).collect();
     for (seed, sigma) in [(1u64, 0.05), (2, 0.1), (3, 0.2)] {
         let mut rng = rand::rngs::ChaCha8Rng::seed_from_u64(seed);
         let noise = Normal::new(0.0, sigma).unwrap();
-        let noisy: Vec<[f64; 2]> = (0..360)
+        let noisy: Vec<Point> = (0..360)
             .map(|k| {
                 let p = m.tip((k as f64).to_radians());
-                [p[0] + noise.sample(&mut rng), p[1] + noise.sample(&mut rng)]
+                Point::new(p.x + noise.sample(&mut rng), p.y + noise.sample(&mut rng))
             })
             .collect();
         let t = traj(noisy).unwrap();
         // Raw noisy data: the inversion refuses it and says where (near the extremes of |OB|,
         // carrier angles ≈ 318° and ≈ 76°, docs/math/chain.md §3.5), never a panic.
-        match invert(&t, [0.0, 0.0], &InverseOptions::default()) {
+        match invert(&t, Point::new(0.0, 0.0), &InverseOptions::default()) {
             Err(InverseError::NotMonotone { stretches_deg, .. }) => {
                 assert!(
                     stretches_deg.iter().all(|s| s
@@ -92,7 +93,7 @@ fn points_near_the_carrier_axis_are_refused() {
     let mut m = g1();
     m.l3_mm = 94.0;
     let t = traj((0..360).map(|k| m.tip((k as f64).to_radians())).collect()).unwrap();
-    match invert(&t, [0.0, 0.0], &InverseOptions::default()) {
+    match invert(&t, Point::new(0.0, 0.0), &InverseOptions::default()) {
         Err(InverseError::TooCloseToAxis {
             rho_min_mm,
             limit_mm,
@@ -192,7 +193,7 @@ proptest! {
         let m = g1();
         let mut lines: Vec<String> = (0..n).map(|k| {
             let p = m.tip(TAU * k as f64 / n.max(1) as f64);
-            format!("{},{}", p[0] * scale / 100.0, p[1])
+            format!("{},{}", p.x * scale / 100.0, p.y)
         }).collect();
         if !lines.is_empty() {
             let i = at % lines.len();

@@ -7,6 +7,7 @@ use crate::robust::hausdorff;
 use ncgear::design::fit::MEASURED_NOISE_MM;
 use ncgear::design::trajectory::{Origin, Trajectory};
 use ncgear::design::{Design, DesignOptions, design};
+use ncgear::math::Point;
 use rand::rngs::ChaCha8Rng;
 use rand::{RngExt, SeedableRng};
 use std::f64::consts::TAU;
@@ -19,7 +20,7 @@ fn asset(path: &str) -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR")).join(path)
 }
 
-fn trajectory(points: &[[f64; 2]]) -> Trajectory {
+fn trajectory(points: &[Point]) -> Trajectory {
     let origins: Vec<Origin> = (0..points.len()).map(Origin::Index).collect();
     Trajectory::new(points.to_vec(), &origins, "generated").unwrap()
 }
@@ -147,7 +148,7 @@ fn noise_sigma_of_the_shared_cases_and_of_exact_points() {
 /// estimated deviation from the curve, which is within −0.008/+0.015 mm of the true Hausdorff
 /// distance;
 /// the traced path is within 0.1 mm of the truth; no warning calls the target incompatible.
-fn check_noisy_design(what: &str, d: &Design, truth: &[[f64; 2]]) {
+fn check_noisy_design(what: &str, d: &Design, truth: &[Point]) {
     let r = &d.report;
     let true_mm = hausdorff(&d.traced_mm, truth);
     let est = r
@@ -200,7 +201,7 @@ fn noisy_cases_pass_c12_on_the_estimated_curve_deviation() {
         .enumerate()
     {
         let case = noisy_case(200 + k as u64, m, sigma);
-        let opts = DesignOptions::default().with_center_mm(case.opts.center);
+        let opts = DesignOptions::default().with_center_mm(case.opts.center.into());
         let d = design(&trajectory(&case.points), &opts).unwrap();
         check_noisy_design(&case.describe(), &d, &case.truth);
     }

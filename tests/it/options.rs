@@ -10,6 +10,7 @@ use ncgear::analysis::orbit::model::{Line, LineKind};
 use ncgear::analysis::peak::PeakOptions;
 use ncgear::analysis::tolerance::ToleranceOptions;
 use ncgear::analysis::transplanter::TransplanterOptions;
+use ncgear::math::Point;
 use ncgear::simulate::FeatureOptions;
 use ncgear::synthesis::DyadOptions;
 use serde::Serialize;
@@ -120,7 +121,7 @@ fn simulate_and_synthesis_options_round_trip() {
         .with_take_level_mm(Some(5.0));
     round_trips(&features, r#"{"rpm": 250.0, "take_level_mm": 5.0}"#);
     let dyads = DyadOptions::default()
-        .with_center_mm(Some([1.0, 2.0]))
+        .with_center_mm(Some(Point::new(1.0, 2.0)))
         .with_samples(500);
     round_trips(&dyads, r#"{"center_mm": [1.0, 2.0], "samples": 500}"#);
 }

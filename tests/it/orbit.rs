@@ -4,6 +4,7 @@ use ncgear::analysis::orbit::model::{
     GearSpeeds, Hand, LineKind, PlanetSet, patent_abcd, patent_position_um,
 };
 use ncgear::analysis::orbit::{C64, Orbit, Whirl, ellipse_group8};
+use ncgear::progress::Progress;
 use std::f64::consts::{FRAC_PI_3, PI, TAU};
 
 const ALPHA: f64 = 20.0 * PI / 180.0;
@@ -908,13 +909,16 @@ fn planet_frequency_estimated_from_an_approximate_value() {
         ExtractOptions::default().with_nuisance(s.nuisance()),
     )
     .unwrap();
-    let calls = std::sync::atomic::AtomicU64::new(0);
-    let est = ex
-        .estimate_frequency(&rec, 0.1, 1e-9, &|k| {
-            calls.store(k, std::sync::atomic::Ordering::Relaxed)
-        })
-        .unwrap();
-    assert_eq!(calls.into_inner(), u64::from(est.iterations));
+    let calls = std::sync::Arc::new(std::sync::atomic::AtomicU64::new(0));
+    let heard = std::sync::Arc::clone(&calls);
+    let sink = ncgear::progress::Progress::new(move |n| {
+        heard.fetch_add(n, std::sync::atomic::Ordering::Relaxed);
+    });
+    let est = ex.estimate_frequency(&rec, 0.1, 1e-9, &sink).unwrap();
+    assert_eq!(
+        calls.load(std::sync::atomic::Ordering::Relaxed),
+        u64::from(est.iterations)
+    );
     assert!(u64::from(est.iterations) <= Extractor::frequency_iterations(rec.duration_s(), 1e-9));
     let bin = TAU / s.duration();
     assert!((est.interpolated_rad_s - wp).abs() < 0.1 * bin, "{est:?}");
@@ -1049,7 +1053,11 @@ fn library_reports_are_what_the_cli_prints() {
     let opts = MeasureOptions::default().with_frame(SensorFrame::Derotate);
     let mut ev = Evaluation::new(Some(&p), &opts).unwrap();
     let rec = Record::from_path(&asset("signals.csv")).unwrap();
-    assert!(ev.refine_frequency(&rec, &|_| {}).unwrap().is_none());
+    assert!(
+        ev.refine_frequency(&rec, &Progress::none())
+            .unwrap()
+            .is_none()
+    );
     let m = ev.extract(&rec).unwrap();
     let report = serde_json::to_value(ev.report(&m)).unwrap();
     for key in [

@@ -3,6 +3,7 @@
 //! verification over the q driver turns after which the pair is back at its start.
 use ncgear::cad::dxf::{DxfVersion, write_dxf};
 use ncgear::cad::points::write_points;
+use ncgear::math::Point;
 use ncgear::pair::{Expr, Law, Motion, PairOptions, design_pair};
 use ncgear::teeth::mesh::MeshSpan;
 use ncgear::teeth::overlap::first_self_intersection;
@@ -65,7 +66,7 @@ fn constant_half_ratio_is_two_circles_at_the_closed_form_distance() {
     assert!((d.advance_rad - PI).abs() < 1e-12);
     let mesh = d.mesh.unwrap();
     assert_eq!(mesh.steps, 180, "90 positions per driver turn over 2 turns");
-    let r = |p: &[[f64; 2]]| p.iter().map(|q| q[0].hypot(q[1])).fold(0.0, f64::max);
+    let r = |p: &[Point]| p.iter().map(|q| q.hypot()).fold(0.0, f64::max);
     assert!((r(&d.driver_pitch_mm) - 12.0).abs() < 1e-9);
     assert!((r(&d.driven_pitch_mm) - 24.0).abs() < 1e-9);
 }

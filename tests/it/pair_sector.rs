@@ -25,11 +25,11 @@ fn check(d: &PairDesign) {
         let on_hub = o
             .points_mm
             .iter()
-            .filter(|p| (p[0].hypot(p[1]) - hub).abs() < 1e-9)
+            .filter(|p| (p.hypot() - hub).abs() < 1e-9)
             .count();
         assert!(on_hub > 10, "hub circle present");
         assert!(
-            o.points_mm.iter().all(|p| p[0].hypot(p[1]) >= hub - 1e-9),
+            o.points_mm.iter().all(|p| p.hypot() >= hub - 1e-9),
             "nothing inside the hub"
         );
     }

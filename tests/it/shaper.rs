@@ -3,6 +3,7 @@
 //! on a straight stretch — and the process choice.
 use crate::teeth::rack_cut;
 use ncgear::geometry::pitch::PitchCurve;
+use ncgear::math::Point;
 use ncgear::teeth::overlap::first_self_intersection;
 use ncgear::teeth::process::{CutterChoice, Process};
 use ncgear::teeth::{
@@ -23,8 +24,8 @@ fn inv(a: f64) -> f64 {
 /// selected by `keep(radius, polar angle)`: a single value for an exact involute of the base
 /// circle `rb` (the sign chooses the flank's hand). Returns (min, max, count).
 fn involute_range(
-    pts: &[[f64; 2]],
-    centre: [f64; 2],
+    pts: &[Point],
+    centre: Point,
     rb: f64,
     sign: f64,
     keep: impl Fn(f64, f64) -> bool,
@@ -32,7 +33,7 @@ fn involute_range(
     let vals: Vec<f64> = pts
         .iter()
         .filter_map(|p| {
-            let (x, y) = (p[0] - centre[0], p[1] - centre[1]);
+            let (x, y) = (p.x - centre.x, p.y - centre.y);
             let (r, t) = (x.hypot(y), y.atan2(x));
             keep(r, t).then(|| inv((rb / r).acos()) + sign * t)
         })
@@ -98,7 +99,7 @@ fn shaper_on_a_circle_cuts_the_involute() {
         )
         .unwrap();
         assert_eq!(first_self_intersection(&o.points_mm).unwrap(), None);
-        let (lo, hi, n) = involute_range(&o.points_mm, [0.0, 0.0], rb, 1.0, |r, t| {
+        let (lo, hi, n) = involute_range(&o.points_mm, Point::new(0.0, 0.0), rb, 1.0, |r, t| {
             t > 0.0 && t < 0.13 && r > rb * 1.01 && r > r0 - m && r < r0 + 0.99 * m
         });
         assert!(n > 50, "z_c {zc}: {n}");
@@ -305,10 +306,10 @@ fn shaper_flanks_on_a_concave_stretch_are_the_rack_envelope() {
             let s = sf - sign * eta / (sa * ca);
             let fp = frame.at(s);
             let d = (sf - s) * ca;
-            want.push([
-                fp.p[0] + d * ca * fp.t[0] + sign * d * sa * fp.n[0],
-                fp.p[1] + d * ca * fp.t[1] + sign * d * sa * fp.n[1],
-            ]);
+            want.push(Point::new(
+                fp.p.x + d * ca * fp.t.x + sign * d * sa * fp.n.x,
+                fp.p.y + d * ca * fp.t.y + sign * d * sa * fp.n.y,
+            ));
         }
     }
     assert!(want.len() > 100, "{}", want.len());
@@ -352,7 +353,7 @@ fn shaper_on_a_concave_circular_arc_cuts_the_internal_involute() {
     let (centre, rho) = ([d * s, 0.0], rho * s);
     let alpha = 20f64.to_radians();
     let rb = rho * alpha.cos();
-    let about = |q: [f64; 2]| (q[1] - centre[1]).atan2(q[0] - centre[0]);
+    let about = |q: Point| (q.y - centre[1]).atan2(q.x - centre[0]);
     // Flanks crossing the pitch curve within 0.04 rad of θ = 0 (their generation, ±3 m of arc,
     // stays on the exact arc): pitch-crossing angle about C.
     let p = frame.length_mm() / f64::from(tc.z);
@@ -362,16 +363,16 @@ fn shaper_on_a_concave_circular_arc_cuts_the_internal_involute() {
             [sk - 0.25 * p, sk + 0.25 * p]
         })
         .map(|sf| frame.at(sf).p)
-        .filter(|q| q[1].atan2(q[0]).abs() < 0.04)
+        .filter(|q| q.atan2().abs() < 0.04)
         .map(about)
         .collect();
     assert!(flanks.len() >= 2, "{}", flanks.len());
     let mut n = 0;
     for q in &o.points_mm {
-        let r = (q[0] - centre[0]).hypot(q[1] - centre[1]);
+        let r = (q.x - centre[0]).hypot(q.y - centre[1]);
         // Involute part: from 0.7·ha inside the pitch arc (tips point to C, topped to ≈ 0.8·ha
         // here) to 0.9·h_s outside.
-        if q[1].atan2(q[0]).abs() > 0.035 || r < rho - 0.7 * m || r > rho + 0.9 * m {
+        if q.atan2().abs() > 0.035 || r < rho - 0.7 * m || r > rho + 0.9 * m {
             continue;
         }
         let e = inv((rb / r).acos()) - inv(alpha);
@@ -444,10 +445,10 @@ fn shaper_on_a_straight_pitch_line_cuts_the_rack_profile() {
                     let eta = 0.8 * ha - (0.8 * ha + 0.9 * hs) * f64::from(j) / 20.0;
                     // Depth η along the normal, tangential offset −sign·η·tan α.
                     let t_off = -sign * eta * sa / ca;
-                    want.push([
-                        f.p[0] + t_off * f.t[0] + eta * f.n[0],
-                        f.p[1] + t_off * f.t[1] + eta * f.n[1],
-                    ]);
+                    want.push(Point::new(
+                        f.p.x + t_off * f.t.x + eta * f.n.x,
+                        f.p.y + t_off * f.t.y + eta * f.n.y,
+                    ));
                 }
             }
         }

@@ -2,17 +2,18 @@
 use ncgear::geometry::assembly::Assembly;
 use ncgear::geometry::fourier::SunRatio;
 use ncgear::geometry::mechanism::Mechanism;
+use ncgear::math::Point;
 use ncgear::simulate::{DesignFile, FeatureOptions, SimulateError, Simulation, features};
 use std::f64::consts::{PI, TAU};
 
 const G1_CSV: &str = include_str!("../data/G1_trajectory_360.csv");
 
-fn g1_points() -> Vec<[f64; 2]> {
+fn g1_points() -> Vec<Point> {
     G1_CSV
         .lines()
         .filter_map(|l| {
             let v: Vec<f64> = l.split(',').filter_map(|x| x.trim().parse().ok()).collect();
-            (v.len() == 2).then(|| [v[0], v[1]])
+            (v.len() == 2).then(|| Point::new(v[0], v[1]))
         })
         .collect()
 }
@@ -28,7 +29,7 @@ fn g1_sim() -> Simulation {
         needle_angle_rad: (-70f64).to_radians(),
         idler_offset_rad: 0.0,
     };
-    Simulation::new(Assembly::from_mechanism(&m, [0.0, 0.0], 1, 720).unwrap())
+    Simulation::new(Assembly::from_mechanism(&m, Point::new(0.0, 0.0), 1, 720).unwrap())
 }
 
 #[test]
@@ -40,14 +41,14 @@ fn g1_tables_trace_the_golden_trajectory_and_arm_2_follows_half_a_turn_later() {
     for (k, p) in pts.iter().enumerate() {
         let phi = (k as f64).to_radians();
         let t = sim.pose(phi);
-        worst = worst.max((t.arm1.tip_mm[0] - p[0]).hypot(t.arm1.tip_mm[1] - p[1]));
+        worst = worst.max(t.arm1.tip_mm.distance(*p));
         // Arm 2 at φ is at the golden point of φ + 180°.
         let q = pts[(k + 180) % 360];
-        worst = worst.max((t.arm2.tip_mm[0] - q[0]).hypot(t.arm2.tip_mm[1] - q[1]));
+        worst = worst.max(t.arm2.tip_mm.distance(q));
         // Mesh conditions hold on the tables.
         assert!(t.arm1.sun_mesh_error_mm.abs() < 1e-9 && t.arm1.planet_mesh_error_mm.abs() < 1e-9);
         // Arm 2's centres are opposite arm 1's.
-        assert!((t.arm2.planet_center_mm[0] + t.arm1.planet_center_mm[0]).abs() < 1e-9);
+        assert!((t.arm2.planet_center_mm.x + t.arm1.planet_center_mm.x).abs() < 1e-9);
     }
     assert!(
         worst < 1e-6,
@@ -73,7 +74,7 @@ fn g1_features_against_independent_values() {
     let pts = g1_points();
     let (ymin, ymax) = pts
         .iter()
-        .fold((f64::MAX, f64::MIN), |(a, b), p| (a.min(p[1]), b.max(p[1])));
+        .fold((f64::MAX, f64::MIN), |(a, b), p| (a.min(p.y), b.max(p.y)));
     assert!(
         f.height_mm >= ymax - ymin - 1e-9 && f.height_mm - (ymax - ymin) < 0.05,
         "{} vs {}",
@@ -86,11 +87,11 @@ fn g1_features_against_independent_values() {
     let (k_low, p_low) = pts
         .iter()
         .enumerate()
-        .min_by(|a, b| a.1[1].total_cmp(&b.1[1]))
+        .min_by(|a, b| a.1.y.total_cmp(&b.1.y))
         .unwrap();
     let phi = (k_low as f64).to_radians();
-    let needle = (p_low[1] - 90.0 * phi.sin())
-        .atan2(p_low[0] - 90.0 * phi.cos())
+    let needle = (p_low.y - 90.0 * phi.sin())
+        .atan2(p_low.x - 90.0 * phi.cos())
         .to_degrees();
     assert!(
         (f.needle_angle_plant_deg - needle).abs() < 1.0,
@@ -103,7 +104,7 @@ fn g1_features_against_independent_values() {
     let vmax = (0..n)
         .map(|k| {
             let (a, b) = (pts[(k + n - 1) % n], pts[(k + 1) % n]);
-            (b[0] - a[0]).hypot(b[1] - a[1]) / (2.0 * TAU / n as f64) * 10.0 * PI
+            b.distance(a) / (2.0 * TAU / n as f64) * 10.0 * PI
         })
         .fold(0.0, f64::max);
     assert!(

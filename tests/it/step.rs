@@ -3,6 +3,7 @@
 //! errors naming the option.
 use ncgear::cad::ExportError;
 use ncgear::cad::step::{Instance, Prism, StepModel, step_text};
+use ncgear::math::Point;
 use std::collections::HashMap;
 use std::process::Command;
 
@@ -12,7 +13,7 @@ fn star(name: &str) -> Prism {
         .map(|k| {
             let t = std::f64::consts::TAU * k as f64 / 24.0;
             let r = if k % 2 == 0 { 10.0 } else { 8.0 };
-            [r * t.cos(), r * t.sin()]
+            Point::new(r * t.cos(), r * t.sin())
         })
         .collect();
     Prism {
@@ -35,13 +36,13 @@ fn assembly(bore_mm: f64) -> StepModel {
             Instance {
                 name: "driver".into(),
                 part: 0,
-                center_mm: [0.0, 0.0],
+                center_mm: Point::new(0.0, 0.0),
                 angle_rad: 0.0,
             },
             Instance {
                 name: "driven".into(),
                 part: 1,
-                center_mm: [18.5, 0.0],
+                center_mm: Point::new(18.5, 0.0),
                 angle_rad: 0.1,
             },
         ],

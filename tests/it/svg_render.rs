@@ -73,7 +73,7 @@ fn render_and_check(sheet: &Sheet, margin_mm: f64, scale: f32, tag: &str) -> f64
         .filter(|c| c.layer.ends_with("OUTLINE"))
     {
         for p in c.points_mm.iter().step_by(7) {
-            let (x, y) = ((p[0] - x0) * k, (-p[1] - y0) * k);
+            let (x, y) = ((p.x - x0) * k, (-p.y - y0) * k);
             let (xi, yi) = (x.floor() as i64, y.floor() as i64);
             let near = (-1..=1).any(|dx| (-1..=1).any(|dy| alpha(xi + dx, yi + dy) > 64));
             hit += usize::from(near);
@@ -100,7 +100,7 @@ fn pair_sheet_renders_at_its_size_in_mm_with_ink_on_the_outlines() {
     let b = sheet.bbox_mm();
     for c in &mut mirrored.contours {
         for p in &mut c.points_mm {
-            p[1] = b[1] + b[3] - p[1] + 7.3;
+            p.y = b[1] + b[3] - p.y + 7.3;
         }
     }
     let svg = to_svg_string(&sheet, 5.0);
@@ -129,7 +129,7 @@ fn pair_sheet_renders_at_its_size_in_mm_with_ink_on_the_outlines() {
         .iter()
         .step_by(7)
         .filter(|p| {
-            let (x, y) = ((p[0] - x0) * k, (-p[1] - y0) * k);
+            let (x, y) = ((p.x - x0) * k, (-p.y - y0) * k);
             pix.pixel(x as u32, y as u32)
                 .is_some_and(|q| q.alpha() > 64)
         })

@@ -3,6 +3,7 @@
 //! involute; and the process choice of a pair whose concave gear no cutter fits.
 use crate::teeth::rack_cut;
 use ncgear::geometry::pitch::PitchCurve;
+use ncgear::math::Point;
 use ncgear::pair::{Expr, Law, PairOptions, design_pair};
 use ncgear::progress::Progress;
 use ncgear::teeth::conjugate::{Mate, MatePose};
@@ -48,7 +49,7 @@ fn a_gear_swept_by_an_involute_mate_is_the_conjugate_involute() {
         };
         MatePose {
             angle_rad: -phi - (phi + delta),
-            shift_mm: [a * phi.cos(), -a * phi.sin()],
+            shift_mm: Point::new(a * phi.cos(), -a * phi.sin()),
         }
     };
     let mate = [Mate {
@@ -74,16 +75,16 @@ fn a_gear_swept_by_an_involute_mate_is_the_conjugate_involute() {
         let mut per_tooth: Vec<Vec<f64>> = vec![Vec::new(); z as usize];
         let pts = &driver.points_mm;
         for (i, p) in pts.iter().enumerate() {
-            let rr = p[0].hypot(p[1]);
+            let rr = p.hypot();
             if !(rr > rb + 0.2 * m && rr < r + 0.8 * m) {
                 continue;
             }
             // The flank's hand: the radius grows along the outline on one flank, falls on the other.
             let q = pts[(i + 1) % pts.len()];
-            if (q[0].hypot(q[1]) - rr) * hand <= 0.0 {
+            if (q.hypot() - rr) * hand <= 0.0 {
                 continue;
             }
-            let th = p[1].atan2(p[0]).rem_euclid(TAU);
+            let th = p.atan2().rem_euclid(TAU);
             let tooth = ((th / pitch_angle).round() as usize) % z as usize;
             let v = inv((rb / rr).acos()) - hand * (th - tooth as f64 * pitch_angle);
             per_tooth[tooth].push(v);

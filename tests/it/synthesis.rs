@@ -1,22 +1,23 @@
 //! Synthesis from key poses, Stage A: the dyads through the poses (`ncgear::synthesis::dyad`).
 use ncgear::geometry::golden::{g1_mechanism, g4_ratio};
 use ncgear::geometry::mechanism::Mechanism;
+use ncgear::math::Point;
 use ncgear::synthesis::{Dyad, DyadError, DyadOptions, DyadSolutions, Pose, solve_dyads};
 
 /// Poses of `m` at carrier angles `t_deg`, carrier axis at `center`, mirrored in x for a CW
 /// carrier (`cw`).
-fn poses_of(m: &Mechanism, t_deg: &[f64], center: [f64; 2], cw: bool) -> Vec<Pose> {
+fn poses_of(m: &Mechanism, t_deg: &[f64], center: Point, cw: bool) -> Vec<Pose> {
     t_deg
         .iter()
         .map(|t| {
             let (b, beta) = (m.tip(t.to_radians()), m.needle_direction(t.to_radians()));
             let (bx, beta) = if cw {
-                (-b[0], std::f64::consts::PI - beta)
+                (-b.x, std::f64::consts::PI - beta)
             } else {
-                (b[0], beta)
+                (b.x, beta)
             };
             Pose {
-                tip_mm: [center[0] + bx, center[1] + b[1]],
+                tip_mm: Point::new(center.x + bx, center.y + b.y),
                 needle_rad: beta,
             }
         })
@@ -31,10 +32,10 @@ fn finite(s: DyadSolutions) -> Vec<Dyad> {
 }
 
 /// The arm among `arms` within `tol` mm of (center, l1, l3), if any.
-fn found(arms: &[Dyad], center: [f64; 2], l1: f64, l3: f64, tol: f64) -> bool {
+fn found(arms: &[Dyad], center: Point, l1: f64, l3: f64, tol: f64) -> bool {
     arms.iter().any(|d| {
-        (d.center_mm[0] - center[0]).abs() <= tol
-            && (d.center_mm[1] - center[1]).abs() <= tol
+        (d.center_mm.x - center.x).abs() <= tol
+            && (d.center_mm.y - center.y).abs() <= tol
             && (d.l1_mm - l1).abs() <= tol
             && (d.l3_mm - l3).abs() <= tol
     })
@@ -53,12 +54,12 @@ fn g1_poses_are_the_published_table() {
     let poses = poses_of(
         &g1_mechanism(),
         &[0.0, 72.0, 144.0, 216.0, 288.0],
-        [0.0; 2],
+        Point::ZERO,
         false,
     );
     for (p, (x, y, beta)) in poses.iter().zip(table) {
         assert!(
-            (p.tip_mm[0] - x).abs() < 2e-6 && (p.tip_mm[1] - y).abs() < 2e-6,
+            (p.tip_mm.x - x).abs() < 2e-6 && (p.tip_mm.y - y).abs() < 2e-6,
             "{p:?}"
         );
         let d = (p.needle_rad.to_degrees() - beta + 180.0).rem_euclid(360.0) - 180.0;
@@ -71,10 +72,13 @@ fn g1_poses_are_the_published_table() {
 #[test]
 fn five_g1_poses_give_back_the_arm() {
     let t = [0.0, 72.0, 144.0, 216.0, 288.0];
-    let poses = poses_of(&g1_mechanism(), &t, [0.0; 2], false);
+    let poses = poses_of(&g1_mechanism(), &t, Point::ZERO, false);
     let arms = finite(solve_dyads(&poses, &DyadOptions::default()).unwrap());
     let best = arms[0];
-    assert!(found(&[best], [0.0, 0.0], 90.0, 170.0, 1e-6), "{arms:?}");
+    assert!(
+        found(&[best], Point::new(0.0, 0.0), 90.0, 170.0, 1e-6),
+        "{arms:?}"
+    );
     assert!(best.max_residual_mm < 1e-9, "{best:?}");
     for (phi, t) in best.carrier_angles_rad(&poses).iter().zip(t) {
         let d = (phi.to_degrees() - t + 180.0).rem_euclid(360.0) - 180.0;
@@ -86,10 +90,18 @@ fn five_g1_poses_give_back_the_arm() {
 /// original is among them, exact.
 #[test]
 fn four_poses_give_finitely_many_arms_among_them_the_original() {
-    let poses = poses_of(&g1_mechanism(), &[0.0, 72.0, 144.0, 216.0], [0.0; 2], false);
+    let poses = poses_of(
+        &g1_mechanism(),
+        &[0.0, 72.0, 144.0, 216.0],
+        Point::ZERO,
+        false,
+    );
     let arms = finite(solve_dyads(&poses, &DyadOptions::default()).unwrap());
     assert!(!arms.is_empty() && arms.len() <= 4, "{arms:?}");
-    assert!(found(&arms, [0.0, 0.0], 90.0, 170.0, 1e-6), "{arms:?}");
+    assert!(
+        found(&arms, Point::new(0.0, 0.0), 90.0, 170.0, 1e-6),
+        "{arms:?}"
+    );
     assert!(arms.iter().all(|d| d.max_residual_mm < 1e-6), "{arms:?}");
 }
 
@@ -97,16 +109,19 @@ fn four_poses_give_finitely_many_arms_among_them_the_original() {
 #[test]
 fn eight_approximate_poses_have_a_zero_residual_arm() {
     let t: Vec<f64> = (0..8).map(|k| 45.0 * f64::from(k)).collect();
-    let poses = poses_of(&g1_mechanism(), &t, [0.0; 2], false);
+    let poses = poses_of(&g1_mechanism(), &t, Point::ZERO, false);
     let arms = finite(solve_dyads(&poses, &DyadOptions::default()).unwrap());
-    assert!(found(&arms[..1], [0.0, 0.0], 90.0, 170.0, 1e-6), "{arms:?}");
+    assert!(
+        found(&arms[..1], Point::new(0.0, 0.0), 90.0, 170.0, 1e-6),
+        "{arms:?}"
+    );
     assert!(arms[0].max_residual_mm < 1e-9);
 }
 
 /// Three poses leave a family, one arm per needle length; the member at l3 = 170 mm is G1's.
 #[test]
 fn three_poses_leave_a_family_through_the_original() {
-    let poses = poses_of(&g1_mechanism(), &[0.0, 120.0, 240.0], [0.0; 2], false);
+    let poses = poses_of(&g1_mechanism(), &[0.0, 120.0, 240.0], Point::ZERO, false);
     let DyadSolutions::Family(family) = solve_dyads(&poses, &DyadOptions::default()).unwrap()
     else {
         panic!("three poses with O free are a family")
@@ -118,7 +133,7 @@ fn three_poses_leave_a_family_through_the_original() {
         .min_by(|a, b| (a.l3_mm - 170.0).abs().total_cmp(&(b.l3_mm - 170.0).abs()))
         .unwrap();
     assert!(
-        found(&[*member], [0.0, 0.0], 90.0, 170.0, 1e-6),
+        found(&[*member], Point::new(0.0, 0.0), 90.0, 170.0, 1e-6),
         "{member:?}"
     );
 }
@@ -137,7 +152,7 @@ fn arms_of_other_trains_are_found() {
                 needle_angle_rad: -1.1,
                 idler_offset_rad: 0.0,
             },
-            [30.0, -20.0],
+            Point::new(30.0, -20.0),
             false,
         ),
         (
@@ -149,7 +164,7 @@ fn arms_of_other_trains_are_found() {
                 needle_angle_rad: 0.3,
                 idler_offset_rad: 0.0,
             },
-            [250.0, 400.0],
+            Point::new(250.0, 400.0),
             true,
         ),
         (
@@ -157,7 +172,7 @@ fn arms_of_other_trains_are_found() {
                 l3_mm: 160.0,
                 ..g1_mechanism()
             },
-            [-40.0, 15.0],
+            Point::new(-40.0, 15.0),
             true,
         ),
     ];
@@ -181,16 +196,19 @@ fn arms_of_other_trains_are_found() {
 /// The carrier axis fixed by the machine: two poses suffice.
 #[test]
 fn a_fixed_axis_needs_two_poses() {
-    let poses = poses_of(&g1_mechanism(), &[0.0, 144.0], [0.0; 2], false);
-    let opts = DyadOptions::default().with_center_mm(Some([0.0, 0.0]));
+    let poses = poses_of(&g1_mechanism(), &[0.0, 144.0], Point::ZERO, false);
+    let opts = DyadOptions::default().with_center_mm(Some(Point::new(0.0, 0.0)));
     let arms = finite(solve_dyads(&poses, &opts).unwrap());
-    assert!(found(&arms, [0.0, 0.0], 90.0, 170.0, 1e-6), "{arms:?}");
+    assert!(
+        found(&arms, Point::new(0.0, 0.0), 90.0, 170.0, 1e-6),
+        "{arms:?}"
+    );
 }
 
 /// Too few poses and non-finite numbers are refused by name.
 #[test]
 fn too_few_or_non_finite_poses_are_refused() {
-    let poses = poses_of(&g1_mechanism(), &[0.0, 72.0], [0.0; 2], false);
+    let poses = poses_of(&g1_mechanism(), &[0.0, 72.0], Point::ZERO, false);
     let e = solve_dyads(&poses, &DyadOptions::default()).unwrap_err();
     assert_eq!(
         e,
@@ -199,7 +217,7 @@ fn too_few_or_non_finite_poses_are_refused() {
             needed: 3
         }
     );
-    let mut bad = poses_of(&g1_mechanism(), &[0.0, 72.0, 144.0], [0.0; 2], false);
+    let mut bad = poses_of(&g1_mechanism(), &[0.0, 72.0, 144.0], Point::ZERO, false);
     bad[1].needle_rad = f64::NAN;
     assert_eq!(
         solve_dyads(&bad, &DyadOptions::default()).unwrap_err(),
@@ -215,7 +233,7 @@ fn the_timing_of_g1_poses_passes_every_pose() {
     use ncgear::synthesis::{POSE_TOL_RAD, carrier_angles, fit_timing};
     let t = [0.0, 72.0, 144.0, 216.0, 288.0];
     for cw in [false, true] {
-        let poses = poses_of(&g1_mechanism(), &t, [10.0, -5.0], cw);
+        let poses = poses_of(&g1_mechanism(), &t, Point::new(10.0, -5.0), cw);
         let arms = finite(solve_dyads(&poses, &DyadOptions::default()).unwrap());
         let (direction, angles) = carrier_angles(&poses, &arms[0], None).unwrap();
         assert_eq!(direction, if cw { -1 } else { 1 });
@@ -242,8 +260,8 @@ fn the_timing_of_g1_poses_passes_every_pose() {
             let b = timing.mechanism.tip(*phi);
             // Back to the world frame: mirrored in y for CW, then about O.
             let s = f64::from(direction);
-            let w = [10.0 + b[0], -5.0 + s * b[1]];
-            let e = (w[0] - p.tip_mm[0]).hypot(w[1] - p.tip_mm[1]);
+            let w = Point::new(10.0 + b.x, -5.0 + s * b.y);
+            let e = w.distance(p.tip_mm);
             assert!(e < 1e-6, "pose {k}: {e} mm");
             assert!(
                 timing.residuals_rad[k].abs().to_degrees() < 1e-6,
@@ -261,7 +279,7 @@ fn poses_out_of_travel_order_are_refused() {
     let poses = poses_of(
         &g1_mechanism(),
         &[0.0, 144.0, 72.0, 216.0, 288.0],
-        [0.0; 2],
+        Point::ZERO,
         false,
     );
     let arms = finite(solve_dyads(&poses, &DyadOptions::default()).unwrap());
@@ -279,7 +297,7 @@ fn g1_spec_synthesises_gears_that_pass_every_pose() {
     let s = ncgear::synthesis::synthesize(&spec, &ncgear::DesignOptions::default()).unwrap();
     let r = &s.report;
     assert!(
-        found(&r.dyads, [0.0, 0.0], 90.0, 170.0, 1e-6),
+        found(&r.dyads, Point::new(0.0, 0.0), 90.0, 170.0, 1e-6),
         "{:?}",
         r.dyads
     );
@@ -312,7 +330,7 @@ fn other_trains_are_synthesised_from_their_poses() {
                 needle_angle_rad: -1.1,
                 idler_offset_rad: 0.0,
             },
-            [30.0, -20.0],
+            Point::new(30.0, -20.0),
             false,
             vec![10.0, 100.0, 190.0, 280.0],
         ),
@@ -321,7 +339,7 @@ fn other_trains_are_synthesised_from_their_poses() {
                 l3_mm: 160.0,
                 ..g1_mechanism()
             },
-            [-40.0, 15.0],
+            Point::new(-40.0, 15.0),
             true,
             (0..8)
                 .map(|k| 5.0 + 45.0 * f64::from(k))
@@ -335,8 +353,8 @@ fn other_trains_are_synthesised_from_their_poses() {
                 .iter()
                 .enumerate()
                 .map(|(k, p)| PoseSpec {
-                    x_mm: p.tip_mm[0],
-                    y_mm: p.tip_mm[1],
+                    x_mm: p.tip_mm.x,
+                    y_mm: p.tip_mm.y,
                     needle_deg: p.needle_rad.to_degrees(),
                     kind: (k % 4 == 3).then(|| "approximate".to_string()),
                     tol_mm: Some(0.05),
@@ -395,13 +413,13 @@ fn infeasible_specs_are_refused_by_name() {
 #[test]
 fn three_poses_synthesise_a_compact_arm_that_passes_them() {
     use ncgear::synthesis::spec::{PoseSpec, Spec};
-    let poses = poses_of(&g1_mechanism(), &[0.0, 144.0, 288.0], [0.0; 2], false);
+    let poses = poses_of(&g1_mechanism(), &[0.0, 144.0, 288.0], Point::ZERO, false);
     let spec = Spec {
         poses: poses
             .iter()
             .map(|p| PoseSpec {
-                x_mm: p.tip_mm[0],
-                y_mm: p.tip_mm[1],
+                x_mm: p.tip_mm.x,
+                y_mm: p.tip_mm.y,
                 needle_deg: p.needle_rad.to_degrees(),
                 kind: None,
                 tol_mm: None,
@@ -500,7 +518,7 @@ fn a_moved_pose_marked_approximate_takes_the_misfit() {
     spec.poses[2].tol_deg = Some(1.0);
     let s = ncgear::synthesis::synthesize(&spec, &ncgear::DesignOptions::default()).unwrap();
     let arm = s.report.candidates[s.report.chosen].dyad;
-    assert!(found(&[arm], [0.0; 2], 90.0, 170.0, 1e-3), "{arm:?}");
+    assert!(found(&[arm], Point::ZERO, 90.0, 170.0, 1e-3), "{arm:?}");
     for (k, p) in s.report.poses.iter().enumerate() {
         let (mm, deg) = if k == 2 { (3.0, 1.0) } else { (1e-3, 1e-3) };
         assert!(

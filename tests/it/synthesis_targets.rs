@@ -1,6 +1,7 @@
 //! Synthesis from target bands alone (`ncgear::synthesis::targets`): the train whose agronomic
 //! indices lie in their bands, with gears a shop can make.
 use ncgear::design::DesignOptions;
+use ncgear::math::Point;
 use ncgear::simulate::{FeatureOptions, Simulation, features};
 use ncgear::synthesis::spec::{Machine, Targets};
 use ncgear::synthesis::{Spec, Synthesis, synthesize};
@@ -77,7 +78,7 @@ fn published_rice_figures_are_met_with_buildable_gears() {
 #[test]
 fn bands_of_a_known_train_are_met_clockwise_about_another_axis() {
     let machine = Machine {
-        center_mm: Some([120.0, 350.0]),
+        center_mm: Some(Point::new(120.0, 350.0)),
         carrier: Some("cw".into()),
         ..Machine::default()
     };
@@ -95,7 +96,7 @@ fn bands_of_a_known_train_are_met_clockwise_about_another_axis() {
     assert_met_on_buildable_gears(&s, &FeatureOptions::default());
     assert_eq!(s.report.carrier, "cw");
     assert_eq!(s.design.assembly.direction, -1);
-    assert_eq!(s.design.assembly.center_mm, [120.0, 350.0]);
+    assert_eq!(s.design.assembly.center_mm, Point::new(120.0, 350.0));
 }
 
 /// A band out of reach is reported with the index and its shortfall, the search box's edge named
@@ -188,8 +189,8 @@ fn g1_taking_and_pushing_angles_are_to_the_horizontal() {
     use ncgear::simulate::features_of_turn;
     use ncgear::synthesis::targets::turn_of;
     let n = 36_000;
-    let turn = turn_of(&ncgear::geometry::golden::g1_mechanism(), [0.0; 2], 1, n);
-    let f = features_of_turn(&turn, [0.0; 2], 1, &FeatureOptions::default()).unwrap();
+    let turn = turn_of(&ncgear::geometry::golden::g1_mechanism(), Point::ZERO, 1, n);
+    let f = features_of_turn(&turn, Point::ZERO, 1, &FeatureOptions::default()).unwrap();
     assert!(
         (f.take_angle_deg - 76.824).abs() < 0.01,
         "{}",

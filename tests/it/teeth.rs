@@ -3,6 +3,7 @@ use ncgear::cad::dxf::{DxfVersion, write_dxf};
 use ncgear::cad::points::write_points;
 use ncgear::cad::svg::write_svg;
 use ncgear::geometry::pitch::PitchCurve;
+use ncgear::math::Point;
 use ncgear::pair::{Expr, Law, Motion, PairOptions, design_pair};
 use ncgear::teeth::overlap::first_self_intersection;
 use ncgear::teeth::{
@@ -41,10 +42,10 @@ pub(crate) fn out_dir(sub: &str) -> PathBuf {
 }
 
 /// Shoelace area (mm²).
-fn area(p: &[[f64; 2]]) -> f64 {
+fn area(p: &[Point]) -> f64 {
     let n = p.len();
     0.5 * (0..n)
-        .map(|i| p[i][0] * p[(i + 1) % n][1] - p[(i + 1) % n][0] * p[i][1])
+        .map(|i| p[i].x * p[(i + 1) % n].y - p[(i + 1) % n].x * p[i].y)
         .sum::<f64>()
 }
 
@@ -94,8 +95,8 @@ fn g1_sun_at_module_2_has_23_teeth_and_no_undercut() {
     );
     // Every vertex lies between the root and tip offsets (radially, within 2.5 m and 2 m).
     for p in &o.points_mm {
-        let r = p[0].hypot(p[1]);
-        let t = p[1].atan2(p[0]);
+        let r = p.hypot();
+        let t = p.atan2();
         let rp = scaled.radius_mm(t);
         assert!(
             r > rp - 2.5 * 2.0 * 1.02 && r < rp + 2.0 * 1.02,
@@ -178,8 +179,8 @@ fn involute_on_a_circle() {
     let theta_pitch = std::f64::consts::PI / 48.0;
     let mut n = 0;
     for p in &o.points_mm {
-        let r = p[0].hypot(p[1]);
-        let t = p[1].atan2(p[0]);
+        let r = p.hypot();
+        let t = p.atan2();
         if t > 0.0 && t < 0.13 && r > rb * 1.01 && r > r0 - 1.0 * m && r < r0 + 0.99 * m {
             let ar = (rb / r).acos();
             // Right flank: polar angle = θ_pitch + inv(α) − inv(α_r).
@@ -312,16 +313,15 @@ fn exports_are_closed_mm_polylines() {
             closed += 1;
             if e.common.layer == "DRIVER_OUTLINE" {
                 // Every original vertex within the chord tolerance of the simplified polygon.
-                let v: Vec<[f64; 2]> = p.vertices.iter().map(|v| [v.x, v.y]).collect();
-                let seg = |q: [f64; 2]| {
+                let v: Vec<Point> = p.vertices.iter().map(|v| Point::new(v.x, v.y)).collect();
+                let seg = |q: Point| {
                     (0..v.len())
                         .map(|i| {
                             let (a, b) = (v[i], v[(i + 1) % v.len()]);
-                            let (dx, dy) = (b[0] - a[0], b[1] - a[1]);
-                            let t = (((q[0] - a[0]) * dx + (q[1] - a[1]) * dy)
-                                / (dx * dx + dy * dy))
+                            let (dx, dy) = (b.x - a.x, b.y - a.y);
+                            let t = (((q.x - a.x) * dx + (q.y - a.y) * dy) / (dx * dx + dy * dy))
                                 .clamp(0.0, 1.0);
-                            (q[0] - a[0] - t * dx).hypot(q[1] - a[1] - t * dy)
+                            (q.x - a.x - t * dx).hypot(q.y - a.y - t * dy)
                         })
                         .fold(f64::INFINITY, f64::min)
                 };
@@ -412,18 +412,18 @@ fn overlap_area_is_zero_for_the_pair_and_matches_full_clipping_when_clocked_wron
         assert!(bad.max_overlap_area_mm2 > 0.05, "{shift}: {bad:?}");
         assert_eq!(bad.interference_steps, 24, "{shift}: {bad:?}");
         let phi = bad.max_overlap_at_deg.to_radians();
-        let rot = |p: &[f64; 2], t: f64, dx: f64| {
+        let rot = |p: &Point, t: f64, dx: f64| {
             let (s, c) = t.sin_cos();
-            [c * p[0] - s * p[1] + dx, s * p[0] + c * p[1]]
+            Point::new(c * p.x - s * p.y + dx, s * p.x + c * p.y)
         };
-        let w1: Vec<[f64; 2]> = d
+        let w1: Vec<Point> = d
             .driver
             .points_mm
             .iter()
             .map(|p| rot(p, phi, 0.0))
             .collect();
         let t2 = -(motion.psi(phi) + shift);
-        let w2: Vec<[f64; 2]> = d.driven.points_mm.iter().map(|p| rot(p, t2, a)).collect();
+        let w2: Vec<Point> = d.driven.points_mm.iter().map(|p| rot(p, t2, a)).collect();
         let full = polygon_overlap_area(&w1, &w2).unwrap();
         assert!(
             (full - bad.max_overlap_area_mm2).abs() < 1e-9 * full.max(1.0),

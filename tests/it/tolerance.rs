@@ -4,6 +4,7 @@ use ncgear::analysis::montecarlo::McOptions;
 use ncgear::analysis::peak::{PeakOptions, Sinusoid, certified_peak, fixed_grid_peak};
 use ncgear::analysis::tolerance::{Analysis, ErrorFile, ToleranceError, arcsec, phasor_sum};
 use ncgear::config::Format;
+use ncgear::progress::Progress;
 use std::f64::consts::{PI, TAU};
 
 const PAPER: &str = include_str!("../../assets/tolerance/paper_3k.toml");
@@ -182,7 +183,7 @@ fn monte_carlo_is_seeded_and_stable_between_seeds() {
                 .with_samples(50_000)
                 .with_seed(seed)
                 .with_bins(40),
-            &|_| {},
+            &Progress::none(),
         )
         .unwrap()
     };
@@ -195,7 +196,7 @@ fn monte_carlo_is_seeded_and_stable_between_seeds() {
                 .with_samples(3000)
                 .with_seed(1)
                 .with_bins(40),
-            &|_| {},
+            &Progress::none(),
         )
         .unwrap();
     assert_eq!(&v1[..3000], &v_small[..], "same seed, same samples");

@@ -3,6 +3,7 @@ use crate::assembled;
 use ncgear::design::train::{Gear, TrainError, TrainPolicy, TrainTeethOptions, tooth_train};
 use ncgear::design::trajectory::Trajectory;
 use ncgear::design::{Design, DesignOptions, design};
+use ncgear::math::Point;
 use ncgear::teeth::{TeethError, ToothPolicy};
 use std::f64::consts::PI;
 use std::path::PathBuf;
@@ -115,7 +116,7 @@ fn g1_train_at_module_2_has_23_teeth_meshes_and_moves_the_tip_by_the_closed_form
             * (0..o.len())
                 .map(|k| {
                     let (p, q) = (o[k], o[(k + 1) % o.len()]);
-                    p[0] * q[1] - q[0] * p[1]
+                    p.x * q.y - q.x * p.y
                 })
                 .sum::<f64>();
         let pitch_area = 0.5 * {
@@ -123,7 +124,7 @@ fn g1_train_at_module_2_has_23_teeth_meshes_and_moves_the_tip_by_the_closed_form
             (0..c.len())
                 .map(|k| {
                     let (p, q) = (c[k], c[(k + 1) % c.len()]);
-                    p[0] * q[1] - q[0] * p[1]
+                    p.x * q.y - q.x * p.y
                 })
                 .sum::<f64>()
         };
@@ -298,11 +299,11 @@ fn ratio_amplitude_policy_solves_the_perimeter_equation() {
 }
 
 /// Max distance (mm) from each of `p` to the closed polyline `q`, every segment tried.
-fn max_distance_to_polyline(p: &[[f64; 2]], q: &[[f64; 2]]) -> f64 {
-    let seg = |x: [f64; 2], a: [f64; 2], b: [f64; 2]| {
-        let (dx, dy) = (b[0] - a[0], b[1] - a[1]);
-        let t = (((x[0] - a[0]) * dx + (x[1] - a[1]) * dy) / (dx * dx + dy * dy)).clamp(0.0, 1.0);
-        (x[0] - a[0] - t * dx).hypot(x[1] - a[1] - t * dy)
+fn max_distance_to_polyline(p: &[Point], q: &[Point]) -> f64 {
+    let seg = |x: Point, a: Point, b: Point| {
+        let (dx, dy) = (b.x - a.x, b.y - a.y);
+        let t = (((x.x - a.x) * dx + (x.y - a.y) * dy) / (dx * dx + dy * dy)).clamp(0.0, 1.0);
+        (x.x - a.x - t * dx).hypot(x.y - a.y - t * dy)
     };
     p.iter()
         .map(|x| {
@@ -346,7 +347,7 @@ fn ratio_amplitude_policy_refits_the_needle_and_states_the_round_trip() {
         idler_offset_rad: 0.0,
     };
     let n = r.options.roundtrip_samples;
-    let path: Vec<[f64; 2]> = (0..n)
+    let path: Vec<Point> = (0..n)
         .map(|k| m.tip(2.0 * PI * k as f64 / n as f64))
         .collect();
     let retraced = max_distance_to_polyline(&path, &d.report.target_points);
@@ -542,7 +543,7 @@ fn leaning_teeth_of_the_kidney_design_mesh_without_interference() {
     assert_eq!(r.z, 23);
     // The fold of the outline (backwards polar travel) exceeds the exact-distance band 0.02·m.
     let o = &train.sun.points_mm;
-    let th: Vec<f64> = o.iter().map(|p| p[1].atan2(p[0])).collect();
+    let th: Vec<f64> = o.iter().map(|p| p.atan2()).collect();
     let (mut run, mut worst) = (0.0f64, 0.0f64);
     for k in 0..th.len() {
         let d = (th[(k + 1) % th.len()] - th[k] + PI).rem_euclid(2.0 * PI) - PI;
@@ -565,7 +566,11 @@ fn clockwise_asymmetric_design_meshes() {
     let traj =
         PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("assets/trajectories/asymmetric_cw.json");
     let t = Trajectory::from_path(&traj).unwrap();
-    let d = design(&t, &DesignOptions::default().with_center_mm([250.0, 400.0])).unwrap();
+    let d = design(
+        &t,
+        &DesignOptions::default().with_center_mm(Point::new(250.0, 400.0)),
+    )
+    .unwrap();
     assert_eq!(d.assembly.direction, -1);
     let mut opts = TrainTeethOptions::new(1.25);
     opts.toothing.verify_steps = 18;

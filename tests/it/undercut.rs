@@ -6,6 +6,7 @@ use crate::teeth::rack_cut;
 use ncgear::cad::dxf::{DxfVersion, write_dxf};
 use ncgear::cad::points::write_points;
 use ncgear::geometry::pitch::PitchCurve;
+use ncgear::math::Point;
 use ncgear::pair::{Expr, Law, PairOptions, design_pair};
 use ncgear::teeth::overlap::first_self_intersection;
 use ncgear::teeth::{OutlineOptions, RackParams, TeethError};
@@ -61,10 +62,10 @@ fn undercut_spur_gear_has_the_trochoidal_root_and_the_involute_flank() {
             ]
         };
         // Distance to the trochoid: dense scan, then golden-section refinement.
-        let dist = |v: [f64; 2]| {
+        let dist = |v: Point| {
             let d = |s: f64| {
                 let c = centre(s);
-                (v[0] - c[0]).hypot(v[1] - c[1])
+                (v.x - c[0]).hypot(v.y - c[1])
             };
             let (lo, hi) = (xc - 3.0 * p, xc + p);
             let k = (0..=4000)
@@ -85,23 +86,19 @@ fn undercut_spur_gear_has_the_trochoidal_root_and_the_involute_flank() {
         // The involute of tooth 0's left flank: θ − inv α_R equals its value at the pitch point.
         let rb = r * ca;
         let c_inv = sl / r - inv(alpha);
-        let inv_err = |v: [f64; 2]| {
-            let big_r = v[0].hypot(v[1]);
+        let inv_err = |v: Point| {
+            let big_r = v.hypot();
             if big_r <= rb {
                 return f64::INFINITY;
             }
             let a_r = (rb / big_r).acos();
-            (v[1].atan2(v[0]) - inv(a_r) - c_inv).abs() * big_r
+            (v.atan2() - inv(a_r) - c_inv).abs() * big_r
         };
         // Tooth 0's left side: from the outline's start (its left fillet) up to the tip circle.
         let mut on_fillet = 0;
         let mut on_involute = 0;
         let mut deepest_involute = f64::INFINITY;
-        for v in o
-            .points_mm
-            .iter()
-            .take_while(|v| v[0].hypot(v[1]) < r + ha - 1e-9)
-        {
+        for v in o.points_mm.iter().take_while(|v| v.hypot() < r + ha - 1e-9) {
             let (e_f, e_i) = ((dist(*v) - rho).abs(), inv_err(*v));
             // Vertices are exact curve points; the cut point lies on a chord of each piece.
             assert!(
@@ -110,7 +107,7 @@ fn undercut_spur_gear_has_the_trochoidal_root_and_the_involute_flank() {
             );
             if e_i <= 1e-9 {
                 on_involute += 1;
-                deepest_involute = deepest_involute.min(v[0].hypot(v[1]));
+                deepest_involute = deepest_involute.min(v.hypot());
                 // Trimmed where the cutter passes: no kept flank vertex inside the region the
                 // tip rounding sweeps.
                 assert!(dist(*v) >= rho - tol, "z = {z}: {v:?} was cut away");
@@ -131,7 +128,7 @@ fn undercut_spur_gear_has_the_trochoidal_root_and_the_involute_flank() {
             let t = s / r;
             let (st, ct) = t.sin_cos();
             let (xi, eta) = (dd * ca, -dd * sa);
-            [r * ct + xi * -st + eta * ct, r * st + xi * ct + eta * st]
+            Point::new(r * ct + xi * -st + eta * ct, r * st + xi * ct + eta * st)
         };
         let g = |depth: f64| dist(flank_at(depth)) - rho;
         let (mut lo, mut hi) = (0.0, hs);
@@ -162,16 +159,16 @@ fn undercut_spur_gear_has_the_trochoidal_root_and_the_involute_flank() {
         let theta = {
             let h = 1e-6;
             let (a, b) = (flank_at(want - h), flank_at(want + h));
-            let t1 = (b[1] - a[1]).atan2(b[0] - a[0]);
+            let t1 = (b - a).atan2();
             // The trochoid's tangent at the point nearest the crossing (its offset is parallel).
             let v = flank_at(want);
             let s_near = (0..=20000)
                 .map(|k| xc - 3.0 * p + 4.0 * p * f64::from(k) / 20000.0)
                 .min_by(|&x, &y| {
                     let (c, d) = (centre(x), centre(y));
-                    (v[0] - c[0])
-                        .hypot(v[1] - c[1])
-                        .total_cmp(&(v[0] - d[0]).hypot(v[1] - d[1]))
+                    (v.x - c[0])
+                        .hypot(v.y - c[1])
+                        .total_cmp(&(v.x - d[0]).hypot(v.y - d[1]))
                 })
                 .unwrap();
             let (c, d) = (centre(s_near - h), centre(s_near + h));
@@ -194,7 +191,7 @@ fn undercut_spur_gear_has_the_trochoidal_root_and_the_involute_flank() {
         // The involute ends at the form point: no involute vertex deeper than it.
         let r_form = {
             let v = flank_at(want);
-            v[0].hypot(v[1])
+            v.hypot()
         };
         assert!(deepest_involute >= r_form - bound, "z = {z}");
         // Loss of contact ratio against the rack, closed form.

@@ -1,9 +1,10 @@
 //! Re-designing from an earlier design (`ncgear::design::warm`): the edit loop of `ncgear serve`.
 use ncgear::design::warm::redesign;
 use ncgear::geometry::golden::g1_mechanism;
+use ncgear::math::Point;
 use ncgear::{DesignOptions, Trajectory, design};
 
-fn g1_points() -> Vec<[f64; 2]> {
+fn g1_points() -> Vec<Point> {
     let g1 = g1_mechanism();
     (0..360)
         .map(|k| g1.tip(f64::from(k).to_radians()))
@@ -11,13 +12,13 @@ fn g1_points() -> Vec<[f64; 2]> {
 }
 
 /// `points` with a Gaussian bump of `amp` mm around point `at` (about 10 points wide).
-fn bumped(points: &[[f64; 2]], at: f64, amp: f64) -> Vec<[f64; 2]> {
+fn bumped(points: &[Point], at: f64, amp: f64) -> Vec<Point> {
     points
         .iter()
         .enumerate()
         .map(|(k, p)| {
             let w = amp * (-((k as f64 - at) / 10.0).powi(2)).exp();
-            [p[0] + 0.8 * w, p[1] + 0.6 * w]
+            Point::new(p.x + 0.8 * w, p.y + 0.6 * w)
         })
         .collect()
 }

@@ -17,6 +17,7 @@ use super::{
     DynamicsError, Run, RunOptions, SweepPoint, linear_dte_amplitude, natural_frequencies_hz,
     simulate, static_state, sweep,
 };
+use crate::progress::Progress;
 use serde::Serialize;
 use std::f64::consts::PI;
 
@@ -189,7 +190,7 @@ impl Prepared {
 
     /// Runs the scene: the linear fast path if [`Self::takes_linear_path`], else the sweep of
     /// `options.sweep`, else a transient from the static state and the recorded window.
-    /// `progress(k)` receives the finished Poincaré periods (run) or sweep points (up, then down,
+    /// `progress` hears the finished Poincaré periods (run) or sweep points (up, then down,
     /// counted on).
     ///
     /// # Errors
@@ -198,7 +199,7 @@ impl Prepared {
     pub fn run(
         &self,
         options: &AnalysisOptions,
-        progress: &(dyn Fn(u64) + Sync),
+        progress: &Progress,
     ) -> Result<DynamicsReport, DynamicsError> {
         let mut report = DynamicsReport {
             header: self.header.clone(),
@@ -215,12 +216,9 @@ impl Prepared {
             let down: Vec<f64> = up.iter().rev().copied().collect();
             // Both sweeps start from the static state: they run side by side (each in order,
             // so the same numbers for any thread count); `progress` counts the points of both.
-            let done = std::sync::atomic::AtomicU64::new(0);
-            let tick =
-                |_: u64| progress(done.fetch_add(1, std::sync::atomic::Ordering::Relaxed) + 1);
             let (res_up, res_down) = rayon::join(
-                || sweep(s, f, up, o, None, &tick),
-                || sweep(s, f, &down, o, None, &tick),
+                || sweep(s, f, up, o, None, progress),
+                || sweep(s, f, &down, o, None, progress),
             );
             report.sweep_up = Some(res_up?);
             report.sweep_down = Some(res_down?);
@@ -233,10 +231,7 @@ impl Prepared {
     }
 
     /// The transient + recorded run and what is derived from it.
-    fn record(
-        &self,
-        progress: &(dyn Fn(u64) + Sync),
-    ) -> Result<(RunReport, Recording), DynamicsError> {
+    fn record(&self, progress: &Progress) -> Result<(RunReport, Recording), DynamicsError> {
         let model = &self.model;
         let signals = self.signal_columns()?;
         let orbit_dofs = self.orbit_dofs()?;
@@ -351,5 +346,5 @@ pub fn run(
     file: &str,
     options: &AnalysisOptions,
 ) -> Result<DynamicsReport, DynamicsError> {
-    Prepared::new(scene.clone(), file)?.run(options, &|_| {})
+    Prepared::new(scene.clone(), file)?.run(options, &Progress::none())
 }

@@ -4,6 +4,7 @@
 use super::model::{self, Model, PairState};
 use super::ode::{self, Dopri5, OdeProblem, OdeStats, OdeSystem};
 use super::{DynamicsError, Method, RunOptions};
+use crate::progress::Progress;
 use nalgebra::DMatrix;
 use serde::Serialize;
 
@@ -144,12 +145,12 @@ pub fn static_state(model: &Model, tol_n: f64) -> Vec<f64> {
 
 /// Integrates `model` from state `y0` at t = 0: transient until the Poincaré map settles (or
 /// `max_periods`), then records `record_mesh_periods` mesh periods at `samples_per_mesh`.
-/// `progress(k)` receives the number of finished Poincaré periods.
+/// `progress` hears each finished Poincaré period.
 pub fn simulate(
     model: &Model,
     y0: &[f64],
     opts: &RunOptions,
-    progress: &(dyn Fn(u64) + Sync),
+    progress: &Progress,
 ) -> Result<Run, DynamicsError> {
     opts.validate()?;
     let mut y = y0.to_vec();
@@ -186,12 +187,12 @@ struct Transient {
 }
 
 /// Integrates `y` Poincaré period by period from t = 0 until its relative change over a
-/// period falls below `poincare_tol` (or `max_periods`); `progress(k)` after each period.
+/// period falls below `poincare_tol` (or `max_periods`); `progress` hears each period.
 fn settle(
     model: &Model,
     y: &mut [f64],
     opts: &RunOptions,
-    progress: &(dyn Fn(u64) + Sync),
+    progress: &Progress,
 ) -> Result<Transient, DynamicsError> {
     let tp = model.poincare_period;
     let mut tr = Transient {
@@ -213,7 +214,7 @@ fn settle(
         }
         tr.change = poincare_change(&prev, y);
         prev.copy_from_slice(y);
-        progress(u64::from(tr.periods));
+        progress.advance(1);
         if tr.change < opts.poincare_tol {
             tr.steady = true;
             break;

@@ -4,6 +4,7 @@
 
 use super::scene::Scene;
 use super::{DynamicsError, RunOptions, simulate, static_state};
+use crate::progress::Progress;
 use serde::Serialize;
 
 /// One point of a frequency sweep.
@@ -34,12 +35,12 @@ pub fn sweep(
     omega_ratios: &[f64],
     opts: &RunOptions,
     y0: Option<&[f64]>,
-    progress: &(dyn Fn(u64) + Sync),
+    progress: &Progress,
 ) -> Result<Vec<SweepPoint>, DynamicsError> {
     let d = scene.derived(file)?;
     let mut state: Option<Vec<f64>> = y0.map(<[f64]>::to_vec);
     let mut out = Vec::with_capacity(omega_ratios.len());
-    for (i, &om) in omega_ratios.iter().enumerate() {
+    for &om in omega_ratios {
         if !(om.is_finite() && om > 0.0) {
             return Err(DynamicsError::BadOption {
                 name: "omega_ratio",
@@ -52,7 +53,7 @@ pub fn sweep(
             om * d.omega_n_rad_s * 60.0 / (2.0 * std::f64::consts::PI * scene.gears.z1 as f64);
         let (model, _) = s.build(file)?;
         let y = state.clone().unwrap_or_else(|| static_state(&model, 1e-6));
-        let run = simulate(&model, &y, opts, &|_| {})?;
+        let run = simulate(&model, &y, opts, &Progress::none())?;
         let b = model.mesh.backlash.map_or(0.0, |b| b.b);
         let h = run.dte_harmonics(1);
         let loss = if b > 0.0 {
@@ -70,7 +71,7 @@ pub fn sweep(
             steady: run.steady,
         });
         state = run.states.last().cloned();
-        progress(i as u64 + 1);
+        progress.advance(1);
     }
     Ok(out)
 }

@@ -15,6 +15,7 @@ use super::measure::{
 use super::model::{Line, LineKind, ModelParams, PlanetSet, rpm_to_rad_s};
 use super::report::MeasureReport;
 use super::{OrbitError, invalid};
+use crate::progress::Progress;
 use std::f64::consts::TAU;
 
 /// Where the sensors sit; the carrier speed of [`Frame::HousingFullSpectrum`] is found by
@@ -227,7 +228,7 @@ impl Evaluation {
     pub fn refine_frequency(
         &mut self,
         rec: &Record,
-        progress: &(dyn Fn(u64) + Sync),
+        progress: &Progress,
     ) -> Result<Option<FrequencyEstimate>, OrbitError> {
         if !self.estimate {
             return Ok(None);

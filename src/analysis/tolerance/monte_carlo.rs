@@ -4,6 +4,7 @@
 use super::Analysis;
 use super::error_file::AmplitudeDist;
 use crate::analysis::montecarlo::{self, McError, McOptions, McStats};
+use crate::progress::Progress;
 use rand::RngExt;
 use std::f64::consts::TAU;
 
@@ -17,7 +18,7 @@ impl Analysis {
     pub fn monte_carlo(
         &self,
         opts: &McOptions,
-        progress: &(dyn Fn(u64) + Sync),
+        progress: &Progress,
     ) -> Result<(McStats, Vec<f64>), McError> {
         let d = self.free_count();
         montecarlo::run(

@@ -4,6 +4,7 @@
 use super::{Analysis, ErrorFile, GreedyStep, Joint, Phasor, ToleranceError, arcsec};
 use crate::analysis::montecarlo::{McOptions, McStats};
 use crate::analysis::peak::PeakOptions;
+use crate::progress::Progress;
 use serde::Serialize;
 
 /// Options of [`analyse`]. (De)serialisable (a missing field takes its default, an unknown one is an error) and
@@ -86,14 +87,14 @@ impl ToleranceReport {
 }
 
 /// Runs the whole analysis: peaks, bounds, greedy, joint, optionally Monte Carlo.
-/// `progress(done)` counts Monte Carlo samples.
+/// `progress` counts Monte Carlo samples.
 ///
 /// # Errors
 /// [`ToleranceError::BadValue`] (key `samples`) when the Monte Carlo options are out of range.
 pub fn analyse(
     file: &ErrorFile,
     opts: &ToleranceOptions,
-    progress: &(dyn Fn(u64) + Sync),
+    progress: &Progress,
 ) -> Result<ToleranceReport, ToleranceError> {
     let a = Analysis::new(file, opts.peak);
     let rb = file.base_radius();

@@ -13,6 +13,7 @@ use crate::analysis::montecarlo::{self};
 use crate::analysis::tolerance::ARCSEC_PER_RAD;
 use crate::geometry::assembly::Assembly;
 use crate::math::periodic::wrap_pi;
+use crate::progress::Progress;
 use rayon::prelude::*;
 
 /// `max_φ |Δθ3|` (rad) of the exact model.
@@ -40,25 +41,25 @@ fn linear_error(
     let (mut worst, mut peak): (f64, f64) = (0.0, 0.0);
     for (i, (p, b0)) in lin.phis_rad.iter().zip(&lin.nominal_tips_mm).enumerate() {
         let b = model.state(*p, x)?.tip_mm;
-        let d = [b[0] - b0[0], b[1] - b0[1]];
+        let d = [b.x - b0.x, b.y - b0.y];
         let l = lin.deviation_at(i, x);
-        worst = worst.max((l[0] - d[0]).hypot(l[1] - d[1]));
+        worst = worst.max((l.x - d[0]).hypot(l.y - d[1]));
         peak = peak.max(d[0].hypot(d[1]));
     }
     Ok((if peak > 0.0 { worst / peak } else { 0.0 }, worst))
 }
 
-/// Runs the transplanter tolerance analysis of one arm of `asm` with the error inventory `inv`.
-/// `progress(done)` counts Monte Carlo samples (the random-assembly MC of the optimiser counts
 /// Most Monte Carlo samples of the transplanter analysis (≈ 27 µs each on one core).
 pub const MAX_MC_SAMPLES: usize = 200_000;
 
-/// again from 0).
+/// Runs the transplanter tolerance analysis of one arm of `asm` with the error inventory `inv`.
+/// `progress` hears the Monte Carlo samples: `opts.mc.samples` of the tip deviation, then as
+/// many of the optimiser's random assemblies when `inv` has a free eccentricity direction.
 pub fn analyse(
     asm: &Assembly,
     inv: &Inventory,
     opts: &TransplanterOptions,
-    progress: &(dyn Fn(u64) + Sync),
+    progress: &Progress,
 ) -> Result<TransplanterReport, TransplanterError> {
     if !(2..=MAX_MC_SAMPLES).contains(&opts.mc.samples) {
         return Err(TransplanterError::BadOption {
@@ -105,7 +106,7 @@ pub fn analyse(
                         exact: Exact,
                         scale: f64,
                         what: &'static str,
-                        progress: &(dyn Fn(u64) + Sync)| {
+                        progress: &Progress| {
         montecarlo::run(
             &opts.mc,
             |rng, _| {
@@ -133,7 +134,7 @@ pub fn analyse(
         exact_max_angle,
         ARCSEC_PER_RAD,
         "planet angle error (the exact model found no contact)",
-        &|_| {},
+        &Progress::none(),
     )?;
     let env = envelope(&lin, inv);
     let envelope_max_um = env.iter().map(|p| p.envelope_um).fold(0.0, f64::max);

@@ -6,6 +6,8 @@ use super::report::{AssemblyOptimum, GreedyChoice};
 use super::{ExactModel, GEARS, Inventory, LinearModel, TransplanterError, ecc_index};
 use crate::analysis::montecarlo;
 use crate::analysis::optimise::nelder_mead_starts;
+use crate::math::Point;
+use crate::progress::Progress;
 use argmin::core::CostFunction;
 use nalgebra::DVector;
 use rand::RngExt;
@@ -15,7 +17,7 @@ use std::f64::consts::TAU;
 /// `max_φ |base(φ) + Σ_k m_k (cos γ_k S_x + sin γ_k S_y)|` for the free gears.
 struct Objective<'a> {
     lin: &'a LinearModel,
-    base: Vec<[f64; 2]>,
+    base: Vec<Point>,
     free: Vec<usize>,
     magnitude: Vec<f64>,
 }
@@ -52,10 +54,10 @@ impl<'a> Objective<'a> {
                     let (c, s) = cs[a];
                     let (sx, sy) = (col[ecc_index(k)], col[ecc_index(k) + 1]);
                     let m = self.magnitude[a];
-                    d[0] += m * (c * sx[0] + s * sy[0]);
-                    d[1] += m * (c * sx[1] + s * sy[1]);
+                    d.x += m * (c * sx.x + s * sy.x);
+                    d.y += m * (c * sx.y + s * sy.y);
                 }
-                d[0].hypot(d[1])
+                d.hypot()
             })
             .fold(0.0, f64::max)
     }
@@ -86,7 +88,7 @@ pub(super) fn optimise_assembly(
     lin: &LinearModel,
     inv: &Inventory,
     opts: &TransplanterOptions,
-    progress: &(dyn Fn(u64) + Sync),
+    progress: &Progress,
 ) -> Result<Option<AssemblyOptimum>, TransplanterError> {
     let free = inv.free_gears();
     if free.is_empty() {
@@ -121,7 +123,7 @@ pub(super) fn optimise_assembly(
     let joint_deviation_um = lin
         .deviations(&best_x)
         .iter()
-        .map(|d| d[0].hypot(d[1]) * UM)
+        .map(|d| d.hypot() * UM)
         .collect();
     // Random assembly: free directions random, everything else as given.
     let (random, vals) = montecarlo::run(

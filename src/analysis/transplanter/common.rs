@@ -73,7 +73,7 @@ pub(super) fn exact_max(
     let mut m: f64 = 0.0;
     for (p, b0) in lin.phis_rad.iter().zip(&lin.nominal_tips_mm) {
         let b = model.state(*p, x)?.tip_mm;
-        m = m.max((b[0] - b0[0]).hypot(b[1] - b0[1]));
+        m = m.max(b.distance(*b0));
     }
     Ok(m)
 }

@@ -4,6 +4,7 @@
 use super::common::UM;
 use super::report::EnvelopePoint;
 use super::{Inventory, LinearModel, N_COORDS};
+use crate::math::Point;
 
 /// The envelope on the linear model's grid: mean tip deviation, `3·sqrt(λ_max)` of the deviation
 /// covariance and `|mean| + 3σ` (µm), the deviation with the as-given errors, and the path normal.
@@ -18,9 +19,9 @@ pub(super) fn envelope(lin: &LinearModel, inv: &Inventory) -> Vec<EnvelopePoint>
             let (mut cxx, mut cxy, mut cyy) = (0.0, 0.0, 0.0);
             for j in 0..N_COORDS {
                 let s = col[j];
-                cxx += var[j] * s[0] * s[0];
-                cxy += var[j] * s[0] * s[1];
-                cyy += var[j] * s[1] * s[1];
+                cxx += var[j] * s.x * s.x;
+                cxy += var[j] * s.x * s.y;
+                cyy += var[j] * s.y * s.y;
             }
             let lmax = 0.5 * (cxx + cyy) + (0.25 * (cxx - cyy).powi(2) + cxy * cxy).sqrt();
             let three = 3.0 * lmax.max(0.0).sqrt();
@@ -29,16 +30,16 @@ pub(super) fn envelope(lin: &LinearModel, inv: &Inventory) -> Vec<EnvelopePoint>
                 lin.nominal_tips_mm[(i + n - 1) % n],
                 lin.nominal_tips_mm[(i + 1) % n],
             );
-            let t = [b[0] - a[0], b[1] - a[1]];
+            let t = [b.x - a.x, b.y - a.y];
             let tn = t[0].hypot(t[1]).max(f64::MIN_POSITIVE);
             EnvelopePoint {
                 carrier_deg: lin.phis_rad[i].to_degrees(),
                 nominal_tip_mm: lin.nominal_tips_mm[i],
-                mean_deviation_um: [m[0] * UM, m[1] * UM],
+                mean_deviation_um: m * UM,
                 three_sigma_um: three * UM,
-                envelope_um: (m[0].hypot(m[1]) + three) * UM,
-                nominal_errors_um: g[0].hypot(g[1]) * UM,
-                normal: [-t[1] / tn, t[0] / tn],
+                envelope_um: (m.hypot() + three) * UM,
+                nominal_errors_um: g.hypot() * UM,
+                normal: Point::new(-t[1] / tn, t[0] / tn),
             }
         })
         .collect()

@@ -2,6 +2,7 @@
 //! samples at 3σ and the moments of every coordinate.
 
 use super::{ErrorVector, N_COORDS, ecc_index};
+use crate::math::Point;
 use rand::RngExt;
 use rand::rngs::ChaCha8Rng;
 use rand_distr::{Distribution, StandardNormal};
@@ -67,11 +68,11 @@ pub struct Eccentricity {
 impl Eccentricity {
     /// The eccentricity vector (mm) at direction `gamma` (rad) with the nominal magnitude.
     #[must_use]
-    pub fn vector(&self, gamma: f64) -> [f64; 2] {
-        [
+    pub fn vector(&self, gamma: f64) -> Point {
+        Point::new(
             self.magnitude_mm * gamma.cos(),
             self.magnitude_mm * gamma.sin(),
-        ]
+        )
     }
     /// Direction of position `i` of `n` equally spaced assembly positions starting at the
     /// nominal direction, `γ + 2πi/n`, rad.
@@ -140,8 +141,8 @@ impl Inventory {
         let mut x = self.nominal;
         for k in 0..3 {
             let v = self.eccentricity[k].vector(gammas[k]);
-            x[ecc_index(k)] = v[0];
-            x[ecc_index(k) + 1] = v[1];
+            x[ecc_index(k)] = v.x;
+            x[ecc_index(k) + 1] = v.y;
         }
         x
     }
@@ -163,8 +164,8 @@ impl Inventory {
             } else {
                 (0.0, 0.0)
             };
-            x[ecc_index(k)] = v[0] + e.sigma_mm * zx;
-            x[ecc_index(k) + 1] = v[1] + e.sigma_mm * zy;
+            x[ecc_index(k)] = v.x + e.sigma_mm * zx;
+            x[ecc_index(k) + 1] = v.y + e.sigma_mm * zy;
         }
         for (xi, sp) in x.iter_mut().zip(&self.spread).skip(6) {
             *xi += sp.draw(rng);
@@ -210,16 +211,16 @@ impl Inventory {
                 let (mut mx, mut my, mut vx, mut vy) = (0.0, 0.0, 0.0, 0.0);
                 let n = e.keyed;
                 if n > 0 {
-                    let vs: Vec<[f64; 2]> = (0..n)
+                    let vs: Vec<Point> = (0..n)
                         .map(|i| e.vector(e.position_direction(i, n)))
                         .collect();
                     for v in &vs {
-                        mx += v[0] / n as f64;
-                        my += v[1] / n as f64;
+                        mx += v.x / n as f64;
+                        my += v.y / n as f64;
                     }
                     for v in &vs {
-                        vx += (v[0] - mx).powi(2) / n as f64;
-                        vy += (v[1] - my).powi(2) / n as f64;
+                        vx += (v.x - mx).powi(2) / n as f64;
+                        vy += (v.y - my).powi(2) / n as f64;
                     }
                 } else {
                     vx = 0.5 * e.magnitude_mm * e.magnitude_mm;
@@ -231,8 +232,8 @@ impl Inventory {
                 var[i1] = vy + s2;
             } else {
                 let v = e.vector(e.direction_rad);
-                mean[ecc_index(k)] = v[0];
-                mean[ecc_index(k) + 1] = v[1];
+                mean[ecc_index(k)] = v.x;
+                mean[ecc_index(k) + 1] = v.y;
                 var[ecc_index(k)] = s2;
                 var[ecc_index(k) + 1] = s2;
             }

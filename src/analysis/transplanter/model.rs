@@ -6,6 +6,7 @@ use super::{
 };
 use crate::geometry::assembly::{Assembly, Rebuilt};
 use crate::geometry::pitch::PitchCurve;
+use crate::math::Point;
 use crate::math::periodic::wrap_pi;
 use nalgebra::{Rotation2, Vector2};
 use rayon::prelude::*;
@@ -29,9 +30,9 @@ pub struct TrainState {
     /// Carrier angle φH, rad (world).
     pub phi_h_rad: f64,
     /// Intermediate centre D (with its pin error), mm.
-    pub intermediate_center_mm: [f64; 2],
+    pub intermediate_center_mm: Point,
     /// Planet centre A (with its pin error), mm.
-    pub planet_center_mm: [f64; 2],
+    pub planet_center_mm: Point,
     /// Intermediate orientation θ2, rad (world sense).
     pub intermediate_angle_rad: f64,
     /// Planet orientation θ3, rad (world sense).
@@ -39,7 +40,7 @@ pub struct TrainState {
     /// Needle direction β = θ3 + γ + Δγ, rad (world sense).
     pub needle_angle_rad: f64,
     /// Needle tip, mm.
-    pub tip_mm: [f64; 2],
+    pub tip_mm: Point,
 }
 
 /// The exact model of one arm with errors: a configured solver (see [`ExactModel::new`]).
@@ -240,7 +241,7 @@ impl ExactModel {
         let beta = theta3 + r.ccw_needle_angle() + x[ARM];
         let tip = c3 + e(beta) * self.l3;
         let o = self.center;
-        let world = |p: V2| [o.x + p.x, o.y + s * p.y];
+        let world = |p: V2| Point::new(o.x + p.x, o.y + s * p.y);
         let st = TrainState {
             phi_h_rad,
             intermediate_center_mm: world(c2),
@@ -250,7 +251,7 @@ impl ExactModel {
             needle_angle_rad: s * beta,
             tip_mm: world(tip),
         };
-        if st.tip_mm.iter().all(|v| v.is_finite()) && st.planet_angle_rad.is_finite() {
+        if st.tip_mm.is_finite() && st.planet_angle_rad.is_finite() {
             Ok(st)
         } else {
             Err(TransplanterError::Numerical(format!(
@@ -281,13 +282,13 @@ impl ExactModel {
         &self,
         phis: &[f64],
         x: &ErrorVector,
-    ) -> Result<Vec<[f64; 2]>, TransplanterError> {
+    ) -> Result<Vec<Point>, TransplanterError> {
         let zero = [0.0; N_COORDS];
         phis.iter()
             .map(|&p| {
                 let a = self.state(p, x)?.tip_mm;
                 let b = self.state(p, &zero)?.tip_mm;
-                Ok((V2::from(a) - V2::from(b)).into())
+                Ok(a - b)
             })
             .collect()
     }
@@ -339,16 +340,16 @@ pub struct LinearModel {
     /// World carrier angles of the grid, rad.
     pub phis_rad: Vec<f64>,
     /// Nominal tip positions, mm.
-    pub nominal_tips_mm: Vec<[f64; 2]>,
+    pub nominal_tips_mm: Vec<Point>,
     /// Per carrier angle, the column `S_j = ∂B/∂x_j` of every coordinate (mm per internal unit).
-    pub jacobian: Vec<[[f64; 2]; N_COORDS]>,
+    pub jacobian: Vec<[Point; N_COORDS]>,
     /// Per carrier angle, `∂θ3/∂x_j`: the planet's angle error (the transmission error of
     /// docs/math/companion.md §C.6), rad per internal unit.
     pub planet_angle_jacobian: Vec<[f64; N_COORDS]>,
 }
 
 /// Nominal tip and sensitivity columns at one carrier angle.
-type Row = ([f64; 2], [[f64; 2]; N_COORDS], [f64; N_COORDS]);
+type Row = (Point, [Point; N_COORDS], [f64; N_COORDS]);
 
 fn is_angle(j: usize) -> bool {
     (6..9).contains(&j) || j == ARM
@@ -379,7 +380,7 @@ impl LinearModel {
             .map(|&p| {
                 let zero = [0.0; N_COORDS];
                 let b0 = model.state(p, &zero)?.tip_mm;
-                let mut cols = [[0.0; 2]; N_COORDS];
+                let mut cols = [Point::ZERO; N_COORDS];
                 let mut ang = [0.0; N_COORDS];
                 for (j, col) in cols.iter_mut().enumerate() {
                     let h = if is_angle(j) {
@@ -393,7 +394,7 @@ impl LinearModel {
                     xm[j] = -h;
                     let sp = model.state(p, &xp)?;
                     let sm = model.state(p, &xm)?;
-                    *col = ((V2::from(sp.tip_mm) - V2::from(sm.tip_mm)) * (0.5 / h)).into();
+                    *col = (sp.tip_mm - sm.tip_mm) * (0.5 / h);
                     ang[j] = wrap_pi(sp.planet_angle_rad - sm.planet_angle_rad) * 0.5 / h;
                 }
                 Ok((b0, cols, ang))
@@ -410,18 +411,17 @@ impl LinearModel {
 
     /// Tip deviation (mm, world) at grid point `i`.
     #[must_use]
-    pub fn deviation_at(&self, i: usize, x: &ErrorVector) -> [f64; 2] {
-        let mut d = [0.0; 2];
+    pub fn deviation_at(&self, i: usize, x: &ErrorVector) -> Point {
+        let mut d = Point::ZERO;
         for (col, v) in self.jacobian[i].iter().zip(x) {
-            d[0] += col[0] * v;
-            d[1] += col[1] * v;
+            d += *col * *v;
         }
         d
     }
 
     /// Tip deviations (mm) over the grid.
     #[must_use]
-    pub fn deviations(&self, x: &ErrorVector) -> Vec<[f64; 2]> {
+    pub fn deviations(&self, x: &ErrorVector) -> Vec<Point> {
         (0..self.phis_rad.len())
             .map(|i| self.deviation_at(i, x))
             .collect()
@@ -442,7 +442,7 @@ impl LinearModel {
         (0..self.phis_rad.len())
             .map(|i| {
                 let d = self.deviation_at(i, x);
-                d[0].hypot(d[1])
+                d.x.hypot(d.y)
             })
             .fold(0.0, f64::max)
     }

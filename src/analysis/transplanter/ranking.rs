@@ -3,6 +3,7 @@
 use super::common::UM;
 use super::report::Contribution;
 use super::{ARM, BACKLASH, GEARS, Inventory, LinearModel, PIN_A, PIN_D, clock_index, ecc_index};
+use crate::math::Point;
 
 /// The error items of the ranking: an eccentricity (gear k) or a scalar coordinate.
 #[derive(Debug, Clone, Copy)]
@@ -36,11 +37,11 @@ fn items() -> Vec<(Item, String)> {
 }
 
 /// Largest singular value of the 2×2 matrix with columns `a`, `b`.
-fn sigma_max(a: [f64; 2], b: [f64; 2]) -> f64 {
+fn sigma_max(a: Point, b: Point) -> f64 {
     let (p, q, r) = (
-        a[0] * a[0] + a[1] * a[1],
-        a[0] * b[0] + a[1] * b[1],
-        b[0] * b[0] + b[1] * b[1],
+        a.x * a.x + a.y * a.y,
+        a.x * b.x + a.y * b.y,
+        b.x * b.x + b.y * b.y,
     );
     (0.5 * (p + r) + (0.25 * (p - r) * (p - r) + q * q).sqrt())
         .max(0.0)
@@ -65,7 +66,7 @@ pub(super) fn ranking(lin: &LinearModel, inv: &Inventory) -> Vec<Contribution> {
                     let s = lin
                         .jacobian
                         .iter()
-                        .map(|c| c[j][0].hypot(c[j][1]))
+                        .map(|c| c[j].hypot())
                         .fold(0.0, f64::max);
                     let t = inv.nominal[j].abs() + inv.spread[j].three_sigma();
                     if unit == "deg" {

@@ -2,6 +2,7 @@
 //! geometry of its plots.
 
 use crate::analysis::montecarlo::McStats;
+use crate::math::Point;
 use crate::simulate::Features;
 use serde::Serialize;
 
@@ -26,9 +27,9 @@ pub struct EnvelopePoint {
     /// Carrier angle φH, degrees (world).
     pub carrier_deg: f64,
     /// Nominal tip, mm.
-    pub nominal_tip_mm: [f64; 2],
+    pub nominal_tip_mm: Point,
     /// Mean tip deviation over random assembly, µm.
-    pub mean_deviation_um: [f64; 2],
+    pub mean_deviation_um: Point,
     /// `3·sqrt(λ_max)` of the deviation covariance, µm.
     pub three_sigma_um: f64,
     /// Envelope `|mean| + 3σ`, µm.
@@ -36,7 +37,7 @@ pub struct EnvelopePoint {
     /// Deviation with the nominal (as-given) errors, linear model, µm.
     pub nominal_errors_um: f64,
     /// Unit normal of the nominal path (left of the travel direction), for drawing the band.
-    pub normal: [f64; 2],
+    pub normal: Point,
 }
 
 /// Distributions of the agronomic-feature deviations (perturbed − nominal), exact model.
@@ -160,8 +161,8 @@ impl TransplanterReport {
     pub fn band_magnification(&self) -> f64 {
         let (mut lo, mut hi) = (f64::MAX, f64::MIN);
         for p in &self.envelope {
-            lo = lo.min(p.nominal_tip_mm[0]);
-            hi = hi.max(p.nominal_tip_mm[0]);
+            lo = lo.min(p.nominal_tip_mm.x);
+            hi = hi.max(p.nominal_tip_mm.x);
         }
         let env_max = self.envelope_max_um.max(1e-9) * 1e-3;
         let raw = 0.02 * (hi - lo) / env_max;
@@ -178,8 +179,8 @@ impl TransplanterReport {
             .map(|p| {
                 let d = side * magnification * p.envelope_um * 1e-3;
                 (
-                    p.nominal_tip_mm[0] + d * p.normal[0],
-                    p.nominal_tip_mm[1] + d * p.normal[1],
+                    p.nominal_tip_mm.x + d * p.normal.x,
+                    p.nominal_tip_mm.y + d * p.normal.y,
                 )
             })
             .collect();

@@ -124,8 +124,8 @@ pub(super) fn solid(e: &mut Ents, prism: &Prism) -> (usize, usize) {
     let w = prism.face_width_mm;
     let (mut bottom, mut top) = (Vec::with_capacity(n), Vec::with_capacity(n));
     for p in pts {
-        bottom.push(vertex(e, [p[0], p[1], 0.0]));
-        top.push(vertex(e, [p[0], p[1], w]));
+        bottom.push(vertex(e, [p.x, p.y, 0.0]));
+        top.push(vertex(e, [p.x, p.y, w]));
     }
     let z = [0.0, 0.0, 1.0];
     let vertical: Vec<usize> = (0..n)
@@ -135,13 +135,13 @@ pub(super) fn solid(e: &mut Ents, prism: &Prism) -> (usize, usize) {
     let (mut eb, mut et) = (Vec::with_capacity(n), Vec::with_capacity(n));
     for i in 0..n {
         let j = (i + 1) % n;
-        let (dx, dy) = (pts[j][0] - pts[i][0], pts[j][1] - pts[i][1]);
+        let (dx, dy) = (pts[j].x - pts[i].x, pts[j].y - pts[i].y);
         let len = dx.hypot(dy);
         let d = [dx / len, dy / len, 0.0];
         let b = line_edge(e, bottom[i], bottom[j].0, d, len);
         let t = line_edge(e, top[i], top[j].0, d, len);
         // Outward normal of a CCW outline: the segment direction turned clockwise.
-        let ax = placement(e, [pts[i][0], pts[i][1], 0.0], [d[1], -d[0], 0.0], d);
+        let ax = placement(e, [pts[i].x, pts[i].y, 0.0], [d[1], -d[0], 0.0], d);
         let plane = e.add(format_args!("PLANE('',#{ax})"));
         faces.push(face(
             e,

@@ -13,6 +13,7 @@
 //! # Determinism
 //! The header carries a fixed time stamp (`2000-01-01T00:00:00`) and reals are written in their
 //! shortest round-trip form: the same model gives the same bytes.
+use crate::math::Point;
 mod brep;
 
 use super::{ExportError, io_err};
@@ -27,7 +28,7 @@ pub struct Prism {
     /// Part name (e.g. `sun`), also the solid's name.
     pub name: String,
     /// Closed outline, mm, body frame, no repeated end vertex (either orientation).
-    pub outline_mm: Vec<[f64; 2]>,
+    pub outline_mm: Vec<Point>,
     /// Face width (extrusion length along +z), mm.
     pub face_width_mm: f64,
     /// Bore diameter about the origin, mm (0 = no bore).
@@ -43,7 +44,7 @@ pub struct Instance {
     /// Index into [`StepModel::parts`].
     pub part: usize,
     /// Rotation centre, world frame, mm.
-    pub center_mm: [f64; 2],
+    pub center_mm: Point,
     /// Orientation about +z, rad.
     pub angle_rad: f64,
 }
@@ -152,21 +153,21 @@ pub(crate) fn quote(s: &str) -> String {
 }
 
 /// Twice the signed area of a closed polygon (positive when CCW), mm².
-fn twice_area(p: &[[f64; 2]]) -> f64 {
+fn twice_area(p: &[Point]) -> f64 {
     (0..p.len())
         .map(|i| {
             let (a, b) = (p[i], p[(i + 1) % p.len()]);
-            a[0] * b[1] - a[1] * b[0]
+            a.x * b.y - a.y * b.x
         })
         .sum()
 }
 
 /// Whether the origin lies inside a closed polygon (crossing number).
-fn origin_inside(p: &[[f64; 2]]) -> bool {
+fn origin_inside(p: &[Point]) -> bool {
     let mut inside = false;
     for i in 0..p.len() {
         let (a, b) = (p[i], p[(i + 1) % p.len()]);
-        if (a[1] > 0.0) != (b[1] > 0.0) && a[0] - a[1] * (b[0] - a[0]) / (b[1] - a[1]) > 0.0 {
+        if (a.y > 0.0) != (b.y > 0.0) && a.x - a.y * (b.x - a.x) / (b.y - a.y) > 0.0 {
             inside = !inside;
         }
     }
@@ -185,7 +186,7 @@ fn checked(p: &Prism) -> Result<Prism, ExportError> {
     }
     if p.outline_mm
         .iter()
-        .any(|q| !(q[0].is_finite() && q[1].is_finite()))
+        .any(|q| !(q.x.is_finite() && q.y.is_finite()))
     {
         return Err(bad("non-finite coordinate"));
     }
@@ -202,7 +203,7 @@ fn checked(p: &Prism) -> Result<Prism, ExportError> {
         let inner = (0..n)
             .map(|i| {
                 crate::math::polyline::seg_dist(
-                    [0.0; 2],
+                    Point::ZERO,
                     p.outline_mm[i],
                     p.outline_mm[(i + 1) % n],
                 )
@@ -327,10 +328,11 @@ fn checked_parts(model: &StepModel) -> Result<Vec<Prism>, ExportError> {
             what: "a STEP model needs one part, or instances placing its parts",
         });
     }
-    if let Some(i) = model.instances.iter().find(|i| {
-        i.part >= parts.len()
-            || !(i.center_mm.iter().all(|c| c.is_finite()) && i.angle_rad.is_finite())
-    }) {
+    if let Some(i) = model
+        .instances
+        .iter()
+        .find(|i| i.part >= parts.len() || !(i.center_mm.is_finite() && i.angle_rad.is_finite()))
+    {
         return Err(ExportError::BadContour {
             name: i.name.clone(),
             what: "instance of a missing part or at a non-finite position",
@@ -396,7 +398,7 @@ fn write_assembly(e: &mut Ents, model: &StepModel, defs: &[PartIds]) {
     let mut links = Vec::new();
     for inst in &model.instances {
         let (s, c) = inst.angle_rad.sin_cos();
-        let at = [inst.center_mm[0], inst.center_mm[1], 0.0];
+        let at = [inst.center_mm.x, inst.center_mm.y, 0.0];
         let pl = brep::placement(e, at, [0.0, 0.0, 1.0], [c, s, 0.0]);
         items.push(format!("#{pl}"));
         links.push((inst, pl));

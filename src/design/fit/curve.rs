@@ -3,7 +3,7 @@
 //! gradient in the design parameters (formulas in the [`crate::design::fit`] module doc).
 
 use crate::geometry::mechanism::{INVERSE_TOL_RAD, Mechanism};
-use crate::math::norm;
+use crate::math::Point;
 use crate::math::polyline::SegmentGrid;
 use rayon::prelude::*;
 use std::f64::consts::{PI, TAU};
@@ -13,9 +13,9 @@ use std::f64::consts::{PI, TAU};
 pub(super) struct TipEval {
     /// Carrier angle φ, rad.
     pub(super) phi: f64,
-    pub(super) b: [f64; 2],
-    pub(super) v: [f64; 2],
-    pub(super) acc: [f64; 2],
+    pub(super) b: Point,
+    pub(super) v: Point,
+    pub(super) acc: Point,
     pub(super) beta: f64,
     pub(super) t: f64,
     pub(super) s: f64,
@@ -65,12 +65,12 @@ fn tip_eval_with(
     let ddb = -(di_t * i_s - i_t * di_s * ds) / (i_s * i_s);
     TipEval {
         phi,
-        b: [l1 * cp + l3 * cb, l1 * sp + l3 * sb],
-        v: [-l1 * sp - l3 * sb * db, l1 * cp + l3 * cb * db],
-        acc: [
+        b: Point::new(l1 * cp + l3 * cb, l1 * sp + l3 * sb),
+        v: Point::new(-l1 * sp - l3 * sb * db, l1 * cp + l3 * cb * db),
+        acc: Point::new(
             -l1 * cp - l3 * cb * db * db - l3 * sb * ddb,
             -l1 * sp - l3 * sb * db * db + l3 * cb * ddb,
-        ],
+        ),
         beta,
         t,
         s,
@@ -81,7 +81,7 @@ fn tip_eval_with(
 
 /// Closest point of the traced curve to `p` near carrier angle `phi` (Newton on `(B − P)·B′ = 0`
 /// with a Gauss–Newton fallback and a step cap). Returns `(φ, evaluation at φ)`.
-pub(super) fn project(m: &Mechanism, p: [f64; 2], phi: f64) -> (f64, TipEval) {
+pub(super) fn project(m: &Mechanism, p: Point, phi: f64) -> (f64, TipEval) {
     project_near(m, p, phi, f64::NAN)
 }
 
@@ -89,18 +89,18 @@ pub(super) fn project(m: &Mechanism, p: [f64; 2], phi: f64) -> (f64, TipEval) {
 /// an earlier, nearby train had there, which saves most of the first evaluation's solve.
 pub(super) fn project_near(
     m: &Mechanism,
-    p: [f64; 2],
+    p: Point,
     mut phi: f64,
     contact_guess_rad: f64,
 ) -> (f64, TipEval) {
     let mut e = tip_eval_near(m, phi, contact_guess_rad);
-    let dist2 = |e: &TipEval| (e.b[0] - p[0]).powi(2) + (e.b[1] - p[1]).powi(2);
+    let dist2 = |e: &TipEval| (e.b.x - p.x).powi(2) + (e.b.y - p.y).powi(2);
     let mut best = (phi, dist2(&e), e.clone());
     for _ in 0..30 {
-        let r = [e.b[0] - p[0], e.b[1] - p[1]];
-        let g = r[0] * e.v[0] + r[1] * e.v[1];
-        let vv = e.v[0] * e.v[0] + e.v[1] * e.v[1];
-        let h = vv + r[0] * e.acc[0] + r[1] * e.acc[1];
+        let r = [e.b.x - p.x, e.b.y - p.y];
+        let g = r[0] * e.v.x + r[1] * e.v.y;
+        let vv = e.v.dot(e.v);
+        let h = vv + r[0] * e.acc.x + r[1] * e.acc.y;
         let mut step = if h > 0.1 * vv {
             -g / h
         } else {
@@ -128,29 +128,29 @@ pub(super) fn project_near(
 /// signed by the side of the curve (the tangent's normal), along `(P − B)/|P − B|`. At a converged
 /// projection this is the normal distance; where a projection is not converged (a cusp, where the
 /// tip is at rest and the tangent is undefined) it still is the true distance, never less.
-pub(super) fn normal_residual(e: &TipEval, p: [f64; 2]) -> (f64, [f64; 2]) {
-    let r = [p[0] - e.b[0], p[1] - e.b[1]];
-    let rn = norm(r);
-    let side = -e.v[1] * r[0] + e.v[0] * r[1];
+pub(super) fn normal_residual(e: &TipEval, p: Point) -> (f64, Point) {
+    let r = p - e.b;
+    let rn = r.norm();
+    let side = -e.v.y * r.x + e.v.x * r.y;
     let s = if side < 0.0 { -1.0 } else { 1.0 };
     if rn > 0.0 {
-        (s * rn, [s * r[0] / rn, s * r[1] / rn])
+        (s * rn, r * s / rn)
     } else {
-        let vn = norm(e.v).max(1e-300);
-        (0.0, [-e.v[1] / vn, e.v[0] / vn])
+        let vn = e.v.norm().max(1e-300);
+        (0.0, Point::new(-e.v.y / vn, e.v.x / vn))
     }
 }
 
 /// Jacobian row of the signed distance `d = n·(P − B)` (see the module doc); a row one longer
 /// than `4 + 2K` also gets the idler offset's column, last.
-pub(super) fn point_row(m: &Mechanism, e: &TipEval, n: [f64; 2], row: &mut [f64]) {
+pub(super) fn point_row(m: &Mechanism, e: &TipEval, n: Point, row: &mut [f64]) {
     let k = m.ratio.order();
     let l3 = m.l3_mm;
     let (sp, cp) = e.phi.sin_cos();
     let (sb, cb) = e.beta.sin_cos();
-    let ne_phi = n[0] * cp + n[1] * sp;
-    let ne_beta = n[0] * cb + n[1] * sb;
-    let ne_perp = -n[0] * sb + n[1] * cb;
+    let ne_phi = n.x * cp + n.y * sp;
+    let ne_beta = n.x * cb + n.y * sb;
+    let ne_perp = -n.x * sb + n.y * cb;
     let (se, ce) = m.idler_offset_rad.sin_cos();
     row[0] = -2.0 * ce * ne_phi;
     if let Some(r) = row.get_mut(4 + 2 * k) {
@@ -177,7 +177,7 @@ pub(super) fn point_row(m: &Mechanism, e: &TipEval, n: [f64; 2], row: &mut [f64]
 /// [`CANDIDATES`] nearest local minima of the distance to 4096 curve samples, the closest
 /// projection kept. (Near a crossing or a close approach of two stretches, the nearest sample can
 /// lie on the other stretch: a fast tip spaces its own samples farther apart than the gap.)
-pub(super) fn initial_angles(m: &Mechanism, pts: &[[f64; 2]]) -> Vec<f64> {
+pub(super) fn initial_angles(m: &Mechanism, pts: &[Point]) -> Vec<f64> {
     initial_projections_on(m, &curve_evals(m, INITIAL_SAMPLES), pts)
         .into_iter()
         .map(|(phi, _)| phi)
@@ -192,14 +192,14 @@ pub(super) const INITIAL_SAMPLES: usize = 4096;
 pub(super) fn initial_projections_on(
     m: &Mechanism,
     curve: &[TipEval],
-    pts: &[[f64; 2]],
+    pts: &[Point],
 ) -> Vec<(f64, TipEval)> {
     let n = curve.len();
     pts.par_iter()
         .map(|p| {
             let d = |k: usize| {
                 let q = curve[k % n].b;
-                (q[0] - p[0]).powi(2) + (q[1] - p[1]).powi(2)
+                (q.x - p.x).powi(2) + (q.y - p.y).powi(2)
             };
             // The CANDIDATES smallest local minima, in increasing distance.
             let mut minima = [(f64::INFINITY, usize::MAX); CANDIDATES];
@@ -221,7 +221,7 @@ pub(super) fn initial_projections_on(
                 .filter(|m| m.1 != usize::MAX)
                 .map(|&(_, k)| {
                     let (phi, e) = project_near(m, *p, TAU * k as f64 / n as f64, curve[k].s);
-                    let d2 = (e.b[0] - p[0]).powi(2) + (e.b[1] - p[1]).powi(2);
+                    let d2 = (e.b.x - p.x).powi(2) + (e.b.y - p.y).powi(2);
                     (phi, e, d2)
                 })
                 .fold(None, |b: Option<(f64, TipEval, f64)>, c| match b {
@@ -278,13 +278,9 @@ const CANDIDATES: usize = 3;
 pub(super) fn coverage(q: &SegmentGrid, e: &TipEval) -> CoverageSample {
     let near = q.nearest(e.b);
     let (c, chord) = (near.point, q.segment_length_mm(near.segment));
-    let r = [e.b[0] - c[0], e.b[1] - c[1]];
-    let d = norm(r);
-    let u = if d > 0.0 {
-        [r[0] / d, r[1] / d]
-    } else {
-        [0.0, 0.0]
-    };
+    let r = e.b - c;
+    let d = r.norm();
+    let u = if d > 0.0 { r / d } else { Point::ZERO };
     CoverageSample {
         distance_mm: d,
         chord_mm: chord,
@@ -300,7 +296,7 @@ pub(super) struct CoverageSample {
     /// Length of the nearest segment, mm.
     pub chord_mm: f64,
     /// Unit vector from the nearest polyline point to the sample.
-    pub direction: [f64; 2],
+    pub direction: Point,
 }
 
 impl CoverageSample {
@@ -326,7 +322,7 @@ mod tests {
                 idler_offset_rad: eps,
                 ..mech()
             };
-            let p = [150.0, -120.0];
+            let p = Point::new(150.0, -120.0);
             let (phi, e) = project(&m, p, 5.0);
             let (_, n) = normal_residual(&e, p);
             let mut row = vec![0.0; 4 + 2 * 3 + 1];
@@ -339,7 +335,7 @@ mod tests {
                     qq[c] += s * h;
                     let mm = from_params(&qq, 3, f64::NAN);
                     let b = mm.tip(phi);
-                    n[0] * (p[0] - b[0]) + n[1] * (p[1] - b[1])
+                    n.x * (p.x - b.x) + n.y * (p.y - b.y)
                 };
                 let fd = (d(1.0) - d(-1.0)) / (2.0 * h);
                 assert!(
@@ -354,10 +350,10 @@ mod tests {
     #[test]
     fn projection_is_orthogonal() {
         let m = mech();
-        let p = [150.0, -120.0];
+        let p = Point::new(150.0, -120.0);
         let (_, e) = project(&m, p, 5.0);
-        let r = [p[0] - e.b[0], p[1] - e.b[1]];
-        let cos = (r[0] * e.v[0] + r[1] * e.v[1]) / (r[0].hypot(r[1]) * e.v[0].hypot(e.v[1]));
+        let r = p - e.b;
+        let cos = (r.dot(e.v)) / (r.hypot() * e.v.hypot());
         assert!(cos.abs() < 1e-10, "{cos}");
     }
 }

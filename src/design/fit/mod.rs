@@ -41,7 +41,7 @@
 //! let truth = Mechanism { a_mm: 45.0, l3_mm: 170.0,
 //!     ratio: SunRatio::new(vec![0.3, 0.045], vec![0.0, 0.0]).unwrap(),
 //!     sun_phase_rad: 0.2, needle_angle_rad: -1.2, idler_offset_rad: 0.0 };
-//! let pts: Vec<[f64; 2]> = (0..300).map(|k| truth.tip(0.021 * k as f64)).collect();
+//! let pts: Vec<ncgear::math::Point> = (0..300).map(|k| truth.tip(0.021 * k as f64)).collect();
 //! let mut start = truth.clone();
 //! start.a_mm += 0.3; start.l3_mm -= 0.5; start.needle_angle_rad += 0.01;
 //! let fit = fit_points(&pts, &start, &FitOptions::default()).unwrap();
@@ -49,6 +49,7 @@
 //! assert!((fit.mechanism.a_mm - 45.0).abs() < 1e-5);
 //! ```
 
+use crate::math::Point;
 mod curve;
 mod restarts;
 mod solver;
@@ -59,7 +60,6 @@ pub use restarts::fit_with_restarts;
 
 use crate::geometry::limits::GearLimits;
 use crate::geometry::mechanism::Mechanism;
-use crate::math::norm;
 use crate::math::polyline::SegmentGrid;
 use curve::{
     INITIAL_SAMPLES, contact_guess, curve_evals, initial_angles, initial_projections_on,
@@ -210,14 +210,14 @@ pub struct Fitted {
 /// Every iterate is admissible (within `opts.limits`); the start is made admissible
 /// first. See the module documentation for the model and the solver.
 pub fn fit_points(
-    points: &[[f64; 2]],
+    points: &[Point],
     start: &Mechanism,
     opts: &FitOptions,
 ) -> Result<Fitted, FitError> {
     if points.len() < 8 {
         return Err(FitError::TooFewPoints(points.len()));
     }
-    if points.iter().flatten().any(|v| !v.is_finite()) {
+    if points.iter().any(|p| !p.is_finite()) {
         return Err(FitError::NotFinite("point"));
     }
     if !to_params(start, true).iter().all(|v| v.is_finite()) {
@@ -288,7 +288,7 @@ pub fn fit_points(
 /// `start` made admissible (within `opts.limits`, at `opts.perimeter_mm` when set) and measured
 /// on `points`, unfitted: a fit of zero iterations, the baseline a fit from it must beat.
 #[must_use]
-pub fn admitted(points: &[[f64; 2]], start: &Mechanism, opts: &FitOptions) -> Fitted {
+pub fn admitted(points: &[Point], start: &Mechanism, opts: &FitOptions) -> Fitted {
     let mut m = start.clone();
     solver::admit(&mut m, opts);
     let measured = measure_from(&m, points, None);
@@ -323,14 +323,14 @@ pub struct Measured {
 /// Measures the curve traced by `m` against `points` (mm, relative to the carrier axis, solved
 /// frame): each point projected from the nearest of 4096 curve samples.
 #[must_use]
-pub fn measure(points: &[[f64; 2]], m: &Mechanism) -> Measured {
+pub fn measure(points: &[Point], m: &Mechanism) -> Measured {
     measure_from(m, points, None)
 }
 
 /// [`measure`], also projecting from `tracked` angles; the distance is the Euclidean one at the
 /// projected angle (never the normal component, which an unconverged projection would understate), (the closer projection wins: near a cusp the
 /// nearest sample and the tracked angle can lead to different local minima).
-fn measure_from(m: &Mechanism, points: &[[f64; 2]], tracked: Option<&[f64]>) -> Measured {
+fn measure_from(m: &Mechanism, points: &[Point], tracked: Option<&[f64]>) -> Measured {
     // The scan's samples also give the coverage (every few of them).
     let evals = curve_evals(m, INITIAL_SAMPLES);
     let fresh = initial_projections_on(m, &evals, points);
@@ -339,11 +339,11 @@ fn measure_from(m: &Mechanism, points: &[[f64; 2]], tracked: Option<&[f64]>) -> 
         .zip(fresh)
         .enumerate()
         .map(|(j, (p, (a, ea)))| {
-            let da = norm([ea.b[0] - p[0], ea.b[1] - p[1]]);
+            let da = (ea.b - *p).norm();
             match tracked {
                 Some(t) => {
                     let (b, eb) = project_near(m, *p, t[j], contact_guess(&evals, t[j]));
-                    let db = norm([eb.b[0] - p[0], eb.b[1] - p[1]]);
+                    let db = (eb.b - *p).norm();
                     if db < da { (b, db) } else { (a, da) }
                 }
                 None => (a, da),
@@ -404,7 +404,7 @@ impl Fitted {
 /// Keeps whichever result has the smaller `max(max_mm, coverage_mm)` (the Hausdorff distance to
 /// the points' polyline); every iterate stays admissible.
 #[must_use]
-pub fn minimax(points: &[[f64; 2]], fitted: Fitted, opts: &FitOptions) -> Fitted {
+pub fn minimax(points: &[Point], fitted: Fitted, opts: &FitOptions) -> Fitted {
     minimax_passes(points, fitted, opts, MINIMAX_PASSES)
 }
 
@@ -412,7 +412,7 @@ pub fn minimax(points: &[[f64; 2]], fitted: Fitted, opts: &FitOptions) -> Fitted
 /// warm re-design after a small edit).
 #[must_use]
 pub fn minimax_passes(
-    points: &[[f64; 2]],
+    points: &[Point],
     fitted: Fitted,
     opts: &FitOptions,
     passes: usize,
@@ -435,13 +435,13 @@ pub(crate) enum LawsonStart {
 /// design for a module: over 8 targets at m = 2 it was better on 3, by 9–32 %, and worse on 3;
 /// 2026-11-28), so callers keep the better of the two.
 #[must_use]
-pub fn minimax_from_distances(points: &[[f64; 2]], fitted: Fitted, opts: &FitOptions) -> Fitted {
+pub fn minimax_from_distances(points: &[Point], fitted: Fitted, opts: &FitOptions) -> Fitted {
     lawson(points, fitted, opts, MINIMAX_PASSES, LawsonStart::Distances)
 }
 
 /// The reweighting loop of [`minimax`] (its documentation).
 fn lawson(
-    points: &[[f64; 2]],
+    points: &[Point],
     fitted: Fitted,
     opts: &FitOptions,
     passes: usize,
@@ -539,7 +539,7 @@ const MINIMAX_ITERATIONS: usize = 10;
 const MINIMAX_PASSES: usize = 12;
 
 /// Every `stride`-th point, so that at most `opts.max_points` drive the iterations.
-fn subsample(points: &[[f64; 2]], opts: &FitOptions) -> (usize, Vec<[f64; 2]>) {
+fn subsample(points: &[Point], opts: &FitOptions) -> (usize, Vec<Point>) {
     let stride = points.len().div_ceil(opts.max_points.max(16));
     (stride, points.iter().step_by(stride).copied().collect())
 }
@@ -565,7 +565,7 @@ mod tests {
     #[test]
     fn fit_recovers_the_train_from_a_perturbed_start() {
         let truth = mech();
-        let pts: Vec<[f64; 2]> = (0..500)
+        let pts: Vec<Point> = (0..500)
             .map(|k| truth.tip(0.3 + TAU * k as f64 / 500.0))
             .collect();
         let mut start = truth.clone();

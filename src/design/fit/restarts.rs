@@ -3,6 +3,7 @@
 use super::{FitError, FitOptions, Fitted, MEASURED_NOISE_MM, fit_points, minimax};
 use crate::geometry::fourier::SunRatio;
 use crate::geometry::mechanism::Mechanism;
+use crate::math::Point;
 use rand::rngs::ChaCha8Rng;
 use rand::{RngExt, SeedableRng};
 use rayon::prelude::*;
@@ -14,7 +15,7 @@ use rayon::prelude::*;
 /// by RMS on measured points, by `max(max, coverage)` (the Hausdorff distance to the points'
 /// polyline) on clean ones, which then get the minimax finish.
 pub fn fit_with_restarts(
-    points: &[[f64; 2]],
+    points: &[Point],
     start: &Mechanism,
     restarts: Vec<Mechanism>,
     fit_opts: &FitOptions,
@@ -98,7 +99,7 @@ pub fn fit_with_restarts(
 /// fewer basins, refitted under the real ones from there and finished towards the minimax. A
 /// fit under the real limits can settle in a basin that a tighter design already beats (a
 /// concave hollow where a convex sun traces closer); this path starts on the other side.
-fn continuation(points: &[[f64; 2]], start: &Mechanism, opts: &FitOptions) -> Option<Fitted> {
+fn continuation(points: &[Point], start: &Mechanism, opts: &FitOptions) -> Option<Fitted> {
     let tight = FitOptions {
         limits: opts.limits.tightened()?,
         ..opts.clone()

@@ -8,6 +8,7 @@ use crate::geometry::fourier::SunRatio;
 use crate::geometry::limits::{PROJECTION_MARGIN, constraint_gradients, constraint_values};
 use crate::geometry::mechanism::Mechanism;
 use crate::geometry::perimeter::{unit_perimeter, unit_perimeter_gradient};
+use crate::math::Point;
 use crate::math::polyline::SegmentGrid;
 use nalgebra::{DMatrix, DVector};
 use rayon::prelude::*;
@@ -73,13 +74,13 @@ struct ActiveLimit {
 /// What the Jacobian of one evaluation needs: each point's projection and normal, each coverage
 /// sample with its residual and direction, the limit rows in force.
 struct Linearisation {
-    points: Vec<(TipEval, [f64; 2])>,
-    coverage: Vec<(TipEval, f64, [f64; 2])>,
+    points: Vec<(TipEval, Point)>,
+    coverage: Vec<(TipEval, f64, Point)>,
     active: Vec<ActiveLimit>,
 }
 
 pub(super) struct Lm<'a> {
-    pub(super) pts: &'a [[f64; 2]],
+    pub(super) pts: &'a [Point],
     pub(super) k: usize,
     pub(super) opts: &'a FitOptions,
     /// Square roots of per-point weights (IRLS towards the minimax fit), or all ones.
@@ -117,7 +118,7 @@ impl Lm<'_> {
     ) -> (DVector<f64>, Linearisation) {
         let mut r = DVector::zeros(self.n_rows());
         let guess = |idx: usize| near.map_or(f64::NAN, |l| l.points[idx].0.s);
-        let projected: Vec<(f64, f64, TipEval, [f64; 2])> = self
+        let projected: Vec<(f64, f64, TipEval, Point)> = self
             .pts
             .par_iter()
             .zip(phis.par_iter())
@@ -137,7 +138,7 @@ impl Lm<'_> {
         // Coverage: the traced curve may not leave the target where no point watches it (a
         // one-sided point-to-curve fit would allow a loop between two points).
         let m0 = self.pts.len();
-        let coverage: Vec<(TipEval, f64, [f64; 2])> = curve_evals(m, COVERAGE_SAMPLES)
+        let coverage: Vec<(TipEval, f64, Point)> = curve_evals(m, COVERAGE_SAMPLES)
             .into_par_iter()
             .enumerate()
             .map(|(i, e)| {
@@ -232,7 +233,7 @@ impl Lm<'_> {
             .map(|(i, (e, ri, u))| {
                 let mut row = vec![0.0; np];
                 if *ri > 0.0 {
-                    point_row(m, e, [-u[0], -u[1]], &mut row);
+                    point_row(m, e, -*u, &mut row);
                     let w = self.coverage_weights.map_or(1.0, |w| w[i]);
                     row.iter_mut().for_each(|v| *v *= w);
                 }

@@ -5,7 +5,7 @@
 use super::{InverseError, InverseOptions, Inversion, MIN_AXIS_DISTANCE_L3};
 use crate::design::needle_law::NeedleLaw;
 use crate::design::trajectory::ClosedSpline;
-use crate::math::norm;
+use crate::math::Point;
 use crate::math::periodic::{bracketed_root, secant_root, wrap_pi};
 use rayon::prelude::*;
 use std::f64::consts::TAU;
@@ -31,7 +31,7 @@ pub(super) fn dense_count(opts: &InverseOptions, points: usize) -> usize {
 fn refine_extreme(spline: &ClosedSpline, j: usize, ds: f64, tol: f64) -> f64 {
     let pdot = |s: f64| {
         let [p, d, _] = spline.eval(s);
-        p[0] * d[0] + p[1] * d[1]
+        p.x * d.x + p.y * d.y
     };
     bracketed_root(pdot, (j as f64 - 1.0) * ds, (j as f64 + 1.0) * ds, tol)
 }
@@ -40,19 +40,19 @@ fn refine_extreme(spline: &ClosedSpline, j: usize, ds: f64, tol: f64) -> f64 {
 /// (mm, relative to O): `P/ρ` turned by `σ·δ`, `cos δ = q = (l1² + ρ² − l3²)/(2 l1 ρ)` (docs/math/chain.md §3.3),
 /// `sin δ = √((1 − q)(1 + q))`; the cosine clamped into [−1, 1] against rounding at the extremes
 /// (where it is ±1). Algebraic: no angle is taken, so the elbow `A = l1·e` costs no sine or cosine.
-pub(super) fn arm_direction(p: [f64; 2], l1: f64, l3: f64, sigma: f64) -> [f64; 2] {
-    let r = norm(p);
+pub(super) fn arm_direction(p: Point, l1: f64, l3: f64, sigma: f64) -> Point {
+    let r = p.norm();
     let q = ((l1 * l1 + r * r - l3 * l3) / (2.0 * l1 * r)).clamp(-1.0, 1.0);
     let sd = sigma * ((1.0 - q) * (1.0 + q)).sqrt();
-    let (c, s) = (p[0] / r, p[1] / r);
-    [c * q - s * sd, s * q + c * sd]
+    let (c, s) = (p.x / r, p.y / r);
+    Point::new(c * q - s * sd, s * q + c * sd)
 }
 
 /// Carrier angle φH (rad, in (−π, π], not unwrapped) of [`arm_direction`]:
 /// `atan2 P + σ·arccos q` as one `atan2`.
-pub(super) fn carrier_angle(p: [f64; 2], l1: f64, l3: f64, sigma: f64) -> f64 {
+pub(super) fn carrier_angle(p: Point, l1: f64, l3: f64, sigma: f64) -> f64 {
     let e = arm_direction(p, l1, l3, sigma);
-    e[1].atan2(e[0])
+    e.atan2()
 }
 
 /// Samples of the coarse test: one in [`COARSE_DIVISOR`] of the dense samples.
@@ -72,8 +72,8 @@ pub(super) fn coarse_rejects(spline: &ClosedSpline, ns: usize, tol: f64) -> bool
     let n = (ns / COARSE_DIVISOR).max(64);
     let len = spline.period();
     let ds = len / n as f64;
-    let pts: Vec<[f64; 2]> = (0..n).map(|j| spline.point(j as f64 * ds)).collect();
-    let rho: Vec<f64> = pts.iter().map(|&p| norm(p)).collect();
+    let pts: Vec<Point> = (0..n).map(|j| spline.point(j as f64 * ds)).collect();
+    let rho: Vec<f64> = pts.iter().map(|&p| p.norm()).collect();
     let arg =
         |f: fn(f64, f64) -> bool| (0..n).fold(0, |b, j| if f(rho[j], rho[b]) { j } else { b });
     let (jmax, jmin) = (arg(|a, b| a > b), arg(|a, b| a < b));
@@ -81,7 +81,7 @@ pub(super) fn coarse_rejects(spline: &ClosedSpline, ns: usize, tol: f64) -> bool
     let refined = |j: usize| {
         let s = refine_extreme(spline, j, ds, tol);
         let p = spline.point(s);
-        (s, norm(p))
+        (s, p.norm())
     };
     let ((s_max, r_max), (s_min, r_min)) = (refined(jmax), refined(jmin));
     let (r_max, r_min) = (r_max.max(rho[jmax]), r_min.min(rho[jmin]));
@@ -123,12 +123,12 @@ fn low_pass(y: &[f64], k: usize) -> Vec<f64> {
 }
 
 /// Winding number of a closed polyline about the origin.
-pub(super) fn winding_number(pts: &[[f64; 2]]) -> i64 {
+pub(super) fn winding_number(pts: &[Point]) -> i64 {
     let n = pts.len();
     let mut total = 0.0;
     for k in 0..n {
-        let a = pts[k][1].atan2(pts[k][0]);
-        let b = pts[(k + 1) % n][1].atan2(pts[(k + 1) % n][0]);
+        let a = pts[k].atan2();
+        let b = pts[(k + 1) % n].atan2();
         total += wrap_pi(b - a);
     }
     (total / TAU).round() as i64
@@ -160,10 +160,10 @@ fn runs(n: usize, bad: impl Fn(usize) -> bool) -> Vec<[usize; 2]> {
 /// uniform carrier-angle grid ([`resample_law`]).
 pub(super) fn solve_frame(
     spline: &ClosedSpline,
-    pts: &[[f64; 2]],
+    pts: &[Point],
     opts: &InverseOptions,
     direction: i8,
-    center: [f64; 2],
+    center: Point,
 ) -> Result<Solved, InverseError> {
     let len = spline.period();
     let ns = dense_count(opts, pts.len());
@@ -225,11 +225,11 @@ fn arms(
     ns: usize,
     tol: f64,
     direction: i8,
-    center: [f64; 2],
+    center: Point,
 ) -> Result<Arms, InverseError> {
     let len = spline.period();
     let ds = len / ns as f64;
-    let rho = |s: f64| norm(spline.point(s));
+    let rho = |s: f64| spline.point(s).norm();
     // Independent samples: evaluated in parallel (same values, same order).
     let dense: Vec<f64> = (0..ns)
         .into_par_iter()
@@ -270,7 +270,7 @@ fn arms(
                 .iter()
                 .map(|&j| {
                     let p = spline.point(j as f64 * ds);
-                    [p[0] + center[0], sy * p[1] + center[1]]
+                    Point::new(p.x + center.x, sy * p.y + center.y)
                 })
                 .collect(),
         });
@@ -314,10 +314,7 @@ fn dense_angles(spline: &ClosedSpline, arms: &Arms, ns: usize) -> (Vec<f64>, Vec
         .map(|j| {
             let (u, tip) = (u_at(j), spline.point(arms.s_max + u_at(j)));
             let e = arm_direction(tip, l1, l3, arms.sigma_at(u, len));
-            [
-                e[1].atan2(e[0]),
-                (tip[1] - l1 * e[1]).atan2(tip[0] - l1 * e[0]),
-            ]
+            [e.atan2(), (tip.y - l1 * e.y).atan2(tip.x - l1 * e.x)]
         })
         .collect();
     // Angle c (0: carrier, 1: needle) unwrapped along the samples.
@@ -394,7 +391,7 @@ fn resample_law(
     // The needle direction at the tip of parameter u for carrier angle ph (rad).
     let beta_at = |u: f64, ph: f64| {
         let p = spline.point(arms.s_max + u);
-        (p[1] - l1 * ph.sin()).atan2(p[0] - l1 * ph.cos())
+        (p.y - l1 * ph.sin()).atan2(p.x - l1 * ph.cos())
     };
     (0..n)
         .into_par_iter()

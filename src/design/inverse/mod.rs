@@ -14,6 +14,7 @@
 //! `ψ3` is resampled on a uniform grid of `N` carrier angles by solving `φH(s) = φH0 + t_n` on the
 //! interpolant itself (no second interpolation), so its error is the spline's, O(h⁴) (docs/math/chain.md §3.5).
 
+use crate::math::Point;
 mod frame;
 
 use crate::design::needle_law::NeedleLaw;
@@ -93,7 +94,7 @@ pub enum InverseError {
         /// Number of separate maxima.
         count: usize,
         /// Their positions, mm (file frame).
-        at: Vec<[f64; 2]>,
+        at: Vec<Point>,
     },
     /// Some point is too close to the carrier axis.
     #[error(
@@ -153,7 +154,7 @@ pub struct Inversion {
     /// Needle rotation relative to the carrier.
     pub law: NeedleLaw,
     /// The trajectory points relative to O in the solved frame, mm.
-    pub points: Vec<[f64; 2]>,
+    pub points: Vec<Point>,
     /// Whether the other carrier sense (with the arm's elbow flipped) also traces the path.
     pub other_sense_traceable: bool,
 }
@@ -169,12 +170,12 @@ impl Inversion {
     /// Target tip position at carrier angle `φH` (rad), mm, solved frame:
     /// `B = l1·e(φH) + l3·e(β(φH))`.
     #[must_use]
-    pub fn tip(&self, phi_h: f64) -> [f64; 2] {
+    pub fn tip(&self, phi_h: f64) -> Point {
         let b = self.beta(phi_h);
-        [
+        Point::new(
             self.l1_mm * phi_h.cos() + self.l3_mm * b.cos(),
             self.l1_mm * phi_h.sin() + self.l3_mm * b.sin(),
-        ]
+        )
     }
 
     /// Converts a solved-frame angle (rad) to file-frame degrees in [0, 360).
@@ -189,7 +190,7 @@ impl Inversion {
 /// Runs step 1 on a trajectory with carrier axis `center` (mm).
 pub fn invert(
     traj: &Trajectory,
-    center: [f64; 2],
+    center: Point,
     opts: &InverseOptions,
 ) -> Result<Inversion, InverseError> {
     let pts = traj.relative_to(center, false);
@@ -197,7 +198,7 @@ pub fn invert(
     // numbers past what a spline can hold): refused before any work.
     let [x0, y0, x1, y1] = crate::math::polyline::bbox(&pts);
     let size = (x1 - x0).hypot(y1 - y0);
-    let far = pts.iter().map(|p| p[0].hypot(p[1])).fold(0.0, f64::max);
+    let far = pts.iter().map(|p| p.hypot()).fold(0.0, f64::max);
     if !(far <= MAX_AXIS_DISTANCE_SIZES * size) {
         return Err(InverseError::AxisTooFar {
             distance_mm: far,
@@ -291,7 +292,7 @@ pub const MIN_AXIS_DISTANCE_L3: f64 = 0.05;
 #[cfg(test)]
 mod tests {
     use super::frame::{arm_direction, carrier_angle};
-    use crate::math::norm;
+    use crate::math::Point;
     use crate::math::periodic::wrap_pi;
     use std::f64::consts::TAU;
 
@@ -303,20 +304,20 @@ mod tests {
         for k in 0..2000 {
             let t = TAU * f64::from(k) / 2000.0;
             let rho = 150.0 + 100.0 * (0.5 + 0.5 * (3.0 * t).sin()); // within [l3 − l1, l3 + l1]
-            let p = [rho * t.cos(), rho * t.sin()];
+            let p = Point::new(rho * t.cos(), rho * t.sin());
             for sigma in [1.0, -1.0] {
                 let e = arm_direction(p, l1, l3, sigma);
-                let a = [l1 * e[0], l1 * e[1]];
-                assert!((norm(e) - 1.0).abs() < 1e-14);
-                assert!((norm([p[0] - a[0], p[1] - a[1]]) - l3).abs() < 1e-11);
+                let a = e * l1;
+                assert!((e.norm() - 1.0).abs() < 1e-14);
+                assert!(((p - a).norm() - l3).abs() < 1e-11);
                 let q = ((l1 * l1 + rho * rho - l3 * l3) / (2.0 * l1 * rho)).clamp(-1.0, 1.0);
-                let closed = p[1].atan2(p[0]) + sigma * q.acos();
+                let closed = p.atan2() + sigma * q.acos();
                 assert!(wrap_pi(carrier_angle(p, l1, l3, sigma) - closed).abs() < 1e-12);
             }
         }
         // At the extremes (q = ±1) both sides meet on the ray through the tip.
-        let e = arm_direction([260.0, 0.0], l1, l3, 1.0);
-        assert_eq!(e, arm_direction([260.0, 0.0], l1, l3, -1.0));
-        assert!((e[0] - 1.0).abs() < 1e-15 && e[1].abs() < 1e-15);
+        let e = arm_direction(Point::new(260.0, 0.0), l1, l3, 1.0);
+        assert_eq!(e, arm_direction(Point::new(260.0, 0.0), l1, l3, -1.0));
+        assert!((e.x - 1.0).abs() < 1e-15 && e.y.abs() < 1e-15);
     }
 }

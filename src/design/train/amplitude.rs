@@ -3,6 +3,7 @@
 use super::TrainError;
 use crate::geometry::fourier::SunRatio;
 use crate::geometry::mechanism::Mechanism;
+use crate::math::Point;
 use crate::math::periodic::bracketed_root;
 use crate::math::polyline::seg_dist;
 use rayon::prelude::*;
@@ -131,20 +132,20 @@ const MIN_STEP_RAD: f64 = 1e-4;
 /// closed polyline `points` (solved frame), every point against every segment: the bucketed
 /// [`crate::math::polyline::hausdorff_mm`] slows down on curves tens of mm apart, which most
 /// candidates are.
-fn path_distance(m: &Mechanism, n: usize, points: &[[f64; 2]]) -> f64 {
+fn path_distance(m: &Mechanism, n: usize, points: &[Point]) -> f64 {
     let theta3 = m.planet_orientations_uniform(n);
-    let tips: Vec<[f64; 2]> = theta3
+    let tips: Vec<Point> = theta3
         .iter()
         .enumerate()
         .map(|(k, t3)| {
             let (phi, beta) = (TAU * k as f64 / n as f64, t3 + m.needle_angle_rad);
-            [
+            Point::new(
                 m.l1_mm() * phi.cos() + m.l3_mm * beta.cos(),
                 m.l1_mm() * phi.sin() + m.l3_mm * beta.sin(),
-            ]
+            )
         })
         .collect();
-    let directed = |p: &[[f64; 2]], q: &[[f64; 2]]| {
+    let directed = |p: &[Point], q: &[Point]| {
         p.iter()
             .map(|x| {
                 (0..q.len())
@@ -157,7 +158,7 @@ fn path_distance(m: &Mechanism, n: usize, points: &[[f64; 2]]) -> f64 {
 }
 
 /// Every `⌈len/n⌉`-th point: at most `n` of them, in order.
-fn thinned(points: &[[f64; 2]], n: usize) -> Vec<[f64; 2]> {
+fn thinned(points: &[Point], n: usize) -> Vec<Point> {
     points
         .iter()
         .step_by(points.len().div_ceil(n).max(1))
@@ -175,7 +176,7 @@ fn thinned(points: &[[f64; 2]], n: usize) -> Vec<[f64; 2]> {
 /// from 5° to 1e-4 rad. Returns the mechanism and its distance on those samples, mm (the
 /// toothed train's round trip measures the final path).
 #[must_use]
-pub fn refit_needle_and_phase(rescaled: &Mechanism, points: &[[f64; 2]]) -> (Mechanism, f64) {
+pub fn refit_needle_and_phase(rescaled: &Mechanism, points: &[Point]) -> (Mechanism, f64) {
     let with = |phase: f64, gamma: f64| Mechanism {
         sun_phase_rad: phase,
         needle_angle_rad: gamma,

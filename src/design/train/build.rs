@@ -7,11 +7,12 @@ use super::{ToothedTrain, TrainError, TrainPolicy, TrainRoundTrip, TrainTeethOpt
 use crate::design::Design;
 use crate::design::roundtrip::deviations_as_designed;
 use crate::geometry::assembly::{Assembly, Rebuilt};
+use crate::math::Point;
 use crate::math::polyline::{distances_to_polyline, hausdorff_mm};
 use crate::teeth::ToothPolicy;
 use std::f64::consts::PI;
 
-fn max_tip_distance(traced: &[[f64; 2]], target: &[[f64; 2]]) -> f64 {
+fn max_tip_distance(traced: &[Point], target: &[Point]) -> f64 {
     distances_to_polyline(traced, target)
         .into_iter()
         .fold(0.0, f64::max)
@@ -32,7 +33,7 @@ pub enum TrainSource<'a> {
         /// The train.
         assembly: &'a Assembly,
         /// The trajectory, world frame, mm.
-        target_mm: &'a [[f64; 2]],
+        target_mm: &'a [Point],
     },
 }
 
@@ -118,9 +119,9 @@ fn design_staged(
     let fit = rescale_ratio_amplitude(&design.mechanism, opts.toothing.module_mm, n, accuracy_mm)?;
     let (center, direction) = (design.assembly.center_mm, design.assembly.direction);
     let sy = f64::from(direction.signum());
-    let solved: Vec<[f64; 2]> = target
+    let solved: Vec<Point> = target
         .iter()
-        .map(|p| [p[0] - center[0], sy * (p[1] - center[1])])
+        .map(|p| Point::new(p.x - center.x, sy * (p.y - center.y)))
         .collect();
     let (mechanism, _) = refit_needle_and_phase(&fit.mechanism, &solved);
     let asm = Assembly::from_mechanism(&mechanism, center, direction, n)?;
@@ -175,7 +176,7 @@ fn design_tolerance_mm(design: &Design) -> f64 {
 fn train_from(
     asm: &Assembly,
     designed: Option<&Assembly>,
-    target_mm: (&[[f64; 2]], Option<&[f64]>),
+    target_mm: (&[Point], Option<&[f64]>),
     opts: &TrainTeethOptions,
 ) -> Result<(ToothedTrain, Option<PendingTrainMesh>), TrainError> {
     let layout = Layout::new(asm, opts)?;
@@ -238,7 +239,7 @@ fn check_options(opts: &TrainTeethOptions) -> Result<(), TrainError> {
 fn round_trip(
     designed: &Assembly,
     rebuilt: &Rebuilt,
-    (target_mm, angles): (&[[f64; 2]], Option<&[f64]>),
+    (target_mm, angles): (&[Point], Option<&[f64]>),
     n: usize,
 ) -> TrainRoundTrip {
     let designed = designed.rebuild();
@@ -246,9 +247,9 @@ fn round_trip(
     let shift = before
         .iter()
         .zip(&after)
-        .map(|(p, q)| (p[0] - q[0]).hypot(p[1] - q[1]))
+        .map(|(p, q)| p.distance(*q))
         .fold(0.0, f64::max);
-    let measure = |r: &Rebuilt, traced: &[[f64; 2]]| match angles {
+    let measure = |r: &Rebuilt, traced: &[Point]| match angles {
         Some(angles) => deviations_as_designed(r, target_mm, angles, n),
         None => (
             max_tip_distance(traced, target_mm),

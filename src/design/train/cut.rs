@@ -5,6 +5,7 @@ use super::TrainError;
 use super::shaper_relief::relieve_gear;
 use super::swept::{TrainMeshes, neighbours, sweep_gear, sweepable};
 use crate::geometry::pitch::PitchCurve;
+use crate::math::Point;
 use crate::teeth::process::{GearProcess, Process, swept_process};
 use crate::teeth::{
     ArcFrame, GearBlank, Generated, Generation, Outline, OutlineOptions, TeethError,
@@ -62,12 +63,7 @@ impl Cutting<'_> {
     }
 
     /// Gear `k` swept by its neighbours' `outlines` (body frames, mm) at chord tolerance `tol`.
-    fn sweep(
-        &self,
-        k: usize,
-        outlines: [&[[f64; 2]]; 3],
-        tol: f64,
-    ) -> Result<Generated, TeethError> {
+    fn sweep(&self, k: usize, outlines: [&[Point]; 3], tol: f64) -> Result<Generated, TeethError> {
         sweep_gear(k, outlines, self.pitches, self.meshes, &self.blank(k, tol))
     }
 
@@ -120,10 +116,7 @@ impl Cutting<'_> {
 
     /// The fine outlines: for the mesh check, and for the tip relief of shaper-cut gears (which
     /// updates `cut`); `None` when neither needs them.
-    pub(super) fn fine(
-        &self,
-        cut: &mut CutGears,
-    ) -> Result<Option<[Vec<[f64; 2]>; 3]>, TrainError> {
+    pub(super) fn fine(&self, cut: &mut CutGears) -> Result<Option<[Vec<Point>; 3]>, TrainError> {
         if !(self.toothing.verify_steps > 0 || cut.processes.iter().any(shaped)) {
             return Ok(None);
         }
@@ -133,7 +126,7 @@ impl Cutting<'_> {
     }
 
     /// The unrelieved fine outlines at the verification's chord tolerance.
-    fn fine_outlines(&self, cut: &CutGears) -> Result<[Vec<[f64; 2]>; 3], TrainError> {
+    fn fine_outlines(&self, cut: &CutGears) -> Result<[Vec<Point>; 3], TrainError> {
         // Built side by side (collected in gear order); the swept gears then from their
         // neighbours' fine outlines.
         let tol = self.toothing.verify_chord_tol_mm;
@@ -167,7 +160,7 @@ impl Cutting<'_> {
     /// Tip relief of the cut gears of every mesh with a shaper-cut gear, against their
     /// neighbours, all found on the unrelieved outlines (a relief moves only tips, never a
     /// fillet); the meshes of two rack-cut (convex) gears keep their outlines.
-    fn relieve(&self, cut: &mut CutGears, fine: &mut [Vec<[f64; 2]>; 3]) -> Result<(), TrainError> {
+    fn relieve(&self, cut: &mut CutGears, fine: &mut [Vec<Point>; 3]) -> Result<(), TrainError> {
         let (processes, swept) = (&cut.processes, cut.swept);
         let relieve = |k: usize| {
             let mesh_has_shaper = shaped(&processes[k])

@@ -10,6 +10,7 @@ use super::{
 };
 use crate::geometry::assembly::{Assembly, Rebuilt};
 use crate::geometry::pitch::{PitchCurve, PitchError};
+use crate::math::Point;
 use crate::teeth::mate_motion::{MeshMotion, POSITIONS_PER_PITCH};
 use crate::teeth::mesh::MeshCheck;
 use crate::teeth::process::GearProcess;
@@ -190,7 +191,7 @@ impl<'o> Layout<'o> {
     }
 
     /// The mesh check of both meshes on the `fine` outlines, when the options verify.
-    pub(super) fn pending(&self, fine: Option<[Vec<[f64; 2]>; 3]>) -> Option<PendingTrainMesh> {
+    pub(super) fn pending(&self, fine: Option<[Vec<Point>; 3]>) -> Option<PendingTrainMesh> {
         let toothing = &self.opts.toothing;
         fine.filter(|_| toothing.verify_steps > 0)
             .map(|outlines| PendingTrainMesh {

@@ -5,6 +5,7 @@
 use super::TrainError;
 use super::report::TrainMesh;
 use crate::geometry::assembly::Rebuilt;
+use crate::math::Point;
 use crate::math::periodic::bracketed_root;
 use crate::progress::Progress;
 use crate::teeth::mesh::{MeshCheck, verify_mesh};
@@ -13,7 +14,7 @@ use crate::teeth::mesh::{MeshCheck, verify_mesh};
 /// frames), the train's kinematics and the check's parameters.
 #[derive(Debug, Clone)]
 pub struct PendingTrainMesh {
-    pub(super) outlines: [Vec<[f64; 2]>; 3],
+    pub(super) outlines: [Vec<Point>; 3],
     pub(super) rebuilt: Rebuilt,
     pub(super) check: MeshCheck,
 }

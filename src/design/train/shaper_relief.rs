@@ -3,6 +3,7 @@
 //! intermediate gear, the intermediate gear against both — and relieved tooth by tooth.
 use super::TrainError;
 use super::swept::{TrainMeshes, neighbours};
+use crate::math::Point;
 use crate::teeth::GearBlank;
 use crate::teeth::mesh::Shape;
 use crate::teeth::process::GearProcess;
@@ -17,7 +18,7 @@ use crate::teeth::tip_relief::{self, ReliefMesh, Relieved};
 /// [`TrainError::Teeth`] (the relieved gear cannot be generated).
 pub(super) fn relieve_gear(
     k: usize,
-    fine: &[Vec<[f64; 2]>; 3],
+    fine: &[Vec<Point>; 3],
     meshes: &TrainMeshes<'_>,
     blank: &GearBlank<'_>,
     as_cut: &GearProcess,

@@ -5,6 +5,7 @@ use crate::cad::{Contour, Marker, Sheet};
 use crate::design::Design;
 use crate::geometry::assembly::Assembly;
 use crate::geometry::pitch::PitchCurve;
+use crate::math::Point;
 use crate::math::periodic::uniform_angles;
 use crate::teeth::Outline;
 
@@ -24,27 +25,22 @@ pub struct ToothedTrain {
 }
 
 /// Places body-frame points at `centre` rotated by `angle` (rad).
-fn place(points: &[[f64; 2]], centre: [f64; 2], angle: f64) -> Vec<[f64; 2]> {
+fn place(points: &[Point], centre: Point, angle: f64) -> Vec<Point> {
     let (s, c) = angle.sin_cos();
     points
         .iter()
-        .map(|p| {
-            [
-                centre[0] + c * p[0] - s * p[1],
-                centre[1] + s * p[0] + c * p[1],
-            ]
-        })
+        .map(|p| Point::new(centre.x + c * p.x - s * p.y, centre.y + s * p.x + c * p.y))
         .collect()
 }
 
-fn pitch_polyline(curve: &PitchCurve) -> Vec<[f64; 2]> {
+fn pitch_polyline(curve: &PitchCurve) -> Vec<Point> {
     uniform_angles(1440)
         .iter()
         .map(|&t| curve.point_mm(t))
         .collect()
 }
 
-fn contour(name: &str, layer: &str, points_mm: Vec<[f64; 2]>) -> Contour {
+fn contour(name: &str, layer: &str, points_mm: Vec<Point>) -> Contour {
     Contour {
         name: name.into(),
         layer: layer.into(),
@@ -118,7 +114,7 @@ impl ToothedTrain {
             markers: vec![Marker {
                 name: format!("{}_center", gear.name()),
                 layer: "CENTRES".into(),
-                at_mm: [0.0, 0.0],
+                at_mm: Point::new(0.0, 0.0),
             }],
         }
     }

@@ -2,6 +2,7 @@
 //! (wire EDM, printing; [`crate::teeth::conjugate`]) — the sun and the planet by the intermediate
 //! gear, the intermediate gear by both.
 use crate::geometry::pitch::PitchCurve;
+use crate::math::Point;
 use crate::teeth::conjugate::Mate;
 use crate::teeth::mate_motion::MeshMotion;
 use crate::teeth::{GearBlank, Generated, Generation, TeethError, generate};
@@ -27,7 +28,7 @@ pub(super) fn neighbours(k: usize) -> &'static [(usize, usize, usize)] {
 /// mm), cut from `blank`, with its process (wire EDM).
 pub(super) fn sweep_gear(
     k: usize,
-    outlines: [&[[f64; 2]]; 3],
+    outlines: [&[Point]; 3],
     pitches: [&PitchCurve; 3],
     meshes: &TrainMeshes<'_>,
     blank: &GearBlank<'_>,

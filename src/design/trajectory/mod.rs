@@ -19,6 +19,7 @@
 //! assert_eq!(traj.len(), 36);
 //! ```
 
+use crate::math::Point;
 mod error;
 mod screen;
 mod spline;
@@ -35,14 +36,14 @@ pub const MIN_POINTS: usize = 20;
 /// A closed needle-tip trajectory in travel order, mm.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Trajectory {
-    points: Vec<[f64; 2]>,
+    points: Vec<Point>,
 }
 
 impl Trajectory {
     /// Validates points (mm, travel order). `origins[k]` says where point k came from; `file` names
     /// the source in messages. A last point equal to the first is dropped.
     pub fn new(
-        points: Vec<[f64; 2]>,
+        points: Vec<Point>,
         origins: &[Origin],
         file: &str,
     ) -> Result<Self, TrajectoryError> {
@@ -50,7 +51,7 @@ impl Trajectory {
         let file_s = file.to_string();
         if let Some(k) = points
             .iter()
-            .position(|p| !(p[0].is_finite() && p[1].is_finite()))
+            .position(|p| !(p.x.is_finite() && p.y.is_finite()))
         {
             return Err(TrajectoryError::NotFinite {
                 file: file_s,
@@ -69,7 +70,7 @@ impl Trajectory {
             });
         }
         if let Some((k, jump, between, spacing)) = outlier(&points) {
-            let [x, y] = points[k];
+            let Point { x, y } = points[k];
             return Err(TrajectoryError::Outlier {
                 file: file_s,
                 origin: origin(k),
@@ -84,7 +85,7 @@ impl Trajectory {
         for k in 1..points.len() {
             let d = dist(points[k], points[k - 1]);
             if d == 0.0 {
-                let [x, y] = points[k];
+                let Point { x, y } = points[k];
                 return Err(TrajectoryError::DuplicatePoint {
                     file: file_s,
                     origin: origin(k),
@@ -110,15 +111,13 @@ impl Trajectory {
     ///
     /// ```
     /// use ncgear::design::trajectory::Trajectory;
-    /// let pts: Vec<[f64; 2]> = (0..40)
-    ///     .map(|k| {
-    ///         let t = std::f64::consts::TAU * k as f64 / 40.0;
-    ///         [100.0 + 20.0 * t.cos(), 20.0 * t.sin()]
-    ///     })
+    /// use ncgear::math::Point;
+    /// let pts: Vec<Point> = (0..40)
+    ///     .map(|k| Point::new(100.0, 0.0) + Point::from_polar(20.0, std::f64::consts::TAU * k as f64 / 40.0))
     ///     .collect();
     /// assert_eq!(Trajectory::from_points(pts).unwrap().len(), 40);
     /// ```
-    pub fn from_points(points: Vec<[f64; 2]>) -> Result<Self, TrajectoryError> {
+    pub fn from_points(points: Vec<Point>) -> Result<Self, TrajectoryError> {
         Self::new(points, &[], "points")
     }
 
@@ -171,7 +170,7 @@ impl Trajectory {
             let parsed: Option<Vec<f64>> = fields.iter().map(|s| s.parse::<f64>().ok()).collect();
             match parsed {
                 Some(v) if v.len() == 2 => {
-                    points.push([v[0], v[1]]);
+                    points.push(Point::new(v[0], v[1]));
                     origins.push(Origin::Line(i + 1));
                 }
                 // One header line is allowed before the first data line.
@@ -201,7 +200,7 @@ impl Trajectory {
         #[serde(deny_unknown_fields)]
         struct Doc {
             units: Option<String>,
-            points: Vec<[f64; 2]>,
+            points: Vec<Point>,
         }
         let bad = |message: String| TrajectoryError::BadJson {
             file: file.to_string(),
@@ -221,7 +220,7 @@ impl Trajectory {
 
     /// Points in mm, travel order, no repeated end point.
     #[must_use]
-    pub fn points(&self) -> &[[f64; 2]] {
+    pub fn points(&self) -> &[Point] {
         &self.points
     }
 
@@ -248,11 +247,11 @@ impl Trajectory {
 
     /// The same loop relative to `center` (mm), mirrored `y → −y` when `mirror` is set.
     #[must_use]
-    pub fn relative_to(&self, center: [f64; 2], mirror: bool) -> Vec<[f64; 2]> {
+    pub fn relative_to(&self, center: Point, mirror: bool) -> Vec<Point> {
         let sy = if mirror { -1.0 } else { 1.0 };
         self.points
             .iter()
-            .map(|p| [p[0] - center[0], sy * (p[1] - center[1])])
+            .map(|p| Point::new(p.x - center.x, sy * (p.y - center.y)))
             .collect()
     }
 
@@ -276,12 +275,12 @@ impl Trajectory {
             let j = cum.partition_point(|&c| c <= s).clamp(1, n) - 1;
             let f = ((s - cum[j]) / (cum[j + 1] - cum[j])).clamp(0.0, 1.0);
             let (a, b) = (pts[j], pts[(j + 1) % n]);
-            [a[0] + f * (b[0] - a[0]), a[1] + f * (b[1] - a[1])]
+            a.lerp(b, f)
         };
-        let samples: Vec<[f64; 2]> = (0..m).map(|k| at(len * k as f64 / m as f64)).collect();
+        let samples: Vec<Point> = (0..m).map(|k| at(len * k as f64 / m as f64)).collect();
         let filt = |c: usize| {
             let mut co = crate::math::periodic::fft_coefficients(
-                &samples.iter().map(|p| p[c]).collect::<Vec<_>>(),
+                &samples.iter().map(|p| p.to_array()[c]).collect::<Vec<_>>(),
             );
             for (k, v) in co.iter_mut().enumerate() {
                 if k > harmonics {
@@ -304,20 +303,20 @@ impl Trajectory {
                 .sum::<f64>()
         };
         let points = (0..n)
-            .map(|k| [eval(&cx, cum[k]), eval(&cy, cum[k])])
+            .map(|k| Point::new(eval(&cx, cum[k]), eval(&cy, cum[k])))
             .collect();
         Self { points }
     }
 
     /// Chord-length periodic cubic spline through the points (docs/math/chain.md §3.1).
     #[must_use]
-    pub fn spline(points: &[[f64; 2]]) -> ClosedSpline {
+    pub fn spline(points: &[Point]) -> ClosedSpline {
         ClosedSpline::through(points)
     }
 }
 
-fn dist(p: [f64; 2], q: [f64; 2]) -> f64 {
-    (p[0] - q[0]).hypot(p[1] - q[1])
+fn dist(p: Point, q: Point) -> f64 {
+    p.distance(q)
 }
 
 #[cfg(test)]
@@ -362,13 +361,13 @@ mod tests {
             ((state >> 11) as f64 + 0.5) / (1u64 << 53) as f64
         };
         let sigma = 0.03;
-        let pts: Vec<[f64; 2]> = exact
+        let pts: Vec<Point> = exact
             .points()
             .iter()
             .map(|p| {
                 let (u, v) = (uniform(), uniform());
                 let r = (-2.0 * u.ln()).sqrt() * sigma;
-                [p[0] + r * (TAU * v).cos(), p[1] + r * (TAU * v).sin()]
+                Point::new(p.x + r * (TAU * v).cos(), p.y + r * (TAU * v).sin())
             })
             .collect();
         let origins: Vec<Origin> = (0..pts.len()).map(Origin::Index).collect();

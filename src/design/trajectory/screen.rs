@@ -1,11 +1,12 @@
 //! What the points say about themselves before any design: outliers (typos) and the noise level.
 
 use super::dist;
+use crate::math::Point;
 
 /// The first point that jumps far off the curve and back: both its steps exceed 50× the median
 /// spacing (and 1000× the distance between its two neighbours plus one spacing). Returns
 /// `(index, nearer step, neighbour distance, median spacing)`, mm.
-pub(super) fn outlier(points: &[[f64; 2]]) -> Option<(usize, f64, f64, f64)> {
+pub(super) fn outlier(points: &[Point]) -> Option<(usize, f64, f64, f64)> {
     let n = points.len();
     if n < 3 {
         return None;
@@ -53,7 +54,7 @@ const TRIM_CAP: f64 = 6.0;
 /// length, which absorbs the noise along the curve and would read only its normal half). Within
 /// ±13 % of the true σ over σ ∈ [0.005, 0.1] mm and 200–1200 points; a few µm or less on exact
 /// points (the 4th difference of the curve itself).
-pub(super) fn difference_noise_mm(points: &[[f64; 2]]) -> f64 {
+pub(super) fn difference_noise_mm(points: &[Point]) -> f64 {
     let n = points.len();
     if n <= DIFF_ORDER {
         return 0.0;
@@ -63,8 +64,8 @@ pub(super) fn difference_noise_mm(points: &[[f64; 2]]) -> f64 {
             let mut d = [0.0, 0.0];
             for (i, w) in DIFF_WEIGHTS.iter().enumerate() {
                 let p = points[(j + i) % n];
-                d[0] += w * p[0];
-                d[1] += w * p[1];
+                d[0] += w * p.x;
+                d[1] += w * p.y;
             }
             (d[0] * d[0] + d[1] * d[1]) / (2.0 * DIFF_GAIN)
         })

@@ -1,6 +1,7 @@
 //! The closed chord-length spline through the points (docs/math/chain.md §3.1).
 
 use super::dist;
+use crate::math::Point;
 use crate::math::periodic::PeriodicSpline;
 
 /// A periodic C² chord-length cubic spline `P(s) = (x(s), y(s))`, `s ∈ [0, L)` in mm of chord length.
@@ -13,7 +14,7 @@ pub struct ClosedSpline {
 impl ClosedSpline {
     /// Interpolates closed points (no repeated end point, distinct consecutive points).
     #[must_use]
-    pub fn through(points: &[[f64; 2]]) -> Self {
+    pub fn through(points: &[Point]) -> Self {
         let n = points.len();
         let mut s = Vec::with_capacity(n);
         let mut acc = 0.0;
@@ -21,8 +22,8 @@ impl ClosedSpline {
             s.push(acc);
             acc += dist(points[k], points[(k + 1) % n]);
         }
-        let xs = points.iter().map(|p| p[0]).collect();
-        let ys = points.iter().map(|p| p[1]).collect();
+        let xs = points.iter().map(|p| p.x).collect();
+        let ys = points.iter().map(|p| p.y).collect();
         // Knots are strictly increasing (distinct consecutive points) and n ≥ 3.
         let x = PeriodicSpline::new(s.clone(), xs, acc).expect("validated trajectory");
         let y = PeriodicSpline::new(s, ys, acc).expect("validated trajectory");
@@ -37,17 +38,21 @@ impl ClosedSpline {
 
     /// `(P, P′, P″)` at `s`.
     #[must_use]
-    pub fn eval(&self, s: f64) -> [[f64; 2]; 3] {
+    pub fn eval(&self, s: f64) -> [Point; 3] {
         // Both coordinates share their knots: one search for the piece.
         let p = self.x.locate(s);
         let (x, y) = (self.x.eval3_on(p), self.y.eval3_on(p));
-        [[x[0], y[0]], [x[1], y[1]], [x[2], y[2]]]
+        [
+            Point::new(x[0], y[0]),
+            Point::new(x[1], y[1]),
+            Point::new(x[2], y[2]),
+        ]
     }
 
     /// `P(s)` in mm.
     #[must_use]
-    pub fn point(&self, s: f64) -> [f64; 2] {
+    pub fn point(&self, s: f64) -> Point {
         let p = self.x.locate(s);
-        [self.x.value_on(p), self.y.value_on(p)]
+        Point::new(self.x.value_on(p), self.y.value_on(p))
     }
 }

@@ -5,6 +5,7 @@ use super::TRACE_POINTS;
 use crate::design::trajectory::Trajectory;
 use crate::design::{Design, DesignOptions, design};
 use crate::geometry::mechanism::Mechanism;
+use crate::math::Point;
 use crate::simulate::{FeatureOptions, Features, Simulation, features};
 use crate::synthesis::dyad::{Dyad, Pose};
 use crate::synthesis::report::{Candidate, PoseResult, TargetResult};
@@ -26,10 +27,10 @@ pub(super) fn on_gears(
 ) -> (Candidate, Option<Designed>) {
     let s = f64::from(direction);
     let o = dyad.center_mm;
-    let points: Vec<[f64; 2]> = (0..TRACE_POINTS)
+    let points: Vec<Point> = (0..TRACE_POINTS)
         .map(|j| {
             let b = m.tip(TAU * j as f64 / TRACE_POINTS as f64);
-            [o[0] + b[0], o[1] + s * b[1]]
+            Point::new(o.x + b.x, o.y + s * b.y)
         })
         .collect();
     let mut o_opts = opts.clone();
@@ -77,7 +78,7 @@ pub(super) type Designed = (
 fn on_design(sim: &Simulation, p: &Pose) -> PoseResult {
     let at = |phi: f64| {
         let a = sim.pose(phi).arm1;
-        let d = (a.tip_mm[0] - p.tip_mm[0]).hypot(a.tip_mm[1] - p.tip_mm[1]);
+        let d = a.tip_mm.distance(p.tip_mm);
         (d, a)
     };
     let n = 3600;
@@ -103,7 +104,7 @@ fn on_design(sim: &Simulation, p: &Pose) -> PoseResult {
     }
     let phi = 0.5 * (lo + hi);
     let (d, a) = at(phi);
-    let dir = (a.tip_mm[1] - a.planet_center_mm[1]).atan2(a.tip_mm[0] - a.planet_center_mm[0]);
+    let dir = (a.tip_mm - a.planet_center_mm).atan2();
     PoseResult {
         tip_mm: p.tip_mm,
         needle_deg: p.needle_rad.to_degrees(),

@@ -19,6 +19,7 @@ use super::spec::{Spec, checked, max_tol_mm};
 use super::targets::{AXIS_DISTANCE_L3, DEFAULT_L1_MM, DEFAULT_L3_MM, TargetProblem};
 use super::timing::TimingError;
 use crate::design::DesignOptions;
+use crate::math::Point;
 use crate::simulate::FeatureOptions;
 use rayon::prelude::*;
 
@@ -159,11 +160,7 @@ fn candidate_arms(kind: &str, dyads: &[Dyad], poses: &[Pose], spec: &Spec) -> Ve
         // and two and a half times it (else the whole family), evenly.
         let spread = poses
             .iter()
-            .flat_map(|p| {
-                poses
-                    .iter()
-                    .map(move |q| (p.tip_mm[0] - q.tip_mm[0]).hypot(p.tip_mm[1] - q.tip_mm[1]))
-            })
+            .flat_map(|p| poses.iter().map(move |q| p.tip_mm.distance(q.tip_mm)))
             .fold(0.0, f64::max);
         let plausible: Vec<Dyad> = dyads
             .iter()
@@ -184,12 +181,7 @@ fn candidate_arms(kind: &str, dyads: &[Dyad], poses: &[Pose], spec: &Spec) -> Ve
             .map(|k| members[(2 * k + 1) * n / (2 * FAMILY_CANDIDATES.min(n))])
             .collect()
     } else {
-        let scale = 1e-6
-            + poses
-                .iter()
-                .map(|p| p.tip_mm[0].hypot(p.tip_mm[1]))
-                .fold(0.0, f64::max)
-                * 1e-6;
+        let scale = 1e-6 + poses.iter().map(|p| p.tip_mm.hypot()).fold(0.0, f64::max) * 1e-6;
         dyads
             .iter()
             .filter(|d| d.max_residual_mm <= scale.max(max_tol_mm(spec)))
@@ -268,7 +260,7 @@ fn from_targets(
     sense: Option<i8>,
     fopts: FeatureOptions,
 ) -> Result<Synthesis, SynthesisError> {
-    let center_mm = spec.machine.center_mm.unwrap_or([0.0, 0.0]);
+    let center_mm = spec.machine.center_mm.unwrap_or(Point::new(0.0, 0.0));
     let direction = sense.unwrap_or(1);
     let problem = TargetProblem {
         bands: spec.targets.bands(),

@@ -36,6 +36,7 @@ use super::outline::{Outline, report_on};
 use super::shape::StarShape;
 use super::{GearBlank, TeethError};
 use crate::geometry::pitch::PitchCurve;
+use crate::math::Point;
 use rayon::prelude::*;
 use std::f64::consts::TAU;
 use sweep::SUB;
@@ -52,15 +53,15 @@ pub struct MatePose {
     /// Rotation, rad.
     pub angle_rad: f64,
     /// Translation, mm.
-    pub shift_mm: [f64; 2],
+    pub shift_mm: Point,
 }
 
 impl MatePose {
-    fn apply(&self, (s, c): (f64, f64), x: [f64; 2]) -> [f64; 2] {
-        [
-            c * x[0] - s * x[1] + self.shift_mm[0],
-            s * x[0] + c * x[1] + self.shift_mm[1],
-        ]
+    fn apply(&self, (s, c): (f64, f64), x: Point) -> Point {
+        Point::new(
+            c * x.x - s * x.y + self.shift_mm.x,
+            s * x.x + c * x.y + self.shift_mm.y,
+        )
     }
 }
 
@@ -68,7 +69,7 @@ impl MatePose {
 #[derive(Clone, Copy)]
 pub struct Mate<'a> {
     /// The mate's outline, CCW, mm.
-    pub outline_mm: &'a [[f64; 2]],
+    pub outline_mm: &'a [Point],
     /// The mate's pitch curve (its tip region is told by the height above it).
     pub pitch: &'a PitchCurve,
     /// The mate's position in the gear's body frame at cycle fraction `u ∈ [0, 1)`, for each of
@@ -106,7 +107,7 @@ pub(super) fn generate_swept(
     let addendum = StarShape::new(&tip, "addendum curve").map_err(|_| TeethError::Swept {
         what: "the addendum curve is not star-shaped about the gear's centre".into(),
     })?;
-    let r_tip = tip.iter().map(|p| p[0].hypot(p[1])).fold(0.0, f64::max);
+    let r_tip = tip.iter().map(|p| p.hypot()).fold(0.0, f64::max);
     let n = ((TAU * r_tip / (RAY_SPACING * m)).ceil() as usize).max(4096);
     let dth = TAU / n as f64;
     let dir: Vec<(f64, f64)> = (0..n).map(|j| (j as f64 * dth).sin_cos()).collect();
@@ -153,7 +154,7 @@ pub(super) fn generate_swept(
 /// The blank's pitch curve and addendum curve (body frame, mm), sampled every 0.05·m of pitch
 /// arc (chord sag ≈ (0.05·m)²/(8ρ), below 1e-4·m for ρ ≥ 3·m): the addendum `ha` (mm) over the
 /// pitch curve, topped on concave stretches as a shaper-cut tip is (module doc).
-fn addendum_table(blank: &GearBlank<'_>, ha: f64) -> (Vec<[f64; 2]>, Vec<[f64; 2]>) {
+fn addendum_table(blank: &GearBlank<'_>, ha: f64) -> (Vec<Point>, Vec<Point>) {
     let (frame, rack, m) = (blank.frame, &blank.rack, blank.module_mm);
     let k_tip = (rack.straight_depth() * m / rack.alpha_rad().tan()).powi(2);
     let nb = (frame.length_mm() / (0.05 * m)).ceil().max(720.0) as usize;
@@ -161,7 +162,7 @@ fn addendum_table(blank: &GearBlank<'_>, ha: f64) -> (Vec<[f64; 2]>, Vec<[f64; 2
         .map(|k| {
             let f = frame.at(frame.length_mm() * k as f64 / nb as f64);
             let h = ha + f.kappa.min(0.0) * k_tip;
-            (f.p, [f.p[0] + h * f.n[0], f.p[1] + h * f.n[1]])
+            (f.p, f.p + f.n * h)
         })
         .unzip()
 }
@@ -174,7 +175,7 @@ fn addendum_table(blank: &GearBlank<'_>, ha: f64) -> (Vec<[f64; 2]>, Vec<[f64; 2
 fn with_root_clearance(
     blank: &GearBlank<'_>,
     rays: &Rays<'_>,
-    pitch: &[[f64; 2]],
+    pitch: &[Point],
     swept: &[f64],
     ha: f64,
 ) -> Vec<f64> {
@@ -192,7 +193,7 @@ fn with_root_clearance(
                 return rj;
             }
             let (sn, cs) = rays.dir[j];
-            let depth = grid.nearest([rj * cs, rj * sn]).distance_mm;
+            let depth = grid.nearest(Point::new(rj * cs, rj * sn)).distance_mm;
             let w = ((depth - (ha - RAMP * m)) / (RAMP * m)).clamp(0.0, 1.0);
             rj - c * w
         })
@@ -234,13 +235,13 @@ fn narrowest_tip_mm(rays: &Rays<'_>, r: &[f64], z: u32) -> Result<f64, TeethErro
 /// The outline through the rays' ends `r` (mm), with the lowest tool vertex of each of the
 /// `SUB` sub-intervals between two rays (`gaps`, `(ρ, θ)` in mm and rad) where it lies inside
 /// the chord between them.
-fn ray_outline(rays: &Rays<'_>, r: &[f64], gaps: &[(f64, f64)]) -> Vec<[f64; 2]> {
+fn ray_outline(rays: &Rays<'_>, r: &[f64], gaps: &[(f64, f64)]) -> Vec<Point> {
     let n = r.len();
     let ray_point = |j: usize| {
         let (sn, cs) = rays.dir[j % n];
-        [r[j % n] * cs, r[j % n] * sn]
+        Point::new(r[j % n] * cs, r[j % n] * sn)
     };
-    let mut pts: Vec<[f64; 2]> = Vec::with_capacity(n + n / 8);
+    let mut pts: Vec<Point> = Vec::with_capacity(n + n / 8);
     for j in 0..n {
         let (a, b) = (ray_point(j), ray_point(j + 1));
         pts.push(a);
@@ -249,12 +250,12 @@ fn ray_outline(rays: &Rays<'_>, r: &[f64], gaps: &[(f64, f64)]) -> Vec<[f64; 2]>
                 continue;
             }
             let (sn, cs) = t.sin_cos();
-            let d = [b[0] - a[0], b[1] - a[1]];
-            let uxd = cs * d[1] - sn * d[0];
+            let d = b - a;
+            let uxd = cs * d.y - sn * d.x;
             if uxd != 0.0 {
-                let chord = (a[0] * d[1] - a[1] * d[0]) / uxd;
+                let chord = (a.cross(d)) / uxd;
                 if rho < chord {
-                    pts.push([rho * cs, rho * sn]);
+                    pts.push(Point::new(rho * cs, rho * sn));
                 }
             }
         }

@@ -2,6 +2,7 @@
 //! reach the gear lowers the rays it crosses to the crossing (parent module doc, **Sweep**).
 //! Written by hand: the sweep is the core of the field, no geometry library does it.
 use super::{Mate, MatePose, Rays};
+use crate::math::Point;
 use crate::teeth::TeethError;
 use rayon::prelude::*;
 use std::f64::consts::{PI, TAU};
@@ -91,10 +92,10 @@ struct PolarIndex {
 }
 
 impl PolarIndex {
-    fn new(points: &[[f64; 2]], keep: impl Fn(usize) -> bool) -> Self {
+    fn new(points: &[Point], keep: impl Fn(usize) -> bool) -> Self {
         let mut v: Vec<(f64, u32)> = (0..points.len())
             .filter(|&i| keep(i))
-            .map(|i| (points[i][1].atan2(points[i][0]), i as u32))
+            .map(|i| (points[i].atan2(), i as u32))
             .collect();
         v.sort_by(|a, b| a.0.total_cmp(&b.0));
         let (theta, index) = v.into_iter().unzip();
@@ -127,7 +128,7 @@ impl PolarIndex {
 
 /// A tool vertex placed at one position: `(stamp, point, |point|², polar angle or NaN)`, mm, mm²,
 /// rad; valid while `stamp` is the position's.
-type Placed = (u32, [f64; 2], f64, f64);
+type Placed = (u32, Point, f64, f64);
 
 /// One mate position: its pose, the pose's `(sin, cos)` and its stamp (position index + 1).
 struct At {
@@ -148,14 +149,14 @@ struct Scratch {
 impl Scratch {
     /// Tool vertex `v` placed at `at` (once per position, shared by its two edges); its polar
     /// angle only when `with_angle` (an edge of it can reach the gear).
-    fn vertex(&mut self, at: &At, tool: &[[f64; 2]], v: usize, with_angle: bool) -> Placed {
+    fn vertex(&mut self, at: &At, tool: &[Point], v: usize, with_angle: bool) -> Placed {
         let c = &mut self.cache[v];
         if c.0 != at.stamp {
             let p = at.pose.apply(at.sc, tool[v]);
-            *c = (at.stamp, p, p[0] * p[0] + p[1] * p[1], f64::NAN);
+            *c = (at.stamp, p, p.dot(p), f64::NAN);
         }
         if with_angle && c.3.is_nan() {
-            c.3 = c.1[1].atan2(c.1[0]);
+            c.3 = c.1.atan2();
         }
         *c
     }
@@ -166,7 +167,7 @@ struct Sweeper<'a> {
     mate: &'a Mate<'a>,
     rays: &'a Rays<'a>,
     /// The mate's outline simplified to `TOOL_TOL·m`, mm.
-    tool: Vec<[f64; 2]>,
+    tool: Vec<Point>,
     /// Whether each tool vertex lies in the mate's tip region.
     tip_flag: Vec<bool>,
     /// Every tool vertex, and the tip region's, by polar angle.
@@ -185,11 +186,9 @@ impl<'a> Sweeper<'a> {
         // The mate simplified to TOOL_TOL·m (its finest outlines carry far more vertices than the
         // sweep can resolve; the flank allowance of the positions covers the difference).
         let tool = crate::math::polyline::simplify_closed(mate.outline_mm, TOOL_TOL * m);
-        let tip_vertex = |v: [f64; 2]| {
-            v[0].hypot(v[1]) - mate.pitch.radius_mm(v[1].atan2(v[0])) > ha - TIP_BAND * m
-        };
+        let tip_vertex = |v: Point| v.hypot() - mate.pitch.radius_mm(v.atan2()) > ha - TIP_BAND * m;
         let all = PolarIndex::new(&tool, |_| true);
-        let r_mate = tool.iter().map(|v| v[0].hypot(v[1])).fold(0.0, f64::max);
+        let r_mate = tool.iter().map(|v| v.hypot()).fold(0.0, f64::max);
         let tips = PolarIndex::new(&tool, |i| tip_vertex(tool[i]));
         let tip_flag = tool.iter().map(|&v| tip_vertex(v)).collect();
         Self {
@@ -215,7 +214,7 @@ impl<'a> Sweeper<'a> {
             swept: untouched(self.rays),
             edges: Vec::new(),
             mark: vec![0u32; nt],
-            cache: vec![(0, [0.0; 2], 0.0, f64::NAN); nt],
+            cache: vec![(0, Point::ZERO, 0.0, f64::NAN); nt],
         }
     }
 
@@ -240,10 +239,7 @@ impl<'a> Sweeper<'a> {
     fn edges_near(&self, s: &mut Scratch, at: &At, whole: bool) {
         // The gear's centre in the mate's frame: the contact lies towards it.
         let ((sn, c), shift) = (at.sc, at.pose.shift_mm);
-        let b0 = [
-            -(c * shift[0] + sn * shift[1]),
-            sn * shift[0] - c * shift[1],
-        ];
+        let b0 = [-(c * shift.x + sn * shift.y), sn * shift.x - c * shift.y];
         let toward = b0[1].atan2(b0[0]);
         // Every mate vertex that can come within `reach` of the gear's centre: at radius ≤ R
         // from the mate's centre, at distance d from the gear's, its angle β from the direction
@@ -304,10 +300,10 @@ impl<'a> Sweeper<'a> {
             }
             let (_, p, rp2, _) = s.vertex(at, &self.tool, e, false);
             let q = next.apply(sc_next, self.tool[e]);
-            if rp2.min(q[0] * q[0] + q[1] * q[1]) > self.reach2 {
+            if rp2.min(q.dot(q)) > self.reach2 {
                 continue;
             }
-            let (tp, tq) = (p[1].atan2(p[0]), q[1].atan2(q[0]));
+            let (tp, tq) = (p.atan2(), q.atan2());
             cross_rays(self.rays, &mut s.swept.0, p, q, tp, tq);
         }
     }
@@ -334,7 +330,7 @@ impl<'a> Sweeper<'a> {
 
 /// Lowers the rays `r` (mm) that the segment p → q (mm; polar angles tp, tq, rad) crosses to its
 /// crossing.
-fn cross_rays(rays: &Rays<'_>, r: &mut [f64], p: [f64; 2], q: [f64; 2], tp: f64, tq: f64) {
+fn cross_rays(rays: &Rays<'_>, r: &mut [f64], p: Point, q: Point, tp: f64, tq: f64) {
     let (dth, dir, n) = (rays.dth, rays.dir, rays.dir.len());
     let mut span = tq - tp;
     if span > PI {
@@ -347,8 +343,8 @@ fn cross_rays(rays: &Rays<'_>, r: &mut [f64], p: [f64; 2], q: [f64; 2], tp: f64,
     } else {
         (tp + span, tp)
     };
-    let d = [q[0] - p[0], q[1] - p[1]];
-    let pxd = p[0] * d[1] - p[1] * d[0];
+    let d = [q.x - p.x, q.y - p.y];
+    let pxd = p.x * d[1] - p.y * d[0];
     let j0 = (lo / dth).ceil() as i64;
     let j1 = (hi / dth).floor() as i64;
     for jj in j0..=j1 {

@@ -1,6 +1,7 @@
 //! One resolution of the mesh check: both outlines indexed, the candidate vertices near the
 //! contact, per-vertex clearances at a driven offset, and the pruned root search on them.
 use super::root::{PerVertex, VertexSets};
+use crate::math::Point;
 use crate::teeth::shape::{MeshError, Shape};
 use std::f64::consts::PI;
 
@@ -24,8 +25,8 @@ pub(super) struct Level {
     pub(super) module_mm: f64,
     /// Bounding circles (body-frame centre, radius, mm) of the blocks of `block` consecutive
     /// polar entries of `h1`, `h2`.
-    blocks1: Vec<([f64; 2], f64)>,
-    blocks2: Vec<([f64; 2], f64)>,
+    blocks1: Vec<(Point, f64)>,
+    blocks2: Vec<(Point, f64)>,
     /// Polar entries per block (about 0.1·m of outline).
     block: usize,
     /// Copies simplified to `BOUND_TOL·m` (Douglas–Peucker), indexed at `reach`: their
@@ -48,25 +49,18 @@ const REACH_MARGIN: f64 = 0.05;
 const BOUND_TOL: f64 = 2e-3;
 
 /// Bounding circles of the blocks of `block` consecutive polar entries.
-fn block_circles(g: &crate::teeth::shape::StarShape, block: usize) -> Vec<([f64; 2], f64)> {
+fn block_circles(g: &crate::teeth::shape::StarShape, block: usize) -> Vec<(Point, f64)> {
     let n = g.r.len();
     (0..n.div_ceil(block))
         .map(|b| {
-            let pts: Vec<[f64; 2]> = (b * block..((b + 1) * block).min(n))
+            let pts: Vec<Point> = (b * block..((b + 1) * block).min(n))
                 .map(|i| g.point(i))
                 .collect();
-            let (lo, hi) =
-                pts.iter()
-                    .fold(([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]), |(l, h), p| {
-                        (
-                            [l[0].min(p[0]), l[1].min(p[1])],
-                            [h[0].max(p[0]), h[1].max(p[1])],
-                        )
-                    });
-            let c = [0.5 * (lo[0] + hi[0]), 0.5 * (lo[1] + hi[1])];
+            let [x0, y0, x1, y1] = crate::math::polyline::bbox(&pts);
+            let c = Point::new(0.5 * (x0 + x1), 0.5 * (y0 + y1));
             let r = pts
                 .iter()
-                .map(|p| ((p[0] - c[0]).powi(2) + (p[1] - c[1]).powi(2)).sqrt())
+                .map(|p| ((p.x - c.x).powi(2) + (p.y - c.y).powi(2)).sqrt())
                 .fold(0.0, f64::max);
             (c, r)
         })
@@ -76,15 +70,15 @@ fn block_circles(g: &crate::teeth::shape::StarShape, block: usize) -> Vec<([f64;
 /// The outlines of one resolution: both polylines (mm) and their Hausdorff distance from the
 /// given outlines (mm; 0 for the given outlines themselves).
 pub(super) struct Polylines {
-    pub(super) driver: Vec<[f64; 2]>,
-    pub(super) driven: Vec<[f64; 2]>,
+    pub(super) driver: Vec<Point>,
+    pub(super) driven: Vec<Point>,
     pub(super) deviation_mm: f64,
 }
 
 impl Polylines {
     /// Both outlines simplified to `simplify_mm` (Douglas–Peucker, side by side; 0 = as given).
-    pub(super) fn new(driver: &[[f64; 2]], driven: &[[f64; 2]], simplify_mm: f64) -> Self {
-        let thin = |v: &[[f64; 2]]| {
+    pub(super) fn new(driver: &[Point], driven: &[Point], simplify_mm: f64) -> Self {
+        let thin = |v: &[Point]| {
             if simplify_mm > 0.0 {
                 crate::math::polyline::simplify_closed_dev(v, simplify_mm)
             } else {
@@ -129,7 +123,7 @@ impl Level {
         backlash_mm: f64,
     ) -> Result<Self, MeshError> {
         let m = module_mm;
-        let every = |v: &[[f64; 2]], k: usize| v.iter().step_by(k).copied().collect::<Vec<_>>();
+        let every = |v: &[Point], k: usize| v.iter().step_by(k).copied().collect::<Vec<_>>();
         let (d1, d2) = (&lines.driver, &lines.driven);
         // The two gears' shapes are independent: built side by side at every stage.
         let (h1, h2) = rayon::join(
@@ -164,7 +158,7 @@ impl Level {
         let perimeter: f64 = (0..d1.len())
             .map(|i| {
                 let (p, q) = (d1[i], d1[(i + 1) % d1.len()]);
-                ((q[0] - p[0]).powi(2) + (q[1] - p[1]).powi(2)).sqrt()
+                ((q.x - p.x).powi(2) + (q.y - p.y).powi(2)).sqrt()
             })
             .sum();
         let block = ((0.04 * m * d1.len() as f64 / perimeter).round() as usize).clamp(4, 256);
@@ -381,10 +375,10 @@ impl Level {
         let (lb, speed) = if key < self.blocks1.len() {
             let (c, r) = self.blocks1[key];
             let p = fr.to2(c);
-            (self.b2.clearance(p) - r, p[0].hypot(p[1]))
+            (self.b2.clearance(p) - r, p.hypot())
         } else {
             let (c, r) = self.blocks2[key - self.blocks1.len()];
-            (self.b1.clearance(fr.to1(c)) - r, c[0].hypot(c[1]))
+            (self.b1.clearance(fr.to1(c)) - r, c.hypot())
         };
         let lb = lb - self.slack;
         cache[key] = (delta, lb, speed * (1.0 + 1e-9) + 1e-9 * self.module_mm);
@@ -505,18 +499,18 @@ impl Frames {
 
     /// A gear-2 body point (mm) in gear 1's body frame.
     #[inline]
-    fn to1(&self, b: [f64; 2]) -> [f64; 2] {
+    fn to1(&self, b: Point) -> Point {
         let (sn1, co1, sn2, co2, a) = (self.sn1, self.co1, self.sn2, self.co2, self.a);
-        let w = [co2 * b[0] + sn2 * b[1] + a, -sn2 * b[0] + co2 * b[1]];
-        [co1 * w[0] + sn1 * w[1], -sn1 * w[0] + co1 * w[1]]
+        let w = [co2 * b.x + sn2 * b.y + a, -sn2 * b.x + co2 * b.y];
+        Point::new(co1 * w[0] + sn1 * w[1], -sn1 * w[0] + co1 * w[1])
     }
 
     /// A gear-1 body point (mm) in gear 2's body frame.
     #[inline]
-    fn to2(&self, b: [f64; 2]) -> [f64; 2] {
+    fn to2(&self, b: Point) -> Point {
         let (sn1, co1, sn2, co2, a) = (self.sn1, self.co1, self.sn2, self.co2, self.a);
-        let w = [co1 * b[0] - sn1 * b[1] - a, sn1 * b[0] + co1 * b[1]];
-        [co2 * w[0] - sn2 * w[1], sn2 * w[0] + co2 * w[1]]
+        let w = [co1 * b.x - sn1 * b.y - a, sn1 * b.x + co1 * b.y];
+        Point::new(co2 * w[0] - sn2 * w[1], sn2 * w[0] + co2 * w[1])
     }
 }
 
@@ -550,7 +544,7 @@ fn exact_run(
         let p = g.point(idx[k]);
         let from = |j: usize| {
             let q = g.point(idx[j]);
-            out[j] - ((p[0] - q[0]).powi(2) + (p[1] - q[1]).powi(2)).sqrt() - margin
+            out[j] - ((p.x - q.x).powi(2) + (p.y - q.y).powi(2)).sqrt() - margin
         };
         let lb = from(k - k % STRIDE).max(from(((k / STRIDE + 1) * STRIDE).min(n - 1)));
         out[k] = if lb > floor && lb >= *best {

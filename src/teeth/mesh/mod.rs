@@ -28,6 +28,7 @@
 //! ±η, η = 4·gap/(r₂/2) with `gap` the distance between the polylines (widened ×8 until it holds
 //! a sign change). A root is a δ with |f| ≤ 1e-11 mm. About 1.2 ms per position (one core) for a
 //! 24-tooth pair at 1e-6·m.
+use crate::math::Point;
 mod level;
 mod position;
 mod root;
@@ -157,8 +158,8 @@ impl MeshReport {
 /// Complexity: O(steps · window vertices · root iterations); parallel over steps (rayon),
 /// deterministic.
 pub fn verify_mesh(
-    driver: &[[f64; 2]],
-    driven: &[[f64; 2]],
+    driver: &[Point],
+    driven: &[Point],
     psi: &(dyn Fn(f64) -> f64 + Sync),
     check: &MeshCheck,
     progress: &Progress,

@@ -4,6 +4,7 @@
 use super::level::{BoundCache, Level, Polylines, Pose};
 use super::root::{PerVertex, ROOT_VALUE_MM, VertexSets, keep, min_of, root_pruned};
 use super::{MeshCheck, MeshError, Shape};
+use crate::math::Point;
 use crate::teeth::overlap::inside_term;
 use nalgebra::{Isometry2, Vector2};
 use std::cell::OnceCell;
@@ -42,8 +43,8 @@ impl Sample {
 /// The levels every position reads: the given outlines (with the copies their blocks are bounded
 /// through) and the medium copy, built on first need.
 pub(super) struct Levels<'a> {
-    driver: &'a [[f64; 2]],
-    driven: &'a [[f64; 2]],
+    driver: &'a [Point],
+    driven: &'a [Point],
     check: &'a MeshCheck,
     cap: f64,
     bounds: Polylines,
@@ -55,8 +56,8 @@ impl<'a> Levels<'a> {
     /// Indexes the given outlines, and the copies their blocks are bounded through (also within
     /// reach of the medium copy, MEDIUM_TOL·m from the given outlines).
     pub(super) fn new(
-        driver: &'a [[f64; 2]],
-        driven: &'a [[f64; 2]],
+        driver: &'a [Point],
+        driven: &'a [Point],
         check: &'a MeshCheck,
     ) -> Result<Self, MeshError> {
         let m = check.module_mm;

@@ -13,6 +13,7 @@ use ncgear::analysis::orbit::model::{Hand, Line, LineKind, Planet, PlanetSet};
 use ncgear::analysis::peak::PeakOptions;
 use ncgear::analysis::tolerance::{Analysis, ErrorFile, ToleranceError};
 use ncgear::config::Format;
+use ncgear::progress::Progress;
 use std::f64::consts::TAU;
 
 const HERTZ: &str = include_str!("../../../assets/dynamics/full16_hertz.toml");
@@ -35,7 +36,7 @@ fn run_stiff(text: &str, label: &str, mesh_periods: u32) -> Result<f64, Dynamics
         mesh_periods,
         16,
     );
-    let run = simulate(&m, &y0, &o, &|_| {})?;
+    let run = simulate(&m, &y0, &o, &Progress::none())?;
     let worst = run.dte_m.iter().fold(0.0f64, |a, v| a.max(v.abs()));
     assert!(
         run.dte_m
@@ -223,7 +224,7 @@ fn degenerate_error_lists_give_typed_errors_or_exact_peaks() {
             .with_seed(1)
             .with_bins(bins);
         assert!(matches!(
-            a.monte_carlo(&o, &|_| {}),
+            a.monte_carlo(&o, &Progress::none()),
             Err(McError::BadOption { .. })
         ));
     }

@@ -14,6 +14,7 @@ use ncgear::analysis::tolerance::{Analysis, ErrorFile};
 use ncgear::config::Format;
 use ncgear::design::trajectory::Trajectory;
 use ncgear::pair::{Expr, Law, Motion};
+use ncgear::progress::Progress;
 use ncgear::simulate::DesignFile;
 use proptest::prelude::*;
 use proptest::test_runner::{RngSeed, TestCaseError};
@@ -228,8 +229,8 @@ fn check_trajectory(text: &str) -> Result<(), TestCaseError> {
     .flatten()
     {
         for p in t.points() {
-            finite(p[0], "trajectory x")?;
-            finite(p[1], "trajectory y")?;
+            finite(p.x, "trajectory x")?;
+            finite(p.y, "trajectory y")?;
         }
     }
     Ok(())
@@ -243,12 +244,12 @@ fn check_design_file(text: &str) -> Result<(), TestCaseError> {
         for k in 0..12 {
             let p = rb.pose(std::f64::consts::TAU * k as f64 / 12.0);
             for v in [
-                p.tip_mm[0],
-                p.tip_mm[1],
-                p.planet_center_mm[0],
-                p.planet_center_mm[1],
-                p.intermediate_center_mm[0],
-                p.intermediate_center_mm[1],
+                p.tip_mm.x,
+                p.tip_mm.y,
+                p.planet_center_mm.x,
+                p.planet_center_mm.y,
+                p.intermediate_center_mm.x,
+                p.intermediate_center_mm.y,
                 p.planet_angle_rad,
                 p.intermediate_angle_rad,
                 p.sun_mesh_error_mm,
@@ -290,7 +291,7 @@ fn check_scene(text: &str, json: bool) -> Result<(), TestCaseError> {
             1,
             8,
         );
-        if let Ok(run) = simulate(&model, &vec![0.0; 2 * model.n()], &opts, &|_| {}) {
+        if let Ok(run) = simulate(&model, &vec![0.0; 2 * model.n()], &opts, &Progress::none()) {
             for v in run.dte_m.iter().chain(&run.mesh_force_n) {
                 finite(*v, "simulated sample")?;
             }

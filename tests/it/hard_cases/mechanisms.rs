@@ -6,11 +6,12 @@ use ncgear::design::trajectory::{Origin, Trajectory};
 use ncgear::design::{DesignError, DesignOptions, design};
 use ncgear::geometry::fourier::SunRatio;
 use ncgear::geometry::mechanism::Mechanism;
+use ncgear::math::Point;
 use proptest::prelude::*;
 use proptest::test_runner::RngSeed;
 use std::f64::consts::{PI, TAU};
 
-fn traj(points: Vec<[f64; 2]>) -> Trajectory {
+fn traj(points: Vec<Point>) -> Trajectory {
     let o: Vec<Origin> = (0..points.len()).map(Origin::Index).collect();
     Trajectory::new(points, &o, "generated").expect("finite points")
 }
@@ -236,8 +237,8 @@ fn non_finite_design_options_are_typed_errors() {
     let t = traced(&ncgear::geometry::golden::g1_mechanism(), 360);
     type Setter = fn(&mut DesignOptions, f64);
     let setters: [(&str, Setter); 11] = [
-        ("center x", |o, v| o.center_mm[0] = v),
-        ("center y", |o, v| o.center_mm[1] = v),
+        ("center x", |o, v| o.center_mm.x = v),
+        ("center y", |o, v| o.center_mm.y = v),
         ("tol_tip_mm", |o, v| o.tol_tip_mm = v),
         ("tol_relative", |o, v| o.inverse.tol_relative = v),
         ("w1", |o, v| o.segmented.w1 = v),
@@ -287,7 +288,18 @@ fn non_finite_design_options_are_typed_errors() {
 fn non_finite_mechanism_inputs_are_typed_errors() {
     let o = [Origin::Index(0), Origin::Index(1), Origin::Index(2)];
     for bad in [f64::NAN, f64::INFINITY] {
-        assert!(Trajectory::new(vec![[0.0, 0.0], [bad, 1.0], [2.0, 0.0]], &o, "t").is_err());
+        assert!(
+            Trajectory::new(
+                vec![
+                    Point::new(0.0, 0.0),
+                    Point::new(bad, 1.0),
+                    Point::new(2.0, 0.0)
+                ],
+                &o,
+                "t"
+            )
+            .is_err()
+        );
         assert!(SunRatio::new(vec![0.1, bad], vec![0.0, 0.0]).is_err());
     }
     // A ratio reaching zero, and mismatched coefficient lists.
@@ -295,9 +307,11 @@ fn non_finite_mechanism_inputs_are_typed_errors() {
     assert!(SunRatio::new(vec![0.1], vec![]).is_err());
     // All points identical, two points, collinear points: typed errors from the chain.
     for pts in [
-        vec![[1.0, 1.0]; 360],
-        vec![[0.0, 100.0], [100.0, 0.0]],
-        (0..360).map(|k| [k as f64, 2.0 * k as f64]).collect(),
+        vec![Point::new(1.0, 1.0); 360],
+        vec![Point::new(0.0, 100.0), Point::new(100.0, 0.0)],
+        (0..360)
+            .map(|k| Point::new(k as f64, 2.0 * k as f64))
+            .collect(),
     ] {
         let oo: Vec<Origin> = (0..pts.len()).map(Origin::Index).collect();
         if let Ok(t) = Trajectory::new(pts, &oo, "degenerate") {

@@ -50,9 +50,9 @@ proptest! {
                 prop_assert!(!concave, "a concave curve was cut (k = {k}, ε = {eps})");
                 let m = module;
                 for p in &o.points_mm {
-                    prop_assert!(p[0].is_finite() && p[1].is_finite());
-                    let th = p[1].atan2(p[0]);
-                    let r = p[0].hypot(p[1]);
+                    prop_assert!(p.x.is_finite() && p.y.is_finite());
+                    let th = p.atan2();
+                    let r = p.hypot();
                     let rp = c.radius_mm(th);
                     // Radial band: addendum m, dedendum 1.25 m, plus the slant of the normal.
                     let slack = 0.5 * m + 0.05 * rp;

@@ -9,6 +9,7 @@
 //!
 //! Run: `cargo test --release --test it quality -- --nocapture`; with
 //! `NCGEAR_QUALITY_SEEDS=7104,7105` it measures those generated targets instead of the fixed set.
+use ncgear::math::Point;
 pub mod limits_check;
 pub mod model;
 pub mod reference;
@@ -34,9 +35,9 @@ const FILES: [&str; 4] = [
     "assets/cases/designer_odd3.csv",
 ];
 
-fn targets() -> Vec<(String, Vec<[f64; 2]>, u64)> {
+fn targets() -> Vec<(String, Vec<Point>, u64)> {
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
-    let mut v: Vec<(String, Vec<[f64; 2]>, u64)> = FILES
+    let mut v: Vec<(String, Vec<Point>, u64)> = FILES
         .iter()
         .enumerate()
         .map(|(k, f)| {
@@ -62,12 +63,12 @@ fn targets() -> Vec<(String, Vec<[f64; 2]>, u64)> {
         let area: f64 = (0..c.points.len())
             .map(|k| {
                 let (p, q) = (c.points[k], c.points[(k + 1) % c.points.len()]);
-                p[0] * q[1] - q[0] * p[1]
+                p.x * q.y - q.x * p.y
             })
             .sum();
         let mut name = format!("designer seed {s}");
         if area < 0.0 {
-            c.points.iter_mut().for_each(|p| p[0] = -p[0]);
+            c.points.iter_mut().for_each(|p| p.x = -p.x);
             name.push_str(" (mirrored)");
         }
         v.push((name, c.points, s));
@@ -113,7 +114,7 @@ fn designer_targets_meet_the_limits_near_the_constrained_optimum() {
         // The reference is only a bound if it is itself within the limits.
         assert_within(&format!("{name} (reference)"), &rq, &lim);
         // The reference train traced by the library's kinematics gives the same deviation.
-        let lib_path: Vec<[f64; 2]> = (0..8192)
+        let lib_path: Vec<Point> = (0..8192)
             .map(|k| r.mechanism.tip(std::f64::consts::TAU * k as f64 / 8192.0))
             .collect();
         let lib_dev = search::hausdorff_closed(&points, &lib_path);
@@ -209,7 +210,7 @@ fn reference_model_matches_the_mechanism() {
     let worst = (0..n)
         .map(|j| {
             let b = m.tip(std::f64::consts::TAU * j as f64 / n as f64 + 0.7);
-            (tips[j][0] - b[0]).hypot(tips[j][1] - b[1])
+            tips[j].distance(b)
         })
         .fold(0.0, f64::max);
     assert!(worst < 1e-6, "model vs Mechanism::tip: {worst:e} mm");

@@ -20,6 +20,7 @@
 //! concave curvature κ = max(0, −Δ)/(r² + r_θ²)^{3/2},  Δ = r² + 2r_θ² − r r_θθ   (1/mm)
 //! ```
 
+use ncgear::math::Point;
 use std::f64::consts::{PI, TAU};
 
 /// Samples of the sun ratio and its first two derivatives at `u_j = 2πj/N`.
@@ -129,7 +130,7 @@ pub struct Train {
 
 impl Train {
     /// Tip positions at the carrier angles `φ_j = u_j + φ_ref`, mm.
-    pub fn tips(&self) -> Vec<[f64; 2]> {
+    pub fn tips(&self) -> Vec<Point> {
         let r = &self.ratio;
         let n = r.i.len();
         let phi = r.integral();
@@ -143,10 +144,10 @@ impl Train {
                 let u = TAU * j as f64 / n as f64;
                 let (su, cu) = u.sin_cos();
                 let (sb, cb) = (u + self.phi_ref + PI - s + self.gamma).sin_cos();
-                [
+                Point::new(
                     l1 * (cu * cr - su * sr) + self.l3 * cb,
                     l1 * (su * cr + cu * sr) + self.l3 * sb,
-                ]
+                )
             })
             .collect()
     }

@@ -40,6 +40,7 @@ use super::search::{
 use ncgear::design::fit::{FitOptions, fit_points};
 use ncgear::geometry::fourier::SunRatio;
 use ncgear::geometry::mechanism::Mechanism;
+use ncgear::math::Point;
 use rand::rngs::ChaCha8Rng;
 use rand::{RngExt, SeedableRng};
 use rayon::prelude::*;
@@ -97,7 +98,7 @@ fn violation(e: &Extremes, lim: &Limits) -> f64 {
 }
 
 struct Problem<'a> {
-    points: &'a [[f64; 2]],
+    points: &'a [Point],
     /// The target polyline through every point, for the traced path's distance back to it.
     target: &'a ClosedPolyline<'a>,
     spline: Spline,
@@ -126,7 +127,7 @@ impl Problem<'_> {
     /// Distances of the points to the traced path, then of the path's vertices to the target:
     /// both sides of the Hausdorff distance, so that the path may neither miss a point nor
     /// wander where the target is not.
-    fn both_ways(&self, tips: &[[f64; 2]]) -> Vec<f64> {
+    fn both_ways(&self, tips: &[Point]) -> Vec<f64> {
         let mut d = distances_to_closed(self.points, tips);
         d.extend(self.target.distances(tips));
         d
@@ -210,7 +211,7 @@ fn ellipse(e: f64) -> impl Fn(f64) -> [f64; 3] {
 /// distances.
 fn scan(prob: &Problem) -> (f64, [f64; 4]) {
     let points = prob.points;
-    let rho: Vec<f64> = points.iter().map(|p| p[0].hypot(p[1])).collect();
+    let rho: Vec<f64> = points.iter().map(|p| p.hypot()).collect();
     let (rmin, rmax) = rho.iter().fold((f64::INFINITY, 0.0f64), |(lo, hi), &r| {
         (lo.min(r), hi.max(r))
     });
@@ -238,19 +239,19 @@ fn scan(prob: &Problem) -> (f64, [f64; 4]) {
 }
 
 /// The reference optimum for target points (mm, carrier axis at the origin, counter-clockwise).
-pub fn reference(points: &[[f64; 2]], seed: u64) -> Reference {
+pub fn reference(points: &[Point], seed: u64) -> Reference {
     let t0 = Instant::now();
     let area: f64 = (0..points.len())
         .map(|k| {
             let (p, q) = (points[k], points[(k + 1) % points.len()]);
-            p[0] * q[1] - q[0] * p[1]
+            p.x * q.y - q.x * p.y
         })
         .sum();
     assert!(
         area > 0.0,
         "the reference expects a counter-clockwise target"
     );
-    let sub: Vec<[f64; 2]> = points
+    let sub: Vec<Point> = points
         .iter()
         .step_by(points.len().div_ceil(MAX_POINTS))
         .copied()

@@ -1,27 +1,28 @@
 //! Tools of the reference optimum: point-to-polyline distances and an adaptive Nelder–Mead.
 
+use ncgear::math::Point;
 /// Distance (mm) from `p` to the segment `a b`.
-pub fn seg_dist(p: [f64; 2], a: [f64; 2], b: [f64; 2]) -> f64 {
+pub fn seg_dist(p: Point, a: Point, b: Point) -> f64 {
     seg_dist2(p, a, b).sqrt()
 }
 
 /// Squared distance (mm²) from `p` to the segment `a b`.
-fn seg_dist2(p: [f64; 2], a: [f64; 2], b: [f64; 2]) -> f64 {
-    let (dx, dy) = (b[0] - a[0], b[1] - a[1]);
+fn seg_dist2(p: Point, a: Point, b: Point) -> f64 {
+    let (dx, dy) = (b.x - a.x, b.y - a.y);
     let l2 = dx * dx + dy * dy;
     let t = if l2 > 0.0 {
-        (((p[0] - a[0]) * dx + (p[1] - a[1]) * dy) / l2).clamp(0.0, 1.0)
+        (((p.x - a.x) * dx + (p.y - a.y) * dy) / l2).clamp(0.0, 1.0)
     } else {
         0.0
     };
-    let (ex, ey) = (p[0] - a[0] - t * dx, p[1] - a[1] - t * dy);
+    let (ex, ey) = (p.x - a.x - t * dx, p.y - a.y - t * dy);
     ex * ex + ey * ey
 }
 
 /// A closed polyline with its segments bucketed in a uniform grid, for exact point distances:
 /// a query searches ring by ring until no unseen cell can hold a closer segment.
 pub struct ClosedPolyline<'a> {
-    poly: &'a [[f64; 2]],
+    poly: &'a [Point],
     lo: [f64; 2],
     cell: f64,
     nx: i64,
@@ -33,16 +34,16 @@ pub struct ClosedPolyline<'a> {
 
 impl<'a> ClosedPolyline<'a> {
     /// The index of the closed polyline `poly` (mm).
-    pub fn new(poly: &'a [[f64; 2]]) -> Self {
+    pub fn new(poly: &'a [Point]) -> Self {
         let n = poly.len();
         let (mut lo, mut hi, mut len) = ([f64::MAX; 2], [f64::MIN; 2], 0.0);
         for k in 0..n {
             let (p, q) = (poly[k], poly[(k + 1) % n]);
             for d in 0..2 {
-                lo[d] = lo[d].min(p[d]);
-                hi[d] = hi[d].max(p[d]);
+                lo[d] = lo[d].min(p.to_array()[d]);
+                hi[d] = hi[d].max(p.to_array()[d]);
             }
-            len += (q[0] - p[0]).hypot(q[1] - p[1]);
+            len += q.distance(p);
         }
         let span = (hi[0] - lo[0]).max(hi[1] - lo[1]).max(1e-9);
         let cell = (4.0 * len / n as f64).max(span / 64.0);
@@ -55,10 +56,10 @@ impl<'a> ClosedPolyline<'a> {
             .map(|k| {
                 let (p, q) = (poly[k], poly[(k + 1) % n]);
                 [
-                    cx(p[0].min(q[0])),
-                    cx(p[0].max(q[0])),
-                    cy(p[1].min(q[1])),
-                    cy(p[1].max(q[1])),
+                    cx(p.x.min(q.x)),
+                    cx(p.x.max(q.x)),
+                    cy(p.y.min(q.y)),
+                    cy(p.y.max(q.y)),
                 ]
             })
             .collect();
@@ -96,10 +97,10 @@ impl<'a> ClosedPolyline<'a> {
     }
 
     /// Exact distance (mm) of `p` to the polyline.
-    pub fn distance(&self, p: [f64; 2]) -> f64 {
+    pub fn distance(&self, p: Point) -> f64 {
         let (poly, n, cell, nx, ny) = (self.poly, self.poly.len(), self.cell, self.nx, self.ny);
-        let ix = ((p[0] - self.lo[0]) / cell).floor() as i64;
-        let iy = ((p[1] - self.lo[1]) / cell).floor() as i64;
+        let ix = ((p.x - self.lo[0]) / cell).floor() as i64;
+        let iy = ((p.y - self.lo[1]) / cell).floor() as i64;
         // Rings around the (possibly outside) cell of p, up to the whole grid.
         let rmax = nx.max(ny) + ix.abs().max(iy.abs()) + 2;
         let mut best = f64::INFINITY;
@@ -125,20 +126,20 @@ impl<'a> ClosedPolyline<'a> {
     }
 
     /// [`Self::distance`] of each point.
-    pub fn distances(&self, points: &[[f64; 2]]) -> Vec<f64> {
+    pub fn distances(&self, points: &[Point]) -> Vec<f64> {
         points.iter().map(|&p| self.distance(p)).collect()
     }
 }
 
 /// Exact distance (mm) of each point to the closed polyline `poly`.
-pub fn distances_to_closed(points: &[[f64; 2]], poly: &[[f64; 2]]) -> Vec<f64> {
+pub fn distances_to_closed(points: &[Point], poly: &[Point]) -> Vec<f64> {
     ClosedPolyline::new(poly).distances(points)
 }
 
 /// Hausdorff distance (mm) between the closed polylines through `target` and `traced`: the
 /// largest of every target point's distance to `traced` and every traced vertex's distance to
 /// `target`: measured at the vertices of both, exact up to the chords of fine polylines.
-pub fn hausdorff_closed(target: &[[f64; 2]], traced: &[[f64; 2]]) -> f64 {
+pub fn hausdorff_closed(target: &[Point], traced: &[Point]) -> f64 {
     let there = distances_to_closed(target, traced)
         .into_iter()
         .fold(0.0, f64::max);
@@ -241,14 +242,14 @@ mod tests {
 
     #[test]
     fn polyline_distance_matches_brute_force() {
-        let poly: Vec<[f64; 2]> = (0..500)
+        let poly: Vec<Point> = (0..500)
             .map(|k| {
                 let t = std::f64::consts::TAU * k as f64 / 500.0;
-                [100.0 * t.cos() + 30.0 * (2.0 * t).cos(), 60.0 * t.sin()]
+                Point::new(100.0 * t.cos() + 30.0 * (2.0 * t).cos(), 60.0 * t.sin())
             })
             .collect();
-        let pts: Vec<[f64; 2]> = (0..300)
-            .map(|k| [-150.0 + k as f64, 40.0 * ((k as f64) * 0.37).sin()])
+        let pts: Vec<Point> = (0..300)
+            .map(|k| Point::new(-150.0 + k as f64, 40.0 * ((k as f64) * 0.37).sin()))
             .collect();
         let d = distances_to_closed(&pts, &poly);
         for (p, d) in pts.iter().zip(&d) {

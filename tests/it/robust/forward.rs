@@ -21,6 +21,8 @@
 //! - Needle tip B = O + 2a·e(φ) + l3·e(θ3 + γ [+ wobble(φ)]).
 #![allow(dead_code)]
 
+use ncgear::math::Point;
+
 use rand::rngs::ChaCha8Rng;
 use rand::{RngExt, SeedableRng};
 use std::f64::consts::{PI, TAU};
@@ -464,8 +466,8 @@ pub struct Case {
     pub seed: u64,
     pub train: Train,
     pub opts: SampleOptions,
-    pub points: Vec<[f64; 2]>,
-    pub truth: Vec<[f64; 2]>,
+    pub points: Vec<Point>,
+    pub truth: Vec<Point>,
     pub ratio_range: [f64; 2],
     pub closure_error: f64,
     /// Discretisation error of the truth polyline: largest distance of the dense-trace points
@@ -531,7 +533,7 @@ impl Case {
         );
         s.push_str("x_mm,y_mm\n");
         for p in &self.points {
-            let _ = writeln!(s, "{:.6},{:.6}", p[0], p[1]);
+            let _ = writeln!(s, "{:.6},{:.6}", p.x, p.y);
         }
         s
     }
@@ -547,7 +549,7 @@ impl Case {
             self.opts.center[1]
         );
         for p in &self.truth {
-            let _ = writeln!(s, "{:.6},{:.6}", p[0], p[1]);
+            let _ = writeln!(s, "{:.6},{:.6}", p.x, p.y);
         }
         s
     }
@@ -669,17 +671,17 @@ pub fn build_case(
     let closure_error = trace.closure_error();
     let stride = DENSE_STEPS / TRUTH_POINTS;
     let dense = trace.tips();
-    let truth: Vec<[f64; 2]> = (0..TRUTH_POINTS)
-        .map(|k| to_world(dense[k * stride], &opts))
+    let truth: Vec<Point> = (0..TRUTH_POINTS)
+        .map(|k| to_world(dense[k * stride], &opts).into())
         .collect();
-    let mut points: Vec<[f64; 2]> = sample(&trace, &opts)
+    let mut points: Vec<Point> = sample(&trace, &opts)
         .into_iter()
-        .map(|p| to_world(p, &opts))
+        .map(|p| to_world(p, &opts).into())
         .collect();
     if opts.sigma > 0.0 {
         for p in &mut points {
-            p[0] += opts.sigma * gauss(rng);
-            p[1] += opts.sigma * gauss(rng);
+            p.x += opts.sigma * gauss(rng);
+            p.y += opts.sigma * gauss(rng);
         }
     }
     let ratio_range = train.ratio_range(4096);

@@ -17,6 +17,7 @@
 //! collected and reported together.
 //!
 //! Run: `cargo test --release --test it robust -- --nocapture`
+use ncgear::math::Point;
 pub mod forward;
 
 use forward::{Case, Family, SunLaw, Train, generate};
@@ -51,20 +52,20 @@ const FIT_PATH_SAMPLES: usize = 2048;
 // Hausdorff distance between closed polylines (point-to-segment, both directions)
 // ---------------------------------------------------------------------------------------------
 
-fn seg_dist(p: [f64; 2], a: [f64; 2], b: [f64; 2]) -> f64 {
-    let (dx, dy) = (b[0] - a[0], b[1] - a[1]);
+fn seg_dist(p: Point, a: Point, b: Point) -> f64 {
+    let (dx, dy) = (b.x - a.x, b.y - a.y);
     let l2 = dx * dx + dy * dy;
     let t = if l2 > 0.0 {
-        (((p[0] - a[0]) * dx + (p[1] - a[1]) * dy) / l2).clamp(0.0, 1.0)
+        (((p.x - a.x) * dx + (p.y - a.y) * dy) / l2).clamp(0.0, 1.0)
     } else {
         0.0
     };
-    (p[0] - a[0] - t * dx).hypot(p[1] - a[1] - t * dy)
+    (p.x - a.x - t * dx).hypot(p.y - a.y - t * dy)
 }
 
 /// Segments of a closed polyline bucketed in a uniform grid.
 struct SegGrid<'a> {
-    pts: &'a [[f64; 2]],
+    pts: &'a [Point],
     cell: f64,
     x0: f64,
     y0: f64,
@@ -74,17 +75,17 @@ struct SegGrid<'a> {
 }
 
 impl<'a> SegGrid<'a> {
-    fn new(pts: &'a [[f64; 2]]) -> Self {
+    fn new(pts: &'a [Point]) -> Self {
         let n = pts.len();
         let (mut x0, mut y0, mut x1, mut y1) = (f64::MAX, f64::MAX, f64::MIN, f64::MIN);
         let mut len = 0.0;
         for i in 0..n {
             let (p, q) = (pts[i], pts[(i + 1) % n]);
-            x0 = x0.min(p[0]);
-            y0 = y0.min(p[1]);
-            x1 = x1.max(p[0]);
-            y1 = y1.max(p[1]);
-            len += (q[0] - p[0]).hypot(q[1] - p[1]);
+            x0 = x0.min(p.x);
+            y0 = y0.min(p.y);
+            x1 = x1.max(p.x);
+            y1 = y1.max(p.y);
+            len += q.distance(p);
         }
         let span = (x1 - x0).max(y1 - y0).max(1e-9);
         let cell = (4.0 * len / n as f64).max(span / 512.0).max(1e-9);
@@ -95,8 +96,8 @@ impl<'a> SegGrid<'a> {
             let (p, q) = (pts[i], pts[(i + 1) % n]);
             let cx = |x: f64| (((x - x0) / cell) as i64).clamp(0, nx - 1);
             let cy = |y: f64| (((y - y0) / cell) as i64).clamp(0, ny - 1);
-            for ix in cx(p[0].min(q[0]))..=cx(p[0].max(q[0])) {
-                for iy in cy(p[1].min(q[1]))..=cy(p[1].max(q[1])) {
+            for ix in cx(p.x.min(q.x))..=cx(p.x.max(q.x)) {
+                for iy in cy(p.y.min(q.y))..=cy(p.y.max(q.y)) {
                     cells[(iy * nx + ix) as usize].push(i as u32);
                 }
             }
@@ -113,10 +114,10 @@ impl<'a> SegGrid<'a> {
     }
 
     /// Exact distance from p to the polyline.
-    fn dist(&self, p: [f64; 2]) -> f64 {
+    fn dist(&self, p: Point) -> f64 {
         let n = self.pts.len();
-        let ix = ((p[0] - self.x0) / self.cell).floor() as i64;
-        let iy = ((p[1] - self.y0) / self.cell).floor() as i64;
+        let ix = ((p.x - self.x0) / self.cell).floor() as i64;
+        let iy = ((p.y - self.y0) / self.cell).floor() as i64;
         let mut best = f64::INFINITY;
         let rmax = self.nx.max(self.ny) + ix.abs().max(iy.abs()) + 2;
         for r in 0..=rmax {
@@ -147,13 +148,13 @@ impl<'a> SegGrid<'a> {
 }
 
 /// Max over the vertices of `a` of the distance to the closed polyline `b`.
-fn directed(a: &[[f64; 2]], b: &[[f64; 2]]) -> f64 {
+fn directed(a: &[Point], b: &[Point]) -> f64 {
     let g = SegGrid::new(b);
     a.iter().map(|&p| g.dist(p)).fold(0.0, f64::max)
 }
 
 /// Symmetric Hausdorff distance between two closed polylines (point-to-segment), mm.
-pub fn hausdorff(a: &[[f64; 2]], b: &[[f64; 2]]) -> f64 {
+pub fn hausdorff(a: &[Point], b: &[Point]) -> f64 {
     directed(a, b).max(directed(b, a))
 }
 
@@ -177,10 +178,10 @@ fn generating_reference(case: &Case) -> Reference {
     let mut train: Train = case.train.clone();
     train.wobble = None;
     let trace = train.trace(4 * FIT_PATH_SAMPLES);
-    let path: Vec<[f64; 2]> = trace.tips()[..4 * FIT_PATH_SAMPLES]
+    let path: Vec<Point> = trace.tips()[..4 * FIT_PATH_SAMPLES]
         .iter()
         .step_by(4)
-        .copied()
+        .map(|&p| Point::from(p))
         .collect();
     Reference {
         hausdorff_mm: hausdorff(&path, &case.truth),
@@ -262,7 +263,7 @@ macro_rules! fit_multistart_reference {
         for s in &starts {
             match fit_points(&case.points, s, &fo) {
                 Ok(f) => {
-                    let path: Vec<[f64; 2]> = (0..FIT_PATH_SAMPLES)
+                    let path: Vec<Point> = (0..FIT_PATH_SAMPLES)
                         .map(|j| f.mechanism.tip(TAU * j as f64 / FIT_PATH_SAMPLES as f64))
                         .collect();
                     best = best.min(hausdorff(&path, &case.truth));
@@ -314,7 +315,7 @@ struct Measured {
 fn run_case(case: &Case) -> Outcome {
     let origins: Vec<Origin> = (0..case.points.len()).map(Origin::Index).collect();
     let traj = Trajectory::new(case.points.clone(), &origins, "generated");
-    let opts = DesignOptions::default().with_center_mm(case.opts.center);
+    let opts = DesignOptions::default().with_center_mm(case.opts.center.into());
     let t0 = Instant::now();
     let d = traj
         .map_err(|e| format!("trajectory rejected: {e}"))
@@ -632,7 +633,7 @@ fn robust_forward_model_agrees_with_the_crate_mechanism() {
         for j in 0..72 {
             let t = TAU * j as f64 / 72.0;
             let (p, q) = (trace.tip_at(t), m.tip(t));
-            let d = (p[0] - q[0]).hypot(p[1] - q[1]);
+            let d = (p[0] - q.x).hypot(p[1] - q.y);
             worst = worst.max(d);
             assert!(
                 d < 1e-5,
@@ -676,7 +677,7 @@ fn dump_generated_targets() {
             let c = generate(family, seed);
             let mut s = String::from("x_mm,y_mm\n");
             for p in &c.points {
-                s.push_str(&format!("{},{}\n", p[0], p[1]));
+                s.push_str(&format!("{},{}\n", p.x, p.y));
             }
             std::fs::write(format!("{dir}/{fam}_{seed}.csv"), s).unwrap();
         }

@@ -1,6 +1,7 @@
 //! The analysis report: Monte Carlo stability, feature distributions, the exact fallback, bad
 //! error files and the CLI.
 use super::*;
+use ncgear::progress::Progress;
 
 fn run(seed: u64, samples: usize, feature_samples: usize) -> TransplanterReport {
     let opts = TransplanterOptions::default()
@@ -12,7 +13,7 @@ fn run(seed: u64, samples: usize, feature_samples: usize) -> TransplanterReport 
         )
         .with_feature_samples(feature_samples)
         .with_starts(6);
-    analyse(&g1(1), &inventory(), &opts, &|_| {}).unwrap()
+    analyse(&g1(1), &inventory(), &opts, &Progress::none()).unwrap()
 }
 
 #[test]
@@ -187,7 +188,7 @@ fn exact_fallback_agrees_with_the_linear_monte_carlo() {
             .with_linear_tolerance(tol)
             .with_feature_samples(0)
             .with_starts(2);
-        analyse(&g1(1), &inventory(), &opts, &|_| {}).unwrap()
+        analyse(&g1(1), &inventory(), &opts, &Progress::none()).unwrap()
     };
     let (lin, exact) = (go(0.05), go(1e-9));
     assert_eq!(lin.validation.model_used, "linear");

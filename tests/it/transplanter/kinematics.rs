@@ -1,6 +1,7 @@
 //! The exact model against closed forms (circular train, radial pin errors, clocking, mirror) and
 //! the linear model against the exact one.
 use super::*;
+use ncgear::progress::Progress;
 
 #[test]
 fn zero_errors_reproduce_the_rebuilt_train_and_give_zero_deviation() {
@@ -27,7 +28,7 @@ fn zero_errors_reproduce_the_rebuilt_train_and_give_zero_deviation() {
         )
         .with_validation_samples(10)
         .with_feature_samples(0);
-    let r = analyse(&g1(1), &inv, &opts, &|_| {}).unwrap();
+    let r = analyse(&g1(1), &inv, &opts, &Progress::none()).unwrap();
     assert!(
         r.max_deviation_um.max < 1e-9 * 1e3,
         "{}",
@@ -59,17 +60,17 @@ fn radial_pin_error_of_a_matches_the_closed_form() {
             let nom = m.state(p, &ZERO).unwrap();
             let per = m.state(p, &x).unwrap();
             let b = nom.needle_angle_rad;
-            let expect = [
-                nom.tip_mm[0] + delta * p.cos() + l3 * ((b + big).cos() - b.cos()),
-                nom.tip_mm[1] + delta * p.sin() + l3 * ((b + big).sin() - b.sin()),
-            ];
+            let expect = Point::new(
+                nom.tip_mm.x + delta * p.cos() + l3 * ((b + big).cos() - b.cos()),
+                nom.tip_mm.y + delta * p.sin() + l3 * ((b + big).sin() - b.sin()),
+            );
             worst = worst.max(dist(per.tip_mm, expect));
             moved = moved.max(dist(per.tip_mm, nom.tip_mm));
             // The planet centre moves by δ along OA.
             let a0 = nom.planet_center_mm;
             let a1 = per.planet_center_mm;
-            assert!((a1[0] - a0[0] - delta * p.cos()).abs() < 1e-12);
-            assert!((a1[1] - a0[1] - delta * p.sin()).abs() < 1e-12);
+            assert!((a1.x - a0.x - delta * p.cos()).abs() < 1e-12);
+            assert!((a1.y - a0.y - delta * p.sin()).abs() < 1e-12);
         }
         println!(
             "radial pin closed form, side {side}, α {alpha_deg}°, δ {delta} mm: {worst:.2e} mm"
@@ -125,10 +126,10 @@ fn circular_train_reduces_to_the_phasor_model() {
             let n = |sig: f64| {
                 let a = e(p + FRAC_PI_2);
                 let b = e(p);
-                [
-                    sig * alpha.cos() * a[0] + alpha.sin() * b[0],
-                    sig * alpha.cos() * a[1] + alpha.sin() * b[1],
-                ]
+                Point::new(
+                    sig * alpha.cos() * a.x + alpha.sin() * b.x,
+                    sig * alpha.cos() * a.y + alpha.sin() * b.y,
+                )
             };
             let (n1, n2) = (n(s), n(-s));
             let v1 = e(g1_);
@@ -221,7 +222,7 @@ fn clockwise_design_mirrors_the_deviations() {
     let mirrored: Vec<f64> = grid.iter().map(|p| -p).collect();
     let dw = mw.deviations(&mirrored, &x).unwrap();
     for (a, b) in dc.iter().zip(&dw) {
-        assert!((a[0] - b[0]).abs() < 1e-9 && (a[1] + b[1]).abs() < 1e-9);
+        assert!((a.x - b.x).abs() < 1e-9 && (a.y + b.y).abs() < 1e-9);
     }
 }
 
@@ -238,7 +239,7 @@ fn linear_model_agrees_with_the_exact_model_at_three_sigma() {
         let x = inv.draw_three_sigma(&mut rng);
         let ex = m.deviations(&lin.phis_rad, &x).unwrap();
         let li = lin.deviations(&x);
-        let peak = ex.iter().fold(0.0f64, |a, d| a.max(d[0].hypot(d[1])));
+        let peak = ex.iter().fold(0.0f64, |a, d| a.max(d.hypot()));
         let err = ex
             .iter()
             .zip(&li)
@@ -274,33 +275,33 @@ fn radial_pin_error_on_g1_follows_the_first_order_line_of_action_formula() {
         let u = e(p);
         let t = {
             let (r, dr) = (g.r_mm, g.dr_mm);
-            let v = [dr * u[0] - r * u[1], dr * u[1] + r * u[0]];
-            let l = v[0].hypot(v[1]);
-            [v[0] / l, v[1] / l]
+            let v = Point::new(dr * u.x - r * u.y, dr * u.y + r * u.x);
+            let l = v.hypot();
+            Point::new(v.x / l, v.y / l)
         };
-        let mut n = [-t[1], t[0]];
+        let mut n = Point::new(-t.y, t.x);
         if dot(n, u) < 0.0 {
-            n = [-n[0], -n[1]];
+            n = Point::new(-n.x, -n.y);
         }
         let sigma = -1.0;
-        let nl = [
-            sigma * alpha.cos() * t[0] + alpha.sin() * n[0],
-            sigma * alpha.cos() * t[1] + alpha.sin() * n[1],
-        ];
+        let nl = Point::new(
+            sigma * alpha.cos() * t.x + alpha.sin() * n.x,
+            sigma * alpha.cos() * t.y + alpha.sin() * n.y,
+        );
         // Contact W = D + ρ2 u; lever of the planet about A: W − A = (ρ2 − a) u.
-        let w_a = [(g.r_mm - a) * u[0], (g.r_mm - a) * u[1]];
-        let arm = dot([-w_a[1], w_a[0]], nl);
+        let w_a = Point::new((g.r_mm - a) * u.x, (g.r_mm - a) * u.y);
+        let arm = dot(Point::new(-w_a.y, w_a.x), nl);
         let dth3 = -delta * dot(u, nl) / arm;
         let nom = m.state(p, &ZERO).unwrap();
         let per = m.state(p, &x).unwrap();
         let b = nom.needle_angle_rad;
-        let pred = [
-            delta * u[0] - l3 * dth3 * b.sin(),
-            delta * u[1] + l3 * dth3 * b.cos(),
-        ];
-        let got = [per.tip_mm[0] - nom.tip_mm[0], per.tip_mm[1] - nom.tip_mm[1]];
+        let pred = Point::new(
+            delta * u.x - l3 * dth3 * b.sin(),
+            delta * u.y + l3 * dth3 * b.cos(),
+        );
+        let got = per.tip_mm - nom.tip_mm;
         worst = worst.max(dist(got, pred));
-        peak = peak.max(got[0].hypot(got[1]));
+        peak = peak.max(got.hypot());
     }
     println!(
         "G1 radial pin δ = 1 µm: first-order formula residual {worst:.2e} mm of {peak:.2e} mm"

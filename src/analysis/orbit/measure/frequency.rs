@@ -6,6 +6,7 @@ use super::frame::Frame;
 use super::record::Record;
 use super::spectrum::hann_fft;
 use crate::analysis::orbit::{OrbitError, invalid};
+use crate::progress::Progress;
 use std::f64::consts::TAU;
 
 /// Estimate of the planet frequency when it is only approximately known (docs/math/companion.md §A.8 step 3).
@@ -38,7 +39,7 @@ impl Extractor {
         rec: &Record,
         search_rel: f64,
         tol_rad_s: f64,
-        progress: &(dyn Fn(u64) + Sync),
+        progress: &Progress,
     ) -> Result<FrequencyEstimate, OrbitError> {
         self.check_estimable(rec, search_rel, tol_rad_s)?;
         let (coarse, bin) = self.interpolated_peak(rec, search_rel)?;
@@ -156,7 +157,7 @@ fn golden_section(
     a: f64,
     b: f64,
     tol: f64,
-    progress: &(dyn Fn(u64) + Sync),
+    progress: &Progress,
 ) -> (f64, f64, u32) {
     let g = 0.5 * (5f64.sqrt() - 1.0);
     let (mut a, mut b) = (a, b);
@@ -178,7 +179,7 @@ fn golden_section(
             f2 = f(c2);
         }
         it += 1;
-        progress(u64::from(it));
+        progress.advance(1);
     }
     (a, b, it)
 }
