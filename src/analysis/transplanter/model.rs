@@ -8,20 +8,12 @@ use crate::geometry::assembly::{Assembly, Rebuilt};
 use crate::geometry::pitch::PitchCurve;
 use crate::math::Point;
 use crate::math::periodic::wrap_pi;
-use nalgebra::{Rotation2, Vector2};
 use rayon::prelude::*;
 use std::f64::consts::{FRAC_PI_2, PI, TAU};
 
-type V2 = Vector2<f64>;
-
 /// The unit vector `(cos a, sin a)` at angle `a`, rad.
-fn e(a: f64) -> V2 {
-    V2::new(a.cos(), a.sin())
-}
-
-/// The length `|a|` (by `hypot`).
-fn norm(a: V2) -> f64 {
-    a.x.hypot(a.y)
+fn e(a: f64) -> Point {
+    Point::unit(a)
 }
 
 /// State of the perturbed arm at one carrier angle (world frame, mm and rad).
@@ -47,7 +39,7 @@ pub struct TrainState {
 #[derive(Debug, Clone)]
 pub struct ExactModel {
     rebuilt: Rebuilt,
-    center: V2,
+    center: Point,
     a: f64,
     l3: f64,
     alpha: f64,
@@ -56,8 +48,8 @@ pub struct ExactModel {
 
 /// The contact on a driver: pitch point, line-of-action direction, driver parameter.
 struct Contact {
-    w: V2,
-    n_loa: V2,
+    w: Point,
+    n_loa: Point,
     v: f64,
 }
 
@@ -66,13 +58,13 @@ struct Driver<'a> {
     /// Its pitch curve.
     curve: &'a PitchCurve,
     /// Its centre, mm (train frame).
-    center: V2,
+    center: Point,
     /// Its turn, rad.
     theta: f64,
     /// Its clocking error, rad (body frame).
     kappa: f64,
     /// Its eccentricity, mm (body frame).
-    eps: V2,
+    eps: Point,
 }
 
 impl ExactModel {
@@ -100,7 +92,7 @@ impl ExactModel {
         }
         Ok(Self {
             rebuilt: assembly.rebuild(),
-            center: V2::from(assembly.center_mm),
+            center: assembly.center_mm,
             a: assembly.a_mm,
             l3: assembly.l3_mm,
             alpha: pressure_angle_rad,
@@ -111,7 +103,7 @@ impl ExactModel {
     /// The driver's pitch point on the ray from its centre `c` along `u`: body point
     /// `R(κ)(r(v)e(v)) + ε`, world `c + R(θ)·body`; Newton on `cross(q(v), u) = 0` from
     /// `v = arg u − θ − κ`, to `tol_rad`. `sigma` (±1) is the loaded flank.
-    fn contact(&self, driver: &Driver<'_>, u: V2, sigma: f64, tol_rad: f64) -> Option<Contact> {
+    fn contact(&self, driver: &Driver<'_>, u: Point, sigma: f64, tol_rad: f64) -> Option<Contact> {
         let &Driver {
             curve,
             center: c,
@@ -119,7 +111,7 @@ impl ExactModel {
             kappa,
             eps,
         } = driver;
-        let ecc = Rotation2::new(theta) * eps;
+        let ecc = eps.rotate(theta);
         let q = |v: f64| {
             let g = curve.geometry(v);
             let dir = v + theta + kappa;
@@ -131,8 +123,8 @@ impl ExactModel {
         let mut converged = false;
         for _ in 0..50 {
             let (p, dp) = q(v);
-            let f = p.perp(&u);
-            let df = dp.perp(&u);
+            let f = p.cross(u);
+            let df = dp.cross(u);
             if !(df.is_finite() && df != 0.0) {
                 return None;
             }
@@ -146,12 +138,12 @@ impl ExactModel {
             }
         }
         let (p, dp) = q(v);
-        if !converged || p.dot(&u) <= 0.0 {
+        if !converged || p.dot(u) <= 0.0 {
             return None;
         }
-        let t = dp * (1.0 / norm(dp));
-        let mut n = V2::new(-t.y, t.x);
-        if n.dot(&u) < 0.0 {
+        let t = dp * (1.0 / dp.hypot());
+        let mut n = Point::new(-t.y, t.x);
+        if n.dot(u) < 0.0 {
             n = -n;
         }
         let n_loa = t * (sigma * self.alpha.cos()) + n * self.alpha.sin();
@@ -159,9 +151,9 @@ impl ExactModel {
     }
 
     /// Driven angle: `(C_b + R(θ)p − W_a)·N = j/2`, the root nearer the pitch point facing `-u`.
-    fn driven_angle(cb: V2, p: V2, contact: &Contact, j: f64, u: V2) -> Option<f64> {
-        let c = (cb - contact.w).dot(&contact.n_loa) - 0.5 * j;
-        let pn = norm(p);
+    fn driven_angle(cb: Point, p: Point, contact: &Contact, j: f64, u: Point) -> Option<f64> {
+        let c = (cb - contact.w).dot(contact.n_loa) - 0.5 * j;
+        let pn = p.hypot();
         let x = -c / pn;
         if x.is_nan() || x.abs() > 1.0 {
             return None;
@@ -185,7 +177,7 @@ impl ExactModel {
         let s = r.sign();
         let phi = s * phi_h_rad;
         let [sun, mid, planet] = r.ccw_curves();
-        let eps = |k: usize| V2::new(x[ecc_index(k)], x[ecc_index(k) + 1]);
+        let eps = |k: usize| Point::new(x[ecc_index(k)], x[ecc_index(k) + 1]);
         let kappa = |k: usize| x[clock_index(k)];
         let no_contact = |mesh: &'static str| TransplanterError::NoContact {
             mesh,
@@ -197,12 +189,12 @@ impl ExactModel {
         let offset = r.ccw_idler_offset();
         let c2 =
             e(phi + offset) * (self.a + x[PIN_D[0]]) + e(phi + offset + FRAC_PI_2) * x[PIN_D[1]];
-        let u12 = c2 * (1.0 / norm(c2));
+        let u12 = c2 * (1.0 / c2.hypot());
         let k1 = self
             .contact(
                 &Driver {
                     curve: sun,
-                    center: V2::zeros(),
+                    center: Point::ZERO,
                     theta: 0.0,
                     kappa: kappa(0),
                     eps: eps(0),
@@ -219,7 +211,7 @@ impl ExactModel {
         // Mesh 2: intermediate drives the planet (opposite flank).
         let c3 = e(phi) * (r.l1_mm() + x[PIN_A[0]]) + e(phi + FRAC_PI_2) * x[PIN_A[1]];
         let d23 = c3 - c2;
-        let u23 = d23 * (1.0 / norm(d23));
+        let u23 = d23 * (1.0 / d23.hypot());
         let k2 = self
             .contact(
                 &Driver {
@@ -241,7 +233,7 @@ impl ExactModel {
         let beta = theta3 + r.ccw_needle_angle() + x[ARM];
         let tip = c3 + e(beta) * self.l3;
         let o = self.center;
-        let world = |p: V2| Point::new(o.x + p.x, o.y + s * p.y);
+        let world = |p: Point| Point::new(o.x + p.x, o.y + s * p.y);
         let st = TrainState {
             phi_h_rad,
             intermediate_center_mm: world(c2),
