@@ -113,15 +113,15 @@ fn carrier_angle_curve(points: &[Point], angles: &[f64], n: usize) -> Option<Vec
     if !monotone {
         return None;
     }
-    let axis = |c: usize| {
+    let axis = |coordinate: fn(&Point) -> f64| {
         crate::math::periodic::PeriodicSpline::new(
             knots.clone(),
-            points.iter().map(|p| p.to_array()[c]).collect(),
+            points.iter().map(coordinate).collect(),
             TAU,
         )
         .ok()
     };
-    let (x, y) = (axis(0)?, axis(1)?);
+    let (x, y) = (axis(|p| p.x)?, axis(|p| p.y)?);
     Some(
         (0..n)
             .map(|k| {

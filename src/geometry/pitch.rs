@@ -72,6 +72,7 @@ impl PolarGeometry {
 
     /// Arc-length speed `ds/dθ = √(r² + r_θ²)`, mm/rad.
     #[must_use]
+    #[inline]
     pub fn speed_mm(&self) -> f64 {
         // Radii in mm are far from overflow and underflow: the plain root is as accurate
         // (≤ 1 ulp) as `hypot` and several times cheaper (arc-length tables take ~10⁵ calls).
@@ -135,6 +136,7 @@ impl PitchCurve {
 
     /// `r`, `r_θ`, `r_θθ` at `theta_rad`.
     #[must_use]
+    #[inline]
     pub fn geometry(&self, theta_rad: f64) -> PolarGeometry {
         self.spline.eval3(theta_rad).into()
     }
@@ -326,6 +328,12 @@ fn gauss_legendre_5_3(f: impl Fn(f64) -> f64, lo: f64, hi: f64) -> (f64, f64) {
     (half * g5, half * g3)
 }
 
+/// `∫_lo^hi f` by the 5-point Gauss–Legendre rule (exact for polynomials of degree ≤ 9).
+///
+/// `#[inline]`, as are [`PitchCurve::geometry`] and [`PolarGeometry::speed_mm`]: the arc-length
+/// frame's table (`teeth::frame::ArcFrame::new`) calls them 5 times on each of 32 768 intervals,
+/// and out of line they cost the teeth stage 14–18 % (docs/performance.md).
+#[inline]
 pub(crate) fn gauss_legendre5(f: impl Fn(f64) -> f64, lo: f64, hi: f64) -> f64 {
     const X: [f64; 5] = [
         -0.906_179_845_938_664,

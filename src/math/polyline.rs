@@ -93,22 +93,16 @@ impl<'a> SegmentGrid<'a> {
     #[must_use]
     pub fn new(q: &'a [Point]) -> Self {
         let n = q.len();
-        let (mut lo, mut hi) = ([f64::MAX; 2], [f64::MIN; 2]);
-        for v in q {
-            for (c, x) in [v.x, v.y].into_iter().enumerate() {
-                lo[c] = lo[c].min(x);
-                hi[c] = hi[c].max(x);
-            }
-        }
+        let [x0, y0, x1, y1] = bbox(q);
         // About 2√n cells a side (4n cells): a closed loop crosses few of them, so a query's
         // first two rings hold a handful of segments each.
         let cells = ((4.0 * n as f64).sqrt().ceil() as usize).clamp(1, 512);
-        let h = ((hi[0] - lo[0]).max(hi[1] - lo[1]) / cells as f64).max(1e-12);
-        let nx = ((hi[0] - lo[0]) / h) as usize + 1;
-        let ny = ((hi[1] - lo[1]) / h) as usize + 1;
+        let h = ((x1 - x0).max(y1 - y0) / cells as f64).max(1e-12);
+        let nx = ((x1 - x0) / h) as usize + 1;
+        let ny = ((y1 - y0) / h) as usize + 1;
         let mut grid = Self {
             q,
-            origin: lo.into(),
+            origin: Point::new(x0, y0),
             h,
             nx,
             ny,

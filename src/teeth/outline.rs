@@ -282,21 +282,21 @@ pub(super) fn meet(
     for _ in 0..50 {
         let q = flank(s);
         let t = tip(u);
-        let r = [q.x - t.x, q.y - t.y];
-        if r[0].hypot(r[1]) < 1e-13 {
+        let r = q - t;
+        if r.hypot() < 1e-13 {
             return Some((s, u));
         }
         let h = 1e-6;
         let qs = flank(s + h);
         let tu = tip(u + h);
-        let a = [(qs.x - q.x) / h, (qs.y - q.y) / h];
-        let b = [-(tu.x - t.x) / h, -(tu.y - t.y) / h];
-        let det = a[0] * b[1] - a[1] * b[0];
+        let a = (qs - q) / h;
+        let b = -(tu - t) / h;
+        let det = a.cross(b);
         if det.abs() < 1e-300 {
             return None;
         }
-        let ds = (r[0] * b[1] - r[1] * b[0]) / det;
-        let du = (a[0] * r[1] - a[1] * r[0]) / det;
+        let ds = r.cross(b) / det;
+        let du = a.cross(r) / det;
         s -= ds;
         u -= du;
         if !(s.is_finite() && u.is_finite()) {

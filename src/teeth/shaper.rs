@@ -325,9 +325,8 @@ impl Shaper<'_> {
             .map(|s| self.flank(sf, g, s))
             .collect();
         pts.windows(3).any(|w| {
-            let a = [w[1].x - w[0].x, w[1].y - w[0].y];
-            let b = [w[2].x - w[1].x, w[2].y - w[1].y];
-            a[0] * b[0] + a[1] * b[1] < 0.0
+            let (a, b) = (w[1] - w[0], w[2] - w[1]);
+            a.dot(b) < 0.0
         })
     }
 }

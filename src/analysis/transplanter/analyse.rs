@@ -41,10 +41,10 @@ fn linear_error(
     let (mut worst, mut peak): (f64, f64) = (0.0, 0.0);
     for (i, (p, b0)) in lin.phis_rad.iter().zip(&lin.nominal_tips_mm).enumerate() {
         let b = model.state(*p, x)?.tip_mm;
-        let d = [b.x - b0.x, b.y - b0.y];
+        let d = b - *b0;
         let l = lin.deviation_at(i, x);
-        worst = worst.max((l.x - d[0]).hypot(l.y - d[1]));
-        peak = peak.max(d[0].hypot(d[1]));
+        worst = worst.max((l - d).hypot());
+        peak = peak.max(d.hypot());
     }
     Ok((if peak > 0.0 { worst / peak } else { 0.0 }, worst))
 }

@@ -30,8 +30,8 @@ pub(super) fn envelope(lin: &LinearModel, inv: &Inventory) -> Vec<EnvelopePoint>
                 lin.nominal_tips_mm[(i + n - 1) % n],
                 lin.nominal_tips_mm[(i + 1) % n],
             );
-            let t = [b.x - a.x, b.y - a.y];
-            let tn = t[0].hypot(t[1]).max(f64::MIN_POSITIVE);
+            let t = b - a;
+            let tn = t.hypot().max(f64::MIN_POSITIVE);
             EnvelopePoint {
                 carrier_deg: lin.phis_rad[i].to_degrees(),
                 nominal_tip_mm: lin.nominal_tips_mm[i],
@@ -39,7 +39,7 @@ pub(super) fn envelope(lin: &LinearModel, inv: &Inventory) -> Vec<EnvelopePoint>
                 three_sigma_um: three * UM,
                 envelope_um: (m.hypot() + three) * UM,
                 nominal_errors_um: g.hypot() * UM,
-                normal: Point::new(-t[1] / tn, t[0] / tn),
+                normal: Point::new(-t.y / tn, t.x / tn),
             }
         })
         .collect()

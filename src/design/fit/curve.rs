@@ -94,13 +94,13 @@ pub(super) fn project_near(
     contact_guess_rad: f64,
 ) -> (f64, TipEval) {
     let mut e = tip_eval_near(m, phi, contact_guess_rad);
-    let dist2 = |e: &TipEval| (e.b.x - p.x).powi(2) + (e.b.y - p.y).powi(2);
+    let dist2 = |e: &TipEval| (e.b - p).norm_squared();
     let mut best = (phi, dist2(&e), e.clone());
     for _ in 0..30 {
-        let r = [e.b.x - p.x, e.b.y - p.y];
-        let g = r[0] * e.v.x + r[1] * e.v.y;
+        let r = e.b - p;
+        let g = r.dot(e.v);
         let vv = e.v.dot(e.v);
-        let h = vv + r[0] * e.acc.x + r[1] * e.acc.y;
+        let h = vv + r.x * e.acc.x + r.y * e.acc.y;
         let mut step = if h > 0.1 * vv {
             -g / h
         } else {

@@ -278,9 +278,9 @@ impl Trajectory {
             a.lerp(b, f)
         };
         let samples: Vec<Point> = (0..m).map(|k| at(len * k as f64 / m as f64)).collect();
-        let filt = |c: usize| {
+        let filt = |coordinate: fn(&Point) -> f64| {
             let mut co = crate::math::periodic::fft_coefficients(
-                &samples.iter().map(|p| p.to_array()[c]).collect::<Vec<_>>(),
+                &samples.iter().map(coordinate).collect::<Vec<_>>(),
             );
             for (k, v) in co.iter_mut().enumerate() {
                 if k > harmonics {
@@ -289,7 +289,7 @@ impl Trajectory {
             }
             co
         };
-        let (cx, cy) = (filt(0), filt(1));
+        let (cx, cy) = (filt(|p| p.x), filt(|p| p.y));
         // Evaluate the truncated series at the original points' chord positions.
         let eval = |co: &[realfft::num_complex::Complex<f64>], s: f64| {
             let w = std::f64::consts::TAU * s / len;

@@ -343,14 +343,14 @@ fn cross_rays(rays: &Rays<'_>, r: &mut [f64], p: Point, q: Point, tp: f64, tq: f
     } else {
         (tp + span, tp)
     };
-    let d = [q.x - p.x, q.y - p.y];
-    let pxd = p.x * d[1] - p.y * d[0];
+    let d = q - p;
+    let pxd = p.cross(d);
     let j0 = (lo / dth).ceil() as i64;
     let j1 = (hi / dth).floor() as i64;
     for jj in j0..=j1 {
         let j = jj.rem_euclid(n as i64) as usize;
         let (sn, cs) = dir[j];
-        let uxd = cs * d[1] - sn * d[0];
+        let uxd = cs * d.y - sn * d.x;
         if uxd == 0.0 {
             continue;
         }
