@@ -100,6 +100,8 @@ pub(super) fn project_near(
         let r = e.b - p;
         let g = r.dot(e.v);
         let vv = e.v.dot(e.v);
+        // Summed left to right as written: grouped as `vv + r.dot(e.acc)` it rounds differently
+        // and moves the last bits of some designs.
         let h = vv + r.x * e.acc.x + r.y * e.acc.y;
         let mut step = if h > 0.1 * vv {
             -g / h
