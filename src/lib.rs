@@ -66,6 +66,7 @@ pub mod config;
 pub mod design;
 pub mod files;
 pub mod geometry;
+pub mod loads;
 pub mod math;
 pub mod output;
 pub mod pair;

@@ -1,6 +1,6 @@
 //! `ncgear design TRAJ --out DIR`.
 pub use super::design_args::Args;
-use super::design_args::{DEFAULT_VERIFY_STEPS, ToothPolicyArg};
+use super::design_args::{DEFAULT_VERIFY_STEPS, ModuleArg, ToothPolicyArg};
 use super::{CliResult, input_error, print_json, progress_bar, runtime_error};
 use ncgear::design::inverse::InverseError;
 use ncgear::design::train::{
@@ -17,9 +17,12 @@ use std::path::PathBuf;
 pub fn run(args: Args) -> CliResult {
     // The printed time is the whole command's: design, teeth, checks and files.
     let started = std::time::Instant::now();
-    // Every option is checked before any work: the tooth and export options too.
+    // Every option is checked before any work: the tooth and export options and the loads
+    // scene too.
+    let scene = loads_scene(&args)?;
     let teeth_opts = match args.module {
-        Some(m) => Some(teeth_options(&args, m)?),
+        Some(ModuleArg::Mm(m)) => Some(teeth_options(&args, m)?),
+        Some(ModuleArg::Auto) => Some(teeth_options(&args, 1.0)?),
         None => {
             refuse_tooth_flags(&args)?;
             None
@@ -29,25 +32,56 @@ pub fn run(args: Args) -> CliResult {
         Trajectory::from_path(&args.trajectory).map_err(|e| input_error(miette::miette!("{e}")))?;
     let opts = args.options();
     let file = args.trajectory.display().to_string();
-    let pb = super::spinner("designing the gears");
-    let d = design(&traj, &opts).map_err(|e| design_failure(&file, &e));
-    pb.finish_and_clear();
-    let mut d = d?;
+    let (mut d, module) = match (&scene, args.module) {
+        (Some((case, scene_file)), Some(ModuleArg::Auto)) => {
+            sized_design(&traj, &opts, case, scene_file, &file)?
+        }
+        _ => {
+            let pb = super::spinner("designing the gears");
+            let d = design(&traj, &opts).map_err(|e| design_failure(&file, &e));
+            pb.finish_and_clear();
+            (d?, args.module.and_then(ModuleArg::mm))
+        }
+    };
     // The report is written last; an earlier run's goes before any file (ncgear::files).
     super::remove_stale_report(&args.out.join("design.json"))?;
     let mut files = ncgear::output::DesignFiles::default();
     files.png = args.png;
-    let (train, teeth_files) = match (args.module, &teeth_opts) {
-        (Some(m), Some(teeth_opts)) => {
-            let (t, written) = teeth_and_cad_files(&args, &mut d, m, teeth_opts, files)?;
+    let (train, teeth_files) = match (module, &teeth_opts) {
+        (Some(m), Some(checked)) => {
+            // `auto` checked the flags at a placeholder module; the module's own defaults now.
+            let teeth_opts = if args.module == Some(ModuleArg::Auto) {
+                teeth_options(&args, m)?
+            } else {
+                checked.clone()
+            };
+            let (t, written) = teeth_and_cad_files(&args, &mut d, m, &teeth_opts, files)?;
             (Some(t), written)
         }
         _ => (None, Vec::new()),
+    };
+    let loads = match (&scene, &train) {
+        (Some((case, scene_file)), Some(t)) => Some(
+            ncgear::loads::rate_train(
+                t,
+                case,
+                &ncgear::loads::SizingOptions::default(),
+                scene_file,
+            )
+            .map_err(super::loads::loads_failure)?,
+        ),
+        _ => None,
     };
     d.report.timings_ms.command = super::ms_since(started);
     let mut written = ncgear::output::write_design_with(&d, &args.out, files)
         .map_err(|e| runtime_error(miette::miette!("{e}")))?;
     written.extend(teeth_files);
+    if let Some(l) = &loads {
+        written.extend(
+            ncgear::output::write_loads(l, &args.out.join("loads"), args.png)
+                .map_err(|e| runtime_error(miette::miette!("{e}")))?,
+        );
+    }
     if args.json {
         print_json(&d.report)?;
         return super::verdict_outcome(&d.report.verdict, args.accept_failed);
@@ -60,7 +94,111 @@ pub fn run(args: Args) -> CliResult {
         &args.out,
         started,
     );
+    if let Some(l) = &loads {
+        print_loads(&d.report, l);
+    }
     super::verdict_outcome(&d.report.verdict, args.accept_failed)
+}
+
+/// The loads scene of `--loads`, read and checked before any work: `--module auto` needs it,
+/// and it needs a `[material]` to rate the teeth against.
+fn loads_scene(args: &Args) -> Result<Option<(ncgear::loads::LoadCase, String)>, super::Failure> {
+    let Some(path) = &args.loads else {
+        if args.module == Some(ModuleArg::Auto) {
+            return Err(input_error(miette::miette!(
+                help = "give the loads the gears must carry: --loads SCENE.toml (docs/loads.md)",
+                "--module auto sizes the module by strength, and no --loads scene is given"
+            )));
+        }
+        return Ok(None);
+    };
+    if args.module.is_none() {
+        return Err(input_error(miette::miette!(
+            help = "--module auto sizes the module for the scene; --module M rates module M",
+            "--loads rates the teeth, and no teeth are made without --module"
+        )));
+    }
+    if args.module == Some(ModuleArg::Auto)
+        && (args.teeth.is_some() || !matches!(args.tooth_policy, ToothPolicyArg::Design))
+    {
+        return Err(input_error(miette::miette!(
+            "--module auto designs each module for its own tooth count: leave out --teeth and \
+             --tooth-policy"
+        )));
+    }
+    let file = path.display().to_string();
+    let scene = ncgear::loads::Scene::from_path(path).map_err(super::loads::loads_failure)?;
+    let case = scene.validate(&file).map_err(super::loads::loads_failure)?;
+    if case.rating.is_none() {
+        return Err(input_error(miette::miette!(
+            help = "add [material] (preset = \"steel\", …) and [gears] with face_width_mm (a width \
+                    or \"auto\") to the scene",
+            "{file}: --loads rates the teeth, and the scene names no material"
+        )));
+    }
+    if scene.design.is_some() {
+        eprintln!(
+            "note: {file}: its `design` is not read here (the design is the one this command makes)"
+        );
+    }
+    Ok(Some((case, file)))
+}
+
+/// `--module auto`: the target designed and rated at each standard module in turn; the design
+/// of the smallest module that carries the loads (or the best one, its verdict failing), with
+/// the sizing table in its report.
+fn sized_design(
+    traj: &Trajectory,
+    opts: &ncgear::design::DesignOptions,
+    case: &ncgear::loads::LoadCase,
+    scene_file: &str,
+    file: &str,
+) -> Result<(ncgear::design::Design, Option<f64>), super::Failure> {
+    let pb = super::spinner("sizing the module");
+    let sized = ncgear::loads::size_module(
+        traj,
+        opts,
+        case,
+        &ncgear::loads::SizingOptions::default(),
+        scene_file,
+    );
+    pb.finish_and_clear();
+    let sized = sized.map_err(super::loads::loads_failure)?;
+    let Some((mut d, train, _)) = sized.kept else {
+        return Err(runtime_error(miette::miette!(
+            "{file}: no standard module could be designed and rated:\n{}",
+            sized.sizing.markdown()
+        )));
+    };
+    d.report.sizing = Some(sized.sizing);
+    d.report.update_verdict();
+    Ok((d, Some(train.report.module_mm)))
+}
+
+/// The console lines of the sizing table and the loads of the design kept.
+fn print_loads(r: &ncgear::design::DesignReport, l: &ncgear::loads::LoadsReport) {
+    if let Some(s) = &r.sizing {
+        match s.chosen_module_mm {
+            Some(m) => println!(
+                "  module sized by strength: m = {m} mm (S_H ≥ {}, S_F ≥ {}, face width {}):",
+                s.s_h_min, s.s_f_min, s.face_width
+            ),
+            None => println!(
+                "  module sized by strength: no module meets S_H ≥ {}, S_F ≥ {}; the best is kept:",
+                s.s_h_min, s.s_f_min
+            ),
+        }
+        for line in s.markdown().lines() {
+            println!("    {line}");
+        }
+    }
+    let sm = &l.summary;
+    if let (Some(h), Some(f)) = (&sm.min_s_h, &sm.min_s_f) {
+        println!(
+            "  loads: carrier torque peak {:.3} N·m, mean power {:.1} W; S_H {:.3} ({}), S_F {:.3} ({} root); files in loads/",
+            sm.carrier_torque_peak_nm, sm.mean_power_w, h.value, h.mesh, f.value, f.gear
+        );
+    }
 }
 
 /// Teeth on the designed gears, then their mesh check beside the CAD exports (they do not read

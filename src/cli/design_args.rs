@@ -193,9 +193,14 @@ pub struct Args {
     #[arg(long)]
     pub accept_failed: bool,
     /// Module in mm: put rack-generated teeth on the three gears, verify both meshes and write
-    /// the CAD files under OUT/teeth/ (the `teeth` block of design.json).
+    /// the CAD files under OUT/teeth/ (the `teeth` block of design.json). `auto` with --loads:
+    /// the smallest standard module whose teeth carry the scene's loads (the `sizing` table).
+    #[arg(long, help_heading = "Teeth", value_parser = parse_module)]
+    pub module: Option<ModuleArg>,
+    /// Loads scene for --module auto (a `ncgear loads` scene without `design`): the speed, arms,
+    /// masses, needle load, material and safety targets the module is sized for.
     #[arg(long, help_heading = "Teeth")]
-    pub module: Option<f64>,
+    pub loads: Option<std::path::PathBuf>,
     /// How the tooth count is made an integer: design (default) fits the train at the tooth
     /// counts nearest its size, the perimeter zπm a constraint of the fit (the toothed train
     /// traces what the report states); the others scale a design made without the module.
@@ -281,7 +286,7 @@ impl Args {
             });
         // --teeth or a scaling policy: the design is made without the module and scaled after;
         // the concave- and convex-radius limits still follow the module.
-        match args.module {
+        match args.module.and_then(ModuleArg::mm) {
             Some(m)
                 if args.teeth.is_none() && matches!(args.tooth_policy, ToothPolicyArg::Design) =>
             {
@@ -299,4 +304,34 @@ impl Args {
             None => opts,
         }
     }
+}
+
+/// `--module`: a module in mm, or `auto` (sized by strength, with `--loads`).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum ModuleArg {
+    /// The module, mm.
+    Mm(f64),
+    /// The smallest standard module that carries the loads of `--loads`.
+    Auto,
+}
+
+impl ModuleArg {
+    /// The module in mm, `None` for `auto`.
+    pub fn mm(self) -> Option<f64> {
+        match self {
+            Self::Mm(m) => Some(m),
+            Self::Auto => None,
+        }
+    }
+}
+
+/// Parses `--module`: a number (mm) or `auto`.
+fn parse_module(s: &str) -> Result<ModuleArg, String> {
+    if s.trim().eq_ignore_ascii_case("auto") {
+        return Ok(ModuleArg::Auto);
+    }
+    s.trim()
+        .parse::<f64>()
+        .map(ModuleArg::Mm)
+        .map_err(|_| format!("`{s}`: expected a module in mm (e.g. 1.5) or `auto` (with --loads)"))
 }

@@ -7,6 +7,7 @@ use std::process::ExitCode;
 mod design;
 mod design_args;
 mod dynamics;
+mod loads;
 mod orbit;
 mod pair;
 mod serve;
@@ -43,6 +44,8 @@ enum Command {
     Orbit(orbit::Args),
     /// Scene-driven nonlinear spur-gear dynamics.
     Dynamics(dynamics::Args),
+    /// The planting rotor's loads over a turn, tooth stresses, safety factors and life.
+    Loads(loads::Args),
     /// The interactive designer in the browser: drag the trajectory, watch the gears follow.
     Serve(serve::Args),
     /// Key poses of the needle (and target bands) → the mechanism and its gears.
@@ -243,6 +246,7 @@ pub fn main() -> ExitCode {
         Command::Tolerance(a) => tolerance::run(a),
         Command::Orbit(a) => orbit::run(a),
         Command::Dynamics(a) => dynamics::run(a),
+        Command::Loads(a) => loads::run(a),
         Command::Serve(a) => serve::run(a),
         Command::Synthesize(a) => synthesize::run(a),
     };

@@ -126,7 +126,7 @@ fn simulation(
     asm: Assembly,
     target: &[Point],
 ) -> Result<Simulation, super::Failure> {
-    let policy = match (args.module, file.teeth) {
+    let policy = match (args.module, &file.teeth) {
         (Some(m), _) => Some((m, TrainPolicy::ScaleCenterDistance(ToothPolicy::ScaleUp))),
         (None, Some(t)) => Some((
             t.module_mm,

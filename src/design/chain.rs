@@ -107,6 +107,7 @@ pub(super) fn design_from(
         target_points: traj.points().to_vec(),
         warnings,
         teeth: None,
+        sizing: None,
         timings_ms: timings,
         verdict: crate::verdict::Verdict::default(),
     };

@@ -34,6 +34,7 @@ mod report;
 mod roundtrip;
 mod routes;
 pub mod segmented;
+pub mod sizing;
 mod start;
 pub mod tradeoff;
 pub mod train;

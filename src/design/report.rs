@@ -89,8 +89,12 @@ pub struct DesignReport {
         deserialize_with = "crate::design::train::teeth_json::deserialize"
     )]
     pub teeth: Option<crate::design::train::TrainTeethReport>,
-    /// Whether the design passed its verification: every check C1–C13 and, with teeth, both
-    /// meshes ([`DesignReport::update_verdict`]).
+    /// The module sized by strength (`ncgear design --module auto --loads`): the modules
+    /// tried and the one kept; absent otherwise.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub sizing: Option<crate::design::sizing::ModuleSizing>,
+    /// Whether the design passed its verification: every check C1–C13, with teeth both
+    /// meshes, and a sizing's targets ([`DesignReport::update_verdict`]).
     #[serde(default)]
     pub verdict: crate::verdict::Verdict,
 }
@@ -113,6 +117,7 @@ impl DesignReport {
         if let Some(t) = &self.teeth {
             failures.extend(self.teeth_verdict(t).failures);
         }
+        failures.extend(self.sizing.as_ref().and_then(|s| s.failure()));
         self.verdict = crate::verdict::Verdict::from_failures(failures);
     }
 

@@ -94,6 +94,16 @@ pub struct Pose {
     pub planet_mesh_error_mm: f64,
 }
 
+/// The rates of the intermediate's and the planet's orientations with respect to the carrier
+/// angle, CCW frame ([`Rebuilt::ccw_rates`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct TrainRates {
+    /// `[dθ2/dφ, d²θ2/dφ²]`, rad/rad and rad/rad².
+    pub intermediate: [f64; 2],
+    /// `[dθ3/dφ, d²θ3/dφ²]`, rad/rad and rad/rad².
+    pub planet: [f64; 2],
+}
+
 fn mirrored(c: &PitchCurve) -> PitchCurve {
     let r = c.radii_mm();
     let n = r.len();
@@ -267,6 +277,41 @@ impl Rebuilt {
         c3_0 - (self.mid_g(c2) - self.mid_g(c2_0))
     }
 
+    /// The intermediate's planet-side contact angle `c2 = φ − ε − θ2(φ)` and the planet's contact
+    /// angle `c3` at CCW-frame carrier angle φ (body angles, rad).
+    #[must_use]
+    pub fn ccw_planet_contact(&self, phi: f64) -> (f64, f64) {
+        let c2 = phi - self.eps - self.ccw_intermediate_angle(phi);
+        (c2, self.ccw_intermediate_to_planet(c2))
+    }
+
+    /// The rates of the train at CCW-frame carrier angle φ: derivatives of the intermediate's and
+    /// the planet's orientations with respect to the carrier angle, from the pitch curves'
+    /// polar geometry at the contacts (docs/math/chain.md §5):
+    ///
+    /// ```text
+    /// i_s = r_s/(a − r_s) at φ + ε,   g = ρ2/(a − ρ2) at c2,   i_s′ = a·r_s′/(a − r_s)²,   g′ = a·ρ2′/(a − ρ2)²
+    /// θ2′ = 1 + i_s,   θ2″ = i_s′,   θ3′ = 1 − g·i_s,   θ3″ = g′·i_s² − g·i_s′
+    /// ```
+    ///
+    /// (`c2′ = −i_s`, and the planet rolls on the intermediate: `c3′ = g·i_s`). Multiplied by
+    /// the carrier speed ω (and ω²) they are the gears' angular velocities (accelerations).
+    #[must_use]
+    pub fn ccw_rates(&self, phi: f64) -> TrainRates {
+        let a = self.asm.a_mm;
+        let s = self.sun.geometry(phi + self.eps);
+        let (c2, _) = self.ccw_planet_contact(phi);
+        let m = self.mid.geometry(c2);
+        let is = s.r_mm / (a - s.r_mm);
+        let dis = a * s.dr_mm / ((a - s.r_mm) * (a - s.r_mm));
+        let g = m.r_mm / (a - m.r_mm);
+        let dg = a * m.dr_mm / ((a - m.r_mm) * (a - m.r_mm));
+        TrainRates {
+            intermediate: [1.0 + is, dis],
+            planet: [1.0 - g * is, dg * is * is - g * dis],
+        }
+    }
+
     /// Pose at world carrier angle φH (rad).
     #[must_use]
     pub fn pose(&self, phi_h: f64) -> Pose {
@@ -364,6 +409,37 @@ mod tests {
                 );
                 assert!(p.sun_mesh_error_mm.abs() < 1e-9 && p.planet_mesh_error_mm.abs() < 1e-9);
             }
+        }
+    }
+    /// The rates are the derivatives of the rebuilt orientations: central differences of θ2 and
+    /// θ3 agree with θ′ to O(h²) and with θ″ to O(h²), off the collinear layout too.
+    #[test]
+    fn the_rates_are_the_derivatives_of_the_orientations() {
+        let m = Mechanism {
+            a_mm: 46.0,
+            l3_mm: 170.0,
+            ratio: SunRatio::new(vec![0.25, 0.04, -0.02], vec![0.05, -0.03, 0.01]).unwrap(),
+            sun_phase_rad: 0.4,
+            needle_angle_rad: -1.1,
+            idler_offset_rad: 0.2,
+        };
+        let r = Assembly::from_mechanism(&m, Point::ZERO, 1, 4096)
+            .unwrap()
+            .rebuild();
+        let h = 1e-4;
+        let theta3 = |phi: f64| phi + PI - r.ccw_idler_offset() - r.ccw_planet_contact(phi).1;
+        for j in 0..24 {
+            let phi = 0.26 * j as f64;
+            let rates = r.ccw_rates(phi);
+            let t2 = |x: f64| r.ccw_intermediate_angle(x);
+            let d1 = (t2(phi + h) - t2(phi - h)) / (2.0 * h);
+            let d2 = (t2(phi + h) - 2.0 * t2(phi) + t2(phi - h)) / (h * h);
+            assert!((d1 - rates.intermediate[0]).abs() < 1e-6, "{d1} {rates:?}");
+            assert!((d2 - rates.intermediate[1]).abs() < 2e-3, "{d2} {rates:?}");
+            let e1 = (theta3(phi + h) - theta3(phi - h)) / (2.0 * h);
+            let e2 = (theta3(phi + h) - 2.0 * theta3(phi) + theta3(phi - h)) / (h * h);
+            assert!((e1 - rates.planet[0]).abs() < 1e-6, "{e1} {rates:?}");
+            assert!((e2 - rates.planet[1]).abs() < 2e-3, "{e2} {rates:?}");
         }
     }
 }

@@ -1,11 +1,12 @@
 //! What a design or simulation run writes: the design's files, the simulation's files, the CAD
-//! files of a toothed train (DXF, SVG, STEP), charts and the animation.
+//! files of a toothed train (DXF, SVG, STEP), the loads' files, charts and the animation.
 
 pub mod animate;
 mod design_files;
 mod error;
 mod fixed;
 pub mod json;
+mod loads_files;
 mod mechanism_preview;
 pub mod plot;
 mod simulation_files;
@@ -16,6 +17,7 @@ mod tradeoff_files;
 
 pub use design_files::{DesignFiles, pitch_csv, ratio_plot, write_design, write_design_with};
 pub use error::OutputError;
+pub use loads_files::{loads_csv, write_loads};
 pub use mechanism_preview::{mechanism_chart, mechanism_svg};
 pub use simulation_files::{SimulationReport, write_simulation};
 pub use step_files::{

@@ -87,7 +87,7 @@ const PALETTE: [RGBColor; 8] = [
 ];
 
 /// Writes a line chart to `path`; the format follows the extension (`.png` → PNG, else SVG).
-/// Size in pixels. Non-finite points are skipped.
+/// Size in pixels. A non-finite point breaks a line (a gap); markers skip it.
 pub fn line_chart(
     path: &Path,
     labels: &ChartLabels,
@@ -121,7 +121,7 @@ pub fn line_chart(
 }
 
 /// Writes charts side by side (one panel each, left to right) to one SVG file at `path`. Size
-/// in pixels of the whole figure. Non-finite points are skipped.
+/// in pixels of the whole figure. A non-finite point breaks a line (a gap); markers skip it.
 pub fn panels_svg(
     path: &Path,
     panels: &[(ChartLabels, Vec<Series>)],
@@ -221,8 +221,18 @@ where
                 .draw_series(pts.iter().map(|p| Circle::new(*p, 2, color.filled())))
                 .map_err(e)?
         } else {
+            // A non-finite point ends a run: each run is its own line, one legend entry.
+            let runs: Vec<Vec<(f64, f64)>> = s
+                .points
+                .split(|(x, y)| !(x.is_finite() && y.is_finite()))
+                .filter(|r| !r.is_empty())
+                .map(<[(f64, f64)]>::to_vec)
+                .collect();
             chart
-                .draw_series(LineSeries::new(pts, color.stroke_width(2)))
+                .draw_series(
+                    runs.into_iter()
+                        .map(|r| PathElement::new(r, color.stroke_width(2))),
+                )
                 .map_err(e)?
         };
         if !s.name.is_empty() {

@@ -35,12 +35,16 @@ pub struct DesignFile {
 }
 
 /// The part of `design.json`'s `teeth` block needed to regenerate the toothed outlines.
-#[derive(Debug, Clone, Copy, Serialize, Deserialize)]
+#[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct TeethFile {
     /// Tooth count of each gear.
     pub z: u32,
     /// Module, mm.
     pub module_mm: f64,
+    /// The options the teeth were made with (rack, backlash, cutters), when the file carries
+    /// them; absent: the defaults at the module.
+    #[serde(default)]
+    pub options: Option<crate::design::train::TrainTeethOptions>,
 }
 
 /// `carrier` of a design file.

@@ -10,6 +10,7 @@ mod dynamics;
 mod hard_cases;
 mod layout;
 mod limits;
+mod loads_rating;
 mod noise;
 mod options;
 mod orbit;

@@ -1,0 +1,280 @@
+//! The loads of a rotor over one turn: the motion and the Newton–Euler solve of train 1 at every
+//! sample ([`super::kinetostatics`]), the other arms by their shift in travel, the rotor's sums,
+//! and — with teeth and a material — the rating of both meshes ([`super::rating`]).
+//!
+//! Everything is solved in the counter-clockwise frame of [`Rebuilt`]; a clockwise design's
+//! inputs (gravity, the needle force, the arm's centre of mass) are mirrored into it and every
+//! vector of the report mirrored back. Torques about the carrier and the planet axis are then
+//! positive in the carrier's sense of travel in both.
+
+use super::kinetostatics::{TrainBodies, TrainForces, solve};
+use super::mass::MassProperties;
+use super::motion::TrainMotion;
+use super::report::{
+    Bearings, GearMass, GearsReport, LoadsReport, MeshLoads, Meshes, OperationReport, Summary,
+};
+use super::scene::{FaceWidth, LoadCase};
+use super::{LoadsError, Rotor};
+use crate::geometry::assembly::Rebuilt;
+use crate::math::Point;
+use rayon::prelude::*;
+use std::f64::consts::TAU;
+
+/// The samples of train 1 over the turn: its motion and its forces (CCW frame).
+pub(crate) struct TrainTurn {
+    /// Motion at each sample.
+    pub motion: Vec<TrainMotion>,
+    /// Forces at each sample (SI).
+    pub forces: Vec<TrainForces>,
+    /// The needle force on the tip at each sample, N (CCW frame).
+    pub needle_n: Vec<Point>,
+}
+
+/// The mass properties of the three gears (CCW frame, about their axes) for a face width.
+fn gear_masses(r: &Rebuilt, case: &LoadCase, face_width_mm: f64) -> [MassProperties; 3] {
+    match case.bodies {
+        Some(b) => r
+            .ccw_curves()
+            .map(|c| MassProperties::of_pitch_curve(c, face_width_mm, b.density_kg_mm3, b.bore_mm)),
+        None => [MassProperties::ZERO; 3],
+    }
+}
+
+/// The face width the case gives for `rotor`, mm (0 without gear bodies).
+///
+/// # Errors
+/// [`LoadsError::Field`] for `"auto"`, which only the sizing resolves.
+pub(crate) fn face_width_mm(case: &LoadCase, file: &str) -> Result<f64, LoadsError> {
+    match case.bodies.map(|b| b.face_width) {
+        None => Ok(0.0),
+        Some(FaceWidth::Mm(b)) => Ok(b),
+        Some(FaceWidth::Auto) => Err(LoadsError::Field {
+            file: file.into(),
+            key: "gears.face_width_mm".into(),
+            message: "\"auto\" is chosen by the sizing (`ncgear design --module auto --loads`); \
+                      `ncgear loads` rates a given face width: give it in mm"
+                .into(),
+        }),
+    }
+}
+
+/// The bore must leave every gear a rim: its radius below the smallest pitch radius less the
+/// dedendum (1.25·m with teeth).
+fn check_bore(
+    r: &Rebuilt,
+    case: &LoadCase,
+    rotor: &Rotor<'_>,
+    file: &str,
+) -> Result<(), LoadsError> {
+    let Some(b) = case.bodies else { return Ok(()) };
+    let dedendum = rotor.teeth().map_or(0.0, |t| 1.25 * t.report.module_mm);
+    for (name, c) in ["sun", "intermediate", "planet"]
+        .into_iter()
+        .zip(r.ccw_curves())
+    {
+        let root = c.radii_mm().iter().copied().fold(f64::INFINITY, f64::min) - dedendum;
+        if !(0.5 * b.bore_mm < root) {
+            return Err(LoadsError::Field {
+                file: file.into(),
+                key: "gears.bore_mm".into(),
+                message: format!(
+                    "a bore of {} mm does not fit inside the {name} gear (its smallest {} radius is                      {root:.3} mm): take a bore below {:.3} mm",
+                    b.bore_mm,
+                    if dedendum > 0.0 { "root" } else { "pitch" },
+                    2.0 * root
+                ),
+            });
+        }
+    }
+    Ok(())
+}
+
+/// Solves train 1 at every sample.
+pub(crate) fn train_turn(
+    r: &Rebuilt,
+    case: &LoadCase,
+    bodies: &TrainBodies,
+    alpha: f64,
+) -> Result<TrainTurn, LoadsError> {
+    let n = case.samples;
+    let sign = r.sign();
+    let mirror = |p: Point| Point::new(p.x, sign * p.y);
+    let motion: Vec<TrainMotion> = (0..n)
+        .into_par_iter()
+        .map(|k| TrainMotion::at(r, TAU * k as f64 / n as f64))
+        .collect();
+    let needle_n: Vec<Point> = match &case.needle {
+        None => vec![Point::ZERO; n],
+        Some(load) => {
+            let o = r.assembly().center_mm;
+            let tips: Vec<Point> = motion.iter().map(|m| o + mirror(m.tip_mm)).collect();
+            let table = load.table(&tips, case.gravity_m_s2);
+            (0..n)
+                .map(|k| mirror(table.at(TAU * k as f64 / n as f64)))
+                .collect()
+        }
+    };
+    let g = mirror(case.gravity_m_s2);
+    let forces = motion
+        .par_iter()
+        .zip(&needle_n)
+        .map(|(m, &f)| solve(m, bodies, case.omega_rad_s, g, f, alpha))
+        .collect::<Result<Vec<_>, _>>()
+        .map_err(|e| LoadsError::SelfLocking {
+            mesh: e.mesh,
+            travel_deg: e.phi_rad.to_degrees(),
+        })?;
+    Ok(TrainTurn {
+        motion,
+        forces,
+        needle_n,
+    })
+}
+
+/// Sum over the arms of a per-sample quantity of train 1: train j at sample k is train 1 at
+/// sample `k + j·n/arms`.
+fn over_arms<T: Copy + Default + std::ops::Add<Output = T>>(values: &[T], arms: usize) -> Vec<T> {
+    let n = values.len();
+    let step = n / arms;
+    (0..n)
+        .map(|k| (0..arms).fold(T::default(), |acc, j| acc + values[(k + j * step) % n]))
+        .collect()
+}
+
+/// The loads of `rotor` under `case` (module docs); `file` names the scene in messages.
+///
+/// # Errors
+/// [`LoadsError`]: a face width left to the sizing, a bore larger than a gear, a mesh that
+/// locks, a rating without teeth.
+pub fn analyse(rotor: &Rotor<'_>, case: &LoadCase, file: &str) -> Result<LoadsReport, LoadsError> {
+    let b = face_width_mm(case, file)?;
+    analyse_at(rotor, case, b, file)
+}
+
+/// [`analyse`] at the face width `face_width_mm` (mm).
+pub(crate) fn analyse_at(
+    rotor: &Rotor<'_>,
+    case: &LoadCase,
+    face_width_mm: f64,
+    file: &str,
+) -> Result<LoadsReport, LoadsError> {
+    if case.rating.is_some() && rotor.teeth().is_none() {
+        return Err(LoadsError::NoTeeth);
+    }
+    let r = rotor.assembly().rebuild();
+    check_bore(&r, case, rotor, file)?;
+    let [sun, mid, planet] = gear_masses(&r, case, face_width_mm);
+    let sign = r.sign();
+    let mirror = |p: Point| Point::new(p.x, sign * p.y);
+    let arm = case.arm.map(|a| {
+        MassProperties::from_center_of_mass(a.mass_kg, mirror(a.com_mm), a.inertia_kg_mm2)
+    });
+    let bodies = TrainBodies {
+        intermediate: mid,
+        planet: planet.combined(arm.unwrap_or(MassProperties::ZERO)),
+    };
+    let alpha = rotor.pressure_angle_rad(case);
+    let turn = train_turn(&r, case, &bodies, alpha)?;
+    let n = case.samples;
+    let arms = case.arms as usize;
+    let f = &turn.forces;
+    let g = mirror(case.gravity_m_s2);
+    let carrier = over_arms(
+        &f.iter().map(|x| x.carrier_torque_nm).collect::<Vec<_>>(),
+        arms,
+    );
+    let sun_weight_moment = (sun.first_moment_kg_mm() * 1e-3).cross(g);
+    let sun_torque: Vec<f64> = over_arms(
+        &f.iter().map(|x| x.sun_mesh_moment_nm).collect::<Vec<_>>(),
+        arms,
+    )
+    .into_iter()
+    .map(|t| t - sun_weight_moment)
+    .collect();
+    let bearing_o = over_arms(
+        &f.iter()
+            .map(|x| x.bearing_d_n + x.bearing_a_n)
+            .collect::<Vec<_>>(),
+        arms,
+    );
+    let frame_force: Vec<Point> = over_arms(
+        &f.iter()
+            .map(|x| x.bearing_d_n + x.bearing_a_n + x.sun_mesh.force_n)
+            .collect::<Vec<_>>(),
+        arms,
+    )
+    .into_iter()
+    .map(|v| v - g * sun.mass_kg)
+    .collect();
+    let travel_deg: Vec<f64> = (0..n).map(|k| 360.0 * k as f64 / n as f64).collect();
+    let planet_torque: Vec<f64> = f.iter().map(|x| x.planet_mesh_torque_nm).collect();
+    let o = rotor.assembly().center_mm;
+    let [c_sun, c_mid, c_planet] = r.ccw_curves();
+    let meshes = Meshes {
+        sun_intermediate: MeshLoads::new(
+            turn.motion
+                .iter()
+                .zip(f)
+                .map(|(m, x)| (&m.sun_mesh, &x.sun_mesh)),
+            [c_sun, c_mid],
+            sign,
+            o,
+            &travel_deg,
+        ),
+        intermediate_planet: MeshLoads::new(
+            turn.motion
+                .iter()
+                .zip(f)
+                .map(|(m, x)| (&m.planet_mesh, &x.planet_mesh)),
+            [c_mid, c_planet],
+            sign,
+            o,
+            &travel_deg,
+        ),
+    };
+    let world = |v: Vec<Point>| v.into_iter().map(mirror).collect::<Vec<_>>();
+    let summary = Summary::new(
+        &travel_deg,
+        &carrier,
+        &planet_torque,
+        &frame_force,
+        case.omega_rad_s,
+    );
+    let mut report = LoadsReport {
+        operation: OperationReport::new(case, rotor.assembly().direction),
+        travel_deg,
+        carrier_torque_nm: carrier,
+        sun_torque_nm: sun_torque,
+        planet_mesh_torque_nm: planet_torque,
+        frame_force_n: world(frame_force),
+        needle_force_n: world(turn.needle_n.clone()),
+        bearings: Bearings {
+            o_n: world(bearing_o),
+            d_n: world(f.iter().map(|x| x.bearing_d_n).collect()),
+            a_n: world(f.iter().map(|x| x.bearing_a_n).collect()),
+        },
+        meshes,
+        gears: GearsReport {
+            face_width_mm: case.bodies.map(|_| face_width_mm),
+            density_kg_m3: case.bodies.map(|b| b.density_kg_mm3 * 1e9),
+            bore_mm: case.bodies.map(|b| b.bore_mm),
+            sun: GearMass::world(sun, sign),
+            intermediate: GearMass::world(mid, sign),
+            planet: GearMass::world(planet, sign),
+            arm: case.arm.map(|a| GearMass {
+                mass_kg: a.mass_kg,
+                com_mm: a.com_mm,
+                inertia_kg_mm2: a.inertia_kg_mm2,
+            }),
+        },
+        rating: None,
+        summary,
+        ..LoadsReport::default()
+    };
+    if let Some(opts) = &case.rating {
+        let teeth = rotor.teeth().ok_or(LoadsError::NoTeeth)?;
+        super::rating::rate(&mut report, &turn, &r, teeth, opts, face_width_mm, case)?;
+    }
+    report.finish();
+    Ok(report)
+}

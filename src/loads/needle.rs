@@ -1,0 +1,279 @@
+//! The force of the soil and the seedling on the needle tip, by the arm's own angle of travel: a
+//! periodic table (linear between rows), or the `planting` profile built on the design's own
+//! tip path from published planting-force measurements.
+//!
+//! **The `planting` profile** (an example of the shape and size of the load, not a standard):
+//! Kumar & Thomas (CIGR Journal 17(1), 2015) measured on a rice transplanter's picking claw a mean
+//! tangential seedling-separation force of 3.10–5.32 N and a peak resultant of 28.3 N (15 mm mat)
+//! to 29.7 N (20 mm mat) lasting about a millisecond. The profile puts
+//! - the **separation** at the tip's highest point (against gravity; +y without gravity):
+//!   5.32 N against the tip's velocity there, rising and falling linearly over ±10° of travel;
+//! - the **planting** at the tip's lowest point: 29.7 N against the tip's velocity there, over
+//!   ±5° of travel (at 300 r/min, 5° is 2.8 ms).
+//!
+//! The velocity is the static path's (the machine's forward travel is not added).
+
+use super::LoadsError;
+use crate::math::Point;
+use serde::{Deserialize, Serialize};
+use std::f64::consts::TAU;
+
+/// Peak of the planting profile's separation force, N (Kumar & Thomas 2015, mean tangential
+/// separation force, upper value).
+pub const SEPARATION_FORCE_N: f64 = 5.32;
+/// Peak of the planting profile's planting force, N (Kumar & Thomas 2015, peak resultant,
+/// 20 mm mat).
+pub const PLANTING_FORCE_N: f64 = 29.7;
+/// Half-width of the separation window, rad of travel (10°).
+const SEPARATION_HALF_WIDTH_RAD: f64 = 10.0 * std::f64::consts::PI / 180.0;
+/// Half-width of the planting window, rad of travel (5°).
+const PLANTING_HALF_WIDTH_RAD: f64 = 5.0 * std::f64::consts::PI / 180.0;
+
+/// Most rows a needle table may have.
+pub const MAX_ROWS: usize = 100_000;
+
+/// `[needle]` as written: a table or a named profile.
+#[derive(Debug, Clone, Default, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct NeedleSpec {
+    /// Rows `[travel_deg, Fx_N, Fy_N]`: the arm's own angle of travel, degrees, strictly
+    /// increasing over less than a turn; the force on the tip, N, world frame.
+    #[serde(default, rename = "force_N")]
+    pub force_n: Option<Vec<[f64; 3]>>,
+    /// `"planting"`: the documented profile (module docs).
+    #[serde(default)]
+    pub profile: Option<String>,
+}
+
+/// A validated needle load.
+#[derive(Debug, Clone, PartialEq)]
+pub enum NeedleLoad {
+    /// A periodic table.
+    Table(NeedleTable),
+    /// The planting profile, built on the design's tip path ([`NeedleLoad::table`]).
+    Planting,
+}
+
+/// A periodic table of the needle force: rows `(travel_rad, force_N)`, linear between rows and
+/// from the last row round to the first.
+#[derive(Debug, Clone, PartialEq)]
+pub struct NeedleTable {
+    rows: Vec<(f64, Point)>,
+}
+
+impl NeedleSpec {
+    /// Checks the table's numbers and order, or the profile's name.
+    ///
+    /// # Errors
+    /// [`LoadsError::Field`] naming the row.
+    pub fn validate(&self, file: &str) -> Result<NeedleLoad, LoadsError> {
+        let field = |key: String, message: String| LoadsError::Field {
+            file: file.into(),
+            key,
+            message,
+        };
+        match (&self.force_n, self.profile.as_deref()) {
+            (Some(_), Some(_)) => Err(field(
+                "needle".into(),
+                "gives both force_N and profile: keep one".into(),
+            )),
+            (None, None) => Err(field(
+                "needle".into(),
+                "needs force_N = [[travel_deg, Fx, Fy], …] or profile = \"planting\"".into(),
+            )),
+            (None, Some("planting")) => Ok(NeedleLoad::Planting),
+            (None, Some(other)) => Err(field(
+                "needle.profile".into(),
+                format!("`{other}` is not a profile; the one profile is \"planting\""),
+            )),
+            (Some(rows), None) => {
+                if rows.is_empty() || rows.len() > MAX_ROWS {
+                    return Err(field(
+                        "needle.force_N".into(),
+                        format!(
+                            "{} rows: give 1..={MAX_ROWS} rows [travel_deg, Fx_N, Fy_N]",
+                            rows.len()
+                        ),
+                    ));
+                }
+                let mut out = Vec::with_capacity(rows.len());
+                for (k, r) in rows.iter().enumerate() {
+                    let key = format!("needle.force_N[{k}]");
+                    if !r.iter().all(|v| v.is_finite()) {
+                        return Err(field(key, "every value must be a finite number".into()));
+                    }
+                    if r[1].hypot(r[2]) > 1e6 {
+                        return Err(field(
+                            key,
+                            format!("[{}, {}] N: a needle force of at most 1 MN", r[1], r[2]),
+                        ));
+                    }
+                    if r[0].abs() > 3600.0 {
+                        return Err(field(
+                            key,
+                            format!("travel_deg = {} must be within ±3600°", r[0]),
+                        ));
+                    }
+                    out.push((r[0].to_radians(), Point::new(r[1], r[2])));
+                }
+                NeedleTable::new(out)
+                    .map_err(|(k, message)| field(format!("needle.force_N[{k}]"), message))
+                    .map(NeedleLoad::Table)
+            }
+        }
+    }
+}
+
+impl NeedleTable {
+    /// A table of rows `(travel_rad, force_N)`, strictly increasing in travel over less than a
+    /// turn; on error, the row that breaks the order and why.
+    pub fn new(rows: Vec<(f64, Point)>) -> Result<Self, (usize, String)> {
+        for k in 1..rows.len() {
+            if !(rows[k].0 > rows[k - 1].0) {
+                return Err((
+                    k,
+                    format!(
+                        "travel_deg {} does not follow {}: the rows must be in increasing travel",
+                        rows[k].0.to_degrees(),
+                        rows[k - 1].0.to_degrees()
+                    ),
+                ));
+            }
+        }
+        let span = rows[rows.len() - 1].0 - rows[0].0;
+        if span >= TAU {
+            return Err((
+                rows.len() - 1,
+                format!(
+                    "the rows span {:.3}°: a periodic table covers less than one turn (360°)",
+                    span.to_degrees()
+                ),
+            ));
+        }
+        Ok(Self { rows })
+    }
+
+    /// The force at travel angle `travel_rad` (any real angle), N.
+    #[must_use]
+    pub fn at(&self, travel_rad: f64) -> Point {
+        let r = &self.rows;
+        if r.len() == 1 {
+            return r[0].1;
+        }
+        let x0 = r[0].0;
+        let x = x0 + (travel_rad - x0).rem_euclid(TAU);
+        let k = r.partition_point(|row| row.0 <= x);
+        // Between row k − 1 and row k, or from the last row round to the first.
+        let (a, b) = if k < r.len() {
+            (r[k - 1], r[k])
+        } else {
+            (r[r.len() - 1], (r[0].0 + TAU, r[0].1))
+        };
+        let t = (x - a.0) / (b.0 - a.0);
+        a.1.lerp(b.1, t)
+    }
+}
+
+impl NeedleLoad {
+    /// The table of this load on a tip path: the table itself, or the planting profile built on
+    /// `tips_mm` (uniform in travel over one turn, world frame) and `gravity` (its direction
+    /// gives "down"; zero: −y).
+    #[must_use]
+    pub fn table(&self, tips_mm: &[Point], gravity: Point) -> NeedleTable {
+        match self {
+            Self::Table(t) => t.clone(),
+            Self::Planting => planting_table(tips_mm, gravity),
+        }
+    }
+}
+
+/// The planting profile on a tip path (module docs).
+fn planting_table(tips_mm: &[Point], gravity: Point) -> NeedleTable {
+    let n = tips_mm.len();
+    let down = if gravity.norm() > 0.0 {
+        gravity / gravity.norm()
+    } else {
+        Point::new(0.0, -1.0)
+    };
+    let height = |k: usize| -tips_mm[k].dot(down);
+    let by_height = |a: &usize, b: &usize| height(*a).total_cmp(&height(*b));
+    let highest = (0..n).max_by(by_height).unwrap_or(0);
+    let lowest = (0..n).min_by(by_height).unwrap_or(0);
+    let against_velocity = |k: usize, magnitude: f64| {
+        let v = tips_mm[(k + 1) % n] - tips_mm[(k + n - 1) % n];
+        let len = v.norm();
+        if len > 0.0 {
+            v * (-magnitude / len)
+        } else {
+            Point::new(0.0, 0.0)
+        }
+    };
+    let at = |k: usize| TAU * k as f64 / n as f64;
+    let mut rows = Vec::new();
+    for (k, force, half) in [
+        (
+            highest,
+            against_velocity(highest, SEPARATION_FORCE_N),
+            SEPARATION_HALF_WIDTH_RAD,
+        ),
+        (
+            lowest,
+            against_velocity(lowest, PLANTING_FORCE_N),
+            PLANTING_HALF_WIDTH_RAD,
+        ),
+    ] {
+        let c = at(k);
+        let zero = Point::new(0.0, 0.0);
+        rows.extend([(c - half, zero), (c, force), (c + half, zero)]);
+    }
+    let x0 = rows[0].0;
+    for r in &mut rows {
+        r.0 = x0 + (r.0 - x0).rem_euclid(TAU);
+    }
+    rows.sort_by(|a, b| a.0.total_cmp(&b.0));
+    rows.dedup_by(|b, a| b.0 - a.0 < 1e-12);
+    NeedleTable::new(rows).unwrap_or(NeedleTable {
+        rows: vec![(0.0, Point::new(0.0, 0.0))],
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_table_is_linear_between_rows_and_periodic() {
+        let d = f64::to_radians;
+        let t = NeedleTable::new(vec![
+            (d(0.0), Point::new(0.0, 0.0)),
+            (d(165.0), Point::new(4.0, 25.0)),
+            (d(185.0), Point::new(0.0, 0.0)),
+        ])
+        .unwrap();
+        let f = t.at(d(175.0));
+        assert!((f.x - 2.0).abs() < 1e-12 && (f.y - 12.5).abs() < 1e-12);
+        assert!(t.at(d(270.0)).norm() < 1e-12);
+        let g = t.at(d(165.0 + 720.0));
+        assert!((g.y - 25.0).abs() < 1e-9);
+        // Between the last row and the first, round the turn.
+        let u = NeedleTable::new(vec![
+            (d(10.0), Point::new(10.0, 0.0)),
+            (d(350.0), Point::new(0.0, 0.0)),
+        ])
+        .unwrap();
+        assert!((u.at(d(0.0)).x - 5.0).abs() < 1e-9);
+    }
+
+    #[test]
+    fn rows_out_of_order_or_over_a_turn_are_refused() {
+        let d = f64::to_radians;
+        let z = Point::new(0.0, 0.0);
+        assert_eq!(
+            NeedleTable::new(vec![(d(10.0), z), (d(10.0), z)])
+                .unwrap_err()
+                .0,
+            1
+        );
+        assert!(NeedleTable::new(vec![(d(0.0), z), (d(360.0), z)]).is_err());
+    }
+}

@@ -1,0 +1,236 @@
+//! From the meshes' per-sample stresses to each gear's rating: the smallest safety factors and
+//! where they occur, the teeth loaded on both flanks (alternating bending, Y_M), the life by
+//! Miner's sum, and the remarks on the standard's validity.
+
+use super::life::{Engagement, engagements, hours, worst_damage};
+use super::mesh::MeshRating;
+use super::{Extreme, GearRating, RatingOptions, RatingReport};
+use crate::loads::report::LoadsReport;
+use crate::loads::scene::LoadCase;
+use std::collections::{BTreeMap, BTreeSet};
+
+/// Largest effective pressure angle ISO 6336's factors are validated for, deg.
+pub const VALID_PRESSURE_ANGLE_DEG: f64 = 25.0;
+
+/// The gear names in train order.
+const NAMES: [&str; 3] = ["sun", "intermediate", "planet"];
+
+/// A rated mesh: its name, its gears (indices into [`NAMES`]) and its per-sample rating.
+pub(super) type RatedMesh = (&'static str, [usize; 2], MeshRating);
+
+/// The rating report of both meshes.
+pub(super) fn summarise(
+    rated: &[RatedMesh; 2],
+    report: &LoadsReport,
+    opts: &RatingOptions,
+    face_width_mm: f64,
+    module_mm: f64,
+    case: &LoadCase,
+) -> RatingReport {
+    let travel = &report.travel_deg;
+    let mat = &opts.material;
+    let y_st = opts.factors.y_st;
+    let mut gears = BTreeMap::new();
+    let mut min_s_f = Extreme {
+        value: f64::INFINITY,
+        ..Extreme::default()
+    };
+    let mut life = (f64::INFINITY, String::new());
+    for (g, name) in NAMES.iter().enumerate() {
+        // The series of this gear: (mesh, its index in the mesh, the mesh's rating).
+        let series: Vec<(&str, usize, &MeshRating)> = rated
+            .iter()
+            .filter_map(|(mesh, pair, mr)| {
+                pair.iter().position(|&p| p == g).map(|i| (*mesh, i, mr))
+            })
+            .collect();
+        let mut flanks: BTreeMap<usize, BTreeSet<usize>> = BTreeMap::new();
+        for (_, i, mr) in &series {
+            for k in 0..travel.len() {
+                if mr.root_mpa[*i][k] > 0.0 {
+                    flanks
+                        .entry(mr.tooth[*i][k])
+                        .or_default()
+                        .insert(mr.flank[*i][k]);
+                }
+            }
+        }
+        let alternating: BTreeSet<usize> = flanks
+            .iter()
+            .filter(|(_, f)| f.len() > 1)
+            .map(|(t, _)| *t)
+            .collect();
+        let y_m = |tooth: usize| {
+            if alternating.contains(&tooth) {
+                opts.factors.y_m
+            } else {
+                1.0
+            }
+        };
+        let limit_f = |tooth: usize| y_st * y_m(tooth) * mat.sigma_flim_mpa;
+        let mut rating = GearRating {
+            min_s_f: Extreme {
+                value: f64::INFINITY,
+                ..Extreme::default()
+            },
+            y_f_y_s_range: [f64::INFINITY, 0.0],
+            alternating_teeth: alternating.len(),
+            ..GearRating::default()
+        };
+        let (mut bending, mut pitting): (Vec<Engagement>, Vec<Engagement>) = Default::default();
+        for (mesh, i, mr) in &series {
+            let root = &mr.root_mpa[*i];
+            for k in 0..travel.len() {
+                if !(root[k] > 0.0) {
+                    continue;
+                }
+                let tooth = mr.tooth[*i][k];
+                let s = limit_f(tooth) / root[k];
+                rating.max_root_stress_mpa = rating.max_root_stress_mpa.max(root[k]);
+                let yfs = mr.y_fs[*i][k];
+                rating.y_f_y_s_range = [
+                    rating.y_f_y_s_range[0].min(yfs),
+                    rating.y_f_y_s_range[1].max(yfs),
+                ];
+                if s < rating.min_s_f.value {
+                    rating.min_s_f = Extreme {
+                        value: s,
+                        travel_deg: travel[k],
+                        mesh: (*mesh).into(),
+                        gear: (*name).into(),
+                        tooth,
+                    };
+                }
+            }
+            bending.extend(engagements(&mr.tooth[*i], &mr.flank[*i], root));
+            pitting.extend(engagements(&mr.tooth[*i], &mr.flank[*i], &mr.contact_mpa));
+        }
+        // The sun meets every arm's intermediate gear in a turn.
+        let repeats = if g == 0 { f64::from(case.arms) } else { 1.0 };
+        let rpm = case.omega_rad_s * 60.0 / std::f64::consts::TAU;
+        rating.bending_life_h = hours(
+            worst_damage(&bending, limit_f, &mat.bending_sn, repeats, false),
+            rpm,
+        );
+        rating.pitting_life_h = hours(
+            worst_damage(
+                &pitting,
+                |_| mat.sigma_hlim_mpa,
+                &mat.contact_sn,
+                repeats,
+                true,
+            ),
+            rpm,
+        );
+        for (h, mode) in [
+            (rating.bending_life_h, "tooth breakage"),
+            (rating.pitting_life_h, "pitting"),
+        ] {
+            if h < life.0 {
+                life = (h, format!("{name}: {mode}"));
+            }
+        }
+        if rating.min_s_f.value < min_s_f.value {
+            min_s_f = rating.min_s_f.clone();
+        }
+        gears.insert((*name).to_string(), rating);
+    }
+    let min_s_h = min_pitting(rated, travel, mat.sigma_hlim_mpa);
+    RatingReport {
+        options: opts.clone(),
+        face_width_mm,
+        module_mm,
+        min_s_h,
+        min_s_f,
+        life_h: life.0,
+        life_limited_by: life.1,
+        gears,
+        notes: notes(rated, report, opts),
+    }
+}
+
+/// The smallest pitting safety factor over both meshes: at the sample, the mesh's pinion (the
+/// gear of the smaller flank radius) and its tooth.
+fn min_pitting(rated: &[RatedMesh; 2], travel: &[f64], sigma_hlim_mpa: f64) -> Extreme {
+    let mut best = Extreme {
+        value: f64::INFINITY,
+        ..Extreme::default()
+    };
+    for (mesh, pair, mr) in rated {
+        for (k, &sigma) in mr.contact_mpa.iter().enumerate() {
+            if !(sigma > 0.0) {
+                continue;
+            }
+            let s = sigma_hlim_mpa / sigma;
+            if s < best.value {
+                let [f1, f2] = mr.flank_radius_mm[k];
+                let i = usize::from(f2.abs() < f1.abs() && f2 > 0.0 || f1 < 0.0);
+                best = Extreme {
+                    value: s,
+                    travel_deg: travel[k],
+                    mesh: (*mesh).into(),
+                    gear: NAMES[pair[i]].into(),
+                    tooth: mr.tooth[i][k],
+                };
+            }
+        }
+    }
+    best
+}
+
+/// The remarks: where the rating leaves the standard's validity.
+fn notes(rated: &[RatedMesh; 2], report: &LoadsReport, opts: &RatingOptions) -> Vec<String> {
+    let mut out = Vec::new();
+    for (mesh, pair, mr) in rated {
+        let loads = if *mesh == "sun_intermediate" {
+            &report.meshes.sun_intermediate
+        } else {
+            &report.meshes.intermediate_planet
+        };
+        let peak = loads
+            .effective_pressure_angle_deg
+            .iter()
+            .zip(&loads.normal_force_n)
+            .filter(|(_, f)| **f > 0.0)
+            .map(|(a, _)| *a)
+            .fold(0.0, f64::max);
+        if peak > VALID_PRESSURE_ANGLE_DEG {
+            out.push(format!(
+                "{mesh}: effective pressure angle up to {peak:.1}° (ISO 6336 is validated up to \
+                 about {VALID_PRESSURE_ANGLE_DEG}°; teeth at larger angles do not gain the \
+                 strength its formulas give them: read the safety factors there as optimistic)"
+            ));
+        }
+        if mr.concave > 0 {
+            out.push(format!(
+                "{mesh}: a concave flank carries the contact at {} of {} samples: rated as the \
+                 local internal pair (Hertz with the concave radius, the 60° tangent at its root)",
+                mr.concave,
+                mr.contact_ratio.len()
+            ));
+        }
+        if mr.q_s[0] < 1.0 || mr.q_s[1] >= 8.0 {
+            out.push(format!(
+                "{mesh}: the notch parameter q_s runs over {:.2}…{:.2}, outside ISO 6336-3's \
+                 1 ≤ q_s < 8 for Y_S",
+                mr.q_s[0], mr.q_s[1]
+            ));
+        }
+        let (eps, k) = mr.min_contact_ratio;
+        if eps < 1.0 {
+            out.push(format!(
+                "{mesh}: the local contact ratio falls to {eps:.3} < 1 at travel {:.1}° ({} and \
+                 {}): one tooth pair at a time cannot keep the contact there",
+                report.travel_deg[k], NAMES[pair[0]], NAMES[pair[1]]
+            ));
+        }
+    }
+    if opts.material.name == "pom" {
+        out.push(
+            "material pom: ISO 6336 rates metal gears; a plastic gear rated by its structure \
+             (VDI 2736 strength values) is a first estimate"
+                .into(),
+        );
+    }
+    out
+}

@@ -1,0 +1,238 @@
+//! The module sized by strength (`ncgear design TARGET --module auto --loads SCENE`): the target
+//! designed for each standard module in turn, smallest first, toothed, its loads rated, and the
+//! smallest module kept whose gears meet both safety targets — the face width the scene's, or
+//! `auto`: the smallest within `[6, 15]·m` that meets them (found by bisection to 0.5 mm, the
+//! stresses falling as the face widens). The report is [`ModuleSizing`], one row per module tried
+//! (the next smaller module's row says why it fails).
+
+use super::analysis::{analyse_at, face_width_mm};
+use super::scene::{FaceWidth, LoadCase};
+use super::{LoadsError, LoadsReport, Rotor};
+use crate::design::sizing::{ModuleSizing, SizingRow};
+use crate::design::train::{ToothedTrain, TrainPolicy, TrainTeethOptions, tooth_train};
+use crate::design::trajectory::Trajectory;
+use crate::design::{Design, DesignOptions, design};
+use serde::{Deserialize, Serialize};
+
+/// The standard modules of ISO 54 (series I, and 1.25 of series I too), mm, tried in turn.
+pub const STANDARD_MODULES_MM: [f64; 12] = [
+    1.0, 1.25, 1.5, 2.0, 2.5, 3.0, 4.0, 5.0, 6.0, 8.0, 10.0, 12.0,
+];
+
+/// Options of the sizing; [`Default`] fills the documented defaults.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+#[non_exhaustive]
+pub struct SizingOptions {
+    /// Modules tried, smallest first, mm. Default [`STANDARD_MODULES_MM`].
+    pub modules_mm: Vec<f64>,
+    /// The face width range of `"auto"`, in modules. Default `[6, 15]`.
+    pub face_width_modules: [f64; 2],
+    /// Resolution of the `auto` face width, mm. Default 0.5.
+    pub face_width_step_mm: f64,
+    /// Go on past the first module that passes (the trade-off's full table). Default false.
+    pub all_modules: bool,
+}
+
+impl Default for SizingOptions {
+    fn default() -> Self {
+        Self {
+            modules_mm: STANDARD_MODULES_MM.to_vec(),
+            face_width_modules: [6.0, 15.0],
+            face_width_step_mm: 0.5,
+            all_modules: false,
+        }
+    }
+}
+
+crate::builder::with_fields!(SizingOptions {
+    with_modules_mm => modules_mm: Vec<f64>,
+    with_face_width_modules => face_width_modules: [f64; 2],
+    with_face_width_step_mm => face_width_step_mm: f64,
+    with_all_modules => all_modules: bool,
+});
+
+/// The sized design: the table, and the kept module's design, teeth and loads (the best row's
+/// when none passes, so that its files can be written and its verdict fail).
+#[derive(Debug, Clone)]
+pub struct Sized {
+    /// The table.
+    pub sizing: ModuleSizing,
+    /// The design kept, its teeth and loads (absent when no module could be designed and rated).
+    pub kept: Option<(Design, ToothedTrain, LoadsReport)>,
+}
+
+/// Whether a report meets the targets, and the row's failure text when not.
+fn judge(r: &LoadsReport, s_h_min: f64, s_f_min: f64) -> (bool, Option<String>) {
+    let Some(rating) = &r.rating else {
+        return (false, Some("no rating".into()));
+    };
+    let mut fails = Vec::new();
+    if rating.min_s_h.value < s_h_min {
+        fails.push(format!(
+            "S_H {:.3} < {s_h_min} ({})",
+            rating.min_s_h.value, rating.min_s_h.mesh
+        ));
+    }
+    if rating.min_s_f.value < s_f_min {
+        fails.push(format!(
+            "S_F {:.3} < {s_f_min} ({} root)",
+            rating.min_s_f.value, rating.min_s_f.gear
+        ));
+    }
+    (
+        fails.is_empty(),
+        (!fails.is_empty()).then(|| fails.join("; ")),
+    )
+}
+
+/// The loads of a toothed train at the face width the case gives, or the smallest `auto` face
+/// width in the range of `opts` that meets the case's targets (the widest when none does).
+///
+/// # Errors
+/// As [`super::analyse`].
+pub fn rate_train(
+    train: &ToothedTrain,
+    case: &LoadCase,
+    opts: &SizingOptions,
+    file: &str,
+) -> Result<LoadsReport, LoadsError> {
+    let targets = case
+        .rating
+        .as_ref()
+        .map_or((0.0, 0.0), |r| (r.s_h_min, r.s_f_min));
+    let rotor = Rotor::toothed(train);
+    let m = train.report.module_mm;
+    if !matches!(case.bodies.map(|b| b.face_width), Some(FaceWidth::Auto)) {
+        return analyse_at(&rotor, case, face_width_mm(case, file)?, file);
+    }
+    let step = opts.face_width_step_mm;
+    let [lo_m, hi_m] = opts.face_width_modules;
+    let (lo, hi) = (
+        (lo_m * m / step).ceil() * step,
+        (hi_m * m / step).floor() * step,
+    );
+    let at = |b: f64| analyse_at(&rotor, case, b, file);
+    let passes = |r: &LoadsReport| judge(r, targets.0, targets.1).0;
+    let widest = at(hi)?;
+    if !passes(&widest) {
+        return Ok(widest);
+    }
+    let narrowest = at(lo)?;
+    if passes(&narrowest) {
+        return Ok(narrowest);
+    }
+    // Bisection on the step grid: `a` fails, `b` passes.
+    let (mut a, mut b, mut best) = (lo, hi, widest);
+    while b - a > step * 1.5 {
+        let mid = (0.5 * (a + b) / step).round() * step;
+        let r = at(mid)?;
+        if passes(&r) {
+            b = mid;
+            best = r;
+        } else {
+            a = mid;
+        }
+    }
+    Ok(best)
+}
+
+/// The row of a module whose design, teeth or rating failed.
+fn failed_row(module_mm: f64, why: String) -> SizingRow {
+    SizingRow {
+        module_mm,
+        fails: Some(why),
+        ..SizingRow::default()
+    }
+}
+
+/// Sizes the module of `target` (module docs): `design_opts` as for any design (the module
+/// replaced by each one tried), `case` the scene's loads and rating; `file` names the scene.
+///
+/// # Errors
+/// [`LoadsError::Field`] when the scene rates nothing (no `[material]`) or has no gear bodies;
+/// a design's own failure is a row of the table, not an error.
+pub fn size_module(
+    target: &Trajectory,
+    design_opts: &DesignOptions,
+    case: &LoadCase,
+    opts: &SizingOptions,
+    file: &str,
+) -> Result<Sized, LoadsError> {
+    let rating = case.rating.as_ref().ok_or_else(|| LoadsError::Field {
+        file: file.into(),
+        key: "material".into(),
+        message: "sizing the module by strength needs a [material] (and [gears] with the face \
+                  width or \"auto\")"
+            .into(),
+    })?;
+    let targets = (rating.s_h_min, rating.s_f_min);
+    let mut sizing = ModuleSizing {
+        s_h_min: targets.0,
+        s_f_min: targets.1,
+        face_width: match case.bodies.map(|b| b.face_width) {
+            Some(FaceWidth::Mm(b)) => format!("{b}"),
+            _ => "auto".into(),
+        },
+        ..ModuleSizing::default()
+    };
+    let mut kept: Option<(Design, ToothedTrain, LoadsReport)> = None;
+    let mut best_margin = f64::NEG_INFINITY;
+    for &m in &opts.modules_mm {
+        let d = match design(target, &design_opts.clone().with_module_mm(Some(m))) {
+            Ok(d) => d,
+            Err(e) => {
+                sizing.rows.push(failed_row(m, format!("design: {e}")));
+                continue;
+            }
+        };
+        let mut topts = TrainTeethOptions::new(m).with_policy(TrainPolicy::Designed);
+        topts.toothing.verify_steps = 0;
+        let train = match tooth_train(&d, &topts) {
+            Ok(t) => t,
+            Err(e) => {
+                sizing.rows.push(failed_row(m, format!("teeth: {e}")));
+                continue;
+            }
+        };
+        let report = match rate_train(&train, case, opts, file) {
+            Ok(r) => r,
+            Err(e) => {
+                sizing.rows.push(failed_row(m, format!("loads: {e}")));
+                continue;
+            }
+        };
+        let (passed, fails) = judge(&report, targets.0, targets.1);
+        let rr = report.rating.as_ref();
+        let g = &report.gears;
+        sizing.rows.push(SizingRow {
+            module_mm: m,
+            teeth: Some(train.report.z),
+            face_width_mm: report.gears.face_width_mm,
+            max_deviation_mm: Some(train.report.roundtrip.max_deviation_mm),
+            s_h: rr.map(|r| r.min_s_h.value),
+            s_f: rr.map(|r| r.min_s_f.value),
+            gears_mass_kg: Some(
+                g.sun.mass_kg + f64::from(case.arms) * (g.intermediate.mass_kg + g.planet.mass_kg),
+            ),
+            carrier_torque_peak_nm: Some(report.summary.carrier_torque_peak_nm),
+            life_h: rr.map(|r| r.life_h),
+            passed,
+            fails,
+        });
+        let margin = rr.map_or(f64::NEG_INFINITY, |r| {
+            (r.min_s_h.value / targets.0).min(r.min_s_f.value / targets.1)
+        });
+        if passed && sizing.chosen_module_mm.is_none() {
+            sizing.chosen_module_mm = Some(m);
+            kept = Some((d, train, report));
+            if !opts.all_modules {
+                break;
+            }
+        } else if sizing.chosen_module_mm.is_none() && margin > best_margin {
+            best_margin = margin;
+            kept = Some((d, train, report));
+        }
+    }
+    Ok(Sized { sizing, kept })
+}
