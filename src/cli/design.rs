@@ -62,13 +62,8 @@ pub fn run(args: Args) -> CliResult {
     };
     let loads = match (&scene, &train) {
         (Some((case, scene_file)), Some(t)) => Some(
-            ncgear::loads::rate_train(
-                t,
-                case,
-                &ncgear::loads::SizingOptions::default(),
-                scene_file,
-            )
-            .map_err(super::loads::loads_failure)?,
+            ncgear::loads::analyse(&ncgear::loads::Rotor::toothed(t), case, scene_file)
+                .map_err(super::loads::loads_failure)?,
         ),
         _ => None,
     };

@@ -40,23 +40,11 @@ fn gear_masses(r: &Rebuilt, case: &LoadCase, face_width_mm: f64) -> [MassPropert
     }
 }
 
-/// The face width the case gives for `rotor`, mm (0 without gear bodies).
-///
-/// # Errors
-/// [`LoadsError::Field`] for `"auto"`, which only the sizing resolves.
-pub(crate) fn face_width_mm(case: &LoadCase, file: &str) -> Result<f64, LoadsError> {
-    match case.bodies.map(|b| b.face_width) {
-        None => Ok(0.0),
-        Some(FaceWidth::Mm(b)) => Ok(b),
-        Some(FaceWidth::Auto) => Err(LoadsError::Field {
-            file: file.into(),
-            key: "gears.face_width_mm".into(),
-            message: "\"auto\" is chosen by the sizing (`ncgear design --module auto --loads`); \
-                      `ncgear loads` rates a given face width: give it in mm"
-                .into(),
-        }),
-    }
-}
+/// The range of an `"auto"` face width, in modules: from 6·m to 15·m.
+pub const AUTO_FACE_WIDTH_MODULES: [f64; 2] = [6.0, 15.0];
+
+/// The step of an `"auto"` face width, mm.
+pub const AUTO_FACE_WIDTH_STEP_MM: f64 = 0.5;
 
 /// The bore must leave every gear a rim: its radius below the smallest pitch radius less the
 /// dedendum (1.25·m with teeth).
@@ -141,14 +129,72 @@ fn over_arms<T: Copy + Default + std::ops::Add<Output = T>>(values: &[T], arms: 
         .collect()
 }
 
-/// The loads of `rotor` under `case` (module docs); `file` names the scene in messages.
+/// The loads of `rotor` under `case` (module docs); `file` names the scene in messages. An
+/// `"auto"` face width is the smallest on a 0.5 mm grid within `[6, 15]·m` whose rating meets
+/// the case's safety targets (the stresses fall as the face widens: bisection), or `15·m` when
+/// none does.
 ///
 /// # Errors
-/// [`LoadsError`]: a face width left to the sizing, a bore larger than a gear, a mesh that
-/// locks, a rating without teeth.
+/// [`LoadsError`]: an `"auto"` face width without teeth (no module), a bore larger than a gear,
+/// a mesh that locks, a rating without teeth.
 pub fn analyse(rotor: &Rotor<'_>, case: &LoadCase, file: &str) -> Result<LoadsReport, LoadsError> {
-    let b = face_width_mm(case, file)?;
-    analyse_at(rotor, case, b, file)
+    match case.bodies.map(|b| b.face_width) {
+        None => analyse_at(rotor, case, 0.0, file),
+        Some(FaceWidth::Mm(b)) => analyse_at(rotor, case, b, file),
+        Some(FaceWidth::Auto) => auto_face_width(rotor, case, file),
+    }
+}
+
+/// Whether a report meets its rating's targets (a report without a rating does).
+#[must_use]
+pub fn meets_targets(r: &LoadsReport) -> bool {
+    r.verdict.passed
+}
+
+/// The `"auto"` face width (see [`analyse`]).
+fn auto_face_width(
+    rotor: &Rotor<'_>,
+    case: &LoadCase,
+    file: &str,
+) -> Result<LoadsReport, LoadsError> {
+    let Some(teeth) = rotor.teeth() else {
+        return Err(LoadsError::Field {
+            file: file.into(),
+            key: "gears.face_width_mm".into(),
+            message: "\"auto\" is chosen within 6…15·m of the module, and the design has no \
+                      teeth: give the face width in mm, or design with --module"
+                .into(),
+        });
+    };
+    let m = teeth.report.module_mm;
+    let step = AUTO_FACE_WIDTH_STEP_MM;
+    let [lo_m, hi_m] = AUTO_FACE_WIDTH_MODULES;
+    let (lo, hi) = (
+        (lo_m * m / step).ceil() * step,
+        (hi_m * m / step).floor() * step,
+    );
+    let at = |b: f64| analyse_at(rotor, case, b, file);
+    let widest = at(hi)?;
+    if !meets_targets(&widest) {
+        return Ok(widest);
+    }
+    let narrowest = at(lo)?;
+    if meets_targets(&narrowest) {
+        return Ok(narrowest);
+    }
+    // Bisection on the step grid: `a` fails, `b` meets the targets.
+    let (mut a, mut b, mut best) = (lo, hi, widest);
+    while b - a > 1.5 * step {
+        let mid = (0.5 * (a + b) / step).round() * step;
+        let r = at(mid)?;
+        if meets_targets(&r) {
+            b = mid;
+            best = r;
+        } else {
+            a = mid;
+        }
+    }
+    Ok(best)
 }
 
 /// [`analyse`] at the face width `face_width_mm` (mm).

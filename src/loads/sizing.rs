@@ -1,11 +1,10 @@
 //! The module sized by strength (`ncgear design TARGET --module auto --loads SCENE`): the target
 //! designed for each standard module in turn, smallest first, toothed, its loads rated, and the
 //! smallest module kept whose gears meet both safety targets — the face width the scene's, or
-//! `auto`: the smallest within `[6, 15]·m` that meets them (found by bisection to 0.5 mm, the
-//! stresses falling as the face widens). The report is [`ModuleSizing`], one row per module tried
+//! `auto`: the smallest within `[6, 15]·m` that meets them ([`super::analyse`]). The report is [`ModuleSizing`], one row per module tried
 //! (the next smaller module's row says why it fails).
 
-use super::analysis::{analyse_at, face_width_mm};
+use super::analysis::analyse;
 use super::scene::{FaceWidth, LoadCase};
 use super::{LoadsError, LoadsReport, Rotor};
 use crate::design::sizing::{ModuleSizing, SizingRow};
@@ -26,10 +25,6 @@ pub const STANDARD_MODULES_MM: [f64; 12] = [
 pub struct SizingOptions {
     /// Modules tried, smallest first, mm. Default [`STANDARD_MODULES_MM`].
     pub modules_mm: Vec<f64>,
-    /// The face width range of `"auto"`, in modules. Default `[6, 15]`.
-    pub face_width_modules: [f64; 2],
-    /// Resolution of the `auto` face width, mm. Default 0.5.
-    pub face_width_step_mm: f64,
     /// Go on past the first module that passes (the trade-off's full table). Default false.
     pub all_modules: bool,
 }
@@ -38,8 +33,6 @@ impl Default for SizingOptions {
     fn default() -> Self {
         Self {
             modules_mm: STANDARD_MODULES_MM.to_vec(),
-            face_width_modules: [6.0, 15.0],
-            face_width_step_mm: 0.5,
             all_modules: false,
         }
     }
@@ -47,8 +40,6 @@ impl Default for SizingOptions {
 
 crate::builder::with_fields!(SizingOptions {
     with_modules_mm => modules_mm: Vec<f64>,
-    with_face_width_modules => face_width_modules: [f64; 2],
-    with_face_width_step_mm => face_width_step_mm: f64,
     with_all_modules => all_modules: bool,
 });
 
@@ -84,57 +75,6 @@ fn judge(r: &LoadsReport, s_h_min: f64, s_f_min: f64) -> (bool, Option<String>) 
         fails.is_empty(),
         (!fails.is_empty()).then(|| fails.join("; ")),
     )
-}
-
-/// The loads of a toothed train at the face width the case gives, or the smallest `auto` face
-/// width in the range of `opts` that meets the case's targets (the widest when none does).
-///
-/// # Errors
-/// As [`super::analyse`].
-pub fn rate_train(
-    train: &ToothedTrain,
-    case: &LoadCase,
-    opts: &SizingOptions,
-    file: &str,
-) -> Result<LoadsReport, LoadsError> {
-    let targets = case
-        .rating
-        .as_ref()
-        .map_or((0.0, 0.0), |r| (r.s_h_min, r.s_f_min));
-    let rotor = Rotor::toothed(train);
-    let m = train.report.module_mm;
-    if !matches!(case.bodies.map(|b| b.face_width), Some(FaceWidth::Auto)) {
-        return analyse_at(&rotor, case, face_width_mm(case, file)?, file);
-    }
-    let step = opts.face_width_step_mm;
-    let [lo_m, hi_m] = opts.face_width_modules;
-    let (lo, hi) = (
-        (lo_m * m / step).ceil() * step,
-        (hi_m * m / step).floor() * step,
-    );
-    let at = |b: f64| analyse_at(&rotor, case, b, file);
-    let passes = |r: &LoadsReport| judge(r, targets.0, targets.1).0;
-    let widest = at(hi)?;
-    if !passes(&widest) {
-        return Ok(widest);
-    }
-    let narrowest = at(lo)?;
-    if passes(&narrowest) {
-        return Ok(narrowest);
-    }
-    // Bisection on the step grid: `a` fails, `b` passes.
-    let (mut a, mut b, mut best) = (lo, hi, widest);
-    while b - a > step * 1.5 {
-        let mid = (0.5 * (a + b) / step).round() * step;
-        let r = at(mid)?;
-        if passes(&r) {
-            b = mid;
-            best = r;
-        } else {
-            a = mid;
-        }
-    }
-    Ok(best)
 }
 
 /// The row of a module whose design, teeth or rating failed.
@@ -195,7 +135,7 @@ pub fn size_module(
                 continue;
             }
         };
-        let report = match rate_train(&train, case, opts, file) {
+        let report = match analyse(&Rotor::toothed(&train), case, file) {
             Ok(r) => r,
             Err(e) => {
                 sizing.rows.push(failed_row(m, format!("loads: {e}")));

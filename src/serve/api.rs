@@ -5,6 +5,9 @@
 //! [`super::view`], when asked). `options` are the `ncgear design` flags by their JSON names
 //! (`--tol-mm` → `tol_mm`); every field is optional and takes the CLI's default. Errors are
 //! HTTP 400 `{"error": "…", "field": "…"}`.
+//!
+//! `POST /api/loads` takes `{"design": <design.json>, "scene": {…}}` (or `"points"` and
+//! `"options"` in place of `"design"`) and answers the `loads.json` object ([`super::loads`]).
 
 use ncgear::design::trajectory::Trajectory;
 use ncgear::design::{DesignError, DesignOptions, RefineMode};
@@ -175,6 +178,43 @@ impl DesignRequest {
     pub fn trajectory(&self) -> Result<Trajectory, ApiError> {
         Trajectory::from_points(self.points.clone())
             .map_err(|e| ApiError::bad("points", e.to_string()))
+    }
+}
+
+/// `POST /api/loads`: the loads of a design under a scene ([`super::loads`]).
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct LoadsRequest {
+    /// The design: the `design.json` object `POST /api/design` answered (its `view` and
+    /// `server_ms` are not read), or a design file's contents.
+    #[serde(default)]
+    pub design: Option<serde_json::Value>,
+    /// Or the target points `[x, y]`, mm, designed as `POST /api/export` designs them (the full
+    /// search, `ncgear design`'s design) with `options`.
+    #[serde(default)]
+    pub points: Option<Vec<Point>>,
+    /// Design options of `points` (CLI names).
+    #[serde(default)]
+    pub options: Option<Options>,
+    /// The scene's tables by the keys of a scene file (`operation`, `arm`, `gears`, `needle`,
+    /// `material`, `rating`; docs/loads.md), without `design`.
+    pub scene: serde_json::Value,
+    /// Answer every per-sample array of `loads.json` (default: those the page draws).
+    #[serde(default)]
+    pub full: bool,
+}
+
+impl LoadsRequest {
+    /// Parses a request body, naming the field at fault.
+    pub fn parse(body: &str) -> Result<Self, ApiError> {
+        serde_json::from_str(body).map_err(|e| {
+            let msg = e.to_string();
+            let field = ["design", "points", "options", "scene", "full"]
+                .into_iter()
+                .find(|f| msg.contains(&format!("`{f}`")))
+                .unwrap_or("body");
+            ApiError::bad(field, format!("the request is not a loads request: {msg}"))
+        })
     }
 }
 

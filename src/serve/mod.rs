@@ -1,6 +1,6 @@
 //! `ncgear serve`: the interactive designer, a local web application. A shell over the library,
 //! as the CLI is: the page (HTML, JS and CSS committed under `page/` and embedded in the binary)
-//! draws what the JSON API answers, and the API calls the library's design, teeth and file
+//! draws what the JSON API answers, and the API calls the library's design, teeth, loads and file
 //! writers — the same calls `ncgear design` makes, so an export is the CLI's file.
 //!
 //! Safety: it listens on loopback unless `--host` says otherwise (printed as a warning); a body
@@ -9,6 +9,7 @@
 //! answered 500, and the server goes on.
 
 mod api;
+mod loads;
 mod page;
 mod routes;
 mod view;

@@ -1,4 +1,5 @@
-//! The page's files and the bundled example trajectories, embedded in the binary.
+//! The page's files, the bundled example trajectories and the bundled loads scene, embedded in
+//! the binary.
 
 use super::Reply;
 use super::api::ApiError;
@@ -41,6 +42,13 @@ const EXAMPLES: [(&str, &str, &str); 3] = [
         include_str!("../../assets/trajectories/asymmetric_cw.json"),
     ),
 ];
+
+/// The bundled loads scene (`ncgear design --module auto --loads` sizes by it): the defaults of
+/// the page's loads panel, which reads them from [`loads_scene`] (their one source).
+const LOADS_SCENE: (&str, &str) = (
+    "assets/loads/rotor.toml",
+    include_str!("../../assets/loads/rotor.toml"),
+);
 
 /// One of the page's files.
 pub fn asset(name: &str) -> Reply {
@@ -88,5 +96,25 @@ pub fn example(name: &str) -> Result<Reply, ApiError> {
     let traj = Trajectory::parse(text, file).map_err(|e| ApiError::bad("file", e.to_string()))?;
     Ok(Reply::json(
         serde_json::json!({"name": name, "file": file, "points": traj.points()}).to_string(),
+    ))
+}
+
+/// `GET /api/loads/scene`: `{"file", "scene": the bundled scene's tables as JSON (read by the
+/// library's config loader), "materials": the material presets}`.
+pub fn loads_scene() -> Result<Reply, ApiError> {
+    let (file, text) = LOADS_SCENE;
+    let scene: ncgear::loads::Scene =
+        ncgear::config::parse(text, file, ncgear::config::Format::Toml).map_err(|e| ApiError {
+            status: 500,
+            error: e.to_string(),
+            field: None,
+        })?;
+    Ok(Reply::json(
+        serde_json::json!({
+            "file": file,
+            "scene": scene,
+            "materials": ncgear::loads::rating::material::PRESETS,
+        })
+        .to_string(),
     ))
 }

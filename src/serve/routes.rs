@@ -1,7 +1,8 @@
-//! The endpoints: the page, the bundled examples, parsing an upload, designing, exporting.
+//! The endpoints: the page, the bundled examples, parsing an upload, designing, the loads,
+//! exporting.
 
-use super::api::{ApiError, DesignRequest, ParseRequest, design_error};
-use super::{Reply, page, view};
+use super::api::{ApiError, DesignRequest, LoadsRequest, ParseRequest, design_error};
+use super::{Reply, loads, page, view};
 use ncgear::design::train::{ToothedTrain, TrainPolicy, TrainTeethOptions, tooth_train};
 use ncgear::design::trajectory::Trajectory;
 use ncgear::design::{Design, design, warm::redesign};
@@ -20,6 +21,8 @@ pub fn route(method: &str, url: &str, body: &str) -> Reply {
         }
         ("POST", "/api/parse") => parse(body),
         ("POST", "/api/design") => design_endpoint(body),
+        ("GET", "/api/loads/scene") => page::loads_scene(),
+        ("POST", "/api/loads") => loads_endpoint(body),
         ("POST", "/api/export") => export(body),
         ("POST", "/api/synthesize") => synthesize_endpoint(body),
         (_, p) if p.starts_with("/api/") => Err(ApiError {
@@ -76,6 +79,59 @@ fn design_endpoint(body: &str) -> Result<Reply, ApiError> {
     if req.view {
         let v = view::view(&d, train.as_ref(), spacing);
         value["view"] = serde_json::to_value(v).map_err(internal)?;
+    }
+    value["server_ms"] = Value::from(1e3 * started.elapsed().as_secs_f64());
+    Ok(Reply::json(value.to_string()))
+}
+
+/// `POST /api/loads`: the `loads.json` object of the design sent (the page sends the design on
+/// screen: no second design per edit), or of the points designed as `POST /api/export` designs
+/// them; its per-sample arrays slimmed to those the page draws unless `full`; `left_out` lists
+/// what of the scene was not computed, and why; plus `server_ms`.
+fn loads_endpoint(body: &str) -> Result<Reply, ApiError> {
+    let started = std::time::Instant::now();
+    let req = LoadsRequest::parse(body)?;
+    let design = match (req.design, req.points) {
+        (Some(_), Some(_)) => {
+            return Err(ApiError::bad(
+                "points",
+                "give the design or the points to design, not both",
+            ));
+        }
+        (Some(_), None) if req.options.is_some() => {
+            return Err(ApiError::bad(
+                "options",
+                "the design carries its own options: send `options` with `points` only",
+            ));
+        }
+        (Some(d), None) => d,
+        (None, Some(points)) => {
+            let cold = DesignRequest {
+                points,
+                options: req.options.unwrap_or_default(),
+                start: None,
+                view: false,
+                spacing_mm: None,
+                format: None,
+            };
+            let (d, _) = designed(&cold)?;
+            // Read back as a design file is: the loads of `ncgear design` + `ncgear loads`.
+            serde_json::to_value(&d.report).map_err(internal)?
+        }
+        (None, None) => {
+            return Err(ApiError::bad(
+                "design",
+                "send the design (the design.json object) or the points to design",
+            ));
+        }
+    };
+    let mut answer = loads::loads(&design, &req.scene)?;
+    if !req.full {
+        loads::slim(&mut answer.report);
+    }
+    let mut value = serde_json::to_value(&answer.report).map_err(internal)?;
+    if !answer.left_out.is_empty() {
+        value["left_out"] = Value::from(answer.left_out);
     }
     value["server_ms"] = Value::from(1e3 * started.elapsed().as_secs_f64());
     Ok(Reply::json(value.to_string()))

@@ -22,11 +22,7 @@ fn asset(rel: &str) -> PathBuf {
 /// spaces, no frame characters).
 fn run(args: &[&str]) -> (Option<i32>, String) {
     let o = ncgear().args(args).output().expect("ncgear runs");
-    let err = String::from_utf8_lossy(&o.stderr).replace(['│', '×'], " ");
-    (
-        o.status.code(),
-        err.split_whitespace().collect::<Vec<_>>().join(" "),
-    )
+    (o.status.code(), super::cli::message(&o))
 }
 
 /// Each reproducer of an unbounded run is refused with exit 2, naming the value, the range and

@@ -21,3 +21,10 @@ pub fn succeed(cmd: &mut Command) -> Output {
 pub fn succeed_json(cmd: &mut Command) -> serde_json::Value {
     serde_json::from_slice(&succeed(cmd).stdout).expect("stdout is JSON")
 }
+
+/// The stderr of `out` with the message box's wrapping undone: single spaces, no frame
+/// characters.
+pub fn message(out: &Output) -> String {
+    let err = String::from_utf8_lossy(&out.stderr).replace(['│', '×'], " ");
+    err.split_whitespace().collect::<Vec<_>>().join(" ")
+}

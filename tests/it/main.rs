@@ -10,6 +10,8 @@ mod dynamics;
 mod hard_cases;
 mod layout;
 mod limits;
+mod loads;
+mod loads_cli;
 mod loads_rating;
 mod noise;
 mod options;
