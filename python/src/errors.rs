@@ -1,8 +1,10 @@
 //! `ncgear.NcgearError` and the library's errors in the words of the Python API: an option the
 //! library names by its field (`tol_tip_mm`) is named by the argument that sets it (`tol_mm`),
-//! and no message quotes a CLI flag.
+//! and no message quotes a CLI flag (a design file, which only `ncgear design` writes, is told by
+//! its command).
 use ncgear::bounds::OutOfBounds;
 use ncgear::design::DesignError;
+use ncgear::loads::LoadsError;
 use ncgear::pair::PairError;
 use ncgear::teeth::TeethError;
 use pyo3::PyErr;
@@ -58,6 +60,7 @@ fn unflagged(message: &str) -> String {
     message
         .replace("`--sense auto`", "`sense=\"auto\"`")
         .replace("--max-memory-gb", "ncgear.set_max_memory_gb()")
+        .replace("(--max-pressure-angle)", "(`max_pressure_angle`)")
 }
 
 /// An `NcgearError` carrying `e`'s message.
@@ -123,4 +126,30 @@ pub fn pair_err(e: &PairError) -> PyErr {
         } => field_err(name, value, expected),
         _ => err(e),
     }
+}
+
+/// A loads error. `from_dict`: the scene is a dict (its JSON's line and column are dropped);
+/// `in_memory`: the train is a Python object, so a design without teeth is told to pass
+/// `ncgear.teeth(...)`; a design file's teeth come from `ncgear design --module`.
+pub fn loads_err(e: &LoadsError, from_dict: bool, in_memory: bool) -> PyErr {
+    let mut m = e.to_string();
+    if from_dict
+        && matches!(e, LoadsError::Scene(_))
+        && let Some(i) = m.rfind(" at line 1 column ")
+    {
+        m.truncate(i);
+    }
+    // The library says what is wrong; how to mend it from Python is said here.
+    let hint = match e {
+        LoadsError::NoTeeth if in_memory => {
+            Some("pass the toothed train, ncgear.teeth(design, module)")
+        }
+        LoadsError::NoTeeth => Some("write the design file with `ncgear design --module M`"),
+        LoadsError::SelfLocking { .. } => Some("`max_pressure_angle` sets the gear limit"),
+        _ => None,
+    };
+    err(match hint {
+        Some(h) => format!("{m} ({h})"),
+        None => m,
+    })
 }

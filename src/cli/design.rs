@@ -19,7 +19,7 @@ pub fn run(args: Args) -> CliResult {
     let started = std::time::Instant::now();
     // Every option is checked before any work: the tooth and export options and the loads
     // scene too.
-    let scene = loads_scene(&args)?;
+    let scene = super::loads::design_scene(&args)?;
     let teeth_opts = match args.module {
         Some(ModuleArg::Mm(m)) => Some(teeth_options(&args, m)?),
         Some(ModuleArg::Auto) => Some(teeth_options(&args, 1.0)?),
@@ -34,7 +34,7 @@ pub fn run(args: Args) -> CliResult {
     let file = args.trajectory.display().to_string();
     let (mut d, module) = match (&scene, args.module) {
         (Some((case, scene_file)), Some(ModuleArg::Auto)) => {
-            sized_design(&traj, &opts, case, scene_file, &file)?
+            super::loads::sized_design(&traj, &opts, case, scene_file, &file)?
         }
         _ => {
             let pb = super::spinner("designing the gears");
@@ -90,110 +90,9 @@ pub fn run(args: Args) -> CliResult {
         started,
     );
     if let Some(l) = &loads {
-        print_loads(&d.report, l);
+        super::loads::print_sizing(&d.report, l);
     }
     super::verdict_outcome(&d.report.verdict, args.accept_failed)
-}
-
-/// The loads scene of `--loads`, read and checked before any work: `--module auto` needs it,
-/// and it needs a `[material]` to rate the teeth against.
-fn loads_scene(args: &Args) -> Result<Option<(ncgear::loads::LoadCase, String)>, super::Failure> {
-    let Some(path) = &args.loads else {
-        if args.module == Some(ModuleArg::Auto) {
-            return Err(input_error(miette::miette!(
-                help = "give the loads the gears must carry: --loads SCENE.toml (docs/loads.md)",
-                "--module auto sizes the module by strength, and no --loads scene is given"
-            )));
-        }
-        return Ok(None);
-    };
-    if args.module.is_none() {
-        return Err(input_error(miette::miette!(
-            help = "--module auto sizes the module for the scene; --module M rates module M",
-            "--loads rates the teeth, and no teeth are made without --module"
-        )));
-    }
-    if args.module == Some(ModuleArg::Auto)
-        && (args.teeth.is_some() || !matches!(args.tooth_policy, ToothPolicyArg::Design))
-    {
-        return Err(input_error(miette::miette!(
-            "--module auto designs each module for its own tooth count: leave out --teeth and \
-             --tooth-policy"
-        )));
-    }
-    let file = path.display().to_string();
-    let scene = ncgear::loads::Scene::from_path(path).map_err(super::loads::loads_failure)?;
-    let case = scene.validate(&file).map_err(super::loads::loads_failure)?;
-    if case.rating.is_none() {
-        return Err(input_error(miette::miette!(
-            help = "add [material] (preset = \"steel\", …) and [gears] with face_width_mm (a width \
-                    or \"auto\") to the scene",
-            "{file}: --loads rates the teeth, and the scene names no material"
-        )));
-    }
-    if scene.design.is_some() {
-        eprintln!(
-            "note: {file}: its `design` is not read here (the design is the one this command makes)"
-        );
-    }
-    Ok(Some((case, file)))
-}
-
-/// `--module auto`: the target designed and rated at each standard module in turn; the design
-/// of the smallest module that carries the loads (or the best one, its verdict failing), with
-/// the sizing table in its report.
-fn sized_design(
-    traj: &Trajectory,
-    opts: &ncgear::design::DesignOptions,
-    case: &ncgear::loads::LoadCase,
-    scene_file: &str,
-    file: &str,
-) -> Result<(ncgear::design::Design, Option<f64>), super::Failure> {
-    let pb = super::spinner("sizing the module");
-    let sized = ncgear::loads::size_module(
-        traj,
-        opts,
-        case,
-        &ncgear::loads::SizingOptions::default(),
-        scene_file,
-    );
-    pb.finish_and_clear();
-    let sized = sized.map_err(super::loads::loads_failure)?;
-    let Some((mut d, train, _)) = sized.kept else {
-        return Err(runtime_error(miette::miette!(
-            "{file}: no standard module could be designed and rated:\n{}",
-            sized.sizing.markdown()
-        )));
-    };
-    d.report.sizing = Some(sized.sizing);
-    d.report.update_verdict();
-    Ok((d, Some(train.report.module_mm)))
-}
-
-/// The console lines of the sizing table and the loads of the design kept.
-fn print_loads(r: &ncgear::design::DesignReport, l: &ncgear::loads::LoadsReport) {
-    if let Some(s) = &r.sizing {
-        match s.chosen_module_mm {
-            Some(m) => println!(
-                "  module sized by strength: m = {m} mm (S_H ≥ {}, S_F ≥ {}, face width {}):",
-                s.s_h_min, s.s_f_min, s.face_width
-            ),
-            None => println!(
-                "  module sized by strength: no module meets S_H ≥ {}, S_F ≥ {}; the best is kept:",
-                s.s_h_min, s.s_f_min
-            ),
-        }
-        for line in s.markdown().lines() {
-            println!("    {line}");
-        }
-    }
-    let sm = &l.summary;
-    if let (Some(h), Some(f)) = (&sm.min_s_h, &sm.min_s_f) {
-        println!(
-            "  loads: carrier torque peak {:.3} N·m, mean power {:.1} W; S_H {:.3} ({}), S_F {:.3} ({} root); files in loads/",
-            sm.carrier_torque_peak_nm, sm.mean_power_w, h.value, h.mesh, f.value, f.gear
-        );
-    }
 }
 
 /// Teeth on the designed gears, then their mesh check beside the CAD exports (they do not read

@@ -1,6 +1,9 @@
 //! `ncgear loads SCENE --out DIR`: the rotor's loads over a turn, the tooth stresses, their
-//! safety factors and life ([`ncgear::loads`]).
+//! safety factors and life ([`ncgear::loads`]); and the loads of `ncgear design --loads`: the
+//! scene checked, the module sized by strength (`--module auto`), the table printed.
+use super::design_args::{ModuleArg, ToothPolicyArg};
 use super::{CliResult, input_error, print_json, runtime_error, verdict_outcome};
+use ncgear::design::trajectory::Trajectory;
 use ncgear::loads::{LoadsError, LoadsReport, run_scene};
 use std::path::PathBuf;
 
@@ -26,9 +29,21 @@ pub struct Args {
 /// The exit class of a loads error: a mesh that locks is the design's failure at run time;
 /// everything else is bad input, refused before any work.
 pub fn loads_failure(e: LoadsError) -> super::Failure {
+    let help = match &e {
+        LoadsError::NoTeeth => Some("design with --module M: the teeth are part of design.json"),
+        LoadsError::SelfLocking { .. } => Some("--max-pressure-angle sets the limit"),
+        LoadsError::Field { key, .. } if key == "gears.face_width_mm" => {
+            Some("\"auto\" needs the module: design with --module M")
+        }
+        _ => None,
+    };
+    let report = match help {
+        Some(h) => miette::miette!(help = h, "{e}"),
+        None => miette::miette!("{e}"),
+    };
     match e {
-        LoadsError::SelfLocking { .. } => runtime_error(miette::miette!("{e}")),
-        _ => input_error(miette::miette!("{e}")),
+        LoadsError::SelfLocking { .. } => runtime_error(report),
+        _ => input_error(report),
     }
 }
 
@@ -102,10 +117,10 @@ pub fn print_summary(args: &Args, r: &LoadsReport, files: usize) {
         );
         println!(
             "    life {} ({})",
-            if rt.life_h.is_finite() {
+            if rt.life_h < 1e9 {
                 format!("{:.3e} h", rt.life_h)
             } else {
-                "unlimited".into()
+                "over 10⁹ h".into()
             },
             rt.life_limited_by
         );
@@ -114,4 +129,107 @@ pub fn print_summary(args: &Args, r: &LoadsReport, files: usize) {
         }
     }
     println!("  wrote {files} files into {}", args.out.display());
+}
+
+/// The loads scene of `--loads`, read and checked before any work: `--module auto` needs it,
+/// and it needs a `[material]` to rate the teeth against.
+pub fn design_scene(
+    args: &super::design::Args,
+) -> Result<Option<(ncgear::loads::LoadCase, String)>, super::Failure> {
+    let Some(path) = &args.loads else {
+        if args.module == Some(ModuleArg::Auto) {
+            return Err(input_error(miette::miette!(
+                help = "give the loads the gears must carry: --loads SCENE.toml (docs/loads.md)",
+                "--module auto sizes the module by strength, and no --loads scene is given"
+            )));
+        }
+        return Ok(None);
+    };
+    if args.module.is_none() {
+        return Err(input_error(miette::miette!(
+            help = "--module auto sizes the module for the scene; --module M rates module M",
+            "--loads rates the teeth, and no teeth are made without --module"
+        )));
+    }
+    if args.module == Some(ModuleArg::Auto)
+        && (args.teeth.is_some() || !matches!(args.tooth_policy, ToothPolicyArg::Design))
+    {
+        return Err(input_error(miette::miette!(
+            "--module auto designs each module for its own tooth count: leave out --teeth and \
+             --tooth-policy"
+        )));
+    }
+    let file = path.display().to_string();
+    let scene = ncgear::loads::Scene::from_path(path).map_err(loads_failure)?;
+    let case = scene.validate(&file).map_err(loads_failure)?;
+    if case.rating.is_none() {
+        return Err(input_error(miette::miette!(
+            help = "add [material] (preset = \"steel\", …) and [gears] with face_width_mm (a width \
+                    or \"auto\") to the scene",
+            "{file}: --loads rates the teeth, and the scene names no material"
+        )));
+    }
+    if scene.design.is_some() {
+        eprintln!(
+            "note: {file}: its `design` is not read here (the design is the one this command makes)"
+        );
+    }
+    Ok(Some((case, file)))
+}
+
+/// `--module auto`: the target designed and rated at each standard module in turn; the design
+/// of the smallest module that carries the loads (or the best one, its verdict failing), with
+/// the sizing table in its report.
+pub fn sized_design(
+    traj: &Trajectory,
+    opts: &ncgear::design::DesignOptions,
+    case: &ncgear::loads::LoadCase,
+    scene_file: &str,
+    file: &str,
+) -> Result<(ncgear::design::Design, Option<f64>), super::Failure> {
+    let pb = super::spinner("sizing the module");
+    let sized = ncgear::loads::size_module(
+        traj,
+        opts,
+        case,
+        &ncgear::loads::SizingOptions::default(),
+        scene_file,
+    );
+    pb.finish_and_clear();
+    let sized = sized.map_err(loads_failure)?;
+    let Some((mut d, train, _)) = sized.kept else {
+        return Err(runtime_error(miette::miette!(
+            "{file}: no standard module could be designed and rated:\n{}",
+            sized.sizing.markdown()
+        )));
+    };
+    d.report.sizing = Some(sized.sizing);
+    d.report.update_verdict();
+    Ok((d, Some(train.report.module_mm)))
+}
+
+/// The console lines of the sizing table and the loads of the design kept.
+pub fn print_sizing(r: &ncgear::design::DesignReport, l: &ncgear::loads::LoadsReport) {
+    if let Some(s) = &r.sizing {
+        match s.chosen_module_mm {
+            Some(m) => println!(
+                "  module sized by strength: m = {m} mm (S_H ≥ {}, S_F ≥ {}, face width {}):",
+                s.s_h_min, s.s_f_min, s.face_width
+            ),
+            None => println!(
+                "  module sized by strength: no module meets S_H ≥ {}, S_F ≥ {}; the best is kept:",
+                s.s_h_min, s.s_f_min
+            ),
+        }
+        for line in s.markdown().lines() {
+            println!("    {line}");
+        }
+    }
+    let sm = &l.summary;
+    if let (Some(h), Some(f)) = (&sm.min_s_h, &sm.min_s_f) {
+        println!(
+            "  loads: carrier torque peak {:.3} N·m, mean power {:.1} W; S_H {:.3} ({}), S_F {:.3} ({} root); files in loads/",
+            sm.carrier_torque_peak_nm, sm.mean_power_w, h.value, h.mesh, f.value, f.gear
+        );
+    }
 }

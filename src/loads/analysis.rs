@@ -7,9 +7,10 @@
 //! vector of the report mirrored back. Torques about the carrier and the planet axis are then
 //! positive in the carrier's sense of travel in both.
 
-use super::kinetostatics::{TrainBodies, TrainForces, solve};
+use super::kinetostatics::{TrainBodies, TrainTurn, solve};
 use super::mass::MassProperties;
 use super::motion::TrainMotion;
+use super::rating::{Machine, rate};
 use super::report::{
     Bearings, GearMass, GearsReport, LoadsReport, MeshLoads, Meshes, OperationReport, Summary,
 };
@@ -20,22 +21,12 @@ use crate::math::Point;
 use rayon::prelude::*;
 use std::f64::consts::TAU;
 
-/// The samples of train 1 over the turn: its motion and its forces (CCW frame).
-pub(crate) struct TrainTurn {
-    /// Motion at each sample.
-    pub motion: Vec<TrainMotion>,
-    /// Forces at each sample (SI).
-    pub forces: Vec<TrainForces>,
-    /// The needle force on the tip at each sample, N (CCW frame).
-    pub needle_n: Vec<Point>,
-}
-
 /// The mass properties of the three gears (CCW frame, about their axes) for a face width.
 fn gear_masses(r: &Rebuilt, case: &LoadCase, face_width_mm: f64) -> [MassProperties; 3] {
     match case.bodies {
-        Some(b) => r
-            .ccw_curves()
-            .map(|c| MassProperties::of_pitch_curve(c, face_width_mm, b.density_kg_mm3, b.bore_mm)),
+        Some(b) => r.ccw_curves().map(|c| {
+            MassProperties::of_pitch_curve(c, face_width_mm, b.density_kg_m3 * 1e-9, b.bore_mm)
+        }),
         None => [MassProperties::ZERO; 3],
     }
 }
@@ -66,7 +57,8 @@ fn check_bore(
                 file: file.into(),
                 key: "gears.bore_mm".into(),
                 message: format!(
-                    "a bore of {} mm does not fit inside the {name} gear (its smallest {} radius is                      {root:.3} mm): take a bore below {:.3} mm",
+                    "a bore of {} mm does not fit inside the {name} gear (its smallest {} radius \
+                     is {root:.3} mm): take a bore below {:.3} mm",
                     b.bore_mm,
                     if dedendum > 0.0 { "root" } else { "pitch" },
                     2.0 * root
@@ -162,7 +154,7 @@ fn auto_face_width(
             file: file.into(),
             key: "gears.face_width_mm".into(),
             message: "\"auto\" is chosen within 6…15·m of the module, and the design has no \
-                      teeth: give the face width in mm, or design with --module"
+                      teeth: give the face width in mm, or rate a toothed train"
                 .into(),
         });
     };
@@ -302,7 +294,7 @@ pub(crate) fn analyse_at(
         meshes,
         gears: GearsReport {
             face_width_mm: case.bodies.map(|_| face_width_mm),
-            density_kg_m3: case.bodies.map(|b| b.density_kg_mm3 * 1e9),
+            density_kg_m3: case.bodies.map(|b| b.density_kg_m3),
             bore_mm: case.bodies.map(|b| b.bore_mm),
             sun: GearMass::world(sun, sign),
             intermediate: GearMass::world(mid, sign),
@@ -319,7 +311,28 @@ pub(crate) fn analyse_at(
     };
     if let Some(opts) = &case.rating {
         let teeth = rotor.teeth().ok_or(LoadsError::NoTeeth)?;
-        super::rating::rate(&mut report, &turn, &r, teeth, opts, face_width_mm, case)?;
+        let machine = Machine {
+            arms: case.arms,
+            omega_rad_s: case.omega_rad_s,
+            face_width_mm,
+            bore_mm: case.bodies.map_or(0.0, |b| b.bore_mm),
+        };
+        let rated = rate(&turn, &r, teeth, opts, &machine)?;
+        let [s1, s2] = rated.meshes;
+        for (loads, s) in [
+            (&mut report.meshes.sun_intermediate, s1),
+            (&mut report.meshes.intermediate_planet, s2),
+        ] {
+            loads.flank_radius_mm = Some(s.flank_radius_mm);
+            loads.contact_ratio = Some(s.contact_ratio);
+            loads.contact_stress_mpa = Some(s.contact_stress_mpa);
+            loads.root_stress_mpa = Some(s.root_stress_mpa);
+        }
+        let rr = rated.report;
+        report.summary.min_s_h = Some(rr.min_s_h.clone());
+        report.summary.min_s_f = Some(rr.min_s_f.clone());
+        report.summary.life_h = Some(rr.life_h);
+        report.rating = Some(rr);
     }
     report.finish();
     Ok(report)

@@ -179,3 +179,13 @@ pub fn solve(
         sun_mesh_moment_nm: p1.cross(f1.force_n),
     })
 }
+
+/// The samples of train 1 over the turn: its motion and its forces (CCW frame).
+pub struct TrainTurn {
+    /// Motion at each sample.
+    pub motion: Vec<TrainMotion>,
+    /// Forces at each sample (SI).
+    pub forces: Vec<TrainForces>,
+    /// The needle force on the tip at each sample, N (CCW frame).
+    pub needle_n: Vec<Point>,
+}

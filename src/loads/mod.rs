@@ -158,16 +158,15 @@ pub enum LoadsError {
     Design(String),
     /// The scene asks for stresses and the design has no teeth.
     #[error(
-        "the scene's [material] asks for tooth stresses, and the design has no teeth: design with \
-         --module M (the teeth are part of design.json), or remove [material] and [rating] for \
-         the loads alone"
+        "the scene's [material] asks for tooth stresses, and the design has no teeth: rate a \
+         toothed train (a design made for a module), or remove [material] and [rating] for the \
+         loads alone"
     )]
     NoTeeth,
     /// A mesh cannot transmit the moment needed (effective pressure angle ≥ 90°).
     #[error(
         "mesh {mesh} locks at travel {travel_deg:.2}°: the line of action passes the driven \
-         gear's axis (effective pressure angle ≥ 90°); design within the gear limits \
-         (--max-pressure-angle)"
+         gear's axis (effective pressure angle ≥ 90°); design within the gear limits"
     )]
     SelfLocking {
         /// `sun-intermediate` or `intermediate-planet`.

@@ -212,8 +212,14 @@ impl MeshLoads {
                     .radius_of_curvature_mm(),
             ]);
         }
-        let flank: Vec<f64> = out.flank.iter().map(|&s| f64::from(s)).collect();
-        out.reversals_deg = sign_changes(travel_deg, &flank);
+        // The signed force (its flank's sign) crosses zero where the flank changes.
+        let signed: Vec<f64> = out
+            .flank
+            .iter()
+            .zip(&out.normal_force_n)
+            .map(|(&s, f)| f64::from(s) * f)
+            .collect();
+        out.reversals_deg = sign_changes(travel_deg, &signed);
         out
     }
 }

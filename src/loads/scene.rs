@@ -134,13 +134,13 @@ pub enum FaceWidth {
     Auto,
 }
 
-/// The gear bodies of a validated case (mm, kg/mm³).
+/// The gear bodies of a validated case (mm, kg/m³).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct GearBodies {
     /// Face width.
     pub face_width: FaceWidth,
-    /// Density, kg/mm³.
-    pub density_kg_mm3: f64,
+    /// Density, kg/m³.
+    pub density_kg_m3: f64,
     /// Bore diameter, mm.
     pub bore_mm: f64,
 }
@@ -376,7 +376,7 @@ fn validate_bodies(
     )?;
     Ok(GearBodies {
         face_width,
-        density_kg_mm3: density * 1e-9,
+        density_kg_m3: density,
         bore_mm,
     })
 }

@@ -203,11 +203,11 @@ fn a_designed_train_balances_power_momentum_and_angular_momentum() {
             power += dk
                 - (0..2).map(|i| b0[i].0 * g.dot(vel(phi_k, i))).sum::<f64>()
                 - needle.dot(v_tip);
-            for i in 0..2 {
-                let a = (at(phi_k + hh).0[i].1 - at(phi_k).0[i].1 * 2.0 + at(phi_k - hh).0[i].1)
+            for (i, (mass, c, _, _)) in b0.iter().enumerate() {
+                let a = (at(phi_k + hh).0[i].1 - *c * 2.0 + at(phi_k - hh).0[i].1)
                     * (w * w / (hh * hh));
-                mom += a * b0[i].0 - g * b0[i].0;
-                ext_moment += b0[i].1.cross(g * b0[i].0);
+                mom += a * *mass - g * *mass;
+                ext_moment += c.cross(g * *mass);
             }
             mom -= needle;
             ext_moment += tip.cross(needle);

@@ -174,65 +174,56 @@ fn bad_scenes_are_refused_naming_the_key() {
     let dir = scratch("loads_bad");
     let not_design = dir.join("not_design.json");
     std::fs::write(&not_design, "{\"points\": [1, 2]}").unwrap();
-    let cases: Vec<(&str, Box<dyn Fn(String) -> String>, &str)> = vec![
-        (
-            "mass",
-            Box::new(|t| t.replace("mass_kg = 0.55", "mass_kg = -0.55")),
-            "arm.mass_kg",
-        ),
+    // (case, text replaced, replacement, the key the message names)
+    let cases = [
+        ("mass", "mass_kg = 0.55", "mass_kg = -0.55", "arm.mass_kg"),
         (
             "inertia",
-            Box::new(|t| t.replace("inertia_kg_mm2 = 2100.0", "inertia_kg_mm2 = nan")),
+            "inertia_kg_mm2 = 2100.0",
+            "inertia_kg_mm2 = nan",
             "arm.inertia_kg_mm2",
         ),
         (
             "density",
-            Box::new(|t| t.replace("density_kg_m3 = 7100.0", "density_kg_m3 = -1.0")),
+            "density_kg_m3 = 7100.0",
+            "density_kg_m3 = -1.0",
             "gears.density_kg_m3",
         ),
         (
             "speed",
-            Box::new(|t| t.replace("carrier_rpm = 300.0", "carrier_rpm = 0.0")),
+            "carrier_rpm = 300.0",
+            "carrier_rpm = 0.0",
             "operation.carrier_rpm",
         ),
-        (
-            "arms",
-            Box::new(|t| t.replace("arms = 2", "arms = 0")),
-            "operation.arms",
-        ),
+        ("arms", "arms = 2", "arms = 0", "operation.arms"),
         (
             "unknown",
-            Box::new(|t| t.replace("[arm]", "[arm]\nlength_mm = 3.0")),
+            "[arm]",
+            "[arm]\nlength_mm = 3.0",
             "unknown field `length_mm`",
         ),
         (
             "needle",
-            Box::new(|t| {
-                t.replace(
-                    "profile = \"planting\"",
-                    "force_N = [[0, 0, 0], [190, 4, 25], [185, 0, 0]]",
-                )
-            }),
+            "profile = \"planting\"",
+            "force_N = [[0, 0, 0], [190, 4, 25], [185, 0, 0]]",
             "needle.force_N[2]",
         ),
         (
             "gravity",
-            Box::new(|t| t.replace("gravity = [0.0, -1.0]", "gravity = [0.0, -9.81]")),
+            "gravity = [0.0, -1.0]",
+            "gravity = [0.0, -9.81]",
             "operation.gravity",
         ),
-        (
-            "bore",
-            Box::new(|t| t.replace("bore_mm = 10.0", "bore_mm = 80.0")),
-            "gears.bore_mm",
-        ),
+        ("bore", "bore_mm = 10.0", "bore_mm = 80.0", "gears.bore_mm"),
         (
             "material",
-            Box::new(|t| t.replace("preset = \"cast_iron\"", "preset = \"bronze\"")),
+            "preset = \"cast_iron\"",
+            "preset = \"bronze\"",
             "material.preset",
         ),
     ];
-    for (name, edit, key) in cases {
-        let scene = g1_scene(&dir, &format!("{name}.toml"), edit);
+    for (name, from, to, key) in cases {
+        let scene = g1_scene(&dir, &format!("{name}.toml"), |t| t.replace(from, to));
         let out = run(&scene, &dir.join(name));
         let err = message(&out);
         assert_eq!(out.status.code(), Some(2), "{name}: {err}");

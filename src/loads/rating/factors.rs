@@ -5,7 +5,7 @@
 //! | factor | `iso` choice | source |
 //! |---|---|---|
 //! | K_A | 1.50 | ISO 6336-6:2019 Table 4: a multi-cylinder engine (the tractor's, "moderate shocks") driving a machine with light shocks (rice planting in puddled soil); set it from a measured load spectrum when there is one |
-//! | K_v | `1 + (K1/(K_A·F_t/b) + K2)·(z1·v/100)·√(u²/(1 + u²))`, `K_A·F_t/b ≥ 100 N/mm`, K2 = 0.0193, K1 by accuracy grade (grade 8: 39.1) | ISO 6336-1:2006 method C (DIN 3990-1 §3.3.1), on the local equivalent pair: z1 = 2ρ_pinion/m, u = ρ_wheel/ρ_pinion, v the pitch-line speed relative to the carrier |
+//! | K_v | `1 + (K1/(K_A·F_t/b) + K2)·(z1·v/100)·√(u²/(1 + u²))`, `K_A·F_t/b ≥ 100 N/mm`, K2 = 0.0193, K1 by accuracy grade (grade 8: 39.1) | ISO 6336-1:2006 method C (DIN 3990-1, 3.3.1), on the local equivalent pair: z1 = 2ρ_pinion/m, u = ρ_wheel/ρ_pinion, v the pitch-line speed relative to the carrier |
 //! | K_Hβ | 1.15 | the order of ISO 6336-1 method C for a stiff carrier, b/d ≤ 1, grade 8; the mounting's misalignment sets it (settable) |
 //! | K_Fβ | `K_Hβ^N_F`, `N_F = (b/h)²/(1 + b/h + (b/h)²)`, h = (2h_a* + c*)·m, b/h ≥ 3 | ISO 6336-1 |
 //! | K_Hα, K_Fα | ISO 6336-1:2006 Table 9 by grade (spur; surface-hardened or not); `max(1/Z_ε², 1.2)` (K_Fα: `1/Y_ε²`, `Y_ε = 0.25 + 0.75/ε_α`) where `K_A·F_t/b < 100 N/mm` or the grade is coarse | ISO 6336-1 |

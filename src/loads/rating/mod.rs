@@ -26,9 +26,7 @@ mod summary;
 pub mod tooth_form;
 
 use super::LoadsError;
-use super::analysis::TrainTurn;
-use super::report::LoadsReport;
-use super::scene::LoadCase;
+use super::kinetostatics::TrainTurn;
 use crate::design::train::ToothedTrain;
 use crate::geometry::assembly::Rebuilt;
 use crate::geometry::pitch::PitchCurve;
@@ -390,19 +388,54 @@ fn loaded_flank(
     }
 }
 
-/// Rates both meshes of `turn` and writes the stresses, safety factors and life into `report`.
+/// What the rating reads of the machine besides the turn and the teeth.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Machine {
+    /// Trains on the carrier (the sun meshes with each of them in a turn).
+    pub arms: u32,
+    /// Carrier speed, rad/s.
+    pub omega_rad_s: f64,
+    /// Face width, mm.
+    pub face_width_mm: f64,
+    /// Bore diameter of the gears, mm (the rim factor Y_B).
+    pub bore_mm: f64,
+}
+
+/// One mesh's rated series, per sample.
+#[derive(Debug, Clone, PartialEq)]
+pub struct RatedSeries {
+    /// Flank radii at the pitch point `[driver, driven]`, mm (signed).
+    pub flank_radius_mm: Vec<[f64; 2]>,
+    /// Contact ratio of the local equivalent pair.
+    pub contact_ratio: Vec<f64>,
+    /// Contact stress, MPa.
+    pub contact_stress_mpa: Vec<f64>,
+    /// Root stress of each of the mesh's gears by name, MPa.
+    pub root_stress_mpa: BTreeMap<String, Vec<f64>>,
+}
+
+/// The rating of a turn: both meshes' series (sun–intermediate, intermediate–planet) and the
+/// report.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Rated {
+    /// `[sun–intermediate, intermediate–planet]`.
+    pub meshes: [RatedSeries; 2],
+    /// Safety factors, life, notes.
+    pub report: RatingReport,
+}
+
+/// Rates both meshes of `turn` (train 1, CCW frame of `r`, samples uniform in travel over a
+/// turn) on the teeth of `train` for `machine`.
 ///
 /// # Errors
 /// [`LoadsError::Teeth`] when a tooth's root cannot be read off the outline.
-pub(crate) fn rate(
-    report: &mut LoadsReport,
+pub fn rate(
     turn: &TrainTurn,
     r: &Rebuilt,
     train: &ToothedTrain,
     opts: &RatingOptions,
-    face_width_mm: f64,
-    case: &LoadCase,
-) -> Result<(), LoadsError> {
+    machine: &Machine,
+) -> Result<Rated, LoadsError> {
     let gears: Vec<RatedGear> = (0..3usize)
         .into_par_iter()
         .map(|k| rated_gear(train, k))
@@ -410,7 +443,6 @@ pub(crate) fn rate(
     let rack = train.report.options.toothing.rack;
     let m = train.report.module_mm;
     let depth = (2.0 * rack.addendum() + rack.clearance()) * m;
-    let bore = case.bodies.map_or(0.0, |b| b.bore_mm);
     let sign = r.sign();
     let curves = r.ccw_curves();
     let names = ["sun", "intermediate", "planet"];
@@ -425,11 +457,11 @@ pub(crate) fn rate(
             MeshGear {
                 curve_ccw: curves[k],
                 rated: &gears[k],
-                y_b: mesh::rim_factor(root - 0.5 * bore, depth),
+                y_b: mesh::rim_factor(root - 0.5 * machine.bore_mm, depth),
             }
         })
         .collect();
-    let w = case.omega_rad_s;
+    let w = machine.omega_rad_s;
     let sun_samples: Vec<MeshSample<'_>> = turn
         .motion
         .iter()
@@ -457,12 +489,13 @@ pub(crate) fn rate(
         .collect();
     let alpha = rack.alpha_rad();
     let ha = rack.addendum() * m;
+    let b = machine.face_width_mm;
     let rate = |samples: &[MeshSample<'_>], pair: [usize; 2]| {
         mesh::rate_mesh(
             samples,
             [&mesh_gears[pair[0]], &mesh_gears[pair[1]]],
             opts,
-            face_width_mm,
+            b,
             m,
             alpha,
             ha,
@@ -478,25 +511,18 @@ pub(crate) fn rate(
         ("sun_intermediate", [0usize, 1usize], m1),
         ("intermediate_planet", [1, 2], m2),
     ];
-    let summary = summarise(&rated, report, opts, face_width_mm, m, case);
-    for (name, pair, mr) in rated {
-        let loads = if name == "sun_intermediate" {
-            &mut report.meshes.sun_intermediate
-        } else {
-            &mut report.meshes.intermediate_planet
-        };
-        loads.flank_radius_mm = Some(mr.flank_radius_mm);
-        loads.contact_ratio = Some(mr.contact_ratio);
-        loads.contact_stress_mpa = Some(mr.contact_mpa);
+    let report = summarise(&rated, turn, opts, m, machine);
+    let meshes = rated.map(|(_, pair, mr)| {
         let [a, b] = mr.root_mpa;
-        loads.root_stress_mpa = Some(BTreeMap::from([
-            (names[pair[0]].to_string(), a),
-            (names[pair[1]].to_string(), b),
-        ]));
-    }
-    report.summary.min_s_h = Some(summary.min_s_h.clone());
-    report.summary.min_s_f = Some(summary.min_s_f.clone());
-    report.summary.life_h = Some(summary.life_h);
-    report.rating = Some(summary);
-    Ok(())
+        RatedSeries {
+            flank_radius_mm: mr.flank_radius_mm,
+            contact_ratio: mr.contact_ratio,
+            contact_stress_mpa: mr.contact_mpa,
+            root_stress_mpa: BTreeMap::from([
+                (names[pair[0]].to_string(), a),
+                (names[pair[1]].to_string(), b),
+            ]),
+        }
+    });
+    Ok(Rated { meshes, report })
 }

@@ -4,9 +4,8 @@
 
 use super::life::{Engagement, engagements, hours, worst_damage};
 use super::mesh::MeshRating;
-use super::{Extreme, GearRating, RatingOptions, RatingReport};
-use crate::loads::report::LoadsReport;
-use crate::loads::scene::LoadCase;
+use super::{Extreme, GearRating, Machine, RatingOptions, RatingReport};
+use crate::loads::kinetostatics::{MeshForce, TrainTurn};
 use std::collections::{BTreeMap, BTreeSet};
 
 /// Largest effective pressure angle ISO 6336's factors are validated for, deg.
@@ -21,13 +20,14 @@ pub(super) type RatedMesh = (&'static str, [usize; 2], MeshRating);
 /// The rating report of both meshes.
 pub(super) fn summarise(
     rated: &[RatedMesh; 2],
-    report: &LoadsReport,
+    turn: &TrainTurn,
     opts: &RatingOptions,
-    face_width_mm: f64,
     module_mm: f64,
-    case: &LoadCase,
+    machine: &Machine,
 ) -> RatingReport {
-    let travel = &report.travel_deg;
+    let n = turn.motion.len();
+    let travel: Vec<f64> = (0..n).map(|k| 360.0 * k as f64 / n as f64).collect();
+    let travel = &travel;
     let mat = &opts.material;
     let y_st = opts.factors.y_st;
     let mut gears = BTreeMap::new();
@@ -106,8 +106,8 @@ pub(super) fn summarise(
             pitting.extend(engagements(&mr.tooth[*i], &mr.flank[*i], &mr.contact_mpa));
         }
         // The sun meets every arm's intermediate gear in a turn.
-        let repeats = if g == 0 { f64::from(case.arms) } else { 1.0 };
-        let rpm = case.omega_rad_s * 60.0 / std::f64::consts::TAU;
+        let repeats = if g == 0 { f64::from(machine.arms) } else { 1.0 };
+        let rpm = machine.omega_rad_s * 60.0 / std::f64::consts::TAU;
         rating.bending_life_h = hours(
             worst_damage(&bending, limit_f, &mat.bending_sn, repeats, false),
             rpm,
@@ -138,14 +138,14 @@ pub(super) fn summarise(
     let min_s_h = min_pitting(rated, travel, mat.sigma_hlim_mpa);
     RatingReport {
         options: opts.clone(),
-        face_width_mm,
+        face_width_mm: machine.face_width_mm,
         module_mm,
         min_s_h,
         min_s_f,
         life_h: life.0,
         life_limited_by: life.1,
         gears,
-        notes: notes(rated, report, opts),
+        notes: notes(rated, turn, travel, opts),
     }
 }
 
@@ -179,20 +179,25 @@ fn min_pitting(rated: &[RatedMesh; 2], travel: &[f64], sigma_hlim_mpa: f64) -> E
 }
 
 /// The remarks: where the rating leaves the standard's validity.
-fn notes(rated: &[RatedMesh; 2], report: &LoadsReport, opts: &RatingOptions) -> Vec<String> {
+fn notes(
+    rated: &[RatedMesh; 2],
+    turn: &TrainTurn,
+    travel: &[f64],
+    opts: &RatingOptions,
+) -> Vec<String> {
     let mut out = Vec::new();
     for (mesh, pair, mr) in rated {
-        let loads = if *mesh == "sun_intermediate" {
-            &report.meshes.sun_intermediate
-        } else {
-            &report.meshes.intermediate_planet
+        let force = |k: usize| -> &MeshForce {
+            if *mesh == "sun_intermediate" {
+                &turn.forces[k].sun_mesh
+            } else {
+                &turn.forces[k].planet_mesh
+            }
         };
-        let peak = loads
-            .effective_pressure_angle_deg
-            .iter()
-            .zip(&loads.normal_force_n)
-            .filter(|(_, f)| **f > 0.0)
-            .map(|(a, _)| *a)
+        let peak = (0..turn.forces.len())
+            .map(force)
+            .filter(|f| f.normal_force_n > 0.0)
+            .map(|f| f.effective_pressure_angle_rad.to_degrees())
             .fold(0.0, f64::max);
         if peak > VALID_PRESSURE_ANGLE_DEG {
             out.push(format!(
@@ -221,7 +226,7 @@ fn notes(rated: &[RatedMesh; 2], report: &LoadsReport, opts: &RatingOptions) -> 
             out.push(format!(
                 "{mesh}: the local contact ratio falls to {eps:.3} < 1 at travel {:.1}° ({} and \
                  {}): one tooth pair at a time cannot keep the contact there",
-                report.travel_deg[k], NAMES[pair[0]], NAMES[pair[1]]
+                travel[k], NAMES[pair[0]], NAMES[pair[1]]
             ));
         }
     }
