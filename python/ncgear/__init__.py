@@ -7,6 +7,7 @@ The same library as the ``ncgear`` command line, called in-process::
     d.l1_mm, d.limits.pressure_angle_deg, d.gears.sun.pitch      # typed report, numpy points (mm)
     t = ncgear.teeth(d, module=2.0, tooth_policy="scale-up")
     ncgear.write_step(t, "out/step", face_width=20.0, bore=10.0)  # sun/intermediate/planet/train.step
+    r = ncgear.loads(t, "assets/loads/rotor.toml")        # loads over a turn, tooth stresses, life
 
 Results are frozen dataclasses (:mod:`ncgear.reports`) with the keys of the CLI's JSON files as
 typed fields; ``to_dict()`` and ``json()`` give the JSON itself. Options are keyword arguments
@@ -21,7 +22,7 @@ from __future__ import annotations
 import json
 import os
 from dataclasses import dataclass, field
-from typing import Any, Dict, List, Literal, Optional, Sequence, Tuple, Union
+from typing import Any, Dict, List, Literal, Mapping, Optional, Sequence, Tuple, Union
 
 import numpy as np
 import numpy.typing as npt
@@ -29,13 +30,15 @@ import numpy.typing as npt
 from . import _ncgear
 from ._ncgear import NcgearError
 from .reports import (
-    DesignReport, Features, PairReport, Points, TeethReport, ToleranceReport, Verdict, build,
+    DesignReport, Features, LoadsReport, PairReport, Points, TeethReport, ToleranceReport, Verdict,
+    build,
 )
 
 __version__: str = _ncgear.__version__
 __all__ = [
-    "NcgearError", "Design", "Train", "Pair", "Placement", "design", "teeth", "pair", "simulate",
-    "tolerance", "write_step", "write_dxf", "write_svg", "set_max_memory_gb",
+    "NcgearError", "Design", "Train", "Pair", "Placement", "Loads", "design", "teeth", "pair",
+    "simulate", "tolerance", "loads", "loads_file", "write_step", "write_dxf", "write_svg",
+    "set_max_memory_gb",
 ]
 
 PathLike = Union[str, "os.PathLike[str]"]
@@ -116,6 +119,15 @@ class Pair(_Raw, PairReport):
     outlines: Dict[str, Points]
     placements: Dict[str, Placement]
     _handle: Any = field(repr=False)
+    _report: Any = field(repr=False)
+
+
+@dataclass(frozen=True, eq=False)
+class Loads(_Raw, LoadsReport):
+    """The loads of a rotor over one carrier turn: the fields of ``loads.json``
+    (:class:`ncgear.reports.LoadsReport`); ``to_dict()``/``json()`` give ``loads.json`` itself and
+    ``passed`` whether the safety factors meet their targets (True without a rating)."""
+
     _report: Any = field(repr=False)
 
 
@@ -314,6 +326,61 @@ def tolerance(errors: PathLike, *, samples: int = 0, seed: int = 1, starts: int 
     joint phase optimiser."""
     r = _ncgear.tolerance(os.fspath(errors), samples, seed, starts)
     return build(ToleranceReport, r.tree())
+
+
+def _scene_json(scene: Mapping[str, Any]) -> str:
+    """A dict scene as JSON text (numpy arrays and numbers as lists and numbers)."""
+
+    def plain(o: Any) -> Any:
+        if isinstance(o, np.ndarray):
+            return o.tolist()
+        if isinstance(o, np.generic):
+            return o.item()
+        if isinstance(o, os.PathLike):
+            return os.fspath(o)
+        raise TypeError(f"a {type(o).__name__} is not a scene value")
+
+    try:
+        return json.dumps(dict(scene), allow_nan=False, default=plain)
+    except (TypeError, ValueError) as e:
+        raise NcgearError(f"scene: {e}") from None
+
+
+def loads(design: Union[Design, Train], scene: Union[PathLike, Mapping[str, Any]]) -> Loads:
+    """The planting rotor's loads over one carrier turn at constant speed (``ncgear loads``,
+    docs/loads.md): carrier, sun and planet-mesh torques, the frame, bearing and mesh forces and,
+    for a :class:`Train` under a scene with ``[material]``, the tooth stresses (ISO 6336
+    structure), their safety factors and the life.
+
+    ``design``: a :class:`Design` (its pitch curves: loads only; a scene with ``[material]`` is
+    an error) or a :class:`Train` (its teeth, scaled assembly and rack). ``scene``: the path of a
+    scene file (TOML or JSON), or a dict of its tables with the same keys
+    (``{"operation": {"carrier_rpm": 300.0, "arms": 2}, "arm": {...}, "gears": {...},
+    "needle": {...}, "material": {...}, "rating": {...}}``). The scene's ``design`` key, if any,
+    is ignored: the design passed is the one loaded (:func:`loads_file` runs a scene on the design
+    file it names). A bad or unknown key raises :class:`NcgearError` naming the key and its
+    range; the scene's name in messages is its path, or ``scene`` for a dict. A rating that misses
+    its safety targets is returned with ``passed`` False.
+    """
+    train = design if isinstance(design, Train) else None
+    d = train.design if train is not None else design
+    if not isinstance(d, Design):
+        got = type(design).__name__
+        raise TypeError(f"design: expected an ncgear.Design or ncgear.Train, got {got}")
+    h = train._handle if train is not None else None
+    if isinstance(scene, Mapping):
+        r = _ncgear.loads(d._handle, h, "scene", _scene_json(scene))
+    else:
+        r = _ncgear.loads(d._handle, h, os.fspath(scene), None)
+    return build(Loads, r.tree(), _report=r)
+
+
+def loads_file(scene: PathLike) -> Loads:
+    """``ncgear loads SCENE`` in-process: the scene file and the design file it names
+    (``design = "…/design.json"``, relative to the scene file; its teeth made again when the
+    scene rates them). ``to_dict()`` is the CLI's ``loads.json``, number for number."""
+    r = _ncgear.loads_file(os.fspath(scene))
+    return build(Loads, r.tree(), _report=r)
 
 
 def write_step(

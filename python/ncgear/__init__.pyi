@@ -2,17 +2,20 @@
 Checked against the module by ``python -m mypy.stubtest ncgear`` (scripts/check_python.sh)."""
 import os
 from dataclasses import dataclass
-from typing import Any, Dict, List, Literal, Optional, Sequence, Tuple, Union
+from typing import Any, Dict, List, Literal, Mapping, Optional, Sequence, Tuple, Union
 
 import numpy as np
 import numpy.typing as npt
 
-from .reports import DesignReport, Features, PairReport, Points, TeethReport, ToleranceReport, Verdict
+from .reports import (
+    DesignReport, Features, LoadsReport, PairReport, Points, TeethReport, ToleranceReport, Verdict,
+)
 
 __version__: str
 __all__ = [
-    "NcgearError", "Design", "Train", "Pair", "Placement", "design", "teeth", "pair", "simulate",
-    "tolerance", "write_step", "write_dxf", "write_svg", "set_max_memory_gb",
+    "NcgearError", "Design", "Train", "Pair", "Placement", "Loads", "design", "teeth", "pair",
+    "simulate", "tolerance", "loads", "loads_file", "write_step", "write_dxf", "write_svg",
+    "set_max_memory_gb",
 ]
 
 PathLike = Union[str, os.PathLike[str]]
@@ -52,6 +55,10 @@ class Pair(_Raw, PairReport):
     outlines: Dict[str, Points]
     placements: Dict[str, Placement]
     _handle: Any
+    _report: Any
+
+@dataclass(frozen=True, eq=False)
+class Loads(_Raw, LoadsReport):
     _report: Any
 
 def design(
@@ -129,6 +136,8 @@ def simulate(
     plant_level: Optional[float] = ...,
 ) -> Features: ...
 def tolerance(errors: PathLike, *, samples: int = ..., seed: int = ..., starts: int = ...) -> ToleranceReport: ...
+def loads(design: Union[Design, Train], scene: Union[PathLike, Mapping[str, Any]]) -> Loads: ...
+def loads_file(scene: PathLike) -> Loads: ...
 def write_step(
     obj: Union[Train, Pair], directory: PathLike, *, face_width: Optional[float] = ..., bore: float = ...
 ) -> List[str]: ...

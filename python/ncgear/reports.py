@@ -1,11 +1,13 @@
 """The reports of ncgear as frozen dataclasses: the keys of the CLI's JSON files (``design.json``,
-its ``teeth`` block, ``tolerance.json``, the simulation features), typed, nested as in the file.
+its ``teeth`` block, ``tolerance.json``, ``loads.json``, the simulation features), typed, nested
+as in the file.
 
-Units are in the field names (``_mm``, ``_deg``, ``_rad``, ``_um``, ``_arcsec``, ``_ms``); a bare
-length is in mm and a bare angle in degrees where the JSON says so (``units``). Point lists are
-read-only float64 ``numpy.ndarray`` of shape (N, 2), mm; other number lists are tuples or 1-D
-arrays. A number JSON writes as ``null`` because it is not finite (an unbounded check value or
-radius) reads as ``math.inf``. The JSON key ``pass`` is the field ``passed``.
+Units are in the field names (``_mm``, ``_deg``, ``_rad``, ``_um``, ``_arcsec``, ``_ms``, ``_N``,
+``_Nm``, ``_MPa``, ``_h``); a bare length is in mm and a bare angle in degrees where the JSON says
+so (``units``). Point lists are read-only float64 ``numpy.ndarray`` of shape (N, 2), mm, and so
+are ``[x, y]`` series (forces, N); other number lists are tuples or 1-D arrays. A number JSON
+writes as ``null`` because it is not finite (an unbounded check value or radius, an unlimited
+life) reads as ``math.inf``. The JSON key ``pass`` is the field ``passed``.
 """
 from __future__ import annotations
 
@@ -22,6 +24,9 @@ Points = npt.NDArray[np.float64]
 """Read-only float64 array of shape (N, 2), mm."""
 Numbers = npt.NDArray[np.float64]
 """Read-only 1-D float64 array."""
+Vectors = npt.NDArray[np.float64]
+"""Read-only float64 array of shape (N, 2): ``[x, y]`` (a force, N) or a pair of values per
+sample."""
 
 T = typing.TypeVar("T")
 
@@ -65,10 +70,13 @@ def build(cls: typing.Type[T], obj: Dict[str, Any], **extra: Any) -> T:
     hints = typing.get_type_hints(cls)
     values = {}
     for f in dataclasses.fields(typing.cast(Any, cls)):
+        key = f.metadata.get("key", f.name)
         if f.name in extra:
             values[f.name] = extra[f.name]
+        elif f.metadata.get("null_is_inf") and key in obj and obj[key] is None:
+            values[f.name] = math.inf  # an optional number present but not finite
         else:
-            values[f.name] = _value(hints[f.name], obj.get(f.metadata.get("key", f.name)))
+            values[f.name] = _value(hints[f.name], obj.get(key))
     return cls(**values)
 
 
@@ -564,3 +572,224 @@ class ToleranceReport:
     monte_carlo_um: Optional[McStats]
     monte_carlo_arcsec: Optional[McStats]
     p_random_beats_greedy: Optional[float]
+
+
+@dataclass(frozen=True)
+class LoadsUnits:
+    """Units of ``loads.json``."""
+
+    length: str
+    angle: str
+    force: str
+    torque: str
+    stress: str
+
+
+@dataclass(frozen=True)
+class Operation:
+    """How the carrier turns: speed (r/min, rad/s), trains on the carrier, sense (+1 CCW, −1 CW),
+    gravity (m/s², trajectory frame; (0, 0) off) and samples over the turn."""
+
+    carrier_rpm: float
+    omega_rad_s: float
+    arms: int
+    direction: int
+    gravity_m_s2: Tuple[float, float]
+    samples: int
+
+
+@dataclass(frozen=True, eq=False)
+class Bearings:
+    """Bearing forces ``[x, y]`` N per sample: the frame on the carrier at O (all arms), the
+    carrier on the first arm's intermediate gear at D and on its planet gear (and arm) at A."""
+
+    O_N: Vectors
+    D_N: Vectors
+    A_N: Vectors
+
+
+@dataclass(frozen=True, eq=False)
+class MeshLoads:
+    """One mesh over the turn (per sample): the force along the line of action (N, ≥ 0), the
+    loaded ``flank`` (+1 the tangential force turns the driven gear in the sense of travel, −1
+    against, 0 unloaded), where it reverses (deg), the pitch point (mm, world frame), the
+    effective pressure angle (deg), the pitch curves' signed radii of curvature ``[driver,
+    driven]`` (mm, negative concave); with a rating the flank radii ``[driver, driven]`` (mm),
+    the contact ratio, the contact stress (MPa) and each gear's root stress ``{gear: MPa}``."""
+
+    normal_force_N: Numbers
+    flank: Numbers
+    reversals_deg: Numbers
+    pitch_point_mm: Points
+    effective_pressure_angle_deg: Numbers
+    pitch_radius_of_curvature_mm: Vectors
+    flank_radius_mm: Optional[Vectors]
+    contact_ratio: Optional[Numbers]
+    contact_stress_MPa: Optional[Numbers]
+    root_stress_MPa: Optional[Dict[str, Numbers]]
+
+
+@dataclass(frozen=True, eq=False)
+class LoadMeshes:
+    """The two meshes of the first arm."""
+
+    sun_intermediate: MeshLoads
+    intermediate_planet: MeshLoads
+
+
+@dataclass(frozen=True)
+class GearMass:
+    """Mass properties: mass (kg), centre of mass in the body frame (mm), moment of inertia
+    about the gear's own axis (the arm: about its centre of mass), kg·mm²."""
+
+    mass_kg: float
+    com_mm: Tuple[float, float]
+    inertia_kg_mm2: float
+
+
+@dataclass(frozen=True)
+class GearMasses:
+    """The mass properties used: the gear bodies (face width, density kg/m³, bore; absent:
+    massless gears) and the arm as the scene gives it."""
+
+    face_width_mm: Optional[float]
+    density_kg_m3: Optional[float]
+    bore_mm: Optional[float]
+    sun: GearMass
+    intermediate: GearMass
+    planet: GearMass
+    arm: Optional[GearMass]
+
+
+@dataclass(frozen=True)
+class SnLine:
+    """An S–N line: life factor ``static_factor`` at ``static_cycles``, 1 at ``knee_cycles``."""
+
+    static_cycles: float
+    static_factor: float
+    knee_cycles: float
+
+
+@dataclass(frozen=True)
+class Material:
+    """The gears' material (MPa): a preset's name or ``custom``."""
+
+    name: str
+    E_MPa: float
+    poisson: float
+    sigma_Hlim_MPa: float
+    sigma_Flim_MPa: float
+    contact_sn: SnLine
+    bending_sn: SnLine
+    surface_hardened: bool
+
+
+@dataclass(frozen=True)
+class Factors:
+    """The rating factors: ``mode`` ``"iso"`` or ``"nominal"``; the factors the scene sets
+    instead of their formulas, or ``None``."""
+
+    mode: str
+    K_A: float
+    accuracy_grade: int
+    K_v: Optional[float]
+    K_Hbeta: float
+    K_Fbeta: Optional[float]
+    K_Halpha: Optional[float]
+    K_Falpha: Optional[float]
+    Y_ST: float
+    Y_M: float
+
+
+@dataclass(frozen=True)
+class RatingOptions:
+    """What the teeth were rated with: material, factors, safety targets."""
+
+    material: Material
+    factors: Factors
+    S_H_min: float
+    S_F_min: float
+
+
+@dataclass(frozen=True)
+class Extreme:
+    """A smallest safety factor and where: travel (deg), mesh, gear, tooth."""
+
+    value: float
+    travel_deg: float
+    mesh: str
+    gear: str
+    tooth: int
+
+
+@dataclass(frozen=True)
+class GearRating:
+    """One gear's rating over the turn: its smallest bending safety factor, largest root stress,
+    teeth loaded on both flanks, lives (h, Miner) and the range of Y_F·Y_S."""
+
+    min_S_F: Extreme
+    max_root_stress_MPa: float
+    alternating_teeth: int
+    bending_life_h: float
+    pitting_life_h: float
+    Y_F_Y_S_range: Tuple[float, float]
+
+
+@dataclass(frozen=True)
+class Rating:
+    """The tooth rating (ISO 6336 structure): options, face width and module (mm), the smallest
+    safety factors, the shortest life (h) and what limits it, each gear, and notes."""
+
+    options: RatingOptions
+    face_width_mm: float
+    module_mm: float
+    min_S_H: Extreme
+    min_S_F: Extreme
+    life_h: float
+    life_limited_by: str
+    gears: Dict[str, GearRating]
+    notes: Tuple[str, ...]
+
+
+@dataclass(frozen=True, eq=False)
+class LoadsSummary:
+    """Peak, RMS and mean carrier torque (N·m), mean power (W), peak planet mesh torque and frame
+    force, the travel angles where the planet mesh torque reverses (deg) and, with a rating, the
+    smallest safety factors and the shortest life (h; ``math.inf``: unlimited)."""
+
+    carrier_torque_peak_Nm: float
+    carrier_torque_rms_Nm: float
+    carrier_torque_mean_Nm: float
+    mean_power_W: float
+    planet_mesh_torque_peak_Nm: float
+    frame_force_peak_N: float
+    reversals_deg: Numbers
+    min_S_H: Optional[Extreme]
+    min_S_F: Optional[Extreme]
+    life_h: Optional[float] = field(metadata={"null_is_inf": True})
+
+
+@dataclass(frozen=True, eq=False)
+class LoadsReport:
+    """``loads.json``: the planting rotor's loads over one carrier turn at constant speed, per
+    sample of ``travel_deg`` (docs/loads.md). Torques (N·m) are positive in the carrier's sense of
+    travel; rotor quantities (carrier and sun torque, frame force, bearing O) are sums over the
+    arms, the rest the first arm's. ``design``: the design file the scene names (``None`` for a
+    design passed in memory). With teeth and a ``[material]``: ``rating`` and the stresses."""
+
+    schema_version: int
+    units: LoadsUnits
+    design: Optional[str]
+    operation: Operation
+    travel_deg: Numbers
+    carrier_torque_Nm: Numbers
+    sun_torque_Nm: Numbers
+    planet_mesh_torque_Nm: Numbers
+    frame_force_N: Vectors
+    needle_force_N: Vectors
+    bearings: Bearings
+    meshes: LoadMeshes
+    gears: GearMasses
+    rating: Optional[Rating]
+    summary: LoadsSummary
+    verdict: Verdict

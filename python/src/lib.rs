@@ -8,12 +8,13 @@ mod errors;
 mod options;
 
 use convert::{points, to_py};
-use errors::{NcgearError, design_err, err, pair_err};
+use errors::{NcgearError, design_err, err, loads_err, pair_err};
 use ncgear::cad::dxf::{DxfVersion, write_dxf};
 use ncgear::cad::step::write_step;
 use ncgear::cad::svg::write_svg;
 use ncgear::design::Design;
 use ncgear::design::train::{Gear, ToothedTrain, TrainTeethOptions, tooth_train};
+use ncgear::loads::{LoadsError, LoadsReport, Rotor, Scene, analyse, run_scene};
 use ncgear::math::polyline::simplify_closed;
 use ncgear::output::{SolidOptions, pair_step, train_step_models, write_step_models};
 use ncgear::pair::{Expr, Law, PairDesign, PairOptions, design_pair};
@@ -399,6 +400,52 @@ fn tolerance(path: &str, samples: usize, seed: u64, starts: usize) -> PyResult<R
     report(&analyse(&file, &o, &ncgear::progress::Progress::none()).map_err(err)?)
 }
 
+/// The scene named `name`: the JSON `text` of a dict when given (messages name it `name`), else
+/// the file at `name` (TOML or JSON).
+fn scene_of(name: &str, text: Option<&str>) -> Result<Scene, LoadsError> {
+    match text {
+        Some(t) => ncgear::config::parse(t, name, ncgear::config::Format::Json)
+            .map_err(|e| LoadsError::Scene(e.to_string())),
+        None => Scene::from_path(Path::new(name)),
+    }
+}
+
+/// The loads of a design's pitch curves, or of its toothed `train`, over one carrier turn under
+/// the scene `scene` (a file path, or the name of the dict whose JSON is `text`); the scene's
+/// `design` key is not read. Without the GIL.
+#[pyfunction]
+#[pyo3(signature = (design, train, scene, text))]
+fn loads(
+    py: Python<'_>,
+    design: &DesignHandle,
+    train: Option<&TrainHandle>,
+    scene: &str,
+    text: Option<&str>,
+) -> PyResult<Report> {
+    let run = || -> Result<LoadsReport, LoadsError> {
+        let case = scene_of(scene, text)?.validate(scene)?;
+        let rotor = match train {
+            Some(t) => Rotor::toothed(&t.t),
+            None => Rotor::pitch(&design.d.assembly),
+        };
+        analyse(&rotor, &case, scene)
+    };
+    let r = py
+        .detach(run)
+        .map_err(|e| loads_err(&e, text.is_some(), true))?;
+    report(&r)
+}
+
+/// `ncgear loads SCENE` in-process: the scene file and the design file it names (`loads.json`).
+/// Without the GIL.
+#[pyfunction]
+fn loads_file(py: Python<'_>, path: &str) -> PyResult<Report> {
+    let r = py
+        .detach(|| run_scene(Path::new(path)))
+        .map_err(|e| loads_err(&e, false, false))?;
+    report(&r)
+}
+
 /// Memory a single computation may estimate for itself before it is refused, GB (the CLI's
 /// `--max-memory-gb`; default 4).
 #[pyfunction]
@@ -425,6 +472,8 @@ fn _ncgear(m: &Bound<'_, PyModule>) -> PyResult<()> {
         wrap_pyfunction!(simulate, m)?,
         wrap_pyfunction!(forward_for_spacing, m)?,
         wrap_pyfunction!(tolerance, m)?,
+        wrap_pyfunction!(loads, m)?,
+        wrap_pyfunction!(loads_file, m)?,
         wrap_pyfunction!(set_max_memory_gb, m)?,
     ] {
         m.add_function(f)?;

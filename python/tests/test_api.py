@@ -9,33 +9,11 @@ import pytest
 
 import ncgear
 from ncgear import reports
-from conftest import G1, ROOT, cli
+from conftest import G1, ROOT, _same, cli
 
 
 def _without(d, *keys):
     return {k: v for k, v in d.items() if k not in keys}
-
-
-def _same(value, raw, path="report"):
-    """Asserts the typed ``value`` holds exactly the JSON ``raw``: every key a field (recursively),
-    every number equal and of its JSON type, number lists as read-only float64 arrays."""
-    if dataclasses.is_dataclass(value):
-        keys = {reports.json_key(f): f.name for f in dataclasses.fields(value)}
-        assert set(raw) <= set(keys), f"{path}: keys without a field {set(raw) - set(keys)}"
-        for key, name in keys.items():
-            if key in raw:
-                _same(getattr(value, name), raw[key], f"{path}.{key}")
-    elif isinstance(value, np.ndarray):
-        assert value.dtype == np.float64 and not value.flags.writeable, path
-        assert np.array_equal(value, np.asarray(raw, dtype=float).reshape(value.shape)), path
-    elif isinstance(value, tuple):
-        assert len(value) == len(raw), path
-        for i, (v, r) in enumerate(zip(value, raw)):
-            _same(v, r, f"{path}[{i}]")
-    elif raw is None and isinstance(value, float):
-        assert math.isinf(value), path  # JSON writes an unbounded number as null
-    else:
-        assert value == raw and type(value) is type(raw), path
 
 
 def test_design_of_g1_is_the_cli_design_json_typed(g1, out):
