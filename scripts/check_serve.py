@@ -4,10 +4,14 @@ Drives Debian's Chromium with Playwright (PyPI): the page opens on a bundled exa
 console error; a trajectory loaded through `open-file` shows the l1, l3 and deviation that
 `ncgear design` prints for the same file; dragging a handle re-designs (new deviation, server
 time shown); a module gives teeth; the design.json download equals the CLI's design of the same
-points; a malformed upload shows its error and the page keeps working. Then the API alone: warm
-edits of a bundled example a fraction of a millimetre to millimetres off it (p50/p95 server time
-printed, not asserted: speed lives in the benchmarks), an oversized body, and a few hundred
-malformed requests (seeded) — every answer JSON, never a 5xx, the server alive after each.
+points; the loads panel on that design draws the torque chart and shows numbers, its peak carrier
+torque that of `ncgear loads` on the CLI's design (within 1 %), and the endpoint's answer on the
+page's own design that of `ncgear loads` on it; a malformed upload shows its error and the page
+keeps working. Then the API alone: warm edits of a bundled example a fraction of a millimetre to
+millimetres off it (p50/p95 server time printed, not asserted: speed lives in the benchmarks), the
+loads of a design with a bad scene (a negative arm mass named by its key), an oversized body, and a
+few hundred malformed requests (seeded) — every answer JSON, never a 5xx, the server alive after
+each.
 
 Usage: python scripts/check_serve.py NCGEAR_BIN CHROMIUM [SCREENSHOT_DIR]
 """
@@ -31,6 +35,8 @@ BIN, CHROMIUM = sys.argv[1], sys.argv[2]
 SHOTS = Path(sys.argv[3]) if len(sys.argv) > 3 else None
 # A trajectory the page has not bundled, loaded through the file input.
 UPLOAD = ROOT / "assets/cases/designer_odd2.csv"
+# The page's default loads scene (GET /api/loads/scene reads the same file).
+ROTOR = ROOT / "assets/loads/rotor.toml"
 
 
 def fail(msg):
@@ -60,6 +66,18 @@ def cli_design(points_or_file, *flags):
                               "--accept-failed", *flags], capture_output=True, text=True)
         if out.returncode != 0:
             fail(f"ncgear design {path} {flags}: {out.stderr}")
+        return json.loads(out.stdout)
+
+
+def cli_loads(design_file):
+    """`ncgear loads --json` on assets/loads/rotor.toml naming `design_file` (a design.json)."""
+    with tempfile.TemporaryDirectory() as tmp:
+        scene = Path(tmp) / "scene.toml"
+        scene.write_text(f"design = {json.dumps(str(Path(design_file).resolve()))}\n" + ROTOR.read_text())
+        out = subprocess.run([BIN, "loads", str(scene), "--out", str(Path(tmp) / "loads"), "--json",
+                              "--accept-failed"], capture_output=True, text=True)
+        if out.returncode != 0:
+            fail(f"ncgear loads on {design_file}: {out.stderr}")
         return json.loads(out.stdout)
 
 
@@ -229,11 +247,106 @@ def browser_checks(url):
         page.get_by_test_id("example").select_option("g1_ellipse")
         wait_ready(page)
         print(f"check_serve: malformed upload → {err!r}; the page still designs")
+        # The loads of the bundled G1 example: without a module the loads alone (the page says
+        # to set a module to rate the teeth), then with module 2 rated, as `ncgear loads`.
+        page.get_by_test_id("loads-button").click()
+        page.wait_for_function(
+            "() => document.querySelector('[data-testid=loads-status]').textContent === 'ready'", timeout=60000)
+        note = text(page, "loads-note-0")
+        if text(page, "safety-h") != "–" or "set a module" not in note:
+            fail(f"loads without a module: S_H {text(page, 'safety-h')!r}, note {note!r}")
+        print(f"check_serve: loads without a module: peak carrier torque {text(page, 'carrier-torque-peak')} N·m; {note!r}")
+        page.get_by_test_id("module").fill("2")
+        page.get_by_test_id("module").dispatch_event("change")
+        wait_ready(page, 120000)
+        if "stale" not in (page.get_by_test_id("loads-panel").get_attribute("class") or ""):
+            fail("the loads of the previous design are not marked stale after a new design")
+        loads_checks(page, url, page.evaluate("points()"))
         browser.close()
     # The one error allowed: Chromium's network log of the malformed upload's deliberate 400.
     errors = [e for e in errors if "status of 400" not in e]
     if errors:
         fail(f"console errors: {errors}")
+
+
+def loads_checks(page, url, points):
+    """The loads panel on the design on screen (module 2) against `ncgear loads`."""
+    # The click leaves the module field: its change designs again, and the loads wait for it.
+    page.get_by_test_id("loads-button").click()
+    page.wait_for_function(
+        "() => !['computing', 'waiting for the design'].includes("
+        "document.querySelector('[data-testid=loads-status]').textContent)", timeout=120000)
+    status = text(page, "loads-status")
+    if status != "ready":
+        fail(f"the loads panel says {status!r}")
+    chart = page.get_by_test_id("loads-chart")
+    if not (chart.is_visible() and chart.get_by_test_id("loads-carrier").count() == 1
+            and chart.get_by_test_id("loads-planet").count() == 1):
+        fail("no carrier and planet mesh torque curves in loads-chart")
+    shown = {}
+    for t in ("carrier-torque-peak", "mean-power", "safety-h", "safety-f", "life-h"):
+        try:
+            shown[t] = float(text(page, t))
+        except ValueError:
+            fail(f"{t} shows {text(page, t)!r}, not a number")
+    reversals = text(page, "reversals")
+    try:
+        angles = [float(a.strip().rstrip("°")) for a in reversals.split(",")]
+    except ValueError:
+        fail(f"reversals shows {reversals!r}")
+    if chart.get_by_test_id("loads-reversal").count() != len(angles):
+        fail(f"{len(angles)} reversals listed, {chart.get_by_test_id('loads-reversal').count()} marked")
+    # `ncgear design --module 2` on the points on screen, then `ncgear loads` on its design.json
+    # with the bundled scene: the peak carrier torque the page shows, within 1 %.
+    with tempfile.TemporaryDirectory() as tmp:
+        csv = Path(tmp) / "points.csv"
+        csv.write_text("".join(f"{x!r},{y!r}\n" for x, y in points))
+        out = subprocess.run([BIN, "design", str(csv), "--out", str(Path(tmp) / "d"), "--module", "2",
+                              "--accept-failed"], capture_output=True, text=True)
+        if out.returncode != 0:
+            fail(f"ncgear design --module 2: {out.stderr}")
+        cli = cli_loads(Path(tmp) / "d" / "design.json")
+    want = cli["summary"]["carrier_torque_peak_Nm"]
+    if abs(shown["carrier-torque-peak"] - want) > 0.01 * abs(want):
+        fail(f"the page shows a peak carrier torque of {shown['carrier-torque-peak']} N·m, "
+             f"ncgear design --module 2 + ncgear loads {want} N·m")
+    for key, t in (("min_S_H", "safety-h"), ("min_S_F", "safety-f")):
+        if abs(shown[t] - cli["summary"][key]["value"]) > 0.01 * cli["summary"][key]["value"]:
+            fail(f"{t} shows {shown[t]}, ncgear loads {cli['summary'][key]['value']}")
+    # The endpoint on the page's own design and scene: `ncgear loads` on that design.json.
+    design, scene = page.evaluate("startOf(state.design)"), page.evaluate("loadsScene()")
+    status, body = request(url + "api/loads", "POST", {"design": design, "scene": scene})
+    if status != 200:
+        fail(f"POST /api/loads with the page's design answered {status}: {body[:300]!r}")
+    api = json.loads(body)
+    with tempfile.TemporaryDirectory() as tmp:
+        (Path(tmp) / "design.json").write_text(json.dumps(design))
+        own = cli_loads(Path(tmp) / "design.json")
+    for key in ("carrier_torque_peak_Nm", "mean_power_W", "reversals_deg", "life_h"):
+        a, b = api["summary"][key], own["summary"][key]
+        if json.dumps(a) != json.dumps(b):
+            fail(f"POST /api/loads summary.{key} = {a!r}, ncgear loads on the same design.json {b!r}")
+    if api["summary"]["min_S_H"] != own["summary"]["min_S_H"]:
+        fail(f"POST /api/loads min_S_H {api['summary']['min_S_H']}, ncgear loads {own['summary']['min_S_H']}")
+    print(f"check_serve: loads (module 2, {scene['operation']['carrier_rpm']} r/min, "
+          f"{scene['operation']['arms']} arms): peak carrier torque {shown['carrier-torque-peak']} N·m "
+          f"(ncgear loads {want:.4f}), mean power {shown['mean-power']} W, reversals {reversals}, "
+          f"S_H {shown['safety-h']}, S_F {shown['safety-f']}, life {shown['life-h']} h; the endpoint "
+          f"on the page's design equals ncgear loads on it")
+    if SHOTS:
+        page.get_by_test_id("loads-panel").screenshot(path=str(SHOTS / "designer_loads.png"))
+    # One arm instead of two: the panel computes again, the torque changes.
+    page.get_by_test_id("loads-arms").fill("1")
+    page.get_by_test_id("loads-arms").dispatch_event("change")
+    page.wait_for_function(
+        "() => document.querySelector('[data-testid=loads-status]').textContent === 'ready'"
+        f" && document.querySelector('[data-testid=carrier-torque-peak]').textContent !== '{text(page, 'carrier-torque-peak')}'",
+        timeout=60000)
+    print(f"check_serve: one arm → peak carrier torque {text(page, 'carrier-torque-peak')} N·m")
+    page.get_by_test_id("loads-arms").fill("2")
+    page.get_by_test_id("loads-arms").dispatch_event("change")
+    page.wait_for_function(
+        "() => document.querySelector('[data-testid=loads-status]').textContent === 'ready'", timeout=60000)
 
 
 def api_checks(url):
@@ -261,6 +374,51 @@ def api_checks(url):
     times.sort()
     print(f"check_serve: 60 warm edits of g1_ellipse (each a bump of ≤ 1 mm, cumulative): server time "
           f"p50 {statistics.median(times):.1f} ms, p95 {times[int(0.95 * len(times)) - 1]:.1f} ms")
+
+    # The loads of a toothed design: the bundled scene, then a negative arm mass named by its key.
+    status, body = request(url + "api/design", "POST", {"points": pts, "options": {"module": 2}})
+    toothed = json.loads(body)
+    status, body = request(url + "api/loads/scene")
+    scene = json.loads(body)["scene"]
+    status, body = request(url + "api/loads", "POST", {"design": toothed, "scene": scene})
+    if status != 200:
+        fail(f"POST /api/loads answered {status}: {body[:300]!r}")
+    loads = json.loads(body)
+    if not (loads["summary"]["carrier_torque_peak_Nm"] > 0 and loads["rating"]["min_S_H"]["value"] > 0):
+        fail(f"POST /api/loads: {loads['summary']}")
+    bad = json.loads(json.dumps(scene))
+    bad["arm"]["mass_kg"] = -0.5
+    status, body = request(url + "api/loads", "POST", {"design": toothed, "scene": bad})
+    e = json.loads(body)
+    if status != 400 or e.get("field") != "scene.arm.mass_kg" or "arm.mass_kg" not in e.get("error", ""):
+        fail(f"a negative arm mass answered {status} {e}")
+    print(f"check_serve: POST /api/loads → peak carrier torque {loads['summary']['carrier_torque_peak_Nm']:.3f} N·m; "
+          f"a negative arm mass → 400 {e['field']}: {e['error']}")
+    # Seeded abuse of the loads: bad scenes and designs, every answer JSON and never a 5xx.
+    rng = random.Random(13)
+    for k in range(60):
+        sc = json.loads(json.dumps(scene))
+        table = rng.choice(["operation", "arm", "gears", "needle", "material", "rating", "bogus", "design"])
+        if table in ("bogus", "design"):
+            sc[table] = rng.choice(["../../etc/passwd", 1, None, {}])
+        elif rng.random() < 0.2:
+            sc[table] = rng.choice(bad_values_loads())
+        else:
+            key = rng.choice(list(sc[table].keys()) + ["bogus"])
+            sc[table][key] = rng.choice(bad_values_loads())
+        body = {"design": rng.choice([toothed, toothed, {}, None, [1, 2]]), "scene": sc}
+        if rng.random() < 0.1:
+            body = {"points": pts[::7], "options": {"module": rng.choice([None, 2, -1])}, "scene": sc}
+        status, raw = request(url + "api/loads", "POST", body)
+        if status >= 500 and status != 503:
+            fail(f"loads request {k} ({table}) answered {status}: {raw[:200]!r}")
+        if status != 200:
+            try:
+                e = json.loads(raw)
+                assert isinstance(e.get("error"), str) and e["error"]
+            except Exception:
+                fail(f"loads request {k}: a {status} without a JSON error: {raw[:200]!r}")
+    print("check_serve: 60 malformed loads requests answered with JSON errors (no 5xx)")
 
     status, body = request(url + "api/design", "POST", raw=b"[" + b"1," * (5 << 20) + b"1]")
     if status != 413 or "error" not in json.loads(body):
@@ -296,6 +454,11 @@ def api_checks(url):
     if status != 200:
         fail("the server stopped answering after the malformed requests")
     print("check_serve: 300 malformed requests answered with JSON errors (no 5xx); oversized body → 413")
+
+
+def bad_values_loads():
+    return [None, "x", "auto", -1, 0, 0.5, 9, 1e308, -1e-300, 3001, [], {}, [0.0, 0.0], [1, 0], [[0, 0, 0]],
+            "planting", "steel", "gold", True]
 
 
 def main():

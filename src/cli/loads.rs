@@ -159,6 +159,14 @@ pub fn design_scene(
              --tooth-policy"
         )));
     }
+    sizing_scene(path).map(Some)
+}
+
+/// A loads scene read and checked for rating teeth (`--loads`): it needs a `[material]`; a
+/// `design` it names is not read (the command makes its own).
+pub fn sizing_scene(
+    path: &std::path::Path,
+) -> Result<(ncgear::loads::LoadCase, String), super::Failure> {
     let file = path.display().to_string();
     let scene = ncgear::loads::Scene::from_path(path).map_err(loads_failure)?;
     let case = scene.validate(&file).map_err(loads_failure)?;
@@ -174,7 +182,7 @@ pub fn design_scene(
             "note: {file}: its `design` is not read here (the design is the one this command makes)"
         );
     }
-    Ok(Some((case, file)))
+    Ok((case, file))
 }
 
 /// `--module auto`: the target designed and rated at each standard module in turn; the design

@@ -22,10 +22,18 @@ pub struct Args {
     /// Print the table (tradeoff.json) to stdout instead of the console table.
     #[arg(long)]
     pub json: bool,
+    /// A loads scene (as for `ncgear design --module auto --loads`): the table gets the module
+    /// sized by strength — each standard module rated, up to the first that carries the loads.
+    #[arg(long)]
+    pub loads: Option<PathBuf>,
 }
 
 /// Runs `ncgear tradeoff`.
 pub fn run(args: Args) -> CliResult {
+    let scene = match &args.loads {
+        Some(p) => Some(super::loads::sizing_scene(p)?),
+        None => None,
+    };
     let traj =
         Trajectory::from_path(&args.trajectory).map_err(|e| input_error(miette::miette!("{e}")))?;
     let opts = DesignOptions::default().with_center_mm(args.center);
@@ -34,7 +42,19 @@ pub fn run(args: Args) -> CliResult {
     let start = std::time::Instant::now();
     let t = trade_off(&traj, &opts, &|| pb.inc(1));
     pb.finish_and_clear();
-    let t = t.map_err(|e| design_failure(&file, &e))?;
+    let mut t = t.map_err(|e| design_failure(&file, &e))?;
+    if let Some((case, scene_file)) = &scene {
+        let pb = super::spinner("sizing the module");
+        let sized = ncgear::loads::size_module(
+            &traj,
+            &opts,
+            case,
+            &ncgear::loads::SizingOptions::default(),
+            scene_file,
+        );
+        pb.finish_and_clear();
+        t.sizing = Some(sized.map_err(super::loads::loads_failure)?.sizing);
+    }
     let written = ncgear::output::write_tradeoff(&t, &args.out)
         .map_err(|e| runtime_error(miette::miette!("{e}")))?;
     if args.json {

@@ -52,6 +52,10 @@ pub struct TradeOff {
     pub rows: Vec<TradeOffRow>,
     /// Set when the target is exactly traceable but its exact gears break a default limit.
     pub exact_needs: Option<ExactNeeds>,
+    /// The module sized by strength for a loads scene (`ncgear tradeoff --loads`): the
+    /// standard modules rated in turn up to the first that carries the loads.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub sizing: Option<crate::design::sizing::ModuleSizing>,
 }
 
 /// One design of the ladder.
@@ -221,6 +225,7 @@ pub fn trade_off(
         center_mm: base.center_mm,
         rows,
         exact_needs,
+        sizing: None,
     })
 }
 
@@ -383,6 +388,17 @@ impl TradeOff {
         if let Some(x) = &self.exact_needs {
             let _ = write!(s, "\nNote: {}.\n", x.message);
         }
+        if let Some(z) = &self.sizing {
+            let _ = write!(
+                s,
+                "\nThe module sized by strength (S_H ≥ {}, S_F ≥ {}, face width {}; \
+                 docs/loads.md):\n\n{}",
+                z.s_h_min,
+                z.s_f_min,
+                z.face_width,
+                z.markdown()
+            );
+        }
         s
     }
 }
@@ -467,6 +483,7 @@ mod tests {
             center_mm: Point::ZERO,
             rows,
             exact_needs: None,
+            sizing: None,
         }
         .markdown(false);
         assert!(

@@ -38,10 +38,10 @@ pub const MAX_ROWS: usize = 100_000;
 pub struct NeedleSpec {
     /// Rows `[travel_deg, Fx_N, Fy_N]`: the arm's own angle of travel, degrees, strictly
     /// increasing over less than a turn; the force on the tip, N, world frame.
-    #[serde(default, rename = "force_N")]
+    #[serde(default, rename = "force_N", skip_serializing_if = "Option::is_none")]
     pub force_n: Option<Vec<[f64; 3]>>,
     /// `"planting"`: the documented profile (module docs).
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub profile: Option<String>,
 }
 

@@ -28,24 +28,24 @@ pub const MAX_CARRIER_RPM: f64 = 3000.0;
 pub struct Scene {
     /// The design file, relative to the scene file (required by `ncgear loads`; the sizing of
     /// `ncgear design --module auto` designs its own).
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub design: Option<PathBuf>,
     /// How the carrier turns.
     pub operation: Operation,
     /// The planting arm fixed to each planet gear; absent: the planet gear alone.
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub arm: Option<ArmSpec>,
     /// The gear bodies; absent: massless gears (and no stresses).
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub gears: Option<GearsSpec>,
     /// The force of the soil and seedling on the needle tip; absent: none.
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub needle: Option<NeedleSpec>,
     /// The gears' material: switches on the tooth stresses (a design with teeth).
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub material: Option<MaterialSpec>,
     /// How the stresses are rated.
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub rating: Option<RatingSpec>,
 }
 
@@ -114,14 +114,14 @@ pub struct GearsSpec {
     /// Face width, mm, or `"auto"` (sizing only).
     pub face_width_mm: FaceWidthSpec,
     /// Density, kg/m³ (default 7850, steel).
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub density_kg_m3: Option<f64>,
     /// Diameter of the central bore of every gear, mm (default 0).
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub bore_mm: Option<f64>,
     /// Pressure angle of the teeth, degrees, for a design without teeth (default 20; a design
     /// with teeth uses its own rack's).
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub pressure_angle_deg: Option<f64>,
 }
 
@@ -277,6 +277,14 @@ impl Scene {
             }
             (None, None) => None,
         };
+        if rating.is_none() && bodies.is_some_and(|b| b.face_width == FaceWidth::Auto) {
+            return Err(field(
+                "gears.face_width_mm",
+                "\"auto\" is the narrowest face width whose teeth meet the rating's targets, and \
+                 the scene rates nothing: add a [material], or give the face width in mm"
+                    .into(),
+            ));
+        }
         if rating.is_some() && bodies.is_none() {
             return Err(field(
                 "gears",

@@ -38,6 +38,17 @@ impl RotorSource {
     pub fn read(path: &Path, make_teeth: bool) -> Result<Self, LoadsError> {
         let (file, assembly) =
             DesignFile::from_path(path).map_err(|e| LoadsError::Design(e.to_string()))?;
+        let mut source = Self::from_design_file(file, assembly);
+        if make_teeth {
+            source.make_teeth()?;
+        }
+        Ok(source)
+    }
+
+    /// A design file already read ([`DesignFile::parse`]) and its assembly; the teeth not made
+    /// yet ([`Self::make_teeth`]).
+    #[must_use]
+    pub fn from_design_file(file: DesignFile, assembly: Assembly) -> Self {
         let teeth_options = file.teeth.as_ref().map(|t| {
             let opts = t
                 .options
@@ -45,17 +56,13 @@ impl RotorSource {
                 .unwrap_or_else(|| TrainTeethOptions::new(t.module_mm));
             opts.with_policy(TrainPolicy::ScaleCenterDistance(ToothPolicy::Exact(t.z)))
         });
-        let mut source = Self {
+        Self {
             pressure_angle_rad: teeth_options.as_ref().map(|o| o.toothing.rack.alpha_rad()),
             assembly,
             teeth: None,
             teeth_options,
             target_mm: file.target_points,
-        };
-        if make_teeth {
-            source.make_teeth()?;
         }
-        Ok(source)
     }
 
     /// A design in memory and its teeth, if any.

@@ -9,13 +9,10 @@
 //! answer lists what was left out, and why, in `left_out`.
 
 use super::api::ApiError;
-use ncgear::design::train::{TrainPolicy, TrainTeethOptions};
-use ncgear::geometry::assembly::Assembly;
 use ncgear::loads::report::Bearings;
 use ncgear::loads::scene::FaceWidth;
 use ncgear::loads::{LoadsError, LoadsReport, RotorSource, Scene, analyse};
 use ncgear::simulate::DesignFile;
-use ncgear::teeth::ToothPolicy;
 use serde::Deserialize;
 use serde_json::Value;
 
@@ -62,30 +59,12 @@ pub fn loads(design: &Value, scene: &Value) -> Result<Loads, ApiError> {
         case.bodies = None;
         left_out.push(NO_FACE_WIDTH.to_string());
     }
-    let mut source = rotor_source(file, assembly);
+    let mut source = RotorSource::from_design_file(file, assembly);
     if case.rating.is_some() {
         source.make_teeth().map_err(|e| loads_error(&e))?;
     }
     let report = analyse(&source.rotor(), &case, SCENE).map_err(|e| loads_error(&e))?;
     Ok(Loads { report, left_out })
-}
-
-/// The rotor of a design file, as [`RotorSource::read`] makes it from the file's text: the
-/// `teeth` block's own tooth count at its module, rack, backlash and cutters (teeth not made yet).
-fn rotor_source(file: DesignFile, assembly: Assembly) -> RotorSource {
-    let teeth_options = file.teeth.as_ref().map(|t| {
-        t.options
-            .clone()
-            .unwrap_or_else(|| TrainTeethOptions::new(t.module_mm))
-            .with_policy(TrainPolicy::ScaleCenterDistance(ToothPolicy::Exact(t.z)))
-    });
-    RotorSource {
-        pressure_angle_rad: teeth_options.as_ref().map(|o| o.toothing.rack.alpha_rad()),
-        assembly,
-        teeth: None,
-        teeth_options,
-        target_mm: file.target_points,
-    }
 }
 
 /// The scene of a request: a scene file's tables, without `design` (no file is read here).
@@ -155,5 +134,159 @@ pub fn slim(r: &mut LoadsReport) {
         m.contact_ratio = None;
         m.contact_stress_mpa = None;
         m.root_stress_mpa = None;
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::routes::route;
+    use ncgear::loads::{LoadsReport, Rotor, Scene, analyse, run_scene};
+    use serde_json::{Value, json};
+    use std::path::Path;
+
+    fn asset(path: &str) -> String {
+        Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join(path)
+            .display()
+            .to_string()
+    }
+
+    /// `(status, answer)` of a request.
+    fn post(path: &str, body: &Value) -> (u16, Value) {
+        let r = route("POST", path, &body.to_string());
+        (r.status, serde_json::from_slice(&r.body).unwrap())
+    }
+
+    /// The page's default scene, as `GET /api/loads/scene` answers it.
+    fn default_scene() -> Value {
+        let r = route("GET", "/api/loads/scene", "");
+        assert_eq!(r.status, 200);
+        let v: Value = serde_json::from_slice(&r.body).unwrap();
+        assert_eq!(v["scene"]["operation"]["carrier_rpm"], json!(300.0));
+        assert_eq!(v["scene"]["material"]["preset"], json!("cast_iron"));
+        v["scene"].clone()
+    }
+
+    fn close(a: &[f64], b: &[f64], tol: f64) -> f64 {
+        assert_eq!(a.len(), b.len());
+        let worst = a
+            .iter()
+            .zip(b)
+            .map(|(x, y)| (x - y).abs())
+            .fold(0.0, f64::max);
+        assert!(worst <= tol, "largest difference {worst:e} > {tol:e}");
+        worst
+    }
+
+    /// The endpoint on a design file's object is `ncgear loads` on that file: the bundled G1
+    /// train at module 2 under assets/loads/g1_rotor.toml (the same report, value for value).
+    #[test]
+    fn the_loads_of_a_design_are_ncgear_loads_of_its_file() {
+        let cli = run_scene(Path::new(&asset("assets/loads/g1_rotor.toml"))).unwrap();
+        let mut scene = Scene::from_path(Path::new(&asset("assets/loads/g1_rotor.toml"))).unwrap();
+        scene.design = None;
+        let text = std::fs::read_to_string(asset("assets/loads/g1_m2_design.json")).unwrap();
+        let design: Value = serde_json::from_str(&text).unwrap();
+        let (status, v) = post(
+            "/api/loads",
+            &json!({"design": design, "scene": scene, "full": true}),
+        );
+        assert_eq!(status, 200, "{v}");
+        assert!(v.get("left_out").is_none());
+        let got: LoadsReport = serde_json::from_value(v).unwrap();
+        close(&got.carrier_torque_nm, &cli.carrier_torque_nm, 1e-9);
+        close(&got.planet_mesh_torque_nm, &cli.planet_mesh_torque_nm, 1e-9);
+        let (g, c) = (got.rating.unwrap(), cli.rating.unwrap());
+        assert!((g.min_s_h.value - c.min_s_h.value).abs() < 1e-9);
+        assert!((g.min_s_f.value - c.min_s_f.value).abs() < 1e-9);
+        assert!((g.life_h - c.life_h).abs() <= 1e-9 * c.life_h);
+        assert_eq!(got.summary.reversals_deg, cli.summary.reversals_deg);
+    }
+
+    /// Points and a module: designed as `ncgear design --module 2` designs them, then loaded as
+    /// the page's design is; the carrier torque is the library's on the design made in memory.
+    #[test]
+    fn points_with_a_module_give_the_librarys_loads_of_their_design() {
+        let r = route("GET", "/api/examples/g1_ellipse", "");
+        let points = serde_json::from_slice::<Value>(&r.body).unwrap()["points"].clone();
+        let scene = default_scene();
+        let (status, v) = post(
+            "/api/loads",
+            &json!({"points": points, "options": {"module": 2.0}, "scene": scene}),
+        );
+        assert_eq!(status, 200, "{v}");
+        let got: LoadsReport = serde_json::from_value(v).unwrap();
+        // The same design in memory: designed for the module, its teeth as the designer makes them.
+        let traj = ncgear::design::trajectory::Trajectory::from_points(
+            serde_json::from_value(points).unwrap(),
+        )
+        .unwrap();
+        let opts = ncgear::design::DesignOptions::default().with_module_mm(Some(2.0));
+        let d = ncgear::design::design(&traj, &opts).unwrap();
+        let t = ncgear::design::train::TrainTeethOptions::new(2.0)
+            .with_policy(ncgear::design::train::TrainPolicy::Designed);
+        let train = ncgear::design::train::tooth_train(&d, &t).unwrap();
+        let case = serde_json::from_value::<Scene>(scene)
+            .unwrap()
+            .validate("scene")
+            .unwrap();
+        let lib = analyse(&Rotor::toothed(&train), &case, "scene").unwrap();
+        let worst = close(&got.carrier_torque_nm, &lib.carrier_torque_nm, 1e-9);
+        eprintln!("carrier torque: largest difference from the library's {worst:e} N·m");
+        assert!(
+            (got.summary.carrier_torque_peak_nm - lib.summary.carrier_torque_peak_nm).abs() < 1e-9
+        );
+        assert!(got.rating.is_some() && got.summary.min_s_h.is_some());
+        // Slimmed: the arrays the page draws, not the others.
+        assert_eq!(got.travel_deg.len(), got.planet_mesh_torque_nm.len());
+        assert!(got.bearings.o_n.is_empty() && got.meshes.sun_intermediate.flank.is_empty());
+    }
+
+    /// A negative arm mass is refused naming its key; a scene naming a file is refused.
+    #[test]
+    fn a_bad_scene_names_its_key() {
+        let text = std::fs::read_to_string(asset("assets/loads/g1_m2_design.json")).unwrap();
+        let design: Value = serde_json::from_str(&text).unwrap();
+        let mut scene = default_scene();
+        scene["arm"]["mass_kg"] = json!(-0.5);
+        let (status, v) = post("/api/loads", &json!({"design": design, "scene": scene}));
+        assert_eq!(
+            (status, &v["field"]),
+            (400, &json!("scene.arm.mass_kg")),
+            "{v}"
+        );
+        assert!(v["error"].as_str().unwrap().contains("arm.mass_kg"));
+        let mut scene = default_scene();
+        scene["design"] = json!("/etc/passwd");
+        let (status, v) = post("/api/loads", &json!({"design": design, "scene": scene}));
+        assert_eq!((status, &v["field"]), (400, &json!("scene.design")), "{v}");
+        let mut scene = default_scene();
+        scene["operation"]["arms"] = json!(1.5);
+        let (status, v) = post("/api/loads", &json!({"design": design, "scene": scene}));
+        assert_eq!(
+            (status, &v["field"]),
+            (400, &json!("scene.operation")),
+            "{v}"
+        );
+    }
+
+    /// Without teeth: the loads alone, the rating and the "auto" face width left out, and said.
+    #[test]
+    fn a_design_without_teeth_is_not_rated() {
+        let text = std::fs::read_to_string(asset("assets/loads/g1_m2_design.json")).unwrap();
+        let mut design: Value = serde_json::from_str(&text).unwrap();
+        design.as_object_mut().unwrap().remove("teeth");
+        let (status, v) = post(
+            "/api/loads",
+            &json!({"design": design, "scene": default_scene()}),
+        );
+        assert_eq!(status, 200, "{v}");
+        assert_eq!(
+            v["left_out"],
+            json!([super::NO_TEETH, super::NO_FACE_WIDTH])
+        );
+        let got: LoadsReport = serde_json::from_value(v).unwrap();
+        assert!(got.rating.is_none() && got.gears.face_width_mm.is_none());
+        assert!(got.summary.carrier_torque_peak_nm > 0.0);
     }
 }

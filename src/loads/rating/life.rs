@@ -75,13 +75,14 @@ pub fn worst_damage(
     damage.values().copied().fold(0.0, f64::max)
 }
 
-/// Hours of life at `rpm` for a damage `per_turn` per carrier turn (infinite for none).
+/// Hours of life at `rpm` for a damage `per_turn` per carrier turn; [`f64::MAX`] (1.8e308, a
+/// number JSON can hold) for no damage at all: unlimited.
 #[must_use]
 pub fn hours(per_turn: f64, rpm: f64) -> f64 {
     if per_turn > 0.0 {
-        1.0 / (per_turn * rpm * 60.0)
+        (1.0 / (per_turn * rpm * 60.0)).min(f64::MAX)
     } else {
-        f64::INFINITY
+        f64::MAX
     }
 }
 

@@ -48,19 +48,27 @@ use tooth_form::{Flank, GearTeeth};
 pub struct MaterialSpec {
     /// `steel`, `case_hardened_steel`, `cast_iron`, `grey_iron` or `pom` ([`material`]); absent:
     /// all four values below are needed (S–N lines of steel).
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub preset: Option<String>,
     /// Young's modulus, MPa.
-    #[serde(default, rename = "E_MPa")]
+    #[serde(default, rename = "E_MPa", skip_serializing_if = "Option::is_none")]
     pub e_mpa: Option<f64>,
     /// Poisson's ratio.
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub poisson: Option<f64>,
     /// Contact endurance limit σ_Hlim, MPa.
-    #[serde(default, rename = "sigma_Hlim_MPa")]
+    #[serde(
+        default,
+        rename = "sigma_Hlim_MPa",
+        skip_serializing_if = "Option::is_none"
+    )]
     pub sigma_hlim_mpa: Option<f64>,
     /// Bending stress number σ_Flim, MPa.
-    #[serde(default, rename = "sigma_Flim_MPa")]
+    #[serde(
+        default,
+        rename = "sigma_Flim_MPa",
+        skip_serializing_if = "Option::is_none"
+    )]
     pub sigma_flim_mpa: Option<f64>,
 }
 
@@ -69,34 +77,34 @@ pub struct MaterialSpec {
 #[serde(deny_unknown_fields)]
 pub struct RatingSpec {
     /// `"iso"` (default) or `"nominal"`.
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub factors: Option<FactorMode>,
     /// Application factor K_A (iso default 1.5).
-    #[serde(default, rename = "K_A")]
+    #[serde(default, rename = "K_A", skip_serializing_if = "Option::is_none")]
     pub k_a: Option<f64>,
     /// ISO accuracy grade 5..=12 (default 8).
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub accuracy_grade: Option<u8>,
     /// Dynamic factor K_v instead of the formula.
-    #[serde(default, rename = "K_v")]
+    #[serde(default, rename = "K_v", skip_serializing_if = "Option::is_none")]
     pub k_v: Option<f64>,
     /// Face load factor K_Hβ (iso default 1.15).
-    #[serde(default, rename = "K_Hbeta")]
+    #[serde(default, rename = "K_Hbeta", skip_serializing_if = "Option::is_none")]
     pub k_h_beta: Option<f64>,
     /// K_Fβ instead of `K_Hβ^N_F`.
-    #[serde(default, rename = "K_Fbeta")]
+    #[serde(default, rename = "K_Fbeta", skip_serializing_if = "Option::is_none")]
     pub k_f_beta: Option<f64>,
     /// K_Hα instead of the table.
-    #[serde(default, rename = "K_Halpha")]
+    #[serde(default, rename = "K_Halpha", skip_serializing_if = "Option::is_none")]
     pub k_h_alpha: Option<f64>,
     /// K_Fα instead of the table.
-    #[serde(default, rename = "K_Falpha")]
+    #[serde(default, rename = "K_Falpha", skip_serializing_if = "Option::is_none")]
     pub k_f_alpha: Option<f64>,
     /// Smallest pitting safety factor the gears must keep (default 1.0).
-    #[serde(default, rename = "S_H_min")]
+    #[serde(default, rename = "S_H_min", skip_serializing_if = "Option::is_none")]
     pub s_h_min: Option<f64>,
     /// Smallest bending safety factor the gears must keep (default 1.4).
-    #[serde(default, rename = "S_F_min")]
+    #[serde(default, rename = "S_F_min", skip_serializing_if = "Option::is_none")]
     pub s_f_min: Option<f64>,
 }
 
@@ -223,7 +231,7 @@ impl RatingOptions {
     }
 }
 
-/// The smallest safety factor and where it occurs.
+/// The smallest safety factor and where it occurs ([`f64::MAX`] when nothing is loaded).
 #[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
 pub struct Extreme {
     /// The value.
@@ -273,7 +281,7 @@ pub struct RatingReport {
     /// Smallest bending safety factor over the turn.
     #[serde(rename = "min_S_F")]
     pub min_s_f: Extreme,
-    /// Shortest life, h, and the gear.
+    /// Shortest life, h ([`f64::MAX`]: unlimited).
     pub life_h: f64,
     /// The gear and mode of the shortest life.
     pub life_limited_by: String,

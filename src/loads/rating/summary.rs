@@ -32,10 +32,10 @@ pub(super) fn summarise(
     let y_st = opts.factors.y_st;
     let mut gears = BTreeMap::new();
     let mut min_s_f = Extreme {
-        value: f64::INFINITY,
+        value: f64::MAX,
         ..Extreme::default()
     };
-    let mut life = (f64::INFINITY, String::new());
+    let mut life = (f64::MAX, String::new());
     for (g, name) in NAMES.iter().enumerate() {
         // The series of this gear: (mesh, its index in the mesh, the mesh's rating).
         let series: Vec<(&str, usize, &MeshRating)> = rated
@@ -70,7 +70,7 @@ pub(super) fn summarise(
         let limit_f = |tooth: usize| y_st * y_m(tooth) * mat.sigma_flim_mpa;
         let mut rating = GearRating {
             min_s_f: Extreme {
-                value: f64::INFINITY,
+                value: f64::MAX,
                 ..Extreme::default()
             },
             y_f_y_s_range: [f64::INFINITY, 0.0],
@@ -130,6 +130,10 @@ pub(super) fn summarise(
                 life = (h, format!("{name}: {mode}"));
             }
         }
+        if rating.y_f_y_s_range[0] > rating.y_f_y_s_range[1] {
+            // No tooth of this gear carried a load.
+            rating.y_f_y_s_range = [0.0, 0.0];
+        }
         if rating.min_s_f.value < min_s_f.value {
             min_s_f = rating.min_s_f.clone();
         }
@@ -153,7 +157,7 @@ pub(super) fn summarise(
 /// gear of the smaller flank radius) and its tooth.
 fn min_pitting(rated: &[RatedMesh; 2], travel: &[f64], sigma_hlim_mpa: f64) -> Extreme {
     let mut best = Extreme {
-        value: f64::INFINITY,
+        value: f64::MAX,
         ..Extreme::default()
     };
     for (mesh, pair, mr) in rated {

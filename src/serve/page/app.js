@@ -14,6 +14,8 @@ const state = {
   design: null, phiIndex: 0, playing: false,
   view: { cx: 0, cy: 0, w: 400 },
   undo: [], redo: [], controller: null, timer: null, clock: null, synthesis: null, spec: null, highlight: null,
+  // The loads panel: the bundled scene (the defaults), the last answer and the design it is of.
+  loadsScene: null, loads: null, loadsOf: null, loadsSent: null, loadsController: null, loadsPending: false,
 };
 
 // ---- status --------------------------------------------------------------------------------
@@ -134,11 +136,13 @@ async function redesign(warm) {
     state.controller = null;
     render();
     setStatus("ready");
+    designChanged();
   } catch (e) {
     if (e.name === "AbortError") return;
     if (state.controller === controller) state.controller = null;
     setStatus(e.message, "error");
     render();
+    if (state.loadsPending) computeLoads(); // of the design still on screen
   }
 }
 
@@ -255,6 +259,7 @@ function render() {
   });
   renderReadouts();
   renderRatio();
+  renderLoadsChart();
 }
 
 function renderPoses() {
@@ -366,6 +371,173 @@ function arcOf(w) {
   return null;
 }
 
+// ---- loads -----------------------------------------------------------------------------------
+// The loads of the design on screen (POST /api/loads): the page sends its design.json object and
+// the scene, the bundled assets/loads/rotor.toml (GET /api/loads/scene: the one copy of the
+// defaults) with the panel's fields set; the server reads the design back as `ncgear loads` reads
+// a design file. No second design: the loads are those of the design the page holds.
+function setLoadsStatus(text, kind) {
+  const s = $("loads-status");
+  s.textContent = text;
+  s.className = "loads-status" + (kind ? " " + kind : "");
+}
+
+async function initLoads() {
+  const d = await (await api("/api/loads/scene")).json();
+  const s = d.scene;
+  state.loadsScene = s;
+  const select = $("loads-material");
+  for (const m of [""].concat(d.materials)) {
+    const o = document.createElement("option");
+    o.value = m;
+    o.textContent = m ? m.replace(/_/g, " ") : "none (loads only)";
+    select.appendChild(o);
+  }
+  select.value = (s.material && s.material.preset) || "";
+  $("loads-rpm").value = s.operation.carrier_rpm;
+  $("loads-arms").value = s.operation.arms;
+  $("loads-arm-mass").value = s.arm ? s.arm.mass_kg : "";
+  $("loads-arm-mass").disabled = !s.arm;
+  const b = s.gears && s.gears.face_width_mm;
+  $("loads-face-width").value = typeof b === "number" ? b : "";
+  $("loads-face-width").disabled = !s.gears;
+  $("loads-form").title = "Defaults: " + d.file + " (an empty face width is \"auto\": the narrowest in 6…15·m that meets the safety targets)";
+}
+
+// The scene sent: the bundled one with the panel's fields (an empty field keeps the default).
+function loadsScene() {
+  const s = JSON.parse(JSON.stringify(state.loadsScene));
+  const num = (id) => { const v = $(id).value.trim(); return v === "" ? null : Number(v); };
+  if (num("loads-rpm") !== null) s.operation.carrier_rpm = num("loads-rpm");
+  if (num("loads-arms") !== null) s.operation.arms = num("loads-arms");
+  if (s.arm && num("loads-arm-mass") !== null) s.arm.mass_kg = num("loads-arm-mass");
+  if (s.gears) {
+    const b = $("loads-face-width").value.trim();
+    s.gears.face_width_mm = b === "" || b === "auto" ? "auto" : Number(b);
+  }
+  const m = $("loads-material").value;
+  if (m) s.material = Object.assign({}, s.material || {}, { preset: m });
+  else { s.material = null; s.rating = null; }
+  return s;
+}
+
+async function computeLoads() {
+  if (!state.loadsScene) return;
+  // A design on its way (an option just changed, e.g. the module field left by this click):
+  // the loads are those of the design it brings.
+  if (state.controller) { state.loadsPending = true; setLoadsStatus("waiting for the design", "busy"); return; }
+  state.loadsPending = false;
+  if (!state.design) { setLoadsStatus("no design yet", "error"); return; }
+  if (state.loadsController) state.loadsController.abort();
+  const controller = new AbortController();
+  state.loadsController = controller;
+  const design = state.design, scene = loadsScene();
+  setLoadsStatus("computing", "busy");
+  try {
+    const r = await api("/api/loads", { design: startOf(design), scene }, controller.signal);
+    const l = await r.json();
+    if (state.loadsController !== controller) return;
+    state.loadsController = null;
+    state.loads = l;
+    state.loadsOf = design;
+    state.loadsSent = scene;
+    renderLoads();
+    setLoadsStatus("ready");
+    $("loads-status").title = `server ${l.server_ms.toFixed(0)} ms`;
+  } catch (e) {
+    if (e.name === "AbortError") return;
+    if (state.loadsController === controller) state.loadsController = null;
+    setLoadsStatus(e.message, "error");
+  }
+}
+
+// A new design on screen: its loads at once when asked for, else the loads shown are marked stale.
+function designChanged() {
+  if ($("loads-auto").checked || state.loadsPending) computeLoads();
+  else if (state.loads && state.loadsOf !== state.design) {
+    $("loads-panel").classList.add("stale");
+    setLoadsStatus("the design changed: press Loads");
+  }
+}
+
+function renderLoads() {
+  const l = state.loads, s = l.summary, rt = l.rating;
+  $("loads-panel").hidden = false;
+  $("loads-panel").classList.remove("stale");
+  const set = (id, t) => { $(id).textContent = t; };
+  set("carrier-torque-peak", s.carrier_torque_peak_Nm.toFixed(3));
+  set("carrier-torque-rms", s.carrier_torque_rms_Nm.toFixed(3));
+  set("mean-power", s.mean_power_W.toFixed(2));
+  set("planet-torque-peak", s.planet_mesh_torque_peak_Nm.toFixed(3));
+  set("reversals", s.reversals_deg.length ? s.reversals_deg.map((r) => r.toFixed(1) + "°").join(", ") : "none");
+  const b = rt ? rt.face_width_mm : l.gears.face_width_mm;
+  const auto = state.loadsSent.gears && state.loadsSent.gears.face_width_mm === "auto";
+  set("loads-face-width-used", b == null ? "none (massless gears)" : b + " mm" + (auto ? " (auto)" : ""));
+  const mesh = (m) => m.replace("_", "–");
+  // Where an extreme is: travel angle, mesh, gear and tooth.
+  const where = (e, target) => `(target ${target}) at ${e.travel_deg.toFixed(1)}°, ${mesh(e.mesh)}, ${e.gear} tooth ${e.tooth}`;
+  if (rt) {
+    set("safety-h", rt.min_S_H.value.toFixed(3));
+    set("safety-h-where", where(rt.min_S_H, rt.options.S_H_min));
+    set("safety-f", rt.min_S_F.value.toFixed(3));
+    set("safety-f-where", where(rt.min_S_F, rt.options.S_F_min) + " root");
+    const life = rt.life_h;
+    set("life-h", life == null ? "unlimited" : life >= 1e5 ? life.toExponential(2) : life.toFixed(0));
+    set("life-where", (life == null ? "" : "h ") + `(${rt.life_limited_by}, ${rt.options.material.name})`);
+  } else {
+    const why = l.left_out && l.left_out.length ? "set a module to rate the teeth" : "no material";
+    for (const id of ["safety-h", "safety-f", "life-h"]) set(id, "–");
+    for (const id of ["safety-h-where", "safety-f-where", "life-where"]) set(id, why);
+  }
+  const notes = $("loads-notes");
+  notes.textContent = "";
+  const lines = (l.left_out || []).concat(l.verdict && !l.verdict.passed ? l.verdict.failures || [] : [], rt ? rt.notes : []);
+  lines.forEach((n, k) => {
+    const li = document.createElement("li");
+    li.textContent = n;
+    li.setAttribute("data-testid", "loads-note-" + k);
+    notes.appendChild(li);
+  });
+  renderLoadsChart();
+}
+
+// The carrier torque (all arms) and the first arm's planet mesh torque over the carrier's travel,
+// the torque reversals (the teeth cross their backlash) marked, and the slider's carrier angle.
+function renderLoadsChart() {
+  const l = state.loads, svg = $("loads-chart");
+  if (!l) return;
+  svg.textContent = "";
+  const [x0, x1, y0, y1] = [40, 314, 18, 132];
+  const t = l.travel_deg, c = l.carrier_torque_Nm, p = l.planet_mesh_torque_Nm;
+  const all = c.concat(p, [0]);
+  const lo = Math.min(...all), hi = Math.max(...all), span = Math.max(hi - lo, 1e-9);
+  const X = (deg) => x0 + (x1 - x0) * deg / 360, Y = (v) => y1 - (y1 - y0) * (v - lo) / span;
+  const curve = (v) => path(t.map((d, k) => [X(d), Y(v[k])]).concat([[X(360), Y(v[0])]]));
+  const text = (x, y, str, attrs) => { el("text", Object.assign({ x, y, fill: "#555" }, attrs || {}), svg).textContent = str; };
+  el("rect", { x: x0, y: y0, width: x1 - x0, height: y1 - y0, fill: "none", stroke: "#ddd" }, svg);
+  for (const d of [0, 90, 180, 270, 360]) {
+    el("line", { x1: X(d), x2: X(d), y1: y0, y2: y1, stroke: "#eee" }, svg);
+    text(X(d), y1 + 11, d + "°", { "text-anchor": "middle" });
+  }
+  el("line", { x1: x0, x2: x1, y1: Y(0), y2: Y(0), stroke: "#999", "stroke-dasharray": "3 2" }, svg);
+  text(x0 - 3, Y(hi) + 3, hi.toFixed(1), { "text-anchor": "end" });
+  text(x0 - 3, Y(0) + 3, "0", { "text-anchor": "end" });
+  text(x0 - 3, Y(lo) + 3, lo.toFixed(1), { "text-anchor": "end" });
+  text(4, y0 - 6, "N·m");
+  el("path", { d: curve(p), fill: "none", stroke: "#9467bd", "stroke-width": 1.2, "data-testid": "loads-planet" }, svg);
+  el("path", { d: curve(c), fill: "none", stroke: "#1f77b4", "stroke-width": 1.6, "data-testid": "loads-carrier" }, svg);
+  for (const r of l.summary.reversals_deg) {
+    el("line", { x1: X(r), x2: X(r), y1: y0, y2: y1, stroke: "#d62728", "stroke-dasharray": "2 2" }, svg);
+    el("circle", { cx: X(r), cy: Y(0), r: 2.5, fill: "#d62728", "data-testid": "loads-reversal" }, svg);
+  }
+  // The slider's carrier angle: pose k is at 2k° of travel; arm 1 of the drawing is the first arm.
+  const phi = 2 * state.phiIndex;
+  el("line", { x1: X(phi), x2: X(phi), y1: y0, y2: y1, stroke: "#444", opacity: 0.4 }, svg);
+  text(x0 + 2, y0 - 6, "carrier (all arms)", { fill: "#1f77b4" });
+  text(x0 + 92, y0 - 6, "planet mesh (arm 1)", { fill: "#9467bd" });
+  text(x0 + 192, y0 - 6, "┆ reversal", { fill: "#d62728" });
+}
+
 // ---- interaction -----------------------------------------------------------------------------
 function toWorld(ev) {
   const svg = $("canvas");
@@ -468,6 +640,7 @@ async function synthesizeSpec(upload) {
     $("center-y").value = o[1];
     render();
     setStatus("ready");
+    designChanged();
   } catch (e) { setStatus(e.message, "error"); render(); }
 }
 const openFile = (file) => openWith(async () => {
@@ -532,6 +705,7 @@ function init() {
   $("cancel").addEventListener("click", () => {
     if (state.controller) { state.controller.abort(); state.controller = null; }
     setStatus("ready");
+    if (state.loadsPending) computeLoads();
   });
   $("undo").addEventListener("click", () => travel(state.undo, state.redo));
   $("redo").addEventListener("click", () => travel(state.redo, state.undo));
@@ -571,6 +745,11 @@ function init() {
     if (e.dataTransfer.files[0]) openFile(e.dataTransfer.files[0]);
   });
   window.addEventListener("resize", render);
+  $("loads-button").addEventListener("click", computeLoads);
+  for (const input of $("loads-form").elements) {
+    input.addEventListener("change", () => { if (state.loads || $("loads-auto").checked) computeLoads(); });
+  }
+  initLoads().catch((e) => setLoadsStatus(e.message, "error"));
   api("/api/examples").then((r) => r.json()).then((list) => {
     for (const ex of list) {
       const o = document.createElement("option");
