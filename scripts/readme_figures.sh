@@ -4,6 +4,8 @@
 #   docs/tradeoff_designer_kidney.md       `ncgear tradeoff …` (its tradeoff.md, with a header)
 #   README.md and docs/design.md, between <!-- tradeoff:begin --> and <!-- tradeoff:end -->:
 #   the same table
+#   assets/readme/loads.png                `ncgear loads assets/loads/g1_rotor.toml --png`
+#                                          (its overview.png: torques beside tooth stresses)
 # With --check, writes nothing and exits 1 when the committed table differs from a fresh run
 # (the table is deterministic; the header's date line is not compared).
 set -euo pipefail
@@ -56,4 +58,6 @@ PY
 # The kidney misses the 0.05 mm tolerance (C12, exit 3): the picture is of that design.
 "$bin" design "$traj" --out "$tmp/design" --png --accept-failed >/dev/null
 cp "$tmp/design/design.png" assets/readme/designer_kidney.png
-echo "wrote $table, the tables in README.md and docs/design.md, assets/readme/designer_kidney.png"
+"$bin" loads assets/loads/g1_rotor.toml --out "$tmp/loads" --png >/dev/null
+cp "$tmp/loads/overview.png" assets/readme/loads.png
+echo "wrote $table, the tables in README.md and docs/design.md, assets/readme/designer_kidney.png, assets/readme/loads.png"

@@ -1,11 +1,12 @@
 //! Files written by `ncgear loads`: `loads.json` (the report, last), `loads.csv` (one row per
 //! sample, for a spreadsheet) and the charts over the turn — `torque.svg` (carrier, sun and
-//! planet mesh torques), `forces.svg` (the mesh normal forces, the frame and bearing forces) and,
-//! with a rating, `stress.svg` (contact and root stresses, the reversals marked); `png` adds PNG
-//! copies.
+//! planet mesh torques), `forces.svg` (the mesh normal forces, the frame and bearing forces),
+//! with a rating `stress.svg` (contact and root stresses, the reversals marked), and
+//! `overview.svg` (the torques beside the stresses, or the forces without a rating); `png` adds
+//! PNG copies.
 
 use super::error::{OutputError, create_dir, remove_stale, write};
-use super::plot::{ChartLabels, Series, line_chart};
+use super::plot::{ChartLabels, Series, line_chart, panels_chart};
 use crate::loads::LoadsReport;
 use crate::math::Point;
 use std::fmt::Write as _;
@@ -29,12 +30,18 @@ pub fn write_loads(
     write(&csv, &loads_csv(report))?;
     paths.push(csv);
     let exts: &[&str] = if png { &["svg", "png"] } else { &["svg"] };
+    let charts = charts(report);
     for ext in exts {
-        for (name, labels, series) in charts(report) {
+        for (name, labels, series) in &charts {
             let path = dir.join(format!("{name}.{ext}"));
-            line_chart(&path, &labels, &series, (1000, 560))?;
+            line_chart(&path, labels, series, (1000, 560))?;
             paths.push(path);
         }
+        // The torques beside the stresses (the last chart: forces without a rating).
+        let path = dir.join(format!("overview.{ext}"));
+        let pick = |i: usize| (charts[i].1.clone(), charts[i].2.clone());
+        panels_chart(&path, &[pick(0), pick(charts.len() - 1)], (1800, 560))?;
+        paths.push(path);
     }
     let json = super::json::to_string(report).map_err(|e| OutputError::Io {
         path: json_path.display().to_string(),

@@ -94,43 +94,30 @@ pub fn line_chart(
     series: &[Series],
     size_px: (u32, u32),
 ) -> Result<(), PlotError> {
-    register_font();
-    let err = |e: String| PlotError {
-        path: path.display().to_string(),
-        message: e,
-    };
-    let is_png = path
-        .extension()
-        .is_some_and(|e| e.eq_ignore_ascii_case("png"));
-    let panels = [(labels.clone(), series.to_vec())];
-    crate::files::write_whole_with(
-        path,
-        |tmp| {
-            if is_png {
-                draw(
-                    BitMapBackend::new(tmp, size_px).into_drawing_area(),
-                    &panels,
-                )
-            } else {
-                draw(SVGBackend::new(tmp, size_px).into_drawing_area(), &panels)
-            }
-        },
-        |e| e.to_string(),
-    )
-    .map_err(err)
+    panels_chart(path, &[(labels.clone(), series.to_vec())], size_px)
 }
 
-/// Writes charts side by side (one panel each, left to right) to one SVG file at `path`. Size
-/// in pixels of the whole figure. A non-finite point breaks a line (a gap); markers skip it.
-pub fn panels_svg(
+/// Writes charts side by side (one panel each, left to right) to one file at `path`; the format
+/// follows the extension (`.png` → PNG, else SVG). Size in pixels of the whole figure. A
+/// non-finite point breaks a line (a gap); markers skip it.
+pub fn panels_chart(
     path: &Path,
     panels: &[(ChartLabels, Vec<Series>)],
     size_px: (u32, u32),
 ) -> Result<(), PlotError> {
     register_font();
+    let is_png = path
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("png"));
     crate::files::write_whole_with(
         path,
-        |tmp| draw(SVGBackend::new(tmp, size_px).into_drawing_area(), panels),
+        |tmp| {
+            if is_png {
+                draw(BitMapBackend::new(tmp, size_px).into_drawing_area(), panels)
+            } else {
+                draw(SVGBackend::new(tmp, size_px).into_drawing_area(), panels)
+            }
+        },
         |e| e.to_string(),
     )
     .map_err(|message| PlotError {

@@ -2,7 +2,7 @@
 //! `tradeoff.svg` (deviation against the pressure-angle limit and against the module).
 
 use super::error::{OutputError, create_dir, remove_stale, write};
-use super::plot::{ChartLabels, Series, panels_svg};
+use super::plot::{ChartLabels, Series, panels_chart};
 use crate::design::tradeoff::{RowNumbers, TradeOff, TradeOffRow};
 use std::path::{Path, PathBuf};
 
@@ -106,7 +106,7 @@ pub fn tradeoff_plot(t: &TradeOff, path: &Path) -> Result<(), OutputError> {
         y: "max tip deviation (mm)".into(),
         equal_aspect: false,
     };
-    panels_svg(
+    panels_chart(
         path,
         &[
             (
