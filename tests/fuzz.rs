@@ -1023,7 +1023,7 @@ fn baseline(sub: &str, rng: &mut ChaCha8Rng) -> (Spec, &'static [(&'static str, 
             if rng.random_bool(0.3) {
                 let text = String::from_utf8(s.files[0].1.clone()).unwrap();
                 let cut = text.find("[material]").unwrap_or(text.len());
-                s.files[0].1 = text[..cut].as_bytes().to_vec();
+                s.files[0].1 = text.as_bytes()[..cut].to_vec();
             }
             s.sub = "loads";
             s.args = vec![w("loads"), scene, out()];
