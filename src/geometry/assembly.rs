@@ -361,19 +361,24 @@ mod tests {
     use super::*;
     use crate::geometry::fourier::SunRatio;
 
-    /// The tables of a train off the collinear layout rebuild its kinematics: centres,
-    /// orientations and tip as the forward model has them, for either carrier sense (a CW
-    /// design is the mirror image of the CCW one, ε included).
-    #[test]
-    fn an_offset_train_rebuilds_from_its_tables() {
-        let m = Mechanism {
+    /// A generic train (three harmonics) with its intermediate axis `eps` (rad) off the line.
+    fn offset_train(eps: f64) -> Mechanism {
+        Mechanism {
             a_mm: 46.0,
             l3_mm: 170.0,
             ratio: SunRatio::new(vec![0.25, 0.04, -0.02], vec![0.05, -0.03, 0.01]).unwrap(),
             sun_phase_rad: 0.4,
             needle_angle_rad: -1.1,
-            idler_offset_rad: -0.25,
-        };
+            idler_offset_rad: eps,
+        }
+    }
+
+    /// The tables of a train off the collinear layout rebuild its kinematics: centres,
+    /// orientations and tip as the forward model has them, for either carrier sense (a CW
+    /// design is the mirror image of the CCW one, ε included).
+    #[test]
+    fn an_offset_train_rebuilds_from_its_tables() {
+        let m = offset_train(-0.25);
         let o = Point::new(10.0, -5.0);
         for direction in [1, -1] {
             let s = f64::from(direction);
@@ -415,14 +420,7 @@ mod tests {
     /// θ3 agree with θ′ to O(h²) and with θ″ to O(h²), off the collinear layout too.
     #[test]
     fn the_rates_are_the_derivatives_of_the_orientations() {
-        let m = Mechanism {
-            a_mm: 46.0,
-            l3_mm: 170.0,
-            ratio: SunRatio::new(vec![0.25, 0.04, -0.02], vec![0.05, -0.03, 0.01]).unwrap(),
-            sun_phase_rad: 0.4,
-            needle_angle_rad: -1.1,
-            idler_offset_rad: 0.2,
-        };
+        let m = offset_train(0.2);
         let r = Assembly::from_mechanism(&m, Point::ZERO, 1, 4096)
             .unwrap()
             .rebuild();

@@ -7,13 +7,11 @@
 //! vector of the report mirrored back. Torques about the carrier and the planet axis are then
 //! positive in the carrier's sense of travel in both.
 
-use super::kinetostatics::{TrainBodies, TrainTurn, solve};
+use super::kinetostatics::{TrainBodies, TrainForces, TrainTurn, solve};
 use super::mass::MassProperties;
 use super::motion::TrainMotion;
 use super::rating::{Machine, rate};
-use super::report::{
-    Bearings, GearMass, GearsReport, LoadsReport, MeshLoads, Meshes, OperationReport, Summary,
-};
+use super::report::{Bearings, GearsReport, LoadsReport, Meshes, OperationReport, Summary};
 use super::scene::{FaceWidth, LoadCase};
 use super::{LoadsError, Rotor};
 use crate::geometry::assembly::Rebuilt;
@@ -109,6 +107,42 @@ pub(crate) fn train_turn(
         forces,
         needle_n,
     })
+}
+
+/// The rotor's sums over the arms (CCW frame, SI): the carrier torque, the torque the frame
+/// holds on the sun (its weight's moment included), the carrier bearing at O and the frame force
+/// (the sun's weight included).
+struct RotorSums {
+    carrier_nm: Vec<f64>,
+    sun_nm: Vec<f64>,
+    bearing_o_n: Vec<Point>,
+    frame_n: Vec<Point>,
+}
+
+impl RotorSums {
+    /// The sums of `turn` (train 1) over `arms` trains, the sun of mass properties `sun` under
+    /// gravity `g` (m/s², CCW frame).
+    fn new(turn: &TrainTurn, arms: usize, sun: &MassProperties, g: Point) -> Self {
+        let f = &turn.forces;
+        let sum =
+            |q: &dyn Fn(&TrainForces) -> f64| over_arms(&f.iter().map(q).collect::<Vec<_>>(), arms);
+        let sum_v = |q: &dyn Fn(&TrainForces) -> Point| {
+            over_arms(&f.iter().map(q).collect::<Vec<_>>(), arms)
+        };
+        let sun_weight_moment = (sun.first_moment_kg_mm() * 1e-3).cross(g);
+        Self {
+            carrier_nm: sum(&|x| x.carrier_torque_nm),
+            sun_nm: sum(&|x| x.sun_mesh_moment_nm)
+                .into_iter()
+                .map(|t| t - sun_weight_moment)
+                .collect(),
+            bearing_o_n: sum_v(&|x| x.bearing_d_n + x.bearing_a_n),
+            frame_n: sum_v(&|x| x.bearing_d_n + x.bearing_a_n + x.sun_mesh.force_n)
+                .into_iter()
+                .map(|v| v - g * sun.mass_kg)
+                .collect(),
+        }
+    }
 }
 
 /// Sum over the arms of a per-sample quantity of train 1: train j at sample k is train 1 at
@@ -213,99 +247,36 @@ pub(crate) fn analyse_at(
     };
     let alpha = rotor.pressure_angle_rad(case);
     let turn = train_turn(&r, case, &bodies, alpha)?;
-    let n = case.samples;
-    let arms = case.arms as usize;
-    let f = &turn.forces;
     let g = mirror(case.gravity_m_s2);
-    let carrier = over_arms(
-        &f.iter().map(|x| x.carrier_torque_nm).collect::<Vec<_>>(),
-        arms,
-    );
-    let sun_weight_moment = (sun.first_moment_kg_mm() * 1e-3).cross(g);
-    let sun_torque: Vec<f64> = over_arms(
-        &f.iter().map(|x| x.sun_mesh_moment_nm).collect::<Vec<_>>(),
-        arms,
-    )
-    .into_iter()
-    .map(|t| t - sun_weight_moment)
-    .collect();
-    let bearing_o = over_arms(
-        &f.iter()
-            .map(|x| x.bearing_d_n + x.bearing_a_n)
-            .collect::<Vec<_>>(),
-        arms,
-    );
-    let frame_force: Vec<Point> = over_arms(
-        &f.iter()
-            .map(|x| x.bearing_d_n + x.bearing_a_n + x.sun_mesh.force_n)
-            .collect::<Vec<_>>(),
-        arms,
-    )
-    .into_iter()
-    .map(|v| v - g * sun.mass_kg)
-    .collect();
+    let sums = RotorSums::new(&turn, case.arms as usize, &sun, g);
+    let n = case.samples;
     let travel_deg: Vec<f64> = (0..n).map(|k| 360.0 * k as f64 / n as f64).collect();
+    let f = &turn.forces;
     let planet_torque: Vec<f64> = f.iter().map(|x| x.planet_mesh_torque_nm).collect();
-    let o = rotor.assembly().center_mm;
-    let [c_sun, c_mid, c_planet] = r.ccw_curves();
-    let meshes = Meshes {
-        sun_intermediate: MeshLoads::new(
-            turn.motion
-                .iter()
-                .zip(f)
-                .map(|(m, x)| (&m.sun_mesh, &x.sun_mesh)),
-            [c_sun, c_mid],
-            sign,
-            o,
-            &travel_deg,
-        ),
-        intermediate_planet: MeshLoads::new(
-            turn.motion
-                .iter()
-                .zip(f)
-                .map(|(m, x)| (&m.planet_mesh, &x.planet_mesh)),
-            [c_mid, c_planet],
-            sign,
-            o,
-            &travel_deg,
-        ),
-    };
+    let meshes = Meshes::new(&turn, &r, rotor.assembly().center_mm, &travel_deg);
     let world = |v: Vec<Point>| v.into_iter().map(mirror).collect::<Vec<_>>();
     let summary = Summary::new(
         &travel_deg,
-        &carrier,
+        &sums.carrier_nm,
         &planet_torque,
-        &frame_force,
+        &sums.frame_n,
         case.omega_rad_s,
     );
     let mut report = LoadsReport {
         operation: OperationReport::new(case, rotor.assembly().direction),
         travel_deg,
-        carrier_torque_nm: carrier,
-        sun_torque_nm: sun_torque,
+        carrier_torque_nm: sums.carrier_nm,
+        sun_torque_nm: sums.sun_nm,
         planet_mesh_torque_nm: planet_torque,
-        frame_force_n: world(frame_force),
+        frame_force_n: world(sums.frame_n),
         needle_force_n: world(turn.needle_n.clone()),
         bearings: Bearings {
-            o_n: world(bearing_o),
+            o_n: world(sums.bearing_o_n),
             d_n: world(f.iter().map(|x| x.bearing_d_n).collect()),
             a_n: world(f.iter().map(|x| x.bearing_a_n).collect()),
         },
         meshes,
-        gears: GearsReport {
-            face_width_mm: case.bodies.map(|_| face_width_mm),
-            density_kg_m3: case.bodies.map(|b| b.density_kg_m3),
-            bore_mm: case.bodies.map(|b| b.bore_mm),
-            sun: GearMass::world(sun, sign),
-            intermediate: GearMass::world(mid, sign),
-            planet: GearMass::world(planet, sign),
-            arm: case.arm.map(|a| GearMass {
-                mass_kg: a.mass_kg,
-                com_mm: a.com_mm,
-                inertia_kg_mm2: a.inertia_kg_mm2,
-            }),
-        },
-        rating: None,
+        gears: GearsReport::new(case, face_width_mm, [sun, mid, planet], sign),
         summary,
         ..LoadsReport::default()
     };
@@ -317,22 +288,7 @@ pub(crate) fn analyse_at(
             face_width_mm,
             bore_mm: case.bodies.map_or(0.0, |b| b.bore_mm),
         };
-        let rated = rate(&turn, &r, teeth, opts, &machine)?;
-        let [s1, s2] = rated.meshes;
-        for (loads, s) in [
-            (&mut report.meshes.sun_intermediate, s1),
-            (&mut report.meshes.intermediate_planet, s2),
-        ] {
-            loads.flank_radius_mm = Some(s.flank_radius_mm);
-            loads.contact_ratio = Some(s.contact_ratio);
-            loads.contact_stress_mpa = Some(s.contact_stress_mpa);
-            loads.root_stress_mpa = Some(s.root_stress_mpa);
-        }
-        let rr = rated.report;
-        report.summary.min_s_h = Some(rr.min_s_h.clone());
-        report.summary.min_s_f = Some(rr.min_s_f.clone());
-        report.summary.life_h = Some(rr.life_h);
-        report.rating = Some(rr);
+        report.attach(rate(&turn, &r, teeth, opts, &machine)?);
     }
     report.finish();
     Ok(report)

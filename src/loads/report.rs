@@ -3,10 +3,12 @@
 //! torques positive in the carrier's sense of travel (docs/loads.md, "Conventions").
 
 use super::kinetostatics::MeshForce;
+use super::kinetostatics::TrainTurn;
 use super::mass::MassProperties;
 use super::motion::PitchPoint;
-use super::rating::{Extreme, RatingReport};
+use super::rating::{Extreme, Rated, RatingReport};
 use super::scene::LoadCase;
+use crate::geometry::assembly::Rebuilt;
 use crate::geometry::pitch::PitchCurve;
 use crate::math::Point;
 use crate::verdict::Verdict;
@@ -142,6 +144,32 @@ pub struct Meshes {
     pub intermediate_planet: MeshLoads,
 }
 
+impl Meshes {
+    /// Both meshes of train 1 over the turn (`turn`, CCW frame of `r`), in the world frame about
+    /// the carrier axis `o` (mm).
+    #[must_use]
+    pub fn new(turn: &TrainTurn, r: &Rebuilt, o: Point, travel_deg: &[f64]) -> Self {
+        let [sun, mid, planet] = r.ccw_curves();
+        let samples = turn.motion.iter().zip(&turn.forces);
+        Self {
+            sun_intermediate: MeshLoads::new(
+                samples.clone().map(|(m, x)| (&m.sun_mesh, &x.sun_mesh)),
+                [sun, mid],
+                r.sign(),
+                o,
+                travel_deg,
+            ),
+            intermediate_planet: MeshLoads::new(
+                samples.map(|(m, x)| (&m.planet_mesh, &x.planet_mesh)),
+                [mid, planet],
+                r.sign(),
+                o,
+                travel_deg,
+            ),
+        }
+    }
+}
+
 /// One mesh over the turn.
 #[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
 #[non_exhaustive]
@@ -245,6 +273,29 @@ pub struct GearsReport {
     /// The arm, as the scene gives it (inertia about its own centre of mass).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub arm: Option<GearMass>,
+}
+
+impl GearsReport {
+    /// The bodies of `case` at face width `face_width_mm` (mm): the gears' mass properties
+    /// `[sun, intermediate, planet]` computed in the CCW frame, reported in the design file's
+    /// (`sign` −1: mirrored), the arm as the scene gives it.
+    #[must_use]
+    pub fn new(case: &LoadCase, face_width_mm: f64, gears: [MassProperties; 3], sign: f64) -> Self {
+        let [sun, intermediate, planet] = gears.map(|g| GearMass::world(g, sign));
+        Self {
+            face_width_mm: case.bodies.map(|_| face_width_mm),
+            density_kg_m3: case.bodies.map(|b| b.density_kg_m3),
+            bore_mm: case.bodies.map(|b| b.bore_mm),
+            sun,
+            intermediate,
+            planet,
+            arm: case.arm.map(|a| GearMass {
+                mass_kg: a.mass_kg,
+                com_mm: a.com_mm,
+                inertia_kg_mm2: a.inertia_kg_mm2,
+            }),
+        }
+    }
 }
 
 /// Mass properties as reported.
@@ -367,6 +418,25 @@ pub fn sign_changes(travel_deg: &[f64], values: &[f64]) -> Vec<f64> {
 }
 
 impl LoadsReport {
+    /// Records a rating: each mesh's series and the rating report, its extremes in the summary.
+    pub(crate) fn attach(&mut self, rated: Rated) {
+        let [s1, s2] = rated.meshes;
+        for (loads, s) in [
+            (&mut self.meshes.sun_intermediate, s1),
+            (&mut self.meshes.intermediate_planet, s2),
+        ] {
+            loads.flank_radius_mm = Some(s.flank_radius_mm);
+            loads.contact_ratio = Some(s.contact_ratio);
+            loads.contact_stress_mpa = Some(s.contact_stress_mpa);
+            loads.root_stress_mpa = Some(s.root_stress_mpa);
+        }
+        let r = rated.report;
+        self.summary.min_s_h = Some(r.min_s_h.clone());
+        self.summary.min_s_f = Some(r.min_s_f.clone());
+        self.summary.life_h = Some(r.life_h);
+        self.rating = Some(r);
+    }
+
     /// Stamps the version and units and computes the verdict from the rating.
     pub(crate) fn finish(&mut self) {
         self.schema_version = LOADS_SCHEMA_VERSION;

@@ -53,24 +53,23 @@ pub struct Sized {
     pub kept: Option<(Design, ToothedTrain, LoadsReport)>,
 }
 
-/// Whether a report meets the targets, and the row's failure text when not.
-fn judge(r: &LoadsReport, s_h_min: f64, s_f_min: f64) -> (bool, Option<String>) {
+/// Whether a report meets its targets, and the row's failure text when not.
+fn judge(r: &LoadsReport) -> (bool, Option<String>) {
     let Some(rating) = &r.rating else {
         return (false, Some("no rating".into()));
     };
-    let mut fails = Vec::new();
-    if rating.min_s_h.value < s_h_min {
-        fails.push(format!(
-            "S_H {:.3} < {s_h_min} ({})",
-            rating.min_s_h.value, rating.min_s_h.mesh
-        ));
-    }
-    if rating.min_s_f.value < s_f_min {
-        fails.push(format!(
-            "S_F {:.3} < {s_f_min} ({} root)",
-            rating.min_s_f.value, rating.min_s_f.gear
-        ));
-    }
+    let fails: Vec<String> = rating
+        .shortfalls()
+        .into_iter()
+        .map(|(symbol, target, e)| {
+            let at = if symbol == "S_H" {
+                e.mesh.clone()
+            } else {
+                format!("{} root", e.gear)
+            };
+            format!("{symbol} {:.3} < {target} ({at})", e.value)
+        })
+        .collect();
     (
         fails.is_empty(),
         (!fails.is_empty()).then(|| fails.join("; ")),
@@ -142,7 +141,7 @@ pub fn size_module(
                 continue;
             }
         };
-        let (passed, fails) = judge(&report, targets.0, targets.1);
+        let (passed, fails) = judge(&report);
         let rr = report.rating.as_ref();
         let g = &report.gears;
         sizing.rows.push(SizingRow {

@@ -28,6 +28,13 @@ fn g1_scene(dir: &Path, name: &str, edit: impl Fn(String) -> String) -> PathBuf 
     p
 }
 
+/// Runs `scene`, asserts exit 0 and returns its `--json` report.
+fn report(scene: &Path, out: &Path) -> serde_json::Value {
+    let o = run(scene, out);
+    assert_eq!(o.status.code(), Some(0), "{}", message(&o));
+    serde_json::from_slice(&o.stdout).unwrap()
+}
+
 fn run(scene: &Path, out: &Path) -> std::process::Output {
     ncgear()
         .arg("loads")
@@ -109,19 +116,10 @@ fn nominal_contact_stress_is_hertz_at_the_pitch_point() {
 #[test]
 fn the_bundled_scene_rates_the_bundled_train() {
     let dir = scratch("loads_bundled");
-    let out = ncgear()
-        .args(["loads", &asset("assets/loads/g1_rotor.toml"), "--out"])
-        .arg(dir.join("out"))
-        .arg("--json")
-        .output()
-        .unwrap();
-    assert_eq!(
-        out.status.code(),
-        Some(0),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
+    let v = report(
+        Path::new(&asset("assets/loads/g1_rotor.toml")),
+        &dir.join("out"),
     );
-    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
     let rating = &v["rating"];
     let (sh, sf) = (
         rating["min_S_H"]["value"].as_f64().unwrap(),
@@ -262,14 +260,7 @@ fn bad_scenes_are_refused_naming_the_key() {
         );
         t[..t.find("[material]").unwrap()].to_string()
     });
-    let out = run(&loads_only, &dir.join("loads_only"));
-    assert_eq!(
-        out.status.code(),
-        Some(0),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let v = report(&loads_only, &dir.join("loads_only"));
     assert!(
         v.get("rating").is_none()
             && v["meshes"]["sun_intermediate"]

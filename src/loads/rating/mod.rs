@@ -295,27 +295,34 @@ impl RatingReport {
     /// Failures of the targets.
     #[must_use]
     pub fn verdict(&self) -> Verdict {
-        let mut f = Vec::new();
-        if self.min_s_h.value < self.options.s_h_min {
-            f.push(format!(
-                "pitting safety S_H = {:.3} < {} ({}, travel {:.1}°)",
-                self.min_s_h.value,
-                self.options.s_h_min,
-                self.min_s_h.mesh,
-                self.min_s_h.travel_deg
-            ));
-        }
-        if self.min_s_f.value < self.options.s_f_min {
-            f.push(format!(
-                "bending safety S_F = {:.3} < {} ({} tooth {}, travel {:.1}°)",
-                self.min_s_f.value,
-                self.options.s_f_min,
-                self.min_s_f.gear,
-                self.min_s_f.tooth,
-                self.min_s_f.travel_deg
-            ));
-        }
+        let f = self
+            .shortfalls()
+            .into_iter()
+            .map(|(symbol, target, e)| {
+                let (what, at) = if symbol == "S_H" {
+                    ("pitting", e.mesh.clone())
+                } else {
+                    ("bending", format!("{} tooth {}", e.gear, e.tooth))
+                };
+                format!(
+                    "{what} safety {symbol} = {:.3} < {target} ({at}, travel {:.1}°)",
+                    e.value, e.travel_deg
+                )
+            })
+            .collect();
         Verdict::from_failures(f)
+    }
+
+    /// The targets missed: `(symbol, target, the extreme that misses it)`, pitting first.
+    #[must_use]
+    pub fn shortfalls(&self) -> Vec<(&'static str, f64, &Extreme)> {
+        [
+            ("S_H", self.options.s_h_min, &self.min_s_h),
+            ("S_F", self.options.s_f_min, &self.min_s_f),
+        ]
+        .into_iter()
+        .filter(|(_, target, e)| e.value < *target)
+        .collect()
     }
 }
 

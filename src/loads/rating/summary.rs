@@ -27,9 +27,6 @@ pub(super) fn summarise(
 ) -> RatingReport {
     let n = turn.motion.len();
     let travel: Vec<f64> = (0..n).map(|k| 360.0 * k as f64 / n as f64).collect();
-    let travel = &travel;
-    let mat = &opts.material;
-    let y_st = opts.factors.y_st;
     let mut gears = BTreeMap::new();
     let mut min_s_f = Extreme {
         value: f64::MAX,
@@ -37,91 +34,7 @@ pub(super) fn summarise(
     };
     let mut life = (f64::MAX, String::new());
     for (g, name) in NAMES.iter().enumerate() {
-        // The series of this gear: (mesh, its index in the mesh, the mesh's rating).
-        let series: Vec<(&str, usize, &MeshRating)> = rated
-            .iter()
-            .filter_map(|(mesh, pair, mr)| {
-                pair.iter().position(|&p| p == g).map(|i| (*mesh, i, mr))
-            })
-            .collect();
-        let mut flanks: BTreeMap<usize, BTreeSet<usize>> = BTreeMap::new();
-        for (_, i, mr) in &series {
-            for k in 0..travel.len() {
-                if mr.root_mpa[*i][k] > 0.0 {
-                    flanks
-                        .entry(mr.tooth[*i][k])
-                        .or_default()
-                        .insert(mr.flank[*i][k]);
-                }
-            }
-        }
-        let alternating: BTreeSet<usize> = flanks
-            .iter()
-            .filter(|(_, f)| f.len() > 1)
-            .map(|(t, _)| *t)
-            .collect();
-        let y_m = |tooth: usize| {
-            if alternating.contains(&tooth) {
-                opts.factors.y_m
-            } else {
-                1.0
-            }
-        };
-        let limit_f = |tooth: usize| y_st * y_m(tooth) * mat.sigma_flim_mpa;
-        let mut rating = GearRating {
-            min_s_f: Extreme {
-                value: f64::MAX,
-                ..Extreme::default()
-            },
-            y_f_y_s_range: [f64::INFINITY, 0.0],
-            alternating_teeth: alternating.len(),
-            ..GearRating::default()
-        };
-        let (mut bending, mut pitting): (Vec<Engagement>, Vec<Engagement>) = Default::default();
-        for (mesh, i, mr) in &series {
-            let root = &mr.root_mpa[*i];
-            for k in 0..travel.len() {
-                if !(root[k] > 0.0) {
-                    continue;
-                }
-                let tooth = mr.tooth[*i][k];
-                let s = limit_f(tooth) / root[k];
-                rating.max_root_stress_mpa = rating.max_root_stress_mpa.max(root[k]);
-                let yfs = mr.y_fs[*i][k];
-                rating.y_f_y_s_range = [
-                    rating.y_f_y_s_range[0].min(yfs),
-                    rating.y_f_y_s_range[1].max(yfs),
-                ];
-                if s < rating.min_s_f.value {
-                    rating.min_s_f = Extreme {
-                        value: s,
-                        travel_deg: travel[k],
-                        mesh: (*mesh).into(),
-                        gear: (*name).into(),
-                        tooth,
-                    };
-                }
-            }
-            bending.extend(engagements(&mr.tooth[*i], &mr.flank[*i], root));
-            pitting.extend(engagements(&mr.tooth[*i], &mr.flank[*i], &mr.contact_mpa));
-        }
-        // The sun meets every arm's intermediate gear in a turn.
-        let repeats = if g == 0 { f64::from(machine.arms) } else { 1.0 };
-        let rpm = machine.omega_rad_s * 60.0 / std::f64::consts::TAU;
-        rating.bending_life_h = hours(
-            worst_damage(&bending, limit_f, &mat.bending_sn, repeats, false),
-            rpm,
-        );
-        rating.pitting_life_h = hours(
-            worst_damage(
-                &pitting,
-                |_| mat.sigma_hlim_mpa,
-                &mat.contact_sn,
-                repeats,
-                true,
-            ),
-            rpm,
-        );
+        let rating = rate_gear(g, rated, &travel, opts, machine);
         for (h, mode) in [
             (rating.bending_life_h, "tooth breakage"),
             (rating.pitting_life_h, "pitting"),
@@ -130,27 +43,120 @@ pub(super) fn summarise(
                 life = (h, format!("{name}: {mode}"));
             }
         }
-        if rating.y_f_y_s_range[0] > rating.y_f_y_s_range[1] {
-            // No tooth of this gear carried a load.
-            rating.y_f_y_s_range = [0.0, 0.0];
-        }
         if rating.min_s_f.value < min_s_f.value {
             min_s_f = rating.min_s_f.clone();
         }
         gears.insert((*name).to_string(), rating);
     }
-    let min_s_h = min_pitting(rated, travel, mat.sigma_hlim_mpa);
     RatingReport {
         options: opts.clone(),
         face_width_mm: machine.face_width_mm,
         module_mm,
-        min_s_h,
+        min_s_h: min_pitting(rated, &travel, opts.material.sigma_hlim_mpa),
         min_s_f,
         life_h: life.0,
         life_limited_by: life.1,
         gears,
-        notes: notes(rated, turn, travel, opts),
+        notes: notes(rated, turn, &travel, opts),
     }
+}
+
+/// The teeth of gear `g`'s series loaded on both flanks over the turn (alternating bending).
+fn alternating_teeth(series: &[(&str, usize, &MeshRating)]) -> BTreeSet<usize> {
+    let mut flanks: BTreeMap<usize, BTreeSet<usize>> = BTreeMap::new();
+    for (_, i, mr) in series {
+        for (k, root) in mr.root_mpa[*i].iter().enumerate() {
+            if *root > 0.0 {
+                flanks
+                    .entry(mr.tooth[*i][k])
+                    .or_default()
+                    .insert(mr.flank[*i][k]);
+            }
+        }
+    }
+    flanks
+        .into_iter()
+        .filter(|(_, f)| f.len() > 1)
+        .map(|(t, _)| t)
+        .collect()
+}
+
+/// Gear `g`'s rating over both its meshes: the smallest bending safety factor and where, the
+/// largest root stress, the range of Y_F·Y_S, the teeth in alternating bending, the lives.
+fn rate_gear(
+    g: usize,
+    rated: &[RatedMesh; 2],
+    travel: &[f64],
+    opts: &RatingOptions,
+    machine: &Machine,
+) -> GearRating {
+    let mat = &opts.material;
+    // The series of this gear: (mesh, its index in the mesh, the mesh's rating).
+    let series: Vec<(&str, usize, &MeshRating)> = rated
+        .iter()
+        .filter_map(|(mesh, pair, mr)| pair.iter().position(|&p| p == g).map(|i| (*mesh, i, mr)))
+        .collect();
+    let alternating = alternating_teeth(&series);
+    let limit_f = |tooth: usize| {
+        let y_m = if alternating.contains(&tooth) {
+            opts.factors.y_m
+        } else {
+            1.0
+        };
+        opts.factors.y_st * y_m * mat.sigma_flim_mpa
+    };
+    let mut rating = GearRating {
+        min_s_f: Extreme {
+            value: f64::MAX,
+            ..Extreme::default()
+        },
+        y_f_y_s_range: [f64::INFINITY, 0.0],
+        alternating_teeth: alternating.len(),
+        ..GearRating::default()
+    };
+    let (mut bending, mut pitting): (Vec<Engagement>, Vec<Engagement>) = Default::default();
+    for (mesh, i, mr) in &series {
+        let root = &mr.root_mpa[*i];
+        for (k, &sigma) in root.iter().enumerate().filter(|(_, s)| **s > 0.0) {
+            let tooth = mr.tooth[*i][k];
+            let s = limit_f(tooth) / sigma;
+            rating.max_root_stress_mpa = rating.max_root_stress_mpa.max(sigma);
+            let yfs = mr.y_fs[*i][k];
+            rating.y_f_y_s_range = [
+                rating.y_f_y_s_range[0].min(yfs),
+                rating.y_f_y_s_range[1].max(yfs),
+            ];
+            if s < rating.min_s_f.value {
+                rating.min_s_f = Extreme {
+                    value: s,
+                    travel_deg: travel[k],
+                    mesh: (*mesh).into(),
+                    gear: NAMES[g].into(),
+                    tooth,
+                };
+            }
+        }
+        bending.extend(engagements(&mr.tooth[*i], &mr.flank[*i], root));
+        pitting.extend(engagements(&mr.tooth[*i], &mr.flank[*i], &mr.contact_mpa));
+    }
+    if rating.y_f_y_s_range[0] > rating.y_f_y_s_range[1] {
+        // No tooth of this gear carried a load.
+        rating.y_f_y_s_range = [0.0, 0.0];
+    }
+    // The sun meets every arm's intermediate gear in a turn.
+    let repeats = if g == 0 { f64::from(machine.arms) } else { 1.0 };
+    let rpm = machine.omega_rad_s * 60.0 / std::f64::consts::TAU;
+    let bending = worst_damage(&bending, limit_f, &mat.bending_sn, repeats, false);
+    let pitting = worst_damage(
+        &pitting,
+        |_| mat.sigma_hlim_mpa,
+        &mat.contact_sn,
+        repeats,
+        true,
+    );
+    rating.bending_life_h = hours(bending, rpm);
+    rating.pitting_life_h = hours(pitting, rpm);
+    rating
 }
 
 /// The smallest pitting safety factor over both meshes: at the sample, the mesh's pinion (the
