@@ -319,3 +319,62 @@ fn a_clockwise_train_is_the_mirror_image() {
     }
     assert!((a.gears.planet.com_mm.y + b.gears.planet.com_mm.y).abs() < 1e-12);
 }
+
+/// A train with concave pitch arcs (the exact concave-sun target designed without the gear
+/// limits at module 1: shaper-cut gears, undercut flanks, tip relief) is rated tooth by tooth:
+/// the concave contacts as internal pairs (reported), every loaded sample with a finite positive
+/// stress, each gear's Y_F·Y_S in the range of real teeth, the contact ratio of the equivalent
+/// pairs above 1.
+#[test]
+fn concave_shaper_cut_gears_are_rated_as_internal_pairs() {
+    use ncgear::design::train::{TrainPolicy, TrainTeethOptions, tooth_train};
+    use ncgear::design::{DesignOptions, design};
+    let t =
+        ncgear::Trajectory::from_path(std::path::Path::new("assets/cases/exact_concave_sun.csv"))
+            .unwrap();
+    let d = design(
+        &t,
+        &DesignOptions::default()
+            .with_gear_limits(false)
+            .with_module_mm(Some(1.0)),
+    )
+    .unwrap();
+    let mut opts = TrainTeethOptions::new(1.0).with_policy(TrainPolicy::Designed);
+    opts.toothing.verify_steps = 0;
+    let train = tooth_train(&d, &opts).unwrap();
+    let case = scene(&format!(
+        "[operation]\ncarrier_rpm = 300.0\narms = 2\ngravity = [0.0, -1.0]\n{BODIES}\
+         [material]\npreset = \"steel\"\n"
+    ));
+    let l = analyse(&Rotor::toothed(&train), &case, "scene.toml").unwrap();
+    let rating = l.rating.as_ref().unwrap();
+    assert!(
+        rating.notes.iter().any(|n| n.contains("concave flank")),
+        "{:?}",
+        rating.notes
+    );
+    for mesh in [&l.meshes.sun_intermediate, &l.meshes.intermediate_planet] {
+        let radii = mesh.pitch_radius_of_curvature_mm.iter();
+        assert!(radii.clone().any(|r| r[0] < 0.0 || r[1] < 0.0));
+        let contact = mesh.contact_stress_mpa.as_ref().unwrap();
+        for (k, f) in mesh.normal_force_n.iter().enumerate() {
+            if *f > 1.0 {
+                assert!(contact[k].is_finite() && contact[k] > 0.0, "{k}");
+                for v in mesh.root_stress_mpa.as_ref().unwrap().values() {
+                    assert!(v[k].is_finite() && v[k] > 0.0, "{k}");
+                }
+            }
+        }
+        assert!(
+            mesh.contact_ratio
+                .as_ref()
+                .unwrap()
+                .iter()
+                .all(|e| *e > 1.0)
+        );
+    }
+    for (name, g) in &rating.gears {
+        let [lo, hi] = g.y_f_y_s_range;
+        assert!(lo > 2.0 && hi < 8.0, "{name}: {lo}…{hi}");
+    }
+}
