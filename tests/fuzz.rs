@@ -2148,3 +2148,31 @@ fn dynamics_linear_scene_writes_its_report() {
         std::fs::read_dir(dir.join("out")).map(|r| r.count())
     );
 }
+
+/// A fresh campaign's finding: at module 0.5 on the sparse exact target with a sharp rack
+/// (`--fillet 0`, the nearest tooth count) the shaper cutters' corner radius comes out near zero,
+/// and their corner trochoid was sampled at the chord step of that radius (nanometres): a million
+/// points a piece, 7 minutes and 24 GB before it was stopped. The corner is sampled at the
+/// radius it really has (a quarter of the tightest measured, `teeth::outline::fillet_step_mm`):
+/// 1.5 s, 250 MB, the same outlines as before for every cutter with a real corner radius.
+#[test]
+fn design_sharp_rack_half_module_on_the_sparse_target() {
+    let (o, _) = reproduce(
+        "design_sharp_rack_half_module",
+        &[
+            "design",
+            &asset_path("cases/exact_sparse_200.csv"),
+            "--out",
+            "out",
+            "--module",
+            "0.5",
+            "--tooth-policy",
+            "nearest",
+            "--fillet",
+            "0",
+        ],
+        |_| {},
+    );
+    assert!(matches!(o.code, Some(0 | 3)), "{}", short(&o.stderr, 300));
+    assert!(o.peak_rss_mb < 2048, "{} MiB", o.peak_rss_mb);
+}

@@ -539,14 +539,55 @@ struct Walk {
     ta: f64,
 }
 
+/// The chord length whose sag on an arc of radius `radius_mm` is `chord_tol_mm`,
+/// `√(8·tol·r)` (mm), the radius taken at least the tolerance: an arc tighter than that lies
+/// within the tolerance of one chord, and a vanishing radius (a sharp cutter tip, ρf* → 0) must
+/// not drive the step, and the number of points, towards zero and infinity.
+pub(super) fn chord_step_mm(chord_tol_mm: f64, radius_mm: f64) -> f64 {
+    (8.0 * chord_tol_mm * radius_mm.max(chord_tol_mm)).sqrt()
+}
+
+/// The chord step of a generated fillet or corner piece `f` over `[from, to]` (mm) made by a tool
+/// corner of radius `rho_mm`: the fillet's radius of curvature is the tool's plus that of the
+/// path the corner's centre rolls out, so the tool's radius is a lower bound; a corner near
+/// sharp (ρ → 0, a cutter whose corner the rack's zero fillet leaves no room for) instead takes a
+/// quarter of the tightest radius measured on 16 chords of the piece (a quarter: a margin for a
+/// spot between the chords). Without the second bound a vanishing ρ asks for billions of points.
+pub(super) fn fillet_step_mm(
+    chord_tol_mm: f64,
+    rho_mm: f64,
+    from: f64,
+    to: f64,
+    f: impl Fn(f64) -> Point,
+) -> f64 {
+    let pts: Vec<Point> = (0..=16)
+        .map(|k| f(from + (to - from) * f64::from(k) / 16.0))
+        .collect();
+    let tightest = pts
+        .windows(3)
+        .map(|w| circumradius_mm(w[0], w[1], w[2]))
+        .fold(f64::INFINITY, f64::min);
+    chord_step_mm(chord_tol_mm, rho_mm.max(0.25 * tightest).min(f64::MAX))
+}
+
+/// Radius of the circle through three points, mm (infinite when they are collinear or two
+/// coincide): `|ab|·|bc|·|ca| / (2·|ab × ac|)`.
+fn circumradius_mm(a: Point, b: Point, c: Point) -> f64 {
+    let area2 = (b - a).cross(c - a).abs();
+    if area2 == 0.0 {
+        return f64::INFINITY;
+    }
+    a.distance(b) * b.distance(c) * c.distance(a) / (2.0 * area2)
+}
+
 impl Walk {
     fn new(g: &Gen<'_>, chord_tol_mm: f64, m: f64) -> Self {
         let ta = g.sa / g.ca;
-        let step = (8.0 * chord_tol_mm * m).sqrt();
+        let step = chord_step_mm(chord_tol_mm, m);
         Self {
             step,
             step_f: if g.rho > 0.0 {
-                (8.0 * chord_tol_mm * g.rho).sqrt()
+                chord_step_mm(chord_tol_mm, g.rho)
             } else {
                 step
             },
@@ -565,5 +606,26 @@ pub(super) fn close_outline(out: &mut Vec<Point>) {
         && f.distance(*l) < 1e-12
     {
         out.pop();
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A corner piece is sampled at the radius it has: the tool's radius when that is the larger,
+    /// else a quarter of the tightest radius measured on the piece — never the vanishing radius
+    /// of a sharp tool; a straight piece takes one chord.
+    #[test]
+    fn a_fillet_piece_takes_the_step_of_its_own_curvature() {
+        let tol = 1e-6;
+        let arc = |t: f64| Point::from_polar(2.0, t);
+        let sharp = fillet_step_mm(tol, 1e-15, 0.0, 1.0, arc);
+        assert!((sharp - (8.0 * tol * 0.5_f64).sqrt()).abs() < 1e-9 * sharp);
+        let round = fillet_step_mm(tol, 3.0, 0.0, 1.0, arc);
+        assert!((round - (8.0 * tol * 3.0_f64).sqrt()).abs() < 1e-12);
+        let line = fillet_step_mm(tol, 0.0, 0.0, 1.0, |t| Point::new(t, 2.0 * t));
+        assert!(line > 1e100);
+        assert!((chord_step_mm(tol, 0.0) - (8.0 * tol * tol).sqrt()).abs() < 1e-18);
     }
 }

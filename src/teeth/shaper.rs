@@ -60,7 +60,8 @@
 use super::crossing::cut_loops;
 use super::frame::ArcFrame;
 use super::outline::{
-    Outline, OutlineOptions, close_outline, meet, push_piece, report_on, tooth_relief,
+    Outline, OutlineOptions, chord_step_mm, close_outline, fillet_step_mm, meet, push_piece,
+    report_on, tooth_relief,
 };
 use super::{GearBlank, RackParams, TeethError};
 use crate::math::Point;
@@ -189,7 +190,7 @@ impl Cutter {
         let inv_at = |r: f64| inv((self.rb / r).min(1.0).acos());
         let polar = Point::from_polar;
         let n_of = |len: f64, radius: f64| {
-            let step = (8.0 * chord_mm * radius.max(chord_mm)).sqrt();
+            let step = chord_step_mm(chord_mm, radius);
             ((len / step).ceil() as usize).clamp(2, 10_000)
         };
         let mut tooth = Vec::new();
@@ -486,12 +487,8 @@ pub(super) fn generate_shaper(
     let gen_ = generation(blank, cutter, relief_mm)?;
     let (g, p) = (&gen_.g, gen_.p);
     let report = report_on(blank);
-    let step = (8.0 * opts.chord_tol_mm * m).sqrt();
-    let step_f = if g.c.rho > 0.0 {
-        (8.0 * opts.chord_tol_mm * g.c.rho).sqrt()
-    } else {
-        step
-    };
+    let step = chord_step_mm(opts.chord_tol_mm, m);
+    let tol = opts.chord_tol_mm;
     let mut out = Vec::new();
     let mut checks = ShaperChecks {
         undercut_flanks: 0,
@@ -512,13 +509,17 @@ pub(super) fn generate_shaper(
         // ([`cut_loops`]), as the rack's undercut sides are: the stretch of an undercut flank
         // that the corner trochoid cuts away, and the swallowtail of its envelope, are loops.
         let mut wl = vec![g.corner(sl, -1.0, xcl)];
-        push_piece(&mut wl, xcl, ftl, step_f, |s| g.corner(sl, -1.0, s));
+        let corner_l = |s| g.corner(sl, -1.0, s);
+        let step_l = fillet_step_mm(tol, g.c.rho, xcl, ftl, corner_l);
+        push_piece(&mut wl, xcl, ftl, step_l, corner_l);
         push_piece(&mut wl, ftl, s_tip_l, step, |s| g.flank(sl, -1.0, s));
         out.extend_from_slice(&cut_loops(&wl).0[1..]);
         push_piece(&mut out, ul, ur, step, |u| g.tip(u, rel));
         let mut wr = vec![g.tip(ur, rel)];
         push_piece(&mut wr, s_tip_r, ftr, step, |s| g.flank(sr, 1.0, s));
-        push_piece(&mut wr, ftr, xcr, step_f, |s| g.corner(sr, 1.0, s));
+        let corner_r = |s| g.corner(sr, 1.0, s);
+        let step_r = fillet_step_mm(tol, g.c.rho, ftr, xcr, corner_r);
+        push_piece(&mut wr, ftr, xcr, step_r, corner_r);
         out.extend_from_slice(&cut_loops(&wr).0[1..]);
         let next_sl = sk + p - 0.25 * p + opts.thin_left_mm;
         let (next_xcl, _) = g.ends(next_sl, -1.0);
