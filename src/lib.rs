@@ -56,7 +56,7 @@ use argmin_math as _;
 #[cfg(all(feature = "cli", unix))]
 use libc as _;
 #[cfg(feature = "cli")]
-use {clap as _, indicatif as _, tiny_http as _};
+use {clap as _, indicatif as _, textwrap as _, tiny_http as _};
 
 pub mod analysis;
 pub mod bounds;

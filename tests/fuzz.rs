@@ -10,10 +10,12 @@
 //!   Infinity token), and a top-level `verdict` object says `"passed": true` (unless the run
 //!   asks for `--accept-failed`);
 //! - exit 1 or 2: stderr says what is wrong (not empty, not a bare `Debug` dump);
-//! - an unmutated baseline exits 0.
+//! - an unmutated baseline exits 0;
+//! - an input file given a non-finite number (TOML `nan`, `inf`; JSON `NaN`, `Infinity`) is
+//!   refused: exit 2 (every number in every file has a range, docs/bounds.md).
 //!
 //! Environment: `NCGEAR_FUZZ_RUNS` (300), `NCGEAR_FUZZ_SEED` (1), `NCGEAR_FUZZ_LIMIT_S` (10),
-//! `NCGEAR_FUZZ_MEM_MB` (4096), `NCGEAR_FUZZ_JOBS` (the cores), `NCGEAR_FUZZ_ONLY` (run indices
+//! `NCGEAR_FUZZ_MEM_MB` (2048: the documented memory budget of a run), `NCGEAR_FUZZ_JOBS` (the cores), `NCGEAR_FUZZ_ONLY` (run indices
 //! to replay, comma-separated). Run k draws from its own generator seeded by (seed, k): the same
 //! seed gives the same command lines and input files, whatever the run count or job count.
 //!
@@ -33,6 +35,9 @@ use rand::seq::IndexedRandom;
 use rand::{RngExt, SeedableRng};
 
 const BIN: &str = env!("CARGO_BIN_EXE_ncgear");
+
+/// The per-run memory budget, MiB resident (docs/bounds.md): a run above it is killed and counted.
+const MEMORY_BUDGET_MB: u64 = 2048;
 
 /// The per-run wall-clock limit: no input may keep the CLI busy longer.
 const LIMIT: Duration = Duration::from_secs(10);
@@ -1226,7 +1231,7 @@ fn mutate_csv(text: &str, rng: &mut ChaCha8Rng) -> (String, String) {
 /// since serde_json cannot write a non-finite number.
 fn wild_json(rng: &mut ChaCha8Rng) -> serde_json::Value {
     use serde_json::json;
-    match rng.random_range(0..12) {
+    match rng.random_range(0..14) {
         0 => json!(0),
         1 => json!(-1),
         2 => json!(1e-12),
@@ -1238,6 +1243,8 @@ fn wild_json(rng: &mut ChaCha8Rng) -> serde_json::Value {
         8 => json!([]),
         9 => json!({}),
         10 => json!("__NaN__"),
+        11 => json!(1e308),
+        12 => json!(-0.5),
         _ => json!("__Infinity__"),
     }
 }
@@ -1301,7 +1308,7 @@ fn mutate_json_node(v: &mut serde_json::Value, rng: &mut ChaCha8Rng, path: Strin
 
 fn wild_toml(rng: &mut ChaCha8Rng) -> toml::Value {
     use toml::Value;
-    match rng.random_range(0..12) {
+    match rng.random_range(0..15) {
         0 => Value::Integer(0),
         1 => Value::Integer(-1),
         2 => Value::Integer(i64::MAX),
@@ -1313,6 +1320,9 @@ fn wild_toml(rng: &mut ChaCha8Rng) -> toml::Value {
         8 => Value::Float(1e300),
         9 => Value::String("text".into()),
         10 => Value::Boolean(true),
+        11 => Value::Float(1e308),
+        12 => Value::Float(-1e308),
+        13 => Value::Float(-0.5),
         _ => Value::Array(Vec::new()),
     }
 }
@@ -1477,7 +1487,7 @@ fn campaign() {
     let runs: usize = env_or("NCGEAR_FUZZ_RUNS", 300);
     let seed: u64 = env_or("NCGEAR_FUZZ_SEED", 1);
     let limit = Duration::from_secs_f64(env_or("NCGEAR_FUZZ_LIMIT_S", LIMIT.as_secs_f64()));
-    let mem_mb: u64 = env_or("NCGEAR_FUZZ_MEM_MB", 4096);
+    let mem_mb: u64 = env_or("NCGEAR_FUZZ_MEM_MB", MEMORY_BUDGET_MB);
     let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
     let jobs: usize = env_or("NCGEAR_FUZZ_JOBS", cores).max(1);
     let indices: Vec<usize> = match std::env::var("NCGEAR_FUZZ_ONLY") {
@@ -1525,6 +1535,13 @@ fn campaign() {
                     let mut violations = violations(&outcome, &argv, &dir, &inputs);
                     // A valid input is designed and written: exit 0, or 3 when its result fails
                     // its own verification (a drawn or noisy target misses --tol-mm: C12).
+                    if nonfinite_in_a_file(&spec.mutations) && outcome.code != Some(2) {
+                        violations.push(format!(
+                            "a non-finite number in an input file was not refused (exit {:?}): {}",
+                            outcome.code,
+                            first_line(&outcome.stderr)
+                        ));
+                    }
                     if spec.mutations.is_empty() && !matches!(outcome.code, Some(0 | 3)) {
                         violations.push(format!(
                             "valid baseline exited {:?}: {}",
@@ -1580,6 +1597,24 @@ fn campaign() {
     );
 }
 
+/// Whether a mutation set a number in an input file to a non-finite value (as [`mutate_file`]
+/// describes it: `name: /key = nan`, `= inf`, `= -inf`, `= "__NaN__"`, `= "__Infinity__"`).
+fn nonfinite_in_a_file(mutations: &[String]) -> bool {
+    mutations.iter().any(|m| {
+        m.split_once(": ").is_some_and(|(_, what)| {
+            [
+                "= nan",
+                "= inf",
+                "= -inf",
+                "= \"__NaN__\"",
+                "= \"__Infinity__\"",
+            ]
+            .iter()
+            .any(|t| what.ends_with(t))
+        })
+    })
+}
+
 /// Runs per subcommand, the exit-code histogram, the slowest runs and every violation with the
 /// command line that reproduces it, grouped by subcommand and first violation.
 fn summary(
@@ -1631,6 +1666,13 @@ fn summary(
     let _ = write!(s, "\nexit codes:");
     for (k, n) in &hist {
         let _ = write!(s, "  {k}: {n}");
+    }
+    if let Some(r) = records.iter().max_by_key(|r| r.outcome.peak_rss_mb) {
+        let _ = write!(
+            s,
+            "\n\nlargest resident memory: {} MiB (run #{}, budget {} MiB)",
+            r.outcome.peak_rss_mb, r.spec.index, MEMORY_BUDGET_MB
+        );
     }
     let mut slow: Vec<&Record> = records.iter().collect();
     slow.sort_by_key(|r| std::cmp::Reverse(r.outcome.elapsed));

@@ -162,6 +162,7 @@ def design(
     smooth: Optional[int] = None,
     module: Optional[float] = None,
     idler_offset: Literal["auto", "collinear", "free"] = "auto",
+    alternatives: bool = True,
 ) -> Design:
     """Designs the sun and intermediate gears whose train traces ``points`` (``ncgear design``).
 
@@ -185,9 +186,13 @@ def design(
     - ``smooth``: smooth noisy points to this many Fourier harmonics first.
     - ``module``: design for this module, mm: the tooth count a constraint of the fit (then
       :func:`teeth` with the same module cuts the design's own teeth, unscaled).
-    - ``idler_offset``: where the intermediate axis may sit: ``"auto"`` on the carrier line,
-      turned off it (``l1 = 2a·cos ε``) where designing for a module needs it; ``"collinear"``
-      never; ``"free"`` in every fit. The design's offset is ``Design.idler_offset_deg``.
+    - ``idler_offset``: where the intermediate axis may sit: ``"auto"`` on the carrier line
+      unless a whole number of teeth would move the arm (designing for a ``module``, turned off
+      it by the offset that keeps the arm, ``l1 = 2a·cos ε``); ``"collinear"`` never; ``"free"``
+      in every fit. The design's offset is ``Design.idler_offset_deg``.
+    - ``alternatives``: when the design fails its verification, design its nearest alternative
+      too (the other idler layout, else a looser pressure-angle limit, else a smaller module) and
+      name it in ``Design.alternatives`` and the warnings, as the CLI does (one more design).
     """
     options = _options(locals(), "points")
     if isinstance(points, (str, os.PathLike)):

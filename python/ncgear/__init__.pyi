@@ -87,6 +87,7 @@ def design(
     smooth: Optional[int] = ...,
     module: Optional[float] = ...,
     idler_offset: Literal["auto", "collinear", "free"] = ...,
+    alternatives: bool = ...,
 ) -> Design: ...
 def teeth(
     design: Design,

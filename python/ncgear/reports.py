@@ -259,6 +259,7 @@ class Timings:
     module: float
     outputs: float
     total: float
+    alternatives: float
     teeth: float
     verification: float
     cad_files: float
@@ -421,6 +422,21 @@ class TeethReport:
     process: Optional[TrainProcess]
 
 
+@dataclass(frozen=True)
+class Alternative:
+    """A failed design's nearest alternative, designed: what changes (``label``), the CLI flags
+    that ask for it, its largest distance from the target (mm), pressure angle and idler offset
+    (degrees), whether it passes and what still fails."""
+
+    label: str
+    flags: str
+    max_deviation_mm: float
+    pressure_angle_deg: float
+    idler_offset_deg: float
+    passed: bool
+    failures: Tuple[str, ...]
+
+
 @dataclass(frozen=True, eq=False)
 class DesignReport:
     """``design.json``: arm lengths l1, l3 and centre distance (mm), the idler offset and the
@@ -452,6 +468,7 @@ class DesignReport:
     warnings: Tuple[str, ...]
     timings_ms: Timings
     teeth: Optional[TeethReport]
+    alternatives: Tuple[Alternative, ...]
     verdict: Verdict
 
 

@@ -51,6 +51,7 @@ pub struct DesignArgs {
     smooth: Option<usize>,
     module: Option<f64>,
     idler_offset: String,
+    alternatives: bool,
 }
 
 impl DesignArgs {
@@ -121,7 +122,8 @@ impl DesignArgs {
             .with_min_concave_radius_mm(self.concave_radius()?)
             .with_min_convex_radius_mm(self.min_convex_radius)
             .with_module_mm(self.module)
-            .with_idler_offset(idler_offset);
+            .with_idler_offset(idler_offset)
+            .with_alternatives(self.alternatives);
         o.validate().map_err(|e| design_err(&e))?;
         Ok(o)
     }

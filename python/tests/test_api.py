@@ -240,4 +240,11 @@ def test_a_failed_verification_is_returned_with_its_verdict_and_the_cli_exits_3(
     assert p.returncode == 3 and "C12" in p.stderr
     written = json.loads((tmp_path / "k" / "design.json").read_text())
     assert written["verdict"] == d.to_dict()["verdict"]
+    # Both name what comes closer, designed: off the carrier line under the same limits.
+    assert written["alternatives"] == d.to_dict()["alternatives"]
+    (alt,) = d.alternatives
+    assert isinstance(alt, reports.Alternative) and alt.flags == "--idler-offset free"
+    assert alt.max_deviation_mm < 0.1 < d.roundtrip.max_deviation_mm
+    assert f"traced within {alt.max_deviation_mm:.4f} mm" in p.stderr
+    assert ncgear.design(kidney, alternatives=False).alternatives == ()
     assert cli("design", kidney, "--out", tmp_path / "k2", "--accept-failed").returncode == 0

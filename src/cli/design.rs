@@ -77,9 +77,12 @@ pub fn run(args: Args) -> CliResult {
                 .map_err(|e| runtime_error(miette::miette!("{e}")))?,
         );
     }
+    let notes: Vec<String> = ncgear::design::alternatives::nearest_note(&d.report)
+        .into_iter()
+        .collect();
     if args.json {
         print_json(&d.report)?;
-        return super::verdict_outcome(&d.report.verdict, args.accept_failed);
+        return super::verdict_outcome(&d.report.verdict, args.accept_failed, &notes);
     }
     print_summary(
         &file,
@@ -92,7 +95,7 @@ pub fn run(args: Args) -> CliResult {
     if let Some(l) = &loads {
         super::loads::print_sizing(&d.report, l);
     }
-    super::verdict_outcome(&d.report.verdict, args.accept_failed)
+    super::verdict_outcome(&d.report.verdict, args.accept_failed, &notes)
 }
 
 /// Teeth on the designed gears, then their mesh check beside the CAD exports (they do not read

@@ -49,7 +49,9 @@ pub enum LimitsArg {
 /// `--idler-offset` values.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
 pub enum IdlerOffsetArg {
-    /// On the carrier line; off it where a module would otherwise move the tip.
+    /// On the carrier line unless a whole number of teeth would move the arm: with --module,
+    /// off it by the idler offset that keeps the arm; without, on it (a failed design names
+    /// the off-line figure).
     Auto,
     /// Always on the carrier line (the patent's train, l1 = 2a).
     Collinear,
@@ -279,6 +281,7 @@ impl Args {
             .with_pressure_angle_limit_rad(args.max_pressure_angle.to_radians())
             .with_min_concave_radius_mm(min_concave)
             .with_min_convex_radius_mm(args.min_convex_radius)
+            .with_alternatives(true)
             .with_idler_offset(match args.idler_offset {
                 IdlerOffsetArg::Auto => IdlerOffset::Auto,
                 IdlerOffsetArg::Collinear => IdlerOffset::Collinear,

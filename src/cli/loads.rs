@@ -57,7 +57,7 @@ pub fn run(args: Args) -> CliResult {
     } else {
         print_summary(&args, &report, files.len());
     }
-    verdict_outcome(&report.verdict, args.accept_failed)
+    verdict_outcome(&report.verdict, args.accept_failed, &[])
 }
 
 /// The console summary: torques, power, reversals, peak mesh forces, safety factors and life.

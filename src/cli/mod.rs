@@ -151,15 +151,21 @@ pub fn count_in(
 pub const EXIT_VERIFICATION_FAILED: u8 = 3;
 
 /// The outcome of a written result: exit 0 when its verdict passed or the user accepts a failed
-/// one (`--accept-failed`), otherwise [`Failure::Verification`] listing what failed.
-pub fn verdict_outcome(v: &ncgear::verdict::Verdict, accept_failed: bool) -> CliResult {
+/// one (`--accept-failed`), otherwise [`Failure::Verification`] listing what failed, then
+/// `notes` (what would pass, say).
+pub fn verdict_outcome(
+    v: &ncgear::verdict::Verdict,
+    accept_failed: bool,
+    notes: &[String],
+) -> CliResult {
     if v.passed || accept_failed {
         return Ok(());
     }
+    let notes: String = notes.iter().map(|n| format!("\n  {n}")).collect();
     Err(Failure::Verification(miette::miette!(
         help = "the files are written and their report says `\"verdict\": {\"passed\": false}`; \
                 --accept-failed exits 0 with them as they are",
-        "verification failed:\n  {}",
+        "verification failed:\n  {}{notes}",
         v.failures.join("\n  ")
     )))
 }
@@ -227,6 +233,15 @@ pub fn main() -> ExitCode {
         libc::mallopt(libc::M_MMAP_THRESHOLD, 256 << 20);
         libc::mallopt(libc::M_TRIM_THRESHOLD, 512 << 20);
     }
+    // Messages wrap at the terminal's width, but never inside a word: a flag such as
+    // `--idler-offset` split at its hyphen could not be copied back.
+    let _ = miette::set_hook(Box::new(|_| {
+        Box::new(
+            miette::MietteHandlerOpts::new()
+                .word_splitter(textwrap::WordSplitter::NoHyphenation)
+                .build(),
+        )
+    }));
     let cli = Cli::parse();
     if let Some(gb) = cli.max_memory_gb {
         if !(gb.is_finite() && gb > 0.0 && gb <= 1e6) {

@@ -161,7 +161,7 @@ pub fn run(args: Args) -> CliResult {
     } else {
         print_summary(&design, &args.out, [t_design, t_mesh, t_files], started);
     }
-    super::verdict_outcome(&verdict, args.accept_failed)
+    super::verdict_outcome(&verdict, args.accept_failed, &[])
 }
 
 /// The law the pair is made for: a motion law, a centrode, or a CSV table (exactly one).

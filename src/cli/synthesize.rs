@@ -59,7 +59,7 @@ pub fn run(args: Args) -> CliResult {
     if !args.accept_failed {
         check_met(r, &missed)?;
     }
-    super::verdict_outcome(&s.design.report.verdict, args.accept_failed)
+    super::verdict_outcome(&s.design.report.verdict, args.accept_failed, &[])
 }
 
 /// Writes the design's files and synthesis.json into `out`; the paths written.

@@ -107,11 +107,21 @@ pub(super) fn design_from(
         target_points: traj.points().to_vec(),
         warnings,
         teeth: None,
+        alternatives: Vec::new(),
         sizing: None,
         timings_ms: timings,
         verdict: crate::verdict::Verdict::default(),
     };
     report.update_verdict();
+    if opts.alternatives && !report.verdict.passed {
+        let t0 = Instant::now();
+        report.alternatives = super::alternatives::alternatives(traj, opts, &report);
+        // The nearest alternative, when it traces closer, in the warnings the console prints.
+        if let Some(note) = super::alternatives::nearest_note(&report) {
+            report.warnings.push(note);
+        }
+        report.timings_ms.alternatives = ms(t0);
+    }
     Ok(Design {
         report,
         mechanism: out.mechanism,

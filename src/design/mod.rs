@@ -16,6 +16,7 @@
 //! assert!(d.report.roundtrip.max_deviation_mm < 0.1);
 //! ```
 
+pub mod alternatives;
 mod chain;
 mod checks;
 pub mod compat;

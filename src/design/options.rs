@@ -30,14 +30,15 @@ pub enum RefineMode {
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
 #[serde(rename_all = "lowercase")]
 pub enum IdlerOffset {
-    /// On the line without a module (the patent's layout). Designing for a module, off it
-    /// wherever that traces closer: ε is free in the fit of the free design the module stage
-    /// starts from, and in the module fits where the centre distance exceeds half the arm, so
-    /// that `l1 = 2a·cos ε` stays where the target needs it at a whole number of teeth
-    /// (default). Over the 14 bundled targets at m = 1.5 and 2 (2026-11-28), freeing ε in the
-    /// free design as well took the toothed trains to 0.40× (geometric mean) of those started
-    /// from the collinear free design; it lost on 5 of the 28 (designer_kidney at m = 2: 0.83
-    /// against 0.49 mm).
+    /// [`IdlerOffset::AUTO_RULE`] (default). Without a module there is no tooth count and the
+    /// train stays on the line; a design that then misses the target names the off-line figure
+    /// among its alternatives ([`DesignOptions::alternatives`]). Designing for a module, ε is
+    /// free in the fit of the free design the module stage starts from, and in the module fits
+    /// where the centre distance exceeds half the arm, so that `l1 = 2a·cos ε` stays where the
+    /// target needs it. Over the 14 bundled targets at m = 1.5 and 2 (2026-11-28), freeing ε in
+    /// the free design as well took the toothed trains to 0.40× (geometric mean) of those
+    /// started from the collinear free design; it lost on 5 of the 28 (designer_kidney at
+    /// m = 2: 0.83 against 0.49 mm).
     #[default]
     Auto,
     /// Always on the line (ε = 0): the patent's train, `l1 = 2a`.
@@ -45,6 +46,16 @@ pub enum IdlerOffset {
     /// Free in every fit, also without a module (a housing with the intermediate shaft off the
     /// carrier line: the train then traces targets the collinear one cannot).
     Free,
+}
+
+impl IdlerOffset {
+    /// The one rule of [`IdlerOffset::Auto`], as the CLI, the trade-off table and the designer
+    /// page state it.
+    pub const AUTO_RULE: &'static str = "the intermediate axis stays on the carrier line \
+        (the patent's layout) unless a whole number of teeth would move the arm: designing for \
+        a module, it leaves the line by the idler offset that keeps the arm (l1 = 2a·cos ε); \
+        without a module it stays on the line, and a design that misses the target names the \
+        off-line figure (--idler-offset free)";
 }
 
 /// Gap the sun's and the planet's pitch curves keep across the carrier at a module, in modules:
@@ -120,14 +131,20 @@ pub struct DesignOptions {
     /// Module the gears are designed for, mm (default `None`): the smallest concave and convex
     /// radii follow from it (see `min_concave_radius_mm`, `min_convex_radius_mm`).
     pub module_mm: Option<f64>,
-    /// Where the intermediate axis may sit. Default [`IdlerOffset::Auto`]: on the carrier line,
-    /// off it when designing for a module traces closer.
+    /// Where the intermediate axis may sit. Default [`IdlerOffset::Auto`]: on the carrier line
+    /// unless a whole number of teeth would move the arm.
     pub idler_offset: IdlerOffset,
     /// Knobs of the fit to the points ([`crate::design::fit`]): orders, iterations, points,
     /// smoothness. Default [`FitOptions::default`]. Its order, tolerance, noise level, limits and
     /// perimeter are the chain's: set from `order`, `tol_tip_mm`, the points, the gear limits
     /// and the module.
     pub fit: FitOptions,
+    /// When the design fails its verification, design its nearest alternative too (the other
+    /// idler layout, else a looser pressure-angle limit, else the next smaller module: one more
+    /// design) and name it in the report ([`crate::design::alternatives`]). Default false (a
+    /// design inside a search, a sweep or a drag does not need it); the CLI and the Python
+    /// package turn it on.
+    pub alternatives: bool,
 }
 
 crate::builder::with_fields!(DesignOptions {
@@ -151,6 +168,7 @@ crate::builder::with_fields!(DesignOptions {
     with_module_mm => module_mm: Option<f64>,
     with_idler_offset => idler_offset: IdlerOffset,
     with_fit => fit: FitOptions,
+    with_alternatives => alternatives: bool,
 });
 
 /// Smallest concave radius of a design made for a module, in modules: the pitch radius of a
@@ -249,6 +267,7 @@ impl Default for DesignOptions {
             module_mm: None,
             idler_offset: IdlerOffset::Auto,
             fit: FitOptions::default(),
+            alternatives: false,
         }
     }
 }

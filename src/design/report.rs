@@ -89,6 +89,11 @@ pub struct DesignReport {
         deserialize_with = "crate::design::train::teeth_json::deserialize"
     )]
     pub teeth: Option<crate::design::train::TrainTeethReport>,
+    /// A failed design's nearest alternatives with their figures (the other idler layout, a
+    /// looser pressure-angle limit, a smaller module; [`crate::design::alternatives`]), when
+    /// [`crate::design::DesignOptions::alternatives`] asks for them; empty otherwise.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub alternatives: Vec<crate::design::alternatives::Alternative>,
     /// The module sized by strength (`ncgear design --module auto --loads`): the modules
     /// tried and the one kept; absent otherwise.
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -414,6 +419,9 @@ pub struct Timings {
     pub outputs: f64,
     /// Total of the design stages above.
     pub total: f64,
+    /// The alternatives of a failed design (0: none designed).
+    #[serde(default)]
+    pub alternatives: f64,
     /// Teeth on the three gears (cutting, relief), set by whoever cuts them (0: none).
     #[serde(default)]
     pub teeth: f64,

@@ -379,10 +379,13 @@ impl TradeOff {
             .iter()
             .any(|r| r.numbers().is_some_and(|n| n.idler_offset_deg != 0.0))
         {
-            s.push_str(
+            let _ = writeln!(
+                s,
                 "\nNote: a design with an idler offset has its intermediate axis turned off the \
                  carrier line by that angle (l1 = 2a·cos ε): at a whole number of teeth the arm \
-                 keeps its length, and the train traces paths a collinear one cannot.\n",
+                 keeps its length, and the train traces paths a collinear one cannot. The rule of \
+                 `--idler-offset auto` (every row but the off-line one): {}.",
+                IdlerOffset::AUTO_RULE
             );
         }
         if let Some(x) = &self.exact_needs {

@@ -118,7 +118,13 @@ pub fn size_module(
     let mut kept: Option<(Design, ToothedTrain, LoadsReport)> = None;
     let mut best_margin = f64::NEG_INFINITY;
     for &m in &opts.modules_mm {
-        let d = match design(target, &design_opts.clone().with_module_mm(Some(m))) {
+        // A module's design inside the search: its failure is a row, not a reason to design
+        // its alternatives.
+        let module_opts = design_opts
+            .clone()
+            .with_module_mm(Some(m))
+            .with_alternatives(false);
+        let d = match design(target, &module_opts) {
             Ok(d) => d,
             Err(e) => {
                 sizing.rows.push(failed_row(m, format!("design: {e}")));

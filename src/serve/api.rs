@@ -10,7 +10,7 @@
 //! `"options"` in place of `"design"`) and answers the `loads.json` object ([`super::loads`]).
 
 use ncgear::design::trajectory::Trajectory;
-use ncgear::design::{DesignError, DesignOptions, RefineMode};
+use ncgear::design::{DesignError, DesignOptions, IdlerOffset, RefineMode};
 use ncgear::math::Point;
 use serde::Deserialize;
 
@@ -69,6 +69,8 @@ pub struct Options {
     pub module: Option<f64>,
     /// Carrier sense `"auto"`, `"ccw"` or `"cw"` (`--sense`).
     pub sense: Option<String>,
+    /// Where the intermediate axis sits: `"auto"`, `"collinear"` or `"free"` (`--idler-offset`).
+    pub idler_offset: Option<String>,
 }
 
 impl Options {
@@ -107,6 +109,17 @@ impl Options {
                 ));
             }
         };
+        let idler_offset = match self.idler_offset.as_deref() {
+            None | Some("auto") => IdlerOffset::Auto,
+            Some("collinear") => IdlerOffset::Collinear,
+            Some("free") => IdlerOffset::Free,
+            Some(v) => {
+                return Err(ApiError::bad(
+                    "options.idler_offset",
+                    format!("`{v}`: expected \"auto\", \"collinear\" or \"free\""),
+                ));
+            }
+        };
         let ratio_bounds = self.ratio_bounds.unwrap_or(d.refine_options.ratio_bounds);
         Ok(DesignOptions::default()
             .with_center_mm(self.center.unwrap_or(d.center_mm))
@@ -123,7 +136,8 @@ impl Options {
             .with_refine_options(d.refine_options.with_ratio_bounds(ratio_bounds))
             .with_smoothing(self.smooth)
             .with_inverse(d.inverse.with_sense(sense))
-            .with_module_mm(self.module))
+            .with_module_mm(self.module)
+            .with_idler_offset(idler_offset))
     }
 }
 
@@ -262,5 +276,45 @@ pub fn design_error(e: &DesignError) -> ApiError {
         }
         DesignError::Bounds(b) => ApiError::bad(&format!("options.{}", b.quantity), e.to_string()),
         _ => ApiError::bad("points", e.to_string()),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The page's three layouts reach the library's; anything else is refused naming the field.
+    #[test]
+    fn idler_offset_maps_to_the_librarys_layouts() {
+        let with = |v: &str| Options {
+            idler_offset: Some(v.into()),
+            ..Options::default()
+        };
+        assert_eq!(
+            Options::default().design_options().unwrap().idler_offset,
+            IdlerOffset::Auto
+        );
+        assert_eq!(
+            with("collinear").design_options().unwrap().idler_offset,
+            IdlerOffset::Collinear
+        );
+        assert_eq!(
+            with("free").design_options().unwrap().idler_offset,
+            IdlerOffset::Free
+        );
+        let e = with("beside").design_options().unwrap_err();
+        assert_eq!(e.field.as_deref(), Some("options.idler_offset"));
+    }
+
+    /// The page states the one rule of `auto` in the library's words (the trade-off table
+    /// prints the same constant).
+    #[test]
+    fn the_page_states_the_auto_rule() {
+        let page = include_str!("page/index.html");
+        assert!(
+            page.contains(IdlerOffset::AUTO_RULE),
+            "the page lost the rule"
+        );
+        assert!(page.contains(r#"data-testid="idler-offset""#));
     }
 }

@@ -186,6 +186,32 @@ fn a_design_that_fails_a_check_exits_3_with_its_verdict() {
     let t = &report["timings_ms"];
     let (total, command) = (t["total"].as_f64().unwrap(), t["command"].as_f64().unwrap());
     assert!(command >= total && total > 0.0, "{t}");
+    // What would come closer is named with its figure, in design.json and in the failure, and
+    // the figure is what that design makes.
+    let alt = &report["alternatives"][0];
+    assert_eq!(alt["flags"], "--idler-offset free", "{alt}");
+    let figure = alt["max_deviation_mm"].as_f64().unwrap();
+    assert!(
+        figure < 0.1 && alt["idler_offset_deg"].as_f64().unwrap().abs() > 5.0,
+        "{alt}"
+    );
+    let named = format!("(--idler-offset free): traced within {figure:.4} mm");
+    let failure = &err[err.find("verification failed").expect(&err)..];
+    assert!(failure.contains(&named), "{err}");
+    let off = out_dir("kidney_off_line");
+    let (code, err) = run(&[
+        "design",
+        kidney.to_str().unwrap(),
+        "--idler-offset",
+        "free",
+        "--out",
+        off.to_str().unwrap(),
+    ]);
+    assert!(code == Some(0) || code == Some(3), "{err}");
+    let r: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(off.join("design.json")).unwrap()).unwrap();
+    assert_eq!(r["roundtrip"]["max_deviation_mm"].as_f64().unwrap(), figure);
+    assert_eq!(r["verdict"]["passed"], alt["passed"]);
 }
 
 /// A linear dynamics scene writes its report into --out and refuses the options of a

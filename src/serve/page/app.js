@@ -105,6 +105,7 @@ function options() {
     max_pressure_angle: num("max-pressure"),
     min_concave_radius: num("min-concave"),
     module: num("module"),
+    idler_offset: $("idler-offset").value,
   };
   for (const k of Object.keys(o)) if (o[k] === null) delete o[k];
   if (o.module === 0) delete o.module;
@@ -296,12 +297,13 @@ function renderRatio() {
 function renderReadouts() {
   const d = state.design;
   const set = (id, t) => { $(id).textContent = t; };
-  if (!d) { ["l1-mm", "l3-mm", "deviation-mm", "pressure-deg", "concave-mm", "server-ms"].forEach((id) => set(id, "–")); return; }
+  if (!d) { ["l1-mm", "l3-mm", "deviation-mm", "pressure-deg", "concave-mm", "idler-deg", "server-ms"].forEach((id) => set(id, "–")); return; }
   set("l1-mm", d.l1_mm.toFixed(6));
   set("l3-mm", d.l3_mm.toFixed(6));
   set("deviation-mm", d.roundtrip.max_deviation_mm.toFixed(4));
   set("pressure-deg", d.limits.pressure_angle_deg.toFixed(2));
   set("concave-mm", d.limits.tightest_concave_radius_mm == null ? "none (convex)" : d.limits.tightest_concave_radius_mm.toFixed(2) + " mm");
+  set("idler-deg", (d.idler_offset_deg || 0).toFixed(2));
   set("server-ms", d.server_ms.toFixed(1));
   set("teeth", d.teeth ? `z = ${d.teeth.z}, m = ${d.teeth.module_mm} mm` : "none");
   set("binding", d.limits.binding.length ? "binding: " + d.limits.binding.join(", ") : "");
