@@ -219,14 +219,30 @@ impl DesignFile {
             PitchCurve::from_uniform_radii(g.pitch.iter().map(|p| p[1]).collect())
                 .map_err(|e| bad(&field, e.to_string()))
         };
+        let angle = |g: &GearFile, name: &str| -> Result<f64, SimulateError> {
+            let field = format!("gears.{name}.angle_at_zero_deg");
+            let v = g
+                .angle_at_zero_deg
+                .ok_or_else(|| bad(&field, "missing: an angle in degrees".into()))?;
+            ck(
+                &field,
+                v,
+                ANGLE_DEG,
+                "an angle in degrees (ten turns either way at most)",
+            )
+            .map(f64::to_radians)
+        };
+        let (sun, intermediate, planet) = (
+            curve(&self.gears.sun, "sun")?,
+            curve(&self.gears.intermediate, "intermediate")?,
+            curve(&self.gears.planet, "planet")?,
+        );
         // The sun and the intermediate roll on their partners over a whole turn: the mean of
         // r/(a − r) over each table is 1 (check C2 of the design, 1e-6 mm as written).
-        for name in ["sun", "intermediate"] {
-            let g = if name == "sun" {
-                &self.gears.sun
-            } else {
-                &self.gears.intermediate
-            };
+        for (name, g) in [
+            ("sun", &self.gears.sun),
+            ("intermediate", &self.gears.intermediate),
+        ] {
             let n = g.pitch.len().max(1) as f64;
             let mean = g.pitch.iter().map(|p| p[1] / (a - p[1])).sum::<f64>() / n;
             let gap = (mean - 1.0).abs() * std::f64::consts::TAU * a;
@@ -242,19 +258,6 @@ impl DesignFile {
                 ));
             }
         }
-        let angle = |g: &GearFile, name: &str| -> Result<f64, SimulateError> {
-            let field = format!("gears.{name}.angle_at_zero_deg");
-            let v = g
-                .angle_at_zero_deg
-                .ok_or_else(|| bad(&field, "missing: an angle in degrees".into()))?;
-            ck(
-                &field,
-                v,
-                ANGLE_DEG,
-                "an angle in degrees (ten turns either way at most)",
-            )
-            .map(f64::to_radians)
-        };
         Ok(Assembly {
             center_mm: self.carrier.center_mm,
             direction: self.carrier.direction,
@@ -262,10 +265,10 @@ impl DesignFile {
             idler_offset_rad: self.idler_offset_deg.to_radians(),
             l3_mm: l3,
             needle_angle_rad: self.needle_angle_deg.to_radians(),
-            sun: curve(&self.gears.sun, "sun")?,
-            intermediate: curve(&self.gears.intermediate, "intermediate")?,
+            sun,
+            intermediate,
             intermediate_angle_at_zero_rad: angle(&self.gears.intermediate, "intermediate")?,
-            planet: curve(&self.gears.planet, "planet")?,
+            planet,
             planet_angle_at_zero_rad: angle(&self.gears.planet, "planet")?,
         })
     }

@@ -187,11 +187,14 @@ pub(super) fn checked(spec: &Spec) -> Result<Checked, SynthesisError> {
 /// own (with a positive position tolerance).
 /// A coordinate of a pose or of the carrier centre, mm: 100 m from the origin.
 pub const POSITION_MM: Span = Span::symmetric(1e5);
-/// An angle of a pose or an end of an angle band, degrees: ten turns either way.
+/// An angle of a pose, degrees: ten turns either way.
 pub const ANGLE_DEG: Span = Span::symmetric(3600.0);
 /// A length of the machine (the ends of the search boxes, the tolerance of an approximate pose,
-/// the planting depth, an end of a length band), mm: a planting arm is tens to hundreds of mm.
+/// the planting depth), mm: a planting arm is tens to hundreds of mm.
 pub const LENGTH_MM: Span = Span::symmetric(5000.0);
+/// An end of a target band, mm or degrees: ±1e9 stands for no limit (the band is then checked
+/// against the index's own range).
+pub const BAND_END: Span = Span::symmetric(1e9);
 /// The carrier speed, r/min (the range of a loads scene's `operation.carrier_rpm`).
 pub const RPM: Span = Span::positive(crate::loads::scene::MAX_CARRIER_RPM);
 /// The forward speed, mm/s: 10 m/s, ten times a transplanter's.
@@ -253,13 +256,13 @@ fn check_numbers(spec: &Spec) -> Result<(), SynthesisError> {
         }
     }
     for (name, b) in spec.targets.bands() {
-        let (span, what) = if name.ends_with("_mm") {
-            (LENGTH_MM, length)
-        } else {
-            (ANGLE_DEG, angle)
-        };
         for (k, v) in b.iter().enumerate() {
-            ranged(&format!("targets.{name}[{k}]"), *v, span, what)?;
+            ranged(
+                &format!("targets.{name}[{k}]"),
+                *v,
+                BAND_END,
+                "an end of a band, mm or degrees (1e9 stands for no limit)",
+            )?;
         }
     }
     Ok(())
