@@ -73,7 +73,7 @@ pub(super) fn backlash(file: &str, b: &BacklashSpec) -> Result<Backlash, SceneEr
         "effects.backlash.half_gap_um",
         b.half_gap_um,
         Span::positive(ERROR_UM.hi),
-        "a half gap in µm (10 mm at most)",
+        "a positive half gap in µm (10 mm at most)",
     )?;
     Ok(Backlash {
         b: b.half_gap_um * 1e-6,

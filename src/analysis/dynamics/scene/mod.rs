@@ -165,14 +165,14 @@ impl Scene {
             "gears.face_width_mm",
             g.face_width_mm,
             Span::positive(1000.0),
-            "a face width in mm",
+            "a positive face width in mm",
         )?;
         ranged(
             file,
             "gears.density_kg_m3",
             g.density_kg_m3,
             Span::positive(30_000.0),
-            "a density in kg/m³ (osmium is 22 590)",
+            "a positive density in kg/m³ (osmium is 22 590)",
         )?;
         PairGeometry::new(
             g.z1,
