@@ -156,3 +156,97 @@ pub fn check_memory(what: &str, bytes: f64) -> Result<(), OutOfBounds> {
             .into(),
     })
 }
+
+/// The admissible range of one number of an input file (an error file, a scene, a spec, a
+/// design file): finite, and within `[lo, hi]`, or `(lo, hi]` when the lower end is excluded.
+/// The file readers check every number with [`Span::check`] before any work and name the file
+/// and the key; the ranges are listed in docs/bounds.md, "Ranges inside input files".
+///
+/// ```
+/// use ncgear::bounds::Span;
+/// let amplitude = Span::closed(-1e6, 1e6);
+/// assert_eq!(amplitude.check(-13.0, "an amplitude in µm"), Ok(-13.0));
+/// let e = amplitude.check(1e308, "an amplitude in µm").unwrap_err();
+/// assert!(e.contains("1e308") && e.contains("[-1e6, 1e6]"), "{e}");
+/// assert!(Span::positive(1.0).check(f64::NAN, "a σ").is_err());
+/// assert!(Span::positive(1.0).check(0.0, "a σ").is_err());
+/// ```
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Span {
+    /// Lower end.
+    pub lo: f64,
+    /// Upper end (included).
+    pub hi: f64,
+    /// Whether `lo` itself is excluded.
+    pub lo_excluded: bool,
+}
+
+impl Span {
+    /// `[lo, hi]`.
+    #[must_use]
+    pub const fn closed(lo: f64, hi: f64) -> Self {
+        Self {
+            lo,
+            hi,
+            lo_excluded: false,
+        }
+    }
+
+    /// `(0, hi]`: a positive number.
+    #[must_use]
+    pub const fn positive(hi: f64) -> Self {
+        Self {
+            lo: 0.0,
+            hi,
+            lo_excluded: true,
+        }
+    }
+
+    /// `[-limit, limit]`.
+    #[must_use]
+    pub const fn symmetric(limit: f64) -> Self {
+        Self::closed(-limit, limit)
+    }
+
+    /// Whether `v` is finite and within the span.
+    #[must_use]
+    pub fn contains(&self, v: f64) -> bool {
+        let above = if self.lo_excluded {
+            v > self.lo
+        } else {
+            v >= self.lo
+        };
+        v.is_finite() && above && v <= self.hi
+    }
+
+    /// `v` when it is within the span; else what is wrong, for the caller to prefix with the
+    /// file and the key: `"{v} is outside {span}: {what}"` (`what` says what the number is, its
+    /// unit and why the range).
+    ///
+    /// # Errors
+    /// The message, when `v` is not finite or outside the span.
+    pub fn check(&self, v: f64, what: &str) -> Result<f64, String> {
+        if self.contains(v) {
+            return Ok(v);
+        }
+        Err(format!("{} is outside {self}: {what}", number(v)))
+    }
+}
+
+impl std::fmt::Display for Span {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let open = if self.lo_excluded { '(' } else { '[' };
+        write!(f, "{open}{}, {}]", number(self.lo), number(self.hi))
+    }
+}
+
+/// A number as a message shows it: plainly between 1e-4 and 1e6, else in exponent form (a
+/// 1e308 is not printed as 309 digits).
+#[must_use]
+pub fn number(v: f64) -> String {
+    if v == 0.0 || (v.is_finite() && (1e-4..1e6).contains(&v.abs())) {
+        v.to_string()
+    } else {
+        format!("{v:e}")
+    }
+}

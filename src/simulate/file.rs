@@ -2,11 +2,29 @@
 //! degrees), checked field by field into an [`Assembly`].
 
 use super::SimulateError;
+use crate::bounds::{Span, number};
 use crate::geometry::assembly::Assembly;
 use crate::geometry::pitch::PitchCurve;
 use crate::math::Point;
 use serde::{Deserialize, Serialize};
 use std::path::Path;
+
+/// A length of the train (centre distance, needle), mm: a transplanter's are tens of mm.
+pub const LENGTH_MM: Span = Span::positive(5000.0);
+/// An angle (needle, orientations), degrees: ten turns either way.
+pub const ANGLE_DEG: Span = Span::symmetric(3600.0);
+/// A coordinate (the carrier centre, target points), mm: 100 m from the origin.
+pub const POSITION_MM: Span = Span::symmetric(1e5);
+/// The module of the teeth, mm (the range of `ncgear design --module`).
+pub const MODULE_MM: Span = Span::closed(0.05, 50.0);
+/// Fewest samples of a pitch table.
+pub const MIN_PITCH_SAMPLES: usize = 8;
+/// Most samples of a pitch table (the largest `ncgear design --samples`).
+pub const MAX_PITCH_SAMPLES: usize = 262_144;
+/// How far a table's partner may roll past a whole turn, mm: a design writes its tables to
+/// 1e-12 mm and passes check C2 at 1e-6 mm; a table rounded to 6 decimals closes to about
+/// 1e-5 mm.
+pub const CLOSURE_TOL_MM: f64 = 1e-3;
 
 /// The subset of `design.json` needed to assemble the train (mm, degrees).
 #[derive(Debug, Clone, Serialize, Deserialize)]
@@ -99,28 +117,31 @@ impl DesignFile {
         Ok((d, asm))
     }
 
-    /// Builds the [`Assembly`], checking every field.
+    /// Builds the [`Assembly`], checking every field against its range (docs/bounds.md, "Ranges
+    /// inside input files") and that the sun and intermediate tables close.
     pub fn assembly(&self, file: &str) -> Result<Assembly, SimulateError> {
         let bad = |field: &str, message: String| SimulateError::BadField {
             file: file.into(),
             field: field.into(),
             message,
         };
-        let pos = |v: f64, field: &str| {
-            if v.is_finite() && v > 0.0 {
-                Ok(v)
-            } else {
-                Err(bad(field, format!("{v} must be a positive length in mm")))
-            }
+        let ck = |field: &str, v: f64, span: Span, what: &str| {
+            span.check(v, what).map_err(|m| bad(field, m))
         };
-        let a = pos(self.center_distance_mm, "center_distance_mm")?;
-        let l3 = pos(self.l3_mm, "l3_mm")?;
-        if !self.needle_angle_deg.is_finite() {
-            return Err(bad(
-                "needle_angle_deg",
-                "must be a finite angle in degrees".into(),
-            ));
-        }
+        let length = "a length in mm (5 m at most)";
+        let a = ck(
+            "center_distance_mm",
+            self.center_distance_mm,
+            LENGTH_MM,
+            length,
+        )?;
+        let l3 = ck("l3_mm", self.l3_mm, LENGTH_MM, length)?;
+        ck(
+            "needle_angle_deg",
+            self.needle_angle_deg,
+            ANGLE_DEG,
+            "an angle in degrees (ten turns either way at most)",
+        )?;
         if !(self.carrier.direction == 1 || self.carrier.direction == -1) {
             return Err(bad(
                 "carrier.direction",
@@ -128,64 +149,115 @@ impl DesignFile {
             ));
         }
         let max_offset = crate::geometry::mechanism::MAX_IDLER_OFFSET_RAD.to_degrees();
-        if !(self.idler_offset_deg.abs() <= max_offset) {
-            return Err(bad(
-                "idler_offset_deg",
-                format!(
-                    "{} must be an angle in degrees within ±{max_offset}",
-                    self.idler_offset_deg
-                ),
-            ));
+        ck(
+            "idler_offset_deg",
+            self.idler_offset_deg,
+            Span::symmetric(max_offset),
+            "an idler offset angle in degrees",
+        )?;
+        let o = self.carrier.center_mm;
+        for (axis, v) in [("x", o.x), ("y", o.y)] {
+            ck(
+                &format!("carrier.center_mm.{axis}"),
+                v,
+                POSITION_MM,
+                "a coordinate in mm (100 m from the origin at most)",
+            )?;
         }
-        if !self.carrier.center_mm.is_finite() {
-            return Err(bad(
-                "carrier.center_mm",
-                "must be two finite numbers [x, y] in mm".into(),
-            ));
+        for (k, p) in self.target_points.iter().enumerate() {
+            for (axis, v) in [("x", p.x), ("y", p.y)] {
+                ck(
+                    &format!("target_points[{k}].{axis}"),
+                    v,
+                    POSITION_MM,
+                    "a coordinate in mm (100 m from the origin at most)",
+                )?;
+            }
+        }
+        if let Some(t) = &self.teeth {
+            crate::bounds::check_teeth("teeth.z", t.z)
+                .map_err(|e| bad("teeth.z", e.to_string()))?;
+            ck(
+                "teeth.module_mm",
+                t.module_mm,
+                MODULE_MM,
+                "a module in mm (the range of ncgear design --module)",
+            )?;
         }
         let curve = |g: &GearFile, name: &str| -> Result<PitchCurve, SimulateError> {
             let field = format!("gears.{name}.pitch");
             let n = g.pitch.len();
-            if n < 8 {
+            if !(MIN_PITCH_SAMPLES..=MAX_PITCH_SAMPLES).contains(&n) {
                 return Err(bad(
                     &field,
                     format!(
-                        "{n} samples; at least 8 (720 recommended) uniform [theta_deg, r_mm] pairs are needed"
+                        "{n} samples; {MIN_PITCH_SAMPLES}..={MAX_PITCH_SAMPLES} uniform [theta_deg, r_mm] pairs are needed (720 recommended; the range of design --samples)"
                     ),
                 ));
             }
             for (k, p) in g.pitch.iter().enumerate() {
                 let expect = 360.0 * k as f64 / n as f64;
-                if (p[0] - expect).abs() > 1e-6 * 360.0 {
+                if !((p[0] - expect).abs() <= 1e-6 * 360.0) {
                     return Err(bad(
-                        &format!("{field}[{k}]"),
+                        &format!("{field}[{k}][0]"),
                         format!(
                             "theta_deg = {} but a uniform table from 0 needs {expect}",
-                            p[0]
+                            number(p[0])
                         ),
                     ));
                 }
-                if !(p[1].is_finite() && p[1] > 0.0 && p[1] < a) {
+                if !(p[1] > 0.0 && p[1] < a) {
                     return Err(bad(
-                        &format!("{field}[{k}]"),
-                        format!("r_mm = {} must be in (0, center_distance = {a})", p[1]),
+                        &format!("{field}[{k}][1]"),
+                        format!(
+                            "r_mm = {} is outside (0, center_distance_mm = {a}): a radius in mm",
+                            number(p[1])
+                        ),
                     ));
                 }
             }
             PitchCurve::from_uniform_radii(g.pitch.iter().map(|p| p[1]).collect())
                 .map_err(|e| bad(&field, e.to_string()))
         };
-        let angle = |g: &GearFile, name: &str| {
-            g.angle_at_zero_deg
-                .filter(|v| v.is_finite())
-                .map(f64::to_radians)
-                .ok_or_else(|| {
-                    bad(
-                        &format!("gears.{name}.angle_at_zero_deg"),
-                        "missing or not a finite angle in degrees".into(),
-                    )
-                })
+        let angle = |g: &GearFile, name: &str| -> Result<f64, SimulateError> {
+            let field = format!("gears.{name}.angle_at_zero_deg");
+            let v = g
+                .angle_at_zero_deg
+                .ok_or_else(|| bad(&field, "missing: an angle in degrees".into()))?;
+            ck(
+                &field,
+                v,
+                ANGLE_DEG,
+                "an angle in degrees (ten turns either way at most)",
+            )
+            .map(f64::to_radians)
         };
+        let (sun, intermediate, planet) = (
+            curve(&self.gears.sun, "sun")?,
+            curve(&self.gears.intermediate, "intermediate")?,
+            curve(&self.gears.planet, "planet")?,
+        );
+        // The sun and the intermediate roll on their partners over a whole turn: the mean of
+        // r/(a − r) over each table is 1 (check C2 of the design, 1e-6 mm as written).
+        for (name, g) in [
+            ("sun", &self.gears.sun),
+            ("intermediate", &self.gears.intermediate),
+        ] {
+            let n = g.pitch.len().max(1) as f64;
+            let mean = g.pitch.iter().map(|p| p[1] / (a - p[1])).sum::<f64>() / n;
+            let gap = (mean - 1.0).abs() * std::f64::consts::TAU * a;
+            if !(gap <= CLOSURE_TOL_MM) {
+                return Err(bad(
+                    &format!("gears.{name}.pitch"),
+                    format!(
+                        "the table does not close: its partner rolls {} mm too far or short per \
+                         turn (|mean r/(a − r) − 1|·2π·a; at most {CLOSURE_TOL_MM} mm): a radius \
+                         was edited, or the table is of another centre distance",
+                        number(gap)
+                    ),
+                ));
+            }
+        }
         Ok(Assembly {
             center_mm: self.carrier.center_mm,
             direction: self.carrier.direction,
@@ -193,10 +265,10 @@ impl DesignFile {
             idler_offset_rad: self.idler_offset_deg.to_radians(),
             l3_mm: l3,
             needle_angle_rad: self.needle_angle_deg.to_radians(),
-            sun: curve(&self.gears.sun, "sun")?,
-            intermediate: curve(&self.gears.intermediate, "intermediate")?,
+            sun,
+            intermediate,
             intermediate_angle_at_zero_rad: angle(&self.gears.intermediate, "intermediate")?,
-            planet: curve(&self.gears.planet, "planet")?,
+            planet,
             planet_angle_at_zero_rad: angle(&self.gears.planet, "planet")?,
         })
     }

@@ -5,6 +5,7 @@
 use super::dyad::Pose;
 use super::report::SynthesisError;
 use super::timing::POSE_TOL_RAD;
+use crate::bounds::{Span, number};
 use crate::math::Point;
 use crate::simulate::FeatureOptions;
 use serde::{Deserialize, Serialize};
@@ -162,6 +163,7 @@ pub(super) fn checked(spec: &Spec) -> Result<Checked, SynthesisError> {
             "[[pose]] tables (at least three; two with machine.center_mm), or [targets] bands to synthesise from alone",
         ));
     }
+    check_numbers(spec)?;
     let tol = pose_tolerances(spec)?;
     let sense = match spec.machine.carrier.as_deref() {
         None => None,
@@ -183,6 +185,89 @@ pub(super) fn checked(spec: &Spec) -> Result<Checked, SynthesisError> {
 
 /// Each pose's direction tolerance, rad: exact poses [`POSE_TOL_RAD`], approximate ones their
 /// own (with a positive position tolerance).
+/// A coordinate of a pose or of the carrier centre, mm: 100 m from the origin.
+pub const POSITION_MM: Span = Span::symmetric(1e5);
+/// An angle of a pose, degrees: ten turns either way.
+pub const ANGLE_DEG: Span = Span::symmetric(3600.0);
+/// A length of the machine (the ends of the search boxes, the tolerance of an approximate pose,
+/// the planting depth), mm: a planting arm is tens to hundreds of mm.
+pub const LENGTH_MM: Span = Span::symmetric(5000.0);
+/// An end of a target band, mm or degrees: ±1e9 stands for no limit (the band is then checked
+/// against the index's own range).
+pub const BAND_END: Span = Span::symmetric(1e9);
+/// The carrier speed, r/min (the range of a loads scene's `operation.carrier_rpm`).
+pub const RPM: Span = Span::positive(crate::loads::scene::MAX_CARRIER_RPM);
+/// The forward speed, mm/s: 10 m/s, ten times a transplanter's.
+pub const FORWARD_MM_S: Span = Span::closed(0.0, 1e4);
+
+/// `v` finite and within `span`, or the error naming `field`.
+fn ranged(field: &str, v: f64, span: Span, what: &str) -> Result<f64, SynthesisError> {
+    span.check(v, what).map_err(|m| SynthesisError::BadField {
+        field: field.into(),
+        value: number(v),
+        expected: m,
+    })
+}
+
+/// Every number of the spec finite and within its range, before any other check.
+fn check_numbers(spec: &Spec) -> Result<(), SynthesisError> {
+    let m = &spec.machine;
+    let coordinate = "a coordinate in mm (100 m from the origin at most)";
+    let angle = "an angle in degrees (ten turns either way at most)";
+    let length = "a length in mm (5 m at most)";
+    if let Some(c) = m.center_mm {
+        ranged("machine.center_mm.x", c.x, POSITION_MM, coordinate)?;
+        ranged("machine.center_mm.y", c.y, POSITION_MM, coordinate)?;
+    }
+    for (field, v, span, what) in [
+        ("machine.rpm", m.rpm, RPM, "a carrier speed in r/min"),
+        ("machine.spacing_mm", m.spacing_mm, LENGTH_MM, length),
+        (
+            "machine.forward_speed_mm_s",
+            m.forward_speed_mm_s,
+            FORWARD_MM_S,
+            "a forward speed in mm/s",
+        ),
+        ("machine.depth_mm", m.depth_mm, LENGTH_MM, length),
+    ] {
+        if let Some(v) = v {
+            ranged(field, v, span, what)?;
+        }
+    }
+    for (field, b) in [("machine.l1_mm", m.l1_mm), ("machine.l3_mm", m.l3_mm)] {
+        for (k, v) in b.iter().flatten().enumerate() {
+            ranged(&format!("{field}[{k}]"), *v, LENGTH_MM, length)?;
+        }
+    }
+    for (k, p) in spec.poses.iter().enumerate() {
+        ranged(&format!("pose[{k}].x_mm"), p.x_mm, POSITION_MM, coordinate)?;
+        ranged(&format!("pose[{k}].y_mm"), p.y_mm, POSITION_MM, coordinate)?;
+        ranged(
+            &format!("pose[{k}].needle_deg"),
+            p.needle_deg,
+            ANGLE_DEG,
+            angle,
+        )?;
+        if let Some(t) = p.tol_mm {
+            ranged(&format!("pose[{k}].tol_mm"), t, LENGTH_MM, length)?;
+        }
+        if let Some(t) = p.tol_deg {
+            ranged(&format!("pose[{k}].tol_deg"), t, ANGLE_DEG, angle)?;
+        }
+    }
+    for (name, b) in spec.targets.bands() {
+        for (k, v) in b.iter().enumerate() {
+            ranged(
+                &format!("targets.{name}[{k}]"),
+                *v,
+                BAND_END,
+                "an end of a band, mm or degrees (1e9 stands for no limit)",
+            )?;
+        }
+    }
+    Ok(())
+}
+
 fn pose_tolerances(spec: &Spec) -> Result<Vec<f64>, SynthesisError> {
     let mut tol = Vec::new();
     for (k, p) in spec.poses.iter().enumerate() {

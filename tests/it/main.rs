@@ -8,6 +8,7 @@ mod design;
 mod doc_refs;
 mod dynamics;
 mod hard_cases;
+mod input_ranges;
 mod layout;
 mod limits;
 mod loads;

@@ -844,12 +844,12 @@ fn model_file_errors_name_the_key() {
         text.replace("eccentricity_um = 6.0", "eccentricity_um = -6.0"),
     )
     .unwrap();
-    let e = ModelParams::from_path(&p)
-        .unwrap()
-        .planet_set()
-        .unwrap_err()
-        .to_string();
-    assert!(e.contains("planet[1].eccentricity_um"), "{e}");
+    // Refused when the file is read, naming the file and the key.
+    let e = ModelParams::from_path(&p).unwrap_err().to_string();
+    assert!(
+        e.contains("planet[1].eccentricity_um") && e.contains(&p.display().to_string()),
+        "{e}"
+    );
     std::fs::write(
         &p,
         text.replace("sun_speed_rpm = 300.0", "sun_speed_rpm = 300.0\n[x]"),

@@ -176,11 +176,11 @@ impl RunOptions {
                 expected: "an integer ≥ 1",
             });
         }
-        if !(self.poincare_tol > 0.0) {
+        if !(self.poincare_tol > 0.0 && self.poincare_tol.is_finite()) {
             return Err(DynamicsError::BadOption {
                 name: "solver.steady_state.poincare_tol",
                 value: self.poincare_tol.to_string(),
-                expected: "a positive number",
+                expected: "a positive finite number",
             });
         }
         match self.method {

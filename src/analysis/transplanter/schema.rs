@@ -4,6 +4,7 @@
 use super::inventory::{Eccentricity, Inventory, Spread};
 use super::{ARM, BACKLASH, GEARS, N_COORDS, PIN_A, PIN_D, TransplanterError, clock_index};
 use crate::analysis::tolerance::ToleranceError;
+use crate::bounds::Span;
 use crate::config::{self, Format};
 use serde::{Deserialize, Serialize};
 use std::path::Path;
@@ -214,12 +215,12 @@ impl ErrorInventory {
             ),
         ] {
             let (n, s) = ck.length(&format!("backlash.{part}"), e)?;
-            if n < 0.0 {
-                return Err(ck.bad(
-                    &format!("backlash.{part}.nominal_um"),
-                    "a backlash ≥ 0 in µm",
-                ));
-            }
+            ck.num(
+                &format!("backlash.{part}.nominal_um"),
+                e.nominal_um,
+                Span::closed(0.0, LENGTH_ERROR_LIMIT_UM),
+                "a backlash ≥ 0 in µm",
+            )?;
             set(i, (n, s));
         }
         Ok(Inventory {
@@ -234,12 +235,12 @@ impl ErrorInventory {
 
     /// Checks the pressure angle (5…45°), the loaded flank (±1) and the samples per turn.
     fn check_settings(&self, ck: &Checker<'_>) -> Result<(), TransplanterError> {
-        if !(self.pressure_angle_deg.is_finite()
-            && self.pressure_angle_deg >= 5.0
-            && self.pressure_angle_deg <= 45.0)
-        {
-            return Err(ck.bad("pressure_angle_deg", "a pressure angle in [5, 45] degrees"));
-        }
+        ck.num(
+            "pressure_angle_deg",
+            self.pressure_angle_deg,
+            Span::closed(5.0, 45.0),
+            "a pressure angle in degrees",
+        )?;
         if !(self.load_side == 1 || self.load_side == -1) {
             return Err(ck.bad("load_side", "1 or -1 (the loaded flank)"));
         }
@@ -257,6 +258,15 @@ const UM_IN_MM: f64 = 1e-3;
 /// assembly is off by a fraction of a degree, and beyond a few degrees the arm is mis-built.
 const ASSEMBLY_ANGLE_LIMIT_DEG: f64 = 10.0;
 
+/// Largest length error (a pin hole's offset, an eccentricity, a backlash, and their spreads),
+/// µm: 2 mm is a module of the G1's gears; beyond, a mesh skips a tooth and the train is not
+/// the design the analysis linearises about.
+pub const LENGTH_ERROR_LIMIT_UM: f64 = 2000.0;
+
+/// Why [`LENGTH_ERROR_LIMIT_UM`].
+const LENGTH_ERROR_WHY: &str = "a length error in µm, at most 2000 (2 mm, a module of the \
+                                G1's gears: beyond, a mesh skips a tooth)";
+
 /// The checks of the values of one error file, each naming its key.
 struct Checker<'a> {
     /// The file, for the messages.
@@ -273,43 +283,52 @@ impl Checker<'_> {
         })
     }
 
-    /// The spread from an optional σ (normal) or half-width (uniform) in `unit`, times `scale`
-    /// into internal units; neither: fixed.
+    /// `v` when finite and within `span`, else the error naming `key`, the value and the span.
+    fn num(&self, key: &str, v: f64, span: Span, what: &str) -> Result<f64, TransplanterError> {
+        span.check(v, what).map_err(|m| self.bad(key, &m))
+    }
+
+    /// The spread from an optional σ (normal) or half-width (uniform) within `[0, limit]`, in
+    /// the unit of the keys' `suffix` (`um`, `deg`), times `scale` into internal units; neither:
+    /// fixed. `key` is the table's.
     fn spread(
         &self,
         key: &str,
         (sigma, half): (Option<f64>, Option<f64>),
-        unit: &str,
+        (suffix, limit): (&str, f64),
         scale: f64,
     ) -> Result<Spread, TransplanterError> {
+        let span = Span::closed(0.0, limit);
+        let what = format!("a spread ≥ 0 in {suffix}, at most {limit}");
         match (sigma, half) {
             (None, None) => Ok(Spread::Fixed),
-            (Some(s), None) if s.is_finite() && s >= 0.0 => Ok(Spread::Normal(s * scale)),
-            (None, Some(h)) if h.is_finite() && h >= 0.0 => Ok(Spread::Uniform(h * scale)),
+            (Some(s), None) => {
+                let s = self.num(&format!("{key}.sigma_{suffix}"), s, span, &what)?;
+                Ok(Spread::Normal(s * scale))
+            }
+            (None, Some(h)) => {
+                let h = self.num(&format!("{key}.half_width_{suffix}"), h, span, &what)?;
+                Ok(Spread::Uniform(h * scale))
+            }
             (Some(_), Some(_)) => Err(self.bad(
-                key,
+                &format!("{key}.sigma_{suffix}"),
                 "give either sigma or half_width (normal or uniform), not both",
             )),
-            _ => Err(self.bad(key, &format!("a finite value ≥ 0 in {unit}"))),
         }
     }
 
-    /// `v` when finite.
-    fn finite(&self, key: &str, v: f64, unit: &str) -> Result<f64, TransplanterError> {
-        if v.is_finite() {
-            Ok(v)
-        } else {
-            Err(self.bad(key, &format!("a finite value in {unit}")))
-        }
-    }
-
-    /// A length error: nominal (mm) and spread, from µm.
+    /// A length error: nominal (mm) and spread, from µm, each within ±[`LENGTH_ERROR_LIMIT_UM`].
     fn length(&self, key: &str, e: &LengthError) -> Result<(f64, Spread), TransplanterError> {
-        let n = self.finite(&format!("{key}.nominal_um"), e.nominal_um, "µm")?;
+        let n = self.num(
+            &format!("{key}.nominal_um"),
+            e.nominal_um,
+            Span::symmetric(LENGTH_ERROR_LIMIT_UM),
+            LENGTH_ERROR_WHY,
+        )?;
         let s = self.spread(
-            &format!("{key}.sigma_um"),
+            key,
             (e.sigma_um, e.half_width_um),
-            "µm",
+            ("um", LENGTH_ERROR_LIMIT_UM),
             UM_IN_MM,
         )?;
         Ok((n * UM_IN_MM, s))
@@ -318,30 +337,18 @@ impl Checker<'_> {
     /// An assembly angle error within ±[`ASSEMBLY_ANGLE_LIMIT_DEG`]: nominal (rad) and spread,
     /// from degrees.
     fn angle(&self, key: &str, e: &AngleError) -> Result<(f64, Spread), TransplanterError> {
-        let n = self.finite(&format!("{key}.nominal_deg"), e.nominal_deg, "degrees")?;
-        if n.abs() > ASSEMBLY_ANGLE_LIMIT_DEG {
-            return Err(self.bad(
-                &format!("{key}.nominal_deg"),
-                "an assembly angle error within ±10 degrees",
-            ));
-        }
+        let n = self.num(
+            &format!("{key}.nominal_deg"),
+            e.nominal_deg,
+            Span::symmetric(ASSEMBLY_ANGLE_LIMIT_DEG),
+            "an assembly angle error in degrees",
+        )?;
         // The spread within the same ±10° (a σ of 9e18° ran for minutes: every sample's angle
         // went through the trigonometry of a number with no digit left below a turn).
-        for (name, v) in [
-            ("sigma_deg", e.sigma_deg),
-            ("half_width_deg", e.half_width_deg),
-        ] {
-            if v.is_some_and(|v| v.abs() > ASSEMBLY_ANGLE_LIMIT_DEG) {
-                return Err(self.bad(
-                    &format!("{key}.{name}"),
-                    "an assembly angle spread within 10 degrees",
-                ));
-            }
-        }
         let s = self.spread(
-            &format!("{key}.sigma_deg"),
+            key,
             (e.sigma_deg, e.half_width_deg),
-            "degrees",
+            ("deg", ASSEMBLY_ANGLE_LIMIT_DEG),
             1f64.to_radians(),
         )?;
         Ok((n.to_radians(), s))
@@ -354,19 +361,22 @@ impl Checker<'_> {
         key: &str,
         e: &EccentricityError,
     ) -> Result<Eccentricity, TransplanterError> {
-        if !(e.magnitude_um.is_finite() && e.magnitude_um >= 0.0) {
-            return Err(self.bad(
-                &format!("{key}.magnitude_um"),
-                "a finite magnitude ≥ 0 in µm",
-            ));
-        }
-        self.finite(&format!("{key}.direction_deg"), e.direction_deg, "degrees")?;
+        let error = Span::closed(0.0, LENGTH_ERROR_LIMIT_UM);
+        self.num(
+            &format!("{key}.magnitude_um"),
+            e.magnitude_um,
+            error,
+            LENGTH_ERROR_WHY,
+        )?;
+        self.num(
+            &format!("{key}.direction_deg"),
+            e.direction_deg,
+            Span::symmetric(3600.0),
+            "a direction in degrees (ten turns either way at most)",
+        )?;
         let sigma = match e.sigma_um {
             None => 0.0,
-            Some(s) if s.is_finite() && s >= 0.0 => s * UM_IN_MM,
-            Some(_) => {
-                return Err(self.bad(&format!("{key}.sigma_um"), "a finite σ ≥ 0 in µm"));
-            }
+            Some(s) => self.num(&format!("{key}.sigma_um"), s, error, LENGTH_ERROR_WHY)? * UM_IN_MM,
         };
         if e.keyed_positions > 0 && !e.free_direction {
             return Err(self.bad(

@@ -3,9 +3,10 @@
 //! degrees) to SI.
 
 use super::{BacklashSpec, MeshSpec, ReliefKind, ReliefSpec, SceneError, SteSpec};
-use super::{finite, invalid, nonneg, pos};
+use super::{ERROR_UM, PHASE_DEG, invalid, pos, ranged};
 use crate::analysis::dynamics::model::{Backlash, Relief, Ste, StiffnessLaw};
 use crate::analysis::dynamics::tvms::{PairGeometry, RectangularTvms};
+use crate::bounds::Span;
 
 /// The stiffness law of `effects.mesh_stiffness`; `eps` is the contact ratio ε.
 pub(super) fn stiffness_law(
@@ -42,9 +43,22 @@ pub(super) fn stiffness_law(
 
 /// `effects.static_te`: `e(t) = e0 + er sin(ωe t + φ)`, µm and degrees → m and rad.
 pub(super) fn static_te(file: &str, s: &SteSpec) -> Result<Ste, SceneError> {
-    nonneg(file, "effects.static_te.er_um", s.er_um)?;
-    finite(file, "effects.static_te.e0_um", s.e0_um)?;
-    finite(file, "effects.static_te.phase_deg", s.phase_deg)?;
+    let um = "a transmission error in µm (10 mm at most)";
+    ranged(
+        file,
+        "effects.static_te.er_um",
+        s.er_um,
+        Span::closed(0.0, ERROR_UM.hi),
+        um,
+    )?;
+    ranged(file, "effects.static_te.e0_um", s.e0_um, ERROR_UM, um)?;
+    ranged(
+        file,
+        "effects.static_te.phase_deg",
+        s.phase_deg,
+        PHASE_DEG,
+        "a phase in degrees",
+    )?;
     Ok(Ste {
         e0: s.e0_um * 1e-6,
         er: s.er_um * 1e-6,
@@ -54,7 +68,13 @@ pub(super) fn static_te(file: &str, s: &SteSpec) -> Result<Ste, SceneError> {
 
 /// `effects.backlash`: half gap b, µm → m.
 pub(super) fn backlash(file: &str, b: &BacklashSpec) -> Result<Backlash, SceneError> {
-    pos(file, "effects.backlash.half_gap_um", b.half_gap_um)?;
+    ranged(
+        file,
+        "effects.backlash.half_gap_um",
+        b.half_gap_um,
+        Span::positive(ERROR_UM.hi),
+        "a positive half gap in µm (10 mm at most)",
+    )?;
     Ok(Backlash {
         b: b.half_gap_um * 1e-6,
         damping_in_gap: b.damping_in_gap,
@@ -72,7 +92,13 @@ pub(super) fn tip_relief(
     match r.kind {
         ReliefKind::Linear => {}
     }
-    nonneg(file, "effects.tip_relief.delta_max_um", r.delta_max_um)?;
+    ranged(
+        file,
+        "effects.tip_relief.delta_max_um",
+        r.delta_max_um,
+        Span::closed(0.0, ERROR_UM.hi),
+        "a relief depth in µm (10 mm at most)",
+    )?;
     let lmax = (geom.contact_ratio - 1.0) * geom.base_pitch_m * 1e3;
     if !(r.length_mm > 0.0 && r.length_mm <= lmax + 1e-12) {
         return Err(invalid(

@@ -18,6 +18,7 @@ pub use settings::*;
 
 use super::model::StiffnessLaw;
 use super::tvms::PairGeometry;
+use crate::bounds::{Span, number};
 use crate::config::{self, ConfigError, Format};
 use serde::Serialize;
 use std::f64::consts::PI;
@@ -130,7 +131,13 @@ impl Scene {
                 r.mean()
             }
         };
-        nonneg(file, "effects.mesh_stiffness.zeta", ms.zeta())?;
+        ranged(
+            file,
+            "effects.mesh_stiffness.zeta",
+            ms.zeta(),
+            Span::closed(0.0, 10.0),
+            "a damping ratio (1 is critical)",
+        )?;
         let c_m = 2.0 * ms.zeta() * (k_mean * m_e).sqrt();
         let (n1, t1) = self.operating_point(file)?;
         let omega_e = 2.0 * PI * n1 * self.gears.z1 as f64 / 60.0;
@@ -153,8 +160,20 @@ impl Scene {
     /// The pair geometry of `[gears]` (face width and density checked first).
     fn geometry(&self, file: &str) -> Result<PairGeometry, SceneError> {
         let g = &self.gears;
-        pos(file, "gears.face_width_mm", g.face_width_mm)?;
-        pos(file, "gears.density_kg_m3", g.density_kg_m3)?;
+        ranged(
+            file,
+            "gears.face_width_mm",
+            g.face_width_mm,
+            Span::positive(1000.0),
+            "a positive face width in mm",
+        )?;
+        ranged(
+            file,
+            "gears.density_kg_m3",
+            g.density_kg_m3,
+            Span::positive(30_000.0),
+            "a positive density in kg/m³ (osmium is 22 590)",
+        )?;
         PairGeometry::new(
             g.z1,
             g.z2,
@@ -208,15 +227,13 @@ impl Scene {
                  never finished)",
             ));
         }
-        let t1 = self.operating.input_torque_Nm;
-        if !t1.is_finite() {
-            return Err(invalid(
-                file,
-                "operating.input_torque_Nm",
-                t1.to_string(),
-                "a finite torque in N·m",
-            ));
-        }
+        let t1 = ranged(
+            file,
+            "operating.input_torque_Nm",
+            self.operating.input_torque_Nm,
+            Span::symmetric(1e7),
+            "a torque in N·m (1e7: a ship's main gear)",
+        )?;
         Ok((n1, t1))
     }
 
@@ -247,36 +264,46 @@ fn invalid(file: &str, key: &str, found: String, expected: &str) -> SceneError {
     }
 }
 
-/// `v` must be finite and > 0.
+/// The cap of a scene number without a range of its own (stiffnesses, damping, masses,
+/// inertias in SI; radii in mm): a steel mesh is about 1e9 N/m, and no quantity of a gear pair
+/// in its unit reaches 1e15, while the product of two such stays far from overflow.
+pub const MAX_MAGNITUDE: f64 = 1e15;
+
+/// An error, gap, relief, eccentricity or clearance, µm: 10 mm is a module of large gears;
+/// beyond, the pair is not in mesh.
+pub const ERROR_UM: Span = Span::symmetric(1e4);
+
+/// A phase, degrees: ten turns either way.
+pub const PHASE_DEG: Span = Span::symmetric(3600.0);
+
+/// `v` finite and within `span`, or [`SceneError::Invalid`] naming `key`, the value and the span.
+fn ranged(file: &str, key: &str, v: f64, span: Span, what: &str) -> Result<f64, SceneError> {
+    span.check(v, what)
+        .map_err(|m| invalid(file, key, number(v), &m))
+}
+
+/// `v` must be finite and in (0, [`MAX_MAGNITUDE`]].
 fn pos(file: &str, key: &str, v: f64) -> Result<(), SceneError> {
-    if v.is_finite() && v > 0.0 {
-        Ok(())
-    } else {
-        Err(invalid(
-            file,
-            key,
-            v.to_string(),
-            "a positive finite number",
-        ))
-    }
+    ranged(
+        file,
+        key,
+        v,
+        Span::positive(MAX_MAGNITUDE),
+        "a positive number of physical size",
+    )
+    .map(drop)
 }
 
-/// `v` must be finite and ≥ 0.
+/// `v` must be finite and in [0, [`MAX_MAGNITUDE`]].
 fn nonneg(file: &str, key: &str, v: f64) -> Result<(), SceneError> {
-    if v.is_finite() && v >= 0.0 {
-        Ok(())
-    } else {
-        Err(invalid(file, key, v.to_string(), "a finite number ≥ 0"))
-    }
-}
-
-/// `v` must be finite.
-fn finite(file: &str, key: &str, v: f64) -> Result<(), SceneError> {
-    if v.is_finite() {
-        Ok(())
-    } else {
-        Err(invalid(file, key, v.to_string(), "a finite number"))
-    }
+    ranged(
+        file,
+        key,
+        v,
+        Span::closed(0.0, MAX_MAGNITUDE),
+        "a number ≥ 0 of physical size",
+    )
+    .map(drop)
 }
 
 /// Each input is finite, but extreme ones can still overflow a derived quantity: refuses a

@@ -6,11 +6,12 @@ use super::layout::Layout;
 use super::{
     BearingSpec, EccKind, EccentricitySpec, FrictionSpec, GravitySpec, SceneError, ShaftSpec,
 };
-use super::{Derived, finite, invalid, nonneg, pos};
+use super::{Derived, ERROR_UM, MAX_MAGNITUDE, PHASE_DEG, invalid, nonneg, pos, ranged};
 use crate::analysis::dynamics::model::{
     ConstantForce, ForceTerm, FrictionDirection, FrictionTerm, HertzBearing, LinearSpring,
     MeshCore, UnbalanceTerm,
 };
+use crate::bounds::Span;
 use std::sync::Arc;
 
 /// A validated bearing law (SI units).
@@ -70,15 +71,12 @@ fn hertz_law(
     ro: f64,
 ) -> Result<BearingLaw, SceneError> {
     let req = |k: &str, v: f64, what: &str| -> Result<f64, SceneError> {
-        if !(v.is_finite() && v >= 0.0) {
-            return Err(invalid(
-                file,
-                &format!("effects.bearings.{k}"),
-                v.to_string(),
-                what,
-            ));
-        }
-        Ok(v)
+        let span = if k == "clearance_um" {
+            Span::closed(0.0, ERROR_UM.hi)
+        } else {
+            Span::closed(0.0, MAX_MAGNITUDE)
+        };
+        ranged(file, &format!("effects.bearings.{k}"), v, span, what)
     };
     let kc = req("Kc", kc, "a positive contact constant in N/m^p")?;
     pos(file, "effects.bearings.Kc", kc)?;
@@ -200,13 +198,15 @@ pub(super) fn friction(
     }
     let direction = match *f {
         FrictionSpec::PitchSwitch { .. } => FrictionDirection::PitchSwitch,
-        FrictionSpec::Tanh { v0, .. } if v0 > 0.0 => FrictionDirection::Tanh(v0),
+        FrictionSpec::Tanh { v0, .. } if Span::positive(100.0).contains(v0) => {
+            FrictionDirection::Tanh(v0)
+        }
         FrictionSpec::Tanh { v0, .. } => {
             return Err(invalid(
                 file,
                 "effects.friction.v0",
                 v0.to_string(),
-                "a positive velocity scale in m/s (required by direction = \"tanh\")",
+                "a positive velocity scale in m/s, at most 100 (required by direction = \"tanh\")",
             ));
         }
     };
@@ -380,10 +380,19 @@ pub(super) fn eccentricity(
         match s.kind {
             EccKind::Unbalance => {}
         }
-        nonneg(
+        ranged(
             file,
             &format!("effects.eccentricity.{which}.rho_um"),
             s.rho_um,
+            Span::closed(0.0, ERROR_UM.hi),
+            "an eccentricity in µm (10 mm at most)",
+        )?;
+        ranged(
+            file,
+            &format!("effects.eccentricity.{which}.phase_deg"),
+            s.phase_deg,
+            PHASE_DEG,
+            "a phase in degrees",
         )?;
         let (Some(ix), Some(iy)) = (lay.idx(&format!("x{g}")), lay.idx(&format!("y{g}"))) else {
             continue;
@@ -406,8 +415,15 @@ pub(super) fn gravity(
     lay: &Layout,
     mass: &[f64],
 ) -> Result<Box<dyn ForceTerm>, SceneError> {
-    finite(file, "effects.gravity.g[0]", gr.g[0])?;
-    finite(file, "effects.gravity.g[1]", gr.g[1])?;
+    for (k, g) in gr.g.iter().enumerate() {
+        ranged(
+            file,
+            &format!("effects.gravity.g[{k}]"),
+            *g,
+            Span::symmetric(100.0),
+            "an acceleration in m/s² (10 g at most)",
+        )?;
+    }
     let forces: Vec<(usize, f64)> = lay
         .names()
         .enumerate()

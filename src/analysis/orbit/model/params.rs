@@ -4,8 +4,16 @@
 use super::{GearSpeeds, Planet, PlanetSet, rpm_to_rad_s};
 use crate::analysis::orbit::model::Hand;
 use crate::analysis::orbit::{OrbitError, invalid};
+use crate::bounds::Span;
 use crate::config::{self, ConfigError, Format, Source};
 use serde::Deserialize;
+
+/// An angle (positions, phases, θ_p0), degrees: ten turns either way.
+pub const ANGLE_DEG: Span = Span::symmetric(3600.0);
+/// A speed, r/min: 1e6 either way, beyond any gear drive.
+pub const SPEED_RPM: Span = Span::symmetric(1e6);
+/// Most planets of a model.
+pub const MAX_PLANETS: usize = 64;
 
 /// A [`ConfigError`] as [`OrbitError::File`] (`{file}: {message}`, the message as before the
 /// shared loader).
@@ -82,9 +90,8 @@ impl ModelParams {
     /// # Errors
     /// [`OrbitError::File`] naming the file, with the system's or the parser's line/key message.
     pub fn from_path(path: &std::path::Path) -> Result<Self, OrbitError> {
-        Source::from_path(path)
-            .and_then(|src| src.parse())
-            .map_err(file_error)
+        let src = Source::from_path(path).map_err(file_error)?;
+        Self::parse(&src.text, &src.file, src.format)
     }
 
     /// Parses parameter text in `format`; `file` names the source in messages.
@@ -92,7 +99,78 @@ impl ModelParams {
     /// # Errors
     /// [`OrbitError::File`] with the parser's line/key message.
     pub fn parse(text: &str, file: &str, format: Format) -> Result<Self, OrbitError> {
-        config::parse(text, file, format).map_err(file_error)
+        let p: Self = config::parse(text, file, format).map_err(file_error)?;
+        p.check_ranges(file)?;
+        Ok(p)
+    }
+
+    /// Every number of the file finite and within its range (docs/bounds.md, "Ranges inside
+    /// input files"), before any work.
+    ///
+    /// # Errors
+    /// [`OrbitError::File`] naming the file, the key, the value and the range.
+    pub fn check_ranges(&self, file: &str) -> Result<(), OrbitError> {
+        let ck = |key: &str, v: f64, span: Span, what: &str| {
+            span.check(v, what).map(drop).map_err(|m| OrbitError::File {
+                file: file.into(),
+                message: format!("`{key}`: {m}"),
+            })
+        };
+        let angle = "an angle in degrees (ten turns either way at most)";
+        let speed = "a speed in r/min (1e6 at most either way)";
+        ck(
+            "pressure_angle_deg",
+            self.pressure_angle_deg,
+            Span::closed(5.0, 45.0),
+            "a pressure angle in degrees",
+        )?;
+        ck("theta_p0_deg", self.theta_p0_deg, ANGLE_DEG, angle)?;
+        if let Some(v) = self.planet_speed_rpm {
+            ck("planet_speed_rpm", v, SPEED_RPM, speed)?;
+        }
+        if let Some(g) = &self.gears {
+            for (key, z) in [
+                ("gears.sun_teeth", g.sun_teeth),
+                ("gears.planet_teeth", g.planet_teeth),
+                ("gears.ring_teeth", g.ring_teeth),
+            ] {
+                crate::bounds::check_teeth(key, z).map_err(|e| OrbitError::File {
+                    file: file.into(),
+                    message: format!("`{key}`: {e}"),
+                })?;
+            }
+            ck("gears.sun_speed_rpm", g.sun_speed_rpm, SPEED_RPM, speed)?;
+        }
+        if self.planet.len() > MAX_PLANETS {
+            return Err(OrbitError::File {
+                file: file.into(),
+                message: format!(
+                    "`planet`: {} planets; at most {MAX_PLANETS}",
+                    self.planet.len()
+                ),
+            });
+        }
+        for (k, p) in self.planet.iter().enumerate() {
+            ck(
+                &format!("planet[{k}].position_deg"),
+                p.position_deg,
+                ANGLE_DEG,
+                angle,
+            )?;
+            ck(
+                &format!("planet[{k}].eccentricity_um"),
+                p.eccentricity_um,
+                Span::closed(0.0, super::MAX_ECCENTRICITY_UM),
+                "an eccentricity in µm (1 m at most)",
+            )?;
+            ck(
+                &format!("planet[{k}].phase_deg"),
+                p.phase_deg,
+                ANGLE_DEG,
+                angle,
+            )?;
+        }
+        Ok(())
     }
 
     /// Gear speeds when `[gears]` is given.
