@@ -366,6 +366,7 @@ def main():
     ap.add_argument("--disconnect-every", type=float, default=0.5, help="seconds between abandoned requests")
     ap.add_argument("--think-ms", type=float, default=1e3 * DEBOUNCE_S, help="pause before each drag request")
     ap.add_argument("--warmup", type=float, default=60.0, help="seconds of the load phase before memory must be flat")
+    ap.add_argument("--workers", type=int, help="the server's --workers (default: its own, the cores)")
     ap.add_argument("--seed", type=int, default=1)
     ap.add_argument("--out", help="JSON report path")
     ap.add_argument("--check", action="store_true", help="fail on the bounds below")
@@ -379,7 +380,8 @@ def main():
                     help="seconds for the whole run: past it the server is killed and the run fails")
     args = ap.parse_args()
 
-    proc = subprocess.Popen([args.bin, "serve", "--port", "0"], stdout=subprocess.PIPE,
+    workers = ["--workers", str(args.workers)] if args.workers else []
+    proc = subprocess.Popen([args.bin, "serve", "--port", "0", *workers], stdout=subprocess.PIPE,
                             stderr=subprocess.PIPE, text=True)
     if args.timeout:
         def overdue():
