@@ -11,6 +11,11 @@ pub struct Args {
     /// address exposes the designer to the network on purpose.
     #[arg(long, default_value = "127.0.0.1")]
     pub host: String,
+    /// Requests computed at once (default: the number of cores); the others wait their turn in
+    /// arrival order. A design already runs on every core for part of its time: fewer leave
+    /// cores to other work on a shared machine.
+    #[arg(long, value_parser = clap::value_parser!(u16).range(1..=256))]
+    pub workers: Option<u16>,
     /// Open the page in the default browser once the server listens.
     #[arg(long)]
     pub open: bool,
@@ -22,6 +27,7 @@ pub fn run(args: Args) -> CliResult {
     let opts = crate::serve::ServeOptions {
         host: args.host.clone(),
         port: args.port,
+        workers: args.workers.map(usize::from),
     };
     crate::serve::run(&opts, |url| {
         println!("ncgear designer: {url} (Ctrl-C stops it)");

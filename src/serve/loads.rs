@@ -153,13 +153,13 @@ mod tests {
 
     /// `(status, answer)` of a request.
     fn post(path: &str, body: &Value) -> (u16, Value) {
-        let r = route("POST", path, &body.to_string());
+        let r = route("POST", path, &body.to_string(), &|| false);
         (r.status, serde_json::from_slice(&r.body).unwrap())
     }
 
     /// The page's default scene, as `GET /api/loads/scene` answers it.
     fn default_scene() -> Value {
-        let r = route("GET", "/api/loads/scene", "");
+        let r = route("GET", "/api/loads/scene", "", &|| false);
         assert_eq!(r.status, 200);
         let v: Value = serde_json::from_slice(&r.body).unwrap();
         assert_eq!(v["scene"]["operation"]["carrier_rpm"], json!(300.0));
@@ -207,7 +207,7 @@ mod tests {
     /// the page's design is; the carrier torque is the library's on the design made in memory.
     #[test]
     fn points_with_a_module_give_the_librarys_loads_of_their_design() {
-        let r = route("GET", "/api/examples/g1_ellipse", "");
+        let r = route("GET", "/api/examples/g1_ellipse", "", &|| false);
         let points = serde_json::from_slice::<Value>(&r.body).unwrap()["points"].clone();
         let scene = default_scene();
         let (status, v) = post(

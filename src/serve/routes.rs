@@ -9,8 +9,9 @@ use ncgear::design::{Design, design, warm::redesign};
 use serde_json::Value;
 use std::sync::atomic::{AtomicUsize, Ordering};
 
-/// Answers one request.
-pub fn route(method: &str, url: &str, body: &str) -> Reply {
+/// Answers one request; `gone` tells whether its client has closed the connection (a design is
+/// then not drawn nor written: nobody would read it).
+pub fn route(method: &str, url: &str, body: &str, gone: &dyn Fn() -> bool) -> Reply {
     let path = url.split('?').next().unwrap_or("");
     let result = match (method, path) {
         ("GET", "/" | "/index.html") => Ok(page::asset("index.html")),
@@ -20,7 +21,7 @@ pub fn route(method: &str, url: &str, body: &str) -> Reply {
             page::example(&p["/api/examples/".len()..])
         }
         ("POST", "/api/parse") => parse(body),
-        ("POST", "/api/design") => design_endpoint(body),
+        ("POST", "/api/design") => design_endpoint(body, gone),
         ("GET", "/api/loads/scene") => page::loads_scene(),
         ("POST", "/api/loads") => loads_endpoint(body),
         ("POST", "/api/export") => export(body),
@@ -69,12 +70,16 @@ fn designed(req: &DesignRequest) -> Result<(Design, Option<ToothedTrain>), ApiEr
     Ok((d, Some(train)))
 }
 
-/// `POST /api/design`: the `design.json` object (with `view` when asked).
-fn design_endpoint(body: &str) -> Result<Reply, ApiError> {
+/// `POST /api/design`: the `design.json` object (with `view` when asked); nothing more once the
+/// client is gone.
+fn design_endpoint(body: &str, gone: &dyn Fn() -> bool) -> Result<Reply, ApiError> {
     let started = std::time::Instant::now();
     let req = DesignRequest::parse(body)?;
     let spacing = req.spacing()?;
     let (d, train) = designed(&req)?;
+    if gone() {
+        return Err(super::gone_error());
+    }
     let mut value = serde_json::to_value(&d.report).map_err(internal)?;
     if req.view {
         let v = view::view(&d, train.as_ref(), spacing);
