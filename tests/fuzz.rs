@@ -2218,3 +2218,39 @@ fn design_sharp_rack_half_module_on_the_sparse_target() {
     assert!(matches!(o.code, Some(0 | 3)), "{}", short(&o.stderr, 300));
     assert!(o.peak_rss_mb < 2048, "{} MiB", o.peak_rss_mb);
 }
+
+/// Campaign seed 1659486911, run #359: `atol = nan` in a scene's `[solver]` reached the
+/// integrator, which refused it as a runtime failure (exit 1); it is the scene's input, refused
+/// with its key before any work (exit 2).
+#[test]
+fn dynamics_nan_tolerance_is_bad_input() {
+    for (key, value) in [("atol", "nan"), ("rtol", "-1.0"), ("atol", "inf")] {
+        let (o, _) = reproduce(
+            &format!("dynamics_{key}_{value}"),
+            &["dynamics", "scene.toml", "--out", "out"],
+            |dir| {
+                let text = std::fs::read_to_string(asset_path("dynamics/sdof_6000.toml")).unwrap();
+                let line = |l: &str| {
+                    if l.starts_with(&format!("{key} = ")) {
+                        format!("{key} = {value}")
+                    } else {
+                        l.to_string()
+                    }
+                };
+                let text: Vec<String> = text.lines().map(line).collect();
+                assert!(
+                    text.contains(&format!("{key} = {value}")),
+                    "no {key} in the scene"
+                );
+                let text = text.join("\n");
+                std::fs::write(dir.join("scene.toml"), text).unwrap();
+            },
+        );
+        assert_eq!(o.code, Some(2), "{}", short(&o.stderr, 300));
+        assert!(
+            o.stderr.contains(&format!("solver.{key}")),
+            "{}",
+            short(&o.stderr, 300)
+        );
+    }
+}

@@ -185,6 +185,17 @@ impl RunOptions {
         }
         match self.method {
             Method::Dopri5 { rtol, atol, .. } => {
+                // A bad tolerance is the scene's input (exit 2), named by its key, not an
+                // integrator failure.
+                for (name, v) in [("solver.rtol", rtol), ("solver.atol", atol)] {
+                    if !(v > 0.0 && v.is_finite()) {
+                        return Err(DynamicsError::BadOption {
+                            name,
+                            value: v.to_string(),
+                            expected: "a positive finite number",
+                        });
+                    }
+                }
                 Dopri5::new(rtol, atol)?;
             }
             Method::Rk4 { steps_per_mesh, .. } if !(4..=1_000_000).contains(&steps_per_mesh) => {
