@@ -10,53 +10,15 @@
 //! design (the kidney: 1.4 s beside its own 1.35 s), nothing for a passing one.
 
 use super::options::{DesignOptions, IdlerOffset};
+pub use super::report::Alternative;
 use super::report::DesignReport;
 use super::trajectory::Trajectory;
-use serde::{Deserialize, Serialize};
 
 /// Most alternatives designed for one failed design.
 pub const MAX_ALTERNATIVES: usize = 1;
 
 /// The standard modules below which a smaller one is looked for, mm (ISO 54, series I and 1.25).
 const MODULES_MM: [f64; 12] = [0.5, 0.6, 0.8, 1.0, 1.25, 1.5, 2.0, 2.5, 3.0, 4.0, 5.0, 6.0];
-
-/// One alternative designed.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[non_exhaustive]
-pub struct Alternative {
-    /// What changes, in words: `off the carrier line, the same limits`.
-    pub label: String,
-    /// The flags that ask `ncgear design` for it: `--idler-offset free`.
-    pub flags: String,
-    /// Its largest distance from the target, mm (check C12's measure).
-    pub max_deviation_mm: f64,
-    /// Its largest effective pressure angle, deg.
-    pub pressure_angle_deg: f64,
-    /// Its idler offset, deg (0: on the carrier line).
-    pub idler_offset_deg: f64,
-    /// Whether it passes every check.
-    pub passed: bool,
-    /// What still fails, one line each (its verdict's failures; empty when `passed`).
-    #[serde(default, skip_serializing_if = "Vec::is_empty")]
-    pub failures: Vec<String>,
-}
-
-impl Alternative {
-    /// One line: `off the carrier line, the same limits (--idler-offset free): traced within
-    /// 0.0809 mm, every check passing` (or the first thing that still fails).
-    #[must_use]
-    pub fn line(&self) -> String {
-        let outcome = match self.failures.first() {
-            _ if self.passed => "every check passing".to_string(),
-            Some(f) => format!("still failing {f}"),
-            None => "still failing".to_string(),
-        };
-        format!(
-            "{} ({}): traced within {:.4} mm, {outcome}",
-            self.label, self.flags, self.max_deviation_mm,
-        )
-    }
-}
 
 /// The candidates that apply to a design made with `opts` whose report is `report`:
 /// `(label, flags, options)`.

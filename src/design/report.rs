@@ -93,7 +93,7 @@ pub struct DesignReport {
     /// looser pressure-angle limit, a smaller module; [`crate::design::alternatives`]), when
     /// [`crate::design::DesignOptions::alternatives`] asks for them; empty otherwise.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
-    pub alternatives: Vec<crate::design::alternatives::Alternative>,
+    pub alternatives: Vec<Alternative>,
     /// The module sized by strength (`ncgear design --module auto --loads`): the modules
     /// tried and the one kept; absent otherwise.
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -462,4 +462,42 @@ pub struct Design {
 /// A number, or `null` for +∞ (how JSON writes an infinite check value).
 fn null_as_infinity<'de, D: serde::Deserializer<'de>>(d: D) -> Result<f64, D::Error> {
     Ok(Option::<f64>::deserialize(d)?.unwrap_or(f64::INFINITY))
+}
+
+/// A failed design's alternative, designed ([`crate::design::alternatives`]).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[non_exhaustive]
+pub struct Alternative {
+    /// What changes, in words: `off the carrier line, the same limits`.
+    pub label: String,
+    /// The flags that ask `ncgear design` for it: `--idler-offset free`.
+    pub flags: String,
+    /// Its largest distance from the target, mm (check C12's measure).
+    pub max_deviation_mm: f64,
+    /// Its largest effective pressure angle, deg.
+    pub pressure_angle_deg: f64,
+    /// Its idler offset, deg (0: on the carrier line).
+    pub idler_offset_deg: f64,
+    /// Whether it passes every check.
+    pub passed: bool,
+    /// What still fails, one line each (its verdict's failures; empty when `passed`).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub failures: Vec<String>,
+}
+
+impl Alternative {
+    /// One line: `off the carrier line, the same limits (--idler-offset free): traced within
+    /// 0.0809 mm, every check passing` (or the first thing that still fails).
+    #[must_use]
+    pub fn line(&self) -> String {
+        let outcome = match self.failures.first() {
+            _ if self.passed => "every check passing".to_string(),
+            Some(f) => format!("still failing {f}"),
+            None => "still failing".to_string(),
+        };
+        format!(
+            "{} ({}): traced within {:.4} mm, {outcome}",
+            self.label, self.flags, self.max_deviation_mm,
+        )
+    }
 }
