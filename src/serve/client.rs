@@ -5,11 +5,9 @@
 //!
 //! tiny_http does not hand out a request's socket, so on Linux the socket is found among the
 //! process's descriptors (`/proc/self/fd`) by its peer address (unique among live TCP
-//! connections) and peeked without blocking and without consuming anything: end of stream, or a
-//! reset, means the client has closed it (Go's `net/http` cancels a request's context on the same
-//! event). While a request is being answered its connection is read by nobody else (tiny_http
-//! reads the next request only after the answer), so the peek sees exactly what the client did
-//! since. Elsewhere the client always counts as present: the request is computed, as before.
+//! connections), and its TCP state read: CLOSE_WAIT (the client's end of stream) or CLOSE (a
+//! reset) means the client has closed it (Go's `net/http` cancels a request's context on the
+//! same event). Elsewhere the client always counts as present: the request is computed, as before.
 
 use std::net::SocketAddr;
 
@@ -43,33 +41,30 @@ pub fn gone(peer: SocketAddr) -> bool {
     found
 }
 
-/// Whether the peer of socket `fd` has closed it: end of stream or a reset, seen by peeking one
-/// byte without blocking and without consuming it (what the client sent after its request, if
-/// anything, stays for tiny_http).
+/// Whether the peer of socket `fd` has closed it: the connection's TCP state (`TCP_INFO`) is
+/// CLOSE_WAIT (the client sent its end of stream) or CLOSE (a reset). The state, not a peek at
+/// the stream: tiny_http shuts the reading side of a `Connection: close` request's socket once
+/// it has read it, and a peek there sees an end of stream the client never sent.
 #[cfg(target_os = "linux")]
 fn closed(fd: libc::c_int) -> bool {
-    let mut byte = 0u8;
-    // SAFETY: `byte` is a writable buffer of one byte. MSG_PEEK leaves the byte in the socket,
-    // MSG_DONTWAIT never blocks; on a descriptor closed meanwhile the call fails (EBADF).
-    let n = unsafe {
-        libc::recv(
+    /// `TCP_CLOSE` and `TCP_CLOSE_WAIT` of linux/tcp_states.h.
+    const CLOSE: u8 = 7;
+    const CLOSE_WAIT: u8 = 8;
+    // SAFETY: all-zero bytes are a valid `tcp_info` (plain integers).
+    let mut info: libc::tcp_info = unsafe { std::mem::zeroed() };
+    let mut len = std::mem::size_of::<libc::tcp_info>() as libc::socklen_t;
+    // SAFETY: `info` is writable for `len` bytes; a descriptor closed meanwhile only makes the
+    // call fail.
+    let r = unsafe {
+        libc::getsockopt(
             fd,
-            (&raw mut byte).cast(),
-            1,
-            libc::MSG_PEEK | libc::MSG_DONTWAIT,
+            libc::IPPROTO_TCP,
+            libc::TCP_INFO,
+            (&raw mut info).cast(),
+            &mut len,
         )
     };
-    match n {
-        0 => true,
-        n if n > 0 => false,
-        _ => matches!(
-            std::io::Error::last_os_error().kind(),
-            std::io::ErrorKind::ConnectionReset
-                | std::io::ErrorKind::ConnectionAborted
-                | std::io::ErrorKind::BrokenPipe
-                | std::io::ErrorKind::NotConnected
-        ),
-    }
+    r == 0 && matches!(info.tcpi_state, CLOSE | CLOSE_WAIT)
 }
 
 /// Elsewhere the client cannot be told gone: every request is computed.
