@@ -134,22 +134,34 @@ mod tests {
     use std::io::{Read, Write};
     use std::net::{TcpListener, TcpStream};
 
-    #[test]
-    fn a_closed_client_is_gone_a_waiting_one_is_not() {
+    /// A loopback connection whose server side has read the client's request: `(client,
+    /// server, the client's address)`.
+    fn connected() -> (TcpStream, TcpStream, std::net::SocketAddr) {
         let listener = TcpListener::bind("127.0.0.1:0").unwrap();
         let mut client = TcpStream::connect(listener.local_addr().unwrap()).unwrap();
         let (mut server, peer) = listener.accept().unwrap();
         client.write_all(b"request").unwrap();
         let mut buf = [0u8; 7];
         server.read_exact(&mut buf).unwrap();
+        (client, server, peer)
+    }
+
+    /// Whether `peer` is seen gone within half a second (the close reaches the server's socket
+    /// at once on loopback; a moment is allowed).
+    fn soon_gone(peer: std::net::SocketAddr) -> bool {
+        (0..100).any(|_| {
+            std::thread::sleep(std::time::Duration::from_millis(5));
+            gone(peer)
+        })
+    }
+
+    #[test]
+    fn a_closed_client_is_gone_a_waiting_one_is_not() {
+        let (client, server, peer) = connected();
         // Read to the end of what was sent, the client waiting for its answer.
         assert!(!gone(peer));
         drop(client);
-        // The end of stream reaches the server's socket at once on loopback; allow a moment.
-        let closed = (0..100).any(|_| {
-            std::thread::sleep(std::time::Duration::from_millis(5));
-            gone(peer)
-        });
+        let closed = soon_gone(peer);
         assert!(closed, "the closed client is still seen as connected");
         drop(server);
         // No socket of this peer any more: nothing to tell.
@@ -159,12 +171,7 @@ mod tests {
     #[test]
     fn a_reset_client_is_gone() {
         use std::os::fd::AsRawFd;
-        let listener = TcpListener::bind("127.0.0.1:0").unwrap();
-        let mut client = TcpStream::connect(listener.local_addr().unwrap()).unwrap();
-        let (mut server, peer) = listener.accept().unwrap();
-        client.write_all(b"request").unwrap();
-        let mut buf = [0u8; 7];
-        server.read_exact(&mut buf).unwrap();
+        let (client, _server, peer) = connected();
         assert!(!gone(peer));
         // A linger of zero: the close sends a reset instead of the end of stream (an aborted
         // connection, as a browser's cancelled fetch may).
@@ -184,10 +191,7 @@ mod tests {
         };
         assert_eq!(r, 0);
         drop(client);
-        let reset = (0..100).any(|_| {
-            std::thread::sleep(std::time::Duration::from_millis(5));
-            gone(peer)
-        });
+        let reset = soon_gone(peer);
         assert!(reset, "the reset client is still seen as connected");
     }
 }
