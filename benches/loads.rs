@@ -57,6 +57,7 @@ fn sizing(b: divan::Bencher, target: &str) {
             &DesignOptions::default(),
             &case,
             &SizingOptions::default(),
+            &ncgear::loads::rating_teeth,
             "rotor.toml",
         )
         .expect("sized")

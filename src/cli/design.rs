@@ -32,36 +32,40 @@ pub fn run(args: Args) -> CliResult {
         Trajectory::from_path(&args.trajectory).map_err(|e| input_error(miette::miette!("{e}")))?;
     let opts = args.options();
     let file = args.trajectory.display().to_string();
-    let (mut d, module) = match (&scene, args.module) {
+    // `--module auto` cuts and rates the teeth of each module it tries: the kept module's come
+    // back cut, their mesh check still to run, and rated.
+    let (mut d, module, sized) = match (&scene, args.module) {
         (Some((case, scene_file)), Some(ModuleArg::Auto)) => {
-            super::loads::sized_design(&traj, &opts, case, scene_file, &file)?
+            let teeth = |m: f64| toothing_at(&args, m);
+            let k = super::loads::sized_design(&traj, &opts, case, &teeth, (scene_file, &file))?;
+            let m = k.train.report.module_mm;
+            (k.design, Some(m), Some((k.train, k.pending_mesh, k.loads)))
         }
         _ => {
             let pb = super::spinner("designing the gears");
             let d = design(&traj, &opts).map_err(|e| design_failure(&file, &e));
             pb.finish_and_clear();
-            (d?, args.module.and_then(ModuleArg::mm))
+            (d?, args.module.and_then(ModuleArg::mm), None)
         }
     };
     // The report is written last; an earlier run's goes before any file (ncgear::files).
     super::remove_stale_report(&args.out.join("design.json"))?;
     let mut files = ncgear::output::DesignFiles::default();
     files.png = args.png;
-    let (train, teeth_files) = match (module, &teeth_opts) {
-        (Some(m), Some(checked)) => {
-            // `auto` checked the flags at a placeholder module; the module's own defaults now.
-            let teeth_opts = if args.module == Some(ModuleArg::Auto) {
-                teeth_options(&args, m)?
-            } else {
-                checked.clone()
-            };
-            let (t, written) = teeth_and_cad_files(&args, &mut d, m, &teeth_opts, files)?;
-            (Some(t), written)
+    let (train, teeth_files, sized_loads) = match (module, &teeth_opts, sized) {
+        (_, _, Some((t, pending, loads))) => {
+            let (t, written) = checked_and_exported(&args, &mut d, t, pending, files)?;
+            (Some(t), written, Some(loads))
         }
-        _ => (None, Vec::new()),
+        (Some(m), Some(checked), None) => {
+            let (t, written) = teeth_and_cad_files(&args, &mut d, m, checked, files)?;
+            (Some(t), written, None)
+        }
+        _ => (None, Vec::new(), None),
     };
-    let loads = match (&scene, &train) {
-        (Some((case, scene_file)), Some(t)) => Some(
+    let loads = match (&scene, &train, sized_loads) {
+        (_, _, Some(l)) => Some(l),
+        (Some((case, scene_file)), Some(t), None) => Some(
             ncgear::loads::analyse(&ncgear::loads::Rotor::toothed(t), case, scene_file)
                 .map_err(super::loads::loads_failure)?,
         ),
@@ -117,7 +121,7 @@ fn teeth_and_cad_files(
     let pb = super::spinner("cutting the teeth");
     let cut = toothed(args, d, m, teeth_opts);
     pb.finish_and_clear();
-    let (mut t, pending) = match cut {
+    let (t, pending) = match cut {
         Ok(t) => t,
         Err(e) => {
             write_design(d)?;
@@ -125,6 +129,23 @@ fn teeth_and_cad_files(
         }
     };
     d.report.timings_ms.teeth = super::ms_since(t0);
+    checked_and_exported(args, d, t, pending, files)
+}
+
+/// The mesh check of teeth cut (`pending`; none when `--verify-steps 0`) beside the CAD exports
+/// (they do not read it); the design files are written when the check fails. Returns the train
+/// (recorded in `d`'s report) and the CAD files written.
+fn checked_and_exported(
+    args: &Args,
+    d: &mut ncgear::design::Design,
+    mut t: ToothedTrain,
+    pending: Option<PendingTrainMesh>,
+    files: ncgear::output::DesignFiles,
+) -> Result<(ToothedTrain, Vec<PathBuf>), super::Failure> {
+    let write_design = |d: &ncgear::design::Design| {
+        ncgear::output::write_design_with(d, &args.out, files)
+            .map_err(|e| runtime_error(miette::miette!("{e}")))
+    };
     // The mesh check runs beside the CAD exports (they do not read it).
     let pb = progress_bar(2 * args.verify_steps as u64, "mesh check");
     let ((mesh, t_mesh), (exports, t_files)) = rayon::join(
@@ -371,20 +392,25 @@ pub(super) fn design_failure(file: &str, e: &DesignError) -> super::Failure {
 
 /// The tooth options of `--module` (rack, backlash, exports, policy), checked before any work.
 fn teeth_options(args: &Args, module_mm: f64) -> Result<TrainTeethOptions, super::Failure> {
-    let mut opts = TrainTeethOptions::new(module_mm);
-    opts.toothing.verify_steps = args.verify_steps;
-    opts.wire_edm = args.wire_edm;
-    args.rack
-        .apply_to(&mut opts.toothing)
-        .map_err(super::teeth_args::option_failure)?;
-    opts.toothing
-        .validate()
-        .map_err(super::teeth_args::option_failure)?;
     if let Some(z) = args.teeth {
         ncgear::bounds::check_teeth("teeth", z)
             .map_err(|e| super::option_error(Some("teeth"), e))?;
     }
     args.rack.check_exports()?;
+    toothing_at(args, module_mm).map_err(super::teeth_args::option_failure)
+}
+
+/// The tooth options the flags give at module `module_mm` (what `--module auto` cuts each
+/// module it tries with).
+fn toothing_at(
+    args: &Args,
+    module_mm: f64,
+) -> Result<TrainTeethOptions, ncgear::teeth::TeethError> {
+    let mut opts = TrainTeethOptions::new(module_mm);
+    opts.toothing.verify_steps = args.verify_steps;
+    opts.wire_edm = args.wire_edm;
+    args.rack.apply_to(&mut opts.toothing)?;
+    opts.toothing.validate()?;
     opts.policy = match (args.teeth, args.tooth_policy) {
         (Some(z), _) => TrainPolicy::ScaleCenterDistance(ToothPolicy::Exact(z)),
         (None, ToothPolicyArg::ScaleUp) => TrainPolicy::ScaleCenterDistance(ToothPolicy::ScaleUp),

@@ -185,35 +185,40 @@ pub fn sizing_scene(
     Ok((case, file))
 }
 
-/// `--module auto`: the target designed and rated at each standard module in turn; the design
-/// of the smallest module that carries the loads (or the best one, its verdict failing), with
-/// the sizing table in its report.
+/// `--module auto`: the target designed and rated at each standard module in turn, its teeth
+/// cut with `teeth` at each module (the command's tooth options); the design of the smallest
+/// module that carries the loads (or the best one, its verdict failing), with the sizing table in
+/// its report, and its teeth and loads as rated.
 pub fn sized_design(
     traj: &Trajectory,
     opts: &ncgear::design::DesignOptions,
     case: &ncgear::loads::LoadCase,
-    scene_file: &str,
-    file: &str,
-) -> Result<(ncgear::design::Design, Option<f64>), super::Failure> {
+    teeth: &dyn Fn(
+        f64,
+    )
+        -> Result<ncgear::design::train::TrainTeethOptions, ncgear::teeth::TeethError>,
+    (scene_file, file): (&str, &str),
+) -> Result<ncgear::loads::Kept, super::Failure> {
     let pb = super::spinner("sizing the module");
     let sized = ncgear::loads::size_module(
         traj,
         opts,
         case,
         &ncgear::loads::SizingOptions::default(),
+        teeth,
         scene_file,
     );
     pb.finish_and_clear();
     let sized = sized.map_err(loads_failure)?;
-    let Some((mut d, train, _)) = sized.kept else {
+    let Some(mut kept) = sized.kept else {
         return Err(runtime_error(miette::miette!(
             "{file}: no standard module could be designed and rated:\n{}",
             sized.sizing.markdown()
         )));
     };
-    d.report.sizing = Some(sized.sizing);
-    d.report.update_verdict();
-    Ok((d, Some(train.report.module_mm)))
+    kept.design.report.sizing = Some(sized.sizing);
+    kept.design.report.update_verdict();
+    Ok(kept)
 }
 
 /// The console lines of the sizing table and the loads of the design kept.

@@ -50,6 +50,7 @@ pub fn run(args: Args) -> CliResult {
             &opts,
             case,
             &ncgear::loads::SizingOptions::default(),
+            &ncgear::loads::rating_teeth,
             scene_file,
         );
         pb.finish_and_clear();

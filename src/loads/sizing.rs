@@ -8,9 +8,12 @@ use super::analysis::analyse;
 use super::scene::{FaceWidth, LoadCase};
 use super::{LoadsError, LoadsReport, Rotor};
 use crate::design::sizing::{ModuleSizing, SizingRow};
-use crate::design::train::{ToothedTrain, TrainPolicy, TrainTeethOptions, tooth_train};
+use crate::design::train::{
+    PendingTrainMesh, ToothedTrain, TrainPolicy, TrainTeethOptions, tooth_train_staged,
+};
 use crate::design::trajectory::Trajectory;
 use crate::design::{Design, DesignOptions, design};
+use crate::teeth::TeethError;
 use serde::{Deserialize, Serialize};
 
 /// The standard modules of ISO 54 (series I, and 1.25 of series I too), mm, tried in turn.
@@ -50,7 +53,34 @@ pub struct Sized {
     /// The table.
     pub sizing: ModuleSizing,
     /// The design kept, its teeth and loads (absent when no module could be designed and rated).
-    pub kept: Option<(Design, ToothedTrain, LoadsReport)>,
+    pub kept: Option<Kept>,
+}
+
+/// The module kept by the sizing: its design, the teeth that were rated, their mesh check still
+/// to run ([`PendingTrainMesh::run`]; `None` when the tooth options ask for no check) and the
+/// loads of those teeth — what `ncgear design --module auto` writes, without cutting again.
+#[derive(Debug, Clone)]
+pub struct Kept {
+    /// The design made for the kept module.
+    pub design: Design,
+    /// Its teeth, cut with the sizing's tooth options at that module.
+    pub train: ToothedTrain,
+    /// The mesh check of those teeth, still to run.
+    pub pending_mesh: Option<PendingTrainMesh>,
+    /// The loads and rating of those teeth.
+    pub loads: LoadsReport,
+}
+
+/// The tooth options the sizing cuts each module with when the caller has none of its own: the
+/// defaults at module `module_mm` ([`TrainTeethOptions::new`]), the designed tooth count, no mesh
+/// check (the rating does not read it).
+///
+/// # Errors
+/// None today; the signature is the one [`size_module`] takes.
+pub fn rating_teeth(module_mm: f64) -> Result<TrainTeethOptions, TeethError> {
+    let mut t = TrainTeethOptions::new(module_mm).with_policy(TrainPolicy::Designed);
+    t.toothing.verify_steps = 0;
+    Ok(t)
 }
 
 /// Whether a report meets its targets, and the row's failure text when not.
@@ -86,7 +116,9 @@ fn failed_row(module_mm: f64, why: String) -> SizingRow {
 }
 
 /// Sizes the module of `target` (module docs): `design_opts` as for any design (the module
-/// replaced by each one tried), `case` the scene's loads and rating; `file` names the scene.
+/// replaced by each one tried), `case` the scene's loads and rating, `teeth` the tooth options
+/// at a module (mm; [`rating_teeth`], or the caller's rack, fillet and policy — the teeth rated
+/// are the teeth kept); `file` names the scene.
 ///
 /// # Errors
 /// [`LoadsError::Field`] when the scene rates nothing (no `[material]`) or has no gear bodies;
@@ -96,6 +128,7 @@ pub fn size_module(
     design_opts: &DesignOptions,
     case: &LoadCase,
     opts: &SizingOptions,
+    teeth: &dyn Fn(f64) -> Result<TrainTeethOptions, TeethError>,
     file: &str,
 ) -> Result<Sized, LoadsError> {
     let rating = case.rating.as_ref().ok_or_else(|| LoadsError::Field {
@@ -115,7 +148,7 @@ pub fn size_module(
         },
         ..ModuleSizing::default()
     };
-    let mut kept: Option<(Design, ToothedTrain, LoadsReport)> = None;
+    let mut kept: Option<Kept> = None;
     let mut best_margin = f64::NEG_INFINITY;
     for &m in &opts.modules_mm {
         // A module's design inside the search: its failure is a row, not a reason to design
@@ -124,16 +157,26 @@ pub fn size_module(
             .clone()
             .with_module_mm(Some(m))
             .with_alternatives(false);
-        let d = match design(target, &module_opts) {
+        let mut d = match design(target, &module_opts) {
             Ok(d) => d,
             Err(e) => {
                 sizing.rows.push(failed_row(m, format!("design: {e}")));
                 continue;
             }
         };
-        let mut topts = TrainTeethOptions::new(m).with_policy(TrainPolicy::Designed);
-        topts.toothing.verify_steps = 0;
-        let train = match tooth_train(&d, &topts) {
+        let topts = match teeth(m) {
+            Ok(t) => t,
+            Err(e) => {
+                sizing
+                    .rows
+                    .push(failed_row(m, format!("tooth options: {e}")));
+                continue;
+            }
+        };
+        let t0 = std::time::Instant::now();
+        let cut = tooth_train_staged(&d, &topts);
+        d.report.timings_ms.teeth = 1e3 * t0.elapsed().as_secs_f64();
+        let (train, pending_mesh) = match cut {
             Ok(t) => t,
             Err(e) => {
                 sizing.rows.push(failed_row(m, format!("teeth: {e}")));
@@ -170,13 +213,23 @@ pub fn size_module(
         });
         if passed && sizing.chosen_module_mm.is_none() {
             sizing.chosen_module_mm = Some(m);
-            kept = Some((d, train, report));
+            kept = Some(Kept {
+                design: d,
+                train,
+                pending_mesh,
+                loads: report,
+            });
             if !opts.all_modules {
                 break;
             }
         } else if sizing.chosen_module_mm.is_none() && margin > best_margin {
             best_margin = margin;
-            kept = Some((d, train, report));
+            kept = Some(Kept {
+                design: d,
+                train,
+                pending_mesh,
+                loads: report,
+            });
         }
     }
     Ok(Sized { sizing, kept })
