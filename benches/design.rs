@@ -101,7 +101,7 @@ fn family_case(b: divan::Bencher, name: &str) {
 
 /// One edit of the interactive designer: the target moved by a bump of `amp` mm (Gaussian over
 /// ~10 points) and re-designed warm from the design before the edit
-/// (`ncgear::design::warm::redesign`, what `ncgear serve` runs on each drag).
+/// (`ncgear::design::redesign`, what `ncgear serve` runs on each drag).
 #[divan::bench(args = [0.2, 1.0, 3.0], sample_count = 20)]
 fn redesign_after_edit_g1(b: divan::Bencher, amp: f64) {
     let t = load("g1_ellipse.csv");
@@ -118,7 +118,7 @@ fn redesign_after_edit_g1(b: divan::Bencher, amp: f64) {
         .collect();
     let moved = Trajectory::from_points(moved).expect("points");
     b.bench(|| {
-        ncgear::design::warm::redesign(divan::black_box(&moved), &opts, &before.report)
+        ncgear::design::redesign(divan::black_box(&moved), &opts, &before.report)
             .expect("redesigned")
     });
 }

@@ -14,6 +14,42 @@ for dp,_,fs in os.walk(root):
 def resolve(cur, ref):
     # ref like crate::a::b::c or super::x
     return ref
+def split_top(s):
+    """`a, b::{c, d}, e` split at the commas outside braces."""
+    out, depth, cur = [], 0, ''
+    for ch in s:
+        if ch == '{': depth += 1
+        elif ch == '}': depth -= 1
+        if ch == ',' and depth == 0:
+            out.append(cur); cur = ''
+        else:
+            cur += ch
+    out.append(cur)
+    return [x.strip() for x in out if x.strip()]
+def expand(tree):
+    """The paths of a use tree, brace groups expanded: `super::{a, b::{c}}` -> super::a, super::b::c."""
+    tree = re.sub(r'\s+', '', tree)
+    i = tree.find('{')
+    if i < 0:
+        return [re.sub(r'(::self)?$', '', tree.split(' as ')[0])]
+    prefix, inner = tree[:i], tree[i+1:tree.rindex('}')]
+    out = []
+    for part in split_top(inner):
+        for p in expand(part):
+            out.append(prefix + p if p != 'self' else prefix.rstrip(':'))
+    return out
+def absolute(parts, path):
+    """Module path of `path` seen from module `parts`, or None when not crate-internal."""
+    segs = [x for x in path.split('::') if x]
+    if not segs: return None
+    if segs[0] == 'crate': return segs[1:]
+    if segs[0] in ('super', 'self'):
+        base = list(parts)
+        while segs and segs[0] in ('super', 'self'):
+            if segs[0] == 'super': base = base[:-1]
+            segs = segs[1:]
+        return base + segs
+    return None
 edges=set()
 for m,src in mods.items():
     if m.startswith('cli'): continue
@@ -23,12 +59,16 @@ for m,src in mods.items():
     i=code.find('#[cfg(test)]')
     if i>=0: code=code[:i]
     parts=m.split('::')
-    for r in re.findall(r'crate::((?:[a-z_]+::)*[a-z_]+)', code):
-        segs=r.split('::')
-        edges.add((m, '::'.join(segs)))
-    for r in re.findall(r'\bsuper::((?:[a-z_]+::)*[a-z_]+)', code):
-        base=parts[:-1]
-        edges.add((m, '::'.join(base+r.split('::'))))
+    refs=[]
+    # `use` statements, brace groups expanded (a group names each sibling it imports).
+    for u in re.findall(r'\buse\s+([^;]+);', code):
+        refs.extend(expand(u))
+    # Paths written inline.
+    refs.extend(re.findall(r'\b((?:crate|super)(?:::[a-z_]+)+)', code))
+    for r in refs:
+        a = absolute(parts, r)
+        if a:
+            edges.add((m, '::'.join(a)))
 # for each parent, sibling graph
 def sib_graph():
     g={}

@@ -30,6 +30,7 @@ pub mod needle_law;
 pub mod noise;
 mod offset_start;
 mod options;
+mod redesign;
 pub mod refine;
 mod report;
 mod roundtrip;
@@ -50,6 +51,7 @@ pub use options::{
     ADAPTIVE_ORDERS, DEFAULT_MIN_CONCAVE_RADIUS_MM, DesignOptions, IdlerOffset, RefineMode,
     SMALLEST_CUTTER_RADIUS_MODULES, SUN_PLANET_GAP_MODULES, UNDERCUT_RADIUS_MODULES,
 };
+pub use redesign::redesign;
 pub use report::{
     Carrier, Check, CompatSummary, Design, DesignReport, FitSummary, FourierSummary, Gear, Gears,
     LimitsSummary, RoundTrip, RouteSummary, SCHEMA_VERSION, Timings, TrajectorySummary, Units,

@@ -150,7 +150,7 @@ pub struct DesignRequest {
     /// Design options (CLI names).
     #[serde(default)]
     pub options: Options,
-    /// An earlier `design.json` to re-design from ([`ncgear::design::warm`]).
+    /// An earlier `design.json` to re-design from ([`ncgear::design::redesign`]).
     #[serde(default)]
     pub start: Option<Box<ncgear::design::DesignReport>>,
     /// Answer the drawing data too (`view`).

@@ -5,7 +5,7 @@ use super::api::{ApiError, DesignRequest, LoadsRequest, ParseRequest, design_err
 use super::{Reply, loads, page, view};
 use ncgear::design::train::{ToothedTrain, TrainPolicy, TrainTeethOptions, tooth_train};
 use ncgear::design::trajectory::Trajectory;
-use ncgear::design::{Design, design, warm::redesign};
+use ncgear::design::{Design, design, redesign};
 use serde_json::Value;
 use std::sync::atomic::{AtomicUsize, Ordering};
 

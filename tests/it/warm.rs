@@ -1,5 +1,5 @@
-//! Re-designing from an earlier design (`ncgear::design::warm`): the edit loop of `ncgear serve`.
-use ncgear::design::warm::redesign;
+//! Re-designing from an earlier design (`ncgear::design::redesign`): the edit loop of `ncgear serve`.
+use ncgear::design::redesign;
 use ncgear::geometry::golden::g1_mechanism;
 use ncgear::math::Point;
 use ncgear::{DesignOptions, Trajectory, design};
