@@ -1,15 +1,15 @@
-//! Where a long computation reports how far it has come: [`Progress`], carried by the options
-//! of the toothed train and of the toothed pair (their mesh checks are the long part) and handed
-//! to the analyses (Monte Carlo samples, dynamics periods and sweep points, the orbit's frequency
-//! refinement).
+//! Where a long computation reports how far it has come: [`Progress`], one way — an argument of
+//! the long call: the mesh checks of the toothed train and pair (their staged `run`), the
+//! trade-off's designs, the analyses (Monte Carlo samples, dynamics periods and sweep points, the
+//! orbit's frequency refinement). Never part of the options: it does not change the result.
 
 use std::fmt;
 use std::sync::Arc;
 
 /// A progress sink: nothing (the default) or a function told how many steps were just done
 /// (`1` per verified mesh position, for example). It may be called from several threads at
-/// once. A sink does not change what is computed: two options that differ only in their sinks
-/// compare equal, and a sink is neither serialised nor read from a file.
+/// once. A sink does not change what is computed, and it is neither serialised nor read from a
+/// file.
 ///
 /// ```
 /// use ncgear::progress::Progress;
@@ -55,12 +55,5 @@ impl fmt::Debug for Progress {
         } else {
             "Progress(none)"
         })
-    }
-}
-
-impl PartialEq for Progress {
-    /// Always equal: where progress goes does not change the result.
-    fn eq(&self, _: &Self) -> bool {
-        true
     }
 }

@@ -40,7 +40,7 @@ pub fn run(args: Args) -> CliResult {
     let file = args.trajectory.display().to_string();
     let pb = progress_bar(ROWS as u64, "designs");
     let start = std::time::Instant::now();
-    let t = trade_off(&traj, &opts, &|| pb.inc(1));
+    let t = trade_off(&traj, &opts, &super::bar_sink(&pb));
     pb.finish_and_clear();
     let mut t = t.map_err(|e| design_failure(&file, &e))?;
     if let Some((case, scene_file)) = &scene {

@@ -14,13 +14,15 @@
 //!
 //! ```no_run
 //! use ncgear::design::{DesignOptions, trajectory::Trajectory, tradeoff::trade_off};
+//! use ncgear::progress::Progress;
 //! let traj = Trajectory::from_path(std::path::Path::new("assets/trajectories/designer_kidney.csv")).unwrap();
-//! let t = trade_off(&traj, &DesignOptions::default(), &|| {}).unwrap();
+//! let t = trade_off(&traj, &DesignOptions::default(), &Progress::none()).unwrap();
 //! println!("{}", t.markdown(false));
 //! ```
 
 use super::{DesignError, DesignOptions, IdlerOffset, design, trajectory::Trajectory};
 use crate::math::Point;
+use crate::progress::Progress;
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 use std::fmt::Write as _;
@@ -138,12 +140,12 @@ pub struct ExactNeeds {
 
 /// Designs `traj` once per rung of the ladder (module documentation) from `base` (its carrier
 /// axis and accuracy knobs; its pressure-angle limit is the default row's and the module rows'),
-/// in parallel; `on_done` is called as each design finishes. The rows are in ladder order
+/// in parallel; `progress` advances by one as each design finishes. The rows are in ladder order
 /// whatever the thread count. Errors only when every design is refused (the first row's error).
 pub fn trade_off(
     traj: &Trajectory,
     base: &DesignOptions,
-    on_done: &(dyn Fn() + Sync),
+    progress: &Progress,
 ) -> Result<TradeOff, DesignError> {
     let default_limit_deg = base.pressure_angle_limit_rad.to_degrees();
     let mut rungs: Vec<(String, DesignOptions)> = Vec::new();
@@ -185,7 +187,7 @@ pub fn trade_off(
                     idler_offset_deg: d.report.idler_offset_deg,
                 }
             });
-            on_done();
+            progress.advance(1);
             (r, 1e3 * start.elapsed().as_secs_f64())
         })
         .collect();

@@ -39,9 +39,6 @@ pub struct PairOptions {
     /// An open (incomplete) pair over the driver interval `[start, end]`, rad, with `teeth` on
     /// that interval (motion laws only; see [`SectorReport`]). Default `None`: closed gears.
     pub open_sector_rad: Option<[f64; 2]>,
-    /// Told of each verified driver position. Default: none.
-    #[serde(skip)]
-    pub progress: Progress,
 }
 
 crate::builder::with_fields!(PairOptions {
@@ -50,7 +47,6 @@ crate::builder::with_fields!(PairOptions {
     with_toothing => toothing: ToothingOptions,
     with_samples => samples: usize,
     with_open_sector_rad => open_sector_rad: Option<[f64; 2]>,
-    with_progress => progress: Progress,
 });
 
 impl PairOptions {
@@ -64,7 +60,6 @@ impl PairOptions {
             toothing: ToothingOptions::new(module_mm),
             samples: 4096,
             open_sector_rad: None,
-            progress: Progress::none(),
         }
     }
 }

@@ -7,15 +7,15 @@ use super::{Law, PairError};
 /// Designs the toothed pair: pitch curves scaled so that `L = zπm` (an open sector: z pitches on
 /// its active arc), outlines with the mating phase (driver tooth 0 centred at the contact of
 /// φ = 0, a driven space facing it), and the mesh verification over a full cycle (the q driver
-/// turns of a p/q ratio) or over the sector's interval, `opts.progress` told of each driver
-/// position.
+/// turns of a p/q ratio) or over the sector's interval. To watch the check, run the two stages:
+/// [`design_pair_staged`], then [`PendingMesh::run`] with a [`Progress`](crate::progress::Progress).
 ///
 /// # Errors
 /// [`PairError`]: bad options, a law without a closed (or open) pair, teeth that cannot be cut.
 pub fn design_pair(law: &Law, opts: &PairOptions) -> Result<PairDesign, PairError> {
     let (mut design, pending) = design_pair_staged(law, opts)?;
     if let Some(p) = pending {
-        design.mesh = Some(p.run(&opts.progress)?);
+        design.mesh = Some(p.run(&crate::progress::Progress::none())?);
     }
     Ok(design)
 }

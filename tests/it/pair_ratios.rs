@@ -21,11 +21,14 @@ fn check(law: &Law, z: u32, z_driven: u32, m: f64) -> ncgear::pair::PairDesign {
     use std::sync::atomic::{AtomicU64, Ordering};
     let done = Arc::new(AtomicU64::new(0));
     let seen = Arc::clone(&done);
-    let opts =
-        PairOptions::new(Some(z), m).with_progress(ncgear::progress::Progress::new(move |n| {
-            seen.fetch_add(n, Ordering::Relaxed);
-        }));
-    let d = design_pair(law, &opts).unwrap();
+    let opts = PairOptions::new(Some(z), m);
+    let progress = ncgear::progress::Progress::new(move |n| {
+        seen.fetch_add(n, Ordering::Relaxed);
+    });
+    let (mut d, pending) = ncgear::pair::design_pair_staged(law, &opts).unwrap();
+    d.mesh = Some(pending.expect("verified").run(&progress).unwrap());
+    // The whole entry gives the same design.
+    assert_eq!(design_pair(law, &opts).unwrap().mesh, d.mesh);
     // The progress sink hears of every verified driver position.
     let steps = d.mesh.as_ref().expect("verified").steps;
     assert_eq!(done.load(Ordering::Relaxed), steps as u64);

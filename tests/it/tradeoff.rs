@@ -191,7 +191,12 @@ fn tradeoff_on_the_designer_kidney() {
 #[ignore = "the chain's fit at 40°/45° lands in a local optimum the 35° design beats"]
 fn tradeoff_deviation_is_monotone_in_the_limit() {
     let traj = Trajectory::from_path(Path::new(KIDNEY)).unwrap();
-    let t = ncgear::design::tradeoff::trade_off(&traj, &DesignOptions::default(), &|| {}).unwrap();
+    let t = ncgear::design::tradeoff::trade_off(
+        &traj,
+        &DesignOptions::default(),
+        &ncgear::progress::Progress::none(),
+    )
+    .unwrap();
     let dev: Vec<f64> = t.rows[..5]
         .iter()
         .map(|r| r.numbers().unwrap().max_deviation_mm)

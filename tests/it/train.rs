@@ -30,7 +30,7 @@ fn no_mesh(module_mm: f64, policy: TrainPolicy) -> TrainTeethOptions {
 /// (ρmin·sin²α ≥ ha*·m). Both meshes roll through a carrier turn without interference, with
 /// positive backlash and a transmission error far below ncgears' 1e-5°. Scaling a by s moves every
 /// tip point radially by exactly (s − 1)·l1, and the round trip sees that. The options' progress
-/// sink hears of every verified position of both meshes, 2 × 24.
+/// sink given to the staged check hears of every verified position of both meshes, 2 × 24.
 #[test]
 fn g1_train_at_module_2_has_23_teeth_meshes_and_moves_the_tip_by_the_closed_form() {
     use std::sync::Arc;
@@ -38,13 +38,18 @@ fn g1_train_at_module_2_has_23_teeth_meshes_and_moves_the_tip_by_the_closed_form
     let d = g1_design();
     let done = Arc::new(AtomicU64::new(0));
     let seen = Arc::clone(&done);
-    let mut opts =
-        TrainTeethOptions::new(2.0).with_progress(ncgear::progress::Progress::new(move |n| {
-            seen.fetch_add(n, Ordering::Relaxed);
-        }));
+    let mut opts = TrainTeethOptions::new(2.0);
     opts.toothing.verify_steps = 24;
-    let t = tooth_train(assembled(d), &opts).unwrap();
+    let progress = ncgear::progress::Progress::new(move |n| {
+        seen.fetch_add(n, Ordering::Relaxed);
+    });
+    let (mut t, pending) = ncgear::design::train::tooth_train_staged(assembled(d), &opts).unwrap();
+    t.report.mesh = Some(pending.expect("verified").run(&progress).unwrap());
     assert_eq!(done.load(Ordering::Relaxed), 48);
+    assert_eq!(
+        tooth_train(assembled(d), &opts).unwrap().report.mesh,
+        t.report.mesh
+    );
     let r = &t.report;
     assert_eq!(r.z, 23);
     assert!((22.3..22.45).contains(&r.z_raw), "z_raw {}", r.z_raw);

@@ -44,9 +44,10 @@ impl<'a> From<&'a Design> for TrainSource<'a> {
 }
 
 /// Puts teeth on a train: integer tooth count by the policy, rack-generated outlines with mating
-/// phases, undercut reports, the mesh verification of both meshes (`opts.progress` told of each
-/// verified position, `2·verify_steps` in all) and the round trip of the toothed mechanism
-/// against the target. Record the result in its design with [`ToothedTrain::record`].
+/// phases, undercut reports, the mesh verification of both meshes and the round trip of the
+/// toothed mechanism against the target. Record the result in its design with
+/// [`ToothedTrain::record`]. To watch the verification (`2·verify_steps` positions), run the two
+/// stages: [`tooth_train_staged`], then [`PendingTrainMesh::run`] with a [`Progress`](crate::progress::Progress).
 ///
 /// # Errors
 /// [`TrainError::Teeth`] naming the gear (undercut with the largest module that works, concave
@@ -58,7 +59,7 @@ pub fn tooth_train<'a>(
 ) -> Result<ToothedTrain, TrainError> {
     let (mut train, pending) = tooth_train_staged(on, opts)?;
     if let Some(p) = pending {
-        train.report.mesh = Some(p.run(&opts.progress)?);
+        train.report.mesh = Some(p.run(&crate::progress::Progress::none())?);
     }
     Ok(train)
 }

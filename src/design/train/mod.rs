@@ -47,7 +47,6 @@ pub use report::{TrainMesh, TrainProcess, TrainRoundTrip, TrainTeethReport, Trai
 pub use sheet::{Gear, ToothedTrain};
 
 use crate::geometry::pitch::PitchError;
-use crate::progress::Progress;
 use crate::teeth::mesh::MeshError;
 use crate::teeth::{TeethError, ToothPolicy, ToothingOptions};
 use serde::{Deserialize, Serialize};
@@ -145,9 +144,6 @@ pub struct TrainTeethOptions {
     /// Default `None`: 1e-9 of the design's centre distance.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub accuracy_mm: Option<f64>,
-    /// Told of each verified mesh position. Default: none.
-    #[serde(skip)]
-    pub progress: Progress,
 }
 
 crate::builder::with_fields!(TrainTeethOptions {
@@ -156,7 +152,6 @@ crate::builder::with_fields!(TrainTeethOptions {
     with_roundtrip_samples => roundtrip_samples: usize,
     with_wire_edm => wire_edm: bool,
     with_accuracy_mm => accuracy_mm: Option<f64>,
-    with_progress => progress: Progress,
 });
 
 impl TrainTeethOptions {
@@ -173,7 +168,6 @@ impl TrainTeethOptions {
             roundtrip_samples: 3600,
             wire_edm: false,
             accuracy_mm: None,
-            progress: Progress::none(),
         }
     }
 }
