@@ -1,8 +1,8 @@
 //! `ncgear dynamics`: thin shell over `ncgear::analysis::dynamics`.
 use super::{CliResult, input_error, print_json, progress_bar, runtime_error};
 use ncgear::analysis::dynamics::{self as dy, AnalysisOptions, DynamicsError, Scene};
-use ncgear::output::plot::{ChartLabels, Series, line_chart};
-use std::path::{Path, PathBuf};
+use ncgear::output::PlotFormat;
+use std::path::PathBuf;
 
 /// Arguments of `ncgear dynamics`.
 #[derive(Debug, clap::Args)]
@@ -32,37 +32,6 @@ fn dyn_err(e: DynamicsError) -> super::Failure {
         | DynamicsError::Output { .. } => input_error(miette::miette!("{e}")),
         _ => runtime_error(miette::miette!("{e}")),
     }
-}
-
-fn chart(
-    path: &Path,
-    title: &str,
-    x: &str,
-    y: &str,
-    series: Vec<Series>,
-    equal: bool,
-) -> CliResult {
-    let labels = ChartLabels {
-        title: title.into(),
-        x: x.into(),
-        y: y.into(),
-        equal_aspect: equal,
-    };
-    line_chart(path, &labels, &series, (900, 600))
-        .map_err(|e| runtime_error(miette::miette!("{e}")))
-}
-
-fn write_csv(path: &Path, header: &[String], rows: impl Iterator<Item = Vec<f64>>) -> CliResult {
-    let err =
-        |e: csv::Error| runtime_error(miette::miette!("cannot write {}: {e}", path.display()));
-    let mut w = csv::Writer::from_path(path).map_err(err)?;
-    w.write_record(header).map_err(err)?;
-    for r in rows {
-        w.write_record(r.iter().map(|x| format!("{x:.9e}")))
-            .map_err(err)?;
-    }
-    w.flush()
-        .map_err(|e| runtime_error(miette::miette!("cannot write {}: {e}", path.display())))
 }
 
 /// Most steps a `--sweep` may take, so at most this + 1 frequencies (each a steady-state run,
@@ -157,24 +126,21 @@ pub fn run(args: Args) -> CliResult {
             amp * 1e6
         );
     }
-    let out = Outputs {
-        dir: &args.out,
-        ext: format,
+    // The report, whatever the path (--out always gets it), written last by the library.
+    let format = if format == "png" {
+        PlotFormat::Png
+    } else {
+        PlotFormat::Svg
     };
-    // The report, whatever the path (--out always gets it), written last; an earlier run's
-    // goes first (ncgear::files).
-    let json_path = args.out.join("dynamics.json");
-    super::remove_stale_report(&json_path)?;
-    if let (Some(up), Some(down)) = (&report.sweep_up, &report.sweep_down) {
-        write_sweep(&out, &prepared, up, down)?;
-    }
-    if let (Some(summary), Some(rec)) = (&report.run, &report.recording) {
-        write_run(&out, &prepared, summary, rec)?;
-    }
-    let text = ncgear::output::json::to_string(&report)
+    ncgear::output::write_dynamics(&report, &prepared, &args.out, format)
         .map_err(|e| runtime_error(miette::miette!("{e}")))?;
-    ncgear::files::write_whole(&json_path, text)
-        .map_err(|e| runtime_error(miette::miette!("cannot write {}: {e}", json_path.display())))?;
+    if report.sweep_up.is_some() {
+        eprintln!("sweep written to {}", args.out.join("sweep.csv").display());
+    }
+    if let Some(summary) = &report.run {
+        log_run(summary);
+        eprintln!("outputs written to {}", args.out.display());
+    }
     if args.json {
         print_json(&report)?;
     }
@@ -209,93 +175,9 @@ fn print_header(p: &dy::Prepared, file: &str) {
     }
 }
 
-/// Where the files go and the plot format.
-struct Outputs<'a> {
-    dir: &'a Path,
-    ext: &'a str,
-}
-
-impl Outputs<'_> {
-    fn file(&self, name: &str) -> PathBuf {
-        self.dir.join(name)
-    }
-
-    fn plot(&self, stem: &str) -> PathBuf {
-        self.dir.join(format!("{stem}.{}", self.ext))
-    }
-}
-
-/// `sweep.csv` and the sweep plot (amplitude over b with backlash).
-fn write_sweep(
-    out: &Outputs,
-    p: &dy::Prepared,
-    up: &[dy::SweepPoint],
-    down: &[dy::SweepPoint],
-) -> CliResult {
-    let backlash = p.model.mesh.backlash;
-    let b = backlash.map_or(1.0, |b| b.b);
-    let pts = |r: &[dy::SweepPoint]| {
-        r.iter()
-            .map(|p| (p.omega_ratio, p.dte_half_pp_m / b))
-            .collect::<Vec<_>>()
-    };
-    let ylab = if backlash.is_some() {
-        "DTE half peak-to-peak / b"
-    } else {
-        "DTE half peak-to-peak [m]"
-    };
-    chart(
-        &out.plot("sweep"),
-        "Frequency sweep (jump phenomenon)",
-        "Ω = ωe/ωn",
-        ylab,
-        vec![
-            Series::line("sweep up", pts(up)),
-            Series::line("sweep down", pts(down)),
-        ],
-        false,
-    )?;
-    let rows = up
-        .iter()
-        .map(|p| (1.0, p))
-        .chain(down.iter().map(|p| (-1.0, p)));
-    write_csv(
-        &out.file("sweep.csv"),
-        &[
-            "direction",
-            "omega_ratio",
-            "n1_rpm",
-            "dte_half_pp_m",
-            "dte_mean_m",
-            "dte_first_harmonic_m",
-            "contact_loss_fraction",
-        ]
-        .map(String::from),
-        rows.map(|(d, p)| {
-            vec![
-                d,
-                p.omega_ratio,
-                p.n1_rpm,
-                p.dte_half_pp_m,
-                p.dte_mean_m,
-                p.dte_first_harmonic_m,
-                p.contact_loss_fraction,
-            ]
-        }),
-    )?;
-    eprintln!("sweep written to {}", out.file("sweep.csv").display());
-    Ok(())
-}
-
-/// The run's files and plots (time series, DTE, mesh force, phase plane, spectrum, orbits) and
-/// its log lines.
-fn write_run(out: &Outputs, p: &dy::Prepared, s: &dy::RunReport, rec: &dy::Recording) -> CliResult {
+/// The run's log lines: the transient, the DTE's mean and harmonics.
+fn log_run(s: &dy::RunReport) {
     log_transient(s);
-    write_time_domain(out, s, rec)?;
-    if let Some(spectrum) = &rec.spectrum {
-        write_spectrum(out, p, spectrum)?;
-    }
-    write_orbits(out, rec)?;
     eprintln!(
         "DTE mean {:.4} µm, harmonics at k·f_mesh [µm]: {}",
         s.dte_mean_m * 1e6,
@@ -305,8 +187,6 @@ fn write_run(out: &Outputs, p: &dy::Prepared, s: &dy::RunReport, rec: &dy::Recor
             .collect::<Vec<_>>()
             .join(", ")
     );
-    eprintln!("outputs written to {}", out.dir.display());
-    Ok(())
 }
 
 /// Logs the transient: Poincaré periods, whether it settled, the integrator's counters.
@@ -324,100 +204,6 @@ fn log_transient(s: &dy::RunReport) {
         s.stats.rejected,
         s.stats.events
     );
-}
-
-/// `timeseries.csv` and the plots of the first 10 mesh periods of the record (DTE in µm, mesh
-/// force in N, against time in ms) and of the phase plane with its Poincaré section.
-fn write_time_domain(out: &Outputs, s: &dy::RunReport, rec: &dy::Recording) -> CliResult {
-    let run = &rec.run;
-    write_csv(
-        &out.file("timeseries.csv"),
-        &rec.timeseries_header(),
-        rec.timeseries_rows(),
-    )?;
-    let spm = run.samples_per_mesh as usize;
-    let show = run.t_s.len().min(10 * spm);
-    let t0 = run.t_s[0];
-    chart(
-        &out.plot("dte"),
-        "Dynamic transmission error",
-        "t − t_rec [ms]",
-        "DTE [µm]",
-        vec![Series::line(
-            "DTE",
-            (0..show)
-                .map(|k| ((run.t_s[k] - t0) * 1e3, run.dte_m[k] * 1e6))
-                .collect(),
-        )],
-        false,
-    )?;
-    chart(
-        &out.plot("mesh_force"),
-        "Mesh force",
-        "t − t_rec [ms]",
-        "F_m [N]",
-        vec![Series::line(
-            "F_m",
-            (0..show)
-                .map(|k| ((run.t_s[k] - t0) * 1e3, run.mesh_force_n[k]))
-                .collect(),
-        )],
-        false,
-    )?;
-    chart(
-        &out.plot("phase"),
-        "Phase plane and Poincaré section (once per mesh period)",
-        "DTE [µm]",
-        "dDTE/dt [mm/s]",
-        vec![
-            Series::line("trajectory", rec.phase.clone()),
-            Series::markers("Poincaré", s.poincare_section.clone()),
-        ],
-        false,
-    )?;
-    Ok(())
-}
-
-/// `spectrum.csv` (Hz, m) and its plot up to 10 mesh frequencies (µm).
-fn write_spectrum(out: &Outputs, p: &dy::Prepared, spectrum: &[(f64, f64)]) -> CliResult {
-    write_csv(
-        &out.file("spectrum.csv"),
-        &["f_hz".into(), "amplitude_m".into()],
-        spectrum.iter().map(|&(f, a)| vec![f, a]),
-    )?;
-    let fmax = 10.0 / p.model.mesh.t0;
-    chart(
-        &out.plot("spectrum"),
-        "DTE spectrum",
-        "f [Hz]",
-        "amplitude [µm]",
-        vec![Series::line(
-            "DTE",
-            spectrum
-                .iter()
-                .filter(|p| p.0 <= fmax)
-                .map(|&(f, a)| (f, a * 1e6))
-                .collect(),
-        )],
-        false,
-    )?;
-    Ok(())
-}
-
-/// The orbit plot of each gear centre that has one (µm).
-fn write_orbits(out: &Outputs, rec: &dy::Recording) -> CliResult {
-    for (gear, pts) in &rec.orbits {
-        let which = gear.as_str();
-        chart(
-            &out.plot(&format!("orbit_{which}")),
-            &format!("Orbit of the {which} centre"),
-            "x [µm]",
-            "y [µm]",
-            vec![Series::line(which, pts.clone())],
-            true,
-        )?;
-    }
-    Ok(())
 }
 
 #[cfg(test)]

@@ -3,6 +3,7 @@
 
 pub mod animate;
 mod design_files;
+mod dynamics_files;
 mod error;
 mod fixed;
 pub mod json;
@@ -16,6 +17,7 @@ mod teeth_files;
 mod tradeoff_files;
 
 pub use design_files::{DesignFiles, pitch_csv, ratio_plot, write_design, write_design_with};
+pub use dynamics_files::{PlotFormat, write_dynamics};
 pub use error::OutputError;
 pub use loads_files::{loads_csv, write_loads};
 pub use mechanism_preview::{mechanism_chart, mechanism_svg};
