@@ -204,32 +204,36 @@ fn time_domain_files(
     let spm = run.samples_per_mesh as usize;
     let show = run.t_s.len().min(10 * spm);
     let t0 = run.t_s[0];
-    chart(
-        &out.plot("dte"),
-        "Dynamic transmission error",
-        "t − t_rec [ms]",
-        "DTE [µm]",
-        vec![Series::line(
+    // The DTE (µm) and the mesh force (N) over the first 10 mesh periods, against time (ms).
+    let dte_um: Vec<f64> = run.dte_m.iter().map(|x| x * 1e6).collect();
+    for (stem, title, y, name, values) in [
+        (
+            "dte",
+            "Dynamic transmission error",
+            "DTE [µm]",
             "DTE",
-            (0..show)
-                .map(|k| ((run.t_s[k] - t0) * 1e3, run.dte_m[k] * 1e6))
-                .collect(),
-        )],
-        false,
-    )?;
-    chart(
-        &out.plot("mesh_force"),
-        "Mesh force",
-        "t − t_rec [ms]",
-        "F_m [N]",
-        vec![Series::line(
+            &dte_um,
+        ),
+        (
+            "mesh_force",
+            "Mesh force",
+            "F_m [N]",
             "F_m",
-            (0..show)
-                .map(|k| ((run.t_s[k] - t0) * 1e3, run.mesh_force_n[k]))
-                .collect(),
-        )],
-        false,
-    )?;
+            &run.mesh_force_n,
+        ),
+    ] {
+        let points = (0..show)
+            .map(|k| ((run.t_s[k] - t0) * 1e3, values[k]))
+            .collect();
+        chart(
+            &out.plot(stem),
+            title,
+            "t − t_rec [ms]",
+            y,
+            vec![Series::line(name, points)],
+            false,
+        )?;
+    }
     chart(
         &out.plot("phase"),
         "Phase plane and Poincaré section (once per mesh period)",
