@@ -1,5 +1,5 @@
 //! Spur-gear pair nonlinear dynamics driven by scene files (docs/math/companion.md §B,
-//! seed 001 = CN110162909B): the 16-DOF lumped-mass model with time-varying mesh stiffness,
+//! patent CN110162909B): the 16-DOF lumped-mass model with time-varying mesh stiffness,
 //! static transmission error, tip relief, backlash, sliding friction, eccentricity, gravity,
 //! shafts and nonlinear (Hertz) bearings. Every effect is off unless the scene names it (docs/math/companion.md §B.10);
 //! the loader prunes the DOF set (16 / 6 / 4 / 2 / 1), builds the force-term list and the

@@ -1,5 +1,6 @@
 //! Transmission-error harmonics, phase (coupling) compensation and Monte Carlo tolerance analysis
-//! (docs/math/companion.md §C, seed 003).
+//! (docs/math/companion.md §C, after a paper on the coupling compensation of eccentricity errors
+//! in a 3K planetary train).
 //!
 //! Each error term is an equivalent line-of-action error `e_k = A_k sin(ω_k t + φ_k)` (µm, rad/s).
 //! A term's phase is fixed, or free (an assembly choice): `φ_k = s_k·β_k + c_k` with the assembly
