@@ -139,7 +139,7 @@ pub fn slim(r: &mut LoadsReport) {
 
 #[cfg(test)]
 mod tests {
-    use super::super::routes::route;
+    use super::super::dispatch::route;
     use ncgear::loads::{LoadsReport, Rotor, Scene, analyse, run_scene};
     use serde_json::{Value, json};
     use std::path::Path;

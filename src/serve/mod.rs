@@ -19,9 +19,9 @@
 
 mod api;
 mod client;
+mod dispatch;
 mod loads;
 mod page;
-mod routes;
 mod view;
 
 use std::collections::VecDeque;
@@ -159,7 +159,7 @@ fn handle(mut request: tiny_http::Request, gate: &Gate) {
 /// Routes; a panic becomes a 500.
 fn answer(method: &str, url: &str, body: &str, gone: &dyn Fn() -> bool) -> Reply {
     // `gone` only reads the peer's socket: nothing a panic could leave half-changed.
-    let route = std::panic::AssertUnwindSafe(|| routes::route(method, url, body, gone));
+    let route = std::panic::AssertUnwindSafe(|| dispatch::route(method, url, body, gone));
     std::panic::catch_unwind(route).unwrap_or_else(|_| {
         Reply::error(&api::ApiError {
             status: 500,
