@@ -4,7 +4,7 @@
 //! centre that has one; of a sweep `sweep.csv` (up, then down) and the jump diagram. Plots are
 //! SVG or PNG.
 
-use super::error::{OutputError, create_dir, remove_stale, write};
+use super::error::{OutputError, create_dir, remove_stale, write_json};
 use super::plot::{ChartLabels, Series, line_chart};
 use crate::analysis::dynamics::{self as dy, DynamicsReport};
 use std::path::{Path, PathBuf};
@@ -57,11 +57,7 @@ pub fn write_dynamics(
         }
         orbit_files(&mut out, rec)?;
     }
-    let text = super::json::to_string(report).map_err(|e| OutputError::Io {
-        path: json_path.display().to_string(),
-        message: e.to_string(),
-    })?;
-    write(&json_path, &text)?;
+    write_json(&json_path, report)?;
     out.written.push(json_path);
     Ok(out.written)
 }

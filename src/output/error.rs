@@ -30,6 +30,15 @@ pub(super) fn write(path: &Path, text: &str) -> Result<(), OutputError> {
     })
 }
 
+/// Writes `value` to `path` as the project's JSON ([`super::json::to_string`]).
+pub(super) fn write_json(path: &Path, value: &impl serde::Serialize) -> Result<(), OutputError> {
+    let text = super::json::to_string(value).map_err(|e| OutputError::Io {
+        path: path.display().to_string(),
+        message: e.to_string(),
+    })?;
+    write(path, &text)
+}
+
 /// Removes an earlier run's report at `path` ([`crate::files::remove_stale`]).
 pub(super) fn remove_stale(path: &Path) -> Result<(), OutputError> {
     crate::files::remove_stale(path).map_err(|e| OutputError::Io {

@@ -5,7 +5,7 @@
 //! `overview.svg` (the torques beside the stresses, or the forces without a rating); `png` adds
 //! PNG copies.
 
-use super::error::{OutputError, create_dir, remove_stale, write};
+use super::error::{OutputError, create_dir, remove_stale, write, write_json};
 use super::plot::{ChartLabels, Series, line_chart, panels_chart};
 use crate::loads::LoadsReport;
 use crate::math::Point;
@@ -43,11 +43,7 @@ pub fn write_loads(
         panels_chart(&path, &[pick(0), pick(charts.len() - 1)], (1800, 560))?;
         paths.push(path);
     }
-    let json = super::json::to_string(report).map_err(|e| OutputError::Io {
-        path: json_path.display().to_string(),
-        message: e.to_string(),
-    })?;
-    write(&json_path, &json)?;
+    write_json(&json_path, report)?;
     paths.push(json_path);
     Ok(paths)
 }
