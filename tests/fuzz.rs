@@ -2254,3 +2254,31 @@ fn dynamics_nan_tolerance_is_bad_input() {
         );
     }
 }
+
+/// CI campaign seed 1, run #587: `--min-convex-radius 1e6` on G1 shrank every ratio to a circle
+/// (radius a/2, still tighter than the limit) and spent 10 s fitting a train 68 mm off the
+/// target; no train for the target can have so flat an arc, and the design says so at once
+/// (exit 2, the bound and the flag named).
+#[test]
+fn design_unreachable_convex_radius_is_refused_at_once() {
+    for value in ["1e6", "1e300"] {
+        let (o, _) = reproduce(
+            &format!("design_convex_{value}"),
+            &[
+                "design",
+                &asset_path("trajectories/g1_ellipse.csv"),
+                "--min-convex-radius",
+                value,
+                "--out",
+                "out",
+            ],
+            |_| {},
+        );
+        assert_eq!(o.code, Some(2), "{}", short(&o.stderr, 300));
+        let err = o.stderr.replace('│', " ");
+        let err = err.split_whitespace().collect::<Vec<_>>().join(" ");
+        for s in ["48.5 mm", "--min-convex-radius"] {
+            assert!(err.contains(s), "{}", short(&o.stderr, 400));
+        }
+    }
+}

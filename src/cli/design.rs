@@ -378,6 +378,13 @@ pub(super) fn design_failure(file: &str, e: &DesignError) -> super::Failure {
         DesignError::Internal(_) => runtime_error(miette::miette!("{file}: {e}")),
         DesignError::BadOption { option, .. } => super::option_error(Some(option), e),
         DesignError::Bounds(b) => super::option_error(Some(&b.quantity), e),
+        DesignError::ConvexLimitUnreachable { module_mm, .. } => super::option_error(
+            Some(match module_mm {
+                Some(_) => "module_mm",
+                None => "min_convex_radius_mm",
+            }),
+            format!("{file}: {e}"),
+        ),
         DesignError::Inverse(
             InverseError::AxisInsideLoop { .. }
             | InverseError::TooCloseToAxis { .. }

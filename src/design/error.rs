@@ -57,6 +57,29 @@ pub enum DesignError {
         /// Fewest teeth admitted.
         min_teeth: u32,
     },
+    /// The convex-radius limit is beyond the flattest convex arc any train tracing the target
+    /// can have ([`crate::geometry::limits::GearLimits::flattest_convex_radius_mm`]).
+    #[error(
+        "{} cannot be met: a train tracing this target turns its gears at a centre distance of at most {a_max_mm:.1} mm (from the arm l1, the intermediate axis at most 30° off the carrier line), where no pitch curve within the ratio bounds and the pressure-angle limit has a convex arc flatter than {flattest_mm:.1} mm (docs/limits.md); {}",
+        match module_mm {
+            Some(m) => format!("the undercut limit of module {m} mm (convex arcs of at least 7·m = {limit_mm} mm)"),
+            None => format!("option `min_convex_radius_mm` = {limit_mm} mm"),
+        },
+        match module_mm {
+            Some(_) => format!("choose a module of at most {:.3} mm", flattest_mm / crate::design::UNDERCUT_RADIUS_MODULES),
+            None => format!("a limit above {flattest_mm:.1} mm leaves no design"),
+        }
+    )]
+    ConvexLimitUnreachable {
+        /// The convex-radius limit in force, mm.
+        limit_mm: f64,
+        /// The module it follows from (7·m), when not given itself.
+        module_mm: Option<f64>,
+        /// The flattest convex arc reachable, mm.
+        flattest_mm: f64,
+        /// The largest centre distance of a train tracing the target, mm.
+        a_max_mm: f64,
+    },
     /// Internal failure building a ratio or curve.
     #[error("internal: {0}")]
     Internal(String),

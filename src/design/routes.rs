@@ -10,7 +10,7 @@ use super::report::*;
 use super::segmented::{self, Segmented};
 use super::trains::Trains;
 use crate::geometry::fourier::SunRatio;
-use crate::geometry::mechanism::Mechanism;
+use crate::geometry::mechanism::{MAX_IDLER_OFFSET_RAD, Mechanism};
 use std::f64::consts::PI;
 use std::time::Instant;
 /// What the chain's routes leave for the fit: the patent route's segmented law and result, the
@@ -53,6 +53,7 @@ pub(super) fn chain_routes(
     if let Some(m) = trains.opts.module_mm {
         check_module(&patent.mechanism, m)?;
     }
+    check_convex_limit(trains)?;
     let t0 = Instant::now();
     let refined = refine_route(trains, &seg, compat.tau_rad, warnings);
     timings.refine = ms(t0);
@@ -67,6 +68,35 @@ pub(super) fn chain_routes(
         patent,
         refine_summary,
         pending,
+    })
+}
+
+/// Slack on the arm length `l1` of step 1 in [`check_convex_limit`]: the fit moves it by less
+/// (within 1 % on the 13 bundled targets, the kidney 0.6 %).
+const L1_SLACK: f64 = 1.1;
+
+/// Refuses a convex-radius limit no train tracing the target can meet. Its gears turn at a
+/// centre distance `a = l1/(2·cos ε) ≤ L1_SLACK·l1/(2·cos 30°)` ([`MAX_IDLER_OFFSET_RAD`]), where
+/// no ratio within the limits has a convex arc flatter than
+/// [`crate::geometry::limits::GearLimits::flattest_convex_radius_mm`]: every fit would shrink
+/// the ratio to a circle and the design would miss the target by the size of the loop.
+fn check_convex_limit(trains: &Trains) -> Result<(), DesignError> {
+    let Some(limit_mm) = trains.limits.min_convex_radius_mm() else {
+        return Ok(());
+    };
+    let a_max_mm = L1_SLACK * trains.inv.l1_mm / (2.0 * MAX_IDLER_OFFSET_RAD.cos());
+    let flattest_mm = trains.limits.flattest_convex_radius_mm(a_max_mm);
+    if limit_mm <= flattest_mm {
+        return Ok(());
+    }
+    let opts = trains.opts;
+    Err(DesignError::ConvexLimitUnreachable {
+        limit_mm,
+        module_mm: opts
+            .module_mm
+            .filter(|_| opts.min_convex_radius_mm.is_none()),
+        flattest_mm,
+        a_max_mm,
     })
 }
 

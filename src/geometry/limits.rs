@@ -21,7 +21,7 @@
 //! that cuts cleanly cannot be generated.
 //!
 //! A ratio is made to satisfy the limits by [`GearLimits::project`]: the largest `λ ≤ 1` with
-//! `1 + λ(i − 1)` within them (a circle, `λ = 0`, always is). Shrinking `i − 1` keeps the closure
+//! `1 + λ(i − 1)` within them (a circle, `λ = 0`, always is, unless a convex-radius limit exceeds its radius a/2). Shrinking `i − 1` keeps the closure
 //! `Φ(2π) = 2π` (the mean of the ratio stays 1).
 //!
 //! ```
@@ -319,6 +319,34 @@ impl GearLimits {
         self.max_slope.is_finite()
     }
 
+    /// The flattest convex arc any ratio within these limits can give a gear at centre distance
+    /// `a_mm`: an upper bound on the smallest convex radius of curvature, mm (∞ without a
+    /// pressure-angle limit).
+    ///
+    /// ```text
+    /// r ≤ r_max = a·max(i_max/(1 + i_max), 1/(1 + i_min))     (sun r1 = a·i/s, intermediate a/s)
+    /// |r_θ| ≤ r·T,   T = tan(α_max − α)                        (the pressure-angle limit)
+    /// L = ∮ √(r² + r_θ²) dθ ≤ 2π·r_max·√(1 + T²)               (perimeter)
+    /// L ≥ ∫_convex ρ dψ ≥ ρ_min·2π                             (the tangent turns ≥ 2π on convex arcs)
+    /// ⇒ ρ_min ≤ r_max·√(1 + T²) = r_max / cos(α_max − α)
+    /// ```
+    ///
+    /// A convex-radius limit above it cannot be met by any ratio: the projection would shrink
+    /// every ratio to a circle and still miss it.
+    ///
+    /// ```
+    /// use ncgear::geometry::limits::GearLimits;
+    /// let l = GearLimits::new([0.3, 3.3], 20f64.to_radians(), 45f64.to_radians(), 10.0).unwrap();
+    /// // r_max = a/1.3, 1/cos 25° = 1.1034: 0.8488·a.
+    /// assert!((l.flattest_convex_radius_mm(100.0) - 84.875).abs() < 1e-3);
+    /// ```
+    #[must_use]
+    pub fn flattest_convex_radius_mm(&self, a_mm: f64) -> f64 {
+        let [lo, hi] = self.ratio_bounds;
+        let r_max = a_mm * (hi / (1.0 + hi)).max(1.0 / (1.0 + lo));
+        r_max * self.max_slope.hypot(1.0)
+    }
+
     /// `a/ρ_min`: the largest admissible curvature at unit centre distance (∞ without a
     /// convex limit).
     fn curvature_ceiling(&self, a_mm: f64) -> f64 {
@@ -519,6 +547,32 @@ mod tests {
         // A ratio within the limits is kept as it is.
         let mild = SunRatio::new(vec![0.1], vec![0.0]).unwrap();
         assert_eq!(l.project(&mild, 45.0), mild);
+    }
+
+    #[test]
+    fn no_ratio_within_the_limits_has_a_flatter_convex_arc_than_the_bound() {
+        use rand::{RngExt, SeedableRng};
+        // Random ratios of 1–4 harmonics, steep ones shrunk into the limits: the flattest convex
+        // arc of each (sun or intermediate) stays under the bound, and a circle, a/2, too.
+        let (l, a) = (limits(), 45.0);
+        let bound = l.flattest_convex_radius_mm(a);
+        assert!((bound - a / 1.3 / 25f64.to_radians().cos()).abs() < 1e-12);
+        let mut rng = rand::rngs::ChaCha8Rng::seed_from_u64(7);
+        let circle = SunRatio::new(vec![0.0], vec![0.0]).unwrap();
+        let mut flattest = l.measure(&circle, a).min_convex_radius_mm;
+        for _ in 0..400 {
+            let k = rng.random_range(1..=4);
+            let h = 0.35 / k as f64;
+            let c: Vec<f64> = (0..k).map(|_| rng.random_range(-h..h)).collect();
+            let s: Vec<f64> = (0..k).map(|_| rng.random_range(-h..h)).collect();
+            let p = l.project(&SunRatio::new(c, s).unwrap(), a);
+            let m = l.measure(&p, a);
+            assert!(m.within && m.min_convex_radius_mm <= bound, "{m:?}");
+            flattest = flattest.max(m.min_convex_radius_mm);
+        }
+        // No sample beat the circle (a/2 = 22.5 mm against the bound's 38.2 mm): the bound is
+        // safe, not tight.
+        assert!((flattest - a / 2.0).abs() < 1e-9, "{flattest}");
     }
 
     #[test]

@@ -63,6 +63,11 @@ pub fn distances_to_polyline(p: &[Point], q: &[Point]) -> Vec<f64> {
 /// The segments of a closed polyline bucketed on a uniform grid (about 2√n cells a side), so a
 /// nearest-segment query visits only nearby cells. Exact: rings of cells are searched outwards
 /// until no closer segment can exist (a segment in ring r is at least (r − 1)·h away).
+///
+/// A query far from the loop (more than [`NEAR_RINGS`] cells) would have its rings sweep a
+/// square holding most of the loop; it is finished on runs of [`RUN`] consecutive segments
+/// instead, each skipped when its bounding box lies beyond the nearest distance found so far.
+/// Every segment that could be nearer is still measured, so the distance is the same number.
 #[derive(Debug, Clone)]
 pub struct SegmentGrid<'a> {
     q: &'a [Point],
@@ -75,7 +80,15 @@ pub struct SegmentGrid<'a> {
     /// fill and read).
     starts: Vec<usize>,
     items: Vec<u32>,
+    /// Bounding box `[xmin, ymin, xmax, ymax]` (mm) of segments `RUN·j .. RUN·(j + 1)`.
+    runs: Vec<[f64; 4]>,
 }
+
+/// Rings of cells searched around a query before the search goes over to runs of segments.
+pub const NEAR_RINGS: i64 = 3;
+
+/// Consecutive segments per bounding box of the far search.
+pub const RUN: usize = 16;
 
 /// The point of a polyline nearest to a query.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -108,6 +121,13 @@ impl<'a> SegmentGrid<'a> {
             ny,
             starts: Vec::new(),
             items: Vec::new(),
+            // Run j spans vertices RUN·j ..= RUN·(j + 1), the last one closing on vertex 0.
+            runs: (0..n.div_ceil(RUN))
+                .map(|j| {
+                    let close = (RUN * (j + 1) >= n).then_some(&q[0]);
+                    bbox(q[j * RUN..].iter().take(RUN + 1).chain(close))
+                })
+                .collect(),
         };
         let cells_of = |k: usize| {
             let (a, b) = (q[k], q[if k + 1 == n { 0 } else { k + 1 }]);
@@ -157,7 +177,9 @@ impl<'a> SegmentGrid<'a> {
         ]
     }
 
-    /// The point of the polyline nearest to `x` (mm).
+    /// The point of the polyline nearest to `x` (mm). Among equally near segments (the two
+    /// sides of a vertex) the first the search meets: near the loop, rings of cells outwards,
+    /// each row by row and left to right, segments in order within a cell.
     #[must_use]
     pub fn nearest(&self, x: Point) -> Nearest {
         let (segment, point, d2) = self.search(x);
@@ -170,43 +192,31 @@ impl<'a> SegmentGrid<'a> {
 
     /// The nearest segment, its nearest point and the squared distance (mm²).
     fn search(&self, x: Point) -> (usize, Point, f64) {
-        let (q, n) = (self.q, self.q.len());
+        let mut best = (0, self.q[0], f64::INFINITY);
         let [cx, cy] = self.cell(x).map(|c| c as i64);
-        let mut best = Nearest {
-            segment: 0,
-            point: q[0],
-            distance_mm: f64::INFINITY,
-        };
-        let mut best_d2 = f64::INFINITY;
         for ring in 0..(self.nx.max(self.ny) as i64 + 1) {
             let reach = (ring as f64 - 1.0) * self.h;
-            if reach > 0.0 && best_d2 <= reach * reach {
+            if reach > 0.0 && best.2 <= reach * reach {
                 break;
             }
+            if ring > NEAR_RINGS {
+                self.search_runs(x, &mut best);
+                break;
+            }
+            // The ring's cells within the grid, row by row and left to right (the order decides
+            // between segments at the same distance): its first and last rows whole, its two
+            // side cells on the rows between.
+            let (nx, ny) = (self.nx as i64, self.ny as i64);
+            let (x0, x1) = ((cx - ring).max(0), (cx + ring).min(nx - 1));
             let mut visit = |gx: i64, gy: i64| {
                 let c = gy as usize * self.nx + gx as usize;
                 for &k in &self.items[self.starts[c]..self.starts[c + 1]] {
-                    let k = k as usize;
-                    let (point, d2) =
-                        seg_nearest_sq(x, q[k], q[if k + 1 == n { 0 } else { k + 1 }]);
-                    if d2 < best_d2 {
-                        best_d2 = d2;
-                        best.segment = k;
-                        best.point = point;
-                    }
+                    self.measure(x, k as usize, &mut best);
                 }
             };
-            // The ring's cells within the grid, row by row and left to right (the order decides
-            // between segments at the same distance): its first and last rows whole, its two
-            // side cells on the rows between. Only the ring is walked, so a query far outside
-            // the loop costs O(ring) per ring, not O(ring²).
-            let (nx, ny) = (self.nx as i64, self.ny as i64);
-            let (x0, x1) = ((cx - ring).max(0), (cx + ring).min(nx - 1));
             for gy in (cy - ring).max(0)..=(cy + ring).min(ny - 1) {
                 if gy == cy - ring || gy == cy + ring {
-                    for gx in x0..=x1 {
-                        visit(gx, gy);
-                    }
+                    (x0..=x1).for_each(|gx| visit(gx, gy));
                 } else {
                     for gx in [cx - ring, cx + ring] {
                         if (0..nx).contains(&gx) {
@@ -216,7 +226,43 @@ impl<'a> SegmentGrid<'a> {
                 }
             }
         }
-        (best.segment, best.point, best_d2)
+        best
+    }
+
+    /// The far search (type docs): the run whose box is nearest first, then every run whose box
+    /// is not beyond the best distance so far, segments in order.
+    fn search_runs(&self, x: Point, best: &mut (usize, Point, f64)) {
+        let bound = |b: &[f64; 4]| {
+            let dx = (b[0] - x.x).max(x.x - b[2]).max(0.0);
+            let dy = (b[1] - x.y).max(x.y - b[3]).max(0.0);
+            dx * dx + dy * dy
+        };
+        let n = self.q.len();
+        let scan = |j: usize, best: &mut (usize, Point, f64)| {
+            for k in RUN * j..(RUN * (j + 1)).min(n) {
+                self.measure(x, k, best);
+            }
+        };
+        let first = (self.runs.iter().map(bound).enumerate())
+            .min_by(|a, b| a.1.total_cmp(&b.1))
+            .map_or(0, |(j, _)| j);
+        scan(first, best);
+        for (j, b) in self.runs.iter().enumerate() {
+            // A relative hair over the bound: a measured distance may round below the box's.
+            if j != first && bound(b) <= best.2 * (1.0 + 1e-9) {
+                scan(j, best);
+            }
+        }
+    }
+
+    /// Segment `k` measured from `x`, kept in `best` when strictly nearer: among equally near
+    /// segments the first met wins (a vertex's two segments give the same point).
+    fn measure(&self, x: Point, k: usize, best: &mut (usize, Point, f64)) {
+        let (q, n) = (self.q, self.q.len());
+        let (point, d2) = seg_nearest_sq(x, q[k], q[if k + 1 == n { 0 } else { k + 1 }]);
+        if d2 < best.2 {
+            *best = (k, point, d2);
+        }
     }
 }
 
@@ -446,6 +492,10 @@ mod tests {
             (lobed(700, 0.5, true), lobed(3000, 0.2, false)),
             (lobed(50, 3.0, false), lobed(9, 0.0, true)),
         ] {
+            // And the same loop shrunk to 0.3 and grown to 2.5 about a point off its centre:
+            // queries tens of millimetres from it, finished on the runs' boxes.
+            let far = |s: f64| p.iter().map(move |v| (*v - Point::new(9.0, 2.0)) * s);
+            let p: Vec<Point> = p.iter().copied().chain(far(0.3)).chain(far(2.5)).collect();
             let grid = SegmentGrid::new(&q);
             let mut max = 0.0f64;
             for &x in &p {

@@ -345,3 +345,33 @@ fn module_mismatches_and_oversized_modules_are_refused_clearly() {
     assert!(matches!(e, DesignError::ModuleTooLarge { .. }), "{e}");
     assert!(e.to_string().contains("choose a module of at most"), "{e}");
 }
+
+/// A convex-radius limit beyond the flattest arc any train for the target can have is refused
+/// at once, naming the bound (G1: l1 = 90 mm, a ≤ 1.1·90/(2·cos 30°) = 57.16 mm, flattest
+/// a/1.3/cos 25° = 48.51 mm); the module route names the largest module instead.
+#[test]
+fn an_unreachable_convex_radius_limit_is_refused_with_its_bound() {
+    let g1 = traj("assets/trajectories/g1_ellipse.csv");
+    let o = DesignOptions::default().with_min_convex_radius_mm(Some(1e6));
+    let e = design(&g1, &o).unwrap_err();
+    let DesignError::ConvexLimitUnreachable {
+        limit_mm,
+        module_mm,
+        flattest_mm,
+        a_max_mm,
+    } = e
+    else {
+        panic!("{e}");
+    };
+    let a_max = 1.1 * 90.0 / (2.0 * 30f64.to_radians().cos());
+    assert!((a_max_mm - a_max).abs() < 1e-4, "{a_max_mm}");
+    let flattest = a_max / 1.3 / 25f64.to_radians().cos();
+    assert!((flattest_mm - flattest).abs() < 1e-4, "{flattest_mm}");
+    assert_eq!((limit_mm, module_mm), (1e6, None));
+    assert!(e.to_string().contains("48.5 mm"), "{e}");
+    // Within the bound the design runs, its every convex arc at least as flat as asked.
+    let o = DesignOptions::default().with_min_convex_radius_mm(Some(20.0));
+    let d = design(&g1, &o).unwrap();
+    assert_eq!(d.report.limits.min_convex_radius_mm, Some(20.0));
+    assert!(d.report.limits.tightest_convex_radius_mm >= 20.0 * (1.0 - 1e-3));
+}
