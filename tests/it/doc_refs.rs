@@ -3,7 +3,7 @@
 //! with a heading `## 6.2 …` (any level). A reference list continues with the same file
 //! (`docs/math/chain.md §3.1, §14`, `§9–§10`, `§A.7/§A.8`). A section sign with no file before it
 //! is an error, except inside `docs/math/`, where it means the file itself. No file names a work
-//! item ("issue" and a number).
+//! item ("issue" and a number) or a numbered source document ("seed" and a zero-padded number).
 
 use std::fs;
 use std::path::{Path, PathBuf};
@@ -161,15 +161,25 @@ fn problems(rel: &Path, text: &str) -> Vec<String> {
             prev = Some((pos + SECTION.len_utf8() + id.len(), target));
         }
     }
-    // Work items are not part of the product: no "issue N" (any case) in what a newcomer reads.
+    // Work items are not part of the product: no "issue N" or "issue-N" (any case) in what a
+    // newcomer reads; nor the numbered source documents ("seed 001"): name the source itself.
     let lower = text.to_ascii_lowercase();
-    for (i, _) in lower.match_indices("issue ") {
-        let rest = &lower[i + "issue ".len()..];
-        if rest.starts_with(|c: char| c.is_ascii_digit()) {
-            let line = text[..i].lines().count().max(1);
-            out.push(format!(
-                "{own}:{line}: names a work item (\"issue N\"): say what the code does instead"
-            ));
+    for (word, what) in [
+        ("issue ", "a work item (\"issue N\")"),
+        ("issue-", "a work item (\"issue-N\")"),
+        (
+            "seed 0",
+            "a numbered source document (\"seed 0NN\"): name the source",
+        ),
+    ] {
+        for (i, _) in lower.match_indices(word) {
+            let rest = &lower[i + word.len()..];
+            if rest.starts_with(|c: char| c.is_ascii_digit()) {
+                let line = text[..i].lines().count().max(1);
+                out.push(format!(
+                    "{own}:{line}: names {what}: say what the code does instead"
+                ));
+            }
         }
     }
     // The documents the math pages replace are not part of the repository.
@@ -227,4 +237,7 @@ fn the_reference_checker_catches_broken_references() {
     assert_eq!(p("// as Issue 18 asked"), 1);
     assert_eq!(p("// the issue 7 reproducer"), 1);
     assert_eq!(p("// an issue of units"), 0);
+    assert_eq!(p("// the issue-15 targets"), 1);
+    assert_eq!(p("// from seed 001, formula (3)"), 1);
+    assert_eq!(p("// campaign seed 1659486911, run #359"), 0);
 }

@@ -556,7 +556,7 @@ fn robust_generated_trajectories_meet_the_quality_targets() {
         eprintln!("could not write target/robust_summary.md: {e}");
     }
 
-    // Every case is held to the issue's targets: any failure fails the suite.
+    // Every case is held to the quality targets: any failure fails the suite.
     let unexpected: Vec<&String> = outcomes
         .iter()
         .filter(|o| o.failure.is_some() && !KNOWN_MISSES.contains(&o.seed))
@@ -580,8 +580,9 @@ fn robust_generated_trajectories_meet_the_quality_targets() {
     );
 }
 
-/// Seeds that miss the issue-15 targets: none since the perturbed restarts (2026-11-23; designer
-/// 4009 and 4022 were at 1.08× the multi-start reference before).
+/// Seeds that miss the quality targets of `robust_generated_trajectories_meet_the_quality_targets`:
+/// none since the perturbed restarts (designer 4009 and 4022 were at 1.08× the multi-start
+/// reference before).
 const KNOWN_MISSES: [u64; 0] = [];
 
 /// Our model against the crate's closed-form mechanism (used here only as a cross-check, never in
