@@ -14,7 +14,7 @@
 //! capped at `k_max` iterations (the interior degenerates if continued on asymmetric targets).
 
 use crate::design::needle_law::NeedleLaw;
-use crate::math::periodic::invert_increasing;
+use crate::math::roots::invert_increasing;
 use std::f64::consts::PI;
 
 /// Which three of the patent's four relations are solved exactly (docs/math/chain.md §15 item 4).

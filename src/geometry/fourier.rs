@@ -15,7 +15,8 @@
 //! assert!((i21.integral(std::f64::consts::TAU) - std::f64::consts::TAU).abs() < 1e-12);
 //! ```
 
-use crate::math::periodic::{fft_coefficients, invert_increasing};
+use crate::math::periodic::fft_coefficients;
+use crate::math::roots::invert_increasing;
 use std::f64::consts::{PI, TAU};
 
 /// Block length of [`SunRatio::inverse_integral_along`]: warm starts inside, parallel across.

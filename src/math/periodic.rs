@@ -4,10 +4,9 @@
 //! Everything in the design chain is periodic in an angle (carrier angle, polar angle of a pitch
 //! curve), so this module is the shared numerical vocabulary of the crate. Angles are in radians.
 //!
-//! Reference: docs/math/chain.md §3.1 (periodic C² interpolation), docs/math/chain.md §3.3 (spectral i31). The root
-//! finders that used to live here are in [`super::roots`] and re-exported under their old paths.
+//! Reference: docs/math/chain.md §3.1 (periodic C² interpolation), docs/math/chain.md §3.3
+//! (spectral i31). Root finding is in [`super::roots`].
 
-pub use super::roots::{bracketed_root, invert_increasing, secant_root};
 use realfft::RealFftPlanner;
 use realfft::num_complex::Complex;
 use std::f64::consts::TAU;

@@ -7,7 +7,8 @@
 //! `ψ(φ) − Δφ/2π` to repeat every `2π/p` (checked by [`Motion::driven_closure_defect_rad`]).
 use super::{Expr, Law, PairError};
 use crate::geometry::pitch::PitchCurve;
-use crate::math::periodic::{PeriodicSpline, invert_increasing, spectral_integral, uniform_angles};
+use crate::math::periodic::{PeriodicSpline, spectral_integral, uniform_angles};
+use crate::math::roots::invert_increasing;
 use std::f64::consts::{PI, TAU};
 
 /// Largest relative mismatch of i(0) and i(2π) of a motion law that still closes the driver.

@@ -26,7 +26,7 @@ use super::design::{PairDesign, PairOptions, PendingMesh, SectorReport, Toothed}
 use super::{Expr, PairError};
 use crate::geometry::pitch::PitchCurve;
 use crate::math::Point;
-use crate::math::periodic::invert_increasing;
+use crate::math::roots::invert_increasing;
 use crate::teeth::UndercutReport;
 use crate::teeth::mesh::{MeshCheck, MeshSpan};
 use std::f64::consts::{PI, TAU};

@@ -6,7 +6,8 @@ use super::{InverseError, InverseOptions, Inversion, MIN_AXIS_DISTANCE_L3};
 use crate::design::needle_law::NeedleLaw;
 use crate::design::trajectory::ClosedSpline;
 use crate::math::Point;
-use crate::math::periodic::{bracketed_root, secant_root, wrap_pi};
+use crate::math::periodic::wrap_pi;
+use crate::math::roots::{bracketed_root, secant_root};
 use rayon::prelude::*;
 use std::f64::consts::TAU;
 

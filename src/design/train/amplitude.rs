@@ -4,8 +4,8 @@ use super::TrainError;
 use crate::geometry::fourier::SunRatio;
 use crate::geometry::mechanism::Mechanism;
 use crate::math::Point;
-use crate::math::periodic::bracketed_root;
 use crate::math::polyline::seg_dist;
+use crate::math::roots::bracketed_root;
 use rayon::prelude::*;
 use std::f64::consts::{PI, TAU};
 

@@ -6,7 +6,7 @@ use super::TrainError;
 use super::report::TrainMesh;
 use crate::geometry::assembly::Rebuilt;
 use crate::math::Point;
-use crate::math::periodic::bracketed_root;
+use crate::math::roots::bracketed_root;
 use crate::progress::Progress;
 use crate::teeth::mesh::{MeshCheck, verify_mesh};
 
