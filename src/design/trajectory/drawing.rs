@@ -10,7 +10,10 @@
 //!    within [`FLATNESS_MM`] = 1 µm of the curve (recursive bisection: a piece is split while
 //!    its parameter midpoint lies farther than the tolerance from its chord; at least
 //!    [`MIN_PIECES`] pieces per span, so that an S-shaped span is not taken for a straight one).
-//! 3. **Resampling**: the closed polyline is resampled at [`DRAWING_SAMPLES`] = 720 points
+//! 3. **Resampling**: a loop of straight segments only (LINEs, a polyline without bulges, an
+//!    SVG polygon) keeps its vertices as drawn, as a CSV file of the same points would (at
+//!    least [`MIN_POINTS`]; resampling a polygon uniformly would put its corners between
+//!    samples and kink the interpolant). Any other loop is resampled at [`DRAWING_SAMPLES`] = 720 points
 //!    uniform in arc length, `s_k = k·L/720`, starting at the point where the curve starts in
 //!    the drawing and running the way it was drawn. 720 is two points per carrier degree: the
 //!    example CSV files have 360, the design interpolates the points by a chord-length
@@ -24,7 +27,7 @@
 //! carrier sense is detected from the loop, or given by `--sense`, as for a CSV file).
 
 use super::flatten::{crossing, resample};
-use super::{Origin, Trajectory, TrajectoryError};
+use super::{MIN_POINTS, Origin, Trajectory, TrajectoryError};
 use crate::math::Point;
 use std::str::FromStr;
 
@@ -111,6 +114,8 @@ pub(super) struct Loop {
     pub group: String,
     /// Flattened points, mm, no repeated end point.
     pub points: Vec<Point>,
+    /// Straight segments only (no arc, spline or Bézier): the points are the drawn vertices.
+    pub straight: bool,
 }
 
 /// The loop `wanted` names (`None`: the only one), or why none: `kind` is `layer` or `id`.
@@ -166,11 +171,16 @@ fn listing(loops: &[Loop], kind: &str) -> String {
 /// The chosen loop as a trajectory: resampled (module docs), checked for crossings, then
 /// validated as any point list is.
 pub(super) fn trajectory(chosen: Loop, file: &str) -> Result<Trajectory, TrajectoryError> {
-    let points =
+    let mut vertices = chosen.points.clone();
+    vertices.dedup();
+    let points = if chosen.straight && vertices.len() >= MIN_POINTS {
+        vertices
+    } else {
         resample(&chosen.points, DRAWING_SAMPLES).ok_or_else(|| TrajectoryError::NoGeometry {
             file: file.to_string(),
             message: format!("{} has zero length", chosen.what),
-        })?;
+        })?
+    };
     if let Some(p) = crossing(&points) {
         return Err(TrajectoryError::SelfIntersecting {
             file: file.to_string(),

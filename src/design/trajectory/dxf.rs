@@ -35,6 +35,8 @@ struct Piece {
     layer: String,
     what: String,
     points: Vec<Point>,
+    /// Straight segments only.
+    straight: bool,
 }
 
 /// Reads the loop (module docs).
@@ -121,8 +123,12 @@ fn describe(e: &Entity) -> String {
 fn piece(e: &Entity, mm: f64) -> Result<Option<Piece>, String> {
     let scale = |x: f64, y: f64| Point::new(mm * x, mm * y);
     let mut pts = Vec::new();
+    let mut straight = false;
     match &e.specific {
-        EntityType::Line(l) => pts = vec![scale(l.p1.x, l.p1.y), scale(l.p2.x, l.p2.y)],
+        EntityType::Line(l) => {
+            pts = vec![scale(l.p1.x, l.p1.y), scale(l.p2.x, l.p2.y)];
+            straight = true;
+        }
         EntityType::Arc(a) => {
             let sx = if a.normal.z < 0.0 { -1.0 } else { 1.0 };
             let (t0, mut t1) = (a.start_angle.to_radians(), a.end_angle.to_radians());
@@ -152,6 +158,7 @@ fn piece(e: &Entity, mm: f64) -> Result<Option<Piece>, String> {
                 .iter()
                 .map(|v| (scale(sx * v.x, v.y), sx * v.bulge))
                 .collect();
+            straight = v.iter().all(|(_, b)| *b == 0.0);
             pts = bulged(&v, p.is_closed());
         }
         EntityType::Polyline(p) => {
@@ -163,6 +170,7 @@ fn piece(e: &Entity, mm: f64) -> Result<Option<Piece>, String> {
                 .filter(|v| v.flags & 16 == 0) // spline frame control points
                 .map(|v| (scale(v.location.x, v.location.y), v.bulge))
                 .collect();
+            straight = v.iter().all(|(_, b)| *b == 0.0);
             pts = bulged(&v, p.is_closed());
         }
         EntityType::Spline(s) => pts = spline(s, mm)?,
@@ -175,6 +183,7 @@ fn piece(e: &Entity, mm: f64) -> Result<Option<Piece>, String> {
         layer: e.common.layer.clone(),
         what: describe(e),
         points: pts,
+        straight,
     }))
 }
 
@@ -254,7 +263,7 @@ fn chains(pieces: Vec<Piece>) -> (Vec<Loop>, Vec<OpenChain>) {
         let tol = close_tolerance(rest.iter().flat_map(|p| p.points.iter()));
         while !rest.is_empty() {
             let first = rest.remove(0);
-            let (mut pts, mut count) = (first.points, 1usize);
+            let (mut pts, mut count, mut straight) = (first.points, 1usize, first.straight);
             let name = |count: usize| match count {
                 1 => first.what.clone(),
                 _ => format!("the chain of {count} entities from {}", first.what),
@@ -268,6 +277,7 @@ fn chains(pieces: Vec<Piece>) -> (Vec<Loop>, Vec<OpenChain>) {
                         what,
                         group,
                         points: pts,
+                        straight,
                     });
                     break;
                 }
@@ -275,7 +285,9 @@ fn chains(pieces: Vec<Piece>) -> (Vec<Loop>, Vec<OpenChain>) {
                     open.push((name(count), end, pts[0], layer.clone()));
                     break;
                 };
-                let mut next = rest.remove(k).points;
+                let next_piece = rest.remove(k);
+                straight &= next_piece.straight;
+                let mut next = next_piece.points;
                 if reversed {
                     next.reverse();
                 }
@@ -321,6 +333,8 @@ mod tests {
         // A negative bulge runs clockwise, on the other side of the chord.
         let m2 = bulge_point(a, c, -b, 0.5);
         assert!((m2 - a.lerp(c, 0.5)).dot(mid - a.lerp(c, 0.5)) < 0.0);
-        assert!(bulge_point(c, a, 1.0, 0.5).distance(Point::new(0.0, 0.0)) > 7.0);
+        // b = 1: the counter-clockwise semicircle from (0, 10) to (10, 0) about (5, 5) passes
+        // through the origin.
+        assert!(bulge_point(c, a, 1.0, 0.5).distance(Point::new(0.0, 0.0)) < 1e-12);
     }
 }

@@ -30,7 +30,9 @@ fn bisect(
 ) {
     let tm = 0.5 * (ta + tb);
     let m = f(tm);
-    if depth >= MAX_DEPTH || segment_distance(m, a, b) <= tol {
+    // A non-finite point (bad input, refused later) ends the bisection too.
+    let d = segment_distance(m, a, b);
+    if depth >= MAX_DEPTH || d <= tol || d.is_nan() {
         out.push(b);
         return;
     }

@@ -194,8 +194,8 @@ fn subpaths(
 ) {
     let label = if id.is_empty() { "(no id)" } else { id };
     let mut current: Vec<Point> = Vec::new();
-    let mut closed = false;
-    let mut finish = |pts: &mut Vec<Point>, closed: bool| {
+    let (mut closed, mut straight) = (false, true);
+    let mut finish = |pts: &mut Vec<Point>, closed: bool, straight: bool| {
         if pts.len() < 2 {
             pts.clear();
             return;
@@ -210,6 +210,7 @@ fn subpaths(
                 what: format!("the path \"{label}\""),
                 group: label.to_string(),
                 points: std::mem::take(pts),
+                straight,
             },
             closed: closed || meets,
         });
@@ -218,17 +219,19 @@ fn subpaths(
         let last = current.last().copied();
         match (seg, last) {
             (PathSegment::MoveTo(p), _) => {
-                finish(&mut current, closed);
-                closed = false;
+                finish(&mut current, closed, straight);
+                (closed, straight) = (false, true);
                 current.push(to_mm(p.x, p.y));
             }
             (PathSegment::LineTo(p), Some(_)) => current.push(to_mm(p.x, p.y)),
             (PathSegment::QuadTo(c, p), Some(a)) => {
+                straight = false;
                 let (c, b) = (to_mm(c.x, c.y), to_mm(p.x, p.y));
                 let f = |t: f64| a.lerp(c, t).lerp(c.lerp(b, t), t);
                 flatten(&f, 0.0, 1.0, FLATNESS_MM, &mut current);
             }
             (PathSegment::CubicTo(c1, c2, p), Some(a)) => {
+                straight = false;
                 let (c1, c2, b) = (to_mm(c1.x, c1.y), to_mm(c2.x, c2.y), to_mm(p.x, p.y));
                 let f = |t: f64| {
                     let (ab, bc, cd) = (a.lerp(c1, t), c1.lerp(c2, t), c2.lerp(b, t));
@@ -240,5 +243,5 @@ fn subpaths(
             _ => {}
         }
     }
-    finish(&mut current, closed);
+    finish(&mut current, closed, straight);
 }
