@@ -7,7 +7,6 @@ use ncgear::design::train::{
     PendingTrainMesh, ToothedTrain, TrainError, TrainPolicy, TrainTeethOptions, TrainTeethReport,
     tooth_train_staged,
 };
-use ncgear::design::trajectory::Trajectory;
 use ncgear::design::{DesignError, design};
 use ncgear::teeth::ToothPolicy;
 use std::path::PathBuf;
@@ -28,8 +27,7 @@ pub fn run(args: Args) -> CliResult {
             None
         }
     };
-    let traj =
-        Trajectory::from_path(&args.trajectory).map_err(|e| input_error(miette::miette!("{e}")))?;
+    let traj = args.drawing.read(&args.trajectory)?;
     let opts = args.options();
     let file = args.trajectory.display().to_string();
     // `--module auto` cuts and rates the teeth of each module it tries: the kept module's come

@@ -2,6 +2,7 @@
 //! pair parser the commands share.
 use super::teeth_args::RackArgs;
 use ncgear::design::segmented::Route;
+use ncgear::design::trajectory::{DrawingOptions, DrawingUnits, Trajectory};
 use ncgear::design::{DesignOptions, IdlerOffset, RefineMode};
 use ncgear::math::Point;
 use std::path::PathBuf;
@@ -99,12 +100,53 @@ pub fn parse_pair(s: &str) -> Result<[f64; 2], String> {
     }
 }
 
+/// How to read a DXF or SVG trajectory drawing (docs/drawings.md); no effect on CSV or JSON.
+#[derive(Debug, Clone, clap::Args)]
+pub struct DrawingArgs {
+    /// DXF drawing: the layer whose closed loop is the target (needed when the drawing has
+    /// several loops).
+    #[arg(long, value_name = "NAME")]
+    pub layer: Option<String>,
+    /// SVG drawing: the id of the path (or of a group holding it) that is the target.
+    #[arg(long, value_name = "ID")]
+    pub id: Option<String>,
+    /// Units of the drawing's coordinates, mm|cm|m|in|px (default: the file's own; needed for
+    /// a drawing without units, overrides the file's).
+    #[arg(long, value_parser = parse_units)]
+    pub units: Option<DrawingUnits>,
+}
+
+impl DrawingArgs {
+    /// The reader's options.
+    pub fn options(&self) -> DrawingOptions {
+        DrawingOptions::default()
+            .with_layer(self.layer.clone())
+            .with_id(self.id.clone())
+            .with_units(self.units)
+    }
+
+    /// Reads the trajectory file `path` with these options; a bad file is an input error
+    /// (exit 2).
+    pub fn read(&self, path: &std::path::Path) -> Result<Trajectory, super::Failure> {
+        Trajectory::from_path_with(path, &self.options())
+            .map_err(|e| super::input_error(miette::miette!("{e}")))
+    }
+}
+
+fn parse_units(s: &str) -> Result<DrawingUnits, String> {
+    s.parse()
+}
+
 /// Arguments of `ncgear design`.
 #[derive(Debug, clap::Args)]
 pub struct Args {
     /// Trajectory file: CSV (x,y in mm, optional header, `#` comments) or JSON
-    /// (`{"units": "mm", "points": [[x, y], ...]}`), points in travel order.
+    /// (`{"units": "mm", "points": [[x, y], ...]}`), points in travel order; or a DXF or SVG
+    /// drawing of the loop (docs/drawings.md).
     pub trajectory: PathBuf,
+    /// How to read a DXF or SVG drawing.
+    #[command(flatten)]
+    pub drawing: DrawingArgs,
     /// Output directory (design.json, sun/intermediate/planet.csv, design.svg, ratio.svg, traced.csv;
     /// design.png with --png).
     #[arg(long, default_value = "out")]

@@ -1,7 +1,6 @@
 //! `ncgear simulate DESIGN.json --out DIR`.
 use super::{CliResult, input_error, print_json, runtime_error};
 use ncgear::design::train::{TrainPolicy, TrainSource, TrainTeethOptions, tooth_train};
-use ncgear::design::trajectory::Trajectory;
 use ncgear::geometry::assembly::Assembly;
 use ncgear::math::Point;
 use ncgear::output::animate::AnimationOptions;
@@ -21,6 +20,9 @@ pub struct Args {
     /// Target trajectory to compare with (default: the points stored in the design file).
     #[arg(long)]
     pub target: Option<PathBuf>,
+    /// How to read a DXF or SVG `--target` drawing (as for `ncgear design`).
+    #[command(flatten)]
+    pub drawing: super::design_args::DrawingArgs,
     /// Carrier speed, rpm.
     #[arg(long, default_value_t = 300.0)]
     pub rpm: f64,
@@ -62,10 +64,7 @@ fn input(e: SimulateError) -> super::Failure {
 pub fn run(args: Args) -> CliResult {
     let (file, asm) = DesignFile::from_path(&args.design).map_err(input)?;
     let target = match &args.target {
-        Some(p) => Trajectory::from_path(p)
-            .map_err(|e| input_error(miette::miette!("{e}")))?
-            .points()
-            .to_vec(),
+        Some(p) => args.drawing.read(p)?.points().to_vec(),
         None => file.target_points.clone(),
     };
     let (opts, anim) = options(&args)?;

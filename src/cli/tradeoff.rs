@@ -1,10 +1,9 @@
 //! `ncgear tradeoff TRAJ --out DIR`: what accuracy costs, one design per limit and module.
 use super::design::design_failure;
-use super::design_args::parse_point;
-use super::{CliResult, input_error, print_json, progress_bar, runtime_error};
+use super::design_args::{DrawingArgs, parse_point};
+use super::{CliResult, print_json, progress_bar, runtime_error};
 use ncgear::design::DesignOptions;
 use ncgear::design::tradeoff::{ROWS, trade_off};
-use ncgear::design::trajectory::Trajectory;
 use ncgear::math::Point;
 use std::path::PathBuf;
 
@@ -13,6 +12,9 @@ use std::path::PathBuf;
 pub struct Args {
     /// Trajectory file (as for `ncgear design`).
     pub trajectory: PathBuf,
+    /// How to read a DXF or SVG drawing (as for `ncgear design`).
+    #[command(flatten)]
+    pub drawing: DrawingArgs,
     /// Output directory (tradeoff.json, tradeoff.md, tradeoff.svg).
     #[arg(long, default_value = "out")]
     pub out: PathBuf,
@@ -34,8 +36,7 @@ pub fn run(args: Args) -> CliResult {
         Some(p) => Some(super::loads::sizing_scene(p)?),
         None => None,
     };
-    let traj =
-        Trajectory::from_path(&args.trajectory).map_err(|e| input_error(miette::miette!("{e}")))?;
+    let traj = args.drawing.read(&args.trajectory)?;
     let opts = DesignOptions::default().with_center_mm(args.center);
     let file = args.trajectory.display().to_string();
     let pb = progress_bar(ROWS as u64, "designs");

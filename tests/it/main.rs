@@ -6,6 +6,7 @@ mod cli;
 mod cli_design;
 mod design;
 mod doc_refs;
+mod drawings;
 mod dynamics;
 mod hard_cases;
 mod input_ranges;

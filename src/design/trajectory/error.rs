@@ -119,4 +119,98 @@ pub enum TrajectoryError {
         /// Largest spacing between consecutive points, mm.
         spacing_mm: f64,
     },
+    /// The file is not a readable DXF or SVG drawing.
+    #[error(
+        "{file}: not a {format} drawing: {message}; save it again as {format} from the CAD program"
+    )]
+    NotADrawing {
+        /// File name.
+        file: String,
+        /// `DXF` or `SVG`.
+        format: String,
+        /// Parser message.
+        message: String,
+    },
+    /// The drawing's units cannot be told.
+    #[error(
+        "{file}: the drawing's units are unknown ({found}); give them with --units mm|cm|m|in|px (DrawingOptions::units)"
+    )]
+    UnitsUnknown {
+        /// File name.
+        file: String,
+        /// What the file says about its units.
+        found: String,
+    },
+    /// A curve of the drawing does not close.
+    #[error(
+        "{file}: {what} is open: its ends ({from_x:.4}, {from_y:.4}) mm and ({to_x:.4}, {to_y:.4}) mm are {gap_mm:.4} mm apart; close the loop in the drawing (join the ends, or set the closed flag)"
+    )]
+    OpenLoop {
+        /// File name.
+        file: String,
+        /// The entity or element.
+        what: String,
+        /// Gap between the ends, mm.
+        gap_mm: f64,
+        /// End x, mm.
+        from_x: f64,
+        /// End y, mm.
+        from_y: f64,
+        /// Start x, mm.
+        to_x: f64,
+        /// Start y, mm.
+        to_y: f64,
+    },
+    /// The loop crosses itself.
+    #[error(
+        "{file}: {what} crosses itself at ({x:.4}, {y:.4}) mm; the needle-tip loop must be a simple closed curve"
+    )]
+    SelfIntersecting {
+        /// File name.
+        file: String,
+        /// The entity or element.
+        what: String,
+        /// Crossing x, mm.
+        x: f64,
+        /// Crossing y, mm.
+        y: f64,
+    },
+    /// The named layer (DXF) or id (SVG) holds no closed loop.
+    #[error("{file}: no closed loop {wanted}; the drawing has {found}")]
+    NoLoopNamed {
+        /// File name.
+        file: String,
+        /// `on layer "X"` or `with id "X"`.
+        wanted: String,
+        /// The layers or ids with their loops.
+        found: String,
+    },
+    /// Several loops and nothing names one.
+    #[error("{file}: the drawing has several closed loops ({found}); pick one with {flag}")]
+    SeveralLoops {
+        /// File name.
+        file: String,
+        /// The layers or ids with their loops.
+        found: String,
+        /// `--layer NAME` (DXF) or `--id ID` (SVG).
+        flag: String,
+    },
+    /// A SPLINE entity is not a valid B-spline.
+    #[error("{file}: {what}: {message}")]
+    BadSpline {
+        /// File name.
+        file: String,
+        /// The entity.
+        what: String,
+        /// What is wrong and what to do.
+        message: String,
+    },
+    /// Nothing in the drawing can be read as a loop.
+    #[error("{file}: no geometry to read the loop from: {message}")]
+    NoGeometry {
+        /// File name.
+        file: String,
+        /// What was looked for.
+        message: String,
+    },
 }

@@ -6,6 +6,8 @@
 //! - CSV: optional header line, two columns `x, y` in mm separated by a comma, semicolon or
 //!   whitespace; `#` starts a comment; blank lines are skipped.
 //! - JSON: `{"units": "mm", "points": [[x, y], ...]}`.
+//! - DXF and SVG drawings holding the loop as one closed curve ([`DrawingOptions`]; the
+//!   formats, units and sampling: docs/drawings.md and the `drawing` module).
 //!
 //! ```
 //! use ncgear::design::trajectory::Trajectory;
@@ -20,10 +22,16 @@
 //! ```
 
 use crate::math::Point;
+mod drawing;
+mod dxf;
 mod error;
+mod flatten;
+mod nurbs;
 mod screen;
 mod spline;
+mod svg;
 
+pub use drawing::{DRAWING_SAMPLES, DrawingOptions, DrawingUnits, FLATNESS_MM};
 pub use error::{Origin, TrajectoryError};
 pub use spline::ClosedSpline;
 
@@ -121,26 +129,58 @@ impl Trajectory {
         Self::new(points, &[], "points")
     }
 
-    /// Reads a CSV or JSON trajectory file (JSON when the extension is `.json` or the content
+    /// Reads a trajectory file: a DXF or SVG drawing by its extension (`.dxf`, `.svg`; default
+    /// [`DrawingOptions`]), else CSV or JSON (JSON when the extension is `.json` or the content
     /// starts with `{`).
     pub fn from_path(path: &Path) -> Result<Self, TrajectoryError> {
+        Self::from_path_with(path, &DrawingOptions::default())
+    }
+
+    /// As [`Self::from_path`], a drawing read with `opts` (layer, id, units); the options do
+    /// not apply to CSV or JSON files.
+    pub fn from_path_with(path: &Path, opts: &DrawingOptions) -> Result<Self, TrajectoryError> {
         let file = path.display().to_string();
         let bytes = std::fs::read(path).map_err(|e| TrajectoryError::Unreadable {
             file: file.clone(),
             message: e.to_string(),
         })?;
+        let ext = path
+            .extension()
+            .and_then(|e| e.to_str())
+            .map(str::to_ascii_lowercase)
+            .unwrap_or_default();
+        if ext == "dxf" {
+            return Self::from_dxf(&bytes, opts, &file);
+        }
         let text = String::from_utf8(bytes).map_err(|e| TrajectoryError::Unreadable {
             file: file.clone(),
             message: format!("not UTF-8 text ({e})"),
         })?;
-        if path
-            .extension()
-            .is_some_and(|e| e.eq_ignore_ascii_case("json"))
-        {
-            Self::parse_json(&text, &file)
-        } else {
-            Self::parse(&text, &file)
+        match ext.as_str() {
+            "svg" => Self::from_svg(&text, opts, &file),
+            "json" => Self::parse_json(&text, &file),
+            _ => Self::parse(&text, &file),
         }
+    }
+
+    /// Reads the loop of a DXF drawing (text or binary DXF; the `dxf` module docs), resampled
+    /// at [`DRAWING_SAMPLES`] points uniform in arc length; `file` names the source in messages.
+    pub fn from_dxf(
+        bytes: &[u8],
+        opts: &DrawingOptions,
+        file: &str,
+    ) -> Result<Self, TrajectoryError> {
+        dxf::read(bytes, opts, file)
+    }
+
+    /// Reads the loop of an SVG drawing (the `svg` module docs), y flipped so that up is +y,
+    /// resampled at [`DRAWING_SAMPLES`] points uniform in arc length.
+    pub fn from_svg(
+        text: &str,
+        opts: &DrawingOptions,
+        file: &str,
+    ) -> Result<Self, TrajectoryError> {
+        svg::read(text, opts, file)
     }
 
     /// Parses trajectory text: JSON when it starts with `{`, CSV otherwise; `file` names the

@@ -1,0 +1,163 @@
+//! Curves to polylines, closed polylines to uniform arc-length samples, and the crossing test.
+
+use super::drawing::MIN_PIECES;
+use crate::math::Point;
+
+/// Deepest bisection of one flattening piece (2⁻²⁴ of a span).
+const MAX_DEPTH: u32 = 24;
+
+/// Appends to `out` the points of the curve `f` on `(t0, t1]` (its start is the caller's last
+/// point): [`MIN_PIECES`] equal parameter pieces, each bisected while its parameter midpoint
+/// lies farther than `tol` from its chord.
+pub(super) fn flatten(f: &dyn Fn(f64) -> Point, t0: f64, t1: f64, tol: f64, out: &mut Vec<Point>) {
+    let mut a = f(t0);
+    for k in 1..=MIN_PIECES {
+        let tb = t0 + (t1 - t0) * k as f64 / MIN_PIECES as f64;
+        let ta = t0 + (t1 - t0) * (k - 1) as f64 / MIN_PIECES as f64;
+        let b = f(tb);
+        bisect(f, (ta, a), (tb, b), tol, 0, out);
+        a = b;
+    }
+}
+
+fn bisect(
+    f: &dyn Fn(f64) -> Point,
+    (ta, a): (f64, Point),
+    (tb, b): (f64, Point),
+    tol: f64,
+    depth: u32,
+    out: &mut Vec<Point>,
+) {
+    let tm = 0.5 * (ta + tb);
+    let m = f(tm);
+    // A non-finite point (bad input, refused later) ends the bisection too.
+    let d = segment_distance(m, a, b);
+    if depth >= MAX_DEPTH || d <= tol || d.is_nan() {
+        out.push(b);
+        return;
+    }
+    bisect(f, (ta, a), (tm, m), tol, depth + 1, out);
+    bisect(f, (tm, m), (tb, b), tol, depth + 1, out);
+}
+
+/// Distance from `p` to the segment `ab`.
+fn segment_distance(p: Point, a: Point, b: Point) -> f64 {
+    let ab = b - a;
+    let len2 = ab.norm_squared();
+    if len2 == 0.0 {
+        return p.distance(a);
+    }
+    let t = ((p - a).dot(ab) / len2).clamp(0.0, 1.0);
+    p.distance(a + ab * t)
+}
+
+/// `n` points uniform in arc length along the closed polyline `pts` (no repeated end point),
+/// the first at `pts[0]`: `P(s_k)`, `s_k = k·L/n`, linear between the vertices. `None` when
+/// the polyline has zero length.
+pub(super) fn resample(pts: &[Point], n: usize) -> Option<Vec<Point>> {
+    let m = pts.len();
+    let mut cum = Vec::with_capacity(m + 1);
+    cum.push(0.0);
+    for k in 0..m {
+        cum.push(cum[k] + pts[k].distance(pts[(k + 1) % m]));
+    }
+    let len = cum[m];
+    if !(len > 0.0 && len.is_finite()) {
+        return None;
+    }
+    let mut j = 0;
+    let out = (0..n)
+        .map(|k| {
+            let s = len * k as f64 / n as f64;
+            while j + 1 < m && cum[j + 1] <= s {
+                j += 1;
+            }
+            let span = cum[j + 1] - cum[j];
+            let f = if span > 0.0 { (s - cum[j]) / span } else { 0.0 };
+            pts[j].lerp(pts[(j + 1) % m], f.clamp(0.0, 1.0))
+        })
+        .collect();
+    Some(out)
+}
+
+/// Where the closed polyline `pts` first crosses itself (two non-adjacent edges meet), if it
+/// does. `O(n²)` edge pairs with a bounding-box reject: a few ms at 720 points.
+pub(super) fn crossing(pts: &[Point]) -> Option<Point> {
+    let n = pts.len();
+    if n < 4 {
+        return None;
+    }
+    let edge = |k: usize| (pts[k], pts[(k + 1) % n]);
+    for i in 0..n {
+        let (a, b) = edge(i);
+        for j in i + 2..n {
+            if i == 0 && j == n - 1 {
+                continue; // adjacent through the closing edge
+            }
+            let (c, d) = edge(j);
+            if a.x.max(b.x) < c.x.min(d.x)
+                || c.x.max(d.x) < a.x.min(b.x)
+                || a.y.max(b.y) < c.y.min(d.y)
+                || c.y.max(d.y) < a.y.min(b.y)
+            {
+                continue;
+            }
+            if let Some(p) = intersection(a, b, c, d) {
+                return Some(p);
+            }
+        }
+    }
+    None
+}
+
+/// The point where segments `ab` and `cd` meet (both parameters in [0, 1]), if they do and are
+/// not parallel.
+fn intersection(a: Point, b: Point, c: Point, d: Point) -> Option<Point> {
+    let (r, s) = (b - a, d - c);
+    let den = r.cross(s);
+    if den == 0.0 {
+        return None;
+    }
+    let t = (c - a).cross(s) / den;
+    let u = (c - a).cross(r) / den;
+    ((0.0..=1.0).contains(&t) && (0.0..=1.0).contains(&u)).then(|| a + r * t)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::f64::consts::TAU;
+
+    #[test]
+    fn a_flattened_circle_stays_within_the_tolerance_and_resamples_uniformly() {
+        let r = 50.0;
+        let f = |t: f64| Point::new(r * t.cos(), r * t.sin());
+        let mut pts = vec![f(0.0)];
+        flatten(&f, 0.0, TAU, 1e-3, &mut pts);
+        pts.pop();
+        for w in pts.windows(2) {
+            let mid = w[0].lerp(w[1], 0.5);
+            assert!(r - mid.norm() <= 1e-3 + 1e-12);
+        }
+        let s = resample(&pts, 720).unwrap();
+        assert_eq!(s.len(), 720);
+        assert_eq!(s[0], f(0.0));
+        let step = s[0].distance(s[1]);
+        for k in 0..720 {
+            assert!((s[k].distance(s[(k + 1) % 720]) - step).abs() < 1e-4);
+        }
+        assert!(crossing(&s).is_none());
+    }
+
+    #[test]
+    fn a_figure_eight_crosses_at_its_middle() {
+        let pts: Vec<Point> = (0..200)
+            .map(|k| {
+                let t = TAU * k as f64 / 200.0;
+                Point::new(40.0 * (2.0 * t).sin(), 40.0 * t.sin())
+            })
+            .collect();
+        let p = crossing(&pts).unwrap();
+        assert!(p.norm() < 1e-9, "{p:?}");
+    }
+}

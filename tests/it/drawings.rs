@@ -1,0 +1,151 @@
+//! Target loops read from DXF and SVG drawings made by other tools (assets/drawings/, made by
+//! scripts/make_drawings.py with ezdxf and svgwrite) design the same gears as the CSV points.
+use crate::cli::{message, ncgear};
+use ncgear::design::trajectory::{DrawingOptions, DrawingUnits, Trajectory, TrajectoryError};
+use ncgear::design::{Design, DesignOptions, design};
+use std::path::{Path, PathBuf};
+
+fn asset(name: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join(name)
+}
+
+fn drawing(name: &str) -> PathBuf {
+    asset(&format!("assets/drawings/{name}"))
+}
+
+fn designed(t: &Trajectory) -> Design {
+    design(t, &DesignOptions::default()).expect("the G1 loop designs")
+}
+
+/// Largest difference of l1, l3 and the sun's pitch radii (mm) between two designs.
+fn difference_mm(a: &Design, b: &Design) -> (f64, f64, f64) {
+    let (ra, rb) = (&a.report, &b.report);
+    let radii = ra
+        .gears
+        .sun
+        .pitch
+        .iter()
+        .zip(&rb.gears.sun.pitch)
+        .map(|(p, q)| (p[1] - q[1]).abs())
+        .fold(0.0, f64::max);
+    assert_eq!(ra.gears.sun.pitch.len(), rb.gears.sun.pitch.len());
+    (
+        (ra.l1_mm - rb.l1_mm).abs(),
+        (ra.l3_mm - rb.l3_mm).abs(),
+        radii,
+    )
+}
+
+#[test]
+fn g1_drawn_as_spline_bulges_lines_and_beziers_designs_as_the_csv() {
+    let csv =
+        designed(&Trajectory::from_path(&asset("assets/trajectories/g1_ellipse.csv")).unwrap());
+    for name in [
+        "g1_spline.dxf",
+        "g1_bulge.dxf",
+        "g1_lines.dxf",
+        "g1_bezier.svg",
+        "g1_px.svg",
+    ] {
+        let t = Trajectory::from_path(&drawing(name)).unwrap_or_else(|e| panic!("{e}"));
+        // Straight lines keep their vertices (the CSV points); curves are resampled.
+        let n = if name == "g1_lines.dxf" {
+            360
+        } else {
+            ncgear::design::trajectory::DRAWING_SAMPLES
+        };
+        assert_eq!(t.len(), n, "{name}");
+        let (dl1, dl3, dr) = difference_mm(&csv, &designed(&t));
+        eprintln!("{name}: |Δl1| = {dl1:.2e} mm, |Δl3| = {dl3:.2e} mm, max |Δr_sun| = {dr:.2e} mm");
+        assert!(
+            dl1 < 0.01 && dl3 < 0.01 && dr < 0.01,
+            "{name}: {dl1} {dl3} {dr}"
+        );
+    }
+}
+
+#[test]
+fn several_loops_need_a_layer() {
+    let path = drawing("g1_layers.dxf");
+    match Trajectory::from_path(&path) {
+        Err(e @ TrajectoryError::SeveralLoops { .. }) => {
+            let m = e.to_string();
+            assert!(
+                m.contains("layer \"TARGET\": 1 loop") && m.contains("layer \"SKETCH\": 2 loops"),
+                "{m}"
+            );
+            assert!(m.contains("--layer"), "{m}");
+        }
+        other => panic!("{other:?}"),
+    }
+    let opts = DrawingOptions::default().with_layer(Some("TARGET".into()));
+    let t = Trajectory::from_path_with(&path, &opts).unwrap();
+    let csv = Trajectory::from_path(&asset("assets/trajectories/g1_ellipse.csv")).unwrap();
+    // The polyline's vertices are the CSV points: the resampled loop starts at the first.
+    assert!(t.points()[0].distance(csv.points()[0]) < 1e-9);
+    let missing = DrawingOptions::default().with_layer(Some("NOPE".into()));
+    let e = Trajectory::from_path_with(&path, &missing).unwrap_err();
+    assert!(matches!(e, TrajectoryError::NoLoopNamed { .. }), "{e}");
+    assert!(e.to_string().contains("TARGET"), "{e}");
+}
+
+#[test]
+fn bad_drawings_are_refused_with_their_reason() {
+    let read = |name: &str| Trajectory::from_path(&drawing(name)).unwrap_err();
+    let open = read("g1_open.dxf");
+    match &open {
+        TrajectoryError::OpenLoop { gap_mm, .. } => assert!(*gap_mm > 20.0, "{open}"),
+        other => panic!("{other:?}"),
+    }
+    assert!(matches!(
+        read("g1_open.svg"),
+        TrajectoryError::OpenLoop { .. }
+    ));
+    assert!(matches!(
+        read("g1_unitless.dxf"),
+        TrajectoryError::UnitsUnknown { .. }
+    ));
+    assert!(matches!(
+        read("g1_unitless.svg"),
+        TrajectoryError::UnitsUnknown { .. }
+    ));
+    assert!(matches!(
+        read("g1_figure8.dxf"),
+        TrajectoryError::SelfIntersecting { .. }
+    ));
+    let not = Trajectory::from_dxf(b"0\nSECTION\n2\nNOPE", &DrawingOptions::default(), "x.dxf");
+    assert!(not.is_err());
+    let not = Trajectory::from_svg("<svg", &DrawingOptions::default(), "x.svg");
+    assert!(matches!(not, Err(TrajectoryError::NotADrawing { .. })));
+    // Given units, the unitless files read as the mm ones.
+    let mm = DrawingOptions::default().with_units(Some(DrawingUnits::Mm));
+    let a = Trajectory::from_path_with(&drawing("g1_unitless.dxf"), &mm).unwrap();
+    let b = Trajectory::from_path_with(&drawing("g1_unitless.svg"), &mm).unwrap();
+    let c = Trajectory::from_path(&drawing("g1_bezier.svg")).unwrap();
+    assert!(a.points()[0].distance(b.points()[0]) < 1e-3);
+    assert!(b.points()[0].distance(c.points()[0]) < 1e-3);
+}
+
+#[test]
+fn the_cli_refuses_a_bad_drawing_with_exit_2_and_reads_a_layer() {
+    let out = ncgear()
+        .args(["design"])
+        .arg(drawing("g1_unitless.dxf"))
+        .args(["--out", "/nonexistent/never-written"])
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(2));
+    let m = message(&out);
+    assert!(
+        m.contains("g1_unitless.dxf") && m.contains("--units"),
+        "{m}"
+    );
+    let out = ncgear()
+        .args(["design"])
+        .arg(drawing("g1_layers.dxf"))
+        .args(["--out", "/nonexistent/never-written"])
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(2));
+    assert!(message(&out).contains("--layer"), "{}", message(&out));
+}
