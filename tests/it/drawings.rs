@@ -117,6 +117,15 @@ fn bad_drawings_are_refused_with_their_reason() {
     assert!(not.is_err());
     let not = Trajectory::from_svg("<svg", &DrawingOptions::default(), "x.svg");
     assert!(matches!(not, Err(TrajectoryError::NotADrawing { .. })));
+    // A vertex of NaN and 1e400 (inf) is named as not finite, not as a loop "NaN mm" open.
+    let nan = "0\nSECTION\n2\nENTITIES\n0\nLWPOLYLINE\n8\n0\n90\n3\n70\n1\n10\n0\n20\n0\n\
+               10\n5\n20\n0\n10\nnan\n20\n1e400\n0\nENDSEC\n0\nEOF\n";
+    let mm = DrawingOptions::default().with_units(Some(DrawingUnits::Mm));
+    let e = Trajectory::from_dxf(nan.as_bytes(), &mm, "nan.dxf").unwrap_err();
+    assert!(
+        matches!(e, TrajectoryError::NonFiniteCoordinate { .. }),
+        "{e}"
+    );
     // Given units, the unitless files read as the mm ones.
     let mm = DrawingOptions::default().with_units(Some(DrawingUnits::Mm));
     let a = Trajectory::from_path_with(&drawing("g1_unitless.dxf"), &mm).unwrap();

@@ -9,7 +9,7 @@
 //! 2. **Flattening**: curves (arcs, B-splines, Béziers) become polylines whose chords stay
 //!    within [`FLATNESS_MM`] = 1 µm of the curve (recursive bisection: a piece is split while
 //!    its parameter midpoint lies farther than the tolerance from its chord; at least
-//!    [`MIN_PIECES`] pieces per span, so that an S-shaped span is not taken for a straight one).
+//!    [`super::flatten::MIN_PIECES`] pieces per span, so that an S-shaped span is not taken for a straight one).
 //! 3. **Resampling**: a loop of straight segments only (LINEs, a polyline without bulges, an
 //!    SVG polygon) keeps its vertices as drawn, as a CSV file of the same points would (at
 //!    least [`MIN_POINTS`]; resampling a polygon uniformly would put its corners between
@@ -35,8 +35,6 @@ use std::str::FromStr;
 pub const DRAWING_SAMPLES: usize = 720;
 /// Largest distance from a flattened chord to its curve, mm (module docs).
 pub const FLATNESS_MM: f64 = 1e-3;
-/// Fewest flattening pieces per curve span (module docs).
-pub const MIN_PIECES: usize = 4;
 /// Relative tolerance for the ends of a curve to meet: `1e-6` of the drawing size (the
 /// diagonal of the bounding box of its geometry).
 pub const CLOSE_RELATIVE: f64 = 1e-6;
@@ -171,6 +169,12 @@ fn listing(loops: &[Loop], kind: &str) -> String {
 /// The chosen loop as a trajectory: resampled (module docs), checked for crossings, then
 /// validated as any point list is.
 pub(super) fn trajectory(chosen: Loop, file: &str) -> Result<Trajectory, TrajectoryError> {
+    if (chosen.points.iter()).any(|p| !(p.x.is_finite() && p.y.is_finite())) {
+        return Err(TrajectoryError::NonFiniteCoordinate {
+            file: file.to_string(),
+            what: chosen.what,
+        });
+    }
     let mut vertices = chosen.points.clone();
     vertices.dedup();
     let points = if chosen.straight && vertices.len() >= MIN_POINTS {
@@ -193,8 +197,15 @@ pub(super) fn trajectory(chosen: Loop, file: &str) -> Result<Trajectory, Traject
     Trajectory::new(points, &origins, file)
 }
 
-/// The open-loop error of a curve from `start` to `end` (mm).
+/// The open-loop error of a curve from `start` to `end` (mm); a non-finite end is named as
+/// such (NaN apart says nothing).
 pub(super) fn open_loop(file: &str, what: String, end: Point, start: Point) -> TrajectoryError {
+    if !(end.x.is_finite() && end.y.is_finite() && start.x.is_finite() && start.y.is_finite()) {
+        return TrajectoryError::NonFiniteCoordinate {
+            file: file.to_string(),
+            what,
+        };
+    }
     TrajectoryError::OpenLoop {
         file: file.to_string(),
         what,

@@ -119,6 +119,14 @@ pub enum TrajectoryError {
         /// Largest spacing between consecutive points, mm.
         spacing_mm: f64,
     },
+    /// A drawing's entity has a coordinate that is not a finite number.
+    #[error("{file}: {what} has a coordinate that is not a finite number; fix it in the drawing")]
+    NonFiniteCoordinate {
+        /// File name.
+        file: String,
+        /// The entity (its kind, layer and handle or id).
+        what: String,
+    },
     /// The file is not a readable DXF or SVG drawing.
     #[error(
         "{file}: not a {format} drawing: {message}; save it again as {format} from the CAD program"

@@ -1,7 +1,9 @@
 //! Curves to polylines, closed polylines to uniform arc-length samples, and the crossing test.
 
-use super::drawing::MIN_PIECES;
 use crate::math::Point;
+
+/// Fewest flattening pieces per curve span (docs of `drawing`).
+pub const MIN_PIECES: usize = 4;
 
 /// Deepest bisection of one flattening piece (2⁻²⁴ of a span).
 const MAX_DEPTH: u32 = 24;
