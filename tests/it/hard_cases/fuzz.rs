@@ -12,7 +12,7 @@ use ncgear::analysis::orbit::model::ModelParams;
 use ncgear::analysis::peak::PeakOptions;
 use ncgear::analysis::tolerance::{Analysis, ErrorFile};
 use ncgear::config::Format;
-use ncgear::design::trajectory::Trajectory;
+use ncgear::design::trajectory::{DrawingOptions, DrawingUnits, Trajectory};
 use ncgear::pair::{Expr, Law, Motion};
 use ncgear::progress::Progress;
 use ncgear::simulate::DesignFile;
@@ -23,6 +23,8 @@ use std::sync::OnceLock;
 const G1_CSV: &str = include_str!("../../../assets/trajectories/g1_ellipse.csv");
 const KIDNEY_CSV: &str = include_str!("../../../assets/trajectories/designer_kidney.csv");
 const ASYM_JSON: &str = include_str!("../../../assets/trajectories/asymmetric_cw.json");
+const BULGE_DXF: &str = include_str!("../../../assets/drawings/g1_bulge.dxf");
+const BEZIER_SVG: &str = include_str!("../../../assets/drawings/g1_bezier.svg");
 const SCENES: [&str; 5] = [
     include_str!("../../../assets/dynamics/backlash_oscillator.toml"),
     include_str!("../../../assets/dynamics/full16.toml"),
@@ -221,9 +223,13 @@ fn finite(v: f64, what: &str) -> Result<(), TestCaseError> {
 // ---- per-parser checks: parse, and when it parses, run the next stage ----
 
 fn check_trajectory(text: &str) -> Result<(), TestCaseError> {
+    // Drawings read with their units given, so that a unitless text reaches the geometry.
+    let mm = DrawingOptions::default().with_units(Some(DrawingUnits::Mm));
     for t in [
         Trajectory::parse_csv(text, "fuzz.csv"),
         Trajectory::parse_json(text, "fuzz.json"),
+        Trajectory::from_dxf(text.as_bytes(), &mm, "fuzz.dxf"),
+        Trajectory::from_svg(text, &mm, "fuzz.svg"),
     ]
     .into_iter()
     .flatten()
@@ -399,6 +405,8 @@ fn bundled_assets_parse() {
     assert!(Trajectory::parse_csv(G1_CSV, "g").is_ok());
     assert!(Trajectory::parse_csv(KIDNEY_CSV, "k").is_ok());
     assert!(Trajectory::parse_json(ASYM_JSON, "a").is_ok());
+    assert!(Trajectory::from_dxf(BULGE_DXF.as_bytes(), &DrawingOptions::default(), "b").is_ok());
+    assert!(Trajectory::from_svg(BEZIER_SVG, &DrawingOptions::default(), "z").is_ok());
     assert!(DesignFile::parse(design_json(), "d").is_ok());
     for s in SCENES {
         assert!(Scene::parse(s, "s", Format::Toml).is_ok());
@@ -472,8 +480,8 @@ proptest! {
     #![proptest_config(cfg(512, 0x8_0002))]
 
     #[test]
-    fn mutated_trajectory_files(muts in proptest::collection::vec(mutation(), 1..4), which in 0usize..3) {
-        let base = [G1_CSV, KIDNEY_CSV, ASYM_JSON][which];
+    fn mutated_trajectory_files(muts in proptest::collection::vec(mutation(), 1..4), which in 0usize..5) {
+        let base = [G1_CSV, KIDNEY_CSV, ASYM_JSON, BULGE_DXF, BEZIER_SVG][which];
         check_trajectory(&apply(base, &muts))?;
     }
 
