@@ -158,3 +158,43 @@ fn the_cli_refuses_a_bad_drawing_with_exit_2_and_reads_a_layer() {
     assert_eq!(out.status.code(), Some(2));
     assert!(message(&out).contains("--layer"), "{}", message(&out));
 }
+
+/// A LWPOLYLINE header in mm (`$INSUNITS` 4) and its vertices `(x, y, bulge)`, closed.
+fn lwpolyline(vertices: &[(f64, f64, f64)]) -> String {
+    let mut t = String::from(
+        "0\nSECTION\n2\nHEADER\n9\n$INSUNITS\n70\n4\n0\nENDSEC\n0\nSECTION\n2\nENTITIES\n\
+         0\nLWPOLYLINE\n8\n0\n",
+    );
+    t += &format!("90\n{}\n70\n1\n", vertices.len());
+    for (x, y, b) in vertices {
+        t += &format!("10\n{x}\n20\n{y}\n42\n{b}\n");
+    }
+    t + "0\nENDSEC\n0\nEOF\n"
+}
+
+/// A traced polygon of 20 000 vertices is resampled (its crossing check would be quadratic in
+/// them), a polygon of 360 keeps its vertices; arcs of absurd size flatten within the bounded
+/// depth, not into memory.
+#[test]
+fn dense_and_absurd_drawings_stay_bounded() {
+    let mm = DrawingOptions::default();
+    let circle = |n: usize, r: f64, bulge: f64| -> Vec<(f64, f64, f64)> {
+        (0..n)
+            .map(|k| {
+                let t = std::f64::consts::TAU * k as f64 / n as f64;
+                (100.0 + r * t.cos(), r * t.sin(), bulge)
+            })
+            .collect()
+    };
+    let dense =
+        Trajectory::from_dxf(lwpolyline(&circle(20_000, 40.0, 0.0)).as_bytes(), &mm, "d").unwrap();
+    assert_eq!(dense.len(), ncgear::design::trajectory::DRAWING_SAMPLES);
+    let kept =
+        Trajectory::from_dxf(lwpolyline(&circle(360, 40.0, 0.0)).as_bytes(), &mm, "k").unwrap();
+    assert_eq!(kept.len(), 360);
+    // Half-circle bulges on a loop 2e12 mm across: flattened within the bounded depth and
+    // resampled (the design then refuses its carrier axis, as for the same CSV).
+    let huge = lwpolyline(&circle(24, 1e12, 1.0));
+    let t = Trajectory::from_dxf(huge.as_bytes(), &mm, "h").unwrap();
+    assert_eq!(t.len(), ncgear::design::trajectory::DRAWING_SAMPLES);
+}

@@ -12,8 +12,9 @@
 //!    [`super::flatten::MIN_PIECES`] pieces per span, so that an S-shaped span is not taken for a straight one).
 //! 3. **Resampling**: a loop of straight segments only (LINEs, a polyline without bulges, an
 //!    SVG polygon) keeps its vertices as drawn, as a CSV file of the same points would (at
-//!    least [`MIN_POINTS`]; resampling a polygon uniformly would put its corners between
-//!    samples and kink the interpolant). Any other loop is resampled at [`DRAWING_SAMPLES`] = 720 points
+//!    least [`MIN_POINTS`], at most [`MAX_KEPT_VERTICES`]; resampling a polygon uniformly would
+//!    put its corners between samples and kink the interpolant; a denser polygon is a traced
+//!    curve, whose chords are too short for that to matter). Any other loop is resampled at [`DRAWING_SAMPLES`] = 720 points
 //!    uniform in arc length, `s_k = k·L/720`, starting at the point where the curve starts in
 //!    the drawing and running the way it was drawn. 720 is two points per carrier degree: the
 //!    example CSV files have 360, the design interpolates the points by a chord-length
@@ -30,6 +31,10 @@ use super::flatten::{crossing, resample};
 use super::{MIN_POINTS, Origin, Trajectory, TrajectoryError};
 use crate::math::Point;
 use std::str::FromStr;
+
+/// Most vertices of a straight-segment loop kept as drawn (module docs): the crossing check is
+/// quadratic in them (≈ 50 ms at 4096).
+pub const MAX_KEPT_VERTICES: usize = 4096;
 
 /// Points of a loop read from a drawing: two per carrier degree (module docs).
 pub const DRAWING_SAMPLES: usize = 720;
@@ -177,7 +182,7 @@ pub(super) fn trajectory(chosen: Loop, file: &str) -> Result<Trajectory, Traject
     }
     let mut vertices = chosen.points.clone();
     vertices.dedup();
-    let points = if chosen.straight && vertices.len() >= MIN_POINTS {
+    let points = if chosen.straight && (MIN_POINTS..=MAX_KEPT_VERTICES).contains(&vertices.len()) {
         vertices
     } else {
         resample(&chosen.points, DRAWING_SAMPLES).ok_or_else(|| TrajectoryError::NoGeometry {

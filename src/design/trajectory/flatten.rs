@@ -5,8 +5,14 @@ use crate::math::Point;
 /// Fewest flattening pieces per curve span (docs of `drawing`).
 pub const MIN_PIECES: usize = 4;
 
-/// Deepest bisection of one flattening piece (2⁻²⁴ of a span).
-const MAX_DEPTH: u32 = 24;
+/// Deepest bisection of one flattening piece (2⁻¹² of it: at most 16 384 chords per span, enough
+/// for a 1 µm tolerance on an arc of 60 m radius).
+const MAX_DEPTH: u32 = 12;
+
+/// Most points a drawing's curves are flattened to (4 M, 64 MB): past it every piece is one
+/// chord, so that a drawing of absurd size or span count stays within memory (its loop is then
+/// coarser than the tolerance, and a drawing that big is no planting-arm loop anyway).
+const MAX_FLATTENED_POINTS: usize = 1 << 22;
 
 /// Appends to `out` the points of the curve `f` on `(t0, t1]` (its start is the caller's last
 /// point): [`MIN_PIECES`] equal parameter pieces, each bisected while its parameter midpoint
@@ -34,7 +40,7 @@ fn bisect(
     let m = f(tm);
     // A non-finite point (bad input, refused later) ends the bisection too.
     let d = segment_distance(m, a, b);
-    if depth >= MAX_DEPTH || d <= tol || d.is_nan() {
+    if depth >= MAX_DEPTH || d <= tol || d.is_nan() || out.len() >= MAX_FLATTENED_POINTS {
         out.push(b);
         return;
     }

@@ -31,7 +31,7 @@ mod screen;
 mod spline;
 mod svg;
 
-pub use drawing::{DRAWING_SAMPLES, DrawingOptions, DrawingUnits, FLATNESS_MM};
+pub use drawing::{DRAWING_SAMPLES, DrawingOptions, DrawingUnits, FLATNESS_MM, MAX_KEPT_VERTICES};
 pub use error::{Origin, TrajectoryError};
 pub use spline::ClosedSpline;
 
