@@ -1,6 +1,7 @@
 //! Curves to polylines, closed polylines to uniform arc-length samples, and the crossing test.
 
 use crate::math::Point;
+use crate::math::polyline::seg_dist;
 
 /// Fewest flattening pieces per curve span (docs of `drawing`).
 pub const MIN_PIECES: usize = 4;
@@ -39,24 +40,13 @@ fn bisect(
     let tm = 0.5 * (ta + tb);
     let m = f(tm);
     // A non-finite point (bad input, refused later) ends the bisection too.
-    let d = segment_distance(m, a, b);
+    let d = seg_dist(m, a, b);
     if depth >= MAX_DEPTH || d <= tol || d.is_nan() || out.len() >= MAX_FLATTENED_POINTS {
         out.push(b);
         return;
     }
     bisect(f, (ta, a), (tm, m), tol, depth + 1, out);
     bisect(f, (tm, m), (tb, b), tol, depth + 1, out);
-}
-
-/// Distance from `p` to the segment `ab`.
-fn segment_distance(p: Point, a: Point, b: Point) -> f64 {
-    let ab = b - a;
-    let len2 = ab.norm_squared();
-    if len2 == 0.0 {
-        return p.distance(a);
-    }
-    let t = ((p - a).dot(ab) / len2).clamp(0.0, 1.0);
-    p.distance(a + ab * t)
 }
 
 /// `n` points uniform in arc length along the closed polyline `pts` (no repeated end point),
