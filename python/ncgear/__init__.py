@@ -38,7 +38,7 @@ __version__: str = _ncgear.__version__
 __all__ = [
     "NcgearError", "Design", "Train", "Pair", "Placement", "Loads", "design", "teeth", "pair",
     "simulate", "tolerance", "loads", "loads_file", "write_step", "write_dxf", "write_svg",
-    "set_max_memory_gb",
+    "set_max_memory_gb", "read_trajectory",
 ]
 
 PathLike = Union[str, "os.PathLike[str]"]
@@ -134,6 +134,28 @@ class Loads(_Raw, LoadsReport):
 def _options(given: Dict[str, Any], *positional: str) -> Dict[str, Any]:
     """The keyword arguments of a call (its ``locals()`` first thing) without the positional."""
     return {k: v for k, v in given.items() if k not in positional}
+
+
+def read_trajectory(
+    path: PathLike,
+    *,
+    layer: Optional[str] = None,
+    id: Optional[str] = None,
+    units: Optional[Literal["mm", "cm", "m", "in", "px"]] = None,
+) -> npt.NDArray[np.float64]:
+    """The needle-tip points (N, 2), mm, in travel order, that :func:`design` sees in a file.
+
+    A DXF or SVG drawing (by its extension) is read as ``ncgear design`` reads it: ``layer``
+    picks the DXF layer and ``id`` the SVG element whose closed loop is the target (needed when
+    the drawing holds several loops); ``units`` gives the size of a drawing unit when the file
+    does not say (DXF ``$INSUNITS`` unitless, an SVG without an absolute width) or overrides it.
+    Curves are flattened to 1 µm and resampled at 720 points by arc length; a loop of straight
+    segments keeps its vertices. CSV, TXT and JSON point files are read as they are (the
+    drawing options do not apply). ``design(read_trajectory(path, ...))`` designs the same gears
+    as ``ncgear design path --layer ... --units ...``. Errors (open or self-crossing loops,
+    several loops, unknown units) are :class:`NcgearError` naming what to fix.
+    """
+    return _ncgear.read_trajectory(os.fspath(path), layer, id, units)
 
 
 def design(

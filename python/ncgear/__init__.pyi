@@ -15,7 +15,7 @@ __version__: str
 __all__ = [
     "NcgearError", "Design", "Train", "Pair", "Placement", "Loads", "design", "teeth", "pair",
     "simulate", "tolerance", "loads", "loads_file", "write_step", "write_dxf", "write_svg",
-    "set_max_memory_gb",
+    "set_max_memory_gb", "read_trajectory",
 ]
 
 PathLike = Union[str, os.PathLike[str]]
@@ -61,6 +61,13 @@ class Pair(_Raw, PairReport):
 class Loads(_Raw, LoadsReport):
     _report: Any
 
+def read_trajectory(
+    path: PathLike,
+    *,
+    layer: Optional[str] = ...,
+    id: Optional[str] = ...,
+    units: Optional[Literal["mm", "cm", "m", "in", "px"]] = ...,
+) -> npt.NDArray[np.float64]: ...
 def design(
     points: Union[PathLike, npt.ArrayLike],
     *,

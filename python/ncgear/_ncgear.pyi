@@ -7,8 +7,8 @@ from typing_extensions import final
 
 __all__ = [
     "DesignHandle", "NcgearError", "PairHandle", "Report", "TrainHandle", "__version__", "design",
-    "forward_for_spacing", "loads", "loads_file", "pair", "set_max_memory_gb", "simulate", "teeth",
-    "tolerance",
+    "forward_for_spacing", "loads", "loads_file", "pair", "read_trajectory", "set_max_memory_gb",
+    "simulate", "teeth", "tolerance",
 ]
 __version__: str
 
@@ -41,6 +41,9 @@ class PairHandle:
     def write_step(self, dir: str, face_width: Optional[float], bore: float) -> List[str]: ...
     def write_sheets(self, dir: str, kind: str, version: str) -> List[str]: ...
 
+def read_trajectory(
+    path: str, layer: Optional[str], id: Optional[str], units: Optional[str]
+) -> npt.NDArray[np.float64]: ...
 def design(
     points: Optional[npt.NDArray[np.float64]], path: Optional[str], options: Dict[str, Any]
 ) -> DesignHandle: ...

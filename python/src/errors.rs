@@ -61,6 +61,12 @@ fn unflagged(message: &str) -> String {
         .replace("`--sense auto`", "`sense=\"auto\"`")
         .replace("--max-memory-gb", "ncgear.set_max_memory_gb()")
         .replace("(--max-pressure-angle)", "(`max_pressure_angle`)")
+        .replace(
+            "--units mm|cm|m|in|px",
+            "units=\"mm\"|\"cm\"|\"m\"|\"in\"|\"px\"",
+        )
+        .replace("--layer NAME", "layer=\"NAME\"")
+        .replace("--id ID", "id=\"ID\"")
 }
 
 /// An `NcgearError` carrying `e`'s message.

@@ -14,6 +14,7 @@ use ncgear::cad::step::write_step;
 use ncgear::cad::svg::write_svg;
 use ncgear::design::Design;
 use ncgear::design::train::{Gear, ToothedTrain, TrainTeethOptions, tooth_train};
+use ncgear::design::trajectory::{DrawingOptions, DrawingUnits};
 use ncgear::loads::{LoadsError, LoadsReport, Rotor, Scene, analyse, run_scene};
 use ncgear::math::polyline::simplify_closed;
 use ncgear::output::{SolidOptions, pair_step, train_step_models, write_step_models};
@@ -161,6 +162,31 @@ fn trajectory(
         (None, Some(p)) => Trajectory::from_path(Path::new(p)).map_err(err),
         _ => Err(err("points: give an (N, 2) array or a file path")),
     }
+}
+
+/// `read_trajectory(path, layer, id, units)`: the points (N, 2), mm, that `design` sees in a
+/// trajectory file — a DXF or SVG drawing read with its layer, id and units, or CSV/JSON.
+#[pyfunction]
+#[pyo3(signature = (path, layer, id, units))]
+fn read_trajectory<'py>(
+    py: Python<'py>,
+    path: &str,
+    layer: Option<String>,
+    id: Option<String>,
+    units: Option<&str>,
+) -> PyResult<Bound<'py, PyAny>> {
+    let units = units
+        .map(|u| {
+            u.parse::<DrawingUnits>()
+                .map_err(|e| errors::arg_err("units", format!("{u:?}"), e))
+        })
+        .transpose()?;
+    let opts = DrawingOptions::default()
+        .with_layer(layer)
+        .with_id(id)
+        .with_units(units);
+    let t = Trajectory::from_path_with(Path::new(path), &opts).map_err(err)?;
+    Ok(points(py, t.points()))
 }
 
 /// `design(points | path, options)`: the options as `DesignArgs`.
@@ -466,6 +492,7 @@ fn _ncgear(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<TrainHandle>()?;
     m.add_class::<PairHandle>()?;
     for f in [
+        wrap_pyfunction!(read_trajectory, m)?,
         wrap_pyfunction!(design, m)?,
         wrap_pyfunction!(teeth, m)?,
         wrap_pyfunction!(pair, m)?,

@@ -64,6 +64,74 @@ fn g1_drawn_as_spline_bulges_lines_and_beziers_designs_as_the_csv() {
     }
 }
 
+/// The G1 loop as FreeCAD 0.20 and Inkscape 1.2 write it (scripts/make_exporter_drawings.sh):
+/// each one's conventions (SPLINEs of 6 significant digits, LINEs of 3 decimals, Inkscape
+/// layers under transforms with the carrier axis at the page centre, relative path data of 8
+/// digits, a px document without units, 360 open SPLINE pieces on a layer) designs the CSV's
+/// train within 0.01 mm once the drawing's own choices (layer, id, units, where the axis is) are
+/// named; without them it is refused, saying which.
+#[test]
+fn drawings_from_freecad_and_inkscape_design_as_the_csv() {
+    let csv =
+        designed(&Trajectory::from_path(&asset("assets/trajectories/g1_ellipse.csv")).unwrap());
+    let none = DrawingOptions::default();
+    let id = |s: &str| DrawingOptions::default().with_id(Some(s.into()));
+    let page_svg = ncgear::math::Point::new(210.0, -148.5);
+    let page_dxf = ncgear::math::Point::new(210.0, 148.5);
+    let origin = ncgear::math::Point::new(0.0, 0.0);
+    let cases = [
+        ("g1_freecad_spline.dxf", none.clone(), origin),
+        ("g1_freecad_lines.dxf", none.clone(), origin),
+        (
+            "g1_inkscape.dxf",
+            DrawingOptions::default().with_layer(Some("TARGET".into())),
+            page_dxf,
+        ),
+        ("g1_inkscape.svg", id("target"), page_svg),
+        // The Inkscape layer's id picks the paths inside it.
+        ("g1_inkscape.svg", id("layer1"), page_svg),
+        (
+            "g1_inkscape_px.svg",
+            id("target").with_units(Some(DrawingUnits::Px)),
+            page_svg,
+        ),
+    ];
+    for (name, opts, center) in cases {
+        let t = Trajectory::from_path_with(&drawing(name), &opts).unwrap_or_else(|e| panic!("{e}"));
+        let o = DesignOptions::default().with_center_mm(center);
+        let d = design(&t, &o).unwrap_or_else(|e| panic!("{name}: {e}"));
+        assert!(d.report.verdict.passed, "{name}: {:?}", d.report.verdict);
+        let (dl1, dl3, dr) = difference_mm(&csv, &d);
+        eprintln!("{name}: |Δl1| = {dl1:.2e} mm, |Δl3| = {dl3:.2e} mm, max |Δr_sun| = {dr:.2e} mm");
+        assert!(
+            dl1 < 0.01 && dl3 < 0.01 && dr < 0.01,
+            "{name}: {dl1} {dl3} {dr}"
+        );
+    }
+    // Refused, with the reason, when the drawing's own choice is not named.
+    let refused = [
+        (
+            "g1_inkscape.dxf",
+            none.clone(),
+            "layer \"SKETCH\": 27 loops",
+        ),
+        (
+            "g1_inkscape.svg",
+            none.clone(),
+            "id \"carrier_circle\": 1 loop",
+        ),
+        (
+            "g1_inkscape_px.svg",
+            id("target"),
+            "1587.4016 wide, a length without a unit",
+        ),
+    ];
+    for (name, opts, says) in refused {
+        let e = Trajectory::from_path_with(&drawing(name), &opts).unwrap_err();
+        assert!(e.to_string().contains(says), "{name}: {e}");
+    }
+}
+
 #[test]
 fn several_loops_need_a_layer() {
     let path = drawing("g1_layers.dxf");

@@ -20,7 +20,8 @@
 //!   [`super::drawing::FLATNESS_MM`]; a subpath is closed by `Z` or when its ends meet within
 //!   `1e-6` of its size.
 //! - **Choice**: a path is named by its own `id`, else by the `id` of its nearest group that has
-//!   one; [`DrawingOptions::id`] picks it. Without an id the drawing must hold one closed
+//!   one; [`DrawingOptions::id`] picks it, or names a group (a vector editor's layer) and picks
+//!   the paths inside it. Without an id the drawing must hold one closed
 //!   subpath.
 
 use super::drawing::{
@@ -48,7 +49,7 @@ pub(super) fn read(
     let doc = roxmltree::Document::parse(text).map_err(|e| not_svg(e.to_string()))?;
     let frame = frame(&doc, &tree, opts, file)?;
     let mut subpaths = Vec::new();
-    collect(tree.root(), "", frame, &mut subpaths);
+    collect(tree.root(), "", &[], frame, &mut subpaths);
     if subpaths.is_empty() {
         return Err(TrajectoryError::NoGeometry {
             file: file.to_string(),
@@ -56,6 +57,17 @@ pub(super) fn read(
         });
     }
     let wanted = opts.id.as_deref();
+    // An id that names a group (an editor's layer) picks every subpath inside it.
+    if let Some(w) = wanted
+        && !subpaths.iter().any(|s| s.shape.group == w)
+    {
+        for s in subpaths
+            .iter_mut()
+            .filter(|s| s.groups.iter().any(|g| g == w))
+        {
+            s.shape.group = w.to_string();
+        }
+    }
     let named = |id: &str| wanted.is_none_or(|w| w == id);
     let mut loops = Vec::new();
     let mut open = None;
@@ -159,18 +171,29 @@ fn frame(
 struct Subpath {
     shape: Loop,
     closed: bool,
+    /// The ids of the named groups holding it (an `--id` of one of them picks it too).
+    groups: Vec<String>,
 }
 
-/// Every subpath under `g`; `id` is the nearest named ancestor's.
-fn collect(g: &usvg::Group, id: &str, frame: Frame, out: &mut Vec<Subpath>) {
+/// Every subpath under `g`; `id` is the nearest named ancestor's, `ancestors` the ids of every
+/// named group above.
+fn collect(g: &usvg::Group, id: &str, ancestors: &[String], frame: Frame, out: &mut Vec<Subpath>) {
+    let mut chain = ancestors.to_vec();
+    if !g.id().is_empty() {
+        chain.push(g.id().to_string());
+    }
     let id = if g.id().is_empty() { id } else { g.id() };
     for node in g.children() {
         match node {
-            usvg::Node::Group(child) => collect(child, id, frame, out),
+            usvg::Node::Group(child) => collect(child, id, &chain, frame, out),
             usvg::Node::Path(p) => {
                 let id = if p.id().is_empty() { id } else { p.id() };
                 let to_mm = |x: f32, y: f32| mapped(p.abs_transform(), x, y, frame);
+                let first = out.len();
                 subpaths(p.data(), id, &to_mm, out);
+                for s in &mut out[first..] {
+                    s.groups.clone_from(&chain);
+                }
             }
             _ => {}
         }
@@ -213,6 +236,7 @@ fn subpaths(
                 straight,
             },
             closed: closed || meets,
+            groups: Vec::new(),
         });
     };
     for seg in data.segments() {
