@@ -6,8 +6,9 @@ console error; a trajectory loaded through `open-file` shows the l1, l3 and devi
 time shown); a module gives teeth; the design.json download equals the CLI's design of the same
 points; the loads panel on that design draws the torque chart and shows numbers, its peak carrier
 torque that of `ncgear loads` on the CLI's design (within 1 %), and the endpoint's answer on the
-page's own design that of `ncgear loads` on it; a malformed upload shows its error and the page
-keeps working. Then the API alone: warm edits of a bundled example a fraction of a millimetre to
+page's own design that of `ncgear loads` on it; a DXF of several loops is refused naming its
+layers, then read from the layer typed in the page as the CLI reads it; a malformed upload shows
+its error and the page keeps working. Then the API alone: warm edits of a bundled example a fraction of a millimetre to
 millimetres off it (p50/p95 server time printed, not asserted: speed lives in the benchmarks), the
 loads of a design with a bad scene (a negative arm mass named by its key), an oversized body, and a
 few hundred malformed requests (seeded) — every answer JSON, never a 5xx, the server alive after
@@ -199,6 +200,25 @@ def browser_checks(url):
         err = text(page, "status")
         if "broken.csv" not in err:
             fail(f"the malformed upload's error does not name the file: {err!r}")
+        # A drawing holding several loops: refused naming its layers, then read from the layer
+        # typed in the page's field — the CLI's points and numbers for the same file and layer.
+        drawing = ROOT / "assets/drawings/g1_layers.dxf"
+        page.get_by_test_id("open-file").set_input_files(str(drawing))
+        page.wait_for_function("() => document.querySelector('[data-testid=status]').classList.contains('error')")
+        several = text(page, "status")
+        if 'layer "TARGET": 1 loop' not in several or "layer or id" not in several or "--layer" in several:
+            fail(f"a drawing of several loops: the page says {several!r}")
+        page.get_by_test_id("drawing-pick").fill("TARGET")
+        page.get_by_test_id("drawing-pick").dispatch_event("change")
+        wait_ready(page, 120000)
+        module = page.get_by_test_id("module").input_value().strip()
+        want = cli_design(drawing, "--layer", "TARGET", *(["--module", module] if module else []))
+        got = [text(page, t) for t in ("l1-mm", "l3-mm")]
+        exp = [f"{want['l1_mm']:.6f}", f"{want['l3_mm']:.6f}"]
+        if got != exp or page.evaluate("points().length") != len(want["target_points"]):
+            fail(f"{drawing.name} on layer TARGET: the page shows l1, l3 {got}, ncgear design {exp}")
+        page.get_by_test_id("drawing-pick").fill("")
+        print(f"check_serve: {drawing.name}: several loops named in the page; layer TARGET → l1 {got[0]} mm, l3 {got[1]} mm (as the CLI)")
         # A synthesis spec through the poses panel: the arm and the poses on the gears.
         page.get_by_test_id("open-poses").set_input_files(str(ROOT / "assets/synthesis/g1_five_poses.toml"))
         wait_ready(page)

@@ -9,7 +9,7 @@
 //! `POST /api/loads` takes `{"design": <design.json>, "scene": {…}}` (or `"points"` and
 //! `"options"` in place of `"design"`) and answers the `loads.json` object ([`super::loads`]).
 
-use ncgear::design::trajectory::Trajectory;
+use ncgear::design::trajectory::{DrawingOptions, DrawingUnits, Trajectory};
 use ncgear::design::{DesignError, DesignOptions, IdlerOffset, RefineMode};
 use ncgear::math::Point;
 use serde::Deserialize;
@@ -240,6 +240,15 @@ pub struct ParseRequest {
     pub name: String,
     /// File contents.
     pub text: String,
+    /// A DXF drawing's layer holding the loop (`--layer`).
+    #[serde(default)]
+    pub layer: Option<String>,
+    /// An SVG drawing's element id, or a group's, holding the loop (`--id`).
+    #[serde(default)]
+    pub id: Option<String>,
+    /// A drawing's units when the file does not say them: `mm`, `cm`, `m`, `in`, `px` (`--units`).
+    #[serde(default)]
+    pub units: Option<String>,
 }
 
 impl ParseRequest {
@@ -260,6 +269,19 @@ impl ParseRequest {
             .take(200)
             .collect();
         Ok((label, req))
+    }
+
+    /// How to read the loop when the file is a drawing (blank fields: the file's own choice).
+    pub fn drawing_options(&self) -> Result<DrawingOptions, ApiError> {
+        let given = |s: &Option<String>| s.as_ref().filter(|s| !s.trim().is_empty()).cloned();
+        let units = given(&self.units)
+            .map(|u| u.parse::<DrawingUnits>())
+            .transpose()
+            .map_err(|e| ApiError::bad("units", e))?;
+        Ok(DrawingOptions::default()
+            .with_layer(given(&self.layer))
+            .with_id(given(&self.id))
+            .with_units(units))
     }
 }
 

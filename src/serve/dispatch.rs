@@ -43,8 +43,16 @@ pub fn route(method: &str, url: &str, body: &str, gone: &dyn Fn() -> bool) -> Re
 /// `POST /api/parse`: the points of an uploaded file, read as `ncgear design` reads that file.
 fn parse(body: &str) -> Result<Reply, ApiError> {
     let (label, req) = ParseRequest::parse(body)?;
-    let traj =
-        Trajectory::parse(&req.text, &label).map_err(|e| ApiError::bad("file", e.to_string()))?;
+    let opts = req.drawing_options()?;
+    // The drawing's choices are the page's fields here, not the command line's flags.
+    let traj = Trajectory::from_bytes(req.text.as_bytes(), &label, &opts).map_err(|e| {
+        let m = e
+            .to_string()
+            .replace("--layer NAME", "the \"layer or id\" field")
+            .replace("--id ID", "the \"layer or id\" field")
+            .replace("--units mm|cm|m|in|px", "the \"units\" field");
+        ApiError::bad("file", m)
+    })?;
     Ok(Reply::json(
         serde_json::json!({"name": label, "points": traj.points()}).to_string(),
     ))

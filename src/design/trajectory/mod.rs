@@ -144,22 +144,34 @@ impl Trajectory {
             file: file.clone(),
             message: e.to_string(),
         })?;
-        let ext = path
+        Self::from_bytes(&bytes, &file, opts)
+    }
+
+    /// The trajectory of a file's contents `bytes`, its format told by the extension of `file`
+    /// as [`Self::from_path_with`] tells it (a DXF or SVG drawing read with `opts`, else JSON or
+    /// CSV); `file` also names the source in messages. An upload's bytes are read as the file
+    /// would be.
+    pub fn from_bytes(
+        bytes: &[u8],
+        file: &str,
+        opts: &DrawingOptions,
+    ) -> Result<Self, TrajectoryError> {
+        let ext = Path::new(file)
             .extension()
             .and_then(|e| e.to_str())
             .map(str::to_ascii_lowercase)
             .unwrap_or_default();
         if ext == "dxf" {
-            return Self::from_dxf(&bytes, opts, &file);
+            return Self::from_dxf(bytes, opts, file);
         }
-        let text = String::from_utf8(bytes).map_err(|e| TrajectoryError::Unreadable {
-            file: file.clone(),
+        let text = std::str::from_utf8(bytes).map_err(|e| TrajectoryError::Unreadable {
+            file: file.to_string(),
             message: format!("not UTF-8 text ({e})"),
         })?;
         match ext.as_str() {
-            "svg" => Self::from_svg(&text, opts, &file),
-            "json" => Self::parse_json(&text, &file),
-            _ => Self::parse(&text, &file),
+            "svg" => Self::from_svg(text, opts, file),
+            "json" => Self::parse_json(text, file),
+            _ => Self::parse(text, file),
         }
     }
 

@@ -645,11 +645,20 @@ async function synthesizeSpec(upload) {
     designChanged();
   } catch (e) { setStatus(e.message, "error"); render(); }
 }
+// A drawing (DXF, SVG) is read with the page's "layer or id" and "units" fields; changing them
+// reads the last drawing again.
+const isDrawing = (file) => /\.(dxf|svg)$/i.test(file.name);
+let lastDrawing = null;
 const openFile = (file) => openWith(async () => {
   if (file.size > MAX_UPLOAD_BYTES) {
     throw new Error(`${file.name}: ${(file.size / 1048576).toFixed(1)} MB, larger than the 8 MB a trajectory may have here (about 100 000 points): thin the points first`);
   }
-  return api("/api/parse", { name: file.name, text: await file.text() });
+  lastDrawing = isDrawing(file) ? file : null;
+  const pick = $("drawing-pick").value.trim();
+  const units = $("drawing-units").value;
+  const body = { name: file.name, text: await file.text() };
+  if (lastDrawing) Object.assign(body, { layer: pick || null, id: pick || null, units: units || null });
+  return api("/api/parse", body);
 });
 
 async function download(format) {
@@ -700,6 +709,7 @@ function init() {
   }, { passive: false });
   $("spacing").addEventListener("change", () => redesign(true));
   $("open-file").addEventListener("change", (e) => { if (e.target.files[0]) openFile(e.target.files[0]); e.target.value = ""; });
+  for (const f of ["drawing-pick", "drawing-units"]) $(f).addEventListener("change", () => { if (lastDrawing) openFile(lastDrawing); });
   $("open-poses").addEventListener("change", (e) => { if (e.target.files[0]) openPoses(e.target.files[0]); e.target.value = ""; });
   $("load-work").addEventListener("change", (e) => { if (e.target.files[0]) loadWork(e.target.files[0]); e.target.value = ""; });
   $("example").addEventListener("change", (e) => openExample(e.target.value));
