@@ -1,8 +1,8 @@
 //! Design chain: every knob of docs/math/chain.md §13 that trades accuracy for time, measured against references
 //! (closed forms of the G1 mechanism, the best achievable deviation of the designer-style target).
 use super::{Row, timed};
+use ncgear::design::hypothesis::refine::RefineOptions;
 use ncgear::design::inverse::{InverseOptions, invert};
-use ncgear::design::refine::RefineOptions;
 use ncgear::design::trajectory::{Origin, Trajectory};
 use ncgear::design::{DesignOptions, RefineMode, design};
 use ncgear::geometry::mechanism::Mechanism;

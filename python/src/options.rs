@@ -2,7 +2,7 @@
 //! wrapper builds from its signature, one item per argument) as library options.
 use crate::errors::{arg_err, bounds_err, design_err, teeth_err};
 use ncgear::design::DesignOptions;
-use ncgear::design::segmented::Route;
+use ncgear::design::hypothesis::segmented::Route;
 use ncgear::design::train::TrainPolicy;
 use ncgear::design::{IdlerOffset, RefineMode};
 use ncgear::teeth::{RackParams, ToothPolicy, ToothingOptions};

@@ -1,7 +1,7 @@
 //! `ncgear design`'s flags, their value types and the design options they ask for; the `X,Y`
 //! pair parser the commands share.
 use super::teeth_args::RackArgs;
-use ncgear::design::segmented::Route;
+use ncgear::design::hypothesis::segmented::Route;
 use ncgear::design::trajectory::{DrawingOptions, DrawingUnits, Trajectory};
 use ncgear::design::{DesignOptions, IdlerOffset, RefineMode};
 use ncgear::math::Point;

@@ -1,7 +1,7 @@
 //! Why the design chain stopped.
 
+use crate::design::hypothesis::segmented::SegmentedError;
 use crate::design::inverse::InverseError;
-use crate::design::segmented::SegmentedError;
 use crate::geometry::fourier::RatioError;
 use crate::geometry::pitch::PitchError;
 

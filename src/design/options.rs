@@ -2,9 +2,9 @@
 
 use super::error::DesignError;
 use crate::design::fit::FitOptions;
+use crate::design::hypothesis::refine::RefineOptions;
+use crate::design::hypothesis::segmented::SegmentedOptions;
 use crate::design::inverse::InverseOptions;
-use crate::design::refine::RefineOptions;
-use crate::design::segmented::SegmentedOptions;
 use crate::geometry::limits::GearLimits;
 use crate::math::Point;
 use serde::{Deserialize, Serialize};
@@ -141,7 +141,7 @@ pub struct DesignOptions {
     pub fit: FitOptions,
     /// When the design fails its verification, design its nearest alternative too (the other
     /// idler layout, else a looser pressure-angle limit, else the next smaller module: one more
-    /// design) and name it in the report ([`crate::design::alternatives`]). Default false (a
+    /// design) and name it in the report ([`crate::design::chain::alternatives`]). Default false (a
     /// design inside a search, a sweep or a drag does not need it); the CLI and the Python
     /// package turn it on.
     pub alternatives: bool,

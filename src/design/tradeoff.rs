@@ -57,7 +57,7 @@ pub struct TradeOff {
     /// The module sized by strength for a loads scene (`ncgear tradeoff --loads`): the
     /// standard modules rated in turn up to the first that carries the loads.
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub sizing: Option<crate::design::sizing::ModuleSizing>,
+    pub sizing: Option<crate::design::report::sizing::ModuleSizing>,
 }
 
 /// One design of the ladder.

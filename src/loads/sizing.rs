@@ -7,7 +7,7 @@
 use super::analysis::analyse;
 use super::scene::{FaceWidth, LoadCase};
 use super::{LoadsError, LoadsReport, Rotor};
-use crate::design::sizing::{ModuleSizing, SizingRow};
+use crate::design::report::sizing::{ModuleSizing, SizingRow};
 use crate::design::train::{
     PendingTrainMesh, ToothedTrain, TrainPolicy, TrainTeethOptions, tooth_train_staged,
 };

@@ -1,8 +1,8 @@
 //! The design chain: golden numbers of docs/math/chain.md §11 (G1–G5), round trips, designer-style targets, errors.
-use ncgear::design::compat;
+use ncgear::design::hypothesis::segmented::SegmentedOptions;
+use ncgear::design::inverse::compat;
+use ncgear::design::inverse::needle_law::NeedleLaw;
 use ncgear::design::inverse::{InverseError, InverseOptions, invert};
-use ncgear::design::needle_law::NeedleLaw;
-use ncgear::design::segmented::SegmentedOptions;
 use ncgear::design::trajectory::{Origin, Trajectory};
 use ncgear::design::{DesignOptions, RefineMode, design};
 use ncgear::geometry::fourier::SunRatio;

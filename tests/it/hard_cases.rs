@@ -151,7 +151,8 @@ fn ratios_beyond_the_bounds_are_designed_within_them() {
         idler_offset_rad: 0.0,
     };
     let t = traj((0..360).map(|k| m.tip((k as f64).to_radians())).collect()).unwrap();
-    let bounds = ncgear::design::refine::RefineOptions::default().with_ratio_bounds([0.6, 1.7]);
+    let bounds =
+        ncgear::design::hypothesis::refine::RefineOptions::default().with_ratio_bounds([0.6, 1.7]);
     let opts = DesignOptions::default().with_refine_options(bounds);
     let d = design(&t, &opts).unwrap();
     let [lo, hi] = d.report.fourier.i21_range;

@@ -49,6 +49,8 @@
 //! assert!((fit.mechanism.a_mm - 45.0).abs() < 1e-5);
 //! ```
 
+pub mod noise;
+
 use crate::math::Point;
 mod curve;
 mod restarts;
@@ -297,7 +299,7 @@ pub fn admitted(points: &[Point], start: &Mechanism, opts: &FitOptions) -> Fitte
 
 /// The RMS point distance of a fit that follows the curve under noisy points exactly, mm: the
 /// residual keeps the noise the `p = 4 + 2K` parameters cannot follow, `σ·√(1 − p/N)` (σ per
-/// coordinate; [`crate::design::noise`]). 0 on exact points (σ = 0).
+/// coordinate; [`crate::design::fit::noise`]). 0 on exact points (σ = 0).
 fn noise_floor_mm(sigma_mm: f64, order: usize, points: usize) -> f64 {
     let p = fitted_parameters(order) as f64;
     sigma_mm * (1.0 - p / points.max(1) as f64).max(0.0).sqrt()

@@ -3,7 +3,7 @@
 //! frame early.
 
 use super::{InverseError, InverseOptions, Inversion, MIN_AXIS_DISTANCE_L3};
-use crate::design::needle_law::NeedleLaw;
+use crate::design::inverse::needle_law::NeedleLaw;
 use crate::design::trajectory::ClosedSpline;
 use crate::math::Point;
 use crate::math::periodic::wrap_pi;

@@ -14,10 +14,13 @@
 //! `ψ3` is resampled on a uniform grid of `N` carrier angles by solving `φH(s) = φH0 + t_n` on the
 //! interpolant itself (no second interpolation), so its error is the spline's, O(h⁴) (docs/math/chain.md §3.5).
 
+pub mod compat;
+pub mod needle_law;
+
 use crate::math::Point;
 mod frame;
 
-use crate::design::needle_law::NeedleLaw;
+use crate::design::inverse::needle_law::NeedleLaw;
 use crate::design::trajectory::{ClosedSpline, Trajectory};
 use frame::{Solved, coarse_rejects, dense_count, solve_frame, winding_number};
 
@@ -264,8 +267,8 @@ pub fn invert(
     };
     match (ccw, cw) {
         (Ok(Solved::Done(mut a)), Ok(Solved::Done(mut b))) => {
-            let ea = crate::design::compat::analyse(&a.law, 256, 1e-10).residual_rad;
-            let eb = crate::design::compat::analyse(&b.law, 256, 1e-10).residual_rad;
+            let ea = crate::design::inverse::compat::analyse(&a.law, 256, 1e-10).residual_rad;
+            let eb = crate::design::inverse::compat::analyse(&b.law, 256, 1e-10).residual_rad;
             a.other_sense_traceable = true;
             b.other_sense_traceable = true;
             Ok(if eb < ea { *b } else { *a })

@@ -5,7 +5,7 @@ use super::layout::{Layout, planet_law, sun_law};
 use super::pending::PendingTrainMesh;
 use super::{ToothedTrain, TrainError, TrainPolicy, TrainRoundTrip, TrainTeethOptions};
 use crate::design::Design;
-use crate::design::roundtrip::deviations_as_designed;
+use crate::design::trajectory::roundtrip::deviations_as_designed;
 use crate::geometry::assembly::{Assembly, Rebuilt};
 use crate::math::Point;
 use crate::math::polyline::{distances_to_polyline, hausdorff_mm};

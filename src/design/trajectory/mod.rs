@@ -21,6 +21,8 @@
 //! assert_eq!(traj.len(), 36);
 //! ```
 
+pub(in crate::design) mod roundtrip;
+
 use crate::math::Point;
 mod drawing;
 mod dxf;

@@ -10,7 +10,7 @@
 //!
 //! and the origin with the smallest `E_c` is chosen (docs/math/chain.md §15 item 5).
 
-use crate::design::needle_law::NeedleLaw;
+use crate::design::inverse::needle_law::NeedleLaw;
 use crate::math::roots::bracketed_root;
 use std::f64::consts::{PI, TAU};
 

@@ -1,8 +1,8 @@
 //! Re-designing from an earlier design: the edit loop of an interactive designer (the entry
-//! beside [`design`](crate::design::design); its warm start is [`super::warm`]).
+//! beside [`design`](crate::design::design); its warm start is [`crate::design::strategy::warm`]).
 
-use super::report::DesignReport;
-use super::{Design, DesignError, DesignOptions, trajectory::Trajectory};
+use crate::design::report::DesignReport;
+use crate::design::{Design, DesignError, DesignOptions, trajectory::Trajectory};
 
 /// The design of `traj` started from `start` (an earlier `design.json` of a nearby target, e.g.
 /// before an edit), with `opts` as [`design`](crate::design::design) takes them: the edit loop of
@@ -15,7 +15,7 @@ use super::{Design, DesignError, DesignOptions, trajectory::Trajectory};
 /// does — step 1, the patent route, the same gear limits, checks and round trip — but replaces
 /// the fit stage by one Levenberg–Marquardt fit from that design's train, at its Fourier order
 /// (and, designing for a module, at its tooth count: the perimeter `zπm` held), finished by
-/// [`super::warm::WARM_MINIMAX_PASSES`] reweighting passes towards the minimax fit on clean points (the full
+/// [`crate::design::strategy::warm::WARM_MINIMAX_PASSES`] reweighting passes towards the minimax fit on clean points (the full
 /// search runs 12). The result is a local optimum near the start, so its largest deviation may
 /// exceed the full design's (on 60 cumulative edits of the G1 target by bumps of up to 1 mm:
 /// 0.96 mm against the full search's 0.74 mm at the end); running [`design`](crate::design::design) on
@@ -52,5 +52,5 @@ pub fn redesign(
     opts: &DesignOptions,
     start: &DesignReport,
 ) -> Result<Design, DesignError> {
-    super::chain::design_from(traj, opts, Some(start))
+    crate::design::chain::design_from(traj, opts, Some(start))
 }

@@ -27,12 +27,12 @@
 //! arm; [`IdlerOffset::Free`] frees it at both counts, [`IdlerOffset::Collinear`] nowhere. An
 //! exact target is then traced exactly at a standard module (G1 at m = 2: z = 23, ε = 13.5°).
 
-use super::error::DesignError;
-use super::offset_start::offset_start;
-use super::options::IdlerOffset;
+use crate::design::error::DesignError;
 use crate::design::fit::{
     FitOptions, Fitted, MEASURED_NOISE_MM, admitted, fit_points, minimax, minimax_from_distances,
 };
+use crate::design::options::IdlerOffset;
+use crate::design::strategy::offset_start::offset_start;
 use crate::geometry::mechanism::Mechanism;
 use crate::geometry::perimeter::unit_perimeter;
 use crate::math::Point;
@@ -66,7 +66,7 @@ pub struct ModuleSummary {
 }
 
 /// The train refitted at the chosen tooth count.
-pub(super) struct ForModule {
+pub(in crate::design) struct ForModule {
     pub mechanism: Mechanism,
     pub angles: Vec<f64>,
     pub summary: ModuleSummary,
@@ -75,7 +75,10 @@ pub(super) struct ForModule {
 /// Refuses a module that leaves fewer than [`MIN_TEETH`] − 1 teeth on `start`'s pitch curves,
 /// or more than [`crate::bounds::MAX_TEETH`] (an early check on the patent route's train,
 /// before any fit: the fit changes the perimeter by far less than a tooth).
-pub(super) fn check_module(start: &Mechanism, module_mm: f64) -> Result<(), DesignError> {
+pub(in crate::design) fn check_module(
+    start: &Mechanism,
+    module_mm: f64,
+) -> Result<(), DesignError> {
     let perimeter = start.a_mm * unit_perimeter(&start.ratio);
     let teeth = perimeter / (PI * module_mm);
     if teeth > f64::from(crate::bounds::MAX_TEETH) + 1.0 {
@@ -107,7 +110,7 @@ pub(super) fn check_module(start: &Mechanism, module_mm: f64) -> Result<(), Desi
 /// Fits the train at the two tooth counts nearest to its free perimeter (module
 /// documentation), from `start` (the free design), with the chain's fit options and the idler
 /// offset allowed by `offset`.
-pub(super) fn design_for_module(
+pub(in crate::design) fn design_for_module(
     points: &[Point],
     start: &Mechanism,
     module_mm: f64,

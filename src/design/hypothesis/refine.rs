@@ -16,7 +16,7 @@
 //! `√λ·k²·(a_k, b_k)`. Solved by Levenberg–Marquardt (`levenberg-marquardt` crate) with a
 //! forward-difference Jacobian, started from the patent route's fit.
 
-use crate::design::needle_law::NeedleLaw;
+use crate::design::inverse::needle_law::NeedleLaw;
 use crate::geometry::fourier::SunRatio;
 use crate::geometry::mechanism::{ContactGeometry, INVERSE_TOL_RAD};
 use levenberg_marquardt::{LeastSquaresProblem, LevenbergMarquardt};

@@ -1,24 +1,25 @@
 //! The chain's last stage: every parameter fitted to the points as read (restarts, the elliptic
 //! restart, or one fit from a warm start), and its summary for the report.
 
-use super::ellipse::from_an_ellipse;
-use super::error::DesignError;
-use super::options::{IdlerOffset, RefineMode};
-use super::report::FitSummary;
-use super::segmented::Segmented;
-use super::trains::Trains;
-use super::{fit, warm};
+use crate::design::error::DesignError;
+use crate::design::fit;
 use crate::design::fit::FitOptions;
+use crate::design::hypothesis::segmented::Segmented;
+use crate::design::options::{IdlerOffset, RefineMode};
+use crate::design::report::FitSummary;
+use crate::design::strategy::arms::ArmTrains;
+use crate::design::strategy::ellipse::from_an_ellipse;
+use crate::design::strategy::warm;
 use crate::design::trajectory::Trajectory;
 use crate::geometry::fourier::SunRatio;
 use crate::geometry::mechanism::Mechanism;
 
 /// The fit aims at this fraction of `tol_tip_mm` on the points, and runs (refine auto) when the
 /// chain's result is farther: room for the table rebuild and for the curve between the points.
-pub(super) const FIT_TOL_FRACTION: f64 = 0.2;
+pub(in crate::design) const FIT_TOL_FRACTION: f64 = 0.2;
 
 /// What the fit stage hands on: the mechanism, each point's carrier angle, and the summary.
-pub(super) struct FitStage {
+pub(in crate::design) struct FitStage {
     pub mechanism: Mechanism,
     pub angles: Vec<f64>,
     pub summary: Option<FitSummary>,
@@ -30,7 +31,7 @@ pub(super) struct FitStage {
 
 /// Where the fit stage starts: the chain's train, and a warm start's train ([`warm`]) with the
 /// tooth count `(z, m)` it was designed for, when given.
-pub(super) struct FitStart<'a> {
+pub(in crate::design) struct FitStart<'a> {
     pub chain: Mechanism,
     pub warm: Option<(&'a Mechanism, Option<(u32, f64)>)>,
 }
@@ -38,9 +39,9 @@ pub(super) struct FitStart<'a> {
 /// The last stage ([`crate::design::fit`]): every parameter fitted to the points as read, when
 /// the chain's result is not within [`FIT_TOL_FRACTION`]·tol of them, leaves the ratio bounds,
 /// or came from smoothed points (refine auto), with restarts from the patent route at order 2.
-pub(super) fn fit_stage(
+pub(in crate::design) fn fit_stage(
     traj: &Trajectory,
-    trains: &Trains,
+    trains: &ArmTrains,
     seg: &Segmented,
     tau: f64,
     from: FitStart,
@@ -127,7 +128,7 @@ pub(super) fn fit_stage(
 }
 
 /// The report of the fit `f` from a start `start_rms` / `start_max` mm from the points.
-pub(super) fn fit_summary(
+pub(in crate::design) fn fit_summary(
     f: &fit::Fitted,
     start_rms: f64,
     start_max: f64,
@@ -149,7 +150,7 @@ pub(super) fn fit_summary(
 
 /// The options of the fit to the points: the chain's order, gear limits and noise level; aims at
 /// [`FIT_TOL_FRACTION`] of the tolerance.
-pub(super) fn fit_options(trains: &Trains, noise_sigma: f64) -> FitOptions {
+pub(in crate::design) fn fit_options(trains: &ArmTrains, noise_sigma: f64) -> FitOptions {
     let opts = trains.opts;
     FitOptions {
         order: opts.order,

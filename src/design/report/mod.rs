@@ -1,5 +1,8 @@
 //! `design.json`: the design report and the design it describes (mm and degrees).
 
+pub(in crate::design) mod checks;
+pub mod sizing;
+
 use crate::design::inverse::Inversion;
 use crate::geometry::assembly::{Assembly, Rebuilt};
 use crate::geometry::mechanism::Mechanism;
@@ -90,14 +93,14 @@ pub struct DesignReport {
     )]
     pub teeth: Option<crate::design::train::TrainTeethReport>,
     /// A failed design's nearest alternatives with their figures (the other idler layout, a
-    /// looser pressure-angle limit, a smaller module; [`crate::design::alternatives`]), when
+    /// looser pressure-angle limit, a smaller module; [`crate::design::chain::alternatives`]), when
     /// [`crate::design::DesignOptions::alternatives`] asks for them; empty otherwise.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub alternatives: Vec<Alternative>,
     /// The module sized by strength (`ncgear design --module auto --loads`): the modules
     /// tried and the one kept; absent otherwise.
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub sizing: Option<crate::design::sizing::ModuleSizing>,
+    pub sizing: Option<crate::design::report::sizing::ModuleSizing>,
     /// Whether the design passed its verification: every check C1–C13, with teeth both
     /// meshes, and a sizing's targets ([`DesignReport::update_verdict`]).
     #[serde(default)]
@@ -270,7 +273,7 @@ pub struct RoundTrip {
     /// On measured points (estimated noise σ above [`crate::design::fit::MEASURED_NOISE_MM`]):
     /// the estimated largest distance of the traced path from the curve under the noise, mm,
     /// `√(2 ln p)·√(σ²p/N + max(0, rms² − σ²(1 − p/N)))` with `p = 4 + 2K` fitted parameters
-    /// ([`crate::design::noise`]); check C12 judges it instead of `max_deviation_mm`. Absent on
+    /// ([`crate::design::fit::noise`]); check C12 judges it instead of `max_deviation_mm`. Absent on
     /// exact points.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub estimated_curve_deviation_mm: Option<f64>,
@@ -394,7 +397,7 @@ pub struct Check {
 }
 
 /// Milliseconds since `t`, the unit of [`Timings`].
-pub(super) fn ms(t: std::time::Instant) -> f64 {
+pub(in crate::design) fn ms(t: std::time::Instant) -> f64 {
     t.elapsed().as_secs_f64() * 1e3
 }
 
@@ -464,7 +467,7 @@ fn null_as_infinity<'de, D: serde::Deserializer<'de>>(d: D) -> Result<f64, D::Er
     Ok(Option::<f64>::deserialize(d)?.unwrap_or(f64::INFINITY))
 }
 
-/// A failed design's alternative, designed ([`crate::design::alternatives`]).
+/// A failed design's alternative, designed ([`crate::design::chain::alternatives`]).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[non_exhaustive]
 pub struct Alternative {

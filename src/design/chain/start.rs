@@ -1,10 +1,10 @@
 //! Step 1 for the start of the design: the raw points, or a smoothed copy for measured points.
 
-use super::error::DesignError;
-use super::fit::MEASURED_NOISE_MM;
-use super::inverse;
-use super::options::DesignOptions;
+use crate::design::error::DesignError;
+use crate::design::fit::MEASURED_NOISE_MM;
+use crate::design::inverse;
 use crate::design::inverse::{InverseError, Inversion};
+use crate::design::options::DesignOptions;
 use crate::design::trajectory::Trajectory;
 
 /// Smoothing harmonics tried, in order, for the start on measured points.
@@ -14,7 +14,7 @@ const START_SMOOTHING: [usize; 5] = [24, 32, 16, 48, 12];
 /// points (estimated σ above [`MEASURED_NOISE_MM`]) and points whose raw inversion fails the
 /// monotonicity tests are inverted from a smoothed copy (the fit later uses the points as read).
 /// Returns the inversion and the smoothing used.
-pub(super) fn invert_for_start(
+pub(in crate::design) fn invert_for_start(
     traj: &Trajectory,
     opts: &DesignOptions,
     noise_sigma_mm: f64,

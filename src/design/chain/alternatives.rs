@@ -9,10 +9,10 @@
 //! (designing for a module). The first that applies is designed — one more design for a failing
 //! design (the kidney: 1.4 s beside its own 1.35 s), nothing for a passing one.
 
-use super::options::{DesignOptions, IdlerOffset};
-pub use super::report::Alternative;
-use super::report::DesignReport;
-use super::trajectory::Trajectory;
+use crate::design::options::{DesignOptions, IdlerOffset};
+pub use crate::design::report::Alternative;
+use crate::design::report::DesignReport;
+use crate::design::trajectory::Trajectory;
 
 /// Most alternatives designed for one failed design.
 pub const MAX_ALTERNATIVES: usize = 1;
@@ -76,7 +76,7 @@ pub fn alternatives(
         if out.len() == MAX_ALTERNATIVES || out.last().is_some_and(|a| a.passed) {
             break;
         }
-        let Ok(d) = super::design(traj, &o) else {
+        let Ok(d) = crate::design::design(traj, &o) else {
             continue;
         };
         let r = &d.report;

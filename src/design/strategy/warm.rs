@@ -4,8 +4,8 @@
 //! count: the perimeter `zπm` held), finished by [`WARM_MINIMAX_PASSES`] reweighting passes
 //! towards the minimax fit on clean points (the full search runs 12).
 
-use super::fit::{FitOptions, Fitted, MEASURED_NOISE_MM, fit_points, minimax_passes};
-use super::report::DesignReport;
+use crate::design::fit::{FitOptions, Fitted, MEASURED_NOISE_MM, fit_points, minimax_passes};
+use crate::design::report::DesignReport;
 use crate::geometry::fourier::SunRatio;
 use crate::geometry::mechanism::Mechanism;
 use crate::math::Point;
@@ -19,7 +19,10 @@ pub const WARM_MINIMAX_PASSES: usize = 2;
 
 /// The train of `report` in the solved frame of a target whose carrier turns `direction`
 /// (+1 CCW, −1 CW); `None` when the report's carrier sense differs or its ratio is not valid.
-pub(super) fn start_mechanism(report: &DesignReport, direction: i8) -> Option<Mechanism> {
+pub(in crate::design) fn start_mechanism(
+    report: &DesignReport,
+    direction: i8,
+) -> Option<Mechanism> {
     if report.carrier.direction != direction {
         return None;
     }
@@ -40,7 +43,7 @@ pub(super) fn start_mechanism(report: &DesignReport, direction: i8) -> Option<Me
 
 /// One fit of `points` (solved frame) from `start` at its order, under `base`'s limits; with
 /// `teeth` = `(z, m)` the perimeter is held at `zπm`.
-pub(super) fn warm_fit(
+pub(in crate::design) fn warm_fit(
     points: &[Point],
     start: &Mechanism,
     base: &FitOptions,

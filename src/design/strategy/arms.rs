@@ -1,20 +1,20 @@
-//! Trains on step 1's arms: the mechanism a ratio and a sun phase make, its needle angle fitted.
+//! Trains on step 1's arms (`ArmTrains`): the mechanism a ratio and a sun phase make, its needle angle fitted.
 
-use super::inverse::Inversion;
-use super::options::DesignOptions;
+use crate::design::inverse::Inversion;
+use crate::design::options::DesignOptions;
 use crate::geometry::fourier::SunRatio;
 use crate::geometry::limits::GearLimits;
 use crate::geometry::mechanism::Mechanism;
 
-/// Trains built on step 1's arms: a ratio and a sun phase give a mechanism whose needle angle γ
+/// ArmTrains built on step 1's arms: a ratio and a sun phase give a mechanism whose needle angle γ
 /// is fitted to the needle law, and its synchronous deviation (mm).
-pub(super) struct Trains<'a> {
+pub(in crate::design) struct ArmTrains<'a> {
     pub inv: &'a Inversion,
     pub opts: &'a DesignOptions,
     pub limits: GearLimits,
 }
 
-impl Trains<'_> {
+impl ArmTrains<'_> {
     /// The train of `ratio` (made to satisfy the gear limits first) and sun phase `tau_s`.
     pub fn build(&self, ratio: SunRatio, tau_s: f64) -> (Mechanism, f64) {
         let inv = self.inv;

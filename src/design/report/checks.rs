@@ -1,13 +1,13 @@
 //! Pitch tables, assembly, checks C1–C13 and the round trip from the output tables (docs/math/chain.md §9–§10).
 
-use super::error::DesignError;
-use super::options::{DesignOptions, SUN_PLANET_GAP_MODULES};
-use super::report::*;
-use crate::design::compat::Compatibility;
+use crate::design::error::DesignError;
+use crate::design::fit::noise;
 use crate::design::inverse::Inversion;
-use crate::design::noise;
-use crate::design::roundtrip::{target_hausdorff_mm, tip_deviations, trace};
+use crate::design::inverse::compat::Compatibility;
+use crate::design::options::{DesignOptions, SUN_PLANET_GAP_MODULES};
+use crate::design::report::*;
 use crate::design::trajectory::Trajectory;
+use crate::design::trajectory::roundtrip::{target_hausdorff_mm, tip_deviations, trace};
 use crate::geometry::assembly::{Assembly, Rebuilt};
 use crate::geometry::mechanism::{INVERSE_TOL_RAD, Mechanism};
 use crate::geometry::pitch::{CurvatureSummary, PitchCurve};
@@ -19,7 +19,7 @@ fn rms(v: &[f64]) -> f64 {
 }
 
 /// What [`finish`] hands back to the chain.
-pub(super) struct Finished {
+pub(in crate::design) struct Finished {
     pub mechanism: Mechanism,
     pub assembly: Assembly,
     /// The kinematics rebuilt from the tables (the round trip).
@@ -35,7 +35,7 @@ pub(super) struct Finished {
 }
 
 /// Pitch curves, assembly, checks C1–C13 and the round trip from the output tables.
-pub(super) fn finish(
+pub(in crate::design) fn finish(
     traj: &Trajectory,
     inv: &Inversion,
     compat: &Compatibility,

@@ -21,7 +21,7 @@ const ELLIPSE_CLIMB_RATIO: f64 = 2.0;
 
 /// A ratio made into the chain's train on step 1's arms (gear limits applied, needle angle
 /// fitted to the needle law), with its deviation from that law.
-pub(super) type Build<'a> = &'a (dyn Fn(SunRatio) -> (Mechanism, f64) + Sync);
+pub(in crate::design) type Build<'a> = &'a (dyn Fn(SunRatio) -> (Mechanism, f64) + Sync);
 
 /// On a clean target the train does not trace, the whole fit again from the closest
 /// elliptic sun ([`ellipse_starts`]), finished towards the minimax; the closer of the two
@@ -31,7 +31,7 @@ pub(super) type Build<'a> = &'a (dyn Fn(SunRatio) -> (Mechanism, f64) + Sync);
 /// the climb through the higher orders only within [`ELLIPSE_CLIMB_RATIO`] of `f`, the
 /// minimax finish only within [`ELLIPSE_FINISH_RATIO`] (on `exact_three_harmonic.csv` at
 /// m = 2 the unstaged restart climbed to order 40 and took 2.1 s of the design's 4.4 s).
-pub(super) fn from_an_ellipse(
+pub(in crate::design) fn from_an_ellipse(
     points: &[Point],
     build: Build<'_>,
     tol_tip_mm: f64,

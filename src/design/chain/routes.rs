@@ -1,14 +1,14 @@
 //! The chain's routes to a train before the fit: the patent route (segmented ratio, mirror and
 //! weights) and, when asked for, the docs/math/chain.md §8.3 refinement; the better of them.
 
-use super::compat::Compatibility;
-use super::error::DesignError;
-use super::module::check_module;
-use super::options::{ADAPTIVE_ORDERS, RefineMode};
-use super::refine;
-use super::report::*;
-use super::segmented::{self, Segmented};
-use super::trains::Trains;
+use crate::design::error::DesignError;
+use crate::design::hypothesis::refine;
+use crate::design::hypothesis::segmented::{self, Segmented};
+use crate::design::inverse::compat::Compatibility;
+use crate::design::options::{ADAPTIVE_ORDERS, RefineMode};
+use crate::design::report::*;
+use crate::design::strategy::arms::ArmTrains;
+use crate::design::strategy::module::check_module;
 use crate::geometry::fourier::SunRatio;
 use crate::geometry::mechanism::{MAX_IDLER_OFFSET_RAD, Mechanism};
 use std::f64::consts::PI;
@@ -16,26 +16,26 @@ use std::time::Instant;
 /// What the chain's routes leave for the fit: the patent route's segmented law and result, the
 /// refinement's summary, the better mechanism and its name, and the warnings that wait for the
 /// round trip `(position, text)`.
-pub(super) struct Routes {
-    pub(super) chain: Chain,
-    pub(super) patent: Patent,
-    pub(super) refine_summary: Option<RouteSummary>,
-    pub(super) pending: Vec<(usize, String)>,
+pub(in crate::design) struct Routes {
+    pub(in crate::design) chain: Chain,
+    pub(in crate::design) patent: Patent,
+    pub(in crate::design) refine_summary: Option<RouteSummary>,
+    pub(in crate::design) pending: Vec<(usize, String)>,
 }
 
 /// The chain's result the fit starts from: the segmented law on the half-closure origin
 /// `tau_rad`, the better route's mechanism and its name.
-pub(super) struct Chain {
-    pub(super) seg: Segmented,
-    pub(super) tau_rad: f64,
-    pub(super) mech: Mechanism,
-    pub(super) chosen: &'static str,
+pub(in crate::design) struct Chain {
+    pub(in crate::design) seg: Segmented,
+    pub(in crate::design) tau_rad: f64,
+    pub(in crate::design) mech: Mechanism,
+    pub(in crate::design) chosen: &'static str,
 }
 
 /// The patent route on an `n`-point grid, then the docs/math/chain.md §8.3 refinement when asked
 /// for; the better of them.
-pub(super) fn chain_routes(
-    trains: &Trains,
+pub(in crate::design) fn chain_routes(
+    trains: &ArmTrains,
     compat: &Compatibility,
     n: usize,
     timings: &mut Timings,
@@ -80,7 +80,7 @@ const L1_SLACK: f64 = 1.1;
 /// no ratio within the limits has a convex arc flatter than
 /// [`crate::geometry::limits::GearLimits::flattest_convex_radius_mm`]: every fit would shrink
 /// the ratio to a circle and the design would miss the target by the size of the loop.
-fn check_convex_limit(trains: &Trains) -> Result<(), DesignError> {
+fn check_convex_limit(trains: &ArmTrains) -> Result<(), DesignError> {
     let Some(limit_mm) = trains.limits.min_convex_radius_mm() else {
         return Ok(());
     };
@@ -116,17 +116,17 @@ fn chain_choice(
 
 /// The patent route's result: its best mechanism and summary, and the warning that the junctions
 /// did not close (the target is not compatible with the train), if they did not.
-pub(super) struct Patent {
-    pub(super) mechanism: Mechanism,
-    pub(super) summary: RouteSummary,
-    pub(super) incompatibility: Option<String>,
+pub(in crate::design) struct Patent {
+    pub(in crate::design) mechanism: Mechanism,
+    pub(in crate::design) summary: RouteSummary,
+    pub(in crate::design) incompatibility: Option<String>,
 }
 
 /// The patent route (docs/math/chain.md §7–§8.2): the segmented hypothesis fitted by a Fourier series at the
 /// fixed order, or at the adaptive orders until the deviation is within tolerance; orders whose
 /// ratio leaves the bounds are not candidates (the first is kept as a last resort).
 fn patent_route(
-    trains: &Trains,
+    trains: &ArmTrains,
     seg: &Segmented,
     compat: &Compatibility,
     n: usize,
@@ -222,7 +222,7 @@ fn patent_route(
 /// The refinement of docs/math/chain.md §8.3 (only with [`RefineMode::On`]: the fit to the points is the default
 /// refinement), from the patent route's ratio made admissible (docs/math/chain.md §14).
 fn refine_route(
-    trains: &Trains,
+    trains: &ArmTrains,
     seg: &Segmented,
     tau: f64,
     warnings: &mut Vec<String>,

@@ -1,18 +1,25 @@
 //! The design chain, stage by stage: step 1, compatibility, the patent route, the docs/math/chain.md §8.3
 //! refinement, the fit to the points, then the tables, checks and report.
 
-use super::checks::{Finished, finish};
-use super::error::DesignError;
-use super::fit_stage::{FitStage, FitStart, fit_options, fit_stage};
-use super::inverse::Inversion;
-use super::module::design_for_module;
-use super::options::{DesignOptions, validate};
-use super::report::*;
-use super::routes::{Chain, chain_routes};
-use super::start::invert_for_start;
-use super::trains::Trains;
-use super::{compat, noise, warm};
-use crate::design::compat::Compatibility;
+pub mod alternatives;
+pub(in crate::design) mod redesign;
+pub(in crate::design) mod routes;
+pub(in crate::design) mod start;
+
+use crate::design::chain::routes::{Chain, chain_routes};
+use crate::design::chain::start::invert_for_start;
+use crate::design::error::DesignError;
+use crate::design::fit::noise;
+use crate::design::inverse::Inversion;
+use crate::design::inverse::compat;
+use crate::design::inverse::compat::Compatibility;
+use crate::design::options::{DesignOptions, validate};
+use crate::design::report::checks::{Finished, finish};
+use crate::design::report::*;
+use crate::design::strategy::arms::ArmTrains;
+use crate::design::strategy::free::{FitStage, FitStart, fit_options, fit_stage};
+use crate::design::strategy::module::design_for_module;
+use crate::design::strategy::warm;
 use crate::design::trajectory::Trajectory;
 use crate::geometry::mechanism::Mechanism;
 use std::time::Instant;
@@ -23,7 +30,7 @@ pub fn design(traj: &Trajectory, opts: &DesignOptions) -> Result<Design, DesignE
 }
 
 /// The chain, its fit stage started from `warm`'s train when given ([`warm`]).
-pub(super) fn design_from(
+pub(in crate::design) fn design_from(
     traj: &Trajectory,
     opts: &DesignOptions,
     warm: Option<&DesignReport>,
@@ -36,7 +43,7 @@ pub(super) fn design_from(
     let noise_sigma = traj.noise_sigma_mm();
     let (inv, start_smoothing, compat, n) =
         invert_and_analyse(traj, opts, noise_sigma, &mut timings, &mut warnings)?;
-    let trains = Trains {
+    let trains = ArmTrains {
         inv: &inv,
         opts,
         limits: opts.limits(),
@@ -115,9 +122,9 @@ pub(super) fn design_from(
     report.update_verdict();
     if opts.alternatives && !report.verdict.passed {
         let t0 = Instant::now();
-        report.alternatives = super::alternatives::alternatives(traj, opts, &report);
+        report.alternatives = crate::design::chain::alternatives::alternatives(traj, opts, &report);
         // The nearest alternative, when it traces closer, in the warnings the console prints.
-        if let Some(note) = super::alternatives::nearest_note(&report) {
+        if let Some(note) = crate::design::chain::alternatives::nearest_note(&report) {
             report.warnings.push(note);
         }
         report.timings_ms.alternatives = ms(t0);
@@ -139,7 +146,7 @@ pub(super) fn design_from(
 /// train, the module summary and the name of the stage that chose it.
 fn fit_to_points(
     traj: &Trajectory,
-    trains: &Trains,
+    trains: &ArmTrains,
     chain: Chain,
     warm: Option<&DesignReport>,
     start_smoothing: Option<usize>,
@@ -297,7 +304,7 @@ fn start_warnings(
 /// (`warm_module`: its summary, with that fit as the one candidate).
 fn for_module(
     traj: &Trajectory,
-    trains: &Trains,
+    trains: &ArmTrains,
     fitted: FitStage,
     warm_module: Option<crate::design::ModuleSummary>,
     noise_sigma: f64,

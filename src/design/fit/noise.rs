@@ -23,9 +23,9 @@
 //! 0.004 mm on the shared noisy cases (σ = 0.02/0.03/0.05 mm), up to 0.012 mm above it on
 //! generated ones (σ = 0.02–0.05 mm, 300–1200 points).
 
-use super::fit::MEASURED_NOISE_MM;
+use crate::design::fit::MEASURED_NOISE_MM;
 
-pub use super::fit::fitted_parameters;
+pub use crate::design::fit::fitted_parameters;
 
 /// Estimated largest distance (mm) of the traced path from the curve under noisy points (module
 /// docs: `δ_max = √(2 ln p)·√(σ²ν + max(0, rms² − σ²(1 − ν)))`, `ν = min(p, N − 1)/N`), from the
@@ -54,7 +54,11 @@ pub fn explained_by_noise(curve_deviation_mm: Option<f64>, tol_mm: f64) -> bool 
 
 /// Check C12's subject and value: the max synchronous deviation from the points `sync_mm`, or on
 /// measured points (`estimate` present) the estimated deviation from the curve under them.
-pub(super) fn c12_measure(sync_mm: f64, estimate: Option<f64>, sigma_mm: f64) -> (String, f64) {
+pub(in crate::design) fn c12_measure(
+    sync_mm: f64,
+    estimate: Option<f64>,
+    sigma_mm: f64,
+) -> (String, f64) {
     match estimate {
         None => (
             "round trip from the output tables: max synchronous tip deviation, mm".into(),

@@ -13,7 +13,7 @@
 //!
 //! capped at `k_max` iterations (the interior degenerates if continued on asymmetric targets).
 
-use crate::design::needle_law::NeedleLaw;
+use crate::design::inverse::needle_law::NeedleLaw;
 use crate::math::roots::invert_increasing;
 use std::f64::consts::PI;
 

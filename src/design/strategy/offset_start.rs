@@ -11,8 +11,8 @@
 //! [`ROUNDS`] rounds; the needle angle is fitted to the given train's needle direction last.
 //! On an exact target this start is already on the target (G1 at z = 23, m = 2: 0.004 mm).
 
-use super::refine::{RefineOptions, refine_with_shift};
-use crate::design::needle_law::NeedleLaw;
+use crate::design::hypothesis::refine::{RefineOptions, refine_with_shift};
+use crate::design::inverse::needle_law::NeedleLaw;
 use crate::geometry::mechanism::Mechanism;
 use crate::geometry::perimeter::unit_perimeter;
 use std::f64::consts::PI;
@@ -27,7 +27,7 @@ const LAW_SAMPLES: usize = 1024;
 /// off the carrier line to the side `sign` (±1), keeping its arm `l1` and its needle motion
 /// (module documentation), its ratio within `ratio_bounds`; `None` where the perimeter leaves
 /// the centre distance at or below half the arm (no offset keeps it).
-pub(super) fn offset_start(
+pub(in crate::design) fn offset_start(
     m0: &Mechanism,
     perimeter_mm: f64,
     sign: f64,
