@@ -41,10 +41,9 @@ def main() -> None:
     out = pathlib.Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
 
-    from dask.distributed import Client, LocalCluster
+    from dask.distributed import Client
 
-    with LocalCluster(n_workers=args.workers, threads_per_worker=1, processes=True,
-                      dashboard_address=None, host="127.0.0.1") as cluster, Client(cluster) as client:
+    with study.local_cluster(args.workers) as cluster, Client(cluster) as client:
         problem = study.Problem(
             "design",
             {"max_pressure_angle": (35.0, 55.0), "min_concave_radius": (4.0, 20.0)},

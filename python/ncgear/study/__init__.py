@@ -30,7 +30,9 @@ import ncgear
 from .cache import Cache, canonical, point_key
 from .jobs import FIGURES, check_job, evaluate, serial
 
-__all__ = ["run", "grid", "sample", "evaluate", "serial", "Problem", "FIGURES", "table"]
+__all__ = [
+    "run", "grid", "sample", "evaluate", "serial", "Problem", "FIGURES", "table", "local_cluster",
+]
 
 if TYPE_CHECKING:
     from .moo import Problem as Problem
@@ -113,14 +115,25 @@ def table(points: Sequence[Mapping[str, Any]], rows: Sequence[Mapping[str, Any]]
     return pd.DataFrame.from_records(records, columns=columns)
 
 
-def _local_client(workers: Optional[int]) -> Any:
-    from dask.distributed import Client, LocalCluster
+def local_cluster(workers: Optional[int] = None) -> Any:
+    """A ``LocalCluster`` of ``workers`` processes (default: one per CPU) of one thread each,
+    on loopback, without dashboard. The library's own thread pool in each is one thread
+    (``RAYON_NUM_THREADS=1``): the processes share the CPUs instead of each taking all of them."""
+    from dask.distributed import LocalCluster
 
     n = workers if workers is not None else (os.cpu_count() or 1)
-    cluster = LocalCluster(
+    if not (isinstance(n, int) and n >= 1):
+        raise ncgear.NcgearError(f"workers={workers!r}: expected a number of processes ≥ 1")
+    return LocalCluster(
         n_workers=n, threads_per_worker=1, processes=True, dashboard_address=None,
-        host="127.0.0.1",
+        host="127.0.0.1", env={"RAYON_NUM_THREADS": "1"},
     )
+
+
+def _local_client(workers: Optional[int]) -> Any:
+    from dask.distributed import Client
+
+    cluster = local_cluster(workers)
     return Client(cluster)
 
 
@@ -166,8 +179,8 @@ def run(
     row per point in input order (:func:`table`).
 
     ``client``: a ``dask.distributed.Client`` (``Client("tcp://host:8786")`` for a cluster);
-    ``None`` starts a local cluster of ``workers`` processes (default: one per CPU) and closes
-    it after. ``cache``: a directory of one small JSON file per evaluated point; points already
+    ``None`` starts :func:`local_cluster` of ``workers`` processes (default: one per CPU) and
+    closes it after. ``cache``: a directory of one small JSON file per evaluated point; points already
     there are not evaluated again. ``progress``: Dask's progress bar when stdout is a terminal.
     ``out``: also write the table as Parquet there. ``df.attrs["evaluated"]`` is how many
     points were evaluated (the rest came from the cache), ``df.attrs["wall_s"]`` the seconds.
