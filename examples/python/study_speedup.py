@@ -49,11 +49,12 @@ def main() -> None:
     two, t2 = timed(slow, 2)
     pd.testing.assert_frame_equal(one.drop(columns="time_s"), two.drop(columns="time_s"),
                                   check_exact=True)
-    per = one["time_s"]
-    print(f"{n_slow} kidney designs: per point {per.min():.2f}-{per.max():.2f} s (mean {per.mean():.2f}); "
-          f"1 worker {t1:.2f} s, 2 workers {t2:.2f} s, speed-up {t1 / t2:.2f}x; "
-          f"cpus {os.cpu_count()}, load average {os.getloadavg()[0]:.2f}")
-
+    for name, df, wall in (("1 worker", one, t1), ("2 workers", two, t2)):
+        per = df["time_s"]
+        print(f"{n_slow} kidney designs on {name}: {wall:.2f} s wall; per point {per.min():.2f}-"
+              f"{per.max():.2f} s (mean {per.mean():.2f}); busy {per.sum() / wall:.2f} workers")
+    print(f"speed-up {t1 / t2:.2f}x; cpus {os.cpu_count()}, load average (1 min) "
+          f"{os.getloadavg()[0]:.2f} at the end")
 
 if __name__ == "__main__":
     main()

@@ -152,3 +152,31 @@ def test_the_pymoo_problem_and_the_pareto_example_at_a_small_size(client, tmp_pa
     f = front[["deviation_max_mm", "pressure_angle_max_deg"]].to_numpy()
     for a in f:
         assert not any((b <= a).all() and (b < a).any() for b in f)
+
+
+def test_each_job_row_holds_the_figures_of_the_direct_call():
+    d = ncgear.design(G1)
+    row = study.evaluate("design", {"points": str(G1)})
+    assert row["deviation_max_mm"] == float(d.deviations.max()) and row["passed"] is True
+    assert row["pressure_angle_max_deg"] == d.limits.pressure_angle_deg and row["error"] is None
+    spec = ROOT / "assets" / "synthesis" / "g1_five_poses.toml"
+    s = ncgear.synthesize(spec)
+    row = study.evaluate("synthesize", {"spec": str(spec)})
+    assert row["pose_error_max_mm"] == max(q.error_mm for q in s.poses)
+    assert row["l1_mm"] == s.design.l1_mm
+    scene = ROOT / "assets" / "loads" / "rotor.toml"
+    r = ncgear.loads(ncgear.teeth(d, 2.0), scene)
+    row = study.evaluate("loads", {"points": str(G1), "scene": str(scene), "tooth_module": 2.0})
+    assert row["carrier_torque_peak_Nm"] == r.summary.carrier_torque_peak_Nm
+    assert row["S_H_min"] == (r.summary.min_S_H.value if r.summary.min_S_H else None)
+    assert row["loads_passed"] is r.passed
+    row = study.evaluate("design", {"points": str(G1), "tolmm": 0.1})
+    assert row["error"] == ("TypeError: design() got an unexpected keyword argument 'tolmm' "
+                            "(a point's keys are the job's keyword arguments)")
+    assert row["deviation_max_mm"] is None
+    t = ncgear.tradeoff(G1)
+    row = study.evaluate("tradeoff", {"points": str(G1)})
+    made = [r.designed.max_deviation_mm for r in t.rows if r.designed is not None]
+    assert row["rows_designed"] == len(made) and row["best_deviation_max_mm"] == min(made)
+    default = next(r.designed for r in t.rows if r.is_default)
+    assert row["deviation_max_mm"] == default.max_deviation_mm

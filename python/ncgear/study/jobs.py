@@ -128,7 +128,7 @@ def _message(e: BaseException) -> str:
     if isinstance(e, ncgear.NcgearError):
         return str(e)
     if isinstance(e, TypeError) and "unexpected keyword argument" in str(e):
-        return f"{e} (a point's keys are the job's keyword arguments)"
+        return f"TypeError: {e} (a point's keys are the job's keyword arguments)"
     return f"{type(e).__name__}: {e}"
 
 
