@@ -30,21 +30,22 @@ import numpy.typing as npt
 from . import _ncgear
 from ._ncgear import NcgearError
 from .reports import (
-    DesignReport, Features, LoadsReport, PairReport, Points, TeethReport, ToleranceReport, Verdict,
-    build,
+    DesignReport, Features, LoadsReport, PairReport, Points, SynthesisReport, TeethReport,
+    ToleranceReport, TradeOffReport, Verdict, build,
 )
 
 __version__: str = _ncgear.__version__
 __all__ = [
     "NcgearError", "Design", "Train", "Pair", "Placement", "Loads", "design", "teeth", "pair",
     "simulate", "tolerance", "loads", "loads_file", "write_step", "write_dxf", "write_svg",
-    "set_max_memory_gb", "read_trajectory",
+    "set_max_memory_gb", "Synthesis", "TradeOff", "synthesize", "tradeoff", "redesign",
+    "read_trajectory",
 ]
 
 PathLike = Union[str, "os.PathLike[str]"]
 
 
-class _Raw:
+class _Json:
     """A result that keeps the report the library wrote."""
 
     _report: Any
@@ -56,6 +57,10 @@ class _Raw:
     def json(self) -> str:
         """The report as JSON text."""
         return str(self._report.json())
+
+
+class _Raw(_Json):
+    """A result that keeps the report the library wrote and its verdict."""
 
     @property
     def passed(self) -> bool:
@@ -217,10 +222,20 @@ def design(
       name it in ``Design.alternatives`` and the warnings, as the CLI does (one more design).
     """
     options = _options(locals(), "points")
+    return _design_of(_ncgear.design(*_target(points), options))
+
+
+def _target(
+    points: Union[PathLike, npt.ArrayLike],
+) -> Tuple[Optional[npt.NDArray[np.float64]], Optional[str]]:
+    """A target as the binding takes it: ``(array, None)`` or ``(None, path)``."""
     if isinstance(points, (str, os.PathLike)):
-        h = _ncgear.design(None, os.fspath(points), options)
-    else:
-        h = _ncgear.design(np.ascontiguousarray(points, dtype=np.float64), None, options)
+        return None, os.fspath(points)
+    return np.ascontiguousarray(points, dtype=np.float64), None
+
+
+def _design_of(h: Any) -> Design:
+    """The :class:`Design` of a design handle."""
     report = h.report()
     return build(Design, report.tree(), deviations=h.deviations(), _handle=h, _report=report)
 
@@ -355,8 +370,9 @@ def tolerance(errors: PathLike, *, samples: int = 0, seed: int = 1, starts: int 
     return build(ToleranceReport, r.tree())
 
 
-def _scene_json(scene: Mapping[str, Any]) -> str:
-    """A dict scene as JSON text (numpy arrays and numbers as lists and numbers)."""
+def _scene_json(scene: Mapping[str, Any], arg: str = "scene") -> str:
+    """A dict scene (argument ``arg``) as JSON text (numpy arrays and numbers as lists and
+    numbers)."""
 
     def plain(o: Any) -> Any:
         if isinstance(o, np.ndarray):
@@ -370,7 +386,7 @@ def _scene_json(scene: Mapping[str, Any]) -> str:
     try:
         return json.dumps(dict(scene), allow_nan=False, default=plain)
     except (TypeError, ValueError) as e:
-        raise NcgearError(f"scene: {e}") from None
+        raise NcgearError(f"{arg}: {e}") from None
 
 
 def loads(design: Union[Design, Train], scene: Union[PathLike, Mapping[str, Any]]) -> Loads:
@@ -408,6 +424,107 @@ def loads_file(scene: PathLike) -> Loads:
     scene rates them). ``to_dict()`` is the CLI's ``loads.json``, number for number."""
     r = _ncgear.loads_file(os.fspath(scene))
     return build(Loads, r.tree(), _report=r)
+
+
+@dataclass(frozen=True, eq=False)
+class Synthesis(_Json, SynthesisReport):
+    """A synthesis (``ncgear synthesize``): the fields of ``synthesis.json``
+    (:class:`ncgear.reports.SynthesisReport`) and the chosen :class:`Design` (``design``);
+    ``passed`` is the design's verdict."""
+
+    design: Design = field(repr=False)
+    _report: Any = field(repr=False)
+
+    @property
+    def passed(self) -> bool:
+        """Whether the chosen design passed its verification."""
+        return self.design.passed
+
+
+@dataclass(frozen=True, eq=False)
+class TradeOff(_Json, TradeOffReport):
+    """What accuracy costs (``ncgear tradeoff``): the fields of ``tradeoff.json``
+    (:class:`ncgear.reports.TradeOffReport`), one row per gear limit, layout and module."""
+
+    _report: Any = field(repr=False)
+
+
+def synthesize(spec: Union[PathLike, Mapping[str, Any]]) -> Synthesis:
+    """Key poses or agronomic target bands → carrier arm and gears (``ncgear synthesize``).
+
+    ``spec``: a spec file (TOML or JSON: ``[machine]``, ``[[pose]]`` with ``x_mm``, ``y_mm``,
+    ``needle_deg``, ``[targets]``), or a dict of the same keys (``{"pose": [...]}``). Raises
+    :class:`NcgearError` on a bad spec or when no candidate arm gives a design; a design that
+    fails its checks or misses a band is returned (see ``passed``, ``targets[i].margin``).
+    """
+    if isinstance(spec, Mapping):
+        r, h = _ncgear.synthesize("spec", _scene_json(spec, "spec"))
+    else:
+        r, h = _ncgear.synthesize(os.fspath(spec), None)
+    return build(Synthesis, r.tree(), design=_design_of(h), _report=r)
+
+
+def tradeoff(
+    points: Union[PathLike, npt.ArrayLike], *, center: Tuple[float, float] = (0.0, 0.0)
+) -> TradeOff:
+    """What accuracy costs (``ncgear tradeoff``): the target ``points`` (an (N, 2) array, mm, or a
+    trajectory file) designed once per pressure-angle limit (35°…50° and none), with the
+    intermediate axis off the carrier line, and per module (1…3 mm); ``center``: carrier axis O,
+    mm. A refused design is a row whose ``refused`` is its message. The designs run in parallel
+    on the library's threads, without the GIL."""
+    r = _ncgear.tradeoff(*_target(points), (float(center[0]), float(center[1])))
+    return build(TradeOff, r.tree(), _report=r)
+
+
+def redesign(
+    points: Union[PathLike, npt.ArrayLike],
+    start: Union[Design, PathLike],
+    *,
+    center: Tuple[float, float] = (0.0, 0.0),
+    order: Optional[int] = None,
+    sense: Literal["auto", "ccw", "cw"] = "auto",
+    tol_mm: float = 0.05,
+    refine: Literal["auto", "on", "off"] = "auto",
+    refine_order: int = 12,
+    harmonics: Sequence[Tuple[float, float]] = (),
+    route: Literal["ac", "bd"] = "ac",
+    w1: float = 0.5,
+    k_max: int = 20,
+    grid: int = 1024,
+    dense: int = 20000,
+    samples: int = 3600,
+    ratio_bounds: Tuple[float, float] = (0.3, 3.3),
+    fit: bool = True,
+    limits: bool = True,
+    max_pressure_angle: float = 45.0,
+    min_concave_radius: Optional[float] = None,
+    min_convex_radius: Optional[float] = None,
+    convexity: bool = False,
+    smooth: Optional[int] = None,
+    module: Optional[float] = None,
+    idler_offset: Literal["auto", "collinear", "free"] = "auto",
+    alternatives: bool = True,
+) -> Design:
+    """The design of ``points`` warm-started from ``start``, an earlier design of a nearby target
+    (a :class:`Design`, or the path of its ``design.json``): the edit loop of an interactive
+    designer. One local fit from the start's train replaces the full search of :func:`design`
+    (much faster; a local optimum near the start, so its deviation may exceed a full design's).
+    A start that does not fit the target (another carrier sense) gives :func:`design`'s result.
+    The options are :func:`design`'s."""
+    options = _options(locals(), "points", "start")
+    if isinstance(start, Design):
+        h = _ncgear.redesign(*_target(points), start._handle, None, options)
+    elif isinstance(start, (str, os.PathLike)):
+        try:
+            with open(start, encoding="utf-8") as f:
+                text = f.read()
+        except OSError as e:
+            raise NcgearError(f"start={os.fspath(start)!r}: cannot read it ({e.strerror})") from None
+        h = _ncgear.redesign(*_target(points), None, text, options)
+    else:
+        got = type(start).__name__
+        raise NcgearError(f"start: expected an ncgear.Design or a design.json path, got {got}")
+    return _design_of(h)
 
 
 def write_step(

@@ -8,24 +8,28 @@ import numpy as np
 import numpy.typing as npt
 
 from .reports import (
-    DesignReport, Features, LoadsReport, PairReport, Points, TeethReport, ToleranceReport, Verdict,
+    DesignReport, Features, LoadsReport, PairReport, Points, SynthesisReport, TeethReport,
+    ToleranceReport, TradeOffReport, Verdict,
 )
 
 __version__: str
 __all__ = [
     "NcgearError", "Design", "Train", "Pair", "Placement", "Loads", "design", "teeth", "pair",
     "simulate", "tolerance", "loads", "loads_file", "write_step", "write_dxf", "write_svg",
-    "set_max_memory_gb", "read_trajectory",
+    "set_max_memory_gb", "Synthesis", "TradeOff", "synthesize", "tradeoff", "redesign",
+    "read_trajectory",
 ]
 
 PathLike = Union[str, os.PathLike[str]]
 
 class NcgearError(ValueError): ...
 
-class _Raw:
+class _Json:
     _report: Any
     def to_dict(self) -> Dict[str, Any]: ...
     def json(self) -> str: ...
+
+class _Raw(_Json):
     @property
     def passed(self) -> bool: ...
 
@@ -146,6 +150,50 @@ def simulate(
 def tolerance(errors: PathLike, *, samples: int = ..., seed: int = ..., starts: int = ...) -> ToleranceReport: ...
 def loads(design: Union[Design, Train], scene: Union[PathLike, Mapping[str, Any]]) -> Loads: ...
 def loads_file(scene: PathLike) -> Loads: ...
+@dataclass(frozen=True, eq=False)
+class Synthesis(_Json, SynthesisReport):
+    design: Design
+    _report: Any
+    @property
+    def passed(self) -> bool: ...
+
+@dataclass(frozen=True, eq=False)
+class TradeOff(_Json, TradeOffReport):
+    _report: Any
+
+def synthesize(spec: Union[PathLike, Mapping[str, Any]]) -> Synthesis: ...
+def tradeoff(
+    points: Union[PathLike, npt.ArrayLike], *, center: Tuple[float, float] = ...
+) -> TradeOff: ...
+def redesign(
+    points: Union[PathLike, npt.ArrayLike],
+    start: Union[Design, PathLike],
+    *,
+    center: Tuple[float, float] = ...,
+    order: Optional[int] = ...,
+    sense: Literal["auto", "ccw", "cw"] = ...,
+    tol_mm: float = ...,
+    refine: Literal["auto", "on", "off"] = ...,
+    refine_order: int = ...,
+    harmonics: Sequence[Tuple[float, float]] = ...,
+    route: Literal["ac", "bd"] = ...,
+    w1: float = ...,
+    k_max: int = ...,
+    grid: int = ...,
+    dense: int = ...,
+    samples: int = ...,
+    ratio_bounds: Tuple[float, float] = ...,
+    fit: bool = ...,
+    limits: bool = ...,
+    max_pressure_angle: float = ...,
+    min_concave_radius: Optional[float] = ...,
+    min_convex_radius: Optional[float] = ...,
+    convexity: bool = ...,
+    smooth: Optional[int] = ...,
+    module: Optional[float] = ...,
+    idler_offset: Literal["auto", "collinear", "free"] = ...,
+    alternatives: bool = ...,
+) -> Design: ...
 def write_step(
     obj: Union[Train, Pair], directory: PathLike, *, face_width: Optional[float] = ..., bore: float = ...
 ) -> List[str]: ...

@@ -7,8 +7,8 @@ from typing_extensions import final
 
 __all__ = [
     "DesignHandle", "NcgearError", "PairHandle", "Report", "TrainHandle", "__version__", "design",
-    "forward_for_spacing", "loads", "loads_file", "pair", "read_trajectory", "set_max_memory_gb",
-    "simulate", "teeth", "tolerance",
+    "forward_for_spacing", "loads", "loads_file", "pair", "read_trajectory", "redesign",
+    "set_max_memory_gb", "simulate", "synthesize", "teeth", "tolerance", "tradeoff",
 ]
 __version__: str
 
@@ -79,3 +79,14 @@ def loads(
 ) -> Report: ...
 def loads_file(path: str) -> Report: ...
 def set_max_memory_gb(gb: float) -> None: ...
+def synthesize(spec: str, text: Optional[str]) -> Tuple[Report, DesignHandle]: ...
+def tradeoff(
+    points: Optional[npt.NDArray[np.float64]], path: Optional[str], center: Tuple[float, float]
+) -> Report: ...
+def redesign(
+    points: Optional[npt.NDArray[np.float64]],
+    path: Optional[str],
+    start: Optional[DesignHandle],
+    start_json: Optional[str],
+    options: Dict[str, Any],
+) -> DesignHandle: ...

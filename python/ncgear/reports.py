@@ -810,3 +810,126 @@ class LoadsReport:
     rating: Optional[Rating]
     summary: LoadsSummary
     verdict: Verdict
+
+
+@dataclass(frozen=True)
+class Dyad:
+    """A carrier arm of a synthesis: axis O (mm), arm lengths l1, l3 (mm) and its largest residual
+    on the poses (mm)."""
+
+    center_mm: Tuple[float, float]
+    l1_mm: float
+    l3_mm: float
+    max_residual_mm: float
+
+
+@dataclass(frozen=True)
+class Candidate:
+    """One candidate arm of a synthesis and how its design passes the poses: the largest pose
+    distance (mm) and needle-direction error (degrees), ``None`` when refused (``refused`` says
+    why), and the target bands missed."""
+
+    dyad: Dyad
+    max_pose_error_mm: Optional[float]
+    max_pose_error_deg: Optional[float]
+    targets_missed: int
+    refused: Optional[str]
+
+
+@dataclass(frozen=True)
+class PoseResult:
+    """One pose on the chosen design: its tip (mm) and needle direction (degrees), the carrier
+    angle (degrees) where the design's tip is closest, the distance (mm) and needle error
+    (degrees) there."""
+
+    tip_mm: Tuple[float, float]
+    needle_deg: float
+    carrier_deg: float
+    error_mm: float
+    error_deg: float
+
+
+@dataclass(frozen=True)
+class TargetResult:
+    """One agronomic target band ``[min, max]``: the design's value and its margin inside the
+    band (negative: outside by that much)."""
+
+    index: str
+    band: Tuple[float, float]
+    value: float
+    margin: float
+
+
+@dataclass(frozen=True)
+class SynthesisReport:
+    """``synthesis.json``: the arms found (``dyad_kind`` ``"finite"`` or ``"family"``, or
+    ``"targets"``), every candidate tried, the chosen one (index), the carrier sense, each pose
+    and target band on the chosen design, and what binds."""
+
+    dyad_kind: str
+    dyads: Tuple[Dyad, ...]
+    candidates: Tuple[Candidate, ...]
+    chosen: int
+    carrier: str
+    poses: Tuple[PoseResult, ...]
+    targets: Tuple[TargetResult, ...]
+    binding: Tuple[str, ...]
+
+
+@dataclass(frozen=True)
+class RowNumbers:
+    """The numbers of one design of a trade-off: round-trip max deviation and Hausdorff distance
+    (mm), largest pressure angle (degrees), tightest concave radius (mm; ``None``: all convex),
+    the limits it sits on, the teeth (module rows) and the idler offset (degrees)."""
+
+    max_deviation_mm: float
+    hausdorff_mm: float
+    pressure_angle_deg: float
+    tightest_concave_radius_mm: Optional[float]
+    binding: Tuple[str, ...]
+    teeth: Optional[int]
+    idler_offset_deg: float
+
+
+@dataclass(frozen=True)
+class TradeOffRow:
+    """One rung of the trade-off ladder: what was varied (``label``), its pressure-angle limit
+    (degrees; ``None``: no limits), concave-radius limit and module (mm), whether it is the
+    default design or the off-line layout, and either the design's numbers (``designed``) or the
+    message that refused it (``refused``)."""
+
+    label: str
+    pressure_angle_limit_deg: Optional[float]
+    concave_radius_limit_mm: Optional[float]
+    module_mm: Optional[float]
+    is_default: bool
+    off_line: bool
+    closer_tighter_design: Optional[str]
+    designed: Optional[RowNumbers]
+    refused: Optional[str]
+
+
+@dataclass(frozen=True)
+class ExactNeeds:
+    """What the exact design of an exactly traceable target needs beyond the default limits:
+    its deviation (mm), pressure angle (degrees), concave radius (mm), the default design's
+    deviation (mm) and a sentence."""
+
+    max_deviation_mm: float
+    pressure_angle_deg: float
+    concave_radius_mm: Optional[float]
+    default_max_deviation_mm: Optional[float]
+    message: str
+
+
+@dataclass(frozen=True)
+class TradeOffReport:
+    """``tradeoff.json``: what accuracy costs — the target's point count, the carrier axis (mm),
+    one row per pressure-angle limit, no limits, the off-line layout and each module, and what
+    an exact design needs; ``sizing`` (the module sized by strength) as its JSON object."""
+
+    points: int
+    center_mm: Tuple[float, float]
+    rows: Tuple[TradeOffRow, ...]
+    exact_needs: Optional[ExactNeeds]
+    sizing: Optional[Dict[str, Any]]

@@ -472,6 +472,84 @@ fn loads_file(py: Python<'_>, path: &str) -> PyResult<Report> {
     report(&r)
 }
 
+/// The synthesis spec named `name`: the JSON `text` of a dict when given (messages name it
+/// `name`), else the file at `name` (TOML or JSON), as `ncgear synthesize` reads it.
+fn spec_of(name: &str, text: Option<&str>) -> PyResult<ncgear::synthesis::Spec> {
+    match text {
+        Some(t) => ncgear::config::parse(t, name, ncgear::config::Format::Json),
+        None => ncgear::config::load(Path::new(name)),
+    }
+    .map_err(|e| errors::arg_err("spec", name, e))
+}
+
+/// `ncgear synthesize SPEC` in-process: `synthesis.json` and the chosen design, from the spec
+/// file `spec` (or the dict whose JSON is `text`). Without the GIL.
+#[pyfunction]
+#[pyo3(signature = (spec, text))]
+fn synthesize(py: Python<'_>, spec: &str, text: Option<&str>) -> PyResult<(Report, DesignHandle)> {
+    let s = spec_of(spec, text)?;
+    let r = py
+        .detach(|| ncgear::synthesis::synthesize(&s, &ncgear::design::DesignOptions::default()))
+        .map_err(|e| errors::arg_err("spec", spec, e))?;
+    Ok((report(&r.report)?, DesignHandle { d: r.design }))
+}
+
+/// `ncgear tradeoff TRAJ` in-process: `tradeoff.json` of the target (`points` or `path`) about
+/// the carrier axis `center` (mm). Without the GIL.
+#[pyfunction]
+#[pyo3(signature = (points, path, center))]
+fn tradeoff(
+    py: Python<'_>,
+    points: Option<PyReadonlyArray2<'_, f64>>,
+    path: Option<&str>,
+    center: (f64, f64),
+) -> PyResult<Report> {
+    let t = trajectory(points, path)?;
+    let o = ncgear::design::DesignOptions::default().with_center_mm(center.into());
+    o.validate().map_err(|e| design_err(&e))?;
+    let progress = ncgear::progress::Progress::none();
+    let r = py
+        .detach(|| ncgear::design::tradeoff::trade_off(&t, &o, &progress))
+        .map_err(|e| design_err(&e))?;
+    report(&r)
+}
+
+/// The design of a target (`points` or `path`) re-designed from an earlier design: the handle
+/// `start`, or the `design.json` text `start_json` (the warm start of the edit loop,
+/// [`ncgear::design::redesign`]). Without the GIL.
+#[pyfunction]
+#[pyo3(signature = (points, path, start, start_json, options))]
+fn redesign(
+    py: Python<'_>,
+    points: Option<PyReadonlyArray2<'_, f64>>,
+    path: Option<&str>,
+    start: Option<&DesignHandle>,
+    start_json: Option<&str>,
+    options: DesignArgs,
+) -> PyResult<DesignHandle> {
+    let t = trajectory(points, path)?;
+    let o = options.options()?;
+    let parsed;
+    let start = match (start, start_json) {
+        (Some(h), _) => &h.d.report,
+        (None, Some(text)) => {
+            parsed = serde_json::from_str::<ncgear::design::DesignReport>(text).map_err(|e| {
+                errors::arg_err("start", "design.json", format!("not a design report: {e}"))
+            })?;
+            &parsed
+        }
+        (None, None) => {
+            return Err(err(
+                "start: give an ncgear.Design or the path of a design.json",
+            ));
+        }
+    };
+    let d = py
+        .detach(|| ncgear::design::redesign(&t, &o, start))
+        .map_err(|e| design_err(&e))?;
+    Ok(DesignHandle { d })
+}
+
 /// Memory a single computation may estimate for itself before it is refused, GB (the CLI's
 /// `--max-memory-gb`; default 4).
 #[pyfunction]
@@ -501,6 +579,9 @@ fn _ncgear(m: &Bound<'_, PyModule>) -> PyResult<()> {
         wrap_pyfunction!(tolerance, m)?,
         wrap_pyfunction!(loads, m)?,
         wrap_pyfunction!(loads_file, m)?,
+        wrap_pyfunction!(synthesize, m)?,
+        wrap_pyfunction!(tradeoff, m)?,
+        wrap_pyfunction!(redesign, m)?,
         wrap_pyfunction!(set_max_memory_gb, m)?,
     ] {
         m.add_function(f)?;
