@@ -299,6 +299,23 @@ fn seg_nearest_sq(x: Point, a: Point, b: Point) -> (Point, f64) {
     (c, (x.x - c.x).powi(2) + (x.y - c.y).powi(2))
 }
 
+/// Where the segments `p + t·(q − p)` and `u + s·(v − u)` cross: `(t, s)`, both in `[0, 1]`,
+/// with `t = (u − p)×(v − u) / (q − p)×(v − u)` and `s = (u − p)×(q − p) / (q − p)×(v − u)`;
+/// `None` when they do not meet or are parallel (a zero cross product). The crossing point is
+/// `p + t·(q − p)`.
+#[must_use]
+#[inline]
+pub fn seg_crossing(p: Point, q: Point, u: Point, v: Point) -> Option<(f64, f64)> {
+    let (r, w) = (q - p, v - u);
+    let den = r.cross(w);
+    if den == 0.0 {
+        return None;
+    }
+    let d = u - p;
+    let (t, s) = (d.cross(w) / den, d.cross(r) / den);
+    ((0.0..=1.0).contains(&t) && (0.0..=1.0).contains(&s)).then_some((t, s))
+}
+
 /// Distance from `x` to the segment `ab`, mm.
 #[must_use]
 pub fn seg_dist(x: Point, a: Point, b: Point) -> f64 {

@@ -3,6 +3,7 @@
 //! bounding boxes of runs of segments.
 
 use crate::math::Point;
+use crate::math::polyline::seg_crossing;
 /// A crossing of segment `ia` of polyline `a` with segment `ib` of polyline `b`.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub(super) struct Crossing {
@@ -39,11 +40,8 @@ fn run_boxes(p: &[Point]) -> Vec<[f64; 4]> {
         .collect()
 }
 
-/// Every proper crossing of the open polylines `a` and `b` (mm), in no particular order.
-///
-/// Segments `p + t·(q − p)` and `u + s·(v − u)` cross where both `t, s ∈ [0, 1]`:
-/// `t = (u − p)×(v − u) / (q − p)×(v − u)`, `s = (u − p)×(q − p) / (q − p)×(v − u)`; parallel
-/// segments do not cross.
+/// Every proper crossing of the open polylines `a` and `b` (mm), in no particular order (each
+/// segment pair by [`seg_crossing`]).
 pub(super) fn crossings(a: &[Point], b: &[Point]) -> Vec<Crossing> {
     let (ba, bb) = (run_boxes(a), run_boxes(b));
     let mut out = Vec::new();
@@ -54,23 +52,14 @@ pub(super) fn crossings(a: &[Point], b: &[Point]) -> Vec<Crossing> {
             }
             for ia in ra * RUN..((ra + 1) * RUN).min(a.len() - 1) {
                 let (p, q) = (a[ia], a[ia + 1]);
-                let r = q - p;
                 for ib in rb * RUN..((rb + 1) * RUN).min(b.len() - 1) {
-                    let (u, v) = (b[ib], b[ib + 1]);
-                    let w = v - u;
-                    let den = r.cross(w);
-                    if den == 0.0 {
-                        continue;
-                    }
-                    let d = u - p;
-                    let (ta, tb) = (d.cross(w) / den, d.cross(r) / den);
-                    if (0.0..=1.0).contains(&ta) && (0.0..=1.0).contains(&tb) {
+                    if let Some((ta, tb)) = seg_crossing(p, q, b[ib], b[ib + 1]) {
                         out.push(Crossing {
                             ia,
                             ta,
                             ib,
                             tb,
-                            point: p + r * ta,
+                            point: p + (q - p) * ta,
                         });
                     }
                 }

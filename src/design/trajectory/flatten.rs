@@ -1,7 +1,7 @@
 //! Curves to polylines, closed polylines to uniform arc-length samples, and the crossing test.
 
 use crate::math::Point;
-use crate::math::polyline::seg_dist;
+use crate::math::polyline::{seg_crossing, seg_dist};
 
 /// Fewest flattening pieces per curve span (docs of `drawing`).
 pub const MIN_PIECES: usize = 4;
@@ -100,25 +100,12 @@ pub(super) fn crossing(pts: &[Point]) -> Option<Point> {
             {
                 continue;
             }
-            if let Some(p) = intersection(a, b, c, d) {
-                return Some(p);
+            if let Some((t, _)) = seg_crossing(a, b, c, d) {
+                return Some(a + (b - a) * t);
             }
         }
     }
     None
-}
-
-/// The point where segments `ab` and `cd` meet (both parameters in [0, 1]), if they do and are
-/// not parallel.
-fn intersection(a: Point, b: Point, c: Point, d: Point) -> Option<Point> {
-    let (r, s) = (b - a, d - c);
-    let den = r.cross(s);
-    if den == 0.0 {
-        return None;
-    }
-    let t = (c - a).cross(s) / den;
-    let u = (c - a).cross(r) / den;
-    ((0.0..=1.0).contains(&t) && (0.0..=1.0).contains(&u)).then(|| a + r * t)
 }
 
 #[cfg(test)]
