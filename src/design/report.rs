@@ -16,7 +16,7 @@ fn schema_v1() -> u32 {
 }
 
 /// `design.json`: everything a CAD pipeline or a reviewer needs, in mm and degrees.
-#[derive(Debug, Clone, Serialize, Deserialize)]
+#[derive(Debug, Clone, Serialize, Deserialize, schemars::JsonSchema)]
 #[non_exhaustive]
 pub struct DesignReport {
     /// Version of this file's layout, [`SCHEMA_VERSION`] when written by this library (a file
@@ -157,7 +157,7 @@ impl DesignReport {
 }
 
 /// Units used in the report.
-#[derive(Debug, Clone, Serialize, Deserialize)]
+#[derive(Debug, Clone, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct Units {
     /// "mm".
     pub length: String,
@@ -176,7 +176,7 @@ impl Units {
 }
 
 /// The carrier.
-#[derive(Debug, Clone, Serialize, Deserialize)]
+#[derive(Debug, Clone, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct Carrier {
     /// Carrier axis O, mm.
     #[serde(alias = "center")]
@@ -186,7 +186,7 @@ pub struct Carrier {
 }
 
 /// The three gears.
-#[derive(Debug, Clone, Serialize, Deserialize)]
+#[derive(Debug, Clone, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct Gears {
     /// Fixed sun gear; body frame = world frame.
     pub sun: Gear,
@@ -197,7 +197,7 @@ pub struct Gears {
 }
 
 /// One gear's pitch table.
-#[derive(Debug, Clone, Serialize, Deserialize)]
+#[derive(Debug, Clone, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct Gear {
     /// `[theta_deg, r_mm]`, θ CCW in the body frame, uniform.
     pub pitch: Vec<[f64; 2]>,
@@ -221,7 +221,7 @@ pub struct Gear {
 
 /// The gear limits the design was made within, and where it stands against them (from the
 /// output tables, as checks C6, C9 and C10 measure it).
-#[derive(Debug, Clone, Default, Serialize, Deserialize)]
+#[derive(Debug, Clone, Default, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct LimitsSummary {
     /// Whether the pressure-angle and concave-radius limits constrained the design (false: the
     /// ratio bounds alone; C9 and C10 are checked either way).
@@ -253,7 +253,7 @@ pub struct LimitsSummary {
 }
 
 /// Round-trip result.
-#[derive(Debug, Clone, Serialize, Deserialize)]
+#[derive(Debug, Clone, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct RoundTrip {
     /// Max synchronous tip deviation `max_j |B_rebuilt(φ_j) − P_j|` over the target points, mm,
     /// where φ_j is the carrier angle at which the designed tip passes point j.
@@ -279,7 +279,7 @@ pub struct RoundTrip {
 }
 
 /// Step-1 summary.
-#[derive(Debug, Clone, Serialize, Deserialize)]
+#[derive(Debug, Clone, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct TrajectorySummary {
     /// Points read.
     pub points: usize,
@@ -300,7 +300,7 @@ pub struct TrajectorySummary {
 }
 
 /// Compatibility summary.
-#[derive(Debug, Clone, Serialize, Deserialize)]
+#[derive(Debug, Clone, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct CompatSummary {
     /// Chosen half-closure origin τ, degrees after the reference instant.
     pub tau_deg: f64,
@@ -315,7 +315,7 @@ pub struct CompatSummary {
 }
 
 /// Result of one route.
-#[derive(Debug, Clone, Serialize, Deserialize)]
+#[derive(Debug, Clone, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct RouteSummary {
     /// Fourier order K.
     pub order: usize,
@@ -338,7 +338,7 @@ pub struct RouteSummary {
 
 /// The orthogonal-distance fit ([`crate::design::fit`]): distances of the target points from the curve the
 /// fitted train traces (analytic model), mm.
-#[derive(Debug, Clone, Serialize, Deserialize)]
+#[derive(Debug, Clone, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct FitSummary {
     /// Fourier order K of the fitted sun ratio.
     pub order: usize,
@@ -362,7 +362,7 @@ pub struct FitSummary {
 }
 
 /// The final ratio's Fourier coefficients.
-#[derive(Debug, Clone, Serialize, Deserialize)]
+#[derive(Debug, Clone, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct FourierSummary {
     /// Order K.
     pub order: usize,
@@ -377,7 +377,7 @@ pub struct FourierSummary {
 }
 
 /// One verification check (docs/math/chain.md §10).
-#[derive(Debug, Clone, Serialize, Deserialize)]
+#[derive(Debug, Clone, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct Check {
     /// "C1".."C13".
     pub id: String,
@@ -399,7 +399,7 @@ pub(super) fn ms(t: std::time::Instant) -> f64 {
 }
 
 /// Stage timings, ms.
-#[derive(Debug, Clone, Default, Serialize, Deserialize)]
+#[derive(Debug, Clone, Default, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct Timings {
     /// Step 1.
     pub inverse: f64,
@@ -465,7 +465,7 @@ fn null_as_infinity<'de, D: serde::Deserializer<'de>>(d: D) -> Result<f64, D::Er
 }
 
 /// A failed design's alternative, designed ([`crate::design::alternatives`]).
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 #[non_exhaustive]
 pub struct Alternative {
     /// What changes, in words: `off the carrier line, the same limits`.
