@@ -35,8 +35,8 @@ use super::SimulationReport;
 /// An object with properties of its own and no subschema gets `additionalProperties: false`;
 /// one composed of subschemas (a flattened enum: `allOf`/`oneOf`) gets
 /// `unevaluatedProperties: false`, which sees the keys its subschemas name. A map (an object
-/// schema whose `additionalProperties` is a schema) and the variants of a flattened enum are
-/// left as `schemars` wrote them.
+/// schema whose `additionalProperties` is a schema) is left as `schemars` wrote it; the variants
+/// of a flattened enum are opened, the object that holds them is closed.
 #[derive(Debug, Clone, Default)]
 struct Closed;
 
@@ -50,13 +50,23 @@ impl Transform for Closed {
         };
         let is_object =
             obj.get("type").is_some_and(|t| t == "object") || obj.contains_key("properties");
-        if !is_object
-            || obj.contains_key("additionalProperties")
-            || obj.contains_key("unevaluatedProperties")
-        {
+        if !is_object || obj.contains_key("additionalProperties") {
             return;
         }
         let composed = COMPOSED.iter().any(|k| obj.contains_key(*k));
+        if composed && obj.contains_key("properties") {
+            // A flattened enum: its variants name only their own keys, the object closes them
+            // all (`unevaluatedProperties` sees the keys of the variant that matched).
+            for key in ["allOf", "anyOf", "oneOf"] {
+                if let Some(Value::Array(alternatives)) = obj.get_mut(key) {
+                    for a in alternatives.iter_mut().filter_map(Value::as_object_mut) {
+                        if a.get("additionalProperties") == Some(&Value::Bool(false)) {
+                            a.remove("additionalProperties");
+                        }
+                    }
+                }
+            }
+        }
         let key = if composed {
             "unevaluatedProperties"
         } else {
