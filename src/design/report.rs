@@ -386,6 +386,7 @@ pub struct Check {
     /// Measured value (infinite values, such as C9's radius of a convex curve, are written as
     /// `null` and read back as +∞).
     #[serde(deserialize_with = "null_as_infinity")]
+    #[schemars(with = "Option<f64>")]
     pub value: f64,
     /// Limit.
     pub limit: f64,
