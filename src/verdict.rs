@@ -17,7 +17,7 @@ use crate::teeth::mesh::MeshReport;
 use serde::{Deserialize, Serialize};
 
 /// The verdict of a report: passed, or the failures that make it fail (one line each).
-#[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct Verdict {
     /// Every verification passed.
     pub passed: bool,

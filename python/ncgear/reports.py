@@ -316,6 +316,7 @@ class TeethOptions:
     refuse_undercut: bool
     roundtrip_samples: int
     wire_edm: bool
+    accuracy_mm: Optional[float]
 
 
 @dataclass(frozen=True)
@@ -437,12 +438,44 @@ class Alternative:
     failures: Tuple[str, ...]
 
 
+@dataclass(frozen=True)
+class SizingRow:
+    """One module designed and rated by the sizing: its figures (absent when the design failed)
+    and which limit fails (``None`` when the row passes)."""
+
+    module_mm: float
+    passed: bool
+    teeth: Optional[int]
+    face_width_mm: Optional[float]
+    max_deviation_mm: Optional[float]
+    S_H: Optional[float]
+    S_F: Optional[float]
+    life_h: Optional[float]
+    carrier_torque_peak_Nm: Optional[float]
+    gears_mass_kg: Optional[float]
+    fails: Optional[str]
+
+
+@dataclass(frozen=True)
+class ModuleSizing:
+    """The module sized by strength (``ncgear design --module auto --loads``): the safety
+    targets, the face width rule (``"auto"`` or mm), the modules tried (smallest first) and the
+    one kept (``None`` when none meets the targets)."""
+
+    S_H_min: float
+    S_F_min: float
+    face_width: str
+    rows: Tuple[SizingRow, ...]
+    chosen_module_mm: Optional[float]
+
+
 @dataclass(frozen=True, eq=False)
 class DesignReport:
     """``design.json``: arm lengths l1, l3 and centre distance (mm), the idler offset and the
     needle angle (degrees), the pitch
     curves, the round trip, the stages of the chain, the gear limits, the checks C1–C13, the
-    target points (mm), warnings, timings, the teeth when cut and the verdict."""
+    target points (mm), warnings, timings, the teeth when cut, the module sized by strength and
+    the verdict."""
 
     schema_version: int
     units: Units
@@ -469,6 +502,7 @@ class DesignReport:
     timings_ms: Timings
     teeth: Optional[TeethReport]
     alternatives: Tuple[Alternative, ...]
+    sizing: Optional[ModuleSizing]
     verdict: Verdict
 
 
@@ -485,11 +519,48 @@ class Sector:
 
 
 @dataclass(frozen=True)
+class PairOptions:
+    """The options a pair was designed with: driver teeth (``None``: from the centrode), cycle
+    advance (rad), module, rack, backlash and chord tolerances (mm), verified steps, the shaper
+    cutter, samples per turn and the open sector's driver interval (rad)."""
+
+    teeth: Optional[int]
+    centrode_advance_rad: float
+    module_mm: float
+    rack: Rack
+    backlash_mm: float
+    chord_tol_mm: float
+    verify_chord_tol_mm: float
+    verify_steps: int
+    cutter_teeth: Optional[int]
+    refuse_undercut: bool
+    samples: int
+    open_sector_rad: Optional[Tuple[float, float]]
+
+
+@dataclass(frozen=True)
+class PairUndercut:
+    """Undercut of one gear of a pair: flank counts, radii and depths (mm)."""
+
+    undercut_flanks: int
+    concave_flanks: int
+    min_rho_mm: float
+    required_rho_mm: float
+    max_module_mm: float
+    max_undercut_mm: float
+    max_contact_ratio_loss: float
+    min_root_thickness_mm: Optional[float]
+
+
+@dataclass(frozen=True)
 class PairReport:
-    """A toothed pair: tooth counts, module, sizes (mm), ratio range, the mesh, the sector of an
-    open pair and the verdict (``pair.json`` without its files and timings)."""
+    """A toothed pair: the tool, its options, tooth counts, module, sizes (mm), ratio range, each
+    gear's undercut and process, the mesh, the sector of an open pair and the verdict
+    (``pair.json`` without its files and timings)."""
 
     schema_version: int
+    tool: str
+    options: PairOptions
     z: int
     z_driven: int
     cycle_advance_deg: float
@@ -497,6 +568,10 @@ class PairReport:
     center_distance_mm: float
     perimeter_mm: float
     ratio_range: Tuple[float, float]
+    driver_undercut: PairUndercut
+    driven_undercut: PairUndercut
+    driver_process: Process
+    driven_process: Process
     mesh: Optional[Mesh]
     sector: Optional[Sector]
     verdict: Verdict

@@ -43,7 +43,9 @@ pub enum McError {
 
 /// Options of a Monte Carlo run. (De)serialisable (a missing field takes its default, an unknown one is an error) and
 /// built with `with_*`.
-#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
+#[derive(
+    Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize, schemars::JsonSchema,
+)]
 #[serde(default, deny_unknown_fields)]
 #[non_exhaustive]
 pub struct McOptions {
@@ -72,7 +74,7 @@ impl Default for McOptions {
 }
 
 /// Summary statistics of a sample.
-#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+#[derive(Debug, Clone, PartialEq, serde::Serialize, schemars::JsonSchema)]
 pub struct McStats {
     /// Sample size.
     pub n: usize,

@@ -10,7 +10,7 @@ pub mod svg;
 use serde::Serialize;
 
 /// One named polyline on a layer, in mm.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, schemars::JsonSchema)]
 pub struct Contour {
     /// Name (e.g. `driver_outline`); used for point-list file names.
     pub name: String,
@@ -23,7 +23,7 @@ pub struct Contour {
 }
 
 /// A named point (e.g. a gear centre), mm.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, schemars::JsonSchema)]
 pub struct Marker {
     /// Label.
     pub name: String,
@@ -34,7 +34,7 @@ pub struct Marker {
 }
 
 /// A sheet: contours and markers, all in mm.
-#[derive(Debug, Clone, PartialEq, Default, Serialize)]
+#[derive(Debug, Clone, PartialEq, Default, Serialize, schemars::JsonSchema)]
 pub struct Sheet {
     /// Contours.
     pub contours: Vec<Contour>,

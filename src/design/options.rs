@@ -13,7 +13,9 @@ use serde::{Deserialize, Serialize};
 pub const ADAPTIVE_ORDERS: [usize; 8] = [4, 6, 8, 12, 16, 24, 32, 40];
 
 /// When to run the refinement of docs/math/chain.md §8.3.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[derive(
+    Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize, schemars::JsonSchema,
+)]
 #[serde(rename_all = "lowercase")]
 pub enum RefineMode {
     /// Only when the patent route misses the tolerance (default).
@@ -27,7 +29,9 @@ pub enum RefineMode {
 
 /// Where the intermediate axis D may sit: on the carrier line OA, as in the patent, or turned
 /// off it by the idler offset ε ([`crate::geometry::mechanism`], docs/math/chain.md §6.5).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[derive(
+    Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize, schemars::JsonSchema,
+)]
 #[serde(rename_all = "lowercase")]
 pub enum IdlerOffset {
     /// [`IdlerOffset::AUTO_RULE`] (default). Without a module there is no tooth count and the
@@ -75,7 +79,7 @@ pub const SUN_PLANET_GAP_MODULES: f64 = 2.25;
 /// assert_eq!(partial, o);
 /// assert!(serde_json::from_str::<DesignOptions>(r#"{"tol_mm": 0.1}"#).is_err());
 /// ```
-#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize, schemars::JsonSchema)]
 #[serde(default, deny_unknown_fields)]
 #[non_exhaustive]
 pub struct DesignOptions {

@@ -42,7 +42,7 @@ pub const EXACT_DEVIATION_MM: f64 = 0.05;
 
 /// The trade-off table of one target (`tradeoff.json`). Deterministic: the same bytes for any
 /// thread count (design times are kept out of it).
-#[derive(Debug, Clone, Serialize, Deserialize)]
+#[derive(Debug, Clone, Serialize, Deserialize, schemars::JsonSchema)]
 #[non_exhaustive]
 pub struct TradeOff {
     /// Target points read.
@@ -61,7 +61,7 @@ pub struct TradeOff {
 }
 
 /// One design of the ladder.
-#[derive(Debug, Clone, Serialize, Deserialize)]
+#[derive(Debug, Clone, Serialize, Deserialize, schemars::JsonSchema)]
 #[non_exhaustive]
 pub struct TradeOffRow {
     /// What was varied: `"pressure angle ≤ 35°"`, `"no limits"`, `"module 2 mm"`.
@@ -91,7 +91,7 @@ pub struct TradeOffRow {
 }
 
 /// A row's result: the design's numbers, or the error that refused it.
-#[derive(Debug, Clone, Serialize, Deserialize)]
+#[derive(Debug, Clone, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(rename_all = "snake_case")]
 pub enum RowOutcome {
     /// The design was made.
@@ -101,7 +101,7 @@ pub enum RowOutcome {
 }
 
 /// The numbers of one design.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 #[non_exhaustive]
 pub struct RowNumbers {
     /// Round trip: max synchronous tip deviation, mm.
@@ -123,7 +123,7 @@ pub struct RowNumbers {
 }
 
 /// What the exact design of an exactly traceable target needs beyond the default limits.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 #[non_exhaustive]
 pub struct ExactNeeds {
     /// Max deviation of the unlimited design, mm (≤ [`EXACT_DEVIATION_MM`]).

@@ -79,7 +79,7 @@ pub enum LimitsError {
 }
 
 /// How a ratio and centre distance stand against the limits ([`GearLimits::measure`]).
-#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, schemars::JsonSchema)]
 pub struct LimitMeasure {
     /// Smallest and largest sun ratio.
     pub ratio_range: [f64; 2],

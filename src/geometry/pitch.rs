@@ -294,7 +294,7 @@ pub fn conjugate_center_distance(curve: &PitchCurve, tol_mm: f64) -> f64 {
 }
 
 /// Curvature statistics of a pitch curve (see [`PitchCurve::curvature_extremes`]).
-#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, schemars::JsonSchema)]
 pub struct CurvatureSummary {
     /// Minimum of `Δ`, mm²; negative means a concave stretch.
     pub min_convexity_mm2: f64,

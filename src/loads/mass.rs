@@ -18,7 +18,7 @@ use serde::{Deserialize, Serialize};
 use std::f64::consts::PI;
 
 /// Mass properties of one rigid body in its body frame.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct MassProperties {
     /// Mass, kg.
     pub mass_kg: f64,

@@ -33,7 +33,7 @@ const PLANTING_HALF_WIDTH_RAD: f64 = 5.0 * std::f64::consts::PI / 180.0;
 pub const MAX_ROWS: usize = 100_000;
 
 /// `[needle]` as written: a table or a named profile.
-#[derive(Debug, Clone, Default, Serialize, Deserialize)]
+#[derive(Debug, Clone, Default, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct NeedleSpec {
     /// Rows `[travel_deg, Fx_N, Fy_N]`: the arm's own angle of travel, degrees, strictly

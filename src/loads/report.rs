@@ -18,7 +18,7 @@ use serde::{Deserialize, Serialize};
 pub const LOADS_SCHEMA_VERSION: u32 = 1;
 
 /// The whole report.
-#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 #[non_exhaustive]
 pub struct LoadsReport {
     /// [`LOADS_SCHEMA_VERSION`].
@@ -63,7 +63,7 @@ pub struct LoadsReport {
 }
 
 /// Units of `loads.json`.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct Units {
     /// `mm`.
     pub length: String,
@@ -90,7 +90,7 @@ impl Default for Units {
 }
 
 /// `operation`.
-#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct OperationReport {
     /// Carrier speed, r/min.
     pub carrier_rpm: f64,
@@ -122,7 +122,7 @@ impl OperationReport {
 }
 
 /// `bearings`: forces, `[x, y]` N per sample.
-#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct Bearings {
     /// The frame on the carrier at O, all arms.
     #[serde(rename = "O_N")]
@@ -136,7 +136,7 @@ pub struct Bearings {
 }
 
 /// `meshes`.
-#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct Meshes {
     /// Sun (driver) – intermediate (driven).
     pub sun_intermediate: MeshLoads,
@@ -171,7 +171,7 @@ impl Meshes {
 }
 
 /// One mesh over the turn.
-#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 #[non_exhaustive]
 pub struct MeshLoads {
     /// Force along the line of action, N (≥ 0).
@@ -253,7 +253,7 @@ impl MeshLoads {
 }
 
 /// `gears`: the mass properties used.
-#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct GearsReport {
     /// Face width, mm (absent: massless gears).
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -299,7 +299,7 @@ impl GearsReport {
 }
 
 /// Mass properties as reported.
-#[derive(Debug, Clone, Copy, Default, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, Default, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct GearMass {
     /// Mass, kg.
     pub mass_kg: f64,
@@ -322,7 +322,7 @@ impl GearMass {
 }
 
 /// `summary`.
-#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 #[non_exhaustive]
 pub struct Summary {
     /// Largest |carrier torque|, N·m.

@@ -23,7 +23,7 @@ pub const MAX_ARMS: u32 = 8;
 pub const MAX_CARRIER_RPM: f64 = 3000.0;
 
 /// A whole scene file.
-#[derive(Debug, Clone, Default, Serialize, Deserialize)]
+#[derive(Debug, Clone, Default, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct Scene {
     /// The design file, relative to the scene file (required by `ncgear loads`; the sizing of
@@ -50,7 +50,7 @@ pub struct Scene {
 }
 
 /// `[operation]`.
-#[derive(Debug, Clone, Serialize, Deserialize)]
+#[derive(Debug, Clone, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct Operation {
     /// Carrier speed, r/min, in `(0, 3000]`.
@@ -78,7 +78,7 @@ fn one() -> u32 {
 }
 
 /// `[arm]`: the planting arm fixed to each planet gear.
-#[derive(Debug, Clone, Serialize, Deserialize)]
+#[derive(Debug, Clone, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct ArmSpec {
     /// Mass, kg, `≥ 0`.
@@ -90,7 +90,7 @@ pub struct ArmSpec {
 }
 
 /// A face width: a number of mm, or `"auto"` (the sizing picks it within 6…15·m).
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(untagged)]
 pub enum FaceWidthSpec {
     /// Face width, mm.
@@ -100,7 +100,7 @@ pub enum FaceWidthSpec {
 }
 
 /// The word `auto`.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(rename_all = "lowercase")]
 pub enum AutoWord {
     /// `"auto"`.
@@ -108,7 +108,7 @@ pub enum AutoWord {
 }
 
 /// `[gears]`: each gear body is its pitch curve extruded by the face width, less the bore.
-#[derive(Debug, Clone, Serialize, Deserialize)]
+#[derive(Debug, Clone, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct GearsSpec {
     /// Face width, mm, or `"auto"` (sizing only).

@@ -22,7 +22,7 @@ pub const STANDARD_MODULES_MM: [f64; 12] = [
 ];
 
 /// Options of the sizing; [`Default`] fills the documented defaults.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(default, deny_unknown_fields)]
 #[non_exhaustive]
 pub struct SizingOptions {

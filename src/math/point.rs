@@ -22,7 +22,7 @@ use serde::{Deserialize, Serialize};
 /// let json = serde_json::to_string(&a).unwrap();
 /// assert_eq!(json, "[1.0,2.0]");
 /// ```
-#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(from = "[f64; 2]", into = "[f64; 2]")]
 #[repr(C)]
 pub struct Point {

@@ -17,7 +17,9 @@ use svg::node::element::{
 /// Options of the animation; [`Default`] fills the defaults named on each field.
 /// (De)serialisable (a missing field takes its default, an unknown one is an error) and built
 /// with `with_*`.
-#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
+#[derive(
+    Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize, schemars::JsonSchema,
+)]
 #[serde(default, deny_unknown_fields)]
 #[non_exhaustive]
 pub struct AnimationOptions {

@@ -1,5 +1,6 @@
 //! What a design or simulation run writes: the design's files, the simulation's files, the CAD
-//! files of a toothed train (DXF, SVG, STEP), the loads' files, charts and the animation.
+//! files of a toothed train (DXF, SVG, STEP), the loads' files, charts, the animation and the
+//! JSON Schemas of the reports.
 
 pub mod animate;
 mod design_files;
@@ -10,6 +11,7 @@ pub mod json;
 mod loads_files;
 mod mechanism_preview;
 pub mod plot;
+pub mod schemas;
 mod simulation_files;
 mod simulation_plots;
 mod step_files;

@@ -13,7 +13,16 @@ use std::path::{Path, PathBuf};
 /// Face width and bore of the extruded gears; [`Default`]: face width 10·m, no bore.
 /// (De)serialisable (a missing field takes its default, an unknown one is an error) and built
 /// with `with_*`.
-#[derive(Debug, Clone, Copy, PartialEq, Default, serde::Serialize, serde::Deserialize)]
+#[derive(
+    Debug,
+    Clone,
+    Copy,
+    PartialEq,
+    Default,
+    serde::Serialize,
+    serde::Deserialize,
+    schemars::JsonSchema,
+)]
 #[serde(default, deny_unknown_fields)]
 #[non_exhaustive]
 pub struct SolidOptions {

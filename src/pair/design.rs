@@ -19,7 +19,7 @@ use std::f64::consts::{PI, TAU};
 
 /// Options of [`super::design_pair`]; [`PairOptions::new`] and [`Default`] fill the defaults named on
 /// each field.
-#[derive(Debug, Clone, PartialEq, Serialize, serde::Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, serde::Deserialize, schemars::JsonSchema)]
 #[non_exhaustive]
 pub struct PairOptions {
     /// Driver tooth count; the driven gear gets `z·2π/Δ` (Δ the cycle advance; equal counts for a
@@ -72,7 +72,7 @@ impl Default for PairOptions {
 }
 
 /// The open sector of an incomplete pair.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, schemars::JsonSchema)]
 pub struct SectorReport {
     /// Active driver interval `[φs, φe]`, degrees (as given).
     pub drive_deg: [f64; 2],
@@ -89,7 +89,7 @@ pub struct SectorReport {
 }
 
 /// A designed pair.
-#[derive(Debug, Clone, Serialize)]
+#[derive(Debug, Clone, Serialize, schemars::JsonSchema)]
 pub struct PairDesign {
     /// Centre distance, mm.
     pub center_distance_mm: f64,

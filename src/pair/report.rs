@@ -9,7 +9,7 @@ use serde::Serialize;
 
 /// `pair.json`: the options, the pair's numbers, the written files, the verdict and the timings.
 /// Lengths in mm, angles in degrees, as the field names say.
-#[derive(Debug, Clone, Serialize)]
+#[derive(Debug, Clone, Serialize, schemars::JsonSchema)]
 #[non_exhaustive]
 pub struct PairReport {
     /// Layout version, [`crate::design::SCHEMA_VERSION`].
@@ -53,7 +53,7 @@ pub struct PairReport {
 }
 
 /// A gear's undercut in `pair.json`.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, schemars::JsonSchema)]
 pub struct UndercutSummary {
     /// Flanks the rack's tip cuts into.
     pub undercut_flanks: usize,
@@ -89,7 +89,7 @@ impl From<&UndercutReport> for UndercutSummary {
 }
 
 /// Wall times of a pair command, ms.
-#[derive(Debug, Clone, Copy, Default, PartialEq, Serialize)]
+#[derive(Debug, Clone, Copy, Default, PartialEq, Serialize, schemars::JsonSchema)]
 pub struct PairTimings {
     /// Design (law, pitch curves, teeth).
     pub design: f64,

@@ -19,7 +19,7 @@ const POSES: usize = 180;
 const CURVE_SAMPLES: usize = 360;
 
 /// The drawing data of one design (`view` in the answer of `POST /api/design`).
-#[derive(Debug, Serialize)]
+#[derive(Debug, Serialize, schemars::JsonSchema)]
 pub struct View {
     /// Carrier axis O, mm.
     pub center_mm: Point,
@@ -47,7 +47,7 @@ pub struct View {
 }
 
 /// One arm at one carrier angle.
-#[derive(Debug, Clone, Copy, Serialize)]
+#[derive(Debug, Clone, Copy, Serialize, schemars::JsonSchema)]
 pub struct ArmPose {
     /// Carrier angle φH, degrees.
     pub phi_deg: f64,

@@ -8,7 +8,7 @@ use std::f64::consts::TAU;
 
 /// Inputs of the agronomic features. (De)serialisable (a missing field takes its default, an unknown one is an error) and
 /// built with `with_*`.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(default, deny_unknown_fields)]
 #[non_exhaustive]
 pub struct FeatureOptions {
@@ -57,7 +57,7 @@ impl FeatureOptions {
 }
 
 /// Agronomic features of a mechanism (definitions in [`crate::simulate`]).
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct Features {
     /// Trajectory height H, mm.
     pub height_mm: f64,

@@ -27,7 +27,7 @@ pub const MAX_PITCH_SAMPLES: usize = 262_144;
 pub const CLOSURE_TOL_MM: f64 = 1e-3;
 
 /// The subset of `design.json` needed to assemble the train (mm, degrees).
-#[derive(Debug, Clone, Serialize, Deserialize)]
+#[derive(Debug, Clone, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct DesignFile {
     /// Needle length, mm (`l3` in files of schema version 1).
     #[serde(alias = "l3")]
@@ -53,7 +53,7 @@ pub struct DesignFile {
 }
 
 /// The part of `design.json`'s `teeth` block needed to regenerate the toothed outlines.
-#[derive(Debug, Clone, Serialize, Deserialize)]
+#[derive(Debug, Clone, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct TeethFile {
     /// Tooth count of each gear.
     pub z: u32,
@@ -66,7 +66,7 @@ pub struct TeethFile {
 }
 
 /// `carrier` of a design file.
-#[derive(Debug, Clone, Serialize, Deserialize)]
+#[derive(Debug, Clone, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct CarrierFile {
     /// O, mm (`center` in files of schema version 1).
     #[serde(alias = "center")]
@@ -76,7 +76,7 @@ pub struct CarrierFile {
 }
 
 /// `gears` of a design file.
-#[derive(Debug, Clone, Serialize, Deserialize)]
+#[derive(Debug, Clone, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct GearsFile {
     /// Sun.
     pub sun: GearFile,
@@ -87,7 +87,7 @@ pub struct GearsFile {
 }
 
 /// One gear of a design file.
-#[derive(Debug, Clone, Serialize, Deserialize)]
+#[derive(Debug, Clone, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct GearFile {
     /// `[[theta_deg, r_mm], ...]`, uniform in θ from 0.
     pub pitch: Vec<[f64; 2]>,

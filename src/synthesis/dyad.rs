@@ -29,7 +29,7 @@ use nalgebra::{Matrix3, Matrix4, Vector3, Vector4};
 use serde::{Deserialize, Serialize};
 
 /// One key pose of the needle.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct Pose {
     /// Needle tip B, mm.
     pub tip_mm: Point,
@@ -49,7 +49,7 @@ impl Pose {
 }
 
 /// An arm O–A–B: carrier axis, carrier arm, needle.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct Dyad {
     /// Carrier axis O, mm.
     pub center_mm: Point,
@@ -94,7 +94,7 @@ impl Dyad {
 
 /// How the dyads are searched. (De)serialisable (a missing field takes its default, an unknown one is an error) and
 /// built with `with_*`.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(default, deny_unknown_fields)]
 #[non_exhaustive]
 pub struct DyadOptions {
@@ -127,7 +127,7 @@ impl Default for DyadOptions {
 }
 
 /// The arms through the poses.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(rename_all = "snake_case")]
 pub enum DyadSolutions {
     /// Finitely many arms, best (smallest residual) first: the exact ones of four poses, or the

@@ -8,7 +8,7 @@ use crate::math::Point;
 use serde::{Deserialize, Serialize};
 
 /// The synthesis report (`synthesis.json`).
-#[derive(Debug, Clone, Serialize, Deserialize)]
+#[derive(Debug, Clone, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct SynthesisReport {
     /// `"finite"`: finitely many arms; `"family"`: three poses, one arm per needle length.
     pub dyad_kind: String,
@@ -29,7 +29,7 @@ pub struct SynthesisReport {
 }
 
 /// One candidate arm and how its design passes the poses.
-#[derive(Debug, Clone, Serialize, Deserialize)]
+#[derive(Debug, Clone, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct Candidate {
     /// The arm.
     pub dyad: Dyad,
@@ -57,7 +57,7 @@ impl Candidate {
 }
 
 /// One pose on the chosen design.
-#[derive(Debug, Clone, Serialize, Deserialize)]
+#[derive(Debug, Clone, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct PoseResult {
     /// Pose tip, mm.
     pub tip_mm: Point,
@@ -72,7 +72,7 @@ pub struct PoseResult {
 }
 
 /// One target band.
-#[derive(Debug, Clone, Serialize, Deserialize)]
+#[derive(Debug, Clone, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct TargetResult {
     /// Index name (the spec's key).
     pub index: String,

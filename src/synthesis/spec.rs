@@ -11,7 +11,7 @@ use crate::simulate::FeatureOptions;
 use serde::{Deserialize, Serialize};
 
 /// A whole spec.
-#[derive(Debug, Clone, Default, Serialize, Deserialize)]
+#[derive(Debug, Clone, Default, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct Spec {
     /// The machine (all optional).
@@ -26,7 +26,7 @@ pub struct Spec {
 }
 
 /// Machine data.
-#[derive(Debug, Clone, Default, Serialize, Deserialize)]
+#[derive(Debug, Clone, Default, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct Machine {
     /// Carrier axis O, mm; omitted: solved for.
@@ -50,7 +50,7 @@ pub struct Machine {
 }
 
 /// One key pose as written in the file.
-#[derive(Debug, Clone, Serialize, Deserialize)]
+#[derive(Debug, Clone, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct PoseSpec {
     /// Needle tip x, mm.
@@ -107,7 +107,7 @@ impl PoseSpec {
 }
 
 /// Target bands `[min, max]` of the agronomic indices (definitions in [`crate::simulate`]).
-#[derive(Debug, Clone, Default, Serialize, Deserialize)]
+#[derive(Debug, Clone, Default, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct Targets {
     /// Needle angle at taking, degrees.

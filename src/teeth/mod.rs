@@ -162,7 +162,7 @@ pub enum TeethError {
 }
 
 /// How the tooth count is made an integer (docs/math/teeth.md §12.1, option 1: scale the centre distance).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, schemars::JsonSchema)]
 #[non_exhaustive]
 pub enum ToothPolicy {
     /// `z = ⌈L/(πm)⌉`, curve scaled up (never increases undercut risk).
@@ -176,7 +176,7 @@ pub enum ToothPolicy {
 }
 
 /// Result of [`tooth_count`].
-#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, schemars::JsonSchema)]
 pub struct ToothCount {
     /// Integer tooth count.
     pub z: u32,
@@ -248,7 +248,7 @@ pub fn scale_curve(
 }
 
 /// Undercut / concavity diagnostics of one tooth flank (docs/math/teeth.md §12.4).
-#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, schemars::JsonSchema)]
 pub struct FlankUndercut {
     /// Tooth index (tooth k is centred at `s_k = s0 + k·p`).
     pub tooth: usize,
@@ -282,7 +282,7 @@ pub struct FlankUndercut {
 }
 
 /// Per-tooth undercut report.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct UndercutReport {
     /// One entry per flank (2 per tooth).
     pub flanks: Vec<FlankUndercut>,

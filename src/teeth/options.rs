@@ -18,7 +18,7 @@ use serde::{Deserialize, Serialize};
 /// assert_eq!(t.cutter_teeth, None);
 /// assert_eq!(ToothingOptions::default(), ToothingOptions::new(1.0));
 /// ```
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 #[non_exhaustive]
 pub struct ToothingOptions {
     /// Module, mm. Default 1.

@@ -19,7 +19,7 @@ use crate::math::Point;
 use serde::Serialize;
 
 /// Options of a [`GearBlank`]'s outline, whatever its [`super::Generation`]; the defaults are those of [`OutlineOptions::new`]`(0.0, 1e-3)`.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, serde::Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, serde::Deserialize, schemars::JsonSchema)]
 #[serde(default, deny_unknown_fields)]
 #[non_exhaustive]
 pub struct OutlineOptions {
@@ -76,7 +76,7 @@ impl Default for OutlineOptions {
 
 /// A generated gear outline: one simple closed CCW polyline in the gear body frame, mm
 /// (no duplicated end vertex).
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, schemars::JsonSchema)]
 pub struct Outline {
     /// Vertices, mm, CCW, closed implicitly.
     pub points_mm: Vec<Point>,

@@ -18,7 +18,7 @@ use serde::{Deserialize, Serialize};
 pub const STANDARD_CUTTER_TEETH: [u32; 12] = [100, 80, 76, 64, 50, 40, 34, 30, 25, 20, 17, 12];
 
 /// Manufacturing process of one gear.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(rename_all = "kebab-case")]
 #[non_exhaustive]
 pub enum Process {
@@ -31,7 +31,7 @@ pub enum Process {
 }
 
 /// The process of one gear, as written in `design.json` / `pair.json`.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct GearProcess {
     /// The process.
     pub process: Process,

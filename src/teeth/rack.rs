@@ -5,7 +5,7 @@ use serde::{Deserialize, Serialize};
 /// Basic rack profile, in units of the module (dimensionless factors) and radians.
 ///
 /// Defaults (docs/math/teeth.md §12.3): α = 20°, ha* = 1, c* = 0.25, ρf* = 0.38.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(try_from = "RackFields")]
 pub struct RackParams {
     alpha_rad: f64,
@@ -29,7 +29,7 @@ impl Default for RackParams {
 pub const MIN_FILLET: f64 = 0.01;
 
 /// [`RackParams`] as written, validated by [`RackParams::new`] when read.
-#[derive(Deserialize)]
+#[derive(Deserialize, schemars::JsonSchema)]
 struct RackFields {
     alpha_rad: f64,
     addendum: f64,

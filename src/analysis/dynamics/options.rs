@@ -14,7 +14,9 @@ pub const MAX_TRANSIENT_PERIODS: u32 = 100_000;
 
 /// Time integrator choice (docs/math/companion.md §B.11); written `{"dopri5": {"rtol": …, "atol":
 /// …, "breakpoints": …, "events": …}}` or `{"rk4": {"steps_per_mesh": …, "aligned": …}}`.
-#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
+#[derive(
+    Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize, schemars::JsonSchema,
+)]
 #[serde(rename_all = "snake_case", deny_unknown_fields)]
 pub enum Method {
     /// Adaptive DOPRI5 with dense output.
@@ -40,7 +42,9 @@ pub enum Method {
 /// Run options (solver, steady state, recording). The defaults are those of a scene without
 /// `[solver]` and `[output]` tables. (De)serialisable (a missing field takes its default, an unknown one is an error) and
 /// built with `with_*`.
-#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
+#[derive(
+    Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize, schemars::JsonSchema,
+)]
 #[serde(default, deny_unknown_fields)]
 #[non_exhaustive]
 pub struct RunOptions {

@@ -23,7 +23,7 @@ use std::f64::consts::PI;
 
 /// What [`Prepared::run`] computes besides the scene's own settings. (De)serialisable (a missing field takes its default, an unknown one is an error) and
 /// built with `with_*`.
-#[derive(Debug, Clone, Default, PartialEq, Serialize, serde::Deserialize)]
+#[derive(Debug, Clone, Default, PartialEq, Serialize, serde::Deserialize, schemars::JsonSchema)]
 #[serde(default, deny_unknown_fields)]
 #[non_exhaustive]
 pub struct AnalysisOptions {
@@ -38,7 +38,7 @@ crate::builder::with_fields!(AnalysisOptions {
 });
 
 /// The run log's header: what was built from the scene.
-#[derive(Debug, Clone, Serialize)]
+#[derive(Debug, Clone, Serialize, schemars::JsonSchema)]
 pub struct ReportHeader {
     /// Scene name.
     pub scene: String,
@@ -56,7 +56,7 @@ pub struct ReportHeader {
 }
 
 /// Summary of a transient + recorded run.
-#[derive(Debug, Clone, Serialize)]
+#[derive(Debug, Clone, Serialize, schemars::JsonSchema)]
 pub struct RunReport {
     /// Integrator counters (transient + record).
     pub stats: OdeStats,
@@ -116,7 +116,7 @@ impl Recording {
 
 /// Everything `ncgear dynamics --json` prints: the header, then the result of the path taken
 /// (linear amplitude, sweep, or run summary); `recording` holds the run's signals.
-#[derive(Debug, Clone, Serialize)]
+#[derive(Debug, Clone, Serialize, schemars::JsonSchema)]
 pub struct DynamicsReport {
     /// What was built.
     #[serde(flatten)]

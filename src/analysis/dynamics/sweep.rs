@@ -8,7 +8,7 @@ use crate::progress::Progress;
 use serde::Serialize;
 
 /// One point of a frequency sweep.
-#[derive(Debug, Clone, Serialize)]
+#[derive(Debug, Clone, Serialize, schemars::JsonSchema)]
 pub struct SweepPoint {
     /// Pinion speed, rpm.
     pub n1_rpm: f64,

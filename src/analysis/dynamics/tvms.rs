@@ -3,7 +3,7 @@
 use std::f64::consts::PI;
 
 /// Involute spur-pair geometry at standard centre distance (α' = α), SI units (m, rad).
-#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, schemars::JsonSchema)]
 pub struct PairGeometry {
     /// Base radii rb1, rb2, m.
     pub rb_m: [f64; 2],

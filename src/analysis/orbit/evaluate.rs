@@ -20,7 +20,9 @@ use std::f64::consts::TAU;
 
 /// Where the sensors sit; the carrier speed of [`Frame::HousingFullSpectrum`] is found by
 /// [`Evaluation::new`].
-#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[derive(
+    Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize, schemars::JsonSchema,
+)]
 #[serde(rename_all = "snake_case")]
 pub enum SensorFrame {
     /// Sensors on the carrier, or carrier held ([`Frame::Carrier`]).
@@ -34,7 +36,7 @@ pub enum SensorFrame {
 /// How to evaluate records. Start from [`MeasureOptions::default`] and set the fields that differ
 /// with `with_*`; (de)serialisable (a missing field takes its default, an unknown one is an
 /// error).
-#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize, schemars::JsonSchema)]
 #[serde(default, deny_unknown_fields)]
 #[non_exhaustive]
 pub struct MeasureOptions {

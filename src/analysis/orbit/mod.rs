@@ -96,7 +96,7 @@ pub(crate) fn invalid(key: impl Into<String>, message: impl Into<String>) -> Orb
 }
 
 /// Whirl sense of an elliptical orbit relative to the planet's relative spin ω_p (docs/math/companion.md §A.8).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, schemars::JsonSchema)]
 #[serde(rename_all = "snake_case")]
 pub enum Whirl {
     /// `|Z₊| > |Z₋|`: traversed in the same sense as ω_p.
@@ -108,7 +108,7 @@ pub enum Whirl {
 }
 
 /// One same-frequency sinusoid pair `x = A_x sin(ωt + φ_x)`, `y = A_y sin(ωt + φ_y)` (docs/math/companion.md §A.5).
-#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, schemars::JsonSchema)]
 pub struct SinPair {
     /// A_sx, µm.
     pub a_x_um: f64,
@@ -121,7 +121,7 @@ pub struct SinPair {
 }
 
 /// Ellipse of an orbit (docs/math/companion.md §A.6–§A.8).
-#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, schemars::JsonSchema)]
 pub struct Ellipse {
     /// Semi-major axis R_L = |Z₊| + |Z₋|, µm.
     pub r_long_um: f64,

@@ -11,7 +11,7 @@ use super::{C64, Ellipse, Orbit, OrbitError, Whirl};
 use serde::Serialize;
 
 /// A complex amplitude in Cartesian and polar form, µm.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, schemars::JsonSchema)]
 pub struct PhasorSummary {
     /// Real part, µm.
     pub re: f64,
@@ -35,7 +35,7 @@ impl From<C64> for PhasorSummary {
 }
 
 /// An [`Ellipse`] with the major-axis angle also in degrees.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, schemars::JsonSchema)]
 pub struct EllipseSummary {
     /// Semi-major axis R_L = |Z₊| + |Z₋|, µm.
     pub r_long_um: f64,
@@ -65,7 +65,7 @@ impl From<&Ellipse> for EllipseSummary {
 }
 
 /// An [`Orbit`] with its sinusoids (docs/math/companion.md §A.5), phasors and ellipse (docs/math/companion.md §A.6–§A.8).
-#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, schemars::JsonSchema)]
 pub struct OrbitSummary {
     /// Signed planet spin relative to the carrier ω_p, rad/s.
     pub omega_p_rad_s: f64,
@@ -114,7 +114,7 @@ impl OrbitSummary {
 }
 
 /// Common-mode (transmission-error) displacement `c = amplitude · sin(ω_p t + phase)`.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, schemars::JsonSchema)]
 pub struct CommonMode {
     /// |P_c|, µm.
     pub amplitude_um: f64,
@@ -123,7 +123,7 @@ pub struct CommonMode {
 }
 
 /// Result of the kinematic model (docs/math/companion.md §A.3–§A.7) for a parameter file.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, schemars::JsonSchema)]
 pub struct ModelReport {
     /// Sun orbit in the carrier frame.
     pub orbit: OrbitSummary,
@@ -161,7 +161,7 @@ impl ModelReport {
 }
 
 /// Residual RMS of the two channels after the fit, µm.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, schemars::JsonSchema)]
 pub struct XyRms {
     /// x channel, µm.
     pub x: f64,
@@ -170,7 +170,7 @@ pub struct XyRms {
 }
 
 /// Result of evaluating a sensor record (docs/math/companion.md §A.7–§A.8), with the comparison to the model if any.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, schemars::JsonSchema)]
 pub struct MeasureReport {
     /// Estimator used.
     pub method: Method,
@@ -229,7 +229,7 @@ impl MeasureReport {
 }
 
 /// One identified planet phasor `E_i = e_i e^{i(θ_p0+θ_pi)}`.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, schemars::JsonSchema)]
 pub struct PlanetPhasor {
     /// e_i = |E_i|, µm.
     pub eccentricity_um: f64,
@@ -240,7 +240,7 @@ pub struct PlanetPhasor {
 }
 
 /// Result of the identification (docs/math/companion.md §A.9).
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, schemars::JsonSchema)]
 pub struct IdentifyReport {
     /// Minimum-norm planet phasors, in planet order.
     pub planets: Vec<PlanetPhasor>,

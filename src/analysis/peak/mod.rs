@@ -16,7 +16,9 @@ mod kernel;
 pub use grid::PeakGrid;
 
 /// `A·sin(ω t + φ)`: amplitude (any unit, may be negative), ω in rad/s, φ in rad.
-#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
+#[derive(
+    Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize, schemars::JsonSchema,
+)]
 pub struct Sinusoid {
     /// Amplitude.
     pub amplitude: f64,
@@ -28,7 +30,9 @@ pub struct Sinusoid {
 
 /// Accuracy knobs of the certified peak. (De)serialisable (a missing field takes its default, an unknown one is an error) and
 /// built with `with_*`.
-#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
+#[derive(
+    Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize, schemars::JsonSchema,
+)]
 #[serde(default, deny_unknown_fields)]
 #[non_exhaustive]
 pub struct PeakOptions {
@@ -66,7 +70,7 @@ impl Default for PeakOptions {
 }
 
 /// A certified peak.
-#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, schemars::JsonSchema)]
 pub struct Peak {
     /// `max_t |f(t)|` over the common period.
     pub value: f64,

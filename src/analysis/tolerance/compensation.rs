@@ -14,7 +14,7 @@ use serde::Serialize;
 use std::f64::consts::TAU;
 
 /// The phasor sum of same-frequency terms (docs/math/companion.md §C.2 eq. C-1).
-#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, schemars::JsonSchema)]
 pub struct Phasor {
     /// ω, rad/s.
     pub omega_rad_s: f64,
@@ -47,7 +47,7 @@ pub struct Analysis {
 }
 
 /// One step of the greedy assembly.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, schemars::JsonSchema)]
 pub struct GreedyStep {
     /// Term name.
     pub term: String,
@@ -62,7 +62,7 @@ pub struct GreedyStep {
 }
 
 /// Result of the joint optimiser.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, schemars::JsonSchema)]
 pub struct Joint {
     /// Free-phase angles β, rad (assembly order of the free terms).
     pub betas_rad: Vec<f64>,

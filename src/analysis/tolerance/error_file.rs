@@ -29,7 +29,7 @@ pub const TEETH: Span = Span::closed(MIN_TEETH as f64, MAX_TEETH as f64);
 pub const PRESSURE_ANGLE_DEG: Span = Span::closed(10.0, 45.0);
 
 /// Amplitude distribution for Monte Carlo.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields, rename_all = "snake_case")]
 pub enum AmplitudeDist {
     /// Uniform in `[lo, hi]` µm.
@@ -39,7 +39,7 @@ pub enum AmplitudeDist {
 }
 
 /// One error term of the file.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct ErrorTerm {
     /// Label.
@@ -68,7 +68,7 @@ fn one() -> f64 {
 }
 
 /// Base circle given by gear data instead of a radius.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct BaseCircle {
     /// Module, mm.
@@ -80,7 +80,7 @@ pub struct BaseCircle {
 }
 
 /// An error file (JSON or TOML).
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct ErrorFile {
     /// Base radius r_b, mm (or give `base_circle`).

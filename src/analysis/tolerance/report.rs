@@ -9,7 +9,7 @@ use serde::Serialize;
 
 /// Options of [`analyse`]. (De)serialisable (a missing field takes its default, an unknown one is an error) and
 /// built with `with_*`.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, serde::Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, serde::Deserialize, schemars::JsonSchema)]
 #[serde(default, deny_unknown_fields)]
 #[non_exhaustive]
 pub struct ToleranceOptions {
@@ -43,7 +43,7 @@ impl Default for ToleranceOptions {
 }
 
 /// A full report of `ncgear tolerance` on an error file (the keys of `tolerance.json`).
-#[derive(Debug, Clone, Serialize)]
+#[derive(Debug, Clone, Serialize, schemars::JsonSchema)]
 pub struct ToleranceReport {
     /// Base radius, mm.
     pub base_radius_mm: f64,

@@ -14,7 +14,7 @@ pub(super) const UM: f64 = 1e3;
 
 /// Options of [`analyse`](super::analyse). (De)serialisable (a missing field takes its default, an unknown one is an error) and
 /// built with `with_*`.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(default, deny_unknown_fields)]
 #[non_exhaustive]
 pub struct TransplanterOptions {

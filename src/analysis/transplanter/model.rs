@@ -307,7 +307,9 @@ impl ExactModel {
 /// Finite-difference steps of the linear model; (de)serialised as
 /// `{"length_mm": …, "angle_rad": …}` (a missing field takes its default, an unknown one is an
 /// error).
-#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
+#[derive(
+    Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize, schemars::JsonSchema,
+)]
 #[serde(default, deny_unknown_fields)]
 #[non_exhaustive]
 pub struct FdSteps {

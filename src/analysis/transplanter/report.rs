@@ -7,7 +7,7 @@ use crate::simulate::Features;
 use serde::Serialize;
 
 /// Linear vs exact model on samples at the 3σ tolerances.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, schemars::JsonSchema)]
 pub struct Validation {
     /// Number of samples.
     pub samples: usize,
@@ -22,7 +22,7 @@ pub struct Validation {
 }
 
 /// The tip-deviation envelope at one carrier angle.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, schemars::JsonSchema)]
 pub struct EnvelopePoint {
     /// Carrier angle φH, degrees (world).
     pub carrier_deg: f64,
@@ -41,7 +41,7 @@ pub struct EnvelopePoint {
 }
 
 /// Distributions of the agronomic-feature deviations (perturbed − nominal), exact model.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, schemars::JsonSchema)]
 pub struct FeatureDeviations {
     /// Samples (random assemblies).
     pub samples: usize,
@@ -62,7 +62,7 @@ pub struct FeatureDeviations {
 }
 
 /// Contribution of one error to `max_φ |ΔB|` at its 3σ value.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, schemars::JsonSchema)]
 pub struct Contribution {
     /// Error name.
     pub error: String,
@@ -79,7 +79,7 @@ pub struct Contribution {
 }
 
 /// One step of the greedy assembly.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, schemars::JsonSchema)]
 pub struct GreedyChoice {
     /// Gear whose runout direction is chosen.
     pub gear: String,
@@ -90,7 +90,7 @@ pub struct GreedyChoice {
 }
 
 /// Best assembly of the free runout orientations.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, schemars::JsonSchema)]
 pub struct AssemblyOptimum {
     /// Gears with a free direction.
     pub free: Vec<String>,
@@ -121,7 +121,7 @@ pub struct AssemblyOptimum {
 }
 
 /// The report of `ncgear tolerance DESIGN.json --errors ERRORS`.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, schemars::JsonSchema)]
 pub struct TransplanterReport {
     /// Pressure angle, degrees.
     pub pressure_angle_deg: f64,

@@ -10,7 +10,7 @@ use serde::{Deserialize, Serialize};
 use std::path::Path;
 
 /// A scalar length error (µm): nominal value and an optional distribution about it.
-#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct LengthError {
     /// Nominal (measured or deterministic) value, µm.
@@ -25,7 +25,7 @@ pub struct LengthError {
 }
 
 /// A scalar angle error (degrees): nominal value and an optional distribution about it.
-#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct AngleError {
     /// Nominal value, degrees.
@@ -40,7 +40,7 @@ pub struct AngleError {
 }
 
 /// Eccentricity of a gear's pitch curve relative to its rotation centre.
-#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct EccentricityError {
     /// Nominal (measured) magnitude e, µm.
@@ -62,7 +62,7 @@ pub struct EccentricityError {
 }
 
 /// Errors of one gear.
-#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct GearErrors {
     /// Eccentricity.
@@ -74,7 +74,7 @@ pub struct GearErrors {
 }
 
 /// Pin-hole position errors of a carrier pin.
-#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct PinErrors {
     /// Along the carrier arm (away from O), µm.
@@ -86,7 +86,7 @@ pub struct PinErrors {
 }
 
 /// Normal backlash of the two meshes.
-#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct BacklashErrors {
     /// Sun–intermediate mesh, µm.
@@ -108,7 +108,7 @@ fn default_samples() -> usize {
 }
 
 /// An error file of the transplanter analysis (TOML or JSON; µm and degrees).
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct ErrorInventory {
     /// Pressure angle α of the tooth flanks, degrees (default 20).

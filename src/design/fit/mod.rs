@@ -83,7 +83,7 @@ pub const FIT_ORDERS: [usize; 7] = [6, 8, 12, 16, 24, 32, 40];
 /// Options of the orthogonal-distance fit. (De)serialisable without `limits` and
 /// `perimeter_mm`, which the design chain sets from its own options (they keep their defaults
 /// when read).
-#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize, schemars::JsonSchema)]
 #[serde(default, deny_unknown_fields)]
 #[non_exhaustive]
 pub struct FitOptions {

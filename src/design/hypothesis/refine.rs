@@ -25,7 +25,9 @@ use rayon::prelude::*;
 use std::f64::consts::{PI, TAU};
 
 /// Options of the refinement (docs/math/chain.md §8.3).
-#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
+#[derive(
+    Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize, schemars::JsonSchema,
+)]
 #[serde(default, deny_unknown_fields)]
 #[non_exhaustive]
 pub struct RefineOptions {

@@ -18,7 +18,17 @@ use crate::math::roots::invert_increasing;
 use std::f64::consts::PI;
 
 /// Which three of the patent's four relations are solved exactly (docs/math/chain.md §15 item 4).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize, serde::Deserialize)]
+#[derive(
+    Debug,
+    Clone,
+    Copy,
+    PartialEq,
+    Eq,
+    Default,
+    serde::Serialize,
+    serde::Deserialize,
+    schemars::JsonSchema,
+)]
 #[serde(rename_all = "lowercase")]
 pub enum Route {
     /// Front half exact, relation (b) as the residual (default).
@@ -29,7 +39,7 @@ pub enum Route {
 }
 
 /// Parameters of the segmented design (docs/math/chain.md §7).
-#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize, schemars::JsonSchema)]
 #[serde(default, deny_unknown_fields)]
 #[non_exhaustive]
 pub struct SegmentedOptions {
@@ -80,7 +90,7 @@ pub enum SegmentedError {
 }
 
 /// Result of the segmented design: the ratio polyline on a uniform grid of the τ-frame.
-#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+#[derive(Debug, Clone, PartialEq, serde::Serialize, schemars::JsonSchema)]
 pub struct Segmented {
     /// `i21(t′_n)`, `t′_n = 2πn/N` (front samples for `t′ < π`, back samples after).
     #[serde(skip)]

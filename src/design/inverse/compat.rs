@@ -15,7 +15,7 @@ use crate::math::roots::bracketed_root;
 use std::f64::consts::{PI, TAU};
 
 /// Compatibility of a target with the train.
-#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+#[derive(Debug, Clone, PartialEq, serde::Serialize, schemars::JsonSchema)]
 pub struct Compatibility {
     /// Chosen half-closure origin τ, rad from the reference instant.
     pub tau_rad: f64,

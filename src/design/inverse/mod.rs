@@ -25,7 +25,9 @@ use crate::design::trajectory::{ClosedSpline, Trajectory};
 use frame::{Solved, coarse_rejects, dense_count, solve_frame, winding_number};
 
 /// Accuracy knobs of the inversion (docs/math/chain.md §13).
-#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
+#[derive(
+    Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize, schemars::JsonSchema,
+)]
 #[serde(default, deny_unknown_fields)]
 #[non_exhaustive]
 pub struct InverseOptions {

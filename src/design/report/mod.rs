@@ -19,7 +19,7 @@ fn schema_v1() -> u32 {
 }
 
 /// `design.json`: everything a CAD pipeline or a reviewer needs, in mm and degrees.
-#[derive(Debug, Clone, Serialize, Deserialize)]
+#[derive(Debug, Clone, Serialize, Deserialize, schemars::JsonSchema)]
 #[non_exhaustive]
 pub struct DesignReport {
     /// Version of this file's layout, [`SCHEMA_VERSION`] when written by this library (a file
@@ -160,7 +160,7 @@ impl DesignReport {
 }
 
 /// Units used in the report.
-#[derive(Debug, Clone, Serialize, Deserialize)]
+#[derive(Debug, Clone, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct Units {
     /// "mm".
     pub length: String,
@@ -179,7 +179,7 @@ impl Units {
 }
 
 /// The carrier.
-#[derive(Debug, Clone, Serialize, Deserialize)]
+#[derive(Debug, Clone, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct Carrier {
     /// Carrier axis O, mm.
     #[serde(alias = "center")]
@@ -189,7 +189,7 @@ pub struct Carrier {
 }
 
 /// The three gears.
-#[derive(Debug, Clone, Serialize, Deserialize)]
+#[derive(Debug, Clone, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct Gears {
     /// Fixed sun gear; body frame = world frame.
     pub sun: Gear,
@@ -200,7 +200,7 @@ pub struct Gears {
 }
 
 /// One gear's pitch table.
-#[derive(Debug, Clone, Serialize, Deserialize)]
+#[derive(Debug, Clone, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct Gear {
     /// `[theta_deg, r_mm]`, θ CCW in the body frame, uniform.
     pub pitch: Vec<[f64; 2]>,
@@ -224,7 +224,7 @@ pub struct Gear {
 
 /// The gear limits the design was made within, and where it stands against them (from the
 /// output tables, as checks C6, C9 and C10 measure it).
-#[derive(Debug, Clone, Default, Serialize, Deserialize)]
+#[derive(Debug, Clone, Default, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct LimitsSummary {
     /// Whether the pressure-angle and concave-radius limits constrained the design (false: the
     /// ratio bounds alone; C9 and C10 are checked either way).
@@ -256,7 +256,7 @@ pub struct LimitsSummary {
 }
 
 /// Round-trip result.
-#[derive(Debug, Clone, Serialize, Deserialize)]
+#[derive(Debug, Clone, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct RoundTrip {
     /// Max synchronous tip deviation `max_j |B_rebuilt(φ_j) − P_j|` over the target points, mm,
     /// where φ_j is the carrier angle at which the designed tip passes point j.
@@ -282,7 +282,7 @@ pub struct RoundTrip {
 }
 
 /// Step-1 summary.
-#[derive(Debug, Clone, Serialize, Deserialize)]
+#[derive(Debug, Clone, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct TrajectorySummary {
     /// Points read.
     pub points: usize,
@@ -303,7 +303,7 @@ pub struct TrajectorySummary {
 }
 
 /// Compatibility summary.
-#[derive(Debug, Clone, Serialize, Deserialize)]
+#[derive(Debug, Clone, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct CompatSummary {
     /// Chosen half-closure origin τ, degrees after the reference instant.
     pub tau_deg: f64,
@@ -318,7 +318,7 @@ pub struct CompatSummary {
 }
 
 /// Result of one route.
-#[derive(Debug, Clone, Serialize, Deserialize)]
+#[derive(Debug, Clone, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct RouteSummary {
     /// Fourier order K.
     pub order: usize,
@@ -341,7 +341,7 @@ pub struct RouteSummary {
 
 /// The orthogonal-distance fit ([`crate::design::fit`]): distances of the target points from the curve the
 /// fitted train traces (analytic model), mm.
-#[derive(Debug, Clone, Serialize, Deserialize)]
+#[derive(Debug, Clone, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct FitSummary {
     /// Fourier order K of the fitted sun ratio.
     pub order: usize,
@@ -365,7 +365,7 @@ pub struct FitSummary {
 }
 
 /// The final ratio's Fourier coefficients.
-#[derive(Debug, Clone, Serialize, Deserialize)]
+#[derive(Debug, Clone, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct FourierSummary {
     /// Order K.
     pub order: usize,
@@ -380,7 +380,7 @@ pub struct FourierSummary {
 }
 
 /// One verification check (docs/math/chain.md §10).
-#[derive(Debug, Clone, Serialize, Deserialize)]
+#[derive(Debug, Clone, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct Check {
     /// "C1".."C13".
     pub id: String,
@@ -389,6 +389,7 @@ pub struct Check {
     /// Measured value (infinite values, such as C9's radius of a convex curve, are written as
     /// `null` and read back as +∞).
     #[serde(deserialize_with = "null_as_infinity")]
+    #[schemars(with = "Option<f64>")]
     pub value: f64,
     /// Limit.
     pub limit: f64,
@@ -402,7 +403,7 @@ pub(in crate::design) fn ms(t: std::time::Instant) -> f64 {
 }
 
 /// Stage timings, ms.
-#[derive(Debug, Clone, Default, Serialize, Deserialize)]
+#[derive(Debug, Clone, Default, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct Timings {
     /// Step 1.
     pub inverse: f64,
@@ -468,7 +469,7 @@ fn null_as_infinity<'de, D: serde::Deserializer<'de>>(d: D) -> Result<f64, D::Er
 }
 
 /// A failed design's alternative, designed ([`crate::design::chain::alternatives`]).
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 #[non_exhaustive]
 pub struct Alternative {
     /// What changes, in words: `off the carrier line, the same limits`.

@@ -5,7 +5,7 @@
 use serde::{Deserialize, Serialize};
 
 /// `sizing`: the modules tried, smallest first, and the one kept.
-#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 #[non_exhaustive]
 pub struct ModuleSizing {
     /// Target of the smallest pitting safety factor.
@@ -25,7 +25,7 @@ pub struct ModuleSizing {
 }
 
 /// One module designed and rated.
-#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 #[non_exhaustive]
 pub struct SizingRow {
     /// Module, mm.

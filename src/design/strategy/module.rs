@@ -49,7 +49,7 @@ const SYSTEMATIC_NOISE_FACTOR: f64 = 10.0;
 pub const MIN_TEETH: u32 = 8;
 
 /// The design made for a module: the tooth count chosen and what the neighbours reached.
-#[derive(Debug, Clone, Serialize, Deserialize)]
+#[derive(Debug, Clone, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct ModuleSummary {
     /// Module, mm.
     pub module_mm: f64,

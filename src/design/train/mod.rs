@@ -99,7 +99,7 @@ pub enum TrainError {
 }
 
 /// How the tooth count is made an integer (docs/math/teeth.md §12.1).
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 #[non_exhaustive]
 pub enum TrainPolicy {
     /// Option 1: scale the centre distance (and `l1`) by `zπm/L`, z by the rounding rule; every tip
@@ -121,7 +121,7 @@ pub enum TrainPolicy {
 
 /// Options of [`tooth_train`]; [`TrainTeethOptions::new`] and [`Default`] fill the defaults named
 /// on each field.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 #[non_exhaustive]
 pub struct TrainTeethOptions {
     /// How z is made an integer. Default: scale the centre distance up

@@ -7,7 +7,7 @@ use crate::teeth::process::GearProcess;
 use serde::{Deserialize, Serialize};
 
 /// Undercut reports of the three gears.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct TrainUndercut {
     /// Sun.
     pub sun: UndercutReport,
@@ -18,7 +18,7 @@ pub struct TrainUndercut {
 }
 
 /// Mesh verification of both meshes over one carrier turn.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct TrainMesh {
     /// Sun → intermediate.
     pub sun_intermediate: MeshReport,
@@ -33,7 +33,7 @@ pub struct TrainMesh {
 /// curve read between the points in those angles — except under the ratio-amplitude policy,
 /// which re-times the train; there, and on a bare assembly ([`super::tooth_train`]), against the
 /// points' polyline.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct TrainRoundTrip {
     /// Largest deviation of the traced tip from the target, mm (designed gears, before the
     /// tooth-count policy): the design's own C12 value where measured as it.
@@ -52,7 +52,7 @@ pub struct TrainRoundTrip {
 }
 
 /// The `teeth` block of `design.json`.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct TrainTeethReport {
     /// Options used.
     pub options: TrainTeethOptions,
@@ -122,7 +122,7 @@ impl TrainTeethReport {
 }
 
 /// Manufacturing process of the three gears.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct TrainProcess {
     /// Sun.
     pub sun: GearProcess,

@@ -20,7 +20,9 @@
 use serde::{Deserialize, Serialize};
 
 /// `factors = "iso"` or `"nominal"`.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[derive(
+    Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize, schemars::JsonSchema,
+)]
 #[serde(rename_all = "lowercase")]
 pub enum FactorMode {
     /// The documented ISO choices (module docs).
@@ -32,7 +34,7 @@ pub enum FactorMode {
 }
 
 /// The factors of a rating, as chosen or set.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct Factors {
     /// Which set.
     pub mode: FactorMode,

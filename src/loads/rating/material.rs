@@ -26,7 +26,7 @@ use serde::{Deserialize, Serialize};
 /// One S–N line: `σ_limit·f(N)` is the stress a flank or root survives for N cycles, with
 /// `f(N) = (N_knee/N)^k` for N up to the knee (`f(N_static) = static_factor`) and
 /// `(N_knee/N)^k_long` beyond it (`f(10¹⁰) = 0.85`).
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct SnLine {
     /// Cycles at the static limit.
     pub static_cycles: f64,
@@ -102,7 +102,7 @@ pub const BENDING_GG: SnLine = SnLine {
 };
 
 /// A validated material (MPa).
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct Material {
     /// The preset it came from, or `custom`.
     pub name: String,

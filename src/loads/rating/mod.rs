@@ -43,7 +43,7 @@ use summary::summarise;
 use tooth_form::{Flank, GearTeeth};
 
 /// `[material]` as written: a preset, and any of its values replaced.
-#[derive(Debug, Clone, Default, Serialize, Deserialize)]
+#[derive(Debug, Clone, Default, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct MaterialSpec {
     /// `steel`, `case_hardened_steel`, `cast_iron`, `grey_iron` or `pom` ([`material`]); absent:
@@ -73,7 +73,7 @@ pub struct MaterialSpec {
 }
 
 /// `[rating]` as written.
-#[derive(Debug, Clone, Default, Serialize, Deserialize)]
+#[derive(Debug, Clone, Default, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct RatingSpec {
     /// `"iso"` (default) or `"nominal"`.
@@ -109,7 +109,7 @@ pub struct RatingSpec {
 }
 
 /// A validated rating: material, factors, targets.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct RatingOptions {
     /// The gears' material.
     pub material: Material,
@@ -232,7 +232,7 @@ impl RatingOptions {
 }
 
 /// The smallest safety factor and where it occurs ([`f64::MAX`] when nothing is loaded).
-#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct Extreme {
     /// The value.
     pub value: f64,
@@ -247,7 +247,7 @@ pub struct Extreme {
 }
 
 /// One gear's rating over the turn.
-#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct GearRating {
     /// Smallest bending safety factor over the turn.
     #[serde(rename = "min_S_F")]
@@ -267,7 +267,7 @@ pub struct GearRating {
 }
 
 /// `rating` of `loads.json`.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct RatingReport {
     /// What was rated with.
     pub options: RatingOptions,

@@ -42,7 +42,7 @@ use serde::{Deserialize, Serialize};
 use std::f64::consts::TAU;
 
 /// The driver positions a mesh check rolls through.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, schemars::JsonSchema)]
 #[non_exhaustive]
 pub enum MeshSpan {
     /// Whole driver turns from φ = 0 (a closed pair with turn ratio p/q is back at its start after
@@ -72,7 +72,7 @@ impl MeshSpan {
 }
 
 /// Parameters of [`verify_mesh`]; [`MeshCheck::new`] fills the defaults named on each field.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, schemars::JsonSchema)]
 #[non_exhaustive]
 pub struct MeshCheck {
     /// Centre distance, mm (no default: given to [`MeshCheck::new`]).
@@ -106,7 +106,7 @@ impl MeshCheck {
 }
 
 /// Result of [`verify_mesh`] (all over the sampled cycle).
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct MeshReport {
     /// Driver positions checked.
     pub steps: usize,

@@ -58,7 +58,7 @@ pub enum OdeError {
 }
 
 /// Counters of one integration.
-#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, serde::Serialize)]
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, serde::Serialize, schemars::JsonSchema)]
 pub struct OdeStats {
     /// Right-hand-side evaluations.
     pub rhs_evals: u64,

@@ -69,7 +69,7 @@ impl From<ConfigError> for SceneError {
 }
 
 /// Derived physical parameters reported in the run log.
-#[derive(Debug, Clone, Serialize)]
+#[derive(Debug, Clone, Serialize, schemars::JsonSchema)]
 pub struct Derived {
     /// Geometry.
     pub geometry: PairGeometry,

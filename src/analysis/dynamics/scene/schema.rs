@@ -6,7 +6,7 @@ use super::settings::{OutputSpec, SolverSpec, yes};
 use serde::{Deserialize, Serialize};
 
 /// `[scene]`.
-#[derive(Debug, Clone, Deserialize, Serialize)]
+#[derive(Debug, Clone, Deserialize, Serialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct SceneMeta {
     /// Scene name.
@@ -20,7 +20,7 @@ pub struct SceneMeta {
 }
 
 /// `scene.model`.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize, Serialize, schemars::JsonSchema)]
 #[serde(rename_all = "snake_case")]
 pub enum ModelKind {
     /// One spur pair (planetary sets are not implemented).
@@ -28,7 +28,9 @@ pub enum ModelKind {
 }
 
 /// `scene.dofs`.
-#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Deserialize, Serialize)]
+#[derive(
+    Debug, Clone, Copy, Default, PartialEq, Eq, Deserialize, Serialize, schemars::JsonSchema,
+)]
 #[serde(rename_all = "snake_case")]
 pub enum DofSet {
     /// Keep only the DOFs the named effects need (16 / 6 / 4 / 2 / 1).
@@ -39,7 +41,7 @@ pub enum DofSet {
 }
 
 /// `[gears]`: standard involute spur pair; masses default to solid steel discs.
-#[derive(Debug, Clone, Deserialize, Serialize)]
+#[derive(Debug, Clone, Deserialize, Serialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct GearsSpec {
     /// Pinion teeth.
@@ -72,7 +74,7 @@ fn steel() -> f64 {
 }
 
 /// `[operating]`.
-#[derive(Debug, Clone, Deserialize, Serialize)]
+#[derive(Debug, Clone, Deserialize, Serialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 #[allow(non_snake_case)]
 pub struct Operating {
@@ -84,7 +86,7 @@ pub struct Operating {
 
 /// `effects.mesh_stiffness` (required), keyed by `kind`. Every kind has the mesh damping ratio
 /// ζ_m: c_m = 2ζ_m sqrt(k_mean m_e).
-#[derive(Debug, Clone, Deserialize, Serialize)]
+#[derive(Debug, Clone, Deserialize, Serialize, schemars::JsonSchema)]
 #[serde(tag = "kind", rename_all = "snake_case", deny_unknown_fields)]
 pub enum MeshSpec {
     /// `constant`: time-invariant stiffness `k`.
@@ -150,7 +152,7 @@ impl MeshSpec {
 }
 
 /// `effects.static_te`.
-#[derive(Debug, Clone, Deserialize, Serialize)]
+#[derive(Debug, Clone, Deserialize, Serialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct SteSpec {
     /// Mean e0, µm.
@@ -164,7 +166,7 @@ pub struct SteSpec {
 }
 
 /// `effects.backlash`.
-#[derive(Debug, Clone, Deserialize, Serialize)]
+#[derive(Debug, Clone, Deserialize, Serialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct BacklashSpec {
     /// HALF of the backlash b, µm.
@@ -178,7 +180,7 @@ pub struct BacklashSpec {
 }
 
 /// `effects.tip_relief`.
-#[derive(Debug, Clone, Deserialize, Serialize)]
+#[derive(Debug, Clone, Deserialize, Serialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct ReliefSpec {
     /// Δmax, µm.
@@ -191,7 +193,9 @@ pub struct ReliefSpec {
 }
 
 /// `effects.tip_relief.kind`.
-#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Deserialize, Serialize)]
+#[derive(
+    Debug, Clone, Copy, Default, PartialEq, Eq, Deserialize, Serialize, schemars::JsonSchema,
+)]
 #[serde(rename_all = "snake_case")]
 pub enum ReliefKind {
     /// Linear relief from Δmax at the tip to 0 at the relief length.
@@ -200,7 +204,7 @@ pub enum ReliefKind {
 }
 
 /// `effects.friction`, keyed by `direction` (the law of the friction force's sign).
-#[derive(Debug, Clone, Deserialize, Serialize)]
+#[derive(Debug, Clone, Deserialize, Serialize, schemars::JsonSchema)]
 #[serde(tag = "direction", rename_all = "snake_case", deny_unknown_fields)]
 pub enum FrictionSpec {
     /// `pitch_switch`: the sign flips at the pitch point.
@@ -228,7 +232,7 @@ impl FrictionSpec {
 }
 
 /// One gear's eccentricity.
-#[derive(Debug, Clone, Deserialize, Serialize)]
+#[derive(Debug, Clone, Deserialize, Serialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct EccSpec {
     /// Mass-centre offset ρ, µm.
@@ -242,7 +246,9 @@ pub struct EccSpec {
 }
 
 /// `effects.eccentricity.*.kind`.
-#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Deserialize, Serialize)]
+#[derive(
+    Debug, Clone, Copy, Default, PartialEq, Eq, Deserialize, Serialize, schemars::JsonSchema,
+)]
 #[serde(rename_all = "snake_case")]
 pub enum EccKind {
     /// Rotating force `m ρ ω²` (the exact state-dependent mass matrix is not implemented).
@@ -251,7 +257,7 @@ pub enum EccKind {
 }
 
 /// `effects.eccentricity`.
-#[derive(Debug, Clone, Deserialize, Serialize)]
+#[derive(Debug, Clone, Deserialize, Serialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct EccentricitySpec {
     /// Pinion.
@@ -261,7 +267,7 @@ pub struct EccentricitySpec {
 }
 
 /// `effects.gravity`.
-#[derive(Debug, Clone, Deserialize, Serialize)]
+#[derive(Debug, Clone, Deserialize, Serialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct GravitySpec {
     /// Gravity in the model frame (x ⊥, y ∥ line of action), m/s².
@@ -269,7 +275,7 @@ pub struct GravitySpec {
 }
 
 /// `effects.shafts`: torsion, bending, motor/load inertias and bearing masses.
-#[derive(Debug, Clone, Deserialize, Serialize)]
+#[derive(Debug, Clone, Deserialize, Serialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct ShaftSpec {
     /// Torsional stiffness [kt1, kt2], N·m/rad.
@@ -292,7 +298,7 @@ pub struct ShaftSpec {
 }
 
 /// `effects.bearings`, keyed by `law`.
-#[derive(Debug, Clone, Deserialize, Serialize)]
+#[derive(Debug, Clone, Deserialize, Serialize, schemars::JsonSchema)]
 #[serde(tag = "law", rename_all = "snake_case", deny_unknown_fields)]
 #[allow(non_snake_case)]
 pub enum BearingSpec {
@@ -341,7 +347,7 @@ impl BearingSpec {
 }
 
 /// `[effects]`: a key that is absent = that effect is OFF.
-#[derive(Debug, Clone, Default, Deserialize, Serialize)]
+#[derive(Debug, Clone, Default, Deserialize, Serialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct Effects {
     /// Mesh stiffness (required).
@@ -365,7 +371,7 @@ pub struct Effects {
 }
 
 /// A whole scene file.
-#[derive(Debug, Clone, Deserialize, Serialize)]
+#[derive(Debug, Clone, Deserialize, Serialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct Scene {
     /// `[scene]`.

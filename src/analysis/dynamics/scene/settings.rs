@@ -5,7 +5,7 @@
 use serde::{Deserialize, Serialize};
 
 /// `[solver]`.
-#[derive(Debug, Clone, Deserialize, Serialize)]
+#[derive(Debug, Clone, Deserialize, Serialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct SolverSpec {
     /// Integrator (default `auto`).
@@ -35,7 +35,9 @@ pub struct SolverSpec {
 }
 
 /// `solver.method`.
-#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Deserialize, Serialize)]
+#[derive(
+    Debug, Clone, Copy, Default, PartialEq, Eq, Deserialize, Serialize, schemars::JsonSchema,
+)]
 #[serde(rename_all = "snake_case")]
 pub enum SolverMethod {
     /// The linear fast path when the model is linear, DOPRI5 otherwise.
@@ -91,7 +93,7 @@ fn record() -> u32 {
 }
 
 /// Poincaré steady-state criterion.
-#[derive(Debug, Clone, Deserialize, Serialize)]
+#[derive(Debug, Clone, Deserialize, Serialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct SteadySpec {
     /// Relative change of the Poincaré sample below which the run is steady (default 1e-7).
@@ -119,7 +121,7 @@ fn ptol() -> f64 {
 }
 
 /// `[output]`.
-#[derive(Debug, Clone, Deserialize, Serialize)]
+#[derive(Debug, Clone, Deserialize, Serialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct OutputSpec {
     /// Signals: `dte`, `mesh_force`, or DOF names (default `["dte", "mesh_force"]`).
@@ -137,7 +139,7 @@ pub struct OutputSpec {
 }
 
 /// `output.orbit` entries.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize, Serialize, schemars::JsonSchema)]
 #[serde(rename_all = "snake_case")]
 pub enum OrbitGear {
     /// The pinion centre (x1, y1).

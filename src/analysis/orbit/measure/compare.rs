@@ -3,7 +3,7 @@
 use crate::analysis::orbit::{Orbit, wrap_half_pi};
 
 /// Measured-minus-model comparison (docs/math/companion.md §A.8 step 7).
-#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, schemars::JsonSchema)]
 pub struct Comparison {
     /// ΔR_L, µm.
     pub d_r_long_um: f64,

@@ -9,7 +9,9 @@ use crate::analysis::orbit::{C64, Orbit, OrbitError, invalid};
 use std::f64::consts::{PI, TAU};
 
 /// Estimator of the planet-frequency components (docs/math/companion.md §A.8).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[derive(
+    Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize, schemars::JsonSchema,
+)]
 #[serde(rename_all = "snake_case")]
 pub enum Method {
     /// Linear least squares at the known frequencies with nuisance lines and drift (default).
@@ -26,7 +28,7 @@ pub enum Method {
 /// How an [`Extractor`] evaluates a record (docs/math/companion.md §A.7, §A.8). Start from
 /// [`ExtractOptions::default`] and set the fields that differ with `with_*`; (de)serialisable (a
 /// missing field takes its default, an unknown one is an error).
-#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize, schemars::JsonSchema)]
 #[serde(default, deny_unknown_fields)]
 #[non_exhaustive]
 pub struct ExtractOptions {
@@ -131,7 +133,7 @@ impl Extractor {
 
 /// 1-σ uncertainties of an extraction (from the least-squares covariance `σ̂²(MᵀM)⁻¹`, x and y
 /// noise taken independent).
-#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, schemars::JsonSchema)]
 pub struct Uncertainty {
     /// σ(A_sx), µm.
     pub a_x_um: f64,

@@ -2,7 +2,9 @@
 //! removal and rotation by the carrier angle.
 
 /// Frame of the sensors and how to get to the carrier frame (docs/math/companion.md §A.7).
-#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
+#[derive(
+    Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize, schemars::JsonSchema,
+)]
 #[serde(rename_all = "snake_case", deny_unknown_fields)]
 pub enum Frame {
     /// Sensors fixed to the carrier, or carrier held (star arrangement / test rig).

@@ -10,7 +10,7 @@ use crate::progress::Progress;
 use std::f64::consts::TAU;
 
 /// Estimate of the planet frequency when it is only approximately known (docs/math/companion.md §A.8 step 3).
-#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, schemars::JsonSchema)]
 pub struct FrequencyEstimate {
     /// Coarse estimate from the Hann-windowed complex spectrum with 3-point (Grandke)
     /// interpolation, signed rad/s.

@@ -31,7 +31,9 @@ use serde::Deserialize;
 use std::f64::consts::{FRAC_PI_2, TAU};
 
 /// Rotation sense of the sun, `h` in docs/math/companion.md §A.3.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize, serde::Serialize)]
+#[derive(
+    Debug, Clone, Copy, PartialEq, Eq, Deserialize, serde::Serialize, schemars::JsonSchema,
+)]
 #[serde(rename_all = "snake_case")]
 pub enum Hand {
     /// Counter-clockwise sun, h = +1.

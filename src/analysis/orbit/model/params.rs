@@ -37,7 +37,7 @@ fn file_error(e: ConfigError) -> OrbitError {
 /// eccentricity_um = 10.0
 /// phase_deg = 0.0
 /// ```
-#[derive(Debug, Clone, Deserialize, serde::Serialize)]
+#[derive(Debug, Clone, Deserialize, serde::Serialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct ModelParams {
     /// Working pressure angle α, degrees.
@@ -58,7 +58,7 @@ pub struct ModelParams {
 }
 
 /// `[gears]` table of [`ModelParams`].
-#[derive(Debug, Clone, Copy, Deserialize, serde::Serialize)]
+#[derive(Debug, Clone, Copy, Deserialize, serde::Serialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct GearParams {
     /// Sun teeth z_s.
@@ -72,7 +72,7 @@ pub struct GearParams {
 }
 
 /// `[[planet]]` entry of [`ModelParams`].
-#[derive(Debug, Clone, Copy, Deserialize, serde::Serialize)]
+#[derive(Debug, Clone, Copy, Deserialize, serde::Serialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct PlanetParams {
     /// Position angle φ_i, degrees.

@@ -6,7 +6,7 @@ use std::f64::consts::TAU;
 
 /// Angular speeds of a planetary set with a fixed ring (docs/math/companion.md §A.2, §A.7), rad/s, all signed
 /// (CCW positive, sun speed given).
-#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, schemars::JsonSchema)]
 pub struct GearSpeeds {
     /// Sun ω_s.
     pub sun_rad_s: f64,
@@ -101,7 +101,9 @@ impl GearSpeeds {
 }
 
 /// Role of a spectral line.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[derive(
+    Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize, schemars::JsonSchema,
+)]
 #[serde(rename_all = "snake_case")]
 pub enum LineKind {
     /// A planet-eccentricity component (to be extracted).
@@ -111,7 +113,7 @@ pub enum LineKind {
 }
 
 /// A spectral line at a signed angular frequency of the analysis frame.
-#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct Line {
     /// Label for reports.
