@@ -1001,10 +1001,10 @@ class ExactNeeds:
 class TradeOffReport:
     """``tradeoff.json``: what accuracy costs — the target's point count, the carrier axis (mm),
     one row per pressure-angle limit, no limits, the off-line layout and each module, and what
-    an exact design needs; ``sizing`` (the module sized by strength) as its JSON object."""
+    an exact design needs; ``sizing``: the module sized by strength, as in a design."""
 
     points: int
     center_mm: Tuple[float, float]
     rows: Tuple[TradeOffRow, ...]
     exact_needs: Optional[ExactNeeds]
-    sizing: Optional[Dict[str, Any]]
+    sizing: Optional[ModuleSizing]

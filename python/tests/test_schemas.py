@@ -32,6 +32,8 @@ ROOTS = [
     (reports.LoadsReport, "loads.schema.json", ()),
     (reports.ToleranceReport, "tolerance.schema.json", ()),
     (reports.Features, "simulate.schema.json", ("features",)),
+    (reports.SynthesisReport, "synthesis.schema.json", ()),
+    (reports.TradeOffReport, "tradeoff.schema.json", ()),
 ]
 
 # JSON keys a class leaves out on purpose: (class, key) → why.
@@ -44,8 +46,6 @@ OMITTED = {
 NO_CLASS = [
     "dynamics.schema.json",
     "transplanter.schema.json",
-    "tradeoff.schema.json",
-    "synthesis.schema.json",
     "orbit_model.schema.json",
     "orbit_measure.schema.json",
     "orbit_identify.schema.json",
@@ -106,7 +106,12 @@ class Walk:
     def check_class(self, cls, schema, path):
         schema = self.resolve(schema)
         self.seen.add(cls.__name__)
-        props = schema.get("properties", {})
+        # A flattened enum (a trade-off row's `designed` or `refused`): each variant's keys are
+        # keys of the object, present in some rows only.
+        variants = {}
+        for alt in schema.get("oneOf", []) + schema.get("anyOf", []):
+            variants.update(self.resolve(alt).get("properties", {}))
+        props = {**variants, **schema.get("properties", {})}
         required = set(schema.get("required", []))
         hints = typing.get_type_hints(cls)
         keys = {}
