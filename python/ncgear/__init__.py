@@ -19,6 +19,7 @@ False — where the CLI exits with code 3.
 """
 from __future__ import annotations
 
+import inspect
 import json
 import os
 from dataclasses import dataclass, field
@@ -39,7 +40,7 @@ __all__ = [
     "NcgearError", "Design", "Train", "Pair", "Placement", "Loads", "design", "teeth", "pair",
     "simulate", "tolerance", "loads", "loads_file", "write_step", "write_dxf", "write_svg",
     "set_max_memory_gb", "Synthesis", "TradeOff", "synthesize", "tradeoff", "redesign",
-    "read_trajectory",
+    "read_trajectory", "spec_dict",
 ]
 
 PathLike = Union[str, "os.PathLike[str]"]
@@ -139,6 +140,16 @@ class Loads(_Raw, LoadsReport):
 def _options(given: Dict[str, Any], *positional: str) -> Dict[str, Any]:
     """The keyword arguments of a call (its ``locals()`` first thing) without the positional."""
     return {k: v for k, v in given.items() if k not in positional}
+
+
+def _design_options(given: Mapping[str, Any], call: str) -> Dict[str, Any]:
+    """:func:`design`'s keyword arguments: its defaults, then ``given`` (a name it does not take
+    is a ``TypeError``, as for any function)."""
+    for name in given:
+        if name not in _DESIGN_DEFAULTS:
+            raise TypeError(f"{call}() got an unexpected keyword argument {name!r} "
+                            f"(it takes design()'s: {', '.join(_DESIGN_DEFAULTS)})")
+    return {**_DESIGN_DEFAULTS, **given}
 
 
 def read_trajectory(
@@ -244,6 +255,14 @@ def _default_policy(design: Design, module: float, teeth: Optional[int]) -> str:
     """``"design"`` for a design made for ``module`` (no ``teeth`` given), else ``"scale-up"``."""
     made_for = design.module.module_mm if design.module is not None else None
     return "design" if made_for == float(module) and teeth is None else "scale-up"
+
+
+#: :func:`design`'s keyword arguments and their defaults (shared by :func:`redesign` and
+#: :func:`synthesize`).
+_DESIGN_DEFAULTS: Dict[str, Any] = {
+    name: p.default for name, p in inspect.signature(design).parameters.items()
+    if p.kind is inspect.Parameter.KEYWORD_ONLY
+}
 
 
 def teeth(
@@ -449,19 +468,33 @@ class TradeOff(_Json, TradeOffReport):
     _report: Any = field(repr=False)
 
 
-def synthesize(spec: Union[PathLike, Mapping[str, Any]]) -> Synthesis:
+def synthesize(spec: Union[PathLike, Mapping[str, Any]], **options: Any) -> Synthesis:
     """Key poses or agronomic target bands → carrier arm and gears (``ncgear synthesize``).
 
     ``spec``: a spec file (TOML or JSON: ``[machine]``, ``[[pose]]`` with ``x_mm``, ``y_mm``,
-    ``needle_deg``, ``[targets]``), or a dict of the same keys (``{"pose": [...]}``). Raises
-    :class:`NcgearError` on a bad spec or when no candidate arm gives a design; a design that
-    fails its checks or misses a band is returned (see ``passed``, ``targets[i].margin``).
+    ``needle_deg``, ``[targets]``), or a dict of the same keys (``{"pose": [...]}``).
+    ``options``: :func:`design`'s keyword arguments for each candidate's gears (``module=2.0``
+    designs them for that module, ``idler_offset="free"`` lets the intermediate axis leave the
+    carrier line, ``max_pressure_angle=40.0`` …), except ``center``: the carrier axis is the
+    spec's ``machine.center_mm`` or the one solved for. Raises :class:`NcgearError` on a bad spec
+    or when no candidate arm gives a design; a design that fails its checks or misses a band is
+    returned (see ``passed``, ``targets[i].margin``).
     """
+    if "center" in options:
+        raise NcgearError("center: the synthesis solves for the carrier axis; give it as the "
+                          "spec's machine.center_mm")
+    opts = _design_options(options, "synthesize")
     if isinstance(spec, Mapping):
-        r, h = _ncgear.synthesize("spec", _scene_json(spec, "spec"))
+        r, h = _ncgear.synthesize("spec", _scene_json(spec, "spec"), opts)
     else:
-        r, h = _ncgear.synthesize(os.fspath(spec), None)
+        r, h = _ncgear.synthesize(os.fspath(spec), None, opts)
     return build(Synthesis, r.tree(), design=_design_of(h), _report=r)
+
+
+def spec_dict(spec: PathLike) -> Dict[str, Any]:
+    """The synthesis spec file ``spec`` (TOML or JSON) as the dict :func:`synthesize` takes,
+    its fields checked as ``ncgear synthesize`` reads them (to change one before synthesising)."""
+    return dict(json.loads(_ncgear.spec_json(os.fspath(spec))))
 
 
 def tradeoff(
@@ -477,41 +510,15 @@ def tradeoff(
 
 
 def redesign(
-    points: Union[PathLike, npt.ArrayLike],
-    start: Union[Design, PathLike],
-    *,
-    center: Tuple[float, float] = (0.0, 0.0),
-    order: Optional[int] = None,
-    sense: Literal["auto", "ccw", "cw"] = "auto",
-    tol_mm: float = 0.05,
-    refine: Literal["auto", "on", "off"] = "auto",
-    refine_order: int = 12,
-    harmonics: Sequence[Tuple[float, float]] = (),
-    route: Literal["ac", "bd"] = "ac",
-    w1: float = 0.5,
-    k_max: int = 20,
-    grid: int = 1024,
-    dense: int = 20000,
-    samples: int = 3600,
-    ratio_bounds: Tuple[float, float] = (0.3, 3.3),
-    fit: bool = True,
-    limits: bool = True,
-    max_pressure_angle: float = 45.0,
-    min_concave_radius: Optional[float] = None,
-    min_convex_radius: Optional[float] = None,
-    convexity: bool = False,
-    smooth: Optional[int] = None,
-    module: Optional[float] = None,
-    idler_offset: Literal["auto", "collinear", "free"] = "auto",
-    alternatives: bool = True,
+    points: Union[PathLike, npt.ArrayLike], start: Union[Design, PathLike], **options: Any
 ) -> Design:
     """The design of ``points`` warm-started from ``start``, an earlier design of a nearby target
     (a :class:`Design`, or the path of its ``design.json``): the edit loop of an interactive
     designer. One local fit from the start's train replaces the full search of :func:`design`
     (much faster; a local optimum near the start, so its deviation may exceed a full design's).
     A start that does not fit the target (another carrier sense) gives :func:`design`'s result.
-    The options are :func:`design`'s."""
-    options = _options(locals(), "points", "start")
+    ``options``: :func:`design`'s keyword arguments."""
+    options = _design_options(options, "redesign")
     if isinstance(start, Design):
         h = _ncgear.redesign(*_target(points), start._handle, None, options)
     elif isinstance(start, (str, os.PathLike)):

@@ -6,6 +6,7 @@ from typing import Any, Dict, List, Literal, Mapping, Optional, Sequence, Tuple,
 
 import numpy as np
 import numpy.typing as npt
+from typing_extensions import TypedDict, Unpack
 
 from .reports import (
     DesignReport, Features, LoadsReport, PairReport, Points, SynthesisReport, TeethReport,
@@ -17,7 +18,7 @@ __all__ = [
     "NcgearError", "Design", "Train", "Pair", "Placement", "Loads", "design", "teeth", "pair",
     "simulate", "tolerance", "loads", "loads_file", "write_step", "write_dxf", "write_svg",
     "set_max_memory_gb", "Synthesis", "TradeOff", "synthesize", "tradeoff", "redesign",
-    "read_trajectory",
+    "read_trajectory", "spec_dict",
 ]
 
 PathLike = Union[str, os.PathLike[str]]
@@ -161,38 +162,44 @@ class Synthesis(_Json, SynthesisReport):
 class TradeOff(_Json, TradeOffReport):
     _report: Any
 
-def synthesize(spec: Union[PathLike, Mapping[str, Any]]) -> Synthesis: ...
+class _DesignOptions(TypedDict, total=False):
+    """:func:`design`'s keyword arguments, taken by :func:`redesign` and :func:`synthesize`."""
+    center: Tuple[float, float]
+    order: Optional[int]
+    sense: Literal["auto", "ccw", "cw"]
+    tol_mm: float
+    refine: Literal["auto", "on", "off"]
+    refine_order: int
+    harmonics: Sequence[Tuple[float, float]]
+    route: Literal["ac", "bd"]
+    w1: float
+    k_max: int
+    grid: int
+    dense: int
+    samples: int
+    ratio_bounds: Tuple[float, float]
+    fit: bool
+    limits: bool
+    max_pressure_angle: float
+    min_concave_radius: Optional[float]
+    min_convex_radius: Optional[float]
+    convexity: bool
+    smooth: Optional[int]
+    module: Optional[float]
+    idler_offset: Literal["auto", "collinear", "free"]
+    alternatives: bool
+
+def synthesize(
+    spec: Union[PathLike, Mapping[str, Any]], **options: Unpack[_DesignOptions]
+) -> Synthesis: ...
+def spec_dict(spec: PathLike) -> Dict[str, Any]: ...
 def tradeoff(
     points: Union[PathLike, npt.ArrayLike], *, center: Tuple[float, float] = ...
 ) -> TradeOff: ...
 def redesign(
     points: Union[PathLike, npt.ArrayLike],
     start: Union[Design, PathLike],
-    *,
-    center: Tuple[float, float] = ...,
-    order: Optional[int] = ...,
-    sense: Literal["auto", "ccw", "cw"] = ...,
-    tol_mm: float = ...,
-    refine: Literal["auto", "on", "off"] = ...,
-    refine_order: int = ...,
-    harmonics: Sequence[Tuple[float, float]] = ...,
-    route: Literal["ac", "bd"] = ...,
-    w1: float = ...,
-    k_max: int = ...,
-    grid: int = ...,
-    dense: int = ...,
-    samples: int = ...,
-    ratio_bounds: Tuple[float, float] = ...,
-    fit: bool = ...,
-    limits: bool = ...,
-    max_pressure_angle: float = ...,
-    min_concave_radius: Optional[float] = ...,
-    min_convex_radius: Optional[float] = ...,
-    convexity: bool = ...,
-    smooth: Optional[int] = ...,
-    module: Optional[float] = ...,
-    idler_offset: Literal["auto", "collinear", "free"] = ...,
-    alternatives: bool = ...,
+    **options: Unpack[_DesignOptions],
 ) -> Design: ...
 def write_step(
     obj: Union[Train, Pair], directory: PathLike, *, face_width: Optional[float] = ..., bore: float = ...

@@ -6,11 +6,14 @@ import numpy.typing as npt
 from typing_extensions import final
 
 __all__ = [
-    "DesignHandle", "NcgearError", "PairHandle", "Report", "TrainHandle", "__version__", "design",
-    "forward_for_spacing", "loads", "loads_file", "pair", "read_trajectory", "redesign",
-    "set_max_memory_gb", "simulate", "synthesize", "teeth", "tolerance", "tradeoff",
+    "DEFAULT_L1_MM", "DEFAULT_L3_MM", "DesignHandle", "NcgearError", "PairHandle", "Report",
+    "TrainHandle", "__version__", "design", "forward_for_spacing", "loads", "loads_file", "pair",
+    "read_trajectory", "redesign",
+    "set_max_memory_gb", "simulate", "spec_json", "synthesize", "teeth", "tolerance", "tradeoff",
 ]
 __version__: str
+DEFAULT_L1_MM: Tuple[float, float]
+DEFAULT_L3_MM: Tuple[float, float]
 
 class NcgearError(ValueError): ...
 
@@ -79,7 +82,10 @@ def loads(
 ) -> Report: ...
 def loads_file(path: str) -> Report: ...
 def set_max_memory_gb(gb: float) -> None: ...
-def synthesize(spec: str, text: Optional[str]) -> Tuple[Report, DesignHandle]: ...
+def synthesize(
+    spec: str, text: Optional[str], options: Dict[str, Any]
+) -> Tuple[Report, DesignHandle]: ...
+def spec_json(spec: str) -> str: ...
 def tradeoff(
     points: Optional[npt.NDArray[np.float64]], path: Optional[str], center: Tuple[float, float]
 ) -> Report: ...

@@ -483,15 +483,30 @@ fn spec_of(name: &str, text: Option<&str>) -> PyResult<ncgear::synthesis::Spec> 
 }
 
 /// `ncgear synthesize SPEC` in-process: `synthesis.json` and the chosen design, from the spec
-/// file `spec` (or the dict whose JSON is `text`). Without the GIL.
+/// file `spec` (or the dict whose JSON is `text`), each candidate's gears designed with `options`
+/// (`ncgear.design`'s; its `center` is the arm's). Without the GIL.
 #[pyfunction]
-#[pyo3(signature = (spec, text))]
-fn synthesize(py: Python<'_>, spec: &str, text: Option<&str>) -> PyResult<(Report, DesignHandle)> {
+#[pyo3(signature = (spec, text, options))]
+fn synthesize(
+    py: Python<'_>,
+    spec: &str,
+    text: Option<&str>,
+    options: DesignArgs,
+) -> PyResult<(Report, DesignHandle)> {
     let s = spec_of(spec, text)?;
+    let o = options.options()?;
     let r = py
-        .detach(|| ncgear::synthesis::synthesize(&s, &ncgear::design::DesignOptions::default()))
+        .detach(|| ncgear::synthesis::synthesize(&s, &o))
         .map_err(|e| errors::arg_err("spec", spec, e))?;
     Ok((report(&r.report)?, DesignHandle { d: r.design }))
+}
+
+/// The synthesis spec file `spec` (TOML or JSON) as the JSON text of its fields, checked as
+/// `ncgear synthesize` reads it (a study changes a field of it before synthesising).
+#[pyfunction]
+fn spec_json(spec: &str) -> PyResult<String> {
+    let s = spec_of(spec, None)?;
+    serde_json::to_string(&s).map_err(|e| err(format!("spec={spec:?}: {e}")))
 }
 
 /// `ncgear tradeoff TRAJ` in-process: `tradeoff.json` of the target (`points` or `path`) about
@@ -565,6 +580,11 @@ fn set_max_memory_gb(gb: f64) -> PyResult<()> {
 fn _ncgear(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("NcgearError", m.py().get_type::<NcgearError>())?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
+    // The arm box a targets-only synthesis searches when its spec gives none, mm.
+    let [a, b] = ncgear::synthesis::targets::DEFAULT_L1_MM;
+    m.add("DEFAULT_L1_MM", (a, b))?;
+    let [a, b] = ncgear::synthesis::targets::DEFAULT_L3_MM;
+    m.add("DEFAULT_L3_MM", (a, b))?;
     m.add_class::<Report>()?;
     m.add_class::<DesignHandle>()?;
     m.add_class::<TrainHandle>()?;
@@ -580,6 +600,7 @@ fn _ncgear(m: &Bound<'_, PyModule>) -> PyResult<()> {
         wrap_pyfunction!(loads, m)?,
         wrap_pyfunction!(loads_file, m)?,
         wrap_pyfunction!(synthesize, m)?,
+        wrap_pyfunction!(spec_json, m)?,
         wrap_pyfunction!(tradeoff, m)?,
         wrap_pyfunction!(redesign, m)?,
         wrap_pyfunction!(set_max_memory_gb, m)?,

@@ -42,6 +42,24 @@ def test_synthesize_takes_a_dict_and_names_a_bad_spec():
         ncgear.synthesize("nowhere.toml")
 
 
+def test_synthesize_for_a_module_and_idler_layout_equals_the_cli(tmp_path):
+    """The design options reach each candidate's gears: synthesis.json and design.json of
+    ``ncgear synthesize --module 2.5 --idler-offset free`` equal the call's, and the chosen
+    gears are made for m = 2.5 with every band met."""
+    spec = ROOT / "assets" / "synthesis" / "rice_targets.toml"
+    s = ncgear.synthesize(spec, module=2.5, idler_offset="free")
+    cli("synthesize", spec, "--out", tmp_path, "--module", "2.5", "--idler-offset", "free")
+    assert s.to_dict() == json.loads((tmp_path / "synthesis.json").read_text())
+    design = json.loads((tmp_path / "design.json").read_text())
+    assert _without(s.design.to_dict(), "timings_ms") == _without(design, "timings_ms")
+    assert s.design.module is not None and s.design.module.module_mm == 2.5
+    assert s.design.verdict.passed and all(t.margin >= 0.0 for t in s.targets)
+    with pytest.raises(ncgear.NcgearError, match=r"^center: the synthesis solves for"):
+        ncgear.synthesize(spec, center=(0.0, 0.0))
+    with pytest.raises(TypeError, match=r"synthesize\(\) got an unexpected keyword argument 'modul'"):
+        ncgear.synthesize(spec, modul=2.5)
+
+
 def test_tradeoff_equals_the_cli_tradeoff_json(tmp_path):
     t = ncgear.tradeoff(G1)
     cli("tradeoff", G1, "--out", tmp_path)

@@ -141,15 +141,32 @@ def test_the_pymoo_problem_and_the_pareto_example_at_a_small_size(client, tmp_pa
     assert np.array_equal(out["G"][:, 0], np.where(df["passed"], 0.0, 1.0))
     with pytest.raises(ncgear.NcgearError, match=r"^'S_H_min': not a figure of job 'design'"):
         study.Problem("design", {"tol_mm": (0.01, 0.1)}, ["S_H_min"])
+    c = study.Problem("design", {"module": [1.5, 2.0, 2.5], "idler_offset": ["auto", "free"]},
+                      ["deviation_max_mm"], base={"points": str(G1)})
+    assert list(c.xl) == [0.0, 0.0] and list(c.xu) == [3.0, 2.0]
+    assert c.points(np.array([[0.0, 1.99], [2.999, 0.5], [3.0, 2.0]])) == [
+        {"points": str(G1), "module": 1.5, "idler_offset": "free"},
+        {"points": str(G1), "module": 2.5, "idler_offset": "auto"},
+        {"points": str(G1), "module": 2.5, "idler_offset": "free"},
+    ]
+    # The bundled example: arms for the rice bands over the arm box, module and idler layout.
     script = ROOT / "examples" / "python" / "pareto.py"
     r = subprocess.run([sys.executable, str(script), str(tmp_path / "pareto"), "--pop", "4",
-                        "--gen", "2", "--workers", "2", "--trajectory", str(G1)],
-                       capture_output=True, text=True, timeout=170)
+                        "--gen", "2", "--workers", "2", "--modules", "2.5", "3"],
+                       capture_output=True, text=True, timeout=400)
     assert r.returncode == 0, r.stderr
+    every = pd.read_parquet(tmp_path / "pareto" / "evaluated.parquet")
     front = pd.read_parquet(tmp_path / "pareto" / "front.parquet")
+    assert len(every) == 8 and set(every["module"]) <= {2.5, 3.0}
     assert 1 <= len(front) <= 8 and (tmp_path / "pareto" / "front.png").stat().st_size > 1000
-    # The front is non-dominated: no row is at least as good in both figures and better in one.
-    f = front[["deviation_max_mm", "pressure_angle_max_deg"]].to_numpy()
+    # Every design on the front meets every constraint: its checks, the bands, the arm box, the
+    # scene's safety targets.
+    assert front["passed"].all() and (front["targets_missed"] == 0).all()
+    assert (front["S_H_min"] >= 1.0).all() and (front["S_F_min"] >= 1.4).all()
+    assert (front["l1_mm"] <= front["l1_max_mm"] + 1e-9).all()
+    assert (front["l3_mm"] <= front["l3_max_mm"] + 1e-9).all()
+    # The front is non-dominated: no row is at least as good in every objective and better in one.
+    f = front[["pressure_angle_max_deg", "carrier_torque_peak_Nm", "deviation_max_mm"]].to_numpy()
     for a in f:
         assert not any((b <= a).all() and (b < a).any() for b in f)
 
@@ -165,6 +182,19 @@ def test_each_job_row_holds_the_figures_of_the_direct_call():
     assert row["pose_error_max_mm"] == max(q.error_mm for q in s.poses)
     assert row["l1_mm"] == s.design.l1_mm
     scene = ROOT / "assets" / "loads" / "rotor.toml"
+    # A synthesis in a narrower arm box, for a module, with its loads.
+    rice = ROOT / "assets" / "synthesis" / "rice_targets.toml"
+    narrow = ncgear.spec_dict(rice)
+    narrow["machine"]["l1_mm"] = [40.0, 80.0]
+    s = ncgear.synthesize(narrow, module=2.5, idler_offset="free")
+    r = ncgear.loads(ncgear.teeth(s.design, 2.5), scene)
+    row = study.evaluate("synthesize", {"spec": str(rice), "l1_max_mm": 80.0, "module": 2.5,
+                                        "idler_offset": "free", "scene": str(scene)})
+    assert row["l1_mm"] == s.design.l1_mm <= 80.0 and row["teeth"] == s.design.module.teeth
+    assert row["carrier_torque_peak_Nm"] == r.summary.carrier_torque_peak_Nm
+    assert row["targets_missed"] == sum(t.margin < 0 for t in s.targets)
+    assert row["margin_height_mm"] == next(t.margin for t in s.targets if t.index == "height_mm")
+    assert row["margin_arm_clearance_mm"] is None and row["pose_error_max_mm"] is None
     r = ncgear.loads(ncgear.teeth(d, 2.0), scene)
     row = study.evaluate("loads", {"points": str(G1), "scene": str(scene), "tooth_module": 2.0})
     assert row["carrier_torque_peak_Nm"] == r.summary.carrier_torque_peak_Nm

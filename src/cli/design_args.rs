@@ -137,6 +137,62 @@ fn parse_units(s: &str) -> Result<DrawingUnits, String> {
     s.parse()
 }
 
+/// The gear limits and the idler layout a design is made within (`ncgear design` and
+/// `ncgear synthesize`).
+#[derive(Debug, Clone, clap::Args)]
+pub struct GearArgs {
+    /// Gear limits as constraints of the design: on (default) keeps every pitch curve within
+    /// --max-pressure-angle and --min-concave-radius and the ratio within --ratio-bounds; off
+    /// keeps only the ratio bounds (research: the closest path whatever the gears; C9 and C10
+    /// are still checked).
+    #[arg(long, value_enum, default_value = "on")]
+    pub limits: LimitsArg,
+    /// Largest effective pressure angle α + max|atan(r_θ/r)| of every pitch curve, degrees.
+    #[arg(long, default_value_t = 45.0)]
+    pub max_pressure_angle: f64,
+    /// Smallest concave radius of curvature of a pitch curve, mm (default: 12.5·--module, a
+    /// 25-tooth shaper cutter's pitch radius; 10 mm without a module).
+    #[arg(long)]
+    pub min_concave_radius: Option<f64>,
+    /// Smallest convex radius of curvature of a pitch curve, mm: the undercut limit (default:
+    /// 7·--module, a 14-tooth gear's pitch radius; none without a module).
+    #[arg(long)]
+    pub min_convex_radius: Option<f64>,
+    /// Convex pitch curves only (cut by a rack): the same as an infinite --min-concave-radius.
+    #[arg(long, conflicts_with = "min_concave_radius")]
+    pub convexity: bool,
+    /// Where the intermediate axis may sit: auto (default) keeps it on the carrier line OA and,
+    /// designing for a module, turns it off the line where a whole number of teeth would
+    /// otherwise move the tip (l1 = 2a·cos ε keeps the arm at the larger centre distance);
+    /// collinear never does; free lets every fit turn it (within 30°).
+    #[arg(long, value_enum, default_value = "auto")]
+    pub idler_offset: IdlerOffsetArg,
+}
+
+impl GearArgs {
+    /// `opts` with these limits and this idler layout.
+    pub fn apply(&self, opts: DesignOptions) -> DesignOptions {
+        opts.with_gear_limits(self.limits == LimitsArg::On)
+            .with_pressure_angle_limit_rad(self.max_pressure_angle.to_radians())
+            .with_min_concave_radius_mm(self.min_concave_radius_mm())
+            .with_min_convex_radius_mm(self.min_convex_radius)
+            .with_idler_offset(match self.idler_offset {
+                IdlerOffsetArg::Auto => IdlerOffset::Auto,
+                IdlerOffsetArg::Collinear => IdlerOffset::Collinear,
+                IdlerOffsetArg::Free => IdlerOffset::Free,
+            })
+    }
+
+    /// The concave-radius limit asked for, mm (`--convexity`: infinite).
+    pub fn min_concave_radius_mm(&self) -> Option<f64> {
+        if self.convexity {
+            Some(f64::INFINITY)
+        } else {
+            self.min_concave_radius
+        }
+    }
+}
+
 /// Arguments of `ncgear design`.
 #[derive(Debug, clap::Args)]
 pub struct Args {
@@ -197,32 +253,9 @@ pub struct Args {
     /// Keep the chain's result: skip the final fit of every parameter to the points.
     #[arg(long)]
     pub no_fit: bool,
-    /// Gear limits as constraints of the design: on (default) keeps every pitch curve within
-    /// --max-pressure-angle and --min-concave-radius and the ratio within --ratio-bounds; off
-    /// keeps only the ratio bounds (research: the closest path whatever the gears; C9 and C10
-    /// are still checked).
-    #[arg(long, value_enum, default_value = "on")]
-    pub limits: LimitsArg,
-    /// Largest effective pressure angle α + max|atan(r_θ/r)| of every pitch curve, degrees.
-    #[arg(long, default_value_t = 45.0)]
-    pub max_pressure_angle: f64,
-    /// Smallest concave radius of curvature of a pitch curve, mm (default: 12.5·--module, a
-    /// 25-tooth shaper cutter's pitch radius; 10 mm without a module).
-    #[arg(long)]
-    pub min_concave_radius: Option<f64>,
-    /// Smallest convex radius of curvature of a pitch curve, mm: the undercut limit (default:
-    /// 7·--module, a 14-tooth gear's pitch radius; none without a module).
-    #[arg(long)]
-    pub min_convex_radius: Option<f64>,
-    /// Convex pitch curves only (cut by a rack): the same as an infinite --min-concave-radius.
-    #[arg(long, conflicts_with = "min_concave_radius")]
-    pub convexity: bool,
-    /// Where the intermediate axis may sit: auto (default) keeps it on the carrier line OA and,
-    /// designing for a module, turns it off the line where a whole number of teeth would
-    /// otherwise move the tip (l1 = 2a·cos ε keeps the arm at the larger centre distance);
-    /// collinear never does; free lets every fit turn it (within 30°).
-    #[arg(long, value_enum, default_value = "auto")]
-    pub idler_offset: IdlerOffsetArg,
+    /// Gear limits and the idler layout.
+    #[command(flatten)]
+    pub gears: GearArgs,
     /// Smooth a measured or noisy trajectory to this many Fourier harmonics before the inversion.
     #[arg(long)]
     pub smooth: Option<usize>,
@@ -289,11 +322,7 @@ impl Args {
             SenseArg::Cw => Some(-1),
         };
         let defaults = DesignOptions::default();
-        let min_concave = if args.convexity {
-            Some(f64::INFINITY)
-        } else {
-            args.min_concave_radius
-        };
+        let min_concave = args.gears.min_concave_radius_mm();
         let opts = DesignOptions::default()
             .with_center_mm(args.center)
             .with_order(args.order)
@@ -319,16 +348,8 @@ impl Args {
             )
             .with_curve_samples(args.samples)
             .with_refine_options(defaults.refine_options.with_ratio_bounds(args.ratio_bounds))
-            .with_gear_limits(args.limits == LimitsArg::On)
-            .with_pressure_angle_limit_rad(args.max_pressure_angle.to_radians())
-            .with_min_concave_radius_mm(min_concave)
-            .with_min_convex_radius_mm(args.min_convex_radius)
-            .with_alternatives(true)
-            .with_idler_offset(match args.idler_offset {
-                IdlerOffsetArg::Auto => IdlerOffset::Auto,
-                IdlerOffsetArg::Collinear => IdlerOffset::Collinear,
-                IdlerOffsetArg::Free => IdlerOffset::Free,
-            });
+            .with_alternatives(true);
+        let opts = args.gears.apply(opts);
         // --teeth or a scaling policy: the design is made without the module and scaled after;
         // the concave- and convex-radius limits still follow the module.
         match args.module.and_then(ModuleArg::mm) {
@@ -341,6 +362,7 @@ impl Args {
                 let concave =
                     min_concave.or(Some(ncgear::design::SMALLEST_CUTTER_RADIUS_MODULES * m));
                 let convex = args
+                    .gears
                     .min_convex_radius
                     .or(Some(ncgear::design::UNDERCUT_RADIUS_MODULES * m));
                 opts.with_min_concave_radius_mm(concave)

@@ -1,5 +1,6 @@
 //! `ncgear synthesize SPEC.toml --out DIR`: key poses or target bands → mechanism and gears
 //! ([`ncgear::synthesis`]).
+use super::design_args::GearArgs;
 use super::{CliResult, input_error, print_json, runtime_error};
 use ncgear::design::DesignOptions;
 use ncgear::synthesis::{Spec, Synthesis, SynthesisError, SynthesisReport, synthesize};
@@ -21,6 +22,13 @@ pub struct Args {
     /// a check.
     #[arg(long)]
     pub accept_failed: bool,
+    /// Design each candidate's gears for this module, mm, as `ncgear design --module` does (the
+    /// tooth count a constraint of the fit; the teeth are then `ncgear teeth` of the design).
+    #[arg(long)]
+    pub module: Option<f64>,
+    /// Gear limits and the idler layout of each candidate's gears.
+    #[command(flatten)]
+    pub gears: GearArgs,
 }
 
 /// Largest pose error that counts as passed, mm and degrees.
@@ -32,8 +40,14 @@ pub fn run(args: Args) -> CliResult {
     let file = args.spec.display().to_string();
     let spec: Spec =
         ncgear::config::load(&args.spec).map_err(|e| input_error(miette::miette!("{e}")))?;
+    let opts = args
+        .gears
+        .apply(DesignOptions::default())
+        .with_module_mm(args.module);
+    opts.validate()
+        .map_err(|e| input_error(miette::miette!("{e}")))?;
     let pb = super::spinner("synthesising");
-    let s = synthesize(&spec, &DesignOptions::default());
+    let s = synthesize(&spec, &opts);
     pb.finish_and_clear();
     let s = s.map_err(|e| match e {
         SynthesisError::NoDesign(_) => runtime_error(miette::miette!("{file}: {e}")),

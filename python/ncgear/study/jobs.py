@@ -11,6 +11,7 @@ from typing import Any, Callable, Dict, List, Mapping, Optional, Tuple
 import numpy as np
 
 import ncgear
+from ncgear import _ncgear
 
 #: Figures of a design, in row order: the distance of the target points to the traced path (max
 #: and mean, mm), the round trip's max tip deviation (mm), the largest pressure angle (degrees),
@@ -22,8 +23,11 @@ DESIGN_FIGURES: Tuple[str, ...] = (
     "concave_radius_min_mm", "convex_radius_min_mm", "teeth", "idler_offset_deg", "l1_mm",
     "l3_mm", "passed",
 )
-#: A synthesis: the chosen design's figures and its largest pose distance (mm).
-SYNTHESIZE_FIGURES: Tuple[str, ...] = DESIGN_FIGURES + ("pose_error_max_mm",)
+#: The agronomic target bands a synthesis spec may give (``[targets]``, mm and degrees).
+BANDS: Tuple[str, ...] = (
+    "take_angle_deg", "push_angle_deg", "angle_difference_deg", "height_mm", "hole_width_mm",
+    "arm_clearance_mm",
+)
 #: A trade-off: the default row's figures, the rows designed and the closest row's deviation.
 TRADEOFF_FIGURES: Tuple[str, ...] = (
     "deviation_max_mm", "pressure_angle_max_deg", "concave_radius_min_mm", "idler_offset_deg",
@@ -34,6 +38,13 @@ TRADEOFF_FIGURES: Tuple[str, ...] = (
 LOADS_FIGURES: Tuple[str, ...] = DESIGN_FIGURES + (
     "carrier_torque_peak_Nm", "carrier_torque_rms_Nm", "mean_power_W", "S_H_min", "S_F_min",
     "life_h", "loads_passed",
+)
+#: A synthesis: the chosen design's figures, its largest pose distance (mm), the bands it
+#: misses and each band's margin ``margin_<band>`` (in the band's unit, < 0 outside it, ``None``
+#: when the spec gives no such band); with a ``scene``, the loads' figures of its gears.
+SYNTHESIZE_FIGURES: Tuple[str, ...] = (
+    DESIGN_FIGURES + ("pose_error_max_mm", "targets_missed")
+    + tuple(f"margin_{b}" for b in BANDS) + LOADS_FIGURES[len(DESIGN_FIGURES):]
 )
 FIGURES: Dict[str, Tuple[str, ...]] = {
     "design": DESIGN_FIGURES, "synthesize": SYNTHESIZE_FIGURES, "tradeoff": TRADEOFF_FIGURES,
@@ -69,9 +80,43 @@ def _design(p: Dict[str, Any]) -> Dict[str, Any]:
 
 
 def _synthesize(p: Dict[str, Any]) -> Dict[str, Any]:
-    s = ncgear.synthesize(**p)
+    """``spec`` (a spec file or dict), ``l1_max_mm`` / ``l3_max_mm`` (the arm box's upper edges,
+    mm: the spec's ``machine.l1_mm`` / ``machine.l3_mm`` searched up to there), ``scene`` and
+    ``tooth_module`` as for job ``loads`` (the module defaults to the design's own ``module``),
+    the rest :func:`ncgear.synthesize`'s options (:func:`ncgear.design`'s)."""
+    p = dict(p)
+    spec = p.pop("spec", None)
+    if spec is None:
+        raise ncgear.NcgearError("spec: missing (a synthesis spec file or dict)")
+    box = {k: p.pop(k) for k in ("l1_max_mm", "l3_max_mm") if k in p}
+    scene = p.pop("scene", None)
+    tooth_module = p.pop("tooth_module", p.get("module"))
+    if box:
+        spec = ncgear.spec_dict(spec) if not isinstance(spec, Mapping) else dict(spec)
+        machine = dict(spec.get("machine") or {})
+        for key, top in box.items():
+            field = key.replace("_max_mm", "_mm")
+            low = (machine.get(field) or _DEFAULT_BOX[field])[0]
+            machine[field] = [float(low), float(top)]
+        spec["machine"] = machine
+    s = ncgear.synthesize(spec, **p)
     errors = [q.error_mm for q in s.poses]
-    return {**design_figures(s.design), "pose_error_max_mm": max(errors) if errors else None}
+    margins = {f"margin_{t.index}": float(t.margin) for t in s.targets}
+    row = {
+        **design_figures(s.design),
+        "pose_error_max_mm": max(errors) if errors else None,
+        "targets_missed": sum(1 for t in s.targets if t.margin < 0.0),
+        **{f"margin_{b}": margins.get(f"margin_{b}") for b in BANDS},
+    }
+    if scene is not None:
+        row.update(_loads_figures(s.design, scene, tooth_module))
+    return row
+
+
+#: The arm box searched when a spec gives none, mm (the library's defaults).
+_DEFAULT_BOX: Dict[str, Tuple[float, float]] = {
+    "l1_mm": _ncgear.DEFAULT_L1_MM, "l3_mm": _ncgear.DEFAULT_L3_MM,
+}
 
 
 def _tradeoff(p: Dict[str, Any]) -> Dict[str, Any]:
@@ -97,11 +142,16 @@ def _loads(p: Dict[str, Any]) -> Dict[str, Any]:
     scene = p.pop("scene")
     tooth_module = p.pop("tooth_module", None)
     d = ncgear.design(p.pop("points"), **p)
+    return {**design_figures(d), **_loads_figures(d, scene, tooth_module)}
+
+
+def _loads_figures(d: ncgear.Design, scene: Any, tooth_module: Optional[float]) -> Dict[str, Any]:
+    """The loads' figures (:data:`LOADS_FIGURES` after the design's) of design ``d`` in ``scene``,
+    on its teeth of ``tooth_module`` (mm) when given."""
     rotor: Any = d if tooth_module is None else ncgear.teeth(d, float(tooth_module))
     r = ncgear.loads(rotor, scene)
     s = r.summary
     return {
-        **design_figures(d),
         "carrier_torque_peak_Nm": float(s.carrier_torque_peak_Nm),
         "carrier_torque_rms_Nm": float(s.carrier_torque_rms_Nm),
         "mean_power_W": float(s.mean_power_W),

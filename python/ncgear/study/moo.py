@@ -3,7 +3,7 @@
 read from the table's columns."""
 from __future__ import annotations
 
-from typing import Any, Dict, Mapping, Optional, Sequence, Tuple
+from typing import Any, Dict, Mapping, Optional, Sequence, Tuple, Union
 
 import numpy as np
 from pymoo.core.problem import Problem as _PymooProblem  # type: ignore[import-untyped]
@@ -19,8 +19,9 @@ PENALTY = 1.0e6
 
 class Problem(_PymooProblem):  # type: ignore[misc]
     """Minimise ``objectives`` (figure columns of ``job``; ``"-name"`` maximises ``name``) over
-    ``variables`` ``{argument: (low, high)}`` (floats; units those of the argument), the other
-    arguments fixed by ``base``. Constraints, each g ≤ 0: the verdict (``require_pass``: g = 0 when
+    ``variables``: ``{argument: (low, high)}`` (a float; units those of the argument) or
+    ``{argument: [choice, ...]}`` (one of the values given: a module, an idler layout; searched as
+    an index), the other arguments fixed by ``base``. Constraints, each g ≤ 0: the verdict (``require_pass``: g = 0 when
     the design passes its checks and gear limits, else 1), ``minimum`` ``{column: value}``
     (g = value − column, e.g. ``{"S_H_min": 1.0}`` for a safety factor) and ``maximum``
     (g = column − value). A point that fails gets :data:`PENALTY` objectives and g = 1.
@@ -30,7 +31,7 @@ class Problem(_PymooProblem):  # type: ignore[misc]
     def __init__(
         self,
         job: str,
-        variables: Mapping[str, Tuple[float, float]],
+        variables: Mapping[str, Union[Tuple[float, float], list]],
         objectives: Sequence[str],
         *,
         base: Optional[Mapping[str, Any]] = None,
@@ -44,9 +45,21 @@ class Problem(_PymooProblem):  # type: ignore[misc]
         check_job(job)
         if not variables:
             raise ncgear.NcgearError("variables: give at least one {argument: (low, high)}")
+        self.choices: Dict[str, list] = {}
+        box: Dict[str, Tuple[float, float]] = {}
         for name, r in variables.items():
-            if not (len(r) == 2 and float(r[0]) < float(r[1])):
-                raise ncgear.NcgearError(f"variables[{name!r}]={r!r}: expected (low, high), low < high")
+            if isinstance(r, list):
+                if not r:
+                    raise ncgear.NcgearError(f"variables[{name!r}]: give at least one choice")
+                self.choices[name] = list(r)
+                box[name] = (0.0, float(len(r)))
+            elif len(r) == 2 and float(r[0]) < float(r[1]):
+                box[name] = (float(r[0]), float(r[1]))
+            else:
+                raise ncgear.NcgearError(
+                    f"variables[{name!r}]={r!r}: expected (low, high) with low < high, or a list "
+                    "of choices"
+                )
         columns = set(FIGURES[job])
         bounds = {**(minimum or {}), **(maximum or {})}
         for name in [o.lstrip("-") for o in objectives] + list(bounds):
@@ -66,13 +79,21 @@ class Problem(_PymooProblem):  # type: ignore[misc]
         n_constr = int(require_pass) + len(self.minimum) + len(self.maximum)
         super().__init__(
             n_var=len(self.names), n_obj=len(self.objectives), n_ieq_constr=n_constr,
-            xl=np.array([float(variables[n][0]) for n in self.names]),
-            xu=np.array([float(variables[n][1]) for n in self.names]),
+            xl=np.array([box[n][0] for n in self.names]),
+            xu=np.array([box[n][1] for n in self.names]),
         )
 
     def points(self, X: np.ndarray) -> list:
-        """The study points of a population ``X`` (one row per individual)."""
-        return [{**self.base, **dict(zip(self.names, map(float, x)))} for x in np.atleast_2d(X)]
+        """The study points of a population ``X`` (one row per individual): a float variable as
+        itself, a choice's index in [0, n) as its value."""
+        return [{**self.base, **{n: self._value(n, v) for n, v in zip(self.names, x)}}
+                for x in np.atleast_2d(X)]
+
+    def _value(self, name: str, v: float) -> Any:
+        c = self.choices.get(name)
+        if c is None:
+            return float(v)
+        return c[min(max(int(np.floor(v)), 0), len(c) - 1)]
 
     def _evaluate(self, X: np.ndarray, out: Dict[str, Any], *args: Any, **kwargs: Any) -> None:
         df = _run(self.job, self.points(X), client=self.client, cache=self.cache,
