@@ -1,6 +1,7 @@
 //! Numerical helpers shared by every layer: the plane's `Point` (points and vectors, mm),
-//! periodic functions on a turn, closed polylines, roots on a bracket.
+//! periodic functions on a turn, closed polylines, roots on a bracket, small least squares.
 
+pub mod least_squares;
 pub mod periodic;
 pub mod point;
 pub mod polyline;

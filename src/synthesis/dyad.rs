@@ -25,7 +25,8 @@
 //! fitted the same way. Written by hand: it is the synthesis's own geometry (a 4×4 normal matrix).
 
 use crate::math::Point;
-use nalgebra::{Matrix3, Matrix4, Vector3, Vector4};
+use crate::math::least_squares::{LeastSquares, LmOptions, levenberg_marquardt};
+use nalgebra::{DMatrix, DVector, Matrix3, Matrix4, Vector3};
 use serde::{Deserialize, Serialize};
 
 /// One key pose of the needle.
@@ -407,79 +408,71 @@ fn bisect(f: &dyn Fn(f64) -> f64, mut lo: f64, mut hi: f64, tol: f64) -> f64 {
     0.5 * (lo + hi)
 }
 
-/// Levenberg–Marquardt on the geometric residuals `r_k = (|A_k(l3) − O| − l1) / s_k` from
-/// `x = [Ox, Oy, l1, l3]`; with `center_fixed` O stays.
+/// The arm's least squares: the geometric residuals `r_k = (|A_k(l3) − O| − l1) / s_k` of
+/// `x = [Ox, Oy, l1, l3]`, with their Jacobian; with `center_fixed` O has none (it stays).
+struct ArmResiduals<'a> {
+    poses: &'a [Pose],
+    scales_mm: &'a [f64],
+    center_fixed: bool,
+}
+
+impl ArmResiduals<'_> {
+    /// Pose `p`'s residual and its gradient in `x`, each over the pose's scale `s`, mm.
+    fn row(&self, p: &Pose, s: f64, x: &[f64]) -> (f64, [f64; 4]) {
+        let a = p.planet_axis(x[3]);
+        let d = [a.x - x[0], a.y - x[1]];
+        let n = d[0].hypot(d[1]).max(1e-300);
+        let u = [d[0] / n, d[1] / n];
+        let e = [p.needle_rad.cos(), p.needle_rad.sin()];
+        let along = -(u[0] * e[0] + u[1] * e[1]);
+        let row = if self.center_fixed {
+            [0.0, 0.0, -1.0, along]
+        } else {
+            [-u[0], -u[1], -1.0, along]
+        };
+        ((n - x[2]) / s, row.map(|v| v / s))
+    }
+}
+
+impl LeastSquares for ArmResiduals<'_> {
+    fn residuals(&self, x: &[f64]) -> Option<DVector<f64>> {
+        let rows = self.poses.iter().zip(self.scales_mm);
+        Some(DVector::from_iterator(
+            self.poses.len(),
+            rows.map(|(p, &s)| self.row(p, s, x).0),
+        ))
+    }
+
+    fn jacobian(&self, x: &[f64], _r: &DVector<f64>) -> Option<DMatrix<f64>> {
+        let mut j = DMatrix::zeros(self.poses.len(), 4);
+        for (k, (p, &s)) in self.poses.iter().zip(self.scales_mm).enumerate() {
+            for (c, v) in self.row(p, s, x).1.into_iter().enumerate() {
+                j[(k, c)] = v;
+            }
+        }
+        Some(j)
+    }
+}
+
+/// Levenberg–Marquardt ([`levenberg_marquardt`]) on the arm's geometric residuals from
+/// `x = [Ox, Oy, l1, l3]`; with `center_fixed` O stays. Stops at a step of `opts.accuracy_mm`.
 fn refine(
     poses: &[Pose],
     scales_mm: &[f64],
-    mut x: [f64; 4],
+    x: [f64; 4],
     center_fixed: bool,
     opts: &DyadOptions,
 ) -> Dyad {
-    let residuals = |x: &[f64; 4]| -> (Vec<f64>, Vec<[f64; 4]>) {
-        poses
-            .iter()
-            .zip(scales_mm)
-            .map(|(p, s)| {
-                let a = p.planet_axis(x[3]);
-                let d = [a.x - x[0], a.y - x[1]];
-                let n = d[0].hypot(d[1]).max(1e-300);
-                let u = [d[0] / n, d[1] / n];
-                let e = [p.needle_rad.cos(), p.needle_rad.sin()];
-                let row = if center_fixed {
-                    [0.0, 0.0, -1.0, -(u[0] * e[0] + u[1] * e[1])]
-                } else {
-                    [-u[0], -u[1], -1.0, -(u[0] * e[0] + u[1] * e[1])]
-                };
-                (
-                    (n - x[2]) / s,
-                    [row[0] / s, row[1] / s, row[2] / s, row[3] / s],
-                )
-            })
-            .unzip()
+    let problem = ArmResiduals {
+        poses,
+        scales_mm,
+        center_fixed,
     };
-    let cost = |r: &[f64]| r.iter().map(|v| v * v).sum::<f64>();
-    let (mut r, mut j) = residuals(&x);
-    let mut lambda = 1e-6;
-    for _ in 0..200 {
-        let (mut n, mut g) = (Matrix4::<f64>::zeros(), Vector4::<f64>::zeros());
-        for (rk, jk) in r.iter().zip(&j) {
-            let v = Vector4::from(*jk);
-            n += v * v.transpose();
-            g += v * *rk;
-        }
-        if center_fixed {
-            n[(0, 0)] = 1.0;
-            n[(1, 1)] = 1.0;
-        }
-        let mut improved = false;
-        for _ in 0..20 {
-            let mut damped = n;
-            for i in 0..4 {
-                damped[(i, i)] += lambda * n[(i, i)].max(1e-12);
-            }
-            let Some(step) = damped.try_inverse().map(|m| -(m * g)) else {
-                break;
-            };
-            let trial = [
-                x[0] + step[0],
-                x[1] + step[1],
-                x[2] + step[2],
-                x[3] + step[3],
-            ];
-            let (rt, jt) = residuals(&trial);
-            if cost(&rt) < cost(&r) {
-                let small = step.norm() <= opts.accuracy_mm;
-                (x, r, j) = (trial, rt, jt);
-                lambda = (lambda * 0.3).max(1e-12);
-                improved = !small;
-                break;
-            }
-            lambda *= 10.0;
-        }
-        if !improved {
-            break;
-        }
-    }
+    let lm = LmOptions::default()
+        .with_initial_damping(1e-6)
+        .with_min_damping(1e-12)
+        .with_max_damping_steps(20)
+        .with_step_tol(opts.accuracy_mm);
+    let x = levenberg_marquardt(&problem, x.to_vec(), &lm);
     Dyad::new(poses, Point::new(x[0], x[1]), x[2], x[3])
 }

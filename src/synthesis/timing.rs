@@ -24,7 +24,8 @@ use super::dyad::{Dyad, Pose};
 use crate::geometry::fourier::SunRatio;
 use crate::geometry::limits::{GearLimits, constraint_values};
 use crate::geometry::mechanism::Mechanism;
-use nalgebra::{DMatrix, DVector};
+use crate::math::least_squares::{LmOptions, Residuals, levenberg_marquardt};
+use nalgebra::DVector;
 use std::f64::consts::{PI, TAU};
 
 /// Needle-direction tolerance standing for an exact pose, rad (1e-6°).
@@ -379,7 +380,8 @@ impl TimingFit<'_> {
     /// Levenberg–Marquardt from `x` at each floor of [`CONTINUATION_RAD`] in turn.
     fn continuation(&self, mut x: Vec<f64>, with_limits: bool) -> Vec<f64> {
         for floor in CONTINUATION_RAD {
-            x = levenberg_marquardt(&|x: &[f64]| self.residuals(x, floor, with_limits), x);
+            let problem = Residuals(|x: &[f64]| self.residuals(x, floor, with_limits));
+            x = levenberg_marquardt(&problem, x, &LmOptions::default());
         }
         x
     }
@@ -405,55 +407,4 @@ impl TimingFit<'_> {
             })
             .expect("four starts")
     }
-}
-
-/// Levenberg–Marquardt on `residuals` (None: inadmissible, rejected) from `x`, forward-difference
-/// Jacobian; at most 200 iterations.
-fn levenberg_marquardt(
-    residuals: &dyn Fn(&[f64]) -> Option<DVector<f64>>,
-    mut x: Vec<f64>,
-) -> Vec<f64> {
-    let Some(mut r) = residuals(&x) else {
-        return x;
-    };
-    let n = x.len();
-    let mut lambda = 1e-3;
-    for _ in 0..200 {
-        let mut j = DMatrix::zeros(r.len(), n);
-        for c in 0..n {
-            let h = 1e-7 * x[c].abs().max(1.0);
-            let mut xp = x.clone();
-            xp[c] += h;
-            let Some(rp) = residuals(&xp) else {
-                return x;
-            };
-            j.set_column(c, &((rp - &r) / h));
-        }
-        let jt = j.transpose();
-        let (a, g) = (&jt * &j, &jt * &r);
-        let mut accepted = false;
-        for _ in 0..30 {
-            let mut damped = a.clone();
-            for i in 0..n {
-                damped[(i, i)] += lambda * a[(i, i)].max(1e-12);
-            }
-            let Some(step) = damped.lu().solve(&(-&g)) else {
-                lambda *= 10.0;
-                continue;
-            };
-            let trial: Vec<f64> = x.iter().zip(step.iter()).map(|(a, b)| a + b).collect();
-            if let Some(rt) = residuals(&trial).filter(|rt| rt.norm_squared() < r.norm_squared()) {
-                let small = step.norm() < 1e-14;
-                (x, r) = (trial, rt);
-                lambda = (lambda * 0.3).max(1e-15);
-                accepted = !small;
-                break;
-            }
-            lambda *= 10.0;
-        }
-        if !accepted {
-            break;
-        }
-    }
-    x
 }
