@@ -1,11 +1,11 @@
 //! `ncgear tolerance ERRORS` (error harmonics, phase compensation, Monte Carlo) and
 //! `ncgear tolerance DESIGN.json --errors ERRORS` (transplanter tolerance analysis, docs/math/companion.md §C.6).
 use super::{CliResult, input_error, print_json, progress_bar, runtime_error};
-use ncgear::analysis::montecarlo::{McOptions, McStats};
 use ncgear::analysis::tolerance::{ErrorFile, ToleranceOptions, analyse};
 use ncgear::analysis::transplanter::{
     self, ErrorInventory, TransplanterError, TransplanterOptions, TransplanterReport,
 };
+use ncgear::math::monte_carlo::{McOptions, McStats};
 use ncgear::output::plot::{ChartLabels, Series, line_chart};
 use ncgear::simulate::DesignFile;
 use std::path::{Path, PathBuf};

@@ -1,6 +1,9 @@
 //! Numerical helpers shared by every layer: the plane's `Point` (points and vectors, mm),
-//! periodic functions on a turn, closed polylines, roots on a bracket.
+//! periodic functions on a turn, closed polylines, roots on a bracket, a seeded parallel Monte
+//! Carlo and a multistart Nelder–Mead.
 
+pub mod monte_carlo;
+pub mod optimize;
 pub mod periodic;
 pub mod point;
 pub mod polyline;
