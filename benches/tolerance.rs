@@ -1,10 +1,10 @@
 //! Monte Carlo of the paper's four-term example (50 000 random assemblies, certified peaks) at
 //! several grid densities. Run: `cargo bench --bench tolerance`. Compare with
 //! `python3 benches/python/mc_numpy.py` (the same loop, vectorised numpy).
-use ncgear::analysis::montecarlo::McOptions;
 use ncgear::analysis::peak::PeakOptions;
 use ncgear::analysis::tolerance::{Analysis, ErrorFile};
 use ncgear::config::Format;
+use ncgear::math::monte_carlo::McOptions;
 
 fn main() {
     divan::main();

@@ -1,12 +1,12 @@
 //! Transplanter tolerance analysis on G1 (docs/math/companion.md §C.6): one exact state (both meshes solved), the
 //! linear model build (720 carrier angles × 16 coordinates × central differences), one exact
 //! turn, and the linear Monte Carlo per 1000 samples. Run: `cargo bench --bench transplanter`.
-use ncgear::analysis::montecarlo::McOptions;
 use ncgear::analysis::transplanter::{ErrorInventory, ExactModel, FdSteps, Inventory, LinearModel};
 use ncgear::config::Format;
 use ncgear::geometry::assembly::Assembly;
 use ncgear::geometry::golden::g1_mechanism;
 use ncgear::math::Point;
+use ncgear::math::monte_carlo::McOptions;
 
 fn main() {
     divan::main();
@@ -58,7 +58,7 @@ fn linear_mc_1000(b: divan::Bencher) {
         .with_seed(1)
         .with_bins(20);
     b.bench(|| {
-        ncgear::analysis::montecarlo::run(
+        ncgear::math::monte_carlo::run(
             &opts,
             |r, _| lin.max_deviation_mm(&inv.draw(r)),
             &ncgear::progress::Progress::none(),

@@ -25,7 +25,8 @@ use std::sync::atomic::{AtomicU64, Ordering};
 pub const MIN_TEETH: u32 = 3;
 
 /// Most teeth on one gear: the teeth, the verification and the exports of a pair of 1000-tooth
-/// gears take ≈ 4 s here, twice that ≈ 10 s (measured 2026-11-27, 2 cores).
+/// gears take seconds, twice that several times more (docs/performance.md, "The largest
+/// tooth count").
 pub const MAX_TEETH: u32 = 1000;
 
 /// Most positions of one mesh verification: 3600 (every 0.1° of a turn) take ≈ 3.5 s for a

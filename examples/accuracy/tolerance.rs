@@ -2,10 +2,10 @@
 //! and the Monte Carlo sample count, measured against references (a 400-points-per-period
 //! certified peak; a 200 000-sample Monte Carlo mean).
 use super::Row;
-use ncgear::analysis::montecarlo::McOptions;
 use ncgear::analysis::peak::{PeakOptions, Sinusoid, fixed_grid_peak};
 use ncgear::analysis::tolerance::{Analysis, ErrorFile};
 use ncgear::config::Format;
+use ncgear::math::monte_carlo::McOptions;
 use std::f64::consts::TAU;
 use std::time::Instant;
 

@@ -416,8 +416,8 @@ fn forward_for_spacing(spacing_mm: f64, rpm: f64) -> f64 {
 #[pyfunction]
 #[pyo3(signature = (path, samples, seed, starts))]
 fn tolerance(path: &str, samples: usize, seed: u64, starts: usize) -> PyResult<Report> {
-    use ncgear::analysis::montecarlo::McOptions;
     use ncgear::analysis::tolerance::{ErrorFile, ToleranceOptions, analyse};
+    use ncgear::math::monte_carlo::McOptions;
     let file = ErrorFile::from_path(Path::new(path)).map_err(err)?;
     let mc = McOptions::default().with_samples(samples).with_seed(seed);
     let o = ToleranceOptions::default()

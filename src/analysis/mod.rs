@@ -1,8 +1,6 @@
 //! Companion analyses from the same field (docs/math/companion.md).
 
 pub mod dynamics;
-pub mod montecarlo;
-pub mod optimise;
 pub mod orbit;
 pub mod peak;
 pub mod tolerance;

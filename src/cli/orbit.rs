@@ -2,11 +2,11 @@
 //! `ncgear::analysis::orbit`.
 use super::{CliResult, input_error, print_json, runtime_error};
 use ncgear::analysis::orbit::evaluate::{Evaluation, MeasureOptions, SensorFrame};
-use ncgear::analysis::orbit::measure::{Measurement, Method, Record, full_spectrum};
-use ncgear::analysis::orbit::model::{LineKind, ModelParams};
+use ncgear::analysis::orbit::measure::{Measurement, Method, Record};
+use ncgear::analysis::orbit::model::ModelParams;
 use ncgear::analysis::orbit::report::{IdentifyReport, MeasureReport, ModelReport, OrbitSummary};
 use ncgear::analysis::orbit::{C64, Orbit, OrbitError, SinPair};
-use ncgear::output::plot::{ChartLabels, Series, line_chart};
+use ncgear::output::{OutputError, PlotFormat};
 use std::path::{Path, PathBuf};
 
 /// Arguments of `ncgear orbit`.
@@ -220,22 +220,7 @@ fn model(path: &Path, json: bool, plot: Option<&Path>) -> CliResult {
     let p = load_params(path)?;
     let r = ModelReport::new(&p).map_err(|e| input_error(located(path, e)))?;
     if let Some(plot) = plot {
-        let o = r.orbit.orbit();
-        let trace = o.trace_um(720);
-        let mut series = vec![Series::line("sun orbit (carrier frame)", trace)];
-        series.push(Series::line("major axis", axis_points(&o)));
-        line_chart(
-            plot,
-            &ChartLabels {
-                title: "Sun orbit, kinematic model".into(),
-                x: "x_s [µm]".into(),
-                y: "y_s [µm]".into(),
-                equal_aspect: true,
-            },
-            &series,
-            (800, 800),
-        )
-        .map_err(|e| runtime_error(miette::miette!("{e}")))?;
+        ncgear::output::write_orbit_model_plot(&r, plot).map_err(output_failure)?;
     }
     if json {
         return print_report(&r);
@@ -262,18 +247,6 @@ fn model(path: &Path, json: bool, plot: Option<&Path>) -> CliResult {
         );
     }
     Ok(())
-}
-
-/// Major-axis segment of an orbit (empty for a circle).
-fn axis_points(o: &Orbit) -> Vec<(f64, f64)> {
-    let e = o.ellipse();
-    e.alpha_long_rad.map_or_else(Vec::new, |a| {
-        let (s, c) = a.sin_cos();
-        vec![
-            (-e.r_long_um * c, -e.r_long_um * s),
-            (e.r_long_um * c, e.r_long_um * s),
-        ]
-    })
 }
 
 /// The evaluation the flags describe.
@@ -328,7 +301,13 @@ fn measure(
     let mut ev = evaluation(o)?;
     let (rec, m) = run_measure(path, &mut ev)?;
     if let Some(dir) = plot_dir {
-        plots(dir, &rec, &m, &ev, if png { "png" } else { "svg" })?;
+        let format = if png {
+            PlotFormat::Png
+        } else {
+            PlotFormat::Svg
+        };
+        ncgear::output::write_orbit_measure_plots(dir, &rec, &m, &ev, format)
+            .map_err(output_failure)?;
     }
     let r: MeasureReport = ev.report(&m);
     if json {
@@ -368,77 +347,13 @@ fn measure(
     Ok(())
 }
 
-fn plots(dir: &Path, rec: &Record, m: &Measurement, ev: &Evaluation, ext: &str) -> CliResult {
-    std::fs::create_dir_all(dir)
-        .map_err(|e| runtime_error(miette::miette!("{}: {e}", dir.display())))?;
-    let (x, y) = ev.extractor().analysis_signal(rec).map_err(input_error)?;
-    let step = (x.len() / 4000).max(1);
-    let raw: Vec<(f64, f64)> = x
-        .iter()
-        .zip(&y)
-        .step_by(step)
-        .map(|(a, b)| (*a, *b))
-        .collect();
-    let mut series = vec![
-        Series::markers("raw (detrended)", raw),
-        Series::line("filtered orbit / ellipse", m.orbit.trace_um(720)),
-    ];
-    let axis = axis_points(&m.orbit);
-    if !axis.is_empty() {
-        series.push(Series::line("major axis", axis));
+/// The CLI failure of an output error: the record's own (an input error), or a file that could
+/// not be written.
+fn output_failure(e: OutputError) -> super::Failure {
+    match e {
+        OutputError::Orbit(e) => input_error(e),
+        e => runtime_error(miette::miette!("{e}")),
     }
-    if let Some(set) = ev.model() {
-        series.push(Series::line("model", set.solve().orbit.trace_um(720)));
-    }
-    let labels = ChartLabels {
-        title: "Sun orbit".into(),
-        x: "x [µm]".into(),
-        y: "y [µm]".into(),
-        equal_aspect: true,
-    };
-    line_chart(
-        &dir.join(format!("orbit.{ext}")),
-        &labels,
-        &series,
-        (800, 800),
-    )
-    .map_err(|e| runtime_error(miette::miette!("{e}")))?;
-    if rec.is_uniform(1e-6) {
-        let fmax = 1.5
-            * m.lines
-                .iter()
-                .map(|l| l.omega_rad_s.abs())
-                .fold(0.0, f64::max)
-            / std::f64::consts::TAU;
-        let spec: Vec<(f64, f64)> = full_spectrum(rec.mean_step_s(), &x, &y)
-            .into_iter()
-            .filter(|p| p.0.abs() <= fmax)
-            .collect();
-        let mut series = vec![Series::line("|Z(f)| (Hann, analysis frame)", spec)];
-        for l in m.lines.iter().filter(|l| l.kind == LineKind::Planet) {
-            let f = l.omega_rad_s / std::f64::consts::TAU;
-            let a = if l.label.ends_with('+') {
-                m.orbit.z_plus_um.norm()
-            } else {
-                m.orbit.z_minus_um.norm()
-            };
-            series.push(Series::markers(format!("{} (fit)", l.label), vec![(f, a)]));
-        }
-        let labels = ChartLabels {
-            title: "Full spectrum of x + iy (forward f > 0, backward f < 0)".into(),
-            x: "signed frequency [Hz]".into(),
-            y: "amplitude [µm]".into(),
-            equal_aspect: false,
-        };
-        line_chart(
-            &dir.join(format!("spectrum.{ext}")),
-            &labels,
-            &series,
-            (1000, 600),
-        )
-        .map_err(|e| runtime_error(miette::miette!("{e}")))?;
-    }
-    Ok(())
 }
 
 fn identify_cmd(

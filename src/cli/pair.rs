@@ -149,15 +149,10 @@ pub fn run(args: Args) -> CliResult {
         command: super::ms_since(started),
     };
     let verdict = report.verdict.clone();
-    // Every object's keys in sorted order, as in design.json.
-    let report = serde_json::to_value(&report).unwrap_or_default();
-    ncgear::files::write_whole(
-        &json_path,
-        ncgear::output::json::to_string(&report).unwrap_or_default(),
-    )
-    .map_err(|e| runtime_error(format!("cannot write {}: {e}", json_path.display())))?;
+    ncgear::output::write_pair_report(&report, &args.out).map_err(runtime_error)?;
     if args.json {
-        print_json(&report)?;
+        // Every object's keys in sorted order, as in pair.json.
+        print_json(&serde_json::to_value(&report).unwrap_or_default())?;
     } else {
         print_summary(&design, &args.out, [t_design, t_mesh, t_files], started);
     }

@@ -69,17 +69,11 @@ pub fn run(args: Args) -> CliResult {
     };
     let (opts, anim) = options(&args)?;
     let sim = simulation(&args, &file, asm, &target)?;
-    // The report is written last; an earlier run's goes first (ncgear::files).
-    let json_path = args.out.join("simulate.json");
-    super::remove_stale_report(&json_path)?;
+    // The report is written last, by the library; an earlier run's goes first (ncgear::files).
     let report = write_simulation(&sim, &target, &opts, &anim, &args.out).map_err(|e| match e {
         SimulateError::BadOption { option: "out", .. } => runtime_error(miette::miette!("{e}")),
         _ => input(e),
     })?;
-    let json = ncgear::output::json::to_string(&report)
-        .map_err(|e| runtime_error(miette::miette!("{e}")))?;
-    ncgear::files::write_whole(&json_path, &json)
-        .map_err(|e| runtime_error(miette::miette!("cannot write simulate.json: {e}")))?;
     if args.json {
         return print_json(&report);
     }

@@ -4,7 +4,7 @@ use super::design_args::GearArgs;
 use super::{CliResult, input_error, print_json, runtime_error};
 use ncgear::design::DesignOptions;
 use ncgear::synthesis::{Spec, Synthesis, SynthesisError, SynthesisReport, synthesize};
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
 /// Arguments of `ncgear synthesize`.
 #[derive(Debug, clap::Args)]
@@ -53,7 +53,8 @@ pub fn run(args: Args) -> CliResult {
         SynthesisError::NoDesign(_) => runtime_error(miette::miette!("{file}: {e}")),
         _ => input_error(miette::miette!("{file}: {e}")),
     })?;
-    let written = write_outputs(&s, &args.out)?;
+    let written = ncgear::output::write_synthesis(&s, &args.out)
+        .map_err(|e| runtime_error(miette::miette!("{e}")))?;
     let r = &s.report;
     let missed = missed_poses(r, &spec);
     if args.json {
@@ -74,20 +75,6 @@ pub fn run(args: Args) -> CliResult {
         check_met(r, &missed)?;
     }
     super::verdict_outcome(&s.design.report.verdict, args.accept_failed, &[])
-}
-
-/// Writes the design's files and synthesis.json into `out`; the paths written.
-fn write_outputs(s: &Synthesis, out: &Path) -> Result<Vec<PathBuf>, super::Failure> {
-    super::remove_stale_report(&out.join("synthesis.json"))?;
-    let mut written = ncgear::output::write_design_with(&s.design, out, Default::default())
-        .map_err(|e| runtime_error(miette::miette!("{e}")))?;
-    let path = out.join("synthesis.json");
-    let json = ncgear::output::json::to_string(&s.report)
-        .map_err(|e| runtime_error(miette::miette!("{e}")))?;
-    ncgear::files::write_whole(&path, json)
-        .map_err(|e| runtime_error(miette::miette!("{}: {e}", path.display())))?;
-    written.push(path);
-    Ok(written)
 }
 
 /// The poses missed: an exact pose passes within [`POSE_PASS`], an approximate one within its

@@ -1,12 +1,11 @@
 //! `ncgear tolerance ERRORS` (error harmonics, phase compensation, Monte Carlo) and
 //! `ncgear tolerance DESIGN.json --errors ERRORS` (transplanter tolerance analysis, docs/math/companion.md §C.6).
 use super::{CliResult, input_error, print_json, progress_bar, runtime_error};
-use ncgear::analysis::montecarlo::{McOptions, McStats};
 use ncgear::analysis::tolerance::{ErrorFile, ToleranceOptions, analyse};
 use ncgear::analysis::transplanter::{
     self, ErrorInventory, TransplanterError, TransplanterOptions, TransplanterReport,
 };
-use ncgear::output::plot::{ChartLabels, Series, line_chart};
+use ncgear::math::monte_carlo::{McOptions, McStats};
 use ncgear::simulate::DesignFile;
 use std::path::{Path, PathBuf};
 
@@ -65,30 +64,8 @@ pub fn run(args: Args) -> CliResult {
         ))
     })?;
     pb.finish_and_clear();
-    create_dir(&args.out)?;
-    let json_path = args.out.join("tolerance.json");
-    super::remove_stale_report(&json_path)?;
-    if let Some(s) = &report.monte_carlo_arcsec {
-        line_chart(
-            &args.out.join("histogram.png"),
-            &ChartLabels {
-                title: format!("Peak transmission error over {} random assemblies", s.n),
-                x: "peak transmission error (arc seconds)".into(),
-                y: "samples per bin".into(),
-                equal_aspect: false,
-            },
-            &[
-                Series::line("random assembly", s.step_outline()),
-                Series::markers(
-                    "greedy compensation",
-                    vec![(report.greedy_peak_arcsec, 0.0)],
-                ),
-            ],
-            (900, 500),
-        )
+    ncgear::output::write_tolerance(&report, &args.out)
         .map_err(|e| runtime_error(miette::miette!("{e}")))?;
-    }
-    write_json(&json_path, &report)?;
     if args.json {
         return print_json(&report);
     }
@@ -141,18 +118,6 @@ pub fn run(args: Args) -> CliResult {
     Ok(())
 }
 
-fn create_dir(dir: &Path) -> CliResult {
-    std::fs::create_dir_all(dir)
-        .map_err(|e| runtime_error(miette::miette!("cannot create {}: {e}", dir.display())))
-}
-
-fn write_json(path: &Path, value: &impl serde::Serialize) -> CliResult {
-    let json = ncgear::output::json::to_string(value)
-        .map_err(|e| runtime_error(miette::miette!("{e}")))?;
-    ncgear::files::write_whole(path, json)
-        .map_err(|e| runtime_error(miette::miette!("cannot write {}: {e}", path.display())))
-}
-
 /// The Monte Carlo options of the arguments (60 histogram bins).
 fn mc_options(args: &Args) -> McOptions {
     McOptions::default()
@@ -192,108 +157,13 @@ fn run_transplanter(args: &Args, inventory: &Path) -> CliResult {
             _ => runtime_error(miette::miette!("{e}")),
         })?;
     pb.finish_and_clear();
-    create_dir(&args.out)?;
-    let json_path = args.out.join("transplanter.json");
-    super::remove_stale_report(&json_path)?;
-    transplanter_plots(&report, &args.out)?;
-    write_json(&json_path, &report)?;
+    ncgear::output::write_transplanter(&report, &args.out)
+        .map_err(|e| runtime_error(miette::miette!("{e}")))?;
     if args.json {
         return print_json(&report);
     }
     print_transplanter(&report, args, inventory);
     Ok(())
-}
-
-fn transplanter_plots(r: &TransplanterReport, out: &Path) -> CliResult {
-    let plot_err = |e: ncgear::output::plot::PlotError| runtime_error(miette::miette!("{e}"));
-    let n = r.envelope.len().max(1);
-    let x = |i: usize| 360.0 * i as f64 / n as f64;
-    let mut series = vec![
-        Series::line(
-            "3σ envelope |mean| + 3σ (random assembly)",
-            r.envelope
-                .iter()
-                .enumerate()
-                .map(|(i, p)| (x(i), p.envelope_um))
-                .collect(),
-        ),
-        Series::line(
-            "errors as given",
-            r.envelope
-                .iter()
-                .enumerate()
-                .map(|(i, p)| (x(i), p.nominal_errors_um))
-                .collect(),
-        ),
-    ];
-    if let Some(a) = &r.assembly {
-        series.push(Series::line(
-            "best assembly of the free runouts",
-            a.joint_deviation_um
-                .iter()
-                .enumerate()
-                .map(|(i, v)| (x(i), *v))
-                .collect(),
-        ));
-    }
-    for ext in ["png", "svg"] {
-        line_chart(
-            &out.join(format!("envelope.{ext}")),
-            &ChartLabels {
-                title: "Needle-tip deviation along the trajectory".into(),
-                x: "carrier angle from φH = 0 in the direction of rotation (deg)".into(),
-                y: "|ΔB| (µm)".into(),
-                equal_aspect: false,
-            },
-            &series,
-            (900, 500),
-        )
-        .map_err(plot_err)?;
-    }
-    // Trajectory band: the nominal path ± the envelope (magnified) along the path normal.
-    let mag = r.band_magnification();
-    line_chart(
-        &out.join("band.png"),
-        &ChartLabels {
-            title: format!("Needle-tip trajectory with the 3σ deviation band (band ×{mag:.0})"),
-            x: "x (mm)".into(),
-            y: "y (mm)".into(),
-            equal_aspect: true,
-        },
-        &[
-            Series::line("nominal", r.band(0.0, mag)),
-            Series::line("outer band", r.band(1.0, mag)),
-            Series::line("inner band", r.band(-1.0, mag)),
-        ],
-        (800, 700),
-    )
-    .map_err(plot_err)?;
-    let mut hist = vec![Series::line(
-        "all errors random",
-        r.max_deviation_um.step_outline(),
-    )];
-    if let Some(a) = &r.assembly {
-        hist.push(Series::line(
-            "random runout orientation, other errors as given",
-            a.random.step_outline(),
-        ));
-        hist.push(Series::markers("best assembly", vec![(a.joint_um, 0.0)]));
-    }
-    line_chart(
-        &out.join("histogram.png"),
-        &ChartLabels {
-            title: format!(
-                "max |ΔB| over one turn, {} random assemblies",
-                r.max_deviation_um.n
-            ),
-            x: "max |ΔB| (µm)".into(),
-            y: "samples per bin".into(),
-            equal_aspect: false,
-        },
-        &hist,
-        (900, 500),
-    )
-    .map_err(plot_err)
 }
 
 fn print_transplanter(r: &TransplanterReport, args: &Args, inventory: &Path) {

@@ -39,10 +39,9 @@ pub enum IdlerOffset {
     /// among its alternatives ([`DesignOptions::alternatives`]). Designing for a module, ε is
     /// free in the fit of the free design the module stage starts from, and in the module fits
     /// where the centre distance exceeds half the arm, so that `l1 = 2a·cos ε` stays where the
-    /// target needs it. Over the 14 bundled targets at m = 1.5 and 2 (2026-11-28), freeing ε in
-    /// the free design as well took the toothed trains to 0.40× (geometric mean) of those
-    /// started from the collinear free design; it lost on 5 of the 28 (designer_kidney at
-    /// m = 2: 0.83 against 0.49 mm).
+    /// target needs it. Freeing ε in the free design as well takes the toothed trains of the
+    /// bundled targets closer on the whole than starting from the collinear free design, though
+    /// not on every target (docs/performance.md, "The idler offset").
     #[default]
     Auto,
     /// Always on the line (ε = 0): the patent's train, `l1 = 2a`.

@@ -9,7 +9,7 @@
 //! One more row prices the layout rather than the gears: the default limits with the
 //! intermediate axis free to leave the carrier line ([`IdlerOffset::Free`]; a housing with the
 //! intermediate shaft off the line through the sun and planet shafts), which takes a target no
-//! collinear train traces much closer (designer_kidney: 1.57 → 0.08 mm, 2026-11-28).
+//! collinear train traces much closer (docs/performance.md, "The idler offset").
 //! A refused design is a row with its error; it does not stop the others.
 //!
 //! ```no_run

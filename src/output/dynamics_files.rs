@@ -5,28 +5,9 @@
 //! SVG or PNG.
 
 use super::error::{OutputError, create_dir, remove_stale, write_json};
-use super::plot::{ChartLabels, Series, line_chart};
+use super::plot::{ChartLabels, PlotFormat, Series, line_chart};
 use crate::analysis::dynamics::{self as dy, DynamicsReport};
 use std::path::{Path, PathBuf};
-
-/// The plot format of a dynamics run's charts.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-#[non_exhaustive]
-pub enum PlotFormat {
-    /// Scalable vector graphics (the default).
-    Svg,
-    /// Raster images.
-    Png,
-}
-
-impl PlotFormat {
-    fn ext(self) -> &'static str {
-        match self {
-            Self::Svg => "svg",
-            Self::Png => "png",
-        }
-    }
-}
 
 /// Writes the files of `report` (of the scene `prepared`) into `dir` (created if needed), the
 /// report last; returns the paths written.

@@ -20,6 +20,9 @@ pub enum OutputError {
     /// A CAD export failed.
     #[error(transparent)]
     Export(#[from] crate::cad::ExportError),
+    /// A sensor record could not be brought into the frame its plots are drawn in.
+    #[error(transparent)]
+    Orbit(#[from] crate::analysis::orbit::OrbitError),
 }
 
 /// Writes `text` to `path`.

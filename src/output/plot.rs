@@ -65,6 +65,27 @@ pub struct ChartLabels {
     pub equal_aspect: bool,
 }
 
+/// The format of a run's charts, where a command lets the user choose it.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[non_exhaustive]
+pub enum PlotFormat {
+    /// Scalable vector graphics (the default).
+    Svg,
+    /// Raster images.
+    Png,
+}
+
+impl PlotFormat {
+    /// The file extension of the format (`svg`, `png`).
+    #[must_use]
+    pub fn ext(self) -> &'static str {
+        match self {
+            Self::Svg => "svg",
+            Self::Png => "png",
+        }
+    }
+}
+
 /// Why a plot could not be written.
 #[derive(Debug, thiserror::Error)]
 #[error("cannot draw plot {path}: {message}")]

@@ -1,8 +1,9 @@
 //! Files written by `ncgear simulate`: the traced and dynamic paths (CSV, mm), the animation and
-//! the frame sheet (SVG), the charts of [`super::simulation_plots`], and the report.
+//! the frame sheet (SVG), the charts of [`super::simulation_plots`], and the report
+//! (`simulate.json`, last).
 
 use super::animate::{AnimationOptions, animated_svg, frame_sheet};
-use super::error::{OutputError, create_dir, write};
+use super::error::{OutputError, create_dir, remove_stale, write, write_json};
 use super::simulation_plots::{Traces, write_plots};
 use crate::math::Point;
 use crate::simulate::{
@@ -30,9 +31,14 @@ pub struct SimulationReport {
     pub files: Vec<String>,
 }
 
-/// Writes the simulation outputs into `dir`: traced.csv, dynamic.csv, animation.svg, frames.svg and
+/// Writes the simulation outputs into `dir`: traced.csv, dynamic.csv, animation.svg, frames.svg,
 /// plots (PNG and SVG) of the deviation, the ratios, the pitch curves, curvature/pressure angle and
-/// the dynamic trajectory. Returns the report.
+/// the dynamic trajectory, and last the report, simulate.json (an earlier run's removed before
+/// the first file). Returns the report.
+///
+/// # Errors
+/// [`SimulateError::BadOption`] (option `out`) when a file cannot be written; the features'
+/// errors.
 pub fn write_simulation(
     sim: &Simulation,
     target: &[Point],
@@ -45,6 +51,8 @@ pub fn write_simulation(
         message: e.to_string(),
     };
     create_dir(dir).map_err(io)?;
+    let json_path = dir.join("simulate.json");
+    remove_stale(&json_path).map_err(io)?;
     let features = features(sim, feat_opts)?;
     let n = feat_opts.samples.max(360);
     let turn = sim.turn(n);
@@ -117,7 +125,7 @@ pub fn write_simulation(
             dev.iter().sum::<f64>() / dev.len() as f64,
         )
     });
-    Ok(SimulationReport {
+    let report = SimulationReport {
         features,
         deviation_max_mm: stats.map(|s| s.0),
         deviation_mean_mm: stats.map(|s| s.1),
@@ -125,5 +133,7 @@ pub fn write_simulation(
         rpm: feat_opts.rpm,
         forward_speed_mm_s: feat_opts.forward_mm_s,
         files: written.iter().map(|p| p.display().to_string()).collect(),
-    })
+    };
+    write_json(&json_path, &report).map_err(io)?;
+    Ok(report)
 }

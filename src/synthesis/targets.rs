@@ -34,13 +34,13 @@
 //! [`SCREENED_STARTS`] get a short Nelder–Mead run (argmin) and the best [`REFINED_STARTS`] of
 //! those a long one, restarted once from its best point; runs go side by side.
 
-use crate::analysis::optimise::nelder_mead_starts;
 use crate::design::inverse::MIN_AXIS_DISTANCE_L3;
 use crate::geometry::assembly::Pose as ArmPose;
 use crate::geometry::fourier::SunRatio;
 use crate::geometry::limits::GearLimits;
 use crate::geometry::mechanism::Mechanism;
 use crate::math::Point;
+use crate::math::optimize::nelder_mead_starts;
 use crate::simulate::{FeatureOptions, Features, TwoArms, features_of_turn};
 use argmin::core::CostFunction;
 use nalgebra::DVector;

@@ -13,11 +13,10 @@
 //! curve is nearly straight over a tooth while the mate is tightly curved (its radius of
 //! curvature near the undercut limit `h·m/sin²α`), the corner's path departs from the generating
 //! rack's at second order in the rolling — by `≈ Δs²/(2ρ)` over a roll `Δs` — and grazes the
-//! mate's fillet trochoid: measured on random mixed centrodes at m = 1 (r = 1 + ε cos(kφ + φ0) +
-//! ε₂ cos 5φ, k = 2…4, k²ε = 0.6…1.2, z = 40…80; 2026-11-26), 19 of 100 pairs had a transmission
-//! error of 4e-5°…1.2e-2° from such contacts (overlap up to 3e-5 mm² at the law's position) where
-//! the others mesh within 1e-6°; a uniform topping of 0.05·m left 6 of them, this check none (of
-//! 200). A per-tooth check settles it instead of a formula. The rack-cut mate of a
+//! mate's fillet trochoid: on random mixed convex/concave centrodes, some pairs show a
+//! transmission error from such contacts where the others show none, and a uniform topping
+//! does not remove them all (docs/performance.md, "Tip relief on mixed centrodes"). A
+//! per-tooth check settles it instead of a formula. The rack-cut mate of a
 //! shaper-cut gear is checked too (a small cutter's fillets can sit higher than a rack's); two
 //! rack-cut gears keep their outlines (a convex tip keeps its margin).
 //!

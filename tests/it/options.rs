@@ -3,7 +3,6 @@
 //! `with_*` and (de)serialised whole or in part — a missing field takes its default, an unknown
 //! one is refused naming it.
 use ncgear::analysis::dynamics::{AnalysisOptions, Method as Integrator, RunOptions};
-use ncgear::analysis::montecarlo::McOptions;
 use ncgear::analysis::orbit::evaluate::{MeasureOptions, SensorFrame};
 use ncgear::analysis::orbit::measure::{ExtractOptions, Frame, Method};
 use ncgear::analysis::orbit::model::{Line, LineKind};
@@ -11,6 +10,7 @@ use ncgear::analysis::peak::PeakOptions;
 use ncgear::analysis::tolerance::ToleranceOptions;
 use ncgear::analysis::transplanter::TransplanterOptions;
 use ncgear::math::Point;
+use ncgear::math::monte_carlo::McOptions;
 use ncgear::simulate::FeatureOptions;
 use ncgear::synthesis::DyadOptions;
 use serde::Serialize;

@@ -1,9 +1,9 @@
 //! Coupling compensation and Monte Carlo (docs/math/companion.md §C): the paper's numbers with the
 //! corrections of docs/math/companion.md §C.4, certified peaks, bounds, and seeded Monte Carlo.
-use ncgear::analysis::montecarlo::McOptions;
 use ncgear::analysis::peak::{PeakOptions, Sinusoid, certified_peak, fixed_grid_peak};
 use ncgear::analysis::tolerance::{Analysis, ErrorFile, ToleranceError, arcsec, phasor_sum};
 use ncgear::config::Format;
+use ncgear::math::monte_carlo::McOptions;
 use ncgear::progress::Progress;
 use std::f64::consts::{PI, TAU};
 

@@ -4,8 +4,8 @@
 
 use super::ErrorFile;
 use super::error_file::ErrorTerm;
-use crate::analysis::optimise::nelder_mead_starts;
 use crate::analysis::peak::{Peak, PeakGrid, PeakOptions};
+use crate::math::optimize::nelder_mead_starts;
 use argmin::core::CostFunction;
 use nalgebra::DVector;
 use rand::RngExt;

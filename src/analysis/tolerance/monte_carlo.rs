@@ -3,7 +3,7 @@
 
 use super::Analysis;
 use super::error_file::AmplitudeDist;
-use crate::analysis::montecarlo::{self, McError, McOptions, McStats};
+use crate::math::monte_carlo::{self, McError, McOptions, McStats};
 use crate::progress::Progress;
 use rand::RngExt;
 use std::f64::consts::TAU;
@@ -11,7 +11,7 @@ use std::f64::consts::TAU;
 impl Analysis {
     /// Monte Carlo over random assembly angles (uniform) and amplitude distributions: certified
     /// peak per sample, µm. Sample `i` draws the free angles first, then the amplitudes, from
-    /// its own stream ([`montecarlo::run`]).
+    /// its own stream ([`monte_carlo::run`]).
     ///
     /// # Errors
     /// [`McError`] for bad options or a non-finite sample.
@@ -21,7 +21,7 @@ impl Analysis {
         progress: &Progress,
     ) -> Result<(McStats, Vec<f64>), McError> {
         let d = self.free_count();
-        montecarlo::run(
+        monte_carlo::run(
             opts,
             |rng, _| {
                 let betas: Vec<f64> = (0..d).map(|_| rng.random::<f64>() * TAU).collect();

@@ -2,8 +2,8 @@
 //! prints and writes to `tolerance.json`).
 
 use super::{Analysis, ErrorFile, GreedyStep, Joint, Phasor, ToleranceError, arcsec};
-use crate::analysis::montecarlo::{McOptions, McStats};
 use crate::analysis::peak::PeakOptions;
+use crate::math::monte_carlo::{McOptions, McStats};
 use crate::progress::Progress;
 use serde::Serialize;
 

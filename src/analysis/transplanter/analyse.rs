@@ -1,7 +1,7 @@
 //! The transplanter tolerance analysis: linear-model validation at 3σ, Monte Carlo of random
 //! assembly, and the assembly of the report from its parts (docs/math/companion.md §C.6 items 3, 4, 6).
 
-use super::best_assembly::optimise_assembly;
+use super::best_assembly::optimize_assembly;
 use super::common::{TransplanterOptions, UM, exact_max, mc_error, rng_for};
 use super::envelope::envelope;
 use super::features::feature_deviations;
@@ -9,9 +9,9 @@ use super::model::{ExactModel, LinearModel};
 use super::ranking::ranking;
 use super::report::{TransplanterReport, Validation};
 use super::{ErrorVector, Inventory, N_COORDS, TransplanterError};
-use crate::analysis::montecarlo::{self};
 use crate::analysis::tolerance::ARCSEC_PER_RAD;
 use crate::geometry::assembly::Assembly;
+use crate::math::monte_carlo::{self};
 use crate::math::periodic::wrap_pi;
 use crate::progress::Progress;
 use rayon::prelude::*;
@@ -107,7 +107,7 @@ pub fn analyse(
                         scale: f64,
                         what: &'static str,
                         progress: &Progress| {
-        montecarlo::run(
+        monte_carlo::run(
             &opts.mc,
             |rng, _| {
                 let x = inv.draw(rng);
@@ -152,6 +152,6 @@ pub fn analyse(
         envelope_max_um,
         features: feature_deviations(&model, asm, &lin, inv, opts)?,
         ranking: ranking(&lin, inv),
-        assembly: optimise_assembly(&model, &lin, inv, opts, progress)?,
+        assembly: optimize_assembly(&model, &lin, inv, opts, progress)?,
     })
 }

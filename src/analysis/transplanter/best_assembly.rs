@@ -4,9 +4,9 @@
 use super::common::{TransplanterOptions, UM, exact_max, mc_error, rng_for};
 use super::report::{AssemblyOptimum, GreedyChoice};
 use super::{ExactModel, GEARS, Inventory, LinearModel, TransplanterError, ecc_index};
-use crate::analysis::montecarlo;
-use crate::analysis::optimise::nelder_mead_starts;
 use crate::math::Point;
+use crate::math::monte_carlo;
+use crate::math::optimize::nelder_mead_starts;
 use crate::progress::Progress;
 use argmin::core::CostFunction;
 use nalgebra::DVector;
@@ -83,7 +83,7 @@ fn candidates(inv: &Inventory, k: usize, continuous_steps: usize) -> Vec<f64> {
 
 /// The best assembly of the free eccentricity directions (`None` when none is free); the
 /// random-assembly Monte Carlo reports to `progress`.
-pub(super) fn optimise_assembly(
+pub(super) fn optimize_assembly(
     model: &ExactModel,
     lin: &LinearModel,
     inv: &Inventory,
@@ -126,7 +126,7 @@ pub(super) fn optimise_assembly(
         .map(|d| d.hypot() * UM)
         .collect();
     // Random assembly: free directions random, everything else as given.
-    let (random, vals) = montecarlo::run(
+    let (random, vals) = monte_carlo::run(
         &opts.mc,
         |rng, _| {
             let gs: Vec<f64> = free

@@ -3,7 +3,7 @@
 
 use super::model::{ExactModel, FdSteps, LinearModel};
 use super::{ErrorVector, TransplanterError};
-use crate::analysis::montecarlo::{McError, McOptions};
+use crate::math::monte_carlo::{McError, McOptions};
 use crate::simulate::FeatureOptions;
 use rand::SeedableRng;
 use rand::rngs::ChaCha8Rng;

@@ -6,8 +6,8 @@ use super::report::FeatureDeviations;
 use super::{
     ErrorVector, ExactModel, Inventory, LinearModel, N_COORDS, TrainState, TransplanterError,
 };
-use crate::analysis::montecarlo;
 use crate::geometry::assembly::{Assembly, Pose};
+use crate::math::monte_carlo;
 use crate::simulate::{FeatureOptions, Features, TwoArms, features_of_turn};
 use rayon::prelude::*;
 
@@ -70,7 +70,7 @@ pub(super) fn feature_deviations(
     let feats = feats?;
     let stats = |f: &dyn Fn(&Features) -> f64| {
         let v: Vec<f64> = feats.iter().map(|x| f(x) - f(&nominal)).collect();
-        montecarlo::summarize(&v, opts.mc.bins).map_err(mc_error("feature"))
+        monte_carlo::summarize(&v, opts.mc.bins).map_err(mc_error("feature"))
     };
     let wrap = |a: f64| (a + 180.0).rem_euclid(360.0) - 180.0;
     Ok(Some(FeatureDeviations {

@@ -1,8 +1,8 @@
 //! The report of the transplanter tolerance analysis (the keys of `transplanter.json`) and the
 //! geometry of its plots.
 
-use crate::analysis::montecarlo::McStats;
 use crate::math::Point;
+use crate::math::monte_carlo::McStats;
 use crate::simulate::Features;
 use serde::Serialize;
 

@@ -122,9 +122,8 @@ pub struct FitOptions {
     pub max_iterations: usize,
     /// At most this many points (evenly taken) drive the iterations; all points are measured at
     /// the end (default 360: a drawn target's chord is then still a few mm, far below its
-    /// curvature radii; over 17 designer targets the fit from 360 points was as close as from
-    /// 900 (mean 1.008× against 1.010× an independent optimum) and a toothed design of a
-    /// 700–1000-point target 10–15 % faster; 2026-11-27).
+    /// curvature radii; on designer targets the fit from 360 points is as close as from 900, and
+    /// a toothed design of a long target faster: docs/performance.md, "The fit's point budget").
     pub max_points: usize,
     /// Smoothness weight √λ relative to l3 on `k²·(a_k, b_k)` (default 0: the order choice
     /// regularises).
@@ -400,9 +399,9 @@ impl Fitted {
 /// (`w_j ← w_j·|d_j|/max|d|`, normalised, floored at 1e-6; 12 passes of 10 iterations), at the
 /// fit's order. Both sides of the Hausdorff distance are weighted: the points' distances from
 /// the traced curve and the curve's 256 coverage samples' distances from the target polyline,
-/// under one `max|d|` (with the points alone, a bulge of the curve between points went unseen:
-/// over 17 designer targets, 4 were more than 5 % behind an independent constrained optimum,
-/// the worst by 17 %; with both, 1, by 13 %; 2026-11-27).
+/// under one `max|d|` (with the points alone, a bulge of the curve between points goes unseen,
+/// and designer targets end further behind an independent constrained optimum:
+/// docs/performance.md, "Both sides of the minimax").
 /// Keeps whichever result has the smaller `max(max_mm, coverage_mm)` (the Hausdorff distance to
 /// the points' polyline); every iterate stays admissible.
 #[must_use]
@@ -434,8 +433,8 @@ pub(crate) enum LawsonStart {
 
 /// [`minimax`] with its weights started from `start`'s distances (`LawsonStart::Distances`):
 /// a second finish that lands in another basin where the train cannot trace the target (a
-/// design for a module: over 8 targets at m = 2 it was better on 3, by 9–32 %, and worse on 3;
-/// 2026-11-28), so callers keep the better of the two.
+/// design for a module); neither finish is the better on every target (docs/performance.md,
+/// "The second minimax finish"), so callers keep the better of the two.
 #[must_use]
 pub fn minimax_from_distances(points: &[Point], fitted: Fitted, opts: &FitOptions) -> Fitted {
     lawson(points, fitted, opts, MINIMAX_PASSES, LawsonStart::Distances)

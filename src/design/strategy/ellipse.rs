@@ -57,9 +57,9 @@ pub(in crate::design) fn from_an_ellipse(
         _ => return f,
     };
     match fit::fit_points(points, &g.mechanism, opts) {
-        // On the 13 bundled targets at no module and modules 1.5, 2 and 3 (2026-11-27), no
-        // elliptic fit that won after its finish was more than 1.34× behind here; one beyond 1.4× is
-        // not finished.
+        // One beyond 1.4× here is not finished: on the bundled targets no elliptic fit that won
+        // after its finish was that far behind at this point (docs/performance.md, "The
+        // elliptic restart").
         Ok(g) if score(&g) <= ELLIPSE_FINISH_RATIO * score(&f) => {
             let g = fit::minimax(points, g, opts);
             if score(&g) < score(&f) { g } else { f }

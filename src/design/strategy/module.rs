@@ -272,8 +272,8 @@ impl Size {
 /// The starts of a fit at `opts.perimeter_mm`: `start` resized to it and made admissible, and,
 /// where ε is free and the centre distance exceeds half the start's arm, the start carried off
 /// the carrier line with its arm and needle motion kept ([`offset_start`]), to either side: the
-/// side whose start traces closer is not always the side whose fit does (asymmetric_cw at
-/// m = 1.5: 0.0042 mm on the closer start's side, 0.0010 mm on the other, 2026-11-28). Neither
+/// side whose start traces closer is not always the side whose fit does (docs/performance.md,
+/// "Both sides of the off-line start"). Neither
 /// kind is the better start everywhere: the first keeps the ratio and moves the arm, the second
 /// keeps the arm and changes the ratio.
 fn sized_starts(points: &[Point], start: &Mechanism, opts: &FitOptions) -> Vec<Fitted> {

@@ -73,8 +73,7 @@ pub(crate) fn tip_deviations(
 /// - the chord-length spline of docs/math/chain.md §3.1, which does not depend on the design:
 ///   where the tip of a train that cannot trace the target passes its points unevenly in time, a
 ///   spline in that time swings between them, and a path that follows the drawn curve would be
-///   charged for the swing (designer_even2: 1.70 mm against 1.28 mm from the points' polyline,
-///   2026-11-27).
+///   charged for the swing (docs/performance.md, "The round trip's target curve").
 pub(crate) fn target_hausdorff_mm(
     traced: &[Point],
     points: &[Point],

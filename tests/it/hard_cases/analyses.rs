@@ -6,13 +6,13 @@
 use ncgear::analysis::dynamics::{
     DynamicsError, Method, RunOptions, Scene, simulate, static_state,
 };
-use ncgear::analysis::montecarlo::{McError, McOptions};
 use ncgear::analysis::orbit::OrbitError;
 use ncgear::analysis::orbit::measure::{ExtractOptions, Extractor, Record};
 use ncgear::analysis::orbit::model::{Hand, Line, LineKind, Planet, PlanetSet};
 use ncgear::analysis::peak::PeakOptions;
 use ncgear::analysis::tolerance::{Analysis, ErrorFile, ToleranceError};
 use ncgear::config::Format;
+use ncgear::math::monte_carlo::{McError, McOptions};
 use ncgear::progress::Progress;
 use std::f64::consts::TAU;
 

@@ -169,7 +169,7 @@ impl Problem<'_> {
     }
 
     /// Nelder–Mead on the p = 8 power mean, then on the largest distance with restarts.
-    fn optimise(&self, x0: Vec<f64>) -> (Vec<f64>, f64, usize) {
+    fn optimize(&self, x0: Vec<f64>) -> (Vec<f64>, f64, usize) {
         let mut step: Vec<f64> = vec![0.3, 0.5, 0.01, 0.01];
         step.extend(std::iter::repeat_n(0.02, KNOTS));
         let mut f8 = |x: &[f64]| self.objective(x, 8.0);
@@ -298,7 +298,7 @@ pub fn reference(points: &[Point], seed: u64) -> Reference {
         starts.insert(0, fitted);
     }
     let results: Vec<(Vec<f64>, f64, usize)> =
-        starts.into_par_iter().map(|x| prob.optimise(x)).collect();
+        starts.into_par_iter().map(|x| prob.optimize(x)).collect();
     let per_start_mm = results.iter().map(|r| r.1).collect();
     let evaluations = results.iter().map(|r| r.2).sum();
     let (x, _, _) = results

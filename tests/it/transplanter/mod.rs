@@ -1,13 +1,13 @@
 //! Transplanter tolerance analysis (docs/math/companion.md §C.6): exact perturbed kinematics, closed forms,
 //! the circular-gear phasor limit, linear vs exact, Monte Carlo stability, file errors.
 //! Shared fixtures here; [`kinematics`] tests the models, [`analysis`] the report, files and CLI.
-use ncgear::analysis::montecarlo::McOptions;
 use ncgear::analysis::tolerance::{ToleranceError, phasor_sum};
 use ncgear::analysis::transplanter::*;
 use ncgear::config::Format;
 use ncgear::geometry::assembly::Assembly;
 use ncgear::geometry::golden::{ellipse_ratio, g1_mechanism};
 use ncgear::math::Point;
+use ncgear::math::monte_carlo::McOptions;
 use ncgear::simulate::{FeatureOptions, Simulation, features};
 use rand::SeedableRng;
 use rand::rngs::ChaCha8Rng;

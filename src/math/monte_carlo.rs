@@ -183,7 +183,7 @@ fn check_bins(bins: usize) -> Result<(), McError> {
 /// `1..=MAX_BINS`; [`McError::NonFinite`] naming the first non-finite sample.
 ///
 /// ```
-/// use ncgear::analysis::montecarlo::{McOptions, run};
+/// use ncgear::math::monte_carlo::{McOptions, run};
 /// use ncgear::progress::Progress;
 /// use rand::RngExt;
 /// let opts = McOptions::default().with_samples(20_000).with_seed(7).with_bins(10);

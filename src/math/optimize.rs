@@ -1,5 +1,5 @@
-//! Multistart Nelder–Mead (argmin), shared by the phase compensation of
-//! [`super::tolerance`] and the best assembly of [`super::transplanter`].
+//! Multistart Nelder–Mead (argmin), shared by the phase compensation of `analysis::tolerance`,
+//! the best assembly of `analysis::transplanter` and the target bands of `synthesis`.
 
 use argmin::core::{CostFunction, Executor};
 use argmin::solver::neldermead::NelderMead;
