@@ -87,8 +87,8 @@ def main() -> None:
     good = feasible(every).drop_duplicates(subset=problem.names)
     X = np.atleast_2d(res.X) if res.X is not None else np.empty((0, len(problem.names)))
     chosen = pd.DataFrame(problem.points(X))[problem.names] if len(X) else None
-    front = (good.merge(chosen, on=problem.names, how="inner") if chosen is not None
-             else good.iloc[:0]).sort_values(OBJECTIVES[0], ignore_index=True)
+    front = (good.merge(chosen.drop_duplicates(), on=problem.names, how="inner")
+             if chosen is not None else good.iloc[:0]).sort_values(OBJECTIVES[0], ignore_index=True)
     front.to_parquet(out / "front.parquet")
 
     fig, ax = plt.subplots(figsize=(6.4, 4.6), dpi=120)
