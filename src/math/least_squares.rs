@@ -12,7 +12,7 @@
 //! `λ ← max(0.3·λ, λ_min)`, else `λ ← 10·λ` and the step is solved again. It stops when no
 //! damping gives a better point, after an accepted step shorter than `step_tol`, or after
 //! `max_iterations` (Marquardt, SIAM J. Appl. Math. 11(2), 1963; Nocedal & Wright, *Numerical
-//! Optimization*, §10.3). A parameter the residuals do not depend on (a zero column of `J`)
+//! Optimization*, ch. 10.3). A parameter the residuals do not depend on (a zero column of `J`)
 //! does not move.
 //!
 //! Hand-written rather than taken from a crate: argmin 0.11 has no Levenberg–Marquardt, and the
