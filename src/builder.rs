@@ -1,6 +1,6 @@
 //! The builder style of the options structs: `with_<field>(self, value) -> Self` for each of
 //! their fields, so that a caller outside the crate (the CLI, the Python binding, a CAD
-//! pipeline) writes `DesignOptions::default().with_tol_tip_mm(0.1).with_module_mm(Some(2.0))`
+//! pipeline) writes `DesignOptions::default().with_tol_mm(0.1).with_module_mm(Some(2.0))`
 //! although the structs are `#[non_exhaustive]`.
 
 /// Implements `with_<field>` for the listed `field: Type` pairs of an options struct; each sets

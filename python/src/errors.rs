@@ -1,5 +1,5 @@
 //! `ncgear.NcgearError` and the library's errors in the words of the Python API: an option the
-//! library names by its field (`tol_tip_mm`) is named by the argument that sets it (`tol_mm`),
+//! library names by its field (`tol_mm`) is named by the argument that sets it (`tol_mm`),
 //! and no message quotes a CLI flag (a design file, which only `ncgear design` writes, is told by
 //! its command).
 use ncgear::bounds::OutOfBounds;
@@ -23,18 +23,18 @@ create_exception!(
 fn arg_of(field: &str) -> Option<&'static str> {
     Some(match field {
         "order" => "order",
-        "smoothing" => "smooth",
-        "tol_tip_mm" => "tol_mm",
+        "smooth" => "smooth",
+        "tol_mm" => "tol_mm",
         "inverse.grid" => "grid",
         "inverse.sense" => "sense",
         "inverse.dense_samples" => "dense",
-        "curve_samples" => "samples",
+        "samples" => "samples",
         "refine_options.ratio_bounds" => "ratio_bounds",
         "center_mm" => "center",
         "segmented.w1" => "w1",
         "segmented.k_max" => "k_max",
         "refine_order" => "refine_order",
-        "pressure_angle_limit_rad" => "max_pressure_angle",
+        "max_pressure_angle_rad" => "max_pressure_angle",
         "min_concave_radius_mm" => "min_concave_radius",
         "min_convex_radius_mm" => "min_convex_radius",
         "module_mm" => "module",

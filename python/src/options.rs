@@ -94,11 +94,11 @@ impl DesignArgs {
         let o = DesignOptions::default()
             .with_center_mm(self.center.into())
             .with_order(self.order)
-            .with_tol_tip_mm(self.tol_mm)
+            .with_tol_mm(self.tol_mm)
             .with_refine(refine)
             .with_refine_order(self.refine_order)
             .with_fit_to_points(self.fit)
-            .with_smoothing(self.smooth)
+            .with_smooth(self.smooth)
             .with_segmented(
                 d.segmented
                     .with_hypothesis(hypothesis)
@@ -112,13 +112,13 @@ impl DesignArgs {
                     .with_sense(sense)
                     .with_dense_samples(self.dense),
             )
-            .with_curve_samples(self.samples)
+            .with_samples(self.samples)
             .with_refine_options(
                 d.refine_options
                     .with_ratio_bounds([self.ratio_bounds.0, self.ratio_bounds.1]),
             )
             .with_gear_limits(self.limits)
-            .with_pressure_angle_limit_rad(self.max_pressure_angle.to_radians())
+            .with_max_pressure_angle_rad(self.max_pressure_angle.to_radians())
             .with_min_concave_radius_mm(self.concave_radius()?)
             .with_min_convex_radius_mm(self.min_convex_radius)
             .with_module_mm(self.module)

@@ -173,7 +173,7 @@ impl GearArgs {
     /// `opts` with these limits and this idler layout.
     pub fn apply(&self, opts: DesignOptions) -> DesignOptions {
         opts.with_gear_limits(self.limits == LimitsArg::On)
-            .with_pressure_angle_limit_rad(self.max_pressure_angle.to_radians())
+            .with_max_pressure_angle_rad(self.max_pressure_angle.to_radians())
             .with_min_concave_radius_mm(self.min_concave_radius_mm())
             .with_min_convex_radius_mm(self.min_convex_radius)
             .with_idler_offset(match self.idler_offset {
@@ -218,7 +218,7 @@ pub struct Args {
     #[arg(long, value_enum, default_value = "auto")]
     pub sense: SenseArg,
     /// Target max tip deviation, mm.
-    #[arg(long, default_value_t = DesignOptions::default().tol_tip_mm)]
+    #[arg(long, default_value_t = DesignOptions::default().tol_mm)]
     pub tol_mm: f64,
     /// Refinement: auto (the fit to the points when the chain's result misses 0.2·--tol-mm, leaves the ratio bounds or comes from noisy points), on (docs/math/chain.md §8.3 tip-motion fit, then the fit to the points), off (the patent route only).
     #[arg(long, value_enum, default_value = "auto")]
@@ -245,7 +245,7 @@ pub struct Args {
     #[arg(long, default_value_t = 20_000)]
     pub dense: usize,
     /// Samples per pitch curve in the outputs (≥ 720).
-    #[arg(long, default_value_t = DesignOptions::default().curve_samples)]
+    #[arg(long, default_value_t = DesignOptions::default().samples)]
     pub samples: usize,
     /// Admissible sun ratio range `MIN,MAX`.
     #[arg(long, value_parser = parse_pair, default_value = "0.3,3.3")]
@@ -326,11 +326,11 @@ impl Args {
         let opts = DesignOptions::default()
             .with_center_mm(args.center)
             .with_order(args.order)
-            .with_tol_tip_mm(args.tol_mm)
+            .with_tol_mm(args.tol_mm)
             .with_refine(refine)
             .with_refine_order(args.refine_order)
             .with_fit_to_points(!args.no_fit)
-            .with_smoothing(args.smooth)
+            .with_smooth(args.smooth)
             .with_segmented(
                 defaults
                     .segmented
@@ -346,7 +346,7 @@ impl Args {
                     .with_sense(sense)
                     .with_dense_samples(args.dense),
             )
-            .with_curve_samples(args.samples)
+            .with_samples(args.samples)
             .with_refine_options(defaults.refine_options.with_ratio_bounds(args.ratio_bounds))
             .with_alternatives(true);
         let opts = args.gears.apply(opts);

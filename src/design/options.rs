@@ -71,10 +71,10 @@ pub const SUN_PLANET_GAP_MODULES: f64 = 2.25;
 ///
 /// ```
 /// use ncgear::design::DesignOptions;
-/// let o = DesignOptions::default().with_tol_tip_mm(0.1).with_module_mm(Some(2.0));
+/// let o = DesignOptions::default().with_tol_mm(0.1).with_module_mm(Some(2.0));
 /// let json = serde_json::to_string(&o).unwrap();
 /// assert_eq!(serde_json::from_str::<DesignOptions>(&json).unwrap(), o);
-/// let partial: DesignOptions = serde_json::from_str(r#"{"tol_tip_mm": 0.1, "module_mm": 2.0}"#).unwrap();
+/// let partial: DesignOptions = serde_json::from_str(r#"{"tol_mm": 0.1, "module_mm": 2.0}"#).unwrap();
 /// assert_eq!(partial, o);
 /// assert!(serde_json::from_str::<DesignOptions>(r#"{"tol_mm": 0.1}"#).is_err());
 /// ```
@@ -89,18 +89,20 @@ pub struct DesignOptions {
     /// Smooth a measured/noisy trajectory to this many Fourier harmonics before step 1
     /// (deviations are still measured against the points as read). Default `None`: measured
     /// points are detected from their estimated noise and smoothed for the start only.
-    pub smoothing: Option<usize>,
+    #[serde(alias = "smoothing")]
+    pub smooth: Option<usize>,
     /// Patent-route knobs. Default [`SegmentedOptions::default`].
     pub segmented: SegmentedOptions,
-    /// Fixed Fourier order K; `None` (default) = adaptive to `tol_tip_mm`.
+    /// Fixed Fourier order K; `None` (default) = adaptive to `tol_mm`.
     pub order: Option<usize>,
     /// Target max synchronous tip deviation, mm. Default 0.05: the round-trip acceptance bound
     /// for exactly traceable targets (docs/math/chain.md §8.2 suggests 0.1).
-    pub tol_tip_mm: f64,
+    #[serde(alias = "tol_tip_mm")]
+    pub tol_mm: f64,
     /// Refinement policy. Default [`RefineMode::Auto`].
     pub refine: RefineMode,
     /// Fit every parameter to the points as the last stage ([`crate::design::fit`]), when the chain's
-    /// result is not within 0.2·`tol_tip_mm` of them, leaves the ratio bounds, or came from smoothed
+    /// result is not within 0.2·`tol_mm` of them, leaves the ratio bounds, or came from smoothed
     /// points (default true). Off: the chain's result (patent route, or docs/math/chain.md §8.3 with `refine: On`).
     pub fit_to_points: bool,
     /// Refinement knobs (ratio bounds are shared with check C6 and the fit). Default
@@ -109,16 +111,18 @@ pub struct DesignOptions {
     /// Fourier order used by the refinement when no fixed order is given. Default 12.
     pub refine_order: usize,
     /// Samples per pitch curve in the outputs (≥ 720). Default 3600.
-    pub curve_samples: usize,
+    #[serde(alias = "curve_samples")]
+    pub samples: usize,
     /// Carrier angles used to measure deviations. Default 2048.
     pub check_samples: usize,
     /// Rack pressure angle α used by the pressure-angle check C10, rad. Default 20°.
     pub pressure_angle_rad: f64,
     /// Limit on the effective pressure angle α + max|atan(r_θ/r)| of the three pitch curves,
     /// rad (C10). Default 45°.
-    pub pressure_angle_limit_rad: f64,
+    #[serde(alias = "pressure_angle_limit_rad")]
+    pub max_pressure_angle_rad: f64,
     /// Design within the gear limits (default true): the effective pressure angle within
-    /// `pressure_angle_limit_rad`, every concave arc no tighter than the concave-radius limit,
+    /// `max_pressure_angle_rad`, every concave arc no tighter than the concave-radius limit,
     /// the sun ratio within its bounds — constraints of every stage that chooses the curves
     /// ([`crate::geometry::limits`]). False: the ratio bounds alone (research use; C9 and C10
     /// are still checked).
@@ -139,7 +143,7 @@ pub struct DesignOptions {
     pub idler_offset: IdlerOffset,
     /// Knobs of the fit to the points ([`crate::design::fit`]): orders, iterations, points,
     /// smoothness. Default [`FitOptions::default`]. Its order, tolerance, noise level, limits and
-    /// perimeter are the chain's: set from `order`, `tol_tip_mm`, the points, the gear limits
+    /// perimeter are the chain's: set from `order`, `tol_mm`, the points, the gear limits
     /// and the module.
     pub fit: FitOptions,
     /// When the design fails its verification, design its nearest alternative too (the other
@@ -153,18 +157,18 @@ pub struct DesignOptions {
 crate::builder::with_fields!(DesignOptions {
     with_center_mm => center_mm: Point,
     with_inverse => inverse: InverseOptions,
-    with_smoothing => smoothing: Option<usize>,
+    with_smooth => smooth: Option<usize>,
     with_segmented => segmented: SegmentedOptions,
     with_order => order: Option<usize>,
-    with_tol_tip_mm => tol_tip_mm: f64,
+    with_tol_mm => tol_mm: f64,
     with_refine => refine: RefineMode,
     with_fit_to_points => fit_to_points: bool,
     with_refine_options => refine_options: RefineOptions,
     with_refine_order => refine_order: usize,
-    with_curve_samples => curve_samples: usize,
+    with_samples => samples: usize,
     with_check_samples => check_samples: usize,
     with_pressure_angle_rad => pressure_angle_rad: f64,
-    with_pressure_angle_limit_rad => pressure_angle_limit_rad: f64,
+    with_max_pressure_angle_rad => max_pressure_angle_rad: f64,
     with_gear_limits => gear_limits: bool,
     with_min_concave_radius_mm => min_concave_radius_mm: Option<f64>,
     with_min_convex_radius_mm => min_convex_radius_mm: Option<f64>,
@@ -233,7 +237,7 @@ impl DesignOptions {
             GearLimits::new(
                 bounds,
                 self.pressure_angle_rad,
-                self.pressure_angle_limit_rad,
+                self.max_pressure_angle_rad,
                 self.concave_radius_limit_mm(),
             )
             .and_then(|l| match self.convex_radius_limit_mm() {
@@ -252,18 +256,18 @@ impl Default for DesignOptions {
         Self {
             center_mm: Point::new(0.0, 0.0),
             inverse: InverseOptions::default(),
-            smoothing: None,
+            smooth: None,
             segmented: SegmentedOptions::default(),
             order: None,
-            tol_tip_mm: 0.05,
+            tol_mm: 0.05,
             refine: RefineMode::Auto,
             fit_to_points: true,
             refine_options: RefineOptions::default(),
             refine_order: 12,
-            curve_samples: 3600,
+            samples: 3600,
             check_samples: 2048,
             pressure_angle_rad: 20f64.to_radians(),
-            pressure_angle_limit_rad: 45f64.to_radians(),
+            max_pressure_angle_rad: 45f64.to_radians(),
             gear_limits: true,
             min_concave_radius_mm: None,
             min_convex_radius_mm: None,
@@ -275,7 +279,7 @@ impl Default for DesignOptions {
     }
 }
 
-/// Most samples per output pitch curve ([`DesignOptions::curve_samples`]).
+/// Most samples per output pitch curve ([`DesignOptions::samples`]).
 pub const MAX_CURVE_SAMPLES: usize = 1 << 18;
 
 /// Most dense samples of the trajectory interpolant (`inverse.dense_samples`).
@@ -321,15 +325,15 @@ fn input_rules(opts: &DesignOptions) -> [Rule; 11] {
             "an integer in 1..=64 (40 is the recommended cap, docs/math/chain.md §8.2)",
         ),
         (
-            opts.smoothing.is_none_or(|h| (4..=512).contains(&h)),
-            "smoothing",
-            show(opts.smoothing),
+            opts.smooth.is_none_or(|h| (4..=512).contains(&h)),
+            "smooth",
+            show(opts.smooth),
             "a number of harmonics in 4..=512 (about 1/10 of the points for noisy data)",
         ),
         (
-            positive(opts.tol_tip_mm),
-            "tol_tip_mm",
-            opts.tol_tip_mm.to_string(),
+            positive(opts.tol_mm),
+            "tol_mm",
+            opts.tol_mm.to_string(),
             "a positive length in mm",
         ),
         (
@@ -345,9 +349,9 @@ fn input_rules(opts: &DesignOptions) -> [Rule; 11] {
             "a grid size in 64..=65536",
         ),
         (
-            (720..=MAX_CURVE_SAMPLES).contains(&opts.curve_samples),
-            "curve_samples",
-            opts.curve_samples.to_string(),
+            (720..=MAX_CURVE_SAMPLES).contains(&opts.samples),
+            "samples",
+            opts.samples.to_string(),
             "720..=262144 samples per pitch curve (time and files grow linearly: 1e7 took 27 s)",
         ),
         (
@@ -437,10 +441,10 @@ fn stage_rules(opts: &DesignOptions) -> [Rule; 12] {
             "an angle in (0°, 90°)",
         ),
         (
-            angle(opts.pressure_angle_limit_rad)
-                && opts.pressure_angle_limit_rad > opts.pressure_angle_rad,
-            "pressure_angle_limit_rad",
-            format!("{}°", opts.pressure_angle_limit_rad.to_degrees()),
+            angle(opts.max_pressure_angle_rad)
+                && opts.max_pressure_angle_rad > opts.pressure_angle_rad,
+            "max_pressure_angle_rad",
+            format!("{}°", opts.max_pressure_angle_rad.to_degrees()),
             "an angle above the rack's pressure angle (20°) and below 90°",
         ),
         (

@@ -147,13 +147,13 @@ pub fn trade_off(
     base: &DesignOptions,
     progress: &Progress,
 ) -> Result<TradeOff, DesignError> {
-    let default_limit_deg = base.pressure_angle_limit_rad.to_degrees();
+    let default_limit_deg = base.max_pressure_angle_rad.to_degrees();
     let mut rungs: Vec<(String, DesignOptions)> = Vec::new();
     for deg in PRESSURE_ANGLE_LIMITS_DEG {
         let mut o = base.clone();
         o.gear_limits = true;
         o.module_mm = None;
-        o.pressure_angle_limit_rad = deg.to_radians();
+        o.max_pressure_angle_rad = deg.to_radians();
         rungs.push((format!("pressure angle ≤ {deg}°"), o));
     }
     let mut unlimited = base.clone();
@@ -202,15 +202,13 @@ pub fn trade_off(
         .zip(results)
         .map(|((label, o), (r, ms))| TradeOffRow {
             label,
-            pressure_angle_limit_deg: o
-                .gear_limits
-                .then(|| o.pressure_angle_limit_rad.to_degrees()),
+            pressure_angle_limit_deg: o.gear_limits.then(|| o.max_pressure_angle_rad.to_degrees()),
             concave_radius_limit_mm: o.gear_limits.then(|| o.concave_radius_limit_mm()),
             module_mm: o.module_mm,
             is_default: o.gear_limits
                 && o.module_mm.is_none()
                 && o.idler_offset != IdlerOffset::Free
-                && o.pressure_angle_limit_rad == default_default.pressure_angle_limit_rad,
+                && o.max_pressure_angle_rad == default_default.max_pressure_angle_rad,
             off_line: o.idler_offset == IdlerOffset::Free,
             outcome: match r {
                 Ok(n) => RowOutcome::Designed(n),

@@ -447,7 +447,7 @@ fn kept_min_radius(pts: &[Point], cut: [f64; 2]) -> f64 {
 /// Keeps the flanks of the kept teeth and recounts the report.
 fn keep_flanks(u: &mut UndercutReport, teeth: &[usize]) {
     u.flanks.retain(|f| teeth.contains(&f.tooth));
-    u.summarise();
+    u.summarize();
 }
 
 /// The sector outline: the run of the closed CCW star-shaped outline `pts` within the polar

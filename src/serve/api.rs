@@ -124,17 +124,17 @@ impl Options {
         Ok(DesignOptions::default()
             .with_center_mm(self.center.unwrap_or(d.center_mm))
             .with_order(self.order)
-            .with_tol_tip_mm(self.tol_mm.unwrap_or(d.tol_tip_mm))
+            .with_tol_mm(self.tol_mm.unwrap_or(d.tol_mm))
             .with_refine(refine)
             .with_gear_limits(gear_limits)
-            .with_pressure_angle_limit_rad(
+            .with_max_pressure_angle_rad(
                 self.max_pressure_angle
-                    .map_or(d.pressure_angle_limit_rad, f64::to_radians),
+                    .map_or(d.max_pressure_angle_rad, f64::to_radians),
             )
             .with_min_concave_radius_mm(self.min_concave_radius)
             .with_min_convex_radius_mm(self.min_convex_radius)
             .with_refine_options(d.refine_options.with_ratio_bounds(ratio_bounds))
-            .with_smoothing(self.smooth)
+            .with_smooth(self.smooth)
             .with_inverse(d.inverse.with_sense(sense))
             .with_module_mm(self.module)
             .with_idler_offset(idler_offset))

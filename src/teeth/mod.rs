@@ -310,7 +310,7 @@ pub struct UndercutReport {
 impl UndercutReport {
     /// Recomputes the counts and extremes from the flanks (all but the rack's `required_rho_mm`
     /// and `max_module_mm`, which come from the whole curve).
-    pub(crate) fn summarise(&mut self) {
+    pub(crate) fn summarize(&mut self) {
         let f = &self.flanks;
         self.min_rho_mm = f.iter().map(|f| f.min_rho_mm).fold(f64::INFINITY, f64::min);
         self.undercut_count = f.iter().filter(|f| f.undercut).count();

@@ -428,7 +428,7 @@ pub(super) fn report_on(blank: &GearBlank<'_>) -> UndercutReport {
         max_contact_ratio_loss: 0.0,
         min_root_thickness_mm: None,
     };
-    report.summarise();
+    report.summarize();
     report
 }
 
@@ -487,7 +487,7 @@ pub(super) fn generate_relieved_on(
         push_piece(&mut out, xcr, next_xcl, walk.step, |s| g.map(s, s, -g.hf));
     }
     close_outline(&mut out);
-    report.summarise();
+    report.summarize();
     Ok(Outline {
         points_mm: out,
         z,

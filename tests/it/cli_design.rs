@@ -321,6 +321,6 @@ fn bad_inputs_exit_2_with_a_clear_message() {
     expect_input_error(
         &["--tol-mm", "0"],
         Some(("g1.csv", &g1)),
-        &["option `tol_tip_mm`", "set by --tol-mm"],
+        &["option `tol_mm`", "set by --tol-mm"],
     );
 }

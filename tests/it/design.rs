@@ -604,7 +604,7 @@ fn design_options_round_trip_through_json_and_every_knob_reaches_the_chain() {
     use ncgear::design::fit::FitOptions;
     // Built with `with_*`, (de)serialised whole or in part, unknown fields refused.
     let o = DesignOptions::default()
-        .with_tol_tip_mm(0.1)
+        .with_tol_mm(0.1)
         .with_module_mm(Some(2.0))
         .with_refine(RefineMode::Off)
         .with_inverse(InverseOptions::default().with_sense(Some(-1)))
@@ -612,7 +612,7 @@ fn design_options_round_trip_through_json_and_every_knob_reaches_the_chain() {
     let json = serde_json::to_string(&o).unwrap();
     assert_eq!(serde_json::from_str::<DesignOptions>(&json).unwrap(), o);
     let partial: DesignOptions = serde_json::from_str(
-        r#"{"tol_tip_mm": 0.1, "module_mm": 2.0, "refine": "off",
+        r#"{"tol_mm": 0.1, "module_mm": 2.0, "refine": "off",
             "inverse": {"sense": -1}, "fit": {"max_order": 6}}"#,
     )
     .unwrap();

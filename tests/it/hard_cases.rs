@@ -64,7 +64,7 @@ fn noisy_measured_trajectory_with_smoothing_stays_close_to_the_clean_path() {
             Ok(_) => {}
         }
         // With smoothing the chain runs and stays within a bounded distance of the clean path.
-        let d = design(&t, &DesignOptions::default().with_smoothing(Some(24))).unwrap();
+        let d = design(&t, &DesignOptions::default().with_smooth(Some(24))).unwrap();
         let worst = d
             .traced_mm
             .iter()
@@ -204,7 +204,7 @@ proptest! {
         text.truncate(text.len().saturating_sub(cut));
         if let Ok(t) = Trajectory::parse_csv(&text, "m.csv") {
             // Whatever parses must either design or fail with a typed error — and never yield NaN.
-            if let Ok(d) = design(&t, &DesignOptions::default().with_check_samples(256).with_curve_samples(720)) {
+            if let Ok(d) = design(&t, &DesignOptions::default().with_check_samples(256).with_samples(720)) {
                 prop_assert!(d.report.roundtrip.max_deviation_mm.is_finite());
                 prop_assert!(d.report.l1_mm.is_finite() && d.report.l3_mm.is_finite());
             }

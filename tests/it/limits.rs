@@ -142,7 +142,7 @@ fn exact_targets_within_the_limits_are_unchanged() {
 fn a_tighter_pressure_angle_limit_is_obeyed_and_costs_path() {
     let t = traj("assets/cases/designer_odd3.csv");
     let run = |deg: f64| {
-        let o = DesignOptions::default().with_pressure_angle_limit_rad(deg.to_radians());
+        let o = DesignOptions::default().with_max_pressure_angle_rad(deg.to_radians());
         design(&t, &o).unwrap()
     };
     let (tight, loose) = (run(35.0), run(45.0));

@@ -32,14 +32,14 @@ fn candidates(opts: &DesignOptions, report: &DesignReport) -> Vec<(String, Strin
             base.clone().with_idler_offset(IdlerOffset::Free),
         ));
     }
-    let limit_deg = opts.pressure_angle_limit_rad.to_degrees();
+    let limit_deg = opts.max_pressure_angle_rad.to_degrees();
     if opts.gear_limits && report.limits.binding.iter().any(|b| b == "pressure angle") {
         let looser = (limit_deg + 5.0).round();
         out.push((
             format!("a pressure-angle limit of {looser}°"),
             format!("--max-pressure-angle {looser}"),
             base.clone()
-                .with_pressure_angle_limit_rad(looser.to_radians()),
+                .with_max_pressure_angle_rad(looser.to_radians()),
         ));
     }
     if let Some(m) = opts.module_mm

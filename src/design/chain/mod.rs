@@ -63,11 +63,11 @@ pub(in crate::design) fn design_from(
         &mut timings,
     )?;
     let best_dev = best_deviation(&fitted, refine_summary.as_ref(), &patent.summary);
-    if best_dev > opts.tol_tip_mm {
+    if best_dev > opts.tol_mm {
         let residual_mm = compat.residual_rad * inv.l3_mm;
         pending.push((
             warnings.len(),
-            not_traced(best_dev, opts.tol_tip_mm, residual_mm),
+            not_traced(best_dev, opts.tol_mm, residual_mm),
         ));
     }
 
@@ -261,14 +261,14 @@ fn closing_warnings(
     pending: Vec<(usize, String)>,
     warnings: &mut Vec<String>,
 ) {
-    if !noise::explained_by_noise(out.roundtrip.estimated_curve_deviation_mm, opts.tol_tip_mm) {
+    if !noise::explained_by_noise(out.roundtrip.estimated_curve_deviation_mm, opts.tol_mm) {
         for (at, w) in pending.into_iter().rev() {
             warnings.insert(at, w);
         }
     }
     if out.limits.enabled
         && !out.limits.binding.is_empty()
-        && out.roundtrip.max_deviation_mm > opts.tol_tip_mm
+        && out.roundtrip.max_deviation_mm > opts.tol_mm
     {
         warnings.push(format!(
             "the gear limits bind ({}): this is the closest design whose gears can be cut and run; `ncgear tradeoff` shows the deviation reached at other pressure-angle limits and modules",
@@ -286,7 +286,7 @@ fn start_warnings(
     noise_sigma: f64,
     warnings: &mut Vec<String>,
 ) {
-    if let Some(h) = start_smoothing.filter(|_| opts.smoothing.is_none()) {
+    if let Some(h) = start_smoothing.filter(|_| opts.smooth.is_none()) {
         warnings.push(format!(
             "measured points (estimated noise σ = {noise_sigma:.4} mm): the start of the design was taken from the loop smoothed to {h} harmonics; the gears are fitted to the points as read"
         ));

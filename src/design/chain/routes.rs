@@ -174,7 +174,7 @@ fn patent_route(
         if better {
             patent = Some((m, dev, k));
         }
-        if dev <= opts.tol_tip_mm {
+        if dev <= opts.tol_mm {
             break;
         }
     }

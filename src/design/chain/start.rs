@@ -24,7 +24,7 @@ pub(in crate::design) fn invert_for_start(
         o.law_harmonics = o.law_harmonics.or(Some(h / 2));
         inverse::invert(&traj.smoothed(h), opts.center_mm, &o)
     };
-    if let Some(h) = opts.smoothing {
+    if let Some(h) = opts.smooth {
         return Ok((smoothed(h)?, Some(h)));
     }
     let raw = inverse::invert(traj, opts.center_mm, &opts.inverse);

@@ -19,11 +19,11 @@ pub fn fit_with_restarts(
     start: &Mechanism,
     restarts: Vec<Mechanism>,
     fit_opts: &FitOptions,
-    tol_tip_mm: f64,
+    tol_mm: f64,
 ) -> Result<Fitted, FitError> {
     let f = fit_points(points, start, fit_opts)?;
     let noise = fit_opts.noise_sigma_mm;
-    if f.max_mm <= tol_tip_mm || f.rms_mm <= 2.0 * noise {
+    if f.max_mm <= tol_mm || f.rms_mm <= 2.0 * noise {
         return Ok(f);
     }
     let measured = noise > MEASURED_NOISE_MM;

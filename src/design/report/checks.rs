@@ -44,7 +44,7 @@ pub(in crate::design) fn finish(
     opts: &DesignOptions,
     warnings: &mut Vec<String>,
 ) -> Result<Finished, DesignError> {
-    let n = opts.curve_samples;
+    let n = opts.samples;
     let sign = f64::from(inv.direction);
     let assembly = Assembly::from_mechanism(&mech, opts.center_mm, inv.direction, n)?;
     let (sun, mid, planet) = (
@@ -230,12 +230,12 @@ fn geometry_checks(
         0.0
     };
     let effective = g.effective_pressure_angle_rad(alpha);
-    let limit_deg = opts.pressure_angle_limit_rad.to_degrees();
+    let limit_deg = opts.max_pressure_angle_rad.to_degrees();
     let concave_limit = opts.concave_radius_limit_mm();
     let convex_limit = opts.convex_radius_limit_mm();
     let tightest_concave = g.tightest_concave_mm();
     let compat_mm = compat.residual_rad * mech.l3_mm;
-    let tol = opts.tol_tip_mm;
+    let tol = opts.tol_mm;
     let (gap, gap_limit) = (mech.sun_planet_gap_mm(), opts.sun_planet_gap_mm());
     #[rustfmt::skip]
     let checks = vec![
@@ -261,7 +261,7 @@ fn geometry_checks(
         check("C9", format!("concave arcs: tightest concave radius of curvature of the sun, intermediate and planet, mm (∞/null = convex; concave fraction {:.3}), at least the smallest shaper cutter's pitch radius", cs.concave_fraction.max(cm.concave_fraction)),
             tightest_concave, concave_limit, tightest_concave >= concave_limit),
         check("C10", "max effective pressure angle α + max|atan(r_θ/r)|, deg".into(),
-            effective.to_degrees(), limit_deg, effective <= opts.pressure_angle_limit_rad),
+            effective.to_degrees(), limit_deg, effective <= opts.max_pressure_angle_rad),
         check("C11", "compatibility l3·E_c, mm (report)".into(),
             compat_mm, tol, true),
         check("C12", c12_name, c12_value, tol, c12_value <= tol),
@@ -320,10 +320,7 @@ fn limits_summary(
 ) -> LimitsSummary {
     let limits = opts.limits();
     let [lo, hi] = limits.ratio_bounds();
-    let (pa_max, r_min) = (
-        opts.pressure_angle_limit_rad,
-        opts.concave_radius_limit_mm(),
-    );
+    let (pa_max, r_min) = (opts.max_pressure_angle_rad, opts.concave_radius_limit_mm());
     let near = |v: f64, limit: f64| (v - limit).abs() <= 0.01 * limit;
     let binding = [
         ("pressure angle", near(pressure_angle_rad, pa_max)),

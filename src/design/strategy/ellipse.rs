@@ -34,12 +34,12 @@ pub(in crate::design) type Build<'a> = &'a (dyn Fn(SunRatio) -> (Mechanism, f64)
 pub(in crate::design) fn from_an_ellipse(
     points: &[Point],
     build: Build<'_>,
-    tol_tip_mm: f64,
+    tol_mm: f64,
     opts: &FitOptions,
     f: fit::Fitted,
 ) -> fit::Fitted {
     let clean = opts.noise_sigma_mm <= fit::MEASURED_NOISE_MM;
-    if !clean || f.max_mm <= tol_tip_mm {
+    if !clean || f.max_mm <= tol_mm {
         return f;
     }
     let score = |g: &fit::Fitted| g.max_mm.max(g.coverage_mm);

@@ -14,7 +14,7 @@ use crate::design::trajectory::Trajectory;
 use crate::geometry::fourier::SunRatio;
 use crate::geometry::mechanism::Mechanism;
 
-/// The fit aims at this fraction of `tol_tip_mm` on the points, and runs (refine auto) when the
+/// The fit aims at this fraction of `tol_mm` on the points, and runs (refine auto) when the
 /// chain's result is farther: room for the table rebuild and for the curve between the points.
 pub(in crate::design) const FIT_TOL_FRACTION: f64 = 0.2;
 
@@ -61,7 +61,7 @@ pub(in crate::design) fn fit_stage(
             RefineMode::Auto => {
                 start_smoothing.is_some()
                     || !admissible(&mech)
-                    || start_max > FIT_TOL_FRACTION * opts.tol_tip_mm
+                    || start_max > FIT_TOL_FRACTION * opts.tol_mm
             }
         };
     let kept = |summary| FitStage {
@@ -104,12 +104,12 @@ pub(in crate::design) fn fit_stage(
                 })
         })
         .collect();
-    let f = fit::fit_with_restarts(&points, &mech, restarts, &fit_opts, opts.tol_tip_mm)
+    let f = fit::fit_with_restarts(&points, &mech, restarts, &fit_opts, opts.tol_mm)
         .map_err(|e| DesignError::Internal(e.to_string()))?;
     let f = from_an_ellipse(
         &points,
         &|r| trains.build(r, tau),
-        opts.tol_tip_mm,
+        opts.tol_mm,
         &fit_opts,
         f,
     );
@@ -155,7 +155,7 @@ pub(in crate::design) fn fit_options(trains: &ArmTrains, noise_sigma: f64) -> Fi
     FitOptions {
         order: opts.order,
         limits: trains.limits,
-        tol_mm: FIT_TOL_FRACTION * opts.tol_tip_mm,
+        tol_mm: FIT_TOL_FRACTION * opts.tol_mm,
         noise_sigma_mm: noise_sigma,
         // At Auto, the free design a module design starts from leaves the line too
         // ([`IdlerOffset::Auto`]).

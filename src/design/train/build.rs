@@ -158,16 +158,14 @@ fn design_staged(
 }
 
 /// The tip tolerance the design was judged against (check C12's limit), mm; the default
-/// `tol_tip_mm` when the report has no C12.
+/// `tol_mm` when the report has no C12.
 fn design_tolerance_mm(design: &Design) -> f64 {
     design
         .report
         .checks
         .iter()
         .find(|c| c.id == "C12")
-        .map_or(crate::design::DesignOptions::default().tol_tip_mm, |c| {
-            c.limit
-        })
+        .map_or(crate::design::DesignOptions::default().tol_mm, |c| c.limit)
 }
 
 /// Teeth on the train `asm` (world frame), its options checked by the caller: the layout scaled

@@ -39,7 +39,7 @@ use mesh::{MeshGear, MeshSample};
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
-use summary::summarise;
+use summary::summarize;
 use tooth_form::{Flank, GearTeeth};
 
 /// `[material]` as written: a preset, and any of its values replaced.
@@ -526,7 +526,7 @@ pub fn rate(
         ("sun_intermediate", [0usize, 1usize], m1),
         ("intermediate_planet", [1, 2], m2),
     ];
-    let report = summarise(&rated, turn, opts, m, machine);
+    let report = summarize(&rated, turn, opts, m, machine);
     let meshes = rated.map(|(_, pair, mr)| {
         let [a, b] = mr.root_mpa;
         RatedSeries {

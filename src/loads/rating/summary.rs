@@ -18,7 +18,7 @@ const NAMES: [&str; 3] = ["sun", "intermediate", "planet"];
 pub(super) type RatedMesh = (&'static str, [usize; 2], MeshRating);
 
 /// The rating report of both meshes.
-pub(super) fn summarise(
+pub(super) fn summarize(
     rated: &[RatedMesh; 2],
     turn: &TrainTurn,
     opts: &RatingOptions,

@@ -713,7 +713,7 @@ function init() {
   $("open-poses").addEventListener("change", (e) => { if (e.target.files[0]) openPoses(e.target.files[0]); e.target.value = ""; });
   $("load-work").addEventListener("change", (e) => { if (e.target.files[0]) loadWork(e.target.files[0]); e.target.value = ""; });
   $("example").addEventListener("change", (e) => openExample(e.target.value));
-  $("optimise").addEventListener("click", () => redesign(false));
+  $("optimize").addEventListener("click", () => redesign(false));
   $("cancel").addEventListener("click", () => {
     if (state.controller) { state.controller.abort(); state.controller = null; }
     setStatus("ready");

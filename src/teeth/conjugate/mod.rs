@@ -137,7 +137,7 @@ pub(super) fn generate_swept(
         f.contact_ratio_loss = 0.0;
         f.form_depth_mm = f.flank_depth_mm;
     }
-    undercut.summarise();
+    undercut.summarize();
     Ok((
         Outline {
             points_mm,

@@ -39,7 +39,7 @@ fn ellipse_mechanism(e: f64) -> Mechanism {
 fn quick() -> DesignOptions {
     DesignOptions::default()
         .with_check_samples(512)
-        .with_curve_samples(720)
+        .with_samples(720)
         .with_gear_limits(false)
 }
 
@@ -239,7 +239,7 @@ fn non_finite_design_options_are_typed_errors() {
     let setters: [(&str, Setter); 11] = [
         ("center x", |o, v| o.center_mm.x = v),
         ("center y", |o, v| o.center_mm.y = v),
-        ("tol_tip_mm", |o, v| o.tol_tip_mm = v),
+        ("tol_mm", |o, v| o.tol_mm = v),
         ("tol_relative", |o, v| o.inverse.tol_relative = v),
         ("w1", |o, v| o.segmented.w1 = v),
         ("tol_j", |o, v| o.segmented.tol_j = v),
@@ -247,7 +247,7 @@ fn non_finite_design_options_are_typed_errors() {
         ("ratio hi", |o, v| o.refine_options.ratio_bounds[1] = v),
         ("smoothness", |o, v| o.refine_options.smoothness = v),
         ("pressure angle", |o, v| o.pressure_angle_rad = v),
-        ("pressure limit", |o, v| o.pressure_angle_limit_rad = v),
+        ("pressure limit", |o, v| o.max_pressure_angle_rad = v),
     ];
     for (name, set) in setters {
         for v in [f64::NAN, f64::INFINITY, f64::NEG_INFINITY] {
