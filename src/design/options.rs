@@ -76,7 +76,10 @@ pub const SUN_PLANET_GAP_MODULES: f64 = 2.25;
 /// assert_eq!(serde_json::from_str::<DesignOptions>(&json).unwrap(), o);
 /// let partial: DesignOptions = serde_json::from_str(r#"{"tol_mm": 0.1, "module_mm": 2.0}"#).unwrap();
 /// assert_eq!(partial, o);
-/// assert!(serde_json::from_str::<DesignOptions>(r#"{"tol_mm": 0.1}"#).is_err());
+/// // A renamed field still reads under its old name (`tol_tip_mm`, one layout version).
+/// let old: DesignOptions = serde_json::from_str(r#"{"tol_tip_mm": 0.1, "module_mm": 2.0}"#).unwrap();
+/// assert_eq!(old, o);
+/// assert!(serde_json::from_str::<DesignOptions>(r#"{"tolerance_mm": 0.1}"#).is_err());
 /// ```
 #[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize, schemars::JsonSchema)]
 #[serde(default, deny_unknown_fields)]
