@@ -16,8 +16,9 @@
 //! does not move.
 //!
 //! Hand-written rather than taken from a crate: argmin 0.11 has no Levenberg–Marquardt, and the
-//! `levenberg-marquardt` crate ends the run at the first residual it cannot evaluate, where these
-//! fits must reject the step and damp it. The design chain's fit keeps its own solver
+//! `levenberg-marquardt` crate (which the chain's refinement uses, its residuals always defined)
+//! ends the run at the first residual it cannot evaluate, where these fits must reject the step
+//! and damp it. The design chain's fit keeps its own solver
 //! (`design::fit::solver`): its trial steps re-project the points and go through the gear-limit
 //! continuation, which this small solver does not know.
 
@@ -54,7 +55,7 @@ impl<F: Fn(&[f64]) -> Option<DVector<f64>>> LeastSquares for Residuals<F> {
     }
 }
 
-/// Options of [`levenberg_marquardt`].
+/// Options of [`levenberg_marquardt()`].
 #[derive(Debug, Clone, Copy, PartialEq)]
 #[non_exhaustive]
 pub struct LmOptions {

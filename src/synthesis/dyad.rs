@@ -454,7 +454,7 @@ impl LeastSquares for ArmResiduals<'_> {
     }
 }
 
-/// Levenberg–Marquardt ([`levenberg_marquardt`]) on the arm's geometric residuals from
+/// Levenberg–Marquardt ([`levenberg_marquardt()`]) on the arm's geometric residuals from
 /// `x = [Ox, Oy, l1, l3]`; with `center_fixed` O stays. Stops at a step of `opts.accuracy_mm`.
 fn refine(
     poses: &[Pose],

@@ -3,10 +3,10 @@
 
 pub mod alternatives;
 pub(in crate::design) mod redesign;
-pub(in crate::design) mod routes;
+pub(in crate::design) mod train_routes;
 pub(in crate::design) mod start;
 
-use crate::design::chain::routes::{Chain, chain_routes};
+use crate::design::chain::train_routes::{Chain, chain_routes};
 use crate::design::chain::start::invert_for_start;
 use crate::design::error::DesignError;
 use crate::design::fit::noise;
