@@ -3,11 +3,11 @@
 
 pub mod alternatives;
 pub(in crate::design) mod redesign;
-pub(in crate::design) mod train_routes;
 pub(in crate::design) mod start;
+pub(in crate::design) mod train_routes;
 
-use crate::design::chain::train_routes::{Chain, chain_routes};
 use crate::design::chain::start::invert_for_start;
+use crate::design::chain::train_routes::{Chain, chain_routes};
 use crate::design::error::DesignError;
 use crate::design::fit::noise;
 use crate::design::inverse::Inversion;
