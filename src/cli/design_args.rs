@@ -142,7 +142,7 @@ fn parse_units(s: &str) -> Result<DrawingUnits, String> {
 #[derive(Debug, Clone, clap::Args)]
 pub struct GearArgs {
     /// Gear limits as constraints of the design: on (default) keeps every pitch curve within
-    /// --max-pressure-angle and --min-concave-radius and the ratio within --ratio-bounds; off
+    /// --max-pressure-angle and --min-concave-radius and the sun ratio within its bounds (`ncgear design --ratio-bounds`); off
     /// keeps only the ratio bounds (research: the closest path whatever the gears; C9 and C10
     /// are still checked).
     #[arg(long, value_enum, default_value = "on")]
