@@ -44,7 +44,7 @@ fn designer_with_refinement(b: divan::Bencher) {
 #[divan::bench(args = [("g1_ellipse.csv", true), ("g1_ellipse.csv", false), ("designer_kidney.csv", true), ("designer_kidney.csv", false)], sample_count = 5)]
 fn gear_limits_cost(b: divan::Bencher, (name, limits): (&str, bool)) {
     let t = load(name);
-    let opts = DesignOptions::default().with_gear_limits(limits);
+    let opts = DesignOptions::default().with_limits(limits);
     b.bench(|| design(divan::black_box(&t), &opts).expect("design"));
 }
 

@@ -384,7 +384,7 @@ def simulate(
 def tolerance(errors: PathLike, *, samples: int = 0, seed: int = 1, starts: int = 24) -> ToleranceReport:
     """``ncgear tolerance`` on an error file: the fields of ``tolerance.json``. ``samples`` > 0
     adds a Monte Carlo of that many random assemblies (seed ``seed``); ``starts``: starts of the
-    joint phase optimiser."""
+    joint phase optimizer."""
     r = _ncgear.tolerance(os.fspath(errors), samples, seed, starts)
     return build(ToleranceReport, r.tree())
 

@@ -974,8 +974,8 @@ class TradeOffRow:
     message that refused it (``refused``)."""
 
     label: str
-    pressure_angle_limit_deg: Optional[float]
-    concave_radius_limit_mm: Optional[float]
+    max_pressure_angle_deg: Optional[float]
+    min_concave_radius_mm: Optional[float]
     module_mm: Optional[float]
     is_default: bool
     off_line: bool

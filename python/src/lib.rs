@@ -412,7 +412,7 @@ fn forward_for_spacing(spacing_mm: f64, rpm: f64) -> f64 {
 }
 
 /// `ncgear tolerance` on an error file: `tolerance.json`. `samples` 0: no Monte Carlo; `seed`
-/// its seed; `starts` the joint optimiser's starts.
+/// its seed; `starts` the joint optimizer's starts.
 #[pyfunction]
 #[pyo3(signature = (path, samples, seed, starts))]
 fn tolerance(path: &str, samples: usize, seed: u64, starts: usize) -> PyResult<Report> {

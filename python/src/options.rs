@@ -97,7 +97,7 @@ impl DesignArgs {
             .with_tol_mm(self.tol_mm)
             .with_refine(refine)
             .with_refine_order(self.refine_order)
-            .with_fit_to_points(self.fit)
+            .with_fit(self.fit)
             .with_smooth(self.smooth)
             .with_segmented(
                 d.segmented
@@ -117,7 +117,7 @@ impl DesignArgs {
                 d.refine_options
                     .with_ratio_bounds([self.ratio_bounds.0, self.ratio_bounds.1]),
             )
-            .with_gear_limits(self.limits)
+            .with_limits(self.limits)
             .with_max_pressure_angle_rad(self.max_pressure_angle.to_radians())
             .with_min_concave_radius_mm(self.concave_radius()?)
             .with_min_convex_radius_mm(self.min_convex_radius)

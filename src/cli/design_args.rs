@@ -172,7 +172,7 @@ pub struct GearArgs {
 impl GearArgs {
     /// `opts` with these limits and this idler layout.
     pub fn apply(&self, opts: DesignOptions) -> DesignOptions {
-        opts.with_gear_limits(self.limits == LimitsArg::On)
+        opts.with_limits(self.limits == LimitsArg::On)
             .with_max_pressure_angle_rad(self.max_pressure_angle.to_radians())
             .with_min_concave_radius_mm(self.min_concave_radius_mm())
             .with_min_convex_radius_mm(self.min_convex_radius)
@@ -329,7 +329,7 @@ impl Args {
             .with_tol_mm(args.tol_mm)
             .with_refine(refine)
             .with_refine_order(args.refine_order)
-            .with_fit_to_points(!args.no_fit)
+            .with_fit(!args.no_fit)
             .with_smooth(args.smooth)
             .with_segmented(
                 defaults

@@ -26,7 +26,7 @@ pub struct Args {
     /// Seed of the Monte Carlo.
     #[arg(long, default_value_t = 1)]
     pub seed: u64,
-    /// Starts of the joint phase / assembly optimiser (1..=1000).
+    /// Starts of the joint phase / assembly optimizer (1..=1000).
     #[arg(long, default_value_t = 24, value_parser = super::count_in(1, 1000))]
     pub starts: usize,
     /// Transplanter: exact-model samples for the agronomic-feature distributions (0: skip;

@@ -79,6 +79,8 @@ pub const SUN_PLANET_GAP_MODULES: f64 = 2.25;
 /// // A renamed field still reads under its old name (`tol_tip_mm`, one layout version).
 /// let old: DesignOptions = serde_json::from_str(r#"{"tol_tip_mm": 0.1, "module_mm": 2.0}"#).unwrap();
 /// assert_eq!(old, o);
+/// let old: DesignOptions = serde_json::from_str(r#"{"gear_limits": false, "fit_to_points": false}"#).unwrap();
+/// assert_eq!(old, DesignOptions::default().with_limits(false).with_fit(false));
 /// assert!(serde_json::from_str::<DesignOptions>(r#"{"tolerance_mm": 0.1}"#).is_err());
 /// ```
 #[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize, schemars::JsonSchema)]
@@ -107,7 +109,9 @@ pub struct DesignOptions {
     /// Fit every parameter to the points as the last stage ([`crate::design::fit`]), when the chain's
     /// result is not within 0.2·`tol_mm` of them, leaves the ratio bounds, or came from smoothed
     /// points (default true). Off: the chain's result (patent route, or docs/math/chain.md §8.3 with `refine: On`).
-    pub fit_to_points: bool,
+    /// Read under its old name `fit_to_points` too (one layout version).
+    #[serde(alias = "fit_to_points")]
+    pub fit: bool,
     /// Refinement knobs (ratio bounds are shared with check C6 and the fit). Default
     /// [`RefineOptions::default`].
     pub refine_options: RefineOptions,
@@ -128,8 +132,9 @@ pub struct DesignOptions {
     /// `max_pressure_angle_rad`, every concave arc no tighter than the concave-radius limit,
     /// the sun ratio within its bounds — constraints of every stage that chooses the curves
     /// ([`crate::geometry::limits`]). False: the ratio bounds alone (research use; C9 and C10
-    /// are still checked).
-    pub gear_limits: bool,
+    /// are still checked). Read under its old name `gear_limits` too (one layout version).
+    #[serde(alias = "gear_limits")]
+    pub limits: bool,
     /// Smallest admissible concave radius of curvature of a pitch curve, mm (C9). Default
     /// `None`: 12.5·m at module `m` ([`Self::module_mm`], [`SMALLEST_CUTTER_RADIUS_MODULES`]),
     /// 10 mm without one ([`DEFAULT_MIN_CONCAVE_RADIUS_MM`]).
@@ -148,7 +153,7 @@ pub struct DesignOptions {
     /// smoothness. Default [`FitOptions::default`]. Its order, tolerance, noise level, limits and
     /// perimeter are the chain's: set from `order`, `tol_mm`, the points, the gear limits
     /// and the module.
-    pub fit: FitOptions,
+    pub fit_options: FitOptions,
     /// When the design fails its verification, design its nearest alternative too (the other
     /// idler layout, else a looser pressure-angle limit, else the next smaller module: one more
     /// design) and name it in the report ([`crate::design::chain::alternatives`]). Default false (a
@@ -165,19 +170,19 @@ crate::builder::with_fields!(DesignOptions {
     with_order => order: Option<usize>,
     with_tol_mm => tol_mm: f64,
     with_refine => refine: RefineMode,
-    with_fit_to_points => fit_to_points: bool,
+    with_fit => fit: bool,
     with_refine_options => refine_options: RefineOptions,
     with_refine_order => refine_order: usize,
     with_samples => samples: usize,
     with_check_samples => check_samples: usize,
     with_pressure_angle_rad => pressure_angle_rad: f64,
     with_max_pressure_angle_rad => max_pressure_angle_rad: f64,
-    with_gear_limits => gear_limits: bool,
+    with_limits => limits: bool,
     with_min_concave_radius_mm => min_concave_radius_mm: Option<f64>,
     with_min_convex_radius_mm => min_convex_radius_mm: Option<f64>,
     with_module_mm => module_mm: Option<f64>,
     with_idler_offset => idler_offset: IdlerOffset,
-    with_fit => fit: FitOptions,
+    with_fit_options => fit_options: FitOptions,
     with_alternatives => alternatives: bool,
 });
 
@@ -208,7 +213,7 @@ impl DesignOptions {
     /// The concave-radius limit in force, mm: `min_concave_radius_mm`, or 12.5·m at
     /// `module_mm`, or 10 mm.
     #[must_use]
-    pub fn concave_radius_limit_mm(&self) -> f64 {
+    pub fn min_concave_radius_in_force_mm(&self) -> f64 {
         self.min_concave_radius_mm.unwrap_or(
             self.module_mm.map_or(DEFAULT_MIN_CONCAVE_RADIUS_MM, |m| {
                 SMALLEST_CUTTER_RADIUS_MODULES * m
@@ -219,7 +224,7 @@ impl DesignOptions {
     /// The convex-radius limit in force, mm: `min_convex_radius_mm`, or 7·m at `module_mm`;
     /// `None` without either.
     #[must_use]
-    pub fn convex_radius_limit_mm(&self) -> Option<f64> {
+    pub fn min_convex_radius_in_force_mm(&self) -> Option<f64> {
         self.min_convex_radius_mm
             .or(self.module_mm.map(|m| UNDERCUT_RADIUS_MODULES * m))
     }
@@ -231,19 +236,19 @@ impl DesignOptions {
         self.module_mm.map_or(0.0, |m| SUN_PLANET_GAP_MODULES * m)
     }
 
-    /// The gear limits the chain designs within ([`Self::gear_limits`]); the options must be
-    /// valid (as [`crate::design::design`] checks first).
+    /// The gear limits in force: all of them with [`Self::limits`], the ratio bounds alone
+    /// without. The options must be valid (as [`crate::design::design`] checks first).
     #[must_use]
-    pub fn limits(&self) -> GearLimits {
+    pub fn limits_in_force(&self) -> GearLimits {
         let bounds = self.refine_options.ratio_bounds;
-        let limits = if self.gear_limits {
+        let limits = if self.limits {
             GearLimits::new(
                 bounds,
                 self.pressure_angle_rad,
                 self.max_pressure_angle_rad,
-                self.concave_radius_limit_mm(),
+                self.min_concave_radius_in_force_mm(),
             )
-            .and_then(|l| match self.convex_radius_limit_mm() {
+            .and_then(|l| match self.min_convex_radius_in_force_mm() {
                 Some(r) => l.with_min_convex_radius(r),
                 None => Ok(l),
             })
@@ -264,19 +269,19 @@ impl Default for DesignOptions {
             order: None,
             tol_mm: 0.05,
             refine: RefineMode::Auto,
-            fit_to_points: true,
+            fit: true,
             refine_options: RefineOptions::default(),
             refine_order: 12,
             samples: 3600,
             check_samples: 2048,
             pressure_angle_rad: 20f64.to_radians(),
             max_pressure_angle_rad: 45f64.to_radians(),
-            gear_limits: true,
+            limits: true,
             min_concave_radius_mm: None,
             min_convex_radius_mm: None,
             module_mm: None,
             idler_offset: IdlerOffset::Auto,
-            fit: FitOptions::default(),
+            fit_options: FitOptions::default(),
             alternatives: false,
         }
     }
@@ -477,27 +482,27 @@ fn stage_rules(opts: &DesignOptions) -> [Rule; 12] {
 fn fit_rules(opts: &DesignOptions) -> [Rule; 4] {
     [
         (
-            (1..=64).contains(&opts.fit.max_order),
-            "fit.max_order",
-            opts.fit.max_order.to_string(),
+            (1..=64).contains(&opts.fit_options.max_order),
+            "fit_options.max_order",
+            opts.fit_options.max_order.to_string(),
             "an integer in 1..=64",
         ),
         (
-            (1..=10_000).contains(&opts.fit.max_iterations),
-            "fit.max_iterations",
-            opts.fit.max_iterations.to_string(),
+            (1..=10_000).contains(&opts.fit_options.max_iterations),
+            "fit_options.max_iterations",
+            opts.fit_options.max_iterations.to_string(),
             "1..=10000 iterations per order",
         ),
         (
-            (16..=100_000).contains(&opts.fit.max_points),
-            "fit.max_points",
-            opts.fit.max_points.to_string(),
+            (16..=100_000).contains(&opts.fit_options.max_points),
+            "fit_options.max_points",
+            opts.fit_options.max_points.to_string(),
             "16..=100000 points driving the iterations",
         ),
         (
-            opts.fit.smoothness.is_finite() && opts.fit.smoothness >= 0.0,
-            "fit.smoothness",
-            opts.fit.smoothness.to_string(),
+            opts.fit_options.smoothness.is_finite() && opts.fit_options.smoothness >= 0.0,
+            "fit_options.smoothness",
+            opts.fit_options.smoothness.to_string(),
             "a finite weight ≥ 0",
         ),
     ]

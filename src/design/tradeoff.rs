@@ -1,6 +1,6 @@
 //! What accuracy costs: the same target designed under a ladder of gear limits and modules.
 //!
-//! The gear limits ([`DesignOptions::gear_limits`]) trade the design's deviation from the target
+//! The gear limits ([`DesignOptions::limits`]) trade the design's deviation from the target
 //! for gears that can be cut and run: a looser pressure-angle limit lets the pitch curves bend
 //! more and the tip come closer; a larger module needs a larger cutter (a larger smallest concave
 //! radius) and an integer tooth count. [`trade_off`] runs one full [`design`] per rung — the
@@ -66,10 +66,14 @@ pub struct TradeOff {
 pub struct TradeOffRow {
     /// What was varied: `"pressure angle ≤ 35°"`, `"no limits"`, `"module 2 mm"`.
     pub label: String,
-    /// Pressure-angle limit, degrees; `None`: no gear limits (the ratio bounds alone).
-    pub pressure_angle_limit_deg: Option<f64>,
-    /// Concave-radius limit in force, mm; `None` without gear limits.
-    pub concave_radius_limit_mm: Option<f64>,
+    /// Pressure-angle limit, degrees; `None`: no gear limits (the ratio bounds alone). Read
+    /// under its old name `pressure_angle_limit_deg` too (one layout version).
+    #[serde(alias = "pressure_angle_limit_deg")]
+    pub max_pressure_angle_deg: Option<f64>,
+    /// Concave-radius limit in force, mm; `None` without gear limits. Read under its old name
+    /// `concave_radius_limit_mm` too (one layout version).
+    #[serde(alias = "concave_radius_limit_mm")]
+    pub min_concave_radius_mm: Option<f64>,
     /// Module the design was made for, mm.
     pub module_mm: Option<f64>,
     /// Whether this row is the default design (`ncgear design` with its defaults).
@@ -151,23 +155,23 @@ pub fn trade_off(
     let mut rungs: Vec<(String, DesignOptions)> = Vec::new();
     for deg in PRESSURE_ANGLE_LIMITS_DEG {
         let mut o = base.clone();
-        o.gear_limits = true;
+        o.limits = true;
         o.module_mm = None;
         o.max_pressure_angle_rad = deg.to_radians();
         rungs.push((format!("pressure angle ≤ {deg}°"), o));
     }
     let mut unlimited = base.clone();
-    unlimited.gear_limits = false;
+    unlimited.limits = false;
     unlimited.module_mm = None;
     rungs.push(("no limits".into(), unlimited));
     let mut off_line = base.clone();
-    off_line.gear_limits = true;
+    off_line.limits = true;
     off_line.module_mm = None;
     off_line.idler_offset = IdlerOffset::Free;
     rungs.push(("intermediate axis off the line".into(), off_line));
     for m in MODULES_MM {
         let mut o = base.clone();
-        o.gear_limits = true;
+        o.limits = true;
         o.module_mm = Some(m);
         rungs.push((format!("module {m} mm"), o));
     }
@@ -202,10 +206,10 @@ pub fn trade_off(
         .zip(results)
         .map(|((label, o), (r, ms))| TradeOffRow {
             label,
-            pressure_angle_limit_deg: o.gear_limits.then(|| o.max_pressure_angle_rad.to_degrees()),
-            concave_radius_limit_mm: o.gear_limits.then(|| o.concave_radius_limit_mm()),
+            max_pressure_angle_deg: o.limits.then(|| o.max_pressure_angle_rad.to_degrees()),
+            min_concave_radius_mm: o.limits.then(|| o.min_concave_radius_in_force_mm()),
             module_mm: o.module_mm,
-            is_default: o.gear_limits
+            is_default: o.limits
                 && o.module_mm.is_none()
                 && o.idler_offset != IdlerOffset::Free
                 && o.max_pressure_angle_rad == default_default.max_pressure_angle_rad,
@@ -219,7 +223,11 @@ pub fn trade_off(
         })
         .collect();
     let rows = flag_closer_tighter(rows);
-    let exact_needs = exact_needs(&rows, default_limit_deg, base.concave_radius_limit_mm());
+    let exact_needs = exact_needs(
+        &rows,
+        default_limit_deg,
+        base.min_concave_radius_in_force_mm(),
+    );
     Ok(TradeOff {
         points: traj.points().len(),
         center_mm: base.center_mm,
@@ -241,8 +249,8 @@ fn flag_closer_tighter(mut rows: Vec<TradeOffRow>) -> Vec<TradeOffRow> {
         .filter(|(_, r)| r.module_mm.is_none() && !r.off_line)
         .filter_map(|(k, r)| {
             let dev = r.numbers()?.max_deviation_mm;
-            Some(match r.pressure_angle_limit_deg {
-                Some(limit) => (k, limit, Some(r.concave_radius_limit_mm?), dev),
+            Some(match r.max_pressure_angle_deg {
+                Some(limit) => (k, limit, Some(r.min_concave_radius_mm?), dev),
                 None => (k, f64::INFINITY, None, dev),
             })
         })
@@ -261,7 +269,7 @@ fn flag_closer_tighter(mut rows: Vec<TradeOffRow>) -> Vec<TradeOffRow> {
 fn exact_needs(rows: &[TradeOffRow], limit_deg: f64, radius_mm: f64) -> Option<ExactNeeds> {
     let free = rows
         .iter()
-        .find(|r| r.pressure_angle_limit_deg.is_none())?
+        .find(|r| r.max_pressure_angle_deg.is_none())?
         .numbers()?;
     let too_tight = free.tightest_concave_radius_mm.filter(|&r| r < radius_mm);
     let too_steep = free.pressure_angle_deg > limit_deg;
@@ -362,7 +370,7 @@ impl TradeOff {
         }
         for r in &self.rows {
             if let (Some(by), Some(n)) = (&r.closer_tighter_design, r.numbers()) {
-                let within = match r.pressure_angle_limit_deg {
+                let within = match r.max_pressure_angle_deg {
                     Some(_) => format!("is within the `{}` limits too and", r.label),
                     None => "is".into(),
                 };
@@ -413,8 +421,8 @@ mod tests {
     fn row(label: &str, limit_deg: Option<f64>, dev_mm: f64, pa_deg: f64) -> TradeOffRow {
         TradeOffRow {
             label: label.into(),
-            pressure_angle_limit_deg: limit_deg,
-            concave_radius_limit_mm: limit_deg.map(|_| 10.0),
+            max_pressure_angle_deg: limit_deg,
+            min_concave_radius_mm: limit_deg.map(|_| 10.0),
             module_mm: None,
             is_default: limit_deg == Some(45.0),
             off_line: false,

@@ -97,7 +97,7 @@ impl SunRatio {
         Ok(s)
     }
 
-    /// Builds a series without the positivity check (for optimisers that penalise bounds
+    /// Builds a series without the positivity check (for optimizers that penalise bounds
     /// themselves). Lengths must match; non-finite values are replaced by 0.
     #[must_use]
     pub fn new_unchecked(mut a: Vec<f64>, mut b: Vec<f64>) -> Self {

@@ -38,9 +38,9 @@ pub fn tradeoff_plot(t: &TradeOff, path: &Path) -> Result<(), OutputError> {
             .collect()
     };
     let limited =
-        designed(|r| r.module_mm.is_none() && r.pressure_angle_limit_deg.is_some() && !r.off_line);
+        designed(|r| r.module_mm.is_none() && r.max_pressure_angle_deg.is_some() && !r.off_line);
     let off_line = designed(|r| r.off_line);
-    let free = designed(|r| r.pressure_angle_limit_deg.is_none());
+    let free = designed(|r| r.max_pressure_angle_deg.is_none());
     let modules = designed(|r| r.module_mm.is_some());
     let default = designed(|r| r.is_default);
     let all_dev: Vec<f64> = t
@@ -59,7 +59,7 @@ pub fn tradeoff_plot(t: &TradeOff, path: &Path) -> Result<(), OutputError> {
             .iter()
             .map(|(r, n)| {
                 (
-                    r.pressure_angle_limit_deg.unwrap_or(f64::NAN),
+                    r.max_pressure_angle_deg.unwrap_or(f64::NAN),
                     n.max_deviation_mm,
                 )
             })
@@ -86,7 +86,7 @@ pub fn tradeoff_plot(t: &TradeOff, path: &Path) -> Result<(), OutputError> {
             .collect(),
     )];
     if let Some((r, n)) = default.first() {
-        let x = r.pressure_angle_limit_deg.unwrap_or(f64::NAN);
+        let x = r.max_pressure_angle_deg.unwrap_or(f64::NAN);
         angle.push(Series::line(
             format!("default ({x}°): {:.3} mm", n.max_deviation_mm),
             vec![(x, lo), (x, hi)],

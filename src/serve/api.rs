@@ -88,7 +88,7 @@ impl Options {
                 ));
             }
         };
-        let gear_limits = match self.limits.as_deref() {
+        let limits_on = match self.limits.as_deref() {
             None | Some("on") => true,
             Some("off") => false,
             Some(v) => {
@@ -126,7 +126,7 @@ impl Options {
             .with_order(self.order)
             .with_tol_mm(self.tol_mm.unwrap_or(d.tol_mm))
             .with_refine(refine)
-            .with_gear_limits(gear_limits)
+            .with_limits(limits_on)
             .with_max_pressure_angle_rad(
                 self.max_pressure_angle
                     .map_or(d.max_pressure_angle_rad, f64::to_radians),

@@ -409,7 +409,7 @@ fn designer_style_target_patent_route_versus_refinement() {
     // docs/math/chain.md §8.3 on request: still better than the patent route, within 1.5× of its best 3.82 mm.
     let on = DesignOptions::default()
         .with_refine(RefineMode::On)
-        .with_fit_to_points(false);
+        .with_fit(false);
     let d = design(&t, &on).unwrap();
     let refined = d
         .report
@@ -608,22 +608,23 @@ fn design_options_round_trip_through_json_and_every_knob_reaches_the_chain() {
         .with_module_mm(Some(2.0))
         .with_refine(RefineMode::Off)
         .with_inverse(InverseOptions::default().with_sense(Some(-1)))
-        .with_fit(FitOptions::default().with_max_order(6));
+        .with_fit_options(FitOptions::default().with_max_order(6));
     let json = serde_json::to_string(&o).unwrap();
     assert_eq!(serde_json::from_str::<DesignOptions>(&json).unwrap(), o);
     let partial: DesignOptions = serde_json::from_str(
         r#"{"tol_mm": 0.1, "module_mm": 2.0, "refine": "off",
-            "inverse": {"sense": -1}, "fit": {"max_order": 6}}"#,
+            "inverse": {"sense": -1}, "fit_options": {"max_order": 6}}"#,
     )
     .unwrap();
     assert_eq!(partial, o);
-    let err = serde_json::from_str::<DesignOptions>(r#"{"fit": {"max_ordre": 6}}"#).unwrap_err();
+    let err =
+        serde_json::from_str::<DesignOptions>(r#"{"fit_options": {"max_ordre": 6}}"#).unwrap_err();
     assert!(err.to_string().contains("max_ordre"), "{err}");
     // The fit's knobs are checked and reach the fit: its highest order caps the design's.
-    let bad = DesignOptions::default().with_fit(FitOptions::default().with_max_points(3));
+    let bad = DesignOptions::default().with_fit_options(FitOptions::default().with_max_points(3));
     let e = bad.validate().unwrap_err().to_string();
     assert!(
-        e.contains("fit.max_points") && e.contains("16..=100000"),
+        e.contains("fit_options.max_points") && e.contains("16..=100000"),
         "{e}"
     );
     let path = concat!(
@@ -632,7 +633,7 @@ fn design_options_round_trip_through_json_and_every_knob_reaches_the_chain() {
     );
     let traj = Trajectory::from_path(std::path::Path::new(path)).unwrap();
     let free = design(&traj, &DesignOptions::default()).unwrap();
-    let capped = DesignOptions::default().with_fit(FitOptions::default().with_max_order(4));
+    let capped = DesignOptions::default().with_fit_options(FitOptions::default().with_max_order(4));
     let low = design(&traj, &capped).unwrap();
     assert_eq!(free.report.chosen, "fit");
     assert!(

@@ -173,7 +173,7 @@ fn ratios_beyond_the_bounds_are_designed_within_them() {
     );
     // With the fit off the patent route's ratio is made admissible too (shrunk into the bounds
     // and the gear limits): a design within them, farther from the target than the fit's.
-    let patent = design(&t, &opts.with_fit_to_points(false)).unwrap();
+    let patent = design(&t, &opts.with_fit(false)).unwrap();
     let [lo, hi] = patent.report.fourier.i21_range;
     assert!(lo >= 0.6 && hi <= 1.7, "{lo} {hi}");
     assert!(patent.report.roundtrip.max_deviation_mm > dev);

@@ -85,7 +85,7 @@ fn designer_kidney_is_designed_within_the_limits_at_a_small_cost() {
     let t = traj("assets/trajectories/designer_kidney.csv");
     let d = design(&t, &DesignOptions::default()).unwrap();
     assert_within(&d, 10.0, "designer_kidney");
-    let off = DesignOptions::default().with_gear_limits(false);
+    let off = DesignOptions::default().with_limits(false);
     let free = design(&t, &off).unwrap();
     let (dev, free_dev) = (
         d.report.roundtrip.max_deviation_mm,
@@ -151,7 +151,7 @@ fn a_tighter_pressure_angle_limit_is_obeyed_and_costs_path() {
         assert!(table_quality(&g.pitch).0 <= 35.0);
     }
     // The 35° design is admissible at 45°: the 45° design must be at least as close (within
-    // 2 %, the optimiser's stopping tolerance on a landscape with many basins).
+    // 2 %, the optimizer's stopping tolerance on a landscape with many basins).
     assert!(
         loose.report.roundtrip.max_deviation_mm <= 1.02 * tight.report.roundtrip.max_deviation_mm,
         "{} vs {}",
@@ -183,8 +183,8 @@ fn a_design_for_the_module_has_perimeter_z_pi_m_and_its_teeth_trace_the_stated_p
         );
     }
     assert!(d.report.roundtrip.max_deviation_mm <= 0.05);
-    assert_within(&d, o.concave_radius_limit_mm(), "g1 m1.5");
-    assert_eq!(o.concave_radius_limit_mm(), 18.75);
+    assert_within(&d, o.min_concave_radius_in_force_mm(), "g1 m1.5");
+    assert_eq!(o.min_concave_radius_in_force_mm(), 18.75);
     let mut to = TrainTeethOptions::new(1.5).with_policy(TrainPolicy::Designed);
     to.toothing.verify_steps = 0;
     let t = tooth_train(&d, &to).unwrap();
@@ -301,7 +301,7 @@ fn measured_points_at_a_module_get_the_minimax_finish() {
 #[test]
 fn a_design_for_the_module_stays_above_the_undercut_radius_and_meshes() {
     let o = DesignOptions::default().with_module_mm(Some(1.5));
-    assert_eq!(o.convex_radius_limit_mm(), Some(10.5));
+    assert_eq!(o.min_convex_radius_in_force_mm(), Some(10.5));
     let d = design(&traj("assets/cases/designer_odd3.csv"), &o).unwrap();
     let g = &d.report.gears;
     for (name, gear) in [
@@ -320,11 +320,11 @@ fn a_design_for_the_module_stays_above_the_undercut_radius_and_meshes() {
     }
     let c8 = d.report.checks.iter().find(|c| c.id == "C8").unwrap();
     assert!(c8.pass && c8.limit == 10.5, "{c8:?}");
-    assert_within(&d, o.concave_radius_limit_mm(), "odd3 m1.5");
+    assert_within(&d, o.min_concave_radius_in_force_mm(), "odd3 m1.5");
     toothed_cleanly(&d, 1.5, 36);
     // Without a module there is no undercut limit: C8 only reports.
     let free = DesignOptions::default();
-    assert_eq!(free.convex_radius_limit_mm(), None);
+    assert_eq!(free.min_convex_radius_in_force_mm(), None);
 }
 
 /// The designed policy refuses a design made for no module, naming the remedy; a module that

@@ -335,7 +335,7 @@ fn concave_shaper_cut_gears_are_rated_as_internal_pairs() {
     let d = design(
         &t,
         &DesignOptions::default()
-            .with_gear_limits(false)
+            .with_limits(false)
             .with_module_mm(Some(1.0)),
     )
     .unwrap();

@@ -243,7 +243,7 @@ fn the_timing_of_g1_poses_passes_every_pose() {
             let d = (phi.to_degrees() - t - turn + 180.0).rem_euclid(360.0) - 180.0;
             assert!(d.abs() < 1e-6, "{phi} vs {t}");
         }
-        let limits = ncgear::DesignOptions::default().limits();
+        let limits = ncgear::DesignOptions::default().limits_in_force();
         let timing = fit_timing(
             &poses,
             &arms[0],

@@ -120,7 +120,7 @@ fn greedy_joint_and_bounds_are_ordered() {
     // docs/math/companion.md §C.4: the joint optimum over all phases is 47.2806.
     // docs/math/companion.md §C.4 reports a joint optimum of 47.2806 at (βs, βpi, βI2) = (1.446, 5.958, 4.650); the
     // certified peak there is 47.280968 (checked independently with numpy on a 2e-6 s grid). The
-    // multistart optimiser must do at least as well; it finds 47.2724 (numpy: 47.272377).
+    // multistart optimizer must do at least as well; it finds 47.2724 (numpy: 47.272377).
     assert!((a.peak(&[1.446, 5.958, 4.650], None).value - 47.280968).abs() < 1e-5);
     assert!(joint.peak_um <= 47.2806 + 1e-6, "{}", joint.peak_um);
     assert!((a.peak(&joint.betas_rad, None).value - joint.peak_um).abs() < 1e-12);

@@ -81,7 +81,7 @@ fn tradeoff_on_the_designer_kidney() {
 
     // Every limited row within its pressure-angle limit; the module rows have their teeth.
     for r in rows {
-        if let Some(limit) = r["pressure_angle_limit_deg"].as_f64() {
+        if let Some(limit) = r["max_pressure_angle_deg"].as_f64() {
             let pa = r["designed"]["pressure_angle_deg"].as_f64().unwrap();
             assert!(pa <= limit, "{}: {pa}° > {limit}°", r["label"]);
         }
@@ -89,7 +89,7 @@ fn tradeoff_on_the_designer_kidney() {
             assert!(r["designed"]["teeth"].as_u64().unwrap() >= 8, "{r}");
         }
     }
-    assert!(rows[4]["pressure_angle_limit_deg"].is_null());
+    assert!(rows[4]["max_pressure_angle_deg"].is_null());
     let pa_free = rows[4]["designed"]["pressure_angle_deg"].as_f64().unwrap();
     assert!(pa_free > 50.0, "the unlimited kidney needs {pa_free}°");
 
@@ -146,7 +146,7 @@ fn tradeoff_on_the_designer_kidney() {
     // 2026-11-28); it is another layout, so no limit row is flagged against it.
     let off = &rows[5];
     assert_eq!(off["off_line"], true);
-    assert_eq!(off["pressure_angle_limit_deg"].as_f64(), Some(45.0));
+    assert_eq!(off["max_pressure_angle_deg"].as_f64(), Some(45.0));
     assert!(off["module_mm"].is_null());
     let eps = off["designed"]["idler_offset_deg"].as_f64().unwrap();
     assert!(eps.abs() > 1.0 && eps.abs() <= 30.0, "off-line ε = {eps}°");

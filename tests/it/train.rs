@@ -538,7 +538,7 @@ fn leaning_teeth_of_the_kidney_design_mesh_without_interference() {
     // The docs/math/chain.md §8.3 refined design (fixed l1, l3), as this test was built on.
     let refined = DesignOptions::default()
         .with_refine(ncgear::design::RefineMode::On)
-        .with_fit_to_points(false);
+        .with_fit(false);
     let d = design(&t, &refined).unwrap();
     let module_mm = 2.0;
     let mut opts = TrainTeethOptions::new(module_mm);

@@ -102,7 +102,7 @@ impl From<&Orbit> for OrbitSummary {
 }
 
 impl OrbitSummary {
-    /// The summarised orbit (exact: rebuilt from the Cartesian parts of Z±).
+    /// The summarized orbit (exact: rebuilt from the Cartesian parts of Z±).
     #[must_use]
     pub fn orbit(&self) -> Orbit {
         Orbit {

@@ -61,7 +61,7 @@ pub struct GreedyStep {
     pub ties: Vec<usize>,
 }
 
-/// Result of the joint optimiser.
+/// Result of the joint optimizer.
 #[derive(Debug, Clone, PartialEq, Serialize, schemars::JsonSchema)]
 pub struct Joint {
     /// Free-phase angles β, rad (assembly order of the free terms).
@@ -190,7 +190,7 @@ impl Analysis {
         steps
     }
 
-    /// Joint optimisation of all free phases: multistart Nelder–Mead from `starts` seeded points
+    /// Joint optimization of all free phases: multistart Nelder–Mead from `starts` seeded points
     /// (plus `extra_start`, e.g. the greedy angles).
     #[must_use]
     pub fn joint(&self, starts: usize, seed: u64, extra_start: Option<&[f64]>) -> Joint {

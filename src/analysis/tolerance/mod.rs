@@ -9,7 +9,7 @@
 //! - same-frequency terms add as phasors (docs/math/companion.md §C.2 eq. C-1); zero-frequency terms are constants `A sin φ`;
 //! - the peak of the sum is the **certified** peak over the common period ([`super::peak`]);
 //! - the paper's phase scan (n equal steps) and greedy sequential assembly (docs/math/companion.md §C.3), a joint
-//!   optimiser (multistart Nelder–Mead, argmin) for the gap to greedy;
+//!   optimizer (multistart Nelder–Mead, argmin) for the gap to greedy;
 //! - always reported: the certified peak, the sum-of-amplitudes bound `Σ|A_k|` and the
 //!   phase-independent floor `sqrt(D_min² + Σ_j B_j,min²/2)` (RMS over a period; `B_j,min` the
 //!   smallest phasor sum each frequency group can reach, `D_min` the smallest constant), which no

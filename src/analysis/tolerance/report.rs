@@ -16,9 +16,9 @@ pub struct ToleranceOptions {
     /// Monte Carlo of random assembly; `None` skips it (default: [`McOptions::default`], 50 000
     /// samples, seed 1, 60 bins).
     pub monte_carlo: Option<McOptions>,
-    /// Random starts of the joint optimiser, besides the greedy angles (default 24).
+    /// Random starts of the joint optimizer, besides the greedy angles (default 24).
     pub joint_starts: usize,
-    /// Seed of the joint optimiser's random starts (default 1).
+    /// Seed of the joint optimizer's random starts (default 1).
     pub joint_seed: u64,
     /// Accuracy of the certified peak (default [`PeakOptions::default`]).
     pub peak: PeakOptions,

@@ -54,7 +54,7 @@ pub const MAX_MC_SAMPLES: usize = 200_000;
 
 /// Runs the transplanter tolerance analysis of one arm of `asm` with the error inventory `inv`.
 /// `progress` hears the Monte Carlo samples: `opts.mc.samples` of the tip deviation, then as
-/// many of the optimiser's random assemblies when `inv` has a free eccentricity direction.
+/// many of the optimizer's random assemblies when `inv` has a free eccentricity direction.
 pub fn analyse(
     asm: &Assembly,
     inv: &Inventory,

@@ -29,7 +29,7 @@ pub struct TransplanterOptions {
     pub linear_tolerance: f64,
     /// Exact-model samples of the agronomic-feature distributions (0: skip; default 200).
     pub feature_samples: usize,
-    /// Random starts of the joint assembly optimiser (Nelder–Mead), besides the greedy directions
+    /// Random starts of the joint assembly optimizer (Nelder–Mead), besides the greedy directions
     /// (default 16).
     pub starts: usize,
     /// Finite-difference steps of the linear model (default [`FdSteps::default`]: 1 µm, 10 µrad;

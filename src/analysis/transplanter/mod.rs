@@ -6,7 +6,7 @@
 //! ([`model::ExactModel`]); a **linear sensitivity model** ([`model::LinearModel`]) is built from it
 //! by central finite differences on a φH grid, validated against the exact model at 3σ and used
 //! for a seeded Monte Carlo; the worst contributors are ranked and the free assembly choices
-//! (runout orientations) are optimised ([`analyse`]).
+//! (runout orientations) are optimized ([`analyse`]).
 //!
 //! ## Error inventory (16 coordinates, internal units mm and rad)
 //!

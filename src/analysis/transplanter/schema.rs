@@ -53,7 +53,7 @@ pub struct EccentricityError {
     #[serde(default)]
     pub sigma_um: Option<f64>,
     /// The direction is an assembly choice (bearing / bushing orientation): random in the Monte
-    /// Carlo of random assembly, optimised in the best assembly.
+    /// Carlo of random assembly, optimized in the best assembly.
     #[serde(default)]
     pub free_direction: bool,
     /// Number of keyed positions of a free direction (`γ = direction + 360°·i/n`); 0 = continuous.

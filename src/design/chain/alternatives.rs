@@ -33,7 +33,7 @@ fn candidates(opts: &DesignOptions, report: &DesignReport) -> Vec<(String, Strin
         ));
     }
     let limit_deg = opts.max_pressure_angle_rad.to_degrees();
-    if opts.gear_limits && report.limits.binding.iter().any(|b| b == "pressure angle") {
+    if opts.limits && report.limits.binding.iter().any(|b| b == "pressure angle") {
         let looser = (limit_deg + 5.0).round();
         out.push((
             format!("a pressure-angle limit of {looser}°"),

@@ -46,14 +46,14 @@ pub(in crate::design) fn design_from(
     let trains = ArmTrains {
         inv: &inv,
         opts,
-        limits: opts.limits(),
+        limits: opts.limits_in_force(),
     };
 
     let routes = chain_routes(&trains, &compat, n, &mut timings, &mut warnings)?;
     let (patent, refine_summary, mut pending) =
         (routes.patent, routes.refine_summary, routes.pending);
 
-    let (fitted, module, chosen) = fit_to_points(
+    let (fitted, module, chosen) = fit(
         traj,
         &trains,
         routes.chain,
@@ -144,7 +144,7 @@ pub(in crate::design) fn design_from(
 /// or a `warm` start designed for the same module, refitted at its tooth count directly), then,
 /// designing for a module, the tooth count a constraint of one more fit. Returns the fitted
 /// train, the module summary and the name of the stage that chose it.
-fn fit_to_points(
+fn fit(
     traj: &Trajectory,
     trains: &ArmTrains,
     chain: Chain,

@@ -76,7 +76,7 @@ pub(in crate::design) fn finish(
     let c12 = noise::c12_measure(sync, estimated, noise_sigma_mm);
     let checks = geometry_checks(&mech, &rebuilt, mesh, &g, opts, compat, c12);
     let (alpha, tightest_concave) = (opts.pressure_angle_rad, g.tightest_concave_mm());
-    if g.min_convexity_mm2() <= 0.0 && tightest_concave >= opts.concave_radius_limit_mm() {
+    if g.min_convexity_mm2() <= 0.0 && tightest_concave >= opts.min_concave_radius_in_force_mm() {
         warnings.push(format!(
             "a pitch curve is concave somewhere (tightest concave radius {tightest_concave:.2} mm): a rack cannot cut it; a shaper cutter of pitch radius below that radius is needed"
         ));
@@ -231,8 +231,8 @@ fn geometry_checks(
     };
     let effective = g.effective_pressure_angle_rad(alpha);
     let limit_deg = opts.max_pressure_angle_rad.to_degrees();
-    let concave_limit = opts.concave_radius_limit_mm();
-    let convex_limit = opts.convex_radius_limit_mm();
+    let concave_limit = opts.min_concave_radius_in_force_mm();
+    let convex_limit = opts.min_convex_radius_in_force_mm();
     let tightest_concave = g.tightest_concave_mm();
     let compat_mm = compat.residual_rad * mech.l3_mm;
     let tol = opts.tol_mm;
@@ -318,16 +318,19 @@ fn limits_summary(
     [tightest_concave_mm, tightest_convex_mm]: [f64; 2],
     ratio_range: [f64; 2],
 ) -> LimitsSummary {
-    let limits = opts.limits();
+    let limits = opts.limits_in_force();
     let [lo, hi] = limits.ratio_bounds();
-    let (pa_max, r_min) = (opts.max_pressure_angle_rad, opts.concave_radius_limit_mm());
+    let (pa_max, r_min) = (
+        opts.max_pressure_angle_rad,
+        opts.min_concave_radius_in_force_mm(),
+    );
     let near = |v: f64, limit: f64| (v - limit).abs() <= 0.01 * limit;
     let binding = [
         ("pressure angle", near(pressure_angle_rad, pa_max)),
         ("concave radius", near(tightest_concave_mm, r_min)),
         (
             "convex radius (undercut)",
-            opts.convex_radius_limit_mm()
+            opts.min_convex_radius_in_force_mm()
                 .is_some_and(|r| near(tightest_convex_mm, r)),
         ),
         (
@@ -343,7 +346,7 @@ fn limits_summary(
         enabled: limits.limits_gears(),
         max_pressure_angle_deg: pa_max.to_degrees(),
         min_concave_radius_mm: r_min,
-        min_convex_radius_mm: opts.convex_radius_limit_mm(),
+        min_convex_radius_mm: opts.min_convex_radius_in_force_mm(),
         ratio_bounds: [lo, hi],
         pressure_angle_deg: pressure_angle_rad.to_degrees(),
         tightest_concave_radius_mm: tightest_concave_mm

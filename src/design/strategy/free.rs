@@ -54,7 +54,7 @@ pub(in crate::design) fn fit_stage(
     let admissible = |m: &Mechanism| trains.limits.contains(&m.ratio, m.a_mm);
     let start = fit::measure(&points, &mech);
     let (start_max, start_rms) = (start.max_mm, start.rms_mm);
-    let run_fit = opts.fit_to_points
+    let run_fit = opts.fit
         && match opts.refine {
             RefineMode::Off => false,
             RefineMode::On => true,
@@ -162,6 +162,6 @@ pub(in crate::design) fn fit_options(trains: &ArmTrains, noise_sigma: f64) -> Fi
         free_idler_offset: opts.idler_offset == IdlerOffset::Free
             || (opts.idler_offset == IdlerOffset::Auto && opts.module_mm.is_some()),
         sun_planet_gap_mm: opts.sun_planet_gap_mm(),
-        ..opts.fit.clone()
+        ..opts.fit_options.clone()
     }
 }

@@ -89,7 +89,7 @@ pub fn synthesize(spec: &Spec, opts: &DesignOptions) -> Result<Synthesis, Synthe
         sense,
         fopts: &fopts,
         opts,
-        limits: opts.limits(),
+        limits: opts.limits_in_force(),
         bands: spec.targets.bands(),
     };
     let timings = stage.time_candidates(pick, kind == "family");
@@ -265,7 +265,7 @@ fn from_targets(
     let problem = TargetProblem {
         bands: spec.targets.bands(),
         features: fopts,
-        limits: opts.limits(),
+        limits: opts.limits_in_force(),
         center_mm,
         direction,
         l1_mm: spec.machine.l1_mm.unwrap_or(DEFAULT_L1_MM),

@@ -40,12 +40,12 @@ fn quick() -> DesignOptions {
     DesignOptions::default()
         .with_check_samples(512)
         .with_samples(720)
-        .with_gear_limits(false)
+        .with_limits(false)
 }
 
 /// Default options without the gear limits (exact reproduction of hard geometry).
 fn unlimited() -> DesignOptions {
-    DesignOptions::default().with_gear_limits(false)
+    DesignOptions::default().with_limits(false)
 }
 
 /// A random closed Fourier sun `1 + s·Σ(a_k cos kθ + b_k sin kθ)/max|Σ|`: its ratio spans

@@ -10,7 +10,7 @@
 //!
 //! The model is [`super::model`] (its own forward kinematics, a spline ratio instead of the chain's
 //! Fourier series); the limits are exact penalties on the 1024-sample grid, with small margins so
-//! that the optimum also passes the table check of [`super::limits_check`]. The optimiser is an
+//! that the optimum also passes the table check of [`super::limits_check`]. The optimizer is an
 //! adaptive Nelder–Mead ([`super::search`]), first on the power mean p = 8 of the distances, then on
 //! the largest distance with simplex restarts, from several starts.
 //!
@@ -29,7 +29,7 @@
 //!
 //! Each start is projected on the spline (least squares in log i) and its log-ratio shrunk
 //! (`c ← s·c`, bisection on s) until within the limits. The result is measured on 8192 carrier
-//! angles (exact Hausdorff distance to every point's polyline; the optimisation uses at most 1200
+//! angles (exact Hausdorff distance to every point's polyline; the optimization uses at most 1200
 //! evenly taken points on the target's side) and its pitch tables are checked independently.
 
 use super::limits_check::{GearQuality, Limits, gear_quality};
@@ -47,7 +47,7 @@ use rayon::prelude::*;
 use std::f64::consts::TAU;
 use std::time::Instant;
 
-/// Sun-angle samples of the model while optimising, and for the final measurement.
+/// Sun-angle samples of the model while optimizing, and for the final measurement.
 pub const GRID: usize = 1024;
 const FINE: usize = 8192;
 /// Spline control values of log i.
@@ -63,7 +63,7 @@ const PERTURBED: usize = 2;
 const EVALS_SMOOTH: usize = 3000;
 const EVALS_ROUND: usize = 3000;
 const ROUNDS: usize = 3;
-/// At most this many target points (evenly taken) drive the optimisation; all are measured.
+/// At most this many target points (evenly taken) drive the optimization; all are measured.
 /// (Fewer misses the worst point of sparse targets near their noses.)
 const MAX_POINTS: usize = 1200;
 
@@ -77,7 +77,7 @@ pub struct Reference {
     pub gears: [GearQuality; 3],
     /// i21 range.
     pub ratio_range: [f64; 2],
-    /// Optimised deviation (1024 carrier angles) reached from each start, mm.
+    /// Optimized deviation (1024 carrier angles) reached from each start, mm.
     pub per_start_mm: Vec<f64>,
     /// The reference train as a library `Mechanism` (ratio: Fourier order 64 of the spline).
     pub mechanism: Mechanism,
