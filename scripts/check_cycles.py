@@ -1,6 +1,7 @@
 #!/usr/bin/env python3
 """Import cycles between sibling modules of src/ (a `use` of crate:: or super:: paths outside
-tests): prints each cycle and exits 1 when there is one. The CLI (src/cli) is left out."""
+tests), and imports against the data flow of a folder whose rooms are stages (STAGES): prints
+each and exits 1 when there is one. The CLI (src/cli) is left out."""
 import os, re, sys
 root=os.path.join(os.path.dirname(os.path.abspath(__file__)), '..', 'src')
 mods={}
@@ -101,7 +102,18 @@ def find_cycles(adj):
                     seen.add((w,len(path)))
                     stack.append((w,path+[w]))
     return cyc
+# Folders whose rooms are stages in data-flow order: a room imports only rooms before it, so
+# that a walk of the data (and of the options it carries) never returns to a room it left.
+# `error` and `options` sit after the stages whose types they name, before those that read them.
+STAGES={'design': ['trajectory','inverse','hypothesis','fit','error','options','strategy',
+                   'train','report','chain','tradeoff']}
 found=False
+for parent,order in STAGES.items():
+    for a,b in sorted(g.get(parent,{}).items()):
+        for x in sorted(b):
+            if a in order and x in order and order.index(x)>order.index(a):
+                print(f"against the flow in `{parent}`: {a} imports {x}, a later stage "
+                      f"(order: {' -> '.join(order)})"); found=True
 for parent,adj in sorted(g.items()):
     adj={k:{x for x in v if x!=k} for k,v in adj.items()}
     cs=find_cycles(adj)

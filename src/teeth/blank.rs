@@ -1,8 +1,8 @@
 //! The gear blank: what every tooth-generation process reads — the pitch curve by arc length,
 //! the basic rack, the tooth count, the module and the outline options.
 use super::frame::ArcFrame;
-use super::outline::OutlineOptions;
 use super::{RackParams, TeethError};
+use serde::Serialize;
 
 /// A gear before its teeth are cut: `z` teeth of module `module_mm` on `frame`'s pitch curve,
 /// profiled by `rack`, placed, thinned and sampled by `opts`.
@@ -113,5 +113,61 @@ impl<'a> GearBlank<'a> {
             }
         }
         Ok(p)
+    }
+}
+
+/// Options of a [`GearBlank`]'s outline, whatever its [`super::Generation`]; the defaults are those of [`OutlineOptions::new`]`(0.0, 1e-3)`.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, serde::Deserialize, schemars::JsonSchema)]
+#[serde(default, deny_unknown_fields)]
+#[non_exhaustive]
+pub struct OutlineOptions {
+    /// Arc-length position of the centre of tooth 0, mm (the mating phase). Default 0.
+    pub phase_mm: f64,
+    /// Thinning of the left (smaller-s) flank, mm of arc on the pitch curve. Default 0.
+    pub thin_left_mm: f64,
+    /// Thinning of the right (larger-s) flank, mm of arc on the pitch curve. Default 0.
+    pub thin_right_mm: f64,
+    /// Maximum chord sag of the polyline, mm (estimated with a radius of curvature ≥ m on flanks,
+    /// root and tip, and ρf on fillets). Default 1e-3 (1e-3·m at m = 1 mm).
+    pub chord_tol_mm: f64,
+    /// Tooth pitch on the closed carrier of an open sector, mm: `Some(p)` places `z` teeth at
+    /// pitch `p` from the phase on (`z·p ≤ L`) and lets the last space absorb `L − z·p` (it is
+    /// trimmed away with the sector, see `pair::sector`). Default `None`: `p = L/z`, with
+    /// `L = zπm` required.
+    pub open_pitch_mm: Option<f64>,
+    /// Refuse a flank with undercut ([`TeethError::Undercut`], naming the largest module that
+    /// works) instead of cutting it as the rack does. Default `false`: undercut is cut (the
+    /// fillet trochoid trims the flank).
+    pub refuse_undercut: bool,
+}
+
+crate::builder::with_fields!(OutlineOptions {
+    with_phase_mm => phase_mm: f64,
+    with_thin_left_mm => thin_left_mm: f64,
+    with_thin_right_mm => thin_right_mm: f64,
+    with_chord_tol_mm => chord_tol_mm: f64,
+    with_open_pitch_mm => open_pitch_mm: Option<f64>,
+    with_refuse_undercut => refuse_undercut: bool,
+});
+
+impl OutlineOptions {
+    /// Options with tooth 0 at `phase_mm`, no backlash and chord tolerance `chord_tol_mm`.
+    #[must_use]
+    pub fn new(phase_mm: f64, chord_tol_mm: f64) -> Self {
+        Self {
+            phase_mm,
+            thin_left_mm: 0.0,
+            thin_right_mm: 0.0,
+            chord_tol_mm,
+            open_pitch_mm: None,
+            refuse_undercut: false,
+        }
+    }
+}
+
+impl Default for OutlineOptions {
+    /// Tooth 0 at arc length 0, no thinning, chord tolerance 1e-3 mm.
+    fn default() -> Self {
+        Self::new(0.0, 1e-3)
     }
 }

@@ -34,13 +34,15 @@ pub mod secondary;
 mod shape;
 mod shaper;
 pub mod tip_relief;
+mod undercut;
 
 pub use blank::GearBlank;
 pub use frame::ArcFrame;
 pub use generate::{Generated, Generation, generate};
 pub mod outline;
+pub use blank::OutlineOptions;
 pub use options::ToothingOptions;
-pub use outline::{Outline, OutlineOptions};
+pub use outline::Outline;
 pub use rack::RackParams;
 
 use crate::geometry::pitch::PitchCurve;
@@ -324,7 +326,7 @@ impl UndercutReport {
     }
 }
 
-pub use outline::undercut_report;
+pub use undercut::undercut_report;
 
 /// [`FlankUndercut`] as written (its `side` owned), checked when read.
 #[derive(Deserialize)]

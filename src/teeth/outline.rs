@@ -1,4 +1,4 @@
-//! Rack-envelope tooth outline (docs/math/teeth.md §12.3) and undercut report (docs/math/teeth.md §12.4).
+//! Rack-envelope tooth outline (docs/math/teeth.md §12.3); its undercut report (docs/math/teeth.md §12.4) is in `teeth::undercut`.
 //!
 //! For tooth k centred at `s_k = s0 + k·p` (p = πm), the right (larger-s) flank crosses the pitch
 //! curve at `s_r = s_k + p/4 − t_r` and the left at `s_l = s_k − p/4 + t_l` (`t_*` = thinning for
@@ -11,68 +11,13 @@
 //!   intersection with the flanks (2-D Newton).
 //!
 //! Each point maps to the body frame by `P(s) + (ξ − s)T(s) + ηN(s)`.
+use super::blank::OutlineOptions;
 use super::crossing::cut_loops;
-use super::frame::{ArcFrame, FramePoint};
-use super::{FlankUndercut, GearBlank, RackParams, TeethError, UndercutReport};
-use crate::geometry::pitch::PitchCurve;
+use super::frame::ArcFrame;
+use super::undercut::report_on;
+use super::{GearBlank, RackParams, TeethError, UndercutReport};
 use crate::math::Point;
 use serde::Serialize;
-
-/// Options of a [`GearBlank`]'s outline, whatever its [`super::Generation`]; the defaults are those of [`OutlineOptions::new`]`(0.0, 1e-3)`.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, serde::Deserialize, schemars::JsonSchema)]
-#[serde(default, deny_unknown_fields)]
-#[non_exhaustive]
-pub struct OutlineOptions {
-    /// Arc-length position of the centre of tooth 0, mm (the mating phase). Default 0.
-    pub phase_mm: f64,
-    /// Thinning of the left (smaller-s) flank, mm of arc on the pitch curve. Default 0.
-    pub thin_left_mm: f64,
-    /// Thinning of the right (larger-s) flank, mm of arc on the pitch curve. Default 0.
-    pub thin_right_mm: f64,
-    /// Maximum chord sag of the polyline, mm (estimated with a radius of curvature ≥ m on flanks,
-    /// root and tip, and ρf on fillets). Default 1e-3 (1e-3·m at m = 1 mm).
-    pub chord_tol_mm: f64,
-    /// Tooth pitch on the closed carrier of an open sector, mm: `Some(p)` places `z` teeth at
-    /// pitch `p` from the phase on (`z·p ≤ L`) and lets the last space absorb `L − z·p` (it is
-    /// trimmed away with the sector, see `pair::sector`). Default `None`: `p = L/z`, with
-    /// `L = zπm` required.
-    pub open_pitch_mm: Option<f64>,
-    /// Refuse a flank with undercut ([`TeethError::Undercut`], naming the largest module that
-    /// works) instead of cutting it as the rack does. Default `false`: undercut is cut (the
-    /// fillet trochoid trims the flank).
-    pub refuse_undercut: bool,
-}
-
-crate::builder::with_fields!(OutlineOptions {
-    with_phase_mm => phase_mm: f64,
-    with_thin_left_mm => thin_left_mm: f64,
-    with_thin_right_mm => thin_right_mm: f64,
-    with_chord_tol_mm => chord_tol_mm: f64,
-    with_open_pitch_mm => open_pitch_mm: Option<f64>,
-    with_refuse_undercut => refuse_undercut: bool,
-});
-
-impl OutlineOptions {
-    /// Options with tooth 0 at `phase_mm`, no backlash and chord tolerance `chord_tol_mm`.
-    #[must_use]
-    pub fn new(phase_mm: f64, chord_tol_mm: f64) -> Self {
-        Self {
-            phase_mm,
-            thin_left_mm: 0.0,
-            thin_right_mm: 0.0,
-            chord_tol_mm,
-            open_pitch_mm: None,
-            refuse_undercut: false,
-        }
-    }
-}
-
-impl Default for OutlineOptions {
-    /// Tooth 0 at arc length 0, no thinning, chord tolerance 1e-3 mm.
-    fn default() -> Self {
-        Self::new(0.0, 1e-3)
-    }
-}
 
 /// A generated gear outline: one simple closed CCW polyline in the gear body frame, mm
 /// (no duplicated end vertex).
@@ -331,105 +276,6 @@ pub(super) fn push_piece(
         out.push(f(from + (to - from) * k as f64 / n as f64));
     }
     n
-}
-
-/// Undercut and concavity report of a toothed pitch curve (docs/math/teeth.md §12.4).
-///
-/// For each flank the sign of `sin α + η κ(s)/sin α` (the envelope speed factor) is checked over
-/// the generating range below the pitch curve; a sign change is an undercut (cusp at depth
-/// `ρc·sin²α`). A flank whose generating range meets `κ < 0` is concave (cannot be rack-cut).
-pub fn undercut_report(
-    curve: &PitchCurve,
-    rack: &RackParams,
-    z: u32,
-    module_mm: f64,
-    opts: &OutlineOptions,
-) -> Result<UndercutReport, TeethError> {
-    let frame = ArcFrame::new(curve);
-    Ok(report_on(&GearBlank::new(
-        &frame, *rack, z, module_mm, *opts,
-    )))
-}
-
-pub(super) fn report_on(blank: &GearBlank<'_>) -> UndercutReport {
-    let (frame, rack, z, m, opts) = (
-        blank.frame,
-        &blank.rack,
-        blank.z,
-        blank.module_mm,
-        &blank.opts,
-    );
-    let p = opts
-        .open_pitch_mm
-        .unwrap_or(frame.length_mm() / f64::from(z));
-    let (sa, ca) = rack.alpha_rad().sin_cos();
-    let sc = sa * ca;
-    let hs = rack.straight_depth() * m;
-    let ha = rack.addendum() * m;
-    let mut flanks = Vec::with_capacity(2 * z as usize);
-    for k in 0..z as usize {
-        let sk = opts.phase_mm + k as f64 * p;
-        for (side, sign, sf) in [
-            ("left", -1.0, sk - 0.25 * p + opts.thin_left_mm),
-            ("right", 1.0, sk + 0.25 * p - opts.thin_right_mm),
-        ] {
-            let mut worst = f64::INFINITY;
-            let mut kmax = f64::NEG_INFINITY;
-            let mut kmin = f64::INFINITY;
-            let n = 48;
-            for j in 0..=n {
-                // η from +ha (tip) down to −hs
-                let eta = ha - (ha + hs) * j as f64 / n as f64;
-                let s = sf - sign * eta / sc;
-                let fp: FramePoint = frame.at(s);
-                kmax = kmax.max(fp.kappa);
-                kmin = kmin.min(fp.kappa);
-                if eta < 0.0 {
-                    worst = worst.min(sa + eta * fp.kappa / sa);
-                }
-            }
-            let rho = 1.0 / kmax;
-            let cusp = if kmax > 0.0 {
-                rho * sa * sa
-            } else {
-                f64::INFINITY
-            };
-            let undercut = worst < 0.0;
-            flanks.push(FlankUndercut {
-                tooth: k,
-                side,
-                s_mm: sf,
-                min_rho_mm: if kmin <= 0.0 { 1.0 / kmin } else { rho },
-                cusp_depth_mm: cusp,
-                flank_depth_mm: hs,
-                undercut,
-                undercut_mm: if undercut { (hs - cusp).max(0.0) } else { 0.0 },
-                concave: kmin <= 0.0,
-                form_depth_mm: hs,
-                contact_ratio_loss: 0.0,
-                root_thickness_mm: None,
-            });
-        }
-    }
-    let required = rack.undercut_limit_rho_mm(m);
-    let rho_convex = flanks
-        .iter()
-        .filter(|f| !f.concave)
-        .map(|f| f.min_rho_mm)
-        .fold(f64::INFINITY, f64::min);
-    let mut report = UndercutReport {
-        undercut_count: 0,
-        concave_count: 0,
-        min_rho_mm: f64::INFINITY,
-        required_rho_mm: required,
-        max_module_mm: m * rho_convex / required,
-        flanks,
-        max_undercut_mm: 0.0,
-        max_contact_ratio_loss: 0.0,
-        min_root_thickness_mm: None,
-    };
-    report.summarize();
-    report
 }
 
 /// The rack-generated outline of `blank`'s `z` teeth of module `module_mm`

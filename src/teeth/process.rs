@@ -6,9 +6,10 @@
 //! when every one undercuts, or the one forced — and otherwise no cutter: wire EDM or printing
 //! of the outline the mate sweeps ([`super::conjugate`]), when the mate is cut; alone, a typed
 //! error says so. Each is a [`super::Generation`] of [`super::generate`].
-use super::outline::{Outline, generate_on, generate_relieved_on, rack_tip_corners, report_on};
+use super::outline::{Outline, generate_on, generate_relieved_on, rack_tip_corners};
 use super::secondary::{SECONDARY_TOL, Spaces, secondary_cut_depth};
 use super::shaper::{Cutter, ShaperChecks, cutter_pitch_radius_mm, generate_shaper, tip_corners};
+use super::undercut::report_on;
 use super::{GearBlank, RackParams, TeethError, UndercutReport};
 use crate::math::Point;
 use serde::{Deserialize, Serialize};

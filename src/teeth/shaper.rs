@@ -57,12 +57,13 @@
 //! flank up to the tip) is walked with its loops cut ([`cut_loops`]), as the rack's undercut
 //! sides are; a pointed tooth is refused (the trimmed tip has no width). Secondary cutting by the
 //! cutter's other teeth is checked by the caller ([`super::secondary`]).
+use super::blank::OutlineOptions;
 use super::crossing::cut_loops;
 use super::frame::ArcFrame;
 use super::outline::{
-    Outline, OutlineOptions, chord_step_mm, close_outline, fillet_step_mm, meet, push_piece,
-    report_on, tooth_relief,
+    Outline, chord_step_mm, close_outline, fillet_step_mm, meet, push_piece, tooth_relief,
 };
+use super::undercut::report_on;
 use super::{GearBlank, RackParams, TeethError};
 use crate::math::Point;
 use std::f64::consts::PI;

@@ -29,8 +29,9 @@
 //! ends (the mesh verification then shows what is left). Relief only shortens a tip: the
 //! working flanks, the fillets and the mates are unchanged, so the meshes' checks are
 //! independent and one pass suffices.
+use super::blank::OutlineOptions;
 use super::mate_motion::MeshMotion;
-use super::outline::{Outline, OutlineOptions};
+use super::outline::Outline;
 use super::process::{GearProcess, tip_corners_as};
 use super::shape::Shape;
 use super::{GearBlank, Generation, TeethError, generate};

@@ -404,6 +404,17 @@ fn infeasible_specs_are_refused_by_name() {
     };
     let e = ncgear::synthesis::synthesize(&none, &ncgear::DesignOptions::default()).unwrap_err();
     assert!(e.to_string().contains("[[pose]]"), "{e}");
+    // The carrier axis is the synthesis's to set: a design option moving it is refused, not
+    // silently replaced by the arm's.
+    let spec: ncgear::synthesis::Spec = ncgear::config::load(&path).unwrap();
+    let moved = ncgear::DesignOptions::default().with_center_mm(Point::new(5.0, -3.0));
+    assert_ne!(spec.machine.center_mm, Some(moved.center_mm));
+    let e = ncgear::synthesis::synthesize(&spec, &moved).unwrap_err();
+    assert!(
+        e.to_string().contains("center_mm = [5, -3]")
+            && e.to_string().contains("machine.center_mm"),
+        "{e}"
+    );
     let v = ncgear::simulate::FeatureOptions::forward_for_spacing(110.0, 15.0);
     assert!((v - 55.0).abs() < 1e-12, "{v}");
 }

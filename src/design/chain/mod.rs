@@ -19,8 +19,8 @@ use crate::design::report::*;
 use crate::design::strategy::arms::ArmTrains;
 use crate::design::strategy::free::{FitStage, FitStart, fit_options, fit_stage};
 use crate::design::strategy::module::design_for_module;
-use crate::design::strategy::warm;
 use crate::design::trajectory::Trajectory;
+use crate::geometry::fourier::SunRatio;
 use crate::geometry::mechanism::Mechanism;
 use std::time::Instant;
 
@@ -229,12 +229,33 @@ fn warm_start(
     inv: &Inversion,
     opts: &DesignOptions,
 ) -> Option<(Mechanism, Option<crate::design::ModuleSummary>)> {
-    let m = warm::start_mechanism(r, inv.direction)?;
+    let m = start_mechanism(r, inv.direction)?;
     let module = r
         .module
         .as_ref()
         .filter(|s| Some(s.module_mm) == opts.module_mm);
     Some((m, module.cloned()))
+}
+
+/// The train of `report` in the solved frame of a target whose carrier turns `direction`
+/// (+1 CCW, −1 CW); `None` when the report's carrier sense differs or its ratio is not valid.
+fn start_mechanism(report: &DesignReport, direction: i8) -> Option<Mechanism> {
+    if report.carrier.direction != direction {
+        return None;
+    }
+    let f = &report.fourier;
+    let ratio = SunRatio::new(f.a.clone(), f.b.clone()).ok()?;
+    let sense = f64::from(direction);
+    let m = Mechanism {
+        a_mm: report.center_distance_mm,
+        l3_mm: report.l3_mm,
+        ratio,
+        // The report's angles are file-frame degrees: the solved angle times the sense.
+        sun_phase_rad: sense * f.sun_phase_deg.to_radians(),
+        needle_angle_rad: sense * report.needle_angle_deg.to_radians(),
+        idler_offset_rad: sense * report.idler_offset_deg.to_radians(),
+    };
+    (m.a_mm.is_finite() && m.a_mm > 0.0 && m.l3_mm.is_finite() && m.l3_mm > 0.0).then_some(m)
 }
 
 /// The sun ratio's range `[i_min, i_max]`, refused when it leaves the bounds.

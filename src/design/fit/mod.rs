@@ -55,10 +55,13 @@ use crate::math::Point;
 mod curve;
 mod restarts;
 mod solver;
+mod summary;
 
 /// Noise σ (mm) above which points count as measured: the start is then taken from a smoothed copy.
 pub const MEASURED_NOISE_MM: f64 = 0.002;
 pub use restarts::fit_with_restarts;
+pub use summary::FitSummary;
+pub(in crate::design) use summary::fit_summary;
 
 use crate::geometry::limits::GearLimits;
 use crate::geometry::mechanism::Mechanism;

@@ -3,6 +3,7 @@
 pub(in crate::design) mod checks;
 pub mod sizing;
 
+pub use crate::design::fit::FitSummary;
 use crate::design::inverse::Inversion;
 use crate::geometry::assembly::{Assembly, Rebuilt};
 use crate::geometry::mechanism::Mechanism;
@@ -337,31 +338,6 @@ pub struct RouteSummary {
     /// Deviation at each order tried (patent route, adaptive): `[K, mm]`.
     #[serde(skip_serializing_if = "Vec::is_empty", default)]
     pub order_scan: Vec<[f64; 2]>,
-}
-
-/// The orthogonal-distance fit ([`crate::design::fit`]): distances of the target points from the curve the
-/// fitted train traces (analytic model), mm.
-#[derive(Debug, Clone, Serialize, Deserialize, schemars::JsonSchema)]
-pub struct FitSummary {
-    /// Fourier order K of the fitted sun ratio.
-    pub order: usize,
-    /// RMS point distance, mm (≈ the noise σ on measured points).
-    pub rms_mm: f64,
-    /// Largest point distance, mm.
-    pub max_mm: f64,
-    /// RMS point distance of the start (the chain's result before the fit), mm.
-    pub start_rms_mm: f64,
-    /// Largest point distance of the start, mm.
-    pub start_max_mm: f64,
-    /// Noise σ estimated from the points alone (4th differences in the point index), mm.
-    pub noise_sigma_mm: f64,
-    /// Harmonics of the smoothed copy the start was taken from (measured points), if any.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub start_smoothing_harmonics: Option<usize>,
-    /// Levenberg–Marquardt iterations.
-    pub iterations: usize,
-    /// `[K, rms_mm, max_mm]` per order tried.
-    pub order_scan: Vec<[f64; 3]>,
 }
 
 /// The final ratio's Fourier coefficients.

@@ -4,9 +4,9 @@
 use crate::design::error::DesignError;
 use crate::design::fit;
 use crate::design::fit::FitOptions;
+use crate::design::fit::{FitSummary, fit_summary};
 use crate::design::hypothesis::segmented::Segmented;
 use crate::design::options::{IdlerOffset, RefineMode};
-use crate::design::report::FitSummary;
 use crate::design::strategy::arms::ArmTrains;
 use crate::design::strategy::ellipse::from_an_ellipse;
 use crate::design::strategy::warm;
@@ -124,27 +124,6 @@ pub(in crate::design) fn fit_stage(
         })
     } else {
         Ok(kept(Some(summary)))
-    }
-}
-
-/// The report of the fit `f` from a start `start_rms` / `start_max` mm from the points.
-pub(in crate::design) fn fit_summary(
-    f: &fit::Fitted,
-    start_rms: f64,
-    start_max: f64,
-    noise_sigma: f64,
-    start_smoothing: Option<usize>,
-) -> FitSummary {
-    FitSummary {
-        order: f.mechanism.ratio.order(),
-        rms_mm: f.rms_mm,
-        max_mm: f.max_mm,
-        start_rms_mm: start_rms,
-        start_max_mm: start_max,
-        noise_sigma_mm: noise_sigma,
-        start_smoothing_harmonics: start_smoothing,
-        iterations: f.iterations,
-        order_scan: f.order_scan.clone(),
     }
 }
 

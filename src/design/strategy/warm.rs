@@ -5,8 +5,6 @@
 //! towards the minimax fit on clean points (the full search runs 12).
 
 use crate::design::fit::{FitOptions, Fitted, MEASURED_NOISE_MM, fit_points, minimax_passes};
-use crate::design::report::DesignReport;
-use crate::geometry::fourier::SunRatio;
 use crate::geometry::mechanism::Mechanism;
 use crate::math::Point;
 use std::f64::consts::PI;
@@ -16,30 +14,6 @@ pub const WARM_ITERATIONS: usize = 20;
 
 /// Reweighting passes of the warm fit's minimax finish on clean points (the full search: 12).
 pub const WARM_MINIMAX_PASSES: usize = 2;
-
-/// The train of `report` in the solved frame of a target whose carrier turns `direction`
-/// (+1 CCW, −1 CW); `None` when the report's carrier sense differs or its ratio is not valid.
-pub(in crate::design) fn start_mechanism(
-    report: &DesignReport,
-    direction: i8,
-) -> Option<Mechanism> {
-    if report.carrier.direction != direction {
-        return None;
-    }
-    let f = &report.fourier;
-    let ratio = SunRatio::new(f.a.clone(), f.b.clone()).ok()?;
-    let sense = f64::from(direction);
-    let m = Mechanism {
-        a_mm: report.center_distance_mm,
-        l3_mm: report.l3_mm,
-        ratio,
-        // The report's angles are file-frame degrees: the solved angle times the sense.
-        sun_phase_rad: sense * f.sun_phase_deg.to_radians(),
-        needle_angle_rad: sense * report.needle_angle_deg.to_radians(),
-        idler_offset_rad: sense * report.idler_offset_deg.to_radians(),
-    };
-    (m.a_mm.is_finite() && m.a_mm > 0.0 && m.l3_mm.is_finite() && m.l3_mm > 0.0).then_some(m)
-}
 
 /// One fit of `points` (solved frame) from `start` at its order, under `base`'s limits; with
 /// `teeth` = `(z, m)` the perimeter is held at `zπm`.

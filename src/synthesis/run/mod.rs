@@ -58,7 +58,8 @@ pub const TIMING_ORDER: usize = 6;
 const TRACE_POINTS: usize = 720;
 
 /// Synthesises the mechanism and its gears for `spec`, the design chain run with `opts`
-/// (its `center_mm` is set from the arm).
+/// (its `center_mm` is set from the arm: leave it at the origin, or at the spec's
+/// `machine.center_mm`; another axis is refused rather than replaced).
 ///
 /// A spec without poses is synthesised from its target bands alone ([`super::targets`]).
 ///
@@ -68,6 +69,7 @@ pub fn synthesize(spec: &Spec, opts: &DesignOptions) -> Result<Synthesis, Synthe
     let (poses, tol_rad, sense, fopts) = checked(spec)?;
     opts.validate()
         .map_err(|e| SynthesisError::NoDesign(e.to_string()))?;
+    own_axis(spec, opts)?;
     if poses.is_empty() {
         return from_targets(spec, opts, sense, fopts);
     }
@@ -246,6 +248,23 @@ fn choose(tried: &[(Candidate, Option<Designed>)]) -> Option<usize> {
                 .then(ka.2.total_cmp(&kb.2))
         })
         .map(|(k, _)| k)
+}
+
+/// The design options' carrier axis is the synthesis's to set: one that is neither the origin
+/// (the default) nor the spec's `machine.center_mm` is refused, not silently replaced.
+fn own_axis(spec: &Spec, opts: &DesignOptions) -> Result<(), SynthesisError> {
+    let c = opts.center_mm;
+    if c == Point::new(0.0, 0.0) || spec.machine.center_mm == Some(c) {
+        return Ok(());
+    }
+    Err(SynthesisError::BadField {
+        field: "design option center_mm".into(),
+        value: format!("[{}, {}]", c.x, c.y),
+        expected: "the synthesis sets the carrier axis (the spec's machine.center_mm, or the \
+                   one it solves for): give the axis as machine.center_mm and leave this option \
+                   at its default"
+            .into(),
+    })
 }
 
 /// Candidates of the targets-only search handed to the design chain.

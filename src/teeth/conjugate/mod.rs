@@ -32,8 +32,9 @@
 //!
 //! Checks: every one of the `z` teeth keeps a stretch of its tip (a tooth consumed by the sweep —
 //! pointed — is an error); the narrowest tip is reported.
-use super::outline::{Outline, report_on};
+use super::outline::Outline;
 use super::shape::StarShape;
+use super::undercut::report_on;
 use super::{GearBlank, TeethError};
 use crate::geometry::pitch::PitchCurve;
 use crate::math::Point;
