@@ -6,7 +6,7 @@
 #   the same table
 #   assets/readme/loads.png                `ncgear loads assets/loads/g1_rotor.toml --png`
 #                                          (its overview.png: torques beside tooth stresses)
-# With --check, writes nothing and exits 1 when the committed table differs from a fresh run
+# With --check (CI), writes nothing and exits 1 when a committed table differs from a fresh run
 # (the table is deterministic; the header's date line is not compared).
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -38,7 +38,19 @@ if $check; then
     echo "$table is stale: run scripts/readme_figures.sh" >&2
     exit 1
   fi
-  echo "$table is current"
+  # The same table between the markers of README.md and docs/design.md.
+  python3 - "$tmp/tradeoff/tradeoff.md" <<'PY'
+import sys
+table = open(sys.argv[1]).read().strip()
+begin, end = "<!-- tradeoff:begin -->", "<!-- tradeoff:end -->"
+for path in ("README.md", "docs/design.md"):
+    text = open(path).read()
+    if begin not in text:
+        sys.exit(f"{path} has no tradeoff markers")
+    if text.split(begin, 1)[1].split(end, 1)[0].strip() != table:
+        sys.exit(f"{path}: the trade-off table is stale: run scripts/readme_figures.sh")
+PY
+  echo "$table, README.md and docs/design.md are current"
   exit 0
 fi
 cp "$tmp/table.md" "$table"

@@ -43,15 +43,6 @@ IDLER = ["auto", "collinear", "free"]
 SAFETY = {"S_H_min": 1.0, "S_F_min": 1.4}
 
 
-def feasible(df: pd.DataFrame) -> pd.DataFrame:
-    """The rows that meet every constraint of the problem."""
-    ok = df["error"].isna() & df["passed"].fillna(False).astype(bool)
-    ok &= df["targets_missed"].fillna(1).astype(float) <= 0
-    for c, v in SAFETY.items():
-        ok &= df[c].astype(float) >= v
-    return df[ok]
-
-
 def main() -> None:
     a = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     a.add_argument("out", nargs="?", default="out/pareto", help="output directory")
@@ -84,7 +75,7 @@ def main() -> None:
 
     every = pd.concat(problem.history, ignore_index=True)
     every.to_parquet(out / "evaluated.parquet")
-    good = feasible(every).drop_duplicates(subset=problem.names)
+    good = problem.feasible(every).drop_duplicates(subset=problem.names)
     X = np.atleast_2d(res.X) if res.X is not None else np.empty((0, len(problem.names)))
     chosen = pd.DataFrame(problem.points(X))[problem.names] if len(X) else None
     front = (good.merge(chosen.drop_duplicates(), on=problem.names, how="inner")

@@ -139,6 +139,9 @@ def test_the_pymoo_problem_and_the_pareto_example_at_a_small_size(client, tmp_pa
     assert out["F"].shape == (2, 2) and out["G"].shape == (2, 1)
     assert np.array_equal(out["F"][:, 0], df["deviation_max_mm"].to_numpy())
     assert np.array_equal(out["G"][:, 0], np.where(df["passed"], 0.0, 1.0))
+    # The rows it calls feasible are exactly those whose every g ≤ 0 (here: those that pass).
+    assert np.array_equal(p.constraints(df), out["G"])
+    assert list(p.feasible(df).index) == list(df.index[df["passed"].astype(bool)])
     with pytest.raises(ncgear.NcgearError, match=r"^'S_H_min': not a figure of job 'design'"):
         study.Problem("design", {"tol_mm": (0.01, 0.1)}, ["S_H_min"])
     c = study.Problem("design", {"module": [1.5, 2.0, 2.5], "idler_offset": ["auto", "free"]},

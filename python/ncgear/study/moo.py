@@ -105,6 +105,14 @@ class Problem(_PymooProblem):  # type: ignore[misc]
             sign = -1.0 if o.startswith("-") else 1.0
             F[:, j] = sign * df[o.lstrip("-")].astype(float).to_numpy()
         F[failed | ~np.isfinite(F).all(axis=1)] = PENALTY
+        out["F"] = F
+        if self.n_ieq_constr:
+            out["G"] = self.constraints(df)
+
+    def constraints(self, df: Any) -> np.ndarray:
+        """The constraint values g (≤ 0 when met) of a study table's rows, one column per
+        constraint in the order: the verdict, ``minimum``, ``maximum``; a failed row, or one
+        with a figure missing, has g = 1 throughout."""
         G = []
         if self.require_pass:
             G.append(np.where(df["passed"].fillna(False).astype(bool), 0.0, 1.0))
@@ -112,8 +120,11 @@ class Problem(_PymooProblem):  # type: ignore[misc]
             G.append(v - df[c].astype(float).to_numpy())
         for c, v in self.maximum.items():
             G.append(df[c].astype(float).to_numpy() - v)
-        out["F"] = F
-        if G:
-            g = np.column_stack(G)
-            g[failed | ~np.isfinite(g).all(axis=1)] = 1.0
-            out["G"] = g
+        g = np.column_stack(G) if G else np.zeros((len(df), 0))
+        failed = df["error"].notna().to_numpy()
+        g[failed | ~np.isfinite(g).all(axis=1)] = 1.0
+        return g
+
+    def feasible(self, df: Any) -> Any:
+        """The rows of a study table that meet every constraint (see :meth:`constraints`)."""
+        return df[(self.constraints(df) <= 0.0).all(axis=1)]
