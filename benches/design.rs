@@ -40,9 +40,9 @@ fn designer_with_refinement(b: divan::Bencher) {
 }
 
 /// What the gear limits cost in time: the full chain on G1 and on the designer kidney with the
-/// limits as constraints (default) and without (`gear_limits = false`).
+/// limits as constraints (default) and without (`limits = false`).
 #[divan::bench(args = [("g1_ellipse.csv", true), ("g1_ellipse.csv", false), ("designer_kidney.csv", true), ("designer_kidney.csv", false)], sample_count = 5)]
-fn gear_limits_cost(b: divan::Bencher, (name, limits): (&str, bool)) {
+fn limits_cost(b: divan::Bencher, (name, limits): (&str, bool)) {
     let t = load(name);
     let opts = DesignOptions::default().with_limits(limits);
     b.bench(|| design(divan::black_box(&t), &opts).expect("design"));
