@@ -33,40 +33,37 @@ bin=target/release/ncgear
   echo
   cat "$tmp/tradeoff/tradeoff.md"
 } >"$tmp/table.md"
-if $check; then
-  if ! diff <(grep -v '^<!-- date:' "$table") <(grep -v '^<!-- date:' "$tmp/table.md"); then
-    echo "$table is stale: run scripts/readme_figures.sh" >&2
-    exit 1
-  fi
-  # The same table between the markers of README.md and docs/design.md.
-  python3 - "$tmp/tradeoff/tradeoff.md" <<'PY'
+# The same table in README.md and docs/design.md, between their markers: written, or (check)
+# compared.
+embedded() {
+  python3 - "$1" "$tmp/tradeoff/tradeoff.md" <<'PY'
 import sys
-table = open(sys.argv[1]).read().strip()
-begin, end = "<!-- tradeoff:begin -->", "<!-- tradeoff:end -->"
-for path in ("README.md", "docs/design.md"):
-    text = open(path).read()
-    if begin not in text:
-        sys.exit(f"{path} has no tradeoff markers")
-    if text.split(begin, 1)[1].split(end, 1)[0].strip() != table:
-        sys.exit(f"{path}: the trade-off table is stale: run scripts/readme_figures.sh")
-PY
-  echo "$table, README.md and docs/design.md are current"
-  exit 0
-fi
-cp "$tmp/table.md" "$table"
-# The same table in README.md and docs/design.md, between their markers.
-python3 - "$tmp/tradeoff/tradeoff.md" <<'PY'
-import sys
-table = open(sys.argv[1]).read().strip()
+mode, table = sys.argv[1], open(sys.argv[2]).read().strip()
 begin, end = "<!-- tradeoff:begin -->", "<!-- tradeoff:end -->"
 for path in ("README.md", "docs/design.md"):
     text = open(path).read()
     if begin not in text:
         sys.exit(f"{path} has no tradeoff markers")
     head, rest = text.split(begin, 1)
-    _, tail = rest.split(end, 1)
-    open(path, "w").write(head + begin + "\n" + table + "\n" + end + tail)
+    old, tail = rest.split(end, 1)
+    if mode == "check":
+        if old.strip() != table:
+            sys.exit(f"{path}: the trade-off table is stale: run scripts/readme_figures.sh")
+    else:
+        open(path, "w").write(head + begin + "\n" + table + "\n" + end + tail)
 PY
+}
+if $check; then
+  if ! diff <(grep -v '^<!-- date:' "$table") <(grep -v '^<!-- date:' "$tmp/table.md"); then
+    echo "$table is stale: run scripts/readme_figures.sh" >&2
+    exit 1
+  fi
+  embedded check
+  echo "$table, README.md and docs/design.md are current"
+  exit 0
+fi
+cp "$tmp/table.md" "$table"
+embedded write
 # The kidney misses the 0.05 mm tolerance (C12, exit 3): the picture is of that design.
 "$bin" design "$traj" --out "$tmp/design" --png --accept-failed >/dev/null
 cp "$tmp/design/design.png" assets/readme/designer_kidney.png
