@@ -44,7 +44,7 @@ file design kidney/design.json
 run cw design design $t/asymmetric_cw.json --out "$out/cw" --json
 file design cw/design.json
 # A failed design: its nearest alternatives are written.
-run odd3 design design assets/cases/designer_odd3.csv --out "$out/odd3" --json
+run odd3 design design assets/cases/designer_odd3.csv --out "$out/odd3" --alternatives --json
 file design odd3/design.json
 run sized design design $t/g1_ellipse.csv --out "$out/sized" --module auto --loads assets/loads/rotor.toml --json
 file design sized/design.json

@@ -200,7 +200,7 @@ def design(
     smooth: Optional[int] = None,
     module: Optional[float] = None,
     idler_offset: Literal["auto", "collinear", "free"] = "auto",
-    alternatives: bool = True,
+    alternatives: bool = False,
 ) -> Design:
     """Designs the sun and intermediate gears whose train traces ``points`` (``ncgear design``).
 
@@ -230,7 +230,9 @@ def design(
       in every fit. The design's offset is ``Design.idler_offset_deg``.
     - ``alternatives``: when the design fails its verification, design its nearest alternative
       too (the other idler layout, else a looser pressure-angle limit, else a smaller module) and
-      name it in ``Design.alternatives`` and the warnings, as the CLI does (one more design).
+      name it in ``Design.alternatives`` and the warnings, as the CLI's ``--alternatives`` does:
+      one more design, about as long as this one. Without it a failed design names the
+      alternatives that apply in its warnings, not designed.
     """
     options = _options(locals(), "points")
     return _design_of(_ncgear.design(*_target(points), options))

@@ -240,11 +240,17 @@ def test_a_failed_verification_is_returned_with_its_verdict_and_the_cli_exits_3(
     assert p.returncode == 3 and "C12" in p.stderr
     written = json.loads((tmp_path / "k" / "design.json").read_text())
     assert written["verdict"] == d.to_dict()["verdict"]
-    # Both name what comes closer, designed: off the carrier line under the same limits.
-    assert written["alternatives"] == d.to_dict()["alternatives"]
-    (alt,) = d.alternatives
+    # Unasked, both name the alternatives that apply, not designed (no second design).
+    assert "alternatives" not in written and d.alternatives == ()
+    assert written["warnings"] == list(d.warnings)
+    assert "what may pass, not designed: off the carrier line" in p.stderr
+    # Asked, both name what comes closer, designed: off the carrier line, the same limits.
+    asked = ncgear.design(kidney, alternatives=True)
+    p = cli("design", kidney, "--out", tmp_path / "ka", "--alternatives", check=False)
+    written = json.loads((tmp_path / "ka" / "design.json").read_text())
+    assert written["alternatives"] == asked.to_dict()["alternatives"]
+    (alt,) = asked.alternatives
     assert isinstance(alt, reports.Alternative) and alt.flags == "--idler-offset free"
-    assert alt.max_deviation_mm < 0.1 < d.roundtrip.max_deviation_mm
+    assert alt.max_deviation_mm < 0.1 < asked.roundtrip.max_deviation_mm
     assert f"traced within {alt.max_deviation_mm:.4f} mm" in p.stderr
-    assert ncgear.design(kidney, alternatives=False).alternatives == ()
     assert cli("design", kidney, "--out", tmp_path / "k2", "--accept-failed").returncode == 0

@@ -79,7 +79,7 @@ pub fn run(args: Args) -> CliResult {
                 .map_err(|e| runtime_error(miette::miette!("{e}")))?,
         );
     }
-    let notes: Vec<String> = ncgear::design::chain::alternatives::nearest_note(&d.report)
+    let notes: Vec<String> = ncgear::design::chain::alternatives::failure_note(&opts, &d.report)
         .into_iter()
         .collect();
     if args.json {

@@ -269,6 +269,12 @@ pub struct Args {
     /// `verdict`); without it such a run writes its files and exits with code 3.
     #[arg(long)]
     pub accept_failed: bool,
+    /// When the design fails its verification, design its nearest alternative too (the other
+    /// idler layout, else a pressure-angle limit 5° looser, else the next smaller module) and
+    /// name it with its figure: one more design, about as long as this one. Without it a failed
+    /// design names the alternatives that apply, not designed.
+    #[arg(long)]
+    pub alternatives: bool,
     /// Module in mm: put rack-generated teeth on the three gears, verify both meshes and write
     /// the CAD files under OUT/teeth/ (the `teeth` block of design.json). `auto` with --loads:
     /// the smallest standard module whose teeth carry the scene's loads (the `sizing` table).
@@ -348,7 +354,7 @@ impl Args {
             )
             .with_samples(args.samples)
             .with_refine_options(defaults.refine_options.with_ratio_bounds(args.ratio_bounds))
-            .with_alternatives(true);
+            .with_alternatives(self.alternatives);
         let opts = args.gears.apply(opts);
         // --teeth or a scaling policy: the design is made without the module and scaled after;
         // the concave- and convex-radius limits still follow the module.

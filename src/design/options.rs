@@ -157,8 +157,9 @@ pub struct DesignOptions {
     /// When the design fails its verification, design its nearest alternative too (the other
     /// idler layout, else a looser pressure-angle limit, else the next smaller module: one more
     /// design) and name it in the report ([`crate::design::chain::alternatives`]). Default false (a
-    /// design inside a search, a sweep or a drag does not need it); the CLI and the Python
-    /// package turn it on.
+    /// design inside a search, a sweep or a drag does not need it, and it costs one more design):
+    /// unasked, a failed design names the alternatives that apply without designing them. The
+    /// CLI's `--alternatives`, Python's `alternatives=True`.
     pub alternatives: bool,
 }
 

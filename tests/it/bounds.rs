@@ -186,8 +186,34 @@ fn a_design_that_fails_a_check_exits_3_with_its_verdict() {
     let t = &report["timings_ms"];
     let (total, command) = (t["total"].as_f64().unwrap(), t["command"].as_f64().unwrap());
     assert!(command >= total && total > 0.0, "{t}");
-    // What would come closer is named with its figure, in design.json and in the failure, and
-    // the figure is what that design makes.
+    // Unasked, the alternatives that apply are named and not designed: no second design.
+    assert!(report.get("alternatives").is_none(), "{report}");
+    assert_eq!(t["alternatives"].as_f64().unwrap(), 0.0, "{t}");
+    let untried = "what may pass, not designed: off the carrier line, the same limits (--idler-offset free); a pressure-angle limit of 50° (--max-pressure-angle 50); --alternatives designs the first";
+    let failure = &err[err.find("verification failed").expect(&err)..];
+    assert!(failure.contains(untried), "{err}");
+    assert!(
+        report["warnings"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .any(|w| w.as_str().unwrap().starts_with(untried)),
+        "{report}"
+    );
+    // Asked (--alternatives), what would come closer is named with its figure, in design.json
+    // and in the failure, and the figure is what that design's own command makes.
+    let asked = out_dir("kidney_alternatives");
+    let (code, err) = run(&[
+        "design",
+        kidney.to_str().unwrap(),
+        "--alternatives",
+        "--out",
+        asked.to_str().unwrap(),
+    ]);
+    assert_eq!(code, Some(3), "{err}");
+    let report: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(asked.join("design.json")).unwrap()).unwrap();
+    assert!(report["timings_ms"]["alternatives"].as_f64().unwrap() > 0.0);
     let alt = &report["alternatives"][0];
     assert_eq!(alt["flags"], "--idler-offset free", "{alt}");
     let figure = alt["max_deviation_mm"].as_f64().unwrap();

@@ -128,6 +128,8 @@ pub(in crate::design) fn design_from(
             report.warnings.push(note);
         }
         report.timings_ms.alternatives = ms(t0);
+    } else if let Some(note) = crate::design::chain::alternatives::untried_note(opts, &report) {
+        report.warnings.push(note);
     }
     Ok(Design {
         report,
