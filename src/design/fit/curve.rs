@@ -2,6 +2,7 @@
 //! carrier angle, the projection of a point on the curve, the signed distance and its
 //! gradient in the design parameters (formulas in the [`crate::design::fit`] module doc).
 
+use crate::design::fit::scan::Samples;
 use crate::geometry::mechanism::{INVERSE_TOL_RAD, Mechanism};
 use crate::math::Point;
 use crate::math::polyline::SegmentGrid;
@@ -197,27 +198,12 @@ pub(super) fn initial_projections_on(
     pts: &[Point],
 ) -> Vec<(f64, TipEval)> {
     let n = curve.len();
+    let tips: Vec<Point> = curve.iter().map(|e| e.b).collect();
+    let samples = Samples::new(&tips);
     pts.par_iter()
         .map(|p| {
-            let d = |k: usize| {
-                let q = curve[k % n].b;
-                (q.x - p.x).powi(2) + (q.y - p.y).powi(2)
-            };
             // The CANDIDATES smallest local minima, in increasing distance.
-            let mut minima = [(f64::INFINITY, usize::MAX); CANDIDATES];
-            let (mut prev, mut cur) = (d(n - 1), d(0));
-            for k in 0..n {
-                let next = d(k + 1);
-                if cur <= prev && cur <= next && cur < minima[CANDIDATES - 1].0 {
-                    let at = minima
-                        .iter()
-                        .position(|m| cur < m.0)
-                        .unwrap_or(CANDIDATES - 1);
-                    minima.copy_within(at..CANDIDATES - 1, at + 1);
-                    minima[at] = (cur, k);
-                }
-                (prev, cur) = (cur, next);
-            }
+            let minima = samples.nearest_minima::<CANDIDATES>(*p);
             minima
                 .iter()
                 .filter(|m| m.1 != usize::MAX)

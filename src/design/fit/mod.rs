@@ -54,6 +54,7 @@ pub mod noise;
 use crate::math::Point;
 mod curve;
 mod restarts;
+mod scan;
 mod solver;
 mod summary;
 
