@@ -18,29 +18,43 @@ use super::grid::PeakGrid;
 
 /// The inverse of `x` modulo `m` (`gcd(x, m) = 1`, `m ≥ 1`; 0 for `m = 1`).
 fn inverse_mod(x: usize, m: usize) -> usize {
-    let (mut r0, mut r1) = (m as i128, (x % m) as i128);
-    let (mut t0, mut t1) = (0_i128, 1_i128);
+    let (mut r0, mut r1) = (m as i64, (x % m) as i64);
+    let (mut t0, mut t1) = (0_i64, 1_i64);
     while r1 != 0 {
         let k = r0 / r1;
         (r0, r1) = (r1, r0 - k * r1);
         (t0, t1) = (t1, t0 - k * t1);
     }
-    t0.rem_euclid(m as i128) as usize
+    t0.rem_euclid(m as i64) as usize
 }
 
-/// The smallest and largest of `values`.
-fn extremes<'a>(values: impl Iterator<Item = &'a f64>) -> (f64, f64) {
-    values.fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), &v| {
-        (if v < lo { v } else { lo }, if v > hi { v } else { hi })
-    })
+/// The smallest and largest value of every residue class modulo `g` of `values` (`g` divides
+/// its length): `(lo, hi)` with `lo[r] = min_i values[r + i·g]`.
+fn class_extremes(values: &[f64], g: usize) -> (Vec<f64>, Vec<f64>) {
+    let (mut lo, mut hi) = (values[..g].to_vec(), values[..g].to_vec());
+    for chunk in values.chunks_exact(g).skip(1) {
+        for ((l, h), &v) in lo.iter_mut().zip(hi.iter_mut()).zip(chunk) {
+            *l = if v < *l { v } else { *l };
+            *h = if v > *h { v } else { *h };
+        }
+    }
+    (lo, hi)
+}
+
+/// `i − 1` and `i + 1` modulo `m`.
+fn around(i: usize, m: usize) -> (usize, usize) {
+    (
+        if i == 0 { m - 1 } else { i - 1 },
+        if i + 1 == m { 0 } else { i + 1 },
+    )
 }
 
 impl PeakGrid {
     /// What [`PeakGrid::grid_pass`] returns — the best grid value and the candidate intervals
     /// (with repeats, in no order) — when the terms are the tabulated leading ones and one more,
     /// writing only the grid values of `f` that the candidates' bounds and refinement read (each
-    /// candidate interval's two ends). `None` when the terms are not of that form or some value
-    /// is not finite (the full pass then decides, as before).
+    /// candidate interval's two ends). `None` when the terms are not of that form or a
+    /// coefficient is so large that a sum could overflow (the full pass then decides, as before).
     pub(super) fn split_pass(
         &self,
         cs: &[f64],
@@ -49,7 +63,10 @@ impl PeakGrid {
         f: &mut [f64],
     ) -> Option<(f64, Vec<usize>)> {
         let (lead, p) = self.prefix;
-        if lead < 2 || cs.len() != lead + 1 {
+        // Below the cap every sum of the terms (at most 2·terms coefficients times a sine) is
+        // finite, so no grid value is infinite or NaN and the extremes are those of the grid.
+        let cap = f64::MAX / (4.0 * cs.len() as f64);
+        if lead < 2 || cs.len() != lead + 1 || !cs.iter().chain(sn).all(|v| v.abs() <= cap) {
             return None;
         }
         let (n, q) = (f.len(), self.repeat[lead]);
@@ -60,18 +77,16 @@ impl PeakGrid {
             .zip(&self.cos[lead][..q])
             .map(|(s, c)| ck * s + sk * c)
             .collect();
-        if !pre.iter().chain(&last).all(|v| v.is_finite()) {
-            return None;
-        }
         let g = gcd(p as u128, q as u128) as usize;
-        let class_q: Vec<(f64, f64)> = (0..g)
-            .map(|r| extremes(last[r..].iter().step_by(g)))
-            .collect();
-        // The best grid value: the full pass's, which starts from 0.
+        let (plo, phi) = class_extremes(&pre, g);
+        let (qlo, qhi) = class_extremes(&last, g);
+        // Class r's largest and smallest grid values; the best grid value is the full pass's,
+        // which starts from 0.
+        let top = |r: usize| phi[r] + qhi[r];
+        let bottom = |r: usize| plo[r] + qlo[r];
         let mut gmax = 0.0_f64;
-        for (r, &(qlo, qhi)) in class_q.iter().enumerate() {
-            let (plo, phi) = extremes(pre[r..].iter().step_by(g));
-            let v = (phi + qhi).max(-(plo + qlo));
+        for r in 0..g {
+            let v = top(r).max(-bottom(r));
             if v > gmax {
                 gmax = v;
             }
@@ -80,24 +95,31 @@ impl PeakGrid {
         let (pg, qg) = (p / g, q / g);
         let inv = inverse_mod(pg, qg);
         let period = p * qg;
-        let value = |j: usize| pre[j % p] + last[j % q];
         let mut cand = Vec::new();
-        for (r, &(qlo, qhi)) in class_q.iter().enumerate() {
+        for r in 0..g {
+            // A class, then a `P_a`, whose sums with the class's extreme `Q` miss the best
+            // value holds no candidate (monotone rounding).
+            let reaches = |hi: f64, lo: f64| hi + loss >= gmax || -lo + loss >= gmax;
+            if !reaches(top(r), bottom(r)) {
+                continue;
+            }
             for a in (r..p).step_by(g) {
                 let x = pre[a];
-                if !(x + qhi + loss >= gmax || -(x + qlo) + loss >= gmax) {
+                if !reaches(x + qhi[r], x + qlo[r]) {
                     continue;
                 }
                 for b in (r..q).step_by(g) {
-                    if (x + last[b]).abs() + loss < gmax {
+                    let v = x + last[b];
+                    if v.abs() + loss < gmax {
                         continue;
                     }
                     let t = (b + q - a % q) % q / g * inv % qg;
+                    let ((a0, a1), (b0, b1)) = (around(a, p), around(b, q));
                     for j in (a + p * t..n).step_by(period) {
-                        let (before, after) = (if j == 0 { n - 1 } else { j - 1 }, (j + 1) % n);
-                        for i in [before, j, after] {
-                            f[i] = value(i);
-                        }
+                        let (before, after) = around(j, n);
+                        f[before] = pre[a0] + last[b0];
+                        f[j] = v;
+                        f[after] = pre[a1] + last[b1];
                         cand.extend([before, j]);
                     }
                 }
@@ -164,14 +186,16 @@ mod tests {
         }
     }
 
-    /// Not of the form, or not finite: the full pass decides.
+    /// Not of the form, or a coefficient that could overflow a sum: the full pass decides.
     #[test]
     fn other_term_sets_take_the_full_pass() {
         let g = PeakGrid::new(&[75.0, 525.0, 275.0, 63.0], PeakOptions::default());
         let mut f = vec![0.0; g.len()];
         assert!(g.split_pass(&[1.0; 3], &[1.0; 3], 0.1, &mut f).is_none());
-        let cs = [1.0, f64::INFINITY, 1.0, 1.0];
-        assert!(g.split_pass(&cs, &[0.0; 4], 0.1, &mut f).is_none());
+        for big in [f64::INFINITY, f64::NAN, f64::MAX / 8.0] {
+            let cs = [1.0, big, 1.0, 1.0];
+            assert!(g.split_pass(&cs, &[0.0; 4], 0.1, &mut f).is_none());
+        }
         let h = PeakGrid::new(&[63.0, 64.0, 525.0], PeakOptions::default());
         assert!(h.split_pass(&[1.0; 3], &[1.0; 3], 0.1, &mut f).is_none());
     }
