@@ -9,6 +9,7 @@ are printed with "—". Prints a Markdown table (the README's performance table)
 import argparse
 import datetime
 import os
+import re
 import shutil
 import statistics
 import subprocess
@@ -17,6 +18,8 @@ import tempfile
 import time
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+# The project's numpy Monte Carlo, the yardstick when DIR has no mc_numpy_best.py.
+MC_NUMPY = os.path.join(ROOT, "benches", "python", "mc_numpy.py")
 BIN = os.path.join(ROOT, "target", "release", "ncgear")
 G1 = os.path.join(ROOT, "assets", "trajectories", "g1_ellipse.csv")
 PAPER = os.path.join(ROOT, "assets", "tolerance", "paper_3k.toml")
@@ -38,11 +41,28 @@ def ncgear(args):
         shutil.rmtree(out, ignore_errors=True)
 
 
-def numpy_mc(ys, n):
+def numpy_env():
+    """The numpy yardstick's environment: OpenBLAS picks its own kernel (OPENBLAS_CORETYPE and
+    OPENBLAS_L2_SIZE unset for that command alone)."""
+    return {k: v for k, v in os.environ.items() if k not in ("OPENBLAS_CORETYPE", "OPENBLAS_L2_SIZE")}
+
+
+def blas_kernel():
+    """numpy's BLAS as threadpoolctl reports it in the yardstick's environment."""
+    code = ("import numpy, threadpoolctl\n"
+            "for i in threadpoolctl.threadpool_info():\n"
+            "    print(f\"numpy {numpy.__version__}: {i['internal_api']} {i.get('version')}, kernel "
+            "{i.get('architecture')}, {i['num_threads']} threads\")")
+    return subprocess.run([sys.executable, "-c", code], check=True, capture_output=True, text=True,
+                          env=numpy_env()).stdout.strip()
+
+
+def numpy_mc(script, n):
     # The script prints its own in-process time (the loop, no interpreter start-up): the
-    # yardstick at its best.
-    _, out = wall([sys.executable, os.path.join(ys, "mc_numpy_best.py"), str(n)])
-    return float(out.split()[0])
+    # yardstick at its best. mc_numpy_best.py prints the time first, mc_numpy.py "… in T s; …".
+    _, out = wall([sys.executable, script, str(n)], env=numpy_env())
+    m = re.search(r" in ([0-9.]+) s", out)
+    return float(m.group(1)) if m else float(out.split()[0])
 
 
 CHAIN = """
@@ -74,12 +94,15 @@ def main():
     ap.add_argument("--ncgears", default=shutil.which("ncgears"))
     ap.add_argument("--repeat", type=int, default=3)
     ap.add_argument("--samples", type=int, default=50000)
+    ap.add_argument("--only", default="", help="run only the rows whose work contains this text")
     a = ap.parse_args()
     ys = a.yardsticks if os.path.isdir(a.yardsticks) else None
+    best = os.path.join(ys, "mc_numpy_best.py") if ys else ""
+    mc = best if os.path.isfile(best) else MC_NUMPY
     rows = [
         (f"Monte Carlo, {a.samples} assemblies of `paper_3k.toml`",
          ["tolerance", PAPER, "--samples", str(a.samples), "--out", "{OUT}"],
-         "`mc_numpy_best.py` (in-process)", (lambda: numpy_mc(ys, a.samples)) if ys else None, 10.0),
+         f"`{os.path.basename(mc)}` (in-process)", lambda: numpy_mc(mc, a.samples), 20.0),
         ("`pair \"phi - 0.08*sin(2*phi)\" --teeth 24 --module 1.5` (90-step verification)",
          ["pair", LAW, "--teeth", "24", "--module", "1.5", "--out", "{OUT}"],
          "ncgears 0.3.1 (PyPI), whole command", (lambda: ncgears_pair(a.ncgears)) if a.ncgears else None, 50.0),
@@ -92,6 +115,8 @@ def main():
         ("`design g1_ellipse.csv --module 2` (teeth + 2 × 72-step verification)",
          ["design", G1, "--module", "2", "--out", "{OUT}"], "—", None, None),
     ]
+    rows = [r for r in rows if a.only in r[0]]
+    print(blas_kernel() + "\n")
     print(f"Measured {datetime.date.today().isoformat()}, {os.cpu_count()} cores, medians of {a.repeat} "
           "back-to-back runs (whole ncgear process, wall clock).\n")
     print("| work | ncgear (s) | yardstick | yardstick (s) | ratio | goal |")

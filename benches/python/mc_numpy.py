@@ -3,7 +3,8 @@
 on the same grid (20 points per shortest period, 10 500 points) from precomputed sin/cos tables,
 in blocks of 1000 samples (one matrix product per block), with parabolic refinement of the grid
 maximum (numpy cannot refine every sample with a root finder cheaply).
-Run: python3 benches/python/mc_numpy.py"""
+Run: python3 benches/python/mc_numpy.py [SAMPLES]  (50 000 by default; a multiple of 1000)"""
+import sys
 import time
 import numpy as np
 
@@ -12,7 +13,7 @@ W = np.array([75.0, 525.0, 275.0, 63.0])
 C = np.radians([0.0, 20.0, 90.0, 20.0])
 S = np.array([0.0, 1.0, -1.0, -1.0])
 FREE = np.array([False, True, True, True])
-N_SAMPLES, BLOCK = 50_000, 1000
+N_SAMPLES, BLOCK = (int(sys.argv[1]) if len(sys.argv) > 1 else 50_000), 1000
 n = int(np.ceil(2 * np.pi / (2 * np.pi / W.max()) * 20))
 t = np.arange(n) * (2 * np.pi / n)
 sin_t, cos_t = np.sin(np.outer(W, t)), np.cos(np.outer(W, t))

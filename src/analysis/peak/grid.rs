@@ -227,7 +227,11 @@ impl PeakGrid {
         let h = self.h;
         let loss = m2 * h * h / 8.0;
         f.resize(n, 0.0);
-        let (gmax, cand) = self.grid_pass(&sig.cs, &sig.sn, loss, f);
+        // Two periodic parts: the same best value and candidates from their few values.
+        let (gmax, cand) = match self.split_pass(&sig.cs, &sig.sn, loss, f) {
+            Some(pass) => pass,
+            None => self.grid_pass(&sig.cs, &sig.sn, loss, f),
+        };
         let bounds = self.interval_bounds(&sig, f, cand, gmax, loss);
         let tol = self.opts.tol_relative * TAU / wmax;
         let best = self.best_refined(&sig, f, &bounds, tol);

@@ -49,20 +49,8 @@ impl PeakGrid {
         let n = f.len();
         let (lead, rep) = self.prefix;
         if lead >= 2 && cs.len() >= lead && cs.len() - lead <= 4 {
-            // The leading terms' sum over one repeat (plus a block, for contiguous windows),
-            // with the additions of the full sum in the same order: bit-identical values.
-            let mut pre = vec![0.0; rep + BLOCK];
-            // Term by term (each term's table index wraps at its repeat, no division), the
-            // additions per point in term order as in the full sum.
-            for k in 0..lead {
-                let (ck, sk, p) = (cs[k], sn[k], self.repeat[k]);
-                let (s, c) = (&self.sin[k][..p], &self.cos[k][..p]);
-                for chunk in pre.chunks_mut(p) {
-                    for ((v, s), c) in chunk.iter_mut().zip(s).zip(c) {
-                        *v += ck * s + sk * c;
-                    }
-                }
-            }
+            // The leading terms' sum over one repeat (plus a block, for contiguous windows).
+            let pre = self.leading_sums(cs, sn, rep + BLOCK);
             match cs.len() - lead {
                 0 => self.add_terms::<0>(&pre, lead, cs, sn, f),
                 1 => self.add_terms::<1>(&pre, lead, cs, sn, f),
@@ -74,6 +62,26 @@ impl PeakGrid {
             self.sum_all(cs, sn, f);
         }
         Self::max_and_candidates(f, loss, n)
+    }
+
+    /// The sum of the leading `self.prefix.0` terms on the first `len` grid points, with the
+    /// additions of the full sum in the same order (bit-identical values); it repeats every
+    /// `self.prefix.1` points.
+    #[inline(always)]
+    pub(super) fn leading_sums(&self, cs: &[f64], sn: &[f64], len: usize) -> Vec<f64> {
+        let mut pre = vec![0.0; len];
+        // Term by term (each term's table index wraps at its repeat, no division), the
+        // additions per point in term order as in the full sum.
+        for k in 0..self.prefix.0 {
+            let (ck, sk, p) = (cs[k], sn[k], self.repeat[k]);
+            let (s, c) = (&self.sin[k][..p], &self.cos[k][..p]);
+            for chunk in pre.chunks_mut(p) {
+                for ((v, s), c) in chunk.iter_mut().zip(s).zip(c) {
+                    *v += ck * s + sk * c;
+                }
+            }
+        }
+        pre
     }
 
     /// Every term on every grid point, term after term per point.

@@ -12,6 +12,7 @@
 mod bounds;
 mod grid;
 mod kernel;
+mod split;
 
 pub use grid::PeakGrid;
 
