@@ -15,6 +15,7 @@
 
 use super::LoadsError;
 use crate::math::Point;
+use crate::math::closing_row::{ClosingRow, closing_row, show_row};
 use serde::{Deserialize, Serialize};
 use std::f64::consts::TAU;
 
@@ -126,8 +127,11 @@ impl NeedleSpec {
 
 impl NeedleTable {
     /// A table of rows `(travel_rad, force_N)`, strictly increasing in travel over less than a
-    /// turn; on error, the row that breaks the order and why.
+    /// turn; a last row at the first's travel + 2π with the first's force is the first row
+    /// again and is dropped ([`crate::math::closing_row`]). On error, the row that breaks the
+    /// order and why (a last row at + 2π with another force names row 0 too).
     pub fn new(rows: Vec<(f64, Point)>) -> Result<Self, (usize, String)> {
+        let mut rows = rows;
         for k in 1..rows.len() {
             if !(rows[k].0 > rows[k - 1].0) {
                 return Err((
@@ -140,12 +144,31 @@ impl NeedleTable {
                 ));
             }
         }
+        let degrees = |r: &(f64, Point)| [r.0.to_degrees(), r.1.x, r.1.y];
+        let last = rows.len() - 1;
+        match closing_row(&degrees(&rows[0]), &degrees(&rows[last]), 360.0, &[]) {
+            ClosingRow::Inside => {}
+            ClosingRow::Repeat => {
+                rows.pop();
+            }
+            ClosingRow::Differs { expected } => {
+                return Err((
+                    last,
+                    format!(
+                        "{} is at row 0's travel + 360°, the same point of the turn as row 0 (needle.force_N[0] = {}), but its force differs: make it {} or drop it",
+                        show_row(&degrees(&rows[last])),
+                        show_row(&degrees(&rows[0])),
+                        show_row(&expected)
+                    ),
+                ));
+            }
+        }
         let span = rows[rows.len() - 1].0 - rows[0].0;
         if span >= TAU {
             return Err((
                 rows.len() - 1,
                 format!(
-                    "the rows span {:.3}°: a periodic table covers less than one turn (360°)",
+                    "the rows span {:.3}°: a periodic table covers one turn (360°), its last row before the first's travel + 360° or at it repeating the first row",
                     span.to_degrees()
                 ),
             ));
