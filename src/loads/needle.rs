@@ -38,7 +38,8 @@ pub const MAX_ROWS: usize = 100_000;
 #[serde(deny_unknown_fields)]
 pub struct NeedleSpec {
     /// Rows `[travel_deg, Fx_N, Fy_N]`: the arm's own angle of travel, degrees, strictly
-    /// increasing over less than a turn; the force on the tip, N, world frame.
+    /// increasing over less than a turn (a last row at the first's travel + 360° repeating the
+    /// first is dropped); the force on the tip, N, world frame.
     #[serde(default, rename = "force_N", skip_serializing_if = "Option::is_none")]
     pub force_n: Option<Vec<[f64; 3]>>,
     /// `"planting"`: the documented profile (module docs).
@@ -297,6 +298,17 @@ mod tests {
                 .0,
             1
         );
-        assert!(NeedleTable::new(vec![(d(0.0), z), (d(360.0), z)]).is_err());
+        assert!(NeedleTable::new(vec![(d(0.0), z), (d(370.0), z)]).is_err());
+        // A 360° row equal to the 0° row is the same point; another force is refused at it.
+        let t = NeedleTable::new(vec![
+            (d(0.0), z),
+            (d(90.0), Point::new(1.0, 0.0)),
+            (d(360.0), z),
+        ]);
+        assert_eq!(t.unwrap().rows.len(), 2);
+        let (k, m) =
+            NeedleTable::new(vec![(d(0.0), z), (d(360.0), Point::new(0.0, 1.0))]).unwrap_err();
+        assert_eq!(k, 1);
+        assert!(m.contains("[360, 0, 1]") && m.contains("[0, 0, 0]"), "{m}");
     }
 }

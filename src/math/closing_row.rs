@@ -47,7 +47,11 @@ pub fn closing_row(first: &[f64], last: &[f64], period: f64, advance: &[f64]) ->
                 .map(|(i, v)| v + advance.get(i).copied().unwrap_or(0.0)),
         )
         .collect();
-    if expected[1..].iter().zip(&last[1..]).all(|(e, l)| equal(*e, *l)) {
+    if expected[1..]
+        .iter()
+        .zip(&last[1..])
+        .all(|(e, l)| equal(*e, *l))
+    {
         ClosingRow::Repeat
     } else {
         ClosingRow::Differs { expected }

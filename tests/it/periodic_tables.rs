@@ -31,7 +31,10 @@ fn a_needle_force_table_with_its_360_degree_row_reads_as_without_it() {
     // A 360° row with another force is a contradiction: both rows named, with their values.
     let e = scene("[[0, 4.5, -2], [165, 4, 25], [185, 0, 0], [360, 4.5, -2.5]]").unwrap_err();
     let m = e.to_string();
-    assert!(m.contains("scene.toml") && m.contains("needle.force_N[3]"), "{m}");
+    assert!(
+        m.contains("scene.toml") && m.contains("needle.force_N[3]"),
+        "{m}"
+    );
     assert!(
         m.contains("[360, 4.5, -2.5]")
             && m.contains("needle.force_N[0] = [0, 4.5, -2]")
