@@ -89,15 +89,20 @@ def bulge_vertices(pts):
     return out
 
 
-def write_dxfs(pts):
+def write_spline_and_bulge(pts, prefix):
+    """``<prefix>_spline.dxf`` and ``<prefix>_bulge.dxf`` of the points, mm."""
     doc, msp = new_doc(4)
     bs = global_bspline_interpolation(pts + [pts[0]], degree=3, method="chord")
     msp.add_open_spline(bs.control_points, degree=3, knots=bs.knots())
-    doc.saveas(OUT / "g1_spline.dxf")
+    doc.saveas(OUT / f"{prefix}_spline.dxf")
 
     doc, msp = new_doc(4)
     msp.add_lwpolyline(bulge_vertices(pts), format="xyseb", close=True)
-    doc.saveas(OUT / "g1_bulge.dxf")
+    doc.saveas(OUT / f"{prefix}_bulge.dxf")
+
+
+def write_dxfs(pts):
+    write_spline_and_bulge(pts, "g1")
 
     doc, msp = new_doc(5)
     cm = [(x / 10, y / 10) for x, y in pts]
@@ -146,14 +151,7 @@ def bezier_d(pts, closed=True, fmt="{:.9f}"):
 
 
 def write_looped(pts):
-    doc, msp = new_doc(4)
-    bs = global_bspline_interpolation(pts + [pts[0]], degree=3, method="chord")
-    msp.add_open_spline(bs.control_points, degree=3, knots=bs.knots())
-    doc.saveas(OUT / "g1_looped_spline.dxf")
-
-    doc, msp = new_doc(4)
-    msp.add_lwpolyline(bulge_vertices(pts), format="xyseb", close=True)
-    doc.saveas(OUT / "g1_looped_bulge.dxf")
+    write_spline_and_bulge(pts, "g1_looped")
 
     for name, extra in (("g1_looped_lines.dxf", False), ("g1_looped_junction.dxf", True)):
         doc, msp = new_doc(4)

@@ -205,7 +205,7 @@ fn design(
 
 /// `design(points | path, options, module="auto", loads=scene)`: the module sized by strength
 /// under the scene `scene` (a file path, or the name of the dict whose JSON is `text`), as
-/// `ncgear design --module auto --loads` sizes it ([`ncgear::loads::sized_design`], the default
+/// `ncgear design --module auto --loads` sizes it ([`ncgear::loads::Sized::into_kept`], the default
 /// rack at each module); the design kept carries the table (`report.sizing`). Without the GIL.
 #[pyfunction]
 #[pyo3(signature = (points, path, options, scene, text))]
@@ -222,15 +222,12 @@ fn design_sized(
     let run = || -> Result<Result<Design, String>, LoadsError> {
         let case = scene_of(scene, text)?.validate(scene)?;
         let opts = ncgear::loads::SizingOptions::default();
-        let sized = ncgear::loads::sized_design(
-            &t,
-            &o,
-            &case,
-            &opts,
-            &ncgear::loads::rating_teeth,
-            scene,
-        )?;
-        Ok(sized.map(|k| k.design).map_err(|table| table.markdown()))
+        let sized =
+            ncgear::loads::size_module(&t, &o, &case, &opts, &ncgear::loads::rating_teeth, scene)?;
+        Ok(sized
+            .into_kept()
+            .map(|k| k.design)
+            .map_err(|table| table.markdown()))
     };
     let sized = py
         .detach(run)
@@ -552,12 +549,11 @@ fn synthesize(
 #[pyfunction]
 #[pyo3(signature = (spec, text))]
 fn spec_box(spec: &str, text: Option<&str>) -> PyResult<([f64; 2], [f64; 2])> {
+    use ncgear::synthesis::targets::{DEFAULT_L1_MM, DEFAULT_L3_MM};
     let m = spec_of(spec, text)?.machine;
-    let t = &ncgear::synthesis::targets::DEFAULT_L1_MM;
     Ok((
-        m.l1_mm.unwrap_or(*t),
-        m.l3_mm
-            .unwrap_or(ncgear::synthesis::targets::DEFAULT_L3_MM),
+        m.l1_mm.unwrap_or(DEFAULT_L1_MM),
+        m.l3_mm.unwrap_or(DEFAULT_L3_MM),
     ))
 }
 

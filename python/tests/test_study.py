@@ -204,10 +204,36 @@ def test_each_job_row_holds_the_figures_of_the_direct_call():
     row = study.evaluate("design", {"points": str(G1), "tolmm": 0.1})
     assert row["error"] == ("TypeError: design() got an unexpected keyword argument 'tolmm' "
                             "(a point's keys are the job's keyword arguments)")
-    assert row["designed_max_deviation_mm"] is None
+    assert row["deviations_max_mm"] is None
     t = ncgear.tradeoff(G1)
     row = study.evaluate("tradeoff", {"points": str(G1)})
     made = [r.designed.max_deviation_mm for r in t.rows if r.designed is not None]
     assert row["rows_designed"] == len(made) and row["best_max_deviation_mm"] == min(made)
     default = next(r.designed for r in t.rows if r.is_default)
     assert row["designed_max_deviation_mm"] == default.max_deviation_mm
+
+
+def test_each_row_is_the_direct_call_field_for_field_on_any_number_of_threads():
+    """A row is ``ncgear.design(**point)``: each column the report field it is named after
+    (docs/studies.md), on workers of 1 and of 2 threads per design alike."""
+    points = study.grid(points=[str(G1)], max_pressure_angle=[38.0, 45.0],
+                        idler_offset=["auto", "free"])
+    want = []
+    for p in points:
+        q = dict(p)
+        d = ncgear.design(q.pop("points"), **q)
+        want.append({
+            "deviations_max_mm": float(d.deviations.max()),
+            "deviations_mean_mm": float(d.deviations.mean()),
+            "roundtrip_max_deviation_mm": d.roundtrip.max_deviation_mm,
+            "pressure_angle_max_deg": d.limits.pressure_angle_deg,
+            "idler_offset_deg": d.idler_offset_deg,
+            "l1_mm": d.l1_mm, "l3_mm": d.l3_mm, "passed": d.verdict.passed,
+        })
+    for threads in (1, 2):
+        df = study.run("design", points, workers=1, threads=threads, progress=False)
+        for i, w in enumerate(want):
+            got = {k: df.iloc[i][k] for k in w}
+            assert got == w, (threads, i)
+    with pytest.raises(ncgear.NcgearError, match=r"^threads=0: expected a number of threads"):
+        study.local_cluster(1, threads=0)

@@ -200,7 +200,7 @@ pub fn sized_design(
     (scene_file, file): (&str, &str),
 ) -> Result<ncgear::loads::Kept, super::Failure> {
     let pb = super::spinner("sizing the module");
-    let sized = ncgear::loads::sized_design(
+    let sized = ncgear::loads::size_module(
         traj,
         opts,
         case,
@@ -209,7 +209,7 @@ pub fn sized_design(
         scene_file,
     );
     pb.finish_and_clear();
-    sized.map_err(loads_failure)?.map_err(|table| {
+    sized.map_err(loads_failure)?.into_kept().map_err(|table| {
         runtime_error(miette::miette!(
             "{file}: no standard module could be designed and rated:\n{}",
             table.markdown()

@@ -46,7 +46,7 @@ pub mod source;
 pub use analysis::analyse;
 pub use report::LoadsReport;
 pub use scene::{LoadCase, Scene};
-pub use sizing::{Kept, Sized, SizingOptions, rating_teeth, size_module, sized_design};
+pub use sizing::{Kept, Sized, SizingOptions, rating_teeth, size_module};
 pub use source::RotorSource;
 
 use crate::design::train::ToothedTrain;

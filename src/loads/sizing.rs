@@ -235,28 +235,22 @@ pub fn size_module(
     Ok(Sized { sizing, kept })
 }
 
-/// [`size_module`], then the kept module's design carrying the table in its report
-/// (`report.sizing`, the verdict updated with the sizing's targets): what `ncgear design
-/// --module auto --loads SCENE` writes and `ncgear.design(points, module="auto", loads=scene)`
-/// returns. `Ok(Err(table))` when no module could be designed and rated.
-///
-/// # Errors
-/// As [`size_module`].
-pub fn sized_design(
-    target: &Trajectory,
-    design_opts: &DesignOptions,
-    case: &LoadCase,
-    opts: &SizingOptions,
-    teeth: &dyn Fn(f64) -> Result<TrainTeethOptions, TeethError>,
-    file: &str,
-) -> Result<Result<Kept, ModuleSizing>, LoadsError> {
-    let sized = size_module(target, design_opts, case, opts, teeth, file)?;
-    Ok(match sized.kept {
-        Some(mut kept) => {
-            kept.design.report.sizing = Some(sized.sizing);
-            kept.design.report.update_verdict();
-            Ok(kept)
+impl Sized {
+    /// The kept module's design carrying the table in its report (`report.sizing`, the verdict
+    /// updated with the sizing's targets): what `ncgear design --module auto --loads SCENE`
+    /// writes and `ncgear.design(points, module="auto", loads=scene)` returns. `Err(table)`
+    /// when no module could be designed and rated.
+    ///
+    /// # Errors
+    /// The table, when no module was kept.
+    pub fn into_kept(self) -> Result<Kept, ModuleSizing> {
+        match self.kept {
+            Some(mut kept) => {
+                kept.design.report.sizing = Some(self.sizing);
+                kept.design.report.update_verdict();
+                Ok(kept)
+            }
+            None => Err(self.sizing),
         }
-        None => Err(sized.sizing),
-    })
+    }
 }
