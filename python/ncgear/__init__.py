@@ -168,7 +168,8 @@ def read_trajectory(
     Curves are flattened to 1 µm and resampled at 720 points by arc length; a loop of straight
     segments keeps its vertices. CSV, TXT and JSON point files are read as they are (the
     drawing options do not apply). ``design(read_trajectory(path, ...))`` designs the same gears
-    as ``ncgear design path --layer ... --units ...``. Errors (open or self-crossing loops,
+    as ``ncgear design path --layer ... --units ...``. A path that crosses itself is taken in the
+    order drawn. Errors (open loops, more than two ends at a point, a stretch drawn twice,
     several loops, unknown units) are :class:`NcgearError` naming what to fix.
     """
     return _ncgear.read_trajectory(os.fspath(path), layer, id, units)
