@@ -25,9 +25,20 @@ Writes assets/drawings/:
                     scale(96/25.4) translate(...), root size in px (96 px per inch)
 - g1_unitless.svg   the path with a root width/height without units and no viewBox (bad)
 - g1_open.svg       the path without its closing segment and last 30 points (bad)
+
+and, from assets/trajectories/g1_looped.csv (a loop that crosses itself; `make_drawings.py
+looped` writes these only):
+
+- g1_looped_spline.dxf    as g1_spline.dxf
+- g1_looped_bulge.dxf     as g1_bulge.dxf
+- g1_looped_lines.dxf     360 LINE entities end to end, mm, in travel order
+- g1_looped_px.svg        as g1_px.svg (px, under a transform)
+- g1_looped_junction.dxf  the LINEs and one more LINE from a vertex (three ends meet, bad)
+- g1_looped_spike.dxf     the closed LWPOLYLINE with a 20 mm spike out and back at vertex 100 (bad)
 """
 import csv
 import math
+import sys
 from pathlib import Path
 
 import ezdxf
@@ -38,8 +49,8 @@ ROOT = Path(__file__).resolve().parent.parent
 OUT = ROOT / "assets" / "drawings"
 
 
-def g1_points():
-    with open(ROOT / "assets" / "trajectories" / "g1_ellipse.csv") as f:
+def g1_points(name="g1_ellipse.csv"):
+    with open(ROOT / "assets" / "trajectories" / name) as f:
         rows = list(csv.reader(f))
     return [(float(r[0]), float(r[1])) for r in rows[1:] if r]
 
@@ -78,15 +89,20 @@ def bulge_vertices(pts):
     return out
 
 
-def write_dxfs(pts):
+def write_spline_and_bulge(pts, prefix):
+    """``<prefix>_spline.dxf`` and ``<prefix>_bulge.dxf`` of the points, mm."""
     doc, msp = new_doc(4)
     bs = global_bspline_interpolation(pts + [pts[0]], degree=3, method="chord")
     msp.add_open_spline(bs.control_points, degree=3, knots=bs.knots())
-    doc.saveas(OUT / "g1_spline.dxf")
+    doc.saveas(OUT / f"{prefix}_spline.dxf")
 
     doc, msp = new_doc(4)
     msp.add_lwpolyline(bulge_vertices(pts), format="xyseb", close=True)
-    doc.saveas(OUT / "g1_bulge.dxf")
+    doc.saveas(OUT / f"{prefix}_bulge.dxf")
+
+
+def write_dxfs(pts):
+    write_spline_and_bulge(pts, "g1")
 
     doc, msp = new_doc(5)
     cm = [(x / 10, y / 10) for x, y in pts]
@@ -134,6 +150,43 @@ def bezier_d(pts, closed=True, fmt="{:.9f}"):
     return " ".join(d)
 
 
+def write_looped(pts):
+    write_spline_and_bulge(pts, "g1_looped")
+
+    for name, extra in (("g1_looped_lines.dxf", False), ("g1_looped_junction.dxf", True)):
+        doc, msp = new_doc(4)
+        for i in range(len(pts)):
+            msp.add_line(pts[i], pts[(i + 1) % len(pts)])
+        if extra:
+            msp.add_line(pts[200], (pts[200][0] + 15.0, pts[200][1] + 5.0))
+        doc.saveas(OUT / name)
+
+    doc, msp = new_doc(4)
+    (x, y), (x1, y1) = pts[100], pts[101]
+    n = math.hypot(y1 - y, x - x1)
+    tip = (x + 20 * (y1 - y) / n, y + 20 * (x - x1) / n)
+    msp.add_lwpolyline(pts[:101] + [tip] + pts[100:], close=True)
+    doc.saveas(OUT / "g1_looped_spike.dxf")
+
+    write_px_svg(pts, "g1_looped_px.svg")
+
+
+def write_px_svg(pts, name):
+    """The loop as Béziers in shifted mm coordinates under scale(96/25.4) translate(...), root in px."""
+    flipped = [(x, -y) for x, y in pts]
+    xs, ys = [p[0] for p in flipped], [p[1] for p in flipped]
+    x0, y0 = min(xs) - 10, min(ys) - 10
+    w, h = max(xs) - x0 + 10, max(ys) - y0 + 10
+    px = 96 / 25.4
+    dx, dy = -x0 + 7, -y0 + 3  # the path is drawn shifted; its transform shifts it back
+    shifted = [(x + dx, y + dy) for x, y in flipped]
+    svg = svgwrite.Drawing(OUT / name, size=(f"{w * px:.3f}px", f"{h * px:.3f}px"), profile="full")
+    g = svg.g(transform=f"scale({px!r})")
+    g.add(svg.path(d=bezier_d(shifted), id="target", transform=f"translate({-dx!r} {-dy!r})", fill="none", stroke="black"))
+    svg.add(g)
+    svg.save()
+
+
 def write_svgs(pts):
     flipped = [(x, -y) for x, y in pts]  # SVG y points down
     xs, ys = [p[0] for p in flipped], [p[1] for p in flipped]
@@ -145,14 +198,7 @@ def write_svgs(pts):
     svg.add(svg.path(d=bezier_d(flipped), id="target", fill="none", stroke="black", stroke_width=0.2))
     svg.save()
 
-    px = 96 / 25.4
-    dx, dy = -x0 + 7, -y0 + 3  # the path is drawn shifted; its transform shifts it back
-    shifted = [(x + dx, y + dy) for x, y in flipped]
-    svg = svgwrite.Drawing(OUT / "g1_px.svg", size=(f"{w * px:.3f}px", f"{h * px:.3f}px"), profile="full")
-    g = svg.g(transform=f"scale({px!r})")
-    g.add(svg.path(d=bezier_d(shifted), id="target", transform=f"translate({-dx!r} {-dy!r})", fill="none", stroke="black"))
-    svg.add(g)
-    svg.save()
+    write_px_svg(pts, "g1_px.svg")
 
     svg = svgwrite.Drawing(OUT / "g1_unitless.svg", size=(f"{w:.3f}", f"{h:.3f}"), profile="full")
     svg.add(svg.path(d=bezier_d(flipped), id="target", fill="none", stroke="black"))
@@ -166,6 +212,11 @@ def write_svgs(pts):
 
 def main():
     OUT.mkdir(parents=True, exist_ok=True)
+    looped = g1_points("g1_looped.csv")
+    assert len(looped) == 360
+    write_looped(looped)
+    if sys.argv[1:] == ["looped"]:
+        return
     pts = g1_points()
     assert len(pts) == 360
     write_dxfs(pts)

@@ -35,7 +35,7 @@ from pymoo.optimize import minimize  # noqa: E402
 from ncgear import study  # noqa: E402
 
 ROOT = pathlib.Path(__file__).resolve().parents[2]
-OBJECTIVES = ["pressure_angle_max_deg", "carrier_torque_peak_Nm", "deviation_max_mm"]
+OBJECTIVES = ["pressure_angle_max_deg", "carrier_torque_peak_Nm", "deviations_max_mm"]
 ARM_BOX = {"l1_max_mm": (60.0, 160.0), "l3_max_mm": (120.0, 320.0)}
 MODULES = [1.5, 2.0, 2.5, 3.0]
 IDLER = ["auto", "collinear", "free"]

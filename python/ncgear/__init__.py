@@ -40,7 +40,7 @@ __all__ = [
     "NcgearError", "Design", "Train", "Pair", "Placement", "Loads", "design", "teeth", "pair",
     "simulate", "tolerance", "loads", "loads_file", "write_step", "write_dxf", "write_svg",
     "set_max_memory_gb", "Synthesis", "TradeOff", "synthesize", "tradeoff", "redesign",
-    "read_trajectory", "spec_dict",
+    "read_trajectory",
 ]
 
 PathLike = Union[str, "os.PathLike[str]"]
@@ -168,7 +168,8 @@ def read_trajectory(
     Curves are flattened to 1 µm and resampled at 720 points by arc length; a loop of straight
     segments keeps its vertices. CSV, TXT and JSON point files are read as they are (the
     drawing options do not apply). ``design(read_trajectory(path, ...))`` designs the same gears
-    as ``ncgear design path --layer ... --units ...``. Errors (open or self-crossing loops,
+    as ``ncgear design path --layer ... --units ...``. A path that crosses itself is taken in the
+    order drawn. Errors (open loops, more than two ends at a point, a stretch drawn twice,
     several loops, unknown units) are :class:`NcgearError` naming what to fix.
     """
     return _ncgear.read_trajectory(os.fspath(path), layer, id, units)
@@ -198,9 +199,10 @@ def design(
     min_convex_radius: Optional[float] = None,
     convexity: bool = False,
     smooth: Optional[int] = None,
-    module: Optional[float] = None,
+    module: Union[float, Literal["auto"], None] = None,
     idler_offset: Literal["auto", "collinear", "free"] = "auto",
     alternatives: bool = False,
+    loads: Union[PathLike, Mapping[str, Any], None] = None,
 ) -> Design:
     """Designs the sun and intermediate gears whose train traces ``points`` (``ncgear design``).
 
@@ -223,7 +225,17 @@ def design(
       12.5·module or 10 mm, and 7·module or none). ``convexity``: convex pitch curves only.
     - ``smooth``: smooth noisy points to this many Fourier harmonics first.
     - ``module``: design for this module, mm: the tooth count a constraint of the fit (then
-      :func:`teeth` with the same module cuts the design's own teeth, unscaled).
+      :func:`teeth` with the same module cuts the design's own teeth, unscaled). ``"auto"``
+      (with ``loads``): the module sized by strength, as ``ncgear design --module auto --loads
+      SCENE``: the target designed, toothed (default rack) and rated at each standard module,
+      smallest first, and the design of the smallest that meets the scene's S_H and S_F targets
+      kept (the best one, failing its verdict, when none does); the table is ``Design.sizing``
+      (:class:`ncgear.reports.ModuleSizing`; ``sizing.chosen_module_mm``, and per module
+      ``rows[i].teeth``, ``s_h``, ``s_f``), and ``teeth(d, d.sizing.chosen_module_mm)`` cuts the
+      teeth that were rated.
+    - ``loads``: the loads scene the module is sized for (``module="auto"`` only): a scene file
+      (TOML or JSON, with ``[material]``) or a dict of its tables, as :func:`loads` takes; its
+      ``design`` key is not read.
     - ``idler_offset``: where the intermediate axis may sit: ``"auto"`` on the carrier line
       unless a whole number of teeth would move the arm (designing for a ``module``, turned off
       it by the offset that keeps the arm, ``l1 = 2a·cos ε``); ``"collinear"`` never; ``"free"``
@@ -234,7 +246,20 @@ def design(
       one more design, about as long as this one. Without it a failed design names the
       alternatives that apply in its warnings, not designed.
     """
-    options = _options(locals(), "points")
+    options = _options(locals(), "points", "loads")
+    if module == "auto":
+        if loads is None:
+            raise NcgearError('module="auto" sizes the module by strength: give the loads the '
+                              'gears must carry, loads=SCENE (a scene file or dict, docs/loads.md)')
+        options["module"] = None
+        if isinstance(loads, Mapping):
+            scene, text = "loads", _scene_json(loads, "loads")
+        else:
+            scene, text = os.fspath(loads), None
+        return _design_of(_ncgear.design_sized(*_target(points), options, scene, text))
+    if loads is not None:
+        raise NcgearError('loads= sizes the module (module="auto"); the loads of a design at '
+                          'module M are ncgear.loads(ncgear.teeth(d, M), scene)')
     return _design_of(_ncgear.design(*_target(points), options))
 
 
@@ -260,10 +285,10 @@ def _default_policy(design: Design, module: float, teeth: Optional[int]) -> str:
 
 
 #: :func:`design`'s keyword arguments and their defaults (shared by :func:`redesign` and
-#: :func:`synthesize`).
+#: :func:`synthesize`; ``loads``, the sizing's scene, is :func:`design`'s own).
 _DESIGN_DEFAULTS: Dict[str, Any] = {
     name: p.default for name, p in inspect.signature(design).parameters.items()
-    if p.kind is inspect.Parameter.KEYWORD_ONLY
+    if p.kind is inspect.Parameter.KEYWORD_ONLY and name != "loads"
 }
 
 
@@ -470,11 +495,19 @@ class TradeOff(_Json, TradeOffReport):
     _report: Any = field(repr=False)
 
 
-def synthesize(spec: Union[PathLike, Mapping[str, Any]], **options: Any) -> Synthesis:
+def synthesize(
+    spec: Union[PathLike, Mapping[str, Any]],
+    *,
+    l1_mm: Optional[Tuple[float, float]] = None,
+    l3_mm: Optional[Tuple[float, float]] = None,
+    **options: Any,
+) -> Synthesis:
     """Key poses or agronomic target bands → carrier arm and gears (``ncgear synthesize``).
 
     ``spec``: a spec file (TOML or JSON: ``[machine]``, ``[[pose]]`` with ``x_mm``, ``y_mm``,
     ``needle_deg``, ``[targets]``), or a dict of the same keys (``{"pose": [...]}``).
+    ``l1_mm``, ``l3_mm``: the arm's search box ``(min, max)``, mm, in place of the spec's
+    ``machine.l1_mm`` / ``machine.l3_mm`` (targets-only specs; a study varies them this way).
     ``options``: :func:`design`'s keyword arguments for each candidate's gears (``module=2.0``
     designs them for that module, ``idler_offset="free"`` lets the intermediate axis leave the
     carrier line, ``max_pressure_angle=40.0`` …), except ``center``: the carrier axis is the
@@ -486,17 +519,12 @@ def synthesize(spec: Union[PathLike, Mapping[str, Any]], **options: Any) -> Synt
         raise NcgearError("center: the synthesis solves for the carrier axis; give it as the "
                           "spec's machine.center_mm")
     opts = _design_options(options, "synthesize")
+    box = tuple(None if b is None else (float(b[0]), float(b[1])) for b in (l1_mm, l3_mm))
     if isinstance(spec, Mapping):
-        r, h = _ncgear.synthesize("spec", _scene_json(spec, "spec"), opts)
+        r, h = _ncgear.synthesize("spec", _scene_json(spec, "spec"), opts, *box)
     else:
-        r, h = _ncgear.synthesize(os.fspath(spec), None, opts)
+        r, h = _ncgear.synthesize(os.fspath(spec), None, opts, *box)
     return build(Synthesis, r.tree(), design=_design_of(h), _report=r)
-
-
-def spec_dict(spec: PathLike) -> Dict[str, Any]:
-    """The synthesis spec file ``spec`` (TOML or JSON) as the dict :func:`synthesize` takes,
-    its fields checked as ``ncgear synthesize`` reads them (to change one before synthesising)."""
-    return dict(json.loads(_ncgear.spec_json(os.fspath(spec))))
 
 
 def tradeoff(

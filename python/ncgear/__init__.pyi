@@ -18,7 +18,7 @@ __all__ = [
     "NcgearError", "Design", "Train", "Pair", "Placement", "Loads", "design", "teeth", "pair",
     "simulate", "tolerance", "loads", "loads_file", "write_step", "write_dxf", "write_svg",
     "set_max_memory_gb", "Synthesis", "TradeOff", "synthesize", "tradeoff", "redesign",
-    "read_trajectory", "spec_dict",
+    "read_trajectory",
 ]
 
 PathLike = Union[str, os.PathLike[str]]
@@ -97,9 +97,10 @@ def design(
     min_convex_radius: Optional[float] = ...,
     convexity: bool = ...,
     smooth: Optional[int] = ...,
-    module: Optional[float] = ...,
+    module: Union[float, Literal["auto"], None] = ...,
     idler_offset: Literal["auto", "collinear", "free"] = ...,
     alternatives: bool = ...,
+    loads: Union[PathLike, Mapping[str, Any], None] = ...,
 ) -> Design: ...
 def teeth(
     design: Design,
@@ -190,9 +191,12 @@ class _DesignOptions(TypedDict, total=False):
     alternatives: bool
 
 def synthesize(
-    spec: Union[PathLike, Mapping[str, Any]], **options: Unpack[_DesignOptions]
+    spec: Union[PathLike, Mapping[str, Any]],
+    *,
+    l1_mm: Optional[Tuple[float, float]] = ...,
+    l3_mm: Optional[Tuple[float, float]] = ...,
+    **options: Unpack[_DesignOptions],
 ) -> Synthesis: ...
-def spec_dict(spec: PathLike) -> Dict[str, Any]: ...
 def tradeoff(
     points: Union[PathLike, npt.ArrayLike], *, center: Tuple[float, float] = ...
 ) -> TradeOff: ...

@@ -7,9 +7,9 @@ from typing_extensions import final
 
 __all__ = [
     "DEFAULT_L1_MM", "DEFAULT_L3_MM", "DesignHandle", "NcgearError", "PairHandle", "Report",
-    "TrainHandle", "__version__", "design", "forward_for_spacing", "loads", "loads_file", "pair",
+    "TrainHandle", "__version__", "design", "design_sized", "forward_for_spacing", "loads", "loads_file", "pair",
     "read_trajectory", "redesign",
-    "set_max_memory_gb", "simulate", "spec_json", "synthesize", "teeth", "tolerance", "tradeoff",
+    "set_max_memory_gb", "simulate", "spec_box", "synthesize", "teeth", "tolerance", "tradeoff",
 ]
 __version__: str
 DEFAULT_L1_MM: Tuple[float, float]
@@ -50,6 +50,13 @@ def read_trajectory(
 def design(
     points: Optional[npt.NDArray[np.float64]], path: Optional[str], options: Dict[str, Any]
 ) -> DesignHandle: ...
+def design_sized(
+    points: Optional[npt.NDArray[np.float64]],
+    path: Optional[str],
+    options: Dict[str, Any],
+    scene: str,
+    text: Optional[str],
+) -> DesignHandle: ...
 def teeth(
     design: DesignHandle,
     module: float,
@@ -83,9 +90,15 @@ def loads(
 def loads_file(path: str) -> Report: ...
 def set_max_memory_gb(gb: float) -> None: ...
 def synthesize(
-    spec: str, text: Optional[str], options: Dict[str, Any]
+    spec: str,
+    text: Optional[str],
+    options: Dict[str, Any],
+    l1_mm: Optional[Tuple[float, float]],
+    l3_mm: Optional[Tuple[float, float]],
 ) -> Tuple[Report, DesignHandle]: ...
-def spec_json(spec: str) -> str: ...
+def spec_box(
+    spec: str, text: Optional[str]
+) -> Tuple[Tuple[float, float], Tuple[float, float]]: ...
 def tradeoff(
     points: Optional[npt.NDArray[np.float64]], path: Optional[str], center: Tuple[float, float]
 ) -> Report: ...

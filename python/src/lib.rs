@@ -203,6 +203,43 @@ fn design(
     Ok(DesignHandle { d })
 }
 
+/// `design(points | path, options, module="auto", loads=scene)`: the module sized by strength
+/// under the scene `scene` (a file path, or the name of the dict whose JSON is `text`), as
+/// `ncgear design --module auto --loads` sizes it ([`ncgear::loads::Sized::into_kept`], the default
+/// rack at each module); the design kept carries the table (`report.sizing`). Without the GIL.
+#[pyfunction]
+#[pyo3(signature = (points, path, options, scene, text))]
+fn design_sized(
+    py: Python<'_>,
+    points: Option<PyReadonlyArray2<'_, f64>>,
+    path: Option<&str>,
+    options: DesignArgs,
+    scene: &str,
+    text: Option<&str>,
+) -> PyResult<DesignHandle> {
+    let t = trajectory(points, path)?;
+    let o = options.options()?;
+    let run = || -> Result<Result<Design, String>, LoadsError> {
+        let case = scene_of(scene, text)?.validate(scene)?;
+        let opts = ncgear::loads::SizingOptions::default();
+        let sized =
+            ncgear::loads::size_module(&t, &o, &case, &opts, &ncgear::loads::rating_teeth, scene)?;
+        Ok(sized
+            .into_kept()
+            .map(|k| k.design)
+            .map_err(|table| table.markdown()))
+    };
+    let sized = py
+        .detach(run)
+        .map_err(|e| loads_err(&e, text.is_some(), true))?;
+    let d = sized.map_err(|table| {
+        err(format!(
+            "module=\"auto\": no standard module could be designed and rated:\n{table}"
+        ))
+    })?;
+    Ok(DesignHandle { d })
+}
+
 /// A toothed train.
 #[pyclass(frozen, module = "ncgear._ncgear")]
 struct TrainHandle {
@@ -484,16 +521,21 @@ fn spec_of(name: &str, text: Option<&str>) -> PyResult<ncgear::synthesis::Spec> 
 
 /// `ncgear synthesize SPEC` in-process: `synthesis.json` and the chosen design, from the spec
 /// file `spec` (or the dict whose JSON is `text`), each candidate's gears designed with `options`
-/// (`ncgear.design`'s; its `center` is the arm's). Without the GIL.
+/// (`ncgear.design`'s; its `center` is the arm's); `l1_mm`, `l3_mm` (`[min, max]`, mm) replace
+/// the spec's arm search box `machine.l1_mm`, `machine.l3_mm` when given. Without the GIL.
 #[pyfunction]
-#[pyo3(signature = (spec, text, options))]
+#[pyo3(signature = (spec, text, options, l1_mm, l3_mm))]
 fn synthesize(
     py: Python<'_>,
     spec: &str,
     text: Option<&str>,
     options: DesignArgs,
+    l1_mm: Option<[f64; 2]>,
+    l3_mm: Option<[f64; 2]>,
 ) -> PyResult<(Report, DesignHandle)> {
-    let s = spec_of(spec, text)?;
+    let mut s = spec_of(spec, text)?;
+    s.machine.l1_mm = l1_mm.or(s.machine.l1_mm);
+    s.machine.l3_mm = l3_mm.or(s.machine.l3_mm);
     let o = options.options()?;
     let r = py
         .detach(|| ncgear::synthesis::synthesize(&s, &o))
@@ -501,12 +543,18 @@ fn synthesize(
     Ok((report(&r.report)?, DesignHandle { d: r.design }))
 }
 
-/// The synthesis spec file `spec` (TOML or JSON) as the JSON text of its fields, checked as
-/// `ncgear synthesize` reads it (a study changes a field of it before synthesising).
+/// The arm search box `(l1_mm, l3_mm)`, each `[min, max]` mm, of the spec file `spec` (or the
+/// dict whose JSON is `text`): its `machine.l1_mm`, `machine.l3_mm`, else the defaults (a study
+/// moves the upper edges).
 #[pyfunction]
-fn spec_json(spec: &str) -> PyResult<String> {
-    let s = spec_of(spec, None)?;
-    serde_json::to_string(&s).map_err(|e| err(format!("spec={spec:?}: {e}")))
+#[pyo3(signature = (spec, text))]
+fn spec_box(spec: &str, text: Option<&str>) -> PyResult<([f64; 2], [f64; 2])> {
+    use ncgear::synthesis::targets::{DEFAULT_L1_MM, DEFAULT_L3_MM};
+    let m = spec_of(spec, text)?.machine;
+    Ok((
+        m.l1_mm.unwrap_or(DEFAULT_L1_MM),
+        m.l3_mm.unwrap_or(DEFAULT_L3_MM),
+    ))
 }
 
 /// `ncgear tradeoff TRAJ` in-process: `tradeoff.json` of the target (`points` or `path`) about
@@ -592,6 +640,7 @@ fn _ncgear(m: &Bound<'_, PyModule>) -> PyResult<()> {
     for f in [
         wrap_pyfunction!(read_trajectory, m)?,
         wrap_pyfunction!(design, m)?,
+        wrap_pyfunction!(design_sized, m)?,
         wrap_pyfunction!(teeth, m)?,
         wrap_pyfunction!(pair, m)?,
         wrap_pyfunction!(simulate, m)?,
@@ -600,7 +649,7 @@ fn _ncgear(m: &Bound<'_, PyModule>) -> PyResult<()> {
         wrap_pyfunction!(loads, m)?,
         wrap_pyfunction!(loads_file, m)?,
         wrap_pyfunction!(synthesize, m)?,
-        wrap_pyfunction!(spec_json, m)?,
+        wrap_pyfunction!(spec_box, m)?,
         wrap_pyfunction!(tradeoff, m)?,
         wrap_pyfunction!(redesign, m)?,
         wrap_pyfunction!(set_max_memory_gb, m)?,

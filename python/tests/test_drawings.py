@@ -61,7 +61,9 @@ def test_an_svg_in_px_with_a_transform_is_the_mm_drawing():
     ("g1_layers.dxf", {"layer": "NOPE"}, 'no closed loop with layer "NOPE"'),
     ("g1_unitless.dxf", {}, 'units="mm"|"cm"|"m"|"in"|"px"'),
     ("g1_open.dxf", {}, "is open"),
-    ("g1_figure8.dxf", {}, "crosses itself"),
+    ("g1_looped_spike.dxf", {}, "runs back along itself"),
+    ("g1_looped_junction.dxf", {}, '3 ends meet'),
+    ("g1_looped_junction.dxf", {}, 'layer="NAME"'),
 ])
 def test_a_bad_drawing_is_an_error_in_python_words(name, kwargs, says):
     with pytest.raises(ncgear.NcgearError) as e:

@@ -206,3 +206,30 @@ def test_scene_files_name_themselves_in_their_errors(m2, tmp_path):
         ncgear.loads_file(tmp_path / "absent.toml")
     with pytest.raises(TypeError, match="design: expected an ncgear.Design or ncgear.Train"):
         ncgear.loads("design.json", scene())  # type: ignore[arg-type]
+
+
+@pytest.mark.parametrize("target", ["g1_ellipse.csv", "designer_kidney.csv"])
+def test_module_auto_sizes_as_the_cli(target, tmp_path):
+    """``design(points, module="auto", loads=scene)`` is ``ncgear design --module auto --loads``:
+    the same rows (module, teeth, S_H, S_F, to the bit), the same module kept, typed."""
+    path = ROOT / "assets" / "trajectories" / target
+    scene_file = ROOT / "assets" / "loads" / "rotor.toml"
+    cli("design", path, "--module", "auto", "--loads", scene_file, "--out", tmp_path,
+        check=False)
+    want = json.loads((tmp_path / "design.json").read_text())["sizing"]
+    d = ncgear.design(path, module="auto", loads=scene_file)
+    assert isinstance(d.sizing, reports.ModuleSizing)
+    assert d.sizing.chosen_module_mm == want["chosen_module_mm"] is not None
+    assert d.module is not None and d.module.module_mm == want["chosen_module_mm"]
+    got = [(r.module_mm, r.teeth, r.S_H, r.S_F, r.passed) for r in d.sizing.rows]
+    assert got == [(r["module_mm"], r["teeth"], r["S_H"], r["S_F"], r["passed"])
+                   for r in want["rows"]]
+    # Without a scene, or a scene for a fixed module, is refused saying what to give.
+    with pytest.raises(ncgear.NcgearError, match=r'loads=SCENE'):
+        ncgear.design(path, module="auto")
+    with pytest.raises(ncgear.NcgearError, match=r'module="auto"'):
+        ncgear.design(path, module=2.0, loads=scene_file)
+    # The same scene as a dict sizes the same.
+    tomllib = pytest.importorskip("tomllib")
+    as_dict = tomllib.loads(scene_file.read_text())
+    assert ncgear.design(path, module="auto", loads=as_dict).sizing == d.sizing

@@ -63,7 +63,7 @@ def test_local_cluster_equals_serial_and_a_failing_point_is_a_row(client, tmp_pa
     errors = df.loc[df["tol_mm"] < 0, "error"]
     assert len(errors) == 2 and set(errors) == {str(e.value)}
     assert df.loc[df["tol_mm"] > 0, "error"].isna().all()
-    assert (df.loc[df["tol_mm"] > 0, "deviation_max_mm"] < 0.05).all()
+    assert (df.loc[df["tol_mm"] > 0, "deviations_max_mm"] < 0.05).all()
     back = pd.read_parquet(tmp_path / "s.parquet")
     pd.testing.assert_frame_equal(back, df, check_exact=True)
     assert df.attrs["evaluated"] == 4
@@ -131,13 +131,13 @@ def test_a_worker_killed_mid_study_leaves_every_point_once_and_equal_to_serial(t
 def test_the_pymoo_problem_and_the_pareto_example_at_a_small_size(client, tmp_path):
     pytest.importorskip("pymoo")
     p = study.Problem("design", {"max_pressure_angle": (38.0, 50.0)},
-                      ["deviation_max_mm", "pressure_angle_max_deg"], base={"points": str(G1)},
+                      ["deviations_max_mm", "pressure_angle_max_deg"], base={"points": str(G1)},
                       client=client)
     out = {}
     p._evaluate(np.array([[40.0], [48.0]]), out)
     df = p.history[0]
     assert out["F"].shape == (2, 2) and out["G"].shape == (2, 1)
-    assert np.array_equal(out["F"][:, 0], df["deviation_max_mm"].to_numpy())
+    assert np.array_equal(out["F"][:, 0], df["deviations_max_mm"].to_numpy())
     assert np.array_equal(out["G"][:, 0], np.where(df["passed"], 0.0, 1.0))
     # The rows it calls feasible are exactly those whose every g ≤ 0 (here: those that pass).
     assert np.array_equal(p.constraints(df), out["G"])
@@ -145,7 +145,7 @@ def test_the_pymoo_problem_and_the_pareto_example_at_a_small_size(client, tmp_pa
     with pytest.raises(ncgear.NcgearError, match=r"^'S_H_min': not a figure of job 'design'"):
         study.Problem("design", {"tol_mm": (0.01, 0.1)}, ["S_H_min"])
     c = study.Problem("design", {"module": [1.5, 2.0, 2.5], "idler_offset": ["auto", "free"]},
-                      ["deviation_max_mm"], base={"points": str(G1)})
+                      ["deviations_max_mm"], base={"points": str(G1)})
     assert list(c.xl) == [0.0, 0.0] and list(c.xu) == [3.0, 2.0]
     assert c.points(np.array([[0.0, 1.99], [2.999, 0.5], [3.0, 2.0]])) == [
         {"points": str(G1), "module": 1.5, "idler_offset": "free"},
@@ -169,7 +169,7 @@ def test_the_pymoo_problem_and_the_pareto_example_at_a_small_size(client, tmp_pa
     assert (front["l1_mm"] <= front["l1_max_mm"] + 1e-9).all()
     assert (front["l3_mm"] <= front["l3_max_mm"] + 1e-9).all()
     # The front is non-dominated: no row is at least as good in every objective and better in one.
-    f = front[["pressure_angle_max_deg", "carrier_torque_peak_Nm", "deviation_max_mm"]].to_numpy()
+    f = front[["pressure_angle_max_deg", "carrier_torque_peak_Nm", "deviations_max_mm"]].to_numpy()
     for a in f:
         assert not any((b <= a).all() and (b < a).any() for b in f)
 
@@ -177,7 +177,7 @@ def test_the_pymoo_problem_and_the_pareto_example_at_a_small_size(client, tmp_pa
 def test_each_job_row_holds_the_figures_of_the_direct_call():
     d = ncgear.design(G1)
     row = study.evaluate("design", {"points": str(G1)})
-    assert row["deviation_max_mm"] == float(d.deviations.max()) and row["passed"] is True
+    assert row["deviations_max_mm"] == float(d.deviations.max()) and row["passed"] is True
     assert row["pressure_angle_max_deg"] == d.limits.pressure_angle_deg and row["error"] is None
     spec = ROOT / "assets" / "synthesis" / "g1_five_poses.toml"
     s = ncgear.synthesize(spec)
@@ -187,9 +187,7 @@ def test_each_job_row_holds_the_figures_of_the_direct_call():
     scene = ROOT / "assets" / "loads" / "rotor.toml"
     # A synthesis in a narrower arm box, for a module, with its loads.
     rice = ROOT / "assets" / "synthesis" / "rice_targets.toml"
-    narrow = ncgear.spec_dict(rice)
-    narrow["machine"]["l1_mm"] = [40.0, 80.0]
-    s = ncgear.synthesize(narrow, module=2.5, idler_offset="free")
+    s = ncgear.synthesize(rice, l1_mm=(40.0, 80.0), module=2.5, idler_offset="free")
     r = ncgear.loads(ncgear.teeth(s.design, 2.5), scene)
     row = study.evaluate("synthesize", {"spec": str(rice), "l1_max_mm": 80.0, "module": 2.5,
                                         "idler_offset": "free", "scene": str(scene)})
@@ -206,10 +204,36 @@ def test_each_job_row_holds_the_figures_of_the_direct_call():
     row = study.evaluate("design", {"points": str(G1), "tolmm": 0.1})
     assert row["error"] == ("TypeError: design() got an unexpected keyword argument 'tolmm' "
                             "(a point's keys are the job's keyword arguments)")
-    assert row["deviation_max_mm"] is None
+    assert row["deviations_max_mm"] is None
     t = ncgear.tradeoff(G1)
     row = study.evaluate("tradeoff", {"points": str(G1)})
     made = [r.designed.max_deviation_mm for r in t.rows if r.designed is not None]
-    assert row["rows_designed"] == len(made) and row["best_deviation_max_mm"] == min(made)
+    assert row["rows_designed"] == len(made) and row["best_max_deviation_mm"] == min(made)
     default = next(r.designed for r in t.rows if r.is_default)
-    assert row["deviation_max_mm"] == default.max_deviation_mm
+    assert row["designed_max_deviation_mm"] == default.max_deviation_mm
+
+
+def test_each_row_is_the_direct_call_field_for_field_on_any_number_of_threads():
+    """A row is ``ncgear.design(**point)``: each column the report field it is named after
+    (docs/studies.md), on workers of 1 and of 2 threads per design alike."""
+    points = study.grid(points=[str(G1)], max_pressure_angle=[38.0, 45.0],
+                        idler_offset=["auto", "free"])
+    want = []
+    for p in points:
+        q = dict(p)
+        d = ncgear.design(q.pop("points"), **q)
+        want.append({
+            "deviations_max_mm": float(d.deviations.max()),
+            "deviations_mean_mm": float(d.deviations.mean()),
+            "roundtrip_max_deviation_mm": d.roundtrip.max_deviation_mm,
+            "pressure_angle_max_deg": d.limits.pressure_angle_deg,
+            "idler_offset_deg": d.idler_offset_deg,
+            "l1_mm": d.l1_mm, "l3_mm": d.l3_mm, "passed": d.verdict.passed,
+        })
+    for threads in (1, 2):
+        df = study.run("design", points, workers=1, threads=threads, progress=False)
+        for i, w in enumerate(want):
+            got = {k: df.iloc[i][k] for k in w}
+            assert got == w, (threads, i)
+    with pytest.raises(ncgear.NcgearError, match=r"^threads=0: expected a number of threads"):
+        study.local_cluster(1, threads=0)

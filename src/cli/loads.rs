@@ -209,16 +209,12 @@ pub fn sized_design(
         scene_file,
     );
     pb.finish_and_clear();
-    let sized = sized.map_err(loads_failure)?;
-    let Some(mut kept) = sized.kept else {
-        return Err(runtime_error(miette::miette!(
+    sized.map_err(loads_failure)?.into_kept().map_err(|table| {
+        runtime_error(miette::miette!(
             "{file}: no standard module could be designed and rated:\n{}",
-            sized.sizing.markdown()
-        )));
-    };
-    kept.design.report.sizing = Some(sized.sizing);
-    kept.design.report.update_verdict();
-    Ok(kept)
+            table.markdown()
+        ))
+    })
 }
 
 /// The console lines of the sizing table and the loads of the design kept.

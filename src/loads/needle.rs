@@ -15,6 +15,7 @@
 
 use super::LoadsError;
 use crate::math::Point;
+use crate::math::closing_row::{ClosingRow, closing_row, show_row};
 use serde::{Deserialize, Serialize};
 use std::f64::consts::TAU;
 
@@ -37,7 +38,8 @@ pub const MAX_ROWS: usize = 100_000;
 #[serde(deny_unknown_fields)]
 pub struct NeedleSpec {
     /// Rows `[travel_deg, Fx_N, Fy_N]`: the arm's own angle of travel, degrees, strictly
-    /// increasing over less than a turn; the force on the tip, N, world frame.
+    /// increasing over less than a turn (a last row at the first's travel + 360° repeating the
+    /// first is dropped); the force on the tip, N, world frame.
     #[serde(default, rename = "force_N", skip_serializing_if = "Option::is_none")]
     pub force_n: Option<Vec<[f64; 3]>>,
     /// `"planting"`: the documented profile (module docs).
@@ -126,8 +128,11 @@ impl NeedleSpec {
 
 impl NeedleTable {
     /// A table of rows `(travel_rad, force_N)`, strictly increasing in travel over less than a
-    /// turn; on error, the row that breaks the order and why.
+    /// turn; a last row at the first's travel + 2π with the first's force is the first row
+    /// again and is dropped ([`crate::math::closing_row`]). On error, the row that breaks the
+    /// order and why (a last row at + 2π with another force names row 0 too).
     pub fn new(rows: Vec<(f64, Point)>) -> Result<Self, (usize, String)> {
+        let mut rows = rows;
         for k in 1..rows.len() {
             if !(rows[k].0 > rows[k - 1].0) {
                 return Err((
@@ -140,12 +145,31 @@ impl NeedleTable {
                 ));
             }
         }
+        let degrees = |r: &(f64, Point)| [r.0.to_degrees(), r.1.x, r.1.y];
+        let last = rows.len() - 1;
+        match closing_row(&degrees(&rows[0]), &degrees(&rows[last]), 360.0, &[]) {
+            ClosingRow::Inside => {}
+            ClosingRow::Repeat => {
+                rows.pop();
+            }
+            ClosingRow::Differs { expected } => {
+                return Err((
+                    last,
+                    format!(
+                        "{} is at row 0's travel + 360°, the same point of the turn as row 0 (needle.force_N[0] = {}), but its force differs: make it {} or drop it",
+                        show_row(&degrees(&rows[last])),
+                        show_row(&degrees(&rows[0])),
+                        show_row(&expected)
+                    ),
+                ));
+            }
+        }
         let span = rows[rows.len() - 1].0 - rows[0].0;
         if span >= TAU {
             return Err((
                 rows.len() - 1,
                 format!(
-                    "the rows span {:.3}°: a periodic table covers less than one turn (360°)",
+                    "the rows span {:.3}°: a periodic table covers one turn (360°), its last row before the first's travel + 360° or at it repeating the first row",
                     span.to_degrees()
                 ),
             ));
@@ -274,6 +298,17 @@ mod tests {
                 .0,
             1
         );
-        assert!(NeedleTable::new(vec![(d(0.0), z), (d(360.0), z)]).is_err());
+        assert!(NeedleTable::new(vec![(d(0.0), z), (d(370.0), z)]).is_err());
+        // A 360° row equal to the 0° row is the same point; another force is refused at it.
+        let t = NeedleTable::new(vec![
+            (d(0.0), z),
+            (d(90.0), Point::new(1.0, 0.0)),
+            (d(360.0), z),
+        ]);
+        assert_eq!(t.unwrap().rows.len(), 2);
+        let (k, m) =
+            NeedleTable::new(vec![(d(0.0), z), (d(360.0), Point::new(0.0, 1.0))]).unwrap_err();
+        assert_eq!(k, 1);
+        assert!(m.contains("[360, 0, 1]") && m.contains("[0, 0, 0]"), "{m}");
     }
 }

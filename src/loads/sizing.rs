@@ -234,3 +234,23 @@ pub fn size_module(
     }
     Ok(Sized { sizing, kept })
 }
+
+impl Sized {
+    /// The kept module's design carrying the table in its report (`report.sizing`, the verdict
+    /// updated with the sizing's targets): what `ncgear design --module auto --loads SCENE`
+    /// writes and `ncgear.design(points, module="auto", loads=scene)` returns. `Err(table)`
+    /// when no module could be designed and rated.
+    ///
+    /// # Errors
+    /// The table, when no module was kept.
+    pub fn into_kept(self) -> Result<Kept, ModuleSizing> {
+        match self.kept {
+            Some(mut kept) => {
+                kept.design.report.sizing = Some(self.sizing);
+                kept.design.report.update_verdict();
+                Ok(kept)
+            }
+            None => Err(self.sizing),
+        }
+    }
+}

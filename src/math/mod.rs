@@ -2,6 +2,7 @@
 //! periodic functions on a turn, closed polylines, roots on a bracket, small least squares
 //! (Levenberg–Marquardt), a seeded parallel Monte Carlo and a multistart Nelder–Mead.
 
+pub mod closing_row;
 pub mod least_squares;
 pub mod monte_carlo;
 pub mod optimize;

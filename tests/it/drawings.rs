@@ -177,10 +177,6 @@ fn bad_drawings_are_refused_with_their_reason() {
         read("g1_unitless.svg"),
         TrajectoryError::UnitsUnknown { .. }
     ));
-    assert!(matches!(
-        read("g1_figure8.dxf"),
-        TrajectoryError::SelfIntersecting { .. }
-    ));
     let not = Trajectory::from_dxf(b"0\nSECTION\n2\nNOPE", &DrawingOptions::default(), "x.dxf");
     assert!(not.is_err());
     let not = Trajectory::from_svg("<svg", &DrawingOptions::default(), "x.svg");

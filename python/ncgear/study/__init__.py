@@ -115,25 +115,32 @@ def table(points: Sequence[Mapping[str, Any]], rows: Sequence[Mapping[str, Any]]
     return pd.DataFrame.from_records(records, columns=columns)
 
 
-def local_cluster(workers: Optional[int] = None) -> Any:
-    """A ``LocalCluster`` of ``workers`` processes (default: one per CPU) of one thread each,
-    on loopback, without dashboard. The library's own thread pool in each is one thread
-    (``RAYON_NUM_THREADS=1``): the processes share the CPUs instead of each taking all of them."""
+def local_cluster(workers: Optional[int] = None, threads: Optional[int] = None) -> Any:
+    """A ``LocalCluster`` of ``workers`` processes (default: one per CPU), each evaluating one
+    point at a time, on loopback, without dashboard. ``threads``: the library's own thread pool
+    (rayon) per process, the threads one design uses (``RAYON_NUM_THREADS``); default the CPUs
+    shared out, ``max(1, cpus // workers)``, so that the processes share the CPUs instead of each
+    taking all of them. A row does not depend on it (a design is the same number on any number
+    of threads); only the time does (docs/studies.md, "Scaling")."""
     from dask.distributed import LocalCluster
 
-    n = workers if workers is not None else (os.cpu_count() or 1)
+    cpus = os.cpu_count() or 1
+    n = workers if workers is not None else cpus
     if not (isinstance(n, int) and n >= 1):
         raise ncgear.NcgearError(f"workers={workers!r}: expected a number of processes ≥ 1")
+    t = threads if threads is not None else max(1, cpus // n)
+    if not (isinstance(t, int) and t >= 1):
+        raise ncgear.NcgearError(f"threads={threads!r}: expected a number of threads ≥ 1")
     return LocalCluster(
         n_workers=n, threads_per_worker=1, processes=True, dashboard_address=None,
-        host="127.0.0.1", env={"RAYON_NUM_THREADS": "1"},
+        host="127.0.0.1", env={"RAYON_NUM_THREADS": str(t)},
     )
 
 
-def _local_client(workers: Optional[int]) -> Any:
+def _local_client(workers: Optional[int], threads: Optional[int]) -> Any:
     from dask.distributed import Client
 
-    cluster = local_cluster(workers)
+    cluster = local_cluster(workers, threads)
     return Client(cluster)
 
 
@@ -172,6 +179,7 @@ def run(
     progress: bool = True,
     out: Optional[PathLike] = None,
     workers: Optional[int] = None,
+    threads: Optional[int] = None,
 ) -> Any:
     """``job`` (``"design"``, ``"synthesize"``, ``"tradeoff"`` or ``"loads"``) on each of
     ``points`` (dicts of its keyword arguments; a job ``loads`` point takes ``scene`` and an
@@ -179,8 +187,8 @@ def run(
     row per point in input order (:func:`table`).
 
     ``client``: a ``dask.distributed.Client`` (``Client("tcp://host:8786")`` for a cluster);
-    ``None`` starts :func:`local_cluster` of ``workers`` processes (default: one per CPU) and
-    closes it after. ``cache``: a directory of one small JSON file per evaluated point; points already
+    ``None`` starts :func:`local_cluster` of ``workers`` processes (default: one per CPU) of
+    ``threads`` threads per design (default: CPUs ÷ workers) and closes it after. ``cache``: a directory of one small JSON file per evaluated point; points already
     there are not evaluated again. ``progress``: Dask's progress bar when stdout is a terminal.
     ``out``: also write the table as Parquet there. ``df.attrs["evaluated"]`` is how many
     points were evaluated (the rest came from the cache), ``df.attrs["wall_s"]`` the seconds.
@@ -203,7 +211,7 @@ def run(
     todo = {k: p for k, p in zip(keys, points) if k not in rows}
     if todo:
         own = client is None
-        c = _local_client(workers) if own else client
+        c = _local_client(workers, threads) if own else client
         try:
             rows.update(_on_cluster(c, job, todo, store, progress))
         finally:

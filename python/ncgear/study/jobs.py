@@ -4,7 +4,9 @@ compares, as one flat row. Runs on a Dask worker as well as in the calling proce
 point is a row whose ``error`` is the message, never an exception."""
 from __future__ import annotations
 
+import json
 import math
+import os
 import time
 from typing import Any, Callable, Dict, List, Mapping, Optional, Tuple
 
@@ -13,13 +15,14 @@ import numpy as np
 import ncgear
 from ncgear import _ncgear
 
-#: Figures of a design, in row order: the distance of the target points to the traced path (max
-#: and mean, mm), the round trip's max tip deviation (mm), the largest pressure angle (degrees),
+#: Figures of a design, in row order, each named after the report field it is (docs/studies.md):
+#: the distance of the target points to the traced path (max and mean of ``Design.deviations``,
+#: mm), the round trip's max tip deviation (``Design.roundtrip.max_deviation_mm``, mm), the largest pressure angle (degrees),
 #: the tightest concave and convex radii of curvature (mm; ``inf``: none), the teeth per gear (a
 #: design for a module, else ``None``), the idler offset (degrees), the arms l1, l3 (mm) and the
 #: verdict.
 DESIGN_FIGURES: Tuple[str, ...] = (
-    "deviation_max_mm", "deviation_mean_mm", "roundtrip_max_mm", "pressure_angle_max_deg",
+    "deviations_max_mm", "deviations_mean_mm", "roundtrip_max_deviation_mm", "pressure_angle_max_deg",
     "concave_radius_min_mm", "convex_radius_min_mm", "teeth", "idler_offset_deg", "l1_mm",
     "l3_mm", "passed",
 )
@@ -30,8 +33,8 @@ BANDS: Tuple[str, ...] = (
 )
 #: A trade-off: the default row's figures, the rows designed and the closest row's deviation.
 TRADEOFF_FIGURES: Tuple[str, ...] = (
-    "deviation_max_mm", "pressure_angle_max_deg", "concave_radius_min_mm", "idler_offset_deg",
-    "rows_designed", "best_deviation_max_mm", "best_row",
+    "designed_max_deviation_mm", "pressure_angle_max_deg", "concave_radius_min_mm",
+    "idler_offset_deg", "rows_designed", "best_max_deviation_mm", "best_row",
 )
 #: Loads: the design's figures, the carrier torque (peak, RMS; N·m), mean power (W), and with a
 #: rating the smallest pitting and bending safety factors S_H, S_F and the life (h).
@@ -60,9 +63,9 @@ def design_figures(d: ncgear.Design) -> Dict[str, Any]:
     """The figures of design ``d`` (:data:`DESIGN_FIGURES`)."""
     dev = np.asarray(d.deviations)
     return {
-        "deviation_max_mm": float(dev.max()),
-        "deviation_mean_mm": float(dev.mean()),
-        "roundtrip_max_mm": float(d.roundtrip.max_deviation_mm),
+        "deviations_max_mm": float(dev.max()),
+        "deviations_mean_mm": float(dev.mean()),
+        "roundtrip_max_deviation_mm": float(d.roundtrip.max_deviation_mm),
         "pressure_angle_max_deg": float(d.limits.pressure_angle_deg),
         "concave_radius_min_mm": _radius(d.limits.tightest_concave_radius_mm),
         "convex_radius_min_mm": _radius(d.limits.tightest_convex_radius_mm),
@@ -92,13 +95,10 @@ def _synthesize(p: Dict[str, Any]) -> Dict[str, Any]:
     scene = p.pop("scene", None)
     tooth_module = p.pop("tooth_module", p.get("module"))
     if box:
-        spec = ncgear.spec_dict(spec) if not isinstance(spec, Mapping) else dict(spec)
-        machine = dict(spec.get("machine") or {})
+        given = dict(zip(("l1_mm", "l3_mm"), _ncgear.spec_box(*_spec_args(spec))))
         for key, top in box.items():
             field = key.replace("_max_mm", "_mm")
-            low = (machine.get(field) or _DEFAULT_BOX[field])[0]
-            machine[field] = [float(low), float(top)]
-        spec["machine"] = machine
+            p[field] = (float(given[field][0]), float(top))
     s = ncgear.synthesize(spec, **p)
     errors = [q.error_mm for q in s.poses]
     margins = {f"margin_{t.index}": float(t.margin) for t in s.targets}
@@ -113,10 +113,11 @@ def _synthesize(p: Dict[str, Any]) -> Dict[str, Any]:
     return row
 
 
-#: The arm box searched when a spec gives none, mm (the library's defaults).
-_DEFAULT_BOX: Dict[str, Tuple[float, float]] = {
-    "l1_mm": _ncgear.DEFAULT_L1_MM, "l3_mm": _ncgear.DEFAULT_L3_MM,
-}
+def _spec_args(spec: Any) -> Tuple[str, Optional[str]]:
+    """A spec as the binding takes it: ``(path, None)`` or ``("spec", JSON text)``."""
+    if isinstance(spec, Mapping):
+        return "spec", json.dumps(dict(spec))
+    return os.fspath(spec), None
 
 
 def _tradeoff(p: Dict[str, Any]) -> Dict[str, Any]:
@@ -125,12 +126,12 @@ def _tradeoff(p: Dict[str, Any]) -> Dict[str, Any]:
     default = next((r.designed for r in t.rows if r.is_default), None)
     best = min(made, key=lambda r: r.designed.max_deviation_mm) if made else None  # type: ignore
     return {
-        "deviation_max_mm": default.max_deviation_mm if default else None,
+        "designed_max_deviation_mm": default.max_deviation_mm if default else None,
         "pressure_angle_max_deg": default.pressure_angle_deg if default else None,
         "concave_radius_min_mm": _radius(default.tightest_concave_radius_mm) if default else None,
         "idler_offset_deg": default.idler_offset_deg if default else None,
         "rows_designed": len(made),
-        "best_deviation_max_mm": best.designed.max_deviation_mm if best else None,  # type: ignore
+        "best_max_deviation_mm": best.designed.max_deviation_mm if best else None,  # type: ignore
         "best_row": best.label if best else None,
     }
 

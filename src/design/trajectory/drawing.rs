@@ -20,19 +20,24 @@
 //!    example CSV files have 360, the design interpolates the points by a chord-length
 //!    periodic cubic (docs/math/chain.md §3.1), whose error `O(h⁴·|P⁗|)` at a spacing
 //!    `h ≈ 0.5 mm` on a 350 mm loop is far below the flattening tolerance.
-//! 4. **Checks**: a loop that does not close (gap and ends in mm), a loop that crosses itself
-//!    (where), several loops with nothing naming one (listed with their layers or ids).
+//! 4. **Checks**: a loop that does not close (gap and ends in mm), a loop that runs back along
+//!    itself (a zero-area spike or a stretch drawn twice, [`super::retrace`]: where), several
+//!    loops with nothing naming one (listed with their layers or ids). A loop that crosses
+//!    itself is taken in the order drawn: a needle-tip path often has a small loop where the
+//!    needle picks the seedling, and the chain's own checks decide whether it can be traced,
+//!    as for a CSV file.
 //!
 //! The points then go through [`Trajectory::new`] as the points of a CSV file would: the design
 //! treats them exactly as the same loop given in a CSV file, in the same travel order (the
 //! carrier sense is detected from the loop, or given by `--sense`, as for a CSV file).
 
-use super::flatten::{crossing, resample};
+use super::flatten::resample;
+use super::retrace::retraced;
 use super::{MIN_POINTS, Origin, Trajectory, TrajectoryError};
 use crate::math::Point;
 use std::str::FromStr;
 
-/// Most vertices of a straight-segment loop kept as drawn (module docs): the crossing check is
+/// Most vertices of a straight-segment loop kept as drawn (module docs): the retrace check is
 /// quadratic in them (≈ 50 ms at 4096).
 pub const MAX_KEPT_VERTICES: usize = 4096;
 
@@ -171,8 +176,8 @@ fn listing(loops: &[Loop], kind: &str) -> String {
         .join("; ")
 }
 
-/// The chosen loop as a trajectory: resampled (module docs), checked for crossings, then
-/// validated as any point list is.
+/// The chosen loop as a trajectory: resampled (module docs), checked for stretches drawn twice
+/// (within [`close_tolerance`] of the loop), then validated as any point list is.
 pub(super) fn trajectory(chosen: Loop, file: &str) -> Result<Trajectory, TrajectoryError> {
     if (chosen.points.iter()).any(|p| !(p.x.is_finite() && p.y.is_finite())) {
         return Err(TrajectoryError::NonFiniteCoordinate {
@@ -190,8 +195,8 @@ pub(super) fn trajectory(chosen: Loop, file: &str) -> Result<Trajectory, Traject
             message: format!("{} has zero length", chosen.what),
         })?
     };
-    if let Some(p) = crossing(&points) {
-        return Err(TrajectoryError::SelfIntersecting {
+    if let Some((p, _, _)) = retraced(&points, close_tolerance(&points)) {
+        return Err(TrajectoryError::Retraced {
             file: file.to_string(),
             what: chosen.what,
             x: p.x,

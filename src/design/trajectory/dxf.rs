@@ -14,14 +14,15 @@
 //!   points in the CAD program (or export a polyline).
 //! - **Chains**: open pieces on one layer are joined end to end (either way round) in file
 //!   order, starting with the first as drawn; ends meet within `1e-6` of the drawing size
-//!   ([`super::drawing::CLOSE_RELATIVE`]). A chain that does not close is an open loop.
+//!   ([`super::drawing::CLOSE_RELATIVE`]). A chain that does not close is an open loop; more
+//!   than two ends at one point are refused ([`super::dxf_chain`]). A polyline or spline is
+//!   taken in the order drawn, crossing itself or not.
 //! - **Choice**: one loop in the whole drawing, or the one loop on [`DrawingOptions::layer`].
 //!   Entities in paper space and inside blocks (INSERT) are not read; an extrusion direction
 //!   of −Z mirrors x (the arbitrary-axis rule for the OCS of ARC, CIRCLE and LWPOLYLINE).
 
-use super::drawing::{
-    DrawingOptions, DrawingUnits, FLATNESS_MM, Loop, choose, close_tolerance, open_loop, trajectory,
-};
+use super::drawing::{DrawingOptions, DrawingUnits, FLATNESS_MM, choose, open_loop, trajectory};
+use super::dxf_chain::{Piece, chains};
 use super::flatten::flatten;
 use super::nurbs::Nurbs;
 use super::{Trajectory, TrajectoryError};
@@ -29,15 +30,6 @@ use crate::math::Point;
 use dxf::entities::{Entity, EntityType};
 use dxf::enums::Units;
 use std::f64::consts::TAU;
-
-/// One curve of the drawing, flattened, mm.
-struct Piece {
-    layer: String,
-    what: String,
-    points: Vec<Point>,
-    /// Straight segments only.
-    straight: bool,
-}
 
 /// Reads the loop (module docs).
 pub(super) fn read(
@@ -78,8 +70,11 @@ pub(super) fn read(
             message: "no LWPOLYLINE, POLYLINE, SPLINE, CIRCLE, LINE or ARC in model space".into(),
         });
     }
-    let (loops, open) = chains(pieces);
+    let (loops, open, junctions) = chains(pieces);
     let named = |layer: &str| wanted.is_none_or(|w| w == layer);
+    if let Some(j) = junctions.into_iter().find(|j| named(&j.layer)) {
+        return Err(j.error(file));
+    }
     if !loops.iter().any(|l| named(&l.group))
         && let Some((what, end, start, _)) = open.into_iter().find(|o| named(&o.3))
     {
@@ -244,72 +239,6 @@ pub(super) fn bulge_point(a: Point, c: Point, bulge: f64, t: f64) -> Point {
     let r = a.distance(center);
     let a0 = (a.y - center.y).atan2(a.x - center.x);
     center + Point::from_polar(r, a0 + theta * t)
-}
-
-/// An open chain that did not close: `(what, end, start, layer)`.
-type OpenChain = (String, Point, Point, String);
-
-/// The closed loops the pieces make, per layer, and the chains that stay open.
-fn chains(pieces: Vec<Piece>) -> (Vec<Loop>, Vec<OpenChain>) {
-    let mut layers: Vec<(String, Vec<Piece>)> = Vec::new();
-    for p in pieces {
-        match layers.iter_mut().find(|(l, _)| *l == p.layer) {
-            Some((_, v)) => v.push(p),
-            None => layers.push((p.layer.clone(), vec![p])),
-        }
-    }
-    let (mut loops, mut open) = (Vec::new(), Vec::new());
-    for (layer, mut rest) in layers {
-        let tol = close_tolerance(rest.iter().flat_map(|p| p.points.iter()));
-        while !rest.is_empty() {
-            let first = rest.remove(0);
-            let (mut pts, mut count, mut straight) = (first.points, 1usize, first.straight);
-            let name = |count: usize| match count {
-                1 => first.what.clone(),
-                _ => format!("the chain of {count} entities from {}", first.what),
-            };
-            loop {
-                let end = pts[pts.len() - 1];
-                if pts.len() > 2 && end.distance(pts[0]) <= tol {
-                    pts.pop();
-                    let (what, group) = (name(count), layer.clone());
-                    loops.push(Loop {
-                        what,
-                        group,
-                        points: pts,
-                        straight,
-                    });
-                    break;
-                }
-                let Some((k, reversed)) = next_piece(&rest, end, tol) else {
-                    open.push((name(count), end, pts[0], layer.clone()));
-                    break;
-                };
-                let next_piece = rest.remove(k);
-                straight &= next_piece.straight;
-                let mut next = next_piece.points;
-                if reversed {
-                    next.reverse();
-                }
-                pts.extend_from_slice(&next[1..]);
-                count += 1;
-            }
-        }
-    }
-    (loops, open)
-}
-
-/// The first piece in `rest` with an end at `at` (within `tol`), and whether it runs backwards.
-fn next_piece(rest: &[Piece], at: Point, tol: f64) -> Option<(usize, bool)> {
-    rest.iter().enumerate().find_map(|(k, p)| {
-        if p.points[0].distance(at) <= tol {
-            Some((k, false))
-        } else if p.points[p.points.len() - 1].distance(at) <= tol {
-            Some((k, true))
-        } else {
-            None
-        }
-    })
 }
 
 #[cfg(test)]

@@ -169,18 +169,38 @@ pub enum TrajectoryError {
         /// Start y, mm.
         to_y: f64,
     },
-    /// The loop crosses itself.
+    /// The loop runs back along itself: a zero-area spike or a stretch drawn twice (a crossing
+    /// is not this: the drawn order resolves it).
     #[error(
-        "{file}: {what} crosses itself at ({x:.4}, {y:.4}) mm; the needle-tip loop must be a simple closed curve"
+        "{file}: {what} runs back along itself around ({x:.4}, {y:.4}) mm (a spike, or a stretch drawn twice): the order of the points along that stretch cannot be told; redraw it so that every stretch is drawn once (crossing itself is fine)"
     )]
-    SelfIntersecting {
+    Retraced {
         /// File name.
         file: String,
         /// The entity or element.
         what: String,
-        /// Crossing x, mm.
+        /// Middle of the retraced stretch, x, mm.
         x: f64,
-        /// Crossing y, mm.
+        /// Middle of the retraced stretch, y, mm.
+        y: f64,
+    },
+    /// More than two ends of a drawing's open pieces meet at one point: where a chain goes on
+    /// from there is ambiguous.
+    #[error(
+        "{file}: {ends} ends meet at ({x:.4}, {y:.4}) mm on layer \"{layer}\" ({pieces}): pieces are joined end to end, two ends at a point, so which way the loop goes on from there cannot be told; draw the loop as one polyline or spline, or delete the extra pieces (or move them to another layer and name the loop's with --layer NAME)"
+    )]
+    Junction {
+        /// File name.
+        file: String,
+        /// The layer.
+        layer: String,
+        /// How many ends meet.
+        ends: usize,
+        /// The entities whose ends they are.
+        pieces: String,
+        /// Junction x, mm.
+        x: f64,
+        /// Junction y, mm.
         y: f64,
     },
     /// The named layer (DXF) or id (SVG) holds no closed loop.

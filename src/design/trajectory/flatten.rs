@@ -1,7 +1,7 @@
-//! Curves to polylines, closed polylines to uniform arc-length samples, and the crossing test.
+//! Curves to polylines, and closed polylines to uniform arc-length samples.
 
 use crate::math::Point;
-use crate::math::polyline::{seg_crossing, seg_dist};
+use crate::math::polyline::seg_dist;
 
 /// Fewest flattening pieces per curve span (docs of `drawing`).
 pub const MIN_PIECES: usize = 4;
@@ -78,36 +78,6 @@ pub(super) fn resample(pts: &[Point], n: usize) -> Option<Vec<Point>> {
     Some(out)
 }
 
-/// Where the closed polyline `pts` first crosses itself (two non-adjacent edges meet), if it
-/// does. `O(n²)` edge pairs with a bounding-box reject: a few ms at 720 points.
-pub(super) fn crossing(pts: &[Point]) -> Option<Point> {
-    let n = pts.len();
-    if n < 4 {
-        return None;
-    }
-    let edge = |k: usize| (pts[k], pts[(k + 1) % n]);
-    for i in 0..n {
-        let (a, b) = edge(i);
-        for j in i + 2..n {
-            if i == 0 && j == n - 1 {
-                continue; // adjacent through the closing edge
-            }
-            let (c, d) = edge(j);
-            if a.x.max(b.x) < c.x.min(d.x)
-                || c.x.max(d.x) < a.x.min(b.x)
-                || a.y.max(b.y) < c.y.min(d.y)
-                || c.y.max(d.y) < a.y.min(b.y)
-            {
-                continue;
-            }
-            if let Some((t, _)) = seg_crossing(a, b, c, d) {
-                return Some(a + (b - a) * t);
-            }
-        }
-    }
-    None
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -131,18 +101,5 @@ mod tests {
         for k in 0..720 {
             assert!((s[k].distance(s[(k + 1) % 720]) - step).abs() < 1e-4);
         }
-        assert!(crossing(&s).is_none());
-    }
-
-    #[test]
-    fn a_figure_eight_crosses_at_its_middle() {
-        let pts: Vec<Point> = (0..200)
-            .map(|k| {
-                let t = TAU * k as f64 / 200.0;
-                Point::new(40.0 * (2.0 * t).sin(), 40.0 * t.sin())
-            })
-            .collect();
-        let p = crossing(&pts).unwrap();
-        assert!(p.norm() < 1e-9, "{p:?}");
     }
 }

@@ -25,6 +25,11 @@ const KIDNEY_CSV: &str = include_str!("../../../assets/trajectories/designer_kid
 const ASYM_JSON: &str = include_str!("../../../assets/trajectories/asymmetric_cw.json");
 const BULGE_DXF: &str = include_str!("../../../assets/drawings/g1_bulge.dxf");
 const BEZIER_SVG: &str = include_str!("../../../assets/drawings/g1_bezier.svg");
+/// A path that crosses itself, and the two ambiguous drawings of it (a junction, a spike).
+const LOOPED_DXF: &str = include_str!("../../../assets/drawings/g1_looped_bulge.dxf");
+const LOOPED_SVG: &str = include_str!("../../../assets/drawings/g1_looped_px.svg");
+const JUNCTION_DXF: &str = include_str!("../../../assets/drawings/g1_looped_junction.dxf");
+const SPIKE_DXF: &str = include_str!("../../../assets/drawings/g1_looped_spike.dxf");
 const SCENES: [&str; 5] = [
     include_str!("../../../assets/dynamics/backlash_oscillator.toml"),
     include_str!("../../../assets/dynamics/full16.toml"),
@@ -407,6 +412,11 @@ fn bundled_assets_parse() {
     assert!(Trajectory::parse_json(ASYM_JSON, "a").is_ok());
     assert!(Trajectory::from_dxf(BULGE_DXF.as_bytes(), &DrawingOptions::default(), "b").is_ok());
     assert!(Trajectory::from_svg(BEZIER_SVG, &DrawingOptions::default(), "z").is_ok());
+    let none = DrawingOptions::default();
+    assert!(Trajectory::from_dxf(LOOPED_DXF.as_bytes(), &none, "l").is_ok());
+    assert!(Trajectory::from_svg(LOOPED_SVG, &none, "l").is_ok());
+    assert!(Trajectory::from_dxf(JUNCTION_DXF.as_bytes(), &none, "j").is_err());
+    assert!(Trajectory::from_dxf(SPIKE_DXF.as_bytes(), &none, "s").is_err());
     assert!(DesignFile::parse(design_json(), "d").is_ok());
     for s in SCENES {
         assert!(Scene::parse(s, "s", Format::Toml).is_ok());
@@ -480,8 +490,11 @@ proptest! {
     #![proptest_config(cfg(512, 0x8_0002))]
 
     #[test]
-    fn mutated_trajectory_files(muts in proptest::collection::vec(mutation(), 1..4), which in 0usize..5) {
-        let base = [G1_CSV, KIDNEY_CSV, ASYM_JSON, BULGE_DXF, BEZIER_SVG][which];
+    fn mutated_trajectory_files(muts in proptest::collection::vec(mutation(), 1..4), which in 0usize..9) {
+        let base = [
+            G1_CSV, KIDNEY_CSV, ASYM_JSON, BULGE_DXF, BEZIER_SVG, LOOPED_DXF, LOOPED_SVG,
+            JUNCTION_DXF, SPIKE_DXF,
+        ][which];
         check_trajectory(&apply(base, &muts))?;
     }
 
