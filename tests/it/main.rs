@@ -22,6 +22,7 @@ mod pair_ratios;
 mod pair_sector;
 mod quality;
 mod robust;
+mod rotor_dynamics;
 mod schemas;
 mod shaper;
 mod simulate;
