@@ -8,14 +8,14 @@ use ncgear::geometry::pitch::PitchCurve;
 use ncgear::loads::{Rotor, Scene};
 use ncgear::math::Point;
 use ncgear::progress::Progress;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 fn asset(p: &str) -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR")).join(p)
 }
 
 /// The bundled G1 rotor scene's tables with `effects` (TOML lines) in a temporary scene file.
-fn g1_scene(name: &str, effects: &str) -> PathBuf {
+fn g1_scene(name: &str, effects: &str, max_turns: u32) -> PathBuf {
     let design = asset("assets/loads/g1_m2_design.json");
     let text = format!(
         "[scene]\nname = \"{name}\"\nmodel = \"rotor\"\ndesign = {design:?}\n\
@@ -23,7 +23,7 @@ fn g1_scene(name: &str, effects: &str) -> PathBuf {
          [arm]\nmass_kg = 0.55\ncom_mm = [35.0, -70.0]\ninertia_kg_mm2 = 2100.0\n\
          [gears]\nface_width_mm = 25.0\ndensity_kg_m3 = 7100.0\nbore_mm = 10.0\n\
          [needle]\nprofile = \"planting\"\n[effects]\n{effects}\n\
-         [steady]\npoincare_tol = 1e-7\nmax_turns = 20\n"
+         [steady]\npoincare_tol = 1e-7\nmax_turns = {max_turns}\n"
     );
     let dir = std::env::temp_dir().join(format!("ncgear_rotor_{}_{name}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
@@ -32,7 +32,7 @@ fn g1_scene(name: &str, effects: &str) -> PathBuf {
     path
 }
 
-fn run(path: &PathBuf) -> (Prepared, RotorRun) {
+fn run(path: &Path) -> (Prepared, RotorRun) {
     let p = Prepared::from_path(path).unwrap();
     let r = p.run(&Progress::none()).unwrap();
     (p, r)
@@ -55,11 +55,13 @@ fn the_stiff_g1_rotor_carries_the_rigid_loads() {
     let soft = g1_scene(
         "soft",
         "mesh_stiffness = { kind = \"iso\", pairs = \"mean\" }\nmesh_damping = { zeta = 0.05 }",
+        20,
     );
     let stiff = g1_scene(
         "stiff",
         "mesh_stiffness = { kind = \"iso\", scale = 100.0, pairs = \"mean\" }\n\
          mesh_damping = { zeta = 0.05 }",
+        20,
     );
     let (_, rs) = run(&soft);
     let (_, rk) = run(&stiff);
@@ -76,15 +78,16 @@ fn the_stiff_g1_rotor_carries_the_rigid_loads() {
     assert!(peak > 10.0, "{peak}");
 }
 
-/// Energy: over the settled turn of the G1 rotor with every effect (ISO stiffness with the pairs
-/// alternating, damping, the teeth's backlash), the drive's work equals the damping's and the
-/// impacts' dissipation plus the needle's and gravity's work, within 1e-4 of the drive's largest
-/// power × the period.
+/// Energy: over the last turn of the G1 rotor with every effect (ISO stiffness with the pairs
+/// alternating, damping, the teeth's backlash: the train rattles, impacts included), the drive's
+/// work equals the damping's and the impacts' dissipation plus the needle's and gravity's work
+/// and the energy's change, within 1e-4 of the drive's largest power × the period.
 #[test]
 fn the_settled_turn_balances_its_energy() {
     let path = g1_scene(
         "energy",
         "mesh_stiffness = { kind = \"iso\" }\nmesh_damping = { zeta = 0.05 }\nbacklash = \"teeth\"",
+        3,
     );
     let (p, r) = run(&path);
     let m = &p.built.model;
@@ -137,4 +140,69 @@ fn the_circular_train_has_the_torsional_chain_frequencies() {
     for i in 0..2 {
         assert!((f[i] / closed[i] - 1.0).abs() < 1e-3, "{f:?} vs {closed:?}");
     }
+}
+
+/// Bad input names the field and stops before any work: a negative stiffness, a damping ratio
+/// above 1, a negative backlash, an unknown field (with its line), a drive without the
+/// carrier's inertia, `"teeth"` backlash or ISO stiffness on a design without teeth.
+#[test]
+fn bad_rotor_scenes_name_their_field() {
+    use ncgear::analysis::dynamics::rotor::RotorScene;
+    let message = |effects: &str| {
+        let path = g1_scene("bad", effects, 5);
+        let file = path.display().to_string();
+        match RotorScene::from_path(&path).and_then(|s| s.validate(&file)) {
+            Err(e) => e.to_string(),
+            Ok(_) => panic!("{effects}: accepted"),
+        }
+    };
+    let m = message("mesh_stiffness = { kind = \"constant\", c_n_per_mm_mm = -5.0 }");
+    assert!(
+        m.contains("effects.mesh_stiffness.c_n_per_mm_mm") && m.contains("-5"),
+        "{m}"
+    );
+    let m = message("mesh_stiffness = { kind = \"iso\" }\nmesh_damping = { zeta = 1.5 }");
+    assert!(m.contains("effects.mesh_damping.zeta"), "{m}");
+    let m = message("mesh_stiffness = { kind = \"iso\" }\nbacklash = -0.1");
+    assert!(m.contains("effects.backlash"), "{m}");
+    let m = message("mesh_stiffness = { kind = \"iso\", stifness = 2.0 }");
+    assert!(m.contains("stifness") && m.contains("line"), "{m}");
+    let m = message("mesh_stiffness = { kind = \"iso\" }\ndrive = { stiffness_nm_per_rad = 1e4 }");
+    assert!(m.contains("effects.drive.carrier_inertia_kg_mm2"), "{m}");
+    let m = message("mesh_stiffness = { kind = \"iso\", scale = nan }");
+    assert!(m.contains("effects.mesh_stiffness.scale"), "{m}");
+    // a pitch-only train: the teeth's backlash and ISO's stiffness are not there to read
+    let circle = || PitchCurve::from_fn(360, |_| 25.0).unwrap();
+    let asm = Assembly {
+        center_mm: Point::ZERO,
+        direction: 1,
+        a_mm: 50.0,
+        idler_offset_rad: 0.0,
+        l3_mm: 100.0,
+        needle_angle_rad: 0.0,
+        sun: circle(),
+        intermediate: circle(),
+        intermediate_angle_at_zero_rad: 0.0,
+        planet: circle(),
+        planet_angle_at_zero_rad: 0.0,
+    };
+    let scene: Scene =
+        toml::from_str("[operation]\ncarrier_rpm = 100.0\n[gears]\nface_width_mm = 10.0").unwrap();
+    let case = scene.validate("c.toml").unwrap();
+    let rotor = Rotor::pitch(&asm);
+    let fx = Effects::constant([1e8; 2]).with_backlash(Some(
+        ncgear::analysis::dynamics::rotor::scene::Backlash::Teeth,
+    ));
+    let e = build(&rotor, &case, &fx, None, "c.toml")
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("effects.backlash") && e.contains("no"), "{e}");
+    let fx = Effects::iso(
+        1.0,
+        ncgear::analysis::dynamics::rotor::scene::PairsMode::Mean,
+    );
+    let e = build(&rotor, &case, &fx, None, "c.toml")
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("effects.mesh_stiffness"), "{e}");
 }

@@ -12,7 +12,7 @@
 //! audit checks the equations of motion against an independent balance.
 
 use super::RotorError;
-use super::model::RotorModel;
+use super::model::{GapFn, RotorModel};
 use crate::analysis::dynamics::ode::{Dopri5, EventFn, OdeProblem, OdeSystem};
 use serde::Serialize;
 
@@ -82,9 +82,9 @@ pub fn energy_audit(
     let dt0 = 1e-9 * model.period_s();
     let e = |t: f64, y: &[f64]| model.instant(t, &y[..4]).energy_j;
     let e0 = e(t0 + dt0, &y);
-    let gaps: Vec<Box<dyn Fn(f64, &[f64]) -> f64 + '_>> = if model.has_backlash() {
+    let gaps: Vec<GapFn<'_>> = if model.has_backlash() {
         (0..4)
-            .map(|w| Box::new(move |t: f64, y: &[f64]| model.gap(t, y, w)) as Box<_>)
+            .map(|w| Box::new(move |t: f64, y: &[f64]| model.gap(t, y, w)) as GapFn<'_>)
             .collect()
     } else {
         Vec::new()

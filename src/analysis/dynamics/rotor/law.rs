@@ -86,6 +86,9 @@ pub(crate) enum MeshLaw {
     },
 }
 
+/// The mesh at a carrier angle (rad), handed to a visitor.
+pub(crate) type ContactAt<'a> = dyn Fn(f64, &mut dyn FnMut(&Contact<'_>)) + 'a;
+
 /// What the law needs of the mesh at one instant: the pitch point and the curves
 /// `[driver, driven]` (CCW frame).
 pub(crate) struct Contact<'a> {
@@ -115,7 +118,7 @@ impl MeshLaw {
         teeth: ToothData,
         face_mm: f64,
         driver: &PitchCurve,
-        contact: &dyn Fn(f64, &mut dyn FnMut(&Contact<'_>)),
+        contact: &ContactAt<'_>,
     ) -> Self {
         let mut law = Self::Iso {
             scale,

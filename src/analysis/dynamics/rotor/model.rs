@@ -25,6 +25,9 @@ use crate::loads::needle::NeedleTable;
 use crate::math::Point;
 use std::f64::consts::TAU;
 
+/// A boxed contact event function `(t, y) → δ_s − b` (m).
+pub(crate) type GapFn<'a> = Box<dyn Fn(f64, &[f64]) -> f64 + 'a>;
+
 /// The model of one train (SI inside; the CCW frame of [`Rebuilt`]).
 #[derive(Debug, Clone)]
 pub struct RotorModel {
@@ -284,11 +287,11 @@ impl RotorModel {
             let m = TrainMotion::at(&self.rebuilt, TAU * i as f64 / n as f64);
             let g = self.geometry(&m);
             let ki = self.stiffness(&m, None);
-            for j in 0..2 {
-                for e in 0..2 {
-                    lev[j][e] += g[j].lever_m[0][e].abs() / n as f64;
+            for ((lj, kj), (gj, kij)) in lev.iter_mut().zip(&mut k).zip(g.iter().zip(ki)) {
+                for (l, arm) in lj.iter_mut().zip(gj.lever_m[0]) {
+                    *l += arm.abs() / n as f64;
                 }
-                k[j] += ki[j] / n as f64;
+                *kj += kij / n as f64;
             }
         }
         (lev, k)

@@ -6,7 +6,7 @@
 //! taken separately (the larger of the two).
 
 use super::RotorError;
-use super::model::RotorModel;
+use super::model::{GapFn, RotorModel};
 use super::scene::{RotorMethod, Settings};
 use crate::analysis::dynamics::ode::{self, DenseStep, Dopri5, EventFn, OdeProblem, OdeStats};
 use crate::progress::Progress;
@@ -119,8 +119,8 @@ impl Recorder<'_> {
 
     fn contact(&mut self, t: f64, y: &[f64]) {
         let now = flanks(self.model, t, y);
-        for j in 0..2 {
-            if now[j] != self.flank[j] {
+        for (j, &flank_now) in now.iter().enumerate() {
+            if flank_now != self.flank[j] {
                 let inst = self.model.instant(t, y);
                 self.open
                     .retain(|&(i, _)| self.turn.transitions[i].mesh != j);
@@ -128,15 +128,15 @@ impl Recorder<'_> {
                     t,
                     mesh: j,
                     from: self.flank[j],
-                    to: now[j],
+                    to: flank_now,
                     speed_m_s: inst.mesh[j].speed_m_s,
                     peak_n: inst.mesh[j].force_n,
                 });
-                if now[j] != 0 {
+                if flank_now != 0 {
                     self.open
                         .push((self.turn.transitions.len() - 1, t + self.window_s));
                 }
-                self.flank[j] = now[j];
+                self.flank[j] = flank_now;
             }
         }
     }
@@ -184,14 +184,13 @@ fn one_turn(
     };
     let stats = match s.method {
         RotorMethod::Dopri5 => {
-            let gaps: Vec<Box<dyn Fn(f64, &[f64]) -> f64 + '_>> =
-                if s.events && model.has_backlash() {
-                    (0..4)
-                        .map(|w| Box::new(move |t: f64, y: &[f64]| model.gap(t, y, w)) as Box<_>)
-                        .collect()
-                } else {
-                    Vec::new()
-                };
+            let gaps: Vec<GapFn<'_>> = if s.events && model.has_backlash() {
+                (0..4)
+                    .map(|w| Box::new(move |t: f64, y: &[f64]| model.gap(t, y, w)) as GapFn<'_>)
+                    .collect()
+            } else {
+                Vec::new()
+            };
             let refs: Vec<EventFn<'_>> = gaps.iter().map(|b| b.as_ref() as EventFn<'_>).collect();
             let solver = Dopri5::new(s.rtol, s.atol)?;
             let problem = OdeProblem::new(model, t0, t1)
