@@ -16,6 +16,10 @@ pub struct Args {
     /// solvers only: a `method = "linear"` scene is solved in closed form).
     #[arg(long)]
     pub sweep: Option<String>,
+    /// Carrier-speed sweep of a rotor scene as START:END:STEP, r/min (within (0, 3000], at
+    /// most 200 speeds), each steady state warm-started from the previous.
+    #[arg(long)]
+    pub sweep_rpm: Option<String>,
     /// Plot format of a time-domain run: svg (default) or png.
     #[arg(long)]
     pub format: Option<String>,
@@ -74,6 +78,16 @@ fn parse_sweep(s: &str) -> Result<Vec<f64>, super::Failure> {
 /// ([`dy::Prepared::run`]) and writes the CSV files and plots of the result.
 pub fn run(args: Args) -> CliResult {
     let file = args.scene.display().to_string();
+    let text = std::fs::read_to_string(&args.scene).unwrap_or_default();
+    if ncgear::analysis::dynamics::rotor::RotorScene::names_rotor(&text) {
+        return super::dynamics_rotor::run(&args);
+    }
+    if args.sweep_rpm.is_some() {
+        return Err(input_error(miette::miette!(
+            "--sweep-rpm sweeps a rotor scene's carrier speed ([scene] model = \"rotor\"); a \
+             spur scene sweeps the frequency ratio with --sweep"
+        )));
+    }
     let scene = Scene::from_path(&args.scene).map_err(|e| input_error(miette::miette!("{e}")))?;
     let prepared = dy::Prepared::new(scene, &file).map_err(dyn_err)?;
     let format = args.format.as_deref().unwrap_or("svg");

@@ -7,6 +7,7 @@ use std::process::ExitCode;
 mod design;
 mod design_args;
 mod dynamics;
+mod dynamics_rotor;
 mod loads;
 mod orbit;
 mod pair;

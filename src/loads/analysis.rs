@@ -10,6 +10,7 @@
 use super::kinetostatics::{TrainBodies, TrainForces, TrainTurn, solve};
 use super::mass::MassProperties;
 use super::motion::TrainMotion;
+use super::needle::NeedleTable;
 use super::rating::{Machine, rate};
 use super::report::{Bearings, GearsReport, LoadsReport, Meshes, OperationReport, Summary};
 use super::scene::{FaceWidth, LoadCase};
@@ -67,6 +68,23 @@ fn check_bore(
     Ok(())
 }
 
+/// The case's needle load as a table over the travel (world frame, N) on the tip path of
+/// `motion` (train 1 at the case's samples), if the case has one.
+pub(crate) fn needle_table(
+    r: &Rebuilt,
+    case: &LoadCase,
+    motion: &[TrainMotion],
+) -> Option<NeedleTable> {
+    let load = case.needle.as_ref()?;
+    let sign = r.sign();
+    let o = r.assembly().center_mm;
+    let tips: Vec<Point> = motion
+        .iter()
+        .map(|m| o + Point::new(m.tip_mm.x, sign * m.tip_mm.y))
+        .collect();
+    Some(load.table(&tips, case.gravity_m_s2))
+}
+
 /// Solves train 1 at every sample.
 pub(crate) fn train_turn(
     r: &Rebuilt,
@@ -81,16 +99,11 @@ pub(crate) fn train_turn(
         .into_par_iter()
         .map(|k| TrainMotion::at(r, TAU * k as f64 / n as f64))
         .collect();
-    let needle_n: Vec<Point> = match &case.needle {
+    let needle_n: Vec<Point> = match needle_table(r, case, &motion) {
         None => vec![Point::ZERO; n],
-        Some(load) => {
-            let o = r.assembly().center_mm;
-            let tips: Vec<Point> = motion.iter().map(|m| o + mirror(m.tip_mm)).collect();
-            let table = load.table(&tips, case.gravity_m_s2);
-            (0..n)
-                .map(|k| mirror(table.at(TAU * k as f64 / n as f64)))
-                .collect()
-        }
+        Some(table) => (0..n)
+            .map(|k| mirror(table.at(TAU * k as f64 / n as f64)))
+            .collect(),
     };
     let g = mirror(case.gravity_m_s2);
     let forces = motion
@@ -147,7 +160,10 @@ impl RotorSums {
 
 /// Sum over the arms of a per-sample quantity of train 1: train j at sample k is train 1 at
 /// sample `k + j·n/arms`.
-fn over_arms<T: Copy + Default + std::ops::Add<Output = T>>(values: &[T], arms: usize) -> Vec<T> {
+pub(crate) fn over_arms<T: Copy + Default + std::ops::Add<Output = T>>(
+    values: &[T],
+    arms: usize,
+) -> Vec<T> {
     let n = values.len();
     let step = n / arms;
     (0..n)
@@ -223,6 +239,46 @@ fn auto_face_width(
     Ok(best)
 }
 
+/// The rigid train of a case: the rebuilt kinematics, the three gears' mass properties (CCW
+/// frame), the moving bodies (the planet with its arm) and the mesh pressure angle, rad.
+pub(crate) struct RigidTrain {
+    pub rebuilt: Rebuilt,
+    pub masses: [MassProperties; 3],
+    pub bodies: TrainBodies,
+    pub alpha_rad: f64,
+}
+
+/// The rigid train of `rotor` under `case` at the face width `face_width_mm` (mm), its bore
+/// checked.
+pub(crate) fn rigid_train(
+    rotor: &Rotor<'_>,
+    case: &LoadCase,
+    face_width_mm: f64,
+    file: &str,
+) -> Result<RigidTrain, LoadsError> {
+    let r = rotor.assembly().rebuild();
+    check_bore(&r, case, rotor, file)?;
+    let masses = gear_masses(&r, case, face_width_mm);
+    let sign = r.sign();
+    let arm = case.arm.map(|a| {
+        MassProperties::from_center_of_mass(
+            a.mass_kg,
+            Point::new(a.com_mm.x, sign * a.com_mm.y),
+            a.inertia_kg_mm2,
+        )
+    });
+    let bodies = TrainBodies {
+        intermediate: masses[1],
+        planet: masses[2].combined(arm.unwrap_or(MassProperties::ZERO)),
+    };
+    Ok(RigidTrain {
+        alpha_rad: rotor.pressure_angle_rad(case),
+        rebuilt: r,
+        masses,
+        bodies,
+    })
+}
+
 /// [`analyse`] at the face width `face_width_mm` (mm).
 pub(crate) fn analyse_at(
     rotor: &Rotor<'_>,
@@ -233,19 +289,14 @@ pub(crate) fn analyse_at(
     if case.rating.is_some() && rotor.teeth().is_none() {
         return Err(LoadsError::NoTeeth);
     }
-    let r = rotor.assembly().rebuild();
-    check_bore(&r, case, rotor, file)?;
-    let [sun, mid, planet] = gear_masses(&r, case, face_width_mm);
+    let RigidTrain {
+        rebuilt: r,
+        masses: [sun, mid, planet],
+        bodies,
+        alpha_rad: alpha,
+    } = rigid_train(rotor, case, face_width_mm, file)?;
     let sign = r.sign();
     let mirror = |p: Point| Point::new(p.x, sign * p.y);
-    let arm = case.arm.map(|a| {
-        MassProperties::from_center_of_mass(a.mass_kg, mirror(a.com_mm), a.inertia_kg_mm2)
-    });
-    let bodies = TrainBodies {
-        intermediate: mid,
-        planet: planet.combined(arm.unwrap_or(MassProperties::ZERO)),
-    };
-    let alpha = rotor.pressure_angle_rad(case);
     let turn = train_turn(&r, case, &bodies, alpha)?;
     let g = mirror(case.gravity_m_s2);
     let sums = RotorSums::new(&turn, case.arms as usize, &sun, g);

@@ -80,20 +80,20 @@ pub struct SelfLocking {
 }
 
 /// A body's kinematics at one instant, SI: its axis, orientation rate and acceleration.
-struct Axis {
+pub(crate) struct Axis {
     /// Axis position, m.
-    c: Point,
+    pub(crate) c: Point,
     /// Orientation, rad.
-    theta: f64,
+    pub(crate) theta: f64,
     /// Angular velocity, rad/s.
-    w: f64,
+    pub(crate) w: f64,
     /// Angular acceleration, rad/s².
-    alpha: f64,
+    pub(crate) alpha: f64,
 }
 
 impl Axis {
     /// `m·a_G` and `S × a_C` of `body` (mm, kg) on this axis turning with the carrier at ω.
-    fn inertia(&self, body: &MassProperties, omega: f64) -> (Point, f64, Point) {
+    pub(crate) fn inertia(&self, body: &MassProperties, omega: f64) -> (Point, f64, Point) {
         let s = body.first_moment_kg_mm().rotate(self.theta) * 1e-3; // kg·m
         let a_c = self.c * (-omega * omega);
         let m_a = a_c * body.mass_kg + s.perp() * self.alpha - s * (self.w * self.w);
@@ -102,12 +102,19 @@ impl Axis {
     }
 }
 
+/// The unit line of action of flank `s = ±1` at the pitch point `pp`, pressure angle `alpha`
+/// (rad): `sin α·n + s·cos α·t` (module docs).
+#[must_use]
+pub fn line_of_action(pp: &PitchPoint, alpha: f64, s: f64) -> Point {
+    let (sa, ca) = alpha.sin_cos();
+    pp.normal * sa + pp.tangent * (s * ca)
+}
+
 /// The mesh force that gives the driven gear (axis `c`, m) the moment `m_req` (N·m) through
 /// the pitch point `pp` at pressure angle `alpha` (rad).
 fn mesh_force(m_req: f64, pp: &PitchPoint, c: Point, alpha: f64) -> Option<MeshForce> {
     let r = pp.point_mm * 1e-3 - c;
-    let (sa, ca) = alpha.sin_cos();
-    let line = |s: f64| pp.normal * sa + pp.tangent * (s * ca);
+    let line = |s: f64| line_of_action(pp, alpha, s);
     let s = if m_req >= 0.0 { 1.0 } else { -1.0 };
     let k = r.cross(line(s));
     if !(k * s > 1e-9 * r.norm()) {

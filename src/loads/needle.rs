@@ -177,6 +177,12 @@ impl NeedleTable {
         Ok(Self { rows })
     }
 
+    /// The travel angles of the table's rows, rad (where its linear pieces meet).
+    #[must_use]
+    pub fn knots_rad(&self) -> Vec<f64> {
+        self.rows.iter().map(|r| r.0).collect()
+    }
+
     /// The force at travel angle `travel_rad` (any real angle), N.
     #[must_use]
     pub fn at(&self, travel_rad: f64) -> Point {

@@ -19,6 +19,7 @@ use schemars::{JsonSchema, Schema};
 use serde_json::Value;
 
 use crate::analysis::dynamics::DynamicsReport;
+use crate::analysis::dynamics::rotor::RotorReport;
 use crate::analysis::orbit::report::{IdentifyReport, MeasureReport, ModelReport};
 use crate::analysis::tolerance::ToleranceReport;
 use crate::analysis::transplanter::TransplanterReport;
@@ -94,6 +95,7 @@ pub fn schemas() -> Vec<(&'static str, Value)> {
         ("pair.schema.json", schema_for::<PairReport>()),
         ("simulate.schema.json", schema_for::<SimulationReport>()),
         ("dynamics.schema.json", schema_for::<DynamicsReport>()),
+        ("dynamics_rotor.schema.json", schema_for::<RotorReport>()),
         ("tolerance.schema.json", schema_for::<ToleranceReport>()),
         (
             "transplanter.schema.json",

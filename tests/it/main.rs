@@ -24,6 +24,7 @@ mod pair_sector;
 mod periodic_tables;
 mod quality;
 mod robust;
+mod rotor_dynamics;
 mod schemas;
 mod shaper;
 mod simulate;

@@ -18,6 +18,7 @@ pub mod model;
 pub mod ode;
 pub mod options;
 pub mod report;
+pub mod rotor;
 pub mod scene;
 pub mod simulation;
 pub mod sweep;

@@ -24,6 +24,8 @@
 //! from its tip contact towards the pitch point, at the radius `r_en` of ISO 6336-3:
 //! `r_en = √((√(r_a² − r_b²) ∓ (ε_α − 1)·p_b)² + r_b²)` (− external, + internal).
 
+use super::factors::Factors;
+
 /// One gear of the pair.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct EquivalentGear {
@@ -126,6 +128,26 @@ impl EquivalentPair {
         // Single contact runs from u = A1 − p_b (gear 1's inner point) to u = p_b − A2 (gear
         // 2's); an internal gear's is 1 (ISO 6336-2).
         [at(a1 - pb), if internal { 1.0 } else { at(pb - a2) }]
+    }
+
+    /// The pinion's and the wheel's pitch radii `(ρ_p, ρ_w)`, mm: the pinion is the smaller
+    /// convex gear (a concave arc is the wheel, by its magnitude).
+    #[must_use]
+    pub fn pinion_wheel_mm(&self) -> (f64, f64) {
+        let rho = self.rho_mm;
+        match (rho[0] > 0.0, rho[1] > 0.0) {
+            (true, true) => (rho[0].min(rho[1]), rho[0].max(rho[1])),
+            (true, false) => (rho[0], rho[1].abs()),
+            _ => (rho[1], rho[0].abs()),
+        }
+    }
+
+    /// ISO 6336-1's K_v ([`Factors::k_v`]) of this pair at tangential force `f_t_n` (N), face
+    /// width `b_mm` and pitch-line speed `v_m_s`: `z1 = 2ρ_p/m`, `u = ρ_w/ρ_p`.
+    #[must_use]
+    pub fn k_v(&self, f: &Factors, f_t_n: f64, b_mm: f64, v_m_s: f64) -> f64 {
+        let (rp, rw) = self.pinion_wheel_mm();
+        f.k_v(f_t_n, b_mm, 2.0 * rp / self.module_mm, rw / rp, v_m_s)
     }
 
     /// Method B's load point on gear `i`: its height above the pitch circle towards the tooth

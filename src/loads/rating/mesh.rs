@@ -94,13 +94,7 @@ pub(super) fn rate_mesh(
         }
         let f_n = s.force.normal_force_n;
         let f_t = f_n * alpha.cos();
-        // The pinion of the equivalent pair: the smaller convex gear.
-        let (rp, rw) = match (rho[0] > 0.0, rho[1] > 0.0) {
-            (true, true) => (rho[0].min(rho[1]), rho[0].max(rho[1])),
-            (true, false) => (rho[0], rho[1].abs()),
-            _ => (rho[1], rho[0].abs()),
-        };
-        let k_v = f.k_v(f_t, b_mm, 2.0 * rp / m_mm, rw / rp, s.speed_m_s);
+        let k_v = pair.k_v(f, f_t, b_mm, s.speed_m_s);
         let [k_h_alpha, k_f_alpha] = f.k_alpha(f_t, b_mm, eps, hardened);
         let curvature = 1.0 / flank_r[0] + 1.0 / flank_r[1];
         let hertz = z_e * (f_n / b_mm * curvature).max(0.0).sqrt();

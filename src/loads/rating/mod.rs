@@ -439,6 +439,19 @@ pub struct Rated {
     pub report: RatingReport,
 }
 
+/// The pitch-line speeds of `[sun–intermediate, intermediate–planet]` relative to the carrier
+/// at the motion `mo` and carrier speed `w` (rad/s), m/s: `ω·|P1|` (the sun is fixed) and
+/// `ω·|θ2′ − 1|·|P2 − D|`.
+#[must_use]
+pub fn pitch_line_speeds_m_s(mo: &crate::loads::motion::TrainMotion, w: f64) -> [f64; 2] {
+    [
+        w * mo.sun_mesh.point_mm.norm() * 1e-3,
+        w * (mo.rates.intermediate[0] - 1.0).abs()
+            * (mo.planet_mesh.point_mm - mo.d_mm).norm()
+            * 1e-3,
+    ]
+}
+
 /// Rates both meshes of `turn` (train 1, CCW frame of `r`, samples uniform in travel over a
 /// turn) on the teeth of `train` for `machine`.
 ///
@@ -485,7 +498,7 @@ pub fn rate(
             pitch: &mo.sun_mesh,
             force: &fo.sun_mesh,
             orientation_rad: [0.0, mo.theta2_rad],
-            speed_m_s: w * mo.sun_mesh.point_mm.norm() * 1e-3,
+            speed_m_s: pitch_line_speeds_m_s(mo, w)[0],
         })
         .collect();
     let planet_samples: Vec<MeshSample<'_>> = turn
@@ -496,10 +509,7 @@ pub fn rate(
             pitch: &mo.planet_mesh,
             force: &fo.planet_mesh,
             orientation_rad: [mo.theta2_rad, mo.theta3_rad],
-            speed_m_s: w
-                * (mo.rates.intermediate[0] - 1.0).abs()
-                * (mo.planet_mesh.point_mm - mo.d_mm).norm()
-                * 1e-3,
+            speed_m_s: pitch_line_speeds_m_s(mo, w)[1],
         })
         .collect();
     let alpha = rack.alpha_rad();

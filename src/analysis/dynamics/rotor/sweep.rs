@@ -1,0 +1,74 @@
+//! A carrier-speed sweep: the steady state at each speed, warm-started from the previous
+//! speed's, and the figures of where the knock begins.
+
+use super::analyse::run_model;
+use super::{Prepared, RotorError};
+use crate::progress::Progress;
+use serde::Serialize;
+use std::f64::consts::TAU;
+
+/// Most speeds a sweep may run.
+pub const MAX_SWEEP_SPEEDS: usize = 200;
+
+/// One speed of a sweep.
+#[derive(Debug, Clone, Copy, Serialize, schemars::JsonSchema)]
+pub struct SweepRow {
+    /// Carrier speed, r/min.
+    pub carrier_rpm: f64,
+    /// Dynamic factor of `[sun–intermediate, intermediate–planet]`.
+    pub dynamic_factor: [f64; 2],
+    /// Impacts per turn (one train, both meshes).
+    pub impacts_per_turn: usize,
+    /// Largest impact speed, m/s.
+    pub max_impact_speed_m_s: f64,
+    /// Largest tip deviation from the static path, mm.
+    pub max_tip_deviation_mm: f64,
+    /// Turns to the steady state.
+    pub turns: u32,
+    /// Whether it settled.
+    pub settled: bool,
+}
+
+/// The steady state of `prepared` at each carrier speed of `rpm` (r/min, in (0, 3000]), each
+/// warm-started from the previous; `progress` hears every speed.
+///
+/// # Errors
+/// [`RotorError`]: a run's.
+pub fn sweep_rpm(
+    prepared: &Prepared,
+    rpm: &[f64],
+    progress: &Progress,
+) -> Result<Vec<SweepRow>, RotorError> {
+    let mut warm: Option<Vec<f64>> = None;
+    let mut rows = Vec::with_capacity(rpm.len());
+    for &n in rpm {
+        let mut model = prepared.built.model.clone();
+        model.omega = n * TAU / 60.0;
+        let mut case = prepared.case.loads.clone();
+        case.omega_rad_s = model.omega;
+        let run = run_model(
+            &model,
+            &case,
+            &prepared.case.settings,
+            prepared.teeth,
+            warm.as_deref(),
+            &Progress::none(),
+        )?;
+        let s = &run.report.summary;
+        rows.push(SweepRow {
+            carrier_rpm: n,
+            dynamic_factor: [
+                s.meshes.sun_intermediate.dynamic_factor,
+                s.meshes.intermediate_planet.dynamic_factor,
+            ],
+            impacts_per_turn: s.impacts_per_turn,
+            max_impact_speed_m_s: s.max_impact_speed_m_s,
+            max_tip_deviation_mm: s.max_tip_deviation_mm,
+            turns: run.report.steady.turns,
+            settled: run.report.steady.settled,
+        });
+        warm = Some(run.end_state);
+        progress.advance(1);
+    }
+    Ok(rows)
+}

@@ -1,0 +1,208 @@
+//! The rotor model of `ncgear dynamics` (docs/dynamics.md, "The rotor"): the stiff limit against
+//! the rigid loads, the energy balance of a settled turn, the circular limit's frequencies.
+
+use ncgear::analysis::dynamics::rotor::energy::energy_audit;
+use ncgear::analysis::dynamics::rotor::{Effects, Prepared, RotorRun, build};
+use ncgear::geometry::assembly::Assembly;
+use ncgear::geometry::pitch::PitchCurve;
+use ncgear::loads::{Rotor, Scene};
+use ncgear::math::Point;
+use ncgear::progress::Progress;
+use std::path::{Path, PathBuf};
+
+fn asset(p: &str) -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join(p)
+}
+
+/// The bundled G1 rotor scene's tables with `effects` (TOML lines) in a temporary scene file.
+fn g1_scene(name: &str, effects: &str, max_turns: u32) -> PathBuf {
+    let design = asset("assets/loads/g1_m2_design.json");
+    let text = format!(
+        "[scene]\nname = \"{name}\"\nmodel = \"rotor\"\ndesign = {design:?}\n\
+         [operation]\ncarrier_rpm = 300.0\narms = 2\ngravity = [0.0, -1.0]\n\
+         [arm]\nmass_kg = 0.55\ncom_mm = [35.0, -70.0]\ninertia_kg_mm2 = 2100.0\n\
+         [gears]\nface_width_mm = 25.0\ndensity_kg_m3 = 7100.0\nbore_mm = 10.0\n\
+         [needle]\nprofile = \"planting\"\n[effects]\n{effects}\n\
+         [steady]\npoincare_tol = 1e-7\nmax_turns = {max_turns}\n"
+    );
+    let dir = std::env::temp_dir().join(format!("ncgear_rotor_{}_{name}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join("scene.toml");
+    std::fs::write(&path, text).unwrap();
+    path
+}
+
+fn run(path: &Path) -> (Prepared, RotorRun) {
+    let p = Prepared::from_path(path).unwrap();
+    let r = p.run(&Progress::none()).unwrap();
+    (p, r)
+}
+
+/// Largest `|F_dyn − F_rigid|` of both meshes relative to each mesh's rigid peak.
+fn stiff_error(r: &RotorRun) -> f64 {
+    let m = &r.report.summary.meshes;
+    m.sun_intermediate
+        .largest_deviation_of_peak
+        .max(m.intermediate_planet.largest_deviation_of_peak)
+}
+
+/// Stiff limit on the bundled G1 rotor: at 100× ISO's (mean) mesh stiffness, no backlash,
+/// ζ = 0.05, the dynamic mesh forces equal the rigid loads' within 1 % of their peak at every
+/// sample of the settled turn, and the tip deviation falls with the compliance (100× stiffer:
+/// about 100× smaller).
+#[test]
+fn the_stiff_g1_rotor_carries_the_rigid_loads() {
+    let soft = g1_scene(
+        "soft",
+        "mesh_stiffness = { kind = \"iso\", pairs = \"mean\" }\nmesh_damping = { zeta = 0.05 }",
+        20,
+    );
+    let stiff = g1_scene(
+        "stiff",
+        "mesh_stiffness = { kind = \"iso\", scale = 100.0, pairs = \"mean\" }\n\
+         mesh_damping = { zeta = 0.05 }",
+        20,
+    );
+    let (_, rs) = run(&soft);
+    let (_, rk) = run(&stiff);
+    assert!(rk.report.steady.settled && rs.report.steady.settled);
+    let e = stiff_error(&rk);
+    assert!(e < 0.01, "stiff limit: {e}");
+    let (ts, tk) = (
+        rs.report.summary.max_tip_deviation_mm,
+        rk.report.summary.max_tip_deviation_mm,
+    );
+    assert!(tk < 0.02 * ts && tk < 1e-3, "tip deviation {ts} → {tk} mm");
+    // the rigid forces are the loads' of the same tables
+    let peak = rk.report.summary.meshes.intermediate_planet.peak_rigid_n;
+    assert!(peak > 10.0, "{peak}");
+}
+
+/// Energy: over the last turn of the G1 rotor with every effect (ISO stiffness with the pairs
+/// alternating, damping, the teeth's backlash: the train rattles, impacts included), the drive's
+/// work equals the damping's and the impacts' dissipation plus the needle's and gravity's work
+/// and the energy's change, within 1e-4 of the drive's largest power × the period.
+#[test]
+fn the_settled_turn_balances_its_energy() {
+    let path = g1_scene(
+        "energy",
+        "mesh_stiffness = { kind = \"iso\" }\nmesh_damping = { zeta = 0.05 }\nbacklash = \"teeth\"",
+        3,
+    );
+    let (p, r) = run(&path);
+    let m = &p.built.model;
+    let t0 = r.start_time_s;
+    let a = energy_audit(m, t0, t0 + m.period_s(), &r.start_state, 1e-10, 1e-14).unwrap();
+    let scale = a.max_drive_power_w * a.span_s;
+    assert!(a.max_drive_power_w > 1.0, "{a:?}");
+    assert!(a.residual_j.abs() < 1e-4 * scale, "{a:?}");
+    // the damping dissipates, the needle takes work
+    assert!(a.damping_j > 0.0 && a.needle_j < 0.0, "{a:?}");
+}
+
+/// Circular limit: a train of three equal circles (i ≡ 1) with constant mesh stiffness has the
+/// two-mesh torsional chain's frequencies, ground–k1–J2–k2–J3 on the base radius r_b = r·cos α:
+/// `ω² = ½[(k1+k2)/m2 + k2/m3 ± √(((k1+k2)/m2 + k2/m3)² − 4k1k2/(m2m3))]`, `m_i = J_i/r_b²`,
+/// within 0.1 %.
+#[test]
+fn the_circular_train_has_the_torsional_chain_frequencies() {
+    let r_mm = 25.0;
+    let circle = || PitchCurve::from_fn(720, |_| r_mm).unwrap();
+    let asm = Assembly {
+        center_mm: Point::ZERO,
+        direction: 1,
+        a_mm: 2.0 * r_mm,
+        idler_offset_rad: 0.0,
+        l3_mm: 100.0,
+        needle_angle_rad: 0.3,
+        sun: circle(),
+        intermediate: circle(),
+        intermediate_angle_at_zero_rad: 0.0,
+        planet: circle(),
+        planet_angle_at_zero_rad: 0.0,
+    };
+    let scene: Scene = toml::from_str(
+        "[operation]\ncarrier_rpm = 200.0\n[gears]\nface_width_mm = 20.0\n\
+         [arm]\nmass_kg = 0.4\ncom_mm = [0.0, 0.0]\ninertia_kg_mm2 = 3000.0",
+    )
+    .unwrap();
+    let case = scene.validate("circle.toml").unwrap();
+    let k = [3.0e8, 2.0e8];
+    let rotor = Rotor::pitch(&asm).with_pressure_angle_rad(20f64.to_radians());
+    let built = build(&rotor, &case, &Effects::constant(k), None, "circle.toml").unwrap();
+    let f = built.model.natural_frequencies_hz();
+    let [j2, j3] = built.model.inertias_kg_m2();
+    let rb = r_mm * 1e-3 * 20f64.to_radians().cos();
+    let (m2, m3) = (j2 / (rb * rb), j3 / (rb * rb));
+    let s = (k[0] + k[1]) / m2 + k[1] / m3;
+    let d = (s * s - 4.0 * k[0] * k[1] / (m2 * m3)).sqrt();
+    let closed = [0.5 * (s - d), 0.5 * (s + d)].map(|w2: f64| w2.sqrt() / std::f64::consts::TAU);
+    for i in 0..2 {
+        assert!((f[i] / closed[i] - 1.0).abs() < 1e-3, "{f:?} vs {closed:?}");
+    }
+}
+
+/// Bad input names the field and stops before any work: a negative stiffness, a damping ratio
+/// above 1, a negative backlash, an unknown field (with its line), a drive without the
+/// carrier's inertia, `"teeth"` backlash or ISO stiffness on a design without teeth.
+#[test]
+fn bad_rotor_scenes_name_their_field() {
+    use ncgear::analysis::dynamics::rotor::RotorScene;
+    let message = |effects: &str| {
+        let path = g1_scene("bad", effects, 5);
+        let file = path.display().to_string();
+        match RotorScene::from_path(&path).and_then(|s| s.validate(&file)) {
+            Err(e) => e.to_string(),
+            Ok(_) => panic!("{effects}: accepted"),
+        }
+    };
+    let m = message("mesh_stiffness = { kind = \"constant\", c_n_per_mm_mm = -5.0 }");
+    assert!(
+        m.contains("effects.mesh_stiffness.c_n_per_mm_mm") && m.contains("-5"),
+        "{m}"
+    );
+    let m = message("mesh_stiffness = { kind = \"iso\" }\nmesh_damping = { zeta = 1.5 }");
+    assert!(m.contains("effects.mesh_damping.zeta"), "{m}");
+    let m = message("mesh_stiffness = { kind = \"iso\" }\nbacklash = -0.1");
+    assert!(m.contains("effects.backlash"), "{m}");
+    let m = message("mesh_stiffness = { kind = \"iso\", stifness = 2.0 }");
+    assert!(m.contains("stifness") && m.contains("line"), "{m}");
+    let m = message("mesh_stiffness = { kind = \"iso\" }\ndrive = { stiffness_nm_per_rad = 1e4 }");
+    assert!(m.contains("effects.drive.carrier_inertia_kg_mm2"), "{m}");
+    let m = message("mesh_stiffness = { kind = \"iso\", scale = nan }");
+    assert!(m.contains("effects.mesh_stiffness.scale"), "{m}");
+    // a pitch-only train: the teeth's backlash and ISO's stiffness are not there to read
+    let circle = || PitchCurve::from_fn(360, |_| 25.0).unwrap();
+    let asm = Assembly {
+        center_mm: Point::ZERO,
+        direction: 1,
+        a_mm: 50.0,
+        idler_offset_rad: 0.0,
+        l3_mm: 100.0,
+        needle_angle_rad: 0.0,
+        sun: circle(),
+        intermediate: circle(),
+        intermediate_angle_at_zero_rad: 0.0,
+        planet: circle(),
+        planet_angle_at_zero_rad: 0.0,
+    };
+    let scene: Scene =
+        toml::from_str("[operation]\ncarrier_rpm = 100.0\n[gears]\nface_width_mm = 10.0").unwrap();
+    let case = scene.validate("c.toml").unwrap();
+    let rotor = Rotor::pitch(&asm);
+    let fx = Effects::constant([1e8; 2]).with_backlash(Some(
+        ncgear::analysis::dynamics::rotor::scene::Backlash::Teeth,
+    ));
+    let e = build(&rotor, &case, &fx, None, "c.toml")
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("effects.backlash") && e.contains("no"), "{e}");
+    let fx = Effects::iso(
+        1.0,
+        ncgear::analysis::dynamics::rotor::scene::PairsMode::Mean,
+    );
+    let e = build(&rotor, &case, &fx, None, "c.toml")
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("effects.mesh_stiffness"), "{e}");
+}
