@@ -45,12 +45,10 @@ fn target(name: &str) -> Trajectory {
     Trajectory::from_path(&asset(&format!("trajectories/{name}"))).expect("bundled target")
 }
 
-/// `ncgear design T [--module M]` as the command designs: the alternatives of a failed design
-/// included.
+/// `ncgear design T [--module M]` as the command designs (a failed design's alternatives are
+/// named, not designed, unless `--alternatives` asks).
 fn design_input((name, module): (&str, Option<f64>)) -> (Trajectory, DesignOptions) {
-    let opts = DesignOptions::default()
-        .with_module_mm(module)
-        .with_alternatives(true);
+    let opts = DesignOptions::default().with_module_mm(module);
     (target(name), opts)
 }
 
