@@ -74,3 +74,20 @@ def test_a_bad_drawing_is_an_error_in_python_words(name, kwargs, says):
 def test_an_unknown_unit_names_the_argument():
     with pytest.raises(ncgear.NcgearError, match=r'units="furlong".*mm, cm, m, in or px'):
         ncgear.read_trajectory(DRAWINGS / "g1_unitless.dxf", units="furlong")
+
+
+LOOPED = ROOT / "assets" / "trajectories" / "g1_looped.csv"
+
+
+@pytest.mark.parametrize("name", [
+    "g1_looped_spline.dxf", "g1_looped_bulge.dxf", "g1_looped_lines.dxf", "g1_looped_px.svg",
+])
+def test_a_looped_drawing_designs_as_its_csv(name):
+    """A path that crosses itself (a small loop) drawn four ways designs the CSV's train: l1 and
+    l3 within 1e-3 mm of the CSV's (the LINEs exactly: their vertices are the CSV's points)."""
+    csv = ncgear.design(LOOPED)
+    assert abs(csv.l1_mm - 90.0) < 1e-3 and abs(csv.l3_mm - 260.0) < 1e-3
+    d = ncgear.design(ncgear.read_trajectory(DRAWINGS / name))
+    assert abs(d.l1_mm - csv.l1_mm) < 1e-3 and abs(d.l3_mm - csv.l3_mm) < 1e-3
+    if name == "g1_looped_lines.dxf":
+        assert d.l1_mm == csv.l1_mm and d.l3_mm == csv.l3_mm

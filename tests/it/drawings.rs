@@ -236,7 +236,7 @@ fn lwpolyline(vertices: &[(f64, f64, f64)]) -> String {
     t + "0\nENDSEC\n0\nEOF\n"
 }
 
-/// A traced polygon of 20 000 vertices is resampled (its crossing check would be quadratic in
+/// A traced polygon of 20 000 vertices is resampled (its retrace check would be quadratic in
 /// them), a polygon of 360 keeps its vertices; arcs of absurd size flatten within the bounded
 /// depth, not into memory.
 #[test]
