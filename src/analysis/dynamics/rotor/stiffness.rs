@@ -1,7 +1,7 @@
 //! The mesh stiffness of a rotor mesh at one instant: a constant, or ISO 6336-1's on the local
 //! equivalent pair ([`EquivalentPair`]).
 //!
-//! ISO 6336-1:2006 §9 (method B), spur gears, solid blanks, steel on steel:
+//! ISO 6336-1:2006 clause 9 (method B), spur gears, solid blanks, steel on steel:
 //!
 //! ```text
 //! q′   = C1 + C2/z_n1 + C3/z_n2 + C4·x1 + C5·x1/z_n1 + C6·x2 + C7·x2/z_n2 + C8·x1² + C9·x2²   (mm·µm/N)
