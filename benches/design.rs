@@ -1,5 +1,8 @@
 //! Benchmarks of the design chain (divan). Run: `cargo bench --bench design`.
 //! The accuracy-vs-time table of docs/accuracy.md comes from `cargo run --release --example accuracy -- design`.
+#[path = "common/mod.rs"]
+mod common;
+
 use ncgear::design::trajectory::Trajectory;
 use ncgear::design::{DesignOptions, RefineMode, design};
 use ncgear::math::Point;
@@ -107,16 +110,7 @@ fn redesign_after_edit_g1(b: divan::Bencher, amp: f64) {
     let t = load("g1_ellipse.csv");
     let opts = DesignOptions::default();
     let before = design(&t, &opts).expect("G1");
-    let moved: Vec<Point> = t
-        .points()
-        .iter()
-        .enumerate()
-        .map(|(k, p)| {
-            let w = amp * (-((k as f64 - 90.0) / 10.0).powi(2)).exp();
-            Point::new(p.x + 0.8 * w, p.y + 0.6 * w)
-        })
-        .collect();
-    let moved = Trajectory::from_points(moved).expect("points");
+    let moved = common::edit::bumped(&t, amp);
     b.bench(|| {
         ncgear::design::redesign(divan::black_box(&moved), &opts, &before.report)
             .expect("redesigned")

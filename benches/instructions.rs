@@ -8,6 +8,9 @@
 //! benchmark's own thread (a one-thread rayon pool made of it: callgrind counts the function's
 //! thread, and a pool's worker threads would escape it), from inputs its setup reads uncounted.
 //! The wall-clock benches of the docs stay in the other files of benches/.
+#[path = "common/mod.rs"]
+mod common;
+
 use gungraun::{
     Callgrind, LibraryBenchmarkConfig, library_benchmark, library_benchmark_group, main,
 };
@@ -18,7 +21,6 @@ use ncgear::design::report::DesignReport;
 use ncgear::design::trajectory::Trajectory;
 use ncgear::design::{DesignOptions, design, redesign};
 use ncgear::loads::{LoadCase, RotorSource, Scene};
-use ncgear::math::Point;
 use ncgear::math::monte_carlo::McOptions;
 use ncgear::pair::{Expr, Law, PairOptions, design_pair};
 use std::hint::black_box;
@@ -67,20 +69,7 @@ fn edit_input(amp: f64) -> (Trajectory, DesignOptions, DesignReport) {
     let t = target("g1_ellipse.csv");
     let opts = DesignOptions::default();
     let before = design(&t, &opts).expect("G1").report;
-    let moved: Vec<Point> = t
-        .points()
-        .iter()
-        .enumerate()
-        .map(|(k, p)| {
-            let w = amp * (-((k as f64 - 90.0) / 10.0).powi(2)).exp();
-            Point::new(p.x + 0.8 * w, p.y + 0.6 * w)
-        })
-        .collect();
-    (
-        Trajectory::from_points(moved).expect("points"),
-        opts,
-        before,
-    )
+    (common::edit::bumped(&t, amp), opts, before)
 }
 
 #[library_benchmark]

@@ -55,8 +55,11 @@ run simulate simulate simulate "$out/kidney/design.json" --out "$out/simulate" -
 file simulate simulate/simulate.json
 for scene in assets/dynamics/*.toml; do
   n=$(basename "$scene" .toml)
-  run "dyn_$n" dynamics dynamics "$scene" --out "$out/dyn_$n" --json
-  file dynamics "dyn_$n/dynamics.json"
+  # A rotor scene (`model = "rotor"`) writes the rotor's report (dynamics_rotor.schema.json).
+  schema=dynamics
+  if grep -q '^model *= *"rotor"' "$scene"; then schema=dynamics_rotor; fi
+  run "dyn_$n" "$schema" dynamics "$scene" --out "$out/dyn_$n" --json
+  file "$schema" "dyn_$n/dynamics.json"
 done
 run sweep dynamics dynamics assets/dynamics/backlash_oscillator.toml --sweep 0.6:1.0:0.05 --out "$out/sweep" --json
 file dynamics sweep/dynamics.json
