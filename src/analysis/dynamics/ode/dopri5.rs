@@ -147,6 +147,7 @@ impl Dopri5 {
         let mut t = t0;
         let mut h = 0.0_f64;
         let mut fresh = true;
+        let mut shrunk_at_stop = false;
         let mut bp = breakpoints
             .iter()
             .copied()
@@ -169,7 +170,10 @@ impl Dopri5 {
             }
             h = h.min(self.h_max);
             let mut hit_stop = false;
-            if t + h >= t_stop - tiny {
+            // A step that nearly reaches the switch is stretched onto it, unless a step onto it
+            // was just rejected: stretching the shrunk step back would retry the same rejected
+            // step for ever (a switch closer than `tiny` plus the shrunk step).
+            if t + h >= t_stop || (!shrunk_at_stop && t + h >= t_stop - tiny) {
                 h = t_stop - t;
                 hit_stop = true;
             }
@@ -186,13 +190,16 @@ impl Dopri5 {
             if !err.is_finite() {
                 st.rejected += 1;
                 h *= 0.2;
+                shrunk_at_stop = hit_stop;
                 continue;
             }
             if err > 1.0 {
                 st.rejected += 1;
                 h *= (0.9 * err.powf(-0.2)).max(0.2);
+                shrunk_at_stop = hit_stop;
                 continue;
             }
+            shrunk_at_stop = false;
             st.accepted += 1;
             let dense = self.dense(t, h, y, &ws.ynew, &ws.k);
             let h_used = h;

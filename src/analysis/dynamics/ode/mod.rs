@@ -226,6 +226,42 @@ mod tests {
         assert!((y[0] - 2f64.cos()).abs() < 1e-8);
     }
 
+    /// `y′ = cos t`, except that the force cannot be evaluated (NaN) in the last 5 % of `tiny`
+    /// before the breakpoint `BP`: the step onto it evaluates its last stages there and is
+    /// rejected.
+    struct NearSwitch;
+    const NEAR_T0: f64 = 1.0;
+    const NEAR_T1: f64 = 2.0;
+    const NEAR_TINY: f64 = 1e-13 * NEAR_T1; // the integrator's own `tiny`
+    const NEAR_BP: f64 = NEAR_T0 + 1.1 * NEAR_TINY;
+    impl OdeSystem for NearSwitch {
+        fn dim(&self) -> usize {
+            1
+        }
+        fn rhs(&self, t: f64, _y: &[f64], dy: &mut [f64]) {
+            let bad = t > NEAR_BP - 0.05 * NEAR_TINY && t <= NEAR_BP;
+            dy[0] = if bad { f64::NAN } else { t.cos() };
+        }
+    }
+
+    /// A step rejected just before a breakpoint (within `tiny` of it) shrinks below it and is
+    /// taken; stretching the shrunk step back onto the breakpoint retried the same rejected
+    /// step until the step budget ran out (the rotor at `rtol = 1e-7` spent 6 minutes so).
+    #[test]
+    fn a_step_rejected_just_before_a_breakpoint_shrinks_below_it() {
+        let s = Dopri5::new(1e-10, 1e-12).unwrap();
+        let mut y = [NEAR_T0.sin()];
+        let st = s
+            .integrate(
+                &OdeProblem::new(&NearSwitch, NEAR_T0, NEAR_T1).with_breakpoints(&[NEAR_BP]),
+                &mut y,
+                &mut |_| {},
+            )
+            .unwrap();
+        assert!(st.rejected >= 1 && st.rejected < 20, "{st:?}");
+        assert!((y[0] - NEAR_T1.sin()).abs() < 1e-9, "{}", y[0]);
+    }
+
     #[test]
     fn rk4_is_fourth_order() {
         let e = |h: f64| {

@@ -275,7 +275,6 @@ pub(crate) fn analyse(
             residual: steady.residual,
             poincare_tol: settings.poincare_tol,
             settled: steady.settled,
-            unlocated_turns: steady.unlocated_turns,
         },
         stats: steady.stats,
         travel_deg,

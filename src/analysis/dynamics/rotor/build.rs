@@ -150,6 +150,7 @@ pub fn build(
         laws,
         damping: [0.0; 2],
         half_gap_m,
+        vibration_damping: [0.0; 2],
         rebuilt: r,
     };
     if effects.zeta.iter().any(|&z| z > 0.0) {
@@ -164,6 +165,19 @@ pub fn build(
             "mesh_damping: ζ = {}, {} → c = {:.4e}, {:.4e} N·s/m (2ζ√(k̄·m_e), m_e = {:.4e}, \
              {:.4e} kg)",
             effects.zeta[0], effects.zeta[1], model.damping[0], model.damping[1], m_e[0], m_e[1]
+        ));
+    }
+    if effects.vibration_zeta > 0.0 {
+        let w1 = TAU * model.natural_frequencies_hz()[0];
+        let j = model.inertias_kg_m2();
+        model.vibration_damping = j.map(|j| 2.0 * effects.vibration_zeta * j * w1);
+        log.push(format!(
+            "vibration_damping: ζ = {} on the lowest mode ({:.1} Hz) → c = {:.4e}, {:.4e} \
+             N·m·s/rad on the intermediate's and the planet's Δθ̇ (2ζ·J·ω₁)",
+            effects.vibration_zeta,
+            w1 / TAU,
+            model.vibration_damping[0],
+            model.vibration_damping[1]
         ));
     }
     if model.needle.is_some() {

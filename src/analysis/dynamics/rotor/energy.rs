@@ -54,7 +54,7 @@ impl OdeSystem for Augmented<'_> {
         dy[3] = i.acc[1];
         dy[4] = m.omega * i.carrier_torque_nm;
         dy[5] = i.needle_w;
-        dy[6] = i.mesh[0].damping_w + i.mesh[1].damping_w;
+        dy[6] = i.mesh[0].damping_w + i.mesh[1].damping_w + i.vibration_damping_w;
         let pairs = m.pair_counts(t);
         let h = 1e-6 * m.period_s();
         dy[7] = (m.mesh_energy(t + h, &y[..4], pairs) - m.mesh_energy(t - h, &y[..4], pairs))
@@ -97,24 +97,16 @@ pub fn energy_audit(
     let mut pmax = 0.0_f64;
     let mut buf = vec![0.0; 8];
     for &tb in &knots {
-        let start = y.clone();
         let mut on = |d: &crate::analysis::dynamics::ode::DenseStep| {
             d.eval(d.t_end(), &mut buf);
             let p = model.omega * model.instant(d.t_end(), &buf[..4]).carrier_torque_nm;
             pmax = pmax.max(p.abs());
         };
-        if solver
-            .integrate(
-                &OdeProblem::new(&aug, t, tb).with_events(&refs),
-                &mut y,
-                &mut on,
-            )
-            .is_err()
-        {
-            // a grazing contact crowding its events: this piece without locating them
-            y.copy_from_slice(&start);
-            solver.integrate(&OdeProblem::new(&aug, t, tb), &mut y, &mut on)?;
-        }
+        solver.integrate(
+            &OdeProblem::new(&aug, t, tb).with_events(&refs),
+            &mut y,
+            &mut on,
+        )?;
         if tb < t1 {
             let pairs_before = model.pair_counts(tb - dt0);
             let pairs_after = model.pair_counts(tb + dt0);

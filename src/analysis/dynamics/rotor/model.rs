@@ -46,6 +46,9 @@ pub struct RotorModel {
     pub(crate) damping: [f64; 2],
     /// Half the normal backlash, m (0: none).
     pub(crate) half_gap_m: [f64; 2],
+    /// Vibration damping `[c_D, c_A]` of the intermediate and the planet, N·m·s/rad (0: none):
+    /// a couple `−c·Δθ̇` from the carrier on the gear (module docs).
+    pub(crate) vibration_damping: [f64; 2],
 }
 
 /// Everything at one instant (SI, CCW frame).
@@ -63,6 +66,9 @@ pub(crate) struct Instant {
     pub needle_w: f64,
     /// Kinetic + gravity + mesh energy, J.
     pub energy_j: f64,
+    /// Power the vibration dampers take, `Σ c·Δθ̇·(θ̇ − Ω)`, W (their couples' work on the
+    /// gears' rotation relative to the carrier).
+    pub vibration_damping_w: f64,
 }
 
 impl RotorModel {
@@ -183,9 +189,10 @@ impl RotorModel {
             let alpha = (moment_ext + s.cross(g) - mom0) / j;
             (alpha, ma0 + s.perp() * alpha, s)
         };
-        let m_int = mesh[0].moment_nm[1] + mesh[1].moment_nm[0];
+        let couple = [0, 1].map(|i| -self.vibration_damping[i] * y[2 + i]);
+        let m_int = mesh[0].moment_nm[1] + mesh[1].moment_nm[0] + couple[0];
         let (al2, ma_d, s2) = body_acc(&ax_d, &self.bodies.intermediate, m_int);
-        let m_pl = mesh[1].moment_nm[1] + (tip - a).cross(needle);
+        let m_pl = mesh[1].moment_nm[1] + (tip - a).cross(needle) + couple[1];
         let (al3, ma_a, s3) = body_acc(&ax_a, &self.bodies.planet, m_pl);
         let acc = [
             al2 - w * w * m.rates.intermediate[1],
@@ -194,7 +201,9 @@ impl RotorModel {
         let (f1, f2) = (mesh[0].force, mesh[1].force);
         let r_d = ma_d - f1 + f2 - g * self.bodies.intermediate.mass_kg;
         let r_a = ma_a - f2 - needle - g * self.bodies.planet.mass_kg;
-        let carrier_torque_nm = d.cross(r_d) + a.cross(r_a);
+        // the carrier takes the bearings' forces and the dampers' couples back
+        let carrier_torque_nm = d.cross(r_d) + a.cross(r_a) + couple[0] + couple[1];
+        let vibration_damping_w = -couple[0] * (ax_d.w - w) - couple[1] * (ax_a.w - w);
         let v_a = a.perp() * w;
         let v_tip = v_a + (tip - a).perp() * ax_a.w;
         let ke = |ax: &Axis, body: &MassProperties, s: Point| {
@@ -215,6 +224,7 @@ impl RotorModel {
             carrier_torque_nm,
             needle_w: needle.dot(v_tip),
             energy_j,
+            vibration_damping_w,
         }
     }
 

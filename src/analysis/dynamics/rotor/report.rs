@@ -87,9 +87,6 @@ pub struct SteadyReport {
     pub poincare_tol: f64,
     /// Whether the residual fell below it.
     pub settled: bool,
-    /// Turns integrated through their contact changes without locating them (a grazing
-    /// contact crowded its events below the step floor).
-    pub unlocated_turns: u32,
 }
 
 /// The summary of the settled turn.

@@ -91,6 +91,10 @@ pub struct EffectsSpec {
     /// Free play between the flanks; absent: none.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub backlash: Option<BacklashSpec>,
+    /// Damping of the gears' motion away from the kinematic law (the arm's swing in the
+    /// backlash); absent: none.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub vibration_damping: Option<VibrationDampingSpec>,
     /// A compliant drive shaft (the carrier a degree of freedom); absent: the carrier turns at
     /// exactly the scene's speed.
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -136,6 +140,18 @@ pub enum PairsMode {
 pub struct DampingSpec {
     /// Damping ratio ζ of each mesh, `c = 2ζ·√(k̄·m_e)`, in [0, 1].
     pub zeta: PerMesh,
+}
+
+/// `effects.vibration_damping`: a couple `−c·Δθ̇` from the carrier on each gear, with
+/// `c = 2ζ·J·ω₁` (J the gear's inertia about its axis, arm included; ω₁ the linearised train's
+/// lowest natural frequency, rad/s): mass-proportional (Rayleigh) damping that gives the
+/// lowest mode — the planet and its arm swinging on the meshes — the ratio ζ, and a mode of
+/// frequency ω the ratio ζ·ω₁/ω.
+#[derive(Debug, Clone, Copy, PartialEq, Deserialize, Serialize, schemars::JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct VibrationDampingSpec {
+    /// Damping ratio ζ of the lowest mode, in [0, 1].
+    pub zeta: f64,
 }
 
 /// `effects.backlash`: `"teeth"` or the normal backlash, mm, on the line of action.
@@ -309,6 +325,8 @@ pub struct Effects {
     pub zeta: [f64; 2],
     /// Backlash, if named.
     pub backlash: Option<Backlash>,
+    /// Damping ratio of the lowest mode by mass-proportional vibration damping (0: none).
+    pub vibration_zeta: f64,
     /// Drive, if named.
     pub drive: Option<Drive>,
 }
@@ -321,6 +339,7 @@ impl Effects {
             stiffness: StiffnessLaw::Constant(k_n_per_m),
             zeta: [0.0; 2],
             backlash: None,
+            vibration_zeta: 0.0,
             drive: None,
         }
     }
@@ -545,6 +564,21 @@ impl RotorScene {
                 z
             }
         };
+        let vibration_zeta = match e.vibration_damping {
+            None => 0.0,
+            Some(d) => {
+                if !(d.zeta.is_finite() && (0.0..=1.0).contains(&d.zeta)) {
+                    return Err(field(
+                        "effects.vibration_damping.zeta",
+                        format!(
+                            "{} must be a damping ratio in [0, 1] (0.02–0.10 typical)",
+                            d.zeta
+                        ),
+                    ));
+                }
+                d.zeta
+            }
+        };
         let backlash = match e.backlash {
             None => None,
             Some(BacklashSpec::Word(_)) => Some(Backlash::Teeth),
@@ -626,6 +660,7 @@ impl RotorScene {
                 stiffness,
                 zeta,
                 backlash,
+                vibration_zeta,
                 drive,
             },
             settings: Settings {

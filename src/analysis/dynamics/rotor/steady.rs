@@ -54,8 +54,6 @@ pub(crate) struct Steady {
     pub end_state: Vec<f64>,
     /// Integrator counters.
     pub stats: OdeStats,
-    /// Turns integrated without event location (a grazing contact crowded its events).
-    pub unlocated_turns: u32,
 }
 
 fn flanks(model: &RotorModel, t: f64, y: &[f64]) -> [i8; 2] {
@@ -268,25 +266,11 @@ pub(crate) fn settle(
         settled: false,
         end_state: y.clone(),
         stats,
-        unlocated_turns: 0,
-    };
-    let no_events = Settings {
-        events: false,
-        ..*s
     };
     for k in 0..s.max_turns {
         let prev = y.clone();
         let t0 = f64::from(k) * tp;
-        let (turn, st) = match one_turn(model, t0, &mut y, n, s, window_s) {
-            Err(RotorError::Ode(_)) if s.events => {
-                // a grazing contact whose events crowd below the step floor: the turn again,
-                // integrated through the contact changes without locating them
-                y.copy_from_slice(&prev);
-                out.unlocated_turns += 1;
-                one_turn(model, t0, &mut y, n, &no_events, window_s)?
-            }
-            other => other?,
-        };
+        let (turn, st) = one_turn(model, t0, &mut y, n, s, window_s)?;
         stats += st;
         out.turn = turn;
         out.turns = k + 1;
