@@ -88,7 +88,7 @@ fn the_settled_turn_balances_its_energy() {
     let path = g1_scene(
         "energy",
         "mesh_stiffness = { kind = \"iso\" }\nmesh_damping = { zeta = 0.05 }\nbacklash = \"teeth\"\n\
-         vibration_damping = { zeta = 0.05 }",
+         vibration_damping = { zeta = 0.05 }\n[solver]\nrtol = 1e-10\natol = 1e-14",
         8,
     );
     let (p, r) = run(&path);
@@ -219,6 +219,11 @@ fn bad_rotor_scenes_name_their_field() {
     assert!(m.contains("stifness") && m.contains("line"), "{m}");
     let m = message("mesh_stiffness = { kind = \"iso\" }\ndrive = { stiffness_nm_per_rad = 1e4 }");
     assert!(m.contains("effects.drive.carrier_inertia_kg_mm2"), "{m}");
+    let m = message("mesh_stiffness = { kind = \"iso\" }\nvibration_damping = { zeta = -0.1 }");
+    assert!(
+        m.contains("effects.vibration_damping.zeta") && m.contains("-0.1"),
+        "{m}"
+    );
     let m = message("mesh_stiffness = { kind = \"iso\", scale = nan }");
     assert!(m.contains("effects.mesh_stiffness.scale"), "{m}");
     // a pitch-only train: the teeth's backlash and ISO's stiffness are not there to read

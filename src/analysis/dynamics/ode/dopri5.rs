@@ -74,21 +74,24 @@ fn next_step(err: f64, h_used: f64, hit_stop: bool) -> f64 {
 
 /// The earliest located zero (s) inside the accepted step `(ta, ya)` → `(tb, yb)` of any event
 /// function that changes sign over it (or reaches zero at its end), on its dense output;
-/// `yev` is scratch.
+/// `g_start` holds the functions' values at `ta` when known (the last step's `g_end`), `g_end`
+/// receives them at `tb`; `yev` is scratch.
 fn first_event(
     events: &[EventFn<'_>],
     dense: &DenseStep,
     (ta, ya): (f64, &[f64]),
     (tb, yb): (f64, &[f64]),
+    (g_start, g_end): (Option<&[f64]>, &mut [f64]),
     yev: &mut [f64],
 ) -> Option<f64> {
     let h = dense.h;
     let mut t_ev: Option<f64> = None;
-    for g in events {
-        let ga = g(ta, ya);
+    for (i, g) in events.iter().enumerate() {
+        let ga = g_start.map_or_else(|| g(ta, ya), |v| v[i]);
         let gb = g(tb, yb);
+        g_end[i] = gb;
         if ga != 0.0 && ga.signum() != gb.signum() && gb != 0.0 || (ga != 0.0 && gb == 0.0) {
-            let te = locate(g, dense, ta, tb, ga, gb, yev);
+            let te = locate(*g, dense, ta, tb, ga, gb, yev);
             if te > ta + 1e-9 * h && t_ev.is_none_or(|x| te < x) {
                 t_ev = Some(te);
             }
@@ -148,6 +151,11 @@ impl Dopri5 {
         let mut h = 0.0_f64;
         let mut fresh = true;
         let mut shrunk_at_stop = false;
+        // the event functions at the end of the last accepted step, while it is the start of
+        // this one (not after a restart)
+        let mut g_prev = vec![0.0; events.len()];
+        let mut g_next = vec![0.0; events.len()];
+        let mut g_known = false;
         let mut bp = breakpoints
             .iter()
             .copied()
@@ -203,7 +211,14 @@ impl Dopri5 {
             st.accepted += 1;
             let dense = self.dense(t, h, y, &ws.ynew, &ws.k);
             let h_used = h;
-            let t_ev = first_event(events, &dense, (t, y), (t + h, &ws.ynew), &mut ws.yev);
+            let t_ev = first_event(
+                events,
+                &dense,
+                (t, y),
+                (t + h, &ws.ynew),
+                (g_known.then_some(&g_prev[..]), &mut g_next),
+                &mut ws.yev,
+            );
             if let Some(te) = t_ev.filter(|&te| te < t + h) {
                 dense.eval(te, &mut ws.yev);
                 let part = DenseStep {
@@ -216,12 +231,15 @@ impl Dopri5 {
                 t = te;
                 st.events += 1;
                 fresh = true;
+                g_known = false;
                 h = (te - part.t).max(h_used * 0.1);
                 continue;
             }
             on_step(&dense);
             y.copy_from_slice(&ws.ynew);
             t += h;
+            std::mem::swap(&mut g_prev, &mut g_next);
+            g_known = !hit_stop;
             if hit_stop {
                 t = t_stop;
                 fresh = true;

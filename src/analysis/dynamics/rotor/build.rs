@@ -151,6 +151,8 @@ pub fn build(
         damping: [0.0; 2],
         half_gap_m,
         vibration_damping: [0.0; 2],
+        id: super::model::new_model_id(),
+        turn_periodic: RotorModel::repeats_each_turn(&r),
         rebuilt: r,
     };
     if effects.zeta.iter().any(|&z| z > 0.0) {

@@ -23,7 +23,31 @@ use crate::loads::mass::MassProperties;
 use crate::loads::motion::TrainMotion;
 use crate::loads::needle::NeedleTable;
 use crate::math::Point;
+use std::cell::Cell;
 use std::f64::consts::TAU;
+use std::sync::atomic::{AtomicU64, Ordering};
+
+/// The kinematics and the meshes' geometry at one carrier angle.
+#[derive(Debug, Clone, Copy)]
+struct Kinematics {
+    motion: TrainMotion,
+    geometry: [MeshGeometry; 2],
+}
+
+thread_local! {
+    /// The last kinematics computed on this thread, keyed by (model id, φ's bits): the four
+    /// contact events are evaluated at the same instant, the last stage of a step at the instant
+    /// the events then look at, so most lookups repeat the last one.
+    static LAST: Cell<Option<(u64, u64, Kinematics)>> = const { Cell::new(None) };
+}
+
+/// Ids of built models (a clone shares its model's id: the same train).
+static NEXT_ID: AtomicU64 = AtomicU64::new(1);
+
+/// A fresh model id.
+pub(crate) fn new_model_id() -> u64 {
+    NEXT_ID.fetch_add(1, Ordering::Relaxed)
+}
 
 /// A boxed contact event function `(t, y) → δ_s − b` (m).
 pub(crate) type GapFn<'a> = Box<dyn Fn(f64, &[f64]) -> f64 + 'a>;
@@ -46,6 +70,11 @@ pub struct RotorModel {
     pub(crate) damping: [f64; 2],
     /// Half the normal backlash, m (0: none).
     pub(crate) half_gap_m: [f64; 2],
+    /// Identifies the train for the kinematics' memo ([`new_model_id`]).
+    pub(crate) id: u64,
+    /// Whether the kinematics repeat each turn (both gears' orientations by whole turns), so
+    /// that the carrier angle is taken modulo 2π before they are computed.
+    pub(crate) turn_periodic: bool,
     /// Vibration damping `[c_D, c_A]` of the intermediate and the planet, N·m·s/rad (0: none):
     /// a couple `−c·Δθ̇` from the carrier on the gear (module docs).
     pub(crate) vibration_damping: [f64; 2],
@@ -92,6 +121,40 @@ impl RotorModel {
         })
     }
 
+    /// The kinematics at carrier angle `phi` (rad), remembered for the next call at the same
+    /// angle on this thread (the result is the same either way).
+    fn kinematics(&self, phi: f64) -> Kinematics {
+        let key = (self.id, phi.to_bits());
+        if let Some((id, bits, k)) = LAST.get()
+            && (id, bits) == key
+        {
+            return k;
+        }
+        let motion = if self.turn_periodic {
+            let mut m = TrainMotion::at(&self.rebuilt, phi.rem_euclid(TAU));
+            m.phi_rad = phi;
+            m
+        } else {
+            TrainMotion::at(&self.rebuilt, phi)
+        };
+        let k = Kinematics {
+            motion,
+            geometry: self.geometry(&motion),
+        };
+        LAST.set(Some((key.0, key.1, k)));
+        k
+    }
+
+    /// Whether the train's kinematics repeat after one turn: the orientations of both gears
+    /// differ by whole turns (within 1e-9 rad) and the centres coincide.
+    pub(crate) fn repeats_each_turn(rebuilt: &Rebuilt) -> bool {
+        let (a, b) = (TrainMotion::at(rebuilt, 0.0), TrainMotion::at(rebuilt, TAU));
+        let whole = |d: f64| (d - TAU * (d / TAU).round()).abs() < 1e-9;
+        whole(b.theta2_rad - a.theta2_rad)
+            && whole(b.theta3_rad - a.theta3_rad)
+            && (b.tip_mm - a.tip_mm).norm() < 1e-9
+    }
+
     /// The two meshes' geometry at the motion `m`.
     pub(crate) fn geometry(&self, m: &TrainMotion) -> [MeshGeometry; 2] {
         let d = m.d_mm * 1e-3;
@@ -127,8 +190,7 @@ impl RotorModel {
     }
 
     /// The mesh states at the motion `m` and state `y = [Δθ2, Δθ3, Δθ̇2, Δθ̇3]`.
-    fn meshes(&self, m: &TrainMotion, y: &[f64], k: [f64; 2]) -> [MeshState; 2] {
-        let g = self.geometry(m);
+    fn meshes(&self, g: &[MeshGeometry; 2], y: &[f64], k: [f64; 2]) -> [MeshState; 2] {
         [
             mesh_state(
                 &g[0],
@@ -151,9 +213,12 @@ impl RotorModel {
 
     /// The mesh energy at time `t` with the pair counts `double`, J (for `∂V/∂t`).
     pub(crate) fn mesh_energy(&self, t: f64, y: &[f64], double: [bool; 2]) -> f64 {
-        let m = TrainMotion::at(&self.rebuilt, self.phi(t));
-        let k = self.stiffness(&m, Some(double));
-        self.meshes(&m, y, k).iter().map(|s| s.energy_j).sum()
+        let kin = self.kinematics(self.phi(t));
+        let k = self.stiffness(&kin.motion, Some(double));
+        self.meshes(&kin.geometry, y, k)
+            .iter()
+            .map(|s| s.energy_j)
+            .sum()
     }
 
     /// The pair counts at time `t`.
@@ -166,9 +231,10 @@ impl RotorModel {
     pub(crate) fn instant(&self, t: f64, y: &[f64]) -> Instant {
         let w = self.omega;
         let phi = self.phi(t);
-        let m = TrainMotion::at(&self.rebuilt, phi);
+        let kin = self.kinematics(phi);
+        let m = kin.motion;
         let stiffness = self.stiffness(&m, None);
-        let mesh = self.meshes(&m, y, stiffness);
+        let mesh = self.meshes(&kin.geometry, y, stiffness);
         let g = self.gravity;
         let needle = self.needle_n(phi);
         let d = m.d_mm * 1e-3;
@@ -277,8 +343,7 @@ impl RotorModel {
 
     /// The contact events' functions `δ_s − b` of (mesh, flank) `which` (0..4).
     pub(crate) fn gap(&self, t: f64, y: &[f64], which: usize) -> f64 {
-        let m = TrainMotion::at(&self.rebuilt, self.phi(t));
-        let g = self.geometry(&m);
+        let g = self.kinematics(self.phi(t)).geometry;
         let (j, f) = (which / 2, which % 2);
         let d = if j == 0 {
             g[0].approach(f, [0.0, y[0]])

@@ -360,6 +360,13 @@ impl Effects {
         self
     }
 
+    /// With vibration damping of ratio `zeta` on the lowest mode.
+    #[must_use]
+    pub fn with_vibration_zeta(mut self, zeta: f64) -> Self {
+        self.vibration_zeta = zeta;
+        self
+    }
+
     /// With backlash.
     #[must_use]
     pub fn with_backlash(mut self, b: Option<Backlash>) -> Self {

@@ -1,14 +1,21 @@
 //! A carrier-speed sweep: the steady state at each speed, warm-started from the previous
-//! speed's, and the figures of where the knock begins.
+//! speed's, and the figures of where the knock begins. The speeds run as [`SWEEP_CHAINS`]
+//! contiguous chains side by side (each chain's first speed from the quasi-static state, the
+//! others warm-started within their chain): a fixed count, so the rows do not depend on the
+//! machine's cores.
 
 use super::analyse::run_model;
 use super::{Prepared, RotorError};
 use crate::progress::Progress;
+use rayon::prelude::*;
 use serde::Serialize;
 use std::f64::consts::TAU;
 
 /// Most speeds a sweep may run.
 pub const MAX_SWEEP_SPEEDS: usize = 200;
+
+/// The chains a sweep runs side by side (module docs).
+pub const SWEEP_CHAINS: usize = 2;
 
 /// One speed of a sweep.
 #[derive(Debug, Clone, Copy, Serialize, schemars::JsonSchema)]
@@ -30,11 +37,29 @@ pub struct SweepRow {
 }
 
 /// The steady state of `prepared` at each carrier speed of `rpm` (r/min, in (0, 3000]), each
-/// warm-started from the previous; `progress` hears every speed.
+/// warm-started from the previous one of its chain (module docs); `progress` hears every speed.
 ///
 /// # Errors
-/// [`RotorError`]: a run's.
+/// [`RotorError`]: a run's (the first in speed order).
 pub fn sweep_rpm(
+    prepared: &Prepared,
+    rpm: &[f64],
+    progress: &Progress,
+) -> Result<Vec<SweepRow>, RotorError> {
+    let per_chain = rpm.len().div_ceil(SWEEP_CHAINS).max(1);
+    let chains: Vec<Result<Vec<SweepRow>, RotorError>> = rpm
+        .par_chunks(per_chain)
+        .map(|speeds| chain(prepared, speeds, progress))
+        .collect();
+    let mut rows = Vec::with_capacity(rpm.len());
+    for c in chains {
+        rows.extend(c?);
+    }
+    Ok(rows)
+}
+
+/// One chain of a sweep, each speed warm-started from the previous.
+fn chain(
     prepared: &Prepared,
     rpm: &[f64],
     progress: &Progress,
