@@ -6,6 +6,8 @@
 #   the same table
 #   assets/readme/loads.png                `ncgear loads assets/loads/g1_rotor.toml --png`
 #                                          (its overview.png: torques beside tooth stresses)
+#   assets/readme/rotor_knock.png          `ncgear dynamics assets/dynamics/rotor_g1.toml --png`
+#                                          (its forces.png: the meshes' dynamic and rigid forces)
 # With --check (CI), writes nothing and exits 1 when a committed table differs from a fresh run
 # (the table is deterministic; the header's date line is not compared).
 set -euo pipefail
@@ -69,4 +71,6 @@ embedded write
 cp "$tmp/design/design.png" assets/readme/designer_kidney.png
 "$bin" loads assets/loads/g1_rotor.toml --out "$tmp/loads" --png >/dev/null
 cp "$tmp/loads/overview.png" assets/readme/loads.png
-echo "wrote $table, the tables in README.md and docs/design.md, assets/readme/designer_kidney.png, assets/readme/loads.png"
+"$bin" dynamics assets/dynamics/rotor_g1.toml --out "$tmp/rotor" --png >/dev/null
+cp "$tmp/rotor/forces.png" assets/readme/rotor_knock.png
+echo "wrote $table, the tables in README.md and docs/design.md, assets/readme/designer_kidney.png, assets/readme/loads.png, assets/readme/rotor_knock.png"

@@ -23,6 +23,9 @@ pub struct Args {
     /// Plot format of a time-domain run: svg (default) or png.
     #[arg(long)]
     pub format: Option<String>,
+    /// A rotor scene's charts also as PNG (SVG always).
+    #[arg(long)]
+    pub png: bool,
     /// Print a machine-readable summary to stdout.
     #[arg(long)]
     pub json: bool,
@@ -86,6 +89,12 @@ pub fn run(args: Args) -> CliResult {
         return Err(input_error(miette::miette!(
             "--sweep-rpm sweeps a rotor scene's carrier speed ([scene] model = \"rotor\"); a \
              spur scene sweeps the frequency ratio with --sweep"
+        )));
+    }
+    if args.png {
+        return Err(input_error(miette::miette!(
+            "--png adds PNG copies of a rotor scene's charts ([scene] model = \"rotor\"); a \
+             spur scene's plots are PNG with --format png"
         )));
     }
     let scene = Scene::from_path(&args.scene).map_err(|e| input_error(miette::miette!("{e}")))?;

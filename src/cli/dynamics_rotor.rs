@@ -42,7 +42,8 @@ fn parse_sweep_rpm(s: &str) -> Result<Vec<f64>, Failure> {
 }
 
 /// Runs a rotor scene: the run log, the steady state (exit 3 when it does not settle),
-/// `dynamics.json`, and with `sweep_rpm` the sweep's table (`sweep.csv`).
+/// `dynamics.json` and its charts, and with `sweep_rpm` the sweep's table (`sweep.csv`, its
+/// chart), all written by `ncgear::output`.
 pub fn run(args: &super::dynamics::Args) -> CliResult {
     let prepared = Prepared::from_path(&args.scene).map_err(rotor_err)?;
     let sweep = args.sweep_rpm.as_deref().map(parse_sweep_rpm).transpose()?;
@@ -50,6 +51,12 @@ pub fn run(args: &super::dynamics::Args) -> CliResult {
         return Err(input_error(miette::miette!(
             "--sweep is the spur model's frequency-ratio sweep: a rotor scene sweeps the \
              carrier speed with --sweep-rpm START:END:STEP"
+        )));
+    }
+    if args.format.is_some() {
+        return Err(input_error(miette::miette!(
+            "--format picks the plot format of a spur scene: a rotor scene's charts are SVG, \
+             and also PNG with --png"
         )));
     }
     std::fs::create_dir_all(&args.out)
@@ -71,37 +78,10 @@ pub fn run(args: &super::dynamics::Args) -> CliResult {
         let pb = progress_bar(rpm.len() as u64, "speeds");
         let rows = rotor::sweep_rpm(&prepared, &rpm, &super::bar_sink(&pb)).map_err(rotor_err)?;
         pb.finish_and_clear();
-        let mut csv = String::from(
-            "carrier_rpm,dynamic_factor_sun,dynamic_factor_planet,impacts_per_turn,max_impact_speed_m_s,max_tip_deviation_mm,turns,settled\n",
-        );
-        eprintln!("   r/min  K_dyn sun  K_dyn planet  impacts/turn  v_impact m/s  tip dev mm");
-        for r in &rows {
-            eprintln!(
-                "{:8.1}  {:9.4}  {:12.4}  {:12}  {:12.4}  {:10.4}{}",
-                r.carrier_rpm,
-                r.dynamic_factor[0],
-                r.dynamic_factor[1],
-                r.impacts_per_turn,
-                r.max_impact_speed_m_s,
-                r.max_tip_deviation_mm,
-                if r.settled { "" } else { "  (not settled)" }
-            );
-            csv.push_str(&format!(
-                "{},{},{},{},{},{},{},{}\n",
-                r.carrier_rpm,
-                r.dynamic_factor[0],
-                r.dynamic_factor[1],
-                r.impacts_per_turn,
-                r.max_impact_speed_m_s,
-                r.max_tip_deviation_mm,
-                r.turns,
-                r.settled
-            ));
-        }
-        let path = args.out.join("sweep.csv");
-        std::fs::write(&path, csv)
-            .map_err(|e| runtime_error(miette::miette!("cannot write {}: {e}", path.display())))?;
-        eprintln!("sweep written to {}", path.display());
+        eprint!("{}", ncgear::output::rotor_sweep_table(&rows));
+        ncgear::output::write_rotor_sweep(&rows, &args.out, args.png)
+            .map_err(|e| runtime_error(miette::miette!("{e}")))?;
+        eprintln!("sweep written to {}", args.out.join("sweep.csv").display());
         if args.json {
             print_json(&rows)?;
         }
@@ -111,11 +91,8 @@ pub fn run(args: &super::dynamics::Args) -> CliResult {
     let run = prepared.run(&super::bar_sink(&pb)).map_err(rotor_err)?;
     pb.finish_and_clear();
     let r = &run.report;
-    let path = args.out.join("dynamics.json");
-    let text = ncgear::output::json::to_string(r)
-        .map_err(|e| runtime_error(miette::miette!("cannot serialise the report: {e}")))?;
-    std::fs::write(&path, text)
-        .map_err(|e| runtime_error(miette::miette!("cannot write {}: {e}", path.display())))?;
+    ncgear::output::write_rotor(r, &args.out, args.png)
+        .map_err(|e| runtime_error(miette::miette!("{e}")))?;
     eprintln!(
         "steady state: {} turns, periodic residual {:.2e} (tolerance {:.0e}); {} RHS evaluations, {} events",
         r.steady.turns, r.steady.residual, r.steady.poincare_tol, r.stats.rhs_evals, r.stats.events
@@ -142,7 +119,11 @@ pub fn run(args: &super::dynamics::Args) -> CliResult {
         "largest tip deviation {:.4} mm at {:.1}°",
         r.summary.max_tip_deviation_mm, r.summary.max_tip_deviation_at_deg
     );
-    eprintln!("report written to {}", path.display());
+    eprintln!("charts written to {}", args.out.display());
+    eprintln!(
+        "report written to {}",
+        args.out.join("dynamics.json").display()
+    );
     if args.json {
         print_json(r)?;
     }

@@ -1,5 +1,5 @@
 //! What a run writes: the design's files, the simulation's files, the CAD files of a toothed
-//! train (DXF, SVG, STEP), the pair's report, the synthesis', loads', dynamics', orbit and tolerance files, charts, the
+//! train (DXF, SVG, STEP), the pair's report, the synthesis', loads', dynamics' (the rotor's too), orbit and tolerance files, charts, the
 //! animation and the JSON Schemas of the reports.
 
 pub mod animate;
@@ -13,6 +13,8 @@ mod mechanism_preview;
 mod orbit_files;
 mod pair_files;
 pub mod plot;
+mod rotor_files;
+mod rotor_plots;
 pub mod schemas;
 mod simulation_files;
 mod simulation_plots;
@@ -30,6 +32,7 @@ pub use mechanism_preview::{mechanism_chart, mechanism_svg};
 pub use orbit_files::{write_orbit_measure_plots, write_orbit_model_plot};
 pub use pair_files::write_pair_report;
 pub use plot::PlotFormat;
+pub use rotor_files::{rotor_sweep_csv, rotor_sweep_table, write_rotor, write_rotor_sweep};
 pub use simulation_files::{SimulationReport, write_simulation};
 pub use step_files::{
     SolidOptions, gear_prism, pair_step, train_step, train_step_models, write_step_models,

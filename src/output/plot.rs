@@ -20,15 +20,28 @@ fn register_font() {
     });
 }
 
+/// How a [`Series`] is drawn.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[non_exhaustive]
+pub enum Style {
+    /// A line through the points.
+    Line,
+    /// A marker (filled circle) at each point.
+    Markers,
+    /// Each point `(x_from, x_to)` is an interval of x, shaded over the panel's whole height
+    /// (it widens the x range only).
+    Bands,
+}
+
 /// One named line of a chart.
 #[derive(Debug, Clone)]
 pub struct Series {
     /// Legend label.
     pub name: String,
-    /// `(x, y)` points in data units.
+    /// `(x, y)` points in data units (a band's `(x_from, x_to)`).
     pub points: Vec<(f64, f64)>,
-    /// Draw markers instead of a line.
-    pub markers: bool,
+    /// How the points are drawn.
+    pub style: Style,
 }
 
 impl Series {
@@ -38,7 +51,7 @@ impl Series {
         Self {
             name: name.into(),
             points,
-            markers: false,
+            style: Style::Line,
         }
     }
     /// A marker (scatter) series.
@@ -47,7 +60,17 @@ impl Series {
         Self {
             name: name.into(),
             points,
-            markers: true,
+            style: Style::Markers,
+        }
+    }
+    /// Shaded intervals of x, `(x_from, x_to)` in data units (either order), over the panel's
+    /// whole height.
+    #[must_use]
+    pub fn bands(name: impl Into<String>, intervals: Vec<(f64, f64)>) -> Self {
+        Self {
+            name: name.into(),
+            points: intervals,
+            style: Style::Bands,
         }
     }
 }
@@ -150,14 +173,24 @@ pub fn panels_chart(
 fn bounds(series: &[Series], equal: bool) -> ((f64, f64), (f64, f64)) {
     let mut xr = (f64::INFINITY, f64::NEG_INFINITY);
     let mut yr = (f64::INFINITY, f64::NEG_INFINITY);
-    for (x, y) in series.iter().flat_map(|s| s.points.iter()) {
-        if x.is_finite() && y.is_finite() {
-            xr = (xr.0.min(*x), xr.1.max(*x));
-            yr = (yr.0.min(*y), yr.1.max(*y));
+    for s in series {
+        for &(x, y) in &s.points {
+            if !(x.is_finite() && y.is_finite()) {
+                continue;
+            }
+            if s.style == Style::Bands {
+                xr = (xr.0.min(x.min(y)), xr.1.max(x.max(y)));
+            } else {
+                xr = (xr.0.min(x), xr.1.max(x));
+                yr = (yr.0.min(y), yr.1.max(y));
+            }
         }
     }
     if !xr.0.is_finite() {
         return ((0.0, 1.0), (0.0, 1.0));
+    }
+    if !yr.0.is_finite() {
+        yr = (0.0, 1.0);
     }
     let pad = |r: (f64, f64)| {
         let w = (r.1 - r.0).max(1e-12 * (1.0 + r.0.abs()));
@@ -224,10 +257,23 @@ where
             .copied()
             .filter(|(x, y)| x.is_finite() && y.is_finite())
             .collect();
-        let anno = if s.markers {
+        let anno = if s.style == Style::Markers {
             chart
                 .draw_series(pts.iter().map(|p| Circle::new(*p, 2, color.filled())))
                 .map_err(e)?
+        } else if s.style == Style::Bands {
+            let fill = color.mix(0.2).filled();
+            let anno = chart
+                .draw_series(
+                    pts.iter()
+                        .map(|&(a, b)| Rectangle::new([(a, yr.0), (b, yr.1)], fill)),
+                )
+                .map_err(e)?;
+            if !s.name.is_empty() {
+                anno.label(s.name.clone())
+                    .legend(move |(x, y)| Rectangle::new([(x, y - 5), (x + 18, y + 5)], fill));
+            }
+            continue;
         } else {
             // A non-finite point ends a run: each run is its own line, one legend entry.
             let runs: Vec<Vec<(f64, f64)>> = s

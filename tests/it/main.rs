@@ -24,6 +24,7 @@ mod pair_sector;
 mod periodic_tables;
 mod quality;
 mod robust;
+mod rotor_charts;
 mod rotor_dynamics;
 mod schemas;
 mod shaper;
