@@ -254,7 +254,7 @@ fn bad_rotor_scenes_name_their_field() {
     assert!(e.contains("effects.backlash") && e.contains("no"), "{e}");
     let fx = Effects::iso(
         1.0,
-        ncgear::analysis::dynamics::rotor::scene::PairsMode::Mean,
+        ncgear::analysis::dynamics::rotor::spec::PairsMode::Mean,
     );
     let e = build(&rotor, &case, &fx, None, "c.toml")
         .unwrap_err()

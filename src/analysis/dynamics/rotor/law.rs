@@ -8,7 +8,7 @@
 //! given to the integrator as breakpoints; the law looks them up, so the right-hand side and the
 //! breakpoints agree exactly.
 
-use super::scene::PairsMode;
+use super::spec::PairsMode;
 use super::stiffness::{DOUBLE_PAIR_RATIO, mean_mesh, single_pair};
 use crate::geometry::pitch::PitchCurve;
 use crate::loads::motion::PitchPoint;

@@ -20,6 +20,7 @@ pub mod mesh;
 pub mod model;
 pub mod report;
 pub mod scene;
+pub mod spec;
 pub mod steady;
 pub mod stiffness;
 pub mod sweep;
@@ -29,7 +30,8 @@ pub use build::{Built, build};
 pub use law::ToothData;
 pub use model::RotorModel;
 pub use report::RotorReport;
-pub use scene::{Effects, RotorCase, RotorScene, Settings};
+pub use scene::{Effects, RotorCase, Settings};
+pub use spec::RotorScene;
 pub use sweep::{SweepRow, sweep_rpm};
 
 use crate::loads::{LoadsError, RotorSource};

@@ -7,7 +7,8 @@
 
 use super::RotorError;
 use super::model::{GapFn, RotorModel};
-use super::scene::{RotorMethod, Settings};
+use super::scene::Settings;
+use super::spec::RotorMethod;
 use crate::analysis::dynamics::ode::{self, DenseStep, Dopri5, EventFn, OdeProblem, OdeStats};
 use crate::progress::Progress;
 
