@@ -16,7 +16,16 @@ fn asset(p: &str) -> PathBuf {
 
 /// The bundled G1 rotor scene's tables with `effects` (TOML lines) in a temporary scene file.
 fn g1_scene(name: &str, effects: &str, max_turns: u32) -> PathBuf {
-    let design = asset("assets/loads/g1_m2_design.json");
+    scene_for(
+        &asset("assets/loads/g1_m2_design.json"),
+        name,
+        effects,
+        max_turns,
+    )
+}
+
+/// The bundled rotor scene's tables on the design file `design`.
+fn scene_for(design: &Path, name: &str, effects: &str, max_turns: u32) -> PathBuf {
     let text = format!(
         "[scene]\nname = \"{name}\"\nmodel = \"rotor\"\ndesign = {design:?}\n\
          [operation]\ncarrier_rpm = 300.0\narms = 2\ngravity = [0.0, -1.0]\n\
@@ -76,6 +85,70 @@ fn the_stiff_g1_rotor_carries_the_rigid_loads() {
     // the rigid forces are the loads' of the same tables
     let peak = rk.report.summary.meshes.intermediate_planet.peak_rigid_n;
     assert!(peak > 10.0, "{peak}");
+}
+
+/// A module-2 design of `trajectory` (the CLI, `extra` arguments) in a temporary directory: its
+/// design.json.
+fn designed(name: &str, trajectory: &str, extra: &[&str]) -> PathBuf {
+    let dir =
+        std::env::temp_dir().join(format!("ncgear_rotor_{}_{name}_design", std::process::id()));
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_ncgear"))
+        .args([
+            "design",
+            &asset(trajectory).display().to_string(),
+            "--module",
+            "2",
+        ])
+        .args(extra)
+        .arg("--out")
+        .arg(&dir)
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    dir.join("design.json")
+}
+
+const STIFF: &str = "mesh_stiffness = { kind = \"iso\", scale = 100.0, pairs = \"mean\" }\n\
+                     mesh_damping = { zeta = 0.05 }";
+const SOFT: &str =
+    "mesh_stiffness = { kind = \"iso\", pairs = \"mean\" }\nmesh_damping = { zeta = 0.05 }";
+
+/// Stiff limit on designs nobody here made. An exact two-harmonic target (counter-clockwise, its
+/// idler on the carrier line): at 100× ISO's stiffness the dynamic forces equal the rigid loads'
+/// within 1 % of their peak. A clockwise target with its own carrier axis and the idler off the
+/// line (−8.2°): its rigid peak is small (207 N) beside the planting pulse's 200 N rise over 5°,
+/// whose kinks ring at the stiffened train's 7 kHz; the ringing is `≈ r/ω_n` (r the force's rate),
+/// so the error falls as `1/√k` — at 100× it is at most 0.15 of the 1× one (1/√100 = 0.1, with
+/// the damping's share), and the tip deviation falls as 1/k.
+#[test]
+fn the_stiff_limit_holds_on_other_designs() {
+    let exact = designed("exact", "assets/cases/exact_two_harmonic.csv", &[]);
+    let (_, r) = run(&scene_for(&exact, "exact_stiff", STIFF, 20));
+    assert!(r.report.steady.settled);
+    assert!(stiff_error(&r) < 0.01, "exact: {}", stiff_error(&r));
+    assert!(r.report.summary.max_tip_deviation_mm < 1e-3);
+    let cw = designed(
+        "cw",
+        "assets/cases/exact_cw_offset.csv",
+        &["--center=-181.577382,-37.369661"],
+    );
+    let (_, soft) = run(&scene_for(&cw, "cw_soft", SOFT, 30));
+    let (_, stiff) = run(&scene_for(&cw, "cw_stiff", STIFF, 30));
+    assert!(soft.report.steady.settled && stiff.report.steady.settled);
+    let (es, ek) = (stiff_error(&soft), stiff_error(&stiff));
+    assert!(
+        ek < 0.15 * es && ek < 0.02,
+        "clockwise off-line: {es} → {ek}"
+    );
+    let (ts, tk) = (
+        soft.report.summary.max_tip_deviation_mm,
+        stiff.report.summary.max_tip_deviation_mm,
+    );
+    assert!(tk < 0.02 * ts, "tip deviation {ts} → {tk} mm");
 }
 
 /// Energy: over the settled turn of the G1 rotor with every effect (ISO stiffness with the
