@@ -112,6 +112,26 @@ fn loads((source, case): (RotorSource, LoadCase)) -> ncgear::loads::LoadsReport 
     })
 }
 
+/// The bundled rotor in motion (assets/dynamics/rotor_g1.toml: every effect, 300 r/min, settled
+/// in two turns).
+fn rotor_scene(_: ()) -> ncgear::analysis::dynamics::rotor::Prepared {
+    ncgear::analysis::dynamics::rotor::Prepared::from_path(&asset("dynamics/rotor_g1.toml"))
+        .expect("the bundled rotor scene")
+}
+
+#[library_benchmark]
+#[bench::rotor_g1_settled(args = (()), setup = rotor_scene)]
+fn dynamics(p: ncgear::analysis::dynamics::rotor::Prepared) -> u32 {
+    on_this_thread(|| {
+        black_box(&p)
+            .run(&ncgear::progress::Progress::none())
+            .expect("run")
+            .report
+            .steady
+            .turns
+    })
+}
+
 /// `ncgear pair "phi - 0.08*sin(2*phi)" --teeth 24 --module 1.5`: the design with its default
 /// 90-step mesh verification (benches/pair.rs).
 fn pair_input(steps: usize) -> (Law, PairOptions) {
@@ -129,7 +149,7 @@ fn pair((law, opts): (Law, PairOptions)) -> ncgear::pair::PairDesign {
 
 library_benchmark_group!(
     name = hot_paths;
-    benchmarks = design_target, warm_edit, monte_carlo, loads, pair
+    benchmarks = design_target, warm_edit, monte_carlo, loads, dynamics, pair
 );
 
 main!(
