@@ -529,8 +529,9 @@ def dynamics(
     ``design``: a :class:`Train` (its teeth, scaled assembly and rack: what the ISO stiffness and
     ``backlash = "teeth"`` read) or a :class:`Design` (its pitch curves: only the effects given
     by value). ``scene``: the path of a rotor scene file (TOML or JSON, ``[scene] model =
-    "rotor"``), or a dict of its tables with the same keys; its ``scene.design`` key is not read
-    (the design passed is the one run; it is only echoed in ``design``). A bad or unknown key, or
+    "rotor"``), or a dict of its tables with the same keys; its ``scene.design`` key may be left
+    out and is not read (the design passed is the one run; the key is only echoed in ``design``,
+    empty without it). A bad or unknown key, or
     an effect the design cannot give, raises :class:`NcgearError` naming the key
     (``effects.mesh_damping.zeta``); the scene's name in messages is its path, or ``scene`` for a
     dict. A run that does not settle is returned with ``steady.settled`` False.

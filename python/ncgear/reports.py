@@ -1,7 +1,6 @@
 """The reports of ncgear as frozen dataclasses: the keys of the CLI's JSON files (``design.json``,
 its ``teeth`` block, ``tolerance.json``, ``loads.json``, a rotor scene's ``dynamics.json``, the
-simulation features), typed, nested
-as in the file.
+simulation features), typed, nested as in the file.
 
 Units are in the field names (``_mm``, ``_deg``, ``_rad``, ``_um``, ``_arcsec``, ``_ms``, ``_N``,
 ``_Nm``, ``_MPa``, ``_h``); a bare length is in mm and a bare angle in degrees where the JSON says
@@ -1115,7 +1114,7 @@ class DynamicsRotorReport:
     tip's dynamic path (mm, world frame) and its distance from the static path (mm), the carrier
     torque of every arm, dynamic and rigid (N·m, positive in the sense of travel) — and its
     summary. ``design``: the design file as the scene names it (only echoed for a train passed
-    in memory); ``effects``: one line per effect built."""
+    in memory, empty when the scene names none); ``effects``: one line per effect built."""
 
     schema_version: int
     scene: str

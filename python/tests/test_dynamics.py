@@ -101,9 +101,15 @@ def test_a_train_in_memory_runs_as_the_bundled_design_file(m2, from_file):
     assert r.summary.max_tip_deviation_mm == pytest.approx(f.summary.max_tip_deviation_mm, rel=1e-6)
     assert np.allclose(r.meshes.intermediate_planet.rigid_force_n,
                        f.meshes.intermediate_planet.rigid_force_n, rtol=1e-6, atol=1e-6)
-    # The same scene by its path: the path is read, its design key is not.
+    # The same scene by its path: the path is read, its design key is not; a dict may leave it out.
     p = ncgear.dynamics(t, SCENE)
     assert p.to_dict() == r.to_dict()
+    bare = scene_dict()
+    del bare["scene"]["design"]
+    b = ncgear.dynamics(t, bare)
+    assert b.design == "" and b.summary.impacts_per_turn == r.summary.impacts_per_turn
+    assert np.array_equal(b.meshes.intermediate_planet.dynamic_force_n,
+                          r.meshes.intermediate_planet.dynamic_force_n)
 
 
 def test_a_sweep_gives_typed_rows(m2):
@@ -128,8 +134,19 @@ def test_a_bad_scene_field_is_named(m2):
     assert isinstance(e.value, ValueError) and "line 1 column" not in str(e.value)
     with pytest.raises(ncgear.NcgearError, match=r"unknown field `stiffness`"):
         ncgear.dynamics(t, scene_dict(stiffness=1.0))
+    with pytest.raises(ncgear.NcgearError, match=r"^scene: `effects\.vibration_damping\.zeta`: -0\.1 must"):
+        ncgear.dynamics(t, scene_dict(vibration_damping={"zeta": -0.1}))
     with pytest.raises(TypeError, match="design: expected an ncgear.Design or ncgear.Train"):
         ncgear.dynamics("design.json", scene_dict())  # type: ignore[arg-type]
+
+
+def test_a_scene_file_without_a_design_is_named(tmp_path):
+    s = SCENE.read_text().replace('design = "../loads/g1_m2_design.json"', "")
+    assert "design =" not in s
+    bare = tmp_path / "bare.toml"
+    bare.write_text(s)
+    with pytest.raises(ncgear.NcgearError, match=r"bare\.toml: `scene\.design`: the scene names no design"):
+        ncgear.dynamics_file(bare)
 
 
 def test_teeth_backlash_on_a_pitch_only_design_is_named(g1):

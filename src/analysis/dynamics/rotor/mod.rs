@@ -131,12 +131,13 @@ impl Prepared {
         let file = path.display().to_string();
         let scene = RotorScene::from_path(path)?;
         let case = scene.validate(&file)?;
-        let source = RotorSource::read(&scene.design_path(path), false)?;
+        let source = RotorSource::read(&scene.design_path(path)?, false)?;
         Self::new(&scene, case, source, &file)
     }
 
     /// The scene `scene` (validated as `case`) on the design `source` (a design file read, or a
-    /// train in memory: the scene's `design` key is then only echoed in the report); `file`
+    /// train in memory: the scene's `design` key, if any, is then only echoed in the report, empty
+    /// without one); `file`
     /// names the scene in errors.
     ///
     /// # Errors
@@ -152,7 +153,11 @@ impl Prepared {
         let built = build(&source.rotor(), &case.loads, &case.effects, teeth, file)?;
         Ok(Self {
             case,
-            design: scene.scene.design.display().to_string(),
+            design: scene
+                .scene
+                .design
+                .as_ref()
+                .map_or_else(String::new, |d| d.display().to_string()),
             source,
             built,
             teeth,
