@@ -31,7 +31,7 @@ import numpy.typing as npt
 from . import _ncgear
 from ._ncgear import NcgearError
 from .reports import (
-    DesignReport, Features, LoadsReport, PairReport, Points, SynthesisReport, TeethReport,
+    DesignReport, DynamicsRotorReport, Features, LoadsReport, PairReport, Points, SynthesisReport, TeethReport,
     ToleranceReport, TradeOffReport, Verdict, build,
 )
 
@@ -40,7 +40,7 @@ __all__ = [
     "NcgearError", "Design", "Train", "Pair", "Placement", "Loads", "design", "teeth", "pair",
     "simulate", "tolerance", "loads", "loads_file", "write_step", "write_dxf", "write_svg",
     "set_max_memory_gb", "Synthesis", "TradeOff", "synthesize", "tradeoff", "redesign",
-    "read_trajectory",
+    "read_trajectory", "Dynamics", "SweepRow", "dynamics", "dynamics_file",
 ]
 
 PathLike = Union[str, "os.PathLike[str]"]
@@ -135,6 +135,31 @@ class Loads(_Raw, LoadsReport):
     ``passed`` whether the safety factors meet their targets (True without a rating)."""
 
     _report: Any = field(repr=False)
+
+
+@dataclass(frozen=True, eq=False)
+class Dynamics(_Json, DynamicsRotorReport):
+    """The planting rotor in motion, settled to its periodic steady state: the fields of a rotor
+    scene's ``dynamics.json`` (:class:`ncgear.reports.DynamicsRotorReport`);
+    ``to_dict()``/``json()`` give ``dynamics.json`` itself."""
+
+    _report: Any = field(repr=False)
+
+
+@dataclass(frozen=True)
+class SweepRow:
+    """One carrier speed of a rotor sweep (``ncgear dynamics --sweep-rpm``): the speed (r/min),
+    the dynamic factors of ``(sun–intermediate, intermediate–planet)``, the impacts per turn of
+    one train (both meshes), the largest impact speed (m/s), the largest tip deviation from the
+    static path (mm), the turns to the steady state and whether it settled."""
+
+    carrier_rpm: float
+    dynamic_factor: Tuple[float, float]
+    impacts_per_turn: int
+    max_impact_speed_m_s: float
+    max_tip_deviation_mm: float
+    turns: int
+    settled: bool
 
 
 def _options(given: Dict[str, Any], *positional: str) -> Dict[str, Any]:
@@ -470,6 +495,69 @@ def loads_file(scene: PathLike) -> Loads:
     scene rates them). ``to_dict()`` is the CLI's ``loads.json``, number for number."""
     r = _ncgear.loads_file(os.fspath(scene))
     return build(Loads, r.tree(), _report=r)
+
+
+def _rotor_result(r: Any, sweep_rpm: Optional[Sequence[float]]) -> Union[Dynamics, List[SweepRow]]:
+    """The rotor report ``r`` as a :class:`Dynamics`, or a sweep's rows."""
+    if sweep_rpm is not None:
+        return [build(SweepRow, row) for row in r.tree()]
+    return build(Dynamics, r.tree(), _report=r)
+
+
+def _speeds(sweep_rpm: Optional[Sequence[float]]) -> Optional[List[float]]:
+    """The sweep's carrier speeds (r/min) as floats."""
+    if sweep_rpm is None:
+        return None
+    try:
+        return [float(v) for v in np.asarray(sweep_rpm, dtype=np.float64).reshape(-1)]
+    except (TypeError, ValueError) as e:
+        raise NcgearError(f"sweep_rpm: {e}") from None
+
+
+def dynamics(
+    design: Union[Design, Train],
+    scene: Union[PathLike, Mapping[str, Any]],
+    *,
+    sweep_rpm: Optional[Sequence[float]] = None,
+) -> Union[Dynamics, List[SweepRow]]:
+    """The planting rotor in motion (``ncgear dynamics`` on a rotor scene, docs/dynamics.md,
+    "The rotor"): the train's elastic teeth, tooth-pair alternation, damping and backlash with
+    contact loss and impacts, integrated turn after turn to the periodic steady state, as a
+    :class:`Dynamics`; with ``sweep_rpm`` (carrier speeds, r/min, each in (0, 3000], at most
+    200) the steady state at each speed instead, as a list of :class:`SweepRow`.
+
+    ``design``: a :class:`Train` (its teeth, scaled assembly and rack: what the ISO stiffness and
+    ``backlash = "teeth"`` read) or a :class:`Design` (its pitch curves: only the effects given
+    by value). ``scene``: the path of a rotor scene file (TOML or JSON, ``[scene] model =
+    "rotor"``), or a dict of its tables with the same keys; its ``scene.design`` key may be left
+    out and is not read (the design passed is the one run; the key is only echoed in ``design``,
+    empty without it). A bad or unknown key, or
+    an effect the design cannot give, raises :class:`NcgearError` naming the key
+    (``effects.mesh_damping.zeta``); the scene's name in messages is its path, or ``scene`` for a
+    dict. A run that does not settle is returned with ``steady.settled`` False.
+    """
+    train = design if isinstance(design, Train) else None
+    d = train.design if train is not None else design
+    if not isinstance(d, Design):
+        got = type(design).__name__
+        raise TypeError(f"design: expected an ncgear.Design or ncgear.Train, got {got}")
+    h = train._handle if train is not None else None
+    rpm = _speeds(sweep_rpm)
+    if isinstance(scene, Mapping):
+        r = _ncgear.dynamics(d._handle, h, "scene", _scene_json(scene), rpm)
+    else:
+        r = _ncgear.dynamics(d._handle, h, os.fspath(scene), None, rpm)
+    return _rotor_result(r, sweep_rpm)
+
+
+def dynamics_file(
+    scene: PathLike, *, sweep_rpm: Optional[Sequence[float]] = None
+) -> Union[Dynamics, List[SweepRow]]:
+    """``ncgear dynamics SCENE`` in-process on a rotor scene: the scene file and the design file
+    it names (``design = "…/design.json"``, relative to the scene file). ``to_dict()`` is the
+    CLI's ``dynamics.json``, number for number; with ``sweep_rpm`` (r/min) the sweep's rows, as
+    ``--sweep-rpm`` gives them."""
+    return _rotor_result(_ncgear.dynamics_file(os.fspath(scene), _speeds(sweep_rpm)), sweep_rpm)
 
 
 @dataclass(frozen=True, eq=False)

@@ -2,14 +2,14 @@
 Checked against the module by ``python -m mypy.stubtest ncgear`` (scripts/check_python.sh)."""
 import os
 from dataclasses import dataclass
-from typing import Any, Dict, List, Literal, Mapping, Optional, Sequence, Tuple, Union
+from typing import Any, Dict, List, Literal, Mapping, Optional, Sequence, Tuple, Union, overload
 
 import numpy as np
 import numpy.typing as npt
 from typing_extensions import TypedDict, Unpack
 
 from .reports import (
-    DesignReport, Features, LoadsReport, PairReport, Points, SynthesisReport, TeethReport,
+    DesignReport, DynamicsRotorReport, Features, LoadsReport, PairReport, Points, SynthesisReport, TeethReport,
     ToleranceReport, TradeOffReport, Verdict,
 )
 
@@ -18,7 +18,7 @@ __all__ = [
     "NcgearError", "Design", "Train", "Pair", "Placement", "Loads", "design", "teeth", "pair",
     "simulate", "tolerance", "loads", "loads_file", "write_step", "write_dxf", "write_svg",
     "set_max_memory_gb", "Synthesis", "TradeOff", "synthesize", "tradeoff", "redesign",
-    "read_trajectory",
+    "read_trajectory", "Dynamics", "SweepRow", "dynamics", "dynamics_file",
 ]
 
 PathLike = Union[str, os.PathLike[str]]
@@ -65,6 +65,20 @@ class Pair(_Raw, PairReport):
 @dataclass(frozen=True, eq=False)
 class Loads(_Raw, LoadsReport):
     _report: Any
+
+@dataclass(frozen=True, eq=False)
+class Dynamics(_Json, DynamicsRotorReport):
+    _report: Any
+
+@dataclass(frozen=True)
+class SweepRow:
+    carrier_rpm: float
+    dynamic_factor: Tuple[float, float]
+    impacts_per_turn: int
+    max_impact_speed_m_s: float
+    max_tip_deviation_mm: float
+    turns: int
+    settled: bool
 
 def read_trajectory(
     path: PathLike,
@@ -152,6 +166,18 @@ def simulate(
 def tolerance(errors: PathLike, *, samples: int = ..., seed: int = ..., starts: int = ...) -> ToleranceReport: ...
 def loads(design: Union[Design, Train], scene: Union[PathLike, Mapping[str, Any]]) -> Loads: ...
 def loads_file(scene: PathLike) -> Loads: ...
+@overload
+def dynamics(
+    design: Union[Design, Train], scene: Union[PathLike, Mapping[str, Any]], *, sweep_rpm: None = ...
+) -> Dynamics: ...
+@overload
+def dynamics(
+    design: Union[Design, Train], scene: Union[PathLike, Mapping[str, Any]], *, sweep_rpm: Sequence[float]
+) -> List[SweepRow]: ...
+@overload
+def dynamics_file(scene: PathLike, *, sweep_rpm: None = ...) -> Dynamics: ...
+@overload
+def dynamics_file(scene: PathLike, *, sweep_rpm: Sequence[float]) -> List[SweepRow]: ...
 @dataclass(frozen=True, eq=False)
 class Synthesis(_Json, SynthesisReport):
     design: Design

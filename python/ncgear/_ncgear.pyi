@@ -7,7 +7,7 @@ from typing_extensions import final
 
 __all__ = [
     "DEFAULT_L1_MM", "DEFAULT_L3_MM", "DesignHandle", "NcgearError", "PairHandle", "Report",
-    "TrainHandle", "__version__", "design", "design_sized", "forward_for_spacing", "loads", "loads_file", "pair",
+    "TrainHandle", "__version__", "design", "design_sized", "dynamics", "dynamics_file", "forward_for_spacing", "loads", "loads_file", "pair",
     "read_trajectory", "redesign",
     "set_max_memory_gb", "simulate", "spec_box", "synthesize", "teeth", "tolerance", "tradeoff",
 ]
@@ -88,6 +88,14 @@ def loads(
     design: DesignHandle, train: Optional[TrainHandle], scene: str, text: Optional[str]
 ) -> Report: ...
 def loads_file(path: str) -> Report: ...
+def dynamics(
+    design: DesignHandle,
+    train: Optional[TrainHandle],
+    scene: str,
+    text: Optional[str],
+    sweep_rpm: Optional[List[float]],
+) -> Report: ...
+def dynamics_file(path: str, sweep_rpm: Optional[List[float]]) -> Report: ...
 def set_max_memory_gb(gb: float) -> None: ...
 def synthesize(
     spec: str,

@@ -1,6 +1,6 @@
 """The reports of ncgear as frozen dataclasses: the keys of the CLI's JSON files (``design.json``,
-its ``teeth`` block, ``tolerance.json``, ``loads.json``, the simulation features), typed, nested
-as in the file.
+its ``teeth`` block, ``tolerance.json``, ``loads.json``, a rotor scene's ``dynamics.json``, the
+simulation features), typed, nested as in the file.
 
 Units are in the field names (``_mm``, ``_deg``, ``_rad``, ``_um``, ``_arcsec``, ``_ms``, ``_N``,
 ``_Nm``, ``_MPa``, ``_h``); a bare length is in mm and a bare angle in degrees where the JSON says
@@ -1008,3 +1008,130 @@ class TradeOffReport:
     rows: Tuple[TradeOffRow, ...]
     exact_needs: Optional[ExactNeeds]
     sizing: Optional[ModuleSizing]
+
+
+@dataclass(frozen=True, eq=False)
+class RotorMeshSeries:
+    """One mesh of the rotor over the settled turn, per sample of travel: the dynamic normal
+    force along the contact flank's line of action (N), the rigid force of ``ncgear loads`` (N),
+    the flank in contact (``"drive"``, ``"coast"``, ``"none"`` inside the backlash) and the
+    approach of the drive flank (µm; negative: towards the coast flank)."""
+
+    dynamic_force_n: Numbers
+    rigid_force_n: Numbers
+    contact: Tuple[str, ...]
+    deflection_um: Numbers
+
+
+@dataclass(frozen=True, eq=False)
+class RotorMeshesSeries:
+    """The two meshes of train 1: sun–intermediate and intermediate–planet."""
+
+    sun_intermediate: RotorMeshSeries
+    intermediate_planet: RotorMeshSeries
+
+
+@dataclass(frozen=True)
+class Impact:
+    """One impact, a re-contact after a contact loss: travel angle (degrees), the flank struck
+    (``"drive"`` or ``"coast"``), the approach speed along the line of action (m/s) and the
+    largest mesh force of the impact window (N)."""
+
+    travel_deg: float
+    flank: str
+    speed_m_s: float
+    peak_force_n: float
+
+
+@dataclass(frozen=True, eq=False)
+class RotorMeshSummary:
+    """One mesh's summary over the settled turn: the largest dynamic and rigid forces (N), the
+    dynamic factor (their ratio), the largest ``|F_dyn − F_rigid|`` relative to the largest rigid
+    force, ISO 6336-1 method C's K_v at the largest rigid force (``None`` without teeth), the
+    contact-loss intervals (N, 2) ``[from, to]`` in travel degrees (``to < from``: across 0), the
+    impacts and their count."""
+
+    peak_dynamic_n: float
+    peak_rigid_n: float
+    dynamic_factor: float
+    largest_deviation_of_peak: float
+    iso_K_v: Optional[float]
+    contact_loss_deg: Vectors
+    impacts: Tuple[Impact, ...]
+    impacts_per_turn: int
+
+
+@dataclass(frozen=True, eq=False)
+class RotorMeshesSummary:
+    """The summaries of the two meshes: sun–intermediate and intermediate–planet."""
+
+    sun_intermediate: RotorMeshSummary
+    intermediate_planet: RotorMeshSummary
+
+
+@dataclass(frozen=True)
+class RotorSteady:
+    """The periodic steady state reached: turns integrated, the last turn's relative periodic
+    residual, the scene's tolerance and whether the residual fell below it."""
+
+    turns: int
+    residual: float
+    poincare_tol: float
+    settled: bool
+
+
+@dataclass(frozen=True)
+class OdeStats:
+    """Integrator counters over all turns: right-hand-side evaluations, accepted and rejected
+    steps, located state events."""
+
+    rhs_evals: int
+    accepted: int
+    rejected: int
+    events: int
+
+
+@dataclass(frozen=True, eq=False)
+class RotorSummary:
+    """The settled turn's summary: each mesh, the largest distance of the dynamic tip from the
+    static path (mm) and its travel angle (degrees), the linearised train's natural frequencies
+    at the mean stiffness (Hz), the largest impact speed of either mesh (m/s; 0: none) and the
+    impacts per turn of both meshes of one train."""
+
+    meshes: RotorMeshesSummary
+    max_tip_deviation_mm: float
+    max_tip_deviation_at_deg: float
+    natural_frequencies_hz: Tuple[float, float]
+    max_impact_speed_m_s: float
+    impacts_per_turn: int
+
+
+@dataclass(frozen=True, eq=False)
+class DynamicsRotorReport:
+    """``dynamics.json`` of a rotor scene (docs/dynamics.md, "The rotor"): the settled turn of
+    the planting rotor in motion per sample of ``travel_deg`` (degrees) — both meshes' forces,
+    the intermediate's and the planet's rotations away from the kinematic law (µrad), the needle
+    tip's dynamic path (mm, world frame) and its distance from the static path (mm), the carrier
+    torque of every arm, dynamic and rigid (N·m, positive in the sense of travel) — and its
+    summary. ``design``: the design file as the scene names it (only echoed for a train passed
+    in memory, empty when the scene names none); ``effects``: one line per effect built."""
+
+    schema_version: int
+    scene: str
+    model: str
+    design: str
+    carrier_rpm: float
+    arms: int
+    dofs: Tuple[str, ...]
+    effects: Tuple[str, ...]
+    steady: RotorSteady
+    stats: OdeStats
+    travel_deg: Numbers
+    meshes: RotorMeshesSeries
+    intermediate_deviation_urad: Numbers
+    planet_deviation_urad: Numbers
+    tip_mm: Points
+    tip_deviation_mm: Numbers
+    carrier_torque_nm: Numbers
+    rigid_carrier_torque_nm: Numbers
+    summary: RotorSummary

@@ -2,6 +2,7 @@
 //! library names by its field (`tol_mm`) is named by the argument that sets it (`tol_mm`),
 //! and no message quotes a CLI flag (a design file, which only `ncgear design` writes, is told by
 //! its command).
+use ncgear::analysis::dynamics::rotor::RotorError;
 use ncgear::bounds::OutOfBounds;
 use ncgear::design::DesignError;
 use ncgear::loads::LoadsError;
@@ -134,17 +135,22 @@ pub fn pair_err(e: &PairError) -> PyErr {
     }
 }
 
+/// `message` without the line and column a dict scene's JSON adds (`from_dict`).
+fn dict_message(mut message: String, from_dict: bool) -> String {
+    if from_dict && let Some(i) = message.rfind(" at line 1 column ") {
+        message.truncate(i);
+    }
+    message
+}
+
 /// A loads error. `from_dict`: the scene is a dict (its JSON's line and column are dropped);
 /// `in_memory`: the train is a Python object, so a design without teeth is told to pass
 /// `ncgear.teeth(...)`; a design file's teeth come from `ncgear design --module`.
 pub fn loads_err(e: &LoadsError, from_dict: bool, in_memory: bool) -> PyErr {
-    let mut m = e.to_string();
-    if from_dict
-        && matches!(e, LoadsError::Scene(_))
-        && let Some(i) = m.rfind(" at line 1 column ")
-    {
-        m.truncate(i);
-    }
+    let m = dict_message(
+        e.to_string(),
+        from_dict && matches!(e, LoadsError::Scene(_)),
+    );
     // The library says what is wrong; how to mend it from Python is said here.
     let hint = match e {
         LoadsError::NoTeeth if in_memory => {
@@ -158,4 +164,14 @@ pub fn loads_err(e: &LoadsError, from_dict: bool, in_memory: bool) -> PyErr {
         Some(h) => format!("{m} ({h})"),
         None => m,
     })
+}
+
+/// A rotor dynamics error, `from_dict` and `in_memory` as for [`loads_err`] (the loads tables'
+/// errors are the loads').
+pub fn rotor_err(e: &RotorError, from_dict: bool, in_memory: bool) -> PyErr {
+    match e {
+        RotorError::Loads(l) => loads_err(l, from_dict, in_memory),
+        RotorError::Scene(m) => err(dict_message(m.clone(), from_dict)),
+        _ => err(e),
+    }
 }

@@ -8,14 +8,17 @@ mod errors;
 mod options;
 
 use convert::{points, to_py};
-use errors::{NcgearError, design_err, err, loads_err, pair_err};
+use errors::{NcgearError, design_err, err, loads_err, pair_err, rotor_err};
+use ncgear::analysis::dynamics::rotor::sweep::MAX_SWEEP_SPEEDS;
+use ncgear::analysis::dynamics::rotor::{Prepared, RotorError, RotorScene, sweep_rpm};
 use ncgear::cad::dxf::{DxfVersion, write_dxf};
 use ncgear::cad::step::write_step;
 use ncgear::cad::svg::write_svg;
 use ncgear::design::Design;
 use ncgear::design::train::{Gear, ToothedTrain, TrainTeethOptions, tooth_train};
 use ncgear::design::trajectory::{DrawingOptions, DrawingUnits};
-use ncgear::loads::{LoadsError, LoadsReport, Rotor, Scene, analyse, run_scene};
+use ncgear::loads::scene::MAX_CARRIER_RPM;
+use ncgear::loads::{LoadsError, LoadsReport, Rotor, RotorSource, Scene, analyse, run_scene};
 use ncgear::math::polyline::simplify_closed;
 use ncgear::output::{SolidOptions, pair_step, train_step_models, write_step_models};
 use ncgear::pair::{Expr, Law, PairDesign, PairOptions, design_pair};
@@ -463,14 +466,20 @@ fn tolerance(path: &str, samples: usize, seed: u64, starts: usize) -> PyResult<R
     report(&analyse(&file, &o, &ncgear::progress::Progress::none()).map_err(err)?)
 }
 
-/// The scene named `name`: the JSON `text` of a dict when given (messages name it `name`), else
-/// the file at `name` (TOML or JSON).
-fn scene_of(name: &str, text: Option<&str>) -> Result<Scene, LoadsError> {
+/// The scene named `name`, as type `T` (a loads or a rotor scene): the JSON `text` of a dict
+/// when given (messages name it `name`), else the file at `name` (TOML or JSON). The error is
+/// the message naming the scene, line and key.
+fn read_scene<T: serde::de::DeserializeOwned>(name: &str, text: Option<&str>) -> Result<T, String> {
     match text {
-        Some(t) => ncgear::config::parse(t, name, ncgear::config::Format::Json)
-            .map_err(|e| LoadsError::Scene(e.to_string())),
-        None => Scene::from_path(Path::new(name)),
+        Some(t) => ncgear::config::parse(t, name, ncgear::config::Format::Json),
+        None => ncgear::config::load(Path::new(name)),
     }
+    .map_err(|e| e.to_string())
+}
+
+/// The loads scene named `name` ([`read_scene`]).
+fn scene_of(name: &str, text: Option<&str>) -> Result<Scene, LoadsError> {
+    read_scene(name, text).map_err(LoadsError::Scene)
 }
 
 /// The loads of a design's pitch curves, or of its toothed `train`, over one carrier turn under
@@ -507,6 +516,78 @@ fn loads_file(py: Python<'_>, path: &str) -> PyResult<Report> {
         .detach(|| run_scene(Path::new(path)))
         .map_err(|e| loads_err(&e, false, false))?;
     report(&r)
+}
+
+/// Carrier speeds of a sweep checked: 1 to [`MAX_SWEEP_SPEEDS`] speeds, each in
+/// (0, [`MAX_CARRIER_RPM`]] r/min.
+fn sweep_speeds(rpm: Option<Vec<f64>>) -> PyResult<Option<Vec<f64>>> {
+    let Some(rpm) = rpm else { return Ok(None) };
+    let ok = |v: &f64| v.is_finite() && *v > 0.0 && *v <= MAX_CARRIER_RPM;
+    if rpm.is_empty() || rpm.len() > MAX_SWEEP_SPEEDS || !rpm.iter().all(ok) {
+        return Err(errors::arg_err(
+            "sweep_rpm",
+            format!("{rpm:?}"),
+            format!(
+                "1 to {MAX_SWEEP_SPEEDS} carrier speeds (each a steady state), each in \
+                 (0, {MAX_CARRIER_RPM}] r/min"
+            ),
+        ));
+    }
+    Ok(Some(rpm))
+}
+
+/// The steady state of `prepared` as its [`ncgear::analysis::dynamics::rotor::RotorReport`], or
+/// with `rpm` (r/min) the sweep's rows.
+fn rotor_run(prepared: &Prepared, rpm: Option<&[f64]>) -> Result<Value, RotorError> {
+    let none = ncgear::progress::Progress::none();
+    let v = match rpm {
+        Some(rpm) => serde_json::to_value(sweep_rpm(prepared, rpm, &none)?),
+        None => serde_json::to_value(prepared.run(&none)?.report),
+    };
+    v.map_err(|e| RotorError::Scene(e.to_string()))
+}
+
+/// The planting rotor's dynamics (elastic teeth, damping, backlash, impacts) of a design's
+/// pitch curves, or of its toothed `train`, under the rotor scene `scene` (a file path, or the
+/// name of the dict whose JSON is `text`), to the periodic steady state; with `sweep_rpm`
+/// (r/min) the sweep's rows. The scene's `design` key is not read (only echoed in the report).
+/// Without the GIL.
+#[pyfunction]
+#[pyo3(signature = (design, train, scene, text, sweep_rpm))]
+fn dynamics(
+    py: Python<'_>,
+    design: &DesignHandle,
+    train: Option<&TrainHandle>,
+    scene: &str,
+    text: Option<&str>,
+    sweep_rpm: Option<Vec<f64>>,
+) -> PyResult<Report> {
+    let rpm = sweep_speeds(sweep_rpm)?;
+    let run = || -> Result<Value, RotorError> {
+        let spec: RotorScene = read_scene(scene, text).map_err(RotorError::Scene)?;
+        let case = spec.validate(scene)?;
+        let source = match train {
+            Some(t) => RotorSource::from_train(t.t.assembly.clone(), Some(t.t.clone()), vec![]),
+            None => RotorSource::from_train(design.d.assembly.clone(), None, vec![]),
+        };
+        rotor_run(&Prepared::new(&spec, case, source, scene)?, rpm.as_deref())
+    };
+    let value = py
+        .detach(run)
+        .map_err(|e| rotor_err(&e, text.is_some(), true))?;
+    Ok(Report { value })
+}
+
+/// `ncgear dynamics SCENE` in-process: the rotor scene file and the design file it names
+/// (`dynamics.json`), or with `sweep_rpm` (r/min) the sweep's rows. Without the GIL.
+#[pyfunction]
+#[pyo3(signature = (path, sweep_rpm))]
+fn dynamics_file(py: Python<'_>, path: &str, sweep_rpm: Option<Vec<f64>>) -> PyResult<Report> {
+    let rpm = sweep_speeds(sweep_rpm)?;
+    let value = py
+        .detach(|| rotor_run(&Prepared::from_path(Path::new(path))?, rpm.as_deref()))
+        .map_err(|e| rotor_err(&e, false, false))?;
+    Ok(Report { value })
 }
 
 /// The synthesis spec named `name`: the JSON `text` of a dict when given (messages name it
@@ -648,6 +729,8 @@ fn _ncgear(m: &Bound<'_, PyModule>) -> PyResult<()> {
         wrap_pyfunction!(tolerance, m)?,
         wrap_pyfunction!(loads, m)?,
         wrap_pyfunction!(loads_file, m)?,
+        wrap_pyfunction!(dynamics, m)?,
+        wrap_pyfunction!(dynamics_file, m)?,
         wrap_pyfunction!(synthesize, m)?,
         wrap_pyfunction!(spec_box, m)?,
         wrap_pyfunction!(tradeoff, m)?,

@@ -34,6 +34,7 @@ ROOTS = [
     (reports.Features, "simulate.schema.json", ("features",)),
     (reports.SynthesisReport, "synthesis.schema.json", ()),
     (reports.TradeOffReport, "tradeoff.schema.json", ()),
+    (reports.DynamicsRotorReport, "dynamics_rotor.schema.json", ()),
 ]
 
 # JSON keys a class leaves out on purpose: (class, key) → why.
@@ -49,7 +50,6 @@ NO_CLASS = [
     "orbit_model.schema.json",
     "orbit_measure.schema.json",
     "orbit_identify.schema.json",
-    "dynamics_rotor.schema.json",  # the rotor report has no Python class yet (ncgear.dynamics)
 ]
 
 

@@ -32,6 +32,23 @@ pub struct ToothData {
     pub backlash_mm: f64,
 }
 
+impl ToothData {
+    /// The teeth of `z` per gear at module `module_mm` (mm) cut with the rack and backlash of
+    /// `o`.
+    #[must_use]
+    pub fn of(o: &crate::design::train::TrainTeethOptions, module_mm: f64, z: u32) -> Self {
+        let rack = o.toothing.rack;
+        Self {
+            module_mm,
+            z,
+            alpha_rad: rack.alpha_rad(),
+            addendum_coeff: rack.addendum(),
+            dedendum_coeff: rack.addendum() + rack.clearance(),
+            backlash_mm: o.toothing.backlash_mm,
+        }
+    }
+}
+
 /// Cumulative arc length of a pitch curve over body angle, on a uniform grid of one turn.
 #[derive(Debug, Clone)]
 struct ArcTable {

@@ -84,9 +84,18 @@ impl RotorError {
     }
 }
 
-/// The teeth of a design source, as the dynamics reads them (none for a pitch-only design).
+/// The teeth of a design source, as the dynamics reads them (none for a pitch-only design):
+/// the made teeth's own count and module when the source holds them (a train in memory), else
+/// the design file's `teeth` block (its exact tooth count).
 #[must_use]
 pub fn tooth_data(source: &RotorSource) -> Option<ToothData> {
+    if let Some(t) = &source.teeth {
+        return Some(ToothData::of(
+            &t.report.options,
+            t.report.module_mm,
+            t.report.z,
+        ));
+    }
     let o = source.teeth_options.as_ref()?;
     let z = match o.policy {
         crate::design::train::TrainPolicy::ScaleCenterDistance(
@@ -94,15 +103,7 @@ pub fn tooth_data(source: &RotorSource) -> Option<ToothData> {
         ) => z,
         _ => return None,
     };
-    let rack = o.toothing.rack;
-    Some(ToothData {
-        module_mm: o.toothing.module_mm,
-        z,
-        alpha_rad: rack.alpha_rad(),
-        addendum_coeff: rack.addendum(),
-        dedendum_coeff: rack.addendum() + rack.clearance(),
-        backlash_mm: o.toothing.backlash_mm,
-    })
+    Some(ToothData::of(o, o.toothing.module_mm, z))
 }
 
 /// A rotor scene prepared to run: the case, the design and the built model.
@@ -130,12 +131,33 @@ impl Prepared {
         let file = path.display().to_string();
         let scene = RotorScene::from_path(path)?;
         let case = scene.validate(&file)?;
-        let source = RotorSource::read(&scene.design_path(path), false)?;
+        let source = RotorSource::read(&scene.design_path(path)?, false)?;
+        Self::new(&scene, case, source, &file)
+    }
+
+    /// The scene `scene` (validated as `case`) on the design `source` (a design file read, or a
+    /// train in memory: the scene's `design` key, if any, is then only echoed in the report, empty
+    /// without one); `file`
+    /// names the scene in errors.
+    ///
+    /// # Errors
+    /// [`RotorError`]: an effect the design cannot give (`"teeth"` backlash or ISO stiffness
+    /// without teeth), the loads'.
+    pub fn new(
+        scene: &RotorScene,
+        case: RotorCase,
+        source: RotorSource,
+        file: &str,
+    ) -> Result<Self, RotorError> {
         let teeth = tooth_data(&source);
-        let built = build(&source.rotor(), &case.loads, &case.effects, teeth, &file)?;
+        let built = build(&source.rotor(), &case.loads, &case.effects, teeth, file)?;
         Ok(Self {
             case,
-            design: scene.scene.design.display().to_string(),
+            design: scene
+                .scene
+                .design
+                .as_ref()
+                .map_or_else(String::new, |d| d.display().to_string()),
             source,
             built,
             teeth,

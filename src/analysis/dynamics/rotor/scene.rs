@@ -218,21 +218,33 @@ impl RotorScene {
     }
 
     /// The design file, resolved against the scene file's folder.
-    #[must_use]
-    pub fn design_path(&self, scene_file: &Path) -> PathBuf {
-        let d = &self.scene.design;
-        if d.is_absolute() {
+    ///
+    /// # Errors
+    /// [`RotorError::Field`] on `scene.design` when the scene names none.
+    pub fn design_path(&self, scene_file: &Path) -> Result<PathBuf, RotorError> {
+        let d = self
+            .scene
+            .design
+            .as_ref()
+            .ok_or_else(|| RotorError::Field {
+                file: scene_file.display().to_string(),
+                key: "scene.design".into(),
+                message: "the scene names no design: add design = \"…/design.json\" (relative to \
+                      the scene file)"
+                    .into(),
+            })?;
+        Ok(if d.is_absolute() {
             d.clone()
         } else {
             scene_file.parent().unwrap_or(Path::new("")).join(d)
-        }
+        })
     }
 
     /// The loads scene of the same tables.
     #[must_use]
     pub fn loads_scene(&self) -> crate::loads::Scene {
         crate::loads::Scene {
-            design: Some(self.scene.design.clone()),
+            design: self.scene.design.clone(),
             operation: self.operation.clone(),
             arm: self.arm.clone(),
             gears: Some(self.gears.clone()),

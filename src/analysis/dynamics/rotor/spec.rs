@@ -44,8 +44,10 @@ pub struct RotorMeta {
     pub name: String,
     /// `rotor`.
     pub model: RotorWord,
-    /// The design file (`design.json`), relative to the scene file.
-    pub design: PathBuf,
+    /// The design file (`design.json`), relative to the scene file; required to run the file
+    /// (a train in memory needs none).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub design: Option<PathBuf>,
 }
 
 /// The word `rotor`.
