@@ -460,6 +460,17 @@ def _scene_json(scene: Mapping[str, Any], arg: str = "scene") -> str:
         raise NcgearError(f"{arg}: {e}") from None
 
 
+def _design_and_train(design: Any) -> Tuple[Design, Any]:
+    """The design of a :class:`Design` or :class:`Train`, and the train's handle (None for a
+    design); a TypeError for anything else."""
+    train = design if isinstance(design, Train) else None
+    d = train.design if train is not None else design
+    if not isinstance(d, Design):
+        got = type(design).__name__
+        raise TypeError(f"design: expected an ncgear.Design or ncgear.Train, got {got}")
+    return d, (train._handle if train is not None else None)
+
+
 def loads(design: Union[Design, Train], scene: Union[PathLike, Mapping[str, Any]]) -> Loads:
     """The planting rotor's loads over one carrier turn at constant speed (``ncgear loads``,
     docs/loads.md): carrier, sun and planet-mesh torques, the frame, bearing and mesh forces and,
@@ -476,12 +487,7 @@ def loads(design: Union[Design, Train], scene: Union[PathLike, Mapping[str, Any]
     range; the scene's name in messages is its path, or ``scene`` for a dict. A rating that misses
     its safety targets is returned with ``passed`` False.
     """
-    train = design if isinstance(design, Train) else None
-    d = train.design if train is not None else design
-    if not isinstance(d, Design):
-        got = type(design).__name__
-        raise TypeError(f"design: expected an ncgear.Design or ncgear.Train, got {got}")
-    h = train._handle if train is not None else None
+    d, h = _design_and_train(design)
     if isinstance(scene, Mapping):
         r = _ncgear.loads(d._handle, h, "scene", _scene_json(scene))
     else:
@@ -536,12 +542,7 @@ def dynamics(
     (``effects.mesh_damping.zeta``); the scene's name in messages is its path, or ``scene`` for a
     dict. A run that does not settle is returned with ``steady.settled`` False.
     """
-    train = design if isinstance(design, Train) else None
-    d = train.design if train is not None else design
-    if not isinstance(d, Design):
-        got = type(design).__name__
-        raise TypeError(f"design: expected an ncgear.Design or ncgear.Train, got {got}")
-    h = train._handle if train is not None else None
+    d, h = _design_and_train(design)
     rpm = _speeds(sweep_rpm)
     if isinstance(scene, Mapping):
         r = _ncgear.dynamics(d._handle, h, "scene", _scene_json(scene), rpm)
