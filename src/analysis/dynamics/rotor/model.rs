@@ -70,7 +70,9 @@ pub struct RotorModel {
     pub(crate) damping: [f64; 2],
     /// Half the normal backlash, m (0: none).
     pub(crate) half_gap_m: [f64; 2],
-    /// Identifies the train for the kinematics' memo ([`new_model_id`]).
+    /// Identifies the train for the kinematics' memo ([`new_model_id`]). The kinematics depend on
+    /// `rebuilt` alone (not on Ω), so a clone with another speed may share the id; whoever gives
+    /// a model another `rebuilt` must give it a fresh id.
     pub(crate) id: u64,
     /// Whether the kinematics repeat each turn (both gears' orientations by whole turns), so
     /// that the carrier angle is taken modulo 2π before they are computed.
