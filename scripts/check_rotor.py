@@ -30,7 +30,13 @@ takes them). Everything else is rebuilt here:
   crossing downward (contact loss); free, either flank's crossing upward (re-contact, which may
   be on the other flank). The zeros are located as terminal events of solve_ivp (dense output,
   root to machine precision) and the integration restarts in the new mode, so no step straddles
-  a discontinuity of the right-hand side.
+  a discontinuity of the right-hand side. For 1e-12 of a turn after a restart the new mode's
+  events keep their mode's side (the root just found, ±1e-21 m, is not found again).
+  The damping's speed is the documented v_s = ρ_drv·q̇_drv − ρ_drn·q̇_drn, not dδ_s/dt (the
+  lever arms vary with φ: dδ/dt = v_s + Ω·(ρ′_drv·q_drv − ρ′_drn·q_drn)). Where the two have
+  opposite signs at δ = b both modes drive the flanks onto the dead zone's edge, and the motion
+  slides along it (a Filippov sliding mode) through a chatter of contacts and flights whose
+  count depends on the integrator: see --resolve-deg.
 * Equations of motion, own formulation: Lagrange's equations in Hamiltonian (first-order) form
   on the generalized coordinates q = (Δθ2, Δθ3), the rotations of the intermediate and of the
   planet (+ arm) away from the kinematic law, with the generalized momenta
@@ -56,10 +62,14 @@ takes them). Everything else is rebuilt here:
 
 Compared with DYNAMICS.json on its samples: each mesh's dynamic normal force (max difference /
 its peak ≤ --tol-force), the tip's distance from its static path (the nearest point of the
-static polyline within ±45° of travel; max difference / its peak ≤ --tol-tip, or ≤ the absolute
---tip-floor-um when the peak is below 50 × that floor: the integrators' and the interpolations'
-noise on a deviation of a few µm), each mesh's contact-loss intervals (every interval of either
-side matched by one of the other, both ends within --tol-loss-deg of travel), and the
+static polyline within ±45° of travel, as ncgear searches it; max difference / its peak ≤
+--tol-tip, or ≤ the absolute --tip-floor-um when the peak is below 50 × that floor: without
+backlash the deviation is a few µm, and 2 % of it, 0.1 µm, is below what the comparison of two
+polyline distances resolves at 0.5° samples), each mesh's contact-loss intervals as resolved to
+--resolve-deg of travel (0.01°, 6 µs at 300 r/min, a twentieth of the fastest mode's period:
+contacts and flights shorter than that, the chatter of a sliding stretch, joined or dropped on
+both sides; every interval of either side matched by one of the other, both ends within
+--tol-loss-deg of travel), and the
 linearised natural frequencies (0.1 %). A table per case is printed. Exit 0 when every check
 passes, 1 otherwise, 2 on unusable input.
 """
