@@ -52,8 +52,14 @@ takes them). Everything else is rebuilt here:
   m_e = J_D/ρ̄_D² (sun mesh), J_D·J_A/(J_D·ρ̄_A² + J_A·ρ̄_D′²) (planet mesh), ρ̄ the turn's mean
   |ρ| of flank +1; vibration damping c_i = 2ζ·J_i·ω₁, ω₁ the lowest eigenvalue of M⁻¹K
   (M = diag(J_D, J_A), K = Σ k̄_j g_j g_jᵀ, g_1 = (−ρ̄_D, 0), g_2 = (ρ̄_D′, −ρ̄_A)).
-* Stiffness: `kind = "constant"`, k = c·b (N/mm per mm of face width, b the face width). ISO
-  stiffness is not modelled here (exit 2).
+* Stiffness: `kind = "constant"`, k = c·b (N/mm per mm of face width, b the face width);
+  `kind = "iso"` with `pairs = "mean"`: ISO 6336-1:2006 clause 9 on the local equivalent spur
+  pair, from docs/dynamics.md's formulas (radii = the pitch curves' signed radii of curvature
+  (r² + r′²)^{3/2}/(r² + 2r′² − r·r″) at the contact, z_n = 2ρ/m, q′ = 0.04723 + 0.15551/z_n1
+  + 0.25791/z_n2 with 1 the driver, c′ = 0.8·C_B/q′, C_B = [1 + 0.5(1.2 − h_fP/m)]·[1 −
+  0.02(20° − α)], c_γα = c′(0.75·ε_α + 0.25), ε_α of the pair with addendum h_a·m), × b × the
+  scene's scale, by travel; k̄ its mean over the turn. Convex pairs only; the pairs alternating
+  and concave contacts are not modelled here (exit 2).
 * Integration: scipy's DOP853 (rtol 1e-10), piecewise between the report's samples and the
   needle table's knots (its kinks), events as above. Turns from the quasi-static start (the
   deflections that carry loads.json's forces at travel 0 on its flanks, at rest relative to the
@@ -125,19 +131,35 @@ class Effects:
         st = eff.get("mesh_stiffness")
         if not isinstance(st, dict) or "kind" not in st:
             raise InputError("effects.mesh_stiffness: expected { kind = ... }")
-        if st["kind"] != "constant":
-            raise InputError(f"effects.mesh_stiffness.kind = {st['kind']!r}: only \"constant\" "
-                             "is modelled by this check")
-        if "c_n_per_mm_mm" not in st:
-            raise InputError("effects.mesh_stiffness: constant needs c_n_per_mm_mm")
-        self.c_spec = pair(st["c_n_per_mm_mm"], "effects.mesh_stiffness.c_n_per_mm_mm")
-        if any(not (c > 0 and math.isfinite(c)) for c in self.c_spec):
-            raise InputError("effects.mesh_stiffness.c_n_per_mm_mm must be positive")
-        md = eff.get("mesh_damping")
-        self.zeta = pair(md["zeta"], "effects.mesh_damping.zeta") if md else [0.0, 0.0]
         teeth = design_raw.get("teeth") or {}
         opts = teeth.get("options") or {}
         rack = opts.get("rack") or {}
+        self.iso = st["kind"] == "iso"
+        if self.iso:
+            if st.get("pairs", "alternating") != "mean":
+                raise InputError("effects.mesh_stiffness: ISO with the pairs alternating is not "
+                                 "modelled by this check (pairs = \"mean\" is)")
+            if not teeth or "alpha_rad" not in rack:
+                raise InputError("effects.mesh_stiffness: kind = \"iso\" and the design has no "
+                                 "teeth")
+            self.iso_scale = float(st.get("scale", 1.0))
+            if not (self.iso_scale > 0 and math.isfinite(self.iso_scale)):
+                raise InputError("effects.mesh_stiffness.scale must be positive")
+            self.module_mm = float(teeth.get("module_mm") or opts["module_mm"])
+            self.addendum = float(rack.get("addendum", 1.0))
+            self.dedendum = self.addendum + float(rack.get("clearance", 0.25))
+            self.c_spec = None
+        elif st["kind"] == "constant":
+            if "c_n_per_mm_mm" not in st:
+                raise InputError("effects.mesh_stiffness: constant needs c_n_per_mm_mm")
+            self.c_spec = pair(st["c_n_per_mm_mm"], "effects.mesh_stiffness.c_n_per_mm_mm")
+            if any(not (c > 0 and math.isfinite(c)) for c in self.c_spec):
+                raise InputError("effects.mesh_stiffness.c_n_per_mm_mm must be positive")
+        else:
+            raise InputError(f"effects.mesh_stiffness.kind = {st['kind']!r}: expected "
+                             "\"constant\" or \"iso\"")
+        md = eff.get("mesh_damping")
+        self.zeta = pair(md["zeta"], "effects.mesh_damping.zeta") if md else [0.0, 0.0]
         self.alpha_teeth = rack.get("alpha_rad")
         bl = eff.get("backlash")
         if bl is None:
@@ -216,6 +238,36 @@ def mesh_levers(P, t_raw, C_drv, C_drn, alpha):
     return out
 
 
+def radius_of_curvature(curve, u):
+    """Signed radius of curvature of the polar curve r(u) (mm; negative where concave)."""
+    r, r1, r2 = curve(u), curve(u, deriv=1), curve(u, deriv=2)
+    return (r * r + r1 * r1) ** 1.5 / (r * r + 2.0 * r1 * r1 - r * r2)
+
+
+def iso_mesh_stiffness(rho1, rho2, eff, alpha, face_mm):
+    """ISO 6336-1:2006 clause 9 on the local equivalent spur pair (docs/dynamics.md), pairs
+    "mean": the mean mesh stiffness c_γα·b over a base pitch, N/m. rho1, rho2 the driver's and
+    the driven gear's pitch radii (mm, the pitch curves' radii of curvature at the contact);
+    only convex pairs (external gears) are modelled here."""
+    if np.any(rho1 <= 0) or np.any(rho2 <= 0):
+        raise InputError("ISO stiffness: a concave pitch curve at the contact (an internal "
+                         "equivalent gear) is not modelled by this check")
+    m = eff.module_mm
+    zn1, zn2 = 2.0 * rho1 / m, 2.0 * rho2 / m
+    q = 0.04723 + 0.15551 / zn1 + 0.25791 / zn2  # no profile shift
+    alpha_deg = math.degrees(alpha)
+    cb = (1.0 + 0.5 * (1.2 - eff.dedendum)) * (1.0 - 0.02 * (20.0 - alpha_deg))
+    c_single = 0.8 * cb / q  # c′ = c′_th·C_M·C_R·C_B, C_M = 0.8, C_R = 1, N/(mm·µm)
+    ha = eff.addendum * m
+    rb1, rb2 = rho1 * math.cos(alpha), rho2 * math.cos(alpha)
+    ra1, ra2 = rho1 + ha, rho2 + ha
+    a = rho1 + rho2
+    eps_a = (np.sqrt(ra1**2 - rb1**2) + np.sqrt(ra2**2 - rb2**2) - a * math.sin(alpha)) / (
+        math.pi * m * math.cos(alpha))
+    c_gamma = c_single * (0.75 * eps_a + 0.25)  # N/(mm·µm)
+    return eff.iso_scale * c_gamma * face_mm * 1e6, eps_a
+
+
 # ----------------------------------------------------------------------------------------------
 # The model
 # ----------------------------------------------------------------------------------------------
@@ -276,7 +328,18 @@ class Rotor:
             for gear in ("drn",) if L is L1 else ("drv", "drn"):
                 if np.any(L[gear + "_p"] * L[gear + "_m"] >= 0):
                     raise InputError(f"{nm}: the flanks' lever arms do not have opposite signs")
-        self.table = PhiTable({
+        cols = {}
+        if eff.iso:
+            pla = design.curve["planet"]
+            rho_sun = radius_of_curvature(sun, u1)
+            rho_int1 = radius_of_curvature(mid, tau + eps + math.pi - th2)
+            rho_int2 = radius_of_curvature(mid, mo["c2"])
+            rho_pla = radius_of_curvature(pla, mo["c3"])
+            k1, e1_ = iso_mesh_stiffness(rho_sun, rho_int1, eff, alpha, face_mm)
+            k2, e2_ = iso_mesh_stiffness(rho_int2, rho_pla, eff, alpha, face_mm)
+            cols = {"k1": k1, "k2": k2}
+            self.iso_eps = (e1_, e2_)
+        self.table = PhiTable({**cols,
             "vDx": self.omega * dD[:, 0], "vDy": self.omega * dD[:, 1],
             "vAx": self.omega * dA[:, 0], "vAy": self.omega * dA[:, 1],
             "S2x": S2[:, 0], "S2y": S2[:, 1], "S3x": S3[:, 0], "S3y": S3[:, 1],
@@ -285,8 +348,11 @@ class Rotor:
             "r2dp": L2["drv_p"], "r2dm": L2["drv_m"], "r2np": L2["drn_p"], "r2nm": L2["drn_m"],
         })
         self.static_tip_mm = mo["B"]
-        # stiffness, damping
-        self.k = [c * face_mm * 1e3 for c in eff.c_spec]  # N/m
+        # stiffness (N/m: constant, or ISO's by travel with its mean), damping
+        if eff.iso:
+            self.k = [float(np.mean(cols["k1"])), float(np.mean(cols["k2"]))]  # the means
+        else:
+            self.k = [c * face_mm * 1e3 for c in eff.c_spec]
         self.b = [0.5 * x * 1e-3 for x in eff.backlash_mm]  # half the normal backlash, m
         rD = float(np.mean(np.abs(L1["drn_p"])))
         rD2 = float(np.mean(np.abs(L2["drv_p"])))
@@ -317,9 +383,12 @@ class Rotor:
 
     # the state's kinematic pieces
     def unpack(self, phi, y):
-        f = self.table(phi)
+        f = self.table(phi).tolist()
+        if self.eff.iso:
+            self.k_now = f[:2]
+            f = f[2:]
         (vDx, vDy, vAx, vAy, S2x, S2y, S3x, S3y, w2k, w3k, bx, by,
-         r1p, r1m, r2dp, r2dm, r2np, r2nm) = f.tolist()
+         r1p, r1m, r2dp, r2dm, r2np, r2nm) = f
         q2, q3, p2, p3 = y
         c, s = math.cos(q2), math.sin(q2)
         S2 = (c * S2x - s * S2y, s * S2x + c * S2y)
@@ -353,7 +422,8 @@ class Rotor:
                 continue
             d = self.approach(lev, j, f, q2, q3)
             vd = self.approach(lev, j, f, qd2, qd3)
-            F[j] = self.k[j] * (d - self.b[j]) + self.c[j] * vd
+            k = self.k_now[j] if self.eff.iso else self.k[j]
+            F[j] = k * (d - self.b[j]) + self.c[j] * vd
         return F, (S2, S3, w2, w3, qd2, qd3, b, v, lev)
 
     def rhs(self, t, y, modes, fn0, fn1, phi0):

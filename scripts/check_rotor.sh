@@ -14,10 +14,12 @@
 # trajectory, no teeth); opt-in, not in the default list: cw_m2_slide (cw_m2's design with the
 # knock scene, where the planet mesh slides along the dead zone's edge for 105–112° of travel:
 # ncgear's integration fails there at rtol 1e-10, docs/dynamics.md "The rotor" → "Verified").
-# Scenes (constant mesh stiffness): knock (backlash 0.0752 mm, contact loss
-# and impacts, the planting needle, gravity, two arms, mesh and vibration damping), smooth (the
-# same without backlash: flank changes at the force's zeros, no dead zone), pairs (per-mesh
-# stiffness, damping and backlash, a needle force table, slanted gravity, one arm, 250 r/min).
+# Scenes: knock (constant mesh stiffness 14000 N/mm/mm, backlash 0.0752 mm: contact loss and
+# impacts; the planting needle, gravity, two arms, mesh and vibration damping), smooth (the same
+# without backlash: flank changes at the force's zeros, no dead zone), pairs (per-mesh
+# stiffness, damping and backlash, a needle force table, slanted gravity, one arm, 250 r/min),
+# iso_knock (knock with ISO 6336-1 stiffness, pairs "mean", and the teeth's backlash), iso_smooth
+# (ISO × 3, pairs "mean", per-mesh damping, no backlash).
 #
 # Python: target/pyvenv-rotor if it has numpy and scipy, else a python3 that has them, else a venv
 # target/pyvenv-rotor with numpy and scipy from PyPI; without any it prints a WARNING and skips
@@ -161,6 +163,17 @@ vibration_damping = { zeta = 0.05 }'
 mesh_damping = { zeta = 0.05 }
 vibration_damping = { zeta = 0.05 }'
       ;;
+    iso_knock)
+      effects='mesh_stiffness = { kind = "iso", pairs = "mean" }
+mesh_damping = { zeta = 0.05 }
+backlash = "teeth"
+vibration_damping = { zeta = 0.05 }'
+      ;;
+    iso_smooth)
+      effects='mesh_stiffness = { kind = "iso", pairs = "mean", scale = 3.0 }
+mesh_damping = { zeta = [0.04, 0.06] }
+vibration_damping = { zeta = 0.05 }'
+      ;;
     pairs)
       rpm=250.0 arms=1 gravity="[0.6, -0.8]"
       needle='force_N = [[0, 0, 0], [150, 0, 0], [165, 4, 25], [175, -3, 30], [185, 0, 0]]'
@@ -207,8 +220,8 @@ $needle"
 
 # case: its scenes
 plan=(
-  "g1_m2 knock smooth pairs"
-  "cw_m2 smooth"
+  "g1_m2 knock smooth pairs iso_knock"
+  "cw_m2 smooth iso_smooth"
   "cw_m2_slide knock"
   "kidney knock"
   "own knock"
