@@ -17,7 +17,8 @@ takes them). Everything else is rebuilt here:
   formulation of the train from design.json's pitch tables, CCW frame (a CW design mirrored
   y -> -y). Rates θ′(φ) and the body vectors' derivatives by FFT on a fine uniform grid; between
   grid points the carrier-angle functions are read by cubic Hermite interpolation (values and
-  spectral derivatives; error ~h⁴, h = 2π/11520: < 1e-12 of each function).
+  spectral derivatives; error ~h⁴, h = 2π/(16 × the samples); against a grid twice as fine,
+  < 2e-11 of each function's peak, most of it the finer grid's own RK4 planet angle).
 * Mesh geometry, own: at each pitch point P the common tangent t of the pitch curves (from the
   driver's polar curve, r′·e_r + r·e_θ), oriented counter-clockwise about the driven gear's axis,
   n = t turned +90° (towards the driven axis); the line of action of flank s = ±1 is
@@ -481,10 +482,6 @@ class Rotor:
 # ----------------------------------------------------------------------------------------------
 
 
-class Turn:
-    pass
-
-
 def integrate_turn(model, t0, y0, modes0, n_samples, rtol, atol):
     """One turn from t0: the states at the n_samples uniform samples of travel (the first at
     t0), the modes at them, the mode transitions (t, mesh, from, to, speed)."""
@@ -585,17 +582,15 @@ def integrate_turn(model, t0, y0, modes0, n_samples, rtol, atol):
                 y, t = list(sol.y[:, -1]), tb
     states.append(list(y))  # the end of the turn
     modes_at.append(list(modes))
+    if len(states) != n_samples + 1:
+        raise RuntimeError(f"{len(states) - 1} states for {n_samples} samples")
     return states, modes_at, trans
 
 
-def residual(model, phi0, s0, s1):
-    """Periodic residual of the deviations and of their rates, each relative to its max."""
-    def qqd(phi, y):
-        _, _, _, _, qd2, qd3, _, _, _ = model.unpack(phi, y)
-        return np.array([y[0], y[1]]), np.array([qd2, qd3])
-    q0, v0 = qqd(phi0, s0)
-    q1, v1 = qqd(phi0 + TAU, s1)
-    return q0, v0, q1, v1
+def deviations(model, phi, y):
+    """(q, q̇) at φ for the state y = (q, p)."""
+    _, _, _, _, qd2, qd3, _, _, _ = model.unpack(phi, y)
+    return np.array([y[0], y[1]]), np.array([qd2, qd3])
 
 
 def settle(model, y0, modes0, n_samples, rtol, atol, tol, max_turns, log):
@@ -605,13 +600,11 @@ def settle(model, y0, modes0, n_samples, rtol, atol, tol, max_turns, log):
         t0 = turn * T
         states, modes_at, trans = integrate_turn(model, t0, y, modes, n_samples, rtol, atol)
         # residual over the turn's scale
-        qs, vs = [], []
-        for k, s in enumerate(states[:-1]):
-            _, _, _, _, qd2, qd3, _, _, _ = model.unpack(model.omega * t0 + TAU * k / n_samples, s)
-            qs.append((s[0], s[1]))
-            vs.append((qd2, qd3))
-        qs, vs = np.array(qs), np.array(vs)
-        q0, v0, q1, v1 = residual(model, model.omega * t0, states[0], states[-1])
+        qv = [deviations(model, model.omega * t0 + TAU * k / n_samples, s)
+              for k, s in enumerate(states[:-1])]
+        qs, vs = np.array([x[0] for x in qv]), np.array([x[1] for x in qv])
+        q0, v0 = qv[0]
+        q1, v1 = deviations(model, model.omega * t0 + TAU, states[-1])
         r = max(float(np.max(np.abs(q1 - q0))) / max(float(np.max(np.abs(qs))), 1e-300),
                 float(np.max(np.abs(v1 - v0))) / max(float(np.max(np.abs(vs))), 1e-300))
         log(f"turn {turn + 1}: residual {r:.2e}, {len(trans)} contact changes, "
@@ -812,7 +805,6 @@ def main(argv=None):
         F, pieces = model.forces(phi, states[k], modes_at[k])
         F_ours[k] = F
         b = pieces[6]
-        A = model.table  # noqa: F841
         q_ours[k] = states[k][:2]
         tip[k] = model.mo["A"][k * args.grid] + np.asarray(b) * 1e3
     static = model.static_tip_mm[:: args.grid]
