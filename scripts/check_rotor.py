@@ -37,7 +37,8 @@ takes them). Everything else is rebuilt here:
   lever arms vary with φ: dδ/dt = v_s + Ω·(ρ′_drv·q_drv − ρ′_drn·q_drn)). Where the two have
   opposite signs at δ = b both modes drive the flanks onto the dead zone's edge, and the motion
   slides along it (a Filippov sliding mode) through a chatter of contacts and flights whose
-  count depends on the integrator: see --resolve-deg.
+  count depends on the integrator: see --resolve-deg. `--damping-speed rate` takes dδ_s/dt
+  instead (a diagnosis of that sliding, not ncgear's model).
 * Equations of motion, own formulation: Lagrange's equations in Hamiltonian (first-order) form
   on the generalized coordinates q = (Δθ2, Δθ3), the rotations of the intermediate and of the
   planet (+ arm) away from the kinematic law, with the generalized momenta
@@ -275,7 +276,7 @@ def iso_mesh_stiffness(rho1, rho2, eff, alpha, face_mm):
 
 
 class Rotor:
-    def __init__(self, design, scene, eff, loads, face_mm, alpha, n_grid):
+    def __init__(self, design, scene, eff, loads, face_mm, alpha, n_grid, rate_damping=False):
         self.design, self.scene, self.eff = design, scene, eff
         self.omega = TAU * scene.rpm / 60.0
         self.alpha = alpha
@@ -340,6 +341,12 @@ class Rotor:
             k2, e2_ = iso_mesh_stiffness(rho_int2, rho_pla, eff, alpha, face_mm)
             cols = {"k1": k1, "k2": k2}
             self.iso_eps = (e1_, e2_)
+        if rate_damping:  # the levers' rates, for the damping on dδ/dt (--damping-speed rate)
+            for nm_, v_ in (("r1p", L1["drn_p"]), ("r1m", L1["drn_m"]), ("r2dp", L2["drv_p"]),
+                            ("r2dm", L2["drv_m"]), ("r2np", L2["drn_p"]), ("r2nm", L2["drn_m"])):
+                cols["d" + nm_] = self.omega * cl.spectral_derivative(v_, 1)
+        self.rate_damping = rate_damping
+        self.n_pre = len(cols)
         self.table = PhiTable({**cols,
             "vDx": self.omega * dD[:, 0], "vDy": self.omega * dD[:, 1],
             "vAx": self.omega * dA[:, 0], "vAy": self.omega * dA[:, 1],
@@ -385,9 +392,12 @@ class Rotor:
     # the state's kinematic pieces
     def unpack(self, phi, y):
         f = self.table(phi).tolist()
+        pre, f = f[: self.n_pre], f[self.n_pre:]
         if self.eff.iso:
-            self.k_now = f[:2]
-            f = f[2:]
+            self.k_now = pre[:2]
+        if self.rate_damping:
+            d = pre[-6:]  # Ω·ρ′ of r1p, r1m, r2dp, r2dm, r2np, r2nm
+            self.lever_rates = ((d[0], d[1]), ((d[2], d[4]), (d[3], d[5])))
         (vDx, vDy, vAx, vAy, S2x, S2y, S3x, S3y, w2k, w3k, bx, by,
          r1p, r1m, r2dp, r2dm, r2np, r2nm) = f
         q2, q3, p2, p3 = y
@@ -423,6 +433,8 @@ class Rotor:
                 continue
             d = self.approach(lev, j, f, q2, q3)
             vd = self.approach(lev, j, f, qd2, qd3)
+            if self.rate_damping:  # dδ/dt = v_s + Ω·(ρ′_drv·q_drv − ρ′_drn·q_drn)
+                vd += self.approach(self.lever_rates, j, f, q2, q3)
             k = self.k_now[j] if self.eff.iso else self.k[j]
             F[j] = k * (d - self.b[j]) + self.c[j] * vd
         return F, (S2, S3, w2, w3, qd2, qd3, b, v, lev)
@@ -715,6 +727,9 @@ def main(argv=None):
     ap.add_argument("--poincare-tol", type=float, default=1e-6)
     ap.add_argument("--max-turns", type=int, default=12)
     ap.add_argument("--grid", type=int, default=16, help="kinematics grid: samples × this")
+    ap.add_argument("--damping-speed", choices=("levers", "rate"), default="levers",
+                    help="the mesh damping's speed: v_s = ρ·Δθ̇ as documented (levers), or dδ/dt "
+                    "(rate: a diagnosis, not ncgear's model)")
     ap.add_argument("--dump", help="write our series to this .npz")
     args = ap.parse_args(argv)
     wall = time.time()
@@ -759,7 +774,8 @@ def main(argv=None):
                 raise InputError("the needle is not a force table and loads.json states no "
                                  "needle_force_N")
             scene.use_reported_needle(ltravel, nf)
-        model = Rotor(design, scene, eff, loads, face, alpha, nt * args.grid)
+        model = Rotor(design, scene, eff, loads, face, alpha, nt * args.grid,
+                      rate_damping=args.damping_speed == "rate")
     except (cl.InputError, InputError, KeyError, ValueError, TypeError) as e:
         return err(e)
 
