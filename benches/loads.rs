@@ -58,6 +58,7 @@ fn sizing(b: divan::Bencher, target: &str) {
             &case,
             &SizingOptions::default(),
             &ncgear::loads::rating_teeth,
+            None,
             "rotor.toml",
         )
         .expect("sized")

@@ -795,12 +795,14 @@ class Factors:
 
 @dataclass(frozen=True)
 class RatingOptions:
-    """What the teeth were rated with: material, factors, safety targets."""
+    """What the teeth were rated with: material, factors, safety targets, and whether on the
+    rotor dynamics' mesh forces (``K_v = "dynamic"``, then ``factors.K_v`` = 1)."""
 
     material: Material
     factors: Factors
     S_H_min: float
     S_F_min: float
+    on_dynamic_forces: bool
 
 
 @dataclass(frozen=True)

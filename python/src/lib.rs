@@ -9,6 +9,7 @@ mod options;
 
 use convert::{points, to_py};
 use errors::{NcgearError, design_err, err, loads_err, pair_err, rotor_err};
+use ncgear::analysis::dynamics::rotor::rating::{forces_of_scene, run_loads_scene};
 use ncgear::analysis::dynamics::rotor::sweep::MAX_SWEEP_SPEEDS;
 use ncgear::analysis::dynamics::rotor::{Prepared, RotorError, RotorScene, sweep_rpm};
 use ncgear::cad::dxf::{DxfVersion, write_dxf};
@@ -18,7 +19,7 @@ use ncgear::design::Design;
 use ncgear::design::train::{Gear, ToothedTrain, TrainTeethOptions, tooth_train};
 use ncgear::design::trajectory::{DrawingOptions, DrawingUnits};
 use ncgear::loads::scene::MAX_CARRIER_RPM;
-use ncgear::loads::{LoadsError, LoadsReport, Rotor, RotorSource, Scene, analyse, run_scene};
+use ncgear::loads::{LoadsError, LoadsReport, Rotor, RotorSource, Scene, analyse_with};
 use ncgear::math::polyline::simplify_closed;
 use ncgear::output::{SolidOptions, pair_step, train_step_models, write_step_models};
 use ncgear::pair::{Expr, Law, PairDesign, PairOptions, design_pair};
@@ -223,10 +224,19 @@ fn design_sized(
     let t = trajectory(points, path)?;
     let o = options.options()?;
     let run = || -> Result<Result<Design, String>, LoadsError> {
-        let case = scene_of(scene, text)?.validate(scene)?;
+        let spec = scene_of(scene, text)?;
+        let case = spec.validate(scene)?;
+        let dynamics = forces_of_scene(&spec, scene)?;
         let opts = ncgear::loads::SizingOptions::default();
-        let sized =
-            ncgear::loads::size_module(&t, &o, &case, &opts, &ncgear::loads::rating_teeth, scene)?;
+        let sized = ncgear::loads::size_module(
+            &t,
+            &o,
+            &case,
+            &opts,
+            &ncgear::loads::rating_teeth,
+            dynamics.as_deref(),
+            scene,
+        )?;
         Ok(sized
             .into_kept()
             .map(|k| k.design)
@@ -495,12 +505,14 @@ fn loads(
     text: Option<&str>,
 ) -> PyResult<Report> {
     let run = || -> Result<LoadsReport, LoadsError> {
-        let case = scene_of(scene, text)?.validate(scene)?;
+        let spec = scene_of(scene, text)?;
+        let case = spec.validate(scene)?;
+        let dynamics = forces_of_scene(&spec, scene)?;
         let rotor = match train {
             Some(t) => Rotor::toothed(&t.t),
             None => Rotor::pitch(&design.d.assembly),
         };
-        analyse(&rotor, &case, scene)
+        analyse_with(&rotor, &case, scene, dynamics.as_deref())
     };
     let r = py
         .detach(run)
@@ -513,7 +525,7 @@ fn loads(
 #[pyfunction]
 fn loads_file(py: Python<'_>, path: &str) -> PyResult<Report> {
     let r = py
-        .detach(|| run_scene(Path::new(path)))
+        .detach(|| run_loads_scene(Path::new(path)))
         .map_err(|e| loads_err(&e, false, false))?;
     report(&r)
 }

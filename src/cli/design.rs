@@ -33,9 +33,9 @@ pub fn run(args: Args) -> CliResult {
     // `--module auto` cuts and rates the teeth of each module it tries: the kept module's come
     // back cut, their mesh check still to run, and rated.
     let (mut d, module, sized) = match (&scene, args.module) {
-        (Some((case, scene_file)), Some(ModuleArg::Auto)) => {
+        (Some(sc), Some(ModuleArg::Auto)) => {
             let teeth = |m: f64| toothing_at(&args, m);
-            let k = super::loads::sized_design(&traj, &opts, case, &teeth, (scene_file, &file))?;
+            let k = super::loads::sized_design(&traj, &opts, sc, &teeth, &file)?;
             let m = k.train.report.module_mm;
             (k.design, Some(m), Some((k.train, k.pending_mesh, k.loads)))
         }
@@ -63,9 +63,14 @@ pub fn run(args: Args) -> CliResult {
     };
     let loads = match (&scene, &train, sized_loads) {
         (_, _, Some(l)) => Some(l),
-        (Some((case, scene_file)), Some(t), None) => Some(
-            ncgear::loads::analyse(&ncgear::loads::Rotor::toothed(t), case, scene_file)
-                .map_err(super::loads::loads_failure)?,
+        (Some((case, scene_file, dynamics)), Some(t), None) => Some(
+            ncgear::loads::analyse_with(
+                &ncgear::loads::Rotor::toothed(t),
+                case,
+                scene_file,
+                dynamics.as_deref(),
+            )
+            .map_err(super::loads::loads_failure)?,
         ),
         _ => None,
     };

@@ -3,8 +3,9 @@
 //! scene checked, the module sized by strength (`--module auto`), the table printed.
 use super::design_args::{ModuleArg, ToothPolicyArg};
 use super::{CliResult, input_error, print_json, runtime_error, verdict_outcome};
+use ncgear::analysis::dynamics::rotor::rating::{forces_of_scene, run_loads_scene};
 use ncgear::design::trajectory::Trajectory;
-use ncgear::loads::{LoadsError, LoadsReport, run_scene};
+use ncgear::loads::{LoadCase, LoadsError, LoadsReport, MeshForceSource};
 use std::path::PathBuf;
 
 /// Arguments of `ncgear loads`.
@@ -42,14 +43,14 @@ pub fn loads_failure(e: LoadsError) -> super::Failure {
         None => miette::miette!("{e}"),
     };
     match e {
-        LoadsError::SelfLocking { .. } => runtime_error(report),
+        LoadsError::SelfLocking { .. } | LoadsError::Dynamics(_) => runtime_error(report),
         _ => input_error(report),
     }
 }
 
 /// Runs `ncgear loads`.
 pub fn run(args: Args) -> CliResult {
-    let report = run_scene(&args.scene).map_err(loads_failure)?;
+    let report = run_loads_scene(&args.scene).map_err(loads_failure)?;
     let files = ncgear::output::write_loads(&report, &args.out, args.png)
         .map_err(|e| runtime_error(miette::miette!("{e}")))?;
     if args.json {
@@ -131,11 +132,13 @@ pub fn print_summary(args: &Args, r: &LoadsReport, files: usize) {
     println!("  wrote {files} files into {}", args.out.display());
 }
 
+/// A loads scene read for rating teeth: the case, the file's name, and the dynamic forces when
+/// it rates on them (`rating.K_v = "dynamic"`).
+pub type SizingScene = (LoadCase, String, Option<Box<MeshForceSource<'static>>>);
+
 /// The loads scene of `--loads`, read and checked before any work: `--module auto` needs it,
 /// and it needs a `[material]` to rate the teeth against.
-pub fn design_scene(
-    args: &super::design::Args,
-) -> Result<Option<(ncgear::loads::LoadCase, String)>, super::Failure> {
+pub fn design_scene(args: &super::design::Args) -> Result<Option<SizingScene>, super::Failure> {
     let Some(path) = &args.loads else {
         if args.module == Some(ModuleArg::Auto) {
             return Err(input_error(miette::miette!(
@@ -164,9 +167,7 @@ pub fn design_scene(
 
 /// A loads scene read and checked for rating teeth (`--loads`): it needs a `[material]`; a
 /// `design` it names is not read (the command makes its own).
-pub fn sizing_scene(
-    path: &std::path::Path,
-) -> Result<(ncgear::loads::LoadCase, String), super::Failure> {
+pub fn sizing_scene(path: &std::path::Path) -> Result<SizingScene, super::Failure> {
     let file = path.display().to_string();
     let scene = ncgear::loads::Scene::from_path(path).map_err(loads_failure)?;
     let case = scene.validate(&file).map_err(loads_failure)?;
@@ -182,7 +183,8 @@ pub fn sizing_scene(
             "note: {file}: its `design` is not read here (the design is the one this command makes)"
         );
     }
-    Ok((case, file))
+    let dynamics = forces_of_scene(&scene, &file).map_err(loads_failure)?;
+    Ok((case, file, dynamics))
 }
 
 /// `--module auto`: the target designed and rated at each standard module in turn, its teeth
@@ -192,20 +194,25 @@ pub fn sizing_scene(
 pub fn sized_design(
     traj: &Trajectory,
     opts: &ncgear::design::DesignOptions,
-    case: &ncgear::loads::LoadCase,
+    (case, scene_file, dynamics): &SizingScene,
     teeth: &dyn Fn(
         f64,
     )
         -> Result<ncgear::design::train::TrainTeethOptions, ncgear::teeth::TeethError>,
-    (scene_file, file): (&str, &str),
+    file: &str,
 ) -> Result<ncgear::loads::Kept, super::Failure> {
-    let pb = super::spinner("sizing the module");
+    let pb = super::spinner(if dynamics.is_some() {
+        "sizing the module on the rotor dynamics"
+    } else {
+        "sizing the module"
+    });
     let sized = ncgear::loads::size_module(
         traj,
         opts,
         case,
         &ncgear::loads::SizingOptions::default(),
         teeth,
+        dynamics.as_deref(),
         scene_file,
     );
     pb.finish_and_clear();

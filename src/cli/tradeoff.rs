@@ -44,7 +44,7 @@ pub fn run(args: Args) -> CliResult {
     let t = trade_off(&traj, &opts, &super::bar_sink(&pb));
     pb.finish_and_clear();
     let mut t = t.map_err(|e| design_failure(&file, &e))?;
-    if let Some((case, scene_file)) = &scene {
+    if let Some((case, scene_file, dynamics)) = &scene {
         let pb = super::spinner("sizing the module");
         let sized = ncgear::loads::size_module(
             &traj,
@@ -52,6 +52,7 @@ pub fn run(args: Args) -> CliResult {
             case,
             &ncgear::loads::SizingOptions::default(),
             &ncgear::loads::rating_teeth,
+            dynamics.as_deref(),
             scene_file,
         );
         pb.finish_and_clear();

@@ -7,7 +7,7 @@
 //! vector of the report mirrored back. Torques about the carrier and the planet axis are then
 //! positive in the carrier's sense of travel in both.
 
-use super::kinetostatics::{TrainBodies, TrainForces, TrainTurn, solve};
+use super::kinetostatics::{MeshForce, TrainBodies, TrainForces, TrainTurn, solve};
 use super::mass::MassProperties;
 use super::motion::TrainMotion;
 use super::needle::NeedleTable;
@@ -171,6 +171,23 @@ pub(crate) fn over_arms<T: Copy + Default + std::ops::Add<Output = T>>(
         .collect()
 }
 
+/// Mesh forces that a rating takes instead of the rigid ones (`rating.K_v = "dynamic"`): train
+/// 1's forces at the case's samples.
+#[derive(Debug, Clone, PartialEq)]
+pub struct DynamicMeshForces {
+    /// `[sun–intermediate, intermediate–planet]` at each sample (SI, the CCW frame of the
+    /// rebuilt train, as [`TrainForces`]).
+    pub forces: Vec<[MeshForce; 2]>,
+    /// One line for the rating's notes: where the forces come from and how large they are.
+    pub note: String,
+}
+
+/// Where a `K_v = "dynamic"` rating gets its forces: `(rotor, case, face width mm)` → the
+/// forces of that rotor at that face width. The rotor dynamics give one
+/// (`ncgear::analysis::dynamics::rotor::rating`); the loads know nothing of how they are made.
+pub type MeshForceSource<'a> =
+    dyn Fn(&Rotor<'_>, &LoadCase, f64) -> Result<DynamicMeshForces, LoadsError> + Sync + 'a;
+
 /// The loads of `rotor` under `case` (module docs); `file` names the scene in messages. An
 /// `"auto"` face width is the smallest on a 0.5 mm grid within `[6, 15]·m` whose rating meets
 /// the case's safety targets (the stresses fall as the face widens: bisection), or `15·m` when
@@ -180,10 +197,25 @@ pub(crate) fn over_arms<T: Copy + Default + std::ops::Add<Output = T>>(
 /// [`LoadsError`]: an `"auto"` face width without teeth (no module), a bore larger than a gear,
 /// a mesh that locks, a rating without teeth.
 pub fn analyse(rotor: &Rotor<'_>, case: &LoadCase, file: &str) -> Result<LoadsReport, LoadsError> {
+    analyse_with(rotor, case, file, None)
+}
+
+/// [`analyse`], the teeth rated on the forces of `dynamic` when the case asks for it
+/// (`rating.K_v = "dynamic"`; the rest of the report stays the rigid loads').
+///
+/// # Errors
+/// As [`analyse`]; [`LoadsError::Field`] on `rating.K_v` when the case rates on dynamic forces
+/// and none are given; the source's own.
+pub fn analyse_with(
+    rotor: &Rotor<'_>,
+    case: &LoadCase,
+    file: &str,
+    dynamic: Option<&MeshForceSource<'_>>,
+) -> Result<LoadsReport, LoadsError> {
     match case.bodies.map(|b| b.face_width) {
-        None => analyse_at(rotor, case, 0.0, file),
-        Some(FaceWidth::Mm(b)) => analyse_at(rotor, case, b, file),
-        Some(FaceWidth::Auto) => auto_face_width(rotor, case, file),
+        None => analyse_at(rotor, case, 0.0, file, dynamic),
+        Some(FaceWidth::Mm(b)) => analyse_at(rotor, case, b, file, dynamic),
+        Some(FaceWidth::Auto) => auto_face_width(rotor, case, file, dynamic),
     }
 }
 
@@ -198,6 +230,7 @@ fn auto_face_width(
     rotor: &Rotor<'_>,
     case: &LoadCase,
     file: &str,
+    dynamic: Option<&MeshForceSource<'_>>,
 ) -> Result<LoadsReport, LoadsError> {
     let Some(teeth) = rotor.teeth() else {
         return Err(LoadsError::Field {
@@ -215,7 +248,7 @@ fn auto_face_width(
         (lo_m * m / step).ceil() * step,
         (hi_m * m / step).floor() * step,
     );
-    let at = |b: f64| analyse_at(rotor, case, b, file);
+    let at = |b: f64| analyse_at(rotor, case, b, file, dynamic);
     let widest = at(hi)?;
     if !meets_targets(&widest) {
         return Ok(widest);
@@ -279,12 +312,13 @@ pub(crate) fn rigid_train(
     })
 }
 
-/// [`analyse`] at the face width `face_width_mm` (mm).
+/// [`analyse_with`] at the face width `face_width_mm` (mm).
 pub(crate) fn analyse_at(
     rotor: &Rotor<'_>,
     case: &LoadCase,
     face_width_mm: f64,
     file: &str,
+    dynamic: Option<&MeshForceSource<'_>>,
 ) -> Result<LoadsReport, LoadsError> {
     if case.rating.is_some() && rotor.teeth().is_none() {
         return Err(LoadsError::NoTeeth);
@@ -339,7 +373,35 @@ pub(crate) fn analyse_at(
             face_width_mm,
             bore_mm: case.bodies.map_or(0.0, |b| b.bore_mm),
         };
-        report.attach(rate(&turn, &r, teeth, opts, &machine)?);
+        let rated = if opts.on_dynamic_forces {
+            let source = dynamic.ok_or_else(|| LoadsError::Field {
+                file: file.into(),
+                key: "rating.K_v".into(),
+                message: "\"dynamic\" rates the teeth on the rotor dynamics' forces: run the \
+                          scene through the dynamics (`ncgear loads`, or \
+                          ncgear::analysis::dynamics::rotor::rating), or give K_v a number"
+                    .into(),
+            })?;
+            let d = source(rotor, case, face_width_mm)?;
+            if d.forces.len() != turn.forces.len() {
+                return Err(LoadsError::Dynamics(format!(
+                    "{} samples of dynamic forces for the turn's {}",
+                    d.forces.len(),
+                    turn.forces.len()
+                )));
+            }
+            let mut on_dynamic = turn.clone();
+            for (f, [sun, planet]) in on_dynamic.forces.iter_mut().zip(&d.forces) {
+                f.sun_mesh = *sun;
+                f.planet_mesh = *planet;
+            }
+            let mut rated = rate(&on_dynamic, &r, teeth, opts, &machine)?;
+            rated.report.notes.insert(0, d.note);
+            rated
+        } else {
+            rate(&turn, &r, teeth, opts, &machine)?
+        };
+        report.attach(rated);
     }
     report.finish();
     Ok(report)

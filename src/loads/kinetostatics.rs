@@ -188,6 +188,7 @@ pub fn solve(
 }
 
 /// The samples of train 1 over the turn: its motion and its forces (CCW frame).
+#[derive(Debug, Clone)]
 pub struct TrainTurn {
     /// Motion at each sample.
     pub motion: Vec<TrainMotion>,

@@ -43,7 +43,7 @@ pub mod scene;
 pub mod sizing;
 pub mod source;
 
-pub use analysis::analyse;
+pub use analysis::{DynamicMeshForces, MeshForceSource, analyse, analyse_with};
 pub use report::LoadsReport;
 pub use scene::{LoadCase, Scene};
 pub use sizing::{Kept, Sized, SizingOptions, rating_teeth, size_module};
@@ -61,6 +61,21 @@ use std::path::Path;
 /// [`LoadsError`]: the scene's own (file, key, range), a design file that is not one, stresses
 /// asked of a design without teeth, a mesh that locks.
 pub fn run_scene(path: &Path) -> Result<LoadsReport, LoadsError> {
+    run_scene_with(path, &|_, _| Ok(None))
+}
+
+/// Makes the dynamic forces of a scene that rates on them (`rating.K_v = "dynamic"`), from the
+/// scene and its file name; `None` for a scene that does not.
+pub type DynamicsOfScene =
+    dyn Fn(&Scene, &str) -> Result<Option<Box<MeshForceSource<'static>>>, LoadsError>;
+
+/// [`run_scene`], the teeth rated on the forces `dynamics` makes for the scene when it rates on
+/// them (the rotor dynamics give it: `ncgear::analysis::dynamics::rotor::rating`).
+///
+/// # Errors
+/// As [`run_scene`]; [`LoadsError::Field`] on `rating.K_v` for a scene that rates on dynamic
+/// forces that `dynamics` does not make.
+pub fn run_scene_with(path: &Path, dynamics: &DynamicsOfScene) -> Result<LoadsReport, LoadsError> {
     let file = path.display().to_string();
     let scene = Scene::from_path(path)?;
     let case = scene.validate(&file)?;
@@ -72,7 +87,8 @@ pub fn run_scene(path: &Path) -> Result<LoadsReport, LoadsError> {
             .into(),
     })?;
     let source = RotorSource::read(&design, case.rating.is_some())?;
-    let mut report = analyse(&source.rotor(), &case, &file)?;
+    let forces = dynamics(&scene, &file)?;
+    let mut report = analyse_with(&source.rotor(), &case, &file, forces.as_deref())?;
     report.design = scene.design.as_ref().map(|d| d.display().to_string());
     Ok(report)
 }
@@ -180,4 +196,8 @@ pub enum LoadsError {
     /// No standard module could be designed or rated.
     #[error("{0}")]
     Sizing(String),
+    /// The rotor dynamics that a `K_v = "dynamic"` rating runs could not give its forces (the
+    /// dynamics' own message: an effect the design cannot give, the integrator's failure).
+    #[error("the rotor dynamics of `rating.K_v = \"dynamic\"`: {0}")]
+    Dynamics(String),
 }

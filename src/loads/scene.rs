@@ -47,6 +47,17 @@ pub struct Scene {
     /// How the stresses are rated.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub rating: Option<RatingSpec>,
+    /// The rotor dynamics' `[effects]` (docs/dynamics.md, "The rotor"), with `rating.K_v =
+    /// "dynamic"` only: the teeth are then rated on the dynamic mesh forces. Kept as written
+    /// here; the dynamics check them (`ncgear::analysis::dynamics::rotor::rating`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub effects: Option<serde_json::Value>,
+    /// The rotor dynamics' `[solver]`, with `[effects]` (default: the dynamics' defaults).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub solver: Option<serde_json::Value>,
+    /// The rotor dynamics' `[steady]`, with `[effects]` (default: the dynamics' defaults).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub steady: Option<serde_json::Value>,
 }
 
 /// `[operation]`.
@@ -277,6 +288,33 @@ impl Scene {
             }
             (None, None) => None,
         };
+        let dynamic = rating.as_ref().is_some_and(|r| r.on_dynamic_forces);
+        if dynamic && self.effects.is_none() {
+            return Err(field(
+                "rating.K_v",
+                "\"dynamic\" rates the teeth on the rotor dynamics' forces, and the scene names \
+                 no [effects]: add [effects] (mesh_stiffness, and what else the motion should \
+                 have: docs/dynamics.md), or give K_v a number"
+                    .into(),
+            ));
+        }
+        for (key, present) in [
+            ("effects", self.effects.is_some()),
+            ("solver", self.solver.is_some()),
+            ("steady", self.steady.is_some()),
+        ] {
+            if present && !dynamic {
+                return Err(field(
+                    key,
+                    format!(
+                        "[{key}] belongs to the rotor dynamics, which a loads scene runs only to \
+                         rate the teeth on its forces: set rating.K_v = \"dynamic\" (with a \
+                         [material]), or run the dynamics from a rotor scene ([scene] model = \
+                         \"rotor\", `ncgear dynamics`)"
+                    ),
+                ));
+            }
+        }
         if rating.is_none() && bodies.is_some_and(|b| b.face_width == FaceWidth::Auto) {
             return Err(field(
                 "gears.face_width_mm",

@@ -2,9 +2,13 @@
 //! designed for each standard module in turn, smallest first, toothed, its loads rated, and the
 //! smallest module kept whose gears meet both safety targets — the face width the scene's, or
 //! `auto`: the smallest within `[6, 15]·m` that meets them ([`super::analyse`]). The report is [`ModuleSizing`], one row per module tried
-//! (the next smaller module's row says why it fails).
+//! (the next smaller module's row says why it fails). A module whose design leaves the target
+//! by more than [`SizingOptions::max_deviation_mm`] (its gear limits bind so hard that it is
+//! another mechanism: G1 at 4 mm, 15 teeth, 14.8 mm off) is a failing row, not rated, and never
+//! kept; within it a design that misses the target's tolerance is sized as any (its own verdict
+//! fails: the closest admissible design at that module).
 
-use super::analysis::analyse;
+use super::analysis::{MeshForceSource, analyse_with};
 use super::scene::{FaceWidth, LoadCase};
 use super::{LoadsError, LoadsReport, Rotor};
 use crate::design::report::sizing::{ModuleSizing, SizingRow};
@@ -30,13 +34,21 @@ pub struct SizingOptions {
     pub modules_mm: Vec<f64>,
     /// Go on past the first module that passes (the trade-off's full table). Default false.
     pub all_modules: bool,
+    /// Largest deviation from the target, mm, of a design the sizing rates and may keep.
+    /// Default [`SIZING_MAX_DEVIATION_MM`].
+    pub max_deviation_mm: f64,
 }
+
+/// The default [`SizingOptions::max_deviation_mm`], mm: a few times a planting hole's
+/// tolerance, far above any design tolerance (0.05 mm by default).
+pub const SIZING_MAX_DEVIATION_MM: f64 = 5.0;
 
 impl Default for SizingOptions {
     fn default() -> Self {
         Self {
             modules_mm: STANDARD_MODULES_MM.to_vec(),
             all_modules: false,
+            max_deviation_mm: SIZING_MAX_DEVIATION_MM,
         }
     }
 }
@@ -44,6 +56,7 @@ impl Default for SizingOptions {
 crate::builder::with_fields!(SizingOptions {
     with_modules_mm => modules_mm: Vec<f64>,
     with_all_modules => all_modules: bool,
+    with_max_deviation_mm => max_deviation_mm: f64,
 });
 
 /// The sized design: the table, and the kept module's design, teeth and loads (the best row's
@@ -118,7 +131,8 @@ fn failed_row(module_mm: f64, why: String) -> SizingRow {
 /// Sizes the module of `target` (module docs): `design_opts` as for any design (the module
 /// replaced by each one tried), `case` the scene's loads and rating, `teeth` the tooth options
 /// at a module (mm; [`rating_teeth`], or the caller's rack, fillet and policy — the teeth rated
-/// are the teeth kept); `file` names the scene.
+/// are the teeth kept); `dynamic` the forces of a `K_v = "dynamic"` rating ([`analyse_with`]);
+/// `file` names the scene.
 ///
 /// # Errors
 /// [`LoadsError::Field`] when the scene rates nothing (no `[material]`) or has no gear bodies;
@@ -129,6 +143,7 @@ pub fn size_module(
     case: &LoadCase,
     opts: &SizingOptions,
     teeth: &dyn Fn(f64) -> Result<TrainTeethOptions, TeethError>,
+    dynamic: Option<&MeshForceSource<'_>>,
     file: &str,
 ) -> Result<Sized, LoadsError> {
     let rating = case.rating.as_ref().ok_or_else(|| LoadsError::Field {
@@ -164,6 +179,21 @@ pub fn size_module(
                 continue;
             }
         };
+        let deviation_mm = d.report.roundtrip.max_deviation_mm;
+        if deviation_mm > opts.max_deviation_mm {
+            sizing.rows.push(SizingRow {
+                max_deviation_mm: Some(deviation_mm),
+                ..failed_row(
+                    m,
+                    format!(
+                        "design: {deviation_mm:.3} mm from the target, more than the sizing \
+                         accepts ({} mm): another mechanism, not rated",
+                        opts.max_deviation_mm
+                    ),
+                )
+            });
+            continue;
+        }
         let topts = match teeth(m) {
             Ok(t) => t,
             Err(e) => {
@@ -183,7 +213,7 @@ pub fn size_module(
                 continue;
             }
         };
-        let report = match analyse(&Rotor::toothed(&train), case, file) {
+        let report = match analyse_with(&Rotor::toothed(&train), case, file, dynamic) {
             Ok(r) => r,
             Err(e) => {
                 sizing.rows.push(failed_row(m, format!("loads: {e}")));

@@ -9,9 +9,10 @@
 //! answer lists what was left out, and why, in `left_out`.
 
 use super::api::ApiError;
+use ncgear::analysis::dynamics::rotor::rating::forces_of_scene;
 use ncgear::loads::report::Bearings;
 use ncgear::loads::scene::FaceWidth;
-use ncgear::loads::{LoadsError, LoadsReport, RotorSource, Scene, analyse};
+use ncgear::loads::{LoadsError, LoadsReport, RotorSource, Scene, analyse_with};
 use ncgear::simulate::DesignFile;
 use serde::Deserialize;
 use serde_json::Value;
@@ -63,7 +64,13 @@ pub fn loads(design: &Value, scene: &Value) -> Result<Loads, ApiError> {
     if case.rating.is_some() {
         source.make_teeth().map_err(|e| loads_error(&e))?;
     }
-    let report = analyse(&source.rotor(), &case, SCENE).map_err(|e| loads_error(&e))?;
+    let dynamics = if case.rating.is_some() {
+        forces_of_scene(&scene, SCENE).map_err(|e| loads_error(&e))?
+    } else {
+        None
+    };
+    let report = analyse_with(&source.rotor(), &case, SCENE, dynamics.as_deref())
+        .map_err(|e| loads_error(&e))?;
     Ok(Loads { report, left_out })
 }
 

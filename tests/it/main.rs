@@ -14,6 +14,7 @@ mod layout;
 mod limits;
 mod loads;
 mod loads_cli;
+mod loads_dynamic;
 mod loads_rating;
 mod looped_drawings;
 mod noise;

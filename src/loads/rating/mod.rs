@@ -85,9 +85,10 @@ pub struct RatingSpec {
     /// ISO accuracy grade 5..=12 (default 8).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub accuracy_grade: Option<u8>,
-    /// Dynamic factor K_v instead of the formula.
+    /// Dynamic factor K_v instead of the formula, or `"dynamic"`: the teeth rated on the
+    /// rotor dynamics' mesh forces (the scene's `[effects]`, docs/loads.md), K_v = 1.
     #[serde(default, rename = "K_v", skip_serializing_if = "Option::is_none")]
-    pub k_v: Option<f64>,
+    pub k_v: Option<KvSpec>,
     /// Face load factor K_Hβ (iso default 1.15).
     #[serde(default, rename = "K_Hbeta", skip_serializing_if = "Option::is_none")]
     pub k_h_beta: Option<f64>,
@@ -108,6 +109,24 @@ pub struct RatingSpec {
     pub s_f_min: Option<f64>,
 }
 
+/// `rating.K_v`: a factor, or the word `dynamic`.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
+#[serde(untagged)]
+pub enum KvSpec {
+    /// K_v itself, in (0, 10].
+    Factor(f64),
+    /// `"dynamic"`.
+    Word(DynamicWord),
+}
+
+/// The word `dynamic`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, schemars::JsonSchema)]
+#[serde(rename_all = "snake_case")]
+pub enum DynamicWord {
+    /// The rotor dynamics' forces.
+    Dynamic,
+}
+
 /// A validated rating: material, factors, targets.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct RatingOptions {
@@ -121,6 +140,9 @@ pub struct RatingOptions {
     /// Target of the smallest bending safety factor.
     #[serde(rename = "S_F_min")]
     pub s_f_min: f64,
+    /// The teeth are rated on the rotor dynamics' mesh forces (`K_v = "dynamic"`; then
+    /// `factors.K_v` = 1): the loads' analysis needs a [`crate::loads::MeshForceSource`].
+    pub on_dynamic_forces: bool,
 }
 
 impl RatingOptions {
@@ -212,7 +234,12 @@ impl RatingOptions {
             }
             factors.accuracy_grade = g;
         }
-        factors.k_v = factor(r.k_v, "rating.K_v")?;
+        let on_dynamic_forces = matches!(r.k_v, Some(KvSpec::Word(DynamicWord::Dynamic)));
+        factors.k_v = match r.k_v {
+            None => None,
+            Some(KvSpec::Factor(k)) => factor(Some(k), "rating.K_v")?,
+            Some(KvSpec::Word(_)) => Some(1.0),
+        };
         if let Some(k) = factor(r.k_h_beta, "rating.K_Hbeta")? {
             factors.k_h_beta = k;
         }
@@ -227,6 +254,7 @@ impl RatingOptions {
             factors,
             s_h_min: target(r.s_h_min, "rating.S_H_min", 1.0)?,
             s_f_min: target(r.s_f_min, "rating.S_F_min", 1.4)?,
+            on_dynamic_forces,
         })
     }
 }

@@ -14,7 +14,7 @@ use super::scene::Settings;
 use super::steady::{Steady, Transition, settle};
 use crate::loads::LoadCase;
 use crate::loads::analysis::{over_arms, train_turn};
-use crate::loads::kinetostatics::TrainTurn;
+use crate::loads::kinetostatics::{MeshForce, TrainTurn};
 use crate::loads::rating::equivalent::EquivalentPair;
 use crate::loads::rating::factors::{FactorMode, Factors};
 use crate::loads::rating::pitch_line_speeds_m_s;
@@ -33,6 +33,35 @@ pub struct RotorRun {
     pub start_state: Vec<f64>,
     /// The start time of the settled turn, s.
     pub start_time_s: f64,
+    /// The settled turn's states at the loads' samples, `[Δθ2, Δθ3, Δθ̇2, Δθ̇3]` (rad, rad/s).
+    pub sample_states: Vec<[f64; 4]>,
+}
+
+impl RotorRun {
+    /// The dynamic mesh forces of the settled turn at the loads' samples, as the loads' rating
+    /// takes them (train 1, SI, the CCW frame of the rebuilt train): each mesh's force on its
+    /// driven gear along the flank in contact (zero out of contact), its flank, and the
+    /// effective pressure angle of the rigid loads at the same sample (`rigid`).
+    #[must_use]
+    pub fn mesh_forces(&self, model: &RotorModel, rigid: &TrainTurn) -> Vec<[MeshForce; 2]> {
+        let tp = model.period_s();
+        let n = self.sample_states.len();
+        self.sample_states
+            .iter()
+            .zip(&rigid.forces)
+            .enumerate()
+            .map(|(k, (y, r))| {
+                let i = model.instant(self.start_time_s + tp * k as f64 / n as f64, y);
+                let rigid = [r.sun_mesh, r.planet_mesh];
+                [0, 1].map(|j| MeshForce {
+                    force_n: i.mesh[j].force,
+                    normal_force_n: i.mesh[j].force_n,
+                    flank: i.mesh[j].flank,
+                    effective_pressure_angle_rad: rigid[j].effective_pressure_angle_rad,
+                })
+            })
+            .collect()
+    }
 }
 
 /// Runs `model` (built on `case`) to its steady state with `settings`, from `warm` (a state at
@@ -68,6 +97,7 @@ pub fn run_model(
         start_state: steady.turn.states[0].to_vec(),
         start_time_s: steady.turn.t0,
         end_state: steady.end_state.clone(),
+        sample_states: steady.turn.states.clone(),
         report,
     })
 }

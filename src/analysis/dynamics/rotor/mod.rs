@@ -8,7 +8,8 @@
 //! (one effect per named entry); [`model`] holds the equations of motion, [`mesh`] the force law
 //! of one mesh, [`law`] and [`stiffness`] the stiffness (constant or ISO 6336-1); [`steady`]
 //! integrates turns until periodic; [`mod@analyse`] turns the settled turn into the [`RotorReport`];
-//! [`energy`] audits the settled turn's energy; [`sweep`] runs a carrier-speed sweep.
+//! [`energy`] audits the settled turn's energy; [`sweep`] runs a carrier-speed sweep; [`rating`]
+//! gives the loads' rating the dynamic forces (`rating.K_v = "dynamic"`).
 //!
 //! Units: scene files speak mm, degrees, r/min; the library works in SI (m, rad, s, N).
 
@@ -18,6 +19,7 @@ pub mod energy;
 pub mod law;
 pub mod mesh;
 pub mod model;
+pub mod rating;
 pub mod report;
 pub mod scene;
 pub mod spec;

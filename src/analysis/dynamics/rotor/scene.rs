@@ -251,6 +251,9 @@ impl RotorScene {
             needle: self.needle.clone(),
             material: None,
             rating: None,
+            effects: None,
+            solver: None,
+            steady: None,
         }
     }
 
