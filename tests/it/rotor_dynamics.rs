@@ -223,15 +223,11 @@ fn mesh_peak(f: &[f64]) -> f64 {
     f.iter().fold(0.0_f64, |m, &x| m.max(x.abs()))
 }
 
-/// Circular limit: a train of three equal circles (i ≡ 1) with constant mesh stiffness has the
-/// two-mesh torsional chain's frequencies, ground–k1–J2–k2–J3 on the base radius r_b = r·cos α:
-/// `ω² = ½[(k1+k2)/m2 + k2/m3 ± √(((k1+k2)/m2 + k2/m3)² − 4k1k2/(m2m3))]`, `m_i = J_i/r_b²`,
-/// within 0.1 %.
-#[test]
-fn the_circular_train_has_the_torsional_chain_frequencies() {
-    let r_mm = 25.0;
+/// A train of three equal circles of radius `r_mm` (i ≡ 1), CCW about the origin, the arm
+/// 100 mm long at 0.3 rad.
+fn circle_train(r_mm: f64) -> Assembly {
     let circle = || PitchCurve::from_fn(720, |_| r_mm).unwrap();
-    let asm = Assembly {
+    Assembly {
         center_mm: Point::ZERO,
         direction: 1,
         a_mm: 2.0 * r_mm,
@@ -243,7 +239,17 @@ fn the_circular_train_has_the_torsional_chain_frequencies() {
         intermediate_angle_at_zero_rad: 0.0,
         planet: circle(),
         planet_angle_at_zero_rad: 0.0,
-    };
+    }
+}
+
+/// Circular limit: a train of three equal circles (i ≡ 1) with constant mesh stiffness has the
+/// two-mesh torsional chain's frequencies, ground–k1–J2–k2–J3 on the base radius r_b = r·cos α:
+/// `ω² = ½[(k1+k2)/m2 + k2/m3 ± √(((k1+k2)/m2 + k2/m3)² − 4k1k2/(m2m3))]`, `m_i = J_i/r_b²`,
+/// within 0.1 %.
+#[test]
+fn the_circular_train_has_the_torsional_chain_frequencies() {
+    let r_mm = 25.0;
+    let asm = circle_train(r_mm);
     let scene: Scene = toml::from_str(
         "[operation]\ncarrier_rpm = 200.0\n[gears]\nface_width_mm = 20.0\n\
          [arm]\nmass_kg = 0.4\ncom_mm = [0.0, 0.0]\ninertia_kg_mm2 = 3000.0",
@@ -354,20 +360,7 @@ fn the_circular_rotor_is_the_spur_models_backlash_oscillator() {
     use ncgear::analysis::dynamics::{Method, RunOptions, sweep};
     use ncgear::loads::motion::TrainMotion;
     let r_mm = 25.0;
-    let circle = || PitchCurve::from_fn(720, |_| r_mm).unwrap();
-    let asm = Assembly {
-        center_mm: Point::ZERO,
-        direction: 1,
-        a_mm: 2.0 * r_mm,
-        idler_offset_rad: 0.0,
-        l3_mm: 100.0,
-        needle_angle_rad: 0.3,
-        sun: circle(),
-        intermediate: circle(),
-        intermediate_angle_at_zero_rad: 0.0,
-        planet: circle(),
-        planet_angle_at_zero_rad: 0.0,
-    };
+    let asm = circle_train(r_mm);
     let alpha = 20f64.to_radians();
     let rb = r_mm * 1e-3 * alpha.cos();
     let rotor = Rotor::pitch(&asm).with_pressure_angle_rad(alpha);
@@ -430,15 +423,26 @@ fn the_circular_rotor_is_the_spur_models_backlash_oscillator() {
             &Progress::none(),
         )
         .unwrap();
-        assert!(run.report.steady.settled, "{ratio}: {:?}", run.report.steady);
+        assert!(
+            run.report.steady.settled,
+            "{ratio}: {:?}",
+            run.report.steady
+        );
         let defl = &run.report.meshes.intermediate_planet.deflection_um;
         let (lo, hi) = defl
             .iter()
             .fold((f64::MAX, f64::MIN), |(a, c), &x| (a.min(x), c.max(x)));
         let rotor_amp = 0.5 * (hi - lo) * 1e-6 / b;
-        let spur = sweep(&spur_scene, "b", &[ratio], &spur_opts, None, &Progress::none())
-            .unwrap()
-            .remove(0);
+        let spur = sweep(
+            &spur_scene,
+            "b",
+            &[ratio],
+            &spur_opts,
+            None,
+            &Progress::none(),
+        )
+        .unwrap()
+        .remove(0);
         let spur_amp = spur.dte_half_pp_m / 50e-6;
         assert!(
             (rotor_amp / spur_amp - 1.0).abs() < 1e-3,
