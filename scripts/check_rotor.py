@@ -33,12 +33,10 @@ takes them). Everything else is rebuilt here:
   root to machine precision) and the integration restarts in the new mode, so no step straddles
   a discontinuity of the right-hand side. For 1e-12 of a turn after a restart the new mode's
   events keep their mode's side (the root just found, ±1e-21 m, is not found again).
-  The damping's speed is the documented v_s = ρ_drv·q̇_drv − ρ_drn·q̇_drn, not dδ_s/dt (the
-  lever arms vary with φ: dδ/dt = v_s + Ω·(ρ′_drv·q_drv − ρ′_drn·q_drn)). Where the two have
-  opposite signs at δ = b both modes drive the flanks onto the dead zone's edge, and the motion
-  slides along it (a Filippov sliding mode) through a chatter of contacts and flights whose
-  count depends on the integrator: see --resolve-deg. `--damping-speed rate` takes dδ_s/dt
-  instead (a diagnosis of that sliding, not ncgear's model).
+  The damping acts on the approach's rate dδ_s/dt = v_s + Ω·(ρ′_drv·q_drv − ρ′_drn·q_drn)
+  (v_s = ρ_drv·q̇_drv − ρ_drn·q̇_drn; ρ′ the lever arms' spectral derivatives in φ), as
+  docs/dynamics.md states. `--damping-speed levers` takes v_s instead (ncgear's model before
+  2026-12-02, whose damper could hold the flanks on the dead zone's edge: a sliding chatter).
 * Equations of motion, own formulation: Lagrange's equations in Hamiltonian (first-order) form
   on the generalized coordinates q = (Δθ2, Δθ3), the rotations of the intermediate and of the
   planet (+ arm) away from the kinematic law, with the generalized momenta
@@ -727,9 +725,9 @@ def main(argv=None):
     ap.add_argument("--poincare-tol", type=float, default=1e-6)
     ap.add_argument("--max-turns", type=int, default=12)
     ap.add_argument("--grid", type=int, default=16, help="kinematics grid: samples × this")
-    ap.add_argument("--damping-speed", choices=("levers", "rate"), default="levers",
-                    help="the mesh damping's speed: v_s = ρ·Δθ̇ as documented (levers), or dδ/dt "
-                    "(rate: a diagnosis, not ncgear's model)")
+    ap.add_argument("--damping-speed", choices=("levers", "rate"), default="rate",
+                    help="the mesh damping's speed: dδ/dt as documented (rate), or v_s = ρ·Δθ̇ "
+                    "(levers: ncgear's model before 2026-12-02)")
     ap.add_argument("--dump", help="write our series to this .npz")
     args = ap.parse_args(argv)
     wall = time.time()

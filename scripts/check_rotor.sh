@@ -11,9 +11,10 @@
 # Cases: g1_m2 (the bundled G1 design at module 2, assets/loads/g1_m2_design.json), cw_m2
 # (assets/cases/exact_cw_offset.csv clockwise at its own axis, --module 2: the idler off the line),
 # kidney (the designer-drawn kidney, --module 2), own (scripts/check_loads.sh's forward-model
-# trajectory, no teeth); opt-in, not in the default list: cw_m2_slide (cw_m2's design with the
-# knock scene, where the planet mesh slides along the dead zone's edge for 105–112° of travel:
-# ncgear's integration fails there at rtol 1e-10, docs/dynamics.md "The rotor" → "Verified").
+# trajectory, no teeth), cw_m2_slide (cw_m2's design with the knock scene: with a damper on
+# the flanks' relative speed, before 2026-12-02, the planet mesh slid along the dead zone's
+# edge at 105–112° of travel and ncgear's integration failed at rtol 1e-10; docs/dynamics.md
+# "The rotor" → "Verified").
 # Scenes: knock (constant mesh stiffness 14000 N/mm/mm, backlash 0.0752 mm: contact loss and
 # impacts; the planting needle, gravity, two arms, mesh and vibration damping), smooth (the same
 # without backlash: flank changes at the force's zeros, no dead zone), pairs (per-mesh
@@ -102,7 +103,7 @@ eval "$(sed -n '/^make_own_trajectory() {/,/^}/p' scripts/check_loads.sh)"
 cw_traj=assets/cases/exact_cw_offset.csv
 cw_center="$(sed -n 's/^# center: *//p' "$cw_traj" | head -1)"
 cw_center="${cw_center:-0,0}"
-all_cases=(g1_m2 cw_m2 kidney own)
+all_cases=(g1_m2 cw_m2 cw_m2_slide kidney own)
 [ ${#cases[@]} -eq 0 ] && cases=("${all_cases[@]}")
 
 design_case() { # CASE -> $out/CASE/design/design.json
@@ -123,7 +124,7 @@ design_case() { # CASE -> $out/CASE/design/design.json
       make_own_trajectory "$traj" | sed 's/^check_loads:/check_rotor:/'
       ;;
     *)
-      echo "check_rotor: ERROR unknown case $name (known: ${all_cases[*]} cw_m2_slide)" >&2
+      echo "check_rotor: ERROR unknown case $name (known: ${all_cases[*]})" >&2
       return 1
       ;;
   esac

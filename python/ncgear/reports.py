@@ -1109,6 +1109,21 @@ class RotorSummary:
 
 
 @dataclass(frozen=True, eq=False)
+class RotorDrive:
+    """The compliant drive over the settled turn (``[effects] drive``), per sample of travel:
+    the shaft's torque (N·m), the carrier's speed (r/min), the shaft's twist (degrees, the motor
+    ahead of the carrier); the shaft's torsional frequency (Hz), the largest shaft torque (N·m)
+    and the carrier's speed fluctuation (max − min)/Ω."""
+
+    shaft_torque_nm: Numbers
+    carrier_speed_rpm: Numbers
+    twist_deg: Numbers
+    shaft_frequency_hz: float
+    peak_shaft_torque_nm: float
+    speed_fluctuation: float
+
+
+@dataclass(frozen=True, eq=False)
 class DynamicsRotorReport:
     """``dynamics.json`` of a rotor scene (docs/dynamics.md, "The rotor"): the settled turn of
     the planting rotor in motion per sample of ``travel_deg`` (degrees) — both meshes' forces,
@@ -1137,3 +1152,4 @@ class DynamicsRotorReport:
     carrier_torque_nm: Numbers
     rigid_carrier_torque_nm: Numbers
     summary: RotorSummary
+    drive: Optional[RotorDrive]

@@ -63,9 +63,17 @@ pub fn run(args: &super::dynamics::Args) -> CliResult {
         .map_err(|e| runtime_error(miette::miette!("cannot create {}: {e}", args.out.display())))?;
     let c = &prepared.case;
     eprintln!("scene `{}` ({}), rotor model", c.name, args.scene.display());
-    eprintln!(
-        "DOFs per train: intermediate Δθ2, planet Δθ3 (the carrier at exactly the scene's speed)"
-    );
+    if prepared.built.model.has_drive() {
+        eprintln!(
+            "DOFs: per train the intermediate's Δθ2 and the planet's Δθ3, and the carrier on its \
+             shaft (every arm integrated)"
+        );
+    } else {
+        eprintln!(
+            "DOFs per train: intermediate Δθ2, planet Δθ3 (the carrier at exactly the scene's \
+             speed)"
+        );
+    }
     for line in &prepared.built.effects_log {
         eprintln!("effect: {line}");
     }

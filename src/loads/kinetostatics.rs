@@ -94,8 +94,12 @@ pub(crate) struct Axis {
 impl Axis {
     /// `m·a_G` and `S × a_C` of `body` (mm, kg) on this axis turning with the carrier at ω.
     pub(crate) fn inertia(&self, body: &MassProperties, omega: f64) -> (Point, f64, Point) {
+        self.inertia_at(body, self.c * (-omega * omega))
+    }
+
+    /// `m·a_G` and `S × a_C` of `body` (mm, kg) on this axis, its acceleration `a_c` (m/s²).
+    pub(crate) fn inertia_at(&self, body: &MassProperties, a_c: Point) -> (Point, f64, Point) {
         let s = body.first_moment_kg_mm().rotate(self.theta) * 1e-3; // kg·m
-        let a_c = self.c * (-omega * omega);
         let m_a = a_c * body.mass_kg + s.perp() * self.alpha - s * (self.w * self.w);
         let moment = body.inertia_kg_mm2 * 1e-6 * self.alpha + s.cross(a_c);
         (m_a, moment, s)

@@ -26,6 +26,7 @@ mod periodic_tables;
 mod quality;
 mod robust;
 mod rotor_charts;
+mod rotor_drive;
 mod rotor_dynamics;
 mod schemas;
 mod shaper;

@@ -15,7 +15,7 @@ fn asset(p: &str) -> PathBuf {
 }
 
 /// The bundled G1 rotor scene's tables with `effects` (TOML lines) in a temporary scene file.
-fn g1_scene(name: &str, effects: &str, max_turns: u32) -> PathBuf {
+pub(crate) fn g1_scene(name: &str, effects: &str, max_turns: u32) -> PathBuf {
     scene_for(
         &asset("assets/loads/g1_m2_design.json"),
         name,
@@ -41,7 +41,7 @@ fn scene_for(design: &Path, name: &str, effects: &str, max_turns: u32) -> PathBu
     path
 }
 
-fn run(path: &Path) -> (Prepared, RotorRun) {
+pub(crate) fn run(path: &Path) -> (Prepared, RotorRun) {
     let p = Prepared::from_path(path).unwrap();
     let r = p.run(&Progress::none()).unwrap();
     (p, r)
@@ -219,13 +219,13 @@ fn the_bundled_rotor_knocks_after_its_torque_reversals() {
     assert!(s.dynamic_factor > 3.0, "{}", s.dynamic_factor);
 }
 
-fn mesh_peak(f: &[f64]) -> f64 {
+pub(crate) fn mesh_peak(f: &[f64]) -> f64 {
     f.iter().fold(0.0_f64, |m, &x| m.max(x.abs()))
 }
 
 /// A train of three equal circles of radius `r_mm` (i ≡ 1), CCW about the origin, the arm
 /// 100 mm long at 0.3 rad.
-fn circle_train(r_mm: f64) -> Assembly {
+pub(crate) fn circle_train(r_mm: f64) -> Assembly {
     let circle = || PitchCurve::from_fn(720, |_| r_mm).unwrap();
     Assembly {
         center_mm: Point::ZERO,

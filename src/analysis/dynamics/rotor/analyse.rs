@@ -7,8 +7,8 @@ use super::RotorError;
 use super::law::ToothData;
 use super::model::RotorModel;
 use super::report::{
-    Contact, Impact, MeshSeries, MeshSummary, ROTOR_SCHEMA_VERSION, RotorMeshes, RotorReport,
-    RotorSummary, SteadyReport, distance_to_path,
+    Contact, DriveReport, Impact, MeshSeries, MeshSummary, ROTOR_SCHEMA_VERSION, RotorMeshes,
+    RotorReport, RotorSummary, SteadyReport, distance_to_path,
 };
 use super::scene::Settings;
 use super::steady::{Steady, Transition, settle};
@@ -33,8 +33,10 @@ pub struct RotorRun {
     pub start_state: Vec<f64>,
     /// The start time of the settled turn, s.
     pub start_time_s: f64,
-    /// The settled turn's states at the loads' samples, `[Δθ2, Δθ3, Δθ̇2, Δθ̇3]` (rad, rad/s).
-    pub sample_states: Vec<[f64; 4]>,
+    /// The settled turn's states at the loads' samples, `[Δθ2, Δθ3, Δθ̇2, Δθ̇3]` (rad, rad/s) of
+    /// train 1; with a drive, every arm's and then the shaft's twist (rad) and the carrier's
+    /// speed (rad/s).
+    pub sample_states: Vec<Vec<f64>>,
 }
 
 impl RotorRun {
@@ -78,17 +80,7 @@ pub fn run_model(
     progress: &Progress,
 ) -> Result<RotorRun, RotorError> {
     let rigid = train_turn(&model.rebuilt, case, &model.bodies, model.alpha)?;
-    let f0 = &rigid.forces[0];
-    let y0 = warm.map_or_else(
-        || {
-            model.quasi_static(
-                0.0,
-                [f0.sun_mesh.normal_force_n, f0.planet_mesh.normal_force_n],
-                [f0.sun_mesh.flank, f0.planet_mesh.flank],
-            )
-        },
-        <[f64]>::to_vec,
-    );
+    let y0 = warm.map_or_else(|| initial_state(model, &rigid), <[f64]>::to_vec);
     let freqs = model.natural_frequencies_hz();
     let window_s = 2.0 / freqs[0].max(1e-9);
     let steady = settle(model, &y0, case.samples, settings, window_s, progress)?;
@@ -99,6 +91,69 @@ pub fn run_model(
         end_state: steady.end_state.clone(),
         sample_states: steady.turn.states.clone(),
         report,
+    })
+}
+
+/// The quasi-static start at φ = 0 from the rigid loads `rigid`: train 1's, or with a drive
+/// every arm's at its own travel, the shaft twisted by the rigid carrier torque, the carrier at Ω.
+fn initial_state(model: &RotorModel, rigid: &TrainTurn) -> Vec<f64> {
+    let at = |sample: usize, phi: f64| {
+        let f = &rigid.forces[sample];
+        model.quasi_static(
+            phi,
+            [f.sun_mesh.normal_force_n, f.planet_mesh.normal_force_n],
+            [f.sun_mesh.flank, f.planet_mesh.flank],
+        )
+    };
+    let Some(d) = model.drive else {
+        return at(0, 0.0);
+    };
+    let n = rigid.forces.len();
+    let mut y = Vec::with_capacity(d.dim());
+    let mut torque = 0.0;
+    for k in 0..d.arms {
+        let sample = k * n / d.arms;
+        y.extend(at(sample, d.arm_phi(0.0, k)));
+        torque += rigid.forces[sample].carrier_torque_nm;
+    }
+    y.push(torque / d.drive.stiffness_nm_per_rad);
+    y.push(model.omega);
+    y
+}
+
+/// The degrees of freedom integrated.
+fn dofs(model: &RotorModel) -> Vec<String> {
+    let mut d = vec!["intermediate Δθ2".to_string(), "planet Δθ3".to_string()];
+    if model.drive.is_some() {
+        d.push("carrier φ (the shaft's twist ψ, the carrier's speed)".into());
+    }
+    d
+}
+
+/// The drive's part of the report ([`DriveReport`]), on the turn's samples.
+fn drive_report(model: &RotorModel, turn: &super::steady::Turn) -> Option<DriveReport> {
+    let d = model.drive?;
+    let i = d.twist_index();
+    let dt = model.period_s() / turn.states.len() as f64;
+    let shaft_torque_nm: Vec<f64> = turn
+        .states
+        .iter()
+        .enumerate()
+        .map(|(k, y)| d.carrier(model, turn.t0 + dt * k as f64, y).shaft_torque_nm)
+        .collect();
+    let w: Vec<f64> = turn.states.iter().map(|y| y[i + 1]).collect();
+    let (lo, hi) = w
+        .iter()
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &x| {
+            (a.min(x), b.max(x))
+        });
+    Some(DriveReport {
+        peak_shaft_torque_nm: shaft_torque_nm.iter().fold(0.0, |a, t| a.max(t.abs())),
+        shaft_torque_nm,
+        carrier_speed_rpm: w.iter().map(|w| w * 60.0 / TAU).collect(),
+        twist_deg: turn.states.iter().map(|y| y[i].to_degrees()).collect(),
+        shaft_frequency_hz: d.frequency_hz(model, 360),
+        speed_fluctuation: (hi - lo) / model.omega,
     })
 }
 
@@ -298,7 +353,7 @@ pub(crate) fn analyse(
         design: String::new(),
         carrier_rpm: case.omega_rad_s * 60.0 / TAU,
         arms: case.arms,
-        dofs: vec!["intermediate Δθ2".into(), "planet Δθ3".into()],
+        dofs: dofs(model),
         effects: Vec::new(),
         steady: SteadyReport {
             turns: steady.turns,
@@ -315,6 +370,7 @@ pub(crate) fn analyse(
         tip_deviation_mm,
         carrier_torque_nm: over_arms(&torque, arms),
         rigid_carrier_torque_nm: over_arms(&rigid_torque, arms),
+        drive: drive_report(model, turn),
         summary: RotorSummary {
             meshes: sm,
             max_tip_deviation_mm: tmax,

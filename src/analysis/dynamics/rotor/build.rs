@@ -3,7 +3,9 @@
 //! line for each.
 
 use super::RotorError;
+use super::drive::DriveModel;
 use super::law::{MeshLaw, ToothData};
+use super::lever_rate::LeverRates;
 use super::model::RotorModel;
 use super::scene::{Backlash, Effects, StiffnessLaw};
 use crate::loads::analysis::{needle_table, rigid_train};
@@ -25,8 +27,8 @@ pub struct Built {
 /// ISO stiffness and `backlash = "teeth"`); `file` names the scene in errors.
 ///
 /// # Errors
-/// [`RotorError::Field`]: no face width, ISO stiffness or `"teeth"` backlash without teeth, a
-/// drive (not modelled yet); the loads' errors.
+/// [`RotorError::Field`]: no face width, ISO stiffness or `"teeth"` backlash without teeth; the
+/// loads' errors.
 pub fn build(
     rotor: &Rotor<'_>,
     case: &LoadCase,
@@ -49,13 +51,6 @@ pub fn build(
             ));
         }
     };
-    if effects.drive.is_some() {
-        return Err(field(
-            "effects.drive",
-            "a compliant drive (the carrier a degree of freedom) is not modelled yet: remove \
-             [effects.drive] to turn the carrier at exactly the scene's speed",
-        ));
-    }
     let rigid = rigid_train(rotor, case, face_mm, file)?;
     let r = rigid.rebuilt;
     let n = case.samples;
@@ -151,6 +146,8 @@ pub fn build(
         damping: [0.0; 2],
         half_gap_m,
         vibration_damping: [0.0; 2],
+        lever_rates: None,
+        drive: None,
         id: super::model::new_model_id(),
         turn_periodic: RotorModel::repeats_each_turn(&r),
         rebuilt: r,
@@ -163,6 +160,10 @@ pub fn build(
             j2 * j3 / (j2 * lev[1][1].powi(2) + j3 * lev[1][0].powi(2)),
         ];
         model.damping = [0, 1].map(|j| 2.0 * effects.zeta[j] * (k[j] * m_e[j]).sqrt());
+        let rates = LeverRates::new(model.turn_periodic, &|p| {
+            model.geometry(&TrainMotion::at(&model.rebuilt, p))
+        });
+        model.lever_rates = Some(rates);
         log.push(format!(
             "mesh_damping: ζ = {}, {} → c = {:.4e}, {:.4e} N·s/m (2ζ√(k̄·m_e), m_e = {:.4e}, \
              {:.4e} kg)",
@@ -180,6 +181,24 @@ pub fn build(
             w1 / TAU,
             model.vibration_damping[0],
             model.vibration_damping[1]
+        ));
+    }
+    if let Some(drive) = effects.drive {
+        let d = DriveModel {
+            drive,
+            arms: case.arms as usize,
+        };
+        model.drive = Some(d);
+        log.push(format!(
+            "drive: a shaft of {} N·m/rad and {} N·m·s/rad from a motor at {:.3} r/min, the \
+             carrier ({} kg·mm²) a degree of freedom, the {} arms integrated together; the \
+             shaft's frequency ≈ {:.1} Hz",
+            drive.stiffness_nm_per_rad,
+            drive.damping_nms_per_rad,
+            case.omega_rad_s * 60.0 / TAU,
+            drive.carrier_inertia_kg_m2 * 1e6,
+            d.arms,
+            d.frequency_hz(&model, 360)
         ));
     }
     if model.needle.is_some() {

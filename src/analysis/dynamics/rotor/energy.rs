@@ -10,6 +10,10 @@
 //!
 //! `T` is the Newton–Euler carrier torque ([`super::model`]), not derived from the energy, so the
 //! audit checks the equations of motion against an independent balance.
+//!
+//! With a drive ([`super::drive`]) E adds the carrier's `½J_c·w²` and the shaft's `½k_s·ψ²` and
+//! sums every arm; the drive's work is the motor's `∫ Ω·T_s dt`, the damping adds the shaft's
+//! `c_s·(Ω − w)²`, and the sums run in the nominal time τ (each power times `dt/dτ = Ω/w`).
 
 use super::RotorError;
 use super::model::{GapFn, RotorModel};
@@ -41,24 +45,71 @@ pub struct EnergyAudit {
 
 struct Augmented<'a>(&'a RotorModel);
 
+/// Mesh energy of every integrated arm at time `t` with the pair counts frozen at `at`'s, J.
+fn mesh_energy(m: &RotorModel, t: f64, y: &[f64], at: f64) -> f64 {
+    (0..m.gap_count() / 4)
+        .map(|k| m.mesh_energy(t, &y[4 * k..4 * k + 4], m.pair_counts(at, k), k))
+        .sum()
+}
+
+/// The train's energy at `(t, y)`, J (module docs).
+fn energy(m: &RotorModel, t: f64, y: &[f64]) -> f64 {
+    let Some(d) = &m.drive else {
+        return m.instant(t, &y[..4]).energy_j;
+    };
+    let c = d.carrier(m, t, y);
+    let (psi, w) = (y[d.twist_index()], y[d.twist_index() + 1]);
+    let arms: f64 = (0..d.arms)
+        .map(|k| {
+            let phi = d.arm_phi(m.phi(t), k);
+            m.instant_at(phi, k, w, c.accel_rad_s2, &y[4 * k..4 * k + 4])
+                .0
+                .energy_j
+        })
+        .sum();
+    arms + 0.5 * d.drive.carrier_inertia_kg_m2 * w * w
+        + 0.5 * d.drive.stiffness_nm_per_rad * psi * psi
+}
+
+/// `[drive, needle, damping]` powers at `(t, y)` per unit of the independent variable, W.
+fn powers(m: &RotorModel, t: f64, y: &[f64]) -> [f64; 3] {
+    let damp = |i: &super::model::Instant| {
+        i.mesh[0].damping_w + i.mesh[1].damping_w + i.vibration_damping_w
+    };
+    let Some(d) = &m.drive else {
+        let i = m.instant(t, &y[..4]);
+        return [m.omega * i.carrier_torque_nm, i.needle_w, damp(&i)];
+    };
+    let c = d.carrier(m, t, y);
+    let w = y[d.twist_index() + 1];
+    let scale = m.omega / w;
+    let (mut needle, mut damping) = (0.0, d.drive.damping_nms_per_rad * (m.omega - w).powi(2));
+    for k in 0..d.arms {
+        let phi = d.arm_phi(m.phi(t), k);
+        let i = m
+            .instant_at(phi, k, w, c.accel_rad_s2, &y[4 * k..4 * k + 4])
+            .0;
+        needle += i.needle_w;
+        damping += damp(&i);
+    }
+    [m.omega * c.shaft_torque_nm, needle, damping].map(|p| p * scale)
+}
+
 impl OdeSystem for Augmented<'_> {
     fn dim(&self) -> usize {
-        8
+        self.0.state_len() + 4
     }
     fn rhs(&self, t: f64, y: &[f64], dy: &mut [f64]) {
         let m = self.0;
-        let i = m.instant(t, &y[..4]);
-        dy[0] = y[2];
-        dy[1] = y[3];
-        dy[2] = i.acc[0];
-        dy[3] = i.acc[1];
-        dy[4] = m.omega * i.carrier_torque_nm;
-        dy[5] = i.needle_w;
-        dy[6] = i.mesh[0].damping_w + i.mesh[1].damping_w + i.vibration_damping_w;
-        let pairs = m.pair_counts(t);
+        let n = m.state_len();
+        m.rhs(t, &y[..n], &mut dy[..n]);
+        let [drive, needle, damping] = powers(m, t, &y[..n]);
+        dy[n] = drive;
+        dy[n + 1] = needle;
+        dy[n + 2] = damping;
         let h = 1e-6 * m.period_s();
-        dy[7] = (m.mesh_energy(t + h, &y[..4], pairs) - m.mesh_energy(t - h, &y[..4], pairs))
-            / (2.0 * h);
+        dy[n + 3] =
+            (mesh_energy(m, t + h, &y[..n], t) - mesh_energy(m, t - h, &y[..n], t)) / (2.0 * h);
     }
 }
 
@@ -76,14 +127,14 @@ pub fn energy_audit(
     atol: f64,
 ) -> Result<EnergyAudit, RotorError> {
     let aug = Augmented(model);
+    let n = model.state_len();
     let mut y = y0.to_vec();
     y.extend([0.0; 4]);
     let solver = Dopri5::new(rtol, atol)?;
     let dt0 = 1e-9 * model.period_s();
-    let e = |t: f64, y: &[f64]| model.instant(t, &y[..4]).energy_j;
-    let e0 = e(t0 + dt0, &y);
+    let e0 = energy(model, t0 + dt0, &y[..n]);
     let gaps: Vec<GapFn<'_>> = if model.has_backlash() {
-        (0..4)
+        (0..model.gap_count())
             .map(|w| Box::new(move |t: f64, y: &[f64]| model.gap(t, y, w)) as GapFn<'_>)
             .collect()
     } else {
@@ -95,12 +146,11 @@ pub fn energy_audit(
     let mut jumps = 0.0;
     let mut t = t0;
     let mut pmax = 0.0_f64;
-    let mut buf = vec![0.0; 8];
+    let mut buf = vec![0.0; n + 4];
     for &tb in &knots {
         let mut on = |d: &crate::analysis::dynamics::ode::DenseStep| {
             d.eval(d.t_end(), &mut buf);
-            let p = model.omega * model.instant(d.t_end(), &buf[..4]).carrier_torque_nm;
-            pmax = pmax.max(p.abs());
+            pmax = pmax.max(powers(model, d.t_end(), &buf[..n])[0].abs());
         };
         solver.integrate(
             &OdeProblem::new(&aug, t, tb).with_events(&refs),
@@ -108,15 +158,13 @@ pub fn energy_audit(
             &mut on,
         )?;
         if tb < t1 {
-            let pairs_before = model.pair_counts(tb - dt0);
-            let pairs_after = model.pair_counts(tb + dt0);
-            jumps += model.mesh_energy(tb, &y[..4], pairs_after)
-                - model.mesh_energy(tb, &y[..4], pairs_before);
+            jumps += mesh_energy(model, tb, &y[..n], tb + dt0)
+                - mesh_energy(model, tb, &y[..n], tb - dt0);
         }
         t = tb;
     }
-    let delta = e(t1 - dt0, &y) - e0;
-    let (drive, needle, damping, param) = (y[4], y[5], y[6], y[7]);
+    let delta = energy(model, t1 - dt0, &y[..n]) - e0;
+    let (drive, needle, damping, param) = (y[n], y[n + 1], y[n + 2], y[n + 3]);
     Ok(EnergyAudit {
         delta_energy_j: delta,
         drive_j: drive,

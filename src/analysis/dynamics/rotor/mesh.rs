@@ -8,13 +8,19 @@
 //!
 //! ```text
 //! δ_s = ρ1·Δθ1 − ρ2·Δθ2,     v_s = ρ1·Δθ̇1 − ρ2·Δθ̇2           (m, m/s)
-//! F_s = k·(δ_s − b) + c·v_s   while δ_s > b,  else 0             (N, on the driven gear along l_s)
+//! δ̇_s = v_s + φ̇·(ρ1′·Δθ1 − ρ2′·Δθ2)                          (m/s, ρ′ = dρ/dφ, φ̇ the carrier's speed)
+//! F_s = k·(δ_s − b) + c·δ̇_s   while δ_s > b,  else 0            (N, on the driven gear along l_s)
 //! ```
 //!
 //! with Δθ the rotations away from the kinematic law, b half the normal backlash (Kahraman &
-//! Singh 1990's dead zone, on each flank), k the mesh stiffness and c its damping. The pitch
-//! point lies on the line of centres, so δ₊ and δ₋ are of opposite sign: one flank at most
-//! is in contact.
+//! Singh 1990's dead zone, on each flank), k the mesh stiffness and c its damping. The damper
+//! acts on the rate of the deflection itself, δ̇_s (Kelvin–Voigt): `v_s` alone, the flanks'
+//! relative speed, differs from it by the lever arms' change with the travel, and a damper on
+//! `v_s` can hold δ_s at the dead zone's edge with both sides pushing onto it (a sliding chatter
+//! of contacts and flights). The force's power on the gears is `F·v_s`, so the damper takes
+//! `c·δ̇_s·v_s` (the elastic part's `k(δ_s − b)·v_s` is the energy's change less its explicit
+//! change with the travel). The pitch point lies on the line of centres, so δ₊ and δ₋ are of
+//! opposite sign: one flank at most is in contact.
 
 use crate::loads::kinetostatics::line_of_action;
 use crate::loads::motion::PitchPoint;
@@ -27,6 +33,9 @@ pub(crate) struct MeshGeometry {
     pub line: [Point; 2],
     /// Lever arms `(P − C) × l_s` of `[driver, driven]` for the flanks `[+1, −1]`, m.
     pub lever_m: [[f64; 2]; 2],
+    /// Their rates with the travel, `dρ/dφ`, m/rad (zero unless the model fills them in: only
+    /// the damping needs them).
+    pub lever_rate_m: [[f64; 2]; 2],
 }
 
 impl MeshGeometry {
@@ -36,7 +45,11 @@ impl MeshGeometry {
         let p = pp.point_mm * 1e-3;
         let line = [1.0, -1.0].map(|s| line_of_action(pp, alpha, s));
         let lever_m = line.map(|l| [(p - c_drv).cross(l), (p - c_drn).cross(l)]);
-        Self { line, lever_m }
+        Self {
+            line,
+            lever_m,
+            lever_rate_m: [[0.0; 2]; 2],
+        }
     }
 
     /// Approach `δ_s` of flank `f` (0: +1, 1: −1) for the rotations `[driver, driven]`, m.
@@ -54,7 +67,7 @@ pub(crate) struct MeshState {
     pub flank: i8,
     /// Approach of flank +1, `δ₊`, m (negative: towards the −1 flank).
     pub approach_m: f64,
-    /// Approach speed `v_s` of the flank in contact (of +1 out of contact), m/s.
+    /// Approach rate `δ̇_s` of the flank in contact (of +1 out of contact), m/s.
     pub speed_m_s: f64,
     /// The force vector on the driven gear, N.
     pub force: Point,
@@ -62,21 +75,25 @@ pub(crate) struct MeshState {
     pub moment_nm: [f64; 2],
     /// Potential energy of the contact, `½k(δ_s − b)²`, J.
     pub energy_j: f64,
-    /// Damping power `c·v_s²`, W.
+    /// Damping power `c·δ̇_s·v_s`, W.
     pub damping_w: f64,
 }
 
-/// The force law of a mesh: stiffness k (N/m), damping c (N·s/m), half normal backlash b (m).
+/// The force law of a mesh: stiffness k (N/m), damping c (N·s/m), half normal backlash b (m),
+/// the carrier's speed `phi_dot` (rad/s, for the lever arms' rates).
 pub(crate) fn mesh_state(
     g: &MeshGeometry,
     dtheta: [f64; 2],
     dspeed: [f64; 2],
-    k: f64,
-    c: f64,
-    b: f64,
+    phi_dot: f64,
+    [k, c, b]: [f64; 3],
 ) -> MeshState {
     let approach = [0, 1].map(|f| g.approach(f, dtheta));
-    let speed = [0, 1].map(|f| g.approach(f, dspeed));
+    let relative = [0, 1].map(|f| g.approach(f, dspeed));
+    let speed = [0, 1].map(|f| {
+        let r = g.lever_rate_m[f];
+        relative[f] + phi_dot * (r[0] * dtheta[0] - r[1] * dtheta[1])
+    });
     let gap_m = approach.map(|d| d - b);
     let mut st = MeshState {
         approach_m: approach[0],
@@ -91,7 +108,7 @@ pub(crate) fn mesh_state(
         st.force = g.line[f] * force;
         st.moment_nm = [-force * g.lever_m[f][0], force * g.lever_m[f][1]];
         st.energy_j = 0.5 * k * gap_m[f] * gap_m[f];
-        st.damping_w = c * speed[f] * speed[f];
+        st.damping_w = c * speed[f] * relative[f];
     }
     st
 }
@@ -121,12 +138,12 @@ mod tests {
         }
         let d = [1e-4, 0.0];
         assert!((g.approach(0, d) + g.approach(1, d)).abs() < 1e-18);
-        let st = mesh_state(&g, d, [0.0; 2], 1e8, 0.0, 0.0);
+        let st = mesh_state(&g, d, [0.0; 2], 0.0, [1e8, 0.0, 0.0]);
         assert_eq!(st.flank.abs(), 1);
         assert!((st.force_n - 1e8 * 1e-4 * r * alpha.cos()).abs() < 1e-6);
         // −∂V/∂Δθ2 is the moment on the driven gear
         let h = 1e-9;
-        let v = |d2: f64| mesh_state(&g, [1e-4, d2], [0.0; 2], 1e8, 0.0, 0.0).energy_j;
+        let v = |d2: f64| mesh_state(&g, [1e-4, d2], [0.0; 2], 0.0, [1e8, 0.0, 0.0]).energy_j;
         let dv = (v(h) - v(-h)) / (2.0 * h);
         assert!((-dv - st.moment_nm[1]).abs() < 1e-6 * st.moment_nm[1].abs());
     }

@@ -15,8 +15,10 @@
 
 pub mod analyse;
 pub mod build;
+mod drive;
 pub mod energy;
 pub mod law;
+mod lever_rate;
 pub mod mesh;
 pub mod model;
 pub mod rating;
@@ -32,7 +34,7 @@ pub use build::{Built, build};
 pub use law::ToothData;
 pub use model::RotorModel;
 pub use report::RotorReport;
-pub use scene::{Effects, RotorCase, Settings};
+pub use scene::{Drive, Effects, RotorCase, Settings};
 pub use spec::RotorScene;
 pub use sweep::{SweepRow, sweep_rpm};
 

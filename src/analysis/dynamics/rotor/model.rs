@@ -15,7 +15,9 @@
 //! The carrier's drive torque is `T = D × R_D + A × R_A` with the bearings' forces `R = m·a_G −
 //! ΣF − m·g` (the loads' formula, here with the dynamic forces and accelerations).
 
+use super::drive::DriveModel;
 use super::law::{Contact, MeshLaw};
+use super::lever_rate::LeverRates;
 use super::mesh::{MeshGeometry, MeshState, mesh_state};
 use crate::geometry::assembly::Rebuilt;
 use crate::loads::kinetostatics::{Axis, TrainBodies};
@@ -34,11 +36,15 @@ struct Kinematics {
     geometry: [MeshGeometry; 2],
 }
 
+/// Slots of the kinematics' memo: one per arm (arms beyond share them).
+const SLOTS: usize = 4;
+
 thread_local! {
-    /// The last kinematics computed on this thread, keyed by (model id, φ's bits): the four
-    /// contact events are evaluated at the same instant, the last stage of a step at the instant
-    /// the events then look at, so most lookups repeat the last one.
-    static LAST: Cell<Option<(u64, u64, Kinematics)>> = const { Cell::new(None) };
+    /// The last kinematics computed on this thread for each arm slot, keyed by (model id, φ's
+    /// bits): the four contact events are evaluated at the same instant, the last stage of a
+    /// step at the instant the events then look at, so most lookups repeat the last one.
+    static LAST: [Cell<Option<(u64, u64, Kinematics)>>; SLOTS] =
+        const { [const { Cell::new(None) }; SLOTS] };
 }
 
 /// Ids of built models (a clone shares its model's id: the same train).
@@ -80,6 +86,11 @@ pub struct RotorModel {
     /// Vibration damping `[c_D, c_A]` of the intermediate and the planet, N·m·s/rad (0: none):
     /// a couple `−c·Δθ̇` from the carrier on the gear (module docs).
     pub(crate) vibration_damping: [f64; 2],
+    /// The lever arms' rates, for the mesh damping (None: no mesh damping, the rates unused).
+    pub(crate) lever_rates: Option<LeverRates>,
+    /// The compliant drive (None: the carrier turns at exactly Ω and train 1 alone is
+    /// integrated).
+    pub(crate) drive: Option<DriveModel>,
 }
 
 /// Everything at one instant (SI, CCW frame).
@@ -125,9 +136,10 @@ impl RotorModel {
 
     /// The kinematics at carrier angle `phi` (rad), remembered for the next call at the same
     /// angle on this thread (the result is the same either way).
-    fn kinematics(&self, phi: f64) -> Kinematics {
+    fn kinematics(&self, phi: f64, arm: usize) -> Kinematics {
         let key = (self.id, phi.to_bits());
-        if let Some((id, bits, k)) = LAST.get()
+        let slot = arm % SLOTS;
+        if let Some((id, bits, k)) = LAST.with(|l| l[slot].get())
             && (id, bits) == key
         {
             return k;
@@ -139,11 +151,15 @@ impl RotorModel {
         } else {
             TrainMotion::at(&self.rebuilt, phi)
         };
-        let k = Kinematics {
-            motion,
-            geometry: self.geometry(&motion),
-        };
-        LAST.set(Some((key.0, key.1, k)));
+        let mut geometry = self.geometry(&motion);
+        if let Some(rates) = &self.lever_rates {
+            let r = rates.at(phi, &|p| self.geometry(&TrainMotion::at(&self.rebuilt, p)));
+            for (g, r) in geometry.iter_mut().zip(r) {
+                g.lever_rate_m = r;
+            }
+        }
+        let k = Kinematics { motion, geometry };
+        LAST.with(|l| l[slot].set(Some((key.0, key.1, k))));
         k
     }
 
@@ -192,51 +208,73 @@ impl RotorModel {
     }
 
     /// The mesh states at the motion `m` and state `y = [Δθ2, Δθ3, Δθ̇2, Δθ̇3]`.
-    fn meshes(&self, g: &[MeshGeometry; 2], y: &[f64], k: [f64; 2]) -> [MeshState; 2] {
+    fn meshes(&self, g: &[MeshGeometry; 2], y: &[f64], k: [f64; 2], w: f64) -> [MeshState; 2] {
         [
             mesh_state(
                 &g[0],
                 [0.0, y[0]],
                 [0.0, y[2]],
-                k[0],
-                self.damping[0],
-                self.half_gap_m[0],
+                w,
+                [k[0], self.damping[0], self.half_gap_m[0]],
             ),
             mesh_state(
                 &g[1],
                 [y[0], y[1]],
                 [y[2], y[3]],
-                k[1],
-                self.damping[1],
-                self.half_gap_m[1],
+                w,
+                [k[1], self.damping[1], self.half_gap_m[1]],
             ),
         ]
     }
 
-    /// The mesh energy at time `t` with the pair counts `double`, J (for `∂V/∂t`).
-    pub(crate) fn mesh_energy(&self, t: f64, y: &[f64], double: [bool; 2]) -> f64 {
-        let kin = self.kinematics(self.phi(t));
+    /// Arm `arm`'s carrier angle at time `t` (train 1's without a drive), rad.
+    fn arm_phi(&self, t: f64, arm: usize) -> f64 {
+        self.drive
+            .map_or(self.phi(t), |d| d.arm_phi(self.phi(t), arm))
+    }
+
+    /// Arm `arm`'s mesh energy at time `t`, its state `y`, with the pair counts `double`, J
+    /// (for `∂V/∂t`).
+    pub(crate) fn mesh_energy(&self, t: f64, y: &[f64], double: [bool; 2], arm: usize) -> f64 {
+        let kin = self.kinematics(self.arm_phi(t, arm), arm);
         let k = self.stiffness(&kin.motion, Some(double));
-        self.meshes(&kin.geometry, y, k)
+        self.meshes(&kin.geometry, y, k, self.omega)
             .iter()
             .map(|s| s.energy_j)
             .sum()
     }
 
-    /// The pair counts at time `t`.
-    pub(crate) fn pair_counts(&self, t: f64) -> [bool; 2] {
-        let phi = self.phi(t);
+    /// Arm `arm`'s pair counts at time `t`.
+    pub(crate) fn pair_counts(&self, t: f64, arm: usize) -> [bool; 2] {
+        let phi = self.arm_phi(t, arm);
         [self.laws[0].double(phi), self.laws[1].double(phi)]
     }
 
-    /// Everything at time `t` (s) and state `y`.
+    /// Everything at time `t` (s) and state `y` (train 1; with a drive, its carrier
+    /// acceleration solved with every arm, [`super::drive`]).
     pub(crate) fn instant(&self, t: f64, y: &[f64]) -> Instant {
-        let w = self.omega;
-        let phi = self.phi(t);
-        let kin = self.kinematics(phi);
+        match &self.drive {
+            None => self.instant_at(self.phi(t), 0, self.omega, 0.0, y).0,
+            Some(d) => d.instant(self, t, y),
+        }
+    }
+
+    /// Everything for the arm `arm` (its memo slot) at carrier angle `phi` (rad), carrier speed
+    /// `w` (rad/s) and acceleration `beta` (rad/s²), its state `y = [Δθ2, Δθ3, Δθ̇2, Δθ̇3]`;
+    /// with the derivatives by `beta` of `[Δθ̈2, Δθ̈3, carrier torque]` (everything is affine in
+    /// `beta`: the axes' accelerations `−w²·C + β·ẑ × C`, the gears' `θ′·β + θ″·w² + Δθ̈`).
+    pub(crate) fn instant_at(
+        &self,
+        phi: f64,
+        arm: usize,
+        w: f64,
+        beta: f64,
+        y: &[f64],
+    ) -> (Instant, [f64; 3]) {
+        let kin = self.kinematics(phi, arm);
         let m = kin.motion;
         let stiffness = self.stiffness(&m, None);
-        let mesh = self.meshes(&kin.geometry, y, stiffness);
+        let mesh = self.meshes(&kin.geometry, y, stiffness, w);
         let g = self.gravity;
         let needle = self.needle_n(phi);
         let d = m.d_mm * 1e-3;
@@ -251,26 +289,46 @@ impl RotorModel {
         let ax_a = axis(a, m.theta3_rad + y[1], m.rates.planet[0], y[3]);
         let tip_kin = m.tip_mm * 1e-3 - a;
         let tip = a + tip_kin.rotate(y[1]);
-        let body_acc = |ax: &Axis, body: &MassProperties, moment_ext: f64| {
-            let (ma0, mom0, s) = ax.inertia(body, w);
+        // (α, m·a_G, S) of a body; its axis accelerates at −w²·C + b·ẑ × C
+        let body_acc = |ax: &Axis, body: &MassProperties, moment_ext: f64, b: f64| {
+            let (ma0, mom0, s) = ax.inertia_at(body, ax.c * (-w * w) + ax.c.perp() * b);
             let j = body.inertia_kg_mm2 * 1e-6;
             let alpha = (moment_ext + s.cross(g) - mom0) / j;
             (alpha, ma0 + s.perp() * alpha, s)
         };
         let couple = [0, 1].map(|i| -self.vibration_damping[i] * y[2 + i]);
         let m_int = mesh[0].moment_nm[1] + mesh[1].moment_nm[0] + couple[0];
-        let (al2, ma_d, s2) = body_acc(&ax_d, &self.bodies.intermediate, m_int);
         let m_pl = mesh[1].moment_nm[1] + (tip - a).cross(needle) + couple[1];
-        let (al3, ma_a, s3) = body_acc(&ax_a, &self.bodies.planet, m_pl);
-        let acc = [
-            al2 - w * w * m.rates.intermediate[1],
-            al3 - w * w * m.rates.planet[1],
-        ];
         let (f1, f2) = (mesh[0].force, mesh[1].force);
-        let r_d = ma_d - f1 + f2 - g * self.bodies.intermediate.mass_kg;
-        let r_a = ma_a - f2 - needle - g * self.bodies.planet.mass_kg;
-        // the carrier takes the bearings' forces and the dampers' couples back
-        let carrier_torque_nm = d.cross(r_d) + a.cross(r_a) + couple[0] + couple[1];
+        let gm = [
+            g * self.bodies.intermediate.mass_kg,
+            g * self.bodies.planet.mass_kg,
+        ];
+        // Δθ̈ of both gears and the carrier torque at the carrier acceleration b
+        let at = |b: f64| {
+            let (al2, ma_d, s2) = body_acc(&ax_d, &self.bodies.intermediate, m_int, b);
+            let (al3, ma_a, s3) = body_acc(&ax_a, &self.bodies.planet, m_pl, b);
+            let acc = [
+                al2 - w * w * m.rates.intermediate[1] - b * m.rates.intermediate[0],
+                al3 - w * w * m.rates.planet[1] - b * m.rates.planet[0],
+            ];
+            let r_d = ma_d - f1 + f2 - gm[0];
+            let r_a = ma_a - f2 - needle - gm[1];
+            // the carrier takes the bearings' forces and the dampers' couples back
+            let torque = d.cross(r_d) + a.cross(r_a) + couple[0] + couple[1];
+            (acc, torque, s2, s3)
+        };
+        let (acc, carrier_torque_nm, s2, s3) = at(beta);
+        let rate = if self.drive.is_some() {
+            let (acc1, torque1, _, _) = at(beta + 1.0);
+            [
+                acc1[0] - acc[0],
+                acc1[1] - acc[1],
+                torque1 - carrier_torque_nm,
+            ]
+        } else {
+            [0.0; 3]
+        };
         let vibration_damping_w = -couple[0] * (ax_d.w - w) - couple[1] * (ax_a.w - w);
         let v_a = a.perp() * w;
         let v_tip = v_a + (tip - a).perp() * ax_a.w;
@@ -285,7 +343,7 @@ impl RotorModel {
             + ke(&ax_a, &self.bodies.planet, s3)
             + mesh[0].energy_j
             + mesh[1].energy_j;
-        Instant {
+        let instant = Instant {
             mesh,
             acc,
             tip_mm: tip * 1e3,
@@ -293,13 +351,14 @@ impl RotorModel {
             needle_w: needle.dot(v_tip),
             energy_j,
             vibration_damping_w,
-        }
+        };
+        (instant, rate)
     }
 
-    /// The quasi-static state at time `t`: the deflections that carry the rigid forces
-    /// `rigid_n` (N, on the loaded flanks `flank`), no velocity.
-    pub(crate) fn quasi_static(&self, t: f64, rigid_n: [f64; 2], flank: [i8; 2]) -> Vec<f64> {
-        let m = TrainMotion::at(&self.rebuilt, self.phi(t));
+    /// The quasi-static state of train 1 at carrier angle `phi` (rad): the deflections that
+    /// carry the rigid forces `rigid_n` (N, on the loaded flanks `flank`), no velocity.
+    pub(crate) fn quasi_static(&self, phi: f64, rigid_n: [f64; 2], flank: [i8; 2]) -> Vec<f64> {
+        let m = TrainMotion::at(&self.rebuilt, phi);
         let k = self.stiffness(&m, None);
         let g = self.geometry(&m);
         let f = flank.map(|s| usize::from(s < 0));
@@ -321,6 +380,14 @@ impl RotorModel {
         if let Some(n) = &self.needle {
             angles.extend(n.knots_rad().into_iter().map(|a| a.rem_euclid(TAU)));
         }
+        if let Some(d) = self.drive {
+            // arm k at φ is train 1 at φ + 2πk/n: its switches come 2πk/n earlier
+            let own = angles.clone();
+            for k in 1..d.arms {
+                let shift = d.arm_phi(0.0, k);
+                angles.extend(own.iter().map(|a| (a - shift).rem_euclid(TAU)));
+            }
+        }
         let (p0, p1) = (self.phi(t0), self.phi(t1));
         let mut out = Vec::new();
         let mut turn = (p0 / TAU).floor();
@@ -334,7 +401,11 @@ impl RotorModel {
             turn += 1.0;
         }
         out.sort_by(f64::total_cmp);
-        out.dedup_by(|a, b| (*a - *b).abs() < 1e-12 * b.abs().max(1.0));
+        // Only exact duplicates go: the integrator steps onto each switch, and one closer than
+        // its restart resolution (1e-13 of the span) is passed in the restart itself. Merging
+        // switches up to 1e-12 s apart left the later one's jump inside a step, where no step
+        // size could meet rtol 1e-10 (two meshes' switches 1e-13 s apart on G1).
+        out.dedup();
         out
     }
 
@@ -343,9 +414,42 @@ impl RotorModel {
         self.half_gap_m.iter().any(|&b| b > 0.0)
     }
 
-    /// The contact events' functions `δ_s − b` of (mesh, flank) `which` (0..4).
+    /// The shaft's torsional frequency of a compliant drive, Hz (None without a drive): the
+    /// carrier's and the arms' mean inertia on the shaft's stiffness.
+    #[must_use]
+    pub fn drive_frequency_hz(&self) -> Option<f64> {
+        self.drive.map(|d| d.frequency_hz(self, 360))
+    }
+
+    /// Masses `[intermediate, planet with its arm]`, kg.
+    #[must_use]
+    pub fn masses_kg(&self) -> [f64; 2] {
+        [self.bodies.intermediate.mass_kg, self.bodies.planet.mass_kg]
+    }
+
+    /// Whether the carrier is a degree of freedom on a compliant drive.
+    #[must_use]
+    pub fn has_drive(&self) -> bool {
+        self.drive.is_some()
+    }
+
+    /// The contact events: four per integrated arm (`which` of [`Self::gap`]).
+    pub(crate) fn gap_count(&self) -> usize {
+        4 * self.drive.map_or(1, |d| d.arms)
+    }
+
+    /// The state's length: train 1's four, or every arm's and the drive's.
+    pub(crate) fn state_len(&self) -> usize {
+        self.drive.map_or(4, |d| d.dim())
+    }
+
+    /// The contact events' functions `δ_s − b` of (mesh, flank) `which` (0..4; with a drive,
+    /// `4k..4k + 4` those of arm k).
     pub(crate) fn gap(&self, t: f64, y: &[f64], which: usize) -> f64 {
-        let g = self.kinematics(self.phi(t)).geometry;
+        let (arm, which) = (which / 4, which % 4);
+        let phi = self.arm_phi(t, arm);
+        let y = &y[4 * arm..];
+        let g = self.kinematics(phi, arm).geometry;
         let (j, f) = (which / 2, which % 2);
         let d = if j == 0 {
             g[0].approach(f, [0.0, y[0]])
@@ -405,9 +509,13 @@ impl RotorModel {
 
 impl crate::analysis::dynamics::ode::OdeSystem for RotorModel {
     fn dim(&self) -> usize {
-        4
+        self.state_len()
     }
     fn rhs(&self, t: f64, y: &[f64], dy: &mut [f64]) {
+        if let Some(d) = &self.drive {
+            d.rhs(self, t, y, dy);
+            return;
+        }
         let i = self.instant(t, y);
         dy[0] = y[2];
         dy[1] = y[3];

@@ -146,8 +146,29 @@ pub struct RotorReport {
     pub carrier_torque_nm: Vec<f64>,
     /// The same of the rigid loads, N·m.
     pub rigid_carrier_torque_nm: Vec<f64>,
+    /// The compliant drive over the settled turn (only with `[effects] drive`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub drive: Option<DriveReport>,
     /// Summary.
     pub summary: RotorSummary,
+}
+
+/// The compliant drive over the settled turn, on the samples of travel (docs/dynamics.md,
+/// "The drive").
+#[derive(Debug, Clone, Default, Serialize, schemars::JsonSchema)]
+pub struct DriveReport {
+    /// The shaft's torque `T_s = k_s·ψ + c_s·(Ω − w)`, N·m, positive in the sense of travel.
+    pub shaft_torque_nm: Vec<f64>,
+    /// The carrier's speed w, r/min.
+    pub carrier_speed_rpm: Vec<f64>,
+    /// The shaft's twist `ψ = Ω·t − φ` (the motor ahead of the carrier), degrees.
+    pub twist_deg: Vec<f64>,
+    /// The shaft's torsional frequency with the carrier and the arms' mean inertia on it, Hz.
+    pub shaft_frequency_hz: f64,
+    /// Largest `|T_s|`, N·m.
+    pub peak_shaft_torque_nm: f64,
+    /// The carrier's speed fluctuation `(max w − min w)/Ω` (dimensionless).
+    pub speed_fluctuation: f64,
 }
 
 /// The version of the rotor report's format.

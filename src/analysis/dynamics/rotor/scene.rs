@@ -106,6 +106,13 @@ impl Effects {
         self.backlash = b;
         self
     }
+
+    /// With a compliant drive (the carrier a degree of freedom).
+    #[must_use]
+    pub fn with_drive(mut self, d: Option<Drive>) -> Self {
+        self.drive = d;
+        self
+    }
 }
 
 /// Integrator settings of a validated scene.

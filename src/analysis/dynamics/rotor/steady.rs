@@ -34,8 +34,9 @@ pub(crate) struct Transition {
 pub(crate) struct Turn {
     /// Start time, s.
     pub t0: f64,
-    /// States at the samples `t0 + k·T/n`.
-    pub states: Vec<[f64; 4]>,
+    /// States at the samples `t0 + k·T/n` (the model's whole state: with a drive, every arm's
+    /// and the drive's).
+    pub states: Vec<Vec<f64>>,
     /// Contact changes.
     pub transitions: Vec<Transition>,
 }
@@ -91,9 +92,7 @@ impl Recorder<'_> {
                 break;
             }
             eval(ts, &mut self.buf);
-            self.turn
-                .states
-                .push([self.buf[0], self.buf[1], self.buf[2], self.buf[3]]);
+            self.turn.states.push(self.buf.clone());
             self.next += 1;
         }
     }
@@ -144,7 +143,7 @@ impl Recorder<'_> {
         let mut eval = |t: f64, out: &mut [f64]| d.eval(t, out);
         self.peaks(d.t_start(), d.t_end(), &mut eval);
         self.sample_until(d.t_end(), &mut eval);
-        let mut y = vec![0.0; 4];
+        let mut y = vec![0.0; self.buf.len()];
         d.eval(d.t_end(), &mut y);
         self.contact(d.t_end(), &y);
     }
@@ -174,7 +173,7 @@ fn one_turn(
         flank: flanks(model, t0, y),
         open: Vec::new(),
         window_s,
-        buf: vec![0.0; 4],
+        buf: vec![0.0; model.state_len()],
     };
     let bps = if s.breakpoints {
         model.breakpoints(t0, t1)
@@ -184,7 +183,7 @@ fn one_turn(
     let stats = match s.method {
         RotorMethod::Dopri5 => {
             let gaps: Vec<GapFn<'_>> = if s.events && model.has_backlash() {
-                (0..4)
+                (0..model.gap_count())
                     .map(|w| Box::new(move |t: f64, y: &[f64]| model.gap(t, y, w)) as GapFn<'_>)
                     .collect()
             } else {
@@ -201,10 +200,7 @@ fn one_turn(
             let h = tp / f64::from(s.rk4_steps_per_turn);
             let mut st = OdeStats::default();
             let dt = tp / n as f64;
-            let first = y.to_vec();
-            rec.turn
-                .states
-                .push([first[0], first[1], first[2], first[3]]);
+            rec.turn.states.push(y.to_vec());
             rec.next = 1;
             for c in 0..n {
                 let a = t0 + dt * c as f64;
@@ -220,7 +216,7 @@ fn one_turn(
                     &mut |_, _| {},
                 );
                 if c + 1 < n {
-                    rec.turn.states.push([y[0], y[1], y[2], y[3]]);
+                    rec.turn.states.push(y.to_vec());
                     rec.next += 1;
                 }
                 rec.contact(b, y);
@@ -234,16 +230,30 @@ fn one_turn(
     Ok((rec.turn, stats))
 }
 
-/// Relative change of the state over a turn (module docs).
-pub(crate) fn residual(prev: &[f64], y: &[f64]) -> f64 {
-    let part = |r: std::ops::Range<usize>| {
-        let scale = y[r.clone()]
+/// Relative change of the state over a turn (module docs); `omega` the carrier's nominal speed
+/// (rad/s), for a drive's carrier speed `w`, taken as `w − Ω`.
+pub(crate) fn residual(prev: &[f64], y: &[f64], omega: f64) -> f64 {
+    let part = |idx: &[usize], offset: f64| {
+        let scale = idx
             .iter()
-            .fold(0.0_f64, |a, x| a.max(x.abs()))
+            .fold(0.0_f64, |a, &i| a.max((y[i] - offset).abs()))
             .max(1e-300);
-        r.map(|i| (y[i] - prev[i]).abs()).fold(0.0, f64::max) / scale
+        idx.iter()
+            .map(|&i| (y[i] - prev[i]).abs())
+            .fold(0.0, f64::max)
+            / scale
     };
-    part(0..2).max(part(2..4))
+    if y.len() == 4 {
+        return part(&[0, 1], 0.0).max(part(&[2, 3], 0.0));
+    }
+    // with a drive: [the arms' four each, ψ, w]
+    let arms = (y.len() - 2) / 4;
+    let mut angles: Vec<usize> = (0..arms).flat_map(|k| [4 * k, 4 * k + 1]).collect();
+    angles.push(4 * arms);
+    let rates: Vec<usize> = (0..arms).flat_map(|k| [4 * k + 2, 4 * k + 3]).collect();
+    part(&angles, 0.0)
+        .max(part(&rates, 0.0))
+        .max(part(&[4 * arms + 1], omega))
 }
 
 /// Turns from the state `y0` at t = 0 until the residual is below `s.poincare_tol` or
@@ -275,7 +285,7 @@ pub(crate) fn settle(
         stats += st;
         out.turn = turn;
         out.turns = k + 1;
-        out.residual = residual(&prev, &y);
+        out.residual = residual(&prev, &y, model.omega);
         progress.advance(1);
         if out.residual < s.poincare_tol {
             out.settled = true;
