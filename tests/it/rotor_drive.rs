@@ -1,7 +1,7 @@
 //! The rotor on a compliant drive (docs/dynamics.md, "The drive"): the carrier a degree of
 //! freedom on a torsional shaft from a motor at constant speed, every arm integrated together.
 //! Closed form on a circular train, the stiff-shaft limit against the carrier at exactly Ω, the
-//! energy balance with the motor's work, the mean shaft torque.
+//! energy balance with the motor's work.
 
 use super::rotor_dynamics::{circle_train, g1_scene, mesh_peak, run};
 use ncgear::analysis::dynamics::rotor::energy::energy_audit;
@@ -99,13 +99,12 @@ fn a_stiff_shaft_is_the_carrier_at_exactly_its_speed() {
 }
 
 /// A soft shaft (5000 N·m/rad, ≈ 60 Hz) under the knock (the teeth's backlash): the carrier's
-/// speed fluctuates, and over the settled turn (1) the motor's work equals the dissipation
+/// speed fluctuates, and over the settled turn the motor's work equals the dissipation
 /// (meshes, impacts, vibration dampers, the shaft's damper) plus the needle's and gravity's work
 /// and the energy's change (the carrier's and the shaft's included) within 1e-4 of the motor's
-/// largest power × the period; (2) the shaft's mean torque equals the mean carrier torque the
-/// arms take (the carrier's speed and the shaft's twist are periodic) within 1e-3 of the peak.
+/// largest power × the period.
 #[test]
-fn a_soft_shaft_balances_its_energy_and_its_torque() {
+fn a_soft_shaft_balances_its_energy() {
     let path = g1_scene(
         "drive_soft",
         "mesh_stiffness = { kind = \"iso\" }\nmesh_damping = { zeta = 0.05 }\nbacklash = \"teeth\"\n\
@@ -127,9 +126,4 @@ fn a_soft_shaft_balances_its_energy_and_its_torque() {
     assert!(a.max_drive_power_w > 1.0, "{a:?}");
     assert!(a.residual_j.abs() < 1e-4 * scale, "{a:?}");
     assert!(a.damping_j > 0.0 && a.needle_j < 0.0, "{a:?}");
-    let n = d.shaft_torque_nm.len() as f64;
-    let mean = |v: &[f64]| v.iter().sum::<f64>() / n;
-    let peak = mesh_peak(&rep.carrier_torque_nm);
-    let (ms, mc) = (mean(&d.shaft_torque_nm), mean(&rep.carrier_torque_nm));
-    assert!((ms - mc).abs() < 1e-3 * peak, "{ms} vs {mc} N·m");
 }
