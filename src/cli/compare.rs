@@ -43,6 +43,10 @@ pub struct Args {
     /// The carrier axis as filmed, x,y (track units): pins the translation.
     #[arg(long, value_delimiter = ',', allow_hyphen_values = true)]
     pub carrier_axis: Vec<f64>,
+    /// The rotation from the track's axes (y flipped, mirrored) to the design's, deg, when known
+    /// (a levelled camera: 0): pins the rotation.
+    #[arg(long, allow_hyphen_values = true)]
+    pub rotation: Option<f64>,
     /// Mirror the track (filmed from the other side).
     #[arg(long)]
     pub mirror: bool,
@@ -106,6 +110,7 @@ fn options(args: &Args) -> Result<(ReadOptions, CompareOptions), super::Failure>
         mirror: args.mirror,
         rpm: args.rpm,
         carrier_axis,
+        rotation_rad: args.rotation.map(f64::to_radians),
         drift_order: args.drift_order,
         smooth_order: args.smooth_order,
         features,

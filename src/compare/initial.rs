@@ -25,6 +25,17 @@ pub struct Start {
     pub omega_rad_s: f64,
 }
 
+/// What is known before the fit.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Known {
+    /// The scale, mm per track unit (`None`: fitted).
+    pub scale: Option<f64>,
+    /// The track is relative to the carrier axis as filmed (the translation is O).
+    pub datum: bool,
+    /// The rotation, rad (`None`: fitted).
+    pub rotation: Option<f64>,
+}
+
 /// Twice the signed area of a closed polygon (shoelace), > 0 counter-clockwise.
 fn signed_area2(p: &[Point]) -> f64 {
     (0..p.len())
@@ -67,7 +78,7 @@ pub fn period(file: &str, time_s: &[f64], u: &[Point], rpm: Option<f64>) -> Resu
 
 /// The starting values of the registration of track points `u` (mirrored and flipped already,
 /// relative to the reference point: the centroid, or the carrier axis `datum`) at times
-/// `dt_s = t − t_m`, period `period_s`, a fixed `scale` (mm per unit) or `None` to fit it.
+/// `dt_s = t − t_m`, period `period_s`, with what is `known`.
 ///
 /// # Errors
 /// [`CompareError::Mismatch`] when the track runs the other way round than the design, or its
@@ -78,9 +89,9 @@ pub fn start(
     u: &[Point],
     dt_s: &[f64],
     period_s: f64,
-    scale: Option<f64>,
-    datum: bool,
+    known: Known,
 ) -> Result<Start, CompareError> {
+    let Known { scale, datum, rotation } = known;
     let omega = f64::from(path.direction) * TAU / period_s;
     let design = path.turn(1024);
     let first: Vec<Point> = u
@@ -138,10 +149,11 @@ pub fn start(
             cross += p.cross(q) * s;
             b2 += q.norm_squared();
         }
-        let cost = b2 + su2 - 2.0 * dot.hypot(cross);
+        let theta = rotation.unwrap_or_else(|| cross.atan2(dot));
+        let cost = b2 + su2 - 2.0 * (theta.cos() * dot + theta.sin() * cross);
         if cost < best.0 {
             best = (cost, Start {
-                rotation_rad: cross.atan2(dot),
+                rotation_rad: theta,
                 translation_mm: anchor,
                 scale: s,
                 phase_rad: phase,

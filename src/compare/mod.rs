@@ -64,6 +64,9 @@ pub struct CompareOptions {
     pub rpm: Option<f64>,
     /// The carrier axis as filmed (track units and axes): pins the translation.
     pub carrier_axis: Option<Point>,
+    /// The rotation from the track's axes (flipped and mirrored) to the design's, rad, when known
+    /// (the image levelled, or a level line in it): pins the rotation.
+    pub rotation_rad: Option<f64>,
     /// Highest power D of the timing drift (1: constant speed; ≤ 6). Default 3.
     pub drift_order: usize,
     /// Order K of the smooth deviation (2..=40). Default 8.
@@ -84,6 +87,7 @@ impl Default for CompareOptions {
             mirror: false,
             rpm: None,
             carrier_axis: None,
+            rotation_rad: None,
             drift_order: 3,
             smooth_order: 8,
             outlier_sigma: 4.5,
@@ -189,10 +193,23 @@ pub fn compare(track: &Track, rebuilt: &Rebuilt, opts: &CompareOptions) -> Resul
     let path = DesignPath::new(rebuilt);
     let period = initial::period(&track.file, &track.time_s, &u, opts.rpm)?;
     let datum = opts.carrier_axis.is_some();
-    let start = initial::start(&track.file, &path, &u, &dt, period, scale, datum)?;
+    if let Some(r) = opts.rotation_rad
+        && !r.is_finite()
+    {
+        return Err(bad("rotation", format!("{r}: expected a finite angle")));
+    }
+    let start = initial::start(
+        &track.file,
+        &path,
+        &u,
+        &dt,
+        period,
+        initial::Known { scale, datum, rotation: opts.rotation_rad },
+    )?;
     let fo = FitOptions {
         fit_scale: scale.is_none(),
         datum,
+        fixed_rotation: opts.rotation_rad.is_some(),
         drift_order: opts.drift_order,
         smooth_order: opts.smooth_order,
         huber_k: 2.0,
@@ -205,7 +222,7 @@ pub fn compare(track: &Track, rebuilt: &Rebuilt, opts: &CompareOptions) -> Resul
     let get = |name: &str| {
         fit.names.iter().position(|n| *n == name).map(|k| Estimate { value: fit.values[k], se: fit.standard_errors[k] })
     };
-    let theta = get("rotation_rad").expect("always fitted");
+    let theta = get("rotation_rad").unwrap_or(Estimate { value: start.rotation_rad, se: 0.0 });
     let t = match (get("translation_x_mm"), get("translation_y_mm")) {
         (Some(x), Some(y)) => [x, y],
         _ => [Estimate { value: path.center_mm.x, se: 0.0 }, Estimate { value: path.center_mm.y, se: 0.0 }],
@@ -257,6 +274,7 @@ pub fn compare(track: &Track, rebuilt: &Rebuilt, opts: &CompareOptions) -> Resul
         },
         registration: RegistrationReport {
             rotation_deg: deg(theta),
+            rotation_given: opts.rotation_rad.is_some(),
             translation_mm: [Estimate { value: t_full.x, se: t[0].se }, Estimate { value: t_full.y, se: t[1].se }],
             scale_mm_per_unit: s,
             scale_fitted: scale.is_none(),

@@ -30,6 +30,8 @@ pub struct FitOptions {
     pub fit_scale: bool,
     /// The carrier axis pins the translation (the track is relative to it).
     pub datum: bool,
+    /// The rotation is given (a level line in the image), not fitted.
+    pub fixed_rotation: bool,
     /// Highest power D of the timing drift (1: constant speed).
     pub drift_order: usize,
     /// Order K of the smooth deviation that scores the frames.
@@ -76,7 +78,10 @@ struct Model<'a> {
 
 impl Model<'_> {
     fn names(&self) -> Vec<&'static str> {
-        let mut n = vec!["rotation_rad"];
+        let mut n = vec![];
+        if !self.opts.fixed_rotation {
+            n.push("rotation_rad");
+        }
         if !self.opts.datum {
             n.extend(["translation_x_mm", "translation_y_mm"]);
         }
@@ -91,12 +96,18 @@ impl Model<'_> {
 
     /// `(θ, t, s, φ₀, ω, drift)` of a parameter vector.
     fn unpack<'b>(&self, b: &'b [f64], start: &Start) -> (f64, Point, f64, f64, f64, &'b [f64]) {
-        let mut k = 1;
+        let mut k = 0;
+        let theta = if self.opts.fixed_rotation {
+            start.rotation_rad
+        } else {
+            k += 1;
+            b[0]
+        };
         let t = if self.opts.datum {
             start.translation_mm
         } else {
             k += 2;
-            Point::new(b[1], b[2])
+            Point::new(b[k - 2], b[k - 1])
         };
         let s = if self.opts.fit_scale {
             k += 1;
@@ -104,7 +115,7 @@ impl Model<'_> {
         } else {
             self.scale0
         };
-        (b[0], t, s, b[k], b[k + 1], &b[k + 2..])
+        (theta, t, s, b[k], b[k + 1], &b[k + 2..])
     }
 
     fn phi(&self, i: usize, phase: f64, omega: f64, drift: &[f64]) -> f64 {
@@ -136,7 +147,10 @@ impl Model<'_> {
             qs.push(q);
             if let Some(j) = jac.as_deref_mut() {
                 let rel = q - t;
-                let mut cols: Vec<Point> = vec![rel.perp()];
+                let mut cols: Vec<Point> = Vec::with_capacity(16);
+                if !self.opts.fixed_rotation {
+                    cols.push(rel.perp());
+                }
                 if !self.opts.datum {
                     cols.extend([Point::new(1.0, 0.0), Point::new(0.0, 1.0)]);
                 }
@@ -199,12 +213,15 @@ pub fn fit(path: &DesignPath, u: &[Point], dt_s: &[f64], half_s: f64, start: &St
     let names = m.names();
     let np = names.len();
     let mut b = vec![0.0; np];
-    b[0] = start.rotation_rad;
-    let mut k = 1;
+    let mut k = 0;
+    if !opts.fixed_rotation {
+        b[0] = start.rotation_rad;
+        k = 1;
+    }
     if !opts.datum {
-        b[1] = start.translation_mm.x;
-        b[2] = start.translation_mm.y;
-        k = 3;
+        b[k] = start.translation_mm.x;
+        b[k + 1] = start.translation_mm.y;
+        k += 2;
     }
     if opts.fit_scale {
         k += 1;

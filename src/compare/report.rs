@@ -69,8 +69,10 @@ pub struct Estimate {
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct RegistrationReport {
-    /// Rotation θ, deg.
+    /// Rotation θ, deg (`se` 0 when given).
     pub rotation_deg: Estimate,
+    /// Whether the rotation was given (`--rotation`), not fitted.
+    pub rotation_given: bool,
     /// Translation t, x and y, mm (fixed with a carrier-axis datum).
     pub translation_mm: [Estimate; 2],
     /// Scale s, mm per track unit (`se` 0 when given).

@@ -213,6 +213,10 @@ pub fn parse_track(text: &str, file: &str, opts: &ReadOptions) -> Result<Track, 
             Ok(Some(v))
         };
         let (x, y) = (value(cols.x, "x")?, value(cols.y, "y")?);
+        let (Some(x), Some(y)) = (x, y) else {
+            track.skipped += 1;
+            continue;
+        };
         let t = match cols.time {
             Some(k) => value(k, "time")?.ok_or_else(|| CompareError::BadValue {
                 file: file.into(),
@@ -222,10 +226,6 @@ pub fn parse_track(text: &str, file: &str, opts: &ReadOptions) -> Result<Track, 
             })?,
             None => row as f64,
         } * to_s;
-        let (Some(x), Some(y)) = (x, y) else {
-            track.skipped += 1;
-            continue;
-        };
         if let Some(&prev) = track.time_s.last()
             && !(t > prev)
         {

@@ -93,7 +93,7 @@ fn recovers(design: &str, turns: f64, seed: u64, scale: Scale) {
     let rec = film(&rebuilt, cam, turns, 100.0, 1000.0, seed);
     let track = parse_track(&rec.csv, "synthetic.csv", &ReadOptions::default()).unwrap();
     assert!(track.y_down, "pixels are image coordinates");
-    let opts = CompareOptions { scale, ..CompareOptions::default() };
+    let opts = CompareOptions { scale, spacing_mm: Some(140.0), ..CompareOptions::default() };
     let c = compare(&track, &rebuilt, &opts).unwrap();
     let r = &c.report;
     let g = &r.registration;
@@ -129,8 +129,13 @@ fn recovers(design: &str, turns: f64, seed: u64, scale: Scale) {
         d.frame_rms_mm, d.frame_max_mm, d.rms_mm, d.max_mm, d.hausdorff_mm, d.noise_floor_mm
     );
     assert!((d.frame_rms_mm - rms).abs() <= 0.05 && (d.frame_max_mm - mx).abs() <= 0.05);
-    // The design itself: no deviation beyond the noise floor of the smooth fit.
-    assert!(d.rms_mm <= 0.05 && d.max_mm <= 4.0 * d.noise_floor_mm + 0.02, "{d:?}");
+    // The design itself: no deviation beyond the noise floor of the smooth fit (per axis; |d|
+    // has RMS √2 of it), and within 0.05 mm from two turns at 1000 frames/s, 100 rpm on.
+    let floor = d.noise_floor_mm;
+    assert!(d.rms_mm <= 1.5 * 2f64.sqrt() * floor && d.max_mm <= 4.0 * floor, "rms {} max {} floor {floor}", d.rms_mm, d.max_mm);
+    if turns >= 2.0 {
+        assert!(d.rms_mm <= 0.05, "rms {}", d.rms_mm);
+    }
     // The agronomic angles measured on the track.
     let f = &r.features;
     let (dt, dp) = (f.track.take_angle_deg - f.design.take_angle_deg, f.track.push_angle_deg - f.design.push_angle_deg);
@@ -172,27 +177,43 @@ fn compare_a_train_built_with_known_errors_shows_them_as_deviation() {
     let rec = film(&built, cam, 2.0, 100.0, 1000.0, 7);
     let track = parse_track(&rec.csv, "built.csv", &ReadOptions::default()).unwrap();
     let axis = cam.to_image(asm.center_mm);
-    let opts = CompareOptions { scale: Scale::PxPerMm(1.0 / cam.mm_per_px), carrier_axis: Some(axis), ..CompareOptions::default() };
+    // Free: the rotation and the carrier phase absorb part of the errors (a rotation of the
+    // whole train about O at a shifted phase is a sun mounted turned).
+    let free = CompareOptions { scale: Scale::PxPerMm(1.0 / cam.mm_per_px), carrier_axis: Some(axis), ..CompareOptions::default() };
+    let f = compare(&track, &design, &free).unwrap().report;
+    println!(
+        "  axis only: rotation {:.4}°, deviation rms {:.4} mm",
+        f.registration.rotation_deg.value - cam.theta_deg,
+        f.deviation.rms_mm
+    );
+    // The camera levelled (its rotation known) and the axis marked: only the timing is fitted.
+    let opts = CompareOptions { rotation_rad: Some(cam.theta_deg.to_radians()), ..free };
     let c = compare(&track, &design, &opts).unwrap();
     let r = &c.report;
-    let dtheta = r.registration.rotation_deg.value - cam.theta_deg;
-    let mut worst: f64 = 0.0;
-    let mut truth2 = 0.0;
+    // Without an encoder the carrier phase is fitted, and it takes up the errors' component along
+    // the path (`d = δ − B′·Δφ₀`); their component normal to the path, which no timing can
+    // take, shows where it is.
+    let (mut worst, mut truth2, mut normal2, mut err2) = (0.0f64, 0.0, 0.0, 0.0);
     for a in &r.deviation.by_angle {
         let phi = a.carrier_deg.to_radians();
         let delta = built.pose(phi).tip_mm - design.pose(phi).tip_mm;
+        let along = design.pose(phi + 1e-6).tip_mm - design.pose(phi - 1e-6).tip_mm;
+        let normal = along.perp() / along.norm();
         truth2 += delta.norm_squared();
-        worst = worst.max(Point::new(a.deviation_mm[0], a.deviation_mm[1]).distance(delta));
+        normal2 += delta.dot(normal).powi(2);
+        worst = worst.max((a.normal_mm - delta.dot(normal)).abs());
+        err2 += (a.normal_mm - delta.dot(normal)).powi(2);
     }
-    let truth_rms = (truth2 / r.deviation.by_angle.len() as f64).sqrt();
+    let m = r.deviation.by_angle.len() as f64;
+    let (truth_rms, normal_rms, err_rms) = ((truth2 / m).sqrt(), (normal2 / m).sqrt(), (err2 / m).sqrt());
+    let floor = r.deviation.noise_floor_mm;
     println!(
-        "built with errors: rotation {dtheta:.5}°, deviation rms {:.4} mm (truth {truth_rms:.4}), largest error of d(φ) {worst:.4} mm, push angle {:.3}° vs design {:.3}°",
+        "built with errors: deviation rms {:.4} mm (truth {truth_rms:.4}, normal part {normal_rms:.4}), error of its normal part rms {err_rms:.4} max {worst:.4} mm (noise floor {floor:.4}), push angle {:.3}° vs design {:.3}°",
         r.deviation.rms_mm, r.features.track.push_angle_deg, r.features.design.push_angle_deg
     );
-    assert!(dtheta.abs() <= 0.05, "rotation off by {dtheta}°");
-    assert!(truth_rms > 0.3, "the errors move the tip: {truth_rms} mm");
-    assert!(worst <= 0.1, "d(φ) off the built train's difference by {worst} mm");
-    assert!((r.deviation.rms_mm - truth_rms).abs() <= 0.05);
+    assert!(normal_rms > 0.2, "the errors move the tip off the path: {normal_rms} mm");
+    assert!(err_rms <= 0.05 && worst <= 4.0 * floor, "normal part of d(φ) off the built train's by {err_rms} (rms), {worst} mm");
+    assert!(r.deviation.rms_mm >= normal_rms - 0.05 && r.deviation.rms_mm <= truth_rms + 0.05);
 }
 
 fn scratch(name: &str) -> PathBuf {
@@ -221,7 +242,10 @@ fn run_cli(name: &str, csv: &str, args: &[&str]) -> (i32, String, PathBuf) {
         .args(args)
         .output()
         .unwrap();
-    (out.status.code().unwrap_or(-1), String::from_utf8_lossy(&out.stderr).into_owned(), d.join("out"))
+    // miette's wrapped box, as one line.
+    let err = String::from_utf8_lossy(&out.stderr).replace(['│', '×'], " ");
+    let err = err.split_whitespace().collect::<Vec<_>>().join(" ");
+    (out.status.code().unwrap_or(-1), err, d.join("out"))
 }
 
 #[test]
@@ -293,7 +317,7 @@ fn compare_bad_input_exits_2_naming_it() {
 #[test]
 fn compare_reads_tracker_kinovea_and_frame_numbers() {
     let t = parse_track("mass A\nt,x,y\n0.0,1.5,2.5\n0.001,1.6,2.4\n,,\n0.003,1.7,2.3\n0.004,,\n", "t.csv", &ReadOptions::default()).unwrap();
-    assert_eq!((t.format, t.tip.len(), t.skipped), ("tracker", 3, 1));
+    assert_eq!((t.format, t.tip.len(), t.skipped), ("tracker", 3, 2));
     assert_eq!(t.line, vec![3, 4, 6]);
     assert!(!t.y_down);
     let k = parse_track(
