@@ -1,5 +1,6 @@
-//! The picture of a comparison: the design path, the registered frames coloured by their
-//! deviation `|q_i − B(φ_i)|` (four bands: below 0.1, 0.3 and 1 mm, and above), and the
+//! The picture of a comparison: the design path, the registered frames coloured by the smooth
+//! deviation `|d(φ_i)|` at their carrier angle — where the mechanism departs from its design,
+//! the frames' noise averaged out (four bands: below 0.1, 0.3 and 1 mm, and above) — and the
 //! outlier frames marked; SVG or PNG by the file's extension ([`crate::output::plot`]), mm.
 
 use super::Comparison;
@@ -18,7 +19,7 @@ pub fn compare_chart(c: &Comparison, path: &std::path::Path) -> Result<(), PlotE
         design.push(first);
     }
     let names = [
-        format!("frames, deviation < {} mm", BANDS_MM[0]),
+        format!("frames, |d(φ)| < {} mm", BANDS_MM[0]),
         format!("{}–{} mm", BANDS_MM[0], BANDS_MM[1]),
         format!("{}–{} mm", BANDS_MM[1], BANDS_MM[2]),
         format!("> {} mm", BANDS_MM[2]),
@@ -31,7 +32,7 @@ pub fn compare_chart(c: &Comparison, path: &std::path::Path) -> Result<(), PlotE
             outliers.push(p);
             continue;
         }
-        let d = f.residual_mm.norm();
+        let d = f.smooth_mm.norm();
         let k = BANDS_MM.iter().position(|b| d < *b).unwrap_or(3);
         bands[k].push(p);
     }

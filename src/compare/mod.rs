@@ -110,6 +110,8 @@ pub struct Frame {
     pub q_mm: Point,
     /// `q − B(φ)`, mm.
     pub residual_mm: Point,
+    /// The smooth deviation `d(φ)` at its carrier angle, mm.
+    pub smooth_mm: Point,
     /// Flagged as an outlier.
     pub outlier: bool,
 }
@@ -312,6 +314,7 @@ pub fn compare(track: &Track, rebuilt: &Rebuilt, opts: &CompareOptions) -> Resul
             phi_rad: fit.phi_rad[i],
             q_mm: fit.q_mm[i],
             residual_mm: fit.residual_mm[i],
+            smooth_mm: smooth.deviation(fit.phi_rad[i]),
             outlier: fit.outlier[i],
         })
         .collect();

@@ -9,15 +9,15 @@ use std::fmt::Write as _;
 use std::path::Path;
 
 /// `compare_frames.csv`: per frame its line in the track file, time (s), carrier angle (deg,
-/// unwrapped), registered tip (mm), deviation from the design tip at that angle (mm) and whether
-/// it is an outlier (0/1).
+/// unwrapped), registered tip (mm), deviation from the design tip at that angle (mm), the smooth
+/// deviation `d(φ)` there (mm) and whether it is an outlier (0/1).
 #[must_use]
 pub fn compare_frames_csv(c: &Comparison) -> String {
-    let mut s = String::from("line,time_s,carrier_deg,x_mm,y_mm,dx_mm,dy_mm,deviation_mm,outlier\n");
+    let mut s = String::from("line,time_s,carrier_deg,x_mm,y_mm,dx_mm,dy_mm,deviation_mm,smooth_dx_mm,smooth_dy_mm,outlier\n");
     for f in &c.frames {
         let _ = writeln!(
             s,
-            "{},{:.6},{:.4},{:.4},{:.4},{:.4},{:.4},{:.4},{}",
+            "{},{:.6},{:.4},{:.4},{:.4},{:.4},{:.4},{:.4},{:.4},{:.4},{}",
             f.line,
             f.time_s,
             f.phi_rad.to_degrees(),
@@ -26,6 +26,8 @@ pub fn compare_frames_csv(c: &Comparison) -> String {
             f.residual_mm.x,
             f.residual_mm.y,
             f.residual_mm.norm(),
+            f.smooth_mm.x,
+            f.smooth_mm.y,
             u8::from(f.outlier)
         );
     }
