@@ -18,7 +18,10 @@ fn main() {
 
 fn design() -> Rebuilt {
     let p = Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/transplanter/g1_design.json");
-    ncgear::simulate::DesignFile::from_path(&p).expect("bundled design").1.rebuild()
+    ncgear::simulate::DesignFile::from_path(&p)
+        .expect("bundled design")
+        .1
+        .rebuild()
 }
 
 /// The CSV text of 3 turns (and 3 %) at `rpm`, 1000 frames/s.
@@ -47,7 +50,10 @@ fn record(built: &Rebuilt, rpm: f64) -> String {
 fn run(b: divan::Bencher, rpm: f64) {
     let built = design();
     let csv = record(&built, rpm);
-    let opts = CompareOptions { scale: Scale::Fit, ..CompareOptions::default() };
+    let opts = CompareOptions {
+        scale: Scale::Fit,
+        ..CompareOptions::default()
+    };
     b.bench(|| {
         let track = parse_track(&csv, "bench.csv", &ReadOptions::default()).expect("track");
         compare(&track, &built, &opts).expect("comparison").report

@@ -1,7 +1,9 @@
 //! `ncgear compare TRACK.csv --design design.json`: a filmed needle-tip track registered to the
 //! design's static path and compared with it.
 use super::{CliResult, input_error, print_json, runtime_error};
-use ncgear::compare::{CompareError, CompareOptions, LengthUnit, ReadOptions, Scale, compare, read_track};
+use ncgear::compare::{
+    CompareError, CompareOptions, LengthUnit, ReadOptions, Scale, compare, read_track,
+};
 use ncgear::math::Point;
 use ncgear::simulate::{DesignFile, FeatureOptions};
 use std::path::PathBuf;
@@ -35,7 +37,12 @@ pub struct Args {
     #[arg(long, conflicts_with_all = ["calibration", "fit_scale"])]
     pub px_per_mm: Option<f64>,
     /// Two-point calibration x1,y1,x2,y2,dist_mm: two image points (track units) and their distance.
-    #[arg(long, value_delimiter = ',', allow_hyphen_values = true, conflicts_with = "fit_scale")]
+    #[arg(
+        long,
+        value_delimiter = ',',
+        allow_hyphen_values = true,
+        conflicts_with = "fit_scale"
+    )]
     pub calibration: Vec<f64>,
     /// Fit the scale to the design (it then absorbs any size error of the built mechanism).
     #[arg(long)]
@@ -82,28 +89,58 @@ fn input(e: impl std::fmt::Display) -> super::Failure {
 
 fn options(args: &Args) -> Result<(ReadOptions, CompareOptions), super::Failure> {
     let units = match &args.units {
-        Some(u) => Some(LengthUnit::parse(u).ok_or_else(|| input(format!("--units {u}: expected mm, cm, m or px")))?),
+        Some(u) => Some(
+            LengthUnit::parse(u)
+                .ok_or_else(|| input(format!("--units {u}: expected mm, cm, m or px")))?,
+        ),
         None => None,
     };
-    let y_down = if args.y_down { Some(true) } else if args.y_up { Some(false) } else { None };
-    let read = ReadOptions { columns: args.columns.clone(), fps: args.fps, units, y_down };
+    let y_down = if args.y_down {
+        Some(true)
+    } else if args.y_up {
+        Some(false)
+    } else {
+        None
+    };
+    let read = ReadOptions {
+        columns: args.columns.clone(),
+        fps: args.fps,
+        units,
+        y_down,
+    };
     let scale = match (args.px_per_mm, args.calibration.as_slice(), args.fit_scale) {
         (Some(s), _, _) => Scale::PxPerMm(s),
-        (None, [x1, y1, x2, y2, d], _) => Scale::Calibration { p1: Point::new(*x1, *y1), p2: Point::new(*x2, *y2), distance_mm: *d },
+        (None, [x1, y1, x2, y2, d], _) => Scale::Calibration {
+            p1: Point::new(*x1, *y1),
+            p2: Point::new(*x2, *y2),
+            distance_mm: *d,
+        },
         (None, [], true) => Scale::Fit,
         (None, [], false) => Scale::Units,
-        (None, c, _) => return Err(input(format!("--calibration: {} numbers given; expected x1,y1,x2,y2,dist_mm", c.len()))),
+        (None, c, _) => {
+            return Err(input(format!(
+                "--calibration: {} numbers given; expected x1,y1,x2,y2,dist_mm",
+                c.len()
+            )));
+        }
     };
     let carrier_axis = match args.carrier_axis.as_slice() {
         [] => None,
         [x, y] => Some(Point::new(*x, *y)),
-        c => return Err(input(format!("--carrier-axis: {} numbers given; expected x,y", c.len()))),
+        c => {
+            return Err(input(format!(
+                "--carrier-axis: {} numbers given; expected x,y",
+                c.len()
+            )));
+        }
     };
     let features = FeatureOptions::default().with_planting_depth_mm(args.depth);
     if let Some(s) = args.spacing
         && !(s.is_finite() && s > 0.0)
     {
-        return Err(input(format!("--spacing {s}: expected a positive plant spacing in mm")));
+        return Err(input(format!(
+            "--spacing {s}: expected a positive plant spacing in mm"
+        )));
     }
     let opts = CompareOptions {
         scale,
@@ -129,31 +166,59 @@ pub fn run(args: Args) -> CliResult {
         CompareError::NoFit { .. } => runtime_error(miette::miette!("{e}")),
         _ => input(e),
     })?;
-    let report = ncgear::output::write_compare(&c, &args.out, args.png).map_err(|e| runtime_error(miette::miette!("{e}")))?;
+    let report = ncgear::output::write_compare(&c, &args.out, args.png)
+        .map_err(|e| runtime_error(miette::miette!("{e}")))?;
     if args.json {
         return print_json(&report);
     }
     let r = &report.registration;
     let d = &report.deviation;
     let f = &report.features;
-    println!("{}: {} frames ({} outliers) registered to {}", args.track.display(), report.track.frames, r.outliers, args.design.display());
+    println!(
+        "{}: {} frames ({} outliers) registered to {}",
+        args.track.display(),
+        report.track.frames,
+        r.outliers,
+        args.design.display()
+    );
     println!(
         "  rotation {:.4}° ± {:.4}°, translation ({:.3}, {:.3}) mm, scale {:.6} mm/unit{}",
-        r.rotation_deg.value, r.rotation_deg.se, r.translation_mm[0].value, r.translation_mm[1].value, r.scale_mm_per_unit.value,
+        r.rotation_deg.value,
+        r.rotation_deg.se,
+        r.translation_mm[0].value,
+        r.translation_mm[1].value,
+        r.scale_mm_per_unit.value,
         if r.scale_fitted { " (fitted)" } else { "" }
     );
-    println!("  carrier {:.2} rpm (mean {:.2}), frame noise σ {:.3} mm", r.rpm.value, r.mean_rpm, r.noise_mm);
+    println!(
+        "  carrier {:.2} rpm (mean {:.2}), frame noise σ {:.3} mm",
+        r.rpm.value, r.mean_rpm, r.noise_mm
+    );
     println!(
         "  deviation by carrier angle: RMS {:.3} mm, max {:.3} mm at {:.0}°, Hausdorff {:.3} mm (noise floor {:.3} mm)",
         d.rms_mm, d.max_mm, d.max_at_carrier_deg, d.hausdorff_mm, d.noise_floor_mm
     );
     println!(
         "  taking angle {:.2}° (design {:.2}°), pushing angle {:.2}° (design {:.2}°), hole width {:.2} mm (design {:.2} mm)",
-        f.track.take_angle_deg, f.design.take_angle_deg, f.track.push_angle_deg, f.design.push_angle_deg, f.track.hole_width_mm, f.design.hole_width_mm
+        f.track.take_angle_deg,
+        f.design.take_angle_deg,
+        f.track.push_angle_deg,
+        f.design.push_angle_deg,
+        f.track.hole_width_mm,
+        f.design.hole_width_mm
     );
     if let Some(s) = &report.spread {
-        println!("  {} turns: spread of the pushing angle {:.3}°, of the hole width {:.3} mm", report.turns.len(), s.push_angle_deg, s.hole_width_mm);
+        println!(
+            "  {} turns: spread of the pushing angle {:.3}°, of the hole width {:.3} mm",
+            report.turns.len(),
+            s.push_angle_deg,
+            s.hole_width_mm
+        );
     }
-    println!("  wrote {} files into {}", report.files.len() + 1, args.out.display());
+    println!(
+        "  wrote {} files into {}",
+        report.files.len() + 1,
+        args.out.display()
+    );
     Ok(())
 }

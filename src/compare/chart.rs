@@ -43,7 +43,10 @@ pub fn compare_chart(c: &Comparison, path: &std::path::Path) -> Result<(), PlotE
         }
     }
     if !outliers.is_empty() {
-        series.push(Series::markers(format!("{} outlier frames", outliers.len()), outliers));
+        series.push(Series::markers(
+            format!("{} outlier frames", outliers.len()),
+            outliers,
+        ));
     }
     let r = &c.report;
     let labels = ChartLabels {

@@ -33,7 +33,11 @@ impl<'a> SmoothPath<'a> {
     /// The design path itself.
     #[must_use]
     pub fn design(path: &'a DesignPath) -> Self {
-        Self { path, dev: None, needle: None }
+        Self {
+            path,
+            dev: None,
+            needle: None,
+        }
     }
 
     /// The smooth path of the frames `use_frame` (residuals `r`, carrier angles `phi`, needle
@@ -48,24 +52,37 @@ impl<'a> SmoothPath<'a> {
         order: usize,
     ) -> Option<Self> {
         let w: Vec<f64> = use_frame.iter().map(|u| f64::from(u8::from(*u))).collect();
-        let comps = vec![r.iter().map(|p| p.x).collect(), r.iter().map(|p| p.y).collect::<Vec<_>>()];
+        let comps = vec![
+            r.iter().map(|p| p.x).collect(),
+            r.iter().map(|p| p.y).collect::<Vec<_>>(),
+        ];
         let mut d = Fourier::fit(phi, &comps, &w, order)?;
         let needle = match needle {
             Some(a) => {
-                let da: Vec<f64> = a.iter().zip(phi).map(|(a, p)| wrap_pi(a - path.needle_angle(*p))).collect();
+                let da: Vec<f64> = a
+                    .iter()
+                    .zip(phi)
+                    .map(|(a, p)| wrap_pi(a - path.needle_angle(*p)))
+                    .collect();
                 Some(Fourier::fit(phi, &[da], &w, order)?.remove(0))
             }
             None => None,
         };
         let dy = d.pop()?;
         let dx = d.pop()?;
-        Some(Self { path, dev: Some([dx, dy]), needle })
+        Some(Self {
+            path,
+            dev: Some([dx, dy]),
+            needle,
+        })
     }
 
     /// `d(φ)`, mm.
     #[must_use]
     pub fn deviation(&self, phi: f64) -> Point {
-        self.dev.as_ref().map_or(Point::default(), |[x, y]| Point::new(x.value(phi), y.value(phi)))
+        self.dev.as_ref().map_or(Point::default(), |[x, y]| {
+            Point::new(x.value(phi), y.value(phi))
+        })
     }
 
     /// Planet centre (on the needle's axis) and tip at φ, mm.
@@ -89,7 +106,10 @@ impl<'a> SmoothPath<'a> {
                 let phi = self.path.angle_at(k, n);
                 let (a1, b1) = self.arm(phi);
                 let (a2, b2) = self.arm(phi + PI);
-                TwoArms { arm1: feature_pose(phi, a1, b1), arm2: feature_pose(phi + PI, a2, b2) }
+                TwoArms {
+                    arm1: feature_pose(phi, a1, b1),
+                    arm2: feature_pose(phi + PI, a2, b2),
+                }
             })
             .collect()
     }
@@ -99,7 +119,12 @@ impl<'a> SmoothPath<'a> {
     /// # Errors
     /// [`SimulateError`] for a bad option (level, depth).
     pub fn features(&self, opts: &FeatureOptions) -> Result<Features, SimulateError> {
-        features_of_turn(&self.turn(TURN_SAMPLES), self.path.center_mm, self.path.direction, opts)
+        features_of_turn(
+            &self.turn(TURN_SAMPLES),
+            self.path.center_mm,
+            self.path.direction,
+            opts,
+        )
     }
 
     /// `(RMS, max, carrier angle of the max)` of `|d(φ)|` over the turn, mm, mm, rad.
@@ -184,7 +209,12 @@ pub fn deviation_report(
     sigma_mm: f64,
     order: usize,
 ) -> DeviationReport {
-    let used: Vec<f64> = r.iter().zip(inlier).filter(|(_, u)| **u).map(|(p, _)| p.norm()).collect();
+    let used: Vec<f64> = r
+        .iter()
+        .zip(inlier)
+        .filter(|(_, u)| **u)
+        .map(|(p, _)| p.norm())
+        .collect();
     let n = used.len().max(1) as f64;
     let path = smooth.path;
     let (rms, mx, at) = smooth.deviation_stats();

@@ -38,9 +38,7 @@ pub struct Known {
 
 /// Twice the signed area of a closed polygon (shoelace), > 0 counter-clockwise.
 fn signed_area2(p: &[Point]) -> f64 {
-    (0..p.len())
-        .map(|k| p[k].cross(p[(k + 1) % p.len()]))
-        .sum()
+    (0..p.len()).map(|k| p[k].cross(p[(k + 1) % p.len()])).sum()
 }
 
 fn gyration(p: &[Point]) -> f64 {
@@ -49,7 +47,12 @@ fn gyration(p: &[Point]) -> f64 {
 }
 
 /// The period (s): `60/rpm`, or found in the frames; refused when the record is shorter.
-pub fn period(file: &str, time_s: &[f64], u: &[Point], rpm: Option<f64>) -> Result<f64, CompareError> {
+pub fn period(
+    file: &str,
+    time_s: &[f64],
+    u: &[Point],
+    rpm: Option<f64>,
+) -> Result<f64, CompareError> {
     let span = time_s[time_s.len() - 1] - time_s[0];
     let t = match rpm {
         Some(r) => 60.0 / r,
@@ -91,7 +94,11 @@ pub fn start(
     period_s: f64,
     known: Known,
 ) -> Result<Start, CompareError> {
-    let Known { scale, datum, rotation } = known;
+    let Known {
+        scale,
+        datum,
+        rotation,
+    } = known;
     let omega = f64::from(path.direction) * TAU / period_s;
     let design = path.turn(1024);
     let first: Vec<Point> = u
@@ -106,8 +113,16 @@ pub fn start(
             file: file.into(),
             message: format!(
                 "the track runs {} and the design {}: filmed from the other side? add --mirror (or drop it), or check --y-up/--y-down",
-                if a_track > 0.0 { "counter-clockwise" } else { "clockwise" },
-                if a_design > 0.0 { "counter-clockwise" } else { "clockwise" },
+                if a_track > 0.0 {
+                    "counter-clockwise"
+                } else {
+                    "clockwise"
+                },
+                if a_design > 0.0 {
+                    "counter-clockwise"
+                } else {
+                    "clockwise"
+                },
             ),
         });
     }
@@ -126,13 +141,16 @@ pub fn start(
         Some(s) => s,
         None => ratio,
     };
-    let mut best = (f64::INFINITY, Start {
-        rotation_rad: 0.0,
-        translation_mm: Point::default(),
-        scale: s,
-        phase_rad: 0.0,
-        omega_rad_s: omega,
-    });
+    let mut best = (
+        f64::INFINITY,
+        Start {
+            rotation_rad: 0.0,
+            translation_mm: Point::default(),
+            scale: s,
+            phase_rad: 0.0,
+            omega_rad_s: omega,
+        },
+    );
     let su2: f64 = u.iter().map(|p| p.norm_squared()).sum::<f64>() * s * s;
     for k in 0..360 {
         let phase = (k as f64).to_radians();
@@ -152,13 +170,16 @@ pub fn start(
         let theta = rotation.unwrap_or_else(|| cross.atan2(dot));
         let cost = b2 + su2 - 2.0 * (theta.cos() * dot + theta.sin() * cross);
         if cost < best.0 {
-            best = (cost, Start {
-                rotation_rad: theta,
-                translation_mm: anchor,
-                scale: s,
-                phase_rad: phase,
-                omega_rad_s: omega,
-            });
+            best = (
+                cost,
+                Start {
+                    rotation_rad: theta,
+                    translation_mm: anchor,
+                    scale: s,
+                    phase_rad: phase,
+                    omega_rad_s: omega,
+                },
+            );
         }
     }
     Ok(best.1)

@@ -134,28 +134,46 @@ fn bad(option: &'static str, message: String) -> CompareError {
 /// Checks the options and gives the scale in mm per track unit (`None`: fitted).
 fn scale_of(track: &Track, opts: &CompareOptions) -> Result<Option<f64>, CompareError> {
     if !(1..=6).contains(&opts.drift_order) {
-        return Err(bad("drift-order", format!("{}: expected 1..=6", opts.drift_order)));
+        return Err(bad(
+            "drift-order",
+            format!("{}: expected 1..=6", opts.drift_order),
+        ));
     }
     if !(2..=40).contains(&opts.smooth_order) {
-        return Err(bad("smooth-order", format!("{}: expected 2..=40", opts.smooth_order)));
+        return Err(bad(
+            "smooth-order",
+            format!("{}: expected 2..=40", opts.smooth_order),
+        ));
     }
     if !(opts.outlier_sigma.is_finite() && opts.outlier_sigma >= 2.0) {
-        return Err(bad("outlier-sigma", format!("{}: expected ≥ 2", opts.outlier_sigma)));
+        return Err(bad(
+            "outlier-sigma",
+            format!("{}: expected ≥ 2", opts.outlier_sigma),
+        ));
     }
     if let Some(r) = opts.rpm
         && !(r.is_finite() && r > 0.0)
     {
-        return Err(bad("rpm", format!("{r}: expected a positive carrier speed")));
+        return Err(bad(
+            "rpm",
+            format!("{r}: expected a positive carrier speed"),
+        ));
     }
     match opts.scale {
         Scale::Units => track
             .unit
             .mm()
             .map(Some)
-            .ok_or_else(|| CompareError::PixelsWithoutScale { file: track.file.clone() }),
+            .ok_or_else(|| CompareError::PixelsWithoutScale {
+                file: track.file.clone(),
+            }),
         Scale::PxPerMm(s) if s.is_finite() && s > 0.0 => Ok(Some(1.0 / s)),
         Scale::PxPerMm(s) => Err(bad("px-per-mm", format!("{s}: expected a positive scale"))),
-        Scale::Calibration { p1, p2, distance_mm } => {
+        Scale::Calibration {
+            p1,
+            p2,
+            distance_mm,
+        } => {
             let d = p1.distance(p2);
             if !(distance_mm.is_finite() && distance_mm > 0.0 && d.is_finite() && d > 0.0) {
                 return Err(bad(
@@ -175,13 +193,23 @@ fn scale_of(track: &Track, opts: &CompareOptions) -> Result<Option<f64>, Compare
 /// [`CompareError`]: a bad option, pixels without a scale, less than a turn of frames, a track
 /// that runs the other way round or is far off the design's size; [`CompareError::NoFit`] when
 /// the fit fails.
-pub fn compare(track: &Track, rebuilt: &Rebuilt, opts: &CompareOptions) -> Result<Comparison, CompareError> {
+pub fn compare(
+    track: &Track,
+    rebuilt: &Rebuilt,
+    opts: &CompareOptions,
+) -> Result<Comparison, CompareError> {
     let n = track.tip.len();
     let scale = scale_of(track, opts)?;
     if n < 32 {
-        return Err(CompareError::TooShort { file: track.file.clone(), message: format!("{n} frames") });
+        return Err(CompareError::TooShort {
+            file: track.file.clone(),
+            message: format!("{n} frames"),
+        });
     }
-    let axes = Point::new(if opts.mirror { -1.0 } else { 1.0 }, if track.y_down { -1.0 } else { 1.0 });
+    let axes = Point::new(
+        if opts.mirror { -1.0 } else { 1.0 },
+        if track.y_down { -1.0 } else { 1.0 },
+    );
     let flip = |p: Point| Point::new(p.x * axes.x, p.y * axes.y);
     let pts: Vec<Point> = track.tip.iter().map(|p| flip(*p)).collect();
     let reference = match opts.carrier_axis {
@@ -206,7 +234,11 @@ pub fn compare(track: &Track, rebuilt: &Rebuilt, opts: &CompareOptions) -> Resul
         &u,
         &dt,
         period,
-        initial::Known { scale, datum, rotation: opts.rotation_rad },
+        initial::Known {
+            scale,
+            datum,
+            rotation: opts.rotation_rad,
+        },
     )?;
     let fo = FitOptions {
         fit_scale: scale.is_none(),
@@ -219,31 +251,71 @@ pub fn compare(track: &Track, rebuilt: &Rebuilt, opts: &CompareOptions) -> Resul
     };
     let fit = register::fit(&path, &u, &dt, half, &start, fo);
     if !fit.values.iter().all(|v| v.is_finite()) {
-        return Err(CompareError::NoFit { message: "the parameters left the finite numbers".into() });
+        return Err(CompareError::NoFit {
+            message: "the parameters left the finite numbers".into(),
+        });
     }
     let get = |name: &str| {
-        fit.names.iter().position(|n| *n == name).map(|k| Estimate { value: fit.values[k], se: fit.standard_errors[k] })
+        fit.names.iter().position(|n| *n == name).map(|k| Estimate {
+            value: fit.values[k],
+            se: fit.standard_errors[k],
+        })
     };
-    let theta = get("rotation_rad").unwrap_or(Estimate { value: start.rotation_rad, se: 0.0 });
+    let theta = get("rotation_rad").unwrap_or(Estimate {
+        value: start.rotation_rad,
+        se: 0.0,
+    });
     let t = match (get("translation_x_mm"), get("translation_y_mm")) {
         (Some(x), Some(y)) => [x, y],
-        _ => [Estimate { value: path.center_mm.x, se: 0.0 }, Estimate { value: path.center_mm.y, se: 0.0 }],
+        _ => [
+            Estimate {
+                value: path.center_mm.x,
+                se: 0.0,
+            },
+            Estimate {
+                value: path.center_mm.y,
+                se: 0.0,
+            },
+        ],
     };
     let s = match get("ln_scale") {
-        Some(l) => Estimate { value: start.scale * l.value.exp(), se: start.scale * l.value.exp() * l.se },
-        None => Estimate { value: start.scale, se: 0.0 },
+        Some(l) => Estimate {
+            value: start.scale * l.value.exp(),
+            se: start.scale * l.value.exp() * l.se,
+        },
+        None => Estimate {
+            value: start.scale,
+            se: 0.0,
+        },
     };
-    let land = |p: Point| (p - reference).rotate(theta.value) * s.value + Point::new(t[0].value, t[1].value);
+    let land = |p: Point| {
+        (p - reference).rotate(theta.value) * s.value + Point::new(t[0].value, t[1].value)
+    };
     let t_full = land(Point::default());
-    let (phase, omega) = (get("phase_rad").expect("fitted"), get("omega_rad_s").expect("fitted"));
+    let (phase, omega) = (
+        get("phase_rad").expect("fitted"),
+        get("omega_rad_s").expect("fitted"),
+    );
     let rpm_of = |w: f64| w.abs() * 60.0 / TAU;
     let inlier: Vec<bool> = fit.outlier.iter().map(|o| !o).collect();
     let needle: Option<Vec<f64>> = track.marker.as_ref().map(|m| {
-        m.iter().zip(&fit.q_mm).map(|(m, q)| (*q - land(flip(*m))).atan2()).collect()
+        m.iter()
+            .zip(&fit.q_mm)
+            .map(|(m, q)| (*q - land(flip(*m))).atan2())
+            .collect()
     });
     let order = opts.smooth_order;
-    let smooth = SmoothPath::fit(&path, &fit.phi_rad, &fit.residual_mm, needle.as_deref(), &inlier, order)
-        .ok_or_else(|| CompareError::NoFit { message: "the frames do not determine the deviation by carrier angle".into() })?;
+    let smooth = SmoothPath::fit(
+        &path,
+        &fit.phi_rad,
+        &fit.residual_mm,
+        needle.as_deref(),
+        &inlier,
+        order,
+    )
+    .ok_or_else(|| CompareError::NoFit {
+        message: "the frames do not determine the deviation by carrier angle".into(),
+    })?;
     let mean_rpm = rpm_of((fit.phi_rad[n - 1] - fit.phi_rad[0]) / (t1 - t0));
     let mut fopts = opts.features.with_rpm(mean_rpm);
     if let Some(sp) = opts.spacing_mm {
@@ -252,15 +324,39 @@ pub fn compare(track: &Track, rebuilt: &Rebuilt, opts: &CompareOptions) -> Resul
     let fe = |e: crate::simulate::SimulateError| bad("features", e.to_string());
     let design_features = SmoothPath::design(&path).features(&fopts).map_err(fe)?;
     let track_features = smooth.features(&fopts).map_err(fe)?;
-    let deviation = figures::deviation_report(&smooth, &fit.phi_rad, &fit.residual_mm, &inlier, fit.sigma_mm, order);
+    let deviation = figures::deviation_report(
+        &smooth,
+        &fit.phi_rad,
+        &fit.residual_mm,
+        &inlier,
+        fit.sigma_mm,
+        order,
+    );
     let design_fig = figures::figures_of(&design_features, 0.0);
     let track_fig = figures::figures_of(&track_features, deviation.rms_mm);
-    let turns = turns(&path, track, &fit, &inlier, needle.as_deref(), order, &fopts)?;
+    let turns = turns(
+        &path,
+        track,
+        &fit,
+        &inlier,
+        needle.as_deref(),
+        order,
+        &fopts,
+    )?;
     let per_turn: Vec<_> = turns.iter().map(|t| t.figures).collect();
     let mut dts: Vec<f64> = track.time_s.windows(2).map(|w| w[1] - w[0]).collect();
     dts.sort_by(f64::total_cmp);
-    let outlier_lines: Vec<usize> = fit.outlier.iter().zip(&track.line).filter(|(o, _)| **o).map(|(_, l)| *l).collect();
-    let deg = |e: Estimate| Estimate { value: e.value.to_degrees(), se: e.se.to_degrees() };
+    let outlier_lines: Vec<usize> = fit
+        .outlier
+        .iter()
+        .zip(&track.line)
+        .filter(|(o, _)| **o)
+        .map(|(_, l)| *l)
+        .collect();
+    let deg = |e: Estimate| Estimate {
+        value: e.value.to_degrees(),
+        se: e.se.to_degrees(),
+    };
     let report = CompareReport {
         schema_version: 1,
         track: TrackSummary {
@@ -277,16 +373,34 @@ pub fn compare(track: &Track, rebuilt: &Rebuilt, opts: &CompareOptions) -> Resul
         registration: RegistrationReport {
             rotation_deg: deg(theta),
             rotation_given: opts.rotation_rad.is_some(),
-            translation_mm: [Estimate { value: t_full.x, se: t[0].se }, Estimate { value: t_full.y, se: t[1].se }],
+            translation_mm: [
+                Estimate {
+                    value: t_full.x,
+                    se: t[0].se,
+                },
+                Estimate {
+                    value: t_full.y,
+                    se: t[1].se,
+                },
+            ],
             scale_mm_per_unit: s,
             scale_fitted: scale.is_none(),
             mirrored: opts.mirror,
             carrier_axis: opts.carrier_axis.map(|a| [a.x, a.y]),
             mid_time_s: mid,
-            phase_deg: Estimate { value: phase.value.to_degrees().rem_euclid(360.0), se: phase.se.to_degrees() },
-            rpm: Estimate { value: rpm_of(omega.value), se: rpm_of(omega.se) },
+            phase_deg: Estimate {
+                value: phase.value.to_degrees().rem_euclid(360.0),
+                se: phase.se.to_degrees(),
+            },
+            rpm: Estimate {
+                value: rpm_of(omega.value),
+                se: rpm_of(omega.se),
+            },
             mean_rpm,
-            drift_deg: fit.names.iter().zip(fit.values.iter().zip(&fit.standard_errors))
+            drift_deg: fit
+                .names
+                .iter()
+                .zip(fit.values.iter().zip(&fit.standard_errors))
                 .filter(|(n, _)| n.starts_with("drift"))
                 .map(|(_, (v, e))| deg(Estimate { value: *v, se: *e }))
                 .collect(),
@@ -298,7 +412,12 @@ pub fn compare(track: &Track, rebuilt: &Rebuilt, opts: &CompareOptions) -> Resul
         },
         deviation,
         features: report::FeaturesComparison {
-            needle_from: if track.marker.is_some() { "marker" } else { "design" }.into(),
+            needle_from: if track.marker.is_some() {
+                "marker"
+            } else {
+                "design"
+            }
+            .into(),
             difference: figures::difference(&track_fig, &design_fig),
             design: design_features,
             track: track_features,
@@ -318,7 +437,11 @@ pub fn compare(track: &Track, rebuilt: &Rebuilt, opts: &CompareOptions) -> Resul
             outlier: fit.outlier[i],
         })
         .collect();
-    Ok(Comparison { report, frames, design_mm: path.turn(figures::TURN_SAMPLES) })
+    Ok(Comparison {
+        report,
+        frames,
+        design_mm: path.turn(figures::TURN_SAMPLES),
+    })
 }
 
 /// The whole turns of the record, each fitted on its own frames.
@@ -333,23 +456,44 @@ fn turns(
 ) -> Result<Vec<TurnReport>, CompareError> {
     let sense = f64::from(path.direction);
     let phi0 = fit.phi_rad[0];
-    let index: Vec<f64> = fit.phi_rad.iter().map(|p| (sense * (p - phi0) / TAU).floor()).collect();
-    let whole = (sense * (fit.phi_rad[fit.phi_rad.len() - 1] - phi0) / TAU).floor().max(0.0) as usize;
+    let index: Vec<f64> = fit
+        .phi_rad
+        .iter()
+        .map(|p| (sense * (p - phi0) / TAU).floor())
+        .collect();
+    let whole = (sense * (fit.phi_rad[fit.phi_rad.len() - 1] - phi0) / TAU)
+        .floor()
+        .max(0.0) as usize;
     let mut out = Vec::new();
     for j in 0..whole {
-        let mine: Vec<bool> = index.iter().zip(inlier).map(|(k, u)| *k == j as f64 && *u).collect();
+        let mine: Vec<bool> = index
+            .iter()
+            .zip(inlier)
+            .map(|(k, u)| *k == j as f64 && *u)
+            .collect();
         let all: Vec<usize> = (0..index.len()).filter(|&i| index[i] == j as f64).collect();
-        let (Some(&a), Some(&b)) = (all.first(), all.last()) else { continue };
-        let Some(smooth) = SmoothPath::fit(path, &fit.phi_rad, &fit.residual_mm, needle, &mine, order) else {
+        let (Some(&a), Some(&b)) = (all.first(), all.last()) else {
             continue;
         };
-        let used: Vec<f64> = (0..index.len()).filter(|&i| mine[i]).map(|i| fit.residual_mm[i].norm_squared()).collect();
-        let figures = smooth.figures(fopts).map_err(|e| bad("features", e.to_string()))?;
+        let Some(smooth) =
+            SmoothPath::fit(path, &fit.phi_rad, &fit.residual_mm, needle, &mine, order)
+        else {
+            continue;
+        };
+        let used: Vec<f64> = (0..index.len())
+            .filter(|&i| mine[i])
+            .map(|i| fit.residual_mm[i].norm_squared())
+            .collect();
+        let figures = smooth
+            .figures(fopts)
+            .map_err(|e| bad("features", e.to_string()))?;
         out.push(TurnReport {
             index: j,
             frames: used.len(),
             start_s: track.time_s[a],
-            rpm: (fit.phi_rad[b] - fit.phi_rad[a]).abs() / (track.time_s[b] - track.time_s[a]) * 60.0 / TAU,
+            rpm: (fit.phi_rad[b] - fit.phi_rad[a]).abs() / (track.time_s[b] - track.time_s[a])
+                * 60.0
+                / TAU,
             frame_rms_mm: (used.iter().sum::<f64>() / used.len().max(1) as f64).sqrt(),
             figures,
         });
@@ -363,6 +507,9 @@ fn turns(
 /// [`CompareError::Unreadable`], or as [`parse_track`].
 pub fn read_track(path: &std::path::Path, opts: &ReadOptions) -> Result<Track, CompareError> {
     let file = path.display().to_string();
-    let text = std::fs::read_to_string(path).map_err(|e| CompareError::Unreadable { file: file.clone(), message: e.to_string() })?;
+    let text = std::fs::read_to_string(path).map_err(|e| CompareError::Unreadable {
+        file: file.clone(),
+        message: e.to_string(),
+    })?;
     parse_track(&text, &file, opts)
 }

@@ -43,11 +43,13 @@ fn autocorrelation(p: &[Point]) -> Vec<f64> {
             *b = if coord == 0 { q.x } else { q.y };
         }
         let mut spec = fwd.make_output_vec();
-        fwd.process(&mut buf, &mut spec).expect("sizes from the plan");
+        fwd.process(&mut buf, &mut spec)
+            .expect("sizes from the plan");
         for c in &mut spec {
-            *c = *c * c.conj();
+            *c *= c.conj();
         }
-        inv.process(&mut spec, &mut buf).expect("sizes from the plan");
+        inv.process(&mut spec, &mut buf)
+            .expect("sizes from the plan");
         for (ri, b) in r.iter_mut().zip(&buf) {
             *ri += b / m as f64;
         }

@@ -89,7 +89,13 @@ impl Model<'_> {
             n.push("ln_scale");
         }
         n.extend(["phase_rad", "omega_rad_s"]);
-        const DRIFT: [&str; 5] = ["drift_2_rad", "drift_3_rad", "drift_4_rad", "drift_5_rad", "drift_6_rad"];
+        const DRIFT: [&str; 5] = [
+            "drift_2_rad",
+            "drift_3_rad",
+            "drift_4_rad",
+            "drift_5_rad",
+            "drift_6_rad",
+        ];
         n.extend(&DRIFT[..self.opts.drift_order.saturating_sub(1).min(5)]);
         n
     }
@@ -130,11 +136,20 @@ impl Model<'_> {
     }
 
     /// Residuals, and the Jacobian's rows when `jac` is given (2 rows per frame).
-    fn eval(&self, b: &[f64], start: &Start, mut jac: Option<&mut Vec<[f64; 16]>>) -> (Vec<Point>, Vec<f64>, Vec<Point>) {
+    fn eval(
+        &self,
+        b: &[f64],
+        start: &Start,
+        mut jac: Option<&mut Vec<[f64; 16]>>,
+    ) -> (Vec<Point>, Vec<f64>, Vec<Point>) {
         let (theta, t, s, phase, omega, drift) = self.unpack(b, start);
         let (sn, cs) = theta.sin_cos();
         let n = self.u.len();
-        let (mut r, mut phis, mut qs) = (Vec::with_capacity(n), Vec::with_capacity(n), Vec::with_capacity(n));
+        let (mut r, mut phis, mut qs) = (
+            Vec::with_capacity(n),
+            Vec::with_capacity(n),
+            Vec::with_capacity(n),
+        );
         if let Some(j) = jac.as_deref_mut() {
             j.clear();
         }
@@ -179,8 +194,16 @@ impl Model<'_> {
 }
 
 /// Robust weights and outlier flags of the residuals `r` at carrier angles `phi`, and σ (mm).
-fn weights(r: &[Point], phi: &[f64], prev: &[f64], opts: &FitOptions) -> (Vec<f64>, Vec<bool>, f64) {
-    let comps = vec![r.iter().map(|p| p.x).collect(), r.iter().map(|p| p.y).collect::<Vec<_>>()];
+fn weights(
+    r: &[Point],
+    phi: &[f64],
+    prev: &[f64],
+    opts: &FitOptions,
+) -> (Vec<f64>, Vec<bool>, f64) {
+    let comps = vec![
+        r.iter().map(|p| p.x).collect(),
+        r.iter().map(|p| p.y).collect::<Vec<_>>(),
+    ];
     let smooth = Fourier::fit(phi, &comps, prev, opts.smooth_order);
     let e: Vec<f64> = r
         .iter()
@@ -190,7 +213,12 @@ fn weights(r: &[Point], phi: &[f64], prev: &[f64], opts: &FitOptions) -> (Vec<f6
             None => p.norm(),
         })
         .collect();
-    let mut sorted: Vec<f64> = e.iter().zip(prev).filter(|(_, w)| **w > 0.0).map(|(e, _)| *e).collect();
+    let mut sorted: Vec<f64> = e
+        .iter()
+        .zip(prev)
+        .filter(|(_, w)| **w > 0.0)
+        .map(|(e, _)| *e)
+        .collect();
     if sorted.is_empty() {
         sorted = e.clone();
     }
@@ -200,7 +228,13 @@ fn weights(r: &[Point], phi: &[f64], prev: &[f64], opts: &FitOptions) -> (Vec<f6
     let w = e
         .iter()
         .zip(&out)
-        .map(|(&e, &o)| if o { 0.0 } else { (opts.huber_k * sigma / e).min(1.0) })
+        .map(|(&e, &o)| {
+            if o {
+                0.0
+            } else {
+                (opts.huber_k * sigma / e).min(1.0)
+            }
+        })
         .collect();
     (w, out, sigma)
 }
@@ -208,8 +242,22 @@ fn weights(r: &[Point], phi: &[f64], prev: &[f64], opts: &FitOptions) -> (Vec<f6
 /// Fits the registration of track points `u` at times `dt_s = t − t_m` (half span `half_s`)
 /// from `start`; `scale0` is the scale, mm per unit (the starting one when fitted).
 #[must_use]
-pub fn fit(path: &DesignPath, u: &[Point], dt_s: &[f64], half_s: f64, start: &Start, opts: FitOptions) -> Fit {
-    let m = Model { path, u, dt: dt_s, half: half_s, opts, scale0: start.scale };
+pub fn fit(
+    path: &DesignPath,
+    u: &[Point],
+    dt_s: &[f64],
+    half_s: f64,
+    start: &Start,
+    opts: FitOptions,
+) -> Fit {
+    let m = Model {
+        path,
+        u,
+        dt: dt_s,
+        half: half_s,
+        opts,
+        scale0: start.scale,
+    };
     let names = m.names();
     let np = names.len();
     let mut b = vec![0.0; np];
@@ -233,7 +281,12 @@ pub fn fit(path: &DesignPath, u: &[Point], dt_s: &[f64], half_s: f64, start: &St
     let mut jac = Vec::with_capacity(2 * n);
     let mut mu = 1e-3;
     let (mut iterations, mut converged) = (0, false);
-    let cost = |r: &[Point], w: &[f64]| r.iter().zip(w).map(|(p, w)| w * p.norm_squared()).sum::<f64>();
+    let cost = |r: &[Point], w: &[f64]| {
+        r.iter()
+            .zip(w)
+            .map(|(p, w)| w * p.norm_squared())
+            .sum::<f64>()
+    };
     for it in 0..200 {
         iterations = it + 1;
         let (r, phi, _) = m.eval(&b, start, Some(&mut jac));
@@ -256,7 +309,11 @@ pub fn fit(path: &DesignPath, u: &[Point], dt_s: &[f64], half_s: f64, start: &St
             let nb: Vec<f64> = b.iter().zip(step.iter()).map(|(x, d)| x + d).collect();
             let (r1, _, _) = m.eval(&nb, start, None);
             if cost(&r1, &w) <= c0 {
-                let rel = step.iter().zip(&b).map(|(d, x)| d.abs() / (1.0 + x.abs())).fold(0.0, f64::max);
+                let rel = step
+                    .iter()
+                    .zip(&b)
+                    .map(|(d, x)| d.abs() / (1.0 + x.abs()))
+                    .fold(0.0, f64::max);
                 b = nb;
                 mu = (mu / 3.0).max(1e-12);
                 accepted = true;
@@ -280,7 +337,18 @@ pub fn fit(path: &DesignPath, u: &[Point], dt_s: &[f64], half_s: f64, start: &St
         Some(c) => (0..np).map(|d| (c[(d, d)] * s2).max(0.0).sqrt()).collect(),
         None => vec![f64::NAN; np],
     };
-    Fit { names, values: b, standard_errors, phi_rad: phi, q_mm: q, residual_mm: r, outlier, sigma_mm: sigma, iterations, converged }
+    Fit {
+        names,
+        values: b,
+        standard_errors,
+        phi_rad: phi,
+        q_mm: q,
+        residual_mm: r,
+        outlier,
+        sigma_mm: sigma,
+        iterations,
+        converged,
+    }
 }
 
 /// `JᵀWJ`, `JᵀWr` of the weighted rows.

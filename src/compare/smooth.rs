@@ -29,7 +29,12 @@ impl Fourier {
     /// `weight[i]` (0 drops a sample), one per entry of `values`; `None` when the samples do not
     /// determine it (too few, or all in a gap of the turn).
     #[must_use]
-    pub fn fit(phi: &[f64], values: &[Vec<f64>], weight: &[f64], order: usize) -> Option<Vec<Self>> {
+    pub fn fit(
+        phi: &[f64],
+        values: &[Vec<f64>],
+        weight: &[f64],
+        order: usize,
+    ) -> Option<Vec<Self>> {
         let m = 2 * order + 1;
         let mut ata = DMatrix::<f64>::zeros(m, m);
         let mut atb = vec![DVector::<f64>::zeros(m); values.len()];

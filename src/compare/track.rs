@@ -112,7 +112,11 @@ fn delimiter(line: &str) -> Option<char> {
 fn fields(line: &str, delim: Option<char>, decimal_comma: bool) -> Vec<String> {
     let conv = |f: &str| {
         let f = f.trim().trim_matches('"').trim();
-        if decimal_comma { f.replace(',', ".") } else { f.to_string() }
+        if decimal_comma {
+            f.replace(',', ".")
+        } else {
+            f.to_string()
+        }
     };
     match delim {
         Some(d) => line.split(d).map(conv).collect(),
@@ -200,7 +204,9 @@ pub fn parse_track(text: &str, file: &str, opts: &ReadOptions) -> Result<Track, 
                 column: name.into(),
                 message,
             };
-            let s = f.get(k).ok_or_else(|| bad(format!("the row has {} fields", f.len())))?;
+            let s = f
+                .get(k)
+                .ok_or_else(|| bad(format!("the row has {} fields", f.len())))?;
             if s.is_empty() {
                 return Ok(None);
             }
@@ -287,7 +293,10 @@ impl Columns {
                 return Ok(k - 1);
             }
             names.iter().position(|n| *n == c).ok_or_else(|| {
-                unknown(&c, "name a column of the header or give its position (1-based) in --columns")
+                unknown(
+                    &c,
+                    "name a column of the header or give its position (1-based) in --columns",
+                )
             })
         };
         let auto = |want: &[&str]| names.iter().position(|n| want.contains(&n.as_str()));
@@ -302,8 +311,16 @@ impl Columns {
                     ),
                 });
             }
-            let time = if c[0].trim() == "-" { None } else { Some(lookup(&c[0])?) };
-            let marker = if c.len() == 5 { Some((lookup(&c[3])?, lookup(&c[4])?)) } else { None };
+            let time = if c[0].trim() == "-" {
+                None
+            } else {
+                Some(lookup(&c[0])?)
+            };
+            let marker = if c.len() == 5 {
+                Some((lookup(&c[3])?, lookup(&c[4])?))
+            } else {
+                None
+            };
             (time, lookup(&c[1])?, lookup(&c[2])?, marker)
         } else if header.is_some() {
             let help = "name the columns with --columns time,x,y";

@@ -13,7 +13,9 @@ use std::path::Path;
 /// deviation `d(φ)` there (mm) and whether it is an outlier (0/1).
 #[must_use]
 pub fn compare_frames_csv(c: &Comparison) -> String {
-    let mut s = String::from("line,time_s,carrier_deg,x_mm,y_mm,dx_mm,dy_mm,deviation_mm,smooth_dx_mm,smooth_dy_mm,outlier\n");
+    let mut s = String::from(
+        "line,time_s,carrier_deg,x_mm,y_mm,dx_mm,dy_mm,deviation_mm,smooth_dx_mm,smooth_dy_mm,outlier\n",
+    );
     for f in &c.frames {
         let _ = writeln!(
             s,

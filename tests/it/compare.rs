@@ -29,10 +29,10 @@ struct Camera {
 }
 
 impl Camera {
-    fn to_design(&self, p: Point) -> Point {
+    fn to_design(self, p: Point) -> Point {
         Point::new(p.x, -p.y).rotate(self.theta_deg.to_radians()) * self.mm_per_px + self.t_mm
     }
-    fn to_image(&self, q: Point) -> Point {
+    fn to_image(self, q: Point) -> Point {
         let f = (q - self.t_mm).rotate(-self.theta_deg.to_radians()) / self.mm_per_px;
         Point::new(f.x, -f.y)
     }
@@ -56,13 +56,37 @@ fn gauss(rng: &mut ChaCha8Rng) -> f64 {
 /// `turns` turns (and 3 % more) of `built` at `rpm` filmed at `fps` by `cam`, the speed ramping
 /// from −2 % to +2 %; 0.3 mm noise; 2 % of the frames glitch 3–15 mm.
 fn film(built: &Rebuilt, cam: Camera, turns: f64, rpm: f64, fps: f64, seed: u64) -> Record {
+    film_with(built, cam, turns, rpm, fps, seed, false)
+}
+
+/// [`film`], with a second marker at the planet axis when `marker` (0.3 mm noise too).
+fn film_with(
+    built: &Rebuilt,
+    cam: Camera,
+    turns: f64,
+    rpm: f64,
+    fps: f64,
+    seed: u64,
+    marker: bool,
+) -> Record {
     let mut rng = ChaCha8Rng::seed_from_u64(seed);
     let dir = f64::from(built.assembly().direction);
     let w0 = dir * TAU * rpm / 60.0;
     let span = turns * 1.03 * 60.0 / rpm;
     let n = (span * fps) as usize;
     let phi0 = rng.random_range(0.0..TAU);
-    let mut r = Record { csv: "time (s),x (px),y (px)\n".into(), phi: vec![], noise: vec![], glitch: vec![], tip: vec![] };
+    let header = if marker {
+        "time (s),x (px),y (px),x2 (px),y2 (px)\n"
+    } else {
+        "time (s),x (px),y (px)\n"
+    };
+    let mut r = Record {
+        csv: header.into(),
+        phi: vec![],
+        noise: vec![],
+        glitch: vec![],
+        tip: vec![],
+    };
     for i in 0..n {
         let t = i as f64 / fps;
         // ω(t) = ω₀·(1 + 0.02·(2t/T − 1)): ±2 % over the record.
@@ -70,9 +94,21 @@ fn film(built: &Rebuilt, cam: Camera, turns: f64, rpm: f64, fps: f64, seed: u64)
         let tip = built.pose(phi).tip_mm;
         let noise = Point::new(gauss(&mut rng), gauss(&mut rng)) * 0.3;
         let glitch = rng.random::<f64>() < 0.02;
-        let jump = if glitch { Point::unit(rng.random_range(0.0..TAU)) * rng.random_range(3.0..15.0) } else { Point::default() };
+        let jump = if glitch {
+            Point::unit(rng.random_range(0.0..TAU)) * rng.random_range(3.0..15.0)
+        } else {
+            Point::default()
+        };
         let p = cam.to_image(tip + noise + jump);
-        r.csv.push_str(&format!("{t:.6},{:.5},{:.5}\n", p.x, p.y));
+        r.csv.push_str(&format!("{t:.6},{:.5},{:.5}", p.x, p.y));
+        if marker {
+            let a = cam.to_image(
+                built.pose(phi).planet_center_mm
+                    + Point::new(gauss(&mut rng), gauss(&mut rng)) * 0.3,
+            );
+            r.csv.push_str(&format!(",{:.5},{:.5}", a.x, a.y));
+        }
+        r.csv.push('\n');
         r.phi.push(phi);
         r.noise.push(noise);
         r.glitch.push(glitch);
@@ -82,7 +118,11 @@ fn film(built: &Rebuilt, cam: Camera, turns: f64, rpm: f64, fps: f64, seed: u64)
 }
 
 fn cam() -> Camera {
-    Camera { theta_deg: 17.3, t_mm: Point::new(-412.0, 233.0), mm_per_px: 0.3127 }
+    Camera {
+        theta_deg: 17.3,
+        t_mm: Point::new(-412.0, 233.0),
+        mm_per_px: 0.3127,
+    }
 }
 
 /// The registration of one synthetic record, asserted against its truth.
@@ -93,20 +133,33 @@ fn recovers(design: &str, turns: f64, seed: u64, scale: Scale) {
     let rec = film(&rebuilt, cam, turns, 100.0, 1000.0, seed);
     let track = parse_track(&rec.csv, "synthetic.csv", &ReadOptions::default()).unwrap();
     assert!(track.y_down, "pixels are image coordinates");
-    let opts = CompareOptions { scale, spacing_mm: Some(140.0), ..CompareOptions::default() };
+    let opts = CompareOptions {
+        scale,
+        spacing_mm: Some(140.0),
+        ..CompareOptions::default()
+    };
     let c = compare(&track, &rebuilt, &opts).unwrap();
     let r = &c.report;
     let g = &r.registration;
     let s = g.scale_mm_per_unit.value;
-    let est = |p: Point| Point::new(p.x, -p.y).rotate(g.rotation_deg.value.to_radians()) * s
-        + Point::new(g.translation_mm[0].value, g.translation_mm[1].value);
+    let est = |p: Point| {
+        Point::new(p.x, -p.y).rotate(g.rotation_deg.value.to_radians()) * s
+            + Point::new(g.translation_mm[0].value, g.translation_mm[1].value)
+    };
     let img: Vec<Point> = track.tip.clone();
-    let worst = img.iter().map(|p| est(*p).distance(cam.to_design(*p))).fold(0.0, f64::max);
+    let worst = img
+        .iter()
+        .map(|p| est(*p).distance(cam.to_design(*p)))
+        .fold(0.0, f64::max);
     let dtheta = g.rotation_deg.value - cam.theta_deg;
     let dscale = s / cam.mm_per_px - 1.0;
     println!(
         "{design} {turns} turns seed {seed}: transform {worst:.4} mm, rotation {dtheta:.5}° (se {:.5}°), scale {:.5} % (se {:.5} %), noise {:.4} mm, {} iterations",
-        g.rotation_deg.se, 100.0 * dscale, 100.0 * g.scale_mm_per_unit.se / s, g.noise_mm, g.iterations
+        g.rotation_deg.se,
+        100.0 * dscale,
+        100.0 * g.scale_mm_per_unit.se / s,
+        g.noise_mm,
+        g.iterations
     );
     assert!(worst <= 0.1, "transform off by {worst} mm");
     assert!(dtheta.abs() <= 0.05, "rotation off by {dtheta}°");
@@ -114,13 +167,35 @@ fn recovers(design: &str, turns: f64, seed: u64, scale: Scale) {
     assert!((g.noise_mm - 0.3).abs() < 0.03, "noise {}", g.noise_mm);
     // Every glitch flagged, few good frames.
     let flagged: Vec<bool> = c.frames.iter().map(|f| f.outlier).collect();
-    let missed = rec.glitch.iter().zip(&flagged).filter(|(g, f)| **g && !**f).count();
-    let false_flags = rec.glitch.iter().zip(&flagged).filter(|(g, f)| !**g && **f).count();
-    println!("  glitches {} missed {missed} false {false_flags}", rec.glitch.iter().filter(|g| **g).count());
+    let missed = rec
+        .glitch
+        .iter()
+        .zip(&flagged)
+        .filter(|(g, f)| **g && !**f)
+        .count();
+    let false_flags = rec
+        .glitch
+        .iter()
+        .zip(&flagged)
+        .filter(|(g, f)| !**g && **f)
+        .count();
+    println!(
+        "  glitches {} missed {missed} false {false_flags}",
+        rec.glitch.iter().filter(|g| **g).count()
+    );
     assert_eq!(missed, 0);
-    assert!(false_flags * 500 <= rec.glitch.len(), "{false_flags} good frames flagged");
+    assert!(
+        false_flags * 500 <= rec.glitch.len(),
+        "{false_flags} good frames flagged"
+    );
     // The frames' deviation figures, against their truth (the noise of the good frames).
-    let truth: Vec<f64> = rec.noise.iter().zip(&flagged).filter(|(_, f)| !**f).map(|(n, _)| n.norm()).collect();
+    let truth: Vec<f64> = rec
+        .noise
+        .iter()
+        .zip(&flagged)
+        .filter(|(_, f)| !**f)
+        .map(|(n, _)| n.norm())
+        .collect();
     let rms = (truth.iter().map(|d| d * d).sum::<f64>() / truth.len() as f64).sqrt();
     let mx = truth.iter().copied().fold(0.0, f64::max);
     let d = &r.deviation;
@@ -132,24 +207,48 @@ fn recovers(design: &str, turns: f64, seed: u64, scale: Scale) {
     // The design itself: no deviation beyond the noise floor of the smooth fit (per axis; |d|
     // has RMS √2 of it), and within 0.05 mm from two turns at 1000 frames/s, 100 rpm on.
     let floor = d.noise_floor_mm;
-    assert!(d.rms_mm <= 1.5 * 2f64.sqrt() * floor && d.max_mm <= 4.0 * floor, "rms {} max {} floor {floor}", d.rms_mm, d.max_mm);
+    assert!(
+        d.rms_mm <= 1.5 * 2f64.sqrt() * floor && d.max_mm <= 4.0 * floor,
+        "rms {} max {} floor {floor}",
+        d.rms_mm,
+        d.max_mm
+    );
     if turns >= 2.0 {
         assert!(d.rms_mm <= 0.05, "rms {}", d.rms_mm);
     }
     // The agronomic angles measured on the track.
     let f = &r.features;
-    let (dt, dp) = (f.track.take_angle_deg - f.design.take_angle_deg, f.track.push_angle_deg - f.design.push_angle_deg);
-    println!("  take {dt:.4}° push {dp:.4}° hole {:.4} mm, turns {}", f.track.hole_width_mm - f.design.hole_width_mm, r.turns.len());
+    let (dt, dp) = (
+        f.track.take_angle_deg - f.design.take_angle_deg,
+        f.track.push_angle_deg - f.design.push_angle_deg,
+    );
+    println!(
+        "  take {dt:.4}° push {dp:.4}° hole {:.4} mm, turns {}",
+        f.track.hole_width_mm - f.design.hole_width_mm,
+        r.turns.len()
+    );
     assert!(dt.abs() <= 0.2 && dp.abs() <= 0.2);
     assert_eq!(r.turns.len(), turns.floor() as usize);
     // The speed: the record's mean.
-    let mean = (rec.phi[rec.phi.len() - 1] - rec.phi[0]).abs() / (track.time_s[track.time_s.len() - 1]) * 60.0 / TAU;
-    assert!((g.mean_rpm - mean).abs() < 1e-3 * mean, "{} vs {mean}", g.mean_rpm);
+    let mean = (rec.phi[rec.phi.len() - 1] - rec.phi[0]).abs()
+        / (track.time_s[track.time_s.len() - 1])
+        * 60.0
+        / TAU;
+    assert!(
+        (g.mean_rpm - mean).abs() < 1e-3 * mean,
+        "{} vs {mean}",
+        g.mean_rpm
+    );
 }
 
 #[test]
 fn compare_one_turn_of_g1_is_registered_at_a_given_scale() {
-    recovers("assets/transplanter/g1_design.json", 1.0, 1, Scale::PxPerMm(1.0 / 0.3127));
+    recovers(
+        "assets/transplanter/g1_design.json",
+        1.0,
+        1,
+        Scale::PxPerMm(1.0 / 0.3127),
+    );
 }
 
 #[test]
@@ -179,7 +278,11 @@ fn compare_a_train_built_with_known_errors_shows_them_as_deviation() {
     let axis = cam.to_image(asm.center_mm);
     // Free: the rotation and the carrier phase absorb part of the errors (a rotation of the
     // whole train about O at a shifted phase is a sun mounted turned).
-    let free = CompareOptions { scale: Scale::PxPerMm(1.0 / cam.mm_per_px), carrier_axis: Some(axis), ..CompareOptions::default() };
+    let free = CompareOptions {
+        scale: Scale::PxPerMm(1.0 / cam.mm_per_px),
+        carrier_axis: Some(axis),
+        ..CompareOptions::default()
+    };
     let f = compare(&track, &design, &free).unwrap().report;
     println!(
         "  axis only: rotation {:.4}°, deviation rms {:.4} mm",
@@ -187,7 +290,10 @@ fn compare_a_train_built_with_known_errors_shows_them_as_deviation() {
         f.deviation.rms_mm
     );
     // The camera levelled (its rotation known) and the axis marked: only the timing is fitted.
-    let opts = CompareOptions { rotation_rad: Some(cam.theta_deg.to_radians()), ..free };
+    let opts = CompareOptions {
+        rotation_rad: Some(cam.theta_deg.to_radians()),
+        ..free
+    };
     let c = compare(&track, &design, &opts).unwrap();
     let r = &c.report;
     // Without an encoder the carrier phase is fitted, and it takes up the errors' component along
@@ -205,14 +311,21 @@ fn compare_a_train_built_with_known_errors_shows_them_as_deviation() {
         err2 += (a.normal_mm - delta.dot(normal)).powi(2);
     }
     let m = r.deviation.by_angle.len() as f64;
-    let (truth_rms, normal_rms, err_rms) = ((truth2 / m).sqrt(), (normal2 / m).sqrt(), (err2 / m).sqrt());
+    let (truth_rms, normal_rms, err_rms) =
+        ((truth2 / m).sqrt(), (normal2 / m).sqrt(), (err2 / m).sqrt());
     let floor = r.deviation.noise_floor_mm;
     println!(
         "built with errors: deviation rms {:.4} mm (truth {truth_rms:.4}, normal part {normal_rms:.4}), error of its normal part rms {err_rms:.4} max {worst:.4} mm (noise floor {floor:.4}), push angle {:.3}° vs design {:.3}°",
         r.deviation.rms_mm, r.features.track.push_angle_deg, r.features.design.push_angle_deg
     );
-    assert!(normal_rms > 0.2, "the errors move the tip off the path: {normal_rms} mm");
-    assert!(err_rms <= 0.05 && worst <= 4.0 * floor, "normal part of d(φ) off the built train's by {err_rms} (rms), {worst} mm");
+    assert!(
+        normal_rms > 0.2,
+        "the errors move the tip off the path: {normal_rms} mm"
+    );
+    assert!(
+        err_rms <= 0.05 && worst <= 4.0 * floor,
+        "normal part of d(φ) off the built train's by {err_rms} (rms), {worst} mm"
+    );
     assert!(r.deviation.rms_mm >= normal_rms - 0.05 && r.deviation.rms_mm <= truth_rms + 0.05);
 }
 
@@ -251,10 +364,22 @@ fn run_cli(name: &str, csv: &str, args: &[&str]) -> (i32, String, PathBuf) {
 #[test]
 fn compare_cli_writes_the_report_chart_and_frames() {
     let rec = g1_record(1.5);
-    let (code, err, out) = run_cli("cli", &rec.csv, &["--px-per-mm", &format!("{}", 1.0 / 0.3127), "--png"]);
+    let (code, err, out) = run_cli(
+        "cli",
+        &rec.csv,
+        &["--px-per-mm", &format!("{}", 1.0 / 0.3127), "--png"],
+    );
     assert_eq!(code, 0, "{err}");
-    let report: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(out.join("compare.json")).unwrap()).unwrap();
-    assert!((report["registration"]["rotation_deg"]["value"].as_f64().unwrap() - 17.3).abs() < 0.05);
+    let report: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("compare.json")).unwrap()).unwrap();
+    assert!(
+        (report["registration"]["rotation_deg"]["value"]
+            .as_f64()
+            .unwrap()
+            - 17.3)
+            .abs()
+            < 0.05
+    );
     assert_eq!(report["files"].as_array().unwrap().len(), 3);
     let svg = std::fs::read_to_string(out.join("compare.svg")).unwrap();
     assert!(svg.contains("outlier frames"));
@@ -268,7 +393,12 @@ fn compare_bad_input_exits_2_naming_it() {
     let rec = g1_record(1.5);
     let px = format!("{}", 1.0 / 0.3127);
     // Less than a turn.
-    let short: String = rec.csv.lines().take(rec.phi.len() / 2).map(|l| format!("{l}\n")).collect();
+    let short: String = rec
+        .csv
+        .lines()
+        .take(rec.phi.len() / 2)
+        .map(|l| format!("{l}\n"))
+        .collect();
     let (code, err, _) = run_cli("short", &short, &["--px-per-mm", &px]);
     assert_eq!(code, 2);
     assert!(err.contains("carrier turn"), "{err}");
@@ -277,21 +407,37 @@ fn compare_bad_input_exits_2_naming_it() {
     lines.swap(4, 5);
     let (code, err, _) = run_cli("time", &(lines.join("\n") + "\n"), &["--px-per-mm", &px]);
     assert_eq!(code, 2);
-    assert!(err.contains(":6: time") && err.contains("not after"), "{err}");
+    assert!(
+        err.contains(":6: time") && err.contains("not after"),
+        "{err}"
+    );
     // A non-finite value on line 9.
     let mut lines: Vec<String> = rec.csv.lines().map(String::from).collect();
     lines[8] = "0.007000,nan,12.0".into();
     let (code, err, _) = run_cli("nan", &(lines.join("\n") + "\n"), &["--px-per-mm", &px]);
     assert_eq!(code, 2);
-    assert!(err.contains(":9: column `x`") && err.contains("finite"), "{err}");
+    assert!(
+        err.contains(":9: column `x`") && err.contains("finite"),
+        "{err}"
+    );
     // Pixels without a scale.
     let (code, err, _) = run_cli("px", &rec.csv, &[]);
     assert_eq!(code, 2);
-    assert!(err.contains("pixels") && err.contains("--px-per-mm"), "{err}");
+    assert!(
+        err.contains("pixels") && err.contains("--px-per-mm"),
+        "{err}"
+    );
     // An unknown column.
-    let (code, err, _) = run_cli("column", &rec.csv, &["--px-per-mm", &px, "--columns", "time,x,z"]);
+    let (code, err, _) = run_cli(
+        "column",
+        &rec.csv,
+        &["--px-per-mm", &px, "--columns", "time,x,z"],
+    );
     assert_eq!(code, 2);
-    assert!(err.contains("no column `z`") && err.contains("time, x, y"), "{err}");
+    assert!(
+        err.contains("no column `z`") && err.contains("time, x, y"),
+        "{err}"
+    );
     // Filmed from the other side.
     let mirrored: String = rec
         .csv
@@ -316,7 +462,12 @@ fn compare_bad_input_exits_2_naming_it() {
 /// (`;`-separated, ms, decimal commas), and frame numbers with --fps.
 #[test]
 fn compare_reads_tracker_kinovea_and_frame_numbers() {
-    let t = parse_track("mass A\nt,x,y\n0.0,1.5,2.5\n0.001,1.6,2.4\n,,\n0.003,1.7,2.3\n0.004,,\n", "t.csv", &ReadOptions::default()).unwrap();
+    let t = parse_track(
+        "mass A\nt,x,y\n0.0,1.5,2.5\n0.001,1.6,2.4\n,,\n0.003,1.7,2.3\n0.004,,\n",
+        "t.csv",
+        &ReadOptions::default(),
+    )
+    .unwrap();
     assert_eq!((t.format, t.tip.len(), t.skipped), ("tracker", 3, 2));
     assert_eq!(t.line, vec![3, 4, 6]);
     assert!(!t.y_down);
@@ -330,10 +481,70 @@ fn compare_reads_tracker_kinovea_and_frame_numbers() {
     assert_eq!(k.time_s, vec![0.0, 0.04]);
     assert_eq!(k.tip[1], Point::new(11.5, 21.25));
     assert!(k.y_down);
-    let f = parse_track("frame,x,y\n10,1,2\n11,1,2\n", "f.csv", &ReadOptions { fps: Some(500.0), ..ReadOptions::default() }).unwrap();
+    let f = parse_track(
+        "frame,x,y\n10,1,2\n11,1,2\n",
+        "f.csv",
+        &ReadOptions {
+            fps: Some(500.0),
+            ..ReadOptions::default()
+        },
+    )
+    .unwrap();
     assert!((f.time_s[1] - 11.0 / 500.0).abs() < 1e-15);
-    let e = parse_track("frame,x,y\n10,1,2\n11,1,2\n", "f.csv", &ReadOptions::default()).unwrap_err();
+    let e = parse_track(
+        "frame,x,y\n10,1,2\n11,1,2\n",
+        "f.csv",
+        &ReadOptions::default(),
+    )
+    .unwrap_err();
     assert!(e.to_string().contains("--fps"), "{e}");
     let p = parse_track("1 2 3\n2 2 3\n", "h.txt", &ReadOptions::default()).unwrap();
-    assert_eq!((p.format, p.time_s[1], p.tip[0]), ("headerless", 2.0, Point::new(2.0, 3.0)));
+    assert_eq!(
+        (p.format, p.time_s[1], p.tip[0]),
+        ("headerless", 2.0, Point::new(2.0, 3.0))
+    );
+}
+
+/// A second marker at the planet axis measures the needle's angle: the intermediate 0.3° off its
+/// phase turns the needle at planting, and the track's pushing angle is the built train's, not
+/// the design's.
+#[test]
+fn compare_a_marker_on_the_needle_axis_measures_the_built_needle_angle() {
+    use ncgear::simulate::{FeatureOptions, Simulation, features};
+    let asm = assembly("assets/transplanter/g1_design.json");
+    let design = asm.rebuild();
+    let mut built_asm = asm.clone();
+    built_asm.intermediate_angle_at_zero_rad += 0.3f64.to_radians();
+    let built = built_asm.rebuild();
+    let cam = cam();
+    let rec = film_with(&built, cam, 2.0, 100.0, 1000.0, 13, true);
+    let track = parse_track(&rec.csv, "marker.csv", &ReadOptions::default()).unwrap();
+    assert!(track.marker.is_some());
+    let opts = CompareOptions {
+        scale: Scale::PxPerMm(1.0 / cam.mm_per_px),
+        carrier_axis: Some(cam.to_image(asm.center_mm)),
+        rotation_rad: Some(cam.theta_deg.to_radians()),
+        ..CompareOptions::default()
+    };
+    let r = compare(&track, &design, &opts).unwrap().report;
+    let o = FeatureOptions::default();
+    let truth = features(&Simulation::new(built_asm), &o).unwrap();
+    let nominal = features(&Simulation::new(asm), &o).unwrap();
+    let f = &r.features;
+    println!(
+        "marker: push {:.4}° (built {:.4}°, design {:.4}°), take {:.4}° (built {:.4}°, design {:.4}°)",
+        f.track.push_angle_deg,
+        truth.push_angle_deg,
+        nominal.push_angle_deg,
+        f.track.take_angle_deg,
+        truth.take_angle_deg,
+        nominal.take_angle_deg
+    );
+    assert_eq!(f.needle_from, "marker");
+    assert!(
+        (truth.push_angle_deg - nominal.push_angle_deg).abs() > 0.2,
+        "the error turns the needle"
+    );
+    assert!((f.track.push_angle_deg - truth.push_angle_deg).abs() <= 0.05);
+    assert!((f.track.take_angle_deg - truth.take_angle_deg).abs() <= 0.05);
 }
