@@ -30,6 +30,10 @@ pub struct Args {
     /// 1-based positions; time `-` for none.
     #[arg(long, value_delimiter = ',', allow_hyphen_values = true)]
     pub columns: Vec<String>,
+    /// The encoder column (name or 1-based position): each frame's carrier angle, deg, in the
+    /// direction of travel (default: a column named `encoder` or `carrier_deg`).
+    #[arg(long)]
+    pub encoder: Option<String>,
     /// The track's length unit (mm, cm, m, px), overriding the header's.
     #[arg(long)]
     pub units: Option<String>,
@@ -107,6 +111,7 @@ fn options(args: &Args) -> Result<(ReadOptions, CompareOptions), super::Failure>
         fps: args.fps,
         units,
         y_down,
+        encoder: args.encoder.clone(),
     };
     let scale = match (args.px_per_mm, args.calibration.as_slice(), args.fit_scale) {
         (Some(s), _, _) => Scale::PxPerMm(s),

@@ -81,7 +81,8 @@ pub fn period(
 
 /// The starting values of the registration of track points `u` (mirrored and flipped already,
 /// relative to the reference point: the centroid, or the carrier axis `datum`) at times
-/// `dt_s = t − t_m`, period `period_s`, with what is `known`.
+/// carrier-angle offsets `offset_rad` from the mid frame (`ω·(t − t_m)`, or the encoder's), speed
+/// `omega_rad_s` (signed), with what is `known`.
 ///
 /// # Errors
 /// [`CompareError::Mismatch`] when the track runs the other way round than the design, or its
@@ -90,8 +91,8 @@ pub fn start(
     file: &str,
     path: &DesignPath,
     u: &[Point],
-    dt_s: &[f64],
-    period_s: f64,
+    offset_rad: &[f64],
+    omega_rad_s: f64,
     known: Known,
 ) -> Result<Start, CompareError> {
     let Known {
@@ -99,12 +100,12 @@ pub fn start(
         datum,
         rotation,
     } = known;
-    let omega = f64::from(path.direction) * TAU / period_s;
+    let omega = omega_rad_s;
     let design = path.turn(1024);
     let first: Vec<Point> = u
         .iter()
-        .zip(dt_s)
-        .filter(|(_, t)| **t - dt_s[0] < period_s)
+        .zip(offset_rad)
+        .filter(|(_, o)| (**o - offset_rad[0]).abs() < TAU)
         .map(|(p, _)| *p)
         .collect();
     let (a_track, a_design) = (signed_area2(&first), signed_area2(&design));
@@ -154,7 +155,7 @@ pub fn start(
     let su2: f64 = u.iter().map(|p| p.norm_squared()).sum::<f64>() * s * s;
     for k in 0..360 {
         let phase = (k as f64).to_radians();
-        let b: Vec<Point> = dt_s.iter().map(|t| path.tip(phase + omega * t).0).collect();
+        let b: Vec<Point> = offset_rad.iter().map(|o| path.tip(phase + o).0).collect();
         let anchor = if datum {
             path.center_mm
         } else {

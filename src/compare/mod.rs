@@ -221,7 +221,34 @@ pub fn compare(
     let (mid, half) = (0.5 * (t0 + t1), 0.5 * (t1 - t0));
     let dt: Vec<f64> = track.time_s.iter().map(|t| t - mid).collect();
     let path = DesignPath::new(rebuilt);
-    let period = initial::period(&track.file, &track.time_s, &u, opts.rpm)?;
+    let sense = f64::from(path.direction);
+    // The carrier angle of each frame from the mid frame's: measured (encoder), or ω·(t − t_m).
+    let encoder: Option<Vec<f64>> = track.encoder_deg.as_ref().map(|e| {
+        let m = dt
+            .iter()
+            .map(|t| t.abs())
+            .enumerate()
+            .min_by(|a, b| a.1.total_cmp(&b.1))
+            .map_or(0, |(k, _)| k);
+        e.iter().map(|a| sense * (a - e[m]).to_radians()).collect()
+    });
+    let (offsets, omega0) = match &encoder {
+        Some(e) => {
+            let turns = (e[n - 1] - e[0]).abs() / TAU;
+            if turns < 1.0 {
+                return Err(CompareError::TooShort {
+                    file: track.file.clone(),
+                    message: format!("the encoder turns {:.1}° over the record", turns * 360.0),
+                });
+            }
+            (e.clone(), (e[n - 1] - e[0]) / (t1 - t0))
+        }
+        None => {
+            let period = initial::period(&track.file, &track.time_s, &u, opts.rpm)?;
+            let w = sense * TAU / period;
+            (dt.iter().map(|t| w * t).collect(), w)
+        }
+    };
     let datum = opts.carrier_axis.is_some();
     if let Some(r) = opts.rotation_rad
         && !r.is_finite()
@@ -232,8 +259,8 @@ pub fn compare(
         &track.file,
         &path,
         &u,
-        &dt,
-        period,
+        &offsets,
+        omega0,
         initial::Known {
             scale,
             datum,
@@ -249,7 +276,7 @@ pub fn compare(
         huber_k: 2.0,
         outlier_k: opts.outlier_sigma,
     };
-    let fit = register::fit(&path, &u, &dt, half, &start, fo);
+    let fit = register::fit(&path, &u, &dt, half, &start, fo, encoder.as_deref());
     if !fit.values.iter().all(|v| v.is_finite()) {
         return Err(CompareError::NoFit {
             message: "the parameters left the finite numbers".into(),
@@ -294,7 +321,10 @@ pub fn compare(
     let t_full = land(Point::default());
     let (phase, omega) = (
         get("phase_rad").expect("fitted"),
-        get("omega_rad_s").expect("fitted"),
+        get("omega_rad_s").unwrap_or(Estimate {
+            value: omega0,
+            se: 0.0,
+        }),
     );
     let rpm_of = |w: f64| w.abs() * 60.0 / TAU;
     let inlier: Vec<bool> = fit.outlier.iter().map(|o| !o).collect();
@@ -367,6 +397,7 @@ pub fn compare(
             unit: format!("{:?}", track.unit).to_ascii_lowercase(),
             y_down: track.y_down,
             marker: track.marker.is_some(),
+            encoder: track.encoder_deg.is_some(),
             duration_s: t1 - t0,
             fps: 1.0 / dts[dts.len() / 2],
         },

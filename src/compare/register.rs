@@ -10,6 +10,9 @@
 //! `c_2…c_D`. Jacobian: `∂r/∂θ = (q_i − t)^⊥`, `∂r/∂t = I`, `∂r/∂ln s = q_i − t`,
 //! `∂r/∂φ₀ = −B′(φ_i)`, `∂r/∂ω = −B′·(t_i − t_m)`, `∂r/∂c_k = −B′·τ_i^k`.
 //!
+//! With an encoder column the timing is measured: `φ_i = φ₀ + e_i` (`e_i` the encoder's carrier
+//! angle from the mid frame's, in the design's sense), and φ₀ the only timing unknown.
+//!
 //! Robustness: each iteration fits the smooth deviation `d(φ)` (a Fourier series of order K,
 //! [`super::smooth`]) to the residuals and scores each frame by `e_i = |r_i − d(φ_i)|`, its
 //! departure from its neighbours in carrier angle. With `σ = median(e)/√(2 ln 2)` (the
@@ -71,6 +74,7 @@ struct Model<'a> {
     path: &'a DesignPath,
     u: &'a [Point],
     dt: &'a [f64],
+    encoder: Option<&'a [f64]>,
     half: f64,
     opts: FitOptions,
     scale0: f64,
@@ -88,7 +92,11 @@ impl Model<'_> {
         if self.opts.fit_scale {
             n.push("ln_scale");
         }
-        n.extend(["phase_rad", "omega_rad_s"]);
+        n.push("phase_rad");
+        if self.encoder.is_some() {
+            return n;
+        }
+        n.push("omega_rad_s");
         const DRIFT: [&str; 5] = [
             "drift_2_rad",
             "drift_3_rad",
@@ -121,10 +129,16 @@ impl Model<'_> {
         } else {
             self.scale0
         };
+        if self.encoder.is_some() {
+            return (theta, t, s, b[k], 0.0, &[]);
+        }
         (theta, t, s, b[k], b[k + 1], &b[k + 2..])
     }
 
     fn phi(&self, i: usize, phase: f64, omega: f64, drift: &[f64]) -> f64 {
+        if let Some(e) = self.encoder {
+            return phase + e[i];
+        }
         let tau = self.dt[i] / self.half;
         let mut p = phase + omega * self.dt[i];
         let mut tk = tau;
@@ -174,7 +188,9 @@ impl Model<'_> {
                 }
                 let tau = self.dt[i] / self.half;
                 cols.push(-db);
-                cols.push(-db * self.dt[i]);
+                if self.encoder.is_none() {
+                    cols.push(-db * self.dt[i]);
+                }
                 let mut tk = tau;
                 for _ in drift {
                     tk *= tau;
@@ -240,7 +256,8 @@ fn weights(
 }
 
 /// Fits the registration of track points `u` at times `dt_s = t − t_m` (half span `half_s`)
-/// from `start`; `scale0` is the scale, mm per unit (the starting one when fitted).
+/// from `start`. With `encoder` (the carrier angle of each frame from the mid frame's, rad, in
+/// the design's sense) the timing is `φ_i = φ₀ + encoder_i`: only φ₀ is fitted.
 #[must_use]
 pub fn fit(
     path: &DesignPath,
@@ -249,11 +266,13 @@ pub fn fit(
     half_s: f64,
     start: &Start,
     opts: FitOptions,
+    encoder: Option<&[f64]>,
 ) -> Fit {
     let m = Model {
         path,
         u,
         dt: dt_s,
+        encoder,
         half: half_s,
         opts,
         scale0: start.scale,
@@ -275,7 +294,9 @@ pub fn fit(
         k += 1;
     }
     b[k] = start.phase_rad;
-    b[k + 1] = start.omega_rad_s;
+    if encoder.is_none() {
+        b[k + 1] = start.omega_rad_s;
+    }
     let n = u.len();
     let mut w = vec![1.0; n];
     let mut jac = Vec::with_capacity(2 * n);

@@ -47,6 +47,8 @@ pub struct TrackSummary {
     pub y_down: bool,
     /// Whether a second marker (needle axis) was read.
     pub marker: bool,
+    /// Whether an encoder column timed the frames (the carrier angle measured, not fitted).
+    pub encoder: bool,
     /// Time from the first frame to the last, s.
     pub duration_s: f64,
     /// Median frame rate, frames/s.
@@ -88,7 +90,7 @@ pub struct RegistrationReport {
     pub mid_time_s: f64,
     /// Carrier angle φ₀ at t_m, deg (world, in [0, 360)).
     pub phase_deg: Estimate,
-    /// Carrier speed at t_m (|ω|), rpm.
+    /// Carrier speed at t_m (|ω|), rpm; with an encoder, the mean (se 0).
     pub rpm: Estimate,
     /// Mean carrier speed over the record, rpm.
     pub mean_rpm: f64,

@@ -6,7 +6,7 @@
 //! none). The data start at the first line whose fields are all numbers or empty; the header is
 //! the last line before it with as many fields, its other lines (titles, comments) are skipped.
 //! A column's unit is read from its name, `x (px)`, `Time [ms]`. A row with an empty x or y (a
-//! frame the tracker lost) is skipped; any other empty, non-numeric or non-finite value is an
+//! frame the tracker lost) is skipped; an `encoder` column (deg) gives each frame's carrier angle; any other empty, non-numeric or non-finite value is an
 //! error naming its line and column.
 
 use super::CompareError;
@@ -67,6 +67,9 @@ pub struct ReadOptions {
     pub units: Option<LengthUnit>,
     /// Whether y points down (image coordinates); default: yes for pixels, no otherwise.
     pub y_down: Option<bool>,
+    /// The encoder column (name or 1-based position): the carrier angle of each frame, deg,
+    /// counting in the direction of travel. Default: a column named `encoder` or `carrier_deg`.
+    pub encoder: Option<String>,
 }
 
 /// A track as read: times in seconds, positions in the file's unit and axes.
@@ -84,6 +87,8 @@ pub struct Track {
     pub marker: Option<Vec<Point>>,
     /// Line number (1-based) of each frame.
     pub line: Vec<usize>,
+    /// The encoder's carrier angle of each frame, deg (travel direction), when read.
+    pub encoder_deg: Option<Vec<f64>>,
     /// Length unit.
     pub unit: LengthUnit,
     /// Whether y points down.
@@ -190,6 +195,7 @@ pub fn parse_track(text: &str, file: &str, opts: &ReadOptions) -> Result<Track, 
         tip: Vec::new(),
         marker: cols.marker.map(|_| Vec::new()),
         line: Vec::new(),
+        encoder_deg: cols.encoder.map(|_| Vec::new()),
         unit,
         y_down: opts.y_down.unwrap_or(unit == LengthUnit::Px),
         skipped: 0,
@@ -249,6 +255,14 @@ pub fn parse_track(text: &str, file: &str, opts: &ReadOptions) -> Result<Track, 
             };
             m.push(Point::new(mx, my));
         }
+        if let (Some(k), Some(e)) = (cols.encoder, track.encoder_deg.as_mut()) {
+            e.push(value(k, "encoder")?.ok_or_else(|| CompareError::BadValue {
+                file: file.into(),
+                line: *line,
+                column: "encoder".into(),
+                message: "empty: every frame needs its carrier angle".into(),
+            })?);
+        }
         track.time_s.push(t);
         track.tip.push(Point::new(x, y));
         track.line.push(*line);
@@ -265,6 +279,7 @@ struct Columns {
     y: usize,
     x_unit: Option<String>,
     marker: Option<(usize, usize)>,
+    encoder: Option<usize>,
 }
 
 impl Columns {
@@ -334,6 +349,11 @@ impl Columns {
         } else {
             (None, 0, 1, None)
         };
+        let encoder = match &opts.encoder {
+            Some(c) => Some(lookup(c)?),
+            None if header.is_some() => auto(&["encoder", "carrier_deg", "encoder_deg"]),
+            None => None,
+        };
         let unit_of = |k: usize| header.and_then(|h| h[k].1.clone());
         let time_is_frames = time.is_some_and(|k| {
             names[k].starts_with("frame") || unit_of(k).is_some_and(|u| u.starts_with("frame"))
@@ -346,6 +366,7 @@ impl Columns {
             y,
             x_unit: unit_of(x),
             marker,
+            encoder,
         })
     }
 

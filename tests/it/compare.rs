@@ -554,3 +554,54 @@ fn compare_a_marker_on_the_needle_axis_measures_the_built_needle_angle() {
     assert!((f.track.push_angle_deg - truth.push_angle_deg).abs() <= 0.05);
     assert!((f.track.take_angle_deg - truth.take_angle_deg).abs() <= 0.05);
 }
+
+/// A carrier whose speed swings ±8 % once a turn (the load varies over the turn): a constant
+/// speed with a slow drift cannot time it, and the timing error shows as deviation; an encoder
+/// column (0.01° counts) times every frame and the deviation is the noise floor again.
+#[test]
+fn compare_an_encoder_column_times_an_uneven_carrier() {
+    let asm = assembly("assets/transplanter/g1_design.json");
+    let rebuilt = asm.rebuild();
+    let cam = cam();
+    let mut rng = ChaCha8Rng::seed_from_u64(17);
+    let (fps, w0) = (1000.0, TAU * 100.0 / 60.0);
+    let (mut phi, mut with, mut without) = (
+        0.4,
+        String::from("time (s),x (px),y (px),encoder\n"),
+        String::from("time (s),x (px),y (px)\n"),
+    );
+    let start = phi;
+    for i in 0..1300 {
+        let t = i as f64 / fps;
+        let q = rebuilt.pose(phi).tip_mm + Point::new(gauss(&mut rng), gauss(&mut rng)) * 0.3;
+        let p = cam.to_image(q);
+        let enc = ((phi - start).to_degrees() * 100.0).round() / 100.0;
+        with.push_str(&format!("{t:.6},{:.5},{:.5},{enc:.2}\n", p.x, p.y));
+        without.push_str(&format!("{t:.6},{:.5},{:.5}\n", p.x, p.y));
+        phi += w0 * (1.0 + 0.08 * phi.sin()) / fps;
+    }
+    let opts = CompareOptions {
+        scale: Scale::PxPerMm(1.0 / cam.mm_per_px),
+        ..CompareOptions::default()
+    };
+    let run = |csv: &str| {
+        let track = parse_track(csv, "uneven.csv", &ReadOptions::default()).unwrap();
+        compare(&track, &rebuilt, &opts).unwrap().report
+    };
+    let (e, f) = (run(&with), run(&without));
+    println!(
+        "uneven carrier: encoder: rotation {:.5}°, d rms {:.4} mm (floor {:.4}); fitted timing: rotation {:.5}°, d rms {:.4} mm",
+        e.registration.rotation_deg.value - cam.theta_deg,
+        e.deviation.rms_mm,
+        e.deviation.noise_floor_mm,
+        f.registration.rotation_deg.value - cam.theta_deg,
+        f.deviation.rms_mm
+    );
+    assert!(e.track.encoder && !f.track.encoder);
+    assert!((e.registration.rotation_deg.value - cam.theta_deg).abs() <= 0.05);
+    assert!(e.deviation.rms_mm <= 2.0 * e.deviation.noise_floor_mm);
+    assert!(
+        f.deviation.rms_mm > 5.0 * e.deviation.rms_mm,
+        "the fitted timing cannot follow the swing"
+    );
+}
