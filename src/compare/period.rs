@@ -64,6 +64,13 @@ pub fn period_s(time_s: &[f64], pts: &[Point]) -> Option<f64> {
     if pts.len() < 4 * MIN_OVERLAP {
         return None;
     }
+    // A grid of the median interval longer than 8 frames a frame: the frames are not evenly
+    // timed (a burst, then a gap), and no period is found in them.
+    let mut dt: Vec<f64> = time_s.windows(2).map(|w| w[1] - w[0]).collect();
+    dt.sort_by(f64::total_cmp);
+    if (time_s[time_s.len() - 1] - time_s[0]) / dt[dt.len() / 2] > 8.0 * pts.len() as f64 {
+        return None;
+    }
     let (p, h) = uniform(time_s, pts);
     let n = p.len();
     let r = autocorrelation(&p);
