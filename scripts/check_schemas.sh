@@ -5,7 +5,7 @@
 # with teeth, the kidney with teeth, the clockwise JSON trajectory, a failed design with its
 # alternatives, the module sized by strength), pair, simulate, dynamics
 # (every bundled scene and a sweep), tolerance, transplanter, loads, tradeoff, synthesis (both
-# specs) and orbit model/measure/identify. Fails naming the file and the JSON path of its first
+# specs) orbit model/measure/identify and compare (the bundled G1 track). Fails naming the file and the JSON path of its first
 # violation; a command that exits with an error other than a failed verdict (3) fails too.
 # Needs target/release/ncgear (built by `cargo test --release`). Usage: scripts/check_schemas.sh
 set -euo pipefail
@@ -80,4 +80,6 @@ done
 run orbit_model orbit_model orbit model assets/orbit/model.toml --json
 run orbit_measure orbit_measure orbit measure assets/orbit/signals.csv --model assets/orbit/model.toml --frame derotate --json
 run orbit_identify orbit_identify orbit identify --model assets/orbit/model.toml --signals assets/orbit/signals.csv --frame derotate --json
+run compare compare compare assets/compare/g1_track.csv --design assets/transplanter/g1_design.json --fps 500 --px-per-mm 3.2 --spacing 140 --out "$out/compare" --json
+file compare compare/compare.json
 "$venv/bin/python" scripts/check_schemas.py docs/schemas "${pairs[@]}"

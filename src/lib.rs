@@ -62,6 +62,7 @@ pub mod analysis;
 pub mod bounds;
 mod builder;
 pub mod cad;
+pub mod compare;
 pub mod config;
 pub mod design;
 pub mod files;

@@ -4,6 +4,7 @@ use clap::{Parser, Subcommand};
 use std::io::IsTerminal;
 use std::process::ExitCode;
 
+mod compare;
 mod design;
 mod design_args;
 mod dynamics;
@@ -51,6 +52,8 @@ enum Command {
     Serve(serve::Args),
     /// Key poses of the needle (and target bands) → the mechanism and its gears.
     Synthesize(synthesize::Args),
+    /// A filmed needle-tip track registered to its design's path and compared with it.
+    Compare(compare::Args),
 }
 
 /// How a command failed; decides the exit code.
@@ -265,6 +268,7 @@ pub fn main() -> ExitCode {
         Command::Loads(a) => loads::run(a),
         Command::Serve(a) => serve::run(a),
         Command::Synthesize(a) => synthesize::run(a),
+        Command::Compare(a) => compare::run(a),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -3,6 +3,7 @@
 //! animation and the JSON Schemas of the reports.
 
 pub mod animate;
+mod compare_files;
 mod design_files;
 mod dynamics_files;
 mod error;
@@ -24,6 +25,7 @@ mod teeth_files;
 mod tolerance_files;
 mod tradeoff_files;
 
+pub use compare_files::{compare_frames_csv, write_compare};
 pub use design_files::{DesignFiles, pitch_csv, ratio_plot, write_design, write_design_with};
 pub use dynamics_files::write_dynamics;
 pub use error::OutputError;

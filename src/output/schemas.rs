@@ -23,6 +23,7 @@ use crate::analysis::dynamics::rotor::RotorReport;
 use crate::analysis::orbit::report::{IdentifyReport, MeasureReport, ModelReport};
 use crate::analysis::tolerance::ToleranceReport;
 use crate::analysis::transplanter::TransplanterReport;
+use crate::compare::CompareReport;
 use crate::design::DesignReport;
 use crate::design::tradeoff::TradeOff;
 use crate::loads::LoadsReport;
@@ -107,6 +108,7 @@ pub fn schemas() -> Vec<(&'static str, Value)> {
         ("orbit_model.schema.json", schema_for::<ModelReport>()),
         ("orbit_measure.schema.json", schema_for::<MeasureReport>()),
         ("orbit_identify.schema.json", schema_for::<IdentifyReport>()),
+        ("compare.schema.json", schema_for::<CompareReport>()),
     ]
 }
 

@@ -4,6 +4,7 @@
 mod bounds;
 mod cli;
 mod cli_design;
+mod compare;
 mod design;
 mod doc_refs;
 mod drawings;
