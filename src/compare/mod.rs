@@ -9,7 +9,6 @@
 //! carrier angle and the agronomic figures of [`crate::simulate`] on the track beside the
 //! design's, each whole turn and their spread → [`report::CompareReport`]; [`chart`] draws it.
 
-pub mod chart;
 pub mod design_path;
 mod error;
 pub mod figures;

@@ -1,9 +1,9 @@
 //! Files written by `ncgear compare`: `compare_frames.csv` (every frame registered),
-//! `compare.svg` (and `compare.png` on request, [`crate::compare::chart`]) and `compare.json`
+//! `compare.svg` (and `compare.png` on request, [`super::compare_plot`]) and `compare.json`
 //! (the report, last).
 
+use super::compare_plot::compare_chart;
 use super::error::{OutputError, create_dir, remove_stale, write, write_json};
-use crate::compare::chart::compare_chart;
 use crate::compare::{CompareReport, Comparison};
 use std::fmt::Write as _;
 use std::path::Path;

@@ -4,6 +4,7 @@
 
 pub mod animate;
 mod compare_files;
+pub mod compare_plot;
 mod design_files;
 mod dynamics_files;
 mod error;

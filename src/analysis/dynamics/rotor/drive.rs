@@ -20,9 +20,21 @@
 //! rate times `dt/dτ = Ω/w`; `dψ/dτ = Ω·(Ω/w − 1)`. Without a drive `w ≡ Ω` and τ is t.
 //! Arm k at carrier angle φ is train 1's model at `φ + 2π(k−1)/n` with its own state.
 
-use super::model::{Instant, RotorModel};
+use super::instant::Instant;
 use super::scene::Drive;
 use std::f64::consts::TAU;
+
+/// What the drive needs of a train's model (implemented by [`super::model::RotorModel`]).
+pub(crate) trait ArmModel {
+    /// The nominal carrier angle at nominal time `t` (s), rad.
+    fn carrier_angle(&self, t: f64) -> f64;
+    /// The motor's (nominal) speed Ω, rad/s.
+    fn nominal_speed(&self) -> f64;
+    /// Arm `arm` at carrier angle `phi` (rad), speed `w` (rad/s), acceleration `beta`
+    /// (rad/s²), its state `y`: the instant and the derivatives by `beta` of
+    /// `[Δθ̈2, Δθ̈3, carrier torque]`.
+    fn arm_at(&self, phi: f64, arm: usize, w: f64, beta: f64, y: &[f64]) -> (Instant, [f64; 3]);
+}
 
 /// The drive of a model with `arms` arms (SI).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -62,19 +74,20 @@ impl DriveModel {
     /// carrier's motion solved (module docs).
     fn solve(
         &self,
-        model: &RotorModel,
+        model: &impl ArmModel,
         t: f64,
         y: &[f64],
     ) -> (Vec<(Instant, [f64; 3])>, CarrierState) {
-        let phi = model.phi(t);
+        let phi = model.carrier_angle(t);
         let (psi, w) = (y[self.twist_index()], y[self.twist_index() + 1]);
         let arms: Vec<(Instant, [f64; 3])> = (0..self.arms)
-            .map(|k| model.instant_at(self.arm_phi(phi, k), k, w, 0.0, &y[4 * k..4 * k + 4]))
+            .map(|k| model.arm_at(self.arm_phi(phi, k), k, w, 0.0, &y[4 * k..4 * k + 4]))
             .collect();
         let t0: f64 = arms.iter().map(|(i, _)| i.carrier_torque_nm).sum();
         let t1: f64 = arms.iter().map(|(_, r)| r[2]).sum();
         let d = &self.drive;
-        let shaft = d.stiffness_nm_per_rad * psi + d.damping_nms_per_rad * (model.omega - w);
+        let shaft =
+            d.stiffness_nm_per_rad * psi + d.damping_nms_per_rad * (model.nominal_speed() - w);
         let beta = (shaft - t0) / (d.carrier_inertia_kg_m2 + t1);
         let state = CarrierState {
             shaft_torque_nm: shaft,
@@ -84,22 +97,22 @@ impl DriveModel {
     }
 
     /// The carrier's motion at nominal time `t` (s) and state `y`.
-    pub(crate) fn carrier(&self, model: &RotorModel, t: f64, y: &[f64]) -> CarrierState {
+    pub(crate) fn carrier(&self, model: &impl ArmModel, t: f64, y: &[f64]) -> CarrierState {
         self.solve(model, t, y).1
     }
 
     /// Train 1's instant at nominal time `t` (s), with the carrier's acceleration solved.
-    pub(crate) fn instant(&self, model: &RotorModel, t: f64, y: &[f64]) -> Instant {
+    pub(crate) fn instant(&self, model: &impl ArmModel, t: f64, y: &[f64]) -> Instant {
         let beta = self.carrier(model, t, y).accel_rad_s2;
         let w = y[self.twist_index() + 1];
-        model.instant_at(model.phi(t), 0, w, beta, &y[..4]).0
+        model.arm_at(model.carrier_angle(t), 0, w, beta, &y[..4]).0
     }
 
     /// `dy/dτ` (module docs).
-    pub(crate) fn rhs(&self, model: &RotorModel, t: f64, y: &[f64], dy: &mut [f64]) {
+    pub(crate) fn rhs(&self, model: &impl ArmModel, t: f64, y: &[f64], dy: &mut [f64]) {
         let (arms, c) = self.solve(model, t, y);
         let w = y[self.twist_index() + 1];
-        let scale = model.omega / w;
+        let scale = model.nominal_speed() / w;
         for (k, (inst, rate)) in arms.iter().enumerate() {
             let (yk, dk) = (&y[4 * k..4 * k + 4], &mut dy[4 * k..4 * k + 4]);
             dk[0] = yk[2] * scale;
@@ -108,7 +121,7 @@ impl DriveModel {
             dk[3] = (inst.acc[1] + rate[1] * c.accel_rad_s2) * scale;
         }
         let i = self.twist_index();
-        dy[i] = model.omega * (scale - 1.0);
+        dy[i] = model.nominal_speed() * (scale - 1.0);
         dy[i + 1] = c.accel_rad_s2 * scale;
     }
 
@@ -116,14 +129,14 @@ impl DriveModel {
     /// law (stiff meshes), Hz: `√(k_s/(J_c + J̄))/2π`, where `J̄` is the turn's mean of the
     /// arms' inertia as the carrier turns them, `J(φ) = 2·T_kin(φ)/w²` (T_kin their kinetic
     /// energy at the kinematic state, here `E(w = 1) − E(w = 0)`: the gravity part cancels).
-    pub(crate) fn frequency_hz(&self, model: &RotorModel, n: usize) -> f64 {
+    pub(crate) fn frequency_hz(&self, model: &impl ArmModel, n: usize) -> f64 {
         let mut j = 0.0;
         for s in 0..n {
             let phi = TAU * s as f64 / n as f64;
             for k in 0..self.arms {
                 let e = |w: f64| {
                     model
-                        .instant_at(self.arm_phi(phi, k), k, w, 0.0, &[0.0; 4])
+                        .arm_at(self.arm_phi(phi, k), k, w, 0.0, &[0.0; 4])
                         .0
                         .energy_j
                 };

@@ -73,7 +73,7 @@ fn energy(m: &RotorModel, t: f64, y: &[f64]) -> f64 {
 
 /// `[drive, needle, damping]` powers at `(t, y)` per unit of the independent variable, W.
 fn powers(m: &RotorModel, t: f64, y: &[f64]) -> [f64; 3] {
-    let damp = |i: &super::model::Instant| {
+    let damp = |i: &super::instant::Instant| {
         i.mesh[0].damping_w + i.mesh[1].damping_w + i.vibration_damping_w
     };
     let Some(d) = &m.drive else {

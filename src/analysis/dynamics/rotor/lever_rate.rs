@@ -51,15 +51,7 @@ impl LeverRates {
                 let k = (x.floor() as usize).min(N - 1);
                 let w = x - k as f64;
                 let (a, b) = (&t[k], &t[(k + 1) % N]);
-                let mut out = [[[0.0; 2]; 2]; 2];
-                for j in 0..2 {
-                    for f in 0..2 {
-                        for i in 0..2 {
-                            out[j][f][i] = a[j][f][i] + w * (b[j][f][i] - a[j][f][i]);
-                        }
-                    }
-                }
-                out
+                each(|j, f, i| a[j][f][i] + w * (b[j][f][i] - a[j][f][i]))
             }
             Self::AtInstant => {
                 difference(&geometry(phi + H_RAD), &geometry(phi - H_RAD), 2.0 * H_RAD)
@@ -70,13 +62,10 @@ impl LeverRates {
 
 /// `(after − before)/span` of every lever arm.
 fn difference(after: &[MeshGeometry; 2], before: &[MeshGeometry; 2], span: f64) -> Rates {
-    let mut out = [[[0.0; 2]; 2]; 2];
-    for j in 0..2 {
-        for f in 0..2 {
-            for i in 0..2 {
-                out[j][f][i] = (after[j].lever_m[f][i] - before[j].lever_m[f][i]) / span;
-            }
-        }
-    }
-    out
+    each(|j, f, i| (after[j].lever_m[f][i] - before[j].lever_m[f][i]) / span)
+}
+
+/// The rates of `[mesh j][flank f][gear i]` from `v(j, f, i)`.
+fn each(v: impl Fn(usize, usize, usize) -> f64) -> Rates {
+    std::array::from_fn(|j| std::array::from_fn(|f| std::array::from_fn(|i| v(j, f, i))))
 }

@@ -17,6 +17,7 @@ pub mod analyse;
 pub mod build;
 mod drive;
 pub mod energy;
+mod instant;
 pub mod law;
 mod lever_rate;
 pub mod mesh;

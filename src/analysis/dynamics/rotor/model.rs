@@ -15,7 +15,8 @@
 //! The carrier's drive torque is `T = D × R_D + A × R_A` with the bearings' forces `R = m·a_G −
 //! ΣF − m·g` (the loads' formula, here with the dynamic forces and accelerations).
 
-use super::drive::DriveModel;
+use super::drive::{ArmModel, DriveModel};
+use super::instant::Instant;
 use super::law::{Contact, MeshLaw};
 use super::lever_rate::LeverRates;
 use super::mesh::{MeshGeometry, MeshState, mesh_state};
@@ -91,26 +92,6 @@ pub struct RotorModel {
     /// The compliant drive (None: the carrier turns at exactly Ω and train 1 alone is
     /// integrated).
     pub(crate) drive: Option<DriveModel>,
-}
-
-/// Everything at one instant (SI, CCW frame).
-#[derive(Debug, Clone, Copy)]
-pub(crate) struct Instant {
-    /// `[sun–intermediate, intermediate–planet]`.
-    pub mesh: [MeshState; 2],
-    /// `[Δθ̈2, Δθ̈3]`, rad/s².
-    pub acc: [f64; 2],
-    /// Needle tip, dynamic, mm (CCW frame, about O).
-    pub tip_mm: Point,
-    /// The train's share of the carrier torque, N·m.
-    pub carrier_torque_nm: f64,
-    /// Power of the needle force on the tip, W.
-    pub needle_w: f64,
-    /// Kinetic + gravity + mesh energy, J.
-    pub energy_j: f64,
-    /// Power the vibration dampers take, `Σ c·Δθ̇·(θ̇ − Ω)`, W (their couples' work on the
-    /// gears' rotation relative to the carrier).
-    pub vibration_damping_w: f64,
 }
 
 impl RotorModel {
@@ -521,5 +502,17 @@ impl crate::analysis::dynamics::ode::OdeSystem for RotorModel {
         dy[1] = y[3];
         dy[2] = i.acc[0];
         dy[3] = i.acc[1];
+    }
+}
+
+impl ArmModel for RotorModel {
+    fn carrier_angle(&self, t: f64) -> f64 {
+        self.phi(t)
+    }
+    fn nominal_speed(&self) -> f64 {
+        self.omega
+    }
+    fn arm_at(&self, phi: f64, arm: usize, w: f64, beta: f64, y: &[f64]) -> (Instant, [f64; 3]) {
+        self.instant_at(phi, arm, w, beta, y)
     }
 }

@@ -3,8 +3,8 @@
 //! the frames' noise averaged out (four bands: below 0.1, 0.3 and 1 mm, and above) — and the
 //! outlier frames marked; SVG or PNG by the file's extension ([`crate::output::plot`]), mm.
 
-use super::Comparison;
-use crate::output::plot::{ChartLabels, PlotError, Series, line_chart};
+use super::plot::{ChartLabels, PlotError, Series, line_chart};
+use crate::compare::Comparison;
 
 /// The deviation bands of the frames, mm (upper bounds; the last band is open).
 pub const BANDS_MM: [f64; 3] = [0.1, 0.3, 1.0];
