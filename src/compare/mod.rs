@@ -7,7 +7,7 @@
 //! starting transform and phase → [`register`] fits the similarity and the timing robustly
 //! (outlier frames flagged, standard errors) → [`figures`] gives the smooth deviation `d(φ)` by
 //! carrier angle and the agronomic figures of [`crate::simulate`] on the track beside the
-//! design's, each whole turn and their spread → [`report::CompareReport`]; [`chart`] draws it.
+//! design's, each whole turn and their spread → [`report::CompareReport`]; [`crate::output::compare_plot`] draws it.
 
 pub mod design_path;
 mod error;

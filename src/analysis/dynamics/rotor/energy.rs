@@ -11,7 +11,7 @@
 //! `T` is the Newton–Euler carrier torque ([`super::model`]), not derived from the energy, so the
 //! audit checks the equations of motion against an independent balance.
 //!
-//! With a drive ([`super::drive`]) E adds the carrier's `½J_c·w²` and the shaft's `½k_s·ψ²` and
+//! With a drive (docs/dynamics.md, "The drive") E adds the carrier's `½J_c·w²` and the shaft's `½k_s·ψ²` and
 //! sums every arm; the drive's work is the motor's `∫ Ω·T_s dt`, the damping adds the shaft's
 //! `c_s·(Ω − w)²`, and the sums run in the nominal time τ (each power times `dt/dτ = Ω/w`).
 
