@@ -19,6 +19,24 @@ fn bundled() -> Prepared {
     Prepared::from_path(&path).expect("the bundled rotor scene")
 }
 
+/// Times the bundled scene's tables settled with `effects` instead of its own.
+fn settle_with(bencher: divan::Bencher, p: &Prepared, effects: &Effects) {
+    let built = build(&p.source.rotor(), &p.case.loads, effects, p.teeth, "bench").expect("model");
+    bencher.bench_local(|| {
+        divan::black_box(
+            run_model(
+                &built.model,
+                &p.case.loads,
+                &p.case.settings,
+                p.teeth,
+                None,
+                &Progress::none(),
+            )
+            .expect("run"),
+        )
+    });
+}
+
 #[divan::bench(sample_count = 10)]
 fn g1_every_effect_settled_300_rpm(bencher: divan::Bencher) {
     let p = bundled();
@@ -32,20 +50,7 @@ fn g1_constant_stiffness_no_backlash_settled_300_rpm(bencher: divan::Bencher) {
     let effects = Effects::constant([14_000.0 * 25.0 * 1e3; 2])
         .with_zeta([0.05; 2])
         .with_vibration_zeta(0.05);
-    let built = build(&p.source.rotor(), &p.case.loads, &effects, p.teeth, "bench").expect("model");
-    bencher.bench_local(|| {
-        divan::black_box(
-            run_model(
-                &built.model,
-                &p.case.loads,
-                &p.case.settings,
-                p.teeth,
-                None,
-                &Progress::none(),
-            )
-            .expect("run"),
-        )
-    });
+    settle_with(bencher, &p, &effects);
 }
 
 #[divan::bench(sample_count = 3)]
@@ -57,20 +62,7 @@ fn g1_every_effect_on_a_compliant_drive_settled_300_rpm(bencher: divan::Bencher)
         carrier_inertia_kg_m2: 0.02,
     };
     let effects = p.case.effects.with_drive(Some(drive));
-    let built = build(&p.source.rotor(), &p.case.loads, &effects, p.teeth, "bench").expect("model");
-    bencher.bench_local(|| {
-        divan::black_box(
-            run_model(
-                &built.model,
-                &p.case.loads,
-                &p.case.settings,
-                p.teeth,
-                None,
-                &Progress::none(),
-            )
-            .expect("run"),
-        )
-    });
+    settle_with(bencher, &p, &effects);
 }
 
 #[divan::bench(sample_count = 1, sample_size = 1)]
