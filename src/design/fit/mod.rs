@@ -53,6 +53,7 @@ pub mod noise;
 
 use crate::math::Point;
 mod curve;
+mod lawson;
 mod restarts;
 mod scan;
 mod solver;
@@ -71,6 +72,7 @@ use curve::{
     INITIAL_SAMPLES, contact_guess, curve_evals, initial_angles, initial_projections_on,
     project_near,
 };
+pub(crate) use lawson::{Lawson, LawsonStart, lawson, race};
 use rayon::prelude::*;
 use solver::{Lm, to_params, with_order};
 
@@ -425,16 +427,6 @@ pub fn minimax_passes(
     lawson(points, fitted, opts, passes, LawsonStart::Uniform)
 }
 
-/// Where [`lawson`]'s weights start.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub(crate) enum LawsonStart {
-    /// All 1: the first pass weighs by `|d_j|/max|d|` of the start.
-    Uniform,
-    /// `|d_j|/max|d|` of the start: one Lawson step further, the first pass weighs by its
-    /// square, so it strays less far from the start towards the least-squares fit.
-    Distances,
-}
-
 /// [`minimax`] with its weights started from `start`'s distances (`LawsonStart::Distances`):
 /// a second finish that lands in another basin where the train cannot trace the target (a
 /// design for a module); neither finish is the better on every target (docs/performance.md,
@@ -444,104 +436,11 @@ pub fn minimax_from_distances(points: &[Point], fitted: Fitted, opts: &FitOption
     lawson(points, fitted, opts, MINIMAX_PASSES, LawsonStart::Distances)
 }
 
-/// The reweighting loop of [`minimax`] (its documentation).
-fn lawson(
-    points: &[Point],
-    fitted: Fitted,
-    opts: &FitOptions,
-    passes: usize,
-    start: LawsonStart,
-) -> Fitted {
-    let (stride, sub) = subsample(points, opts);
-    let grid = SegmentGrid::new(&sub);
-    let k = fitted.mechanism.ratio.order();
-    let mut best = fitted;
-    let mut m = best.mechanism.clone();
-    let mut phis_all = best.carrier_angles_rad.clone();
-    let mut dists = best.distances_mm.clone();
-    let mut cover = coverage_distances(&m, &grid);
-    // Lawson's weights: each pass multiplies every point's weight by its distance (normalised),
-    // so the weight gathers on the points that stay farthest — the minimax fit's extremal set.
-    // The traced curve's samples are weighted alike by their distance from the target: the
-    // Hausdorff distance the finish lowers has both sides, and a bulge of the curve where no
-    // point is can be its largest term.
-    let mut weights = vec![1.0; sub.len()];
-    let mut cover_weights = vec![1.0; cover.len()];
-    // Started from the start's distances, every pass is one Lawson step further on: the
-    // first pass already weighs by (|d|/max|d|)², a step away from the least-squares fit.
-    if start == LawsonStart::Distances {
-        let sub_d: Vec<f64> = dists.iter().step_by(stride).copied().collect();
-        lawson_step(&mut weights, &mut cover_weights, &sub_d, &cover);
-    }
-    for _ in 0..passes {
-        let sub_d: Vec<f64> = dists.iter().step_by(stride).copied().collect();
-        lawson_step(&mut weights, &mut cover_weights, &sub_d, &cover);
-        let w: Vec<f64> = weights.iter().map(|w| w.sqrt()).collect();
-        let wc: Vec<f64> = cover_weights.iter().map(|w| w.sqrt()).collect();
-        let pass = FitOptions {
-            max_iterations: opts.max_iterations.min(MINIMAX_ITERATIONS),
-            ..opts.clone()
-        };
-        let lm = Lm {
-            pts: &sub,
-            k,
-            opts: &pass,
-            weights: Some(&w),
-            grid: &grid,
-            coverage_weights: Some(&wc),
-        };
-        let mut phis: Vec<f64> = phis_all.iter().step_by(stride).copied().collect();
-        let (next, it) = lm.run(m, &mut phis);
-        let measured = measure_from(&next, points, Some(&phis_all));
-        best.iterations += it;
-        phis_all = measured.carrier_angles_rad.clone();
-        dists = measured.distances_mm.clone();
-        cover = coverage_distances(&next, &grid);
-        if measured.max_mm.max(measured.coverage_mm) < best.max_mm.max(best.coverage_mm) {
-            let scan = std::mem::take(&mut best.order_scan);
-            best = Fitted::new(next.clone(), measured, best.iterations, scan);
-        }
-        m = next;
-    }
-    best
-}
-
-/// One Lawson update: every weight times its distance over the largest distance of both sets
-/// (`w ← w·|d|/max|d|`), normalised to a largest weight of 1 and floored at 1e-6 (a point that
-/// reaches the curve keeps a voice).
-fn lawson_step(weights: &mut [f64], cover_weights: &mut [f64], dists: &[f64], cover: &[f64]) {
-    let dmax = dists.iter().chain(cover).copied().fold(1e-300, f64::max);
-    for (w, d) in weights.iter_mut().zip(dists) {
-        *w *= d / dmax;
-    }
-    for (w, d) in cover_weights.iter_mut().zip(cover) {
-        *w *= d / dmax;
-    }
-    let wmax = weights
-        .iter()
-        .chain(cover_weights.iter())
-        .copied()
-        .fold(1e-300, f64::max);
-    weights.iter_mut().for_each(|w| *w = (*w / wmax).max(1e-6));
-    cover_weights
-        .iter_mut()
-        .for_each(|w| *w = (*w / wmax).max(1e-6));
-}
-
-/// Distance (mm) of the traced curve of `m` from the target polyline `grid` at the samples of
-/// the solver's coverage rows.
-fn coverage_distances(m: &Mechanism, grid: &SegmentGrid) -> Vec<f64> {
-    curve_evals(m, solver::COVERAGE_SAMPLES)
-        .par_iter()
-        .map(|e| curve::coverage(grid, e).distance_mm)
-        .collect()
-}
-
 /// Levenberg–Marquardt iterations per reweighting pass of [`minimax`].
-const MINIMAX_ITERATIONS: usize = 10;
+pub(crate) const MINIMAX_ITERATIONS: usize = 10;
 
 /// Reweighting passes of [`minimax`].
-const MINIMAX_PASSES: usize = 12;
+pub(crate) const MINIMAX_PASSES: usize = 12;
 
 /// Every `stride`-th point, so that at most `opts.max_points` drive the iterations.
 fn subsample(points: &[Point], opts: &FitOptions) -> (usize, Vec<Point>) {

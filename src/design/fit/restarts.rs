@@ -1,6 +1,10 @@
 //! Restarts of the fit to the points for targets the first fit does not reproduce.
 
-use super::{FitError, FitOptions, Fitted, MEASURED_NOISE_MM, fit_points, minimax};
+use super::lawson::RACE_HEAT_PASSES;
+use super::{
+    FitError, FitOptions, Fitted, Lawson, LawsonStart, MEASURED_NOISE_MM, MINIMAX_PASSES,
+    fit_points, minimax, race,
+};
 use crate::geometry::fourier::SunRatio;
 use crate::geometry::mechanism::Mechanism;
 use crate::math::Point;
@@ -78,20 +82,24 @@ pub fn fit_with_restarts(
     // sees (never on measured points, where the largest distance is the noise's). Both the
     // first fit (often a higher order) and the best restart are finished, side by side; the
     // better finish is kept.
+    // The three finishes race (`lawson::race`): the first two start their heat while the
+    // continuation's start is fitted.
+    let heat = |f: Fitted| {
+        let mut l = Lawson::new(points, f, fit_opts, LawsonStart::Uniform);
+        l.advance(RACE_HEAT_PASSES);
+        l
+    };
     let ((a, b), c) = rayon::join(
-        || {
-            rayon::join(
-                || minimax(points, f, fit_opts),
-                || minimax(points, g, fit_opts),
-            )
-        },
-        || continuation(points, start, fit_opts),
+        || rayon::join(|| heat(f), || heat(g)),
+        || continuation_start(points, start, fit_opts),
     );
-    let best = if score(&b) < score(&a) { b } else { a };
-    Ok(match c {
-        Some(c) if score(&c) < score(&best) => c,
-        _ => best,
-    })
+    let c = c.map(|c| Lawson::new(points, c, fit_opts, LawsonStart::Uniform));
+    // The same preference as three whole finishes: the restart's over the first fit's, the
+    // continuation's over both, each only when closer.
+    race([a, b].into_iter().chain(c).collect(), MINIMAX_PASSES)
+        .into_iter()
+        .reduce(|best, x| if score(&x) < score(&best) { x } else { best })
+        .ok_or(FitError::NotFinite("minimax finish"))
 }
 
 /// Continuation in the gear limits: the fit under tightened limits
@@ -99,14 +107,13 @@ pub fn fit_with_restarts(
 /// fewer basins, refitted under the real ones from there and finished towards the minimax. A
 /// fit under the real limits can settle in a basin that a tighter design already beats (a
 /// concave hollow where a convex sun traces closer); this path starts on the other side.
-fn continuation(points: &[Point], start: &Mechanism, opts: &FitOptions) -> Option<Fitted> {
+fn continuation_start(points: &[Point], start: &Mechanism, opts: &FitOptions) -> Option<Fitted> {
     let tight = FitOptions {
         limits: opts.limits.tightened()?,
         ..opts.clone()
     };
     let t = fit_points(points, start, &tight).ok()?;
-    let f = fit_points(points, &t.mechanism, opts).ok()?;
-    Some(minimax(points, f, opts))
+    fit_points(points, &t.mechanism, opts).ok()
 }
 
 /// Points and Levenberg–Marquardt iterations of a screening fit of a restart.

@@ -29,7 +29,8 @@
 
 use crate::design::error::DesignError;
 use crate::design::fit::{
-    FitOptions, Fitted, MEASURED_NOISE_MM, admitted, fit_points, minimax, minimax_from_distances,
+    FitOptions, Fitted, Lawson, LawsonStart, MEASURED_NOISE_MM, MINIMAX_PASSES, admitted,
+    fit_points, minimax_from_distances, race,
 };
 use crate::design::options::IdlerOffset;
 use crate::design::strategy::offset_start::offset_start;
@@ -61,7 +62,9 @@ pub struct ModuleSummary {
     pub free_teeth: f64,
     /// Largest point distance from the traced path of the design before the constraint, mm.
     pub free_max_deviation_mm: f64,
-    /// Each count tried: `[z, largest point distance mm, RMS point distance mm]`.
+    /// Each count tried: `[z, largest point distance mm, RMS point distance mm]` of its closest
+    /// fit (for a count whose minimax finish fell behind in the race of the finishes, the fit of
+    /// its first passes: docs/performance.md, "The race of the finishes").
     pub candidates: Vec<[f64; 3]>,
 }
 
@@ -154,9 +157,23 @@ pub(in crate::design) fn design_for_module(
         .iter()
         .map(|c| judge.score(&c.fit))
         .fold(f64::INFINITY, f64::min);
-    fits.par_iter_mut()
-        .filter(|c| judge.score(&c.fit) <= FINISH_RANGE * closest)
-        .for_each(|c| c.finish(points, judge));
+    // They race (`fit::race`): a finish far behind after the heat is not run to its end.
+    let to_finish: Vec<usize> = (0..fits.len())
+        .filter(|&i| fits[i].finish_start.is_some())
+        .filter(|&i| judge.score(&fits[i].fit) <= FINISH_RANGE * closest)
+        .collect();
+    let opts: Vec<FitOptions> = to_finish.iter().map(|&i| fits[i].opts.clone()).collect();
+    let racers = to_finish
+        .iter()
+        .zip(&opts)
+        .filter_map(|(&i, o)| {
+            let start = fits[i].finish_start.clone()?;
+            Some(Lawson::new(points, start, o, LawsonStart::Uniform))
+        })
+        .collect();
+    for (&i, finished) in to_finish.iter().zip(race(racers, MINIMAX_PASSES)) {
+        fits[i].take_finish(finished, judge);
+    }
     // The count that wins gets a second finish from the same start (module documentation) when
     // its train is on the carrier line: the fixed size leaves it in a rugged landscape where the
     // two land in different basins. Off the line, ε takes up what the size fixes, and the
@@ -344,17 +361,14 @@ impl Candidate {
         })
     }
 
-    /// The minimax finish from the least-squares fit: it lowers the Hausdorff distance to the
-    /// points' polyline, chords' sag and all, so the closer of the two by the module's measure
-    /// is kept.
-    fn finish(&mut self, points: &[Point], judge: Judge) {
-        if let Some(f) = &self.finish_start {
-            let finished = minimax(points, f.clone(), &self.opts);
-            if judge.score(&finished) < judge.score(&self.fit) {
-                self.fit = finished;
-            }
-            self.finished = true;
+    /// The minimax finish from the least-squares fit (where the race dropped it, the best of
+    /// its heat): it lowers the Hausdorff distance to the points' polyline, chords' sag and
+    /// all, so the closer of the two by the module's measure is kept.
+    fn take_finish(&mut self, finished: Fitted, judge: Judge) {
+        if judge.score(&finished) < judge.score(&self.fit) {
+            self.fit = finished;
         }
+        self.finished = true;
     }
 
     /// The finish again from the same start with Lawson's weights started from its distances;
