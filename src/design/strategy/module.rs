@@ -157,34 +157,56 @@ pub(in crate::design) fn design_for_module(
         .iter()
         .map(|c| judge.score(&c.fit))
         .fold(f64::INFINITY, f64::min);
-    // They race (`fit::race`): a finish far behind after the heat is not run to its end.
+    // They race (`fit::race`): a finish far behind after the heat is not run to its end. The
+    // count that wins gets a second finish from the same start (module documentation) when its
+    // train is on the carrier line: the fixed size leaves it in a rugged landscape where the
+    // two land in different basins. Off the line, ε takes up what the size fixes, and the
+    // second finish was closer on 1 of 5 targets, by 3 %, for as long as the first. Which
+    // count wins is known only once the first finishes end, so every on-line count's second
+    // finish joins the race, and only the winner's is used.
     let to_finish: Vec<usize> = (0..fits.len())
         .filter(|&i| fits[i].finish_start.is_some())
         .filter(|&i| judge.score(&fits[i].fit) <= FINISH_RANGE * closest)
         .collect();
-    let opts: Vec<FitOptions> = to_finish.iter().map(|&i| fits[i].opts.clone()).collect();
+    let on_line = |c: &Candidate| {
+        c.finish_start
+            .as_ref()
+            .is_some_and(|f| f.mechanism.idler_offset_rad == 0.0)
+    };
+    let seconds: Vec<usize> = to_finish
+        .iter()
+        .copied()
+        .filter(|&i| on_line(&fits[i]))
+        .collect();
+    let opts: Vec<FitOptions> = fits.iter().map(|c| c.opts.clone()).collect();
+    let racer = |i: usize, from: LawsonStart| {
+        let start = fits[i].finish_start.clone()?;
+        Some(Lawson::new(points, start, &opts[i], from))
+    };
     let racers = to_finish
         .iter()
-        .zip(&opts)
-        .filter_map(|(&i, o)| {
-            let start = fits[i].finish_start.clone()?;
-            Some(Lawson::new(points, start, o, LawsonStart::Uniform))
-        })
-        .collect();
-    for (&i, finished) in to_finish.iter().zip(race(racers, MINIMAX_PASSES)) {
-        fits[i].take_finish(finished, judge);
+        .map(|&i| racer(i, LawsonStart::Uniform))
+        .chain(seconds.iter().map(|&i| racer(i, LawsonStart::Distances)))
+        .collect::<Option<Vec<_>>>()
+        .unwrap_or_default();
+    let mut raced = race(racers, MINIMAX_PASSES).into_iter();
+    for &i in &to_finish {
+        if let Some(finished) = raced.next() {
+            fits[i].take_finish(finished, judge);
+        }
     }
-    // The count that wins gets a second finish from the same start (module documentation) when
-    // its train is on the carrier line: the fixed size leaves it in a rugged landscape where the
-    // two land in different basins. Off the line, ε takes up what the size fixes, and the
-    // second finish was closer on 1 of 5 targets, by 3 %, for as long as the first.
-    if let Some(c) = fits
+    let mut second: Vec<(usize, Fitted)> = seconds.into_iter().zip(raced).collect();
+    if let Some((i, c)) = fits
         .iter_mut()
-        .filter(|c| c.finished)
-        .min_by(|a, b| judge.score(&a.fit).total_cmp(&judge.score(&b.fit)))
-        .filter(|c| c.fit.mechanism.idler_offset_rad == 0.0)
+        .enumerate()
+        .filter(|(_, c)| c.finished)
+        .min_by(|a, b| judge.score(&a.1.fit).total_cmp(&judge.score(&b.1.fit)))
+        .filter(|(_, c)| c.fit.mechanism.idler_offset_rad == 0.0)
     {
-        c.second_finish(points, judge);
+        match second.iter().position(|(j, _)| *j == i) {
+            Some(k) => c.take_second(second.swap_remove(k).1, judge),
+            None => c.second_finish(points, judge),
+        }
     }
     let candidates = fits
         .iter()
@@ -376,9 +398,14 @@ impl Candidate {
     fn second_finish(&mut self, points: &[Point], judge: Judge) {
         if let Some(f) = self.finish_start.take() {
             let other = minimax_from_distances(points, f, &self.opts);
-            if judge.score(&other) < judge.score(&self.fit) {
-                self.fit = other;
-            }
+            self.take_second(other, judge);
+        }
+    }
+
+    /// The second finish's result (from the race, or [`Self::second_finish`]), kept when closer.
+    fn take_second(&mut self, other: Fitted, judge: Judge) {
+        if judge.score(&other) < judge.score(&self.fit) {
+            self.fit = other;
         }
     }
 }
