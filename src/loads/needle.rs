@@ -75,8 +75,6 @@ pub enum NeedleLoad {
 #[derive(Debug, Clone, PartialEq)]
 pub struct NeedleTable {
     rows: Vec<(f64, Point)>,
-    /// Rows sampled from a smooth (C1) profile, not kinks of their own ([`Self::breakpoints_rad`]).
-    smooth: bool,
 }
 
 impl NeedleSpec {
@@ -190,30 +188,13 @@ impl NeedleTable {
                 ),
             ));
         }
-        Ok(Self {
-            rows,
-            smooth: false,
-        })
+        Ok(Self { rows })
     }
 
     /// The rows `(travel_rad, force_N)`, increasing in travel over less than a turn.
     #[must_use]
     pub fn rows(&self) -> &[(f64, Point)] {
         &self.rows
-    }
-
-    /// The angles an integrator should stop at, rad: every row of a table given as rows (its
-    /// kinks); none for the planting profile, whose rows sample a C1 pulse 0.05° apart (slope
-    /// jumps of at most 17 N/rad): stopping at its 602 rows a turn cost no evaluations per turn
-    /// but raised the rotor's periodic residual, so that a G1 run on a stiff drive shaft no
-    /// longer settled in 8 turns at rtol 1e-9 (docs/dynamics.md, "Verified").
-    #[must_use]
-    pub fn breakpoints_rad(&self) -> Vec<f64> {
-        if self.smooth {
-            Vec::new()
-        } else {
-            self.knots_rad()
-        }
     }
 
     /// The travel angles of the table's rows, rad (where its linear pieces meet).
@@ -268,7 +249,6 @@ fn planting_table(tips_mm: &[Point], gravity: Point) -> NeedleTable {
     let zero = Point::new(0.0, 0.0);
     let empty = || NeedleTable {
         rows: vec![(0.0, zero)],
-        smooth: true,
     };
     if n == 0 {
         return empty();
@@ -325,7 +305,7 @@ fn planting_table(tips_mm: &[Point], gravity: Point) -> NeedleTable {
         })
     };
     let rows = angles.into_iter().map(|x| (x, force(x))).collect();
-    NeedleTable::new(rows).map_or_else(|_| empty(), |t| NeedleTable { smooth: true, ..t })
+    NeedleTable::new(rows).unwrap_or_else(|_| empty())
 }
 
 /// The pulse's shape at `u` rad from its centre, half-width `half` rad: `cos²(πu/(2h))` inside
@@ -429,8 +409,7 @@ mod tests {
         let (ap, asep) = (area(d(270.0)), area(d(90.0)));
         assert!((ap - PLANTING_FORCE_N * d(5.0)).abs() < 1e-9, "{ap}");
         assert!((asep - SEPARATION_FORCE_N * d(10.0)).abs() < 1e-9, "{asep}");
-        // rows 0.05° apart inside the windows, and a zero row just outside each; no breakpoints
+        // rows 0.05° apart inside the windows, and a zero row just outside each
         assert_eq!(t.knots_rad().len(), (2 * 200 + 1) + (2 * 100 + 1));
-        assert!(t.breakpoints_rad().is_empty());
     }
 }

@@ -359,7 +359,7 @@ impl RotorModel {
             .flat_map(|l| l.switches().to_vec())
             .collect();
         if let Some(n) = &self.needle {
-            angles.extend(n.breakpoints_rad().into_iter().map(|a| a.rem_euclid(TAU)));
+            angles.extend(n.knots_rad().into_iter().map(|a| a.rem_euclid(TAU)));
         }
         if let Some(d) = self.drive {
             // arm k at φ is train 1 at φ + 2πk/n: its switches come 2πk/n earlier
