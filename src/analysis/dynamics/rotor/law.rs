@@ -153,6 +153,8 @@ impl MeshLaw {
     /// The ISO law; `contact(φ)` gives the mesh at carrier angle φ, `driver` the driving gear's
     /// pitch curve (CCW frame; its teeth count the passing), `phase_mm` its tooth 0's centre on
     /// that curve's arc (mm, CCW frame) and `flank(φ)` the rigid loads' flank at φ (module docs).
+    // The driver's curve, phase and flank are three views of one gear; one crate-private caller.
+    #[allow(clippy::too_many_arguments)]
     pub(crate) fn iso(
         scale: f64,
         pairs: PairsMode,
