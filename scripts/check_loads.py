@@ -27,7 +27,9 @@ the loads by its own formulation (docs/loads.md states the model and the convent
 The gear mass properties used are the ones loads.json states (`gears`). A scene whose face
 width is not a number (`"auto"`) is checked at the width the report states; a needle given
 otherwise than by a `force_N` table (`profile = ...`) takes its force from the report's
-`needle_force_N` (the one input then not rebuilt here; the report says so in a note).
+`needle_table_N` (the table the loads use, linear between its rows; before it existed, the
+samples of `needle_force_N`): the one input then not rebuilt here (the report says so in a
+note), and the per-sample `needle_force_N` is checked against it.
 
 Without LOADS.json: the kinematics (against design.json's target points and the traced.csv
 beside it) are checked, and our loads computed with our own mass properties (peaks printed;
@@ -693,7 +695,22 @@ def main(argv=None):
         rep.row(f"{name} inertia vs pitch region, rel", e_i, 0.05, e_i <= 0.05)
 
     needle_from_report = False
-    if scene.needle_other:
+    needle_table = loads.get("needle_table_N")
+    if scene.needle_other and needle_table:
+        # the table the loads use (rows [travel_deg, Fx, Fy], linear between rows)
+        tab = np.asarray(needle_table, dtype=float)
+        scene.use_reported_needle(tab[:, 0], tab[:, 1:])
+        needle_from_report = True
+        rep.note("the scene's needle is not a force table: its table (needle_table_N, "
+                 f"{len(tab)} rows) taken from loads.json as an input")
+        nf = loads.get("needle_force_N")
+        if nf is not None and len(nf) == len(their_tau):
+            f = np.asarray(nf, dtype=float)
+            e = float(np.max(np.abs(scene.needle_force(their_tau) - f)))
+            pk = max(float(np.max(np.abs(f))), 1e-12)
+            rep.row("needle force at the samples vs needle_table_N, max err / peak", e / pk,
+                    1e-9, e / pk <= 1e-9)
+    elif scene.needle_other:
         nf = loads.get("needle_force_N")
         if nf is None or len(nf) != len(their_tau):
             print("check_loads: ERROR the scene's needle has no force_N table and loads.json "

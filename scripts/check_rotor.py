@@ -10,8 +10,9 @@ Usage:
 SCENE.toml is the dynamics scene (`[scene] model = "rotor"`), DYNAMICS.json what `ncgear dynamics`
 wrote for it, LOADS.json what `ncgear loads` wrote for the same tables (its `gears` mass
 properties, its flanks and forces at travel 0 for the start, and, for a needle given as
-`profile = "planting"`, its `needle_force_N`: the inputs taken from it, as scripts/check_loads.py
-takes them). Everything else is rebuilt here:
+`profile = "planting"`, its `needle_table_N` (the rows the crate's table has, linear between
+them; `needle_force_N` at the samples when a report lacks it): the inputs taken from it, as
+scripts/check_loads.py takes them). Everything else is rebuilt here:
 
 * Kinematics: scripts/check_loads.py's `Design.motion` (imported, not copied): its own rolling
   formulation of the train from design.json's pitch tables, CCW frame (a CW design mirrored
@@ -766,7 +767,11 @@ def main(argv=None):
             alpha = float(eff.alpha_teeth)
         else:
             alpha = math.radians(float((scene.gears or {}).get("pressure_angle_deg", 20.0)))
-        if scene.needle_other:
+        if scene.needle_other and loads.get("needle_table_N"):
+            # the table the loads use, linear between its rows (finer than the samples)
+            tab = np.asarray(loads["needle_table_N"], dtype=float)
+            scene.use_reported_needle(tab[:, 0], tab[:, 1:])
+        elif scene.needle_other:
             nf = loads.get("needle_force_N")
             if nf is None or len(nf) != nt:
                 raise InputError("the needle is not a force table and loads.json states no "

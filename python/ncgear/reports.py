@@ -869,7 +869,9 @@ class LoadsReport:
     sample of ``travel_deg`` (docs/loads.md). Torques (N·m) are positive in the carrier's sense of
     travel; rotor quantities (carrier and sun torque, frame force, bearing O) are sums over the
     arms, the rest the first arm's. ``design``: the design file the scene names (``None`` for a
-    design passed in memory). With teeth and a ``[material]``: ``rating`` and the stresses."""
+    design passed in memory). With teeth and a ``[material]``: ``rating`` and the stresses.
+    ``needle_table_N``: the needle load's table as the loads use it, rows ``[travel_deg, Fx, Fy]``
+    (shape (N, 3), linear between rows; ``None`` without a needle)."""
 
     schema_version: int
     units: LoadsUnits
@@ -881,6 +883,7 @@ class LoadsReport:
     planet_mesh_torque_Nm: Numbers
     frame_force_N: Vectors
     needle_force_N: Vectors
+    needle_table_N: Optional[Vectors]
     bearings: Bearings
     meshes: LoadMeshes
     gears: GearMasses

@@ -355,6 +355,12 @@ pub(crate) fn analyse_at(
         planet_mesh_torque_nm: planet_torque,
         frame_force_n: world(sums.frame_n),
         needle_force_n: world(turn.needle_n.clone()),
+        needle_table_n: needle_table(&r, case, &turn.motion).map_or_else(Vec::new, |t| {
+            t.rows()
+                .iter()
+                .map(|(x, f)| [x.to_degrees(), f.x, f.y])
+                .collect()
+        }),
         bearings: Bearings {
             o_n: world(sums.bearing_o_n),
             d_n: world(f.iter().map(|x| x.bearing_d_n).collect()),

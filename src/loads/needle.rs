@@ -7,9 +7,23 @@
 //! tangential seedling-separation force of 3.10–5.32 N and a peak resultant of 28.3 N (15 mm mat)
 //! to 29.7 N (20 mm mat) lasting about a millisecond. The profile puts
 //! - the **separation** at the tip's highest point (against gravity; +y without gravity):
-//!   5.32 N against the tip's velocity there, rising and falling linearly over ±10° of travel;
+//!   5.32 N against the tip's velocity there, over ±10° of travel;
 //! - the **planting** at the tip's lowest point: 29.7 N against the tip's velocity there, over
 //!   ±5° of travel (at 300 r/min, 5° is 2.8 ms).
+//!
+//! Each pulse is the raised cosine `F(θ) = F·cos²(π(θ − c)/(2h))` on `|θ − c| < h` (c the
+//! centre, h the half-width, F the peak, N), zero outside: its impulse `∫F dθ = F·h` is the
+//! triangle's of the same peak and window, and its slope is zero at the peak and at both ends.
+//! A measured force pulse has no corners; a triangle's corners (slope jumps of 2F/h at the peak,
+//! F/h at the ends) ring a stiff train. The table holds each pulse in rows a tenth of the tip
+//! path's sample spacing apart (0.05° at the loads' 720 samples a turn) inside its window, and a
+//! zero row just outside, linear between rows like any table; the loads report gives those rows
+//! (`needle_table_N`) beside the force at its samples. On 0.05° rows the slope jumps by at most
+//! `F·(π/h)²/2·Δθ` (17 N/rad on the 29.7 N pulse, against the triangle's 681 N/rad at its peak),
+//! and the rows' trapezoidal impulse is `F·h` exactly (h a whole number of rows). Rows at the
+//! samples alone (0.5°) were not enough: their kinks, 0.28 ms apart at 300 r/min, rang the
+//! clockwise test design's train at 100× ISO stiffness (≈ 7 kHz, two periods a row) to 1.56 % of
+//! its rigid peak, more than the triangle's corners (1.25 %).
 //!
 //! The velocity is the static path's (the machine's forward travel is not added).
 
@@ -177,6 +191,12 @@ impl NeedleTable {
         Ok(Self { rows })
     }
 
+    /// The rows `(travel_rad, force_N)`, increasing in travel over less than a turn.
+    #[must_use]
+    pub fn rows(&self) -> &[(f64, Point)] {
+        &self.rows
+    }
+
     /// The travel angles of the table's rows, rad (where its linear pieces meet).
     #[must_use]
     pub fn knots_rad(&self) -> Vec<f64> {
@@ -217,9 +237,22 @@ impl NeedleLoad {
     }
 }
 
-/// The planting profile on a tip path (module docs).
+/// Rows of the planting profile per sample of the tip path: 10, 0.05° apart at 720 samples a
+/// turn (module docs: rows at the samples alone, 0.5° apart, rang the stiff train at 100× ISO).
+const ROWS_PER_SAMPLE: f64 = 10.0;
+
+/// The planting profile on a tip path (module docs): each pulse `F·cos²(π(θ − c)/(2h))` in rows
+/// [`ROWS_PER_SAMPLE`] to a sample of the path inside its window `|θ − c| < h` (c a sample), with
+/// a zero row just outside it on either side; overlapping pulses add.
 fn planting_table(tips_mm: &[Point], gravity: Point) -> NeedleTable {
     let n = tips_mm.len();
+    let zero = Point::new(0.0, 0.0);
+    let empty = || NeedleTable {
+        rows: vec![(0.0, zero)],
+    };
+    if n == 0 {
+        return empty();
+    }
     let down = if gravity.norm() > 0.0 {
         gravity / gravity.norm()
     } else {
@@ -235,36 +268,55 @@ fn planting_table(tips_mm: &[Point], gravity: Point) -> NeedleTable {
         if len > 0.0 {
             v * (-magnitude / len)
         } else {
-            Point::new(0.0, 0.0)
+            zero
         }
     };
     let at = |k: usize| TAU * k as f64 / n as f64;
-    let mut rows = Vec::new();
-    for (k, force, half) in [
+    let pulses = [
         (
-            highest,
+            at(highest),
             against_velocity(highest, SEPARATION_FORCE_N),
             SEPARATION_HALF_WIDTH_RAD,
         ),
         (
-            lowest,
+            at(lowest),
             against_velocity(lowest, PLANTING_FORCE_N),
             PLANTING_HALF_WIDTH_RAD,
         ),
-    ] {
-        let c = at(k);
-        let zero = Point::new(0.0, 0.0);
-        rows.extend([(c - half, zero), (c, force), (c + half, zero)]);
+    ];
+    let step = TAU / n as f64 / ROWS_PER_SAMPLE;
+    let mut angles = Vec::new();
+    for &(c, _, half) in &pulses {
+        // c + i·step for |i·step| < h, and the first row outside on either side (zero there)
+        let m = ((half / step * (1.0 - 1e-12)).ceil() as i64 - 1).max(0);
+        angles.extend((-(m + 1)..=(m + 1)).map(|i| c + i as f64 * step));
     }
-    let x0 = rows[0].0;
-    for r in &mut rows {
-        r.0 = x0 + (r.0 - x0).rem_euclid(TAU);
+    let x0 = angles.iter().copied().fold(f64::INFINITY, f64::min);
+    for x in &mut angles {
+        *x = x0 + (*x - x0).rem_euclid(TAU);
     }
-    rows.sort_by(|a, b| a.0.total_cmp(&b.0));
-    rows.dedup_by(|b, a| b.0 - a.0 < 1e-12);
-    NeedleTable::new(rows).unwrap_or(NeedleTable {
-        rows: vec![(0.0, Point::new(0.0, 0.0))],
-    })
+    angles.sort_by(f64::total_cmp);
+    angles.dedup_by(|b, a| *b - *a < 1e-12);
+    let force = |x: f64| {
+        pulses.iter().fold(zero, |sum, &(c, peak, half)| {
+            // the distance from the centre, wrapped into (−π, π]
+            let u = (x - c + std::f64::consts::PI).rem_euclid(TAU) - std::f64::consts::PI;
+            sum + peak * raised_cosine(u, half)
+        })
+    };
+    let rows = angles.into_iter().map(|x| (x, force(x))).collect();
+    NeedleTable::new(rows).unwrap_or_else(|_| empty())
+}
+
+/// The pulse's shape at `u` rad from its centre, half-width `half` rad: `cos²(πu/(2h))` inside
+/// `|u| < h`, 0 outside (the raised cosine, 1 at the centre, zero value and slope at `±h`; its
+/// integral `h` is the triangle's of the same peak and window).
+fn raised_cosine(u: f64, half: f64) -> f64 {
+    if u.abs() < half {
+        (std::f64::consts::FRAC_PI_2 * u / half).cos().powi(2)
+    } else {
+        0.0
+    }
 }
 
 #[cfg(test)]
@@ -316,5 +368,48 @@ mod tests {
             NeedleTable::new(vec![(d(0.0), z), (d(360.0), Point::new(0.0, 1.0))]).unwrap_err();
         assert_eq!(k, 1);
         assert!(m.contains("[360, 0, 1]") && m.contains("[0, 0, 0]"), "{m}");
+    }
+
+    /// The planting profile on a circular tip path of 720 samples (radius 100 mm, CCW, gravity
+    /// −y): the pulses peak at 29.7 N (lowest point, 270°) and 5.32 N (highest, 90°) against the
+    /// velocity, follow the raised cosine between (1.5° from the planting centre: cos²(0.15π) of
+    /// the peak, 0.794, not the triangle's 0.7), vanish at ±h, and keep the triangle's impulse F·h.
+    #[test]
+    fn the_planting_pulses_are_raised_cosines_with_the_triangles_impulse() {
+        let n = 720;
+        let tips: Vec<Point> = (0..n)
+            .map(|k| Point::unit(TAU * k as f64 / n as f64) * 100.0)
+            .collect();
+        let t = NeedleLoad::Planting.table(&tips, Point::new(0.0, -9.81));
+        let d = f64::to_radians;
+        // at 270° the CCW velocity is +x: the force is −x
+        let low = t.at(d(270.0));
+        assert!(
+            (low.x + PLANTING_FORCE_N).abs() < 1e-9 && low.y.abs() < 1e-9,
+            "{low:?}"
+        );
+        let high = t.at(d(90.0));
+        assert!((high.x - SEPARATION_FORCE_N).abs() < 1e-9, "{high:?}");
+        let shape = (0.15 * std::f64::consts::PI).cos().powi(2);
+        assert!((t.at(d(271.5)).norm() - shape * PLANTING_FORCE_N).abs() < 1e-9);
+        assert!(t.at(d(275.0)).norm() < 1e-12 && t.at(d(100.0)).norm() < 1e-12);
+        assert!(t.at(d(180.0)).norm() < 1e-12);
+        // the impulse: the rows' trapezoidal integral (the table is linear between them)
+        let m = 100 * n;
+        let area = |c: f64| -> f64 {
+            (0..m)
+                .map(|k| {
+                    let x = c - d(20.0) + d(40.0) * k as f64 / m as f64;
+                    t.at(x).norm()
+                })
+                .sum::<f64>()
+                * d(40.0)
+                / m as f64
+        };
+        let (ap, asep) = (area(d(270.0)), area(d(90.0)));
+        assert!((ap - PLANTING_FORCE_N * d(5.0)).abs() < 1e-9, "{ap}");
+        assert!((asep - SEPARATION_FORCE_N * d(10.0)).abs() < 1e-9, "{asep}");
+        // rows 0.05° apart inside the windows, and a zero row just outside each
+        assert_eq!(t.knots_rad().len(), (2 * 200 + 1) + (2 * 100 + 1));
     }
 }

@@ -47,6 +47,15 @@ pub struct LoadsReport {
     /// The needle force on the first arm's tip, `[x, y]` N.
     #[serde(rename = "needle_force_N")]
     pub needle_force_n: Vec<Point>,
+    /// The needle load as the table the loads use, rows `[travel_deg, Fx_N, Fy_N]` on the first
+    /// arm's tip (world frame), linear between rows and from the last round to the first; absent
+    /// without a needle.
+    #[serde(
+        rename = "needle_table_N",
+        default,
+        skip_serializing_if = "Vec::is_empty"
+    )]
+    pub needle_table_n: Vec<[f64; 3]>,
     /// Bearing forces, `[x, y]` N.
     pub bearings: Bearings,
     /// The two meshes of the first arm.

@@ -24,6 +24,8 @@ pub struct RotorSource {
     pub pressure_angle_rad: Option<f64>,
     /// The file's `teeth` block: tooth count and options.
     pub teeth_options: Option<TrainTeethOptions>,
+    /// The teeth's `phase_mm` (tooth 0's centre on each gear's arc, mm), when known.
+    pub teeth_phase_mm: Option<[f64; 3]>,
     /// The target points, mm, world frame.
     pub target_mm: Vec<Point>,
 }
@@ -58,6 +60,7 @@ impl RotorSource {
         });
         Self {
             pressure_angle_rad: teeth_options.as_ref().map(|o| o.toothing.rack.alpha_rad()),
+            teeth_phase_mm: file.teeth.as_ref().and_then(|t| t.phase_mm),
             assembly,
             teeth: None,
             teeth_options,
@@ -77,6 +80,7 @@ impl RotorSource {
                 .as_ref()
                 .map(|t| t.report.options.toothing.rack.alpha_rad()),
             teeth_options: teeth.as_ref().map(|t| t.report.options.clone()),
+            teeth_phase_mm: teeth.as_ref().map(|t| t.report.phase_mm),
             assembly,
             teeth,
             target_mm,

@@ -127,6 +127,7 @@ pub fn slim(r: &mut LoadsReport) {
     r.sun_torque_nm = Vec::new();
     r.frame_force_n = Vec::new();
     r.needle_force_n = Vec::new();
+    r.needle_table_n = Vec::new();
     r.bearings = Bearings::default();
     for m in [
         &mut r.meshes.sun_intermediate,

@@ -63,6 +63,10 @@ pub struct TeethFile {
     /// them; absent: the defaults at the module.
     #[serde(default)]
     pub options: Option<crate::design::train::TrainTeethOptions>,
+    /// Arc position of tooth 0's centre on each gear (sun, intermediate, planet), mm, when the
+    /// file carries it.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub phase_mm: Option<[f64; 3]>,
 }
 
 /// `carrier` of a design file.

@@ -74,8 +74,10 @@ fn the_knock_fails_the_bundled_g1_teeth() {
     let (h, f) = min_s(&d);
     let (h0, f0) = min_s(&iso);
     assert!(h0 > 1.0 && f0 > 1.4, "the ISO rating passes: {h0} {f0}");
+    // 0.503 and 0.891 (2026-12-02; 0.494 and 1.288 with the double-contact band at the arc's
+    // origin and triangular needle pulses)
     assert!(
-        (0.4..0.6).contains(&h) && (1.1..1.4).contains(&f),
+        (0.4..0.6).contains(&h) && (0.75..1.05).contains(&f),
         "{h} {f}"
     );
     let rt = d.rating.as_ref().unwrap();

@@ -8,7 +8,7 @@ use super::law::{MeshLaw, ToothData};
 use super::lever_rate::LeverRates;
 use super::model::RotorModel;
 use super::scene::{Backlash, Effects, StiffnessLaw};
-use crate::loads::analysis::{needle_table, rigid_train};
+use crate::loads::analysis::{needle_table, rigid_train, train_turn};
 use crate::loads::motion::TrainMotion;
 use crate::loads::scene::FaceWidth;
 use crate::loads::{LoadCase, Rotor};
@@ -92,18 +92,55 @@ pub fn build(
         StiffnessLaw::Iso { scale, pairs } => {
             let t = need_teeth("ISO stiffness")?;
             let [sun, mid, _] = r.ccw_curves();
+            // The rigid loads' signed mesh forces at the samples: their flank between samples
+            // is the sign of the force linear between them (law's module docs).
+            let signed: [Vec<f64>; 2] = if pairs == super::spec::PairsMode::Alternating {
+                let turn = train_turn(&r, case, &rigid.bodies, rigid.alpha_rad)?;
+                [0, 1].map(|j| {
+                    turn.forces
+                        .iter()
+                        .map(|f| {
+                            let m = if j == 0 { f.sun_mesh } else { f.planet_mesh };
+                            f64::from(m.flank) * m.normal_force_n
+                        })
+                        .collect()
+                })
+            } else {
+                [Vec::new(), Vec::new()]
+            };
             let make = |j: usize| {
                 let driver = if j == 0 { sun } else { mid };
-                MeshLaw::iso(scale, pairs, t, face_mm, driver, &|phi, f| {
-                    let m = TrainMotion::at(&r, phi);
-                    let [s, mi, p] = r.ccw_curves();
-                    let (pitch, curves) = if j == 0 {
-                        (&m.sun_mesh, [s, mi])
-                    } else {
-                        (&m.planet_mesh, [mi, p])
-                    };
-                    f(&super::law::Contact { pitch, curves });
-                })
+                let phase = r.sign() * t.phase_mm[j];
+                let f = &signed[j];
+                let flank = |phi: f64| -> i8 {
+                    if f.is_empty() {
+                        return 1;
+                    }
+                    let x = phi.rem_euclid(TAU) / TAU * n as f64;
+                    let k = (x.floor() as usize).min(n - 1);
+                    let u = x - k as f64;
+                    let v = (1.0 - u) * f[k] + u * f[(k + 1) % n];
+                    if v < 0.0 { -1 } else { 1 }
+                };
+                MeshLaw::iso(
+                    scale,
+                    pairs,
+                    t,
+                    face_mm,
+                    driver,
+                    phase,
+                    &flank,
+                    &|phi, f| {
+                        let m = TrainMotion::at(&r, phi);
+                        let [s, mi, p] = r.ccw_curves();
+                        let (pitch, curves) = if j == 0 {
+                            (&m.sun_mesh, [s, mi])
+                        } else {
+                            (&m.planet_mesh, [mi, p])
+                        };
+                        f(&super::law::Contact { pitch, curves });
+                    },
+                )
             };
             let laws = [make(0), make(1)];
             log.push(format!(

@@ -1,12 +1,26 @@
 //! The stiffness of each rotor mesh as the carrier turns: a constant, or ISO 6336-1's on the
 //! local equivalent pair ([`super::stiffness`]) with the tooth pairs alternating.
 //!
-//! The teeth pass at the gears' own speed: the driver's pitch-curve arc from its body angle 0
-//! to the contact, over the circular pitch `p = L/z` (L the perimeter), counts the teeth passed,
-//! `ξ(φ)`. Two pairs are in contact while `frac(ξ) < ε_α(φ) − 1` (ε_α the local contact ratio):
-//! the switch angles are where that changes, found once per turn (bisection to 1e-12 rad) and
-//! given to the integrator as breakpoints; the law looks them up, so the right-hand side and the
-//! breakpoints agree exactly.
+//! The teeth pass at the gears' own speed. On the driver's pitch curve (CCW frame), with `s` the
+//! arc from its body angle 0 to the contact and `p = L/z` the circular pitch (L the perimeter),
+//! tooth k's centre is at `s_k = φ₀ + k·p` (φ₀ the design's `teeth.phase_mm` of the driver,
+//! negated for a clockwise design, whose CCW frame is the mirror image) and its flanks at
+//! `s_k ± t/2`, `t = p/2 − j/2` the tooth's arc thickness on the pitch curve (j the nominal
+//! circumferential backlash). The flank in contact is the one the rigid loads load at that
+//! carrier angle: a force on the driven gear turning it CCW about its axis (`flank = +1`) pushes
+//! the driver towards larger s, onto its flank at `s_k − t/2`; `flank = −1` onto `s_k + t/2`.
+//! One pair carries the load while that flank passes the pitch point, so the single-pair zone is
+//! centred there and the two-pair zone half a pitch away:
+//!
+//! `ξ′ = (s − φ₀ + flank·t/2)/p`, two pairs while `|frac(ξ′) − ½| < (ε_α(φ) − 1)/2`
+//!
+//! (ε_α the local contact ratio). The rigid flank is the sign of the rigid mesh force, linear
+//! between the loads' samples, so its changes are known in advance. Simplified: during a backlash
+//! flight, or while the dynamic force is on the other flank, the count still follows the rigid
+//! flank; the outline's thinning (its left flanks by j/2) is taken as symmetric (a shift of j/4
+//! along the arc, 0.3 % of a pitch on G1). The switch angles are where the count changes, found
+//! once per turn (bisection to 1e-12 rad) and given to the integrator as breakpoints; the law
+//! looks them up, so the right-hand side and the breakpoints agree exactly.
 
 use super::spec::PairsMode;
 use super::stiffness::{DOUBLE_PAIR_RATIO, mean_mesh, single_pair};
@@ -30,13 +44,21 @@ pub struct ToothData {
     pub dedendum_coeff: f64,
     /// Nominal circumferential backlash on the pitch curve, mm.
     pub backlash_mm: f64,
+    /// Arc position of tooth 0's centre on each gear's pitch curve (sun, intermediate, planet),
+    /// mm, in the design's own frame (`teeth.phase_mm`; zeros for a design file without it).
+    pub phase_mm: [f64; 3],
 }
 
 impl ToothData {
     /// The teeth of `z` per gear at module `module_mm` (mm) cut with the rack and backlash of
-    /// `o`.
+    /// `o`, tooth 0 of each gear centred at the arc `phase_mm` (mm).
     #[must_use]
-    pub fn of(o: &crate::design::train::TrainTeethOptions, module_mm: f64, z: u32) -> Self {
+    pub fn of(
+        o: &crate::design::train::TrainTeethOptions,
+        module_mm: f64,
+        z: u32,
+        phase_mm: [f64; 3],
+    ) -> Self {
         let rack = o.toothing.rack;
         Self {
             module_mm,
@@ -45,6 +67,7 @@ impl ToothData {
             addendum_coeff: rack.addendum(),
             dedendum_coeff: rack.addendum() + rack.clearance(),
             backlash_mm: o.toothing.backlash_mm,
+            phase_mm,
         }
     }
 }
@@ -128,13 +151,18 @@ impl Contact<'_> {
 
 impl MeshLaw {
     /// The ISO law; `contact(φ)` gives the mesh at carrier angle φ, `driver` the driving gear's
-    /// pitch curve (its teeth count the passing).
+    /// pitch curve (CCW frame; its teeth count the passing), `phase_mm` its tooth 0's centre on
+    /// that curve's arc (mm, CCW frame) and `flank(φ)` the rigid loads' flank at φ (module docs).
+    // The driver's curve, phase and flank are three views of one gear; one crate-private caller.
+    #[allow(clippy::too_many_arguments)]
     pub(crate) fn iso(
         scale: f64,
         pairs: PairsMode,
         teeth: ToothData,
         face_mm: f64,
         driver: &PitchCurve,
+        phase_mm: f64,
+        flank: &dyn Fn(f64) -> i8,
         contact: &ContactAt<'_>,
     ) -> Self {
         let mut law = Self::Iso {
@@ -148,12 +176,15 @@ impl MeshLaw {
         if pairs == PairsMode::Alternating {
             let arc = ArcTable::new(driver, 8192);
             let pitch = arc.perimeter_mm / f64::from(teeth.z);
+            let thickness = 0.5 * pitch - 0.5 * teeth.backlash_mm;
             let double = |phi: f64| {
                 let mut d = false;
+                let side = if flank(phi) < 0 { -1.0 } else { 1.0 };
                 contact(phi, &mut |c| {
-                    let xi = arc.at(c.pitch.driver_angle_rad) / pitch;
+                    let s = arc.at(c.pitch.driver_angle_rad);
+                    let xi = (s - phase_mm + side * 0.5 * thickness) / pitch;
                     let eps = c.pair(&teeth).contact_ratio();
-                    d = xi - xi.floor() < eps - 1.0;
+                    d = (xi - xi.floor() - 0.5).abs() < 0.5 * (eps - 1.0);
                 });
                 d
             };
@@ -235,6 +266,93 @@ impl MeshLaw {
                 // N/(mm·µm) × mm = N/µm = 1e6 N/m
                 scale * c * face_mm * 1e6
             }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::math::Point;
+
+    /// The double-contact intervals of a pair of equal circles (r = 25 mm, z = 25, m = 2, ε_α
+    /// constant), the driver's contact at body angle φ: each centred half a pitch from the loaded
+    /// driver flank, `s = φ₀ − flank·t/2 + (k + ½)·p` (φ₀ tooth 0's centre, t = p/2 − j/2),
+    /// within 1e-6 of a pitch, and covering ε_α − 1 of the turn.
+    #[test]
+    fn double_contact_is_centred_half_a_pitch_from_the_loaded_flank() {
+        let r_mm = 25.0;
+        let circle = PitchCurve::from_fn(720, |_| r_mm).unwrap();
+        let teeth = ToothData {
+            module_mm: 2.0,
+            z: 25,
+            alpha_rad: 20f64.to_radians(),
+            addendum_coeff: 1.0,
+            dedendum_coeff: 1.25,
+            backlash_mm: 0.08,
+            phase_mm: [1.3, 0.0, 0.0],
+        };
+        let contact = |phi: f64, f: &mut dyn FnMut(&Contact<'_>)| {
+            let pitch = PitchPoint {
+                point_mm: Point::new(r_mm, 0.0),
+                tangent: Point::new(0.0, -1.0),
+                normal: Point::new(1.0, 0.0),
+                driver_angle_rad: phi,
+                driven_angle_rad: std::f64::consts::PI - phi,
+            };
+            f(&Contact {
+                pitch: &pitch,
+                curves: [&circle, &circle],
+            });
+        };
+        let eps = {
+            let mut e = 0.0;
+            contact(0.0, &mut |c| e = c.pair(&teeth).contact_ratio());
+            e
+        };
+        assert!(eps > 1.2 && eps < 2.0, "{eps}");
+        let p = TAU * r_mm / 25.0;
+        let t = 0.5 * p - 0.5 * teeth.backlash_mm;
+        for flank in [1i8, -1] {
+            let law = MeshLaw::iso(
+                1.0,
+                PairsMode::Alternating,
+                teeth,
+                20.0,
+                &circle,
+                teeth.phase_mm[0],
+                &|_| flank,
+                &contact,
+            );
+            let sw = law.switches();
+            assert_eq!(sw.len(), 50, "{flank}: {sw:?}");
+            let mut double_arc = 0.0;
+            for k in 0..sw.len() {
+                let (a, b) = (
+                    sw[k],
+                    if k + 1 < sw.len() {
+                        sw[k + 1]
+                    } else {
+                        sw[0] + TAU
+                    },
+                );
+                let mid = 0.5 * (a + b);
+                if !law.double(mid) {
+                    continue;
+                }
+                double_arc += b - a;
+                // the interval's centre as an arc, against the nearest predicted centre
+                let s = mid * r_mm;
+                let x = (s - teeth.phase_mm[0] + f64::from(flank) * 0.5 * t) / p - 0.5;
+                let off = x - x.round();
+                assert!(off.abs() < 1e-6, "{flank}: centre off by {off} pitch");
+            }
+            let share = double_arc / TAU;
+            assert!(
+                (share - (eps - 1.0)).abs() < 1e-9,
+                "{flank}: {share} vs {}",
+                eps - 1.0
+            );
         }
     }
 }

@@ -91,7 +91,7 @@ impl RotorError {
 
 /// The teeth of a design source, as the dynamics reads them (none for a pitch-only design):
 /// the made teeth's own count and module when the source holds them (a train in memory), else
-/// the design file's `teeth` block (its exact tooth count).
+/// the design file's `teeth` block (its exact tooth count and its teeth's `phase_mm`).
 #[must_use]
 pub fn tooth_data(source: &RotorSource) -> Option<ToothData> {
     if let Some(t) = &source.teeth {
@@ -99,6 +99,7 @@ pub fn tooth_data(source: &RotorSource) -> Option<ToothData> {
             &t.report.options,
             t.report.module_mm,
             t.report.z,
+            t.report.phase_mm,
         ));
     }
     let o = source.teeth_options.as_ref()?;
@@ -108,7 +109,12 @@ pub fn tooth_data(source: &RotorSource) -> Option<ToothData> {
         ) => z,
         _ => return None,
     };
-    Some(ToothData::of(o, o.toothing.module_mm, z))
+    Some(ToothData::of(
+        o,
+        o.toothing.module_mm,
+        z,
+        source.teeth_phase_mm.unwrap_or([0.0; 3]),
+    ))
 }
 
 /// A rotor scene prepared to run: the case, the design and the built model.

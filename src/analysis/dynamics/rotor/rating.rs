@@ -145,9 +145,14 @@ impl DynamicRating {
             .at_face_width(face_width_mm)
             .validate(file)
             .map_err(as_loads)?;
-        let teeth = rotor
-            .teeth()
-            .map(|t| ToothData::of(&t.report.options, t.report.module_mm, t.report.z));
+        let teeth = rotor.teeth().map(|t| {
+            ToothData::of(
+                &t.report.options,
+                t.report.module_mm,
+                t.report.z,
+                t.report.phase_mm,
+            )
+        });
         let built = build(rotor, &rc.loads, &rc.effects, teeth, file).map_err(as_loads)?;
         let model = &built.model;
         let run = run_model(
