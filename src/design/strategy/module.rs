@@ -164,38 +164,29 @@ pub(in crate::design) fn design_for_module(
     // second finish was closer on 1 of 5 targets, by 3 %, for as long as the first. Which
     // count wins is known only once the first finishes end, so every on-line count's second
     // finish joins the race, and only the winner's is used.
-    let to_finish: Vec<usize> = (0..fits.len())
-        .filter(|&i| fits[i].finish_start.is_some())
-        .filter(|&i| judge.score(&fits[i].fit) <= FINISH_RANGE * closest)
-        .collect();
-    let on_line = |c: &Candidate| {
-        c.finish_start
-            .as_ref()
-            .is_some_and(|f| f.mechanism.idler_offset_rad == 0.0)
-    };
-    let seconds: Vec<usize> = to_finish
+    let to_finish: Vec<(usize, Fitted)> = fits
         .iter()
-        .copied()
-        .filter(|&i| on_line(&fits[i]))
+        .enumerate()
+        .filter(|(_, c)| judge.score(&c.fit) <= FINISH_RANGE * closest)
+        .filter_map(|(i, c)| Some((i, c.finish_start.clone()?)))
+        .collect();
+    let seconds: Vec<(usize, Fitted)> = to_finish
+        .iter()
+        .filter(|(_, f)| f.mechanism.idler_offset_rad == 0.0)
+        .cloned()
         .collect();
     let opts: Vec<FitOptions> = fits.iter().map(|c| c.opts.clone()).collect();
-    let racer = |i: usize, from: LawsonStart| {
-        let start = fits[i].finish_start.clone()?;
-        Some(Lawson::new(points, start, &opts[i], from))
-    };
     let racers = to_finish
         .iter()
-        .map(|&i| racer(i, LawsonStart::Uniform))
-        .chain(seconds.iter().map(|&i| racer(i, LawsonStart::Distances)))
-        .collect::<Option<Vec<_>>>()
-        .unwrap_or_default();
+        .map(|(i, f)| (i, f, LawsonStart::Uniform))
+        .chain(seconds.iter().map(|(i, f)| (i, f, LawsonStart::Distances)))
+        .map(|(&i, f, from)| Lawson::new(points, f.clone(), &opts[i], from))
+        .collect();
     let mut raced = race(racers, MINIMAX_PASSES).into_iter();
-    for &i in &to_finish {
-        if let Some(finished) = raced.next() {
-            fits[i].take_finish(finished, judge);
-        }
+    for ((i, _), finished) in to_finish.iter().zip(raced.by_ref()) {
+        fits[*i].take_finish(finished, judge);
     }
-    let mut second: Vec<(usize, Fitted)> = seconds.into_iter().zip(raced).collect();
+    let mut second: Vec<(usize, Fitted)> = seconds.into_iter().map(|(i, _)| i).zip(raced).collect();
     if let Some((i, c)) = fits
         .iter_mut()
         .enumerate()
