@@ -1,6 +1,8 @@
 //! `ncgear compare TRACK.csv --design design.json`: a filmed needle-tip track registered to the
 //! design's static path and compared with it.
 use super::{CliResult, input_error, print_json, runtime_error};
+use ncgear::analysis::dynamics::rotor::Prepared;
+use ncgear::compare::dynamic::against_dynamics;
 use ncgear::compare::{
     CompareError, CompareOptions, LengthUnit, ReadOptions, Scale, compare, read_track,
 };
@@ -70,15 +72,20 @@ pub struct Args {
     /// Highest power of the timing drift (1: constant speed).
     #[arg(long, default_value_t = 3)]
     pub drift_order: usize,
-    /// Order of the smooth deviation by carrier angle (Fourier harmonics).
-    #[arg(long, default_value_t = 8)]
-    pub smooth_order: usize,
+    /// Order of the smooth deviation by carrier angle (Fourier harmonics, 2..=40; default:
+    /// chosen from the frames, at most 8, by the Bayesian information criterion).
+    #[arg(long)]
+    pub smooth_order: Option<usize>,
     /// Planting depth, mm (for the hole width).
     #[arg(long, default_value_t = 30.0)]
     pub depth: f64,
     /// Plant spacing, mm (sets the forward speed for the hole width; default 1 m/s).
     #[arg(long)]
     pub spacing: Option<f64>,
+    /// A rotor dynamics scene (`[scene] model = "rotor"`) of the same design: its settled turn
+    /// at the track's mean speed becomes a second reference path (backlash, elastic teeth).
+    #[arg(long)]
+    pub dynamics: Option<PathBuf>,
     /// Also write compare.png.
     #[arg(long)]
     pub png: bool,
@@ -167,10 +174,24 @@ pub fn run(args: Args) -> CliResult {
     let (read, opts) = options(&args)?;
     let (_, asm) = DesignFile::from_path(&args.design).map_err(input)?;
     let track = read_track(&args.track, &read).map_err(input)?;
-    let c = compare(&track, &asm.rebuild(), &opts).map_err(|e| match e {
+    let scene = args
+        .dynamics
+        .as_deref()
+        .map(|p| Prepared::from_path(p).map_err(input))
+        .transpose()?;
+    let failed = |e: CompareError| match e {
         CompareError::NoFit { .. } => runtime_error(miette::miette!("{e}")),
         _ => input(e),
-    })?;
+    };
+    let rebuilt = asm.rebuild();
+    let mut c = compare(&track, &rebuilt, &opts).map_err(failed)?;
+    if let Some(p) = &scene {
+        let pb = super::progress_bar(u64::from(p.case.settings.max_turns), "turns");
+        let (_, d) = against_dynamics(&track, &rebuilt, &c, p, &opts, &super::bar_sink(&pb))
+            .map_err(failed)?;
+        pb.finish_and_clear();
+        c.report.dynamics = Some(d);
+    }
     let report = ncgear::output::write_compare(&c, &args.out, args.png)
         .map_err(|e| runtime_error(miette::miette!("{e}")))?;
     if args.json {
@@ -212,6 +233,21 @@ pub fn run(args: Args) -> CliResult {
         f.track.hole_width_mm,
         f.design.hole_width_mm
     );
+    if let Some(d) = &report.dynamics {
+        println!(
+            "  against the dynamics of `{}` at {:.2} r/min ({} turns{}): deviation RMS {:.3} mm, max {:.3} mm at {:.0}° (static RMS {:.3} mm; the dynamic tip leaves the static path by up to {:.3} mm): the dynamics explain {:.0} % of the mean square",
+            d.scene,
+            d.carrier_rpm,
+            d.turns,
+            if d.settled { "" } else { ", not settled" },
+            d.rms_mm,
+            d.max_mm,
+            d.max_at_carrier_deg,
+            d.static_rms_mm,
+            d.max_tip_departure_mm,
+            100.0 * d.explained
+        );
+    }
     if let Some(s) = &report.spread {
         println!(
             "  {} turns: spread of the pushing angle {:.3}°, of the hole width {:.3} mm",

@@ -32,14 +32,48 @@ impl DesignPath {
         let tips: Vec<Point> = (0..SAMPLES)
             .map(|k| rebuilt.pose(TAU * k as f64 / SAMPLES as f64).tip_mm)
             .collect();
-        let spline = |v: Vec<f64>| PeriodicSpline::uniform(0.0, v, TAU).expect("4096 samples");
         let asm = rebuilt.assembly();
+        Self::through(
+            &tips,
+            asm.center_mm,
+            rebuilt.l1_mm(),
+            asm.direction.signum(),
+        )
+    }
+
+    /// The path of this train's tip moved to `tips_mm`, tip points at `n` instants of a turn
+    /// evenly spaced in travel from carrier angle 0 (sample `k` at carrier angle
+    /// `direction·2πk/n`; at least 8), e.g. a dynamic run's settled turn
+    /// ([`crate::analysis::dynamics::rotor::RotorReport::tip_mm`]); the carrier axis, arm and
+    /// sense are this path's. `None` with fewer than 8 samples.
+    #[must_use]
+    pub fn moved_to(&self, tips_mm: &[Point]) -> Option<Self> {
+        let n = tips_mm.len();
+        if n < 8 {
+            return None;
+        }
+        // Sample j of the spline at carrier angle 2πj/n is travel sample (±j mod n).
+        let tips: Vec<Point> = (0..n)
+            .map(|j| tips_mm[if self.direction < 0 { (n - j) % n } else { j }])
+            .collect();
+        Some(Self::through(
+            &tips,
+            self.center_mm,
+            self.l1_mm,
+            self.direction,
+        ))
+    }
+
+    /// Periodic splines through tips at `n` uniform carrier angles over `[0, 2π)`.
+    fn through(tips: &[Point], center_mm: Point, l1_mm: f64, direction: i8) -> Self {
+        let spline =
+            |v: Vec<f64>| PeriodicSpline::uniform(0.0, v, TAU).expect("at least 8 samples");
         Self {
             x: spline(tips.iter().map(|p| p.x).collect()),
             y: spline(tips.iter().map(|p| p.y).collect()),
-            center_mm: asm.center_mm,
-            l1_mm: rebuilt.l1_mm(),
-            direction: asm.direction.signum(),
+            center_mm,
+            l1_mm,
+            direction,
         }
     }
 

@@ -10,6 +10,7 @@
 //! design's, each whole turn and their spread → [`report::CompareReport`]; [`crate::output::compare_plot`] draws it.
 
 pub mod design_path;
+pub mod dynamic;
 mod error;
 pub mod figures;
 pub mod initial;
@@ -68,8 +69,10 @@ pub struct CompareOptions {
     pub rotation_rad: Option<f64>,
     /// Highest power D of the timing drift (1: constant speed; ≤ 6). Default 3.
     pub drift_order: usize,
-    /// Order K of the smooth deviation (2..=40). Default 8.
-    pub smooth_order: usize,
+    /// Order K of the smooth deviation (2..=40); default `None`: chosen from the frames by
+    /// [`smooth::bic_order`] within `2..=`[`MAX_CHOSEN_ORDER`] (the registration's own smooth
+    /// model of the deviation then has order [`MAX_CHOSEN_ORDER`]).
+    pub smooth_order: Option<usize>,
     /// Outlier threshold, in σ of the frames' noise. Default 4.5.
     pub outlier_sigma: f64,
     /// Forward speed and depth for the agronomic figures (their `rpm` is the record's).
@@ -88,13 +91,17 @@ impl Default for CompareOptions {
             carrier_axis: None,
             rotation_rad: None,
             drift_order: 3,
-            smooth_order: 8,
+            smooth_order: None,
             outlier_sigma: 4.5,
             features: FeatureOptions::default(),
             spacing_mm: None,
         }
     }
 }
+
+/// The highest order of the smooth deviation chosen from the frames, and the order of the
+/// registration's smooth model of it when none is given.
+pub const MAX_CHOSEN_ORDER: usize = 8;
 
 /// One frame as registered.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -138,11 +145,10 @@ fn scale_of(track: &Track, opts: &CompareOptions) -> Result<Option<f64>, Compare
             format!("{}: expected 1..=6", opts.drift_order),
         ));
     }
-    if !(2..=40).contains(&opts.smooth_order) {
-        return Err(bad(
-            "smooth-order",
-            format!("{}: expected 2..=40", opts.smooth_order),
-        ));
+    if let Some(k) = opts.smooth_order
+        && !(2..=40).contains(&k)
+    {
+        return Err(bad("smooth-order", format!("{k}: expected 2..=40")));
     }
     if !(opts.outlier_sigma.is_finite() && opts.outlier_sigma >= 2.0) {
         return Err(bad(
@@ -197,6 +203,19 @@ pub fn compare(
     rebuilt: &Rebuilt,
     opts: &CompareOptions,
 ) -> Result<Comparison, CompareError> {
+    compare_to_path(track, &DesignPath::new(rebuilt), opts)
+}
+
+/// [`compare`] against the reference path `path` (the design's static path, or the dynamic
+/// path of [`dynamic::against_dynamics`]).
+///
+/// # Errors
+/// As [`compare`].
+pub fn compare_to_path(
+    track: &Track,
+    path: &DesignPath,
+    opts: &CompareOptions,
+) -> Result<Comparison, CompareError> {
     let n = track.tip.len();
     let scale = scale_of(track, opts)?;
     if n < 32 {
@@ -219,7 +238,6 @@ pub fn compare(
     let (t0, t1) = (track.time_s[0], track.time_s[n - 1]);
     let (mid, half) = (0.5 * (t0 + t1), 0.5 * (t1 - t0));
     let dt: Vec<f64> = track.time_s.iter().map(|t| t - mid).collect();
-    let path = DesignPath::new(rebuilt);
     let sense = f64::from(path.direction);
     // The carrier angle of each frame from the mid frame's: measured (encoder), or ω·(t − t_m).
     let encoder: Option<Vec<f64>> = track.encoder_deg.as_ref().map(|e| {
@@ -256,7 +274,7 @@ pub fn compare(
     }
     let start = initial::start(
         &track.file,
-        &path,
+        path,
         &u,
         &offsets,
         omega0,
@@ -271,11 +289,11 @@ pub fn compare(
         datum,
         fixed_rotation: opts.rotation_rad.is_some(),
         drift_order: opts.drift_order,
-        smooth_order: opts.smooth_order,
+        smooth_order: opts.smooth_order.unwrap_or(MAX_CHOSEN_ORDER),
         huber_k: 2.0,
         outlier_k: opts.outlier_sigma,
     };
-    let fit = register::fit(&path, &u, &dt, half, &start, fo, encoder.as_deref());
+    let fit = register::fit(path, &u, &dt, half, &start, fo, encoder.as_deref());
     if !fit.values.iter().all(|v| v.is_finite()) {
         return Err(CompareError::NoFit {
             message: "the parameters left the finite numbers".into(),
@@ -333,9 +351,16 @@ pub fn compare(
             .map(|(m, q)| (*q - land(flip(*m))).atan2())
             .collect()
     });
-    let order = opts.smooth_order;
+    let order = opts.smooth_order.unwrap_or_else(|| {
+        let w: Vec<f64> = inlier.iter().map(|u| f64::from(u8::from(*u))).collect();
+        let comps = [
+            fit.residual_mm.iter().map(|p| p.x).collect(),
+            fit.residual_mm.iter().map(|p| p.y).collect::<Vec<_>>(),
+        ];
+        smooth::bic_order(&fit.phi_rad, &comps, &w, 2, MAX_CHOSEN_ORDER)
+    });
     let smooth = SmoothPath::fit(
-        &path,
+        path,
         &fit.phi_rad,
         &fit.residual_mm,
         needle.as_deref(),
@@ -351,7 +376,7 @@ pub fn compare(
         fopts = fopts.with_forward_mm_s(FeatureOptions::forward_for_spacing(sp, mean_rpm));
     }
     let fe = |e: crate::simulate::SimulateError| bad("features", e.to_string());
-    let design_features = SmoothPath::design(&path).features(&fopts).map_err(fe)?;
+    let design_features = SmoothPath::design(path).features(&fopts).map_err(fe)?;
     let track_features = smooth.features(&fopts).map_err(fe)?;
     let deviation = figures::deviation_report(
         &smooth,
@@ -363,15 +388,7 @@ pub fn compare(
     );
     let design_fig = figures::figures_of(&design_features, 0.0);
     let track_fig = figures::figures_of(&track_features, deviation.rms_mm);
-    let turns = turns(
-        &path,
-        track,
-        &fit,
-        &inlier,
-        needle.as_deref(),
-        order,
-        &fopts,
-    )?;
+    let turns = turns(path, track, &fit, &inlier, needle.as_deref(), order, &fopts)?;
     let per_turn: Vec<_> = turns.iter().map(|t| t.figures).collect();
     let mut dts: Vec<f64> = track.time_s.windows(2).map(|w| w[1] - w[0]).collect();
     dts.sort_by(f64::total_cmp);
@@ -454,6 +471,7 @@ pub fn compare(
         },
         spread: figures::spread(&per_turn),
         turns,
+        dynamics: None,
         files: Vec::new(),
     };
     let frames = (0..n)

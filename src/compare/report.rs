@@ -24,9 +24,50 @@ pub struct CompareReport {
     /// with one turn.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub spread: Option<TurnFigures>,
+    /// The track against the train's dynamic path at the recorded speed (`--dynamics`); absent
+    /// without a rotor scene.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub dynamics: Option<DynamicsComparison>,
     /// Files written beside the report (names relative to its directory).
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub files: Vec<String>,
+}
+
+/// The track against the dynamic path of a rotor scene (docs/compare.md, "Against the
+/// dynamics"): the train's settled turn at the recorded mean speed, the track registered to it
+/// as to the static path, and how much of the static deviation it explains.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct DynamicsComparison {
+    /// The rotor scene's name.
+    pub scene: String,
+    /// The carrier speed it ran at (the track's mean), r/min.
+    pub carrier_rpm: f64,
+    /// Turns integrated to the steady state.
+    pub turns: u32,
+    /// Whether the motion settled (its periodic residual below the scene's tolerance).
+    pub settled: bool,
+    /// Largest distance of the dynamic tip from the static tip at the same carrier angle, mm.
+    pub max_tip_departure_mm: f64,
+    /// RMS of that distance over the turn, mm.
+    pub rms_tip_departure_mm: f64,
+    /// The smooth deviation of the track from the dynamic path (registered to it afresh):
+    /// RMS of `|d(φ)|`, mm.
+    pub rms_mm: f64,
+    /// Its largest, mm.
+    pub max_mm: f64,
+    /// Carrier angle of the largest, deg.
+    pub max_at_carrier_deg: f64,
+    /// Hausdorff distance of the smooth track path from the dynamic path, mm.
+    pub hausdorff_mm: f64,
+    /// The same RMS against the static path (the report's `deviation.rms_mm`), mm.
+    pub static_rms_mm: f64,
+    /// Share of the static deviation's mean square that the dynamics explain,
+    /// `1 − (rms_mm/static_rms_mm)²`: near 1 when the built train moves as modelled, near 0
+    /// (or below: the model makes it worse) when the difference is elsewhere.
+    pub explained: f64,
+    /// Frame noise σ of the registration to the dynamic path, mm.
+    pub noise_mm: f64,
 }
 
 /// What was read.
@@ -116,7 +157,8 @@ pub struct DeviationReport {
     pub frame_rms_mm: f64,
     /// Largest `|q_i − B(φ_i)|` over the frames (outliers excluded), mm.
     pub frame_max_mm: f64,
-    /// Order K of the smooth deviation `d(φ)` (Fourier series fitted to the frames).
+    /// Order K of the smooth deviation `d(φ)` (Fourier series fitted to the frames): the one
+    /// given, or the one the Bayesian information criterion chose (docs/compare.md).
     pub smooth_order: usize,
     /// Standard error of `d(φ)` per axis from the noise, `σ·√((2K+1)/n)`, mm: deviations
     /// below a few of it are not resolved.

@@ -149,6 +149,24 @@ fn the_stiff_limit_holds_on_other_designs() {
         stiff.report.summary.max_tip_deviation_mm,
     );
     assert!(tk < 0.02 * ts, "tip deviation {ts} → {tk} mm");
+    // The dynamic tip by carrier angle (`compare --dynamics`' reference) on this clockwise
+    // train: travel sample k at carrier angle −2πk/n, in the design's world frame, so the
+    // stiff run's tip sits on the static tip at the same angle.
+    let rebuilt = ncgear::simulate::DesignFile::from_path(&cw)
+        .unwrap()
+        .1
+        .rebuild();
+    let path = ncgear::compare::design_path::DesignPath::new(&rebuilt);
+    assert_eq!(path.direction, -1);
+    let moved = path.moved_to(&stiff.report.tip_mm).unwrap();
+    let n = stiff.report.tip_mm.len();
+    let apart = (0..n)
+        .map(|k| {
+            let phi = path.angle_at(k, n) + 0.3 * std::f64::consts::TAU / n as f64;
+            moved.tip(phi).0.distance(path.tip(phi).0)
+        })
+        .fold(0.0, f64::max);
+    assert!(apart < 0.01, "same-angle tip distance {apart} mm");
 }
 
 /// Energy: over the settled turn of the G1 rotor with every effect (ISO stiffness with the

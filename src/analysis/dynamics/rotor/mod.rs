@@ -188,10 +188,43 @@ impl Prepared {
             None,
             progress,
         )?;
+        self.label(&mut run);
+        Ok(run)
+    }
+
+    /// [`Self::run`] at carrier speed `rpm` (r/min) instead of the scene's, from `warm` (a state
+    /// of the same train, e.g. a nearby speed's `end_state`) when given: a sweep's step, or the
+    /// dynamic path of a filmed track at its recorded speed.
+    ///
+    /// # Errors
+    /// As [`Self::run`].
+    pub fn run_at_rpm(
+        &self,
+        rpm: f64,
+        warm: Option<&[f64]>,
+        progress: &Progress,
+    ) -> Result<RotorRun, RotorError> {
+        let mut model = self.built.model.clone();
+        model.omega = rpm * std::f64::consts::TAU / 60.0;
+        let mut case = self.case.loads.clone();
+        case.omega_rad_s = model.omega;
+        let mut run = run_model(
+            &model,
+            &case,
+            &self.case.settings,
+            self.teeth,
+            warm,
+            progress,
+        )?;
+        self.label(&mut run);
+        Ok(run)
+    }
+
+    /// The scene's name, design and effects on a run's report.
+    fn label(&self, run: &mut RotorRun) {
         let r = &mut run.report;
         r.scene = self.case.name.clone();
         r.design = self.design.clone();
         r.effects = self.built.effects_log.clone();
-        Ok(run)
     }
 }

@@ -4,12 +4,10 @@
 //! others warm-started within their chain): a fixed count, so the rows do not depend on the
 //! machine's cores.
 
-use super::analyse::run_model;
 use super::{Prepared, RotorError};
 use crate::progress::Progress;
 use rayon::prelude::*;
 use serde::Serialize;
-use std::f64::consts::TAU;
 
 /// Most speeds a sweep may run.
 pub const MAX_SWEEP_SPEEDS: usize = 200;
@@ -67,18 +65,7 @@ fn chain(
     let mut warm: Option<Vec<f64>> = None;
     let mut rows = Vec::with_capacity(rpm.len());
     for &n in rpm {
-        let mut model = prepared.built.model.clone();
-        model.omega = n * TAU / 60.0;
-        let mut case = prepared.case.loads.clone();
-        case.omega_rad_s = model.omega;
-        let run = run_model(
-            &model,
-            &case,
-            &prepared.case.settings,
-            prepared.teeth,
-            warm.as_deref(),
-            &Progress::none(),
-        )?;
+        let run = prepared.run_at_rpm(n, warm.as_deref(), &Progress::none())?;
         let s = &run.report.summary;
         rows.push(SweepRow {
             carrier_rpm: n,
