@@ -3,6 +3,7 @@
 docs/schemas/ (themselves generated from the Rust report types: the truth). Stdlib only.
 
 Usage: python3 scripts/gen_reports.py [OUT]   (OUT defaults to python/ncgear/reports.py)
+       python3 scripts/gen_reports.py --check   (fails when python/ncgear/reports.py is stale)
 
 One frozen dataclass per object of every schema — its root (named by its ``title``) and each
 object definition of ``$defs`` (named as the definition) — sorted by name, fields in the order of
@@ -364,6 +365,11 @@ def generate(schema_dir=SCHEMAS):
 
 
 def main(argv):
+    if argv[1:] == ["--check"]:
+        if OUT.read_text(encoding="utf-8") != generate():
+            sys.exit(f"{OUT.relative_to(ROOT)} is stale: the schemas changed; run `{COMMAND}`")
+        print(f"{OUT.relative_to(ROOT)} is what {COMMAND} writes")
+        return
     out = pathlib.Path(argv[1]) if len(argv) > 1 else OUT
     out.write_text(generate(), encoding="utf-8")
     print(out)
