@@ -48,6 +48,9 @@ RENAMED_KEYS = {"pass": "passed"}
 NULL_IS_INF = {("Check", "value")}
 
 NUMPY = ("Points", "Vectors", "Numbers")
+# The names reports.py imports: no class may take one.
+RESERVED = {"Any", "Dict", "Optional", "Tuple", "Union", "annotations", "build", "dataclass",
+            "field", "json_key", *NUMPY}
 
 
 def camel(stem):
@@ -121,21 +124,20 @@ class Gen:
             for name, s in self.objects(sch):
                 key = json.dumps(sch.expand(s), sort_keys=True)
                 shapes.setdefault(name, {}).setdefault(key, []).append(sch.stem)
-        self.names, self.classes, self.prefixed = {}, {}, []
+        self.names, self.classes, self.prefixed, shape_of = {}, {}, [], {}
         for sch in self.schemas:
             for name, s in self.objects(sch):
                 variants = shapes[name]
                 key = json.dumps(sch.expand(s), sort_keys=True)
                 cls = name if len(variants) == 1 else camel(variants[key][0]) + name
+                assert shape_of.setdefault(cls, key) == key, f"the class name {cls} for two shapes"
                 self.names[(sch.stem, name)] = cls
                 if cls not in self.classes:
                     self.classes[cls] = (sch, s)
                     if cls != name:
                         self.prefixed.append((name, cls, variants[key]))
-                else:
-                    assert self.classes[cls][0].stem == variants[key][0] or len(variants) == 1, cls
         for cls in self.classes:
-            assert cls.isidentifier() and not keyword.iskeyword(cls), cls
+            assert cls.isidentifier() and not keyword.iskeyword(cls) and cls not in RESERVED, cls
         for c, key in NULL_IS_INF:
             assert c in self.classes and key in self.props(c)[0], (c, key)
 
@@ -149,13 +151,18 @@ class Gen:
 
     def props(self, cls):
         """(properties, required keys) of a class: its own and, of a flattened enum, those of
-        each variant (never required: a row has one variant's keys)."""
+        each variant (never required: a row has one variant's keys; the parts of an ``allOf``
+        all apply)."""
         sch, s = self.classes[cls]
-        variants = {}
+        variants, required = {}, list(s.get("required", []))
         for key in ("oneOf", "anyOf", "allOf"):
-            for alt in s.get(key, []):
-                variants.update(sch.resolve(alt).get("properties", {}))
-        return {**variants, **s.get("properties", {})}, list(s.get("required", []))
+            for alt in map(sch.resolve, s.get(key, [])):
+                for k, p in alt.get("properties", {}).items():  # a key's doc: the variant's
+                    doc = p.get("description", alt.get("description"))
+                    variants[k] = {**p, "description": doc} if doc else p
+                if key == "allOf":  # every part applies: its required keys are
+                    required += alt.get("required", [])
+        return {**variants, **s.get("properties", {})}, required
 
     def ann(self, sch, s):
         """(annotation, whether it holds a numpy array, class names it uses) of schema ``s``."""
@@ -208,7 +215,9 @@ class Gen:
             items = s["items"]
             if sch.resolve(items).get("type") == "number":
                 return "Numbers", True, set()
-            return ("Points" if "$ref" in items else "Vectors"), True, set()
+            row = sch.resolve(items)
+            point = "$ref" in items and row.get("minItems") == row.get("maxItems") == 2
+            return ("Points" if point else "Vectors"), True, set()
         if "prefixItems" in s:
             parts = [self.ann(sch, i) for i in s["prefixItems"]]
         elif fixed:

@@ -2201,7 +2201,9 @@ class TradeOffRow:
     settled in a local optimum (the trade-off curve is then not monotone).
     """
     designed: Optional[RowNumbers]
+    """The design was made."""
     refused: Optional[str]
+    """The design was refused: the error message."""
 
 
 @dataclass(frozen=True)
