@@ -15,8 +15,9 @@ The type rules:
   objects → ``Union[str, Dict[str, Any]]``; a map (``additionalProperties``) → ``Dict[str, X]``.
 - An array of numbers, or of rows of numbers, of no fixed length → a read-only float64 numpy
   array: ``Points`` (rows of a point definition, ``[x, y]``), ``Vectors`` (other rows),
-  ``Numbers`` (1-D). Any other array → ``Tuple[X, ...]``; an array of fixed length → a tuple of
-  that length (a point ``[x, y]`` is ``Tuple[float, float]``).
+  ``Numbers`` (1-D). Any other array (of integers too: indices, counts, flags) →
+  ``Tuple[X, ...]``; an array of fixed length → a tuple of that length (a point ``[x, y]`` is
+  ``Tuple[float, float]``).
 - A key that may be ``null``, or may be absent, is ``Optional`` — but an absent array or map
   reads as empty (not ``Optional`` unless it may also be ``null``). An optional number that may
   be absent reads ``null`` as ``math.inf`` (the key is left out when there is no value, so a
@@ -26,6 +27,11 @@ The type rules:
   stem of the first schema file that has it (``Units`` → ``DesignUnits``, ``LoadsUnits``).
 - A class that holds a numpy array, itself or in a nested class, compares by identity
   (``eq=False``).
+
+The generator knows two exceptions by name, its only tables: ``RENAMED_KEYS`` (a JSON key that
+is a Python keyword: ``pass`` → the field ``passed``) and ``NULL_IS_INF`` (a check's ``value``,
+an f64 the schema declares ``number | null``: a ``float``, not ``Optional``). Every other name is
+the schemas'.
 """
 from __future__ import annotations
 
