@@ -6,7 +6,8 @@
 # alternatives, the module sized by strength), pair, simulate, dynamics
 # (every bundled scene and a sweep), tolerance, transplanter, loads, tradeoff, synthesis (both
 # specs) orbit model/measure/identify and compare (the bundled G1 track). Fails naming the file and the JSON path of its first
-# violation; a command that exits with an error other than a failed verdict (3) fails too.
+# violation; a command that exits with an error other than a failed verdict (3) fails too; and
+# when python/ncgear/reports.py is not what scripts/gen_reports.py writes from the schemas.
 # Needs target/release/ncgear (built by `cargo test --release`). Usage: scripts/check_schemas.sh
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -15,6 +16,9 @@ venv=target/pyenv
 [ -x "$venv/bin/python" ] || python3 -m venv "$venv"
 "$venv/bin/python" -c "import jsonschema" 2>/dev/null ||
   "$venv/bin/pip" install -q "$(grep '^jsonschema==' python/requirements-ci.txt)"
+# The Python report classes are generated from the schemas: python/ncgear/reports.py must be what
+# scripts/gen_reports.py writes from them (stdlib only; python/tests/ checks the classes further).
+"$venv/bin/python" scripts/gen_reports.py --check
 out=target/check-schemas
 rm -rf "$out"
 mkdir -p "$out"

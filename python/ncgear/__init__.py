@@ -30,9 +30,10 @@ import numpy.typing as npt
 
 from . import _ncgear
 from ._ncgear import NcgearError
+from . import reports
 from .reports import (
-    DesignReport, DynamicsRotorReport, Features, LoadsReport, PairReport, Points, SynthesisReport, TeethReport,
-    ToleranceReport, TradeOffReport, Verdict, build,
+    DesignReport, Features, LoadsReport, PairReport, Points, RotorReport, SynthesisReport, ToleranceReport,
+    TrainTeethReport, Verdict, build,
 )
 
 __version__: str = _ncgear.__version__
@@ -101,9 +102,9 @@ class Design(_Raw, DesignReport):
 
 
 @dataclass(frozen=True, eq=False)
-class Train(_Raw, TeethReport):
+class Train(_Raw, TrainTeethReport):
     """Teeth on a design: the ``teeth`` block of ``design.json``
-    (:class:`ncgear.reports.TeethReport`), the outlines (body frames, (N, 2) mm, as exported),
+    (:class:`ncgear.reports.TrainTeethReport`), the outlines (body frames, (N, 2) mm, as exported),
     the placements at carrier angle 0 (``sun``, ``arm1_*``, ``arm2_*``) and the verdict of both
     meshes (no interference, finite non-negative backlash) and of the tooth policy (a scaling
     policy that moves the tip by more than the design's C12 limit fails, as in the CLI)."""
@@ -138,9 +139,9 @@ class Loads(_Raw, LoadsReport):
 
 
 @dataclass(frozen=True, eq=False)
-class Dynamics(_Json, DynamicsRotorReport):
+class Dynamics(_Json, RotorReport):
     """The planting rotor in motion, settled to its periodic steady state: the fields of a rotor
-    scene's ``dynamics.json`` (:class:`ncgear.reports.DynamicsRotorReport`);
+    scene's ``dynamics.json`` (:class:`ncgear.reports.RotorReport`);
     ``to_dict()``/``json()`` give ``dynamics.json`` itself."""
 
     _report: Any = field(repr=False)
@@ -577,9 +578,9 @@ class Synthesis(_Json, SynthesisReport):
 
 
 @dataclass(frozen=True, eq=False)
-class TradeOff(_Json, TradeOffReport):
+class TradeOff(_Json, reports.TradeOff):
     """What accuracy costs (``ncgear tradeoff``): the fields of ``tradeoff.json``
-    (:class:`ncgear.reports.TradeOffReport`), one row per gear limit, layout and module."""
+    (:class:`ncgear.reports.TradeOff`), one row per gear limit, layout and module."""
 
     _report: Any = field(repr=False)
 

@@ -8,9 +8,10 @@ import numpy as np
 import numpy.typing as npt
 from typing_extensions import TypedDict, Unpack
 
+from . import reports
 from .reports import (
-    DesignReport, DynamicsRotorReport, Features, LoadsReport, PairReport, Points, SynthesisReport, TeethReport,
-    ToleranceReport, TradeOffReport, Verdict,
+    DesignReport, Features, LoadsReport, PairReport, Points, RotorReport, SynthesisReport, ToleranceReport,
+    TrainTeethReport, Verdict,
 )
 
 __version__: str
@@ -47,7 +48,7 @@ class Design(_Raw, DesignReport):
     _report: Any
 
 @dataclass(frozen=True, eq=False)
-class Train(_Raw, TeethReport):
+class Train(_Raw, TrainTeethReport):
     outlines: Dict[str, Points]
     placements: Dict[str, Placement]
     verdict: Verdict
@@ -67,7 +68,7 @@ class Loads(_Raw, LoadsReport):
     _report: Any
 
 @dataclass(frozen=True, eq=False)
-class Dynamics(_Json, DynamicsRotorReport):
+class Dynamics(_Json, RotorReport):
     _report: Any
 
 @dataclass(frozen=True)
@@ -186,7 +187,7 @@ class Synthesis(_Json, SynthesisReport):
     def passed(self) -> bool: ...
 
 @dataclass(frozen=True, eq=False)
-class TradeOff(_Json, TradeOffReport):
+class TradeOff(_Json, reports.TradeOff):
     _report: Any
 
 class _DesignOptions(TypedDict, total=False):

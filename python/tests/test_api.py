@@ -22,7 +22,7 @@ def test_design_of_g1_is_the_cli_design_json_typed(g1, out):
     # Every key and number of design.json, bit for bit (timings are wall-clock).
     assert _without(g1.to_dict(), "timings_ms") == _without(ref, "timings_ms")
     _same(g1, {**ref, "timings_ms": g1.to_dict()["timings_ms"]})
-    assert isinstance(g1, reports.DesignReport) and isinstance(g1.limits, reports.Limits)
+    assert isinstance(g1, reports.DesignReport) and isinstance(g1.limits, reports.LimitsSummary)
     assert isinstance(g1.l1_mm, float) and abs(g1.l1_mm - 90.0) < 0.01 and abs(g1.l3_mm - 170.0) < 0.01
     assert isinstance(g1.checks[0], reports.Check) and g1.checks[0].passed is True
     assert g1.gears.sun.pitch.shape == (3600, 2) and g1.gears.sun.angle_at_zero_deg is None
@@ -149,7 +149,7 @@ def test_tooth_keywords_reach_the_train(g1):
 def test_pair_outlines_and_cli_pair_step_agree(out):
     p = ncgear.pair("phi - 0.08*sin(2*phi)", teeth=24, module=1.5)
     assert isinstance(p, reports.PairReport) and p.z == 24 and p.module_mm == 1.5
-    assert isinstance(p.mesh, reports.Mesh) and p.sector is None and p.passed
+    assert isinstance(p.mesh, reports.MeshReport) and p.sector is None and p.passed
     assert set(p.outlines) == {"driver", "driven"}
     assert p.placements["driven"].center_mm == (p.center_distance_mm, 0.0)
     cli("pair", "phi - 0.08*sin(2*phi)", "--teeth", 24, "--module", 1.5, "--out", out / "cli_pair")
@@ -167,7 +167,7 @@ def test_unequal_and_open_pairs_match_the_cli(out):
     assert (p.z, p.z_driven) == (24, 48) and p.mesh is None
     assert abs(p.cycle_advance_deg - 180.0) < 1e-9
     s = ncgear.pair("phi - 0.08*sin(2*phi)", teeth=12, module=1.5, drive=(0.0, 180.0), verify_steps=0)
-    assert isinstance(s.sector, reports.Sector) and abs(s.sector.active_teeth - 12.0) < 1e-6
+    assert isinstance(s.sector, reports.SectorReport) and abs(s.sector.active_teeth - 12.0) < 1e-6
     assert s.sector.drive_deg == (0.0, 180.0)
     cli("pair", "phi - 0.08*sin(2*phi)", "--teeth", 12, "--module", 1.5, "--verify-steps", 0,
         "--open", "--drive-start", 0, "--drive-end", 180, "--out", out / "cli_sector")

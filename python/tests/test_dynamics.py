@@ -39,7 +39,7 @@ def test_dynamics_file_is_the_cli_dynamics_json_typed(tmp_path, from_file):
     p = cli("dynamics", SCENE, "--out", tmp_path / "cli")
     ref = json.loads((tmp_path / "cli" / "dynamics.json").read_text())
     r = from_file
-    assert isinstance(r, ncgear.Dynamics) and isinstance(r, reports.DynamicsRotorReport)
+    assert isinstance(r, ncgear.Dynamics) and isinstance(r, reports.RotorReport)
     # Every key and number of dynamics.json, and every key a typed field.
     assert r.to_dict() == ref and json.loads(r.json()) == ref
     _same(r, ref)

@@ -43,7 +43,7 @@ def test_loads_file_is_the_cli_loads_json_typed(tmp_path):
     assert r.to_dict() == ref
     assert json.loads(r.json()) == ref
     _same(r, ref)
-    assert isinstance(r, reports.LoadsReport) and isinstance(r.rating, reports.Rating)
+    assert isinstance(r, reports.LoadsReport) and isinstance(r.rating, reports.RatingReport)
     assert r.design == "g1_m2_design.json" and r.units.torque == "N·m"
     assert (r.operation.arms, r.operation.samples, r.operation.gravity_m_s2) == (2, 720, (0.0, -G))
     assert r.travel_deg.shape == (720,) and r.frame_force_N.shape == (720, 2)

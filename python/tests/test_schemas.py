@@ -1,19 +1,23 @@
 """The report classes of ``ncgear.reports`` agree with the JSON Schemas of ``docs/schemas/`` (the
-schemas are generated from the Rust report types, which are the truth).
+schemas are generated from the Rust report types, which are the truth; ``reports.py`` is
+generated from the schemas by ``scripts/gen_reports.py``, and test_reports_generated.py checks it
+is not stale — this walk is a second reading of the schemas, independent of the generator's).
 
-From each root class (``DesignReport`` ↔ ``design.schema.json`` …) the check walks every field:
-the field's JSON key is a property of the schema and every property is a field (but for the
-documented omissions below), and the annotated type agrees with the property's schema —
+From each schema's root class (named as the schema's ``title``: ``DesignReport`` ↔
+``design.schema.json`` …) the check walks every field: the field's JSON key is a property of the
+schema and every property is a field, and the annotated type agrees with the property's schema —
 ``float`` ↔ number, ``int`` ↔ integer, ``str`` ↔ string, ``bool`` ↔ boolean, a nested dataclass
-↔ an object (checked the same way), a tuple ↔ an array of its items, a numpy array ↔ an array of
-numbers (of any depth), a dict ↔ a map. ``Optional`` ↔ a property that may be ``null`` or
-absent; a field that is not ``Optional`` may only be absent when it reads as empty (a tuple, an
-array, a dict), and only be ``null`` when it is a ``float`` (a number that is not finite, read as
-``math.inf``). Every class of ``ncgear.reports`` is reached from a root, or named as a known gap.
+↔ an object (checked the same way, and named as the schema's definition), a tuple ↔ an array of
+its items, a numpy array ↔ an array of numbers (of any depth), a dict ↔ a map. ``Optional`` ↔ a
+property that may be ``null`` or absent; a field that is not ``Optional`` may only be absent when
+it reads as empty (a tuple, an array, a dict), and only be ``null`` when it is a ``float`` (a
+number that is not finite, read as ``math.inf``). Every class of ``ncgear.reports`` is reached
+from a root.
 """
 import dataclasses
 import json
 import pathlib
+import re
 import typing
 
 import numpy as np
@@ -23,35 +27,7 @@ from ncgear import reports
 
 ROOT = pathlib.Path(__file__).resolve().parents[2]
 SCHEMAS = ROOT / "docs" / "schemas"
-
-# Root class → schema file (and the path to the class's schema inside it, for a report of which
-# Python holds a part).
-ROOTS = [
-    (reports.DesignReport, "design.schema.json", ()),
-    (reports.PairReport, "pair.schema.json", ()),
-    (reports.LoadsReport, "loads.schema.json", ()),
-    (reports.ToleranceReport, "tolerance.schema.json", ()),
-    (reports.Features, "simulate.schema.json", ("features",)),
-    (reports.SynthesisReport, "synthesis.schema.json", ()),
-    (reports.TradeOffReport, "tradeoff.schema.json", ()),
-    (reports.DynamicsRotorReport, "dynamics_rotor.schema.json", ()),
-]
-
-# JSON keys a class leaves out on purpose: (class, key) → why.
-OMITTED = {
-    ("PairReport", "files"): "pair.json's file list: PairReport is the pair without its files",
-    ("PairReport", "timings_ms"): "wall times: PairReport is the pair without its timings",
-}
-
-# Reports without Python classes (known gaps): the schema file of each.
-NO_CLASS = [
-    "dynamics.schema.json",
-    "transplanter.schema.json",
-    "orbit_model.schema.json",
-    "orbit_measure.schema.json",
-    "orbit_identify.schema.json",
-    "compare.schema.json",  # ncgear compare has no Python function yet
-]
+FILES = sorted(p.name for p in SCHEMAS.glob("*.schema.json"))
 
 
 def load(name):
@@ -61,8 +37,10 @@ def load(name):
 class Walk:
     """Compares the classes reached from one root with its schema; collects the disagreements."""
 
-    def __init__(self, root_schema):
+    def __init__(self, root_schema, file=""):
         self.root = root_schema
+        # A definition two schemas give different shapes is prefixed with its file's stem.
+        self.prefix = "".join(w.capitalize() for w in file[: -len(".schema.json")].split("_"))
         self.problems = []
         self.seen = set()
 
@@ -75,18 +53,18 @@ class Walk:
         return s
 
     def split_null(self, s):
-        """(schema without its null alternative, whether null is allowed)."""
-        s = self.resolve(s)
-        t = s.get("type")
+        """(schema without its null alternative — a reference left as it is —, whether null is
+        allowed)."""
+        r = self.resolve(s)
+        t = r.get("type")
         if isinstance(t, list) and "null" in t:
             rest = [x for x in t if x != "null"]
-            return {**s, "type": rest[0] if len(rest) == 1 else rest}, True
+            return {**r, "type": rest[0] if len(rest) == 1 else rest}, True
         for key in ("anyOf", "oneOf"):
-            alts = s.get(key)
+            alts = r.get(key)
             if alts and any(self.resolve(a).get("type") == "null" for a in alts):
                 rest = [a for a in alts if self.resolve(a).get("type") != "null"]
-                inner = rest[0] if len(rest) == 1 else {key: rest}
-                return self.resolve(inner), True
+                return (rest[0] if len(rest) == 1 else {key: rest}), True
         return s, False
 
     def is_number_array(self, s):
@@ -120,8 +98,7 @@ class Walk:
         for f in dataclasses.fields(cls):
             keys[reports.json_key(f)] = f
         for key in sorted(set(props) - set(keys)):
-            if (cls.__name__, key) not in OMITTED:
-                self.fail(f"{path}.{key}", f"a key of the schema without a field of {cls.__name__}")
+            self.fail(f"{path}.{key}", f"a key of the schema without a field of {cls.__name__}")
         for key, f in keys.items():
             if key not in props:
                 self.fail(f"{path}.{key}", f"field {cls.__name__}.{f.name} is no key of the schema")
@@ -147,10 +124,13 @@ class Walk:
         self.check_type(tp, inner, path)
 
     def check_type(self, tp, s, path):
+        ref = s.get("$ref", "").rsplit("/", 1)[-1] if isinstance(s, dict) else ""
         s = self.resolve(s)
         origin, args = typing.get_origin(tp), typing.get_args(tp)
         t = s.get("type")
         if isinstance(tp, type) and dataclasses.is_dataclass(tp):
+            if ref and tp.__name__ != ref and tp.__name__ != self.prefix + ref:
+                self.fail(path, f"class {tp.__name__} for the definition {ref}")
             if t != "object" or "properties" not in s:
                 self.fail(path, f"dataclass {tp.__name__} but the schema is {json.dumps(s)[:120]}")
             else:
@@ -206,39 +186,39 @@ class Walk:
                     self.fail(path, f"{tp.__name__} in Python but {json.dumps(s)[:120]} in the schema")
 
 
-@pytest.mark.parametrize("cls,file,at", ROOTS, ids=[r[0].__name__ for r in ROOTS])
-def test_class_agrees_with_its_schema(cls, file, at):
+def root_class(file):
+    """The class of a schema's root: named as its ``title``."""
+    title = load(file)["title"]
+    assert hasattr(reports, title), f"{file}: no class {title} in ncgear.reports"
+    return getattr(reports, title)
+
+
+@pytest.mark.parametrize("file", FILES)
+def test_class_agrees_with_its_schema(file):
     schema = load(file)
-    w = Walk(schema)
-    s = schema
-    for key in at:
-        s = w.resolve(s)["properties"][key]
-    w.check_class(cls, s, file[: -len(".schema.json")])
+    w = Walk(schema, file)
+    w.check_class(root_class(file), schema, file[: -len(".schema.json")])
     assert not w.problems, "\n".join(w.problems)
 
 
-def test_every_class_is_checked_and_every_schema_is_known():
+def test_every_class_is_checked_and_every_schema_has_its_class():
+    assert len(FILES) >= 14, FILES  # every report of docs/schemas.md
     seen = set()
-    for cls, file, at in ROOTS:
-        schema = load(file)
-        w = Walk(schema)
-        s = schema
-        for key in at:
-            s = w.resolve(s)["properties"][key]
-        w.check_class(cls, s, file)
+    for file in FILES:
+        w = Walk(load(file), file)
+        w.check_class(root_class(file), load(file), file)
         seen |= w.seen
     classes = {
         name for name, c in vars(reports).items()
         if isinstance(c, type) and dataclasses.is_dataclass(c) and c.__module__ == reports.__name__
     }
     assert classes - seen == set(), f"classes checked against no schema: {classes - seen}"
-    files = {p.name for p in SCHEMAS.glob("*.schema.json")}
-    known = {f for _, f, _ in ROOTS} | set(NO_CLASS)
-    assert files == known, f"schemas without a class or a known gap: {files - known}; gone: {known - files}"
+    assert set(reports.__all__) == classes | {"Numbers", "Points", "Vectors", "build", "json_key"}
 
 
 def test_the_walk_finds_a_disagreement():
-    """The check is real: a field of the wrong type, a missing key and an extra field fail."""
+    """The check is real: a field of the wrong type, a missing key, an extra field, a class not
+    named as its definition and a nullable field not ``Optional`` fail."""
     schema = load("pair.schema.json")
 
     @dataclasses.dataclass(frozen=True)
@@ -246,10 +226,26 @@ def test_the_walk_finds_a_disagreement():
         schema_version: str  # an integer in the schema
         z: int
         extra_field: float  # no key of the schema
+        verdict: reports.LoadsUnits  # the definition Verdict
+        sector: reports.SectorReport  # null without a sector
 
-    w = Walk(schema)
+    w = Walk(schema, "pair.schema.json")
     w.check_class(Wrong, schema, "pair")
     text = "\n".join(w.problems)
     assert "pair.schema_version: str in Python" in text, text
     assert "pair.extra_field: field Wrong.extra_field is no key" in text, text
     assert "pair.module_mm: a key of the schema without a field" in text, text
+    assert "pair.verdict: class LoadsUnits for the definition Verdict" in text, text
+    assert "pair.sector: <class 'ncgear.reports.SectorReport'> in Python but may be null" in text, text
+
+
+def test_the_class_renames_are_documented_and_done():
+    """docs/schemas.md lists the hand-written classes' old names and the generated ones: each new
+    name is a class, no old name is left (no silent alias)."""
+    text = (ROOT / "docs" / "schemas.md").read_text(encoding="utf-8")
+    section = text.split("### Python class renames", 1)[1].split("\n## ", 1)[0]
+    pairs = re.findall(r"`(\w+)` \| `(\w+)`", section)
+    assert len(pairs) == 30, pairs
+    for old, new in pairs:
+        assert isinstance(getattr(reports, new, None), type), f"{new} (was {old}) is no class"
+        assert not hasattr(reports, old), f"{old} (now {new}) is still a name of ncgear.reports"
