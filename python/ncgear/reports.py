@@ -202,6 +202,10 @@ class CompareReport:
     """The agronomic figures of `ncgear simulate` on the design path and on the track."""
     turns: Tuple[TurnReport, ...]
     """Each whole turn of the record."""
+    dynamics: Optional[DynamicsComparison]
+    """The track against the train's dynamic path at the recorded speed (`--dynamics`); absent
+    without a rotor scene.
+    """
     files: Tuple[str, ...]
     """Files written beside the report (names relative to its directory)."""
     spread: Optional[TurnFigures]
@@ -389,7 +393,9 @@ class DeviationReport:
     frame_max_mm: float
     """Largest `|q_i − B(φ_i)|` over the frames (outliers excluded), mm."""
     smooth_order: int
-    """Order K of the smooth deviation `d(φ)` (Fourier series fitted to the frames)."""
+    """Order K of the smooth deviation `d(φ)` (Fourier series fitted to the frames): the one
+    given, or the one the Bayesian information criterion chose (docs/compare.md).
+    """
     noise_floor_mm: float
     """Standard error of `d(φ)` per axis from the noise, `σ·√((2K+1)/n)`, mm: deviations
     below a few of it are not resolved.
@@ -440,6 +446,46 @@ class Dyad:
     """Needle `l3 = |AB|`, mm."""
     max_residual_mm: float
     """Largest `| |A_k − O| − l1 |` over the poses, mm: 0 when the arm reaches every pose."""
+
+
+@dataclass(frozen=True)
+class DynamicsComparison:
+    """The track against the dynamic path of a rotor scene (docs/compare.md, "Against the
+    dynamics"): the train's settled turn at the recorded mean speed, the track registered to it
+    as to the static path, and how much of the static deviation it explains.
+    """
+
+    scene: str
+    """The rotor scene's name."""
+    carrier_rpm: float
+    """The carrier speed it ran at (the track's mean), r/min."""
+    turns: int
+    """Turns integrated to the steady state."""
+    settled: bool
+    """Whether the motion settled (its periodic residual below the scene's tolerance)."""
+    max_tip_departure_mm: float
+    """Largest distance of the dynamic tip from the static tip at the same carrier angle, mm."""
+    rms_tip_departure_mm: float
+    """RMS of that distance over the turn, mm."""
+    rms_mm: float
+    """The smooth deviation of the track from the dynamic path (registered to it afresh):
+    RMS of `|d(φ)|`, mm.
+    """
+    max_mm: float
+    """Its largest, mm."""
+    max_at_carrier_deg: float
+    """Carrier angle of the largest, deg."""
+    hausdorff_mm: float
+    """Hausdorff distance of the smooth track path from the dynamic path, mm."""
+    static_rms_mm: float
+    """The same RMS against the static path (the report's `deviation.rms_mm`), mm."""
+    explained: float
+    """Share of the static deviation's mean square that the dynamics explain,
+    `1 − (rms_mm/static_rms_mm)²`: near 1 when the built train moves as modelled, near 0
+    (or below: the model makes it worse) when the difference is elsewhere.
+    """
+    noise_mm: float
+    """Frame noise σ of the registration to the dynamic path, mm."""
 
 
 @dataclass(frozen=True, eq=False)
@@ -2575,9 +2621,9 @@ class XyRms:
 __all__ = [
     "Alternative", "AngleDeviation", "AssemblyOptimum", "Bearings", "Candidate", "Carrier", "Check",
     "CommonMode", "CompareReport", "Comparison", "CompatSummary", "Contribution", "Derived",
-    "DesignReport", "DesignUnits", "DeviationReport", "DriveReport", "Dyad", "DynamicsReport",
-    "EllipseSummary", "EnvelopePoint", "Estimate", "ExactNeeds", "Extreme", "Factors",
-    "FeatureDeviations", "Features", "FeaturesComparison", "FitSummary", "FlankUndercut",
+    "DesignReport", "DesignUnits", "DeviationReport", "DriveReport", "Dyad", "DynamicsComparison",
+    "DynamicsReport", "EllipseSummary", "EnvelopePoint", "Estimate", "ExactNeeds", "Extreme",
+    "Factors", "FeatureDeviations", "Features", "FeaturesComparison", "FitSummary", "FlankUndercut",
     "FourierSummary", "Gear", "GearMass", "GearProcess", "GearRating", "GearSpeeds", "Gears",
     "GearsReport", "GreedyChoice", "GreedyStep", "IdentifyReport", "Impact", "Joint",
     "LimitsSummary", "Line", "LoadsReport", "LoadsUnits", "Material", "McStats", "MeasureReport",
