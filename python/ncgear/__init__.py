@@ -32,7 +32,8 @@ from . import _ncgear
 from ._ncgear import NcgearError
 from . import reports
 from .reports import (
-    DesignReport, Features, LoadsReport, PairReport, Points, RotorReport, SynthesisReport, ToleranceReport,
+    CompareReport, DesignReport, Features, LoadsReport, PairReport, Points, RotorReport, SynthesisReport,
+    ToleranceReport,
     TrainTeethReport, Verdict, build,
 )
 
@@ -41,7 +42,7 @@ __all__ = [
     "NcgearError", "Design", "Train", "Pair", "Placement", "Loads", "design", "teeth", "pair",
     "simulate", "tolerance", "loads", "loads_file", "write_step", "write_dxf", "write_svg",
     "set_max_memory_gb", "Synthesis", "TradeOff", "synthesize", "tradeoff", "redesign",
-    "read_trajectory", "Dynamics", "SweepRow", "dynamics", "dynamics_file",
+    "read_trajectory", "Dynamics", "SweepRow", "dynamics", "dynamics_file", "Comparison", "compare",
 ]
 
 PathLike = Union[str, "os.PathLike[str]"]
@@ -144,6 +145,21 @@ class Dynamics(_Json, RotorReport):
     scene's ``dynamics.json`` (:class:`ncgear.reports.RotorReport`);
     ``to_dict()``/``json()`` give ``dynamics.json`` itself."""
 
+    _report: Any = field(repr=False)
+
+
+@dataclass(frozen=True, eq=False)
+class Comparison(_Json, CompareReport):
+    """A filmed track against its design (``ncgear compare``, docs/compare.md): the fields of
+    ``compare.json`` (:class:`ncgear.reports.CompareReport`) and the frames as arrays, one row
+    per frame read: ``frame_carrier_rad`` (N,), the registered tip ``frame_tip_mm`` (N, 2, mm,
+    design frame), its residual from the reference path ``frame_residual_mm`` (N, 2, mm) and
+    ``frame_outlier`` (N,) bool; ``to_dict()``/``json()`` give ``compare.json`` itself."""
+
+    frame_carrier_rad: np.ndarray = field(repr=False)
+    frame_tip_mm: Points = field(repr=False)
+    frame_residual_mm: Points = field(repr=False)
+    frame_outlier: np.ndarray = field(repr=False)
     _report: Any = field(repr=False)
 
 
@@ -560,6 +576,54 @@ def dynamics_file(
     CLI's ``dynamics.json``, number for number; with ``sweep_rpm`` (r/min) the sweep's rows, as
     ``--sweep-rpm`` gives them."""
     return _rotor_result(_ncgear.dynamics_file(os.fspath(scene), _speeds(sweep_rpm)), sweep_rpm)
+
+
+def compare(
+    track: PathLike,
+    design: Union[Design, Train, PathLike],
+    *,
+    dynamics: Optional[PathLike] = None,
+    **options: Any,
+) -> Comparison:
+    """``ncgear compare TRACK --design …`` in-process: the track file ``track`` (plain CSV,
+    Tracker's or Kinovea's export) registered to the static path of ``design`` (a
+    :class:`Design`, a :class:`Train`'s design, or a ``design.json`` path) and compared with it;
+    with ``dynamics`` (a rotor scene file of the same design) against its dynamic path at the
+    recorded speed too (``dynamics`` in the result). ``options`` are the CLI's flags of the same
+    names with underscores, read by the library itself (its keys, defaults and checks; an
+    unknown key raises :class:`NcgearError` naming it): ``rpm``, ``fps``, ``columns`` (list of
+    names or 1-based positions), ``encoder``, ``units``, ``px_per_mm``, ``calibration`` (x1, y1,
+    x2, y2, dist_mm), ``fit_scale``, ``carrier_axis`` (x, y), ``rotation`` (deg), ``mirror``,
+    ``y_down``, ``y_up``, ``drift_order`` (3), ``smooth_order`` (chosen when absent), ``depth``
+    (30 mm), ``spacing`` (mm)."""
+    args = json.dumps({k: _plain(v) for k, v in options.items()})
+    scene = os.fspath(dynamics) if dynamics is not None else None
+    if isinstance(design, (Design, Train)):
+        d, _ = _design_and_train(design)
+        out = _ncgear.compare(os.fspath(track), d._handle, None, args, scene)
+    else:
+        out = _ncgear.compare(os.fspath(track), None, os.fspath(design), args, scene)
+    r, phi, tip, residual, outlier = out
+    return build(
+        Comparison,
+        r.tree(),
+        frame_carrier_rad=phi,
+        frame_tip_mm=tip,
+        frame_residual_mm=residual,
+        frame_outlier=np.asarray(outlier, dtype=bool),
+        _report=r,
+    )
+
+
+def _plain(v: Any) -> Any:
+    """``v`` as JSON takes it: numpy arrays and tuples as lists, numpy scalars as numbers."""
+    if isinstance(v, np.ndarray):
+        return v.tolist()
+    if isinstance(v, (tuple, list)):
+        return [_plain(x) for x in v]
+    if isinstance(v, np.generic):
+        return v.item()
+    return v
 
 
 @dataclass(frozen=True, eq=False)

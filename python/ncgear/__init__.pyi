@@ -10,8 +10,8 @@ from typing_extensions import TypedDict, Unpack
 
 from . import reports
 from .reports import (
-    DesignReport, Features, LoadsReport, PairReport, Points, RotorReport, SynthesisReport, ToleranceReport,
-    TrainTeethReport, Verdict,
+    CompareReport, DesignReport, Features, LoadsReport, PairReport, Points, RotorReport, SynthesisReport,
+    ToleranceReport, TrainTeethReport, Verdict,
 )
 
 __version__: str
@@ -19,7 +19,7 @@ __all__ = [
     "NcgearError", "Design", "Train", "Pair", "Placement", "Loads", "design", "teeth", "pair",
     "simulate", "tolerance", "loads", "loads_file", "write_step", "write_dxf", "write_svg",
     "set_max_memory_gb", "Synthesis", "TradeOff", "synthesize", "tradeoff", "redesign",
-    "read_trajectory", "Dynamics", "SweepRow", "dynamics", "dynamics_file",
+    "read_trajectory", "Dynamics", "SweepRow", "dynamics", "dynamics_file", "Comparison", "compare",
 ]
 
 PathLike = Union[str, os.PathLike[str]]
@@ -69,6 +69,14 @@ class Loads(_Raw, LoadsReport):
 
 @dataclass(frozen=True, eq=False)
 class Dynamics(_Json, RotorReport):
+    _report: Any
+
+@dataclass(frozen=True, eq=False)
+class Comparison(_Json, CompareReport):
+    frame_carrier_rad: npt.NDArray[np.float64]
+    frame_tip_mm: Points
+    frame_residual_mm: Points
+    frame_outlier: npt.NDArray[np.bool_]
     _report: Any
 
 @dataclass(frozen=True)
@@ -167,6 +175,13 @@ def simulate(
 def tolerance(errors: PathLike, *, samples: int = ..., seed: int = ..., starts: int = ...) -> ToleranceReport: ...
 def loads(design: Union[Design, Train], scene: Union[PathLike, Mapping[str, Any]]) -> Loads: ...
 def loads_file(scene: PathLike) -> Loads: ...
+def compare(
+    track: PathLike,
+    design: Union[Design, Train, PathLike],
+    *,
+    dynamics: Optional[PathLike] = ...,
+    **options: Any,
+) -> Comparison: ...
 @overload
 def dynamics(
     design: Union[Design, Train], scene: Union[PathLike, Mapping[str, Any]], *, sweep_rpm: None = ...

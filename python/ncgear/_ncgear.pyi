@@ -7,7 +7,7 @@ from typing_extensions import final
 
 __all__ = [
     "DEFAULT_L1_MM", "DEFAULT_L3_MM", "DesignHandle", "NcgearError", "PairHandle", "Report",
-    "TrainHandle", "__version__", "design", "design_sized", "dynamics", "dynamics_file", "forward_for_spacing", "loads", "loads_file", "pair",
+    "TrainHandle", "__version__", "compare", "design", "design_sized", "dynamics", "dynamics_file", "forward_for_spacing", "loads", "loads_file", "pair",
     "read_trajectory", "redesign",
     "set_max_memory_gb", "simulate", "spec_box", "synthesize", "teeth", "tolerance", "tradeoff",
 ]
@@ -95,6 +95,13 @@ def dynamics(
     text: Optional[str],
     sweep_rpm: Optional[List[float]],
 ) -> Report: ...
+def compare(
+    track: str,
+    design: Optional[DesignHandle],
+    design_path: Optional[str],
+    args: str,
+    dynamics: Optional[str],
+) -> Tuple[Report, npt.NDArray[np.float64], npt.NDArray[np.float64], npt.NDArray[np.float64], List[bool]]: ...
 def dynamics_file(path: str, sweep_rpm: Optional[List[float]]) -> Report: ...
 def set_max_memory_gb(gb: float) -> None: ...
 def synthesize(

@@ -15,6 +15,8 @@ use ncgear::analysis::dynamics::rotor::{Prepared, RotorError, RotorScene, sweep_
 use ncgear::cad::dxf::{DxfVersion, write_dxf};
 use ncgear::cad::step::write_step;
 use ncgear::cad::svg::write_svg;
+use ncgear::compare::args::CompareArgs;
+use ncgear::compare::{CompareError, compare_track};
 use ncgear::design::Design;
 use ncgear::design::train::{Gear, ToothedTrain, TrainTeethOptions, tooth_train};
 use ncgear::design::trajectory::{DrawingOptions, DrawingUnits};
@@ -23,7 +25,7 @@ use ncgear::loads::{LoadsError, LoadsReport, Rotor, RotorSource, Scene, analyse_
 use ncgear::math::polyline::simplify_closed;
 use ncgear::output::{SolidOptions, pair_step, train_step_models, write_step_models};
 use ncgear::pair::{Expr, Law, PairDesign, PairOptions, design_pair};
-use ncgear::simulate::{FeatureOptions, Simulation, deviation_along, features};
+use ncgear::simulate::{DesignFile, FeatureOptions, Simulation, deviation_along, features};
 use ncgear::{Trajectory, design as run_design};
 use numpy::{PyArray1, PyReadonlyArray2};
 use options::{DesignArgs, ToothArgs, choice, train_policy};
@@ -602,6 +604,71 @@ fn dynamics_file(py: Python<'_>, path: &str, sweep_rpm: Option<Vec<f64>>) -> PyR
     Ok(Report { value })
 }
 
+/// `ncgear compare TRACK --design …` in-process: `compare.json` of the track file `track`
+/// against the design `design` (a handle) or the design file `design_path`, with `args` the
+/// JSON of `ncgear.compare`'s keywords (the library's [`CompareArgs`]: its keys, defaults and
+/// checks), and with the rotor scene file `dynamics` against its dynamic path too; and the
+/// frames: carrier angle (rad), registered tip (mm), residual (mm), outlier flag. Without the
+/// GIL.
+#[pyfunction]
+#[pyo3(signature = (track, design, design_path, args, dynamics))]
+fn compare<'py>(
+    py: Python<'py>,
+    track: &str,
+    design: Option<&DesignHandle>,
+    design_path: Option<&str>,
+    args: &str,
+    dynamics: Option<&str>,
+) -> PyResult<CompareOut<'py>> {
+    let args: CompareArgs = serde_json::from_str(args).map_err(|e| err(format!("options: {e}")))?;
+    let asm = match (design, design_path) {
+        (Some(d), _) => d.d.assembly.clone(),
+        (None, Some(p)) => {
+            DesignFile::from_path(Path::new(p))
+                .map_err(|e| errors::arg_err("design", p, e))?
+                .1
+        }
+        (None, None) => return Err(err("design: expected a Design, a Train or a design file")),
+    };
+    let scene = dynamics
+        .map(|p| Prepared::from_path(Path::new(p)).map_err(|e| rotor_err(&e, false, false)))
+        .transpose()?;
+    let c = py
+        .detach(|| {
+            compare_track(
+                Path::new(track),
+                &asm.rebuild(),
+                &args,
+                scene.as_ref(),
+                &ncgear::progress::Progress::none(),
+            )
+        })
+        .map_err(|e| match e {
+            // An option's error on its keyword (`px_per_mm`), the rest on the track.
+            CompareError::BadOption { option, message } => {
+                err(format!("{}: {message}", option.replace('-', "_")))
+            }
+            e => errors::arg_err("track", track, e),
+        })?;
+    let f = &c.frames;
+    Ok((
+        report(&c.report)?,
+        PyArray1::from_vec(py, f.iter().map(|x| x.phi_rad).collect()).into_any(),
+        points(py, &f.iter().map(|x| x.q_mm).collect::<Vec<_>>()),
+        points(py, &f.iter().map(|x| x.residual_mm).collect::<Vec<_>>()),
+        f.iter().map(|x| x.outlier).collect(),
+    ))
+}
+
+/// What [`compare`] returns: the report and the frames' arrays.
+type CompareOut<'py> = (
+    Report,
+    Bound<'py, PyAny>,
+    Bound<'py, PyAny>,
+    Bound<'py, PyAny>,
+    Vec<bool>,
+);
+
 /// The synthesis spec named `name`: the JSON `text` of a dict when given (messages name it
 /// `name`), else the file at `name` (TOML or JSON), as `ncgear synthesize` reads it.
 fn spec_of(name: &str, text: Option<&str>) -> PyResult<ncgear::synthesis::Spec> {
@@ -743,6 +810,7 @@ fn _ncgear(m: &Bound<'_, PyModule>) -> PyResult<()> {
         wrap_pyfunction!(loads_file, m)?,
         wrap_pyfunction!(dynamics, m)?,
         wrap_pyfunction!(dynamics_file, m)?,
+        wrap_pyfunction!(compare, m)?,
         wrap_pyfunction!(synthesize, m)?,
         wrap_pyfunction!(spec_box, m)?,
         wrap_pyfunction!(tradeoff, m)?,

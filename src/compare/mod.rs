@@ -9,6 +9,7 @@
 //! carrier angle and the agronomic figures of [`crate::simulate`] on the track beside the
 //! design's, each whole turn and their spread → [`report::CompareReport`]; [`crate::output::compare_plot`] draws it.
 
+pub mod args;
 pub mod design_path;
 pub mod dynamic;
 mod error;
@@ -547,6 +548,31 @@ fn turns(
         });
     }
     Ok(out)
+}
+
+/// The whole job of `ncgear compare` (and `ncgear.compare`): the track file at `path` read and
+/// compared with `rebuilt` as `args` say, and with a rotor scene `dynamics` of the same train,
+/// against its dynamic path too ([`dynamic::against_dynamics`], its summary in the report's
+/// `dynamics`); `progress` hears the rotor's turns.
+///
+/// # Errors
+/// As [`CompareArgs::resolve`](args::CompareArgs::resolve), [`read_track`], [`compare`] and
+/// [`dynamic::against_dynamics`].
+pub fn compare_track(
+    path: &std::path::Path,
+    rebuilt: &Rebuilt,
+    args: &args::CompareArgs,
+    dynamics: Option<&crate::analysis::dynamics::rotor::Prepared>,
+    progress: &crate::progress::Progress,
+) -> Result<Comparison, CompareError> {
+    let (read, opts) = args.resolve()?;
+    let track = read_track(path, &read)?;
+    let mut c = compare(&track, rebuilt, &opts)?;
+    if let Some(p) = dynamics {
+        let (_, d) = dynamic::against_dynamics(&track, rebuilt, &c, p, &opts, progress)?;
+        c.report.dynamics = Some(d);
+    }
+    Ok(c)
 }
 
 /// Reads a track file (see [`track`]).
