@@ -4,7 +4,7 @@
 //! by [`CompareArgs::resolve`], which checks what the two option types cannot say alone.
 //! Lengths mm (or track units where said), angles degrees.
 
-use super::{CompareError, CompareOptions, LengthUnit, ReadOptions, Scale};
+use super::{CompareError, CompareOptions, LengthUnit, ReadOptions, Scale, bad};
 use crate::math::Point;
 use crate::simulate::FeatureOptions;
 
@@ -113,10 +113,6 @@ impl Default for CompareArgs {
             spacing: None,
         }
     }
-}
-
-fn bad(option: &'static str, message: String) -> CompareError {
-    CompareError::BadOption { option, message }
 }
 
 impl CompareArgs {

@@ -37,10 +37,7 @@ pub fn against_dynamics(
     opts: &CompareOptions,
     progress: &Progress,
 ) -> Result<(Comparison, DynamicsComparison), CompareError> {
-    let bad = |message: String| CompareError::BadOption {
-        option: "dynamics",
-        message,
-    };
+    let bad = |message: String| super::bad("dynamics", message);
     let path = DesignPath::new(rebuilt);
     let scene = DesignPath::new(&prepared.built.model.rebuilt);
     let apart = (0..SAMPLES / 16)
